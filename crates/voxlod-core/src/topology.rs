@@ -1,0 +1,392 @@
+//! Combinatorial topology of a triangle mesh: edges, boundary loops, manifoldness, orientation,
+//! components, Euler characteristic and genus.
+//!
+//! Everything here is decided from the vertex indices alone (weld coincident vertices first,
+//! see [`crate::weld`], to judge a triangle soup). Cost: one sort of the 3F half-edges,
+//! O(F log F), plus near-linear union-find passes.
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::TriangleMesh;
+
+/// What a mesh is, combinatorially. See [`mesh_topology`].
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Topology {
+    /// Vertices used by at least one triangle.
+    pub vertices: usize,
+    /// Vertices in the file that no triangle uses.
+    pub unreferenced_vertices: usize,
+    pub triangles: usize,
+    pub edges: usize,
+    /// Edges used by exactly one triangle.
+    pub boundary_edges: usize,
+    /// Closed loops formed by the boundary edges (holes).
+    pub boundary_loops: usize,
+    /// Edges used by three or more triangles.
+    pub non_manifold_edges: usize,
+    /// Vertices whose triangles do not form a single fan (a pinch, or two cones touching).
+    pub non_manifold_vertices: usize,
+    /// Edges used twice in the same direction: the neighbours disagree about orientation.
+    pub inconsistent_edges: usize,
+    /// Triangles with a repeated vertex index.
+    pub degenerate_triangles: usize,
+    /// Triangles with the same three vertices as an earlier one (in any order).
+    pub duplicate_triangles: usize,
+    /// Connected components (triangles sharing a vertex are connected).
+    pub components: usize,
+    /// V - E + F over the used vertices.
+    pub euler_characteristic: i64,
+    /// (2C - χ - B) / 2, defined when the mesh is an oriented 2-manifold (with or without boundary).
+    pub genus: Option<i64>,
+}
+
+impl Topology {
+    /// A closed 2-manifold: no boundary, every edge shared by exactly two triangles, every vertex a single fan.
+    pub fn is_closed_manifold(&self) -> bool {
+        self.boundary_edges == 0 && self.is_manifold()
+    }
+
+    /// Every edge shared by at most two triangles and every vertex a single fan.
+    pub fn is_manifold(&self) -> bool {
+        self.non_manifold_edges == 0
+            && self.non_manifold_vertices == 0
+            && self.degenerate_triangles == 0
+    }
+
+    /// Neighbouring triangles agree on orientation across every interior edge.
+    pub fn is_consistently_oriented(&self) -> bool {
+        self.inconsistent_edges == 0
+    }
+}
+
+struct UnionFind {
+    parent: Vec<u32>,
+}
+
+impl UnionFind {
+    fn new(n: usize) -> Self {
+        UnionFind {
+            parent: (0..n as u32).collect(),
+        }
+    }
+    fn find(&mut self, mut x: u32) -> u32 {
+        while self.parent[x as usize] != x {
+            let p = self.parent[x as usize];
+            self.parent[x as usize] = self.parent[p as usize];
+            x = p;
+        }
+        x
+    }
+    fn union(&mut self, a: u32, b: u32) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            self.parent[ra.max(rb) as usize] = ra.min(rb);
+        }
+    }
+}
+
+#[inline]
+fn edge_key(a: u32, b: u32) -> u64 {
+    ((a.min(b) as u64) << 32) | a.max(b) as u64
+}
+
+/// Computes the [`Topology`] of `mesh` from its indices.
+pub fn mesh_topology(mesh: &TriangleMesh) -> Topology {
+    let nv = mesh.positions.len();
+    let tris = &mesh.triangles;
+
+    let mut used = vec![false; nv];
+    for t in tris {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    let vertices = used.iter().filter(|&&u| u).count();
+
+    let degenerate_triangles = tris
+        .iter()
+        .filter(|[a, b, c]| a == b || b == c || a == c)
+        .count();
+
+    let mut sorted_tris: Vec<[u32; 3]> = tris
+        .par_iter()
+        .map(|t| {
+            let mut s = *t;
+            s.sort_unstable();
+            s
+        })
+        .collect();
+    sorted_tris.par_sort_unstable();
+    let duplicate_triangles = sorted_tris.windows(2).filter(|w| w[0] == w[1]).count();
+    drop(sorted_tris);
+
+    // Half-edges: (undirected key, forward?) for each side of each non-degenerate triangle.
+    let mut half: Vec<(u64, bool, u32)> = tris
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(t, &[a, b, c])| {
+            let degenerate = a == b || b == c || a == c;
+            [(a, b), (b, c), (c, a)]
+                .into_iter()
+                .filter(move |_| !degenerate)
+                .map(move |(u, v)| (edge_key(u, v), u < v, t as u32))
+        })
+        .collect();
+    half.par_sort_unstable_by_key(|h| h.0);
+
+    let mut edges = 0;
+    let mut boundary_edges = 0;
+    let mut non_manifold_edges = 0;
+    let mut inconsistent_edges = 0;
+    let mut boundary_graph = UnionFind::new(nv);
+    let mut boundary_vertex = vec![false; nv];
+    let mut boundary_edge_list = Vec::new();
+    let mut start = 0;
+    while start < half.len() {
+        let key = half[start].0;
+        let mut end = start + 1;
+        while end < half.len() && half[end].0 == key {
+            end += 1;
+        }
+        edges += 1;
+        match end - start {
+            1 => {
+                boundary_edges += 1;
+                let (a, b) = ((key >> 32) as u32, key as u32);
+                boundary_graph.union(a, b);
+                boundary_vertex[a as usize] = true;
+                boundary_vertex[b as usize] = true;
+                boundary_edge_list.push((a, b));
+            }
+            2 => {
+                if half[start].1 == half[start + 1].1 {
+                    inconsistent_edges += 1;
+                }
+            }
+            _ => non_manifold_edges += 1,
+        }
+        start = end;
+    }
+
+    // Boundary loops: components of the boundary-edge graph. A vertex where two holes touch
+    // joins them into one component, which we count by the cycle rank instead: each component
+    // of a graph whose vertices all have even degree contributes (E - V + 1) independent cycles.
+    let boundary_loops = {
+        let mut comp_edges = std::collections::HashMap::<u32, (usize, usize)>::new();
+        for &(a, _) in &boundary_edge_list {
+            comp_edges.entry(boundary_graph.find(a)).or_default().0 += 1;
+        }
+        for v in 0..nv as u32 {
+            if boundary_vertex[v as usize] {
+                comp_edges.entry(boundary_graph.find(v)).or_default().1 += 1;
+            }
+        }
+        comp_edges
+            .values()
+            .map(|&(e, v)| (e + 1).saturating_sub(v).max(1))
+            .sum()
+    };
+
+    // Components over shared vertices.
+    let mut uf = UnionFind::new(nv);
+    for &[a, b, c] in tris {
+        uf.union(a, b);
+        uf.union(b, c);
+    }
+    let mut roots = std::collections::HashSet::new();
+    for v in 0..nv as u32 {
+        if used[v as usize] {
+            roots.insert(uf.find(v));
+        }
+    }
+    let components = roots.len();
+
+    let non_manifold_vertices = count_non_manifold_vertices(mesh, &used);
+
+    let euler_characteristic = vertices as i64 - edges as i64 + tris.len() as i64;
+    let oriented_manifold = non_manifold_edges == 0
+        && non_manifold_vertices == 0
+        && inconsistent_edges == 0
+        && degenerate_triangles == 0;
+    let genus = oriented_manifold
+        .then(|| {
+            let twice = 2 * components as i64 - euler_characteristic - boundary_loops as i64;
+            (twice >= 0 && twice % 2 == 0).then_some(twice / 2)
+        })
+        .flatten();
+
+    Topology {
+        vertices,
+        unreferenced_vertices: nv - vertices,
+        triangles: tris.len(),
+        edges,
+        boundary_edges,
+        boundary_loops,
+        non_manifold_edges,
+        non_manifold_vertices,
+        inconsistent_edges,
+        degenerate_triangles,
+        duplicate_triangles,
+        components,
+        euler_characteristic,
+        genus,
+    }
+}
+
+/// A vertex is manifold when the triangles around it are connected through the edges that
+/// contain it (one fan). Counted with a union-find over each vertex's incident triangles.
+fn count_non_manifold_vertices(mesh: &TriangleMesh, used: &[bool]) -> usize {
+    let nv = mesh.positions.len();
+    // CSR of vertex -> incident triangles.
+    let mut offsets = vec![0u32; nv + 1];
+    for t in &mesh.triangles {
+        for &v in t {
+            offsets[v as usize + 1] += 1;
+        }
+    }
+    for i in 0..nv {
+        offsets[i + 1] += offsets[i];
+    }
+    let mut fill = offsets.clone();
+    let mut incident = vec![0u32; *offsets.last().unwrap_or(&0) as usize];
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        for &v in tri {
+            incident[fill[v as usize] as usize] = t as u32;
+            fill[v as usize] += 1;
+        }
+    }
+    (0..nv)
+        .into_par_iter()
+        .filter(|&v| used[v])
+        .filter(|&v| {
+            let around = &incident[offsets[v] as usize..offsets[v + 1] as usize];
+            if around.len() <= 1 {
+                return false;
+            }
+            // Each incident triangle contributes the two other vertices (its "link" edge);
+            // the fan is connected when the link edges form one connected graph.
+            let mut link: Vec<(u32, u32)> = Vec::with_capacity(around.len());
+            for &t in around {
+                let tri = mesh.triangles[t as usize];
+                let others: Vec<u32> = tri.iter().copied().filter(|&w| w != v as u32).collect();
+                if others.len() == 2 {
+                    link.push((others[0], others[1]));
+                }
+            }
+            let mut ids: Vec<u32> = link.iter().flat_map(|&(a, b)| [a, b]).collect();
+            ids.sort_unstable();
+            ids.dedup();
+            let local = |x: u32| ids.binary_search(&x).unwrap() as u32;
+            let mut uf = UnionFind::new(ids.len());
+            for &(a, b) in &link {
+                uf.union(local(a), local(b));
+            }
+            let root = uf.find(0);
+            (1..ids.len() as u32).any(|i| uf.find(i) != root)
+        })
+        .count()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::tests::unit_cube;
+    use glam::Vec3;
+
+    #[test]
+    fn cube_is_a_closed_sphere() {
+        let t = mesh_topology(&unit_cube());
+        assert_eq!(t.vertices, 8);
+        assert_eq!(t.edges, 18);
+        assert_eq!(t.euler_characteristic, 2);
+        assert_eq!(t.genus, Some(0));
+        assert_eq!(t.components, 1);
+        assert!(t.is_closed_manifold());
+        assert!(t.is_consistently_oriented());
+    }
+
+    #[test]
+    fn open_cube_has_one_loop() {
+        let mut cube = unit_cube();
+        cube.triangles.truncate(10); // drop the two triangles of the x = 0 side
+        let t = mesh_topology(&cube);
+        assert_eq!(t.boundary_edges, 4);
+        assert_eq!(t.boundary_loops, 1);
+        assert_eq!(t.genus, Some(0));
+        assert!(!t.is_closed_manifold());
+    }
+
+    #[test]
+    fn flags_inconsistent_and_non_manifold() {
+        let mut cube = unit_cube();
+        cube.triangles[0].swap(1, 2);
+        let t = mesh_topology(&cube);
+        assert_eq!(t.inconsistent_edges, 3);
+        assert_eq!(t.genus, None);
+
+        // Three triangles on one edge.
+        let m = TriangleMesh::new(
+            vec![
+                Vec3::ZERO,
+                Vec3::X,
+                Vec3::Y,
+                Vec3::Z,
+                Vec3::new(-1.0, 0.0, 0.0),
+            ],
+            vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
+        );
+        let t = mesh_topology(&m);
+        assert_eq!(t.non_manifold_edges, 1);
+        assert_eq!(t.components, 1);
+    }
+
+    #[test]
+    fn counts_pinched_vertices_and_duplicates() {
+        // Two triangles touching at one vertex only.
+        let m = TriangleMesh::new(
+            vec![
+                Vec3::ZERO,
+                Vec3::X,
+                Vec3::Y,
+                Vec3::new(-1.0, 0.0, 0.0),
+                Vec3::new(0.0, -1.0, 0.0),
+            ],
+            vec![[0, 1, 2], [0, 3, 4], [2, 1, 0], [0, 0, 1]],
+        );
+        let t = mesh_topology(&m);
+        assert_eq!(t.non_manifold_vertices, 1);
+        assert_eq!(t.duplicate_triangles, 1);
+        assert_eq!(t.degenerate_triangles, 1);
+    }
+
+    #[test]
+    fn torus_has_genus_one() {
+        // A 4x3 quad torus triangulated: V=12, E=36, F=24, χ=0.
+        let (n, m) = (4u32, 3u32);
+        let mut positions = Vec::new();
+        for i in 0..n {
+            for j in 0..m {
+                let a = i as f32 / n as f32 * std::f32::consts::TAU;
+                let b = j as f32 / m as f32 * std::f32::consts::TAU;
+                positions.push(Vec3::new(
+                    (2.0 + b.cos()) * a.cos(),
+                    (2.0 + b.cos()) * a.sin(),
+                    b.sin(),
+                ));
+            }
+        }
+        let id = |i: u32, j: u32| (i % n) * m + (j % m);
+        let mut triangles = Vec::new();
+        for i in 0..n {
+            for j in 0..m {
+                triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        let t = mesh_topology(&TriangleMesh::new(positions, triangles));
+        assert_eq!(t.euler_characteristic, 0);
+        assert_eq!(t.genus, Some(1));
+        assert!(t.is_closed_manifold());
+    }
+}

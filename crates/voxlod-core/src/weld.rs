@@ -1,0 +1,81 @@
+//! Welding coincident vertices: every group of vertices with exactly the same coordinates
+//! becomes one vertex. STL files store each triangle with its own three corners, so a closed
+//! STL model is only watertight once this has run. Cost: O(V) expected, one hash-map pass.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+use crate::TriangleMesh;
+
+/// Outcome of [`weld_vertices`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WeldReport {
+    pub vertices_before: usize,
+    pub vertices_after: usize,
+}
+
+fn key(p: Vec3) -> [u32; 3] {
+    // +0.0 and -0.0 are the same point.
+    let canon = |x: f32| if x == 0.0 { 0u32 } else { x.to_bits() };
+    [canon(p.x), canon(p.y), canon(p.z)]
+}
+
+/// Merges vertices with identical coordinates, keeping the first of each group and the order of
+/// first appearance. Normals of merged vertices are dropped (they would disagree); recompute
+/// them if needed. Triangles are renumbered; none is removed.
+pub fn weld_vertices(mesh: &mut TriangleMesh) -> WeldReport {
+    let before = mesh.positions.len();
+    let mut first: HashMap<[u32; 3], u32> = HashMap::with_capacity(before);
+    let mut remap = Vec::with_capacity(before);
+    let mut positions = Vec::new();
+    for &p in &mesh.positions {
+        let next = positions.len() as u32;
+        let id = *first.entry(key(p)).or_insert_with(|| {
+            positions.push(p);
+            next
+        });
+        remap.push(id);
+    }
+    if positions.len() != before {
+        mesh.normals.clear();
+    }
+    mesh.positions = positions;
+    for tri in &mut mesh.triangles {
+        for v in tri.iter_mut() {
+            *v = remap[*v as usize];
+        }
+    }
+    WeldReport {
+        vertices_before: before,
+        vertices_after: mesh.positions.len(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{mesh::tests::unit_cube, mesh_topology};
+
+    #[test]
+    fn welding_a_soup_closes_it() {
+        let cube = unit_cube();
+        let mut soup = TriangleMesh::default();
+        for t in 0..cube.triangles.len() {
+            let base = soup.positions.len() as u32;
+            for &v in &cube.triangles[t] {
+                soup.positions.push(cube.positions[v as usize]);
+            }
+            soup.triangles.push([base, base + 1, base + 2]);
+        }
+        // -0.0 must weld with 0.0
+        soup.positions[0].x = -0.0;
+        assert_eq!(mesh_topology(&soup).boundary_edges, 36);
+        let report = weld_vertices(&mut soup);
+        assert_eq!(report.vertices_before, 36);
+        assert_eq!(report.vertices_after, 8);
+        let t = mesh_topology(&soup);
+        assert!(t.is_closed_manifold());
+        assert_eq!(t.genus, Some(0));
+    }
+}
