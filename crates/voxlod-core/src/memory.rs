@@ -29,7 +29,7 @@ pub fn parse_size(text: &str) -> Option<u64> {
         "T" => 1 << 40,
         _ => return None,
     };
-    (number.is_finite() && number >= 0.0).then(|| (number * scale as f64) as u64)
+    (number.is_finite() && number >= 0.0).then_some((number * scale as f64) as u64)
 }
 
 /// The number of bytes voxlod allows itself (see the module documentation).
