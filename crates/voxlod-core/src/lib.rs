@@ -13,7 +13,9 @@ pub mod error;
 pub mod grid;
 pub mod memory;
 pub mod mesh;
+pub mod repair;
 pub mod topology;
+pub mod testdata;
 pub mod volume;
 pub mod weld;
 

@@ -1,0 +1,41 @@
+//! Where the shared real data lives, for tests, examples and benchmarks.
+//!
+//! The project's checkout sees the shared folder at `../shared` from the workspace root (override
+//! with `VOXLOD_SHARED_DATA=/path/to/shared/data`). A user's fresh clone has no such folder:
+//! callers must then skip, saying why, through [`shared_data_or_skip`].
+
+use std::path::PathBuf;
+
+/// The workspace root (the folder holding the top-level `Cargo.toml`).
+pub fn workspace_root() -> PathBuf {
+    // This crate lives in <root>/crates/voxlod-core.
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .canonicalize()
+        .unwrap_or_else(|_| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../.."))
+}
+
+/// The shared real-data folder (`meshes/`, `volumes/`), if present.
+pub fn shared_data() -> Option<PathBuf> {
+    let dir = std::env::var_os("VOXLOD_SHARED_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| workspace_root().join("../shared/data"));
+    dir.is_dir().then_some(dir)
+}
+
+/// A file of the shared data folder, or `None` after printing why the caller skips.
+pub fn shared_data_or_skip(relative: &str, test: &str) -> Option<PathBuf> {
+    match shared_data() {
+        Some(dir) if dir.join(relative).is_file() => Some(dir.join(relative)),
+        Some(dir) => {
+            eprintln!("skipping {test}: {} is missing", dir.join(relative).display());
+            None
+        }
+        None => {
+            eprintln!(
+                "skipping {test}: ../shared/data is not beside the checkout (set VOXLOD_SHARED_DATA)"
+            );
+            None
+        }
+    }
+}
