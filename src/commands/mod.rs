@@ -1,0 +1,27 @@
+//! Subcommands of the `voxlod` binary. Each lives in its own file with an `Args` struct (clap)
+//! and a `run` function; this module only lists them and holds what they share.
+
+use clap::{Parser, Subcommand};
+
+pub mod common;
+
+pub use common::CliError;
+
+/// voxlod turns polygon meshes and scanned volumes into levels of detail by low-pass filtering
+/// them into a pyramid of volumes and running marching cubes on each level.
+///
+/// Start with `voxlod demo` (no input needed), then `voxlod lod MESH -o DIR`.
+#[derive(Parser, Debug)]
+#[command(name = "voxlod", version, about, long_about = None, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {}
+
+/// Runs the chosen subcommand.
+pub fn run(cli: Cli) -> Result<(), CliError> {
+    match cli.command {}
+}
