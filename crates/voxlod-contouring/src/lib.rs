@@ -1,1 +1,10 @@
-//! placeholder
+//! Marching cubes for voxlod: from a filtered volume (or any scalar volume) to a closed,
+//! consistently oriented triangle mesh with shared vertices and gradient normals.
+//!
+//! - [`tables`]: the 256-case lookup tables, generated from first principles.
+//! - [`marching_cubes`]: the extraction, in bit-parallel passes in the manner of Flying Edges.
+
+pub mod marching_cubes;
+pub mod tables;
+
+pub use marching_cubes::{marching_cubes, ContourError, ContourOptions};
