@@ -1,0 +1,74 @@
+//! The errors the metrics report at the crate boundary, each with a one-line message.
+
+use thiserror::Error;
+use voxlod_core::{CoreError, TriangleMesh};
+
+/// Why a measurement could not be made.
+#[derive(Debug, Error)]
+pub enum MetricsError {
+    #[error("the mesh has no triangles")]
+    EmptyMesh,
+    #[error("the mesh has no area: all {triangles} triangles are degenerate")]
+    NoArea { triangles: usize },
+    #[error("vertex {vertex} has a non-finite coordinate ({x}, {y}, {z})")]
+    NonFiniteCoordinate {
+        vertex: usize,
+        x: f32,
+        y: f32,
+        z: f32,
+    },
+    #[error("triangle {triangle} refers to vertex {vertex} but the mesh has only {vertex_count} vertices")]
+    VertexIndexOutOfRange {
+        triangle: usize,
+        vertex: u32,
+        vertex_count: usize,
+    },
+    #[error("the sample count must be at least 1")]
+    NoSamples,
+    #[error("{which} mesh: {source}")]
+    InMesh {
+        which: &'static str,
+        source: Box<MetricsError>,
+    },
+    #[error(transparent)]
+    Core(#[from] CoreError),
+}
+
+impl MetricsError {
+    /// Names the mesh an error came from ("first", "second") when two meshes are measured.
+    pub(crate) fn in_mesh(self, which: &'static str) -> MetricsError {
+        MetricsError::InMesh {
+            which,
+            source: Box::new(self),
+        }
+    }
+}
+
+/// Checks what every measurement needs: at least one triangle, vertex indices in range and
+/// finite coordinates (for every stored vertex, used or not). Area is checked separately, by
+/// the measurements that need it.
+pub(crate) fn check_mesh(mesh: &TriangleMesh) -> Result<(), MetricsError> {
+    if mesh.triangles.is_empty() {
+        return Err(MetricsError::EmptyMesh);
+    }
+    if let Some(vertex) = mesh.positions.iter().position(|p| !p.is_finite()) {
+        let p = mesh.positions[vertex];
+        return Err(MetricsError::NonFiniteCoordinate {
+            vertex,
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        });
+    }
+    let vertex_count = mesh.positions.len();
+    for (triangle, tri) in mesh.triangles.iter().enumerate() {
+        if let Some(&vertex) = tri.iter().find(|&&v| v as usize >= vertex_count) {
+            return Err(MetricsError::VertexIndexOutOfRange {
+                triangle,
+                vertex,
+                vertex_count,
+            });
+        }
+    }
+    Ok(())
+}

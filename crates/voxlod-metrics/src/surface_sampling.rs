@@ -1,0 +1,177 @@
+//! Area-uniform random points on a triangle mesh.
+//!
+//! A triangle is picked with probability proportional to its area by a binary search of the
+//! cumulative areas, then a point is drawn uniformly inside it (with `s = √r₁`, the point
+//! `(1 − s)·a + s(1 − r₂)·b + s·r₂·c`). Sample `i` draws its random numbers from its own
+//! PCG generator seeded from `(seed, i)`, so the samples are the same however many threads
+//! draw them, and any one of them can be drawn alone.
+//!
+//! [`SampleLayout::Stratified`] (the default) gives sample `i` of `n` the cumulative-area value
+//! `(i + ξ)/n · A`: each sample is uniform within its own `1/n` share of the surface. Every
+//! sample still lands on a surface element with probability proportional to its area, so the
+//! mean of any function over the samples is unbiased, with less variance than independent
+//! draws and no large unsampled patches. The samples come out in triangle order, which keeps
+//! queries made from them coherent. [`SampleLayout::Independent`] draws i.i.d. points instead.
+//!
+//! Cost: O(F) to sum the areas (8 bytes per triangle), then O(log F) per sample.
+
+use glam::DVec3;
+use rand::Rng;
+use rand_pcg::Pcg64Mcg;
+use rayon::prelude::*;
+use voxlod_core::TriangleMesh;
+
+use crate::error::{check_mesh, MetricsError};
+
+/// How the samples share out the surface (see the module documentation).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SampleLayout {
+    /// Sample `i` of `n` lies in the `i`-th `1/n` of the cumulative area.
+    #[default]
+    Stratified,
+    /// Independent, identically distributed area-uniform points.
+    Independent,
+}
+
+/// How many samples to draw, from which seed, laid out how.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SamplingOptions {
+    pub samples: usize,
+    pub seed: u64,
+    pub layout: SampleLayout,
+}
+
+impl Default for SamplingOptions {
+    fn default() -> Self {
+        SamplingOptions {
+            samples: 100_000,
+            seed: DEFAULT_SEED,
+            layout: SampleLayout::Stratified,
+        }
+    }
+}
+
+impl SamplingOptions {
+    /// `samples` stratified points from the default seed.
+    pub fn with_samples(samples: usize) -> Self {
+        SamplingOptions {
+            samples,
+            ..Default::default()
+        }
+    }
+}
+
+/// The seed used unless another is given.
+pub const DEFAULT_SEED: u64 = 0x766f_786c_6f64; // "voxlod"
+
+/// A point on the surface and the triangle it lies on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceSample {
+    pub point: DVec3,
+    pub triangle: u32,
+}
+
+/// A mesh prepared for area-uniform sampling: its cumulative triangle areas.
+pub struct SurfaceSampler<'a> {
+    mesh: &'a TriangleMesh,
+    /// `cumulative_area[t]` is the area of triangles `0..=t`.
+    cumulative_area: Vec<f64>,
+    /// The last triangle with positive area, for a target rounded up to the total.
+    last_with_area: usize,
+}
+
+impl<'a> SurfaceSampler<'a> {
+    /// Sums the triangle areas. Fails on an empty or invalid mesh and on one whose area is zero
+    /// (nothing to sample).
+    pub fn new(mesh: &'a TriangleMesh) -> Result<SurfaceSampler<'a>, MetricsError> {
+        check_mesh(mesh)?;
+        let areas: Vec<f64> = (0..mesh.triangles.len())
+            .into_par_iter()
+            .map(|t| {
+                let [a, b, c] = mesh.corners(t);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .collect();
+        let Some(last_with_area) = areas.iter().rposition(|&a| a > 0.0) else {
+            return Err(MetricsError::NoArea {
+                triangles: mesh.triangles.len(),
+            });
+        };
+        let mut total = 0.0;
+        let cumulative_area = areas
+            .into_iter()
+            .map(|a| {
+                total += a;
+                total
+            })
+            .collect();
+        Ok(SurfaceSampler {
+            mesh,
+            cumulative_area,
+            last_with_area,
+        })
+    }
+
+    /// Total area of the mesh.
+    pub fn total_area(&self) -> f64 {
+        self.cumulative_area.last().copied().unwrap_or(0.0)
+    }
+
+    /// Sample `index` of the `options.samples` that `options` describes.
+    pub fn sample(&self, index: usize, options: &SamplingOptions) -> SurfaceSample {
+        debug_assert!(index < options.samples.max(1));
+        let mut rng = sample_rng(options.seed, index as u64);
+        let share: f64 = match options.layout {
+            SampleLayout::Stratified => {
+                (index as f64 + rng.random::<f64>()) / options.samples.max(1) as f64
+            }
+            SampleLayout::Independent => rng.random::<f64>(),
+        };
+        let triangle = self.triangle_at(share * self.total_area());
+        let [a, b, c] = self.mesh.corners(triangle);
+        let s = rng.random::<f64>().sqrt();
+        let r = rng.random::<f64>();
+        SurfaceSample {
+            point: a * (1.0 - s) + b * (s * (1.0 - r)) + c * (s * r),
+            triangle: triangle as u32,
+        }
+    }
+
+    /// All the samples `options` describes, drawn in parallel.
+    pub fn samples(&self, options: &SamplingOptions) -> Vec<SurfaceSample> {
+        (0..options.samples)
+            .into_par_iter()
+            .map(|i| self.sample(i, options))
+            .collect()
+    }
+
+    /// The triangle whose share of the cumulative area holds `target` (in `[0, total)`);
+    /// zero-area triangles own no share and are never returned.
+    fn triangle_at(&self, target: f64) -> usize {
+        let t = self.cumulative_area.partition_point(|&c| c <= target);
+        t.min(self.last_with_area)
+    }
+}
+
+/// Area-uniform samples of `mesh` (see [`SurfaceSampler`]).
+pub fn sample_surface(
+    mesh: &TriangleMesh,
+    options: &SamplingOptions,
+) -> Result<Vec<SurfaceSample>, MetricsError> {
+    Ok(SurfaceSampler::new(mesh)?.samples(options))
+}
+
+/// The generator of sample `index`: a PCG whose 128-bit state comes from mixing the seed and
+/// the index (SplitMix64 finaliser), so neighbouring indices get unrelated streams.
+fn sample_rng(seed: u64, index: u64) -> Pcg64Mcg {
+    let high = splitmix64(seed ^ splitmix64(index));
+    let low = splitmix64(high ^ index);
+    Pcg64Mcg::new(((high as u128) << 64) | low as u128)
+}
+
+fn splitmix64(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
