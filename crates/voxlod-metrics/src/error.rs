@@ -8,7 +8,7 @@ use voxlod_core::{CoreError, TriangleMesh};
 pub enum MetricsError {
     #[error("the mesh has no triangles")]
     EmptyMesh,
-    #[error("the mesh has no area: all {triangles} triangles are degenerate")]
+    #[error("the mesh has no area ({triangles} triangles, all degenerate)")]
     NoArea { triangles: usize },
     #[error("vertex {vertex} has a non-finite coordinate ({x}, {y}, {z})")]
     NonFiniteCoordinate {

@@ -165,7 +165,7 @@ impl MeshReport {
         }
         if t.degenerate_triangles > 0 || self.zero_area_triangles > 0 || t.duplicate_triangles > 0 {
             notes.push(format!(
-                "{} triangles repeat a vertex, {} more have zero area, {} are duplicates",
+                "{} triangles repeat a vertex, {} others have zero area, {} are duplicates",
                 t.degenerate_triangles, self.zero_area_triangles, t.duplicate_triangles
             ));
         }
