@@ -1,0 +1,214 @@
+//! The quadrature lattice: families of lines parallel to one axis, finer than the sample grid,
+//! along which the inside function is known exactly as a list of crossings.
+//!
+//! For a grid with spacing `h` and `lines_per_voxel = q`, the family along axis `a` holds the
+//! lines at `u = origin_u + m h_u / q`, `v = origin_v + n h_v / q` for `m` in
+//! `0..=(dims_u - 1) q` and `n` in `0..=(dims_v - 1) q`, where `(u, v)` are the other two axes in
+//! cyclic order. Every sample row of the grid is one of these lines (`m = j q`, `n = k q`).
+//! Positions along a line are measured in the grid's index units of axis `a`: sample `i` sits
+//! at `t = i`, lattice point `p` at `t = p / q`.
+//!
+//! Lines are stored tile by tile (`TILE × TILE` lines per tile) so that a tile's crossings are
+//! contiguous and tiles can be filled in parallel.
+
+use voxlod_core::{Axis, Grid};
+
+/// Lines per tile side.
+pub const TILE: usize = 16;
+
+/// One family of lattice lines: those parallel to `axis`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineFamily {
+    pub axis: Axis,
+    pub grid: Grid,
+    pub lines_per_voxel: usize,
+}
+
+impl LineFamily {
+    pub fn new(axis: Axis, grid: Grid, lines_per_voxel: usize) -> Self {
+        debug_assert!(lines_per_voxel >= 1);
+        LineFamily {
+            axis,
+            grid,
+            lines_per_voxel,
+        }
+    }
+
+    /// The other two axes `(u, v)`, in cyclic order.
+    pub fn cross_axes(&self) -> (Axis, Axis) {
+        self.axis.others()
+    }
+
+    /// Lattice points along one axis: `(dims - 1) q + 1`.
+    pub fn lattice_len(&self, axis: Axis) -> usize {
+        (self.grid.dims[axis.index()] - 1) * self.lines_per_voxel + 1
+    }
+
+    /// Number of lines across `u` and across `v`.
+    pub fn line_counts(&self) -> (usize, usize) {
+        let (u, v) = self.cross_axes();
+        (self.lattice_len(u), self.lattice_len(v))
+    }
+
+    pub fn line_count(&self) -> usize {
+        let (lu, lv) = self.line_counts();
+        lu * lv
+    }
+
+    /// Number of tiles across `u` and `v`.
+    pub fn tile_counts(&self) -> (usize, usize) {
+        let (lu, lv) = self.line_counts();
+        (lu.div_ceil(TILE), lv.div_ceil(TILE))
+    }
+
+    /// Storage slot of line (m, n): tile-major, then row-major inside the tile.
+    #[inline]
+    pub fn slot(&self, m: usize, n: usize) -> usize {
+        let (tiles_u, _) = self.tile_counts();
+        let tile = (n / TILE) * tiles_u + m / TILE;
+        tile * TILE * TILE + (n % TILE) * TILE + m % TILE
+    }
+
+    /// World coordinates `(u, v)` of line (m, n).
+    #[inline]
+    pub fn line_position(&self, m: usize, n: usize) -> (f64, f64) {
+        let (u, v) = self.cross_axes();
+        let q = self.lines_per_voxel as f64;
+        let g = &self.grid;
+        (
+            g.origin[u.index()] + m as f64 * g.spacing[u.index()] / q,
+            g.origin[v.index()] + n as f64 * g.spacing[v.index()] / q,
+        )
+    }
+
+    /// World coordinate along the axis of index-unit position `t`.
+    #[inline]
+    pub fn world_t(&self, t: f64) -> f64 {
+        let a = self.axis.index();
+        self.grid.origin[a] + t * self.grid.spacing[a]
+    }
+
+    /// Index-unit position of world coordinate `w` along the axis.
+    #[inline]
+    pub fn index_t(&self, w: f64) -> f64 {
+        let a = self.axis.index();
+        (w - self.grid.origin[a]) / self.grid.spacing[a]
+    }
+
+    /// The lines of tile (tu, tv): ranges of m and n.
+    pub fn tile_lines(
+        &self,
+        tu: usize,
+        tv: usize,
+    ) -> (std::ops::Range<usize>, std::ops::Range<usize>) {
+        let (lu, lv) = self.line_counts();
+        (
+            tu * TILE..((tu + 1) * TILE).min(lu),
+            tv * TILE..((tv + 1) * TILE).min(lv),
+        )
+    }
+}
+
+/// The sorted crossings of every line of a family: where the inside function changes, in index
+/// units along the axis. An even number per line for a well-behaved solid; parity decides.
+#[derive(Clone, Debug)]
+pub struct LineCrossings {
+    pub family: LineFamily,
+    /// `offsets[slot]..offsets[slot + 1]` indexes `t` for the line stored at `slot`.
+    pub offsets: Vec<u32>,
+    pub t: Vec<f32>,
+}
+
+impl LineCrossings {
+    /// Crossings of line (m, n); lines outside the lattice have none.
+    #[inline]
+    pub fn line(&self, m: isize, n: isize) -> &[f32] {
+        let (lu, lv) = self.family.line_counts();
+        if m < 0 || n < 0 || m as usize >= lu || n as usize >= lv {
+            return &[];
+        }
+        let slot = self.family.slot(m as usize, n as usize);
+        &self.t[self.offsets[slot] as usize..self.offsets[slot + 1] as usize]
+    }
+
+    /// Assembles the crossings from one sorted list per tile, each holding its lines in
+    /// row-major order with `(local line, t)` pairs.
+    pub fn from_tiles(family: LineFamily, tiles: Vec<Vec<(u16, f32)>>) -> LineCrossings {
+        let slots = family.tile_counts().0 * family.tile_counts().1 * TILE * TILE;
+        let mut offsets = vec![0u32; slots + 1];
+        for (tile, list) in tiles.iter().enumerate() {
+            for &(local, _) in list {
+                offsets[tile * TILE * TILE + local as usize + 1] += 1;
+            }
+        }
+        for s in 0..slots {
+            offsets[s + 1] += offsets[s];
+        }
+        let t = tiles
+            .into_iter()
+            .flat_map(|list| list.into_iter().map(|(_, t)| t))
+            .collect();
+        LineCrossings { family, offsets, t }
+    }
+
+    /// Replaces the crossings of the lines at the given storage slots.
+    pub fn replace_lines(&mut self, mut lines: Vec<(usize, Vec<f32>)>) {
+        if lines.is_empty() {
+            return;
+        }
+        lines.sort_unstable_by_key(|l| l.0);
+        let slots = self.offsets.len() - 1;
+        let mut offsets = Vec::with_capacity(slots + 1);
+        let mut t = Vec::with_capacity(self.t.len());
+        let mut next = lines.iter().peekable();
+        offsets.push(0u32);
+        for slot in 0..slots {
+            match next.peek() {
+                Some((s, new)) if *s == slot => {
+                    t.extend_from_slice(new);
+                    next.next();
+                }
+                _ => t.extend_from_slice(
+                    &self.t[self.offsets[slot] as usize..self.offsets[slot + 1] as usize],
+                ),
+            }
+            offsets.push(t.len() as u32);
+        }
+        self.offsets = offsets;
+        self.t = t;
+    }
+
+    /// Total number of crossings.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lattice_contains_the_sample_rows() {
+        let g = Grid::new([5, 4, 3], [2.0, 1.0, 0.5], [1.0, 2.0, 3.0]).unwrap();
+        let f = LineFamily::new(Axis::X, g, 4);
+        assert_eq!(f.line_counts(), (13, 9));
+        // Sample row (j, k) = (2, 1) is line (8, 4).
+        let (u, v) = f.line_position(8, 4);
+        let p = g.position(0.0, 2.0, 1.0);
+        assert_eq!((u, v), (p.y, p.z));
+        assert_eq!(f.world_t(2.0), 5.0);
+        assert_eq!(f.index_t(5.0), 2.0);
+        // Tile-major slots are a permutation.
+        let mut seen = std::collections::HashSet::new();
+        for n in 0..9 {
+            for m in 0..13 {
+                assert!(seen.insert(f.slot(m, n)));
+            }
+        }
+    }
+}

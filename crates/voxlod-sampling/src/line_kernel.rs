@@ -1,0 +1,203 @@
+//! The filter integrated along lattice lines: what each line contributes to a sample.
+//!
+//! Equation 1 of the paper, `f(p) = ∫ h(|p - q|) S(q) dq`, is split into a sum over the lattice
+//! lines that pass within the support radius R of `p` and, along each line, an exact
+//! integral over its inside spans. For a line at distance ρ from `p` the filter restricted to it
+//! is `g_ρ(τ) = h(√(τ² + ρ²))` on `|τ| <= L = √(R² - ρ²)`, and a span `[a, b]` contributes
+//! `G_ρ(b - x) - G_ρ(a - x)`, where `G_ρ` is the antiderivative of `g_ρ` and `x` the sample's
+//! position along the line. The sum over lines is a quadrature of the cross-section with
+//! `lines_per_voxel` lines per voxel side; the contributions are normalised by the sum of the
+//! lines' full integrals, so that a sample deep inside gets exactly 1.
+//!
+//! `G_ρ` is tabulated once per distinct ρ on 512 intervals (Simpson's rule on each) and read by
+//! linear interpolation: its error is below 1e-6 of a line's weight.
+
+use crate::Filter;
+
+const INTERVALS: usize = 512;
+
+/// One distinct line distance ρ: the antiderivative table and the line's reach L.
+#[derive(Clone, Debug)]
+pub struct LineProfile {
+    /// Half-length of the chord of the support ball along the line.
+    pub reach: f64,
+    /// `integral[i] = G(-L + i Δ)`, normalised by the pattern's total weight.
+    integral: Vec<f64>,
+    /// `weight[i] = g(-L + i Δ)`, normalised likewise (used to weigh crossings).
+    weight: Vec<f64>,
+    step: f64,
+}
+
+impl LineProfile {
+    /// `G(τ)`: the (normalised) integral of the filter along the line up to `τ`.
+    #[inline]
+    pub fn integral_to(&self, tau: f64) -> f64 {
+        lookup(&self.integral, self.reach, self.step, tau, true)
+    }
+
+    /// The line's full (normalised) integral.
+    #[inline]
+    pub fn total(&self) -> f64 {
+        self.integral[INTERVALS]
+    }
+
+    /// `g(τ)`: the (normalised) filter along the line at `τ`.
+    #[inline]
+    pub fn weight_at(&self, tau: f64) -> f64 {
+        lookup(&self.weight, self.reach, self.step, tau, false)
+    }
+}
+
+#[inline]
+fn lookup(table: &[f64], reach: f64, step: f64, tau: f64, cumulative: bool) -> f64 {
+    if tau <= -reach {
+        return 0.0;
+    }
+    if tau >= reach {
+        return if cumulative { table[INTERVALS] } else { 0.0 };
+    }
+    let x = (tau + reach) / step;
+    let i = (x as usize).min(INTERVALS - 1);
+    let f = x - i as f64;
+    table[i] + (table[i + 1] - table[i]) * f
+}
+
+/// A lattice line of the pattern: its offset from the sample's own line, in lattice steps, and
+/// the index of its profile.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PatternLine {
+    pub du: i32,
+    pub dv: i32,
+    pub profile: u32,
+}
+
+/// The lines within the support of a sample and their profiles, in index units of the grid.
+#[derive(Clone, Debug)]
+pub struct LineKernel {
+    pub lines: Vec<PatternLine>,
+    pub profiles: Vec<LineProfile>,
+    /// Support radius in index units.
+    pub radius: f64,
+}
+
+impl LineKernel {
+    /// The kernel of `filter` with support `radius` (index units) sampled by lines
+    /// `1 / lines_per_voxel` apart.
+    pub fn new(filter: Filter, radius: f64, lines_per_voxel: usize) -> LineKernel {
+        debug_assert!(radius > 0.0 && lines_per_voxel > 0);
+        let q = lines_per_voxel as f64;
+        let reach = (radius * q).ceil() as i32;
+        let mut keys: Vec<i64> = Vec::new();
+        let mut lines = Vec::new();
+        for dv in -reach..=reach {
+            for du in -reach..=reach {
+                let rho2 = (du * du + dv * dv) as i64;
+                let rho = (rho2 as f64).sqrt() / q;
+                if rho >= radius {
+                    continue;
+                }
+                let profile = match keys.iter().position(|&k| k == rho2) {
+                    Some(p) => p,
+                    None => {
+                        keys.push(rho2);
+                        keys.len() - 1
+                    }
+                };
+                lines.push(PatternLine {
+                    du,
+                    dv,
+                    profile: profile as u32,
+                });
+            }
+        }
+        let mut profiles: Vec<LineProfile> = keys
+            .iter()
+            .map(|&rho2| {
+                let rho = (rho2 as f64).sqrt() / q;
+                tabulate(filter, radius, rho)
+            })
+            .collect();
+        let total: f64 = lines
+            .iter()
+            .map(|l| profiles[l.profile as usize].total())
+            .sum();
+        for p in &mut profiles {
+            p.integral.iter_mut().for_each(|v| *v /= total);
+            p.weight.iter_mut().for_each(|v| *v /= total);
+        }
+        LineKernel {
+            lines,
+            profiles,
+            radius,
+        }
+    }
+}
+
+fn tabulate(filter: Filter, radius: f64, rho: f64) -> LineProfile {
+    let reach = (radius * radius - rho * rho).max(0.0).sqrt();
+    let step = 2.0 * reach / INTERVALS as f64;
+    let g = |tau: f64| filter.weight((tau * tau + rho * rho).sqrt(), radius);
+    let mut integral = Vec::with_capacity(INTERVALS + 1);
+    let mut weight = Vec::with_capacity(INTERVALS + 1);
+    let mut acc = 0.0;
+    integral.push(0.0);
+    weight.push(g(-reach));
+    for i in 0..INTERVALS {
+        let a = -reach + i as f64 * step;
+        let b = a + step;
+        acc += step / 6.0 * (g(a) + 4.0 * g(0.5 * (a + b)) + g(b));
+        integral.push(acc);
+        weight.push(g(b));
+    }
+    LineProfile {
+        reach,
+        integral,
+        weight,
+        step,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pattern_is_normalised_and_symmetric() {
+        for filter in [Filter::Hypercone, Filter::GAUSSIAN] {
+            let k = LineKernel::new(filter, 1.0, 4);
+            let total: f64 = k
+                .lines
+                .iter()
+                .map(|l| k.profiles[l.profile as usize].total())
+                .sum();
+            assert!((total - 1.0).abs() < 1e-12);
+            // 45 lattice lines lie strictly within one voxel at 4 lines per voxel.
+            assert_eq!(k.lines.len(), 45);
+            // Each profile's integral is symmetric: G(0) = total / 2.
+            for p in &k.profiles {
+                let err = (p.integral_to(0.0) - p.total() / 2.0).abs();
+                assert!(err < 1e-6, "{err} of {}", p.total());
+            }
+        }
+    }
+
+    #[test]
+    fn hypercone_line_integral_is_exact() {
+        // Through the centre, ∫_{-R}^{R} (R - |τ|)/R dτ = R; normalisation aside the ratio
+        // G(τ)/G(R) must match the closed form.
+        let p = tabulate(Filter::Hypercone, 2.0, 0.0);
+        let closed = |t: f64| {
+            // ∫_{-2}^{t} (2 - |τ|)/2 dτ
+            if t <= 0.0 {
+                let s = t + 2.0;
+                s * s / 4.0
+            } else {
+                1.0 + t - t * t / 4.0
+            }
+        };
+        for t in [-1.5, -0.3, 0.0, 0.7, 1.9] {
+            // Linear interpolation of a quadratic on 512 intervals: error below 4e-6.
+            assert!((p.integral_to(t) - closed(t)).abs() < 4e-6, "{t}");
+        }
+    }
+}

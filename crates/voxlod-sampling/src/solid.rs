@@ -1,0 +1,70 @@
+//! What can be sampled: any solid that answers "where does this line enter and leave you?".
+//!
+//! The voxel paper's §2 accepts "polygonal meshes, volume datasets, objects derived from
+//! range-scanners, and algebraic mathematical functions". Each kind implements [`Solid`]:
+//! [`crate::MeshSolid`] (a triangle mesh through a BVH), [`crate::ThresholdSolid`] (a scanned
+//! volume thresholded with trilinear interpolation) and [`crate::CsgSolid`] (primitives combined
+//! by union, intersection and difference, such as the sphereflake and the mechanical part).
+//! The sampler asks for the crossings of whole families of lattice lines at once.
+
+use rayon::prelude::*;
+use voxlod_core::Bounds;
+
+use crate::lattice::{LineCrossings, LineFamily, TILE};
+use crate::SamplingError;
+
+/// A solid: the inside function S of the paper's equation 2, queried along lines.
+pub trait Solid: Sync {
+    /// A box that contains the solid.
+    fn bounds(&self) -> Bounds;
+
+    /// The sorted crossings of every line of `family` with the solid's boundary, in index units
+    /// along the family's axis; inside is where an odd number of crossings lie before.
+    fn crossings(&self, family: &LineFamily) -> Result<LineCrossings, SamplingError>;
+
+    /// True when the crossings are exact (a closed mesh, an implicit solid, a thresholded
+    /// volume). When false, the sampler corrects them by a majority vote of the three axis
+    /// families ([`crate::majority`]).
+    fn is_exact(&self) -> bool;
+}
+
+/// Fills a [`LineCrossings`] by calling `line(u, v, out)` for each line in parallel over tiles.
+/// `line` appends the world coordinates (along the axis) of the crossings of the line at world
+/// cross-coordinates `(u, v)`, in any order; they are sorted and converted here.
+pub fn crossings_per_line<F>(family: &LineFamily, line: F) -> LineCrossings
+where
+    F: Fn(f64, f64, &mut Vec<f64>) + Sync,
+{
+    crossings_per_tile(family, |tile_m, tile_n, out| {
+        let mut world = Vec::new();
+        for (row, n) in tile_n.clone().enumerate() {
+            for (col, m) in tile_m.clone().enumerate() {
+                world.clear();
+                let (u, v) = family.line_position(m, n);
+                line(u, v, &mut world);
+                let local = (row * TILE + col) as u16;
+                out.extend(world.iter().map(|&w| (local, family.index_t(w) as f32)));
+            }
+        }
+    })
+}
+
+/// Fills a [`LineCrossings`] tile by tile in parallel: `tile(m_range, n_range, out)` appends
+/// `(local line, t)` pairs, `local = (n - n0) * TILE + (m - m0)`, `t` in index units.
+pub fn crossings_per_tile<F>(family: &LineFamily, tile: F) -> LineCrossings
+where
+    F: Fn(std::ops::Range<usize>, std::ops::Range<usize>, &mut Vec<(u16, f32)>) + Sync,
+{
+    let (tiles_u, tiles_v) = family.tile_counts();
+    let lists: Vec<Vec<(u16, f32)>> = (0..tiles_u * tiles_v)
+        .into_par_iter()
+        .map(|id| {
+            let (m, n) = family.tile_lines(id % tiles_u, id / tiles_u);
+            let mut out = Vec::new();
+            tile(m, n, &mut out);
+            out.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+            out
+        })
+        .collect();
+    LineCrossings::from_tiles(*family, lists)
+}
