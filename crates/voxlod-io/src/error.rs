@@ -1,6 +1,7 @@
 use std::path::{Path, PathBuf};
 
 use thiserror::Error;
+use voxlod_core::CoreError;
 
 /// What went wrong with a file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -37,7 +38,76 @@ impl IoError {
         IoError {
             path: path.to_path_buf(),
             kind,
-            message: message.into(),
+            message: one_line(&message.into()),
         }
+    }
+
+    /// An [`IoErrorKind::Access`] error: `doing` says what failed ("cannot open", ...).
+    pub(crate) fn access(path: &Path, doing: &str, err: &std::io::Error) -> IoError {
+        IoError::new(path, IoErrorKind::Access, format!("{doing}: {err}"))
+    }
+
+    pub(crate) fn malformed(path: &Path, message: impl Into<String>) -> IoError {
+        IoError::new(path, IoErrorKind::Malformed, message)
+    }
+
+    pub(crate) fn unsupported(path: &Path, message: impl Into<String>) -> IoError {
+        IoError::new(path, IoErrorKind::Unsupported, message)
+    }
+
+    pub(crate) fn truncated(path: &Path, message: impl Into<String>) -> IoError {
+        IoError::new(path, IoErrorKind::Truncated, message)
+    }
+
+    /// Maps an error of the core types: running out of memory becomes
+    /// [`IoErrorKind::TooLarge`], an invalid grid or mesh [`IoErrorKind::Malformed`].
+    pub(crate) fn from_core(path: &Path, err: CoreError) -> IoError {
+        let kind = match err {
+            CoreError::OutOfMemory { .. } => IoErrorKind::TooLarge,
+            CoreError::InvalidGrid(_) | CoreError::InvalidMesh(_) => IoErrorKind::Malformed,
+        };
+        IoError::new(path, kind, err.to_string())
+    }
+}
+
+/// Squeezes a message from a parser (which may span lines and quote whole input lines) into one
+/// short line, so that every error prints as `path: message`.
+pub(crate) fn one_line(message: &str) -> String {
+    const LIMIT: usize = 300;
+    let mut out = String::with_capacity(message.len().min(LIMIT + 3));
+    for word in message.split_whitespace() {
+        if !out.is_empty() {
+            out.push(' ');
+        }
+        out.push_str(word);
+        if out.len() > LIMIT {
+            let mut cut = LIMIT;
+            while !out.is_char_boundary(cut) {
+                cut -= 1;
+            }
+            out.truncate(cut);
+            out.push_str("...");
+            break;
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_are_one_short_line() {
+        let e = IoError::new(
+            Path::new("dir/a.ply"),
+            IoErrorKind::Malformed,
+            "Line 3:\n\tString: 'x'\n\tError: bad",
+        );
+        assert_eq!(e.to_string(), "dir/a.ply: Line 3: String: 'x' Error: bad");
+        let long = "word ".repeat(200);
+        let e = IoError::malformed(Path::new("b"), long);
+        assert!(e.message.len() <= 303 && e.message.ends_with("..."));
+        assert!(!e.to_string().contains('\n'));
     }
 }

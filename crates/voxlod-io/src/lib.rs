@@ -1,5 +1,514 @@
-//! File formats of voxlod (placeholder: the readers and writers land with the io work).
+//! File formats of voxlod: polygon meshes in, levels of detail out, and scanned volumes in.
+//!
+//! Formats are chosen by extension, without regard to case:
+//!
+//! | extension | kind | read | write | module |
+//! |---|---|---|---|---|
+//! | `.obj` | mesh | polygons (ear-clipped), normals, lines, points | triangles, normals, lines, points | `obj.rs` |
+//! | `.ply` | mesh | ASCII and binary; normals, attributes, edges, points | binary little-endian, same | `ply.rs` |
+//! | `.stl` | mesh | ASCII and binary, welded on load | binary | `stl.rs` |
+//! | `.off` | mesh | OFF/COFF/NOFF, polygons | OFF/NOFF | `off.rs` |
+//! | `.vtp`, `.vtk` | mesh | VTK PolyData (XML, legacy) | same, with attributes | `vtk_mesh.rs` |
+//! | `.nrrd`, `.nhdr` | volume | raw, gzip, ascii; attached or detached data | raw or gzip | `nrrd.rs` |
+//! | `.vti`, `.vtk` | volume | VTK image data (XML, legacy) | same | `vtk_image.rs` |
+//! | `.nii`, `.nii.gz` | volume | NIfTI-1 | — | `nifti.rs` |
+//! | `.mha`, `.mhd` | volume | MetaImage, zlib or not, local or detached data | same | `metaimage.rs` |
+//! | `.raw` (or any other, given a [`RawLayout`]) | volume | headerless samples | `f32` little-endian | `raw.rs` |
+//!
+//! A `.vtk` file may hold either kind: [`file_kind`] looks inside to tell.
+//!
+//! Every error is an [`IoError`] that prints as `path: problem` on one line, with an
+//! [`IoErrorKind`] to act on; no input, however broken, makes a reader panic. Readers never
+//! repair: degenerate and duplicate triangles are returned as stored, for
+//! `voxlod_core::repair` and `inspect` to see. Volumes come out as `f32` with the file's
+//! spacing and origin, in millimetres where the file says which unit it uses. Every writer goes
+//! through [`atomic::write_atomically`]: a failed write leaves neither a partial file nor a
+//! temporary one behind.
 
+pub mod atomic;
+pub mod ear_clipping;
 mod error;
+mod metaimage;
+mod nifti;
+mod nrrd;
+mod obj;
+mod off;
+mod ply;
+mod raw;
+mod samples;
+mod stl;
+mod vtk;
+mod vtk_image;
+mod vtk_mesh;
+
+use std::fmt;
+use std::io::Read;
+use std::path::Path;
+
+use voxlod_core::{Attribute, PolyMesh, TriangleMesh, Volume};
 
 pub use error::{IoError, IoErrorKind};
+pub use raw::{Endian, ParseNameError, RawLayout, RawType};
+pub use voxlod_core::weld::WeldReport;
+
+use vtk::Flavor;
+
+// -------------------------------------------------------------------------------------------
+// Formats.
+
+/// A polygon mesh format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MeshFormat {
+    Obj,
+    Ply,
+    Stl,
+    Off,
+    /// VTK XML PolyData.
+    Vtp,
+    /// Legacy VTK (PolyData).
+    Vtk,
+}
+
+/// A volume format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum VolumeFormat {
+    /// NRRD with attached data.
+    Nrrd,
+    /// NRRD header with a detached data file.
+    Nhdr,
+    /// VTK XML image data.
+    Vti,
+    /// Legacy VTK (structured points).
+    Vtk,
+    /// NIfTI-1, `.nii` or `.nii.gz`.
+    Nifti,
+    /// MetaImage with local data.
+    Mha,
+    /// MetaImage header with a detached data file.
+    Mhd,
+    /// Headerless samples.
+    Raw,
+}
+
+/// What a file holds, as [`file_kind`] tells.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FileKind {
+    Mesh(MeshFormat),
+    Volume(VolumeFormat),
+}
+
+impl fmt::Display for MeshFormat {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            MeshFormat::Obj => "OBJ",
+            MeshFormat::Ply => "PLY",
+            MeshFormat::Stl => "STL",
+            MeshFormat::Off => "OFF",
+            MeshFormat::Vtp => "VTK XML PolyData",
+            MeshFormat::Vtk => "legacy VTK PolyData",
+        })
+    }
+}
+
+impl fmt::Display for VolumeFormat {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            VolumeFormat::Nrrd => "NRRD",
+            VolumeFormat::Nhdr => "NRRD (detached header)",
+            VolumeFormat::Vti => "VTK XML image data",
+            VolumeFormat::Vtk => "legacy VTK structured points",
+            VolumeFormat::Nifti => "NIfTI-1",
+            VolumeFormat::Mha => "MetaImage",
+            VolumeFormat::Mhd => "MetaImage (detached header)",
+            VolumeFormat::Raw => "headerless raw",
+        })
+    }
+}
+
+const MESH_EXTENSIONS: &str = ".obj, .ply, .stl, .off, .vtp, .vtk";
+const VOLUME_EXTENSIONS: &str = ".nrrd, .nhdr, .vti, .vtk, .nii, .nii.gz, .mha, .mhd, .raw";
+
+/// The lower-case file name, for extension tests.
+fn lower_name(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default()
+}
+
+fn extension(path: &Path) -> String {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default()
+}
+
+/// The mesh format of a path, by extension (case-insensitive).
+pub fn mesh_format_of(path: &Path) -> Result<MeshFormat, IoError> {
+    Ok(match extension(path).as_str() {
+        "obj" => MeshFormat::Obj,
+        "ply" => MeshFormat::Ply,
+        "stl" => MeshFormat::Stl,
+        "off" => MeshFormat::Off,
+        "vtp" => MeshFormat::Vtp,
+        "vtk" => MeshFormat::Vtk,
+        other => {
+            return Err(IoError::unsupported(
+                path,
+                format!(
+                    "'{}' is not a mesh extension (expected one of {MESH_EXTENSIONS})",
+                    if other.is_empty() {
+                        "no extension"
+                    } else {
+                        other
+                    }
+                ),
+            ))
+        }
+    })
+}
+
+/// The volume format of a path, by extension (case-insensitive). Only `.raw` maps to
+/// [`VolumeFormat::Raw`] here; [`read_volume`] also reads other extensions as raw when given a
+/// [`RawLayout`].
+pub fn volume_format_of(path: &Path) -> Result<VolumeFormat, IoError> {
+    if lower_name(path).ends_with(".nii.gz") {
+        return Ok(VolumeFormat::Nifti);
+    }
+    Ok(match extension(path).as_str() {
+        "nrrd" => VolumeFormat::Nrrd,
+        "nhdr" => VolumeFormat::Nhdr,
+        "vti" => VolumeFormat::Vti,
+        "vtk" => VolumeFormat::Vtk,
+        "nii" => VolumeFormat::Nifti,
+        "mha" => VolumeFormat::Mha,
+        "mhd" => VolumeFormat::Mhd,
+        "raw" => VolumeFormat::Raw,
+        other => {
+            return Err(IoError::unsupported(
+                path,
+                format!(
+                    "'{}' is not a volume extension (expected one of {VOLUME_EXTENSIONS}; headerless raw data of any name can be read by giving its layout)",
+                    if other.is_empty() { "no extension" } else { other }
+                ),
+            ))
+        }
+    })
+}
+
+/// Whether a file is a mesh or a volume: by extension, and for `.vtk` (which may be either) by
+/// the `DATASET` line of the file, which must then exist.
+pub fn file_kind(path: &Path) -> Result<FileKind, IoError> {
+    if extension(path) == "vtk" {
+        let file =
+            std::fs::File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
+        let mut head = Vec::with_capacity(1024);
+        file.take(1024)
+            .read_to_end(&mut head)
+            .map_err(|e| IoError::access(path, "cannot read", &e))?;
+        let head = String::from_utf8_lossy(&head).to_ascii_uppercase();
+        return if head.contains("STRUCTURED_POINTS") {
+            Ok(FileKind::Volume(VolumeFormat::Vtk))
+        } else if head.contains("POLYDATA") {
+            Ok(FileKind::Mesh(MeshFormat::Vtk))
+        } else {
+            Err(IoError::unsupported(
+                path,
+                "the legacy VTK file holds neither POLYDATA nor STRUCTURED_POINTS",
+            ))
+        };
+    }
+    if let Ok(format) = mesh_format_of(path) {
+        return Ok(FileKind::Mesh(format));
+    }
+    if let Ok(format) = volume_format_of(path) {
+        return Ok(FileKind::Volume(format));
+    }
+    Err(IoError::unsupported(
+        path,
+        format!("unknown extension: meshes are {MESH_EXTENSIONS}; volumes are {VOLUME_EXTENSIONS}"),
+    ))
+}
+
+// -------------------------------------------------------------------------------------------
+// Meshes.
+
+/// A mesh as read, with what the reader did to it.
+#[derive(Clone, Debug)]
+pub struct LoadedMesh {
+    pub mesh: TriangleMesh,
+    pub format: MeshFormat,
+    /// For STL: how welding the triangle soup merged its corners. `None` for indexed formats.
+    pub welded: Option<WeldReport>,
+    /// Faces with more than three corners that were split by ear clipping.
+    pub polygons_triangulated: usize,
+}
+
+/// Borrowed parts of a [`PolyMesh`], so that a plain [`TriangleMesh`] is written without a copy.
+#[derive(Clone, Copy)]
+pub(crate) struct PolyView<'a> {
+    pub mesh: &'a TriangleMesh,
+    pub lines: &'a [[u32; 2]],
+    pub points: &'a [u32],
+    pub vertex_attributes: &'a [Attribute],
+    pub line_attributes: &'a [Attribute],
+}
+
+impl<'a> From<&'a TriangleMesh> for PolyView<'a> {
+    fn from(mesh: &'a TriangleMesh) -> Self {
+        PolyView {
+            mesh,
+            lines: &[],
+            points: &[],
+            vertex_attributes: &[],
+            line_attributes: &[],
+        }
+    }
+}
+
+impl<'a> From<&'a PolyMesh> for PolyView<'a> {
+    fn from(m: &'a PolyMesh) -> Self {
+        PolyView {
+            mesh: &m.mesh,
+            lines: &m.lines,
+            points: &m.points,
+            vertex_attributes: &m.vertex_attributes,
+            line_attributes: &m.line_attributes,
+        }
+    }
+}
+
+/// Fails unless `path` is a readable, non-empty file.
+fn check_readable(path: &Path) -> Result<(), IoError> {
+    let meta = std::fs::metadata(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
+    if meta.is_dir() {
+        return Err(IoError::new(
+            path,
+            IoErrorKind::Access,
+            "is a directory, not a file",
+        ));
+    }
+    if meta.len() == 0 {
+        return Err(IoError::new(path, IoErrorKind::Empty, "the file is empty"));
+    }
+    Ok(())
+}
+
+/// Coordinates and normals must be finite; the message names the first bad vertex.
+fn check_finite(path: &Path, mesh: &TriangleMesh) -> Result<(), IoError> {
+    if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
+        return Err(IoError::new(
+            path,
+            IoErrorKind::NonFinite,
+            format!(
+                "vertex {i} has a non-finite coordinate ({}, {}, {})",
+                mesh.positions[i].x, mesh.positions[i].y, mesh.positions[i].z
+            ),
+        ));
+    }
+    if let Some(i) = mesh.normals.iter().position(|n| !n.is_finite()) {
+        return Err(IoError::new(
+            path,
+            IoErrorKind::NonFinite,
+            format!("the normal of vertex {i} is not finite"),
+        ));
+    }
+    Ok(())
+}
+
+/// Reads any supported format into a [`PolyMesh`], with what the reader did.
+fn read_any(path: &Path) -> Result<(PolyMesh, MeshFormat, Option<WeldReport>, usize), IoError> {
+    let format = mesh_format_of(path)?;
+    check_readable(path)?;
+    let (mesh, welded, polygons) = match format {
+        MeshFormat::Obj => {
+            let c = obj::read(path)?;
+            (c.mesh, None, c.polygons_triangulated)
+        }
+        MeshFormat::Ply => {
+            let c = ply::read(path)?;
+            (c.mesh, None, c.polygons_triangulated)
+        }
+        MeshFormat::Stl => {
+            let (mesh, report) = stl::read(path)?;
+            (PolyMesh::from(mesh), Some(report), 0)
+        }
+        MeshFormat::Off => {
+            let c = off::read(path)?;
+            (PolyMesh::from(c.mesh), None, c.polygons_triangulated)
+        }
+        MeshFormat::Vtp | MeshFormat::Vtk => {
+            let flavor = if format == MeshFormat::Vtp {
+                Flavor::Xml
+            } else {
+                Flavor::Legacy
+            };
+            let c = vtk_mesh::read(path, flavor)?;
+            (c.mesh, None, c.polygons_triangulated)
+        }
+    };
+    check_finite(path, &mesh.mesh)?;
+    mesh.validate()
+        .map_err(|e| IoError::malformed(path, e.to_string()))?;
+    Ok((mesh, format, welded, polygons))
+}
+
+/// Reads a triangle mesh (see the table in the crate documentation). Polygons are
+/// ear-clipped, STL soups welded; nothing else is changed. A file without triangles is
+/// [`IoErrorKind::Malformed`].
+pub fn read_mesh(path: &Path) -> Result<LoadedMesh, IoError> {
+    let (poly, format, welded, polygons_triangulated) = read_any(path)?;
+    if poly.mesh.triangles.is_empty() {
+        return Err(IoError::malformed(path, "no triangles"));
+    }
+    Ok(LoadedMesh {
+        mesh: poly.mesh,
+        format,
+        welded,
+        polygons_triangulated,
+    })
+}
+
+/// Reads a mesh with its lines, points and attributes. PLY and VTK files carry all of them,
+/// OBJ lines and points; other formats give triangles only. The file must hold at least one
+/// triangle, line or point.
+pub fn read_poly_mesh(path: &Path) -> Result<PolyMesh, IoError> {
+    let (poly, ..) = read_any(path)?;
+    if poly.mesh.triangles.is_empty() && poly.lines.is_empty() && poly.points.is_empty() {
+        return Err(IoError::malformed(path, "no triangles, lines or points"));
+    }
+    Ok(poly)
+}
+
+/// Checks a mesh before writing it, so that a bad mesh fails before any file is touched.
+fn check_for_writing(path: &Path, mesh: &PolyMesh) -> Result<(), IoError> {
+    check_finite(path, &mesh.mesh)?;
+    mesh.validate()
+        .map_err(|e| IoError::malformed(path, format!("cannot write: {e}")))
+}
+
+fn write_view(path: &Path, view: PolyView<'_>) -> Result<(), IoError> {
+    let plain = view.lines.is_empty()
+        && view.points.is_empty()
+        && view.vertex_attributes.is_empty()
+        && view.line_attributes.is_empty();
+    match mesh_format_of(path)? {
+        MeshFormat::Ply => ply::write(path, view),
+        MeshFormat::Obj => obj::write(path, view),
+        MeshFormat::Vtp => vtk_mesh::write(path, view, Flavor::Xml),
+        MeshFormat::Vtk => vtk_mesh::write(path, view, Flavor::Legacy),
+        format @ (MeshFormat::Stl | MeshFormat::Off) => {
+            if !plain {
+                return Err(IoError::unsupported(
+                    path,
+                    format!("{format} holds triangles only, not lines, points or attributes; write .ply, .vtp or .vtk"),
+                ));
+            }
+            if format == MeshFormat::Stl {
+                stl::write(path, view.mesh)
+            } else {
+                off::write(path, view.mesh)
+            }
+        }
+    }
+}
+
+/// Writes a triangle mesh, by extension: `.ply` (binary little-endian, with normals when
+/// present), `.obj`, `.stl` (binary), `.off`, `.vtp` and `.vtk` (VTK PolyData).
+pub fn write_mesh(path: &Path, mesh: &TriangleMesh) -> Result<(), IoError> {
+    check_finite(path, mesh)?;
+    mesh.validate()
+        .map_err(|e| IoError::malformed(path, format!("cannot write: {e}")))?;
+    write_view(path, PolyView::from(mesh))
+}
+
+/// Writes a mesh with its lines, points and attributes: `.ply` (an `edge` element with one
+/// float property per line attribute, a `point` element, vertex attributes as extra vertex
+/// properties), `.vtp`/`.vtk` (verts, lines and polys; attributes as point and cell data),
+/// `.obj` (lines and points, no attributes). STL and OFF hold triangles only: a mesh with
+/// anything more is refused rather than silently reduced.
+pub fn write_poly_mesh(path: &Path, mesh: &PolyMesh) -> Result<(), IoError> {
+    check_for_writing(path, mesh)?;
+    write_view(path, PolyView::from(mesh))
+}
+
+// -------------------------------------------------------------------------------------------
+// Volumes.
+
+/// How volumes are written.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct VolumeWriteOptions {
+    /// Compress the samples: gzip for NRRD, zlib for VTK XML (`.vti`) and MetaImage. Legacy
+    /// VTK and raw files are never compressed. Off by default: compressing a large volume
+    /// costs far more time than writing it.
+    pub compress: bool,
+}
+
+/// Reads a volume by extension. Headerless raw files (`.raw`, or any extension that is not a
+/// self-describing format) need `raw`, the layout the file does not carry; for the other
+/// formats `raw` is ignored.
+pub fn read_volume(path: &Path, raw: Option<&RawLayout>) -> Result<Volume, IoError> {
+    let format = match volume_format_of(path) {
+        Ok(format) => format,
+        Err(_) if raw.is_some() => VolumeFormat::Raw,
+        Err(e) => return Err(e),
+    };
+    check_readable(path)?;
+    match format {
+        VolumeFormat::Nrrd | VolumeFormat::Nhdr => nrrd::read(path),
+        VolumeFormat::Vti => vtk_image::read(path, Flavor::Xml),
+        VolumeFormat::Vtk => vtk_image::read(path, Flavor::Legacy),
+        VolumeFormat::Nifti => crate::nifti::read(path),
+        VolumeFormat::Mha | VolumeFormat::Mhd => metaimage::read(path),
+        VolumeFormat::Raw => match raw {
+            Some(layout) => raw::read(path, layout),
+            None => Err(IoError::unsupported(
+                path,
+                "a headerless raw volume needs its layout (dimensions, sample type, byte order)",
+            )),
+        },
+    }
+}
+
+/// Writes a volume with default options (uncompressed). See [`write_volume_with`].
+pub fn write_volume(path: &Path, volume: &Volume) -> Result<(), IoError> {
+    write_volume_with(path, volume, &VolumeWriteOptions::default())
+}
+
+/// Writes a volume by extension, samples as `f32`: `.nrrd`, `.nhdr` (+ `<name>.raw` beside
+/// it), `.vti`, `.vtk` (legacy), `.mha`, `.mhd` (+ `<name>.raw`), `.raw` (headerless,
+/// little-endian; spacing and origin are not stored). NIfTI is read-only.
+pub fn write_volume_with(
+    path: &Path,
+    volume: &Volume,
+    options: &VolumeWriteOptions,
+) -> Result<(), IoError> {
+    let format = volume_format_of(path)?;
+    let g = &volume.grid;
+    if volume.values.len() != g.len() || volume.values.as_slice().is_none() {
+        return Err(IoError::malformed(
+            path,
+            format!(
+                "cannot write: {} samples for a {}x{}x{} grid",
+                volume.values.len(),
+                g.dims[0],
+                g.dims[1],
+                g.dims[2]
+            ),
+        ));
+    }
+    voxlod_core::Grid::new(g.dims, g.spacing, g.origin)
+        .map_err(|e| IoError::malformed(path, format!("cannot write: {e}")))?;
+    let compress = options.compress;
+    match format {
+        VolumeFormat::Nrrd => nrrd::write(path, volume, compress),
+        VolumeFormat::Nhdr => nrrd::write_detached(path, volume, compress),
+        VolumeFormat::Vti => vtk_image::write(path, volume, Flavor::Xml, compress),
+        VolumeFormat::Vtk => vtk_image::write(path, volume, Flavor::Legacy, false),
+        VolumeFormat::Mha => metaimage::write(path, volume, compress),
+        VolumeFormat::Mhd => metaimage::write_detached(path, volume, compress),
+        VolumeFormat::Raw => raw::write(path, volume),
+        VolumeFormat::Nifti => Err(IoError::unsupported(
+            path,
+            "writing NIfTI is not supported; write .nrrd, .vti, .mha or .vtk",
+        )),
+    }
+}

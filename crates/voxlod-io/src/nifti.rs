@@ -1,0 +1,164 @@
+//! NIfTI-1 volumes, `.nii` and `.nii.gz` (gzip is recognised by its magic bytes, whatever the
+//! name): read only.
+//!
+//! The `nifti` crate parses the 348-byte header (both byte orders); the samples are then read
+//! here, from `vox_offset` on, with the same exact-length check and conversion as the other
+//! formats. (Doing it here rather than through `nifti`'s volume reader also honours a
+//! `vox_offset` beyond 352 in files without extensions, and keeps the crate's `ndarray`
+//! feature, with its second copy of the data, out of the build.)
+//!
+//! - Types: 8-, 16- and 32-bit integers, `float32`, `float64`; `scl_slope`/`scl_inter` are
+//!   applied when the slope is non-zero. RGB, complex and 64-bit integer data are refused.
+//! - Geometry: spacing from `pixdim[1..=3]`, origin from the `sform` offsets when
+//!   `sform_code > 0`, else the `qform` offsets when `qform_code > 0`, else zero; both converted
+//!   from the header's spatial unit (metres, micrometres) to millimetres. Rotations and axis
+//!   flips of the `qform`/`sform` are not applied: the grid is axis-aligned in index order.
+//! - Only 3-D data: a 4-D series with more than one volume is refused rather than cut short.
+//! - Header/image pairs (`.hdr`/`.img`, magic `ni1`) and NIfTI-2 are not supported.
+
+use std::fs::File;
+use std::io::{BufRead, BufReader, Read};
+use std::path::Path;
+
+use ::nifti::{NiftiError, NiftiHeader, NiftiType};
+use voxlod_core::Volume;
+
+use crate::samples::{self, SampleType};
+use crate::{Endian, IoError};
+
+/// The file's bytes, decompressed if they are gzip.
+fn open(path: &Path) -> Result<Box<dyn Read>, IoError> {
+    let file = File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
+    let mut reader = BufReader::with_capacity(1 << 20, file);
+    let is_gzip = reader
+        .fill_buf()
+        .map_err(|e| IoError::access(path, "cannot read", &e))?
+        .starts_with(&[0x1f, 0x8b]);
+    Ok(if is_gzip {
+        Box::new(flate2::bufread::MultiGzDecoder::new(reader))
+    } else {
+        Box::new(reader)
+    })
+}
+
+fn header_error(path: &Path, e: NiftiError) -> IoError {
+    match e {
+        NiftiError::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            IoError::truncated(path, "the file ends within the 348-byte NIfTI-1 header")
+        }
+        NiftiError::Io(io) => {
+            IoError::malformed(path, format!("cannot read the NIfTI header: {io}"))
+        }
+        NiftiError::InvalidFormat => IoError::malformed(
+            path,
+            "not a NIfTI-1 file (bad header size field; NIfTI-2 is not supported)",
+        ),
+        other => IoError::malformed(path, format!("invalid NIfTI header: {other}")),
+    }
+}
+
+fn sample_type(path: &Path, header: &NiftiHeader) -> Result<SampleType, IoError> {
+    let t = header.data_type().map_err(|_| {
+        IoError::malformed(path, format!("unknown datatype code {}", header.datatype))
+    })?;
+    Ok(match t {
+        NiftiType::Uint8 => SampleType::U8,
+        NiftiType::Int8 => SampleType::I8,
+        NiftiType::Uint16 => SampleType::U16,
+        NiftiType::Int16 => SampleType::I16,
+        NiftiType::Uint32 => SampleType::U32,
+        NiftiType::Int32 => SampleType::I32,
+        NiftiType::Float32 => SampleType::F32,
+        NiftiType::Float64 => SampleType::F64,
+        other => {
+            return Err(IoError::unsupported(
+                path,
+                format!("datatype {other:?} is not supported (only scalar 8/16/32-bit integer and float data)"),
+            ))
+        }
+    })
+}
+
+pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
+    let header = NiftiHeader::from_reader(open(path)?).map_err(|e| header_error(path, e))?;
+    if &header.magic != b"n+1\0" {
+        return Err(IoError::unsupported(
+            path,
+            "not a single-file NIfTI-1 image (header/image pairs .hdr/.img are not supported)",
+        ));
+    }
+    let dim = header
+        .dim()
+        .map_err(|e| IoError::malformed(path, format!("invalid dimensions: {e}")))?;
+    let mut dims = [1usize; 3];
+    for (axis, &d) in dim.iter().take(3).enumerate() {
+        dims[axis] = d as usize;
+    }
+    let volumes: usize = dim.iter().skip(3).map(|&d| d as usize).product();
+    if volumes > 1 {
+        return Err(IoError::unsupported(
+            path,
+            format!(
+                "a series of {volumes} volumes (dim {dim:?}): only single 3-D volumes are read"
+            ),
+        ));
+    }
+    let sample = sample_type(path, &header)?;
+    let (_, data_bytes) = samples::check_volume_size(path, dims, sample)?;
+
+    // Skip to the data: the header and any extensions come first.
+    let offset = header.vox_offset;
+    if !(offset.is_finite() && offset >= 348.0) {
+        return Err(IoError::malformed(
+            path,
+            format!("vox_offset {offset} is before the end of the header"),
+        ));
+    }
+    let mut reader = open(path)?;
+    let skipped = std::io::copy(
+        &mut reader.by_ref().take(offset as u64),
+        &mut std::io::sink(),
+    )
+    .map_err(|e| {
+        IoError::truncated(path, format!("cannot reach the data at byte {offset}: {e}"))
+    })?;
+    if skipped < offset as u64 {
+        return Err(IoError::truncated(
+            path,
+            format!("the file ends at byte {skipped}, before the data at vox_offset {offset}"),
+        ));
+    }
+    let bytes = samples::read_data(path, reader, data_bytes, "image data")?;
+    let endian = match header.endianness {
+        ::nifti::Endianness::Little => Endian::Little,
+        ::nifti::Endianness::Big => Endian::Big,
+    };
+    let mut values = samples::decode(&bytes, sample, endian);
+    drop(bytes);
+    let (slope, inter) = (header.scl_slope, header.scl_inter);
+    if slope != 0.0 && slope.is_finite() && inter.is_finite() && !(slope == 1.0 && inter == 0.0) {
+        for v in &mut values {
+            *v = *v * slope + inter;
+        }
+    }
+
+    // Geometry in millimetres.
+    let unit = match header.xyzt_units & 0o7 {
+        1 => 1000.0, // metres
+        3 => 1e-3,   // micrometres
+        _ => 1.0,    // millimetres, or unspecified
+    };
+    let mut spacing = [1.0f64; 3];
+    for (axis, s) in spacing.iter_mut().enumerate().take(dim.len()) {
+        *s = header.pixdim[axis + 1] as f64 * unit;
+    }
+    let offsets = if header.sform_code > 0 {
+        [header.srow_x[3], header.srow_y[3], header.srow_z[3]]
+    } else if header.qform_code > 0 {
+        [header.quatern_x, header.quatern_y, header.quatern_z]
+    } else {
+        [0.0; 3]
+    };
+    let origin = offsets.map(|o| o as f64 * unit);
+    samples::make_volume(path, dims, spacing, origin, values)
+}

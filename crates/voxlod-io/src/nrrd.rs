@@ -1,0 +1,508 @@
+//! NRRD volumes: `.nrrd` (header and data in one file) and `.nhdr` (header, with the data in a
+//! separate file it names). Read and written by hand: no maintained crate exists, and the part
+//! of the format scans use is a short text header.
+//!
+//! Reading understands the fields `type` (every C spelling of 8-, 16- and 32-bit integers,
+//! `float`, `double`), `dimension` (1 to 3), `sizes`, `endian`, `encoding` (`raw`, `gzip`/`gz`,
+//! `ascii`/`text`/`txt`), `space directions` (spacing = length of each vector), `spacings`,
+//! `space origin`, `space units` (converted to millimetres), `data file`/`datafile` (one file,
+//! relative to the header), `line skip` and `byte skip` (including `-1` for raw data at the end
+//! of the file). Comments and `key:=value` pairs are ignored. Not supported: 64-bit integer
+//! types, `bzip2` and `hex` encodings, lists of data files, non-spatial axes (colour
+//! channels, time). Direction vectors are not applied beyond their length: the grid is
+//! axis-aligned in index order, starting at `space origin`.
+//!
+//! Writing produces `NRRD0004`, `type: float`, little-endian, `space dimension: 3`, diagonal
+//! `space directions` holding the spacing and `space origin`; encoding `raw`, or `gzip` when
+//! [`VolumeWriteOptions::compress`](crate::VolumeWriteOptions) asks. A `.nhdr` gets its data in
+//! `<name>.raw` (`<name>.raw.gz` compressed) beside it; both files are written atomically.
+
+use std::fs::File;
+use std::io::{BufRead, BufReader, Read, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+
+use flate2::write::GzEncoder;
+use voxlod_core::Volume;
+
+use crate::atomic::{write_atomically, TempFile};
+use crate::samples::{self, millimetres_per, SampleType};
+use crate::{Endian, IoError, IoErrorKind};
+
+/// The longest header we accept: real ones are a few hundred bytes.
+const MAX_HEADER_BYTES: u64 = 1 << 20;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Encoding {
+    Raw,
+    Gzip,
+    Ascii,
+}
+
+/// The fields of a NRRD header that matter to us.
+#[derive(Debug)]
+struct Header {
+    sample: SampleType,
+    dims: [usize; 3],
+    endian: Endian,
+    encoding: Encoding,
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    data_file: Option<PathBuf>,
+    line_skip: usize,
+    byte_skip: i64,
+}
+
+fn sample_type(name: &str) -> Option<SampleType> {
+    Some(match name {
+        "signed char" | "int8" | "int8_t" => SampleType::I8,
+        "uchar" | "unsigned char" | "uint8" | "uint8_t" => SampleType::U8,
+        "short" | "short int" | "signed short" | "signed short int" | "int16" | "int16_t" => {
+            SampleType::I16
+        }
+        "ushort" | "unsigned short" | "unsigned short int" | "uint16" | "uint16_t" => {
+            SampleType::U16
+        }
+        "int" | "signed int" | "int32" | "int32_t" => SampleType::I32,
+        "uint" | "unsigned int" | "uint32" | "uint32_t" => SampleType::U32,
+        "float" => SampleType::F32,
+        "double" => SampleType::F64,
+        _ => return None,
+    })
+}
+
+/// Parses `(x,y,z)` vectors; `none` stands for a non-spatial axis.
+fn parse_vectors(text: &str) -> Option<Vec<Option<Vec<f64>>>> {
+    let mut out = Vec::new();
+    let mut rest = text.trim();
+    while !rest.is_empty() {
+        if let Some(after) = rest.strip_prefix("none") {
+            out.push(None);
+            rest = after.trim_start();
+            continue;
+        }
+        let inner = rest.strip_prefix('(')?;
+        let close = inner.find(')')?;
+        let vector = inner[..close]
+            .split(',')
+            .map(|c| c.trim().parse::<f64>().ok())
+            .collect::<Option<Vec<f64>>>()?;
+        out.push(Some(vector));
+        rest = inner[close + 1..].trim_start();
+    }
+    Some(out)
+}
+
+/// Reads header lines up to the blank line (or the end, for a detached header). Returns the
+/// fields and the reader positioned at the first data byte.
+fn read_header(path: &Path, reader: &mut impl BufRead) -> Result<Header, IoError> {
+    let mut limited = reader.take(MAX_HEADER_BYTES);
+    let mut line = Vec::new();
+    let mut first = true;
+    let mut fields: Vec<(String, String)> = Vec::new();
+    loop {
+        line.clear();
+        let n = limited
+            .read_until(b'\n', &mut line)
+            .map_err(|e| IoError::access(path, "cannot read", &e))?;
+        if n == 0 {
+            if limited.limit() == 0 {
+                return Err(IoError::malformed(
+                    path,
+                    format!("no end of the header within {MAX_HEADER_BYTES} bytes"),
+                ));
+            }
+            break;
+        }
+        let text = String::from_utf8_lossy(&line);
+        let text = text.trim_end_matches(['\n', '\r']);
+        if first {
+            if !text.starts_with("NRRD000") {
+                return Err(IoError::malformed(
+                    path,
+                    "not a NRRD file: it does not start with the NRRD000x magic",
+                ));
+            }
+            first = false;
+            continue;
+        }
+        if text.is_empty() {
+            break;
+        }
+        if text.starts_with('#') || text.contains(":=") {
+            continue;
+        }
+        let Some((key, value)) = text.split_once(':') else {
+            return Err(IoError::malformed(
+                path,
+                format!("header line '{text}' is not 'field: value'"),
+            ));
+        };
+        fields.push((key.trim().to_ascii_lowercase(), value.trim().to_string()));
+    }
+    if first {
+        return Err(IoError::new(path, IoErrorKind::Empty, "the file is empty"));
+    }
+    interpret(path, &fields)
+}
+
+fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError> {
+    let get = |names: &[&str]| {
+        fields
+            .iter()
+            .find(|(k, _)| names.contains(&k.as_str()))
+            .map(|(_, v)| v.as_str())
+    };
+    let require = |names: &[&str]| {
+        get(names).ok_or_else(|| {
+            IoError::malformed(path, format!("the header has no '{}' field", names[0]))
+        })
+    };
+    let bad = |field: &str, value: &str| {
+        IoError::malformed(path, format!("cannot understand '{field}: {value}'"))
+    };
+
+    let type_name = require(&["type"])?;
+    let sample = sample_type(type_name).ok_or_else(|| {
+        IoError::unsupported(path, format!("sample type '{type_name}' is not supported"))
+    })?;
+    let dimension_text = require(&["dimension"])?;
+    let dimension: usize = dimension_text
+        .parse()
+        .map_err(|_| bad("dimension", dimension_text))?;
+    if !(1..=3).contains(&dimension) {
+        return Err(IoError::unsupported(
+            path,
+            format!("dimension {dimension}: only 1- to 3-dimensional scalar volumes are read"),
+        ));
+    }
+    let sizes_text = require(&["sizes"])?;
+    let sizes: Vec<usize> =
+        samples::parse_list(sizes_text, dimension).ok_or_else(|| bad("sizes", sizes_text))?;
+    let mut dims = [1usize; 3];
+    dims[..dimension].copy_from_slice(&sizes);
+
+    let endian = match get(&["endian"]) {
+        Some("little") | None => Endian::Little,
+        Some("big") => Endian::Big,
+        Some(other) => return Err(bad("endian", other)),
+    };
+    let encoding = match require(&["encoding"])? {
+        "raw" => Encoding::Raw,
+        "gzip" | "gz" => Encoding::Gzip,
+        "ascii" | "text" | "txt" => Encoding::Ascii,
+        other => {
+            return Err(IoError::unsupported(
+                path,
+                format!("encoding '{other}' is not supported (raw, gzip and ascii are)"),
+            ))
+        }
+    };
+
+    // Units to millimetres, when declared and known.
+    let mut unit_scale = [1.0f64; 3];
+    if let Some(units) = get(&["space units"]) {
+        for (axis, unit) in units.split_whitespace().take(3).enumerate() {
+            unit_scale[axis] = millimetres_per(unit).unwrap_or(1.0);
+        }
+    }
+    let mut spacing = [1.0f64; 3];
+    if let Some(text) = get(&["space directions"]) {
+        let vectors = parse_vectors(text).ok_or_else(|| bad("space directions", text))?;
+        if vectors.len() != dimension {
+            return Err(bad("space directions", text));
+        }
+        for (axis, v) in vectors.iter().enumerate() {
+            let Some(v) = v else {
+                return Err(IoError::unsupported(
+                    path,
+                    format!("axis {axis} is not spatial ('none' direction): only scalar volumes are read"),
+                ));
+            };
+            spacing[axis] = v.iter().map(|c| c * c).sum::<f64>().sqrt() * unit_scale[axis];
+        }
+    } else if let Some(text) = get(&["spacings"]) {
+        let values: Vec<f64> =
+            samples::parse_list(text, dimension).ok_or_else(|| bad("spacings", text))?;
+        spacing[..dimension].copy_from_slice(&values);
+    }
+    let mut origin = [0.0f64; 3];
+    if let Some(text) = get(&["space origin"]) {
+        let vectors = parse_vectors(text).ok_or_else(|| bad("space origin", text))?;
+        match vectors.as_slice() {
+            [Some(v)] if (1..=3).contains(&v.len()) => {
+                for (axis, c) in v.iter().enumerate() {
+                    origin[axis] = c * unit_scale[axis];
+                }
+            }
+            _ => return Err(bad("space origin", text)),
+        }
+    }
+
+    let data_file = match get(&["data file", "datafile"]) {
+        None => None,
+        Some(name) if name.starts_with("LIST") || name.split_whitespace().count() > 1 => {
+            return Err(IoError::unsupported(
+                path,
+                format!("'data file: {name}': only a single data file is supported"),
+            ))
+        }
+        Some(name) => {
+            let name = Path::new(name);
+            Some(if name.is_absolute() {
+                name.to_path_buf()
+            } else {
+                path.parent().unwrap_or(Path::new("")).join(name)
+            })
+        }
+    };
+    let line_skip = match get(&["line skip", "lineskip"]) {
+        None => 0,
+        Some(t) => t.parse().map_err(|_| bad("line skip", t))?,
+    };
+    let byte_skip = match get(&["byte skip", "byteskip"]) {
+        None => 0,
+        Some(t) => t
+            .parse::<i64>()
+            .ok()
+            .filter(|&b| b >= -1)
+            .ok_or_else(|| bad("byte skip", t))?,
+    };
+    Ok(Header {
+        sample,
+        dims,
+        endian,
+        encoding,
+        spacing,
+        origin,
+        data_file,
+        line_skip,
+        byte_skip,
+    })
+}
+
+pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
+    let file = File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
+    let mut reader = BufReader::with_capacity(1 << 20, file);
+    let header = read_header(path, &mut reader)?;
+    let (count, data_bytes) = samples::check_volume_size(path, header.dims, header.sample)?;
+
+    // Where the data lives: after the header, or in the file it names (errors then name that
+    // file, since it is the one that is short or missing).
+    let (data_path, mut data): (PathBuf, BufReader<File>) = match &header.data_file {
+        None => (path.to_path_buf(), reader),
+        Some(other) => {
+            let f = File::open(other).map_err(|e| {
+                IoError::access(
+                    other,
+                    &format!("cannot open the data file of {}", path.display()),
+                    &e,
+                )
+            })?;
+            (other.clone(), BufReader::with_capacity(1 << 20, f))
+        }
+    };
+    let data_path = data_path.as_path();
+    for _ in 0..header.line_skip {
+        let mut skipped = Vec::new();
+        data.read_until(b'\n', &mut skipped)
+            .map_err(|e| IoError::access(data_path, "cannot read", &e))?;
+    }
+
+    let values = match header.encoding {
+        Encoding::Raw => {
+            if header.byte_skip == -1 {
+                // The data is the last `data_bytes` bytes of the file.
+                let len = data
+                    .get_ref()
+                    .metadata()
+                    .map_err(|e| IoError::access(data_path, "cannot read", &e))?
+                    .len();
+                let start = len.checked_sub(data_bytes as u64).ok_or_else(|| {
+                    IoError::truncated(
+                        data_path,
+                        format!("the data is truncated: expected {data_bytes} bytes, the file has {len}"),
+                    )
+                })?;
+                data.seek(SeekFrom::Start(start))
+                    .map_err(|e| IoError::access(data_path, "cannot read", &e))?;
+            } else {
+                skip(data_path, &mut data, header.byte_skip as u64)?;
+            }
+            let bytes = samples::read_data(data_path, &mut data, data_bytes, "raw data")?;
+            samples::decode(&bytes, header.sample, header.endian)
+        }
+        Encoding::Gzip => {
+            if header.byte_skip == -1 {
+                return Err(IoError::malformed(
+                    path,
+                    "'byte skip: -1' is only allowed with raw encoding",
+                ));
+            }
+            let mut inflated = flate2::bufread::MultiGzDecoder::new(data);
+            // For compressed data, byte skip counts decompressed bytes.
+            skip(data_path, &mut inflated, header.byte_skip as u64)?;
+            let bytes = samples::read_data(data_path, &mut inflated, data_bytes, "gzip data")?;
+            samples::decode(&bytes, header.sample, header.endian)
+        }
+        Encoding::Ascii => read_ascii(data_path, data, count)?,
+    };
+    samples::make_volume(path, header.dims, header.spacing, header.origin, values)
+}
+
+fn skip(path: &Path, reader: &mut impl Read, bytes: u64) -> Result<(), IoError> {
+    let skipped = std::io::copy(&mut reader.take(bytes), &mut std::io::sink())
+        .map_err(|e| IoError::access(path, "cannot read", &e))?;
+    if skipped < bytes {
+        return Err(IoError::truncated(
+            path,
+            format!("the file ends within the {bytes} bytes to skip"),
+        ));
+    }
+    Ok(())
+}
+
+/// Whitespace-separated numbers, as many as the volume has samples.
+fn read_ascii(path: &Path, reader: impl Read, count: usize) -> Result<Vec<f32>, IoError> {
+    let mut text = String::new();
+    reader
+        .take((count as u64).saturating_mul(64))
+        .read_to_string(&mut text)
+        .map_err(|e| IoError::malformed(path, format!("the ascii data is not text: {e}")))?;
+    let mut values = Vec::with_capacity(count);
+    for token in text.split_whitespace().take(count) {
+        let v: f64 = token.parse().map_err(|_| {
+            IoError::malformed(path, format!("'{token}' in the ascii data is not a number"))
+        })?;
+        values.push(v as f32);
+    }
+    if values.len() < count {
+        return Err(IoError::truncated(
+            path,
+            format!(
+                "the ascii data is truncated: expected {count} values, found {}",
+                values.len()
+            ),
+        ));
+    }
+    Ok(values)
+}
+
+/// The header text for `volume`, with its data attached or in `data_file`.
+fn header_text(volume: &Volume, compress: bool, data_file: Option<&str>) -> String {
+    let g = &volume.grid;
+    let [nx, ny, nz] = g.dims;
+    let [sx, sy, sz] = g.spacing;
+    let [ox, oy, oz] = g.origin;
+    let mut text = format!(
+        "NRRD0004\n\
+         # written by voxlod\n\
+         type: float\n\
+         dimension: 3\n\
+         space dimension: 3\n\
+         sizes: {nx} {ny} {nz}\n\
+         space directions: ({sx},0,0) (0,{sy},0) (0,0,{sz})\n\
+         kinds: domain domain domain\n\
+         space origin: ({ox},{oy},{oz})\n\
+         endian: little\n\
+         encoding: {}\n",
+        if compress { "gzip" } else { "raw" }
+    );
+    match data_file {
+        Some(name) => text.push_str(&format!("data file: {name}\n")),
+        None => text.push('\n'),
+    }
+    text
+}
+
+fn write_data(w: &mut impl Write, volume: &Volume, compress: bool) -> std::io::Result<()> {
+    if compress {
+        let mut gz = GzEncoder::new(w, flate2::Compression::new(6));
+        crate::raw::write_samples_f32_le(&mut gz, volume.as_slice())?;
+        gz.finish()?;
+        Ok(())
+    } else {
+        crate::raw::write_samples_f32_le(w, volume.as_slice())
+    }
+}
+
+/// Writes a `.nrrd` with attached data.
+pub(crate) fn write(path: &Path, volume: &Volume, compress: bool) -> Result<(), IoError> {
+    let header = header_text(volume, compress, None);
+    write_atomically(path, |w| {
+        w.write_all(header.as_bytes())?;
+        write_data(w, volume, compress)
+    })
+}
+
+/// Writes a `.nhdr` and its data file beside it; neither appears unless both were written.
+pub(crate) fn write_detached(path: &Path, volume: &Volume, compress: bool) -> Result<(), IoError> {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "volume".to_string());
+    let data_name = format!("{stem}.raw{}", if compress { ".gz" } else { "" });
+    let data_path = path.with_file_name(&data_name);
+    let header = header_text(volume, compress, Some(&data_name));
+
+    let mut data_file = TempFile::create(&data_path)?;
+    data_file.write_with(|w| write_data(w, volume, compress))?;
+    let mut header_file = TempFile::create(path)?;
+    header_file.write_with(|w| w.write_all(header.as_bytes()))?;
+    data_file.commit()?;
+    header_file.commit()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn header_of(text: &str) -> Result<Header, IoError> {
+        read_header(Path::new("dir/t.nrrd"), &mut text.as_bytes())
+    }
+
+    #[test]
+    fn understands_the_usual_fields() {
+        let h = header_of(
+            "NRRD0004\n# comment\ntype: unsigned short\ndimension: 3\nsizes: 4 5 6\n\
+             space: left-posterior-superior\n\
+             space directions: (0.5,0,0) (0,0,-0.5) (0,2,0)\nspace origin: (1, -2.5, 3)\n\
+             endian: big\nencoding: gz\nkey:=value\ndata file: t.raw.gz\n\n",
+        )
+        .unwrap();
+        assert_eq!(h.sample, SampleType::U16);
+        assert_eq!(h.dims, [4, 5, 6]);
+        assert_eq!(h.spacing, [0.5, 0.5, 2.0]);
+        assert_eq!(h.origin, [1.0, -2.5, 3.0]);
+        assert_eq!(h.endian, Endian::Big);
+        assert_eq!(h.encoding, Encoding::Gzip);
+        assert_eq!(h.data_file.as_deref(), Some(Path::new("dir/t.raw.gz")));
+
+        let h = header_of(
+            "NRRD0001\ntype: float\ndimension: 2\nsizes: 7 8\nspacings: 0.25 4\nencoding: raw\n\n",
+        )
+        .unwrap();
+        assert_eq!(h.dims, [7, 8, 1]);
+        assert_eq!(h.spacing, [0.25, 4.0, 1.0]);
+
+        let h = header_of("NRRD0005\ntype: float\ndimension: 3\nsizes: 2 2 2\nspace units: \"m\" \"m\" \"m\"\nspace directions: (0.001,0,0) (0,0.001,0) (0,0,0.002)\nencoding: raw\n\n").unwrap();
+        assert!((h.spacing[2] - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn refuses_what_it_cannot_read() {
+        for (text, kind, needle) in [
+            ("P6\n", IoErrorKind::Malformed, "NRRD000x"),
+            ("NRRD0004\ndimension: 3\nsizes: 1 1 1\nencoding: raw\n\n", IoErrorKind::Malformed, "'type'"),
+            ("NRRD0004\ntype: int64\ndimension: 1\nsizes: 1\nencoding: raw\n\n", IoErrorKind::Unsupported, "int64"),
+            ("NRRD0004\ntype: float\ndimension: 4\nsizes: 3 1 1 1\nencoding: raw\n\n", IoErrorKind::Unsupported, "dimension 4"),
+            ("NRRD0004\ntype: float\ndimension: 3\nsizes: 1 1\nencoding: raw\n\n", IoErrorKind::Malformed, "sizes"),
+            ("NRRD0004\ntype: float\ndimension: 3\nsizes: 1 1 1\nencoding: bzip2\n\n", IoErrorKind::Unsupported, "bzip2"),
+            ("NRRD0004\ntype: float\ndimension: 3\nsizes: 1 1 1\nencoding: raw\nspace directions: (1,0,0) none (0,0,1)\n\n", IoErrorKind::Unsupported, "not spatial"),
+            ("NRRD0004\nthis is not a field\n", IoErrorKind::Malformed, "not 'field: value'"),
+        ] {
+            let err = header_of(text).err().unwrap_or_else(|| panic!("accepted {text:?}"));
+            assert_eq!(err.kind, kind, "{err}");
+            assert!(err.message.contains(needle), "{needle}: {err}");
+        }
+    }
+}

@@ -1,0 +1,274 @@
+//! Object File Format (OFF), the format of the CGAL and Princeton shape data: read and written
+//! by hand, it is a header and two lists.
+//!
+//! ```text
+//! OFF                # or COFF, NOFF, CNOFF, STOFF, ... ; the counts may follow on this line
+//! V F E              # vertex, face and edge counts (E is ignored)
+//! x y z [nx ny nz] [colour] [texture]      × V
+//! n i1 ... in [colour]                     × F
+//! ```
+//!
+//! Comments (`#` to the end of the line) and blank lines are skipped anywhere. Vertices and
+//! faces are one per line; values after the ones we need (colours, texture coordinates) are
+//! ignored, and so are normals unless the header says `N`. Polygons are ear-clipped. Not
+//! supported: binary OFF, `4OFF` and `nOFF` (other dimensions). The writer emits plain `OFF`.
+
+use std::io::Write;
+use std::path::Path;
+
+use glam::{DVec3, Vec3};
+use voxlod_core::TriangleMesh;
+
+use crate::atomic::write_atomically;
+use crate::{ear_clipping, IoError, IoErrorKind};
+
+pub(crate) struct OffContent {
+    pub mesh: TriangleMesh,
+    pub polygons_triangulated: usize,
+}
+
+pub(crate) fn read(path: &Path) -> Result<OffContent, IoError> {
+    let bytes = std::fs::read(path).map_err(|e| IoError::access(path, "cannot read", &e))?;
+    parse(path, &bytes)
+}
+
+/// The lines that carry content, with their 1-based numbers and comments removed.
+fn content_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.lines().enumerate().filter_map(|(i, line)| {
+        let line = line.split('#').next().unwrap_or("").trim();
+        (!line.is_empty()).then_some((i + 1, line))
+    })
+}
+
+fn parse(path: &Path, bytes: &[u8]) -> Result<OffContent, IoError> {
+    let text = String::from_utf8_lossy(bytes);
+    let mut lines = content_lines(&text);
+    let malformed =
+        |line: usize, what: String| IoError::malformed(path, format!("line {line}: {what}"));
+
+    // Header keyword, with the counts on the same line or the next.
+    let (line_no, header) = lines
+        .next()
+        .ok_or_else(|| IoError::new(path, IoErrorKind::Empty, "no content (only comments)"))?;
+    let mut header_tokens = header.split_whitespace();
+    let keyword = header_tokens.next().unwrap_or("");
+    let Some(prefix) = keyword.strip_suffix("OFF") else {
+        return Err(malformed(
+            line_no,
+            format!("expected an OFF header keyword, found '{keyword}'"),
+        ));
+    };
+    if prefix.contains('4') || prefix.contains('n') {
+        return Err(IoError::unsupported(
+            path,
+            format!("'{keyword}' files (not 3-D) are not supported"),
+        ));
+    }
+    if header_tokens.clone().next() == Some("BINARY") {
+        return Err(IoError::unsupported(path, "binary OFF is not supported"));
+    }
+    let has_normals = prefix.contains('N');
+    let mut counts: Vec<&str> = header_tokens.collect();
+    let mut counts_line = line_no;
+    if counts.is_empty() {
+        let (n, line) = lines.next().ok_or_else(|| {
+            IoError::truncated(path, "the file ends before the vertex and face counts")
+        })?;
+        counts = line.split_whitespace().collect();
+        counts_line = n;
+    }
+    let count = |k: usize, what: &str| -> Result<usize, IoError> {
+        counts
+            .get(k)
+            .and_then(|t| t.parse().ok())
+            .ok_or_else(|| malformed(counts_line, format!("expected the {what} count")))
+    };
+    let vertex_count = count(0, "vertex")?;
+    let face_count = count(1, "face")?;
+    // Each vertex and face takes at least a couple of bytes: larger counts are lies.
+    if vertex_count.saturating_add(face_count) > bytes.len() / 2 {
+        return Err(IoError::truncated(
+            path,
+            format!(
+                "the header declares {vertex_count} vertices and {face_count} faces, more than the {} bytes of the file can hold",
+                bytes.len()
+            ),
+        ));
+    }
+
+    let mut positions = Vec::with_capacity(vertex_count);
+    let mut normals = Vec::with_capacity(if has_normals { vertex_count } else { 0 });
+    for v in 0..vertex_count {
+        let (n, line) = lines.next().ok_or_else(|| {
+            IoError::truncated(
+                path,
+                format!("the file ends after {v} of {vertex_count} vertices"),
+            )
+        })?;
+        let values: Vec<f32> = line
+            .split_whitespace()
+            .take(if has_normals { 6 } else { 3 })
+            .map(|t| t.parse::<f32>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| {
+                malformed(
+                    n,
+                    format!("vertex {v} has a coordinate that is not a number"),
+                )
+            })?;
+        let needed = if has_normals { 6 } else { 3 };
+        if values.len() < needed {
+            return Err(malformed(
+                n,
+                format!("vertex {v} has {} values, expected {needed}", values.len()),
+            ));
+        }
+        positions.push(Vec3::new(values[0], values[1], values[2]));
+        if has_normals {
+            normals.push(Vec3::new(values[3], values[4], values[5]));
+        }
+    }
+
+    let mut triangles = Vec::with_capacity(face_count);
+    let mut polygons_triangulated = 0;
+    let mut corners: Vec<u32> = Vec::new();
+    let mut polygon: Vec<DVec3> = Vec::new();
+    for f in 0..face_count {
+        let (n, line) = lines.next().ok_or_else(|| {
+            IoError::truncated(
+                path,
+                format!("the file ends after {f} of {face_count} faces"),
+            )
+        })?;
+        let mut tokens = line.split_whitespace();
+        let size: usize = tokens.next().and_then(|t| t.parse().ok()).ok_or_else(|| {
+            malformed(n, format!("face {f} does not start with its corner count"))
+        })?;
+        if size < 3 {
+            return Err(malformed(
+                n,
+                format!("face {f} has {size} corners; a face needs at least 3"),
+            ));
+        }
+        corners.clear();
+        for _ in 0..size {
+            let token = tokens.next().ok_or_else(|| {
+                malformed(n, format!("face {f} lists fewer than its {size} corners"))
+            })?;
+            let index: u32 = token
+                .parse()
+                .ok()
+                .filter(|&i: &u32| (i as usize) < vertex_count)
+                .ok_or_else(|| {
+                    malformed(
+                        n,
+                        format!("face {f} refers to vertex '{token}' but there are {vertex_count} vertices"),
+                    )
+                })?;
+            corners.push(index);
+        }
+        if size == 3 {
+            triangles.push([corners[0], corners[1], corners[2]]);
+        } else {
+            polygon.clear();
+            polygon.extend(corners.iter().map(|&v| positions[v as usize].as_dvec3()));
+            triangles.extend(
+                ear_clipping::triangulate(&polygon)
+                    .into_iter()
+                    .map(|t| t.map(|i| corners[i])),
+            );
+            polygons_triangulated += 1;
+        }
+    }
+    Ok(OffContent {
+        mesh: TriangleMesh {
+            positions,
+            normals,
+            triangles,
+        },
+        polygons_triangulated,
+    })
+}
+
+/// Writes `OFF` (or `NOFF` with normals), one vertex and one triangle per line.
+pub(crate) fn write(path: &Path, mesh: &TriangleMesh) -> Result<(), IoError> {
+    let has_normals = !mesh.normals.is_empty();
+    write_atomically(path, |w| {
+        writeln!(w, "{}", if has_normals { "NOFF" } else { "OFF" })?;
+        writeln!(w, "# written by voxlod")?;
+        writeln!(w, "{} {} 0", mesh.positions.len(), mesh.triangles.len())?;
+        for (i, p) in mesh.positions.iter().enumerate() {
+            if has_normals {
+                let n = mesh.normals[i];
+                writeln!(w, "{} {} {} {} {} {}", p.x, p.y, p.z, n.x, n.y, n.z)?;
+            } else {
+                writeln!(w, "{} {} {}", p.x, p.y, p.z)?;
+            }
+        }
+        for [a, b, c] in &mesh.triangles {
+            writeln!(w, "3 {a} {b} {c}")?;
+        }
+        Ok(())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse_str(text: &str) -> Result<OffContent, IoError> {
+        parse(Path::new("t.off"), text.as_bytes())
+    }
+
+    #[test]
+    fn headers_comments_and_polygons() {
+        let off = parse_str(
+            "# a comment\nCOFF 4 1 0\n0 0 0 255 0 0 255\n1 0 0 1 1 1 1\n\n\
+             1 1 0 # trailing\n0 1 0 0 0 0 0\n4 0 1 2 3 255 0 0\n",
+        )
+        .unwrap();
+        assert_eq!(off.mesh.positions.len(), 4);
+        assert_eq!(off.mesh.triangles.len(), 2);
+        assert_eq!(off.polygons_triangulated, 1);
+        assert!(off.mesh.normals.is_empty());
+
+        let off =
+            parse_str("NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n").unwrap();
+        assert_eq!(off.mesh.normals, vec![Vec3::Z; 3]);
+    }
+
+    #[test]
+    fn errors_name_the_line() {
+        for (text, kind, needle) in [
+            ("PLY\n", IoErrorKind::Malformed, "OFF header"),
+            (
+                "OFF\n3 1 0\n0 0 0\n1 0 0\n",
+                IoErrorKind::Truncated,
+                "2 of 3 vertices",
+            ),
+            (
+                "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n",
+                IoErrorKind::Malformed,
+                "line 6",
+            ),
+            (
+                "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n",
+                IoErrorKind::Malformed,
+                "at least 3",
+            ),
+            (
+                "OFF\n99999999 1 0\n0 0 0\n",
+                IoErrorKind::Truncated,
+                "99999999",
+            ),
+            ("4OFF\n", IoErrorKind::Unsupported, "4OFF"),
+            ("# nothing\n", IoErrorKind::Empty, "no content"),
+        ] {
+            let err = parse_str(text)
+                .err()
+                .unwrap_or_else(|| panic!("accepted {text:?}"));
+            assert_eq!(err.kind, kind, "{err}");
+            assert!(err.message.contains(needle), "{needle}: {err}");
+        }
+    }
+}

@@ -1,0 +1,643 @@
+//! Stanford PLY through `ply-rs-bw`: ASCII and binary (either byte order) in, binary
+//! little-endian out.
+//!
+//! Reading: the `vertex` element gives positions (`x`, `y`, `z`, any scalar type), normals
+//! (`nx`, `ny`, `nz`) and, for [`read_poly_mesh`](crate::read_poly_mesh), every other scalar
+//! property as a vertex attribute; `face` lists (`vertex_indices` or `vertex_index`, any
+//! integer types) become triangles, polygons ear-clipped; `edge` (`vertex1`, `vertex2`, other
+//! scalars as line attributes) and `point` (`vertex_index`) as voxlod writes them. Other
+//! elements are read past and ignored. Each element is parsed straight into a small record
+//! type rather than ply-rs-bw's map-per-element default, which would cost a hash map per vertex.
+//!
+//! Writing: `vertex` (x, y, z as float, nx, ny, nz when the mesh has normals, then one float
+//! property per vertex attribute), `face` (`list uchar int vertex_indices`), then `edge`
+//! (`int vertex1`, `int vertex2`, one float per line attribute) and `point`
+//! (`int vertex_index`) when there are lines or points. Elements are streamed one at a time
+//! through ply-rs-bw's writer, so no second copy of the mesh is built.
+
+use std::fs::File;
+use std::io::{BufReader, Write};
+use std::path::Path;
+
+use glam::{DVec3, Vec3};
+use ply_rs_bw::parser::{Parser, Reader};
+use ply_rs_bw::ply::{
+    Addable, ElementDef, Encoding, Header, Property, PropertyAccess, PropertyAccessResult,
+    PropertyDef, PropertyType, ScalarType,
+};
+use ply_rs_bw::writer::Writer;
+use voxlod_core::{Attribute, PolyMesh, TriangleMesh};
+
+use crate::atomic::write_atomically;
+use crate::{ear_clipping, IoError, IoErrorKind, PolyView};
+
+/// What the PLY reader found, before the common checks.
+pub(crate) struct PlyContent {
+    pub mesh: PolyMesh,
+    pub polygons_triangulated: usize,
+}
+
+// ---------------------------------------------------------------------------------------------
+// Records: one per element kind, filled by the parser through `PropertyAccess`.
+
+/// A scalar of any PLY type, widened.
+fn scalar(property: &Property) -> Option<f64> {
+    Some(match *property {
+        Property::Char(v) => v as f64,
+        Property::UChar(v) => v as f64,
+        Property::Short(v) => v as f64,
+        Property::UShort(v) => v as f64,
+        Property::Int(v) => v as f64,
+        Property::UInt(v) => v as f64,
+        Property::Float(v) => v as f64,
+        Property::Double(v) => v,
+        _ => return None,
+    })
+}
+
+/// An integer list of any PLY type, widened; `None` for float lists.
+fn int_list(property: Property) -> Option<Vec<i64>> {
+    Some(match property {
+        Property::ListChar(v) => v.into_iter().map(i64::from).collect(),
+        Property::ListUChar(v) => v.into_iter().map(i64::from).collect(),
+        Property::ListShort(v) => v.into_iter().map(i64::from).collect(),
+        Property::ListUShort(v) => v.into_iter().map(i64::from).collect(),
+        Property::ListInt(v) => v.into_iter().map(i64::from).collect(),
+        Property::ListUInt(v) => v.into_iter().map(i64::from).collect(),
+        _ => return None,
+    })
+}
+
+/// A `vertex`: position, normal and the remaining scalars in header order.
+#[derive(Default)]
+struct VertexRecord {
+    position: [f64; 3],
+    normal: [f32; 3],
+    extra: Vec<f32>,
+}
+
+impl PropertyAccess for VertexRecord {
+    fn new() -> Self {
+        VertexRecord::default()
+    }
+
+    fn set_property(&mut self, name: &str, property: Property) -> PropertyAccessResult {
+        let Some(value) = scalar(&property) else {
+            return PropertyAccessResult::Ignored;
+        };
+        match name {
+            "x" => self.position[0] = value,
+            "y" => self.position[1] = value,
+            "z" => self.position[2] = value,
+            "nx" => self.normal[0] = value as f32,
+            "ny" => self.normal[1] = value as f32,
+            "nz" => self.normal[2] = value as f32,
+            _ => self.extra.push(value as f32),
+        }
+        PropertyAccessResult::Set
+    }
+}
+
+/// Whether a vertex property is one of the [`VertexRecord::extra`] values.
+fn is_vertex_extra(def: &PropertyDef) -> bool {
+    matches!(def.data_type, PropertyType::Scalar(_))
+        && !matches!(def.name.as_str(), "x" | "y" | "z" | "nx" | "ny" | "nz")
+}
+
+/// A `face`: its corner indices (negative ones kept, to be reported).
+#[derive(Default)]
+struct FaceRecord {
+    corners: Vec<i64>,
+    /// The index list had a float type.
+    bad_type: bool,
+}
+
+impl PropertyAccess for FaceRecord {
+    fn new() -> Self {
+        FaceRecord::default()
+    }
+
+    fn set_property(&mut self, name: &str, property: Property) -> PropertyAccessResult {
+        if name == "vertex_indices" || name == "vertex_index" {
+            match int_list(property) {
+                Some(list) => self.corners = list,
+                None => self.bad_type = true,
+            }
+            PropertyAccessResult::Set
+        } else {
+            PropertyAccessResult::Ignored
+        }
+    }
+}
+
+/// An `edge`: two vertex indices and the remaining scalars in header order.
+#[derive(Default)]
+struct EdgeRecord {
+    ends: [i64; 2],
+    extra: Vec<f32>,
+}
+
+impl PropertyAccess for EdgeRecord {
+    fn new() -> Self {
+        EdgeRecord::default()
+    }
+
+    fn set_property(&mut self, name: &str, property: Property) -> PropertyAccessResult {
+        let Some(value) = scalar(&property) else {
+            return PropertyAccessResult::Ignored;
+        };
+        match name {
+            "vertex1" => self.ends[0] = value as i64,
+            "vertex2" => self.ends[1] = value as i64,
+            _ => self.extra.push(value as f32),
+        }
+        PropertyAccessResult::Set
+    }
+}
+
+fn is_edge_extra(def: &PropertyDef) -> bool {
+    matches!(def.data_type, PropertyType::Scalar(_))
+        && !matches!(def.name.as_str(), "vertex1" | "vertex2")
+}
+
+/// A `point`: one vertex index.
+#[derive(Default)]
+struct PointRecord {
+    vertex: i64,
+}
+
+impl PropertyAccess for PointRecord {
+    fn new() -> Self {
+        PointRecord::default()
+    }
+
+    fn set_property(&mut self, name: &str, property: Property) -> PropertyAccessResult {
+        match (name, scalar(&property)) {
+            ("vertex_index" | "vertex", Some(v)) => {
+                self.vertex = v as i64;
+                PropertyAccessResult::Set
+            }
+            _ => PropertyAccessResult::Ignored,
+        }
+    }
+}
+
+/// Any other element: read past.
+struct Skipped;
+
+impl PropertyAccess for Skipped {
+    fn new() -> Self {
+        Skipped
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading.
+
+fn parse_error(path: &Path, element: &str, e: ply_rs_bw::parser::ParseError) -> IoError {
+    let kind = if e.kind() == std::io::ErrorKind::UnexpectedEof {
+        IoErrorKind::Truncated
+    } else {
+        IoErrorKind::Malformed
+    };
+    let context = if element.is_empty() {
+        "in the header".to_string()
+    } else {
+        format!("in element '{element}'")
+    };
+    IoError::new(path, kind, format!("{context}: {e}"))
+}
+
+/// The fewest bytes one element can take, to catch counts the file cannot hold before reading.
+fn min_element_bytes(def: &ElementDef, encoding: Encoding) -> u64 {
+    if encoding == Encoding::Ascii {
+        // At least one digit and a separator per property, or a newline.
+        return (2 * def.properties.len() as u64).max(1);
+    }
+    let size = |t: &ScalarType| match t {
+        ScalarType::Char | ScalarType::UChar => 1u64,
+        ScalarType::Short | ScalarType::UShort => 2,
+        ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
+        ScalarType::Double => 8,
+    };
+    def.properties
+        .values()
+        .map(|p| match &p.data_type {
+            PropertyType::Scalar(t) => size(t),
+            PropertyType::List(count, _) => size(count),
+        })
+        .sum()
+}
+
+fn index(path: &Path, what: &str, i: usize, v: i64, vertex_count: usize) -> Result<u32, IoError> {
+    if v < 0 || v >= vertex_count as i64 {
+        return Err(IoError::malformed(
+            path,
+            format!("{what} {i} refers to vertex {v} but there are {vertex_count} vertices"),
+        ));
+    }
+    Ok(v as u32)
+}
+
+pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
+    let file = File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
+    let file_len = file
+        .metadata()
+        .map_err(|e| IoError::access(path, "cannot read", &e))?
+        .len();
+    let mut reader = Reader::new(BufReader::with_capacity(1 << 20, file));
+    let header = Parser::<Skipped>::new()
+        .read_header(&mut reader)
+        .map_err(|e| parse_error(path, "", e))?;
+
+    // Element counts the file cannot possibly hold are errors, not allocations.
+    for def in header.elements.values() {
+        let need = (def.count as u64).saturating_mul(min_element_bytes(def, header.encoding));
+        if need > file_len {
+            return Err(IoError::truncated(
+                path,
+                format!(
+                    "the header declares {} '{}' elements, which need at least {need} bytes, but the file has {file_len}",
+                    def.count, def.name
+                ),
+            ));
+        }
+    }
+    let vertex_def = header
+        .elements
+        .get("vertex")
+        .ok_or_else(|| IoError::malformed(path, "no 'vertex' element in the header"))?;
+    for axis in ["x", "y", "z"] {
+        if !matches!(
+            vertex_def.properties.get(axis).map(|p| &p.data_type),
+            Some(PropertyType::Scalar(_))
+        ) {
+            return Err(IoError::malformed(
+                path,
+                format!("the 'vertex' element has no scalar property '{axis}'"),
+            ));
+        }
+    }
+
+    let mut vertices: Vec<VertexRecord> = Vec::new();
+    let mut faces: Vec<FaceRecord> = Vec::new();
+    let mut edges: Vec<EdgeRecord> = Vec::new();
+    let mut point_records: Vec<PointRecord> = Vec::new();
+    for (name, def) in &header.elements {
+        let err = |e| parse_error(path, name, e);
+        match name.as_str() {
+            "vertex" => {
+                vertices = Parser::new()
+                    .read_payload_for_element(&mut reader, def, &header)
+                    .map_err(err)?
+            }
+            "face" => {
+                faces = Parser::new()
+                    .read_payload_for_element(&mut reader, def, &header)
+                    .map_err(err)?
+            }
+            "edge" => {
+                edges = Parser::new()
+                    .read_payload_for_element(&mut reader, def, &header)
+                    .map_err(err)?
+            }
+            "point" => {
+                point_records = Parser::new()
+                    .read_payload_for_element(&mut reader, def, &header)
+                    .map_err(err)?
+            }
+            _ => {
+                Parser::<Skipped>::new()
+                    .read_payload_for_element(&mut reader, def, &header)
+                    .map_err(err)?;
+            }
+        }
+    }
+
+    // Vertices, normals, attributes.
+    let has_normals = ["nx", "ny", "nz"]
+        .iter()
+        .all(|n| vertex_def.properties.contains_key(*n));
+    let vertex_count = vertices.len();
+    let positions: Vec<Vec3> = vertices
+        .iter()
+        .map(|v| DVec3::from(v.position).as_vec3())
+        .collect();
+    let normals: Vec<Vec3> = if has_normals {
+        vertices.iter().map(|v| Vec3::from(v.normal)).collect()
+    } else {
+        Vec::new()
+    };
+    let vertex_names: Vec<&str> = vertex_def
+        .properties
+        .values()
+        .filter(|d| is_vertex_extra(d))
+        .map(|d| d.name.as_str())
+        .collect();
+    let vertex_attributes = collect_attributes(&vertex_names, vertices.iter().map(|v| &v.extra));
+    drop(vertices);
+
+    // Faces.
+    let mut triangles = Vec::with_capacity(faces.len());
+    let mut polygons_triangulated = 0;
+    let mut polygon = Vec::new();
+    for (f, face) in faces.iter().enumerate() {
+        if face.bad_type {
+            return Err(IoError::malformed(
+                path,
+                format!("face {f} has a non-integer index list"),
+            ));
+        }
+        if face.corners.len() < 3 {
+            return Err(IoError::malformed(
+                path,
+                format!(
+                    "face {f} has {} corners; a face needs at least 3",
+                    face.corners.len()
+                ),
+            ));
+        }
+        let corners: Vec<u32> = face
+            .corners
+            .iter()
+            .map(|&v| index(path, "face", f, v, vertex_count))
+            .collect::<Result<_, _>>()?;
+        if corners.len() == 3 {
+            triangles.push([corners[0], corners[1], corners[2]]);
+        } else {
+            polygon.clear();
+            polygon.extend(corners.iter().map(|&v| positions[v as usize].as_dvec3()));
+            triangles.extend(
+                ear_clipping::triangulate(&polygon)
+                    .into_iter()
+                    .map(|t| t.map(|i| corners[i])),
+            );
+            polygons_triangulated += 1;
+        }
+    }
+    drop(faces);
+
+    // Edges and points.
+    let lines: Vec<[u32; 2]> = edges
+        .iter()
+        .enumerate()
+        .map(|(e, r)| {
+            Ok([
+                index(path, "edge", e, r.ends[0], vertex_count)?,
+                index(path, "edge", e, r.ends[1], vertex_count)?,
+            ])
+        })
+        .collect::<Result<_, IoError>>()?;
+    let line_attributes = match header.elements.get("edge") {
+        Some(def) => {
+            let names: Vec<&str> = def
+                .properties
+                .values()
+                .filter(|d| is_edge_extra(d))
+                .map(|d| d.name.as_str())
+                .collect();
+            collect_attributes(&names, edges.iter().map(|e| &e.extra))
+        }
+        None => Vec::new(),
+    };
+    let points: Vec<u32> = point_records
+        .iter()
+        .enumerate()
+        .map(|(p, r)| index(path, "point", p, r.vertex, vertex_count))
+        .collect::<Result<_, _>>()?;
+
+    Ok(PlyContent {
+        mesh: PolyMesh {
+            mesh: TriangleMesh {
+                positions,
+                normals,
+                triangles,
+            },
+            lines,
+            points,
+            vertex_attributes,
+            line_attributes,
+        },
+        polygons_triangulated,
+    })
+}
+
+/// Turns per-element extra values (in header order) into named attributes.
+fn collect_attributes<'a>(
+    names: &[&str],
+    records: impl Iterator<Item = &'a Vec<f32>> + Clone,
+) -> Vec<Attribute> {
+    names
+        .iter()
+        .enumerate()
+        .map(|(k, name)| Attribute {
+            name: name.to_string(),
+            values: records
+                .clone()
+                .map(|extra| extra.get(k).copied().unwrap_or(f32::NAN))
+                .collect(),
+        })
+        .collect()
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing: views over the mesh that the writer queries property by property.
+
+/// Vertex `index` of a mesh, as the writer sees it.
+#[derive(Default)]
+struct VertexOut<'a> {
+    mesh: Option<PolyView<'a>>,
+    index: usize,
+}
+
+impl PropertyAccess for VertexOut<'_> {
+    fn new() -> Self {
+        VertexOut::default()
+    }
+
+    fn get_float(&self, name: &str) -> Option<f32> {
+        let view = self.mesh.as_ref()?;
+        let m = view.mesh;
+        let i = self.index;
+        Some(match name {
+            "x" => m.positions[i].x,
+            "y" => m.positions[i].y,
+            "z" => m.positions[i].z,
+            "nx" => m.normals[i].x,
+            "ny" => m.normals[i].y,
+            "nz" => m.normals[i].z,
+            _ => {
+                view.vertex_attributes
+                    .iter()
+                    .find(|a| a.name == name)?
+                    .values[i]
+            }
+        })
+    }
+}
+
+/// A triangle, an edge or a point, as the writer sees it.
+#[derive(Default)]
+struct CellOut<'a> {
+    corners: [i32; 3],
+    mesh: Option<PolyView<'a>>,
+    index: usize,
+}
+
+impl PropertyAccess for CellOut<'_> {
+    fn new() -> Self {
+        CellOut::default()
+    }
+
+    fn get_list_int(&self, name: &str) -> Option<&[i32]> {
+        (name == "vertex_indices").then_some(&self.corners[..])
+    }
+
+    fn get_int(&self, name: &str) -> Option<i32> {
+        match name {
+            "vertex1" | "vertex_index" => Some(self.corners[0]),
+            "vertex2" => Some(self.corners[1]),
+            _ => None,
+        }
+    }
+
+    fn get_float(&self, name: &str) -> Option<f32> {
+        let view = self.mesh.as_ref()?;
+        Some(view.line_attributes.iter().find(|a| a.name == name)?.values[self.index])
+    }
+}
+
+fn property(name: &str, data_type: PropertyType) -> PropertyDef {
+    PropertyDef::new(name.to_string(), data_type)
+}
+
+fn element(name: &str, count: usize, properties: Vec<PropertyDef>) -> ElementDef {
+    let mut def = ElementDef::new(name.to_string());
+    def.count = count;
+    for p in properties {
+        def.properties.add(p);
+    }
+    def
+}
+
+/// Attribute names become PLY property names: they must be single words, distinct, and not
+/// collide with the properties the format already uses.
+fn check_names(path: &Path, attributes: &[Attribute], reserved: &[&str]) -> Result<(), IoError> {
+    for (k, a) in attributes.iter().enumerate() {
+        let bad = a.name.is_empty()
+            || a.name.chars().any(|c| c.is_whitespace() || c.is_control())
+            || reserved.contains(&a.name.as_str())
+            || attributes[..k].iter().any(|b| b.name == a.name);
+        if bad {
+            return Err(IoError::unsupported(
+                path,
+                format!(
+                    "attribute name '{}' cannot be a PLY property (empty, spaces, repeated, or one of {reserved:?})",
+                    a.name
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+pub(crate) fn write(path: &Path, view: PolyView<'_>) -> Result<(), IoError> {
+    let m = view.mesh;
+    check_names(
+        path,
+        view.vertex_attributes,
+        &["x", "y", "z", "nx", "ny", "nz"],
+    )?;
+    check_names(path, view.line_attributes, &["vertex1", "vertex2"])?;
+    let mut indices = (m.triangles.iter().flatten())
+        .chain(view.lines.iter().flatten())
+        .chain(view.points);
+    if let Some(&too_big) = indices.find(|&&v| v > i32::MAX as u32) {
+        return Err(IoError::unsupported(
+            path,
+            format!("vertex index {too_big} does not fit PLY's int indices"),
+        ));
+    }
+
+    let float = || PropertyType::Scalar(ScalarType::Float);
+    let int = || PropertyType::Scalar(ScalarType::Int);
+    let mut vertex_props = vec![
+        property("x", float()),
+        property("y", float()),
+        property("z", float()),
+    ];
+    if !m.normals.is_empty() {
+        vertex_props.extend(["nx", "ny", "nz"].map(|n| property(n, float())));
+    }
+    vertex_props.extend(
+        view.vertex_attributes
+            .iter()
+            .map(|a| property(&a.name, float())),
+    );
+    let vertex_def = element("vertex", m.positions.len(), vertex_props);
+    let face_def = element(
+        "face",
+        m.triangles.len(),
+        vec![property(
+            "vertex_indices",
+            PropertyType::List(ScalarType::UChar, ScalarType::Int),
+        )],
+    );
+    let mut edge_props = vec![property("vertex1", int()), property("vertex2", int())];
+    edge_props.extend(
+        view.line_attributes
+            .iter()
+            .map(|a| property(&a.name, float())),
+    );
+    let edge_def = element("edge", view.lines.len(), edge_props);
+    let point_def = element(
+        "point",
+        view.points.len(),
+        vec![property("vertex_index", int())],
+    );
+
+    let mut header = Header::new();
+    header.encoding = Encoding::BinaryLittleEndian;
+    header.comments.push("written by voxlod".to_string());
+    header.elements.add(vertex_def.clone());
+    header.elements.add(face_def.clone());
+    if !view.lines.is_empty() {
+        header.elements.add(edge_def.clone());
+    }
+    if !view.points.is_empty() {
+        header.elements.add(point_def.clone());
+    }
+
+    write_atomically(path, |w| {
+        Writer::<Skipped>::new().write_header(w, &header)?;
+        let vertex_writer = Writer::<VertexOut>::new();
+        let mut vertex = VertexOut {
+            mesh: Some(view),
+            index: 0,
+        };
+        for i in 0..m.positions.len() {
+            vertex.index = i;
+            vertex_writer.write_little_endian_element(w, &vertex, &vertex_def)?;
+        }
+        let cell_writer = Writer::<CellOut>::new();
+        let mut cell = CellOut {
+            corners: [0; 3],
+            mesh: Some(view),
+            index: 0,
+        };
+        for t in &m.triangles {
+            cell.corners = t.map(|v| v as i32);
+            cell_writer.write_little_endian_element(w, &cell, &face_def)?;
+        }
+        for (i, [a, b]) in view.lines.iter().enumerate() {
+            cell.corners = [*a as i32, *b as i32, 0];
+            cell.index = i;
+            cell_writer.write_little_endian_element(w, &cell, &edge_def)?;
+        }
+        for p in view.points {
+            cell.corners = [*p as i32, 0, 0];
+            cell_writer.write_little_endian_element(w, &cell, &point_def)?;
+        }
+        w.flush()
+    })
+}

@@ -1,0 +1,285 @@
+//! Headerless raw volumes: samples one after another, x fastest, then y, then z, as the CT
+//! archives publish them (the Stanford CT head is 256×256×113 big-endian `u16`).
+//!
+//! Reading needs the layout the file does not carry ([`RawLayout`]). The file size must equal
+//! `header_bytes + dims × sample size` exactly: anything else is a [`IoErrorKind::SizeMismatch`]
+//! whose message names both sizes and suggests layouts that would fit (another depth, another
+//! sample type, a header). Writing produces `f32` little-endian samples and nothing else; keep
+//! the dimensions, spacing and origin yourself, or prefer NRRD.
+
+use std::fmt;
+use std::io::{BufReader, Read, Seek, SeekFrom, Write};
+use std::path::Path;
+use std::str::FromStr;
+
+use voxlod_core::Volume;
+
+use crate::atomic::write_atomically;
+use crate::samples::{self, SampleType};
+use crate::{IoError, IoErrorKind};
+
+/// Sample type of a headerless raw volume.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum RawType {
+    U8,
+    I16,
+    U16,
+    I32,
+    F32,
+}
+
+/// Byte order of multi-byte samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Endian {
+    Little,
+    Big,
+}
+
+/// A name that is not one of the accepted spellings of a [`RawType`] or [`Endian`].
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown {what} '{given}': expected one of {expected}")]
+pub struct ParseNameError {
+    what: &'static str,
+    given: String,
+    expected: &'static str,
+}
+
+impl RawType {
+    pub const ALL: [RawType; 5] = [
+        RawType::U8,
+        RawType::I16,
+        RawType::U16,
+        RawType::I32,
+        RawType::F32,
+    ];
+
+    /// Bytes per sample.
+    pub fn size(self) -> usize {
+        self.sample_type().size()
+    }
+
+    /// The short name accepted by [`FromStr`] (`u8`, `i16`, `u16`, `i32`, `f32`).
+    pub fn name(self) -> &'static str {
+        match self {
+            RawType::U8 => "u8",
+            RawType::I16 => "i16",
+            RawType::U16 => "u16",
+            RawType::I32 => "i32",
+            RawType::F32 => "f32",
+        }
+    }
+
+    pub(crate) fn sample_type(self) -> SampleType {
+        match self {
+            RawType::U8 => SampleType::U8,
+            RawType::I16 => SampleType::I16,
+            RawType::U16 => SampleType::U16,
+            RawType::I32 => SampleType::I32,
+            RawType::F32 => SampleType::F32,
+        }
+    }
+}
+
+impl fmt::Display for RawType {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for RawType {
+    type Err = ParseNameError;
+
+    /// `u8`, `i16`, `u16`, `i32`, `f32`, case-insensitive; the long forms `uint8`, `int16`,
+    /// `uint16`, `int32`, `float32` and `float` are accepted too.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "u8" | "uint8" => Ok(RawType::U8),
+            "i16" | "int16" => Ok(RawType::I16),
+            "u16" | "uint16" => Ok(RawType::U16),
+            "i32" | "int32" => Ok(RawType::I32),
+            "f32" | "float32" | "float" => Ok(RawType::F32),
+            _ => Err(ParseNameError {
+                what: "sample type",
+                given: s.to_string(),
+                expected: "u8, i16, u16, i32, f32",
+            }),
+        }
+    }
+}
+
+impl fmt::Display for Endian {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Endian::Little => "little",
+            Endian::Big => "big",
+        })
+    }
+}
+
+impl FromStr for Endian {
+    type Err = ParseNameError;
+
+    /// `little` or `big`, case-insensitive (`le` and `be` too).
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "little" | "le" => Ok(Endian::Little),
+            "big" | "be" => Ok(Endian::Big),
+            _ => Err(ParseNameError {
+                what: "byte order",
+                given: s.to_string(),
+                expected: "little, big",
+            }),
+        }
+    }
+}
+
+/// Everything a headerless raw file does not say about itself.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RawLayout {
+    /// Samples along x, y, z (x varies fastest in the file).
+    pub dims: [usize; 3],
+    pub dtype: RawType,
+    pub endian: Endian,
+    /// Distance between neighbouring samples, in millimetres for a scan.
+    pub spacing: [f64; 3],
+    /// World position of the first sample.
+    pub origin: [f64; 3],
+    /// Bytes to skip at the start of the file.
+    pub header_bytes: u64,
+}
+
+impl RawLayout {
+    /// A layout with unit spacing, the origin at zero and no header.
+    pub fn new(dims: [usize; 3], dtype: RawType, endian: Endian) -> RawLayout {
+        RawLayout {
+            dims,
+            dtype,
+            endian,
+            spacing: [1.0; 3],
+            origin: [0.0; 3],
+            header_bytes: 0,
+        }
+    }
+}
+
+/// Reads a headerless raw volume laid out as `layout` says.
+pub(crate) fn read(path: &Path, layout: &RawLayout) -> Result<Volume, IoError> {
+    let ty = layout.dtype.sample_type();
+    let (_, data_bytes) = samples::check_volume_size(path, layout.dims, ty)?;
+    let file = std::fs::File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
+    let file_len = file
+        .metadata()
+        .map_err(|e| IoError::access(path, "cannot read", &e))?
+        .len();
+    let expected = layout.header_bytes.saturating_add(data_bytes as u64);
+    if file_len != expected {
+        return Err(size_mismatch(path, layout, file_len, expected));
+    }
+    let mut reader = BufReader::with_capacity(1 << 20, file);
+    reader
+        .seek(SeekFrom::Start(layout.header_bytes))
+        .map_err(|e| IoError::access(path, "cannot read", &e))?;
+    let bytes = samples::read_data(path, reader.by_ref(), data_bytes, "raw sample data")?;
+    let values = samples::decode(&bytes, ty, layout.endian);
+    drop(bytes);
+    samples::make_volume(path, layout.dims, layout.spacing, layout.origin, values)
+}
+
+/// The size mismatch error, with the layouts that would fit when some are obvious.
+fn size_mismatch(path: &Path, layout: &RawLayout, file_len: u64, expected: u64) -> IoError {
+    let [nx, ny, nz] = layout.dims;
+    let size = layout.dtype.size() as u64;
+    let mut message = format!(
+        "file has {file_len} bytes but a {nx}x{ny}x{nz} {} volume needs {expected} bytes",
+        layout.dtype
+    );
+    if layout.header_bytes > 0 {
+        message.push_str(&format!(" (with {} header bytes)", layout.header_bytes));
+    }
+    let mut hints = Vec::new();
+    let payload = file_len.checked_sub(layout.header_bytes);
+    if let Some(payload) = payload.filter(|p| p.is_multiple_of(size) && *p > 0) {
+        let count = payload / size;
+        let slice = (nx * ny) as u64;
+        if count.is_multiple_of(slice) && count / slice != nz as u64 {
+            hints.push(format!("dims {nx} {ny} {}", count / slice));
+        }
+        let side = (count as f64).cbrt().round() as u64;
+        if side * side * side == count && [side; 3] != [nx as u64, ny as u64, nz as u64] {
+            hints.push(format!("dims {side} {side} {side}"));
+        }
+    }
+    let samples = (nx * ny * nz) as u64;
+    for other in RawType::ALL {
+        if other != layout.dtype && layout.header_bytes + samples * other.size() as u64 == file_len
+        {
+            hints.push(format!("type {other}"));
+        }
+    }
+    if file_len > expected {
+        hints.push(format!(
+            "a header of {} bytes",
+            file_len - expected + layout.header_bytes
+        ));
+    }
+    if !hints.is_empty() {
+        message.push_str(&format!("; would fit: {}", hints.join(", or ")));
+    }
+    IoError::new(path, IoErrorKind::SizeMismatch, message)
+}
+
+/// Writes the samples as `f32` little-endian, with no header.
+pub(crate) fn write(path: &Path, volume: &Volume) -> Result<(), IoError> {
+    write_atomically(path, |w| write_samples_f32_le(w, volume.as_slice()))
+}
+
+/// Streams samples as little-endian `f32`, in blocks so no second copy of the volume is made.
+pub(crate) fn write_samples_f32_le(w: &mut impl Write, values: &[f32]) -> std::io::Result<()> {
+    let mut block = Vec::with_capacity(64 * 1024);
+    for chunk in values.chunks(16 * 1024) {
+        block.clear();
+        for v in chunk {
+            block.extend_from_slice(&v.to_le_bytes());
+        }
+        w.write_all(&block)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_parse_both_ways() {
+        for t in RawType::ALL {
+            assert_eq!(t.name().parse::<RawType>().unwrap(), t);
+            assert_eq!(t.to_string().to_uppercase().parse::<RawType>().unwrap(), t);
+        }
+        assert_eq!("BIG".parse::<Endian>().unwrap(), Endian::Big);
+        assert_eq!("little".parse::<Endian>().unwrap(), Endian::Little);
+        let err = "u64".parse::<RawType>().unwrap_err().to_string();
+        assert!(err.contains("u64") && err.contains("u16"), "{err}");
+        assert!("middle".parse::<Endian>().is_err());
+    }
+
+    #[test]
+    fn mismatch_suggests_fitting_layouts() {
+        let layout = RawLayout::new([256, 256, 113], RawType::U16, Endian::Big);
+        // The engine: 256x256x128 bytes.
+        let err = size_mismatch(Path::new("engine.raw"), &layout, 8388608, 14811136);
+        assert_eq!(err.kind, IoErrorKind::SizeMismatch);
+        let text = err.to_string();
+        assert!(
+            text.contains("8388608") && text.contains("14811136"),
+            "{text}"
+        );
+        assert!(text.contains("dims 256 256 64"), "{text}");
+        let layout = RawLayout::new([256, 256, 128], RawType::U16, Endian::Big);
+        let err = size_mismatch(Path::new("engine.raw"), &layout, 8388608, 16777216);
+        assert!(err.to_string().contains("type u8"), "{err}");
+        let layout = RawLayout::new([10, 10, 10], RawType::U8, Endian::Big);
+        let err = size_mismatch(Path::new("h.raw"), &layout, 1512, 1000);
+        assert!(err.to_string().contains("a header of 512 bytes"), "{err}");
+    }
+}

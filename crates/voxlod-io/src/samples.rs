@@ -1,0 +1,276 @@
+//! What the volume readers share: sample types and their conversion to `f32`, reading exactly
+//! the number of bytes a header promises (plain or compressed), the memory check before any
+//! large allocation, and the final checks on grid geometry.
+
+use std::io::Read;
+use std::path::Path;
+
+use voxlod_core::{memory, Grid, Volume};
+
+use crate::{Endian, IoError, IoErrorKind};
+
+/// A stored sample type. Everything is converted to `f32` in memory; 32-bit integers and `f64`
+/// lose precision beyond 24 bits of mantissa, which no scanner comes near.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum SampleType {
+    U8,
+    I8,
+    U16,
+    I16,
+    U32,
+    I32,
+    F32,
+    F64,
+}
+
+impl SampleType {
+    pub(crate) fn size(self) -> usize {
+        match self {
+            SampleType::U8 | SampleType::I8 => 1,
+            SampleType::U16 | SampleType::I16 => 2,
+            SampleType::U32 | SampleType::I32 | SampleType::F32 => 4,
+            SampleType::F64 => 8,
+        }
+    }
+
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            SampleType::U8 => "uint8",
+            SampleType::I8 => "int8",
+            SampleType::U16 => "uint16",
+            SampleType::I16 => "int16",
+            SampleType::U32 => "uint32",
+            SampleType::I32 => "int32",
+            SampleType::F32 => "float32",
+            SampleType::F64 => "float64",
+        }
+    }
+}
+
+/// Converts stored samples to `f32`. `bytes.len()` must be a multiple of the sample size.
+pub(crate) fn decode(bytes: &[u8], ty: SampleType, endian: Endian) -> Vec<f32> {
+    debug_assert_eq!(bytes.len() % ty.size(), 0);
+    macro_rules! convert {
+        ($t:ty, $n:literal) => {
+            bytes
+                .chunks_exact($n)
+                .map(|c| {
+                    let raw: [u8; $n] = c.try_into().expect("chunks_exact gives whole samples");
+                    (match endian {
+                        Endian::Little => <$t>::from_le_bytes(raw),
+                        Endian::Big => <$t>::from_be_bytes(raw),
+                    }) as f32
+                })
+                .collect()
+        };
+    }
+    match ty {
+        SampleType::U8 => bytes.iter().map(|&b| b as f32).collect(),
+        SampleType::I8 => bytes.iter().map(|&b| b as i8 as f32).collect(),
+        SampleType::U16 => convert!(u16, 2),
+        SampleType::I16 => convert!(i16, 2),
+        SampleType::U32 => convert!(u32, 4),
+        SampleType::I32 => convert!(i32, 4),
+        SampleType::F32 => convert!(f32, 4),
+        SampleType::F64 => convert!(f64, 8),
+    }
+}
+
+/// The number of samples of a grid of `dims`, and the bytes they take on disk, after checking
+/// that both the stored bytes and the `f32` copy fit in memory. An absurd header (sizes of
+/// 100000³) ends here with [`IoErrorKind::TooLarge`] and the byte count, before any allocation.
+pub(crate) fn check_volume_size(
+    path: &Path,
+    dims: [usize; 3],
+    ty: SampleType,
+) -> Result<(usize, usize), IoError> {
+    if dims.contains(&0) {
+        return Err(IoError::malformed(
+            path,
+            format!(
+                "dimensions {}x{}x{} include a zero",
+                dims[0], dims[1], dims[2]
+            ),
+        ));
+    }
+    let what = format!("a {}x{}x{} {} volume", dims[0], dims[1], dims[2], ty.name());
+    let count = dims
+        .iter()
+        .try_fold(1usize, |acc, &d| acc.checked_mul(d))
+        .filter(|n| n.checked_mul(8).is_some());
+    let Some(count) = count else {
+        return Err(IoError::new(
+            path,
+            IoErrorKind::TooLarge,
+            format!("{what} has more samples than memory can address"),
+        ));
+    };
+    let stored = memory::bytes_of::<u8>(count).saturating_mul(ty.size() as u64);
+    let needed = stored.saturating_add(memory::bytes_of::<f32>(count));
+    memory::check_allocation(&what, needed).map_err(|e| IoError::from_core(path, e))?;
+    Ok((count, count * ty.size()))
+}
+
+/// Reads exactly `expected` bytes of sample data from `reader`, which may be a decompressor.
+/// Fewer bytes give [`IoErrorKind::Truncated`] naming both counts; a corrupt compressed stream
+/// gives [`IoErrorKind::Malformed`]. Bytes beyond `expected` are never read.
+pub(crate) fn read_data(
+    path: &Path,
+    reader: impl Read,
+    expected: usize,
+    what: &str,
+) -> Result<Vec<u8>, IoError> {
+    let mut data = Vec::new();
+    data.try_reserve_exact(expected).map_err(|_| {
+        IoError::new(
+            path,
+            IoErrorKind::TooLarge,
+            format!("cannot allocate {expected} bytes for the {what}"),
+        )
+    })?;
+    let result = reader.take(expected as u64).read_to_end(&mut data);
+    match result {
+        Ok(_) if data.len() == expected => Ok(data),
+        Ok(_) => Err(IoError::truncated(
+            path,
+            format!(
+                "the {what} is truncated: expected {expected} bytes, found {}",
+                data.len()
+            ),
+        )),
+        Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => Err(IoError::truncated(
+            path,
+            format!(
+                "the {what} is truncated: expected {expected} bytes, found {} before the compressed stream ended early",
+                data.len()
+            ),
+        )),
+        Err(e) if e.kind() == std::io::ErrorKind::InvalidInput
+            || e.kind() == std::io::ErrorKind::InvalidData =>
+        {
+            Err(IoError::malformed(
+                path,
+                format!("the {what} is corrupt after {} bytes: {e}", data.len()),
+            ))
+        }
+        Err(e) => Err(IoError::access(path, &format!("cannot read the {what}"), &e)),
+    }
+}
+
+/// A decompressor for zlib or gzip data, told apart by the gzip magic bytes.
+pub(crate) fn inflater<'a, R: std::io::BufRead + 'a>(mut reader: R) -> Box<dyn Read + 'a> {
+    let is_gzip = matches!(reader.fill_buf(), Ok(b) if b.starts_with(&[0x1f, 0x8b]));
+    if is_gzip {
+        Box::new(flate2::bufread::MultiGzDecoder::new(reader))
+    } else {
+        Box::new(flate2::bufread::ZlibDecoder::new(reader))
+    }
+}
+
+/// Builds the volume after checking the geometry: spacing finite and positive, origin finite.
+pub(crate) fn make_volume(
+    path: &Path,
+    dims: [usize; 3],
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    values: Vec<f32>,
+) -> Result<Volume, IoError> {
+    if let Some(axis) = spacing.iter().position(|s| !s.is_finite() || *s <= 0.0) {
+        return Err(IoError::malformed(
+            path,
+            format!(
+                "spacing {:?} is not finite and positive along axis {}",
+                spacing,
+                ["x", "y", "z"][axis]
+            ),
+        ));
+    }
+    if origin.iter().any(|o| !o.is_finite()) {
+        return Err(IoError::malformed(
+            path,
+            format!("origin {origin:?} is not finite"),
+        ));
+    }
+    let grid = Grid::new(dims, spacing, origin).map_err(|e| IoError::from_core(path, e))?;
+    Volume::from_vec(grid, values).map_err(|e| IoError::from_core(path, e))
+}
+
+/// Scale from a length unit to millimetres, for the units headers may declare.
+pub(crate) fn millimetres_per(unit: &str) -> Option<f64> {
+    match unit.trim().trim_matches('"').to_ascii_lowercase().as_str() {
+        "mm" | "millimeter" | "millimeters" | "millimetre" | "millimetres" => Some(1.0),
+        "m" | "meter" | "meters" | "metre" | "metres" => Some(1000.0),
+        "cm" | "centimeter" | "centimeters" => Some(10.0),
+        "um" | "µm" | "micron" | "microns" | "micrometer" | "micrometers" => Some(1e-3),
+        _ => None,
+    }
+}
+
+/// Parses a whitespace-separated list of exactly `n` values of `T`.
+pub(crate) fn parse_list<T: std::str::FromStr>(text: &str, n: usize) -> Option<Vec<T>> {
+    let values: Vec<T> = text
+        .split_whitespace()
+        .map(|t| t.parse().ok())
+        .collect::<Option<_>>()?;
+    (values.len() == n).then_some(values)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decodes_every_type_and_byte_order() {
+        assert_eq!(decode(&[0, 255], SampleType::U8, Endian::Big), [0.0, 255.0]);
+        assert_eq!(
+            decode(&[0xff, 0x80], SampleType::I8, Endian::Big),
+            [-1.0, -128.0]
+        );
+        assert_eq!(
+            decode(&[0x0c, 0xc8], SampleType::U16, Endian::Big),
+            [3272.0]
+        );
+        assert_eq!(
+            decode(&[0xc8, 0x0c], SampleType::U16, Endian::Little),
+            [3272.0]
+        );
+        assert_eq!(decode(&[0xff, 0xfe], SampleType::I16, Endian::Big), [-2.0]);
+        assert_eq!(
+            decode(&70000u32.to_le_bytes(), SampleType::U32, Endian::Little),
+            [70000.0]
+        );
+        assert_eq!(
+            decode(&(-5i32).to_be_bytes(), SampleType::I32, Endian::Big),
+            [-5.0]
+        );
+        assert_eq!(
+            decode(&1.5f32.to_be_bytes(), SampleType::F32, Endian::Big),
+            [1.5]
+        );
+        assert_eq!(
+            decode(&(-2.25f64).to_le_bytes(), SampleType::F64, Endian::Little),
+            [-2.25]
+        );
+    }
+
+    #[test]
+    fn absurd_sizes_are_refused_before_allocating() {
+        let p = Path::new("huge.nrrd");
+        let err = check_volume_size(p, [100000, 100000, 100000], SampleType::U16).unwrap_err();
+        assert_eq!(err.kind, IoErrorKind::TooLarge);
+        assert!(err.message.contains("bytes"), "{err}");
+        let err = check_volume_size(p, [usize::MAX, 2, 2], SampleType::U8).unwrap_err();
+        assert_eq!(err.kind, IoErrorKind::TooLarge);
+        assert_eq!(
+            check_volume_size(p, [4, 5, 6], SampleType::I16).unwrap(),
+            (120, 240)
+        );
+    }
+
+    #[test]
+    fn short_data_names_both_counts() {
+        let err = read_data(Path::new("t.mha"), &[1u8, 2, 3][..], 10, "image data").unwrap_err();
+        assert_eq!(err.kind, IoErrorKind::Truncated);
+        assert!(err.message.contains("expected 10 bytes, found 3"), "{err}");
+    }
+}

@@ -1,0 +1,142 @@
+//! VTK image data through `vtkio`: XML `.vti` and legacy `.vtk` (`STRUCTURED_POINTS`), read and
+//! written.
+//!
+//! Reading takes the first one-component point-data array (of any numeric type) of a
+//! single-piece image, with its dimensions (from the extent, which may start anywhere: the
+//! origin moves accordingly), spacing and origin. vtkio holds spacing and origin as `f32`, so
+//! they survive a VTK round trip to `f32` precision (well below a micrometre for scans).
+//! Images with several pieces, or with cell data only, are refused. A `Direction` matrix (VTK
+//! 9) is not applied: the grid is axis-aligned in index order.
+//!
+//! Writing: one piece, point data `values` as `f32`. Legacy files are binary big-endian; XML
+//! files zlib-compressed when [`VolumeWriteOptions::compress`](crate::VolumeWriteOptions) asks.
+
+use std::path::Path;
+
+use voxlod_core::Volume;
+use vtkio::model::{
+    Attribute, Attributes, DataArray, DataSet, Extent, ImageDataPiece, Piece, Version, Vtk,
+};
+
+use crate::samples::{self, SampleType};
+use crate::vtk::{self, Flavor};
+use crate::IoError;
+
+pub(crate) fn read(path: &Path, flavor: Flavor) -> Result<Volume, IoError> {
+    let vtk = vtk::load(path, flavor)?;
+    let DataSet::ImageData {
+        extent,
+        origin,
+        spacing,
+        pieces,
+        ..
+    } = vtk.data
+    else {
+        return Err(IoError::unsupported(
+            path,
+            "holds no image data (a mesh or another data set): only images are read as volumes",
+        ));
+    };
+    if pieces.len() != 1 {
+        return Err(IoError::unsupported(
+            path,
+            format!(
+                "image in {} pieces; only single-piece images are read",
+                pieces.len()
+            ),
+        ));
+    }
+    let piece = match pieces.into_iter().next() {
+        Some(Piece::Inline(piece)) => *piece,
+        _ => {
+            return Err(IoError::unsupported(
+                path,
+                "image pieces stored in other files (parallel VTK) are not supported",
+            ))
+        }
+    };
+    let ImageDataPiece {
+        extent: piece_extent,
+        data,
+    } = piece;
+
+    // The piece's extent, which for a single piece is the whole extent.
+    let used = match (&piece_extent, &extent) {
+        (Extent::Ranges(_), _) => piece_extent,
+        _ => extent,
+    };
+    let start = match &used {
+        Extent::Ranges([x, y, z]) => [*x.start(), *y.start(), *z.start()],
+        Extent::Dims(_) => [0; 3],
+    };
+    let dims = used.into_dims().map(|d| d as usize);
+
+    let array = data.point.into_iter().find_map(|a| match a {
+        Attribute::DataArray(DataArray { elem, data, .. }) if elem.num_comp() == 1 => Some(data),
+        _ => None,
+    });
+    let Some(buffer) = array else {
+        return Err(IoError::unsupported(
+            path,
+            "the image has no one-component point-data array (cell data and vectors are not read)",
+        ));
+    };
+    samples::check_volume_size(path, dims, SampleType::F32)?;
+    let count = dims[0] * dims[1] * dims[2];
+    if buffer.len() != count {
+        return Err(IoError::truncated(
+            path,
+            format!(
+                "a {}x{}x{} image needs {count} samples, the file has {}",
+                dims[0],
+                dims[1],
+                dims[2],
+                buffer.len()
+            ),
+        ));
+    }
+    let spacing = spacing.map(|s| s as f64);
+    let origin = [0, 1, 2].map(|a| origin[a] as f64 + start[a] as f64 * spacing[a]);
+    samples::make_volume(path, dims, spacing, origin, vtk::into_f32(buffer))
+}
+
+pub(crate) fn write(
+    path: &Path,
+    volume: &Volume,
+    flavor: Flavor,
+    compress: bool,
+) -> Result<(), IoError> {
+    let g = &volume.grid;
+    if g.dims.iter().any(|&d| d > i32::MAX as usize) {
+        return Err(IoError::unsupported(path, "VTK extents are 32-bit"));
+    }
+    let last = g.dims.map(|d| d as i32 - 1);
+    let extent = Extent::Ranges([0..=last[0], 0..=last[1], 0..=last[2]]);
+    let piece = ImageDataPiece {
+        extent: extent.clone(),
+        data: Attributes {
+            point: vec![Attribute::scalars("values", 1).with_data(volume.as_slice().to_vec())],
+            cell: Vec::new(),
+        },
+    };
+    let vtk = Vtk {
+        version: match flavor {
+            Flavor::Legacy => Version::new_legacy(3, 0),
+            Flavor::Xml => Version::new_xml(1, 0),
+        },
+        title: "written by voxlod".to_string(),
+        byte_order: match flavor {
+            Flavor::Legacy => vtkio::model::ByteOrder::BigEndian,
+            Flavor::Xml => vtkio::model::ByteOrder::LittleEndian,
+        },
+        file_path: None,
+        data: DataSet::ImageData {
+            extent,
+            origin: g.origin.map(|o| o as f32),
+            spacing: g.spacing.map(|s| s as f32),
+            meta: None,
+            pieces: vec![Piece::Inline(Box::new(piece))],
+        },
+    };
+    vtk::save(path, vtk, flavor, compress)
+}
