@@ -235,15 +235,20 @@ mod tests {
     }
 
     #[test]
-    fn l_shape() {
-        check_simple(&[
+    fn l_shape_from_every_start() {
+        let mut l = vec![
             v2(0., 0.),
             v2(2., 0.),
             v2(2., 1.),
             v2(1., 1.),
             v2(1., 3.),
             v2(0., 3.),
-        ]);
+        ];
+        // From (0, 0) a fan would do; from (2, 0) it would fold outside.
+        for _ in 0..l.len() {
+            check_simple(&l);
+            l.rotate_left(1);
+        }
     }
 
     #[test]
@@ -345,7 +350,7 @@ mod tests {
     }
 
     #[test]
-    fn every_index_is_used_once_per_clip() {
+    fn many_reflex_corners() {
         let star: Vec<DVec3> = (0..40)
             .map(|i| {
                 let angle = std::f64::consts::TAU * i as f64 / 40.0;

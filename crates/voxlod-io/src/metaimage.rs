@@ -327,12 +327,13 @@ pub(crate) fn write_detached(path: &Path, volume: &Volume, compress: bool) -> Re
         None
     };
     let header = header_text(volume, data.as_ref().map(|d| d.len() as u64), &data_name);
+    // The header first, so that an unwritable directory is reported for the file asked for.
+    let mut header_file = TempFile::create(path)?;
     let mut data_file = TempFile::create(&data_path)?;
     data_file.write_with(|w| match &data {
         Some(bytes) => w.write_all(bytes),
         None => crate::raw::write_samples_f32_le(w, volume.as_slice()),
     })?;
-    let mut header_file = TempFile::create(path)?;
     header_file.write_with(|w| w.write_all(header.as_bytes()))?;
     data_file.commit()?;
     header_file.commit()

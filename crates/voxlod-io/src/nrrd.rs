@@ -444,9 +444,10 @@ pub(crate) fn write_detached(path: &Path, volume: &Volume, compress: bool) -> Re
     let data_path = path.with_file_name(&data_name);
     let header = header_text(volume, compress, Some(&data_name));
 
+    // The header first, so that an unwritable directory is reported for the file asked for.
+    let mut header_file = TempFile::create(path)?;
     let mut data_file = TempFile::create(&data_path)?;
     data_file.write_with(|w| write_data(w, volume, compress))?;
-    let mut header_file = TempFile::create(path)?;
     header_file.write_with(|w| w.write_all(header.as_bytes()))?;
     data_file.commit()?;
     header_file.commit()
