@@ -238,7 +238,8 @@ fn near_a() -> Vec<Vec3> {
 #[test]
 fn elimination_rules() {
     // (triangles, expected counts) with cells of 2.5 (A, D, E together) for both methods.
-    let cases: [(&[[u32; 3]], (usize, usize, usize)); 5] = [
+    type Case<'a> = (&'a [[u32; 3]], (usize, usize, usize));
+    let cases: [Case; 5] = [
         // A–D–B collapses onto edge A–B, which triangle A–B–C still bounds: the edge goes.
         (&[[0, 1, 2], [0, 3, 1]], (1, 0, 0)),
         // Without the big triangle the edge dangles.

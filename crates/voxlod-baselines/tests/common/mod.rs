@@ -1,6 +1,6 @@
-//! Shared helpers of the integration tests: small meshes built in code, a minimal reader for the
-//! shared data (OBJ `v`/`f`, OFF, ASCII STL) until voxlod-io lands, a naive reference of the
-//! §3.5 elimination rules, and a checker of valid output.
+//! Shared helpers of the integration tests: small meshes built in code, reading the shared data
+//! through voxlod-io, a naive reference of the §3.5 elimination rules, and a checker of valid
+//! output.
 #![allow(dead_code)]
 
 use std::collections::{BTreeSet, HashSet};
@@ -110,76 +110,11 @@ pub fn torus(major: u32, minor: u32, r_major: f32, r_minor: f32) -> TriangleMesh
     TriangleMesh::new(positions, triangles)
 }
 
-/// Reads the `v`/`f` lines of an OBJ, an OFF, or an ASCII STL (polygons cut into fans).
+/// Reads a mesh with voxlod-io (STL soups are welded there).
 pub fn read_mesh(path: &Path) -> TriangleMesh {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    let mut positions = Vec::new();
-    let mut triangles = Vec::new();
-    let fan = |poly: &[u32], triangles: &mut Vec<[u32; 3]>| {
-        for i in 1..poly.len().saturating_sub(1) {
-            triangles.push([poly[0], poly[i], poly[i + 1]]);
-        }
-    };
-    match ext {
-        "obj" => {
-            for line in text.lines() {
-                let mut it = line.split_whitespace();
-                match it.next() {
-                    Some("v") => {
-                        let c: Vec<f32> = it.take(3).map(|x| x.parse().unwrap()).collect();
-                        positions.push(Vec3::new(c[0], c[1], c[2]));
-                    }
-                    Some("f") => {
-                        let n = positions.len() as i64;
-                        let poly: Vec<u32> = it
-                            .map(|w| {
-                                let i: i64 = w.split('/').next().unwrap().parse().unwrap();
-                                (if i < 0 { n + i } else { i - 1 }) as u32
-                            })
-                            .collect();
-                        fan(&poly, &mut triangles);
-                    }
-                    _ => {}
-                }
-            }
-        }
-        "off" => {
-            let mut words = text
-                .lines()
-                .map(|l| l.split('#').next().unwrap())
-                .flat_map(|l| l.split_whitespace())
-                .skip_while(|w| w.ends_with("OFF"));
-            let mut next = || words.next().unwrap();
-            let nv: usize = next().parse().unwrap();
-            let nf: usize = next().parse().unwrap();
-            let _ne: usize = next().parse().unwrap();
-            for _ in 0..nv {
-                let c: Vec<f32> = (0..3).map(|_| next().parse().unwrap()).collect();
-                positions.push(Vec3::new(c[0], c[1], c[2]));
-            }
-            for _ in 0..nf {
-                let k: usize = next().parse().unwrap();
-                let poly: Vec<u32> = (0..k).map(|_| next().parse().unwrap()).collect();
-                fan(&poly, &mut triangles);
-            }
-        }
-        "stl" => {
-            for line in text.lines() {
-                let mut it = line.split_whitespace();
-                if it.next() == Some("vertex") {
-                    let c: Vec<f32> = it.take(3).map(|x| x.parse().unwrap()).collect();
-                    positions.push(Vec3::new(c[0], c[1], c[2]));
-                    if positions.len() % 3 == 0 {
-                        let b = positions.len() as u32 - 3;
-                        triangles.push([b, b + 1, b + 2]);
-                    }
-                }
-            }
-        }
-        _ => panic!("unknown mesh format {}", path.display()),
-    }
-    TriangleMesh::new(positions, triangles)
+    voxlod_io::read_mesh(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .mesh
 }
 
 /// The meshes of the shared data folder, or none after printing why the test skips.
