@@ -14,8 +14,8 @@ pub mod grid;
 pub mod memory;
 pub mod mesh;
 pub mod repair;
-pub mod topology;
 pub mod testdata;
+pub mod topology;
 pub mod volume;
 pub mod weld;
 

@@ -5,7 +5,9 @@
 //! Duplicates matter to the inside test: two copies of a face cross every ray twice at the same
 //! point, so a parity count would see no surface there at all.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
+
+use glam::Vec3;
 
 use crate::TriangleMesh;
 
@@ -48,11 +50,99 @@ pub fn remove_degenerate_and_duplicate_triangles(mesh: &mut TriangleMesh) -> Rep
     report
 }
 
+/// Closes every hole of the mesh with a fan of triangles around the centroid of its boundary
+/// loop, and returns how many loops it closed. Boundary edges are those used by exactly one
+/// triangle; they are chained into closed loops (a vertex where two holes touch is passed
+/// through twice). Afterwards every former boundary edge is used twice. The fans ignore
+/// orientation and may cut through the mesh for a strongly curved loop: they serve the parity
+/// inside test, which only needs every edge used an even number of times, not a fair surface.
+/// Edges of a boundary that do not chain into a loop (an open non-manifold fin) are left.
+pub fn close_boundary_loops(mesh: &mut TriangleMesh) -> usize {
+    let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
+    for &[a, b, c] in &mesh.triangles {
+        for (u, v) in [(a, b), (b, c), (c, a)] {
+            *uses.entry((u.min(v), u.max(v))).or_insert(0) += 1;
+        }
+    }
+    let mut neighbours: HashMap<u32, Vec<u32>> = HashMap::new();
+    let mut boundary: Vec<(u32, u32)> = uses
+        .iter()
+        .filter(|(_, &n)| n == 1)
+        .map(|(&e, _)| e)
+        .collect();
+    boundary.sort_unstable();
+    for &(u, v) in &boundary {
+        neighbours.entry(u).or_default().push(v);
+        neighbours.entry(v).or_default().push(u);
+    }
+    let mut used: HashSet<(u32, u32)> = HashSet::new();
+    let mut closed = 0;
+    for &(start, first) in &boundary {
+        if used.contains(&(start, first)) {
+            continue;
+        }
+        // Walk from `start` along unused boundary edges until we come back.
+        let mut loop_vertices = vec![start];
+        let mut edges = vec![(start, first)];
+        used.insert((start, first));
+        let mut at = first;
+        while at != start {
+            let next = neighbours[&at]
+                .iter()
+                .copied()
+                .find(|&w| !used.contains(&(at.min(w), at.max(w))));
+            let Some(w) = next else { break };
+            used.insert((at.min(w), at.max(w)));
+            edges.push((at.min(w), at.max(w)));
+            loop_vertices.push(at);
+            at = w;
+        }
+        if at != start || loop_vertices.len() < 3 {
+            continue; // an open chain: nothing to close
+        }
+        let centroid = loop_vertices
+            .iter()
+            .map(|&v| mesh.positions[v as usize])
+            .sum::<Vec3>()
+            / loop_vertices.len() as f32;
+        let c = mesh.positions.len() as u32;
+        mesh.positions.push(centroid);
+        if !mesh.normals.is_empty() {
+            mesh.normals.push(Vec3::ZERO);
+        }
+        for i in 0..loop_vertices.len() {
+            let (a, b) = (
+                loop_vertices[i],
+                loop_vertices[(i + 1) % loop_vertices.len()],
+            );
+            mesh.triangles.push([b, a, c]);
+        }
+        closed += 1;
+    }
+    closed
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::mesh::tests::unit_cube;
     use glam::Vec3;
+
+    #[test]
+    fn closes_holes_with_fans() {
+        let mut cube = unit_cube();
+        cube.triangles.truncate(10); // open the x = 0 side: one square hole
+        assert_eq!(close_boundary_loops(&mut cube), 1);
+        assert_eq!(cube.positions.len(), 9);
+        assert_eq!(cube.triangles.len(), 14);
+        let t = crate::mesh_topology(&cube);
+        assert_eq!(t.boundary_edges, 0);
+        assert_eq!(t.non_manifold_edges, 0);
+        // A closed mesh is left alone.
+        let mut whole = unit_cube();
+        assert_eq!(close_boundary_loops(&mut whole), 0);
+        assert_eq!(whole, unit_cube());
+    }
 
     #[test]
     fn drops_degenerate_and_duplicate_triangles() {

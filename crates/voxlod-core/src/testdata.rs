@@ -28,7 +28,10 @@ pub fn shared_data_or_skip(relative: &str, test: &str) -> Option<PathBuf> {
     match shared_data() {
         Some(dir) if dir.join(relative).is_file() => Some(dir.join(relative)),
         Some(dir) => {
-            eprintln!("skipping {test}: {} is missing", dir.join(relative).display());
+            eprintln!(
+                "skipping {test}: {} is missing",
+                dir.join(relative).display()
+            );
             None
         }
         None => {

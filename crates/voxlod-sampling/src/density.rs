@@ -226,14 +226,100 @@ impl Rows {
     }
 }
 
+/// Which rows of a family have a non-empty lattice line within reach: a summed-area table of
+/// the non-empty lines, so the test is O(1) per row.
+struct ActiveLines {
+    sums: Vec<u32>,
+    width: usize,
+    counts: (usize, usize),
+    reach: usize,
+}
+
+impl ActiveLines {
+    fn new(crossings: &LineCrossings, reach: usize) -> ActiveLines {
+        let (lu, lv) = crossings.family.line_counts();
+        let width = lu + 1;
+        let mut sums = vec![0u32; width * (lv + 1)];
+        for n in 0..lv {
+            let mut row = 0u32;
+            for m in 0..lu {
+                row += !crossings.line(m as isize, n as isize).is_empty() as u32;
+                sums[(n + 1) * width + m + 1] = sums[n * width + m + 1] + row;
+            }
+        }
+        ActiveLines {
+            sums,
+            width,
+            counts: (lu, lv),
+            reach,
+        }
+    }
+
+    /// Whether any line within `reach` lattice steps of line (m, n) has crossings.
+    fn reaches(&self, m: usize, n: usize) -> bool {
+        let (m0, m1) = (
+            m.saturating_sub(self.reach),
+            (m + self.reach + 1).min(self.counts.0),
+        );
+        let (n0, n1) = (
+            n.saturating_sub(self.reach),
+            (n + self.reach + 1).min(self.counts.1),
+        );
+        if m0 >= m1 || n0 >= n1 {
+            return false;
+        }
+        let at = |m: usize, n: usize| self.sums[n * self.width + m];
+        at(m1, n1) + at(m0, n0) > at(m0, n1) + at(m1, n0)
+    }
+}
+
+/// A slice that several threads write at once, each at indices no other thread touches.
+struct DisjointSlice<'a> {
+    ptr: *mut f32,
+    len: usize,
+    _borrow: std::marker::PhantomData<&'a mut [f32]>,
+}
+
+// SAFETY: the only access is through `get` and `set`, whose callers guarantee that no index is
+// used by two threads.
+unsafe impl Sync for DisjointSlice<'_> {}
+
+impl<'a> DisjointSlice<'a> {
+    fn new(slice: &'a mut [f32]) -> Self {
+        DisjointSlice {
+            ptr: slice.as_mut_ptr(),
+            len: slice.len(),
+            _borrow: std::marker::PhantomData,
+        }
+    }
+
+    /// # Safety
+    /// No other thread may access index `i` during this call.
+    #[inline]
+    unsafe fn get(&self, i: usize) -> f32 {
+        assert!(i < self.len);
+        unsafe { *self.ptr.add(i) }
+    }
+
+    /// # Safety
+    /// No other thread may access index `i` during this call.
+    #[inline]
+    unsafe fn set(&self, i: usize, value: f32) {
+        assert!(i < self.len);
+        unsafe { *self.ptr.add(i) = value }
+    }
+}
+
 fn integrate_families(
     families: &[LineCrossings; 3],
     kernel: &LineKernel,
     grid: &Grid,
 ) -> Result<Volume, SamplingError> {
     let [nx, ny, nz] = grid.dims;
-    let q = families[0].family.lines_per_voxel as isize;
+    let q = families[0].family.lines_per_voxel;
     let slice = nx * ny;
+    let reach = (kernel.radius * q as f64).ceil() as usize;
+    let active = [0, 1, 2].map(|f| ActiveLines::new(&families[f], reach));
     memory::check_allocation(
         "the filtered density",
         memory::bytes_of::<f32>(2 * grid.len()),
@@ -248,7 +334,15 @@ fn integrate_families(
         .for_each(|(k, (num, den))| {
             let mut rows = Rows::new(nx.max(ny));
             for j in 0..ny {
-                if rows.run(&families[0], kernel, j as isize * q, k as isize * q, 0..nx) {
+                if active[0].reaches(j * q, k * q)
+                    && rows.run(
+                        &families[0],
+                        kernel,
+                        (j * q) as isize,
+                        (k * q) as isize,
+                        0..nx,
+                    )
+                {
                     for i in 0..nx {
                         let w = rows.weight[i] * rows.weight[i];
                         num[j * nx + i] = (w * rows.density[i]) as f32;
@@ -257,7 +351,15 @@ fn integrate_families(
                 }
             }
             for i in 0..nx {
-                if rows.run(&families[1], kernel, k as isize * q, i as isize * q, 0..ny) {
+                if active[1].reaches(k * q, i * q)
+                    && rows.run(
+                        &families[1],
+                        kernel,
+                        (k * q) as isize,
+                        (i * q) as isize,
+                        0..ny,
+                    )
+                {
                     for j in 0..ny {
                         let w = rows.weight[j] * rows.weight[j];
                         num[j * nx + i] += (w * rows.density[j]) as f32;
@@ -267,38 +369,43 @@ fn integrate_families(
             }
         });
 
-    // z-lines (cross axes x, y) over slabs of slices, each row restricted to its slab; the
-    // blend is finished here.
-    let slabs = (rayon::current_num_threads() * 4).clamp(1, nz);
-    let per_slab = nz.div_ceil(slabs);
-    num.par_chunks_mut(slice * per_slab)
-        .zip(den.par_chunks_mut(slice * per_slab))
-        .enumerate()
-        .for_each(|(s, (num, den))| {
-            let k0 = s * per_slab;
-            let k1 = (k0 + per_slab).min(nz);
-            let mut rows = Rows::new(per_slab);
-            for j in 0..ny {
-                for i in 0..nx {
-                    let touched =
-                        rows.run(&families[2], kernel, i as isize * q, j as isize * q, k0..k1);
-                    for k in 0..k1 - k0 {
-                        let at = k * slice + j * nx + i;
-                        let (f, w) = if touched {
-                            (rows.density[k], rows.weight[k] * rows.weight[k])
-                        } else {
-                            (0.0, 0.0)
-                        };
-                        let total = den[at] as f64 + w;
-                        num[at] = if total > 0.0 {
-                            ((num[at] as f64 + w * f) / total) as f32
-                        } else {
-                            f as f32
-                        };
-                    }
+    // z-lines (cross axes x, y): one task per y, each writing its own (i, j, k) samples; the
+    // blend is finished here, for every sample.
+    let shared_num = DisjointSlice::new(&mut num);
+    let shared_den = DisjointSlice::new(&mut den);
+    (0..ny).into_par_iter().for_each_init(
+        || Rows::new(nz),
+        |rows, j| {
+            for i in 0..nx {
+                let touched = active[2].reaches(i * q, j * q)
+                    && rows.run(
+                        &families[2],
+                        kernel,
+                        (i * q) as isize,
+                        (j * q) as isize,
+                        0..nz,
+                    );
+                for k in 0..nz {
+                    let at = k * slice + j * nx + i;
+                    let (f, w) = if touched {
+                        (rows.density[k], rows.weight[k] * rows.weight[k])
+                    } else {
+                        (0.0, 0.0)
+                    };
+                    // SAFETY: sample (i, j, k) is read and written by task j alone.
+                    let (n, d) = unsafe { (shared_num.get(at), shared_den.get(at)) };
+                    let total = d as f64 + w;
+                    let value = if total > 0.0 {
+                        (n as f64 + w * f) / total
+                    } else {
+                        f
+                    };
+                    // SAFETY: as above.
+                    unsafe { shared_num.set(at, value as f32) };
                 }
             }
-        });
+        },
+    );
     drop(den);
     Ok(Volume::from_vec(*grid, num)?)
 }

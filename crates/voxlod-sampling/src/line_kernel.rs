@@ -25,14 +25,14 @@ pub struct LineProfile {
     integral: Vec<f64>,
     /// `weight[i] = g(-L + i Δ)`, normalised likewise (used to weigh crossings).
     weight: Vec<f64>,
-    step: f64,
+    inv_step: f64,
 }
 
 impl LineProfile {
     /// `G(τ)`: the (normalised) integral of the filter along the line up to `τ`.
     #[inline]
     pub fn integral_to(&self, tau: f64) -> f64 {
-        lookup(&self.integral, self.reach, self.step, tau, true)
+        lookup(&self.integral, self.reach, self.inv_step, tau, true)
     }
 
     /// The line's full (normalised) integral.
@@ -44,19 +44,19 @@ impl LineProfile {
     /// `g(τ)`: the (normalised) filter along the line at `τ`.
     #[inline]
     pub fn weight_at(&self, tau: f64) -> f64 {
-        lookup(&self.weight, self.reach, self.step, tau, false)
+        lookup(&self.weight, self.reach, self.inv_step, tau, false)
     }
 }
 
 #[inline]
-fn lookup(table: &[f64], reach: f64, step: f64, tau: f64, cumulative: bool) -> f64 {
+fn lookup(table: &[f64], reach: f64, inv_step: f64, tau: f64, cumulative: bool) -> f64 {
     if tau <= -reach {
         return 0.0;
     }
     if tau >= reach {
         return if cumulative { table[INTERVALS] } else { 0.0 };
     }
-    let x = (tau + reach) / step;
+    let x = (tau + reach) * inv_step;
     let i = (x as usize).min(INTERVALS - 1);
     let f = x - i as f64;
     table[i] + (table[i + 1] - table[i]) * f
@@ -153,7 +153,7 @@ fn tabulate(filter: Filter, radius: f64, rho: f64) -> LineProfile {
         reach,
         integral,
         weight,
-        step,
+        inv_step: if step > 0.0 { 1.0 / step } else { 0.0 },
     }
 }
 

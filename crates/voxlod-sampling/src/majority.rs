@@ -101,16 +101,7 @@ fn transpose(src: &[u64], rows: usize, cols: usize, dst: &mut [u64]) {
                 let r = rb * 64 + i;
                 *slot = if r < rows { src[r * src_words + cb] } else { 0 };
             }
-            // Our bit order is little-endian (bit c = column c); transpose64 works on that order
-            // after reversing rows and bits, so reverse both ways around it.
-            let mut rev = [0u64; 64];
-            for i in 0..64 {
-                rev[63 - i] = block[i].reverse_bits();
-            }
-            transpose64(&mut rev);
-            for i in 0..64 {
-                block[63 - i] = rev[i].reverse_bits();
-            }
+            transpose64(&mut block);
             for (i, &word) in block.iter().enumerate() {
                 let c = cb * 64 + i;
                 if c < cols {
@@ -121,8 +112,21 @@ fn transpose(src: &[u64], rows: usize, cols: usize, dst: &mut [u64]) {
     }
 }
 
-/// One disagreement: the line (m, n) of a family and the lattice point along it.
-type Flip = (u32, u32, u32);
+/// A boundary of a run of disagreeing points on a line: (line m, line n, point, 0 = start / 1 = end).
+type RunEvent = (u32, u32, u32, u8);
+
+/// Disagreement bits of one slice: for each family, `ly` rows of `wx` words over x.
+struct SliceVotes {
+    disagree: [Vec<u64>; 3],
+}
+
+/// Words of `row` shifted so that bit p holds bit p - 1 (`up`) or bit p + 1 (`down`).
+#[inline]
+fn neighbour_bits(row: &[u64], w: usize) -> (u64, u64) {
+    let below = if w > 0 { row[w - 1] >> 63 } else { 0 };
+    let above = row.get(w + 1).map_or(0, |n| n << 63);
+    ((row[w] << 1) | below, (row[w] >> 1) | above)
+}
 
 /// Runs the vote over the three families (ordered x, y, z) and repairs their crossings.
 pub fn majority_vote(families: &mut [LineCrossings; 3]) -> MajorityReport {
@@ -135,139 +139,186 @@ pub fn majority_vote(families: &mut [LineCrossings; 3]) -> MajorityReport {
 
     // z-line crossings bucketed by the first slice they affect: (slice, x, y).
     let zc = &families[2];
-    let mut events: Vec<(u32, u32, u32)> = Vec::new();
+    let mut toggles: Vec<(u32, u32, u32)> = Vec::new();
     for p in 0..lx {
         for m in 0..ly {
             // Family z: cross axes (x, y), line (m = x, n = y).
             for &t in zc.line(p as isize, m as isize) {
                 let s = first_point_after(t, q).clamp(0, lz as i64) as u32;
-                events.push((s, p as u32, m as u32));
+                toggles.push((s, p as u32, m as u32));
             }
         }
     }
-    events.sort_unstable();
+    toggles.sort_unstable();
 
-    let chunks = rayon::current_num_threads().max(1) * 4;
+    let chunks = (rayon::current_num_threads().max(1) * 4).min(lz);
     let per_chunk = lz.div_ceil(chunks);
     let fams = &*families;
-    let results: Vec<[Vec<Flip>; 3]> = (0..chunks)
+    let results: Vec<([Vec<RunEvent>; 3], u64)> = (0..chunks)
         .into_par_iter()
         .map(|c| {
             let (s0, s1) = (c * per_chunk, ((c + 1) * per_chunk).min(lz));
-            let mut flips: [Vec<Flip>; 3] = Default::default();
+            let mut events: [Vec<RunEvent>; 3] = Default::default();
+            let mut outvoted = 0u64;
             if s0 >= s1 {
-                return flips;
+                return (events, outvoted);
             }
             let mut zstate = vec![0u64; ly * wx];
-            let mut e = 0;
+            let mut applied = 0;
             let mut xbits = vec![0u64; ly * wx];
             let mut ycols = vec![0u64; lx * wy];
             let mut ybits = vec![0u64; ly * wx];
             let mut row = vec![0u64; wx.max(wy)];
-            for s in 0..s1 {
-                while e < events.len() && events[e].0 as usize <= s {
-                    let (_, p, m) = events[e];
+            // The votes of slice s; slices must be asked for in increasing order.
+            let mut vote_slice = |s: usize| -> SliceVotes {
+                while applied < toggles.len() && toggles[applied].0 as usize <= s {
+                    let (_, p, m) = toggles[applied];
                     zstate[m as usize * wx + p as usize / 64] ^= 1u64 << (p % 64);
-                    e += 1;
+                    applied += 1;
                 }
-                if s < s0 {
-                    continue;
-                }
-                // x-lines of this slice: family x has cross axes (y, z): line (m = y, n = s).
+                // x-lines of this slice: cross axes (y, z), line (m = y, n = s).
                 for m in 0..ly {
                     line_bits(fams[0].line(m as isize, s as isize), q, lx, &mut row[..wx]);
                     xbits[m * wx..(m + 1) * wx].copy_from_slice(&row[..wx]);
                 }
-                // y-lines: cross axes (z, x): line (m = s, n = p), bits along y.
+                // y-lines: cross axes (z, x), line (m = s, n = p), bits along y.
                 for p in 0..lx {
                     line_bits(fams[1].line(s as isize, p as isize), q, ly, &mut row[..wy]);
                     ycols[p * wy..(p + 1) * wy].copy_from_slice(&row[..wy]);
                 }
                 transpose(&ycols, lx, ly, &mut ybits);
+                let mut disagree: [Vec<u64>; 3] =
+                    [vec![0; ly * wx], vec![0; ly * wx], vec![0; ly * wx]];
+                for i in 0..ly * wx {
+                    let (x, y, z) = (xbits[i], ybits[i], zstate[i]);
+                    let vote = (x & y) | (x & z) | (y & z);
+                    disagree[0][i] = x ^ vote;
+                    disagree[1][i] = y ^ vote;
+                    disagree[2][i] = z ^ vote;
+                }
+                SliceVotes { disagree }
+            };
+            let empty = || SliceVotes {
+                disagree: [vec![0; ly * wx], vec![0; ly * wx], vec![0; ly * wx]],
+            };
+            // Start the z-state one slice early so the previous slice's votes are known.
+            let mut prev = if s0 > 0 { vote_slice(s0 - 1) } else { empty() };
+            let mut cur = vote_slice(s0);
+            for s in s0..s1 {
+                let next = if s + 1 < lz {
+                    vote_slice(s + 1)
+                } else {
+                    empty()
+                };
+                let su = s as u32;
                 for m in 0..ly {
+                    let r = m * wx..(m + 1) * wx;
+                    let (dx, dy, dz) = (
+                        &cur.disagree[0][r.clone()],
+                        &cur.disagree[1],
+                        &cur.disagree[2],
+                    );
                     for w in 0..wx {
                         let i = m * wx + w;
-                        let (x, y, z) = (xbits[i], ybits[i], zstate[i]);
-                        let vote = (x & y) | (x & z) | (y & z);
-                        for (family, bits) in [x, y, z].into_iter().enumerate() {
-                            let mut d = bits ^ vote;
-                            while d != 0 {
-                                let b = d.trailing_zeros() as usize;
-                                d &= d - 1;
-                                let p = (w * 64 + b) as u32;
-                                let (m, s) = (m as u32, s as u32);
-                                flips[family].push(match family {
-                                    0 => (m, s, p), // x-line (y, z), point x
-                                    1 => (s, p, m), // y-line (z, x), point y
-                                    _ => (p, m, s), // z-line (x, y), point z
-                                });
-                            }
-                        }
+                        outvoted +=
+                            (dx[w].count_ones() + dy[i].count_ones() + dz[i].count_ones()) as u64;
+                        // x-lines run along the bits of the row.
+                        let (left, right) = neighbour_bits(dx, w);
+                        emit(&mut events[0], dx[w] & !left, dx[w] & !right, w, |p| {
+                            (m as u32, su, p)
+                        });
+                        // y-lines run across rows m.
+                        let up = if m > 0 { dy[i - wx] } else { 0 };
+                        let down = if m + 1 < ly { dy[i + wx] } else { 0 };
+                        emit(&mut events[1], dy[i] & !up, dy[i] & !down, w, |p| {
+                            (su, p, m as u32)
+                        });
+                        // z-lines run across slices.
+                        let (before, after) = (prev.disagree[2][i], next.disagree[2][i]);
+                        emit(&mut events[2], dz[i] & !before, dz[i] & !after, w, |p| {
+                            (p, m as u32, su)
+                        });
                     }
                 }
+                prev = cur;
+                cur = next;
             }
-            flips
+            (events, outvoted)
         })
         .collect();
 
     let mut report = MajorityReport::default();
     for (f, family) in families.iter_mut().enumerate() {
-        let mut flips: Vec<Flip> = results.iter().flat_map(|r| r[f].iter().copied()).collect();
-        if flips.is_empty() {
+        let mut events: Vec<RunEvent> = results
+            .iter()
+            .flat_map(|r| r.0[f].iter().copied())
+            .collect();
+        if events.is_empty() {
             continue;
         }
-        report.points_outvoted += flips.len() as u64;
-        flips.sort_unstable_by_key(|&(m, n, p)| (n, m, p));
+        events.sort_unstable_by_key(|&(m, n, p, kind)| (n, m, p, kind));
         let len = family.family.lattice_len(family.family.axis);
         let mut repaired: Vec<(usize, Vec<f32>)> = Vec::new();
-        for group in flips.chunk_by(|a, b| (a.0, a.1) == (b.0, b.1)) {
+        for group in events.chunk_by(|a, b| (a.0, a.1) == (b.0, b.1)) {
             let (m, n) = (group[0].0 as usize, group[0].1 as usize);
-            let points: Vec<u32> = group.iter().map(|g| g.2).collect();
-            let fixed = repair_line(family.line(m as isize, n as isize), &points, q, len);
+            debug_assert!(
+                group.len() % 2 == 0,
+                "unpaired run boundary on line ({m}, {n})"
+            );
+            let runs: Vec<(u32, u32)> =
+                group.chunks(2).map(|pair| (pair[0].2, pair[1].2)).collect();
+            let fixed = repair_line(family.line(m as isize, n as isize), &runs, q, len);
             repaired.push((family.family.slot(m, n), fixed));
         }
         report.lines_repaired += repaired.len() as u64;
         family.replace_lines(repaired);
     }
+    report.points_outvoted = results.iter().map(|r| r.1).sum();
     report
 }
 
-/// The crossings of a line after toggling its inside state at the sorted lattice `points`.
-fn repair_line(crossings: &[f32], points: &[u32], q: f64, len: usize) -> Vec<f32> {
+/// Records run starts and ends of word `w` (bit b stands for point 64 w + b on the line that
+/// `at(point)` names).
+#[inline]
+fn emit(
+    out: &mut Vec<RunEvent>,
+    starts: u64,
+    ends: u64,
+    w: usize,
+    at: impl Fn(u32) -> (u32, u32, u32),
+) {
+    for (mut bits, kind) in [(starts, 0u8), (ends, 1u8)] {
+        while bits != 0 {
+            let b = bits.trailing_zeros();
+            bits &= bits - 1;
+            let (m, n, p) = at(w as u32 * 64 + b);
+            out.push((m, n, p, kind));
+        }
+    }
+}
+
+/// The crossings of a line after toggling its inside state over the lattice point `runs`
+/// (inclusive, sorted, disjoint).
+fn repair_line(crossings: &[f32], runs: &[(u32, u32)], q: f64, len: usize) -> Vec<f32> {
     let mut removed = vec![false; crossings.len()];
     let mut added: Vec<f32> = Vec::new();
-    // Crossings between point p-1 and p are those with first_point_after == p.
-    let between = |p: i64| -> Vec<usize> {
-        (0..crossings.len())
-            .filter(|&i| first_point_after(crossings[i], q) == p)
-            .collect()
-    };
-    let mut i = 0;
-    while i < points.len() {
-        let start = points[i] as i64;
-        let mut end = start;
-        while i + 1 < points.len() && points[i + 1] as i64 == end + 1 {
-            i += 1;
-            end += 1;
-        }
-        i += 1;
-        // A run touching an end of the lattice toggles out to infinity on that side.
-        let ends = [(start, start == 0), (end + 1, end + 1 >= len as i64)];
-        for (boundary, _) in ends.into_iter().filter(|(_, unbounded)| !unbounded) {
-            let candidates: Vec<usize> = between(boundary)
-                .into_iter()
-                .filter(|&c| !removed[c])
-                .collect();
-            if let Some(&c) = candidates.last() {
-                removed[c] = true;
-            } else {
-                added.push(((boundary as f64 - 0.5) / q) as f32);
-            }
-        }
+    for &(start, end) in runs {
+        let (start, end) = (start as i64, end as i64);
         if start == 0 && end + 1 >= len as i64 {
             // The whole line flips. Inside everywhere is impossible for a solid inside a padded
             // lattice, so the vote can only mean "outside everywhere".
             return Vec::new();
+        }
+        // A run touching an end of the lattice toggles out to infinity on that side.
+        let ends = [(start, start == 0), (end + 1, end + 1 >= len as i64)];
+        for (boundary, _) in ends.into_iter().filter(|(_, unbounded)| !unbounded) {
+            // Crossings between point boundary - 1 and boundary affect points >= boundary.
+            let first = crossings.partition_point(|&c| first_point_after(c, q) < boundary);
+            let last = crossings.partition_point(|&c| first_point_after(c, q) <= boundary);
+            match (first..last).rev().find(|&c| !removed[c]) {
+                Some(c) => removed[c] = true,
+                None => added.push(((boundary as f64 - 0.5) / q) as f32),
+            }
         }
     }
     let mut out: Vec<f32> = crossings
@@ -280,8 +331,8 @@ fn repair_line(crossings: &[f32], points: &[u32], q: f64, len: usize) -> Vec<f32
     out.sort_unstable_by(f32::total_cmp);
     if out.len() % 2 == 1 {
         // Still odd (a run reached an end of the lattice): the tail beyond the last point
-        // must be outside for a padded grid, so close it at the lattice end.
-        out.push(((len - 1) as f64 / q) as f32 + (0.5 / q) as f32);
+        // must be outside for a padded grid, so close it just past the lattice end.
+        out.push(((len as f64 - 0.5) / q) as f32);
     }
     out
 }
@@ -325,17 +376,17 @@ mod tests {
     fn repairs_a_flooded_tail() {
         // Lattice of 20 points, q = 1: the line enters at 3.5 and its exit at 8.5 was missed
         // (a hole): parity says inside from 4 to the end; the vote says 9.. are outside.
-        let fixed = repair_line(&[3.5], &(9..20).collect::<Vec<u32>>(), 1.0, 20);
+        let fixed = repair_line(&[3.5], &[(9, 19)], 1.0, 20);
         assert_eq!(fixed, vec![3.5, 8.5]);
         // A spurious pair of crossings around a lattice point is removed.
-        let fixed = repair_line(&[2.2, 2.7, 5.0, 5.5, 9.0, 11.0], &[9, 10], 1.0, 20);
+        let fixed = repair_line(&[2.2, 2.7, 5.0, 5.5, 9.0, 11.0], &[(9, 10)], 1.0, 20);
         // Points 9 and 10 were inside [9, 11); toggling removes the crossings around them.
         assert_eq!(fixed, vec![2.2, 2.7, 5.0, 5.5]);
         // One point of a span outvoted: the span is cut at the point's boundary.
-        let fixed = repair_line(&[9.0, 11.0], &[10], 1.0, 20);
+        let fixed = repair_line(&[9.0, 11.0], &[(10, 10)], 1.0, 20);
         assert_eq!(fixed, vec![9.0, 9.5]);
         // A missing span is added halfway between points.
-        let fixed = repair_line(&[], &[4, 5], 1.0, 20);
+        let fixed = repair_line(&[], &[(4, 5)], 1.0, 20);
         assert_eq!(fixed, vec![3.5, 5.5]);
     }
 }
