@@ -292,6 +292,17 @@ fn check_readable(path: &Path) -> Result<(), IoError> {
     Ok(())
 }
 
+/// The whole file in memory, after checking that it fits (so that a huge file is a
+/// [`IoErrorKind::TooLarge`] error rather than an abort).
+pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, IoError> {
+    let len = std::fs::metadata(path)
+        .map_err(|e| IoError::access(path, "cannot open", &e))?
+        .len();
+    voxlod_core::memory::check_allocation("reading the file", len)
+        .map_err(|e| IoError::from_core(path, e))?;
+    std::fs::read(path).map_err(|e| IoError::access(path, "cannot read", &e))
+}
+
 /// Coordinates and normals must be finite; the message names the first bad vertex.
 fn check_finite(path: &Path, mesh: &TriangleMesh) -> Result<(), IoError> {
     if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
@@ -438,7 +449,8 @@ pub fn write_poly_mesh(path: &Path, mesh: &PolyMesh) -> Result<(), IoError> {
 pub struct VolumeWriteOptions {
     /// Compress the samples: gzip for NRRD, zlib for VTK XML (`.vti`) and MetaImage. Legacy
     /// VTK and raw files are never compressed. Off by default: compressing a large volume
-    /// costs far more time than writing it.
+    /// costs far more time than writing it (vtkio's compressor is the slowest, several seconds
+    /// for a 256³ volume; NRRD with gzip is the quick way to a small file).
     pub compress: bool,
 }
 

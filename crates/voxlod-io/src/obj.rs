@@ -31,7 +31,7 @@ pub(crate) struct ObjContent {
 }
 
 pub(crate) fn read(path: &Path) -> Result<ObjContent, IoError> {
-    let bytes = std::fs::read(path).map_err(|e| IoError::access(path, "cannot read", &e))?;
+    let bytes = crate::read_file(path)?;
     parse(path, &bytes)
 }
 

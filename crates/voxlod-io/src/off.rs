@@ -28,7 +28,7 @@ pub(crate) struct OffContent {
 }
 
 pub(crate) fn read(path: &Path) -> Result<OffContent, IoError> {
-    let bytes = std::fs::read(path).map_err(|e| IoError::access(path, "cannot read", &e))?;
+    let bytes = crate::read_file(path)?;
     parse(path, &bytes)
 }
 

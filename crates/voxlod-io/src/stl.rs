@@ -18,7 +18,7 @@ use std::path::Path;
 use glam::Vec3;
 use stl_io::{Normal, Triangle, Vertex};
 use voxlod_core::weld::{weld_vertices, WeldReport};
-use voxlod_core::{memory, TriangleMesh};
+use voxlod_core::TriangleMesh;
 
 use crate::atomic::write_atomically;
 use crate::{IoError, IoErrorKind};
@@ -27,11 +27,8 @@ const HEADER: usize = 84;
 const RECORD: u64 = 50;
 
 pub(crate) fn read(path: &Path) -> Result<(TriangleMesh, WeldReport), IoError> {
-    let len = std::fs::metadata(path)
-        .map_err(|e| IoError::access(path, "cannot open", &e))?
-        .len();
-    memory::check_allocation("the STL file", len).map_err(|e| IoError::from_core(path, e))?;
-    let mut bytes = std::fs::read(path).map_err(|e| IoError::access(path, "cannot read", &e))?;
+    let mut bytes = crate::read_file(path)?;
+    let len = bytes.len() as u64;
 
     let binary_count = (bytes.len() >= HEADER)
         .then(|| u32::from_le_bytes(bytes[80..84].try_into().expect("four bytes")) as u64);

@@ -50,6 +50,13 @@ fn vtkio_error(path: &Path, e: vtkio::Error) -> IoError {
 /// Loads a VTK file of either flavour.
 pub(crate) fn load(path: &Path, flavor: Flavor) -> Result<Vtk, IoError> {
     let file = std::fs::File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
+    // vtkio holds the whole file, and then the decoded arrays, in memory.
+    let len = file
+        .metadata()
+        .map_err(|e| IoError::access(path, "cannot read", &e))?
+        .len();
+    voxlod_core::memory::check_allocation("reading the VTK file", len.saturating_mul(2))
+        .map_err(|e| IoError::from_core(path, e))?;
     let reader = BufReader::with_capacity(1 << 20, file);
     let parsed = catch_unwind(AssertUnwindSafe(|| match flavor {
         // Legacy binary data is big-endian by definition.

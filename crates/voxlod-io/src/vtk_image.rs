@@ -10,6 +10,8 @@
 //!
 //! Writing: one piece, point data `values` as `f32`. Legacy files are binary big-endian; XML
 //! files zlib-compressed when [`VolumeWriteOptions::compress`](crate::VolumeWriteOptions) asks.
+//! vtkio owns the data it writes, so writing makes one copy of the samples, and its
+//! compressor feeds zlib one sample at a time (seconds for a 256³ volume).
 
 use std::path::Path;
 
