@@ -1,3 +1,6 @@
+//! The one error type of every reader and writer: the file, what kind of problem, and a
+//! one-line message saying what was expected and what was found.
+
 use std::path::{Path, PathBuf};
 
 use thiserror::Error;

@@ -123,7 +123,7 @@ fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError
     dims[..ndims].copy_from_slice(&sizes);
 
     let type_name = require("elementtype", "ElementType")?;
-    let sample = element_type(type_name).ok_or_else(|| {
+    let sample = element_type(&type_name.to_ascii_uppercase()).ok_or_else(|| {
         IoError::unsupported(path, format!("ElementType '{type_name}' is not supported"))
     })?;
     if let Some(channels) = get("elementnumberofchannels") {

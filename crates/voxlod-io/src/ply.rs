@@ -220,13 +220,16 @@ fn min_element_bytes(def: &ElementDef, encoding: Encoding) -> u64 {
         ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
         ScalarType::Double => 8,
     };
+    // An element without properties takes no bytes; counting it as one keeps a header that
+    // declares billions of them from spinning the parser.
     def.properties
         .values()
         .map(|p| match &p.data_type {
             PropertyType::Scalar(t) => size(t),
             PropertyType::List(count, _) => size(count),
         })
-        .sum()
+        .sum::<u64>()
+        .max(1)
 }
 
 fn index(path: &Path, what: &str, i: usize, v: i64, vertex_count: usize) -> Result<u32, IoError> {

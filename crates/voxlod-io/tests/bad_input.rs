@@ -295,6 +295,13 @@ fn absurd_header_sizes_are_too_large_not_an_abort() {
         b"ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n\x00\x00",
     );
     assert_error(read_mesh(&ply), IoErrorKind::Truncated, &ply);
+    // ... even when the elements have no properties and would take no bytes at all.
+    let empty = write(
+        dir.path(),
+        "spin.ply",
+        b"ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nelement nothing 4000000000\nend_header\n",
+    );
+    assert_error(read_mesh(&empty), IoErrorKind::Truncated, &empty);
     let stl = dir.path().join("huge.stl");
     let mut bytes = vec![0u8; 84 + 50];
     bytes[80..84].copy_from_slice(&u32::MAX.to_le_bytes());
