@@ -7,12 +7,14 @@
 //!   both surfaces, absolute and as a fraction of the bounding-box diagonal.
 //! - [`health`]: topology (from [`voxlod_core::topology`]) with area, enclosed volume,
 //!   bounding box and zero-area triangles, as one serialisable report.
+//! - [`spatial_order`]: Z-order sorting that keeps batches of queries coherent.
 //! - [`error`]: [`MetricsError`], what the measurements refuse and why.
 
 pub mod closest_point;
 pub mod distance;
 pub mod error;
 pub mod health;
+pub mod spatial_order;
 pub mod surface_sampling;
 
 pub use closest_point::{closest_point_on_triangle, ClosestPoint, MeshDistance, QueryHint};

@@ -13,7 +13,12 @@
 //! draws and no large unsampled patches. The samples come out in triangle order, which keeps
 //! queries made from them coherent. [`SampleLayout::Independent`] draws i.i.d. points instead.
 //!
-//! Cost: O(F) to sum the areas (8 bytes per triangle), then O(log F) per sample.
+//! The search is guided (the cutpoint method): a table of F entries holds the triangle at
+//! each multiple of `total/F` of the cumulative area, so a search only looks between two
+//! neighbouring entries — usually one or two triangles, at worst a binary search of them.
+//!
+//! Cost: O(F) to sum the areas and fill the table (12 bytes per triangle), then O(1) expected
+//! per sample (O(log F) at worst).
 
 use glam::DVec3;
 use rand::Rng;
@@ -78,6 +83,9 @@ pub struct SurfaceSampler<'a> {
     cumulative_area: Vec<f64>,
     /// The last triangle with positive area, for a target rounded up to the total.
     last_with_area: usize,
+    /// `guide[g]` is the triangle that holds the cumulative area `g/G · total` (G = the guide's
+    /// length): a search for a target only has to look between two neighbouring entries.
+    guide: Vec<u32>,
 }
 
 impl<'a> SurfaceSampler<'a> {
@@ -98,17 +106,28 @@ impl<'a> SurfaceSampler<'a> {
             });
         };
         let mut total = 0.0;
-        let cumulative_area = areas
+        let cumulative_area: Vec<f64> = areas
             .into_iter()
             .map(|a| {
                 total += a;
                 total
             })
             .collect();
+        let guide_len = cumulative_area.len();
+        let mut guide = Vec::with_capacity(guide_len);
+        let mut t = 0;
+        for g in 0..guide_len {
+            let target = g as f64 / guide_len as f64 * total;
+            while t < last_with_area && cumulative_area[t] <= target {
+                t += 1;
+            }
+            guide.push(t as u32);
+        }
         Ok(SurfaceSampler {
             mesh,
             cumulative_area,
             last_with_area,
+            guide,
         })
     }
 
@@ -148,7 +167,23 @@ impl<'a> SurfaceSampler<'a> {
     /// The triangle whose share of the cumulative area holds `target` (in `[0, total)`);
     /// zero-area triangles own no share and are never returned.
     fn triangle_at(&self, target: f64) -> usize {
-        let t = self.cumulative_area.partition_point(|&c| c <= target);
+        let total = self.total_area();
+        let g = ((target / total * self.guide.len() as f64) as usize).min(self.guide.len() - 1);
+        // The answer lies between this guide entry and the next; a rounding in the guide may put
+        // it one step outside, so widen by one on each side.
+        let lo = (self.guide[g] as usize).saturating_sub(1);
+        let hi = self
+            .guide
+            .get(g + 1)
+            .map_or(self.cumulative_area.len(), |&t| t as usize + 2)
+            .min(self.cumulative_area.len());
+        let t = lo + self.cumulative_area[lo..hi].partition_point(|&c| c <= target);
+        debug_assert_eq!(
+            t.min(self.last_with_area),
+            self.cumulative_area
+                .partition_point(|&c| c <= target)
+                .min(self.last_with_area)
+        );
         t.min(self.last_with_area)
     }
 }

@@ -63,6 +63,50 @@ fn triangles_get_samples_in_proportion_to_their_area() {
     }
 }
 
+#[test]
+fn skewed_areas_keep_their_shares() {
+    // One large triangle among 3000 tiny ones and 999 zero-area ones, the large one in the
+    // middle: the guide table's buckets hold very different numbers of triangles.
+    let mut mesh = TriangleMesh::default();
+    let push = |mesh: &mut TriangleMesh, a: Vec3, b: Vec3, c: Vec3| {
+        let base = mesh.positions.len() as u32;
+        mesh.positions.extend([a, b, c]);
+        mesh.triangles.push([base, base + 1, base + 2]);
+    };
+    for i in 0..4000 {
+        let o = Vec3::new(i as f32, 0.0, 0.0);
+        if i == 2000 {
+            push(&mut mesh, o, o + Vec3::X * 40.0, o + Vec3::Y * 50.0); // area 1000
+        } else if i % 4 == 0 {
+            push(&mut mesh, o, o + Vec3::X, o + Vec3::X * 2.0); // area 0
+        } else {
+            push(&mut mesh, o, o + Vec3::X * 0.04, o + Vec3::Y * 0.05); // area 0.001
+        }
+    }
+    let sampler = SurfaceSampler::new(&mesh).unwrap();
+    let total = sampler.total_area();
+    // (The tiny ones' f32 corners, thousands of units from the origin, round their areas.)
+    assert!((total - (1000.0 + 3000.0 * 0.001)).abs() < 0.1, "{total}");
+    let n = 300_000;
+    for layout in LAYOUTS {
+        let samples = sampler.samples(&SamplingOptions {
+            samples: n,
+            seed: 5,
+            layout,
+        });
+        let on_large = samples.iter().filter(|s| s.triangle == 2000).count();
+        assert!(samples
+            .iter()
+            .all(|s| s.triangle == 2000 || s.triangle % 4 != 0));
+        let expected = n as f64 * 1000.0 / total;
+        let sd = (n as f64 * (1000.0 / total) * (1.0 - 1000.0 / total)).sqrt();
+        assert!(
+            (on_large as f64 - expected).abs() < 5.0 * sd + 1.0,
+            "{layout:?}: {on_large} on the large triangle, expected {expected:.1}"
+        );
+    }
+}
+
 /// The cell of barycentric coordinates (u, v, w) in the subdivision of the triangle into
 /// `k²` congruent triangles.
 fn cell(u: f64, v: f64, w: f64, k: f64) -> (i64, i64, i64) {
