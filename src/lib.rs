@@ -12,6 +12,7 @@
 //! | contouring | [`contouring`] | table-driven marching cubes |
 
 pub mod commands;
+pub mod lod;
 
 pub use voxlod_contouring as contouring;
 pub use voxlod_core as core;

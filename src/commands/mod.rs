@@ -4,6 +4,8 @@
 use clap::{Parser, Subcommand};
 
 pub mod common;
+pub mod lod;
+pub mod source;
 
 pub use common::CliError;
 
@@ -19,9 +21,13 @@ pub struct Cli {
 }
 
 #[derive(Subcommand, Debug)]
-pub enum Command {}
+pub enum Command {
+    Lod(lod::LodArgs),
+}
 
 /// Runs the chosen subcommand.
 pub fn run(cli: Cli) -> Result<(), CliError> {
-    match cli.command {}
+    match cli.command {
+        Command::Lod(args) => lod::run(args),
+    }
 }
