@@ -33,7 +33,7 @@ pub struct VolumeRoute {
 
 /// What was read, kept alive for the borrowing [`LodSource`].
 pub enum Loaded {
-    Mesh(MeshSolid, MeshSummary),
+    Mesh(Box<MeshSolid>, MeshSummary),
     Volume(Volume),
 }
 
@@ -60,7 +60,7 @@ pub fn load(path: &Path, route: &VolumeRoute) -> Result<Loaded, CliError> {
                 polygons_triangulated: loaded.polygons_triangulated,
                 preparation: solid.preparation,
             };
-            Ok(Loaded::Mesh(solid, summary))
+            Ok(Loaded::Mesh(Box::new(solid), summary))
         }
         Input::Volume(volume) => {
             if route.threshold.is_none() && !route.direct {
