@@ -4,8 +4,11 @@
 use clap::{Parser, Subcommand};
 
 pub mod common;
+pub mod contour;
+pub mod demo;
 pub mod lod;
 pub mod source;
+pub mod voxelize;
 
 pub use common::CliError;
 
@@ -23,11 +26,17 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     Lod(lod::LodArgs),
+    Demo(demo::DemoArgs),
+    Voxelize(voxelize::VoxelizeArgs),
+    Contour(contour::ContourArgs),
 }
 
 /// Runs the chosen subcommand.
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Lod(args) => lod::run(args),
+        Command::Demo(args) => demo::run(args),
+        Command::Voxelize(args) => voxelize::run(args),
+        Command::Contour(args) => contour::run(args),
     }
 }
