@@ -26,6 +26,7 @@ use std::time::Duration;
 use glam::{DVec3, Vec3, Vec3A};
 use obvhs::{aabb::Aabb, bvh2::node::Bvh2Node, bvh2::Bvh2, BvhBuildParams};
 use rayon::prelude::*;
+use voxlod_core::memory::{bytes_of, check_allocation};
 use voxlod_core::TriangleMesh;
 
 use crate::error::{check_mesh, MetricsError};
@@ -63,6 +64,10 @@ const BVH_BUILD: BvhBuildParams = BvhBuildParams {
     ..BvhBuildParams::fastest_build()
 };
 
+/// Peak memory of a build per triangle: the boxes (32 bytes), PLOC's nodes before the leaves
+/// are collapsed (2 × 48) and its scratch (about 32), then the corners and indices kept (40).
+const BUILD_BYTES_PER_TRIANGLE: usize = 200;
+
 /// Relative widening of the best distance before boxes are pruned against it: several `f32`
 /// roundings (the query point's conversion, the subtraction, squaring and summing).
 const RELATIVE_SLACK: f64 = 8.0 * f32::EPSILON as f64;
@@ -75,10 +80,17 @@ pub(crate) const QUERY_CHUNK: usize = 4096;
 
 impl MeshDistance {
     /// Builds the BVH over `mesh`'s triangles. Fails on an empty mesh, an out-of-range vertex
-    /// index or a non-finite coordinate. Zero-area triangles are allowed (they are segments or
-    /// points, and measured as such).
+    /// index, a non-finite coordinate, or a mesh too large for the memory available. Zero-area
+    /// triangles are allowed (they are segments or points, and measured as such).
     pub fn new(mesh: &TriangleMesh) -> Result<MeshDistance, MetricsError> {
         check_mesh(mesh)?;
+        check_allocation(
+            &format!(
+                "the closest-point search structure for {} triangles",
+                mesh.triangles.len()
+            ),
+            bytes_of::<[u8; BUILD_BYTES_PER_TRIANGLE]>(mesh.triangles.len()),
+        )?;
         let boxes: Vec<Aabb> = mesh
             .triangles
             .par_iter()
@@ -140,8 +152,10 @@ impl MeshDistance {
         if max_distance.is_nan() || max_distance < 0.0 {
             return None;
         }
-        // Widen by a few ulps so that a triangle at exactly `max_distance` is still found.
-        let bound = max_distance * max_distance * (1.0 + 4.0 * f64::EPSILON);
+        // Widen by a few ulps (and above zero) so that a triangle at exactly `max_distance` is
+        // still found; the filter below restores the exact limit.
+        let bound =
+            (max_distance * max_distance * (1.0 + 4.0 * f64::EPSILON)).max(f64::MIN_POSITIVE);
         self.search(p, bound, None)
             .map(|hit| self.closest_point_of(hit))
             .filter(|c| c.distance <= max_distance)
@@ -178,7 +192,8 @@ impl MeshDistance {
 
     /// [`closest`](Self::closest) for a run of nearby queries: the search first measures the
     /// triangle that answered the previous query of the run (kept in `hint`), so it starts
-    /// with a tight bound. The answer is the same as without the hint.
+    /// with a tight bound. The distance is the same as without the hint (where several
+    /// triangles are equally near, the one reported may differ).
     pub fn closest_with_hint(&self, p: DVec3, hint: &mut QueryHint) -> ClosestPoint {
         debug_assert!(p.is_finite(), "closest-point query at {p}");
         match self.search(p, f64::INFINITY, hint.slot) {

@@ -23,6 +23,7 @@ pub use distance::{
 };
 pub use error::MetricsError;
 pub use health::{mesh_report, welded_mesh_report, BoxReport, MeshReport, WeldSummary};
+pub use spatial_order::z_order;
 pub use surface_sampling::{
     sample_surface, SampleLayout, SamplingOptions, SurfaceSample, SurfaceSampler,
 };

@@ -216,6 +216,9 @@ fn check_against_brute_force(mesh: &TriangleMesh, queries: &[DVec3]) {
         if want > 1e-6 * scale {
             assert_eq!(index.distance_within(p, want * 0.999), None);
         }
+        // A vertex is at distance exactly 0, which a bound of 0 accepts.
+        let vertex = mesh.corners(got.triangle)[0];
+        assert_eq!(index.distance_within(vertex, 0.0), Some(0.0));
     }
 }
 
