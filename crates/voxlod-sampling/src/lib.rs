@@ -35,7 +35,7 @@ pub use density::{filtered_density, DensityOptions, DensityReport};
 pub use direct::direct_density;
 pub use error::SamplingError;
 pub use filter::Filter;
-pub use mesh_solid::{MeshPreparation, MeshSolid};
+pub use mesh_solid::{MeshPreparation, MeshSolid, MeshSolidOptions};
 pub use pyramid::{level_grid, plan_levels, LevelPlan, PyramidOptions};
 pub use solid::Solid;
 pub use sphereflake::{sphereflake, sphereflake_spheres};

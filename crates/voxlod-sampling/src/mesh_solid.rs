@@ -62,10 +62,39 @@ pub struct MeshPreparation {
     pub closed: bool,
 }
 
+/// How to prepare a mesh for sampling.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MeshSolidOptions {
+    /// Close boundary loops with fans before sampling (otherwise only the majority vote
+    /// guards against holes).
+    pub close_holes: bool,
+}
+
+impl Default for MeshSolidOptions {
+    fn default() -> Self {
+        MeshSolidOptions { close_holes: true }
+    }
+}
+
+impl MeshSolidOptions {
+    /// No hole closing: the majority vote alone decides around holes.
+    pub fn majority_only() -> Self {
+        MeshSolidOptions { close_holes: false }
+    }
+}
+
 impl MeshSolid {
-    /// Prepares `mesh` for sampling: checks coordinates, welds, drops degenerate and duplicate
-    /// triangles, builds the BVH.
+    /// Prepares `mesh` for sampling with the default options: checks coordinates, welds, drops
+    /// degenerate and duplicate triangles, closes holes, builds the BVH.
     pub fn new(mesh: &TriangleMesh) -> Result<MeshSolid, SamplingError> {
+        MeshSolid::with_options(mesh, MeshSolidOptions::default())
+    }
+
+    /// Prepares `mesh` for sampling.
+    pub fn with_options(
+        mesh: &TriangleMesh,
+        options: MeshSolidOptions,
+    ) -> Result<MeshSolid, SamplingError> {
         mesh.validate()
             .map_err(|e| SamplingError::InvalidMesh(e.to_string()))?;
         let mut clean = TriangleMesh::new(mesh.positions.clone(), mesh.triangles.clone());
@@ -74,7 +103,11 @@ impl MeshSolid {
         if clean.triangles.is_empty() {
             return Err(SamplingError::EmptyMesh);
         }
-        let holes_closed = repair::close_boundary_loops(&mut clean);
+        let holes_closed = if options.close_holes {
+            repair::close_boundary_loops(&mut clean)
+        } else {
+            0
+        };
         let closed = every_edge_even(&clean.triangles);
         let positions: Vec<DVec3> = clean.positions.iter().map(|p| p.as_dvec3()).collect();
         let tris: Vec<Triangle> = clean
