@@ -35,7 +35,7 @@ use rayon::prelude::*;
 use crate::sort::{bits_for, radix_sort_by_key};
 
 /// The simplified model, in cluster ids. `triangle_sources[i]` is the index of the first input
-/// triangle (of the original mesh) that produced `triangles[i]`, and likewise for edges.
+/// triangle (of the original mesh) that produced `triangles[i]`.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Simplices {
     /// Distinct triangles, winding of their first source, ordered by sorted vertex ids.
@@ -43,7 +43,6 @@ pub struct Simplices {
     pub triangle_sources: Vec<u32>,
     /// Dangling edges `[a, b]` with `a < b`, in increasing order; none bounds a triangle.
     pub edges: Vec<[u32; 2]>,
-    pub edge_sources: Vec<u32>,
     /// Isolated points in increasing order; none bounds an edge or a triangle.
     pub points: Vec<u32>,
 }
@@ -58,17 +57,19 @@ struct TriEntry {
     src: u32,
 }
 
-#[derive(Clone, Copy, Default, Debug)]
-struct EdgeEntry {
-    key: [u32; 2],
-    src: u32,
+/// An edge `[a, b]`, `a < b`, as `a << 32 | b`: integer order is lexicographic order.
+type EdgeKey = u64;
+
+#[inline]
+fn edge_key(p: u32, q: u32) -> EdgeKey {
+    ((p.min(q) as u64) << 32) | p.max(q) as u64
 }
 
 /// Eliminates `triangles` (vertex ids) after mapping each vertex `v` to `cluster_of[v]`, a
 /// cluster id below `clusters`. Input triangle `t` is source `t`.
 pub fn eliminate(triangles: &[[u32; 3]], cluster_of: &[u32], clusters: usize) -> Simplices {
     let flags = point_flags(clusters);
-    let parts: Vec<(Vec<TriEntry>, Vec<EdgeEntry>)> = triangles
+    let parts: Vec<(Vec<TriEntry>, Vec<EdgeKey>)> = triangles
         .par_chunks(CHUNK)
         .enumerate()
         .map(|(ci, chunk)| {
@@ -89,7 +90,7 @@ pub fn eliminate(triangles: &[[u32; 3]], cluster_of: &[u32], clusters: usize) ->
 /// `merge[c]`, a cluster id below `clusters` (§4: the merged clusters of an octree level).
 pub fn eliminate_merged(previous: &Simplices, merge: &[u32], clusters: usize) -> Simplices {
     let flags = point_flags(clusters);
-    let mut parts: Vec<(Vec<TriEntry>, Vec<EdgeEntry>)> = previous
+    let mut parts: Vec<(Vec<TriEntry>, Vec<EdgeKey>)> = previous
         .triangles
         .par_chunks(CHUNK)
         .zip(previous.triangle_sources.par_chunks(CHUNK))
@@ -109,15 +110,12 @@ pub fn eliminate_merged(previous: &Simplices, merge: &[u32], clusters: usize) ->
         })
         .collect();
     let mut edges = Vec::with_capacity(previous.edges.len());
-    for (e, &src) in previous.edges.iter().zip(&previous.edge_sources) {
+    for e in &previous.edges {
         let (a, b) = (merge[e[0] as usize], merge[e[1] as usize]);
         if a == b {
             set_flag(&flags, a);
         } else {
-            edges.push(EdgeEntry {
-                key: [a.min(b), a.max(b)],
-                src,
-            });
+            edges.push(edge_key(a, b));
         }
     }
     for &p in &previous.points {
@@ -145,10 +143,13 @@ fn classify(
     [a, b, c]: [u32; 3],
     src: u32,
     tris: &mut Vec<TriEntry>,
-    edges: &mut Vec<EdgeEntry>,
+    edges: &mut Vec<EdgeKey>,
     flags: &[AtomicBool],
 ) {
-    if a != b && b != c && a != c {
+    // Most triangles of a fine mesh fall inside one cell: test that case first.
+    if a == b && b == c {
+        set_flag(flags, a);
+    } else if a != b && b != c && a != c {
         // Rotate the lowest id first (a rotation keeps the winding), then order the other two.
         let (x, y, z) = if a < b && a < c {
             (a, b, c)
@@ -166,19 +167,18 @@ fn classify(
             key,
             src: src | odd,
         });
-    } else if a == b && b == c {
-        set_flag(flags, a);
     } else {
         let (p, q) = if a == b { (a, c) } else { (a, b) };
-        edges.push(EdgeEntry {
-            key: [p.min(q), p.max(q)],
-            src,
-        });
+        let key = edge_key(p, q);
+        // Neighbouring triangles often collapse onto the same edge: skip the repeat at once.
+        if edges.last() != Some(&key) {
+            edges.push(key);
+        }
     }
 }
 
 fn finish(
-    parts: Vec<(Vec<TriEntry>, Vec<EdgeEntry>)>,
+    parts: Vec<(Vec<TriEntry>, Vec<EdgeKey>)>,
     flags: Vec<AtomicBool>,
     clusters: usize,
 ) -> Simplices {
@@ -229,46 +229,35 @@ fn finish(
     tris.clear();
 
     // The edges of the kept triangles, sorted the same way as the candidates.
-    let mut bounding: Vec<EdgeEntry> = Vec::with_capacity(3 * out.triangles.len());
+    let mut bounding: Vec<EdgeKey> = Vec::with_capacity(3 * out.triangles.len());
     let mut used = vec![false; clusters];
     for t in &out.triangles {
-        let mut k = *t;
-        k.sort_unstable();
-        for (p, q) in [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])] {
-            bounding.push(EdgeEntry {
-                key: [p, q],
-                src: 0,
-            });
-        }
-        for v in k {
+        bounding.extend([
+            edge_key(t[0], t[1]),
+            edge_key(t[1], t[2]),
+            edge_key(t[0], t[2]),
+        ]);
+        for &v in t {
             used[v as usize] = true;
         }
     }
     sort_edges(&mut bounding, bits);
 
     // Distinct candidate edges that bound no kept triangle.
-    let mut i = 0;
+    cand.dedup();
     let mut b = 0;
-    while i < cand.len() {
-        let key = cand[i].key;
-        let mut best = cand[i].src;
-        let mut j = i + 1;
-        while j < cand.len() && cand[j].key == key {
-            best = best.min(cand[j].src);
-            j += 1;
-        }
-        used[key[0] as usize] = true;
-        used[key[1] as usize] = true;
-        while b < bounding.len() && bounding[b].key < key {
+    for &key in &cand {
+        let (p, q) = ((key >> 32) as u32, key as u32);
+        used[p as usize] = true;
+        used[q as usize] = true;
+        while b < bounding.len() && bounding[b] < key {
             b += 1;
         }
-        if b >= bounding.len() || bounding[b].key != key {
-            out.edges.push(key);
-            out.edge_sources.push(best);
+        if b >= bounding.len() || bounding[b] != key {
+            out.edges.push([p, q]);
         }
-        i = j;
     }
-    cand.clear();
+    drop(cand);
 
     out.points = flags
         .iter()
@@ -289,9 +278,10 @@ fn sort_triangles(tris: &mut Vec<TriEntry>, bits: u32) {
     }
 }
 
-fn sort_edges(edges: &mut Vec<EdgeEntry>, bits: u32) {
-    radix_sort_by_key(edges, 2 * bits, |e| {
-        ((e.key[0] as u64) << bits) | e.key[1] as u64
+fn sort_edges(edges: &mut Vec<EdgeKey>, bits: u32) {
+    // Squeeze out the unused high bits of each half so that the sort makes fewer passes.
+    radix_sort_by_key(edges, 2 * bits, |&k| {
+        ((k >> 32) << bits) | (k & 0xFFFF_FFFF)
     });
 }
 
@@ -311,7 +301,6 @@ mod tests {
         let s = eliminate(&tris, &ident(6), 6);
         assert_eq!(s.triangles, vec![[0, 1, 2]]);
         assert_eq!(s.edges, vec![[3, 4]]);
-        assert_eq!(s.edge_sources, vec![1]);
         assert_eq!(s.points, vec![5]);
     }
 
@@ -330,7 +319,6 @@ mod tests {
         assert_eq!(s.triangles, vec![[0, 2, 1]]); // rotation of [2, 1, 0]
         assert_eq!(s.triangle_sources, vec![0]);
         assert_eq!(s.edges, vec![[3, 4]]);
-        assert_eq!(s.edge_sources, vec![3]);
         assert_eq!(s.points, vec![5]);
     }
 

@@ -82,12 +82,25 @@ impl Grading {
     #[inline]
     pub fn weight(self, shape: VertexShape) -> f32 {
         match self {
-            Grading::RossignacBorrel => rossignac_borrel_weight(
-                shape.longest_edge,
-                shape.max_angle_cos.clamp(-1.0, 1.0).acos(),
-            ),
+            Grading::RossignacBorrel => {
+                rossignac_borrel_weight(shape.longest_edge, fast_acos(shape.max_angle_cos))
+            }
             Grading::LowTan => low_tan_weight(shape.longest_edge, shape.max_angle_cos),
         }
+    }
+}
+
+/// `acos(x)` within 7·10⁻⁵ rad (Abramowitz and Stegun 4.4.45), several times faster than the
+/// library's; weights need no more.
+#[inline]
+pub fn fast_acos(x: f32) -> f32 {
+    let a = x.abs().min(1.0);
+    let r =
+        (1.0 - a).sqrt() * (1.570_728_8 + a * (-0.212_114_4 + a * (0.074_261 + a * -0.018_729_3)));
+    if x < 0.0 {
+        std::f32::consts::PI - r
+    } else {
+        r
     }
 }
 
@@ -132,27 +145,95 @@ fn vertex_shape(
     v: usize,
     s: &mut Scratch,
 ) -> VertexShape {
-    let corners = prepared.corners_of(v);
-    s.neighbours.clear();
-    for &c in corners {
-        let tri = mesh.triangles[(c / 3) as usize];
-        let k = (c % 3) as usize;
-        for n in [tri[(k + 1) % 3], tri[(k + 2) % 3]] {
-            if n as usize != v && (corners.len() > 2 * EXACT_VALENCE || !s.neighbours.contains(&n))
-            {
-                s.neighbours.push(n);
-            }
+    let corners = prepared.neighbours_of(v);
+    if let Some(shape) = ring_shape(corners, &mesh.positions, mesh.positions[v]) {
+        return shape;
+    }
+    general_shape(corners, &mesh.positions, mesh.positions[v], s)
+}
+
+/// The common case, without branches that depend on the data: at most 8 corners, every
+/// previous vertex also a next one (an interior vertex of a consistently oriented surface),
+/// no neighbour at the vertex's own position. Works on 8 lanes, padded with copies of the first
+/// neighbour (a pair of equal directions is at angle 0 and changes nothing), and takes every
+/// ordered pair: more products than needed, but in whole blocks, which vectorise. `None` when
+/// the case does not apply.
+#[inline]
+fn ring_shape(corners: &[[u32; 2]], positions: &[Vec3], p: Vec3) -> Option<VertexShape> {
+    const W: usize = 8;
+    if corners.is_empty() || corners.len() > W {
+        return None;
+    }
+    let mut nexts = [corners[0][0]; W];
+    let mut prevs = [corners[0][1]; W];
+    for (i, c) in corners.iter().enumerate() {
+        nexts[i] = c[0];
+        prevs[i] = c[1];
+    }
+    if !prevs.iter().all(|q| nexts.contains(q)) {
+        return None;
+    }
+    let (mut x, mut y, mut z, mut len2) = ([0f32; W], [0f32; W], [0f32; W], [0f32; W]);
+    for i in 0..W {
+        let d = positions[nexts[i] as usize] - p;
+        x[i] = d.x;
+        y[i] = d.y;
+        z[i] = d.z;
+        len2[i] = d.length_squared();
+    }
+    if !len2.iter().all(|&l| l > 0.0) {
+        return None;
+    }
+    let mut longest = 0.0f32;
+    for i in 0..W {
+        longest = if len2[i] > longest { len2[i] } else { longest };
+        let inv = 1.0 / len2[i].sqrt();
+        x[i] *= inv;
+        y[i] *= inv;
+        z[i] *= inv;
+    }
+    let mut lanes = [1.0f32; W];
+    for i in 0..W {
+        let (xi, yi, zi) = (x[i], y[i], z[i]);
+        for l in 0..W {
+            let dot = xi * x[l] + yi * y[l] + zi * z[l];
+            lanes[l] = if dot < lanes[l] { dot } else { lanes[l] };
         }
     }
-    if corners.len() > 2 * EXACT_VALENCE {
+    let best = lanes
+        .into_iter()
+        .fold(1.0f32, |a, b| if b < a { b } else { a });
+    Some(VertexShape {
+        longest_edge: longest.sqrt(),
+        max_angle_cos: best.clamp(-1.0, 1.0),
+    })
+}
+
+/// Every other vertex: the next vertex of every corner, then the previous ones not already
+/// there (at a boundary one previous vertex is new). Repeats that remain (non-manifold input)
+/// only add pairs at angle 0, which cannot change the largest angle.
+fn general_shape(
+    corners: &[[u32; 2]],
+    positions: &[Vec3],
+    p: Vec3,
+    s: &mut Scratch,
+) -> VertexShape {
+    s.neighbours.clear();
+    s.neighbours.extend(corners.iter().map(|c| c[0]));
+    let k = s.neighbours.len();
+    for c in corners {
+        if corners.len() > EXACT_VALENCE || !s.neighbours[..k].contains(&c[1]) {
+            s.neighbours.push(c[1]);
+        }
+    }
+    if corners.len() > EXACT_VALENCE {
         s.neighbours.sort_unstable();
         s.neighbours.dedup();
     }
-    let p = mesh.positions[v];
     let mut longest = 0.0f32;
     s.directions.clear();
     for &n in &s.neighbours {
-        let d = mesh.positions[n as usize] - p;
+        let d = positions[n as usize] - p;
         let len = d.length();
         if len > 0.0 {
             longest = longest.max(len);
@@ -233,7 +314,7 @@ mod tests {
         let s = shape_of(&mesh, 0);
         assert!(s.max_angle_cos.abs() < 1e-6, "{s:?}");
         let w = grade(&mesh, Grading::RossignacBorrel).unwrap();
-        assert!((w[0] - 2.0).abs() < 1e-5, "{}", w[0]);
+        assert!((w[0] - 2.0).abs() < 1e-4, "{}", w[0]);
         let w = grade(&mesh, Grading::LowTan).unwrap();
         assert!((w[0] - (0.5f32).sqrt()).abs() < 1e-6, "{}", w[0]);
     }
@@ -256,6 +337,61 @@ mod tests {
         let s = shape_of(&mesh, 0);
         let expected = (2.0 * (0.1f32).atan()).cos();
         assert!((s.max_angle_cos - expected).abs() < 1e-5);
+    }
+
+    #[test]
+    fn the_ring_fast_path_agrees_with_the_general_one() {
+        // A torus (every vertex interior, valence 6) and an open grid (boundary vertices, which
+        // take the general path), jittered so that no two rings look alike.
+        let (nu, nv) = (40u32, 24u32);
+        let mut positions = Vec::new();
+        for i in 0..nu {
+            for j in 0..nv {
+                let (u, w) = (i as f32 * 0.157, j as f32 * 0.262);
+                let r = 1.0 + (0.3 + 0.05 * (7.0 * u).sin()) * w.cos();
+                positions.push(Vec3::new(
+                    r * u.cos(),
+                    r * u.sin(),
+                    0.3 * w.sin() + 0.01 * (i % 3) as f32,
+                ));
+            }
+        }
+        let at = |i: u32, j: u32| (i % nu) * nv + j % nv;
+        let mut triangles = Vec::new();
+        for i in 0..nu {
+            for j in 0..nv {
+                triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        let torus = TriangleMesh::new(positions.clone(), triangles.clone());
+        let open = TriangleMesh::new(positions, triangles[..triangles.len() / 2].to_vec());
+        for mesh in [torus, open] {
+            let prepared = input::prepare(&mesh).unwrap();
+            let mut s = Scratch::default();
+            let mut fast = 0;
+            for v in 0..mesh.positions.len() {
+                let corners = prepared.neighbours_of(v);
+                let general = general_shape(corners, &mesh.positions, mesh.positions[v], &mut s);
+                if let Some(ring) = ring_shape(corners, &mesh.positions, mesh.positions[v]) {
+                    fast += 1;
+                    assert!((ring.longest_edge - general.longest_edge).abs() < 1e-6);
+                    assert!(
+                        (ring.max_angle_cos - general.max_angle_cos).abs() < 1e-5,
+                        "{v}"
+                    );
+                }
+            }
+            assert!(fast > 0);
+        }
+    }
+
+    #[test]
+    fn fast_acos_is_close() {
+        for i in -1000..=1000 {
+            let x = i as f32 / 1000.0;
+            assert!((fast_acos(x) - x.acos()).abs() < 1e-4, "{x}");
+        }
     }
 
     #[test]
