@@ -83,7 +83,8 @@ struct LevelReport {
     radius: f64,
     radius_in_finest_voxels: f64,
     grid: [usize; 3],
-    file: String,
+    /// None when the filter removed the whole object at this level (no file is written).
+    file: Option<String>,
     vertices: usize,
     triangles: usize,
     euler_characteristic: i64,
@@ -166,7 +167,10 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         })?;
         let name = format!("level-{}.{}", level_plan.level, args.format.as_str());
         let write_start = Instant::now();
-        voxlod_io::write_mesh(&in_dir(&args.output, &name), &level.mesh)?;
+        let file = (!level.mesh.is_empty()).then(|| name.clone());
+        if file.is_some() {
+            voxlod_io::write_mesh(&in_dir(&args.output, &name), &level.mesh)?;
+        }
         let write_seconds = write_start.elapsed().as_secs_f64();
         let t = &level.topology;
         levels.push(LevelReport {
@@ -176,7 +180,7 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
             radius: level_plan.radius,
             radius_in_finest_voxels: level_plan.radius / finest,
             grid: level_plan.grid.dims,
-            file: name.clone(),
+            file,
             vertices: level.mesh.positions.len(),
             triangles: level.mesh.triangles.len(),
             euler_characteristic: t.euler_characteristic,
@@ -192,19 +196,21 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         bar.inc(1);
         if !args.json {
             bar.suspend(|| {
-                println!(
-                    "level {}: resolution {:>4}, radius {:.4}: {} -> {}",
-                    level_plan.level,
-                    level_plan.resolution,
-                    level_plan.radius,
-                    describe_mesh(&level.mesh),
-                    name
-                );
                 if level.mesh.is_empty() {
                     eprintln!(
                         "warning: level {}: the filter of radius {:.4} removed the whole object \
-                         (no density reaches {iso}); use fewer levels or a lower --iso",
+                         (no density reaches {iso}); no file written. Use fewer levels, or a \
+                         lower --iso for parts thinner than a voxel",
                         level_plan.level, level_plan.radius
+                    );
+                } else {
+                    println!(
+                        "level {}: resolution {:>4}, radius {:.4}: {} -> {}",
+                        level_plan.level,
+                        level_plan.resolution,
+                        level_plan.radius,
+                        describe_mesh(&level.mesh),
+                        name
                     );
                 }
             });

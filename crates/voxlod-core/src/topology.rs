@@ -21,7 +21,7 @@ pub struct Topology {
     pub edges: usize,
     /// Edges used by exactly one triangle.
     pub boundary_edges: usize,
-    /// Closed loops formed by the boundary edges (holes).
+    /// Closed loops formed by the boundary edges (holes): the cycle rank of the boundary graph.
     pub boundary_loops: usize,
     /// Edges used by three or more triangles.
     pub non_manifold_edges: usize,
@@ -169,9 +169,10 @@ pub fn mesh_topology(mesh: &TriangleMesh) -> Topology {
         start = end;
     }
 
-    // Boundary loops: components of the boundary-edge graph. A vertex where two holes touch
-    // joins them into one component, which we count by the cycle rank instead: each component
-    // of a graph whose vertices all have even degree contributes (E - V + 1) independent cycles.
+    // Boundary loops: the independent cycles of the boundary-edge graph, its cycle rank
+    // E - V + C. A vertex where two holes touch joins them into one component with two cycles;
+    // a chain of boundary edges that does not close (possible only around non-manifold edges)
+    // is a tree and counts no loop.
     let boundary_loops = {
         let mut comp_edges = std::collections::HashMap::<u32, (usize, usize)>::new();
         for &(a, _) in &boundary_edge_list {
@@ -184,7 +185,7 @@ pub fn mesh_topology(mesh: &TriangleMesh) -> Topology {
         }
         comp_edges
             .values()
-            .map(|&(e, v)| (e + 1).saturating_sub(v).max(1))
+            .map(|&(e, v)| (e + 1).saturating_sub(v))
             .sum()
     };
 
