@@ -138,7 +138,7 @@ fn set_flag(flags: &[AtomicBool], c: u32) {
     }
 }
 
-#[inline]
+#[inline(always)]
 fn classify(
     [a, b, c]: [u32; 3],
     src: u32,
