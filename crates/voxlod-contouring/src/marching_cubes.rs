@@ -22,6 +22,12 @@
 //! The output is deterministic (independent of the number of threads): vertices are ordered by
 //! z, y, x and then edge axis, triangles by cell.
 //!
+//! **Cells and several surfaces** (for the multi-layer shells of paper §3).
+//! [`marching_cubes_with_cells`] also returns the cell each triangle came from, which the
+//! slice-by-slice back-to-front traversal needs; [`marching_cubes_multi`] classifies the samples
+//! against several iso values in one read of the volume (pass 1 for all of them), then runs
+//! passes 2 and 3 per surface. Both give exactly the mesh [`marching_cubes`] gives.
+//!
 //! **Cost.** One streaming read of the volume (pass 1), then O(N³/64) word operations, then work
 //! proportional to the surface: O(N³/64 + V + T) beyond the first read, and `N³/8` bytes of bits.
 //!
@@ -79,6 +85,8 @@ pub enum ContourError {
     NonFiniteIso(f32),
     #[error("the surface has {0} vertices, more than 32-bit indices can address")]
     TooManyVertices(u64),
+    #[error("the grid has {0} cells, more than 32-bit cell indices can address")]
+    TooManyCells(u64),
     #[error(transparent)]
     Memory(#[from] CoreError),
 }
@@ -195,46 +203,158 @@ pub fn marching_cubes(
     volume: &Volume,
     options: &ContourOptions,
 ) -> Result<TriangleMesh, ContourError> {
-    let iso = options.iso;
-    if !iso.is_finite() {
-        return Err(ContourError::NonFiniteIso(iso));
-    }
-    let dims = volume.grid.dims;
-    let [nx, ny, nz] = dims;
-    if nx < 2 || ny < 2 || nz < 2 {
+    let iso = check_iso(options.iso)?;
+    let Some(bits) = classify(volume, &[iso])?.pop() else {
         return Ok(TriangleMesh::default());
+    };
+    Ok(extract(volume, &bits, iso, options.normals, false)?.0)
+}
+
+/// A surface with, for every triangle, the cell it came from.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CellMesh {
+    pub mesh: TriangleMesh,
+    /// Linear index `i + (nx-1) * (j + (ny-1) * k)` of the cell (i, j, k) of each triangle, for
+    /// a grid of `nx × ny × nz` samples. Non-decreasing: triangles are stored cell by cell.
+    pub cells: Vec<u32>,
+}
+
+/// As [`marching_cubes`] (the same mesh), and the cell of each triangle: what a back-to-front
+/// traversal of the cells needs (paper §3).
+pub fn marching_cubes_with_cells(
+    volume: &Volume,
+    options: &ContourOptions,
+) -> Result<CellMesh, ContourError> {
+    Ok(
+        marching_cubes_multi(volume, &[options.iso], options.normals)?
+            .pop()
+            .unwrap_or_default(),
+    )
+}
+
+/// Several isosurfaces of one volume, each with the cells of its triangles (see
+/// [`marching_cubes_with_cells`]): the volume is read once to classify every sample against
+/// every iso value; the later passes run per surface on the bits and touch the floats only at
+/// crossed edges. Each surface is the one [`marching_cubes`] gives for its iso value.
+pub fn marching_cubes_multi(
+    volume: &Volume,
+    isos: &[f32],
+    normals: bool,
+) -> Result<Vec<CellMesh>, ContourError> {
+    for &iso in isos {
+        check_iso(iso)?;
+    }
+    let [nx, ny, nz] = volume.grid.dims;
+    let cells = (nx.max(1) - 1) as u64 * (ny.max(1) - 1) as u64 * (nz.max(1) - 1) as u64;
+    if cells > u32::MAX as u64 {
+        return Err(ContourError::TooManyCells(cells));
+    }
+    let bits = classify(volume, isos)?;
+    if bits.is_empty() {
+        return Ok(vec![CellMesh::default(); isos.len()]);
+    }
+    bits.iter()
+        .zip(isos)
+        .map(|(b, &iso)| {
+            let (mesh, cells) = extract(volume, b, iso, normals, true)?;
+            Ok(CellMesh { mesh, cells })
+        })
+        .collect()
+}
+
+fn check_iso(iso: f32) -> Result<f32, ContourError> {
+    if iso.is_finite() {
+        Ok(iso)
+    } else {
+        Err(ContourError::NonFiniteIso(iso))
+    }
+}
+
+/// Pass 1: one bit per sample and iso value (`value >= iso`), from one read of the volume.
+/// Empty when the grid has no cells along some axis.
+fn classify(volume: &Volume, isos: &[f32]) -> Result<Vec<BitVolume>, ContourError> {
+    let [nx, ny, nz] = volume.grid.dims;
+    if nx < 2 || ny < 2 || nz < 2 {
+        return Ok(Vec::new());
     }
     let data = volume.as_slice();
     let words = nx.div_ceil(64);
     let rows = ny * nz;
     memory::check_allocation(
         "marching cubes classification bits",
-        memory::bytes_of::<u64>(rows * words),
+        memory::bytes_of::<u64>(rows * words).saturating_mul(isos.len() as u64),
     )?;
-
-    // Pass 1: one bit per sample.
-    let mut bits = vec![0u64; rows * words];
-    bits.par_chunks_mut(words * ny)
-        .zip(data.par_chunks(nx * ny))
-        .for_each(|(slab, slice)| {
-            for (bit_row, row) in slab.chunks_mut(words).zip(slice.chunks(nx)) {
-                for (word, chunk) in bit_row.iter_mut().zip(row.chunks(64)) {
-                    let mut m = 0u64;
-                    for (b, &v) in chunk.iter().enumerate() {
-                        m |= ((v >= iso) as u64) << b;
+    let mut all: Vec<Vec<u64>> = isos.iter().map(|_| vec![0u64; rows * words]).collect();
+    if let ([bits], &[iso]) = (&mut all[..], isos) {
+        // One iso value: the tight loop.
+        bits.par_chunks_mut(words * ny)
+            .zip(data.par_chunks(nx * ny))
+            .for_each(|(slab, slice)| {
+                for (bit_row, row) in slab.chunks_mut(words).zip(slice.chunks(nx)) {
+                    for (word, chunk) in bit_row.iter_mut().zip(row.chunks(64)) {
+                        let mut m = 0u64;
+                        for (b, &v) in chunk.iter().enumerate() {
+                            m |= ((v >= iso) as u64) << b;
+                        }
+                        *word = m;
                     }
-                    *word = m;
                 }
+            });
+    } else {
+        // Several: each z-slice of the volume is read once for all of them.
+        let slab = words * ny;
+        let mut slabs: Vec<Vec<&mut [u64]>> = (0..nz).map(|_| Vec::new()).collect();
+        for bits in all.iter_mut() {
+            for (k, s) in bits.chunks_mut(slab).enumerate() {
+                slabs[k].push(s);
             }
-        });
-    let bits = BitVolume { words, ny, bits };
+        }
+        slabs
+            .par_iter_mut()
+            .zip(data.par_chunks(nx * ny))
+            .for_each(|(outs, slice)| {
+                let mut m = vec![0u64; isos.len()];
+                for (j, row) in slice.chunks(nx).enumerate() {
+                    for (w, chunk) in row.chunks(64).enumerate() {
+                        m.fill(0);
+                        for (b, &v) in chunk.iter().enumerate() {
+                            for (ml, &iso) in m.iter_mut().zip(isos) {
+                                *ml |= ((v >= iso) as u64) << b;
+                            }
+                        }
+                        for (out, &ml) in outs.iter_mut().zip(&m) {
+                            out[j * words + w] = ml;
+                        }
+                    }
+                }
+            });
+    }
+    Ok(all
+        .into_iter()
+        .map(|bits| BitVolume { words, ny, bits })
+        .collect())
+}
+
+/// Passes 2 and 3 on the bits of one iso value; the cells of the triangles when `with_cells`.
+fn extract(
+    volume: &Volume,
+    bits: &BitVolume,
+    iso: f32,
+    with_normals: bool,
+    with_cells: bool,
+) -> Result<(TriangleMesh, Vec<u32>), ContourError> {
+    let dims = volume.grid.dims;
+    let [nx, ny, nz] = dims;
+    let data = volume.as_slice();
+    let words = bits.words;
+    let rows = ny * nz;
+    debug_assert_eq!(bits.bits.len(), rows * words);
 
     // Pass 2: vertices owned by each vertex row, triangles of each cell row.
     let table = tables();
     let counts: Vec<(u32, u32)> = (0..nz)
         .into_par_iter()
         .flat_map_iter(|k| {
-            let bits = &bits;
             let mut edges = RowEdges::new(words);
             (0..ny).map(move |j| {
                 let vertices = edges.compute(bits, dims, j, k);
@@ -256,10 +376,15 @@ pub fn marching_cubes(
         return Err(ContourError::TooManyVertices(total_vertices));
     }
     let vertex_bytes =
-        memory::bytes_of::<Vec3>(total_vertices as usize) * if options.normals { 2 } else { 1 };
+        memory::bytes_of::<Vec3>(total_vertices as usize) * if with_normals { 2 } else { 1 };
+    let cell_bytes = if with_cells {
+        memory::bytes_of::<u32>(total_triangles as usize)
+    } else {
+        0
+    };
     memory::check_allocation(
         "the marching cubes mesh",
-        vertex_bytes + memory::bytes_of::<[u32; 3]>(total_triangles as usize),
+        vertex_bytes + memory::bytes_of::<[u32; 3]>(total_triangles as usize) + cell_bytes,
     )?;
     let mut row_vertex_base = Vec::with_capacity(rows);
     let mut running = 0u32;
@@ -277,33 +402,45 @@ pub fn marching_cubes(
         .collect();
 
     let mut positions = vec![Vec3::ZERO; total_vertices as usize];
-    let mut normals = if options.normals {
+    let mut normals = if with_normals {
         vec![Vec3::ZERO; total_vertices as usize]
     } else {
         Vec::new()
     };
     let mut triangles = vec![[0u32; 3]; total_triangles as usize];
+    let mut cells = if with_cells {
+        vec![0u32; total_triangles as usize]
+    } else {
+        Vec::new()
+    };
 
     // Split the outputs into one part per z-slice.
     let mut parts = Vec::with_capacity(nz);
     {
-        let (mut p_rest, mut n_rest, mut t_rest) = (
+        let (mut p_rest, mut n_rest, mut t_rest, mut c_rest) = (
             positions.as_mut_slice(),
             normals.as_mut_slice(),
             triangles.as_mut_slice(),
+            cells.as_mut_slice(),
         );
         for k in 0..nz {
             let (p, pr) = p_rest.split_at_mut(slice_vertices[k]);
-            let (n, nr) = if options.normals {
+            let (n, nr) = if with_normals {
                 n_rest.split_at_mut(slice_vertices[k])
             } else {
                 n_rest.split_at_mut(0)
             };
             let (t, tr) = t_rest.split_at_mut(slice_triangles[k]);
-            parts.push((k, p, n, t));
+            let (c, cr) = if with_cells {
+                c_rest.split_at_mut(slice_triangles[k])
+            } else {
+                c_rest.split_at_mut(0)
+            };
+            parts.push((k, p, n, t, c));
             p_rest = pr;
             n_rest = nr;
             t_rest = tr;
+            c_rest = cr;
         }
     }
 
@@ -314,14 +451,14 @@ pub fn marching_cubes(
         origin: volume.grid.origin_vec(),
         iso,
     };
-    parts.into_par_iter().for_each(|(k, pos, nor, tri)| {
+    parts.into_par_iter().for_each(|(k, pos, nor, tri, cel)| {
         let mut lower = [RowEdges::new(words), RowEdges::new(words)]; // rows (j, k), (j, k+1)
         let mut upper = [RowEdges::new(words), RowEdges::new(words)]; // rows (j+1, k), (j+1, k+1)
         let row_base = |j: usize, k: usize| row_vertex_base[k * ny + j];
-        lower[0].compute(&bits, dims, 0, k);
+        lower[0].compute(bits, dims, 0, k);
         lower[0].base = row_base(0, k);
         if k + 1 < nz {
-            lower[1].compute(&bits, dims, 0, k + 1);
+            lower[1].compute(bits, dims, 0, k + 1);
             lower[1].base = row_base(0, k + 1);
         }
         let slice_base = row_base(0, k);
@@ -340,9 +477,9 @@ pub fn marching_cubes(
                     for (axis, mask) in [own.x[w], own.y[w], own.z[w]].into_iter().enumerate() {
                         if mask & bit != 0 {
                             debug_assert_eq!(own.vertex(axis, x) - slice_base, written as u32);
-                            let (p, n) = field.edge_vertex([x, j, k], axis, options.normals);
+                            let (p, n) = field.edge_vertex([x, j, k], axis, with_normals);
                             pos[written] = p;
-                            if options.normals {
+                            if with_normals {
                                 nor[written] = n;
                             }
                             written += 1;
@@ -351,16 +488,20 @@ pub fn marching_cubes(
                 }
             }
             if j + 1 < ny {
-                upper[0].compute(&bits, dims, j + 1, k);
+                upper[0].compute(bits, dims, j + 1, k);
                 upper[0].base = row_base(j + 1, k);
                 if k + 1 < nz {
-                    upper[1].compute(&bits, dims, j + 1, k + 1);
+                    upper[1].compute(bits, dims, j + 1, k + 1);
                     upper[1].base = row_base(j + 1, k + 1);
                     let rows = [&lower[0], &upper[0], &lower[1], &upper[1]];
-                    for_each_mixed_cell(&bits, dims, j, k, |x, case| {
+                    let row_cell = ((nx - 1) * (j + (ny - 1) * k)) as u32;
+                    for_each_mixed_cell(bits, dims, j, k, |x, case| {
                         let n = table.triangle_count[case as usize] as usize;
                         for t in &table.triangles[case as usize][..n] {
                             tri[tri_written] = t.map(|e| cell_edge_vertex(&rows, e, x));
+                            if with_cells {
+                                cel[tri_written] = row_cell + x as u32;
+                            }
                             tri_written += 1;
                         }
                     });
@@ -377,10 +518,10 @@ pub fn marching_cubes(
         normals,
         triangles,
     };
-    if options.normals {
+    if with_normals {
         repair_zero_normals(&mut mesh);
     }
-    Ok(mesh)
+    Ok((mesh, cells))
 }
 
 /// Calls `visit(x, case)` for every cell of cell row (j, k) whose corners are not all alike.
