@@ -8,6 +8,7 @@
 use std::collections::{HashMap, HashSet};
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use crate::TriangleMesh;
 
@@ -25,28 +26,53 @@ impl RepairReport {
 }
 
 /// Removes degenerate triangles (a repeated vertex index or zero area) and exact duplicates.
+/// Cost: O(F log F), one parallel sort of the triangles' sorted vertex triples.
 pub fn remove_degenerate_and_duplicate_triangles(mesh: &mut TriangleMesh) -> RepairReport {
-    let mut report = RepairReport::default();
-    let mut seen = HashSet::with_capacity(mesh.triangles.len());
     let positions = &mesh.positions;
-    mesh.triangles.retain(|&[a, b, c]| {
-        let (pa, pb, pc) = (
-            positions[a as usize].as_dvec3(),
-            positions[b as usize].as_dvec3(),
-            positions[c as usize].as_dvec3(),
-        );
-        if a == b || b == c || a == c || (pb - pa).cross(pc - pa).length_squared() == 0.0 {
-            report.degenerate_triangles += 1;
-            return false;
+    let degenerate: Vec<bool> = mesh
+        .triangles
+        .par_iter()
+        .map(|&[a, b, c]| {
+            let (pa, pb, pc) = (
+                positions[a as usize].as_dvec3(),
+                positions[b as usize].as_dvec3(),
+                positions[c as usize].as_dvec3(),
+            );
+            a == b || b == c || a == c || (pb - pa).cross(pc - pa).length_squared() == 0.0
+        })
+        .collect();
+    // Sorted vertex triples with their triangle index: equal triples are duplicates; the first
+    // in the file is kept.
+    let mut keys: Vec<([u32; 3], u32)> = mesh
+        .triangles
+        .par_iter()
+        .enumerate()
+        .filter(|(t, _)| !degenerate[*t])
+        .map(|(t, tri)| {
+            let mut key = *tri;
+            key.sort_unstable();
+            (key, t as u32)
+        })
+        .collect();
+    keys.par_sort_unstable();
+    let mut duplicate = vec![false; mesh.triangles.len()];
+    for pair in keys.windows(2) {
+        if pair[0].0 == pair[1].0 {
+            duplicate[pair[1].1 as usize] = true;
         }
-        let mut key = [a, b, c];
-        key.sort_unstable();
-        if !seen.insert(key) {
-            report.duplicate_triangles += 1;
-            return false;
-        }
-        true
-    });
+    }
+    let report = RepairReport {
+        degenerate_triangles: degenerate.iter().filter(|&&d| d).count(),
+        duplicate_triangles: duplicate.iter().filter(|&&d| d).count(),
+    };
+    if !report.is_clean() {
+        let mut t = 0;
+        mesh.triangles.retain(|_| {
+            let keep = !degenerate[t] && !duplicate[t];
+            t += 1;
+            keep
+        });
+    }
     report
 }
 
@@ -58,19 +84,24 @@ pub fn remove_degenerate_and_duplicate_triangles(mesh: &mut TriangleMesh) -> Rep
 /// inside test, which only needs every edge used an even number of times, not a fair surface.
 /// Edges of a boundary that do not chain into a loop (an open non-manifold fin) are left.
 pub fn close_boundary_loops(mesh: &mut TriangleMesh) -> usize {
-    let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
-    for &[a, b, c] in &mesh.triangles {
-        for (u, v) in [(a, b), (b, c), (c, a)] {
-            *uses.entry((u.min(v), u.max(v))).or_insert(0) += 1;
-        }
+    // Boundary edges: the undirected edge keys that occur once (one parallel sort).
+    let mut keys: Vec<u64> = mesh
+        .triangles
+        .par_iter()
+        .flat_map_iter(|&[a, b, c]| [(a, b), (b, c), (c, a)])
+        .map(|(u, v)| ((u.min(v) as u64) << 32) | u.max(v) as u64)
+        .collect();
+    keys.par_sort_unstable();
+    let boundary: Vec<(u32, u32)> = keys
+        .chunk_by(|a, b| a == b)
+        .filter(|run| run.len() == 1)
+        .map(|run| ((run[0] >> 32) as u32, run[0] as u32))
+        .collect();
+    drop(keys);
+    if boundary.is_empty() {
+        return 0;
     }
     let mut neighbours: HashMap<u32, Vec<u32>> = HashMap::new();
-    let mut boundary: Vec<(u32, u32)> = uses
-        .iter()
-        .filter(|(_, &n)| n == 1)
-        .map(|(&e, _)| e)
-        .collect();
-    boundary.sort_unstable();
     for &(u, v) in &boundary {
         neighbours.entry(u).or_default().push(v);
         neighbours.entry(v).or_default().push(u);
@@ -127,6 +158,7 @@ mod tests {
     use super::*;
     use crate::mesh::tests::unit_cube;
     use glam::Vec3;
+    use rayon::prelude::*;
 
     #[test]
     fn closes_holes_with_fans() {

@@ -1,10 +1,10 @@
 //! Welding coincident vertices: every group of vertices with exactly the same coordinates
 //! becomes one vertex. STL files store each triangle with its own three corners, so a closed
-//! STL model is only watertight once this has run. Cost: O(V) expected, one hash-map pass.
-
-use std::collections::HashMap;
+//! STL model is only watertight once this has run. Cost: O(V) expected, one pass with a fast
+//! (Fx) hash map keyed by the coordinates' bits.
 
 use glam::Vec3;
+use rustc_hash::FxHashMap;
 
 use crate::TriangleMesh;
 
@@ -26,7 +26,8 @@ fn key(p: Vec3) -> [u32; 3] {
 /// them if needed. Triangles are renumbered; none is removed.
 pub fn weld_vertices(mesh: &mut TriangleMesh) -> WeldReport {
     let before = mesh.positions.len();
-    let mut first: HashMap<[u32; 3], u32> = HashMap::with_capacity(before);
+    let mut first: FxHashMap<[u32; 3], u32> =
+        FxHashMap::with_capacity_and_hasher(before, Default::default());
     let mut remap = Vec::with_capacity(before);
     let mut positions = Vec::new();
     for &p in &mesh.positions {

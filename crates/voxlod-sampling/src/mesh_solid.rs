@@ -33,6 +33,7 @@ use glam::{DVec3, Vec3A};
 use obvhs::{
     aabb::Aabb, bvh2::builder::build_bvh2_from_tris, bvh2::Bvh2, triangle::Triangle, BvhBuildParams,
 };
+use rayon::prelude::*;
 use voxlod_core::{repair, weld, Bounds, TriangleMesh};
 
 use crate::lattice::{LineCrossings, LineFamily, TILE};
@@ -148,11 +149,11 @@ impl MeshSolid {
 
 fn every_edge_even(triangles: &[[u32; 3]]) -> bool {
     let mut keys: Vec<u64> = triangles
-        .iter()
-        .flat_map(|&[a, b, c]| [(a, b), (b, c), (c, a)])
+        .par_iter()
+        .flat_map_iter(|&[a, b, c]| [(a, b), (b, c), (c, a)])
         .map(|(a, b)| ((a.min(b) as u64) << 32) | a.max(b) as u64)
         .collect();
-    keys.sort_unstable();
+    keys.par_sort_unstable();
     keys.chunk_by(|a, b| a == b).all(|run| run.len() % 2 == 0)
 }
 
