@@ -158,7 +158,6 @@ mod tests {
     use super::*;
     use crate::mesh::tests::unit_cube;
     use glam::Vec3;
-    use rayon::prelude::*;
 
     #[test]
     fn closes_holes_with_fans() {
