@@ -66,10 +66,33 @@ fn edge_key(p: u32, q: u32) -> EdgeKey {
 }
 
 /// Eliminates `triangles` (vertex ids) after mapping each vertex `v` to `cluster_of[v]`, a
-/// cluster id below `clusters`. Input triangle `t` is source `t`.
+/// cluster id below `clusters`. Input triangle `t` is source `t`. Cluster ids that no triangle
+/// reaches produce nothing.
 pub fn eliminate(triangles: &[[u32; 3]], cluster_of: &[u32], clusters: usize) -> Simplices {
     let flags = point_flags(clusters);
-    let parts: Vec<(Vec<TriEntry>, Vec<EdgeKey>)> = triangles
+    let parts = map_triangles(triangles, cluster_of, Some(&flags));
+    finish(parts, Some(flags), clusters)
+}
+
+/// [`eliminate`] when every cluster id below `clusters` is the cluster of a vertex of some
+/// triangle, as it is for clusters made from the used vertices: then the isolated points are
+/// exactly the clusters that no triangle or edge uses, and no per-triangle bookkeeping is needed
+/// for them.
+pub(crate) fn eliminate_covering(
+    triangles: &[[u32; 3]],
+    cluster_of: &[u32],
+    clusters: usize,
+) -> Simplices {
+    let parts = map_triangles(triangles, cluster_of, None);
+    finish(parts, None, clusters)
+}
+
+fn map_triangles(
+    triangles: &[[u32; 3]],
+    cluster_of: &[u32],
+    flags: Option<&[AtomicBool]>,
+) -> Vec<(Vec<TriEntry>, Vec<EdgeKey>)> {
+    triangles
         .par_chunks(CHUNK)
         .enumerate()
         .map(|(ci, chunk)| {
@@ -78,18 +101,18 @@ pub fn eliminate(triangles: &[[u32; 3]], cluster_of: &[u32], clusters: usize) ->
             for (i, t) in chunk.iter().enumerate() {
                 let src = (ci * CHUNK + i) as u32;
                 let m = t.map(|v| cluster_of[v as usize]);
-                classify(m, src, &mut tris, &mut edges, &flags);
+                classify(m, src, &mut tris, &mut edges, flags);
             }
             (tris, edges)
         })
-        .collect();
-    finish(parts, flags, clusters)
+        .collect()
 }
 
 /// Eliminates a previous level's simplices after mapping each of its clusters `c` to
 /// `merge[c]`, a cluster id below `clusters` (§4: the merged clusters of an octree level).
+/// Every id below `clusters` must be the image of a cluster that the previous level's simplices
+/// use (true of an octree merge, whose clusters are made of the finer ones).
 pub fn eliminate_merged(previous: &Simplices, merge: &[u32], clusters: usize) -> Simplices {
-    let flags = point_flags(clusters);
     let mut parts: Vec<(Vec<TriEntry>, Vec<EdgeKey>)> = previous
         .triangles
         .par_chunks(CHUNK)
@@ -103,7 +126,7 @@ pub fn eliminate_merged(previous: &Simplices, merge: &[u32], clusters: usize) ->
                     src,
                     &mut tris,
                     &mut edges,
-                    &flags,
+                    None,
                 );
             }
             (tris, edges)
@@ -112,17 +135,14 @@ pub fn eliminate_merged(previous: &Simplices, merge: &[u32], clusters: usize) ->
     let mut edges = Vec::with_capacity(previous.edges.len());
     for e in &previous.edges {
         let (a, b) = (merge[e[0] as usize], merge[e[1] as usize]);
-        if a == b {
-            set_flag(&flags, a);
-        } else {
+        if a != b {
             edges.push(edge_key(a, b));
         }
     }
-    for &p in &previous.points {
-        set_flag(&flags, merge[p as usize]);
-    }
     parts.push((Vec::new(), edges));
-    finish(parts, flags, clusters)
+    // Collapsed edges and the previous points become points unless something uses them: with
+    // every merged cluster covered, those are exactly the unused clusters.
+    finish(parts, None, clusters)
 }
 
 fn point_flags(clusters: usize) -> Vec<AtomicBool> {
@@ -144,11 +164,13 @@ fn classify(
     src: u32,
     tris: &mut Vec<TriEntry>,
     edges: &mut Vec<EdgeKey>,
-    flags: &[AtomicBool],
+    flags: Option<&[AtomicBool]>,
 ) {
     // Most triangles of a fine mesh fall inside one cell: test that case first.
     if a == b && b == c {
-        set_flag(flags, a);
+        if let Some(flags) = flags {
+            set_flag(flags, a);
+        }
     } else if a != b && b != c && a != c {
         // Rotate the lowest id first (a rotation keeps the winding), then order the other two.
         let (x, y, z) = if a < b && a < c {
@@ -179,7 +201,7 @@ fn classify(
 
 fn finish(
     parts: Vec<(Vec<TriEntry>, Vec<EdgeKey>)>,
-    flags: Vec<AtomicBool>,
+    flags: Option<Vec<AtomicBool>>,
     clusters: usize,
 ) -> Simplices {
     let bits = bits_for(clusters);
@@ -259,11 +281,9 @@ fn finish(
     }
     drop(cand);
 
-    out.points = flags
-        .iter()
-        .enumerate()
-        .filter(|(c, f)| f.load(Ordering::Relaxed) && !used[*c])
-        .map(|(c, _)| c as u32)
+    out.points = (0..clusters)
+        .filter(|&c| !used[c] && flags.as_ref().is_none_or(|f| f[c].load(Ordering::Relaxed)))
+        .map(|c| c as u32)
         .collect();
     out
 }

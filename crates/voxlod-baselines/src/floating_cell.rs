@@ -3,7 +3,7 @@
 //! 1. **Grading**: weights from the angles between incident edges and their lengths, see
 //!    [`crate::grading`] (`L · cos(θ/2)`).
 //! 2. **Sorting**: the used vertices in non-increasing weight (ties: lower index first).
-//! 3. **Triangulation**: the input is already triangles (see [`crate::rossignac_borrel`]).
+//! 3. **Triangulation**: the input is already triangles (see [`crate::rossignac_borrel`](mod@crate::rossignac_borrel)).
 //! 4. **Clustering**: the heaviest vertex not yet clustered becomes the centre of a cell of the
 //!    given size, an axis-aligned cube of side `cell_size` centred on it (boundary included), and
 //!    every vertex not yet clustered inside that cube joins its cluster. Repeat until every vertex
@@ -129,7 +129,7 @@ pub fn low_tan(
         }
         let grid = base.coarsened(level as u32);
         let clusters = floating_cells(&mesh.positions, &order, grid.cell_size);
-        let simplices = elimination::eliminate(
+        let simplices = elimination::eliminate_covering(
             &mesh.triangles,
             &clusters.cluster_of,
             clusters.centres.len(),

@@ -25,10 +25,14 @@
 //!   centred on features first, which is the point of the patent's weight-controlled clustering.
 //!
 //! A vertex that no triangle uses, or whose incident edges all have zero length, weighs 0. With
-//! one incident direction only (every neighbour on the same ray) `θ = 0`.
+//! one incident direction only (every neighbour on the same ray) `θ = 0`. The Rossignac–Borrel
+//! weight takes `θ` from `cos θ` with a polynomial arc cosine ([`fast_acos`], within
+//! 7·10⁻⁵ rad), which changes weights by less than 10⁻⁴ of themselves.
 //!
 //! Cost: O(Σ k²) over the vertices, k the number of distinct neighbours (6 on average for a
-//! triangulated surface), parallel over vertices. Above [`EXACT_VALENCE`] distinct neighbours
+//! triangulated surface), parallel over vertices. Interior vertices with at most 8 corners,
+//! nearly all of a scanned or contoured surface, take a branch-free path on 8 float lanes (about
+//! 30 ns a vertex on one core of the reference machine). Above [`EXACT_VALENCE`] distinct neighbours
 //! (fan centres, poles of a UV sphere) the pair search would be quadratic, so `θ` is found by a
 //! few rounds of "the direction farthest from the current one", exact for the symmetric fans
 //! those vertices usually are and a lower bound otherwise. We go beyond the papers here only in
@@ -209,7 +213,9 @@ fn ring_shape(corners: &[[u32; 2]], positions: &[Vec3], p: Vec3) -> Option<Verte
         z[i] *= inv;
     }
     let mut lanes = [1.0f32; W];
-    for i in 0..W {
+    // Each direction against all 8 lanes; the padding lanes repeat direction 0, so rows past the
+    // real directions would only repeat row 0.
+    for i in 0..corners.len() {
         let (xi, yi, zi) = (x[i], y[i], z[i]);
         for l in 0..W {
             let dot = xi * x[l] + yi * y[l] + zi * z[l];

@@ -25,6 +25,10 @@
 //! a fresh run on the coarser grid (same clusters, numbering, triangles, edges and points; means
 //! equal to rounding) whenever the cell count halves exactly.
 //!
+//! The output is generally not a manifold: triangles from different sheets meet at one edge or
+//! vertex, dangling edges hang off surfaces. That is what the method does (MeshLab's users meet
+//! it too); downstream code must accept it.
+//!
 //! Beyond the paper, optionally ([`ClusterOptions::thick_edges`]): Low–Tan thick edges for the
 //! dangling edges, see [`crate::thick_edges`].
 //!
@@ -169,17 +173,22 @@ pub fn rossignac_borrel(
     let prepared = input::prepare(mesh)?;
     let grid = ClusterGrid::new(&options.bounds.unwrap_or(prepared.bounds), options.cells)?;
 
-    // Grading is independent of clustering and elimination: run them side by side.
-    let (weights, (clusters, simplices)) = rayon::join(
+    // Grading and clustering are independent, and so are elimination and synthesis: each pair
+    // runs side by side (the idle worker steals from the parallel one).
+    let (weights, clusters) = rayon::join(
         || grade_prepared(&prepared, mesh, Grading::RossignacBorrel),
-        || {
-            let clusters = cluster_on_grid(mesh, &prepared, &grid);
-            let simplices =
-                elimination::eliminate(&mesh.triangles, &clusters.cluster_of, clusters.cells.len());
-            (clusters, simplices)
-        },
+        || cluster_on_grid(mesh, &prepared, &grid),
     );
-    let sums = synthesis_sums(mesh, &weights, &clusters);
+    let (simplices, sums) = rayon::join(
+        || {
+            elimination::eliminate_covering(
+                &mesh.triangles,
+                &clusters.cluster_of,
+                clusters.cells.len(),
+            )
+        },
+        || synthesis_sums(mesh, &weights, &clusters),
+    );
     drop(weights);
 
     let mut levels = Vec::with_capacity(options.levels as usize);
