@@ -3,7 +3,7 @@
 //!     cargo run --release -p voxlod-baselines --example cluster_timing -- MESH [CELLS] [RUNS]
 //!
 //! Without MESH (or if it cannot be read) a torus of about a million triangles is generated.
-//! `ONLY=grade`, `ONLY=rb` or `ONLY=load` runs just grading, just Rossignac–Borrel or nothing
+//! `ONLY=grade`, `ONLY=rb`, `ONLY=lt` or `ONLY=load` runs just grading, one method or nothing
 //! after loading, for `perf stat` (CPU time) on a busy machine.
 
 use std::time::Instant;
@@ -73,6 +73,12 @@ fn main() {
         Ok("load") => return,
         Ok("grade") => {
             best(runs, || grade(&mesh, Grading::RossignacBorrel).unwrap());
+            return;
+        }
+        Ok("lt") => {
+            best(runs, || {
+                low_tan(&mesh, &FloatingCellOptions::single(cells)).unwrap()
+            });
             return;
         }
         Ok("rb") => {

@@ -35,7 +35,7 @@ use voxlod_core::{Bounds, TriangleMesh};
 
 use crate::elimination;
 use crate::grading::{grade_prepared, Grading};
-use crate::grid::{self, ClusterGrid};
+use crate::grid::{self, CellTable, ClusterGrid};
 use crate::input;
 use crate::level::{Level, LevelReport, Method};
 use crate::rossignac_borrel::build_poly_mesh;
@@ -167,16 +167,26 @@ pub fn low_tan(
 
 /// The vertices for which `keep` holds, by non-increasing weight, ties by increasing index.
 pub fn heaviest_first(weights: &[f32], keep: impl Fn(usize) -> bool + Sync) -> Vec<u32> {
-    let mut order: Vec<u32> = (0..weights.len() as u32)
+    // Sort keys: the weight's bits turned so that integer order is descending `total_cmp`
+    // order, then the index; one radix sort of 64-bit keys.
+    let mut keys: Vec<u64> = (0..weights.len() as u32)
         .into_par_iter()
         .filter(|&v| keep(v as usize))
+        .map(|v| ((descending(weights[v as usize]) as u64) << 32) | v as u64)
         .collect();
-    order.par_sort_unstable_by(|&a, &b| {
-        weights[b as usize]
-            .total_cmp(&weights[a as usize])
-            .then(a.cmp(&b))
-    });
-    order
+    radix_sort_by_key(&mut keys, 64, |&k| k);
+    keys.into_iter().map(|k| k as u32).collect()
+}
+
+/// A key whose unsigned order is the reverse of `f32::total_cmp`.
+fn descending(w: f32) -> u32 {
+    let b = w.to_bits();
+    let ascending = if b & 0x8000_0000 != 0 {
+        !b
+    } else {
+        b | 0x8000_0000
+    };
+    !ascending
 }
 
 /// Floating-cell clusters.
@@ -218,19 +228,17 @@ pub fn floating_cells(positions: &[Vec3], order: &[u32], cell_size: f64) -> Floa
         .collect();
     let key_bits = 64 - buckets.cell_count().saturating_sub(1).leading_zeros();
     radix_sort_by_key(&mut items, key_bits.max(1), |it| it.0);
-    let keys: Vec<u64> = dedup_keys(&items);
-    let mut start = Vec::with_capacity(keys.len() + 1);
-    let mut live_end = Vec::with_capacity(keys.len());
-    {
-        let mut i = 0;
-        for &k in &keys {
+    // Buckets: runs of equal keys, found through a table from key to run.
+    let mut table = CellTable::new(buckets.cell_count(), items.len());
+    let mut start = Vec::new();
+    let mut live_end = Vec::new();
+    for (i, it) in items.iter().enumerate() {
+        if i == 0 || items[i - 1].0 != it.0 {
+            table.get_or_insert(it.0, start.len() as u32);
             start.push(i);
-            while i < items.len() && items[i].0 == k {
-                i += 1;
-            }
             live_end.push(i);
         }
-        start.push(items.len());
+        *live_end.last_mut().expect("a run is open") = i + 1;
     }
     let mut slots: Vec<u32> = items.iter().map(|it| it.1).collect();
     drop(items);
@@ -253,9 +261,10 @@ pub fn floating_cells(positions: &[Vec3], order: &[u32], cell_size: f64) -> Floa
         for z in clamp(lo.z, 2)..=clamp(hi.z, 2) {
             for y in clamp(lo.y, 1)..=clamp(hi.y, 1) {
                 for x in clamp(lo.x, 0)..=clamp(hi.x, 0) {
-                    let Ok(b) = keys.binary_search(&buckets.key([x, y, z])) else {
+                    let Some(b) = table.get(buckets.key([x, y, z])) else {
                         continue;
                     };
+                    let b = b as usize;
                     let mut i = start[b];
                     while i < live_end[b] {
                         let w = slots[i];
@@ -279,16 +288,6 @@ pub fn floating_cells(positions: &[Vec3], order: &[u32], cell_size: f64) -> Floa
     }
 }
 
-fn dedup_keys(items: &[(u64, u32)]) -> Vec<u64> {
-    let mut keys: Vec<u64> = Vec::new();
-    for it in items {
-        if keys.last() != Some(&it.0) {
-            keys.push(it.0);
-        }
-    }
-    keys
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -302,6 +301,10 @@ mod tests {
         let weights = [5.0, 1.0, 1.0, 9.0, 1.0, 1.0, 1.0, 1.0];
         let order = heaviest_first(&weights, |_| true);
         assert_eq!(order, vec![3, 0, 1, 2, 4, 5, 6, 7]);
+        // Descending total order, ties by index, whatever the signs.
+        let w = [0.0, -1.0, 2.5, f32::INFINITY, -0.0, 2.5, 1e-30];
+        assert_eq!(heaviest_first(&w, |_| true), vec![3, 2, 5, 6, 0, 4, 1]);
+        assert_eq!(heaviest_first(&w, |v| v % 2 == 0), vec![2, 6, 0, 4]);
         let c = floating_cells(&positions, &order, 1.0);
         // The cube of side 1 around x = 0.9 takes 0.6, 0.9 and 1.2 (vertices 2, 3, 4); then
         // vertex 0 takes 0 and 0.3; vertex 5 takes 1.5 and 1.8; 2.1 is 0.6 from 1.5: alone.

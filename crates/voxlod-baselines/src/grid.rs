@@ -139,6 +139,15 @@ impl CellTable {
         }
     }
 
+    /// The id stored for `key`, if any.
+    #[inline]
+    pub fn get(&self, key: u64) -> Option<u32> {
+        match self {
+            CellTable::Dense(v) => Some(v[key as usize]).filter(|&id| id != u32::MAX),
+            CellTable::Sparse(m) => m.get(&key).copied(),
+        }
+    }
+
     /// The id stored for `key`, or `next` after storing it; the flag says whether it is new.
     #[inline]
     pub fn get_or_insert(&mut self, key: u64, next: u32) -> (u32, bool) {

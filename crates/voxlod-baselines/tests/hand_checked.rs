@@ -101,6 +101,20 @@ fn cube_in_a_shared_scene_box() {
 }
 
 #[test]
+fn vertices_outside_a_given_box_go_to_its_border_cells() {
+    let cube = unit_cube();
+    // A box covering only the corner at the origin, cut in 2 cells of 0.25: every vertex with a
+    // coordinate 1 is clamped into the last cell along that axis, so the cube keeps its 8
+    // corners apart.
+    let small = Bounds::new(DVec3::ZERO, DVec3::splat(0.5));
+    let level = rb(&cube, ClusterOptions::smoothing(2).with_bounds(small));
+    assert_eq!(counts(&level), (12, 0, 0));
+    // With one cell everything is clamped into it.
+    let level = rb(&cube, ClusterOptions::smoothing(1).with_bounds(small));
+    assert_eq!(counts(&level), (0, 0, 1));
+}
+
+#[test]
 fn cube_with_floating_cells() {
     let cube = unit_cube();
     // Cells of side 1 centred on a corner reach only half-way to the next corners: unchanged.
