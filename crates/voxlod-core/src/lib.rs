@@ -9,6 +9,7 @@
 //! - [`memory`]: refusing allocations that cannot fit, with the size they would need.
 
 pub mod bounds;
+pub mod disjoint;
 pub mod error;
 pub mod grid;
 pub mod memory;

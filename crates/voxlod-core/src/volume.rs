@@ -14,11 +14,11 @@ impl Volume {
     /// A volume of `value` everywhere, after checking that it fits in memory.
     pub fn filled(grid: Grid, value: f32, what: &str) -> Result<Volume, CoreError> {
         memory::check_allocation(what, memory::bytes_of::<f32>(grid.len()))?;
-        let [nx, ny, nz] = grid.dims;
-        Ok(Volume {
-            grid,
-            values: Array3::from_elem((nz, ny, nx), value),
-        })
+        let mut values: Vec<f32> = memory::zeroed_vec(grid.len());
+        if value != 0.0 {
+            values.fill(value);
+        }
+        Volume::from_vec(grid, values)
     }
 
     /// Wraps samples given x fastest; fails if their number does not match the grid.

@@ -23,6 +23,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 use serde::Serialize;
+use voxlod_core::disjoint::DisjointSlice;
 use voxlod_core::{memory, Axis, Grid, Volume};
 
 use crate::lattice::{LineCrossings, LineFamily};
@@ -273,43 +274,6 @@ impl ActiveLines {
     }
 }
 
-/// A slice that several threads write at once, each at indices no other thread touches.
-struct DisjointSlice<'a> {
-    ptr: *mut f32,
-    len: usize,
-    _borrow: std::marker::PhantomData<&'a mut [f32]>,
-}
-
-// SAFETY: the only access is through `get` and `set`, whose callers guarantee that no index is
-// used by two threads.
-unsafe impl Sync for DisjointSlice<'_> {}
-
-impl<'a> DisjointSlice<'a> {
-    fn new(slice: &'a mut [f32]) -> Self {
-        DisjointSlice {
-            ptr: slice.as_mut_ptr(),
-            len: slice.len(),
-            _borrow: std::marker::PhantomData,
-        }
-    }
-
-    /// # Safety
-    /// No other thread may access index `i` during this call.
-    #[inline]
-    unsafe fn get(&self, i: usize) -> f32 {
-        assert!(i < self.len);
-        unsafe { *self.ptr.add(i) }
-    }
-
-    /// # Safety
-    /// No other thread may access index `i` during this call.
-    #[inline]
-    unsafe fn set(&self, i: usize, value: f32) {
-        assert!(i < self.len);
-        unsafe { *self.ptr.add(i) = value }
-    }
-}
-
 fn integrate_families(
     families: &[LineCrossings; 3],
     kernel: &LineKernel,
@@ -324,8 +288,8 @@ fn integrate_families(
         "the filtered density",
         memory::bytes_of::<f32>(2 * grid.len()),
     )?;
-    let mut num = vec![0.0f32; grid.len()];
-    let mut den = vec![0.0f32; grid.len()];
+    let mut num: Vec<f32> = memory::zeroed_vec(grid.len());
+    let mut den: Vec<f32> = memory::zeroed_vec(grid.len());
 
     // x-lines (cross axes y, z) and y-lines (cross axes z, x), slice by slice.
     num.par_chunks_mut(slice)

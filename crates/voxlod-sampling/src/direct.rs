@@ -34,7 +34,7 @@ pub fn direct_density(
     let [dx, dy, dz] = data.dims;
     let reach: [i64; 3] = [0, 1, 2].map(|a| (radius / data.spacing[a]).ceil() as i64);
     let [nx, ny, _] = grid.dims;
-    let mut out = vec![0.0f32; grid.len()];
+    let mut out: Vec<f32> = memory::zeroed_vec(grid.len());
     out.par_chunks_mut(nx * ny)
         .enumerate()
         .for_each(|(k, slice)| {
