@@ -15,6 +15,7 @@ pub mod grid;
 pub mod memory;
 pub mod mesh;
 pub mod repair;
+pub mod shapes;
 pub mod testdata;
 pub mod topology;
 pub mod volume;

@@ -234,38 +234,9 @@ impl PolyMesh {
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
+mod tests {
     use super::*;
-
-    /// A unit cube, 8 vertices and 12 outward-facing triangles.
-    pub fn unit_cube() -> TriangleMesh {
-        let p = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
-        let positions = vec![
-            p(0., 0., 0.),
-            p(1., 0., 0.),
-            p(1., 1., 0.),
-            p(0., 1., 0.),
-            p(0., 0., 1.),
-            p(1., 0., 1.),
-            p(1., 1., 1.),
-            p(0., 1., 1.),
-        ];
-        let triangles = vec![
-            [0, 2, 1],
-            [0, 3, 2],
-            [4, 5, 6],
-            [4, 6, 7],
-            [0, 1, 5],
-            [0, 5, 4],
-            [1, 2, 6],
-            [1, 6, 5],
-            [2, 3, 7],
-            [2, 7, 6],
-            [3, 0, 4],
-            [3, 4, 7],
-        ];
-        TriangleMesh::new(positions, triangles)
-    }
+    use crate::shapes::unit_cube;
 
     #[test]
     fn cube_measures() {

@@ -156,7 +156,7 @@ pub fn close_boundary_loops(mesh: &mut TriangleMesh) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::tests::unit_cube;
+    use crate::shapes::unit_cube;
     use glam::Vec3;
 
     #[test]
