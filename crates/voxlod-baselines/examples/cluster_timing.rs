@@ -15,8 +15,8 @@ use voxlod_baselines::{
 use voxlod_core::glam::Vec3;
 use voxlod_core::TriangleMesh;
 
-/// The minimum over `runs` runs: on a shared machine the least disturbed run is the best
-/// estimate of the algorithm's own cost.
+/// The minimum over `runs` runs (on a shared machine the least disturbed run is the best
+/// estimate of the algorithm's own cost); the median is printed too, as the peers report it.
 fn best<T>(runs: usize, mut f: impl FnMut() -> T) -> f64 {
     let mut t: Vec<f64> = (0..runs)
         .map(|_| {
@@ -26,6 +26,7 @@ fn best<T>(runs: usize, mut f: impl FnMut() -> T) -> f64 {
         })
         .collect();
     t.sort_by(f64::total_cmp);
+    eprint!("[median {:.4} s] ", t[t.len() / 2]);
     t[0]
 }
 
