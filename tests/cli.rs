@@ -403,3 +403,43 @@ fn help_teaches() {
         text.contains("Examples:") && text.contains("--threshold") && text.contains("--direct")
     );
 }
+
+#[test]
+fn contour_closes_surfaces_cut_by_the_volume_boundary_on_request() {
+    let dir = tempfile::tempdir().unwrap();
+    // A slab filling the volume's middle third in z: it touches the x and y boundaries.
+    let grid = Grid::unit([10, 10, 12]).unwrap();
+    let data: Vec<f32> = (0..grid.len())
+        .map(|i| {
+            if (4..8).contains(&(i / 100)) {
+                1.0
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let volume = dir.path().join("slab.nrrd");
+    voxlod::io::write_volume(&volume, &Volume::from_vec(grid, data).unwrap()).unwrap();
+    for (close, closed) in [(false, false), (true, true)] {
+        let out = dir.path().join(format!("slab-{close}.ply"));
+        let mut args = vec![
+            "contour",
+            arg(&volume),
+            "-o",
+            arg(&out),
+            "--iso",
+            "0.5",
+            "--json",
+        ];
+        if close {
+            args.push("--close");
+        }
+        let report = json(&voxlod(&args));
+        assert_eq!(report["closed_manifold"], closed);
+        let t = mesh_topology(&voxlod::io::read_mesh(&out).unwrap().mesh);
+        assert_eq!(t.is_closed_manifold(), closed);
+        if closed {
+            assert_eq!(t.genus, Some(0));
+        }
+    }
+}
