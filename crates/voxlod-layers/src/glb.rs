@@ -1,0 +1,677 @@
+//! Layered meshes as binary glTF 2.0 (`.glb`), with the eight back-to-front orders stored.
+//!
+//! **Layout** (documented for users in the README):
+//! - one buffer (the GLB `BIN` chunk) holding, in this order: the positions of every layer
+//!   concatenated (layer 0 first), their normals likewise, every layer's own triangle indices,
+//!   and the eight orders;
+//! - mesh `i` is layer `i`, innermost (opaque) first (a layer without triangles, which a tiny
+//!   object can give, has no mesh: the extras name each mesh's layer); its one primitive draws its own vertices
+//!   with its own indices and material `i`: base colour with alpha = the layer's blend alpha
+//!   (see [`crate::plan::Blending`]: by default the alphas whose back-to-front composite has
+//!   translucency `1 − d/m` along every ray), `alphaMode: BLEND`, double sided, metallic 0, roughness 1; node `i`
+//!   places mesh `i` untransformed, and the scene holds every node;
+//! - mesh extras: `{"layer": i, "isodensity": c, "translucency": t, "alpha": a}`; scene extras:
+//!   `{"voxlod": {"grid": {dims, spacing, origin}, "orders": [...], "in_cell_direction":
+//!   "octant diagonal"}}`;
+//! - eight extra `SCALAR` `UNSIGNED_INT` accessors named `order+x+y+z`, `order+x+y-z`,
+//!   `order+x-y+z`, `order+x-y-z`, `order-x+y+z`, `order-x+y-z`, `order-x-y+z`, `order-x-y-z`:
+//!   each a triangle list (three indices per triangle) of every triangle of every layer, back to
+//!   front for view directions (eye to scene) with those signs, whose indices refer to the
+//!   vertices of all layer meshes concatenated in mesh order (mesh 0's vertices first; a vertex
+//!   of mesh i has index `its index in mesh i + vertices of meshes 0..i`). Since the position
+//!   accessors are consecutive slices of one buffer view, that concatenation is exactly the
+//!   positions buffer view.
+//!
+//! The reader ([`read_glb`]) takes any glTF 2.0 binary file whose triangle primitives use float
+//! positions, and returns the orders when present. It checks every offset against the buffer
+//! (no panic on a broken file). Node transforms are ignored. Cost: linear in the file.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use glam::Vec3;
+use gltf::json;
+use gltf::json::validation::{Checked, USize64};
+use serde::Serialize;
+use voxlod_core::TriangleMesh;
+
+use crate::extract::LayeredMesh;
+use crate::order::{Octant, ORDER_NAMES};
+use crate::LayersError;
+
+const ARRAY_BUFFER: u32 = 34962;
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+
+/// How the file looks.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GlbOptions {
+    /// Base colour of every layer (linear RGB).
+    pub color: [f32; 3],
+    /// Name of the scene.
+    pub name: String,
+}
+
+impl Default for GlbOptions {
+    /// A light steel grey.
+    fn default() -> Self {
+        GlbOptions {
+            color: [0.72, 0.74, 0.78],
+            name: "voxlod layers".into(),
+        }
+    }
+}
+
+/// The bytes of a `.glb` for `layered` and its eight orders (global triangle indices into the
+/// layers concatenated, by [`Octant::index`]).
+pub fn glb_bytes(
+    layered: &LayeredMesh,
+    orders: &[Vec<u32>],
+    options: &GlbOptions,
+) -> Result<Vec<u8>, LayersError> {
+    let (root, bin) = document(layered, orders, options)?;
+    let json = json::serialize::to_vec(&root)
+        .map_err(|e| LayersError::Gltf(format!("cannot encode the JSON chunk: {e}")))?;
+    let glb = gltf::binary::Glb {
+        header: gltf::binary::Header {
+            magic: *b"glTF",
+            version: 2,
+            length: 0, // computed by the writer
+        },
+        json: json.into(),
+        bin: Some(bin.into()),
+    };
+    glb.to_vec()
+        .map_err(|e| LayersError::Gltf(format!("cannot encode the file: {e}")))
+}
+
+/// Writes `path` atomically (nothing is left behind on failure).
+pub fn write_glb(
+    path: &Path,
+    layered: &LayeredMesh,
+    orders: &[Vec<u32>],
+    options: &GlbOptions,
+) -> Result<(), LayersError> {
+    let bytes = glb_bytes(layered, orders, options)?;
+    Ok(voxlod_io::atomic::write_atomically(path, |w| {
+        std::io::Write::write_all(w, &bytes)
+    })?)
+}
+
+fn raw(value: serde_json::Value) -> json::Extras {
+    serde_json::value::to_raw_value(&value).ok()
+}
+
+#[derive(Serialize)]
+struct GridExtras {
+    dims: [usize; 3],
+    spacing: [f64; 3],
+    origin: [f64; 3],
+}
+
+fn document(
+    layered: &LayeredMesh,
+    orders: &[Vec<u32>],
+    options: &GlbOptions,
+) -> Result<(json::Root, Vec<u8>), LayersError> {
+    layered.validate()?;
+    let total_triangles = layered.triangle_count();
+    if orders.len() != 8 || orders.iter().any(|o| o.len() != total_triangles) {
+        return Err(LayersError::Invalid(format!(
+            "expected eight orders of {total_triangles} triangles"
+        )));
+    }
+    let vertex_count = layered.vertex_count();
+    let with_normals = layered.layers.iter().all(|l| !l.mesh.normals.is_empty());
+    let bytes = vertex_count * 12 * (1 + with_normals as usize) + total_triangles * 12 * 9;
+    voxlod_core::memory::check_allocation("the glTF buffer", bytes as u64)?;
+    let mut bin: Vec<u8> = Vec::with_capacity(bytes);
+    let mut root = json::Root {
+        asset: json::Asset {
+            generator: Some(format!("voxlod {}", env!("CARGO_PKG_VERSION"))),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let buffer = root.push(json::Buffer {
+        byte_length: USize64(0), // set below
+        name: None,
+        uri: None,
+        extensions: None,
+        extras: None,
+    });
+    let view = |root: &mut json::Root,
+                offset: usize,
+                len: usize,
+                stride: Option<usize>,
+                target: u32,
+                name: &str| {
+        root.push(json::buffer::View {
+            buffer,
+            byte_length: USize64(len as u64),
+            byte_offset: Some(USize64(offset as u64)),
+            byte_stride: stride.map(json::buffer::Stride),
+            name: Some(name.into()),
+            target: Some(Checked::Valid(if target == ARRAY_BUFFER {
+                json::buffer::Target::ArrayBuffer
+            } else {
+                json::buffer::Target::ElementArrayBuffer
+            })),
+            extensions: None,
+            extras: None,
+        })
+    };
+    // Positions, normals: one view each, one accessor per layer.
+    let positions_at = bin.len();
+    for l in &layered.layers {
+        for p in &l.mesh.positions {
+            push_vec3(&mut bin, *p);
+        }
+    }
+    let positions_view = view(
+        &mut root,
+        positions_at,
+        bin.len() - positions_at,
+        Some(12),
+        ARRAY_BUFFER,
+        "positions",
+    );
+    let normals_view = if with_normals {
+        let at = bin.len();
+        for l in &layered.layers {
+            for (n, p) in l.mesh.normals.iter().zip(&l.mesh.positions) {
+                push_vec3(&mut bin, unit_normal(*n, *p));
+            }
+        }
+        Some(view(
+            &mut root,
+            at,
+            bin.len() - at,
+            Some(12),
+            ARRAY_BUFFER,
+            "normals",
+        ))
+    } else {
+        None
+    };
+    let indices_at = bin.len();
+    for l in &layered.layers {
+        for t in &l.mesh.triangles {
+            for &v in t {
+                bin.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    }
+    let indices_view = view(
+        &mut root,
+        indices_at,
+        bin.len() - indices_at,
+        None,
+        ELEMENT_ARRAY_BUFFER,
+        "layer indices",
+    );
+    let concatenated = layered.concatenated();
+    let orders_at = bin.len();
+    for order in orders {
+        for &t in order {
+            for &v in &concatenated.mesh.triangles[t as usize] {
+                bin.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    }
+    let orders_view = view(
+        &mut root,
+        orders_at,
+        bin.len() - orders_at,
+        None,
+        ELEMENT_ARRAY_BUFFER,
+        "back-to-front orders",
+    );
+    debug_assert_eq!(bin.len() % 4, 0);
+    root.buffers[0].byte_length = USize64(bin.len() as u64);
+
+    let mut first_vertex = 0usize;
+    let mut first_index = 0usize;
+    let mut nodes = Vec::new();
+    for (i, l) in layered.layers.iter().enumerate() {
+        let nv = l.mesh.positions.len();
+        if l.mesh.triangles.is_empty() {
+            // glTF has no empty meshes; an empty layer has no vertices either.
+            first_vertex += nv;
+            continue;
+        }
+        let (min, max) = min_max(&l.mesh.positions);
+        let pos = root.push(accessor(
+            positions_view,
+            first_vertex * 12,
+            nv,
+            json::accessor::ComponentType::F32,
+            json::accessor::Type::Vec3,
+            Some((min, max)),
+            format!("layer {i} positions"),
+        ));
+        let mut attributes = BTreeMap::new();
+        attributes.insert(Checked::Valid(json::mesh::Semantic::Positions), pos);
+        if let Some(nview) = normals_view {
+            let nor = root.push(accessor(
+                nview,
+                first_vertex * 12,
+                nv,
+                json::accessor::ComponentType::F32,
+                json::accessor::Type::Vec3,
+                None,
+                format!("layer {i} normals"),
+            ));
+            attributes.insert(Checked::Valid(json::mesh::Semantic::Normals), nor);
+        }
+        let count = l.mesh.triangles.len() * 3;
+        let indices = root.push(accessor(
+            indices_view,
+            first_index * 4,
+            count,
+            json::accessor::ComponentType::U32,
+            json::accessor::Type::Scalar,
+            None,
+            format!("layer {i} indices"),
+        ));
+        let c = options.color;
+        let material = root.push(json::Material {
+            alpha_mode: Checked::Valid(json::material::AlphaMode::Blend),
+            double_sided: true,
+            name: Some(format!("layer {i} opacity {:.4}", l.alpha)),
+            pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+                base_color_factor: json::material::PbrBaseColorFactor([c[0], c[1], c[2], l.alpha]),
+                metallic_factor: json::material::StrengthFactor(0.0),
+                roughness_factor: json::material::StrengthFactor(1.0),
+                ..Default::default()
+            },
+            ..Default::default()
+        });
+        let mesh = root.push(json::Mesh {
+            extensions: None,
+            extras: raw(serde_json::json!({
+                "layer": i,
+                "isodensity": l.isodensity,
+                "translucency": l.translucency,
+                "alpha": l.alpha,
+            })),
+            name: Some(format!("layer {i}")),
+            primitives: vec![json::mesh::Primitive {
+                attributes,
+                extensions: None,
+                extras: None,
+                indices: (count > 0).then_some(indices),
+                material: Some(material),
+                mode: Checked::Valid(json::mesh::Mode::Triangles),
+                targets: None,
+            }],
+            weights: None,
+        });
+        nodes.push(root.push(json::Node {
+            mesh: Some(mesh),
+            name: Some(format!("layer {i}")),
+            ..Default::default()
+        }));
+        first_vertex += nv;
+        first_index += count;
+    }
+    for (o, name) in ORDER_NAMES.iter().enumerate() {
+        root.push(accessor(
+            orders_view,
+            o * total_triangles * 12,
+            total_triangles * 3,
+            json::accessor::ComponentType::U32,
+            json::accessor::Type::Scalar,
+            None,
+            name.to_string(),
+        ));
+    }
+    let grid = &layered.grid;
+    let scene = root.push(json::Scene {
+        extensions: None,
+        extras: raw(serde_json::json!({
+            "voxlod": {
+                "grid": GridExtras { dims: grid.dims, spacing: grid.spacing, origin: grid.origin },
+                "orders": ORDER_NAMES,
+                "in_cell_direction": "octant diagonal",
+            }
+        })),
+        name: Some(options.name.clone()),
+        nodes,
+    });
+    root.scene = Some(scene);
+    Ok((root, bin))
+}
+
+fn accessor(
+    view: json::Index<json::buffer::View>,
+    offset: usize,
+    count: usize,
+    component: json::accessor::ComponentType,
+    kind: json::accessor::Type,
+    bounds: Option<([f32; 3], [f32; 3])>,
+    name: String,
+) -> json::Accessor {
+    json::Accessor {
+        buffer_view: Some(view),
+        byte_offset: Some(USize64(offset as u64)),
+        count: USize64(count as u64),
+        component_type: Checked::Valid(json::accessor::GenericComponentType(component)),
+        extensions: None,
+        extras: None,
+        type_: Checked::Valid(kind),
+        min: bounds.map(|b| serde_json::json!(b.0)),
+        max: bounds.map(|b| serde_json::json!(b.1)),
+        name: Some(name),
+        normalized: false,
+        sparse: None,
+    }
+}
+
+fn push_vec3(bin: &mut Vec<u8>, v: Vec3) {
+    for c in v.to_array() {
+        bin.extend_from_slice(&c.to_le_bytes());
+    }
+}
+
+/// A unit normal (glTF requires them): zero or non-finite normals become +z.
+fn unit_normal(n: Vec3, _p: Vec3) -> Vec3 {
+    let u = n.normalize_or_zero();
+    if u == Vec3::ZERO {
+        Vec3::Z
+    } else {
+        u
+    }
+}
+
+fn min_max(points: &[Vec3]) -> ([f32; 3], [f32; 3]) {
+    if points.is_empty() {
+        return ([0.0; 3], [0.0; 3]);
+    }
+    let (lo, hi) = points.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    (lo.to_array(), hi.to_array())
+}
+
+// -------------------------------------------------------------------------------------------
+// Reading.
+
+/// One mesh primitive of a glTF file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GlbPart {
+    pub name: String,
+    /// Its vertices are `first_vertex..first_vertex + vertex_count` of [`GlbScene::mesh`].
+    pub first_vertex: u32,
+    pub vertex_count: u32,
+    /// Its triangles are `first_triangle..` of [`GlbScene::mesh`], `triangle_count` of them.
+    pub first_triangle: u32,
+    pub triangle_count: u32,
+    /// Base colour factor (RGBA); alpha is the opacity.
+    pub color: [f32; 4],
+    /// Whether the material blends.
+    pub blend: bool,
+}
+
+/// What [`read_glb`] found: every triangle primitive concatenated, and the stored orders.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GlbScene {
+    /// All primitives' vertices and triangles, in mesh then primitive order (global indices).
+    pub mesh: TriangleMesh,
+    pub parts: Vec<GlbPart>,
+    /// The `order±x±y±z` accessors by [`Octant::index`], as triangles of global vertex indices.
+    pub orders: Vec<Option<Vec<[u32; 3]>>>,
+}
+
+impl GlbScene {
+    /// Whether all eight orders are present: a layered file.
+    pub fn is_layered(&self) -> bool {
+        self.orders.len() == 8 && self.orders.iter().all(|o| o.is_some())
+    }
+
+    /// The part a vertex belongs to.
+    pub fn part_of_vertex(&self, v: u32) -> Option<&GlbPart> {
+        let i = self
+            .parts
+            .partition_point(|p| p.first_vertex + p.vertex_count <= v);
+        self.parts.get(i).filter(|p| v >= p.first_vertex)
+    }
+
+    /// The stored order for a view direction.
+    pub fn order_for(&self, direction: glam::DVec3) -> Result<Option<&[[u32; 3]]>, LayersError> {
+        let o = Octant::of(direction)?;
+        Ok(self.orders.get(o.index()).and_then(|x| x.as_deref()))
+    }
+}
+
+/// Reads a `.glb` (see the module documentation).
+pub fn read_glb(path: &Path) -> Result<GlbScene, LayersError> {
+    let bytes = std::fs::read(path)
+        .map_err(|e| LayersError::Gltf(format!("{}: cannot read: {e}", path.display())))?;
+    parse_glb(&bytes).map_err(|e| match e {
+        LayersError::Gltf(m) => LayersError::Gltf(format!("{}: {m}", path.display())),
+        other => other,
+    })
+}
+
+/// Parses the bytes of a `.glb`.
+pub fn parse_glb(bytes: &[u8]) -> Result<GlbScene, LayersError> {
+    let bad = |m: String| LayersError::Gltf(m);
+    let glb =
+        gltf::binary::Glb::from_slice(bytes).map_err(|e| bad(format!("not a GLB file: {e}")))?;
+    let root: json::Root = json::deserialize::from_slice(&glb.json)
+        .map_err(|e| bad(format!("bad JSON chunk: {e}")))?;
+    let bin: &[u8] = glb.bin.as_deref().unwrap_or(&[]);
+    let reader = Reader { root: &root, bin };
+    let mut scene = GlbScene {
+        orders: vec![None; 8],
+        ..Default::default()
+    };
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            match prim.mode {
+                Checked::Valid(json::mesh::Mode::Triangles) => {}
+                _ => continue,
+            }
+            let Some(pos) = prim
+                .attributes
+                .get(&Checked::Valid(json::mesh::Semantic::Positions))
+            else {
+                continue;
+            };
+            let positions = reader.vec3(pos.value())?;
+            let normals = match prim
+                .attributes
+                .get(&Checked::Valid(json::mesh::Semantic::Normals))
+            {
+                Some(n) => Some(reader.vec3(n.value())?),
+                None => None,
+            };
+            let n = positions.len() as u32;
+            let indices = match prim.indices {
+                Some(i) => reader.indices(i.value())?,
+                None => (0..n).collect(),
+            };
+            if indices.len() % 3 != 0 {
+                return Err(bad(format!(
+                    "mesh {m} primitive {p}: {} indices is not a whole number of triangles",
+                    indices.len()
+                )));
+            }
+            if let Some(&v) = indices.iter().find(|&&v| v >= n) {
+                return Err(bad(format!(
+                    "mesh {m} primitive {p}: index {v} beyond its {n} vertices"
+                )));
+            }
+            let base = scene.mesh.positions.len() as u32;
+            let first_triangle = scene.mesh.triangles.len() as u32;
+            let had_normals = !scene.mesh.normals.is_empty() || scene.mesh.positions.is_empty();
+            match (normals, had_normals) {
+                (Some(nr), true) if nr.len() == positions.len() => {
+                    scene.mesh.normals.extend_from_slice(&nr)
+                }
+                _ => scene.mesh.normals.clear(),
+            }
+            scene.mesh.positions.extend_from_slice(&positions);
+            scene.mesh.triangles.extend(
+                indices
+                    .chunks_exact(3)
+                    .map(|c| [c[0] + base, c[1] + base, c[2] + base]),
+            );
+            let (color, blend) = match prim.material {
+                Some(mi) => {
+                    let mat = root
+                        .materials
+                        .get(mi.value())
+                        .ok_or_else(|| bad(format!("mesh {m}: material {} missing", mi.value())))?;
+                    (
+                        mat.pbr_metallic_roughness.base_color_factor.0,
+                        matches!(
+                            mat.alpha_mode,
+                            Checked::Valid(json::material::AlphaMode::Blend)
+                        ),
+                    )
+                }
+                None => ([1.0; 4], false),
+            };
+            scene.parts.push(GlbPart {
+                name: mesh.name.clone().unwrap_or_else(|| format!("mesh {m}")),
+                first_vertex: base,
+                vertex_count: n,
+                first_triangle,
+                triangle_count: (indices.len() / 3) as u32,
+                color,
+                blend,
+            });
+        }
+    }
+    let total = scene.mesh.positions.len() as u32;
+    for (a, acc) in root.accessors.iter().enumerate() {
+        let Some(o) = acc.name.as_deref().and_then(Octant::from_name) else {
+            continue;
+        };
+        let idx = reader.indices(a)?;
+        if idx.len() % 3 != 0 || idx.iter().any(|&v| v >= total) {
+            return Err(bad(format!(
+                "accessor {}: not a triangle list over the {total} vertices",
+                o.name()
+            )));
+        }
+        scene.orders[o.index()] = Some(idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect());
+    }
+    if scene.mesh.triangles.is_empty() {
+        return Err(bad("no triangle primitives".into()));
+    }
+    Ok(scene)
+}
+
+/// Bounds-checked accessor reading.
+struct Reader<'a> {
+    root: &'a json::Root,
+    bin: &'a [u8],
+}
+
+impl Reader<'_> {
+    /// The bytes of accessor `a`: (data from the first element, element stride, count,
+    /// component type).
+    fn layout(
+        &self,
+        a: usize,
+        elem_size: usize,
+    ) -> Result<(&[u8], usize, usize, json::accessor::ComponentType), LayersError> {
+        let bad = |m: String| LayersError::Gltf(format!("accessor {a}: {m}"));
+        let acc = self
+            .root
+            .accessors
+            .get(a)
+            .ok_or_else(|| bad("missing".into()))?;
+        let Checked::Valid(json::accessor::GenericComponentType(ct)) = acc.component_type else {
+            return Err(bad("invalid component type".into()));
+        };
+        let view_index = acc
+            .buffer_view
+            .ok_or_else(|| bad("has no buffer view (sparse accessors are not read)".into()))?;
+        let view = self
+            .root
+            .buffer_views
+            .get(view_index.value())
+            .ok_or_else(|| bad("its buffer view is missing".into()))?;
+        if view.buffer.value() != 0 {
+            return Err(bad("data outside the GLB's own buffer".into()));
+        }
+        let count = acc.count.0 as usize;
+        let stride = view.byte_stride.map_or(elem_size, |s| s.0);
+        let start = view.byte_offset.map_or(0, |o| o.0 as usize);
+        let view_len = view.byte_length.0 as usize;
+        let offset = acc.byte_offset.map_or(0, |o| o.0 as usize);
+        let needed = if count == 0 {
+            0
+        } else {
+            offset
+                .checked_add((count - 1).saturating_mul(stride))
+                .and_then(|x| x.checked_add(elem_size))
+                .ok_or_else(|| bad("size overflows".into()))?
+        };
+        if stride < elem_size
+            || needed > view_len
+            || start
+                .checked_add(view_len)
+                .is_none_or(|end| end > self.bin.len())
+        {
+            return Err(bad("reaches beyond its buffer".into()));
+        }
+        Ok((
+            &self.bin[start + offset..start + view_len],
+            stride,
+            count,
+            ct,
+        ))
+    }
+
+    fn vec3(&self, a: usize) -> Result<Vec<Vec3>, LayersError> {
+        let (data, stride, count, ct) = self.layout(a, 12)?;
+        if ct != json::accessor::ComponentType::F32 {
+            return Err(LayersError::Gltf(format!(
+                "accessor {a}: positions and normals must be floats"
+            )));
+        }
+        let f = |b: &[u8]| f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+        let out: Vec<Vec3> = (0..count)
+            .map(|i| {
+                let e = &data[i * stride..i * stride + 12];
+                Vec3::new(f(&e[0..4]), f(&e[4..8]), f(&e[8..12]))
+            })
+            .collect();
+        if let Some(i) = out.iter().position(|p| !p.is_finite()) {
+            return Err(LayersError::Gltf(format!(
+                "accessor {a}: element {i} is not finite"
+            )));
+        }
+        Ok(out)
+    }
+
+    fn indices(&self, a: usize) -> Result<Vec<u32>, LayersError> {
+        use json::accessor::ComponentType as C;
+        let size = match self.root.accessors.get(a).map(|x| x.component_type) {
+            Some(Checked::Valid(json::accessor::GenericComponentType(C::U8))) => 1,
+            Some(Checked::Valid(json::accessor::GenericComponentType(C::U16))) => 2,
+            Some(Checked::Valid(json::accessor::GenericComponentType(C::U32))) => 4,
+            _ => {
+                return Err(LayersError::Gltf(format!(
+                    "accessor {a}: indices must be unsigned integers"
+                )))
+            }
+        };
+        let (data, stride, count, _) = self.layout(a, size)?;
+        Ok((0..count)
+            .map(|i| {
+                let e = &data[i * stride..];
+                match size {
+                    1 => e[0] as u32,
+                    2 => u16::from_le_bytes([e[0], e[1]]) as u32,
+                    _ => u32::from_le_bytes([e[0], e[1], e[2], e[3]]),
+                }
+            })
+            .collect())
+    }
+}

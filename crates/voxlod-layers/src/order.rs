@@ -1,0 +1,577 @@
+//! Back-to-front order of the triangles of marching-cubes meshes by traversing their volume's
+//! cells (paper §3: "sorting can be accomplished by traversing only the surface-intersected
+//! voxels in a slice-by-slice fashion").
+//!
+//! **Why cell order works.** Cells are boxes of a regular grid. If a point of cell A lies in front
+//! of a point of cell B along a view direction d (`a = b − t d`, t > 0), then along every axis
+//! with `dᵢ > 0` A's index is at most B's, and with `dᵢ < 0` at least B's. So visiting the cells
+//! slice by slice, row by row and cell by cell, each axis from its far side to its near side, draws
+//! every cell before any cell in front of it. The traversal depends only on the signs of d — its
+//! octant — so the eight orthographic orders can be computed once and stored. For a perspective
+//! view from an eye E the same argument holds per axis with "far" meaning far from E's cell: each
+//! axis is walked from both ends towards the eye's cell (the traversal is split at the eye's cell).
+//!
+//! **Inside a cell** (the paper says nothing about it). A cell holds the triangles of several
+//! layers, and a layer may hold several in one cell. They are put in depth order exactly: every
+//! pair whose projections overlap is compared by depth at an interior point of the overlap
+//! ([`crate::geometry::behind`]) and the cell's triangles are sorted topologically, ties and
+//! (rare) cycles between crossing triangles broken by centroid depth. For the stored octant orders
+//! the in-cell sort uses the octant's diagonal direction: the order between cells is right for
+//! every direction of the octant, the order inside a cell for the diagonal (and, since the layers
+//! in a cell are nearly parallel, for most directions near it); [`view_order`] sorts inside cells
+//! for the exact direction.
+//!
+//! **Cost.** Indexing the triangles by cell is one sort of T keys. A traversal visits the occupied
+//! cells only (rows in compressed form), O(T + rows); in-cell sorting costs O(k²) pair tests for k
+//! triangles in a cell, a few on average. Slices are ordered in parallel; the eight octants too.
+
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+use voxlod_core::Grid;
+
+use crate::geometry::{behind, Projected, Projector};
+use crate::LayersError;
+
+/// Names of the eight stored orders, by [`Octant::index`]: the signs of the view direction (eye
+/// to scene) along x, y and z.
+pub const ORDER_NAMES: [&str; 8] = [
+    "order+x+y+z",
+    "order+x+y-z",
+    "order+x-y+z",
+    "order+x-y-z",
+    "order-x+y+z",
+    "order-x+y-z",
+    "order-x-y+z",
+    "order-x-y-z",
+];
+
+/// Overlaps smaller than this fraction of the smaller triangle's projected area are ignored.
+pub const OVERLAP_TOLERANCE: f64 = 1e-7;
+
+/// One of the eight sign patterns of a view direction. Index bits: 4 for x < 0, 2 for y < 0,
+/// 1 for z < 0 (a zero component counts as positive).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Octant(u8);
+
+impl Octant {
+    pub const ALL: [Octant; 8] = [
+        Octant(0),
+        Octant(1),
+        Octant(2),
+        Octant(3),
+        Octant(4),
+        Octant(5),
+        Octant(6),
+        Octant(7),
+    ];
+
+    /// The octant of a view direction; refuses zero and non-finite directions.
+    pub fn of(direction: DVec3) -> Result<Octant, LayersError> {
+        check_direction(direction)?;
+        Ok(Octant(
+            ((direction.x < 0.0) as u8) << 2
+                | ((direction.y < 0.0) as u8) << 1
+                | (direction.z < 0.0) as u8,
+        ))
+    }
+
+    pub fn from_index(index: usize) -> Octant {
+        assert!(index < 8);
+        Octant(index as u8)
+    }
+
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+
+    /// ±1 per axis.
+    pub fn signs(self) -> DVec3 {
+        let s = |bit: u8| if self.0 & bit != 0 { -1.0 } else { 1.0 };
+        DVec3::new(s(4), s(2), s(1))
+    }
+
+    /// The unit diagonal of the octant: the direction the stored order is sorted for in cells.
+    pub fn diagonal(self) -> DVec3 {
+        self.signs() / 3f64.sqrt()
+    }
+
+    /// `order+x+y+z` … `order-x-y-z`.
+    pub fn name(self) -> &'static str {
+        ORDER_NAMES[self.index()]
+    }
+
+    pub fn from_name(name: &str) -> Option<Octant> {
+        ORDER_NAMES
+            .iter()
+            .position(|n| *n == name)
+            .map(|i| Octant(i as u8))
+    }
+}
+
+/// Refuses a zero or non-finite view direction.
+pub fn check_direction(direction: DVec3) -> Result<(), LayersError> {
+    if !direction.is_finite() {
+        return Err(LayersError::NonFiniteView(format!(
+            "view direction {direction}"
+        )));
+    }
+    if direction.length_squared() == 0.0 {
+        return Err(LayersError::ZeroViewDirection);
+    }
+    Ok(())
+}
+
+/// How the scene is looked at.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum View {
+    /// Parallel rays along `direction` (eye to scene).
+    Orthographic { direction: DVec3 },
+    /// Rays from `eye`.
+    Perspective { eye: DVec3 },
+}
+
+impl View {
+    pub fn check(&self) -> Result<(), LayersError> {
+        match *self {
+            View::Orthographic { direction } => check_direction(direction),
+            View::Perspective { eye } => {
+                if eye.is_finite() {
+                    Ok(())
+                } else {
+                    Err(LayersError::NonFiniteView(format!("eye {eye}")))
+                }
+            }
+        }
+    }
+}
+
+/// Triangles that know the cell of their volume they came from.
+#[derive(Clone, Copy, Debug)]
+pub struct CellTriangles<'a> {
+    /// The volume's sample grid: cells are `dims − 1` per axis.
+    pub grid: Grid,
+    pub positions: &'a [Vec3],
+    pub triangles: &'a [[u32; 3]],
+    /// Linear cell index `i + cx (j + cy k)` per triangle.
+    pub cells: &'a [u32],
+}
+
+impl CellTriangles<'_> {
+    /// Cells per axis.
+    pub fn cell_dims(&self) -> [usize; 3] {
+        self.grid.dims.map(|d| d.saturating_sub(1).max(1))
+    }
+
+    fn corners(&self, t: u32) -> [DVec3; 3] {
+        self.triangles[t as usize].map(|v| self.positions[v as usize].as_dvec3())
+    }
+}
+
+/// The triangles grouped by occupied cell, cells in storage order, rows compressed.
+#[derive(Clone, Debug, Default)]
+pub struct CellIndex {
+    dims: [usize; 3],
+    /// Occupied cells, ascending.
+    cells: Vec<u32>,
+    /// Triangles of `cells[c]` are `tris[start[c]..start[c + 1]]`.
+    start: Vec<u32>,
+    tris: Vec<u32>,
+    /// Occupied cells of row `j + cy k` are `cells[row_start[r]..row_start[r + 1]]`.
+    row_start: Vec<u32>,
+}
+
+impl CellIndex {
+    pub fn occupied_cells(&self) -> usize {
+        self.cells.len()
+    }
+
+    /// The most triangles in one cell.
+    pub fn largest_cell(&self) -> usize {
+        self.start
+            .windows(2)
+            .map(|w| (w[1] - w[0]) as usize)
+            .max()
+            .unwrap_or(0)
+    }
+}
+
+/// Groups the triangles by cell: one parallel sort of (cell, triangle) keys.
+pub fn index_cells(obj: &CellTriangles) -> Result<CellIndex, LayersError> {
+    let dims = obj.cell_dims();
+    let total = (dims[0] * dims[1] * dims[2]) as u64;
+    if obj.cells.len() != obj.triangles.len() {
+        return Err(LayersError::Invalid(format!(
+            "{} cells for {} triangles",
+            obj.cells.len(),
+            obj.triangles.len()
+        )));
+    }
+    if let Some(c) = obj.cells.iter().find(|&&c| c as u64 >= total) {
+        return Err(LayersError::Invalid(format!(
+            "cell {c} is outside the grid's {total} cells"
+        )));
+    }
+    let mut keys: Vec<u64> = obj
+        .cells
+        .par_iter()
+        .enumerate()
+        .map(|(t, &c)| (c as u64) << 32 | t as u64)
+        .collect();
+    keys.par_sort_unstable();
+    let mut index = CellIndex {
+        dims,
+        tris: keys.iter().map(|k| *k as u32).collect(),
+        ..Default::default()
+    };
+    let mut last = u32::MAX;
+    for (i, k) in keys.iter().enumerate() {
+        let c = (k >> 32) as u32;
+        if c != last {
+            index.cells.push(c);
+            index.start.push(i as u32);
+            last = c;
+        }
+    }
+    index.start.push(keys.len() as u32);
+    let rows = dims[1] * dims[2];
+    let mut row_start = vec![0u32; rows + 1];
+    for &c in &index.cells {
+        row_start[c as usize / dims[0] + 1] += 1;
+    }
+    for r in 0..rows {
+        row_start[r + 1] += row_start[r];
+    }
+    index.row_start = row_start;
+    Ok(index)
+}
+
+/// How the cells are walked.
+#[derive(Clone, Copy, Debug)]
+enum Sweep {
+    /// Each axis from the far side of the octant's direction.
+    Octant(DVec3),
+    /// Each axis from both ends towards the eye's cell (which may lie outside the grid).
+    Eye([i64; 3]),
+}
+
+/// How triangles inside one cell are compared.
+#[derive(Clone, Copy, Debug)]
+enum InCell {
+    Direction(DVec3),
+    Eye(DVec3),
+}
+
+/// The order in which to visit indices `0..n` along one axis.
+fn axis_sequence(n: usize, sweep: Sweep, axis: usize) -> Vec<u32> {
+    match sweep {
+        Sweep::Octant(signs) => {
+            if signs[axis] >= 0.0 {
+                (0..n as u32).rev().collect()
+            } else {
+                (0..n as u32).collect()
+            }
+        }
+        Sweep::Eye(e) => {
+            let e = e[axis];
+            let mut out = Vec::with_capacity(n);
+            let (mut lo, mut hi) = (0i64, n as i64 - 1);
+            while lo <= hi {
+                if (hi - e).abs() >= (lo - e).abs() {
+                    out.push(hi as u32);
+                    hi -= 1;
+                } else {
+                    out.push(lo as u32);
+                    lo += 1;
+                }
+            }
+            out
+        }
+    }
+}
+
+/// The order of one triangle mesh for a view, with the cell index built on the way.
+pub fn view_order(obj: &CellTriangles, view: &View) -> Result<Vec<u32>, LayersError> {
+    let index = index_cells(obj)?;
+    view_order_indexed(obj, &index, view)
+}
+
+/// [`view_order`] with a prebuilt index.
+pub fn view_order_indexed(
+    obj: &CellTriangles,
+    index: &CellIndex,
+    view: &View,
+) -> Result<Vec<u32>, LayersError> {
+    view.check()?;
+    Ok(match *view {
+        View::Orthographic { direction } => {
+            let signs = Octant::of(direction)?.signs();
+            traverse(
+                obj,
+                index,
+                Sweep::Octant(signs),
+                InCell::Direction(direction.normalize()),
+            )
+        }
+        View::Perspective { eye } => {
+            let g = &obj.grid;
+            let cell = [0, 1, 2].map(|a| ((eye[a] - g.origin[a]) / g.spacing[a]).floor() as i64);
+            traverse(obj, index, Sweep::Eye(cell), InCell::Eye(eye))
+        }
+    })
+}
+
+/// The stored order of one octant (in-cell sorting along the octant's diagonal).
+pub fn octant_order(obj: &CellTriangles, index: &CellIndex, octant: Octant) -> Vec<u32> {
+    traverse(
+        obj,
+        index,
+        Sweep::Octant(octant.signs()),
+        InCell::Direction(octant.diagonal()),
+    )
+}
+
+/// All eight octant orders, by [`Octant::index`].
+pub fn octant_orders(obj: &CellTriangles) -> Result<Vec<Vec<u32>>, LayersError> {
+    let index = index_cells(obj)?;
+    Ok(Octant::ALL
+        .par_iter()
+        .map(|&o| octant_order(obj, &index, o))
+        .collect())
+}
+
+fn traverse(obj: &CellTriangles, index: &CellIndex, sweep: Sweep, in_cell: InCell) -> Vec<u32> {
+    let [cx, cy, cz] = index.dims;
+    let ks = axis_sequence(cz, sweep, 2);
+    let js = axis_sequence(cy, sweep, 1);
+    let slices: Vec<Vec<u32>> = ks
+        .par_iter()
+        .map(|&k| {
+            let mut out = Vec::new();
+            let mut scratch = Scratch::default();
+            let mut row_cells = Vec::new();
+            for &j in &js {
+                let r = k as usize * cy + j as usize;
+                let row =
+                    &index.cells[index.row_start[r] as usize..index.row_start[r + 1] as usize];
+                if row.is_empty() {
+                    continue;
+                }
+                let first = index.row_start[r] as usize;
+                row_cells.clear();
+                row_order(row, first, cx, sweep, &mut row_cells);
+                for &c in &row_cells {
+                    let tris = &index.tris[index.start[c] as usize..index.start[c + 1] as usize];
+                    if tris.len() == 1 {
+                        out.push(tris[0]);
+                    } else {
+                        sort_cell(obj, tris, in_cell, &mut scratch, &mut out);
+                    }
+                }
+            }
+            out
+        })
+        .collect();
+    let mut order = Vec::with_capacity(obj.triangles.len());
+    for s in slices {
+        order.extend_from_slice(&s);
+    }
+    debug_assert_eq!(order.len(), obj.triangles.len());
+    order
+}
+
+/// Positions in `index.cells` (from `first`) of one row's cells, in traversal order.
+fn row_order(row: &[u32], first: usize, cx: usize, sweep: Sweep, out: &mut Vec<usize>) {
+    match sweep {
+        Sweep::Octant(signs) => {
+            if signs.x >= 0.0 {
+                out.extend((0..row.len()).rev().map(|i| first + i));
+            } else {
+                out.extend((0..row.len()).map(|i| first + i));
+            }
+        }
+        Sweep::Eye(e) => {
+            let x = |i: usize| (row[i] as usize % cx) as i64;
+            let (mut lo, mut hi) = (0i64, row.len() as i64 - 1);
+            while lo <= hi {
+                if (x(hi as usize) - e[0]).abs() >= (x(lo as usize) - e[0]).abs() {
+                    out.push(first + hi as usize);
+                    hi -= 1;
+                } else {
+                    out.push(first + lo as usize);
+                    lo += 1;
+                }
+            }
+        }
+    }
+}
+
+#[derive(Default)]
+struct Scratch {
+    projected: Vec<Projected>,
+    by_depth: Vec<usize>,
+    indegree: Vec<u32>,
+    edges: Vec<(u16, u16)>,
+    succ_start: Vec<u32>,
+    succ: Vec<u16>,
+    done: Vec<bool>,
+}
+
+/// Appends the triangles of one cell to `out`, back to front (see the module documentation).
+fn sort_cell(
+    obj: &CellTriangles,
+    tris: &[u32],
+    in_cell: InCell,
+    s: &mut Scratch,
+    out: &mut Vec<u32>,
+) {
+    let n = tris.len();
+    let projector = match in_cell {
+        InCell::Direction(d) => Some(Projector::orthographic(d)),
+        InCell::Eye(eye) => {
+            let centre: DVec3 = tris
+                .iter()
+                .map(|&t| obj.corners(t).iter().sum::<DVec3>() / 3.0)
+                .sum::<DVec3>()
+                / n as f64;
+            let d = centre - eye;
+            (d.length_squared() > 0.0).then(|| Projector::perspective(eye, d))
+        }
+    };
+    s.projected.clear();
+    let mut ok = projector.is_some();
+    if let Some(p) = &projector {
+        for &t in tris {
+            match Projected::new(p, obj.corners(t)) {
+                Some(x) => s.projected.push(x),
+                None => {
+                    ok = false;
+                    break;
+                }
+            }
+        }
+    }
+    if !ok || n > u16::MAX as usize {
+        // The eye is in the cell: farthest centroid first.
+        let eye = match in_cell {
+            InCell::Eye(e) => e,
+            InCell::Direction(d) => -d * 1e30,
+        };
+        s.by_depth.clear();
+        s.by_depth.extend(0..n);
+        let dist: Vec<f64> = tris
+            .iter()
+            .map(|&t| (obj.corners(t).iter().sum::<DVec3>() / 3.0 - eye).length())
+            .collect();
+        s.by_depth
+            .sort_by(|&a, &b| dist[b].total_cmp(&dist[a]).then(a.cmp(&b)));
+        out.extend(s.by_depth.iter().map(|&i| tris[i]));
+        return;
+    }
+    let projector = projector.expect("checked");
+    // Farthest centroid first, as the tie-break.
+    s.by_depth.clear();
+    s.by_depth.extend(0..n);
+    let proj = &s.projected;
+    s.by_depth
+        .sort_by(|&a, &b| proj[b].depth.total_cmp(&proj[a].depth).then(a.cmp(&b)));
+    if n == 2 {
+        let (a, b) = (s.by_depth[0], s.by_depth[1]);
+        // Draw b first only if b is behind a.
+        let first = match behind(&projector, &proj[a], &proj[b], OVERLAP_TOLERANCE) {
+            Some(false) => b,
+            _ => a,
+        };
+        out.push(tris[first]);
+        out.push(tris[a + b - first]);
+        return;
+    }
+    // Constraints "i before j" for every overlapping pair.
+    s.edges.clear();
+    for i in 0..n {
+        for j in i + 1..n {
+            match behind(&projector, &proj[i], &proj[j], OVERLAP_TOLERANCE) {
+                Some(true) => s.edges.push((i as u16, j as u16)),
+                Some(false) => s.edges.push((j as u16, i as u16)),
+                None => {}
+            }
+        }
+    }
+    if s.edges.is_empty() {
+        out.extend(s.by_depth.iter().map(|&i| tris[i]));
+        return;
+    }
+    // Kahn's algorithm, choosing the farthest ready triangle each time.
+    s.indegree.clear();
+    s.indegree.resize(n, 0);
+    s.succ_start.clear();
+    s.succ_start.resize(n + 1, 0);
+    for &(a, b) in &s.edges {
+        s.indegree[b as usize] += 1;
+        s.succ_start[a as usize + 1] += 1;
+    }
+    for i in 0..n {
+        s.succ_start[i + 1] += s.succ_start[i];
+    }
+    s.succ.clear();
+    s.succ.resize(s.edges.len(), 0);
+    let mut fill = s.succ_start.clone();
+    for &(a, b) in &s.edges {
+        s.succ[fill[a as usize] as usize] = b;
+        fill[a as usize] += 1;
+    }
+    s.done.clear();
+    s.done.resize(n, false);
+    for _ in 0..n {
+        let pick = s
+            .by_depth
+            .iter()
+            .copied()
+            .find(|&i| !s.done[i] && s.indegree[i] == 0)
+            // A cycle (crossing triangles): break it at the farthest remaining.
+            .or_else(|| s.by_depth.iter().copied().find(|&i| !s.done[i]))
+            .expect("a triangle remains");
+        s.done[pick] = true;
+        out.push(tris[pick]);
+        for e in s.succ_start[pick]..s.succ_start[pick + 1] {
+            let b = s.succ[e as usize] as usize;
+            s.indegree[b] = s.indegree[b].saturating_sub(1);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn octants_and_names_agree() {
+        for o in Octant::ALL {
+            assert_eq!(Octant::of(o.signs()).unwrap(), o);
+            assert_eq!(Octant::from_name(o.name()), Some(o));
+            let s = o.signs();
+            let expect = format!(
+                "order{}x{}y{}z",
+                if s.x > 0.0 { '+' } else { '-' },
+                if s.y > 0.0 { '+' } else { '-' },
+                if s.z > 0.0 { '+' } else { '-' }
+            );
+            assert_eq!(o.name(), expect);
+        }
+        assert!(Octant::of(DVec3::ZERO).is_err());
+        assert!(Octant::of(DVec3::new(f64::NAN, 0.0, 1.0)).is_err());
+    }
+
+    #[test]
+    fn eye_sequences_walk_towards_the_eye() {
+        let seq = axis_sequence(7, Sweep::Eye([3, 0, 0]), 0);
+        let keys: Vec<i64> = seq.iter().map(|&i| (i as i64 - 3).abs()).collect();
+        assert!(keys.windows(2).all(|w| w[0] >= w[1]), "{seq:?}");
+        assert_eq!(seq.len(), 7);
+        // Eye outside the grid: a plain sweep.
+        assert_eq!(
+            axis_sequence(4, Sweep::Eye([-2, 0, 0]), 0),
+            vec![3, 2, 1, 0]
+        );
+        assert_eq!(axis_sequence(4, Sweep::Eye([9, 0, 0]), 0), vec![0, 1, 2, 3]);
+    }
+}

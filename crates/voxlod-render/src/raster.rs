@@ -1,0 +1,233 @@
+//! Triangle rasterization into one tile of samples: exact integer edge functions, a z-buffer,
+//! and alpha blending.
+//!
+//! Vertices are snapped to 1/256 of a sample and the three edge functions are evaluated in 64-bit
+//! integers at sample centres, stepping incrementally along rows. A sample exactly on an edge
+//! belongs to one side only (a fixed tie-break by edge direction that is opposite for the two
+//! triangles sharing the edge), so a closed mesh covers every sample once: no cracks, and no
+//! doubled blending along the edges of translucent layers. Depth and shading are interpolated
+//! from the barycentric weights, shading perspective-correctly with the vertices' 1/w.
+//!
+//! Cost: O(1) setup per triangle and tile, then O(samples of the clipped bounding box).
+
+/// A vertex on screen: position in output pixels, depth key (affine on screen, larger farther),
+/// 1/w, and Lambert shade (NaN: shade the triangle flat from its face).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ScreenVertex {
+    pub x: f32,
+    pub y: f32,
+    pub z: f32,
+    pub w: f32,
+    pub shade: f32,
+}
+
+impl ScreenVertex {
+    pub const CULLED: ScreenVertex = ScreenVertex {
+        x: f32::NAN,
+        y: f32::NAN,
+        z: f32::NAN,
+        w: f32::NAN,
+        shade: f32::NAN,
+    };
+
+    pub fn is_culled(&self) -> bool {
+        self.x.is_nan()
+    }
+}
+
+/// The samples of one tile.
+pub struct Tile {
+    /// First sample (x, y) of the tile in the whole sample grid.
+    pub x0: i64,
+    pub y0: i64,
+    /// Samples per side.
+    pub size: usize,
+    pub color: Vec<[f32; 3]>,
+    pub depth: Vec<f32>,
+    pub coverage: Vec<f32>,
+}
+
+impl Tile {
+    pub fn new(size: usize) -> Tile {
+        Tile {
+            x0: 0,
+            y0: 0,
+            size,
+            color: vec![[0.0; 3]; size * size],
+            depth: vec![f32::INFINITY; size * size],
+            coverage: vec![0.0; size * size],
+        }
+    }
+
+    pub fn clear(&mut self, x0: i64, y0: i64, background: [f32; 3]) {
+        self.x0 = x0;
+        self.y0 = y0;
+        self.color.fill(background);
+        self.depth.fill(f32::INFINITY);
+        self.coverage.fill(0.0);
+    }
+}
+
+const SUB: i64 = 256;
+
+#[inline]
+fn on_edge_included(dx: i64, dy: i64) -> bool {
+    dy > 0 || (dy == 0 && dx > 0)
+}
+
+/// Draws one triangle into `tile`. `n` is the samples per pixel side; `flat` the shade to use
+/// when the vertices carry none; `rgba` the colour and opacity; `blend` selects alpha blending
+/// (z-tested, no depth write) over the z-buffered opaque write.
+#[allow(clippy::too_many_arguments)]
+pub fn raster_triangle(
+    tile: &mut Tile,
+    v: [ScreenVertex; 3],
+    n: u32,
+    flat: f32,
+    rgba: [f32; 4],
+    blend: bool,
+) {
+    let scale = n as f32 * SUB as f32;
+    let fx = |a: f32| (a * scale).round() as i64;
+    let mut p = [
+        (fx(v[0].x), fx(v[0].y)),
+        (fx(v[1].x), fx(v[1].y)),
+        (fx(v[2].x), fx(v[2].y)),
+    ];
+    let mut v = v;
+    let mut area2 = (p[1].0 - p[0].0) * (p[2].1 - p[0].1) - (p[1].1 - p[0].1) * (p[2].0 - p[0].0);
+    if area2 == 0 {
+        return;
+    }
+    if area2 < 0 {
+        p.swap(1, 2);
+        v.swap(1, 2);
+        area2 = -area2;
+    }
+    // Samples whose centres (s·SUB + SUB/2) lie in the box, clipped to the tile.
+    let min_x = p[0].0.min(p[1].0).min(p[2].0);
+    let max_x = p[0].0.max(p[1].0).max(p[2].0);
+    let min_y = p[0].1.min(p[1].1).min(p[2].1);
+    let max_y = p[0].1.max(p[1].1).max(p[2].1);
+    let first = |m: i64| (m - SUB / 2 + SUB - 1).div_euclid(SUB);
+    let last = |m: i64| (m - SUB / 2).div_euclid(SUB);
+    let size = tile.size as i64;
+    let sx0 = first(min_x).max(tile.x0);
+    let sx1 = last(max_x).min(tile.x0 + size - 1);
+    let sy0 = first(min_y).max(tile.y0);
+    let sy1 = last(max_y).min(tile.y0 + size - 1);
+    if sx0 > sx1 || sy0 > sy1 {
+        return;
+    }
+    // Edge k is opposite vertex k: from vertex k+1 to vertex k+2.
+    let mut a = [0i64; 3];
+    let mut b = [0i64; 3];
+    let mut c = [0i64; 3];
+    let mut bias = [0i64; 3];
+    for k in 0..3 {
+        let (s, e) = (p[(k + 1) % 3], p[(k + 2) % 3]);
+        let (dx, dy) = (e.0 - s.0, e.1 - s.1);
+        // E(P) = dx (P.y − s.y) − dy (P.x − s.x)
+        a[k] = -dy;
+        b[k] = dx;
+        c[k] = dy * s.0 - dx * s.1;
+        bias[k] = if on_edge_included(dx, dy) { 0 } else { -1 };
+    }
+    let at = |k: usize, sx: i64, sy: i64| {
+        a[k] * (sx * SUB + SUB / 2) + b[k] * (sy * SUB + SUB / 2) + c[k]
+    };
+    let inv = 1.0 / area2 as f32;
+    let shade_of = |i: usize| {
+        if v[i].shade.is_nan() {
+            flat
+        } else {
+            v[i].shade
+        }
+    };
+    let (s0, s1, s2) = (shade_of(0), shade_of(1), shade_of(2));
+    let (w0, w1, w2) = (v[0].w, v[1].w, v[2].w);
+    let (z0, z1, z2) = (v[0].z, v[1].z, v[2].z);
+    let alpha = rgba[3];
+    let rgb = [rgba[0], rgba[1], rgba[2]];
+    let step_x = [a[0] * SUB, a[1] * SUB, a[2] * SUB];
+    for sy in sy0..=sy1 {
+        let mut e = [at(0, sx0, sy), at(1, sx0, sy), at(2, sx0, sy)];
+        let row = ((sy - tile.y0) as usize) * tile.size;
+        for sx in sx0..=sx1 {
+            if ((e[0] + bias[0]) | (e[1] + bias[1]) | (e[2] + bias[2])) >= 0 {
+                let l0 = e[0] as f32 * inv;
+                let l1 = e[1] as f32 * inv;
+                let l2 = 1.0 - l0 - l1;
+                let z = l0 * z0 + l1 * z1 + l2 * z2;
+                let i = row + (sx - tile.x0) as usize;
+                if z < tile.depth[i] {
+                    let pw = l0 * w0 + l1 * w1 + l2 * w2;
+                    let shade = (l0 * w0 * s0 + l1 * w1 * s1 + l2 * w2 * s2) / pw;
+                    let col = [rgb[0] * shade, rgb[1] * shade, rgb[2] * shade];
+                    if blend {
+                        let dst = &mut tile.color[i];
+                        for ch in 0..3 {
+                            dst[ch] += (col[ch] - dst[ch]) * alpha;
+                        }
+                        tile.coverage[i] += (1.0 - tile.coverage[i]) * alpha;
+                    } else {
+                        tile.depth[i] = z;
+                        tile.color[i] = col;
+                        tile.coverage[i] = 1.0;
+                    }
+                }
+            }
+            e[0] += step_x[0];
+            e[1] += step_x[1];
+            e[2] += step_x[2];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sv(x: f32, y: f32) -> ScreenVertex {
+        ScreenVertex {
+            x,
+            y,
+            z: 1.0,
+            w: 1.0,
+            shade: 1.0,
+        }
+    }
+
+    #[test]
+    fn two_triangles_of_a_square_cover_each_sample_once() {
+        // A square split along its diagonal, drawn blended at alpha 0.5: every sample inside
+        // must be blended exactly once (0.5), never twice (0.75).
+        for n in [1, 3] {
+            let mut tile = Tile::new(16 * n as usize);
+            tile.clear(0, 0, [0.0; 3]);
+            let (a, b, c, d) = (sv(2.3, 2.0), sv(11.0, 2.7), sv(11.6, 12.0), sv(1.9, 11.1));
+            raster_triangle(&mut tile, [a, b, c], n, 1.0, [1.0, 1.0, 1.0, 0.5], true);
+            raster_triangle(&mut tile, [a, c, d], n, 1.0, [1.0, 1.0, 1.0, 0.5], true);
+            let inside = tile.coverage.iter().filter(|&&x| x > 0.0).count();
+            assert!(inside > 50 * (n * n) as usize);
+            assert!(tile.coverage.iter().all(|&x| x == 0.0 || x == 0.5));
+        }
+    }
+
+    #[test]
+    fn z_buffer_keeps_the_nearest() {
+        let mut tile = Tile::new(8);
+        tile.clear(0, 0, [0.0; 3]);
+        let mut far = [sv(0.0, 0.0), sv(8.0, 0.0), sv(0.0, 8.0)];
+        for x in &mut far {
+            x.z = 5.0;
+        }
+        let near = [sv(0.0, 0.0), sv(8.0, 0.0), sv(0.0, 8.0)];
+        raster_triangle(&mut tile, near, 1, 1.0, [1.0, 0.0, 0.0, 1.0], false);
+        raster_triangle(&mut tile, far, 1, 1.0, [0.0, 1.0, 0.0, 1.0], false);
+        assert_eq!(tile.color[0], [1.0, 0.0, 0.0]);
+        // Blending behind the opaque surface changes nothing.
+        raster_triangle(&mut tile, far, 1, 1.0, [0.0, 0.0, 1.0, 0.5], true);
+        assert_eq!(tile.color[0], [1.0, 0.0, 0.0]);
+    }
+}
