@@ -3,10 +3,12 @@
 
 use clap::{Parser, Subcommand};
 
+pub mod cluster;
 pub mod common;
 pub mod contour;
 pub mod demo;
 pub mod lod;
+pub mod select;
 pub mod source;
 pub mod voxelize;
 
@@ -29,6 +31,8 @@ pub enum Command {
     Demo(demo::DemoArgs),
     Voxelize(voxelize::VoxelizeArgs),
     Contour(contour::ContourArgs),
+    Cluster(cluster::ClusterArgs),
+    Select(select::SelectArgs),
 }
 
 /// Runs the chosen subcommand.
@@ -38,5 +42,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Demo(args) => demo::run(args),
         Command::Voxelize(args) => voxelize::run(args),
         Command::Contour(args) => contour::run(args),
+        Command::Cluster(args) => cluster::run(args),
+        Command::Select(args) => select::run(args),
     }
 }
