@@ -143,6 +143,13 @@ impl Rows {
         }
     }
 
+    /// Sample `i` of the last row as its blend terms: (w² f, w²).
+    #[inline]
+    fn weighted(&self, i: usize) -> (f64, f64) {
+        let w2 = self.weight[i] * self.weight[i];
+        (w2 * self.density[i], w2)
+    }
+
     /// Integrates the samples `range` of the row along line (m0, n0) of a family into
     /// `density[..range.len()]` and `weight[..range.len()]`. False when no line of the pattern
     /// holds a crossing (the row is then empty and the buffers are zero).
@@ -291,6 +298,19 @@ fn integrate_families(
     let mut num: Vec<f32> = memory::zeroed_vec(grid.len());
     let mut den: Vec<f32> = memory::zeroed_vec(grid.len());
 
+    // The row of samples along the family's axis through lattice line (m, n): its density and
+    // surface weight in `rows`, or false when no line within reach has a crossing.
+    let row = |rows: &mut Rows, f: usize, m: usize, n: usize, range: Range<usize>| {
+        active[f].reaches(m * q, n * q)
+            && rows.run(
+                &families[f],
+                kernel,
+                (m * q) as isize,
+                (n * q) as isize,
+                range,
+            )
+    };
+
     // x-lines (cross axes y, z) and y-lines (cross axes z, x), slice by slice.
     num.par_chunks_mut(slice)
         .zip(den.par_chunks_mut(slice))
@@ -298,36 +318,20 @@ fn integrate_families(
         .for_each(|(k, (num, den))| {
             let mut rows = Rows::new(nx.max(ny));
             for j in 0..ny {
-                if active[0].reaches(j * q, k * q)
-                    && rows.run(
-                        &families[0],
-                        kernel,
-                        (j * q) as isize,
-                        (k * q) as isize,
-                        0..nx,
-                    )
-                {
+                if row(&mut rows, 0, j, k, 0..nx) {
                     for i in 0..nx {
-                        let w = rows.weight[i] * rows.weight[i];
-                        num[j * nx + i] = (w * rows.density[i]) as f32;
-                        den[j * nx + i] = w as f32;
+                        let (n, d) = rows.weighted(i);
+                        num[j * nx + i] = n as f32;
+                        den[j * nx + i] = d as f32;
                     }
                 }
             }
             for i in 0..nx {
-                if active[1].reaches(k * q, i * q)
-                    && rows.run(
-                        &families[1],
-                        kernel,
-                        (k * q) as isize,
-                        (i * q) as isize,
-                        0..ny,
-                    )
-                {
+                if row(&mut rows, 1, k, i, 0..ny) {
                     for j in 0..ny {
-                        let w = rows.weight[j] * rows.weight[j];
-                        num[j * nx + i] += (w * rows.density[j]) as f32;
-                        den[j * nx + i] += w as f32;
+                        let (n, d) = rows.weighted(j);
+                        num[j * nx + i] += n as f32;
+                        den[j * nx + i] += d as f32;
                     }
                 }
             }
