@@ -10,11 +10,15 @@
 //! | files | [`io`] | OBJ, PLY, STL, OFF, VTK meshes; NRRD, VTI, NIfTI, MetaImage, raw volumes |
 //! | sampling | [`sampling`] | inside tests, hyper-cone and Gaussian filters, the pyramid |
 //! | contouring | [`contouring`] | table-driven marching cubes |
+//! | measurement | [`metrics`], [`evaluate`], [`paper_tables`] | distances and mesh health; every method against the input; the paper's tables |
 
 pub mod commands;
+pub mod evaluate;
 pub mod lod;
+pub mod paper_tables;
 
 pub use voxlod_contouring as contouring;
 pub use voxlod_core as core;
 pub use voxlod_io as io;
+pub use voxlod_metrics as metrics;
 pub use voxlod_sampling as sampling;

@@ -5,8 +5,11 @@ use clap::{Parser, Subcommand};
 
 pub mod cluster;
 pub mod common;
+pub mod compare;
 pub mod contour;
 pub mod demo;
+pub mod evaluate;
+pub mod inspect;
 pub mod lod;
 pub mod select;
 pub mod source;
@@ -33,6 +36,9 @@ pub enum Command {
     Contour(contour::ContourArgs),
     Cluster(cluster::ClusterArgs),
     Select(select::SelectArgs),
+    Inspect(inspect::InspectArgs),
+    Compare(compare::CompareArgs),
+    Evaluate(evaluate::EvaluateArgs),
 }
 
 /// Runs the chosen subcommand.
@@ -44,5 +50,8 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Contour(args) => contour::run(args),
         Command::Cluster(args) => cluster::run(args),
         Command::Select(args) => select::run(args),
+        Command::Inspect(args) => inspect::run(args),
+        Command::Compare(args) => compare::run(args),
+        Command::Evaluate(args) => evaluate::run(args),
     }
 }

@@ -1,0 +1,230 @@
+//! `voxlod evaluate`: every simplifier of the project on one mesh, measured against it.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use serde::Serialize;
+use voxlod_metrics::DistanceOptions;
+
+use super::common::{
+    ensure_dir, in_dir, print_json, progress, read_mesh_input, write_text, CliError,
+};
+use crate::evaluate::plot::plot_evaluation;
+use crate::evaluate::report::{markdown, ReportContext};
+use crate::evaluate::{evaluate, Budgets, EvaluateOptions, Evaluation, Method};
+
+/// Evaluate every simplification method on a mesh: error against triangle count.
+///
+/// Runs the voxel pipeline with both filters (hyper-cone and Gaussian), Rossignac–Borrel and
+/// Low–Tan clustering at a series of triangle budgets (by default half the input's triangles,
+/// then halving, eight budgets down to 100 triangles). Each method's parameter (resolution or
+/// cells) is searched until its output lands within 10 % of the budget. Each kept level is
+/// measured against the input: two-sided Hausdorff, mean and RMS distance in percent of the
+/// input's diagonal, components, genus, manifoldness.
+///
+/// Writes DIR/report.md, DIR/report.json and DIR/plot.png (error against triangles, log–log,
+/// one curve per method); with --meshes, every kept level as DIR/meshes/METHOD-TRIANGLES.ply.
+/// Nothing is written if the evaluation fails.
+///
+/// Not evaluated yet: simplification envelopes, image-space differences and preview renders
+/// (their crates are not in the workspace yet); the report says so.
+///
+/// Examples:
+///   voxlod evaluate bunny.obj -o bunny-eval
+///   voxlod evaluate rocker-arm.obj -o rocker --budgets 8000,2000,500 --samples 200000
+///   voxlod evaluate part.stl -o part-eval --methods voxel-hypercone,rossignac-borrel
+#[derive(Args, Debug)]
+#[command(verbatim_doc_comment)]
+pub struct EvaluateArgs {
+    /// The mesh to simplify (.obj .ply .stl .off .vtp .vtk)
+    pub input: PathBuf,
+    /// Folder for report.md, report.json and plot.png (created if missing)
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+    /// Triangle budgets, e.g. 20000,5000,1000 (default: halving from half the input's count)
+    #[arg(long, value_name = "A,B,...", value_delimiter = ',')]
+    pub budgets: Option<Vec<usize>>,
+    /// Number of halving budgets when --budgets is not given
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 8,
+        conflicts_with = "budgets"
+    )]
+    pub count: usize,
+    /// Methods to run (default: all): voxel-hypercone, voxel-gaussian, rossignac-borrel, low-tan
+    #[arg(long, value_name = "M,...", value_delimiter = ',')]
+    pub methods: Option<Vec<Method>>,
+    /// Points sampled on each surface for each distance
+    #[arg(long, value_name = "N", default_value_t = 100_000)]
+    pub samples: usize,
+    /// Accepted relative miss of a budget, e.g. 0.1 for ±10 %
+    #[arg(long, value_name = "T", default_value_t = 0.1)]
+    pub tolerance: f64,
+    /// Also write every kept level to DIR/meshes/
+    #[arg(long)]
+    pub meshes: bool,
+    /// Print the report as JSON on standard output (no progress bar)
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What report.json holds: the evaluation and the files written beside it.
+#[derive(Serialize)]
+struct EvaluateReport<'a> {
+    input: String,
+    #[serde(flatten)]
+    evaluation: &'a Evaluation,
+    plot: Option<String>,
+    plot_font: Option<String>,
+    meshes: Vec<String>,
+}
+
+pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
+    if args.samples == 0 {
+        return Err(CliError::msg("--samples must be at least 1"));
+    }
+    if !(args.tolerance > 0.0 && args.tolerance < 1.0) {
+        return Err(CliError::msg(format!(
+            "--tolerance must lie strictly between 0 and 1, got {}",
+            args.tolerance
+        )));
+    }
+    let mut options = EvaluateOptions::standard();
+    options.budgets = match &args.budgets {
+        Some(list) => {
+            if let Some(zero) = list.iter().position(|&b| b == 0) {
+                return Err(CliError::msg(format!(
+                    "--budgets: budget {} is 0; budgets are triangle counts of at least 1",
+                    zero + 1
+                )));
+            }
+            Budgets::Explicit(list.clone())
+        }
+        None => {
+            if args.count == 0 {
+                return Err(CliError::msg("--count must be at least 1"));
+            }
+            Budgets::Halving {
+                count: args.count,
+                smallest: 100,
+            }
+        }
+    };
+    if let Some(methods) = &args.methods {
+        let mut unique: Vec<Method> = Vec::new();
+        for &m in methods {
+            if !unique.contains(&m) {
+                unique.push(m);
+            }
+        }
+        options.methods = unique;
+    }
+    options.distance = DistanceOptions::with_samples(args.samples);
+    options.tolerance = args.tolerance;
+
+    let loaded = read_mesh_input(&args.input)?;
+    let name = args.input.display().to_string();
+    let mesh = loaded.mesh;
+    let steps = options.methods.len() * options.budgets.resolve(mesh.triangles.len()).len();
+    let bar = progress(steps as u64, "levels", args.json);
+    let evaluation = evaluate(&mesh, &options, |method, point| {
+        bar.inc(1);
+        if !args.json {
+            bar.suspend(|| {
+                eprintln!(
+                    "{method:>16} {:>5} {:>4}: {:>8} triangles, Hausdorff {:.3} %, mean {:.4} %",
+                    method.parameter_name(),
+                    point.parameter,
+                    point.triangles,
+                    100.0 * point.hausdorff_fraction,
+                    100.0 * point.mean_fraction
+                )
+            });
+        }
+    })
+    .map_err(|e| CliError::msg(format!("{name}: {e}")))?;
+    bar.finish_and_clear();
+
+    let title = args
+        .input
+        .file_name()
+        .map_or(name.clone(), |f| f.to_string_lossy().into_owned());
+    let chart = match plot_evaluation(&evaluation, &title) {
+        Ok(chart) => Some(chart),
+        Err(e) => {
+            eprintln!("warning: no chart: {e}");
+            None
+        }
+    };
+
+    // Everything is computed: now write, each file atomically.
+    ensure_dir(&args.output)?;
+    let mut notes = Vec::new();
+    let mut meshes = Vec::new();
+    if args.meshes {
+        let dir = in_dir(&args.output, "meshes");
+        ensure_dir(&dir)?;
+        for curve in &evaluation.curves {
+            for point in &curve.points {
+                let file = format!("{}-{}.ply", curve.method, point.triangles);
+                voxlod_io::write_mesh(&dir.join(&file), &point.mesh)?;
+                meshes.push(format!("meshes/{file}"));
+            }
+        }
+        notes.push(format!("{} level meshes in `meshes/`.", meshes.len()));
+    }
+    let plot = match &chart {
+        Some(chart) => {
+            voxlod_io::atomic::write_atomically(&in_dir(&args.output, "plot.png"), |w| {
+                std::io::Write::write_all(w, &chart.png)
+            })?;
+            Some("plot.png".to_string())
+        }
+        None => None,
+    };
+    if let Some(font) = chart.as_ref().and_then(|c| c.font.as_ref()) {
+        notes.push(format!("Chart text in {}.", font.display()));
+    }
+    let report = EvaluateReport {
+        input: name.clone(),
+        evaluation: &evaluation,
+        plot: plot.clone(),
+        plot_font: chart
+            .as_ref()
+            .and_then(|c| c.font.as_ref())
+            .map(|f| f.display().to_string()),
+        meshes,
+    };
+    let json = serde_json::to_string_pretty(&report)
+        .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
+    write_text(&in_dir(&args.output, "report.json"), &json)?;
+    let context = ReportContext {
+        input: name,
+        plot_file: plot,
+        plot_unlabelled: chart.as_ref().is_some_and(|c| !c.labelled),
+        notes,
+    };
+    write_text(
+        &in_dir(&args.output, "report.md"),
+        &markdown(&evaluation, &context),
+    )?;
+    if args.json {
+        return print_json(&report);
+    }
+    for o in &evaluation.omitted {
+        println!("not evaluated: {}: {}", o.what, o.reason);
+    }
+    println!(
+        "{} methods, {} levels in {:.1} s; report in {}",
+        evaluation.curves.len(),
+        evaluation
+            .curves
+            .iter()
+            .map(|c| c.points.len())
+            .sum::<usize>(),
+        evaluation.seconds,
+        in_dir(&args.output, "report.md").display()
+    );
+    Ok(())
+}

@@ -1,0 +1,204 @@
+//! The Markdown write-up of an evaluation: the input, the chart, a side-by-side table of the
+//! methods at each budget, one detailed table per method, and what was left out. Pure string
+//! building, linear in the number of levels.
+
+use std::fmt::Write;
+
+use super::plot::method_colour;
+use super::{Curve, CurvePoint, Evaluation};
+
+/// What the report says besides the evaluation itself.
+#[derive(Clone, Debug, Default)]
+pub struct ReportContext {
+    /// The input as the user named it.
+    pub input: String,
+    /// The chart's file name beside the report, if one was drawn.
+    pub plot_file: Option<String>,
+    /// The chart has no text (no font was found): the report then gives the colours.
+    pub plot_unlabelled: bool,
+    /// Extra notes (written files, warnings).
+    pub notes: Vec<String>,
+}
+
+fn percent(fraction: f64) -> String {
+    let p = 100.0 * fraction;
+    if p >= 10.0 {
+        format!("{p:.1}")
+    } else if p >= 1.0 {
+        format!("{p:.2}")
+    } else {
+        format!("{p:.3}")
+    }
+}
+
+fn genus(g: Option<i64>) -> String {
+    g.map_or("–".into(), |g| g.to_string())
+}
+
+/// The report as Markdown.
+pub fn markdown(evaluation: &Evaluation, context: &ReportContext) -> String {
+    let mut out = String::new();
+    let e = evaluation;
+    let i = &e.input;
+    let _ = writeln!(out, "# Evaluation of `{}`\n", context.input);
+    let _ = writeln!(
+        out,
+        "The input has {} vertices and {} triangles (area {:.6e}, bounding-box diagonal {:.6e}); \
+         after welding coincident vertices it has {} component(s), {} boundary loop(s), genus {}, \
+         and it is {}a closed manifold.\n",
+        i.vertices,
+        i.triangles,
+        i.area,
+        i.diagonal,
+        i.components,
+        i.boundary_loops,
+        genus(i.genus),
+        if i.closed_manifold { "" } else { "not " }
+    );
+    let _ = writeln!(
+        out,
+        "Each method ran at the parameter whose output came nearest each triangle budget ({}), \
+         accepting a level within {:.0} % of its budget. Errors are two-sided surface distances \
+         to the input, sampled with {} points per surface, in percent of the input's diagonal. \
+         Total time {:.1} s.\n",
+        e.budgets
+            .iter()
+            .map(|b| b.to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
+        100.0 * e.tolerance,
+        e.samples_per_side,
+        e.seconds
+    );
+    if let Some(plot) = &context.plot_file {
+        let _ = writeln!(out, "![error against triangle count]({plot})\n");
+        if context.plot_unlabelled {
+            let _ = writeln!(
+                out,
+                "The chart has no text (no TrueType font was found; set `VOXLOD_FONT`). Left: \
+                 Hausdorff distance, right: mean distance, both against triangles, log–log. \
+                 Colours:\n"
+            );
+            for c in &e.curves {
+                let (r, g, b) = method_colour(c.method);
+                let _ = writeln!(out, "- `#{r:02x}{g:02x}{b:02x}`: {}", c.method);
+            }
+            out.push('\n');
+        }
+    }
+
+    side_by_side(&mut out, e);
+    for curve in &e.curves {
+        method_table(&mut out, curve);
+    }
+
+    let _ = writeln!(out, "## How to read this\n");
+    let _ = writeln!(
+        out,
+        "- Hausdorff is the largest distance found between the two surfaces in either direction \
+         (the larger of input→level, how far the input's samples are from the level, and \
+         level→input); mean and RMS average over the samples of both surfaces. Sampling finds a \
+         lower bound of the true Hausdorff distance.\n\
+         - The voxel levels are closed manifolds by construction (marching cubes on a padded \
+         grid); holes of the input are closed before sampling, so a level's surface includes \
+         caps that the input does not have, and they count in its distance.\n\
+         - Clustering leaves dangling edges and isolated points where triangles collapsed; they \
+         are counted but have no area, so only the triangles are measured. Its output is \
+         usually not a manifold (genus undefined: –).\n\
+         - Two budgets whose nearest level is the same are reported once."
+    );
+    if !e.omitted.is_empty() || !context.notes.is_empty() {
+        let _ = writeln!(out, "\n## Not evaluated, and notes\n");
+        for o in &e.omitted {
+            let _ = writeln!(out, "- {}: {}.", o.what, o.reason);
+        }
+        for n in &context.notes {
+            let _ = writeln!(out, "- {n}");
+        }
+    }
+    out
+}
+
+/// One row per budget, one column per method: triangles and Hausdorff / mean distance.
+fn side_by_side(out: &mut String, e: &Evaluation) {
+    let _ = writeln!(
+        out,
+        "## At each budget\n\nTriangles, then Hausdorff / mean distance in % of the diagonal.\n"
+    );
+    let _ = write!(out, "| budget |");
+    for c in &e.curves {
+        let _ = write!(out, " {} |", c.method);
+    }
+    let _ = write!(out, "\n|---:|");
+    for _ in &e.curves {
+        let _ = write!(out, "---|");
+    }
+    out.push('\n');
+    for &budget in &e.budgets {
+        let _ = write!(out, "| {budget} |");
+        for c in &e.curves {
+            match c.points.iter().find(|p| p.budget == budget) {
+                Some(p) => {
+                    let _ = write!(
+                        out,
+                        " {} · {} / {} |",
+                        p.triangles,
+                        percent(p.hausdorff_fraction),
+                        percent(p.mean_fraction)
+                    );
+                }
+                None => out.push_str(" – |"),
+            }
+        }
+        out.push('\n');
+    }
+    out.push('\n');
+}
+
+fn method_table(out: &mut String, c: &Curve) {
+    let _ = writeln!(
+        out,
+        "## {}\n\n{} runs in {:.2} s (searching and measuring).\n",
+        c.method, c.trials, c.seconds
+    );
+    let _ = writeln!(
+        out,
+        "| budget | {} | triangles | vertices | Hausdorff % | input→level % | level→input % \
+         | mean % | RMS % | components | genus | closed manifold | dangling edges | points \
+         | seconds |",
+        c.parameter
+    );
+    let _ = writeln!(
+        out,
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|"
+    );
+    for p in &c.points {
+        row(out, p);
+    }
+    for m in &c.misses {
+        let _ = writeln!(out, "\n- {m}");
+    }
+    out.push('\n');
+}
+
+fn row(out: &mut String, p: &CurvePoint) {
+    let _ = writeln!(
+        out,
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3} |",
+        p.budget,
+        p.parameter,
+        p.triangles,
+        p.vertices,
+        percent(p.hausdorff_fraction),
+        percent(p.input_to_level_fraction),
+        percent(p.level_to_input_fraction),
+        percent(p.mean_fraction),
+        percent(p.rms_fraction),
+        p.components,
+        genus(p.genus),
+        if p.closed_manifold { "yes" } else { "no" },
+        p.dangling_edges,
+        p.isolated_points,
+        p.simplify_seconds
+    );
+}
