@@ -338,8 +338,20 @@ fn check_evaluation(out: &Path, methods: &[&str]) -> serde_json::Value {
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
     let markdown = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert_eq!(png_size(&out.join("plot.png")), (1400, 600));
+    // Two panels (Hausdorff, mean), and a third for silhouettes when they were measured.
+    let views = report["image_views"].as_u64().unwrap();
+    let panels = if views > 0 { 3 } else { 2 };
+    assert_eq!(png_size(&out.join("plot.png")), (700 * panels, 600));
     assert_eq!(report["plot"], "plot.png");
+    let previews = report["previews"].as_array().unwrap();
+    assert_eq!(previews.len(), if views > 0 { methods.len() } else { 0 });
+    for p in previews {
+        let file = p.as_str().unwrap();
+        let (w, h) = png_size(&out.join(file));
+        assert_eq!(h, 200);
+        assert!(w > 400, "{file}: {w} wide");
+        assert!(markdown.contains(&format!("]({file})")));
+    }
     assert!(markdown.contains("](plot.png)"));
     let curves = report["curves"].as_array().unwrap();
     let names: Vec<&str> = curves
@@ -378,6 +390,15 @@ fn check_evaluation(out: &Path, methods: &[&str]) -> serde_json::Value {
             if method.starts_with("voxel") {
                 assert_eq!(p["closed_manifold"], true, "{method}: {p}");
             }
+            if views > 0 {
+                let d = &p["image_difference"];
+                let f = d["fraction"].as_f64().unwrap();
+                assert!((0.0..=1.0).contains(&f), "{method}: {d}");
+                assert_eq!(d["views"], views);
+                assert!(d["differing_pixels"].as_u64() <= d["covered_pixels"].as_u64());
+            } else {
+                assert!(p["image_difference"].is_null());
+            }
         }
         // Fewer triangles, more error: the coarsest level is further from the input than the
         // finest (mean distance, which sampling measures stably).
@@ -390,6 +411,14 @@ fn check_evaluation(out: &Path, methods: &[&str]) -> serde_json::Value {
                     > finest["mean_fraction"].as_f64().unwrap(),
                 "{method}: coarse {coarsest} vs fine {finest}"
             );
+            if views > 0 {
+                let silhouette =
+                    |p: &serde_json::Value| p["image_difference"]["fraction"].as_f64().unwrap();
+                assert!(
+                    silhouette(coarsest) > silhouette(finest),
+                    "{method}: coarse {coarsest} vs fine {finest}"
+                );
+            }
         }
     }
     let omitted: Vec<String> = report["omitted"]
@@ -468,6 +497,8 @@ fn evaluate_runs_the_methods_asked_for_and_prints_json() {
         "2000,300",
         "--samples",
         "2000",
+        "--views",
+        "0",
         "--methods",
         "rossignac-borrel,voxel-gaussian,rossignac-borrel",
         "--json",
@@ -490,6 +521,44 @@ fn evaluate_runs_the_methods_asked_for_and_prints_json() {
     assert_eq!(on_disk["curves"][1]["points"].as_array().unwrap().len(), 2);
     let markdown = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(markdown.contains("budget 2000: out of reach"));
+    assert!(
+        !out.join("previews").exists(),
+        "--views 0 draws no previews"
+    );
+}
+
+#[test]
+fn silhouette_difference_is_zero_for_the_input_and_grows_as_a_copy_shrinks() {
+    use voxlod::core::PolyMesh;
+    use voxlod::evaluate::{ImageOptions, SilhouetteReference};
+    let ring = torus(48, 24, 2.0, 0.7);
+    let reference = SilhouetteReference::new(&ring, &ImageOptions::quick()).unwrap();
+    let same = reference.difference(&PolyMesh::from(ring.clone())).unwrap();
+    assert_eq!(same.differing_pixels, 0);
+    assert_eq!(same.fraction, 0.0);
+    assert_eq!(same.views, 6);
+    assert!(same.covered_pixels > 6 * 1000, "{same:?}");
+    let mut last = 0.0;
+    for scale in [0.95f32, 0.8, 0.5] {
+        let mut smaller = ring.clone();
+        for p in &mut smaller.positions {
+            *p *= scale;
+        }
+        let d = reference.difference(&PolyMesh::from(smaller)).unwrap();
+        assert!(d.fraction > last, "scale {scale}: {d:?}");
+        last = d.fraction;
+    }
+    // A copy shrunk to half is inside the input's box and covers about a quarter of the area:
+    // most of the union differs.
+    assert!(last > 0.5 && last < 1.0, "{last}");
+    // Dangling edges count: a single edge through the ring's hole adds differing pixels.
+    let mut with_edge = PolyMesh::from(ring.clone());
+    with_edge.mesh.positions.push(Vec3::new(-1.0, 0.0, 0.0));
+    with_edge.mesh.positions.push(Vec3::new(1.0, 0.0, 0.0));
+    let n = with_edge.mesh.positions.len() as u32;
+    with_edge.lines.push([n - 2, n - 1]);
+    let d = reference.difference(&with_edge).unwrap();
+    assert!(d.differing_pixels > 0, "{d:?}");
 }
 
 #[test]
@@ -533,7 +602,7 @@ fn evaluate_refuses_bad_input_and_writes_nothing() {
     .unwrap();
     let good = write_mesh(dir.path(), "good.ply", &torus(16, 8, 2.0, 0.7));
     let out = dir.path().join("never");
-    let cases: [(&Path, &[&str], &str); 7] = [
+    let cases: [(&Path, &[&str], &str); 8] = [
         (&flat, &[], "no area"),
         (&empty, &[], "empty.obj"),
         (&volume, &[], "volume"),
@@ -541,6 +610,7 @@ fn evaluate_refuses_bad_input_and_writes_nothing() {
         (&good, &["--samples", "0"], "--samples"),
         (&good, &["--tolerance", "1.5"], "--tolerance"),
         (&good, &["--methods", "quadric"], "quadric"),
+        (&good, &["--views", "20"], "--views"),
     ];
     for (input, extra, what) in cases {
         let mut args = vec!["evaluate", arg(input), "-o", arg(&out)];

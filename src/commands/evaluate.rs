@@ -4,11 +4,16 @@ use std::path::PathBuf;
 
 use clap::Args;
 use serde::Serialize;
+use voxlod_core::PolyMesh;
 use voxlod_metrics::DistanceOptions;
+
+/// Side of each image of the preview strips, in pixels.
+const PREVIEW_SIZE: u32 = 200;
 
 use super::common::{
     ensure_dir, in_dir, print_json, progress, read_mesh_input, write_text, CliError,
 };
+use crate::evaluate::images::preview_strip;
 use crate::evaluate::plot::plot_evaluation;
 use crate::evaluate::report::{markdown, ReportContext};
 use crate::evaluate::{evaluate, Budgets, EvaluateOptions, Evaluation, Method};
@@ -22,12 +27,15 @@ use crate::evaluate::{evaluate, Budgets, EvaluateOptions, Evaluation, Method};
 /// measured against the input: two-sided Hausdorff, mean and RMS distance in percent of the
 /// input's diagonal, components, genus, manifoldness.
 ///
-/// Writes DIR/report.md, DIR/report.json and DIR/plot.png (error against triangles, log–log,
-/// one curve per method); with --meshes, every kept level as DIR/meshes/METHOD-TRIANGLES.ply.
-/// Nothing is written if the evaluation fails.
+/// Each level is also rendered beside the input from 14 views (256 × 256, orthographic) and
+/// the share of silhouette pixels that differ is reported (--views 0 skips it).
 ///
-/// Not evaluated yet: simplification envelopes, image-space differences and preview renders
-/// (their crates are not in the workspace yet); the report says so.
+/// Writes DIR/report.md, DIR/report.json, DIR/plot.png (error against triangles, log–log, one
+/// curve per method) and DIR/previews/METHOD.png (the input and each level, rendered side by
+/// side); with --meshes, every kept level as DIR/meshes/METHOD-TRIANGLES.ply (clustering levels
+/// with their dangling edges and points). Nothing is written if the evaluation fails.
+///
+/// Not evaluated yet: simplification envelopes (not in the workspace yet); the report says so.
 ///
 /// Examples:
 ///   voxlod evaluate bunny.obj -o bunny-eval
@@ -61,6 +69,9 @@ pub struct EvaluateArgs {
     /// Accepted relative miss of a budget, e.g. 0.1 for ±10 %
     #[arg(long, value_name = "T", default_value_t = 0.1)]
     pub tolerance: f64,
+    /// Views of the silhouette difference (0 to 14; 0 skips it and the previews)
+    #[arg(long, value_name = "N", default_value_t = 14)]
+    pub views: usize,
     /// Also write every kept level to DIR/meshes/
     #[arg(long)]
     pub meshes: bool,
@@ -77,6 +88,7 @@ struct EvaluateReport<'a> {
     evaluation: &'a Evaluation,
     plot: Option<String>,
     plot_font: Option<String>,
+    previews: Vec<String>,
     meshes: Vec<String>,
 }
 
@@ -122,6 +134,13 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
     }
     options.distance = DistanceOptions::with_samples(args.samples);
     options.tolerance = args.tolerance;
+    if args.views > 14 {
+        return Err(CliError::msg(format!(
+            "--views {}: at most 14 (the octant diagonals and the axes)",
+            args.views
+        )));
+    }
+    options.images.views = args.views;
 
     let loaded = read_mesh_input(&args.input)?;
     let name = args.input.display().to_string();
@@ -158,9 +177,32 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
         }
     };
 
+    let mut strips = Vec::new();
+    if args.views > 0 {
+        for curve in evaluation.curves.iter().filter(|c| !c.points.is_empty()) {
+            let levels: Vec<&PolyMesh> = curve.points.iter().map(|p| &p.level).collect();
+            let strip = preview_strip(&mesh, &levels, PREVIEW_SIZE)
+                .and_then(|image| image.to_png())
+                .map_err(|e| CliError::msg(format!("{name}: preview of {}: {e}", curve.method)))?;
+            strips.push((
+                curve.method,
+                format!("previews/{}.png", curve.method),
+                strip,
+            ));
+        }
+    }
+
     // Everything is computed: now write, each file atomically.
     ensure_dir(&args.output)?;
     let mut notes = Vec::new();
+    if !strips.is_empty() {
+        ensure_dir(&in_dir(&args.output, "previews"))?;
+        for (_, file, png) in &strips {
+            voxlod_io::atomic::write_atomically(&in_dir(&args.output, file), |w| {
+                std::io::Write::write_all(w, png)
+            })?;
+        }
+    }
     let mut meshes = Vec::new();
     if args.meshes {
         let dir = in_dir(&args.output, "meshes");
@@ -168,7 +210,7 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
         for curve in &evaluation.curves {
             for point in &curve.points {
                 let file = format!("{}-{}.ply", curve.method, point.triangles);
-                voxlod_io::write_mesh(&dir.join(&file), &point.mesh)?;
+                voxlod_io::write_poly_mesh(&dir.join(&file), &point.level)?;
                 meshes.push(format!("meshes/{file}"));
             }
         }
@@ -194,6 +236,7 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
             .as_ref()
             .and_then(|c| c.font.as_ref())
             .map(|f| f.display().to_string()),
+        previews: strips.iter().map(|(_, f, _)| f.clone()).collect(),
         meshes,
     };
     let json = serde_json::to_string_pretty(&report)
@@ -203,6 +246,7 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
         input: name,
         plot_file: plot,
         plot_unlabelled: chart.as_ref().is_some_and(|c| !c.labelled),
+        previews: strips.iter().map(|(m, f, _)| (*m, f.clone())).collect(),
         notes,
     };
     write_text(

@@ -25,11 +25,17 @@
 //! one distance measurement per kept level (two BVH builds, `2 × samples` queries). The
 //! measured levels are kept in memory for the caller to write.
 //!
-//! Simplification envelopes (Varshney et al. 1995) and image-space differences are not
-//! evaluated yet; [`Evaluation::omitted`] says so in every report (see [`not_yet_evaluated`]).
+//! Each level is also compared with the input in image space when [`EvaluateOptions::images`]
+//! asks for it: the share of differing silhouette pixels over a set of views ([`images`]).
+//!
+//! Simplification envelopes (Varshney et al. 1995) are not evaluated yet;
+//! [`Evaluation::omitted`] says so in every report (see [`not_yet_evaluated`]).
 
+pub mod images;
 pub mod plot;
 pub mod report;
+
+pub use images::{ImageDifference, ImageOptions, SilhouetteReference};
 
 use std::time::Instant;
 
@@ -37,8 +43,9 @@ use serde::Serialize;
 use voxlod_baselines::{
     low_tan, rossignac_borrel, BaselineError, ClusterOptions, FloatingCellOptions,
 };
-use voxlod_core::{mesh_topology, TriangleMesh};
+use voxlod_core::{mesh_topology, PolyMesh, TriangleMesh};
 use voxlod_metrics::{mesh_distance, welded_mesh_report, DistanceOptions, MetricsError};
+use voxlod_render::RenderError;
 use voxlod_sampling::{Filter, MeshSolid, PyramidOptions, SamplingError};
 
 use crate::lod::{build_level, plan, LodError, LodOptions, LodSource};
@@ -179,6 +186,8 @@ pub struct EvaluateOptions {
     pub max_cells: u32,
     /// Quadrature lines per filter radius of the voxel pipeline (see `voxlod lod --help`).
     pub lines_per_radius: usize,
+    /// The silhouette difference's views and image size.
+    pub images: ImageOptions,
 }
 
 impl Default for EvaluateOptions {
@@ -203,6 +212,7 @@ impl EvaluateOptions {
             max_resolution: 512,
             max_cells: 4096,
             lines_per_radius: 4,
+            images: ImageOptions::standard(),
         }
     }
 
@@ -217,6 +227,7 @@ impl EvaluateOptions {
             distance: DistanceOptions::with_samples(20_000),
             tolerance: 0.2,
             max_trials: 4,
+            images: ImageOptions::quick(),
             ..EvaluateOptions::standard()
         }
     }
@@ -266,12 +277,15 @@ pub struct CurvePoint {
     pub non_manifold_edges: usize,
     pub genus: Option<i64>,
     pub closed_manifold: bool,
+    /// Silhouettes against the input's, when images are measured.
+    pub image_difference: Option<ImageDifference>,
     /// Time of the run that made this level (without the search's other runs).
     pub simplify_seconds: f64,
     pub distance_seconds: f64,
-    /// The level's triangles (with the clustering's unused vertices dropped).
+    pub image_seconds: f64,
+    /// The level: triangles, and for clustering its dangling edges and isolated points.
     #[serde(skip)]
-    pub mesh: TriangleMesh,
+    pub level: PolyMesh,
 }
 
 /// The curve of one method.
@@ -303,6 +317,9 @@ pub struct Evaluation {
     pub budgets: Vec<usize>,
     pub samples_per_side: usize,
     pub tolerance: f64,
+    /// Views and pixels per side of the silhouette difference (0 views: not measured).
+    pub image_views: usize,
+    pub image_size: u32,
     pub curves: Vec<Curve>,
     pub omitted: Vec<Omission>,
     pub seconds: f64,
@@ -333,6 +350,15 @@ pub enum EvaluateError {
         value: u32,
         source: BaselineError,
     },
+    #[error("the input mesh cannot be rendered: {0}")]
+    InputRender(RenderError),
+    #[error("{method} at {parameter} {value}: rendering the level: {source}")]
+    Render {
+        method: Method,
+        parameter: &'static str,
+        value: u32,
+        source: RenderError,
+    },
     #[error("{method} at {parameter} {value}: measuring the level: {source}")]
     Distance {
         method: Method,
@@ -344,17 +370,11 @@ pub enum EvaluateError {
 
 /// What is not evaluated yet, and why: said in every report.
 pub fn not_yet_evaluated() -> Vec<Omission> {
-    vec![
-        Omission {
-            what: "simplification envelopes (Varshney et al. 1995)".into(),
-            reason: "the envelope baseline is not in the workspace yet; evaluate runs without it"
-                .into(),
-        },
-        Omission {
-            what: "image-space difference and preview renders".into(),
-            reason: "the renderer crate is not in the workspace yet".into(),
-        },
-    ]
+    vec![Omission {
+        what: "simplification envelopes (Varshney et al. 1995)".into(),
+        reason: "the envelope baseline is not in the workspace yet; evaluate runs without it"
+            .into(),
+    }]
 }
 
 /// Runs every method of `options` on `mesh` at every budget and measures each level against
@@ -399,12 +419,18 @@ pub fn evaluate(
     } else {
         None
     };
+    let silhouettes = if options.images.views > 0 {
+        Some(SilhouetteReference::new(mesh, &options.images).map_err(EvaluateError::InputRender)?)
+    } else {
+        None
+    };
     let mut curves = Vec::new();
     for &method in &options.methods {
         let runner = Runner {
             method,
             mesh,
             solid: solid.as_ref(),
+            silhouettes: silhouettes.as_ref(),
             options,
         };
         curves.push(method_curve(
@@ -420,6 +446,8 @@ pub fn evaluate(
         budgets,
         samples_per_side: options.distance.samples_per_side,
         tolerance: options.tolerance,
+        image_views: options.images.views.min(14),
+        image_size: options.images.size,
         curves,
         omitted: not_yet_evaluated(),
         seconds: start.elapsed().as_secs_f64(),
@@ -429,10 +457,15 @@ pub fn evaluate(
 /// One run of a method.
 struct Trial {
     parameter: u32,
-    mesh: TriangleMesh,
-    dangling_edges: usize,
-    isolated_points: usize,
+    /// Triangles, and for clustering the dangling edges and isolated points.
+    level: PolyMesh,
     seconds: f64,
+}
+
+impl Trial {
+    fn triangles(&self) -> usize {
+        self.level.mesh.triangles.len()
+    }
 }
 
 /// Runs one method at a given parameter.
@@ -440,6 +473,7 @@ struct Runner<'a> {
     method: Method,
     mesh: &'a TriangleMesh,
     solid: Option<&'a MeshSolid>,
+    silhouettes: Option<&'a SilhouetteReference>,
     options: &'a EvaluateOptions,
 }
 
@@ -447,7 +481,7 @@ impl Runner<'_> {
     fn run(&self, parameter: u32) -> Result<Trial, EvaluateError> {
         let start = Instant::now();
         let method = self.method;
-        let (mut mesh, dangling_edges, isolated_points) = match method {
+        let level = match method {
             Method::VoxelHypercone | Method::VoxelGaussian => {
                 let filter = if method == Method::VoxelHypercone {
                     Filter::Hypercone
@@ -472,7 +506,7 @@ impl Runner<'_> {
                         value: parameter,
                         source,
                     })?;
-                (level.mesh, 0, 0)
+                PolyMesh::from(level.mesh)
             }
             Method::RossignacBorrel | Method::LowTan => {
                 let levels = if method == Method::RossignacBorrel {
@@ -489,21 +523,12 @@ impl Runner<'_> {
                     value: parameter,
                     source,
                 })?;
-                let level = levels.into_iter().next().expect("one level asked for");
-                let report = level.report;
-                (
-                    level.mesh.mesh,
-                    report.dangling_edges,
-                    report.isolated_points,
-                )
+                levels.into_iter().next().expect("one level asked for").mesh
             }
         };
-        mesh.remove_unreferenced_vertices();
         Ok(Trial {
             parameter,
-            mesh,
-            dangling_edges,
-            isolated_points,
+            level,
             seconds: start.elapsed().as_secs_f64(),
         })
     }
@@ -534,7 +559,7 @@ impl Trials {
     /// better than the trials so far.
     fn next_guess(&self, budget: usize, control: &Control) -> Option<u32> {
         let target = (budget as f64).ln();
-        let count = |t: &Trial| t.mesh.triangles.len();
+        let count = |t: &Trial| t.triangles();
         // The nearest trials with fewer triangles than the budget and with at least as many.
         let below = self
             .list
@@ -596,14 +621,14 @@ impl Trials {
 
     /// The trial nearest `budget` in ratio (ties: fewer triangles), among those with triangles.
     fn nearest(&self, budget: usize) -> Option<&Trial> {
-        let miss = |t: &Trial| ((t.mesh.triangles.len() as f64) / budget as f64).ln().abs();
+        let miss = |t: &Trial| ((t.triangles() as f64) / budget as f64).ln().abs();
         self.list
             .iter()
-            .filter(|t| !t.mesh.triangles.is_empty())
+            .filter(|t| t.triangles() > 0)
             .min_by(|a, b| {
                 miss(a)
                     .total_cmp(&miss(b))
-                    .then(a.mesh.triangles.len().cmp(&b.mesh.triangles.len()))
+                    .then(a.triangles().cmp(&b.triangles()))
             })
     }
 }
@@ -630,7 +655,7 @@ fn method_curve(
         for _ in 0..options.max_trials.max(1) {
             if trials
                 .nearest(budget)
-                .is_some_and(|t| within(t.mesh.triangles.len(), budget, options.tolerance))
+                .is_some_and(|t| within(t.triangles(), budget, options.tolerance))
             {
                 break;
             }
@@ -646,11 +671,11 @@ fn method_curve(
             ));
             continue;
         };
-        let ratio = best.mesh.triangles.len() as f64 / budget as f64;
+        let ratio = best.triangles() as f64 / budget as f64;
         if ratio.ln().abs() > options.max_miss_factor.ln() {
             misses.push(format!(
                 "budget {budget}: out of reach; the nearest level has {} triangles ({} {})",
-                best.mesh.triangles.len(),
+                best.triangles(),
                 method.parameter_name(),
                 best.parameter
             ));
@@ -662,7 +687,7 @@ fn method_curve(
                  budget {}",
                 method.parameter_name(),
                 best.parameter,
-                best.mesh.triangles.len(),
+                best.triangles(),
                 same.budget
             ));
             continue;
@@ -684,7 +709,7 @@ fn method_curve(
                 "budget {budget}: the nearest level ({} {}) has {} triangles but no area",
                 method.parameter_name(),
                 best.parameter,
-                best.mesh.triangles.len()
+                best.triangles()
             )),
             Err(e) => return Err(e),
         }
@@ -709,25 +734,41 @@ fn measure(
 ) -> Result<CurvePoint, EvaluateError> {
     let start = Instant::now();
     let method = runner.method;
-    let distance =
-        mesh_distance(runner.mesh, &trial.mesh, &options.distance).map_err(|source| {
-            EvaluateError::Distance {
-                method,
-                parameter: method.parameter_name(),
-                value: trial.parameter,
-                source,
-            }
-        })?;
+    // Vertices that only dangling edges or points use do not belong to the surface.
+    let mut surface = trial.level.mesh.clone();
+    surface.remove_unreferenced_vertices();
+    let distance = mesh_distance(runner.mesh, &surface, &options.distance).map_err(|source| {
+        EvaluateError::Distance {
+            method,
+            parameter: method.parameter_name(),
+            value: trial.parameter,
+            source,
+        }
+    })?;
     let distance_seconds = start.elapsed().as_secs_f64();
-    let topology = mesh_topology(&trial.mesh);
+    let start = Instant::now();
+    let image_difference =
+        match runner.silhouettes {
+            Some(reference) => Some(reference.difference(&trial.level).map_err(|source| {
+                EvaluateError::Render {
+                    method,
+                    parameter: method.parameter_name(),
+                    value: trial.parameter,
+                    source,
+                }
+            })?),
+            None => None,
+        };
+    let image_seconds = start.elapsed().as_secs_f64();
+    let topology = mesh_topology(&surface);
     let fraction = |x: f64| x / input.diagonal;
     Ok(CurvePoint {
         budget,
         parameter: trial.parameter,
-        triangles: trial.mesh.triangles.len(),
-        vertices: trial.mesh.positions.len(),
-        dangling_edges: trial.dangling_edges,
-        isolated_points: trial.isolated_points,
+        triangles: trial.triangles(),
+        vertices: trial.level.mesh.positions.len(),
+        dangling_edges: trial.level.lines.len(),
+        isolated_points: trial.level.points.len(),
         hausdorff: distance.hausdorff,
         mean: distance.mean,
         rms: distance.rms,
@@ -741,8 +782,10 @@ fn measure(
         non_manifold_edges: topology.non_manifold_edges,
         genus: topology.genus,
         closed_manifold: topology.is_closed_manifold() && topology.is_consistently_oriented(),
+        image_difference,
         simplify_seconds: trial.seconds,
         distance_seconds,
-        mesh: trial.mesh.clone(),
+        image_seconds,
+        level: trial.level.clone(),
     })
 }

@@ -1,6 +1,7 @@
-//! The error-against-triangles chart of an evaluation, as PNG bytes: two log–log panels side by
+//! The error-against-triangles chart of an evaluation, as PNG bytes: log–log panels side by
 //! side, the two-sided Hausdorff distance and the mean distance (percent of the input's
-//! diagonal) against the triangle count, one curve per method, drawn with plotters into an RGB
+//! diagonal) and, when measured, the silhouette difference (percent of covered pixels) against
+//! the triangle count, one curve per method, drawn with plotters into an RGB
 //! buffer and encoded with the image crate (so the caller can write the file atomically).
 //!
 //! Text needs a TrueType font, which plotters' ab_glyph backend cannot find by itself: the first
@@ -9,7 +10,7 @@
 //! no font (or `VOXLOD_FONT=none`) the chart is drawn without any text, and [`Chart::labelled`]
 //! says so: the method of each colour is then only in the report's legend ([`method_colour`]).
 //!
-//! Cost: drawing and PNG encoding of a 1400 × 600 image, a few tens of milliseconds.
+//! Cost: drawing and PNG encoding of a 1400 × 600 or 2100 × 600 image, tens of milliseconds.
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -21,8 +22,8 @@ use plotters::style::FontStyle;
 
 use super::{Evaluation, Method};
 
-/// Chart size in pixels.
-pub const WIDTH: u32 = 1400;
+/// Size of one panel in pixels: the chart is as many panels wide as it has.
+pub const PANEL_WIDTH: u32 = 700;
 pub const HEIGHT: u32 = 600;
 
 /// A drawn chart.
@@ -92,8 +93,8 @@ pub fn chart_font() -> Option<&'static Path> {
     .as_deref()
 }
 
-/// (triangles, Hausdorff %, mean %) of one level.
-type Point = (f64, f64, f64);
+/// (triangles, Hausdorff %, mean %, silhouette difference % or NaN) of one level.
+type Point = (f64, f64, f64, f64);
 
 /// One curve: a method's points, in triangle order.
 struct Series {
@@ -122,6 +123,7 @@ pub fn plot_evaluation(evaluation: &Evaluation, title: &str) -> Result<Chart, Pl
                         p.triangles as f64,
                         100.0 * p.hausdorff_fraction,
                         100.0 * p.mean_fraction,
+                        p.image_difference.map_or(f64::NAN, |d| 100.0 * d.fraction),
                     )
                 })
                 .collect();
@@ -135,17 +137,34 @@ pub fn plot_evaluation(evaluation: &Evaluation, title: &str) -> Result<Chart, Pl
     if series.is_empty() {
         return Err(PlotError::Empty);
     }
+    let mut panels = vec![
+        Panel {
+            label: "Hausdorff distance, % of the diagonal",
+            value: |p| p.1,
+        },
+        Panel {
+            label: "mean distance, % of the diagonal",
+            value: |p| p.2,
+        },
+    ];
+    if series.iter().any(|s| s.points.iter().any(|p| p.3 > 0.0)) {
+        panels.push(Panel {
+            label: "silhouette difference, % of covered pixels",
+            value: |p| p.3,
+        });
+    }
     let font = chart_font();
     let labelled = font.is_some();
-    let mut rgb = vec![255u8; (WIDTH * HEIGHT * 3) as usize];
+    let width = PANEL_WIDTH * panels.len() as u32;
+    let mut rgb = vec![255u8; (width * HEIGHT * 3) as usize];
     {
-        let root = BitMapBackend::with_buffer(&mut rgb, (WIDTH, HEIGHT)).into_drawing_area();
-        draw(&root, &series, title, evaluation, labelled).map_err(PlotError::Draw)?;
+        let root = BitMapBackend::with_buffer(&mut rgb, (width, HEIGHT)).into_drawing_area();
+        draw(&root, &series, &panels, title, evaluation, labelled).map_err(PlotError::Draw)?;
         root.present().map_err(|e| PlotError::Draw(e.to_string()))?;
     }
     let mut png = Vec::new();
     image::codecs::png::PngEncoder::new(&mut png)
-        .write_image(&rgb, WIDTH, HEIGHT, image::ExtendedColorType::Rgb8)
+        .write_image(&rgb, width, HEIGHT, image::ExtendedColorType::Rgb8)
         .map_err(|e| PlotError::Encode(e.to_string()))?;
     Ok(Chart {
         png,
@@ -173,6 +192,7 @@ fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
 fn draw(
     root: &DrawingArea<BitMapBackend<'_>, Shift>,
     series: &[Series],
+    panels: &[Panel],
     title: &str,
     evaluation: &Evaluation,
     labelled: bool,
@@ -182,8 +202,14 @@ fn draw(
     let body = if labelled {
         root.titled(
             &format!(
-                "{title}: two-sided distance to the input ({} triangles), {} samples per side",
-                evaluation.input.triangles, evaluation.samples_per_side
+                "{title} ({} triangles): two-sided distance to the input, {} samples per side{}",
+                evaluation.input.triangles,
+                evaluation.samples_per_side,
+                if evaluation.image_views > 0 {
+                    format!("; silhouettes over {} views", evaluation.image_views)
+                } else {
+                    String::new()
+                }
             ),
             (FAMILY, 22),
         )
@@ -191,19 +217,9 @@ fn draw(
     } else {
         root.clone()
     };
-    let panels = body.split_evenly((1, 2));
+    let areas = body.split_evenly((1, panels.len()));
     let x_range = log_range(series.iter().flat_map(|s| s.points.iter().map(|p| p.0)));
-    let panel_specs = [
-        Panel {
-            label: "Hausdorff distance, % of the diagonal",
-            value: |p| p.1,
-        },
-        Panel {
-            label: "mean distance, % of the diagonal",
-            value: |p| p.2,
-        },
-    ];
-    for (area, panel) in panels.iter().zip(&panel_specs) {
+    for (area, panel) in areas.iter().zip(panels) {
         let y_range = log_range(series.iter().flat_map(|s| s.points.iter().map(panel.value)));
         draw_panel(area, series, x_range.clone(), y_range, panel, labelled)?;
     }
@@ -263,7 +279,12 @@ fn draw_panel(
     for (k, s) in series.iter().enumerate() {
         let (r, g, b) = method_colour(s.method);
         let colour = RGBColor(r, g, b);
-        let line: Vec<(f64, f64)> = s.points.iter().map(|p| (p.0, (panel.value)(p))).collect();
+        let line: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .map(|p| (p.0, (panel.value)(p)))
+            .filter(|&(_, v)| v > 0.0 && v.is_finite())
+            .collect();
         let drawn = chart
             .draw_series(LineSeries::new(line.clone(), colour.stroke_width(2)))
             .map_err(|e| err(&e))?;

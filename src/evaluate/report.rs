@@ -5,7 +5,7 @@
 use std::fmt::Write;
 
 use super::plot::method_colour;
-use super::{Curve, CurvePoint, Evaluation};
+use super::{Curve, CurvePoint, Evaluation, Method};
 
 /// What the report says besides the evaluation itself.
 #[derive(Clone, Debug, Default)]
@@ -16,6 +16,8 @@ pub struct ReportContext {
     pub plot_file: Option<String>,
     /// The chart has no text (no font was found): the report then gives the colours.
     pub plot_unlabelled: bool,
+    /// Preview strips beside the report, per method (file names).
+    pub previews: Vec<(Method, String)>,
     /// Extra notes (written files, warnings).
     pub notes: Vec<String>,
 }
@@ -90,6 +92,14 @@ pub fn markdown(evaluation: &Evaluation, context: &ReportContext) -> String {
     side_by_side(&mut out, e);
     for curve in &e.curves {
         method_table(&mut out, curve);
+        if let Some((_, file)) = context.previews.iter().find(|(m, _)| *m == curve.method) {
+            let _ = writeln!(
+                out,
+                "![{} levels]({file})\n\nThe input, then the levels above from the most \
+                 triangles to the fewest.\n",
+                curve.method
+            );
+        }
     }
 
     let _ = writeln!(out, "## How to read this\n");
@@ -107,6 +117,16 @@ pub fn markdown(evaluation: &Evaluation, context: &ReportContext) -> String {
          usually not a manifold (genus undefined: –).\n\
          - Two budgets whose nearest level is the same are reported once."
     );
+    if e.image_views > 0 {
+        let _ = writeln!(
+            out,
+            "- Silhouette difference: the input and each level rendered from {} views \
+             ({} × {} pixels, orthographic, framing the input's box); the share of pixels \
+             covered in one image but not the other, among those covered in either. Dangling \
+             edges count one pixel wide.",
+            e.image_views, e.image_size, e.image_size
+        );
+    }
     if !e.omitted.is_empty() || !context.notes.is_empty() {
         let _ = writeln!(out, "\n## Not evaluated, and notes\n");
         for o in &e.omitted {
@@ -123,7 +143,12 @@ pub fn markdown(evaluation: &Evaluation, context: &ReportContext) -> String {
 fn side_by_side(out: &mut String, e: &Evaluation) {
     let _ = writeln!(
         out,
-        "## At each budget\n\nTriangles, then Hausdorff / mean distance in % of the diagonal.\n"
+        "## At each budget\n\nTriangles, then Hausdorff / mean distance in % of the diagonal{}.\n",
+        if e.image_views > 0 {
+            " / silhouette difference in % of covered pixels"
+        } else {
+            ""
+        }
     );
     let _ = write!(out, "| budget |");
     for c in &e.curves {
@@ -141,10 +166,12 @@ fn side_by_side(out: &mut String, e: &Evaluation) {
                 Some(p) => {
                     let _ = write!(
                         out,
-                        " {} · {} / {} |",
+                        " {} · {} / {}{} |",
                         p.triangles,
                         percent(p.hausdorff_fraction),
-                        percent(p.mean_fraction)
+                        percent(p.mean_fraction),
+                        p.image_difference
+                            .map_or(String::new(), |d| format!(" / {}", percent(d.fraction)))
                     );
                 }
                 None => out.push_str(" – |"),
@@ -164,13 +191,13 @@ fn method_table(out: &mut String, c: &Curve) {
     let _ = writeln!(
         out,
         "| budget | {} | triangles | vertices | Hausdorff % | input→level % | level→input % \
-         | mean % | RMS % | components | genus | closed manifold | dangling edges | points \
-         | seconds |",
+         | mean % | RMS % | silhouette % | components | genus | closed manifold \
+         | dangling edges | points | seconds |",
         c.parameter
     );
     let _ = writeln!(
         out,
-        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|"
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|"
     );
     for p in &c.points {
         row(out, p);
@@ -184,7 +211,7 @@ fn method_table(out: &mut String, c: &Curve) {
 fn row(out: &mut String, p: &CurvePoint) {
     let _ = writeln!(
         out,
-        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3} |",
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3} |",
         p.budget,
         p.parameter,
         p.triangles,
@@ -194,6 +221,8 @@ fn row(out: &mut String, p: &CurvePoint) {
         percent(p.level_to_input_fraction),
         percent(p.mean_fraction),
         percent(p.rms_fraction),
+        p.image_difference
+            .map_or("–".to_string(), |d| percent(d.fraction)),
         p.components,
         genus(p.genus),
         if p.closed_manifold { "yes" } else { "no" },
