@@ -253,7 +253,7 @@ pub fn marching_cubes_multi(
     if bits.is_empty() {
         return Ok(vec![CellMesh::default(); isos.len()]);
     }
-    bits.iter()
+    bits.par_iter()
         .zip(isos)
         .map(|(b, &iso)| {
             let (mesh, cells) = extract(volume, b, iso, normals, true)?;
@@ -313,17 +313,16 @@ fn classify(volume: &Volume, isos: &[f32]) -> Result<Vec<BitVolume>, ContourErro
             .par_iter_mut()
             .zip(data.par_chunks(nx * ny))
             .for_each(|(outs, slice)| {
-                let mut m = vec![0u64; isos.len()];
+                // Row by row: the row stays in cache while every iso value classifies it.
                 for (j, row) in slice.chunks(nx).enumerate() {
-                    for (w, chunk) in row.chunks(64).enumerate() {
-                        m.fill(0);
-                        for (b, &v) in chunk.iter().enumerate() {
-                            for (ml, &iso) in m.iter_mut().zip(isos) {
-                                *ml |= ((v >= iso) as u64) << b;
+                    for (out, &iso) in outs.iter_mut().zip(isos) {
+                        let bit_row = &mut out[j * words..(j + 1) * words];
+                        for (word, chunk) in bit_row.iter_mut().zip(row.chunks(64)) {
+                            let mut m = 0u64;
+                            for (b, &v) in chunk.iter().enumerate() {
+                                m |= ((v >= iso) as u64) << b;
                             }
-                        }
-                        for (out, &ml) in outs.iter_mut().zip(&m) {
-                            out[j * words + w] = ml;
+                            *word = m;
                         }
                     }
                 }

@@ -29,7 +29,7 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use voxlod_core::Grid;
 
-use crate::geometry::{behind, Projected, Projector};
+use crate::geometry::{behind_fast, second_is_behind, Projected, Projector};
 use crate::LayersError;
 
 /// Names of the eight stored orders, by [`Octant::index`]: the signs of the view direction (eye
@@ -330,13 +330,23 @@ pub fn octant_order(obj: &CellTriangles, index: &CellIndex, octant: Octant) -> V
     )
 }
 
-/// All eight octant orders, by [`Octant::index`].
+/// All eight octant orders, by [`Octant::index`]. Opposite octants have reversed orders (the
+/// traversal reverses, and so does "behind" inside a cell, the diagonals being opposite), so
+/// four are computed and reversed for the other four.
 pub fn octant_orders(obj: &CellTriangles) -> Result<Vec<Vec<u32>>, LayersError> {
     let index = index_cells(obj)?;
-    Ok(Octant::ALL
+    let mut half: Vec<Vec<u32>> = Octant::ALL[..4]
         .par_iter()
         .map(|&o| octant_order(obj, &index, o))
-        .collect())
+        .collect();
+    let mut opposite: Vec<Vec<u32>> = half
+        .par_iter()
+        .map(|o| o.iter().rev().copied().collect())
+        .collect();
+    // Octant 7 − i is the opposite of octant i.
+    opposite.reverse();
+    half.append(&mut opposite);
+    Ok(half)
 }
 
 fn traverse(obj: &CellTriangles, index: &CellIndex, sweep: Sweep, in_cell: InCell) -> Vec<u32> {
@@ -408,11 +418,13 @@ fn row_order(row: &[u32], first: usize, cx: usize, sweep: Sweep, out: &mut Vec<u
 #[derive(Default)]
 struct Scratch {
     projected: Vec<Projected>,
+    key: Vec<f64>,
     by_depth: Vec<usize>,
     indegree: Vec<u32>,
     edges: Vec<(u16, u16)>,
     succ_start: Vec<u32>,
     succ: Vec<u16>,
+    fill: Vec<u32>,
     done: Vec<bool>,
 }
 
@@ -468,28 +480,51 @@ fn sort_cell(
         return;
     }
     let projector = projector.expect("checked");
-    // Farthest centroid first, as the tie-break.
+    // A first guess, farthest first. The layers in a cell are nearly parallel offsets of one
+    // surface, so where the cell's surface faces the eye the inner layers (smaller offset along
+    // the mean outward normal) are behind, and where it faces away the outer ones: the offset
+    // along the normal, signed by the facing, orders nested layers where centroid depth along
+    // the view would be fooled by their sideways shifts. Near silhouettes, view depth.
+    let proj = &s.projected;
+    let normal: DVec3 = proj.iter().map(|p| p.normal).sum();
+    let view = projector.direction;
+    let facing = normal.normalize_or_zero().dot(view);
+    s.key.clear();
+    if facing.abs() > 0.25 {
+        let sign = facing.signum();
+        s.key.extend(
+            proj.iter()
+                .map(|p| sign * normal.dot(p.world.iter().sum::<DVec3>())),
+        );
+    } else {
+        s.key.extend(proj.iter().map(|p| p.depth));
+    }
     s.by_depth.clear();
     s.by_depth.extend(0..n);
-    let proj = &s.projected;
+    let key = &s.key;
     s.by_depth
-        .sort_by(|&a, &b| proj[b].depth.total_cmp(&proj[a].depth).then(a.cmp(&b)));
-    if n == 2 {
-        let (a, b) = (s.by_depth[0], s.by_depth[1]);
-        // Draw b first only if b is behind a.
-        let first = match behind(&projector, &proj[a], &proj[b], OVERLAP_TOLERANCE) {
-            Some(false) => b,
-            _ => a,
-        };
-        out.push(tris[first]);
-        out.push(tris[a + b - first]);
+        .sort_by(|&a, &b| key[b].total_cmp(&key[a]).then(a.cmp(&b)));
+    // Most cells are already in order by centroid depth: check that no later triangle lies
+    // behind an earlier one (cheap when it does not), and only sort topologically if one does.
+    let mut conflict = false;
+    'scan: for x in 0..n {
+        let a = &proj[s.by_depth[x]];
+        for &y in &s.by_depth[x + 1..] {
+            if second_is_behind(&projector, a, &proj[y], OVERLAP_TOLERANCE) {
+                conflict = true;
+                break 'scan;
+            }
+        }
+    }
+    if !conflict {
+        out.extend(s.by_depth.iter().map(|&i| tris[i]));
         return;
     }
     // Constraints "i before j" for every overlapping pair.
     s.edges.clear();
     for i in 0..n {
         for j in i + 1..n {
-            match behind(&projector, &proj[i], &proj[j], OVERLAP_TOLERANCE) {
+            match behind_fast(&projector, &proj[i], &proj[j], OVERLAP_TOLERANCE) {
                 Some(true) => s.edges.push((i as u16, j as u16)),
                 Some(false) => s.edges.push((j as u16, i as u16)),
                 None => {}
@@ -514,10 +549,11 @@ fn sort_cell(
     }
     s.succ.clear();
     s.succ.resize(s.edges.len(), 0);
-    let mut fill = s.succ_start.clone();
+    s.fill.clear();
+    s.fill.extend_from_slice(&s.succ_start);
     for &(a, b) in &s.edges {
-        s.succ[fill[a as usize] as usize] = b;
-        fill[a as usize] += 1;
+        s.succ[s.fill[a as usize] as usize] = b;
+        s.fill[a as usize] += 1;
     }
     s.done.clear();
     s.done.resize(n, false);
@@ -559,6 +595,13 @@ mod tests {
         }
         assert!(Octant::of(DVec3::ZERO).is_err());
         assert!(Octant::of(DVec3::new(f64::NAN, 0.0, 1.0)).is_err());
+    }
+
+    #[test]
+    fn opposite_octants_are_opposite_indices() {
+        for o in Octant::ALL {
+            assert_eq!(Octant::from_index(7 - o.index()).signs(), -o.signs());
+        }
     }
 
     #[test]

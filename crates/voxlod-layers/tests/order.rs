@@ -51,7 +51,7 @@ fn octant_orders_are_exact(l: &Layered, name: &str) {
 
 #[test]
 fn bolt_octant_orders_have_no_violation() {
-    let l = common::layered_bolt(64);
+    let l = common::layered_bolt(48);
     assert_eq!(l.plan.len(), 5);
     octant_orders_are_exact(&l, "bolt");
 }
