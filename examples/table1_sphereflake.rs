@@ -13,7 +13,11 @@ use voxlod::paper_tables::{format_rows, reproduce, table1, write_level};
 use voxlod::sampling::{sphereflake, CsgSolid};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let output = std::env::args().nth(1).map(PathBuf::from);
+    // An empty or "-" folder writes nothing.
+    let output = std::env::args()
+        .nth(1)
+        .filter(|d| !d.is_empty() && d != "-")
+        .map(PathBuf::from);
     let solid = CsgSolid::new(sphereflake(3))?;
     let table = table1();
     println!(

@@ -14,7 +14,11 @@ use voxlod::paper_tables::{format_rows, mechanical_part, reproduce, table2, writ
 use voxlod::sampling::CsgSolid;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let output = std::env::args().nth(1).map(PathBuf::from);
+    // An empty or "-" folder writes nothing.
+    let output = std::env::args()
+        .nth(1)
+        .filter(|d| !d.is_empty() && d != "-")
+        .map(PathBuf::from);
     let solid = CsgSolid::new(mechanical_part())?;
     let table = table2();
     println!(

@@ -3,7 +3,7 @@
 //! skin with trilinear interpolation and filtered with the hyper-cone, our triangle counts
 //! beside the paper's.
 //!
-//!     cargo run --release --example table3_ct_head [-- OUT_DIR [THRESHOLD]]
+//!     cargo run --release --example table3_ct_head [-- OUT_DIR|- [THRESHOLD]]
 //!
 //! The paper's scan had 256 × 256 × 225 samples, ours has 113 slices 2 mm apart: the same
 //! 255 × 255 × 224 mm box (225 = 2 × 112 + 1: the paper's slices are ours at 1 mm). Resolutions
@@ -22,7 +22,11 @@ const HEAD: &str = "volumes/CThead_256x256x113_uint16be.raw";
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
-    let output = args.next().map(PathBuf::from);
+    // An empty or "-" folder writes nothing (to give a threshold alone).
+    let output = args
+        .next()
+        .filter(|d| !d.is_empty() && d != "-")
+        .map(PathBuf::from);
     let threshold: f32 = match args.next() {
         Some(t) => t.parse()?,
         None => CT_HEAD_SKIN_THRESHOLD,
