@@ -8,10 +8,13 @@
 //!   with thick edges (Low and Tan's patent, "Multi-resolution graphic representation generated
 //!   by weight-controlled vertex clustering").
 //! - [`select`]: which level to draw for the object-space size of a pixel.
+//! - [`envelope`]: simplification envelopes, ε-bounded and topology-preserving vertex removal
+//!   between two offset surfaces (Varshney, Agarwal, Brooks, Wright and Weber, "Generating
+//!   levels of detail for large-scale polygonal models", 1995), with its own [`EnvelopeError`].
 //!
 //! One algorithm per module: [`grading`], [`grid`], [`elimination`], [`rossignac_borrel`](mod@rossignac_borrel),
-//! [`floating_cell`], [`thick_edges`], [`select`] (the simplification-envelope baseline will be
-//! one more); results are [`Level`]s with a serialisable [`LevelReport`]. Every entry point
+//! [`floating_cell`], [`thick_edges`], [`select`], [`envelope`]; results are [`Level`]s with a
+//! serialisable [`LevelReport`] (the envelope's: [`EnvelopeLevel`]). Every entry point
 //! checks its input and returns a [`BaselineError`]: zero cells or levels, an empty mesh,
 //! non-finite coordinates, indices out of range.
 //!
@@ -19,6 +22,7 @@
 //! this crate's manifest, and `examples/cluster_timing.rs` for a stage-by-stage timing.
 
 pub mod elimination;
+pub mod envelope;
 pub mod error;
 pub mod floating_cell;
 pub mod grading;
@@ -31,6 +35,9 @@ mod sort;
 pub mod thick_edges;
 
 pub use elimination::{eliminate, Simplices};
+pub use envelope::{
+    envelope_series, simplify_envelope, EnvelopeError, EnvelopeLevel, EnvelopeOptions, Epsilon,
+};
 pub use error::BaselineError;
 pub use floating_cell::{low_tan, FloatingCellOptions};
 pub use grading::{grade, Grading};
