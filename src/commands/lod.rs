@@ -10,6 +10,7 @@ use voxlod_sampling::{DensityReport, Filter, PyramidOptions};
 use super::common::{
     describe_mesh, ensure_dir, in_dir, print_json, progress, write_text, CliError, MeshExtension,
 };
+use super::envelope::{then_envelope, ThenEnvelope, ThenEnvelopeReport};
 use super::source::{load, Loaded, MeshSummary, Prepared, VolumeRoute};
 use crate::lod::{build_level, plan, LodOptions};
 
@@ -69,6 +70,10 @@ pub struct LodArgs {
     /// Print the report as JSON on standard output (no progress bar)
     #[arg(long)]
     pub json: bool,
+    /// Then simplify each level within E by simplification envelopes (genus and holes stay): a
+    /// distance, a percentage of the level's diagonal (1%), or voxels of the level (1vox)
+    #[arg(long, value_name = "E", allow_hyphen_values = true)]
+    pub then_envelope: Option<String>,
     #[command(flatten)]
     pub route: VolumeRoute,
 }
@@ -96,6 +101,8 @@ struct LevelReport {
     contour_seconds: f64,
     write_seconds: f64,
     density: Option<DensityReport>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    envelope: Option<ThenEnvelopeReport>,
 }
 
 #[derive(Serialize)]
@@ -114,6 +121,11 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     let loaded = load(&args.input, &args.route)?;
     let prepared = Prepared::new(&loaded, &args.route, &args.input)?;
     let iso = prepared.iso(args.iso, &args.input)?;
+    let envelope_eps = args
+        .then_envelope
+        .as_deref()
+        .map(ThenEnvelope::parse)
+        .transpose()?;
     let mut pyramid = match &args.resolutions {
         Some(list) => PyramidOptions::with_resolutions(list.clone(), args.filter),
         None => {
@@ -158,13 +170,22 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     let bar = progress(plans.len() as u64, "levels", args.json);
     let mut levels = Vec::new();
     for level_plan in &plans {
-        let level = build_level(&source, level_plan, &options).map_err(|e| {
+        let mut level = build_level(&source, level_plan, &options).map_err(|e| {
             CliError::msg(format!(
                 "{}: level {}: {e}",
                 args.input.display(),
                 level_plan.level
             ))
         })?;
+        let envelope = match envelope_eps {
+            Some(eps) => {
+                let what = format!("{}: level {}", args.input.display(), level_plan.level);
+                let (mesh, report) = then_envelope(&level.mesh, eps, level_plan.voxel_size, &what)?;
+                level.mesh = mesh;
+                report
+            }
+            None => None,
+        };
         let name = format!("level-{}.{}", level_plan.level, args.format.as_str());
         let write_start = Instant::now();
         let file = (!level.mesh.is_empty()).then(|| name.clone());
@@ -192,6 +213,7 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
             contour_seconds: level.contour_seconds,
             write_seconds,
             density: level.density,
+            envelope,
         });
         bar.inc(1);
         if !args.json {

@@ -8,6 +8,7 @@ pub mod common;
 pub mod compare;
 pub mod contour;
 pub mod demo;
+pub mod envelope;
 pub mod evaluate;
 pub mod inspect;
 pub mod lod;
@@ -35,6 +36,7 @@ pub enum Command {
     Voxelize(voxelize::VoxelizeArgs),
     Contour(contour::ContourArgs),
     Cluster(cluster::ClusterArgs),
+    Envelope(envelope::EnvelopeArgs),
     Select(select::SelectArgs),
     Inspect(inspect::InspectArgs),
     Compare(compare::CompareArgs),
@@ -49,6 +51,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Voxelize(args) => voxelize::run(args),
         Command::Contour(args) => contour::run(args),
         Command::Cluster(args) => cluster::run(args),
+        Command::Envelope(args) => envelope::run(args),
         Command::Select(args) => select::run(args),
         Command::Inspect(args) => inspect::run(args),
         Command::Compare(args) => compare::run(args),

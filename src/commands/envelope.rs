@@ -1,0 +1,345 @@
+//! `voxlod envelope`: simplification envelopes (Varshney, Agarwal, Brooks, Wright, Weber 1995),
+//! ε-bounded, topology-preserving levels of detail; and the `--then-envelope` step of `voxlod lod`.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args;
+use serde::Serialize;
+use voxlod_baselines::envelope::{
+    envelope_series_with, repair_for_envelope, simplify_envelope, EnvelopeOptions, EnvelopeReport,
+    Epsilon, ManifoldRepair, OffsetRule, RegionEpsilon, RemovalOrder,
+};
+use voxlod_core::TriangleMesh;
+
+use super::common::{print_json, progress, read_mesh_input, thousands, CliError};
+
+/// Simplify a mesh within ε by simplification envelopes, keeping its topology.
+///
+/// Every point of a level lies within ε of the input and every point of the input within ε of
+/// the level; genus, components and holes stay; the level's vertices are input vertices. The
+/// input is offset by up to ε outwards and inwards along its normals (shrunk where an offset
+/// would cross itself), and vertices are removed, largest covering triangle first, as long as
+/// the retriangulated hole stays between the two offsets (paper §4, §6, §7).
+///
+/// ε is a distance in the mesh's units (0.5) or a percentage of its bounding-box diagonal (1%).
+/// With --levels, level i simplifies level i-1, each within its own ε of the input, and OUT's
+/// name gets the level: out.ply -> out-0.ply, out-1.ply, ...
+///
+/// Border vertices are kept (the border stays exact). The input must be a consistently
+/// oriented manifold; the error names the edges that are not, and --repair cuts the mesh into
+/// one without moving any point.
+///
+/// Examples:
+///   voxlod envelope bunny.obj -o bunny-1.ply --epsilon 1%
+///   voxlod envelope part.stl -o part.ply --levels 1%,2%,4%,8% --keep-sharp 60 --json
+///   voxlod envelope scan.ply -o scan-lod.ply --epsilon 0.2 --region 0,0,0,1,1,1:0.25
+#[derive(Args, Debug)]
+#[command(verbatim_doc_comment)]
+pub struct EnvelopeArgs {
+    /// The input mesh
+    pub input: PathBuf,
+    /// Output mesh (.ply .obj .stl .vtp .vtk)
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// ε of a single level: a distance, or a percentage of the bounding-box diagonal (1%)
+    #[arg(
+        long,
+        value_name = "E",
+        required_unless_present = "levels",
+        conflicts_with = "levels",
+        allow_hyphen_values = true
+    )]
+    pub epsilon: Option<String>,
+    /// A series of levels with growing ε, each simplifying the one before, e.g. 1%,2%,4%,8%
+    #[arg(
+        long,
+        value_name = "E,E,...",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    pub levels: Option<Vec<String>>,
+    /// Keep every edge whose dihedral angle exceeds DEG degrees (sharp features)
+    #[arg(long, value_name = "DEG")]
+    pub keep_sharp: Option<f64>,
+    /// A box whose ε is SCALE times the level's: X0,Y0,Z0,X1,Y1,Z1:SCALE (repeatable; the
+    /// last box containing a vertex wins)
+    #[arg(long, value_name = "BOX:SCALE")]
+    pub region: Vec<String>,
+    /// Cut a non-manifold or inconsistently oriented input into a manifold first
+    #[arg(long)]
+    pub repair: bool,
+    /// Which removal first: coverage (the paper's: the new triangle covering the most input
+    /// vertices) or deviation (the smallest distance from the input; fewer triangles, faster)
+    #[arg(long, default_value = "coverage", value_parser = ["coverage", "deviation"])]
+    pub order: String,
+    /// Offsets limited by the Voronoi test of §4.3 (voronoi) or only where they cross
+    /// themselves (crossings)
+    #[arg(long, default_value = "voronoi", value_parser = ["voronoi", "crossings"])]
+    pub offsets: String,
+    /// Points per side for measuring each level's two-sided distance to the input (0: skip)
+    #[arg(long, value_name = "N", default_value_t = 100_000)]
+    pub samples: usize,
+    /// Print the report as JSON on standard output
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Serialize)]
+struct LevelOut {
+    #[serde(flatten)]
+    report: EnvelopeReport,
+    /// ε in percent of the bounding-box diagonal.
+    epsilon_percent: f64,
+    file: String,
+    write_seconds: f64,
+}
+
+#[derive(Serialize)]
+struct Report {
+    input: String,
+    input_vertices: usize,
+    input_triangles: usize,
+    repair: Option<ManifoldRepair>,
+    options: EnvelopeOptions,
+    levels: Vec<LevelOut>,
+    total_seconds: f64,
+}
+
+/// Parses a distance or percentage, naming the flag in the error.
+pub fn parse_epsilon(text: &str, flag: &str) -> Result<Epsilon, CliError> {
+    text.parse::<Epsilon>().map_err(|_| {
+        CliError::msg(format!(
+            "{flag} '{text}': ε must be a positive distance (0.5) or percentage of the \
+             bounding-box diagonal (1%)"
+        ))
+    })
+}
+
+/// `out.ply` for one level, `out-K.ply` for level K of several.
+fn level_path(output: &Path, level: usize, levels: usize) -> PathBuf {
+    if levels <= 1 {
+        return output.to_path_buf();
+    }
+    let stem = output
+        .file_stem()
+        .map(|s| s.to_string_lossy())
+        .unwrap_or_default();
+    match output.extension() {
+        Some(ext) => output.with_file_name(format!("{stem}-{level}.{}", ext.to_string_lossy())),
+        None => output.with_file_name(format!("{stem}-{level}")),
+    }
+}
+
+pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    let epsilons: Vec<Epsilon> = match (&args.epsilon, &args.levels) {
+        (Some(e), _) => vec![parse_epsilon(e, "--epsilon")?],
+        (None, Some(list)) => list
+            .iter()
+            .map(|e| parse_epsilon(e, "--levels"))
+            .collect::<Result<_, _>>()?,
+        (None, None) => return Err(CliError::msg("give --epsilon E or --levels E,E,...")),
+    };
+    let regions: Vec<RegionEpsilon> = args
+        .region
+        .iter()
+        .map(|r| {
+            r.parse()
+                .map_err(|e: String| CliError::msg(format!("--region: {e}")))
+        })
+        .collect::<Result<_, _>>()?;
+    let options = EnvelopeOptions {
+        order: match args.order.as_str() {
+            "deviation" => RemovalOrder::Deviation,
+            _ => RemovalOrder::Coverage,
+        },
+        offsets: match args.offsets.as_str() {
+            "crossings" => OffsetRule::CrossingsOnly,
+            _ => OffsetRule::Voronoi,
+        },
+        keep_sharp: args.keep_sharp,
+        regions,
+        measure_samples: args.samples,
+        ..EnvelopeOptions::paper()
+    };
+    // Refuse an output format we cannot write before any work.
+    voxlod_io::mesh_format_of(&args.output)?;
+    let loaded = read_mesh_input(&args.input)?;
+    let in_file =
+        |e: &dyn std::fmt::Display| CliError::msg(format!("{}: {e}", args.input.display()));
+    let (mesh, repair) = if args.repair {
+        let (m, r) = repair_for_envelope(&loaded.mesh);
+        if !args.json && r.changed_anything() {
+            eprintln!("{}: repaired: {r:?}", args.input.display());
+        }
+        (m, Some(r))
+    } else {
+        (loaded.mesh, None)
+    };
+    let bar = progress(epsilons.len() as u64, "levels", args.json);
+    let mut levels = Vec::new();
+    let mut write_error = None;
+    envelope_series_with(&mesh, &epsilons, &options, |level| {
+        if write_error.is_some() {
+            return;
+        }
+        let path = level_path(&args.output, level.report.level, epsilons.len());
+        let t = Instant::now();
+        if let Err(e) = voxlod_io::write_mesh(&path, &level.mesh) {
+            write_error = Some(e);
+            return;
+        }
+        bar.inc(1);
+        levels.push(LevelOut {
+            epsilon_percent: level.report.epsilon_fraction * 100.0,
+            report: level.report,
+            file: path.display().to_string(),
+            write_seconds: t.elapsed().as_secs_f64(),
+        });
+    })
+    .map_err(|e| in_file(&e))?;
+    bar.finish_and_clear();
+    if let Some(e) = write_error {
+        return Err(e.into());
+    }
+    let report = Report {
+        input: args.input.display().to_string(),
+        input_vertices: mesh.positions.len(),
+        input_triangles: mesh.triangles.len(),
+        repair,
+        options,
+        levels,
+        total_seconds: start.elapsed().as_secs_f64(),
+    };
+    if args.json {
+        return print_json(&report);
+    }
+    for l in &report.levels {
+        let r = &l.report;
+        let distance = r.distance.map_or(String::new(), |d| {
+            format!(
+                ", measured distance {:.4} ({:.2} ε)",
+                d.hausdorff, d.hausdorff_over_epsilon
+            )
+        });
+        println!(
+            "level {}: ε {:.4} ({:.2}% of the diagonal): {} triangles ({:.1}% fewer) in {:.2} s{distance} -> {}",
+            r.level,
+            r.epsilon,
+            l.epsilon_percent,
+            thousands(r.triangles),
+            r.reduction_percent,
+            r.seconds,
+            l.file
+        );
+    }
+    println!(
+        "{} triangles in, {} levels in {:.2} s",
+        thousands(report.input_triangles),
+        report.levels.len(),
+        report.total_seconds
+    );
+    Ok(())
+}
+
+// -------------------------------------------------------------------------------------------
+// `voxlod lod --then-envelope E`.
+
+/// ε of `--then-envelope`: a distance, a percentage of each level's diagonal, or voxels of
+/// each level (`1vox`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ThenEnvelope {
+    Epsilon(Epsilon),
+    Voxels(f64),
+}
+
+impl ThenEnvelope {
+    pub fn parse(text: &str) -> Result<ThenEnvelope, CliError> {
+        let t = text.trim();
+        if let Some(v) = t.strip_suffix("vox") {
+            return match v.trim().parse::<f64>() {
+                Ok(x) if x > 0.0 && x.is_finite() => Ok(ThenEnvelope::Voxels(x)),
+                _ => Err(CliError::msg(format!(
+                    "--then-envelope '{text}': the number of voxels must be positive"
+                ))),
+            };
+        }
+        parse_epsilon(t, "--then-envelope").map(ThenEnvelope::Epsilon)
+    }
+}
+
+/// What `--then-envelope` did to one level.
+#[derive(Clone, Debug, Serialize)]
+pub struct ThenEnvelopeReport {
+    pub epsilon: f64,
+    pub triangles_before: usize,
+    pub triangles: usize,
+    pub reduction_percent: f64,
+    pub seconds: f64,
+    pub hausdorff: Option<f64>,
+    pub genus: Option<i64>,
+}
+
+/// Simplifies a marching-cubes level within `eps` (voxels of size `voxel_size`); an empty
+/// level stays empty. Errors start with `what` (the file and level).
+pub fn then_envelope(
+    mesh: &TriangleMesh,
+    eps: ThenEnvelope,
+    voxel_size: f64,
+    what: &str,
+) -> Result<(TriangleMesh, Option<ThenEnvelopeReport>), CliError> {
+    if mesh.triangles.is_empty() {
+        return Ok((mesh.clone(), None));
+    }
+    let epsilon = match eps {
+        ThenEnvelope::Epsilon(e) => e,
+        ThenEnvelope::Voxels(v) => Epsilon::Absolute(v * voxel_size),
+    };
+    let options = EnvelopeOptions::paper().with_measure_samples(50_000);
+    let level = simplify_envelope(mesh, epsilon, &options)
+        .map_err(|e| CliError::msg(format!("{what}: --then-envelope: {e}")))?;
+    let r = &level.report;
+    let report = ThenEnvelopeReport {
+        epsilon: r.epsilon,
+        triangles_before: r.input_triangles,
+        triangles: r.triangles,
+        reduction_percent: r.reduction_percent,
+        seconds: r.seconds,
+        hausdorff: r.distance.map(|d| d.hausdorff),
+        genus: r.topology.genus,
+    };
+    Ok((level.mesh, Some(report)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn level_names_and_epsilon_parsing() {
+        assert_eq!(
+            level_path(Path::new("a/out.ply"), 2, 4),
+            PathBuf::from("a/out-2.ply")
+        );
+        assert_eq!(
+            level_path(Path::new("out.ply"), 0, 1),
+            PathBuf::from("out.ply")
+        );
+        assert!(parse_epsilon("0", "--epsilon").is_err());
+        assert!(parse_epsilon("-1%", "--epsilon").is_err());
+        assert_eq!(
+            parse_epsilon("2%", "--epsilon").unwrap(),
+            Epsilon::DiagonalFraction(0.02)
+        );
+        assert_eq!(
+            ThenEnvelope::parse("1.5vox").unwrap(),
+            ThenEnvelope::Voxels(1.5)
+        );
+        assert!(ThenEnvelope::parse("0vox").is_err());
+        assert_eq!(
+            ThenEnvelope::parse("0.25").unwrap(),
+            ThenEnvelope::Epsilon(Epsilon::Absolute(0.25))
+        );
+    }
+}
