@@ -102,6 +102,9 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     let text = serde_json::to_string_pretty(&report)
         .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
     write_text(&in_dir(&args.output, "report.json"), &text)?;
+    // Paper §3, Figure 7: single surface, layered shells and the 16x16 reference, side by side.
+    let antialias = voxlod_layers::compare::demo_comparison(&args.output)
+        .map_err(|e| CliError::msg(e.to_string()))?;
     if args.json {
         return print_json(&report);
     }
@@ -141,5 +144,6 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         args.output.display(),
         report.total_seconds
     );
+    println!("{antialias}");
     Ok(())
 }

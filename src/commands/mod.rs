@@ -11,7 +11,9 @@ pub mod demo;
 pub mod envelope;
 pub mod evaluate;
 pub mod inspect;
+pub mod layers;
 pub mod lod;
+pub mod render;
 pub mod select;
 pub mod source;
 pub mod voxelize;
@@ -41,6 +43,8 @@ pub enum Command {
     Inspect(inspect::InspectArgs),
     Compare(compare::CompareArgs),
     Evaluate(evaluate::EvaluateArgs),
+    Layers(layers::LayersArgs),
+    Render(render::RenderArgs),
 }
 
 /// Runs the chosen subcommand.
@@ -56,5 +60,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Inspect(args) => inspect::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Evaluate(args) => evaluate::run(args),
+        Command::Layers(args) => layers::run(args),
+        Command::Render(args) => render::run(args),
     }
 }

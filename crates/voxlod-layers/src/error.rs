@@ -11,8 +11,8 @@ pub enum LayersError {
     #[error("the error bound must be a positive number, got {0}")]
     NonPositiveError(f64),
     #[error(
-        "the error bound {bound} needs more than {max} layers (with {max} the error is still \
-         {achieved:.5}); choose a bound of at least {achieved:.5}"
+        "the error bound {bound} needs more than {max} layers: with {max} the optimal error is \
+         still {achieved:.6}; choose a larger bound"
     )]
     TooManyLayers {
         bound: f64,

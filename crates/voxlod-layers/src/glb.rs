@@ -421,6 +421,8 @@ pub struct GlbScene {
     pub parts: Vec<GlbPart>,
     /// The `order±x±y±z` accessors by [`Octant::index`], as triangles of global vertex indices.
     pub orders: Vec<Option<Vec<[u32; 3]>>>,
+    /// The volume grid the layers were cut from (scene extras of a voxlod file).
+    pub grid: Option<voxlod_core::Grid>,
 }
 
 impl GlbScene {
@@ -435,6 +437,16 @@ impl GlbScene {
             .parts
             .partition_point(|p| p.first_vertex + p.vertex_count <= v);
         self.parts.get(i).filter(|p| v >= p.first_vertex)
+    }
+
+    /// The part of each triangle.
+    pub fn triangle_parts(&self) -> Vec<u16> {
+        let mut out = vec![0u16; self.mesh.triangles.len()];
+        for (i, p) in self.parts.iter().enumerate() {
+            let range = p.first_triangle as usize..(p.first_triangle + p.triangle_count) as usize;
+            out[range].fill(i.min(u16::MAX as usize) as u16);
+        }
+        out
     }
 
     /// The stored order for a view direction.
@@ -562,6 +574,25 @@ pub fn parse_glb(bytes: &[u8]) -> Result<GlbScene, LayersError> {
     if scene.mesh.triangles.is_empty() {
         return Err(bad("no triangle primitives".into()));
     }
+    scene.grid = root
+        .scene
+        .and_then(|i| root.scenes.get(i.value()))
+        .or(root.scenes.first())
+        .and_then(|sc| sc.extras.as_ref())
+        .and_then(|raw| serde_json::from_str::<serde_json::Value>(raw.get()).ok())
+        .and_then(|v| {
+            let g = &v["voxlod"]["grid"];
+            let triple = |x: &serde_json::Value| -> Option<[f64; 3]> {
+                let a = x.as_array()?;
+                Some([
+                    a.first()?.as_f64()?,
+                    a.get(1)?.as_f64()?,
+                    a.get(2)?.as_f64()?,
+                ])
+            };
+            let dims = triple(&g["dims"])?.map(|d| d as usize);
+            voxlod_core::Grid::new(dims, triple(&g["spacing"])?, triple(&g["origin"])?).ok()
+        });
     Ok(scene)
 }
 

@@ -31,8 +31,8 @@ pub use export::{to_poly_mesh, write_layered_mesh};
 pub use extract::{extract_layers, Concatenated, ExtractOptions, Layer, LayeredMesh};
 pub use glb::{glb_bytes, parse_glb, read_glb, write_glb, GlbOptions, GlbScene};
 pub use order::{
-    index_cells, octant_order, octant_orders, view_order, CellIndex, CellTriangles, Octant, View,
-    ORDER_NAMES,
+    index_cells, octant_order, octant_orders, recover_cells, view_order, CellIndex, CellTriangles,
+    Octant, View, ORDER_NAMES,
 };
 pub use pipeline::{layer_solid, layer_volume, orders_of, Layered, LayersOptions, Timings};
 pub use plan::{

@@ -167,6 +167,36 @@ impl CellTriangles<'_> {
     }
 }
 
+/// The cell of each marching-cubes triangle of `grid`, recovered from its corners (for meshes
+/// read back from a file, which keep the grid but not the cells). A triangle's corners lie on the
+/// edges of its cell, and never all on the cell's upper face along an axis, so along each axis
+/// the smallest corner coordinate, in samples, lies in `[i, i + 1 − 10⁻⁴]` for cell i (marching
+/// cubes keeps vertices 10⁻⁴ of an edge from its ends); a slack of 5·10⁻⁵ absorbs the rounding
+/// of stored coordinates.
+pub fn recover_cells(grid: &Grid, positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<u32> {
+    let dims = grid.dims.map(|d| d.saturating_sub(1).max(1));
+    let origin = grid.origin_vec();
+    let spacing = grid.spacing_vec();
+    triangles
+        .par_iter()
+        .map(|t| {
+            let mut lo = DVec3::splat(f64::INFINITY);
+            for &v in t {
+                lo = lo.min((positions[v as usize].as_dvec3() - origin) / spacing);
+            }
+            let ijk = [0, 1, 2].map(|a| {
+                let c = (lo[a] + 5e-5).floor();
+                if c.is_finite() {
+                    (c.max(0.0) as usize).min(dims[a] - 1)
+                } else {
+                    0
+                }
+            });
+            (ijk[0] + dims[0] * (ijk[1] + dims[1] * ijk[2])) as u32
+        })
+        .collect()
+}
+
 /// The triangles grouped by occupied cell, cells in storage order, rows compressed.
 #[derive(Clone, Debug, Default)]
 pub struct CellIndex {

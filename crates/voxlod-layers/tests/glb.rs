@@ -63,6 +63,11 @@ fn glb_round_trips_and_passes_the_validator() {
             .collect();
         assert_eq!(stored, &expect, "{}", o.name());
     }
+    // The grid comes back, and with it every triangle's cell.
+    assert_eq!(scene.grid, Some(l.mesh.grid));
+    let cells =
+        voxlod_layers::recover_cells(&l.mesh.grid, &scene.mesh.positions, &scene.mesh.triangles);
+    assert_eq!(cells, cat.cells);
     // The accessor names are in the JSON as documented.
     let bytes = std::fs::read(&path).unwrap();
     let text = String::from_utf8_lossy(&bytes);

@@ -1,0 +1,467 @@
+//! `voxlod layers`: multi-layer translucent shells (paper §3) as a layered `.glb` (or PLY/VTK).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args;
+use glam::DVec3;
+use serde::Serialize;
+use voxlod_layers::{
+    glb_bytes, layer_solid, Blending, GlbOptions, Layered, LayersError, LayersOptions, Octant,
+    PlanOptions, ORDER_NAMES,
+};
+use voxlod_render::{Camera, RenderOptions};
+use voxlod_sampling::Filter;
+
+use super::common::{parse_triple, print_json, progress, CliError};
+use super::source::{load, Prepared, VolumeRoute};
+use crate::lod::LodSource;
+
+/// Build multi-layer translucent shells for antialiased rendering (He et al. 1995, §3).
+///
+/// Filters the input into one volume, chooses the fewest layers whose piecewise constant
+/// profile is within --error of the filter's density profile (∫₀^R |p − d| dx ≤ E, x in units
+/// of the filter radius R: the optimum, equations 4–6), extracts every layer as an isosurface
+/// of the volume, each more translucent than the one inside it, and orders all triangles back
+/// to front by traversing the volume's cells, for each of the eight octants of view direction.
+///
+/// OUT.glb holds one mesh per layer (innermost first) with an alpha-blended material, and the
+/// eight orders as index accessors named order+x+y+z … order-x-y-z (see the README). OUT.ply,
+/// .vtp or .vtk hold all layers in one mesh with per-vertex `opacity` and `layer`, triangles in
+/// the back-to-front order of --view's octant.
+///
+/// Examples:
+///   voxlod layers bunny.obj -o bunny.glb --error 0.025 --preview bunny.png
+///   voxlod layers part.stl -o part.glb --error 0.01 --filter gaussian --resolution 200 --json
+///   voxlod layers tooth.nrrd --threshold 120 -o tooth.vtp --error 0.05
+#[derive(Args, Debug)]
+#[command(verbatim_doc_comment)]
+pub struct LayersArgs {
+    /// The input: a mesh (.obj .ply .stl .off .vtp .vtk) or a volume with --threshold
+    pub input: PathBuf,
+    /// Output: .glb (layers and the eight orders), or .ply .vtp .vtk (opacity, layer)
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// Error bound ε on ∫₀^R |p − d| dx in units of R (0.01 to 0.2 typical; smaller means more
+    /// layers; the hyper-cone needs 5 layers for 0.025, 10 for 0.0104)
+    #[arg(
+        long,
+        value_name = "E",
+        default_value_t = 0.025,
+        allow_negative_numbers = true
+    )]
+    pub error: f64,
+    /// Samples across the longest side of the object
+    #[arg(long, value_name = "N", default_value_t = 128)]
+    pub resolution: usize,
+    /// Low-pass filter: hypercone (paper eq. 3) or gaussian (σ = R/3)
+    #[arg(long, default_value = "hypercone")]
+    pub filter: Filter,
+    /// Filter support radius R, in voxels
+    #[arg(long, value_name = "VOXELS", default_value_t = 1.0)]
+    pub radius: f64,
+    /// Blend alphas: composited (the shells' back-to-front composite has translucency 1 − d/m
+    /// along every ray) or direct (alpha = 1 − translucency for each layer on its own)
+    #[arg(long, default_value = "composited")]
+    pub blending: Blending,
+    /// Also draw the layered shells to this PNG (one sample per pixel, stored order)
+    #[arg(long, value_name = "PNG")]
+    pub preview: Option<PathBuf>,
+    /// View direction (eye to scene) of the preview, and octant of a PLY/VTK file's order
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        default_value = "-1,-1,-1",
+        allow_hyphen_values = true
+    )]
+    pub view: String,
+    /// Preview size in pixels
+    #[arg(long, value_name = "WxH", default_value = "800x800")]
+    pub size: String,
+    /// Quadrature lines per filter radius
+    #[arg(long, value_name = "Q", default_value_t = 4)]
+    pub lines_per_radius: usize,
+    /// Print the report as JSON on standard output
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub route: VolumeRoute,
+}
+
+#[derive(Serialize)]
+struct LayerReport {
+    index: usize,
+    isodensity: f64,
+    translucency: f64,
+    alpha: f64,
+    /// Distance of the layer outside the object's surface, in units of R.
+    offset: f64,
+    vertices: usize,
+    triangles: usize,
+}
+
+#[derive(Serialize)]
+struct LayersReport {
+    input: String,
+    output: String,
+    preview: Option<String>,
+    filter: Filter,
+    radius_voxels: f64,
+    resolution: usize,
+    grid: [usize; 3],
+    error_bound: f64,
+    achieved_error: f64,
+    blending: Blending,
+    layers: Vec<LayerReport>,
+    vertices: usize,
+    triangles: usize,
+    orders: [&'static str; 8],
+    sample_seconds: f64,
+    extract_seconds: f64,
+    order_seconds: f64,
+    total_seconds: f64,
+}
+
+/// Parses `WxH`.
+pub fn parse_size(text: &str) -> Result<(u32, u32), CliError> {
+    let bad = || CliError::msg(format!("--size takes WIDTHxHEIGHT in pixels, got '{text}'"));
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if !(1..=16384).contains(&w) || !(1..=16384).contains(&h) {
+        return Err(CliError::msg(format!(
+            "--size {text}: both sides must be between 1 and 16384 pixels"
+        )));
+    }
+    Ok((w, h))
+}
+
+/// Parses `--view X,Y,Z`, refusing a zero or non-finite direction.
+pub fn parse_view(text: &str) -> Result<DVec3, CliError> {
+    let v = DVec3::from(parse_triple::<f64>(text, "--view")?);
+    if !v.is_finite() {
+        return Err(CliError::msg(format!(
+            "--view {text}: not a finite direction"
+        )));
+    }
+    if v.length_squared() == 0.0 {
+        return Err(CliError::msg(format!(
+            "--view {text}: the view direction has zero length"
+        )));
+    }
+    Ok(v)
+}
+
+fn layers_error(path: &Path, e: LayersError) -> CliError {
+    CliError::msg(format!("{}: {e}", path.display()))
+}
+
+/// The kind of output, by extension.
+enum OutKind {
+    Glb,
+    Mesh,
+}
+
+fn out_kind(path: &Path) -> Result<OutKind, CliError> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    match ext.as_str() {
+        "glb" => Ok(OutKind::Glb),
+        "ply" | "vtp" | "vtk" => Ok(OutKind::Mesh),
+        other => Err(CliError::msg(format!(
+            "{}: '{}' is not a layers output: use .glb, .ply, .vtp or .vtk",
+            path.display(),
+            if other.is_empty() {
+                "no extension"
+            } else {
+                other
+            }
+        ))),
+    }
+}
+
+pub fn run(args: LayersArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    // Everything that can be refused is refused before any work.
+    let kind = out_kind(&args.output)?;
+    let view = parse_view(&args.view)?;
+    let size = parse_size(&args.size)?;
+    let plan = PlanOptions {
+        blending: args.blending,
+        ..PlanOptions::new(args.filter, args.error)
+    };
+    voxlod_layers::plan_layers(&plan)
+        .map_err(|e| CliError::msg(format!("--error {}: {e}", args.error)))?;
+    if args.resolution < 2 {
+        return Err(CliError::msg("--resolution must be at least 2"));
+    }
+    if !(args.radius.is_finite() && args.radius > 0.0) {
+        return Err(CliError::msg(format!(
+            "--radius {}: the filter radius must be a positive number of voxels",
+            args.radius
+        )));
+    }
+    if args.lines_per_radius == 0 {
+        return Err(CliError::msg("--lines-per-radius must be at least 1"));
+    }
+    let loaded = load(&args.input, &args.route)?;
+    let prepared = Prepared::new(&loaded, &args.route, &args.input)?;
+    let solid = match prepared.source() {
+        LodSource::Solid(s) => s,
+        LodSource::Direct(_) => {
+            return Err(CliError::msg(format!(
+                "{}: layers need a solid (density 1 inside, 0 outside): give a mesh, or a volume \
+                 with --threshold T",
+                args.input.display()
+            )))
+        }
+    };
+    let options = LayersOptions {
+        resolution: args.resolution,
+        radius_voxels: args.radius,
+        plan,
+        lines_per_radius: args.lines_per_radius,
+        extract: Default::default(),
+    };
+    let bar = progress(3, "layers", args.json);
+    let layered = layer_solid(solid, &options).map_err(|e| layers_error(&args.input, e))?;
+    bar.inc(2);
+    let octant = Octant::of(view).map_err(|e| CliError::msg(format!("--view: {e}")))?;
+    // Encode everything before writing anything.
+    let bytes = match kind {
+        OutKind::Glb => Some(
+            glb_bytes(&layered.mesh, &layered.orders, &GlbOptions::default())
+                .map_err(|e| layers_error(&args.output, e))?,
+        ),
+        OutKind::Mesh => None,
+    };
+    let preview = match &args.preview {
+        Some(path) => Some((path, preview_png(&layered, view, size)?)),
+        None => None,
+    };
+    match bytes {
+        Some(b) => {
+            voxlod_io::atomic::write_atomically(&args.output, |w| std::io::Write::write_all(w, &b))?
+        }
+        None => voxlod_layers::write_layered_mesh(
+            &args.output,
+            &layered.mesh,
+            Some(&layered.orders[octant.index()]),
+        )
+        .map_err(|e| layers_error(&args.output, e))?,
+    }
+    if let Some((path, png)) = &preview {
+        voxlod_io::atomic::write_atomically(path, |w| std::io::Write::write_all(w, png))?;
+    }
+    bar.finish_and_clear();
+    let report = report(&args, &layered, start.elapsed().as_secs_f64());
+    if args.json {
+        return print_json(&report);
+    }
+    println!(
+        "{}: {} layers (achieved error {:.5} ≤ {}), {} triangles -> {}",
+        args.input.display(),
+        report.layers.len(),
+        report.achieved_error,
+        report.error_bound,
+        super::common::thousands(report.triangles),
+        args.output.display()
+    );
+    for l in &report.layers {
+        println!(
+            "  layer {}: isodensity {:.4}, translucency {:.3}, alpha {:.3}, {} triangles",
+            l.index,
+            l.isodensity,
+            l.translucency,
+            l.alpha,
+            super::common::thousands(l.triangles)
+        );
+    }
+    if let Some(p) = &report.preview {
+        println!("preview -> {p}");
+    }
+    Ok(())
+}
+
+fn preview_png(layered: &Layered, view: DVec3, (w, h): (u32, u32)) -> Result<Vec<u8>, CliError> {
+    let cat = layered.mesh.concatenated();
+    let camera = Camera::fit(view, &cat.mesh.bounds(), w, h, None)
+        .map_err(|e| CliError::msg(format!("--preview: {e}")))?;
+    let octant = Octant::of(view).map_err(|e| CliError::msg(format!("--view: {e}")))?;
+    let alphas: Vec<f32> = layered.mesh.layers.iter().map(|l| l.alpha).collect();
+    let image = voxlod_layers::compare::render_layered(
+        &cat.mesh,
+        &cat.triangle_layer,
+        &alphas,
+        &layered.orders[octant.index()],
+        super::render::SURFACE_COLOR,
+        &camera,
+        &RenderOptions::default(),
+    )
+    .map_err(|e| CliError::msg(format!("--preview: {e}")))?;
+    image
+        .to_png()
+        .map_err(|e| CliError::msg(format!("--preview: {e}")))
+}
+
+fn report(args: &LayersArgs, layered: &Layered, total_seconds: f64) -> LayersReport {
+    let layers = layered
+        .plan
+        .layers
+        .iter()
+        .zip(&layered.mesh.layers)
+        .enumerate()
+        .map(|(index, (p, l))| LayerReport {
+            index,
+            isodensity: p.isodensity,
+            translucency: p.translucency,
+            alpha: p.alpha,
+            offset: p.offset,
+            vertices: l.mesh.positions.len(),
+            triangles: l.mesh.triangles.len(),
+        })
+        .collect();
+    let t = &layered.timings;
+    LayersReport {
+        input: args.input.display().to_string(),
+        output: args.output.display().to_string(),
+        preview: args.preview.as_ref().map(|p| p.display().to_string()),
+        filter: layered.plan.filter,
+        radius_voxels: args.radius,
+        resolution: args.resolution,
+        grid: layered.mesh.grid.dims,
+        error_bound: args.error,
+        achieved_error: layered.plan.achieved_error,
+        blending: layered.plan.blending,
+        layers,
+        vertices: layered.mesh.vertex_count(),
+        triangles: layered.mesh.triangle_count(),
+        orders: ORDER_NAMES,
+        sample_seconds: t.sample_seconds,
+        extract_seconds: t.extract_seconds,
+        order_seconds: t.order_seconds,
+        total_seconds,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use clap::Parser;
+
+    use crate::commands::{run, Cli};
+
+    /// A closed input mesh: the bolt's surface at a coarse resolution.
+    fn input(dir: &Path) -> std::path::PathBuf {
+        let solid = voxlod_sampling::CsgSolid::new(voxlod_layers::compare::bolt()).unwrap();
+        let options = voxlod_layers::LayersOptions {
+            resolution: 24,
+            ..Default::default()
+        };
+        let l = voxlod_layers::layer_solid(&solid, &options).unwrap();
+        let path = dir.join("bolt.ply");
+        voxlod_io::write_mesh(&path, &l.mesh.layers[0].mesh).unwrap();
+        path
+    }
+
+    fn voxlod(args: &[&str]) -> Result<(), crate::commands::CliError> {
+        let mut all = vec!["voxlod"];
+        all.extend_from_slice(args);
+        run(Cli::try_parse_from(all).map_err(|e| crate::commands::CliError::msg(e.to_string()))?)
+    }
+
+    #[test]
+    fn layers_then_render_write_what_they_say() {
+        let dir = tempfile::tempdir().unwrap();
+        let mesh = input(dir.path());
+        let d = |n: &str| dir.path().join(n).display().to_string();
+        voxlod(&[
+            "layers",
+            &mesh.display().to_string(),
+            "-o",
+            &d("bolt.glb"),
+            "--resolution",
+            "32",
+            "--error",
+            "0.05",
+            "--preview",
+            &d("preview.png"),
+            "--size",
+            "64x48",
+            "--json",
+        ])
+        .unwrap();
+        let scene = voxlod_layers::read_glb(&dir.path().join("bolt.glb")).unwrap();
+        assert!(scene.is_layered());
+        // ε = 0.05: three hyper-cone layers (0.0559 > 0.05 ≥ 0.0361).
+        assert_eq!(scene.parts.len(), 3);
+        let png = std::fs::read(dir.path().join("preview.png")).unwrap();
+        let img = image::load_from_memory(&png).unwrap();
+        assert_eq!((img.width(), img.height()), (64, 48));
+        voxlod(&[
+            "layers",
+            &mesh.display().to_string(),
+            "-o",
+            &d("bolt.vtp"),
+            "--resolution",
+            "24",
+        ])
+        .unwrap();
+        let poly = voxlod_io::read_poly_mesh(&dir.path().join("bolt.vtp")).unwrap();
+        assert!(poly.vertex_attributes.iter().any(|a| a.name == "opacity"));
+        let (glb, r) = (d("bolt.glb"), d("r.png"));
+        for extra in [&[][..], &["--perspective"][..]] {
+            let mut args = vec![
+                "render",
+                &glb,
+                mesh.to_str().unwrap(),
+                "-o",
+                &r,
+                "--size",
+                "50x40",
+                "--view",
+                "0.3,-1,0.2",
+            ];
+            args.extend_from_slice(extra);
+            voxlod(&args).unwrap();
+            let img =
+                image::load_from_memory(&std::fs::read(dir.path().join("r.png")).unwrap()).unwrap();
+            assert_eq!((img.width(), img.height()), (50, 40));
+        }
+    }
+
+    #[test]
+    fn bad_input_fails_in_one_line_and_writes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let mesh = input(dir.path());
+        let m = mesh.display().to_string();
+        let out = dir.path().join("out.glb").display().to_string();
+        for (args, expect) in [
+            (vec!["--error", "0"], "positive"),
+            (vec!["--error", "-0.1"], "positive"),
+            (vec!["--error", "1e-5"], "more than 64 layers"),
+            (vec!["--view", "0,0,0"], "zero length"),
+            (vec!["--resolution", "1"], "resolution"),
+        ] {
+            let mut all = vec!["layers", m.as_str(), "-o", out.as_str()];
+            all.extend_from_slice(&args);
+            let e = voxlod(&all).unwrap_err().to_string();
+            assert!(e.contains(expect), "{args:?}: {e}");
+            assert!(!e.contains('\n'), "{e}");
+        }
+        let png = dir.path().join("x.png").display().to_string();
+        let e = voxlod(&["render", &m, "-o", &png, "--view", "0,0,0"])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("zero length"), "{e}");
+        // Only the input is in the folder: no partial or temporary file.
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names.len(), 1, "{names:?}");
+    }
+}
