@@ -292,11 +292,7 @@ fn classify(volume: &Volume, isos: &[f32]) -> Result<Vec<BitVolume>, ContourErro
             .for_each(|(slab, slice)| {
                 for (bit_row, row) in slab.chunks_mut(words).zip(slice.chunks(nx)) {
                     for (word, chunk) in bit_row.iter_mut().zip(row.chunks(64)) {
-                        let mut m = 0u64;
-                        for (b, &v) in chunk.iter().enumerate() {
-                            m |= ((v >= iso) as u64) << b;
-                        }
-                        *word = m;
+                        *word = classify_word(chunk, iso);
                     }
                 }
             });
@@ -318,11 +314,7 @@ fn classify(volume: &Volume, isos: &[f32]) -> Result<Vec<BitVolume>, ContourErro
                     for (out, &iso) in outs.iter_mut().zip(isos) {
                         let bit_row = &mut out[j * words..(j + 1) * words];
                         for (word, chunk) in bit_row.iter_mut().zip(row.chunks(64)) {
-                            let mut m = 0u64;
-                            for (b, &v) in chunk.iter().enumerate() {
-                                m |= ((v >= iso) as u64) << b;
-                            }
-                            *word = m;
+                            *word = classify_word(chunk, iso);
                         }
                     }
                 }
@@ -332,6 +324,32 @@ fn classify(volume: &Volume, isos: &[f32]) -> Result<Vec<BitVolume>, ContourErro
         .into_iter()
         .map(|bits| BitVolume { words, ny, bits })
         .collect())
+}
+
+/// Bit `b` set when `chunk[b] >= iso` (NaN is outside), for up to 64 samples: four at a time
+/// with SSE2 compares and move-masks on x86-64.
+#[inline]
+fn classify_word(chunk: &[f32], iso: f32) -> u64 {
+    #[cfg(target_arch = "x86_64")]
+    if chunk.len() == 64 {
+        use std::arch::x86_64::{_mm_cmpge_ps, _mm_loadu_ps, _mm_movemask_ps, _mm_set1_ps};
+        let mut bits = 0u64;
+        // SAFETY: SSE2 is part of every x86-64 target; each load reads the four f32 values of
+        // `four`, which `chunks_exact(4)` guarantees exist.
+        unsafe {
+            let threshold = _mm_set1_ps(iso);
+            for (q, four) in chunk.chunks_exact(4).enumerate() {
+                // An ordered comparison: false for NaN, like the scalar `>=` below.
+                let inside = _mm_cmpge_ps(_mm_loadu_ps(four.as_ptr()), threshold);
+                bits |= (_mm_movemask_ps(inside) as u64) << (4 * q);
+            }
+        }
+        return bits;
+    }
+    chunk
+        .iter()
+        .enumerate()
+        .fold(0u64, |bits, (b, &v)| bits | ((v >= iso) as u64) << b)
 }
 
 /// Passes 2 and 3 on the bits of one iso value; the cells of the triangles when `with_cells`.

@@ -243,3 +243,26 @@ fn geometry_only_skips_normals_and_bad_iso_is_refused() {
         .unwrap()
         .is_empty());
 }
+
+#[test]
+fn nan_samples_are_outside_and_never_reach_a_vertex() {
+    // A 3x3x3 block of ones in a 70-sample-wide grid (wider than one 64-sample word), with a
+    // NaN at its centre: the NaN is outside, so the block becomes a shell around a cavity.
+    let v = volume_from([70, 7, 7], |i, j, k| {
+        if (i, j, k) == (33, 3, 3) {
+            f32::NAN
+        } else if (32..=34).contains(&i) && (2..=4).contains(&j) && (2..=4).contains(&k) {
+            1.0
+        } else {
+            0.0
+        }
+    });
+    let mesh = marching_cubes(&v, &ContourOptions::at(0.5)).unwrap();
+    assert!(mesh.positions.iter().all(|p| p.is_finite()));
+    let t = mesh_topology(&mesh);
+    assert!(t.is_closed_manifold(), "{t:?}");
+    assert_eq!(
+        t.components, 2,
+        "outer surface and the cavity around the NaN"
+    );
+}
