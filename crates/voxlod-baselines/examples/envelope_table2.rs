@@ -4,7 +4,7 @@
 //!
 //!     cargo run --release -p voxlod-baselines --example envelope_table2 -- \
 //!         [--order coverage|deviation] [--offsets voronoi|crossings] [--levels 1,2,4,8] \
-//!         [--keep-sharp DEG] [--samples N] [MESH ...]
+//!         [--smooth ROUNDS] [--preset paper|tight] [--keep-sharp DEG] [--samples N] [MESH ...]
 //!
 //! Without MESH arguments it runs rocker-arm.obj, fandisk.obj and stanford-bunny.obj.
 
@@ -46,6 +46,17 @@ fn main() {
                     .map(|x| x.parse().expect("a percentage"))
                     .collect()
             }
+            "--smooth" => {
+                options.normal_smoothing = args.next().expect("--smooth ROUNDS").parse().unwrap()
+            }
+            "--preset" => {
+                let samples = options.measure_samples;
+                options = match args.next().as_deref() {
+                    Some("tight") => EnvelopeOptions::tight(),
+                    _ => EnvelopeOptions::paper(),
+                };
+                options.measure_samples = samples;
+            }
             "--keep-sharp" => {
                 options.keep_sharp = Some(args.next().expect("--keep-sharp DEG").parse().unwrap())
             }
@@ -64,9 +75,10 @@ fn main() {
     }
     let epsilons: Vec<Epsilon> = levels.iter().map(|&p| Epsilon::percent(p)).collect();
     println!(
-        "order {:?}, offsets {:?}, keep sharp {:?}, {} rayon threads",
+        "order {:?}, offsets {:?}, normals smoothed {} rounds, keep sharp {:?}, {} rayon threads",
         options.order,
         options.offsets,
+        options.normal_smoothing,
         options.keep_sharp,
         rayon::current_num_threads()
     );

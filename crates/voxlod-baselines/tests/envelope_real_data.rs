@@ -112,25 +112,28 @@ fn real_meshes_at_one_percent_keep_every_guarantee() {
 }
 
 #[test]
-fn table2_series_beats_the_paper_on_fandisk_and_rocker_arm() {
-    for name in ["fandisk.obj", "rocker-arm.obj"] {
-        let Some(mesh) = read(
-            name,
-            "table2_series_beats_the_paper_on_fandisk_and_rocker_arm",
-        ) else {
+fn table2_series_beats_the_paper_with_both_presets() {
+    for name in ["fandisk.obj", "rocker-arm.obj", "stanford-bunny.obj"] {
+        let Some(mesh) = read(name, "table2_series_beats_the_paper_with_both_presets") else {
             continue;
         };
         let eps: Vec<Epsilon> = PAPER.iter().map(|p| Epsilon::percent(p.0)).collect();
-        let levels = envelope_series(&mesh, &eps, &EnvelopeOptions::unmeasured()).unwrap();
-        for (i, level) in levels.iter().enumerate() {
-            assert_guarantees(&mesh, level, &format!("{name} at {} %", PAPER[i].0));
-            assert!(
-                level.report.reduction_percent > PAPER[i].1,
-                "{name} level {i}"
-            );
-            if i > 0 {
-                let before: HashSet<u32> = levels[i - 1].vertex_map.iter().copied().collect();
-                assert!(level.vertex_map.iter().all(|v| before.contains(v)));
+        for (preset, options) in [
+            ("paper", EnvelopeOptions::unmeasured()),
+            ("tight", EnvelopeOptions::tight().with_measure_samples(0)),
+        ] {
+            let levels = envelope_series(&mesh, &eps, &options).unwrap();
+            for (i, level) in levels.iter().enumerate() {
+                let what = format!("{name} {preset} at {} %", PAPER[i].0);
+                assert_guarantees(&mesh, level, &what);
+                assert!(level.report.reduction_percent > PAPER[i].1, "{what}");
+                if i > 0 {
+                    let before: HashSet<u32> = levels[i - 1].vertex_map.iter().copied().collect();
+                    assert!(
+                        level.vertex_map.iter().all(|v| before.contains(v)),
+                        "{what}"
+                    );
+                }
             }
         }
     }

@@ -4,7 +4,13 @@
 //!
 //! Vertex normals are angle-weighted averages of the face normals: unlike area weights they do
 //! not depend on how a flat fan happens to be cut into triangles (marching-cubes slivers).
-//! Cost: O(V + F) plus the closest-point BVH build, O(F log F).
+//! Optionally they are then smoothed: each round replaces a normal by the normalised sum of
+//! itself and its neighbours' (over the edges). The paper assumes normals that "faithfully
+//! represent" the object; on a scan the raw normals carry the scanner's noise, and offsets far
+//! out along noisy normals cross each other everywhere. Any unit direction keeps the distance
+//! bound (an offset vertex is within its ε of its vertex); the crossing check keeps the
+//! offsets apart whatever the normals.
+//! Cost: O(V + F) per smoothing round plus the closest-point BVH build, O(F log F).
 
 use glam::DVec3;
 use voxlod_core::TriangleMesh;
@@ -33,8 +39,8 @@ pub(crate) struct Base {
 
 impl Base {
     /// Checks `mesh` (triangles present, indices in range, finite coordinates, manifold and
-    /// consistently oriented) and prepares it.
-    pub fn new(mesh: &TriangleMesh) -> Result<Base, EnvelopeError> {
+    /// consistently oriented) and prepares it, with `smoothing` rounds of normal smoothing.
+    pub fn new(mesh: &TriangleMesh, smoothing: usize) -> Result<Base, EnvelopeError> {
         if mesh.triangles.is_empty() {
             return Err(EnvelopeError::EmptyMesh);
         }
@@ -97,7 +103,19 @@ impl Base {
                 acc[v as usize] += face * angle;
             }
         }
-        let normals: Vec<DVec3> = acc.into_iter().map(|v| v.normalize_or_zero()).collect();
+        let mut normals: Vec<DVec3> = acc.into_iter().map(|v| v.normalize_or_zero()).collect();
+        for _ in 0..smoothing {
+            // Each edge is seen from both of its triangles (once from the border's): the weights
+            // do not matter much, the direction does.
+            let mut sum = normals.clone();
+            for &[a, b, c] in &tris {
+                for (u, w) in [(a, b), (b, c), (c, a)] {
+                    sum[u as usize] += normals[w as usize];
+                    sum[w as usize] += normals[u as usize];
+                }
+            }
+            normals = sum.into_iter().map(|v| v.normalize_or_zero()).collect();
+        }
 
         // In a manifold, an inner vertex has as many neighbours as triangles; a border vertex
         // one more.

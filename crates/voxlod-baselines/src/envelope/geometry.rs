@@ -16,7 +16,7 @@
 //! Triangle–box: the separating-axis test of Akenine-Möller (2001) with the 13 axes (3 box
 //! normals, the triangle normal, 9 edge cross products).
 
-use glam::DVec3;
+use glam::{DVec3, Vec3A};
 
 pub(crate) use voxlod_metrics::closest_point_on_triangle;
 
@@ -231,27 +231,79 @@ pub(crate) fn segment_segment_distance(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -
 /// Whether triangle `t` overlaps the box `[lo, hi]` (separating axes; touching counts).
 #[cfg(test)]
 pub(crate) fn triangle_overlaps_box(t: &[DVec3; 3], lo: DVec3, hi: DVec3) -> bool {
-    TriangleBoxTest::new(t).overlaps(lo, hi)
+    TriangleBoxTest::new(t, 0.0).overlaps(Vec3A::from(lo.as_vec3()), Vec3A::from(hi.as_vec3()))
 }
 
-/// The separating-axis test of one triangle against many boxes, with everything that depends
-/// on the triangle alone computed once: its box, its plane, and its extent along the nine
-/// edge–axis cross products.
+/// Lanes of the nine edge–axis cross products, padded to a multiple of four.
+const LANES: usize = 12;
+
+/// The separating-axis test of one triangle against many boxes (the nodes of a BVH), with
+/// everything that depends on the triangle alone computed once: its box, its plane, and its
+/// extent along the nine edge–axis cross products.
+///
+/// The boxes are the BVH's `f32` boxes, so the test runs in `f32`, lane by lane. It stays
+/// conservative (it never calls a touching pair separate): the axes are rounded to `f32` first
+/// and the triangle's extent along each rounded axis is computed in `f64` and rounded outwards;
+/// a box's half-size is widened by the contact tolerance and by 10⁻⁵ of its centre's and size's
+/// magnitude, far more than the rounding of the `f32` sums. A separating axis that is off by a
+/// rounding still separates: only the intervals must be right, and they are.
 pub(crate) struct TriangleBoxTest {
-    lo: DVec3,
-    hi: DVec3,
-    normal: DVec3,
-    /// `normal · t[0]`.
-    offset: f64,
-    /// Each cross-product axis with the triangle's smallest and largest projection on it.
-    axes: [(DVec3, f64, f64); 9],
+    lo: Vec3A,
+    hi: Vec3A,
+    normal: Vec3A,
+    /// The triangle's extent along `normal`.
+    offsets: (f32, f32),
+    ax: [f32; LANES],
+    ay: [f32; LANES],
+    az: [f32; LANES],
+    min: [f32; LANES],
+    max: [f32; LANES],
+    tol: f32,
+}
+
+/// `x` rounded to `f32` towards minus (`down`) or plus infinity.
+fn round_f32(x: f64, down: bool) -> f32 {
+    let r = x as f32;
+    match (down, (r as f64) > x, (r as f64) < x) {
+        (true, true, _) => r.next_down(),
+        (false, _, true) => r.next_up(),
+        _ => r,
+    }
 }
 
 impl TriangleBoxTest {
-    pub fn new(t: &[DVec3; 3]) -> Self {
+    /// The test for triangle `t`, with contacts within `tol` counted as overlaps.
+    pub fn new(t: &[DVec3; 3], tol: f64) -> Self {
         let e = [t[1] - t[0], t[2] - t[1], t[0] - t[2]];
-        let normal = e[0].cross(e[1]);
-        let mut axes = [(DVec3::ZERO, 0.0, 0.0); 9];
+        let extent = |axis: DVec3| {
+            let p = [axis.dot(t[0]), axis.dot(t[1]), axis.dot(t[2])];
+            (
+                round_f32(p[0].min(p[1]).min(p[2]), true),
+                round_f32(p[0].max(p[1]).max(p[2]), false),
+            )
+        };
+        let normal = e[0].cross(e[1]).as_vec3();
+        let mut test = TriangleBoxTest {
+            lo: Vec3A::new(
+                round_f32(t[0].x.min(t[1].x).min(t[2].x), true),
+                round_f32(t[0].y.min(t[1].y).min(t[2].y), true),
+                round_f32(t[0].z.min(t[1].z).min(t[2].z), true),
+            ),
+            hi: Vec3A::new(
+                round_f32(t[0].x.max(t[1].x).max(t[2].x), false),
+                round_f32(t[0].y.max(t[1].y).max(t[2].y), false),
+                round_f32(t[0].z.max(t[1].z).max(t[2].z), false),
+            ),
+            normal: Vec3A::from(normal),
+            offsets: extent(normal.as_dvec3()),
+            ax: [0.0; LANES],
+            ay: [0.0; LANES],
+            az: [0.0; LANES],
+            // Padding lanes never separate.
+            min: [f32::NEG_INFINITY; LANES],
+            max: [f32::INFINITY; LANES],
+            tol: tol as f32 * 1.01,
+        };
         for (i, edge) in e.iter().enumerate() {
             for (j, axis) in [
                 DVec3::new(0.0, -edge.z, edge.y),
@@ -261,35 +313,38 @@ impl TriangleBoxTest {
             .into_iter()
             .enumerate()
             {
-                let p = [axis.dot(t[0]), axis.dot(t[1]), axis.dot(t[2])];
-                axes[3 * i + j] = (axis, p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
+                let axis = axis.as_vec3();
+                let k = 3 * i + j;
+                (test.ax[k], test.ay[k], test.az[k]) = (axis.x, axis.y, axis.z);
+                (test.min[k], test.max[k]) = extent(axis.as_dvec3());
             }
         }
-        TriangleBoxTest {
-            lo: t[0].min(t[1]).min(t[2]),
-            hi: t[0].max(t[1]).max(t[2]),
-            normal,
-            offset: normal.dot(t[0]),
-            axes,
-        }
+        test
     }
 
-    /// Whether the triangle overlaps the box `[lo, hi]` (touching counts).
+    /// Whether the triangle overlaps the box `[lo, hi]` widened by the tolerance (touching
+    /// counts).
     #[inline]
-    pub fn overlaps(&self, lo: DVec3, hi: DVec3) -> bool {
-        if self.lo.cmpgt(hi).any() || self.hi.cmplt(lo).any() {
+    pub fn overlaps(&self, lo: Vec3A, hi: Vec3A) -> bool {
+        let tol = Vec3A::splat(self.tol);
+        if self.lo.cmpgt(hi + tol).any() || self.hi.cmplt(lo - tol).any() {
             return false;
         }
         let c = (lo + hi) * 0.5;
-        let h = (hi - lo) * 0.5;
-        if (self.normal.dot(c) - self.offset).abs() > h.dot(self.normal.abs()) {
+        let h0 = (hi - lo) * 0.5;
+        let h = h0 + tol + (c.abs() + h0) * 1e-5;
+        let pc = self.normal.dot(c);
+        let pr = self.normal.abs().dot(h);
+        if self.offsets.0 - pc > pr || self.offsets.1 - pc < -pr {
             return false;
         }
-        self.axes.iter().all(|&(axis, min, max)| {
-            let ac = axis.dot(c);
-            let r = h.dot(axis.abs());
-            min - ac <= r && max - ac >= -r
-        })
+        let mut separated = false;
+        for k in 0..LANES {
+            let ac = self.ax[k] * c.x + self.ay[k] * c.y + self.az[k] * c.z;
+            let r = self.ax[k].abs() * h.x + self.ay[k].abs() * h.y + self.az[k].abs() * h.z;
+            separated |= (self.min[k] - ac > r) | (self.max[k] - ac < -r);
+        }
+        !separated
     }
 }
 

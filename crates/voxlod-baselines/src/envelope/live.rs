@@ -69,11 +69,10 @@ impl LiveSet {
         if nodes.is_empty() {
             return false;
         }
-        let sat = TriangleBoxTest::new(query);
-        let pad = DVec3::splat(self.tol);
+        let sat = TriangleBoxTest::new(query, self.tol);
         let overlaps = |index: usize| {
             let b = nodes[index].aabb();
-            sat.overlaps(b.min.as_dvec3() - pad, b.max.as_dvec3() + pad)
+            sat.overlaps(b.min, b.max)
         };
         if !overlaps(0) {
             return false;

@@ -21,7 +21,10 @@
 //! the check names the offending edges; [`repair_for_envelope`] cuts a mesh into one).
 //!
 //! Deviations from the paper: border vertices are kept, so the border is exact (the paper
-//! assumes closed objects); vertex normals are angle-weighted; the candidate-triangle
+//! assumes closed objects); vertex normals are angle-weighted, and can be smoothed; the
+//! offsets are checked for crossings after the Voronoi limit, and can be limited by that check
+//! alone ([`EnvelopeOptions::tight`] does both, with the smallest-deviation-first order); new
+//! triangles are also checked against the current mesh; the candidate-triangle
 //! set-partition variant of §5–6.1 is not built (its vertex-removal variant is what the paper's
 //! results use); §6.4's α(1 + lg d) is estimated for the vertex-removal greedy.
 
@@ -64,6 +67,9 @@ pub struct EnvelopeOptions {
     pub order: RemovalOrder,
     /// How the offsets' ε is limited (§4.3).
     pub offsets: OffsetRule,
+    /// Rounds of smoothing of the vertex normals along which the offsets go (0: the raw
+    /// normals, as the paper).
+    pub normal_smoothing: usize,
     /// Keep every edge whose dihedral angle exceeds this many degrees (§6.5).
     pub keep_sharp: Option<f64>,
     /// Boxes with their own ε, as a multiple of the level's (§6.5).
@@ -84,6 +90,7 @@ impl Default for EnvelopeOptions {
         EnvelopeOptions {
             order: RemovalOrder::Coverage,
             offsets: OffsetRule::Voronoi,
+            normal_smoothing: 0,
             keep_sharp: None,
             regions: Vec::new(),
             min_aspect: 0.05,
@@ -115,6 +122,18 @@ impl EnvelopeOptions {
         }
     }
 
+    /// Our best: offsets along normals smoothed 20 rounds and shrunk only where they cross,
+    /// removals with the smallest deviation first. Same guarantees as the paper's method, far
+    /// fewer triangles at coarse levels, and faster.
+    pub fn tight() -> Self {
+        EnvelopeOptions {
+            order: RemovalOrder::Deviation,
+            offsets: OffsetRule::CrossingsOnly,
+            normal_smoothing: 20,
+            ..Default::default()
+        }
+    }
+
     pub fn with_keep_sharp(mut self, degrees: f64) -> Self {
         self.keep_sharp = Some(degrees);
         self
@@ -130,6 +149,11 @@ impl EnvelopeOptions {
         self
     }
 
+    pub fn with_normal_smoothing(mut self, rounds: usize) -> Self {
+        self.normal_smoothing = rounds;
+        self
+    }
+
     pub fn with_measure_samples(mut self, samples: usize) -> Self {
         self.measure_samples = samples;
         self
@@ -141,6 +165,13 @@ impl EnvelopeOptions {
                 what: "the smallest aspect ratio",
                 expected: "in [0, 1)",
                 value: self.min_aspect,
+            });
+        }
+        if self.normal_smoothing > 1000 {
+            return Err(EnvelopeError::InvalidOption {
+                what: "the rounds of normal smoothing",
+                expected: "at most 1000",
+                value: self.normal_smoothing as f64,
             });
         }
         if !(3..=MAX_VALENCE).contains(&self.max_valence) {
@@ -254,7 +285,7 @@ pub fn envelope_series_with(
     for e in epsilons {
         e.check()?;
     }
-    let base = Base::new(mesh)?;
+    let base = Base::new(mesh, options.normal_smoothing)?;
     let n = base.vertex_count();
     let resolved: Vec<f64> = epsilons.iter().map(|e| e.resolve(base.diagonal)).collect();
     for (i, w) in resolved.windows(2).enumerate() {

@@ -135,11 +135,10 @@ impl TriangleSet {
         }
         let qlo = query[0].min(query[1]).min(query[2]) - DVec3::splat(self.tol);
         let qhi = query[0].max(query[1]).max(query[2]) + DVec3::splat(self.tol);
-        let sat = TriangleBoxTest::new(query);
-        let pad = DVec3::splat(self.tol);
+        let sat = TriangleBoxTest::new(query, self.tol);
         let overlaps = |index: usize| {
             let b = nodes[index].aabb();
-            sat.overlaps(b.min.as_dvec3() - pad, b.max.as_dvec3() + pad)
+            sat.overlaps(b.min, b.max)
         };
         if !overlaps(0) {
             return;

@@ -55,7 +55,7 @@ use serde::Serialize;
 use voxlod_core::TriangleMesh;
 
 use super::base::Base;
-use super::geometry::{point_triangle_distance, CrossingTest};
+use super::geometry::{point_triangle_distance, triangles_intersect, CrossingTest};
 use super::live::LiveSet;
 use super::offsets::Envelope;
 use super::retriangulate::best_triangulation;
@@ -74,6 +74,17 @@ pub enum RemovalOrder {
 /// Largest valence a removable vertex may have (the triangulation tables are k³).
 pub const MAX_VALENCE: usize = 32;
 
+/// Removals evaluated together (in parallel): the best entries of the heap whose closed
+/// one-rings are disjoint. Fixed, so that the result does not depend on the number of threads.
+/// Evaluating independent removals together gives the same result as one after the other,
+/// except that a neighbour re-planned after an earlier removal of the batch cannot overtake a
+/// later one, and a triangle from an earlier removal of the batch is checked for crossings
+/// separately.
+const BATCH: usize = 16;
+
+/// Heap entries looked at to fill a batch.
+const LOOKAHEAD: usize = 64;
+
 /// Smallest |cos| between a new triangle's normal and the hole's normal.
 const MIN_FACING: f64 = 1e-3;
 
@@ -84,6 +95,8 @@ pub struct RemovalReport {
     pub removed: usize,
     /// Full evaluations (heap pops that were not stale).
     pub attempts: usize,
+    /// Batches of removals evaluated together (`attempts / batches` is the mean batch size).
+    pub batches: usize,
     /// Refusals by reason.
     pub refused_fixed: usize,
     pub refused_valence: usize,
@@ -232,49 +245,129 @@ impl<'a> Work<'a> {
             .map(|(key, v)| (key, v, self.stamp[v as usize]))
             .collect();
         let mut first_cover: Option<u32> = None;
-        while let Some((key, v, stamp)) = heap.pop() {
-            let v = v as usize;
-            if self.removed[v] || stamp != self.stamp[v] {
-                continue;
+        // The vertices claimed by the batch being collected (`claim[v] == batch number`).
+        let mut claim = vec![0u32; n];
+        let mut batch_number = 0u32;
+        loop {
+            // A batch: the best entries whose closed one-rings are disjoint, in heap order;
+            // an entry overlapping an earlier one waits for the next batch (at most LOOKAHEAD
+            // entries are looked at).
+            batch_number += 1;
+            let mut batch: Vec<(u64, usize)> = Vec::with_capacity(BATCH);
+            let mut deferred = Vec::new();
+            let mut looked = 0;
+            while batch.len() < BATCH && looked < LOOKAHEAD {
+                let Some((key, v, stamp)) = heap.pop() else {
+                    break;
+                };
+                let v = v as usize;
+                if self.removed[v] || stamp != self.stamp[v] {
+                    continue;
+                }
+                looked += 1;
+                let ring = self.around[v]
+                    .iter()
+                    .flat_map(|&t| self.tris[t as usize])
+                    .chain(std::iter::once(v as u32));
+                if ring.clone().any(|w| claim[w as usize] == batch_number) {
+                    deferred.push((key, v as u32, stamp));
+                    continue;
+                }
+                for w in ring {
+                    claim[w as usize] = batch_number;
+                }
+                batch.push((key, v));
             }
-            report.attempts += 1;
-            if first_cover.is_none() {
-                first_cover = Some((key >> 32) as u32);
+            heap.extend(deferred);
+            if batch.is_empty() {
+                break;
             }
-            match self.evaluate(v, level, true) {
-                Ok(candidate) => {
-                    report.envelope_tests += candidate.envelope_tests;
-                    if order == RemovalOrder::Coverage {
-                        let top = first_cover.take().unwrap_or(candidate.cover).max(1) as f64;
-                        report.alpha = report.alpha.max(top / candidate.cover.max(1) as f64);
+            report.batches += 1;
+            let results: Vec<Result<Candidate, (Refusal, usize)>> = if batch.len() == 1 {
+                vec![self.evaluate(batch[0].1, level, true)]
+            } else {
+                batch
+                    .par_iter()
+                    .map(|&(_, v)| self.evaluate(v, level, true))
+                    .collect()
+            };
+            let mut touched = Vec::new();
+            let mut batch_triangles: Vec<([u32; 3], [DVec3; 3])> = Vec::new();
+            for (&(key, v), result) in batch.iter().zip(results) {
+                report.attempts += 1;
+                if first_cover.is_none() {
+                    first_cover = Some((key >> 32) as u32);
+                }
+                // A removal applied earlier in the batch may have put a triangle in the way
+                // (the evaluations saw the mesh before the batch).
+                let result = result.and_then(|c| {
+                    let crossed = c.triangles.iter().any(|t| {
+                        let corners = t.map(|w| self.base.pos[w as usize]);
+                        batch_triangles
+                            .iter()
+                            .any(|(ids, other): &([u32; 3], [DVec3; 3])| {
+                                !ids.iter().any(|w| t.contains(w))
+                                    && triangles_intersect(&corners, other, self.base.tol)
+                            })
+                    });
+                    if crossed {
+                        Err((Refusal::Crossing, c.envelope_tests))
+                    } else {
+                        Ok(c)
                     }
-                    report.max_cover = report.max_cover.max(candidate.cover as usize);
-                    let link = self.apply(v, candidate);
-                    report.removed += 1;
-                    for w in link {
-                        let w = w as usize;
-                        self.stamp[w] = self.stamp[w].wrapping_add(1);
-                        if level.fixed[w] || self.removed[w] {
-                            continue;
+                });
+                match result {
+                    Ok(candidate) => {
+                        report.envelope_tests += candidate.envelope_tests;
+                        if order == RemovalOrder::Coverage {
+                            let top = first_cover.take().unwrap_or(candidate.cover).max(1);
+                            report.alpha =
+                                report.alpha.max(top as f64 / candidate.cover.max(1) as f64);
                         }
-                        match self.evaluate(w, level, false) {
-                            Ok(c) => heap.push((c.key(order), w as u32, self.stamp[w])),
-                            Err((Refusal::Guard, _)) => report.pruned += 1,
-                            Err(_) => {}
-                        }
+                        report.max_cover = report.max_cover.max(candidate.cover as usize);
+                        batch_triangles.extend(
+                            candidate
+                                .triangles
+                                .iter()
+                                .map(|t| (*t, t.map(|w| self.base.pos[w as usize]))),
+                        );
+                        touched.extend(self.apply(v, candidate));
+                        report.removed += 1;
+                    }
+                    Err((refusal, tests)) => {
+                        report.envelope_tests += tests;
+                        *match refusal {
+                            Refusal::Fixed => &mut report.refused_fixed,
+                            Refusal::Valence => &mut report.refused_valence,
+                            Refusal::NotFlat => &mut report.refused_not_flat,
+                            Refusal::NoTriangulation => &mut report.refused_no_triangulation,
+                            Refusal::Envelope => &mut report.refused_envelope,
+                            Refusal::Crossing => &mut report.refused_crossing,
+                            Refusal::Guard => &mut report.refused_guard,
+                        } += 1;
                     }
                 }
-                Err((refusal, tests)) => {
-                    report.envelope_tests += tests;
-                    *match refusal {
-                        Refusal::Fixed => &mut report.refused_fixed,
-                        Refusal::Valence => &mut report.refused_valence,
-                        Refusal::NotFlat => &mut report.refused_not_flat,
-                        Refusal::NoTriangulation => &mut report.refused_no_triangulation,
-                        Refusal::Envelope => &mut report.refused_envelope,
-                        Refusal::Crossing => &mut report.refused_crossing,
-                        Refusal::Guard => &mut report.refused_guard,
-                    } += 1;
+            }
+            // Plan the neighbours of the removed vertices again.
+            touched.sort_unstable();
+            touched.dedup();
+            for &w in &touched {
+                self.stamp[w as usize] = self.stamp[w as usize].wrapping_add(1);
+            }
+            touched.retain(|&w| !level.fixed[w as usize] && !self.removed[w as usize]);
+            let planned: Vec<Result<u64, Refusal>> = touched
+                .par_iter()
+                .map(|&w| {
+                    self.evaluate(w as usize, level, false)
+                        .map(|c| c.key(order))
+                        .map_err(|(r, _)| r)
+                })
+                .collect();
+            for (&w, plan) in touched.iter().zip(planned) {
+                match plan {
+                    Ok(key) => heap.push((key, w, self.stamp[w as usize])),
+                    Err(Refusal::Guard) => report.pruned += 1,
+                    Err(_) => {}
                 }
             }
         }
