@@ -17,8 +17,10 @@ pub const SURFACE_COLOR: [f32; 3] = [0.85, 0.86, 0.9];
 
 /// Draw meshes and layered shells to a PNG (software rasterizer, Lambert shading).
 ///
-/// Plain meshes are drawn opaque through a z-buffer, with their dangling edges as lines
-/// --line-width pixels wide and isolated points as squares. A layered .glb (from `voxlod
+/// Plain meshes are drawn opaque through a z-buffer, with their dangling edges as lines and
+/// isolated points as squares. Edges that carry a `width` attribute (the thick edges of
+/// `voxlod cluster`, in world units) are drawn that wide, shaded with the patent's dynamic
+/// normal when they carry `normal_x/y/z`; others are --line-width pixels wide. A layered .glb (from `voxlod
 /// layers`) is alpha-blended in the back-to-front order it stores for the octant of --view. With
 /// --perspective, or with several layered files, the order is computed afresh from the volume
 /// grid the file records: split at the eye's cell, objects ordered by their buffers' boxes and
@@ -90,6 +92,75 @@ struct RenderReport {
     seconds: f64,
 }
 
+/// Dangling edges of one look, drawn as one line item.
+struct LineGroup {
+    input: usize,
+    lines: Vec<[u32; 2]>,
+    color: [f32; 3],
+    width: f32,
+}
+
+const WIRE: [f32; 3] = [0.95, 0.55, 0.2];
+
+/// The dangling edges of `m` grouped by pixel width (quarter pixels) and shade (1/32): per-line
+/// widths from the `width` attribute and shades from the dynamic normal (Low–Tan) when the
+/// file has them, else one group of `default_width` pixels, unshaded.
+fn line_groups(
+    input: usize,
+    m: &PolyMesh,
+    camera: &Camera,
+    options: &RenderOptions,
+    default_width: f32,
+) -> Result<Vec<LineGroup>, CliError> {
+    use voxlod_baselines::thick_edges::{dynamic_normal, NORMAL, WIDTH};
+    let attr = |name: &str| m.line_attributes.iter().find(|a| a.name == name);
+    let Some(widths) = attr(WIDTH) else {
+        return Ok(vec![LineGroup {
+            input,
+            lines: m.lines.clone(),
+            color: WIRE,
+            width: default_width,
+        }]);
+    };
+    let normals = match NORMAL.map(attr) {
+        [Some(x), Some(y), Some(z)] => Some((x, y, z)),
+        _ => None,
+    };
+    let light = options
+        .light_direction(camera)
+        .map_err(|e| CliError::msg(e.to_string()))?
+        .as_vec3();
+    let mut groups: std::collections::BTreeMap<(u32, u32), Vec<[u32; 2]>> = Default::default();
+    for (i, &[a, b]) in m.lines.iter().enumerate() {
+        let (pa, pb) = (m.mesh.positions[a as usize], m.mesh.positions[b as usize]);
+        let mid = ((pa + pb) * 0.5).as_dvec3();
+        let px = (widths.values[i] as f64 / camera.pixel_size_at(mid)).max(1.0);
+        let shade = match normals {
+            Some((x, y, z)) => {
+                let stored = glam::Vec3::new(x.values[i], y.values[i], z.values[i]);
+                let towards = if camera.is_perspective() {
+                    (camera.eye - mid).as_vec3()
+                } else {
+                    -camera.forward.as_vec3()
+                };
+                options.shade(dynamic_normal(pa, pb, stored, towards), light)
+            }
+            None => 1.0,
+        };
+        let key = ((px * 4.0).round() as u32, (shade * 32.0).round() as u32);
+        groups.entry(key).or_default().push([a, b]);
+    }
+    Ok(groups
+        .into_iter()
+        .map(|((w, s), lines)| LineGroup {
+            input,
+            lines,
+            color: WIRE.map(|c| c * s as f32 / 32.0),
+            width: w as f32 / 4.0,
+        })
+        .collect())
+}
+
 /// One input, read.
 enum Loaded {
     Plain(PolyMesh),
@@ -124,9 +195,32 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             inputs.push(Loaded::Plain(voxlod_io::read_poly_mesh(path)?));
         }
     }
-    // Opaque meshes, lines, points.
-    let mut scene = Scene::default();
+    // The camera frames everything.
     let mut bounds = Bounds::EMPTY;
+    for input in &inputs {
+        bounds = bounds.union(&match input {
+            Loaded::Plain(m) => poly_bounds(m),
+            Loaded::Layered(g, _) => g.mesh.bounds(),
+        });
+    }
+    if bounds.is_empty() {
+        return Err(CliError::msg(
+            "nothing to draw: the inputs hold no geometry",
+        ));
+    }
+    let camera = Camera::fit(
+        view,
+        &bounds,
+        width,
+        height,
+        args.perspective.then_some(args.fov),
+    )
+    .map_err(|e| CliError::msg(e.to_string()))?;
+    let options = RenderOptions {
+        supersample: args.supersample,
+        background,
+        ..Default::default()
+    };
     let mut report = RenderReport {
         output: args.output.display().to_string(),
         width,
@@ -142,49 +236,45 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         layered_order: None,
         seconds: 0.0,
     };
-    for input in &inputs {
-        match input {
-            Loaded::Plain(m) => {
-                bounds = bounds.union(&poly_bounds(m));
-                report.opaque_triangles += m.mesh.triangles.len();
-                report.lines += m.lines.len();
-                report.points += m.points.len();
-                if !m.mesh.triangles.is_empty() {
-                    scene.meshes.push(MeshItem::opaque(&m.mesh, SURFACE_COLOR));
-                }
-                if !m.lines.is_empty() {
-                    scene.lines.push(LineItem {
-                        positions: &m.mesh.positions,
-                        lines: &m.lines,
-                        color: [0.95, 0.55, 0.2],
-                        width: args.line_width,
-                    });
-                }
-                if !m.points.is_empty() {
-                    scene.points.push(PointItem {
-                        positions: &m.mesh.positions,
-                        points: &m.points,
-                        color: [0.3, 0.7, 0.95],
-                        size: args.point_size,
-                    });
-                }
+    // Opaque meshes, lines, points.
+    let mut groups = Vec::new();
+    for (i, input) in inputs.iter().enumerate() {
+        if let Loaded::Plain(m) = input {
+            if !m.lines.is_empty() {
+                groups.extend(line_groups(i, m, &camera, &options, args.line_width)?);
             }
-            Loaded::Layered(g, _) => bounds = bounds.union(&g.mesh.bounds()),
         }
     }
-    if bounds.is_empty() {
-        return Err(CliError::msg(
-            "nothing to draw: the inputs hold no geometry",
-        ));
+    let mut scene = Scene::default();
+    for input in &inputs {
+        if let Loaded::Plain(m) = input {
+            report.opaque_triangles += m.mesh.triangles.len();
+            report.lines += m.lines.len();
+            report.points += m.points.len();
+            if !m.mesh.triangles.is_empty() {
+                scene.meshes.push(MeshItem::opaque(&m.mesh, SURFACE_COLOR));
+            }
+            if !m.points.is_empty() {
+                scene.points.push(PointItem {
+                    positions: &m.mesh.positions,
+                    points: &m.points,
+                    color: [0.3, 0.7, 0.95],
+                    size: args.point_size,
+                });
+            }
+        }
     }
-    let camera = Camera::fit(
-        view,
-        &bounds,
-        width,
-        height,
-        args.perspective.then_some(args.fov),
-    )
-    .map_err(|e| CliError::msg(e.to_string()))?;
+    for g in &groups {
+        let Loaded::Plain(m) = &inputs[g.input] else {
+            unreachable!("line groups come from plain meshes")
+        };
+        scene.lines.push(LineItem {
+            positions: &m.mesh.positions,
+            lines: &g.lines,
+            color: g.color,
+            width: g.width,
+        });
+    }
     // Layered files: one blended mesh in back-to-front order.
     let layered: Vec<(&GlbScene, &PathBuf)> = inputs
         .iter()
@@ -209,16 +299,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             &b.order,
         ));
     }
-    let image = render(
-        &scene,
-        &camera,
-        &RenderOptions {
-            supersample: args.supersample,
-            background,
-            ..Default::default()
-        },
-    )
-    .map_err(|e| CliError::msg(e.to_string()))?;
+    let image = render(&scene, &camera, &options).map_err(|e| CliError::msg(e.to_string()))?;
     let png = image.to_png().map_err(|e| CliError::msg(e.to_string()))?;
     voxlod_io::atomic::write_atomically(&args.output, |w| std::io::Write::write_all(w, &png))?;
     report.seconds = start.elapsed().as_secs_f64();
@@ -348,4 +429,60 @@ fn blend_layers(
         .map(|&(o, t)| first_triangle[o as usize] + t)
         .collect();
     Ok((out, "computed"))
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DVec3, Vec3};
+    use voxlod_core::{Attribute, Bounds, PolyMesh, TriangleMesh};
+    use voxlod_render::{Camera, RenderOptions};
+
+    use super::line_groups;
+
+    #[test]
+    fn thick_edges_keep_their_world_width_and_face_the_viewer() {
+        // Two edges along x, 0.1 and 0.3 wide, seen from -z over a 2-unit-tall view of 200 px
+        // (0.01 per pixel): 10 and 30 pixels.
+        let positions = vec![
+            Vec3::new(-0.5, 0.2, 0.0),
+            Vec3::new(0.5, 0.2, 0.0),
+            Vec3::new(-0.5, -0.2, 0.0),
+            Vec3::new(0.5, -0.2, 0.0),
+        ];
+        let mut m = PolyMesh::from(TriangleMesh::new(positions, Vec::new()));
+        m.lines = vec![[0, 1], [2, 3]];
+        let attr = |name: &str, values: Vec<f32>| Attribute {
+            name: name.into(),
+            values,
+        };
+        m.line_attributes = vec![attr("width", vec![0.1, 0.3])];
+        let mut cam = Camera::fit(
+            DVec3::new(0.0, 0.0, 1.0),
+            &Bounds::new(DVec3::splat(-1.0), DVec3::splat(1.0)),
+            200,
+            200,
+            None,
+        )
+        .unwrap();
+        cam.projection = voxlod_render::Projection::Orthographic { half_height: 1.0 };
+        let options = RenderOptions::default();
+        let groups = line_groups(0, &m, &cam, &options, 2.0).unwrap();
+        let mut widths: Vec<f32> = groups.iter().map(|g| g.width).collect();
+        widths.sort_by(f32::total_cmp);
+        assert_eq!(widths, vec![10.0, 30.0]);
+        // Normals across the edges: the dynamic normal turns them to the viewer, so both edges
+        // are shaded alike whatever the stored normal.
+        m.line_attributes.extend([
+            attr("normal_x", vec![0.0, 0.0]),
+            attr("normal_y", vec![1.0, 0.0]),
+            attr("normal_z", vec![0.0, 1.0]),
+        ]);
+        let groups = line_groups(0, &m, &cam, &options, 2.0).unwrap();
+        assert_eq!(groups.len(), 2);
+        assert_eq!(groups[0].color, groups[1].color);
+        // Without widths: one group of the default width.
+        m.line_attributes.clear();
+        let groups = line_groups(0, &m, &cam, &options, 2.0).unwrap();
+        assert_eq!((groups.len(), groups[0].width), (1, 2.0));
+    }
 }

@@ -50,6 +50,23 @@ impl Default for RenderOptions {
 }
 
 impl RenderOptions {
+    /// The unit direction towards the light for `camera`: [`RenderOptions::light`], or the
+    /// headlight.
+    pub fn light_direction(&self, camera: &Camera) -> Result<DVec3, RenderError> {
+        match self.light {
+            Some(l) => crate::camera::check_direction(l),
+            None => Ok((-camera.forward + 0.35 * camera.up - 0.25 * camera.right).normalize()),
+        }
+    }
+
+    /// The Lambert shade of a surface of unit normal `n` (either side lit):
+    /// `ambient + (1 − ambient) |n · light|`.
+    #[inline]
+    pub fn shade(&self, n: Vec3, light: Vec3) -> f32 {
+        let ambient = self.ambient.clamp(0.0, 1.0);
+        ambient + (1.0 - ambient) * n.dot(light).abs()
+    }
+
     /// The 16×16 supersampled reference of the antialiasing comparisons.
     pub fn reference() -> Self {
         RenderOptions {
@@ -227,13 +244,8 @@ pub fn render(
         return Err(RenderError::BadSupersample(n));
     }
     scene.check()?;
-    let light = match options.light {
-        Some(l) => crate::camera::check_direction(l)?,
-        None => (-camera.forward + 0.35 * camera.up - 0.25 * camera.right).normalize(),
-    }
-    .as_vec3();
-    let ambient = options.ambient.clamp(0.0, 1.0);
-    let lambert = |n: Vec3| ambient + (1.0 - ambient) * n.dot(light).abs();
+    let light = options.light_direction(camera)?.as_vec3();
+    let lambert = |n: Vec3| options.shade(n, light);
 
     // (1) Project and shade.
     let project = |p: Vec3| -> ScreenVertex {
