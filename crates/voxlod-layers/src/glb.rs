@@ -458,6 +458,10 @@ impl GlbScene {
 
 /// Reads a `.glb` (see the module documentation).
 pub fn read_glb(path: &Path) -> Result<GlbScene, LayersError> {
+    let len = std::fs::metadata(path)
+        .map_err(|e| LayersError::Gltf(format!("{}: cannot read: {e}", path.display())))?
+        .len();
+    voxlod_core::memory::check_allocation(&format!("reading {}", path.display()), len)?;
     let bytes = std::fs::read(path)
         .map_err(|e| LayersError::Gltf(format!("{}: cannot read: {e}", path.display())))?;
     parse_glb(&bytes).map_err(|e| match e {

@@ -244,6 +244,10 @@ pub fn render(
         return Err(RenderError::BadSupersample(n));
     }
     scene.check()?;
+    voxlod_core::memory::check_allocation(
+        &format!("a {width}x{height} image"),
+        voxlod_core::memory::bytes_of::<[f32; 4]>(width as usize * height as usize),
+    )?;
     let light = options.light_direction(camera)?.as_vec3();
     let lambert = |n: Vec3| options.shade(n, light);
 
