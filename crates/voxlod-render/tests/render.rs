@@ -219,33 +219,7 @@ fn thick_lines_and_points_cover_their_area() {
 }
 
 fn cube() -> TriangleMesh {
-    let p = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
-    let mut m = TriangleMesh::new(
-        vec![
-            p(0., 0., 0.),
-            p(1., 0., 0.),
-            p(1., 1., 0.),
-            p(0., 1., 0.),
-            p(0., 0., 1.),
-            p(1., 0., 1.),
-            p(1., 1., 1.),
-            p(0., 1., 1.),
-        ],
-        vec![
-            [0, 2, 1],
-            [0, 3, 2],
-            [4, 5, 6],
-            [4, 6, 7],
-            [0, 1, 5],
-            [0, 5, 4],
-            [1, 2, 6],
-            [1, 6, 5],
-            [2, 3, 7],
-            [2, 7, 6],
-            [3, 0, 4],
-            [3, 4, 7],
-        ],
-    );
+    let mut m = voxlod_core::shapes::unit_cube();
     m.compute_vertex_normals();
     m
 }
