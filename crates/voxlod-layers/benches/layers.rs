@@ -11,9 +11,9 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::DVec3;
 use voxlod_layers::compare::{bolt, render_layered};
-use voxlod_layers::{layer_solid, layer_volume, LayersOptions, Octant};
+use voxlod_layers::{filter_solid, layer_solid, layer_volume, LayersOptions, Octant};
 use voxlod_render::{Camera, RenderOptions};
-use voxlod_sampling::{filtered_density, level_grid, CsgSolid, DensityOptions, MeshSolid, Solid};
+use voxlod_sampling::{CsgSolid, MeshSolid, Solid};
 
 fn bench(c: &mut Criterion) {
     let (name, solid): (&str, Box<dyn Solid>) = match voxlod_core::testdata::shared_data_or_skip(
@@ -27,16 +27,12 @@ fn bench(c: &mut Criterion) {
         None => ("bolt", Box::new(CsgSolid::new(bolt()).unwrap())),
     };
     let options = LayersOptions::default();
-    let bounds = solid.bounds();
-    let r = bounds.longest_extent() / options.resolution as f64;
-    let grid = level_grid(&bounds, options.resolution, r).unwrap();
-    let density = DensityOptions::new(options.plan.filter, r);
-    let (volume, _) = filtered_density(solid.as_ref(), &grid, &density).unwrap();
+    let (volume, _) = filter_solid(solid.as_ref(), &options).unwrap();
 
     let mut group = c.benchmark_group("layers");
     group.sample_size(10);
     group.bench_function(format!("filter-{name}-128"), |b| {
-        b.iter(|| filtered_density(solid.as_ref(), &grid, &density).unwrap())
+        b.iter(|| filter_solid(solid.as_ref(), &options).unwrap())
     });
     let triangles = layer_volume(&volume, &options.plan, &options.extract)
         .unwrap()

@@ -8,9 +8,11 @@ use std::time::Instant;
 
 use glam::DVec3;
 use voxlod_layers::compare::{bolt, render_layered};
-use voxlod_layers::{layer_solid, layer_volume, ExtractOptions, LayersOptions, Octant};
+use voxlod_layers::{
+    filter_solid, layer_solid, layer_volume, ExtractOptions, LayersOptions, Octant,
+};
 use voxlod_render::{Camera, RenderOptions};
-use voxlod_sampling::{filtered_density, level_grid, CsgSolid, DensityOptions, MeshSolid, Solid};
+use voxlod_sampling::{CsgSolid, MeshSolid, Solid};
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -35,18 +37,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         None => ("bolt", Box::new(CsgSolid::new(bolt())?)),
     };
     let options = LayersOptions::default();
-    let bounds = solid.bounds();
-    let r = bounds.longest_extent() / options.resolution as f64;
-    let grid = level_grid(&bounds, options.resolution, r)?;
     let mut sample = Vec::new();
     let mut volume = None;
     for _ in 0..runs {
         let t = Instant::now();
-        let (v, _) = filtered_density(
-            solid.as_ref(),
-            &grid,
-            &DensityOptions::new(options.plan.filter, r),
-        )?;
+        let (v, _) = filter_solid(solid.as_ref(), &options)?;
         sample.push(t.elapsed().as_secs_f64());
         volume = Some(v);
     }
@@ -70,7 +65,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     println!(
         "{name} at {:?} samples, {} layers, {} triangles:",
-        grid.dims,
+        volume.grid.dims,
         l.plan.len(),
         l.mesh.triangle_count()
     );

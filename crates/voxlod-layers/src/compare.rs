@@ -10,8 +10,8 @@
 //! `silhouette_radius` of a partly covered pixel of the reference), and over the whole image.
 //!
 //! What decides the outcome is the filter radius seen on screen: the layers spread the edge over
-//! about the support radius R outside the surface, so they help while R is up to about a pixel
-//! and blur beyond; [`Comparison::radius_pixels`] reports it.
+//! about the support radius R outside the surface, so they help while R is up to about half a
+//! pixel and blur beyond; [`ComparisonReport::radius_pixels`] reports it.
 //!
 //! [`bolt`] is the bolt-like CSG part: a hexagonal head, a shank, and thread ridges.
 
@@ -22,10 +22,10 @@ use voxlod_core::{Axis, TriangleMesh};
 use voxlod_render::{
     render, rms_difference, silhouette_mask, Camera, Image, MeshItem, RenderOptions, Scene,
 };
-use voxlod_sampling::{filtered_density, level_grid, DensityOptions, Shape, Solid};
+use voxlod_sampling::{Shape, Solid};
 
 use crate::order::Octant;
-use crate::pipeline::{layer_volume, LayersOptions};
+use crate::pipeline::{filter_solid, layer_volume, LayersOptions};
 use crate::LayersError;
 
 /// A bolt-like part, about 1.6 units long along z: a hexagonal head 1 across the flats, a shank
@@ -154,19 +154,7 @@ pub fn compare_antialiasing(
 ) -> Result<Comparison, LayersError> {
     let octant = Octant::of(options.view)?;
     let lo = &options.layers;
-    let bounds = solid.bounds();
-    let voxel = bounds.longest_extent() / lo.resolution.max(1) as f64;
-    let radius = lo.radius_voxels * voxel;
-    let grid = level_grid(&bounds, lo.resolution, radius)?;
-    let (volume, _) = filtered_density(
-        solid,
-        &grid,
-        &DensityOptions {
-            filter: lo.plan.filter,
-            radius,
-            lines_per_radius: lo.lines_per_radius,
-        },
-    )?;
+    let (volume, _) = filter_solid(solid, lo)?;
     let single = marching_cubes(&volume, &ContourOptions::at(0.5))?;
     if single.triangles.is_empty() {
         return Err(LayersError::EmptyVolume);
@@ -219,7 +207,8 @@ pub fn compare_antialiasing(
         achieved_error: layered.plan.achieved_error,
         single_triangles: single.triangles.len(),
         layered_triangles: cat.mesh.triangles.len(),
-        radius_pixels: radius / camera.pixel_size_at(bounds.center()),
+        radius_pixels: volume.grid.spacing[0] * lo.radius_voxels
+            / camera.pixel_size_at(volume.grid.bounds().center()),
         silhouette_pixels: mask.iter().filter(|&&m| m).count(),
         rms_single: rms(&single_image, Some(&mask)),
         rms_layered: rms(&layered_image, Some(&mask)),

@@ -34,7 +34,9 @@ pub use order::{
     index_cells, octant_order, octant_orders, recover_cells, view_order, CellIndex, CellTriangles,
     Octant, View, ORDER_NAMES,
 };
-pub use pipeline::{layer_solid, layer_volume, orders_of, Layered, LayersOptions, Timings};
+pub use pipeline::{
+    filter_solid, layer_solid, layer_volume, orders_of, Layered, LayersOptions, Timings,
+};
 pub use plan::{
     blend_alphas, optimal_plan, plan_layers, Blending, LayerPlan, PlanOptions, PlannedLayer,
     MAX_LAYERS,

@@ -72,9 +72,12 @@ pub struct Layered {
     pub timings: Timings,
 }
 
-/// Filters `solid` and builds its layers (see the module documentation).
-pub fn layer_solid(solid: &dyn Solid, options: &LayersOptions) -> Result<Layered, LayersError> {
-    let start = Instant::now();
+/// Filters `solid` on the grid `options` asks for (its box at `resolution` samples across,
+/// padded, radius `radius_voxels`): the volume the layers are cut from.
+pub fn filter_solid(
+    solid: &dyn Solid,
+    options: &LayersOptions,
+) -> Result<(Volume, DensityReport), LayersError> {
     let bounds = solid.bounds();
     let voxel = bounds.longest_extent() / options.resolution.max(1) as f64;
     let radius = options.radius_voxels * voxel;
@@ -84,7 +87,13 @@ pub fn layer_solid(solid: &dyn Solid, options: &LayersOptions) -> Result<Layered
         radius,
         lines_per_radius: options.lines_per_radius,
     };
-    let (volume, report) = filtered_density(solid, &grid, &density_options)?;
+    Ok(filtered_density(solid, &grid, &density_options)?)
+}
+
+/// Filters `solid` and builds its layers (see the module documentation).
+pub fn layer_solid(solid: &dyn Solid, options: &LayersOptions) -> Result<Layered, LayersError> {
+    let start = Instant::now();
+    let (volume, report) = filter_solid(solid, options)?;
     let sample_seconds = start.elapsed().as_secs_f64();
     let mut out = layer_volume(&volume, &options.plan, &options.extract)?;
     out.density = Some(report);
