@@ -58,20 +58,7 @@ impl TriangleSet {
             ),
             bytes_of::<[u8; BUILD_BYTES_PER_TRIANGLE]>(corners.len()),
         )?;
-        let boxes: Vec<Aabb> = corners
-            .par_iter()
-            .map(|t| {
-                let lo = t[0].min(t[1]).min(t[2]);
-                let hi = t[0].max(t[1]).max(t[2]);
-                // Widen by the tolerance and by one f32 rounding of the largest coordinate, so
-                // the f32 box holds the f64 triangle and everything within `tol` of it.
-                let pad = DVec3::splat(tol) + lo.abs().max(hi.abs()) * (2.0 * f32::EPSILON as f64);
-                Aabb::new(
-                    Vec3A::from((lo - pad).as_vec3()),
-                    Vec3A::from((hi + pad).as_vec3()),
-                )
-            })
-            .collect();
+        let boxes: Vec<Aabb> = corners.par_iter().map(|t| padded_box(t, tol)).collect();
         let mut time = Duration::ZERO;
         let bvh = obvhs::bvh2::builder::build_bvh2(&boxes, BUILD, &mut time);
         drop(boxes);
@@ -88,6 +75,32 @@ impl TriangleSet {
             slot_triangle,
             tol,
         })
+    }
+
+    /// Moves the triangles to `corners`, with vertex ids `ids` (same count and order as when
+    /// built): the leaves' boxes are recomputed and the tree refitted, its shape kept. O(F).
+    pub fn update(&mut self, corners: &[[DVec3; 3]], ids: &[[u32; 3]]) {
+        debug_assert_eq!(corners.len(), self.slot_triangle.len());
+        self.slot_corners
+            .par_iter_mut()
+            .zip(self.slot_ids.par_iter_mut())
+            .zip(self.slot_triangle.par_iter())
+            .for_each(|((c, i), &t)| {
+                *c = corners[t as usize];
+                *i = ids[t as usize];
+            });
+        let (slots, tol) = (&self.slot_corners, self.tol);
+        self.bvh.nodes.par_iter_mut().for_each(|node| {
+            if node.is_leaf() {
+                let first = node.first_index as usize;
+                let mut b = padded_box(&slots[first], tol);
+                for t in &slots[first + 1..first + node.prim_count as usize] {
+                    b = b.union(&padded_box(t, tol));
+                }
+                node.set_aabb(b);
+            }
+        });
+        self.bvh.refit_all();
     }
 
     /// Whether `query` touches any indexed triangle for which `skip(ids, index)` is false.
@@ -170,6 +183,18 @@ impl TriangleSet {
     }
 }
 
+/// The `f32` box of `t`, widened by `tol` and by one `f32` rounding of its largest coordinate, so
+/// that it holds the `f64` triangle and everything within `tol` of it.
+fn padded_box(t: &[DVec3; 3], tol: f64) -> Aabb {
+    let lo = t[0].min(t[1]).min(t[2]);
+    let hi = t[0].max(t[1]).max(t[2]);
+    let pad = DVec3::splat(tol) + lo.abs().max(hi.abs()) * (2.0 * f32::EPSILON as f64);
+    Aabb::new(
+        Vec3A::from((lo - pad).as_vec3()),
+        Vec3A::from((hi + pad).as_vec3()),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -216,5 +241,15 @@ mod tests {
         assert_eq!(found, brute);
         // Skipping every triangle finds nothing.
         assert!(!set.touches(&through, |_, _| true));
+        // Moved up by 2, the grid no longer meets the query, but meets it lifted by 2.
+        let mut set = set;
+        let lifted: Vec<[DVec3; 3]> = corners
+            .iter()
+            .map(|t| t.map(|p| p + DVec3::new(0.0, 0.0, 2.0)))
+            .collect();
+        set.update(&lifted, &ids);
+        assert!(!set.touches(&through, |_, _| false));
+        let through_up = through.map(|p| p + DVec3::new(0.0, 0.0, 2.0));
+        assert!(set.touches(&through_up, |_, _| false));
     }
 }
