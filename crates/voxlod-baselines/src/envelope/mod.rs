@@ -27,6 +27,13 @@
 //! triangles are also checked against the current mesh; the candidate-triangle
 //! set-partition variant of §5–6.1 is not built (its vertex-removal variant is what the paper's
 //! results use); §6.4's α(1 + lg d) is estimated for the vertex-removal greedy.
+//!
+//! Cost, per level: the offsets take one closest-point query per vertex and side (more where the
+//! Voronoi limit bisects) and a few rounds of triangle queries over the 2F offset triangles; the
+//! removals take O(k³) planning per attempt, a BVH query per proposed triangle against the
+//! offsets and one against the current mesh, in parallel batches. Memory: O(V + F), with three
+//! BVHs (the two offsets, the current mesh) beside the input's closest-point BVH. The bunny
+//! (69,451 triangles) takes about 4 s at 1 % on two cores (BENCHMARKS.md).
 
 mod base;
 pub mod checks;
