@@ -326,11 +326,12 @@ fn png_size(path: &Path) -> (u32, u32) {
     (be(&bytes[16..20]), be(&bytes[20..24]))
 }
 
-const ALL_METHODS: [&str; 4] = [
+const ALL_METHODS: [&str; 5] = [
     "voxel-hypercone",
     "voxel-gaussian",
     "rossignac-borrel",
     "low-tan",
+    "envelope",
 ];
 
 /// Checks the files and the curves of an evaluation written to `out`; returns report.json.
@@ -390,6 +391,18 @@ fn check_evaluation(out: &Path, methods: &[&str]) -> serde_json::Value {
             if method.starts_with("voxel") {
                 assert_eq!(p["closed_manifold"], true, "{method}: {p}");
             }
+            if method == "envelope" {
+                // The envelope's guarantees: within ε (the parameter, in percent of the
+                // diagonal) both ways, the input's topology kept.
+                let epsilon = p["parameter"].as_f64().unwrap() / 100.0;
+                assert!(h <= epsilon * (1.0 + 1e-6), "{method}: {p}");
+                assert_eq!(p["genus"], report["input"]["genus"], "{p}");
+                assert_eq!(p["components"], report["input"]["components"], "{p}");
+                assert_eq!(
+                    p["boundary_loops"], report["input"]["boundary_loops"],
+                    "{p}"
+                );
+            }
             if views > 0 {
                 let d = &p["image_difference"];
                 let f = d["fraction"].as_f64().unwrap();
@@ -421,17 +434,8 @@ fn check_evaluation(out: &Path, methods: &[&str]) -> serde_json::Value {
             }
         }
     }
-    let omitted: Vec<String> = report["omitted"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|o| o["what"].as_str().unwrap().to_string())
-        .collect();
-    assert!(
-        omitted.iter().any(|w| w.contains("envelopes")),
-        "{omitted:?}"
-    );
-    assert!(markdown.contains("envelope"));
+    // The inputs here are manifolds: nothing is left out.
+    assert_eq!(report["omitted"], serde_json::json!([]));
     report
 }
 
@@ -525,6 +529,44 @@ fn evaluate_runs_the_methods_asked_for_and_prints_json() {
         !out.join("previews").exists(),
         "--views 0 draws no previews"
     );
+}
+
+#[test]
+fn evaluate_repairs_a_non_manifold_input_for_the_envelope_and_says_so() {
+    // A ring with a fin: a third triangle on one of its edges makes that edge non-manifold.
+    let mut mesh = torus(32, 16, 2.0, 0.7);
+    let [a, b, _] = mesh.triangles[0];
+    let tip = mesh.positions[a as usize] + Vec3::new(0.0, 0.0, 3.0);
+    mesh.positions.push(tip);
+    mesh.triangles.push([a, b, mesh.positions.len() as u32 - 1]);
+    let dir = tempfile::tempdir().unwrap();
+    let input = write_mesh(dir.path(), "fin.ply", &mesh);
+    let out = dir.path().join("eval");
+    let o = voxlod(&[
+        "evaluate",
+        arg(&input),
+        "-o",
+        arg(&out),
+        "--budgets",
+        "300",
+        "--samples",
+        "2000",
+        "--views",
+        "0",
+        "--methods",
+        "envelope",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let curve = &report["curves"][0];
+    assert_eq!(curve["method"], "envelope");
+    let notes = curve["notes"].as_array().unwrap();
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert!(notes[0].as_str().unwrap().contains("repaired"), "{notes:?}");
+    let markdown = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(markdown.contains("repaired copy"));
+    assert_eq!(curve["points"].as_array().unwrap().len(), 1, "{curve}");
 }
 
 #[test]

@@ -21,9 +21,10 @@ use crate::evaluate::{evaluate, Budgets, EvaluateOptions, Evaluation, Method};
 /// Evaluate every simplification method on a mesh: error against triangle count.
 ///
 /// Runs the voxel pipeline with both filters (hyper-cone and Gaussian), Rossignac–Borrel and
-/// Low–Tan clustering at a series of triangle budgets (by default half the input's triangles,
-/// then halving, eight budgets down to 100 triangles). Each method's parameter (resolution or
-/// cells) is searched until its output lands within 10 % of the budget. Each kept level is
+/// Low–Tan clustering and simplification envelopes at a series of triangle budgets (by default
+/// half the input's triangles, then halving, eight budgets down to 100 triangles). Each
+/// method's parameter (resolution, cells, or the envelope's ε in percent of the diagonal) is
+/// searched until its output lands within 10 % of the budget. Each kept level is
 /// measured against the input: two-sided Hausdorff, mean and RMS distance in percent of the
 /// input's diagonal, components, genus, manifoldness.
 ///
@@ -35,7 +36,8 @@ use crate::evaluate::{evaluate, Budgets, EvaluateOptions, Evaluation, Method};
 /// side); with --meshes, every kept level as DIR/meshes/METHOD-TRIANGLES.ply (clustering levels
 /// with their dangling edges and points). Nothing is written if the evaluation fails.
 ///
-/// Not evaluated yet: simplification envelopes (not in the workspace yet); the report says so.
+/// The envelope needs a consistently oriented manifold: an input that is not one is repaired
+/// for it (the report says what changed), or left out with the reason when repair fails.
 ///
 /// Examples:
 ///   voxlod evaluate bunny.obj -o bunny-eval
@@ -60,7 +62,8 @@ pub struct EvaluateArgs {
         conflicts_with = "budgets"
     )]
     pub count: usize,
-    /// Methods to run (default: all): voxel-hypercone, voxel-gaussian, rossignac-borrel, low-tan
+    /// Methods to run (default: all): voxel-hypercone, voxel-gaussian, rossignac-borrel,
+    /// low-tan, envelope
     #[arg(long, value_name = "M,...", value_delimiter = ',')]
     pub methods: Option<Vec<Method>>,
     /// Points sampled on each surface for each distance
@@ -152,9 +155,11 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
         if !args.json {
             bar.suspend(|| {
                 eprintln!(
-                    "{method:>16} {:>5} {:>4}: {:>8} triangles, Hausdorff {:.3} %, mean {:.4} %",
+                    "{method:>16} {:>15} {:>6}: {:>8} triangles, Hausdorff {:.3} %, mean {:.4} %",
                     method.parameter_name(),
-                    point.parameter,
+                    format!("{:.4}", point.parameter)
+                        .trim_end_matches('0')
+                        .trim_end_matches('.'),
                     point.triangles,
                     100.0 * point.hausdorff_fraction,
                     100.0 * point.mean_fraction

@@ -14,8 +14,9 @@ use super::envelope::{then_envelope, ThenEnvelope, ThenEnvelopeReport};
 use super::source::{load, Loaded, MeshSummary, Prepared, VolumeRoute};
 use crate::lod::{build_level, plan, LodOptions};
 
-/// Build levels of detail: filter the input into a pyramid of volumes and run marching cubes on
-/// each level (He, Hong, Kaufman, Varshney, Wang 1995, §2).
+/// Build levels of detail: a pyramid of filtered volumes, marching cubes on each (paper §2).
+///
+/// After He, Hong, Kaufman, Varshney and Wang, Voxel Based Object Simplification (1995).
 ///
 /// Every level is filtered from the original object, never from the level above. Level k has
 /// RESOLUTION/2^k samples across the longest side of the object's box and a filter radius of one

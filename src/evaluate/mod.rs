@@ -28,8 +28,13 @@
 //! Each level is also compared with the input in image space when [`EvaluateOptions::images`]
 //! asks for it: the share of differing silhouette pixels over a set of views ([`images`]).
 //!
-//! Simplification envelopes (Varshney et al. 1995) are not evaluated yet;
-//! [`Evaluation::omitted`] says so in every report (see [`not_yet_evaluated`]).
+//! Simplification envelopes (Varshney et al. 1995) are controlled by ε, a continuous parameter
+//! (given as a percentage of the input's diagonal) under which triangle counts fall: the search
+//! steps on a geometric grid of ε (ratio 2^¼), with the same interpolation. Each trial simplifies
+//! the input itself with [`EnvelopeOptions::tight`]. The envelope needs a consistently oriented
+//! manifold; an input that is not one is cut into one first ([`repair_for_envelope`]), and
+//! [`Curve::notes`] says what that changed. An input that cannot be made one is listed in
+//! [`Evaluation::omitted`] and the other methods go on.
 
 pub mod images;
 pub mod plot;
@@ -40,8 +45,10 @@ pub use images::{ImageDifference, ImageOptions, SilhouetteReference};
 use std::time::Instant;
 
 use serde::Serialize;
+use voxlod_baselines::envelope::{check_manifold, repair_for_envelope};
 use voxlod_baselines::{
-    low_tan, rossignac_borrel, BaselineError, ClusterOptions, FloatingCellOptions,
+    low_tan, rossignac_borrel, simplify_envelope, BaselineError, ClusterOptions, EnvelopeError,
+    EnvelopeOptions, Epsilon, FloatingCellOptions,
 };
 use voxlod_core::{mesh_topology, PolyMesh, TriangleMesh};
 use voxlod_metrics::{mesh_distance, welded_mesh_report, DistanceOptions, MetricsError};
@@ -62,15 +69,19 @@ pub enum Method {
     RossignacBorrel,
     /// Floating-cell weight-controlled clustering (Low and Tan), without thick edges.
     LowTan,
+    /// Simplification envelopes (Varshney et al. 1995), vertex removal between the offsets,
+    /// [`EnvelopeOptions::tight`].
+    Envelope,
 }
 
 impl Method {
     /// Every method, in the order reports list them.
-    pub const ALL: [Method; 4] = [
+    pub const ALL: [Method; 5] = [
         Method::VoxelHypercone,
         Method::VoxelGaussian,
         Method::RossignacBorrel,
         Method::LowTan,
+        Method::Envelope,
     ];
 
     /// The name used on the command line and in reports.
@@ -80,6 +91,7 @@ impl Method {
             Method::VoxelGaussian => "voxel-gaussian",
             Method::RossignacBorrel => "rossignac-borrel",
             Method::LowTan => "low-tan",
+            Method::Envelope => "envelope",
         }
     }
 
@@ -88,6 +100,7 @@ impl Method {
         match self {
             Method::VoxelHypercone | Method::VoxelGaussian => "resolution",
             Method::RossignacBorrel | Method::LowTan => "cells",
+            Method::Envelope => "epsilon-percent",
         }
     }
 
@@ -103,12 +116,24 @@ impl Method {
                 highest: options.max_resolution as f64,
                 first: 64.0,
                 exponent: 2.0,
+                grid: Grid::Integers,
             },
             Method::RossignacBorrel | Method::LowTan => Control {
                 lowest: 1.0,
                 highest: options.max_cells as f64,
                 first: 64.0,
                 exponent: 2.0,
+                grid: Grid::Integers,
+            },
+            // ε in percent of the diagonal; on smooth surfaces triangles fall about as 1/ε.
+            Method::Envelope => Control {
+                lowest: 0.005,
+                highest: 25.0,
+                first: 1.0,
+                exponent: -1.0,
+                grid: Grid::Geometric {
+                    ratio: 2f64.powf(0.25),
+                },
             },
         }
     }
@@ -254,7 +279,7 @@ pub struct CurvePoint {
     /// The triangle count aimed at.
     pub budget: usize,
     /// The method's parameter that came nearest (resolution or cells).
-    pub parameter: u32,
+    pub parameter: f64,
     pub triangles: usize,
     pub vertices: usize,
     /// Clustering only: edges and points left by collapsed triangles (not measured).
@@ -292,7 +317,7 @@ pub struct CurvePoint {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Curve {
     pub method: Method,
-    /// `"resolution"` or `"cells"`.
+    /// `"resolution"`, `"cells"` or `"epsilon-percent"`.
     pub parameter: &'static str,
     pub points: Vec<CurvePoint>,
     /// Budgets for which no level was kept, and why.
@@ -301,6 +326,8 @@ pub struct Curve {
     pub trials: usize,
     /// Wall time of the method's searches and measurements.
     pub seconds: f64,
+    /// What was done to the input for this method (the envelope's repair).
+    pub notes: Vec<String>,
 }
 
 /// A method or measurement the evaluation could not make, and why.
@@ -337,18 +364,11 @@ pub enum EvaluateError {
     #[error("no methods to evaluate")]
     NoMethods,
     #[error("{method} at {parameter} {value}: {source}")]
-    Voxel {
+    Run {
         method: Method,
         parameter: &'static str,
-        value: u32,
-        source: LodError,
-    },
-    #[error("{method} at {parameter} {value}: {source}")]
-    Clustering {
-        method: Method,
-        parameter: &'static str,
-        value: u32,
-        source: BaselineError,
+        value: f64,
+        source: RunFailure,
     },
     #[error("the input mesh cannot be rendered: {0}")]
     InputRender(RenderError),
@@ -356,25 +376,16 @@ pub enum EvaluateError {
     Render {
         method: Method,
         parameter: &'static str,
-        value: u32,
+        value: f64,
         source: RenderError,
     },
     #[error("{method} at {parameter} {value}: measuring the level: {source}")]
     Distance {
         method: Method,
         parameter: &'static str,
-        value: u32,
+        value: f64,
         source: MetricsError,
     },
-}
-
-/// What is not evaluated yet, and why: said in every report.
-pub fn not_yet_evaluated() -> Vec<Omission> {
-    vec![Omission {
-        what: "simplification envelopes (Varshney et al. 1995)".into(),
-        reason: "the envelope baseline is not in the workspace yet; evaluate runs without it"
-            .into(),
-    }]
 }
 
 /// Runs every method of `options` on `mesh` at every budget and measures each level against
@@ -424,22 +435,43 @@ pub fn evaluate(
     } else {
         None
     };
+    let mut omitted = Vec::new();
+    let mut envelope_notes = Vec::new();
+    let envelope_input = if options.methods.contains(&Method::Envelope) {
+        match envelope_input(mesh) {
+            Ok((input, notes)) => {
+                envelope_notes = notes;
+                Some(input)
+            }
+            Err(reason) => {
+                omitted.push(Omission {
+                    what: "simplification envelopes (Varshney et al. 1995)".into(),
+                    reason,
+                });
+                None
+            }
+        }
+    } else {
+        None
+    };
     let mut curves = Vec::new();
     for &method in &options.methods {
+        if method == Method::Envelope && envelope_input.is_none() {
+            continue;
+        }
         let runner = Runner {
             method,
             mesh,
+            envelope_input: envelope_input.as_ref(),
             solid: solid.as_ref(),
             silhouettes: silhouettes.as_ref(),
             options,
         };
-        curves.push(method_curve(
-            &runner,
-            &budgets,
-            &input,
-            options,
-            &mut on_point,
-        )?);
+        let mut curve = method_curve(&runner, &budgets, &input, options, &mut on_point)?;
+        if method == Method::Envelope {
+            curve.notes = std::mem::take(&mut envelope_notes);
+        }
+        curves.push(curve);
     }
     Ok(Evaluation {
         input,
@@ -449,14 +481,49 @@ pub fn evaluate(
         image_views: options.images.views.min(14),
         image_size: options.images.size,
         curves,
-        omitted: not_yet_evaluated(),
+        omitted,
         seconds: start.elapsed().as_secs_f64(),
     })
 }
 
+/// Why one run of a method failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RunFailure {
+    #[error(transparent)]
+    Voxel(#[from] LodError),
+    #[error(transparent)]
+    Clustering(#[from] BaselineError),
+    #[error(transparent)]
+    Envelope(#[from] EnvelopeError),
+}
+
+/// The mesh the envelope simplifies: the input, or the input cut into a consistently oriented
+/// manifold (with a note of what changed); or why neither can be had.
+fn envelope_input(mesh: &TriangleMesh) -> Result<(TriangleMesh, Vec<String>), String> {
+    let problems = match check_manifold(mesh) {
+        Ok(()) => return Ok((mesh.clone(), Vec::new())),
+        Err(e) => e.to_string(),
+    };
+    let (repaired, repair) = repair_for_envelope(mesh);
+    match check_manifold(&repaired) {
+        Ok(()) => Ok((
+            repaired,
+            vec![format!(
+                "The input is not a consistently oriented manifold ({problems}); the envelope \
+                 simplified a repaired copy ({repair:?}) and was measured against the input."
+            )],
+        )),
+        Err(e) => Err(format!(
+            "the input is not a manifold even after repair: {e}"
+        )),
+    }
+}
+
 /// One run of a method.
 struct Trial {
-    parameter: u32,
+    /// The parameter's step on its grid, and its value.
+    step: i64,
+    parameter: f64,
     /// Triangles, and for clustering the dangling edges and isolated points.
     level: PolyMesh,
     seconds: f64,
@@ -471,18 +538,41 @@ impl Trial {
 /// Runs one method at a given parameter.
 struct Runner<'a> {
     method: Method,
+    /// The input: what the levels are measured against and clustering simplifies.
     mesh: &'a TriangleMesh,
+    /// What the envelope simplifies (see [`envelope_input`]).
+    envelope_input: Option<&'a TriangleMesh>,
     solid: Option<&'a MeshSolid>,
     silhouettes: Option<&'a SilhouetteReference>,
     options: &'a EvaluateOptions,
 }
 
 impl Runner<'_> {
-    fn run(&self, parameter: u32) -> Result<Trial, EvaluateError> {
+    fn run(&self, step: i64, parameter: f64) -> Result<Trial, EvaluateError> {
         let start = Instant::now();
         let method = self.method;
-        let level = match method {
-            Method::VoxelHypercone | Method::VoxelGaussian => {
+        let level = self
+            .simplify(parameter)
+            .map_err(|source| EvaluateError::Run {
+                method,
+                parameter: method.parameter_name(),
+                value: parameter,
+                source,
+            })?;
+        Ok(Trial {
+            step,
+            parameter,
+            level,
+            seconds: start.elapsed().as_secs_f64(),
+        })
+    }
+}
+
+impl Runner<'_> {
+    /// The method's level at `parameter`.
+    fn simplify(&self, parameter: f64) -> Result<PolyMesh, RunFailure> {
+        Ok(match self.method {
+            method @ (Method::VoxelHypercone | Method::VoxelGaussian) => {
                 let filter = if method == Method::VoxelHypercone {
                     Filter::Hypercone
                 } else {
@@ -498,40 +588,33 @@ impl Runner<'_> {
                 };
                 let solid = self.solid.expect("the solid is built for voxel methods");
                 let source = LodSource::Solid(solid);
-                let level = plan(&source, &lod)
-                    .and_then(|plans| build_level(&source, &plans[0], &lod))
-                    .map_err(|source| EvaluateError::Voxel {
-                        method,
-                        parameter: method.parameter_name(),
-                        value: parameter,
-                        source,
-                    })?;
-                PolyMesh::from(level.mesh)
+                let plans = plan(&source, &lod)?;
+                PolyMesh::from(build_level(&source, &plans[0], &lod)?.mesh)
             }
-            Method::RossignacBorrel | Method::LowTan => {
-                let levels = if method == Method::RossignacBorrel {
-                    rossignac_borrel(self.mesh, &ClusterOptions::smoothing(parameter))
-                } else {
-                    low_tan(
-                        self.mesh,
-                        &FloatingCellOptions::single(parameter).with_thick_edges(false),
-                    )
-                }
-                .map_err(|source| EvaluateError::Clustering {
-                    method,
-                    parameter: method.parameter_name(),
-                    value: parameter,
-                    source,
-                })?;
-                levels.into_iter().next().expect("one level asked for").mesh
+            Method::RossignacBorrel => {
+                let options = ClusterOptions::smoothing(parameter as u32);
+                first_level(rossignac_borrel(self.mesh, &options)?)
             }
-        };
-        Ok(Trial {
-            parameter,
-            level,
-            seconds: start.elapsed().as_secs_f64(),
+            Method::LowTan => {
+                let options = FloatingCellOptions::single(parameter as u32).with_thick_edges(false);
+                first_level(low_tan(self.mesh, &options)?)
+            }
+            Method::Envelope => {
+                let input = self
+                    .envelope_input
+                    .expect("the envelope input is prepared for the envelope method");
+                let options = EnvelopeOptions::tight().with_measure_samples(0);
+                PolyMesh::from(
+                    simplify_envelope(input, Epsilon::percent(parameter), &options)?.mesh,
+                )
+            }
         })
     }
+}
+
+/// The one level a single-level clustering run made.
+fn first_level(levels: Vec<voxlod_baselines::Level>) -> PolyMesh {
+    levels.into_iter().next().expect("one level asked for").mesh
 }
 
 /// The range of a method's parameter and how triangle counts grow with it.
@@ -541,8 +624,41 @@ struct Control {
     highest: f64,
     /// The first parameter tried when nothing is known.
     first: f64,
-    /// Triangle counts grow about as `parameter^exponent`.
+    /// Triangle counts grow about as `parameter^exponent` (negative: they fall as it grows).
     exponent: f64,
+    grid: Grid,
+}
+
+/// The values a parameter takes, numbered: the search steps from one to the next.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Grid {
+    /// Whole numbers: step `k` is the value `k`.
+    Integers,
+    /// Step `k` is `ratio^k`, for continuous parameters.
+    Geometric { ratio: f64 },
+}
+
+impl Control {
+    /// The step nearest `x`, within the range.
+    fn step_of(&self, x: f64) -> i64 {
+        let x = x.clamp(self.lowest, self.highest);
+        match self.grid {
+            Grid::Integers => x.round() as i64,
+            Grid::Geometric { ratio } => (x.ln() / ratio.ln()).round() as i64,
+        }
+    }
+
+    fn value_of(&self, step: i64) -> f64 {
+        match self.grid {
+            Grid::Integers => step as f64,
+            Grid::Geometric { ratio } => ratio.powi(step as i32),
+        }
+    }
+
+    fn contains(&self, step: i64) -> bool {
+        let x = self.value_of(step);
+        x >= self.lowest * (1.0 - 1e-12) && x <= self.highest * (1.0 + 1e-12)
+    }
 }
 
 /// The trials of one method so far.
@@ -551,13 +667,13 @@ struct Trials {
 }
 
 impl Trials {
-    fn get(&self, parameter: u32) -> Option<&Trial> {
-        self.list.iter().find(|t| t.parameter == parameter)
+    fn get(&self, step: i64) -> Option<&Trial> {
+        self.list.iter().find(|t| t.step == step)
     }
 
-    /// The parameter to try next for `budget`, or `None` when no untried parameter can do
+    /// The parameter step to try next for `budget`, or `None` when no untried step can do
     /// better than the trials so far.
-    fn next_guess(&self, budget: usize, control: &Control) -> Option<u32> {
+    fn next_guess(&self, budget: usize, control: &Control) -> Option<i64> {
         let target = (budget as f64).ln();
         let count = |t: &Trial| t.triangles();
         // The nearest trials with fewer triangles than the budget and with at least as many.
@@ -565,54 +681,48 @@ impl Trials {
             .list
             .iter()
             .filter(|t| count(t) < budget)
-            .max_by_key(|t| (count(t), std::cmp::Reverse(t.parameter)));
+            .max_by_key(|t| (count(t), std::cmp::Reverse(t.step)));
         let above = self
             .list
             .iter()
             .filter(|t| count(t) >= budget)
-            .min_by_key(|t| (count(t), t.parameter));
+            .min_by_key(|t| (count(t), t.step));
         let guess = match (below, above) {
             (None, None) => control.first,
             (Some(b), Some(a)) if count(b) > 0 => {
-                let (xb, xa) = ((b.parameter as f64).ln(), (a.parameter as f64).ln());
+                let (xb, xa) = (b.parameter.ln(), a.parameter.ln());
                 let (tb, ta) = ((count(b) as f64).ln(), (count(a) as f64).ln());
                 if ta > tb {
                     (xb + (target - tb) * (xa - xb) / (ta - tb)).exp()
                 } else {
-                    ((b.parameter as f64) * (a.parameter as f64)).sqrt()
+                    (b.parameter * a.parameter).sqrt()
                 }
             }
-            (Some(b), Some(a)) => (b.parameter as f64 + a.parameter as f64) / 2.0,
+            (Some(b), Some(a)) => (b.parameter + a.parameter) / 2.0,
             (Some(near), None) | (None, Some(near)) => {
                 if count(near) == 0 {
-                    near.parameter as f64 * 2f64.powf(control.exponent.signum())
+                    near.parameter * 2f64.powf(control.exponent.signum())
                 } else {
                     let ratio = budget as f64 / count(near) as f64;
-                    near.parameter as f64 * ratio.powf(1.0 / control.exponent)
+                    near.parameter * ratio.powf(1.0 / control.exponent)
                 }
             }
         };
-        let clamp = |x: f64| x.round().clamp(control.lowest, control.highest) as u32;
-        let mut guess = clamp(guess);
-        if self.get(guess).is_some() {
-            // Integer steps: move one step from the tried parameter towards the budget.
-            let tried = self.get(guess).expect("present");
+        let mut guess = control.step_of(guess);
+        if let Some(tried) = self.get(guess) {
+            // Move one step from the tried parameter towards the budget.
             let towards_more = count(tried) < budget;
-            let step = if towards_more == (control.exponent > 0.0) {
-                1.0
+            guess += if towards_more == (control.exponent > 0.0) {
+                1
             } else {
-                -1.0
+                -1
             };
-            guess = clamp(guess as f64 + step);
             // Never cross a tried parameter on the far side of the budget.
             let crosses = match (below, above) {
-                (Some(b), Some(a)) => {
-                    let (lo, hi) = (b.parameter.min(a.parameter), b.parameter.max(a.parameter));
-                    guess <= lo || guess >= hi
-                }
+                (Some(b), Some(a)) => guess <= b.step.min(a.step) || guess >= b.step.max(a.step),
                 _ => false,
             };
-            if self.get(guess).is_some() || crosses {
+            if !control.contains(guess) || self.get(guess).is_some() || crosses {
                 return None;
             }
         }
@@ -659,10 +769,10 @@ fn method_curve(
             {
                 break;
             }
-            let Some(parameter) = trials.next_guess(budget, &control) else {
+            let Some(step) = trials.next_guess(budget, &control) else {
                 break;
             };
-            trials.list.push(runner.run(parameter)?);
+            trials.list.push(runner.run(step, control.value_of(step))?);
         }
         let Some(best) = trials.nearest(budget) else {
             misses.push(format!(
@@ -721,6 +831,7 @@ fn method_curve(
         misses,
         trials: trials.list.len(),
         seconds: start.elapsed().as_secs_f64(),
+        notes: Vec::new(),
     })
 }
 

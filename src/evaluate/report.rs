@@ -205,7 +205,19 @@ fn method_table(out: &mut String, c: &Curve) {
     for m in &c.misses {
         let _ = writeln!(out, "\n- {m}");
     }
+    for n in &c.notes {
+        let _ = writeln!(out, "\n- {n}");
+    }
     out.push('\n');
+}
+
+/// A parameter as a person writes it: whole numbers plain, ε percentages to three places.
+fn parameter(x: f64) -> String {
+    if x.fract() == 0.0 {
+        format!("{x:.0}")
+    } else {
+        format!("{x:.3}")
+    }
 }
 
 fn row(out: &mut String, p: &CurvePoint) {
@@ -213,7 +225,7 @@ fn row(out: &mut String, p: &CurvePoint) {
         out,
         "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3} |",
         p.budget,
-        p.parameter,
+        parameter(p.parameter),
         p.triangles,
         p.vertices,
         percent(p.hausdorff_fraction),
