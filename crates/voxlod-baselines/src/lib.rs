@@ -18,8 +18,9 @@
 //! checks its input and returns a [`BaselineError`]: zero cells or levels, an empty mesh,
 //! non-finite coordinates, indices out of range.
 //!
-//! Vertices that no triangle uses are ignored throughout. Speed: see `BENCHMARKS.md` beside
-//! this crate's manifest, and `examples/cluster_timing.rs` for a stage-by-stage timing.
+//! Vertices that no triangle uses are ignored throughout. Speed: see the workspace's
+//! `BENCHMARKS.md` (beside the peers), and `examples/cluster_timing.rs` for a stage-by-stage
+//! timing.
 
 pub mod elimination;
 pub mod envelope;

@@ -33,7 +33,7 @@
 //! removals take O(k³) planning per attempt, a BVH query per proposed triangle against the
 //! offsets and one against the current mesh, in parallel batches. Memory: O(V + F), with three
 //! BVHs (the two offsets, the current mesh) beside the input's closest-point BVH. The bunny
-//! (69,451 triangles) takes about 4 s at 1 % on two cores (BENCHMARKS.md).
+//! (69,451 triangles) takes a few seconds at 1 % on two cores (figures in BENCHMARKS.md).
 
 mod base;
 pub mod checks;
