@@ -16,12 +16,13 @@ use super::common::{
 use crate::evaluate::images::preview_strip;
 use crate::evaluate::plot::plot_evaluation;
 use crate::evaluate::report::{markdown, ReportContext};
-use crate::evaluate::{evaluate, Budgets, EvaluateOptions, Evaluation, Method};
+use crate::evaluate::{evaluate, parameter_text, Budgets, EvaluateOptions, Evaluation, Method};
 
 /// Evaluate every simplification method on a mesh: error against triangle count.
 ///
 /// Runs the voxel pipeline with both filters (hyper-cone and Gaussian), Rossignac–Borrel and
-/// Low–Tan clustering and simplification envelopes at a series of triangle budgets (by default
+/// Low–Tan clustering, simplification envelopes, and the voxel pipeline followed by envelopes
+/// within one voxel (the paper's proposed use, §5) at a series of triangle budgets (by default
 /// half the input's triangles, then halving, eight budgets down to 100 triangles). Each
 /// method's parameter (resolution, cells, or the envelope's ε in percent of the diagonal) is
 /// searched until its output lands within 10 % of the budget. Each kept level is
@@ -63,7 +64,7 @@ pub struct EvaluateArgs {
     )]
     pub count: usize,
     /// Methods to run (default: all): voxel-hypercone, voxel-gaussian, rossignac-borrel,
-    /// low-tan, envelope
+    /// low-tan, envelope, voxel-envelope
     #[arg(long, value_name = "M,...", value_delimiter = ',')]
     pub methods: Option<Vec<Method>>,
     /// Points sampled on each surface for each distance
@@ -157,9 +158,7 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
                 eprintln!(
                     "{method:>16} {:>15} {:>6}: {:>8} triangles, Hausdorff {:.3} %, mean {:.4} %",
                     method.parameter_name(),
-                    format!("{:.4}", point.parameter)
-                        .trim_end_matches('0')
-                        .trim_end_matches('.'),
+                    parameter_text(point.parameter),
                     point.triangles,
                     100.0 * point.hausdorff_fraction,
                     100.0 * point.mean_fraction

@@ -55,6 +55,7 @@ pub fn method_colour(method: Method) -> (u8, u8, u8) {
         Method::RossignacBorrel => (31, 119, 180),
         Method::LowTan => (44, 160, 44),
         Method::Envelope => (148, 103, 189),
+        Method::VoxelEnvelope => (140, 86, 75),
     }
 }
 

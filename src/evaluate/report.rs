@@ -211,21 +211,12 @@ fn method_table(out: &mut String, c: &Curve) {
     out.push('\n');
 }
 
-/// A parameter as a person writes it: whole numbers plain, ε percentages to three places.
-fn parameter(x: f64) -> String {
-    if x.fract() == 0.0 {
-        format!("{x:.0}")
-    } else {
-        format!("{x:.3}")
-    }
-}
-
 fn row(out: &mut String, p: &CurvePoint) {
     let _ = writeln!(
         out,
         "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3} |",
         p.budget,
-        parameter(p.parameter),
+        super::parameter_text(p.parameter),
         p.triangles,
         p.vertices,
         percent(p.hausdorff_fraction),
