@@ -6,18 +6,13 @@
 //!
 //! With OUT_DIR, each level is written there as `table1-a.ply`, `table1-b.ply`, …
 
-use std::path::PathBuf;
-
 use voxlod::lod::LodSource;
-use voxlod::paper_tables::{format_rows, reproduce, table1, write_level};
+use voxlod::paper_tables::{output_folder, reproduce_and_print, table1};
 use voxlod::sampling::{sphereflake, CsgSolid};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // An empty or "-" folder writes nothing.
-    let output = std::env::args()
-        .nth(1)
-        .filter(|d| !d.is_empty() && d != "-")
-        .map(PathBuf::from);
+    let output = output_folder(std::env::args().nth(1));
     let solid = CsgSolid::new(sphereflake(3))?;
     let table = table1();
     println!(
@@ -25,17 +20,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         table.object,
         table.filter.name()
     );
-    let mut failure = None;
-    let rows = reproduce(&LodSource::Solid(&solid), &table, 0.5, |row, level| {
-        if let Some(dir) = &output {
-            if let Err(e) = write_level(dir, &table, row, level) {
-                failure.get_or_insert(e);
-            }
-        }
-    })?;
-    print!("{}", format_rows(&rows));
-    match failure {
-        Some(e) => Err(e.into()),
-        None => Ok(()),
-    }
+    reproduce_and_print(&LodSource::Solid(&solid), &table, output.as_deref())?;
+    Ok(())
 }

@@ -11,11 +11,9 @@
 //! and 128 gives 128 × 128 × 113, as the paper's rows do. Exits with a message when the shared
 //! data is absent.
 
-use std::path::PathBuf;
-
 use voxlod::io::{Endian, RawLayout, RawType};
 use voxlod::lod::LodSource;
-use voxlod::paper_tables::{format_rows, reproduce, table3, write_level, CT_HEAD_SKIN_THRESHOLD};
+use voxlod::paper_tables::{output_folder, reproduce_and_print, table3, CT_HEAD_SKIN_THRESHOLD};
 use voxlod::sampling::ThresholdSolid;
 
 const HEAD: &str = "volumes/CThead_256x256x113_uint16be.raw";
@@ -23,10 +21,7 @@ const HEAD: &str = "volumes/CThead_256x256x113_uint16be.raw";
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     // An empty or "-" folder writes nothing (to give a threshold alone).
-    let output = args
-        .next()
-        .filter(|d| !d.is_empty() && d != "-")
-        .map(PathBuf::from);
+    let output = output_folder(args.next());
     let threshold: f32 = match args.next() {
         Some(t) => t.parse()?,
         None => CT_HEAD_SKIN_THRESHOLD,
@@ -45,17 +40,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         table.object,
         table.filter.name()
     );
-    let mut failure = None;
-    let rows = reproduce(&LodSource::Solid(&solid), &table, 0.5, |row, level| {
-        if let Some(dir) = &output {
-            if let Err(e) = write_level(dir, &table, row, level) {
-                failure.get_or_insert(e);
-            }
-        }
-    })?;
-    print!("{}", format_rows(&rows));
-    match failure {
-        Some(e) => Err(e.into()),
-        None => Ok(()),
-    }
+    reproduce_and_print(&LodSource::Solid(&solid), &table, output.as_deref())?;
+    Ok(())
 }

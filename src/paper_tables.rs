@@ -263,6 +263,34 @@ pub fn format_rows(rows: &[TableRow]) -> String {
     out
 }
 
+/// The examples' runner: [`reproduce`] at isodensity 0.5, each level written to `output` when
+/// given ([`write_level`]), then the table printed ours beside the paper's. The first write
+/// that fails is returned after the table is printed.
+pub fn reproduce_and_print(
+    source: &LodSource,
+    table: &PaperTable,
+    output: Option<&Path>,
+) -> Result<Vec<TableRow>, Box<dyn std::error::Error>> {
+    let mut failure = None;
+    let rows = reproduce(source, table, 0.5, |row, level| {
+        if let Some(dir) = output {
+            if let Err(e) = write_level(dir, table, row, level) {
+                failure.get_or_insert(e);
+            }
+        }
+    })?;
+    print!("{}", format_rows(&rows));
+    match failure {
+        Some(e) => Err(e.into()),
+        None => Ok(rows),
+    }
+}
+
+/// The examples' optional output folder: `None` when absent, empty or `-`.
+pub fn output_folder(arg: Option<String>) -> Option<PathBuf> {
+    arg.filter(|d| !d.is_empty() && d != "-").map(PathBuf::from)
+}
+
 /// Writes a row's level as `DIR/tableN-INDEX.ply` (creating DIR); `None` for an empty level.
 pub fn write_level(
     dir: &Path,

@@ -1,6 +1,6 @@
 //! `voxlod cluster`: the vertex-clustering baselines, Rossignac–Borrel and Low–Tan.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
@@ -9,7 +9,7 @@ use voxlod_baselines::{
     low_tan, rossignac_borrel, ClusterOptions, FloatingCellOptions, LevelReport, Method, Synthesis,
 };
 
-use super::common::{print_json, progress, read_mesh_input, thousands, CliError};
+use super::common::{level_path, print_json, progress, read_mesh_input, thousands, CliError};
 
 /// Simplify a mesh by vertex clustering: the baselines voxlod is compared with.
 ///
@@ -75,22 +75,6 @@ struct ClusterReport {
     levels: Vec<ClusterLevel>,
 }
 
-/// `out.ply` for one level, `out-K.ply` for level K of several.
-fn level_path(output: &Path, level: usize, levels: u32) -> PathBuf {
-    if levels <= 1 {
-        return output.to_path_buf();
-    }
-    let stem = output
-        .file_stem()
-        .map(|s| s.to_string_lossy())
-        .unwrap_or_default();
-    let ext = output
-        .extension()
-        .map(|e| e.to_string_lossy())
-        .unwrap_or_default();
-    output.with_file_name(format!("{stem}-{level}.{ext}"))
-}
-
 pub fn run(args: ClusterArgs) -> Result<(), CliError> {
     let ext = args
         .output
@@ -141,7 +125,7 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
         levels: Vec::new(),
     };
     for level in &levels {
-        let path = level_path(&args.output, level.report.level, args.levels);
+        let path = level_path(&args.output, level.report.level, args.levels as usize);
         let start = Instant::now();
         voxlod_io::write_poly_mesh(&path, &level.mesh)?;
         report.levels.push(ClusterLevel {

@@ -216,6 +216,21 @@ pub fn write_text(path: &Path, text: &str) -> Result<(), CliError> {
     Ok(())
 }
 
+/// `out.ply` for one level, `out-K.ply` for level K of several.
+pub fn level_path(output: &Path, level: usize, levels: usize) -> PathBuf {
+    if levels <= 1 {
+        return output.to_path_buf();
+    }
+    let stem = output
+        .file_stem()
+        .map(|s| s.to_string_lossy())
+        .unwrap_or_default();
+    match output.extension() {
+        Some(ext) => output.with_file_name(format!("{stem}-{level}.{}", ext.to_string_lossy())),
+        None => output.with_file_name(format!("{stem}-{level}")),
+    }
+}
+
 /// `dir/name`.
 pub fn in_dir(dir: &Path, name: &str) -> PathBuf {
     dir.join(name)

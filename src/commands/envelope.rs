@@ -1,7 +1,7 @@
 //! `voxlod envelope`: simplification envelopes (Varshney, Agarwal, Brooks, Wright, Weber 1995),
 //! ε-bounded, topology-preserving levels of detail; and the `--then-envelope` step of `voxlod lod`.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
@@ -12,7 +12,7 @@ use voxlod_baselines::envelope::{
 };
 use voxlod_core::TriangleMesh;
 
-use super::common::{print_json, progress, read_mesh_input, thousands, CliError};
+use super::common::{level_path, print_json, progress, read_mesh_input, thousands, CliError};
 
 /// Simplify a mesh within ε by simplification envelopes, keeping its topology.
 ///
@@ -123,21 +123,6 @@ pub fn parse_epsilon(text: &str, flag: &str) -> Result<Epsilon, CliError> {
              bounding-box diagonal (1%)"
         ))
     })
-}
-
-/// `out.ply` for one level, `out-K.ply` for level K of several.
-fn level_path(output: &Path, level: usize, levels: usize) -> PathBuf {
-    if levels <= 1 {
-        return output.to_path_buf();
-    }
-    let stem = output
-        .file_stem()
-        .map(|s| s.to_string_lossy())
-        .unwrap_or_default();
-    match output.extension() {
-        Some(ext) => output.with_file_name(format!("{stem}-{level}.{}", ext.to_string_lossy())),
-        None => output.with_file_name(format!("{stem}-{level}")),
-    }
 }
 
 pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
@@ -332,6 +317,7 @@ pub fn then_envelope(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::Path;
 
     #[test]
     fn level_names_and_epsilon_parsing() {

@@ -13,32 +13,8 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use voxlod_baselines::{
     grade, low_tan, rossignac_borrel, ClusterOptions, FloatingCellOptions, Grading,
 };
-use voxlod_core::glam::Vec3;
+use voxlod_core::shapes::torus;
 use voxlod_core::TriangleMesh;
-
-fn torus(major: u32, minor: u32) -> TriangleMesh {
-    let mut positions = Vec::new();
-    for i in 0..major {
-        let u = i as f32 * std::f32::consts::TAU / major as f32;
-        for j in 0..minor {
-            let v = j as f32 * std::f32::consts::TAU / minor as f32;
-            let r = 1.0 + 0.3 * v.cos();
-            positions.push(Vec3::new(r * u.cos(), r * u.sin(), 0.3 * v.sin()));
-        }
-    }
-    let mut triangles = Vec::new();
-    for i in 0..major {
-        for j in 0..minor {
-            let a = i * minor + j;
-            let b = ((i + 1) % major) * minor + j;
-            let c = ((i + 1) % major) * minor + (j + 1) % minor;
-            let d = i * minor + (j + 1) % minor;
-            triangles.push([a, b, c]);
-            triangles.push([a, c, d]);
-        }
-    }
-    TriangleMesh::new(positions, triangles)
-}
 
 fn bench_mesh() -> (String, TriangleMesh) {
     let candidates = std::env::var_os("VOXLOD_BENCH_MESH")
@@ -53,7 +29,7 @@ fn bench_mesh() -> (String, TriangleMesh) {
             }
         }
     }
-    ("generated torus".to_string(), torus(1000, 500))
+    ("generated torus".to_string(), torus(1000, 500, 1.0, 0.3))
 }
 
 fn clustering(c: &mut Criterion) {

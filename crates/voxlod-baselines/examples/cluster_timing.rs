@@ -12,8 +12,7 @@ use voxlod_baselines::{
     eliminate, grade, low_tan, rossignac_borrel, ClusterGrid, ClusterOptions, FloatingCellOptions,
     Grading,
 };
-use voxlod_core::glam::Vec3;
-use voxlod_core::TriangleMesh;
+use voxlod_core::shapes::torus;
 
 /// The minimum over `runs` runs (on a shared machine the least disturbed run is the best
 /// estimate of the algorithm's own cost); the median is printed too, as the peers report it.
@@ -30,37 +29,13 @@ fn best<T>(runs: usize, mut f: impl FnMut() -> T) -> f64 {
     t[0]
 }
 
-fn torus(major: u32, minor: u32) -> TriangleMesh {
-    let mut positions = Vec::new();
-    for i in 0..major {
-        let u = i as f32 * std::f32::consts::TAU / major as f32;
-        for j in 0..minor {
-            let v = j as f32 * std::f32::consts::TAU / minor as f32;
-            let r = 1.0 + 0.3 * v.cos();
-            positions.push(Vec3::new(r * u.cos(), r * u.sin(), 0.3 * v.sin()));
-        }
-    }
-    let mut triangles = Vec::new();
-    for i in 0..major {
-        for j in 0..minor {
-            let a = i * minor + j;
-            let b = ((i + 1) % major) * minor + j;
-            let c = ((i + 1) % major) * minor + (j + 1) % minor;
-            let d = i * minor + (j + 1) % minor;
-            triangles.push([a, b, c]);
-            triangles.push([a, c, d]);
-        }
-    }
-    TriangleMesh::new(positions, triangles)
-}
-
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let mesh = args
         .get(1)
         .and_then(|p| voxlod_io::read_mesh(std::path::Path::new(p)).ok())
         .map(|l| l.mesh)
-        .unwrap_or_else(|| torus(1000, 500));
+        .unwrap_or_else(|| torus(1000, 500, 1.0, 0.3));
     let cells: u32 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(64);
     let runs: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(7);
     println!(

@@ -10,100 +10,12 @@ use voxlod_baselines::envelope::{
     EnvelopeLevel, EnvelopeOptions, Epsilon, RegionEpsilon, RemovalOrder,
 };
 use voxlod_core::glam::{DVec3, Vec3};
+use voxlod_core::shapes::{icosphere, torus};
 use voxlod_core::{mesh_topology, TriangleMesh};
 use voxlod_metrics::{mesh_distance, DistanceOptions, MeshDistance};
 
 // -------------------------------------------------------------------------------------------
 // Meshes.
-
-/// An icosahedron subdivided `levels` times, on the unit sphere (closed, genus 0).
-fn icosphere(levels: usize) -> TriangleMesh {
-    let t = (1.0 + 5f32.sqrt()) / 2.0;
-    let mut positions: Vec<Vec3> = [
-        (-1., t, 0.),
-        (1., t, 0.),
-        (-1., -t, 0.),
-        (1., -t, 0.),
-        (0., -1., t),
-        (0., 1., t),
-        (0., -1., -t),
-        (0., 1., -t),
-        (t, 0., -1.),
-        (t, 0., 1.),
-        (-t, 0., -1.),
-        (-t, 0., 1.),
-    ]
-    .iter()
-    .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
-    .collect();
-    let mut triangles: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..levels {
-        let mut middle = std::collections::HashMap::new();
-        let mut mid = |a: u32, b: u32, positions: &mut Vec<Vec3>| {
-            *middle.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                positions.push(((positions[a as usize] + positions[b as usize]) / 2.0).normalize());
-                (positions.len() - 1) as u32
-            })
-        };
-        let mut next = Vec::new();
-        for [a, b, c] in triangles {
-            let (ab, bc, ca) = (
-                mid(a, b, &mut positions),
-                mid(b, c, &mut positions),
-                mid(c, a, &mut positions),
-            );
-            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-        }
-        triangles = next;
-    }
-    TriangleMesh::new(positions, triangles)
-}
-
-/// A torus of radii `big` and `small`, `n` × `m` quads (closed, genus 1).
-fn torus(n: u32, m: u32, big: f32, small: f32) -> TriangleMesh {
-    let mut positions = Vec::new();
-    for i in 0..n {
-        for j in 0..m {
-            let a = i as f32 / n as f32 * std::f32::consts::TAU;
-            let b = j as f32 / m as f32 * std::f32::consts::TAU;
-            positions.push(Vec3::new(
-                (big + small * b.cos()) * a.cos(),
-                (big + small * b.cos()) * a.sin(),
-                small * b.sin(),
-            ));
-        }
-    }
-    let id = |i: u32, j: u32| (i % n) * m + (j % m);
-    let mut triangles = Vec::new();
-    for i in 0..n {
-        for j in 0..m {
-            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    TriangleMesh::new(positions, triangles)
-}
 
 /// An open `n` × `n` grid on [0, 1]² with height `z(x, y)` (one border loop).
 fn grid(n: u32, z: impl Fn(f32, f32) -> f32) -> TriangleMesh {

@@ -15,6 +15,7 @@ use glam::{DVec3, Vec3A};
 use obvhs::{aabb::Aabb, bvh2::Bvh2, BvhBuildParams};
 
 use super::geometry::{triangles_intersect, TriangleBoxTest};
+use super::obstacles::padded_box;
 
 const BUILD: BvhBuildParams = BvhBuildParams {
     max_prims_per_leaf: 1,
@@ -102,14 +103,4 @@ impl LiveSet {
         }
         false
     }
-}
-
-fn padded_box(t: &[DVec3; 3], tol: f64) -> Aabb {
-    let lo = t[0].min(t[1]).min(t[2]);
-    let hi = t[0].max(t[1]).max(t[2]);
-    let pad = DVec3::splat(tol) + lo.abs().max(hi.abs()) * (2.0 * f32::EPSILON as f64);
-    Aabb::new(
-        Vec3A::from((lo - pad).as_vec3()),
-        Vec3A::from((hi + pad).as_vec3()),
-    )
 }

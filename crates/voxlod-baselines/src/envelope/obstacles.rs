@@ -185,7 +185,7 @@ impl TriangleSet {
 
 /// The `f32` box of `t`, widened by `tol` and by one `f32` rounding of its largest coordinate, so
 /// that it holds the `f64` triangle and everything within `tol` of it.
-fn padded_box(t: &[DVec3; 3], tol: f64) -> Aabb {
+pub(super) fn padded_box(t: &[DVec3; 3], tol: f64) -> Aabb {
     let lo = t[0].min(t[1]).min(t[2]);
     let hi = t[0].max(t[1]).max(t[2]);
     let pad = DVec3::splat(tol) + lo.abs().max(hi.abs()) * (2.0 * f32::EPSILON as f64);

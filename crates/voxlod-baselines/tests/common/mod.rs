@@ -85,30 +85,8 @@ pub fn round_section(n: usize, d: f32) -> Vec<(f32, f32)> {
         .collect()
 }
 
-/// A torus with `major` × `minor` quads (2 triangles each).
-pub fn torus(major: u32, minor: u32, r_major: f32, r_minor: f32) -> TriangleMesh {
-    let mut positions = Vec::new();
-    for i in 0..major {
-        let u = i as f32 * std::f32::consts::TAU / major as f32;
-        for j in 0..minor {
-            let v = j as f32 * std::f32::consts::TAU / minor as f32;
-            let r = r_major + r_minor * v.cos();
-            positions.push(Vec3::new(r * u.cos(), r * u.sin(), r_minor * v.sin()));
-        }
-    }
-    let mut triangles = Vec::new();
-    for i in 0..major {
-        for j in 0..minor {
-            let a = i * minor + j;
-            let b = ((i + 1) % major) * minor + j;
-            let c = ((i + 1) % major) * minor + (j + 1) % minor;
-            let d = i * minor + (j + 1) % minor;
-            triangles.push([a, b, c]);
-            triangles.push([a, c, d]);
-        }
-    }
-    TriangleMesh::new(positions, triangles)
-}
+#[allow(unused_imports)]
+pub use voxlod_core::shapes::torus;
 
 /// Reads a mesh with voxlod-io (STL soups are welded there).
 pub fn read_mesh(path: &Path) -> TriangleMesh {
