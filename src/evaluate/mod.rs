@@ -486,7 +486,7 @@ pub fn evaluate(
         let runner = Runner {
             method,
             mesh,
-            envelope_input: envelope_input.as_ref(),
+            envelope_input: envelope_input.as_deref(),
             solid: solid.as_ref(),
             silhouettes: silhouettes.as_ref(),
             options,
@@ -532,15 +532,17 @@ pub enum RunFailure {
 
 /// The mesh the envelope simplifies: the input, or the input cut into a consistently oriented
 /// manifold (with a note of what changed); or why neither can be had.
-fn envelope_input(mesh: &TriangleMesh) -> Result<(TriangleMesh, Vec<String>), String> {
+fn envelope_input(
+    mesh: &TriangleMesh,
+) -> Result<(std::borrow::Cow<'_, TriangleMesh>, Vec<String>), String> {
     let problems = match check_manifold(mesh) {
-        Ok(()) => return Ok((mesh.clone(), Vec::new())),
+        Ok(()) => return Ok((std::borrow::Cow::Borrowed(mesh), Vec::new())),
         Err(e) => e.to_string(),
     };
     let (repaired, repair) = repair_for_envelope(mesh);
     match check_manifold(&repaired) {
         Ok(()) => Ok((
-            repaired,
+            std::borrow::Cow::Owned(repaired),
             vec![format!(
                 "The input is not a consistently oriented manifold ({problems}); the envelope \
                  simplified a repaired copy ({repair:?}) and was measured against the input."
