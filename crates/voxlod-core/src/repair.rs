@@ -83,11 +83,14 @@ pub fn remove_degenerate_and_duplicate_triangles(mesh: &mut TriangleMesh) -> Rep
 /// orientation and may cut through the mesh for a strongly curved loop: they serve the parity
 /// inside test, which only needs every edge used an even number of times, not a fair surface.
 /// Edges of a boundary that do not chain into a loop (an open non-manifold fin) are left.
+/// Triangles with a repeated vertex cover nothing and are passed over: collapsed to an edge
+/// they would use it twice and hide a hole there, collapsed to a point they have no edge.
 pub fn close_boundary_loops(mesh: &mut TriangleMesh) -> usize {
     // Boundary edges: the undirected edge keys that occur once (one parallel sort).
     let mut keys: Vec<u64> = mesh
         .triangles
         .par_iter()
+        .filter(|&&[a, b, c]| a != b && b != c && a != c)
         .flat_map_iter(|&[a, b, c]| [(a, b), (b, c), (c, a)])
         .map(|(u, v)| ((u.min(v) as u64) << 32) | u.max(v) as u64)
         .collect();
@@ -173,6 +176,25 @@ mod tests {
         let mut whole = unit_cube();
         assert_eq!(close_boundary_loops(&mut whole), 0);
         assert_eq!(whole, unit_cube());
+    }
+
+    #[test]
+    fn collapsed_triangles_neither_hide_nor_make_holes() {
+        // Dropping the last two triangles opens the x = 1 side: a hole bounded by 1-3-7-5.
+        let mut open = unit_cube();
+        open.triangles.truncate(10);
+        let (u, v) = (1, 3);
+        let mut m = open.clone();
+        m.triangles.push([u, u, v]);
+        m.positions.push(Vec3::splat(7.0));
+        m.triangles.push([8, 8, 8]);
+        assert_eq!(close_boundary_loops(&mut m), 1);
+        let t = crate::mesh_topology(&m);
+        assert_eq!(t.boundary_edges, 0);
+        // A lone collapsed triangle is no hole.
+        let mut point = TriangleMesh::new(vec![Vec3::ZERO], vec![[0, 0, 0]]);
+        assert_eq!(close_boundary_loops(&mut point), 0);
+        assert_eq!(point.triangles.len(), 1);
     }
 
     #[test]

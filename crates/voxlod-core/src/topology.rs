@@ -262,18 +262,22 @@ fn count_non_manifold_vertices(mesh: &TriangleMesh, used: &[bool]) -> usize {
         .filter(|&v| used[v])
         .filter(|&v| {
             let around = &incident[offsets[v] as usize..offsets[v + 1] as usize];
-            if around.len() <= 1 {
-                return false;
-            }
             // Each incident triangle contributes the two other vertices (its "link" edge);
-            // the fan is connected when the link edges form one connected graph.
-            let mut link: Vec<(u32, u32)> = Vec::with_capacity(around.len());
-            for &t in around {
-                let tri = mesh.triangles[t as usize];
-                let others: Vec<u32> = tri.iter().copied().filter(|&w| w != v as u32).collect();
-                if others.len() == 2 {
-                    link.push((others[0], others[1]));
-                }
+            // the fan is connected when the link edges form one connected graph. A degenerate
+            // triangle (a repeated index) spans no fan: it is counted as degenerate instead, and
+            // a vertex that only degenerate triangles use (a triangle collapsed to a point or to
+            // an edge) has an empty link and is no pinch.
+            let link: Vec<(u32, u32)> = around
+                .iter()
+                .map(|&t| mesh.triangles[t as usize])
+                .filter(|&[a, b, c]| a != b && b != c && a != c)
+                .map(|tri| {
+                    let at = tri.iter().position(|&w| w == v as u32).unwrap_or(0);
+                    (tri[(at + 1) % 3], tri[(at + 2) % 3])
+                })
+                .collect();
+            if link.len() <= 1 {
+                return false;
             }
             let mut ids: Vec<u32> = link.iter().flat_map(|&(a, b)| [a, b]).collect();
             ids.sort_unstable();
@@ -359,6 +363,49 @@ mod tests {
         assert_eq!(t.non_manifold_vertices, 1);
         assert_eq!(t.duplicate_triangles, 1);
         assert_eq!(t.degenerate_triangles, 1);
+    }
+
+    #[test]
+    fn triangles_collapsed_to_a_point_or_an_edge_alone() {
+        // `v 0 0 0` / `f 1 1 1`: one vertex, one triangle, no edge.
+        let point = TriangleMesh::new(vec![Vec3::ZERO], vec![[0, 0, 0]]);
+        let t = mesh_topology(&point);
+        assert_eq!((t.vertices, t.triangles, t.edges), (1, 1, 0));
+        assert_eq!(t.degenerate_triangles, 1);
+        assert_eq!(t.non_manifold_vertices, 0);
+        assert_eq!(t.components, 1);
+        assert_eq!(t.genus, None);
+
+        // A triangle collapsed to an edge that nothing else uses.
+        let sliver = TriangleMesh::new(vec![Vec3::ZERO, Vec3::X], vec![[0, 0, 1]]);
+        let t = mesh_topology(&sliver);
+        assert_eq!((t.vertices, t.edges, t.degenerate_triangles), (2, 0, 1));
+        assert_eq!(t.non_manifold_vertices, 0);
+    }
+
+    #[test]
+    fn closed_cube_plus_a_lone_point_facet() {
+        let mut m = unit_cube();
+        m.positions.push(Vec3::splat(5.0));
+        m.triangles.push([8, 8, 8]);
+        let t = mesh_topology(&m);
+        assert_eq!((t.vertices, t.edges, t.triangles), (9, 18, 13));
+        assert_eq!(t.degenerate_triangles, 1);
+        assert_eq!((t.boundary_edges, t.non_manifold_edges), (0, 0));
+        assert_eq!(t.non_manifold_vertices, 0);
+        assert_eq!(t.components, 2);
+        assert_eq!(t.euler_characteristic, 9 - 18 + 13);
+        assert_eq!(t.genus, None);
+        assert!(!t.is_manifold());
+
+        // The same point collapsed onto a cube corner leaves that corner's fan whole.
+        let mut m = unit_cube();
+        m.triangles.push([0, 0, 0]);
+        m.triangles.push([0, 0, 6]);
+        let t = mesh_topology(&m);
+        assert_eq!(t.non_manifold_vertices, 0);
+        assert_eq!(t.degenerate_triangles, 2);
+        assert_eq!(t.components, 1);
     }
 
     #[test]
