@@ -9,6 +9,11 @@ pub enum CoreError {
         needed: u64,
         available: u64,
     },
+    #[error("{variable}={value:?} is not a size: write a number of bytes, or one with K, M, G or T (binary units), e.g. 512M or 8G")]
+    BadMemoryLimit {
+        variable: &'static str,
+        value: String,
+    },
     #[error("invalid grid: {0}")]
     InvalidGrid(String),
     #[error("invalid mesh: {0}")]

@@ -66,7 +66,9 @@ impl IoError {
     /// [`IoErrorKind::TooLarge`], an invalid grid or mesh [`IoErrorKind::Malformed`].
     pub(crate) fn from_core(path: &Path, err: CoreError) -> IoError {
         let kind = match err {
-            CoreError::OutOfMemory { .. } => IoErrorKind::TooLarge,
+            CoreError::OutOfMemory { .. } | CoreError::BadMemoryLimit { .. } => {
+                IoErrorKind::TooLarge
+            }
             CoreError::InvalidGrid(_) | CoreError::InvalidMesh(_) => IoErrorKind::Malformed,
         };
         IoError::new(path, kind, err.to_string())
