@@ -197,7 +197,9 @@ pub fn recover_cells(grid: &Grid, positions: &[Vec3], triangles: &[[u32; 3]]) ->
         .collect()
 }
 
-/// The triangles grouped by occupied cell, cells in storage order, rows compressed.
+/// The triangles grouped by occupied cell, cells in storage order. Only occupied cells, rows
+/// and slices are listed, so its size and the traversal's time depend on the triangles, never on
+/// the grid's dimensions (which a file may state as anything).
 #[derive(Clone, Debug, Default)]
 pub struct CellIndex {
     dims: [usize; 3],
@@ -206,8 +208,14 @@ pub struct CellIndex {
     /// Triangles of `cells[c]` are `tris[start[c]..start[c + 1]]`.
     start: Vec<u32>,
     tris: Vec<u32>,
-    /// Occupied cells of row `j + cy k` are `cells[row_start[r]..row_start[r + 1]]`.
+    /// Occupied rows `j + cy k`, ascending.
+    rows: Vec<u32>,
+    /// Cells of `rows[r]` are `cells[row_start[r]..row_start[r + 1]]`.
     row_start: Vec<u32>,
+    /// Occupied slices `k`, ascending.
+    slices: Vec<u32>,
+    /// Rows of `slices[s]` are `rows[slice_start[s]..slice_start[s + 1]]`.
+    slice_start: Vec<u32>,
 }
 
 impl CellIndex {
@@ -225,10 +233,17 @@ impl CellIndex {
     }
 }
 
-/// Groups the triangles by cell: one parallel sort of (cell, triangle) keys.
+/// Groups the triangles by cell: one parallel sort of (cell, triangle) keys. Refuses a grid with
+/// more cells than a `u32` cell number can name (a grid read from a file may claim any size).
 pub fn index_cells(obj: &CellTriangles) -> Result<CellIndex, LayersError> {
     let dims = obj.cell_dims();
-    let total = (dims[0] * dims[1] * dims[2]) as u64;
+    let total = dims.iter().map(|&d| d as u64).product::<u64>();
+    if total > u32::MAX as u64 {
+        return Err(LayersError::Invalid(format!(
+            "the volume grid has {}x{}x{} cells, more than 32-bit cell numbers can name",
+            dims[0], dims[1], dims[2]
+        )));
+    }
     if obj.cells.len() != obj.triangles.len() {
         return Err(LayersError::Invalid(format!(
             "{} cells for {} triangles",
@@ -263,16 +278,24 @@ pub fn index_cells(obj: &CellTriangles) -> Result<CellIndex, LayersError> {
         }
     }
     index.start.push(keys.len() as u32);
-    let rows = dims[1] * dims[2];
-    let mut row_start = vec![0u32; rows + 1];
-    for &c in &index.cells {
-        row_start[c as usize / dims[0] + 1] += 1;
-    }
-    for r in 0..rows {
-        row_start[r + 1] += row_start[r];
-    }
-    index.row_start = row_start;
+    (index.rows, index.row_start) = runs(&index.cells, |c| c / dims[0] as u32);
+    (index.slices, index.slice_start) = runs(&index.rows, |r| r / dims[1] as u32);
     Ok(index)
+}
+
+/// The distinct values of `key` over the ascending `items` (ascending too), and where each
+/// value's run starts in `items` (with `items.len()` at the end).
+fn runs(items: &[u32], key: impl Fn(u32) -> u32) -> (Vec<u32>, Vec<u32>) {
+    let (mut values, mut start) = (Vec::new(), Vec::new());
+    for (i, &item) in items.iter().enumerate() {
+        let k = key(item);
+        if values.last() != Some(&k) {
+            values.push(k);
+            start.push(i as u32);
+        }
+    }
+    start.push(items.len() as u32);
+    (values, start)
 }
 
 /// How the cells are walked.
@@ -291,30 +314,38 @@ enum InCell {
     Eye(DVec3),
 }
 
-/// The order in which to visit indices `0..n` along one axis.
-fn axis_sequence(n: usize, sweep: Sweep, axis: usize) -> Vec<u32> {
+/// The order in which to visit `n` occupied positions along one axis, given their ascending
+/// coordinates `coord(0) < coord(1) < …`: appends `first + i` for each position i to `out`.
+/// An octant sweep walks from the far side; an eye sweep from both ends towards the eye's
+/// coordinate (the farther end first, the upper one on a tie).
+fn axis_order(
+    n: usize,
+    coord: impl Fn(usize) -> i64,
+    sweep: Sweep,
+    axis: usize,
+    first: usize,
+    out: &mut Vec<usize>,
+) {
     match sweep {
         Sweep::Octant(signs) => {
             if signs[axis] >= 0.0 {
-                (0..n as u32).rev().collect()
+                out.extend((0..n).rev().map(|i| first + i));
             } else {
-                (0..n as u32).collect()
+                out.extend((0..n).map(|i| first + i));
             }
         }
         Sweep::Eye(e) => {
             let e = e[axis];
-            let mut out = Vec::with_capacity(n);
             let (mut lo, mut hi) = (0i64, n as i64 - 1);
             while lo <= hi {
-                if (hi - e).abs() >= (lo - e).abs() {
-                    out.push(hi as u32);
+                if (coord(hi as usize) - e).abs() >= (coord(lo as usize) - e).abs() {
+                    out.push(first + hi as usize);
                     hi -= 1;
                 } else {
-                    out.push(lo as u32);
+                    out.push(first + lo as usize);
                     lo += 1;
                 }
             }
-            out
         }
     }
 }
@@ -380,25 +411,26 @@ pub fn octant_orders(obj: &CellTriangles) -> Result<Vec<Vec<u32>>, LayersError> 
 }
 
 fn traverse(obj: &CellTriangles, index: &CellIndex, sweep: Sweep, in_cell: InCell) -> Vec<u32> {
-    let [cx, cy, cz] = index.dims;
-    let ks = axis_sequence(cz, sweep, 2);
-    let js = axis_sequence(cy, sweep, 1);
-    let slices: Vec<Vec<u32>> = ks
+    let [cx, cy, _] = index.dims.map(|d| d as u32);
+    let mut slice_seq = Vec::with_capacity(index.slices.len());
+    let slice = |s: usize| index.slices[s] as i64;
+    axis_order(index.slices.len(), slice, sweep, 2, 0, &mut slice_seq);
+    let slices: Vec<Vec<u32>> = slice_seq
         .par_iter()
-        .map(|&k| {
+        .map(|&s| {
             let mut out = Vec::new();
             let mut scratch = Scratch::default();
-            let mut row_cells = Vec::new();
-            for &j in &js {
-                let r = k as usize * cy + j as usize;
-                let row =
-                    &index.cells[index.row_start[r] as usize..index.row_start[r + 1] as usize];
-                if row.is_empty() {
-                    continue;
-                }
+            let (mut row_seq, mut row_cells) = (Vec::new(), Vec::new());
+            let first_row = index.slice_start[s] as usize;
+            let rows = &index.rows[first_row..index.slice_start[s + 1] as usize];
+            let y = |i: usize| (rows[i] % cy) as i64;
+            axis_order(rows.len(), y, sweep, 1, first_row, &mut row_seq);
+            for &r in &row_seq {
                 let first = index.row_start[r] as usize;
+                let row = &index.cells[first..index.row_start[r + 1] as usize];
                 row_cells.clear();
-                row_order(row, first, cx, sweep, &mut row_cells);
+                let x = |i: usize| (row[i] % cx) as i64;
+                axis_order(row.len(), x, sweep, 0, first, &mut row_cells);
                 for &c in &row_cells {
                     let tris = &index.tris[index.start[c] as usize..index.start[c + 1] as usize];
                     if tris.len() == 1 {
@@ -417,32 +449,6 @@ fn traverse(obj: &CellTriangles, index: &CellIndex, sweep: Sweep, in_cell: InCel
     }
     debug_assert_eq!(order.len(), obj.triangles.len());
     order
-}
-
-/// Positions in `index.cells` (from `first`) of one row's cells, in traversal order.
-fn row_order(row: &[u32], first: usize, cx: usize, sweep: Sweep, out: &mut Vec<usize>) {
-    match sweep {
-        Sweep::Octant(signs) => {
-            if signs.x >= 0.0 {
-                out.extend((0..row.len()).rev().map(|i| first + i));
-            } else {
-                out.extend((0..row.len()).map(|i| first + i));
-            }
-        }
-        Sweep::Eye(e) => {
-            let x = |i: usize| (row[i] as usize % cx) as i64;
-            let (mut lo, mut hi) = (0i64, row.len() as i64 - 1);
-            while lo <= hi {
-                if (x(hi as usize) - e[0]).abs() >= (x(lo as usize) - e[0]).abs() {
-                    out.push(first + hi as usize);
-                    hi -= 1;
-                } else {
-                    out.push(first + lo as usize);
-                    lo += 1;
-                }
-            }
-        }
-    }
 }
 
 #[derive(Default)]
@@ -634,17 +640,70 @@ mod tests {
         }
     }
 
+    fn sequence(coords: &[i64], sweep: Sweep) -> Vec<i64> {
+        let mut out = Vec::new();
+        axis_order(coords.len(), |i| coords[i], sweep, 0, 0, &mut out);
+        out.into_iter().map(|i| coords[i]).collect()
+    }
+
     #[test]
     fn eye_sequences_walk_towards_the_eye() {
-        let seq = axis_sequence(7, Sweep::Eye([3, 0, 0]), 0);
-        let keys: Vec<i64> = seq.iter().map(|&i| (i as i64 - 3).abs()).collect();
+        let seq = sequence(&[0, 1, 2, 3, 4, 5, 6], Sweep::Eye([3, 0, 0]));
+        let keys: Vec<i64> = seq.iter().map(|&i| (i - 3).abs()).collect();
         assert!(keys.windows(2).all(|w| w[0] >= w[1]), "{seq:?}");
         assert_eq!(seq.len(), 7);
         // Eye outside the grid: a plain sweep.
         assert_eq!(
-            axis_sequence(4, Sweep::Eye([-2, 0, 0]), 0),
+            sequence(&[0, 1, 2, 3], Sweep::Eye([-2, 0, 0])),
             vec![3, 2, 1, 0]
         );
-        assert_eq!(axis_sequence(4, Sweep::Eye([9, 0, 0]), 0), vec![0, 1, 2, 3]);
+        assert_eq!(
+            sequence(&[0, 1, 2, 3], Sweep::Eye([9, 0, 0])),
+            vec![0, 1, 2, 3]
+        );
+        // Occupied positions only: the same order as the full sweep restricted to them.
+        assert_eq!(
+            sequence(&[1, 2, 7, 8], Sweep::Eye([3, 0, 0])),
+            vec![8, 7, 1, 2]
+        );
+        let octant = Sweep::Octant(DVec3::new(1.0, -1.0, 1.0));
+        assert_eq!(sequence(&[2, 5, 9], octant), vec![9, 5, 2]);
+    }
+
+    #[test]
+    fn huge_stated_grids_cost_nothing_or_are_refused() {
+        // Two triangles in far corners of a grid with 60000² rows: the index lists two rows.
+        let positions = [[0.1, 0.1, 0.1], [0.9, 0.1, 0.1], [0.1, 0.9, 0.1]]
+            .into_iter()
+            .chain([
+                [0.1, 0.1, 59990.1],
+                [0.9, 0.1, 59990.1],
+                [0.1, 0.9, 59990.1],
+            ])
+            .map(Vec3::from)
+            .collect::<Vec<_>>();
+        let triangles = [[0, 1, 2], [3, 4, 5]];
+        let grid = Grid::new([2, 60_000, 60_000], [1.0; 3], [0.0; 3]).unwrap();
+        let cells = recover_cells(&grid, &positions, &triangles);
+        let obj = CellTriangles {
+            grid,
+            positions: &positions,
+            triangles: &triangles,
+            cells: &cells,
+        };
+        let index = index_cells(&obj).unwrap();
+        assert_eq!((index.rows.len(), index.slices.len()), (2, 2));
+        let up = View::Orthographic {
+            direction: DVec3::Z,
+        };
+        assert_eq!(view_order(&obj, &up).unwrap(), vec![1, 0]);
+        let eye = View::Perspective {
+            eye: DVec3::new(0.5, 0.5, -10.0),
+        };
+        assert_eq!(view_order(&obj, &eye).unwrap(), vec![1, 0]);
+        // More cells than a u32 names: refused, not wrapped around.
+        let grid = Grid::new([100_000; 3], [1.0; 3], [0.0; 3]).unwrap();
+        let err = index_cells(&CellTriangles { grid, ..obj }).unwrap_err();
+        assert!(err.to_string().contains("99999x99999x99999 cells"), "{err}");
     }
 }
