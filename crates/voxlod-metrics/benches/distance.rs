@@ -52,6 +52,7 @@ fn bench(c: &mut Criterion) {
                 layout,
                 ..Default::default()
             })
+            .unwrap()
             .iter()
             .map(|s| s.point)
             .collect()

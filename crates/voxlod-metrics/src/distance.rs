@@ -24,7 +24,7 @@ use serde::Serialize;
 use voxlod_core::TriangleMesh;
 
 use crate::closest_point::{MeshDistance, QueryHint, QUERY_CHUNK};
-use crate::error::MetricsError;
+use crate::error::{check_sample_count, MetricsError};
 use crate::spatial_order::z_order;
 use crate::surface_sampling::{SampleLayout, SamplingOptions, SurfaceSampler, DEFAULT_SEED};
 
@@ -113,16 +113,16 @@ pub struct DistanceReport {
 
 /// Measures how far apart the surfaces of `first` and `second` are.
 ///
-/// Fails when either mesh is empty, invalid, or has no area; the error names which one.
+/// Fails when either mesh is empty, invalid, or has no area (the error names which one), when
+/// the sample count is zero or above [`crate::surface_sampling::MAX_SAMPLES`], and when a block
+/// of samples would not fit in the memory budget.
 pub fn mesh_distance(
     first: &TriangleMesh,
     second: &TriangleMesh,
     options: &DistanceOptions,
 ) -> Result<DistanceReport, MetricsError> {
     let start = Instant::now();
-    if options.samples_per_side == 0 {
-        return Err(MetricsError::NoSamples);
-    }
+    check_sample_count(options.samples_per_side)?;
     let first_sampler = SurfaceSampler::new(first).map_err(|e| e.in_mesh("first"))?;
     let second_sampler = SurfaceSampler::new(second).map_err(|e| e.in_mesh("second"))?;
     let (first_bvh, second_bvh) = rayon::join(
@@ -130,6 +130,11 @@ pub fn mesh_distance(
         || MeshDistance::new(second).map_err(|e| e.in_mesh("second")),
     );
     let (first_bvh, second_bvh) = (first_bvh?, second_bvh?);
+    let block = options.samples_per_side.min(SAMPLE_BLOCK);
+    voxlod_core::memory::check_allocation(
+        &format!("a block of {block} distance samples"),
+        voxlod_core::memory::bytes_of::<[u8; SAMPLE_BYTES]>(block),
+    )?;
 
     let first_to_second = one_sided_distance(&first_sampler, &second_bvh, &options.sampling(0));
     let second_to_first = one_sided_distance(&second_sampler, &first_bvh, &options.sampling(1));
@@ -191,6 +196,9 @@ pub fn one_sided_distance(
 /// Samples held in memory at once by [`one_sided_distance`] (24 bytes each, plus 16 while
 /// sorting).
 pub const SAMPLE_BLOCK: usize = 1 << 20;
+
+/// Bytes per sample of a block: its point, and its key and index while sorting.
+const SAMPLE_BYTES: usize = 24 + 16;
 
 /// Running max, sum and sum of squares of distances.
 #[derive(Clone, Copy, Debug, Default)]
@@ -266,5 +274,34 @@ impl fmt::Display for DistanceReport {
             "{} samples per side, diagonal {:.6e} (box of both meshes), {:.3} s",
             self.samples, self.diagonal, self.seconds
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::surface_sampling::{SurfaceSampler, MAX_SAMPLES};
+    use voxlod_core::shapes::unit_cube;
+
+    #[test]
+    fn refuses_sample_counts_that_would_run_for_hours() {
+        let cube = unit_cube();
+        let options = DistanceOptions::with_samples(100_000_000_000);
+        let err = mesh_distance(&cube, &cube, &options).unwrap_err();
+        assert!(matches!(
+            err,
+            MetricsError::TooManySamples {
+                requested: 100_000_000_000,
+                max: MAX_SAMPLES
+            }
+        ));
+        assert!(err
+            .to_string()
+            .starts_with("100000000000 samples per surface is more than the 100000000 allowed"));
+        let sampler = SurfaceSampler::new(&cube).unwrap();
+        let too_many = options.sampling(0);
+        assert!(sampler.samples(&too_many).is_err());
+        // At the ceiling the count is accepted (checked without drawing them).
+        assert!(crate::error::check_sample_count(MAX_SAMPLES).is_ok());
     }
 }

@@ -25,6 +25,11 @@ pub enum MetricsError {
     },
     #[error("the sample count must be at least 1")]
     NoSamples,
+    #[error(
+        "{requested} samples per surface is more than the {max} allowed: a million already gives \
+         final figures, and this many would run for hours"
+    )]
+    TooManySamples { requested: usize, max: usize },
     #[error("{which} mesh: {source}")]
     InMesh {
         which: &'static str,
@@ -42,6 +47,26 @@ impl MetricsError {
             source: Box::new(self),
         }
     }
+}
+
+/// Refuses a sample count of zero or above [`crate::surface_sampling::MAX_SAMPLES`].
+pub(crate) fn check_sample_count(samples: usize) -> Result<(), MetricsError> {
+    if samples == 0 {
+        return Err(MetricsError::NoSamples);
+    }
+    check_sample_ceiling(samples)
+}
+
+/// Refuses a sample count above [`crate::surface_sampling::MAX_SAMPLES`].
+pub(crate) fn check_sample_ceiling(samples: usize) -> Result<(), MetricsError> {
+    use crate::surface_sampling::MAX_SAMPLES;
+    if samples > MAX_SAMPLES {
+        return Err(MetricsError::TooManySamples {
+            requested: samples,
+            max: MAX_SAMPLES,
+        });
+    }
+    Ok(())
 }
 
 /// Checks what every measurement needs: at least one triangle, vertex indices in range and

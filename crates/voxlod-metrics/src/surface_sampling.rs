@@ -26,7 +26,12 @@ use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
 use voxlod_core::TriangleMesh;
 
-use crate::error::{check_mesh, MetricsError};
+use crate::error::{check_mesh, check_sample_ceiling, MetricsError};
+
+/// The most samples drawn on one surface: 10⁸, a hundred times the count that gives final
+/// figures, and about a minute of work per surface. A larger count is refused rather than left
+/// to run for hours.
+pub const MAX_SAMPLES: usize = 100_000_000;
 
 /// How the samples share out the surface (see the module documentation).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -156,12 +161,18 @@ impl<'a> SurfaceSampler<'a> {
         }
     }
 
-    /// All the samples `options` describes, drawn in parallel.
-    pub fn samples(&self, options: &SamplingOptions) -> Vec<SurfaceSample> {
-        (0..options.samples)
+    /// All the samples `options` describes, drawn in parallel. Fails on a count above
+    /// [`MAX_SAMPLES`], and when they would not fit in the memory budget.
+    pub fn samples(&self, options: &SamplingOptions) -> Result<Vec<SurfaceSample>, MetricsError> {
+        check_sample_ceiling(options.samples)?;
+        voxlod_core::memory::check_allocation(
+            &format!("{} surface samples", options.samples),
+            voxlod_core::memory::bytes_of::<SurfaceSample>(options.samples),
+        )?;
+        Ok((0..options.samples)
             .into_par_iter()
             .map(|i| self.sample(i, options))
-            .collect()
+            .collect())
     }
 
     /// The triangle whose share of the cumulative area holds `target` (in `[0, total)`);
@@ -193,7 +204,7 @@ pub fn sample_surface(
     mesh: &TriangleMesh,
     options: &SamplingOptions,
 ) -> Result<Vec<SurfaceSample>, MetricsError> {
-    Ok(SurfaceSampler::new(mesh)?.samples(options))
+    SurfaceSampler::new(mesh)?.samples(options)
 }
 
 /// The generator of sample `index`: a PCG whose 128-bit state comes from mixing the seed and
