@@ -21,9 +21,10 @@
 //! in a cell are nearly parallel, for most directions near it); [`view_order`] sorts inside cells
 //! for the exact direction.
 //!
-//! **Cost.** Indexing the triangles by cell is one sort of T keys. A traversal visits the occupied
-//! cells only (rows in compressed form), O(T + rows); in-cell sorting costs O(k²) pair tests for k
-//! triangles in a cell, a few on average. Slices are ordered in parallel; the eight octants too.
+//! **Cost.** Indexing the triangles by cell is one sort of T keys. A traversal visits the
+//! occupied cells, rows and slices only, O(T) whatever size the grid claims; in-cell sorting
+//! costs O(k²) pair tests for k triangles in a cell, a few on average (at most
+//! [`MAX_EXACT_CELL`]). Slices are ordered in parallel; the eight octants too.
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
@@ -44,6 +45,12 @@ pub const ORDER_NAMES: [&str; 8] = [
     "order-x-y+z",
     "order-x-y-z",
 ];
+
+/// The most triangles in one cell that are sorted exactly (pair tests, O(k²)); a fuller cell is
+/// sorted by centroid depth. Marching cubes puts at most 5 triangles per layer in a cell, so
+/// only a file whose stated grid does not match its mesh (every triangle in one cell) gets
+/// here, and it must not cost hours.
+pub const MAX_EXACT_CELL: usize = 1024;
 
 /// Overlaps smaller than this fraction of the smaller triangle's projected area are ignored.
 pub const OVERLAP_TOLERANCE: f64 = 1e-7;
@@ -498,8 +505,9 @@ fn sort_cell(
             }
         }
     }
-    if !ok || n > u16::MAX as usize {
-        // The eye is in the cell: farthest centroid first.
+    if !ok || n > MAX_EXACT_CELL {
+        // The eye is in the cell, or the cell is too full for pair tests: farthest centroid
+        // first.
         let eye = match in_cell {
             InCell::Eye(e) => e,
             InCell::Direction(d) => -d * 1e30,
