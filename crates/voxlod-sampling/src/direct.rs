@@ -109,6 +109,11 @@ impl Support {
             let chi = [0, 1, 2].map(|a| hi[a].min(dims[a] as i64 - 1));
             let (inside_sum, inside_weight) = self.lattice_sum(volume, background, f, clo, chi);
             let total = self.total_weight(f).max(inside_weight);
+            if !total.is_finite() {
+                // The outside's weight overflows (a support of 10¹⁶⁰ samples): the scan's share
+                // of the mean is nil.
+                return background;
+            }
             let outside = total - inside_weight;
             (inside_sum + outside * background as f64, total)
         };
