@@ -400,11 +400,11 @@ fn an_address_space_limit_is_a_clean_refusal_not_an_abort() {
         ];
         voxlod_under_ulimit_v(2_000_000, &args)
     };
-    // Resolution 700 needs about 2.6 GiB: more than 2 GB of address space, less than the
-    // memory of most machines (so only the limit can stop it).
-    let o = voxelize("700");
+    // Resolution 1000 takes a 4 GB volume (7.6 GiB as the plan reckons): within the memory of
+    // many machines, beyond 2 GB of address space, where it used to abort allocating.
+    let o = voxelize("1000");
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    assert_clean_failure(&o, "would need 2.6 GiB");
+    assert_clean_failure(&o, "would need 7.6 GiB");
     assert!(stderr(&o).contains("bytes) but only"), "{}", stderr(&o));
     assert!(!out.exists());
     // Small work still runs under the limit.
