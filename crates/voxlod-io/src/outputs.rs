@@ -161,7 +161,9 @@ impl OutputSet {
                 header: None,
             });
         }
+        // Only a regular file's header is read: a pipe would lose what the command reads.
         let data = match crate::volume_format_of(input) {
+            _ if !input.is_file() => None,
             Ok(VolumeFormat::Nrrd | VolumeFormat::Nhdr) => crate::nrrd::data_file_of(input),
             Ok(VolumeFormat::Mha | VolumeFormat::Mhd) => crate::metaimage::data_file_of(input),
             _ => None,
