@@ -87,6 +87,10 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
             args.output.display()
         )));
     }
+    let mut out = voxlod_io::OutputSet::protecting([&args.input]);
+    for level in 0..args.levels as usize {
+        out.check(&level_path(&args.output, level, args.levels as usize))?;
+    }
     let loaded = read_mesh_input(&args.input)?;
     let mesh = &loaded.mesh;
     let in_file = |e: voxlod_baselines::BaselineError| {
@@ -127,13 +131,14 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
     for level in &levels {
         let path = level_path(&args.output, level.report.level, args.levels as usize);
         let start = Instant::now();
-        voxlod_io::write_poly_mesh(&path, &level.mesh)?;
+        out.poly_mesh(&path, &level.mesh)?;
         report.levels.push(ClusterLevel {
             report: level.report.clone(),
             file: path.display().to_string(),
             write_seconds: start.elapsed().as_secs_f64(),
         });
     }
+    out.commit()?;
     if args.json {
         return print_json(&report);
     }

@@ -197,25 +197,6 @@ impl MeshExtension {
     }
 }
 
-/// Creates `dir` (and its parents) if needed.
-pub fn ensure_dir(dir: &Path) -> Result<(), CliError> {
-    std::fs::create_dir_all(dir).map_err(|e| {
-        CliError::msg(format!(
-            "{}: cannot create the output folder: {e}",
-            dir.display()
-        ))
-    })
-}
-
-/// Writes `text` to `path` atomically.
-pub fn write_text(path: &Path, text: &str) -> Result<(), CliError> {
-    voxlod_io::atomic::write_atomically(path, |w| {
-        use std::io::Write;
-        w.write_all(text.as_bytes())
-    })?;
-    Ok(())
-}
-
 /// `out.ply` for one level, `out-K.ply` for level K of several.
 pub fn level_path(output: &Path, level: usize, levels: usize) -> PathBuf {
     if levels <= 1 {

@@ -64,6 +64,8 @@ struct ContourReport {
 
 pub fn run(args: ContourArgs) -> Result<(), CliError> {
     let start = Instant::now();
+    let mut out = voxlod_io::OutputSet::protecting([&args.volume]);
+    out.check(&args.output)?;
     let volume = match read_input(&args.volume, &args.raw)? {
         Input::Volume(v) => v,
         Input::Mesh(_) => {
@@ -89,7 +91,8 @@ pub fn run(args: ContourArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::msg(format!("{}: {e}", args.volume.display())))?;
     let contour_seconds = start.elapsed().as_secs_f64();
     let start = Instant::now();
-    voxlod_io::write_mesh(&args.output, &mesh)?;
+    out.mesh(&args.output, &mesh)?;
+    out.commit()?;
     let write_seconds = start.elapsed().as_secs_f64();
     let topology = mesh_topology(&mesh);
     let report = ContourReport {

@@ -5,9 +5,10 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
+use voxlod_io::OutputSet;
 use voxlod_sampling::{sphereflake, CsgSolid};
 
-use super::common::{ensure_dir, in_dir, print_json, progress, thousands, write_text, CliError};
+use super::common::{in_dir, print_json, progress, thousands, CliError};
 use crate::lod::{build_level, plan, LodOptions, LodSource};
 
 /// The paper's triangle counts (Table 1: sphereflake, Gaussian filter, isodensity 0.5).
@@ -66,7 +67,8 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     let source = LodSource::Solid(&solid);
     let options = LodOptions::paper_table1();
     let plans = plan(&source, &options).map_err(|e| CliError::msg(e.to_string()))?;
-    ensure_dir(&args.output)?;
+    let mut out = OutputSet::new();
+    out.create_dir(&args.output)?;
     let bar = progress(plans.len() as u64, "table 1", args.json);
     let mut rows = Vec::new();
     for (p, &(index, resolution, paper_radius, paper_triangles)) in plans.iter().zip(&PAPER_TABLE1)
@@ -74,7 +76,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         debug_assert_eq!(p.resolution, resolution);
         let level = build_level(&source, p, &options).map_err(|e| CliError::msg(e.to_string()))?;
         let file = format!("level-{}.ply", p.level);
-        voxlod_io::write_mesh(&in_dir(&args.output, &file), &level.mesh)?;
+        out.mesh(&in_dir(&args.output, &file), &level.mesh)?;
         let t = &level.topology;
         rows.push(Row {
             index,
@@ -101,10 +103,11 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     };
     let text = serde_json::to_string_pretty(&report)
         .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
-    write_text(&in_dir(&args.output, "report.json"), &text)?;
+    out.text(&in_dir(&args.output, "report.json"), &text)?;
     // Paper §3, Figure 7: single surface, layered shells and the 16x16 reference, side by side.
-    let antialias = voxlod_layers::compare::demo_comparison(&args.output)
+    let antialias = voxlod_layers::compare::demo_comparison(&mut out, &args.output)
         .map_err(|e| CliError::msg(e.to_string()))?;
+    out.commit()?;
     if args.json {
         return print_json(&report);
     }

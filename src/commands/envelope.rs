@@ -167,6 +167,10 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
     options.measure_samples = args.samples;
     // Refuse an output format we cannot write before any work.
     voxlod_io::mesh_format_of(&args.output)?;
+    let mut out = voxlod_io::OutputSet::protecting([&args.input]);
+    for level in 0..epsilons.len() {
+        out.check(&level_path(&args.output, level, epsilons.len()))?;
+    }
     let loaded = read_mesh_input(&args.input)?;
     let in_file =
         |e: &dyn std::fmt::Display| CliError::msg(format!("{}: {e}", args.input.display()));
@@ -188,7 +192,7 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
         }
         let path = level_path(&args.output, level.report.level, epsilons.len());
         let t = Instant::now();
-        if let Err(e) = voxlod_io::write_mesh(&path, &level.mesh) {
+        if let Err(e) = out.mesh(&path, &level.mesh) {
             write_error = Some(e);
             return;
         }
@@ -205,6 +209,7 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
     if let Some(e) = write_error {
         return Err(e.into());
     }
+    out.commit()?;
     let report = Report {
         input: args.input.display().to_string(),
         input_vertices: mesh.positions.len(),

@@ -10,9 +10,7 @@ use voxlod_metrics::DistanceOptions;
 /// Side of each image of the preview strips, in pixels.
 const PREVIEW_SIZE: u32 = 200;
 
-use super::common::{
-    ensure_dir, in_dir, print_json, progress, read_mesh_input, write_text, CliError,
-};
+use super::common::{in_dir, print_json, progress, read_mesh_input, CliError};
 use crate::evaluate::images::preview_strip;
 use crate::evaluate::plot::plot_evaluation;
 use crate::evaluate::report::{markdown, ReportContext};
@@ -146,6 +144,10 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
     }
     options.images.views = args.views;
 
+    let mut out = voxlod_io::OutputSet::protecting([&args.input]);
+    for file in ["report.json", "report.md", "plot.png"] {
+        out.check(&in_dir(&args.output, file))?;
+    }
     let loaded = read_mesh_input(&args.input)?;
     let name = args.input.display().to_string();
     let mesh = loaded.mesh;
@@ -196,25 +198,23 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
         }
     }
 
-    // Everything is computed: now write, each file atomically.
-    ensure_dir(&args.output)?;
+    // Everything is computed: now write, as one set that appears at the end.
+    out.create_dir(&args.output)?;
     let mut notes = Vec::new();
     if !strips.is_empty() {
-        ensure_dir(&in_dir(&args.output, "previews"))?;
+        out.create_dir(&in_dir(&args.output, "previews"))?;
         for (_, file, png) in &strips {
-            voxlod_io::atomic::write_atomically(&in_dir(&args.output, file), |w| {
-                std::io::Write::write_all(w, png)
-            })?;
+            out.png(&in_dir(&args.output, file), png)?;
         }
     }
     let mut meshes = Vec::new();
     if args.meshes {
         let dir = in_dir(&args.output, "meshes");
-        ensure_dir(&dir)?;
+        out.create_dir(&dir)?;
         for curve in &evaluation.curves {
             for point in &curve.points {
                 let file = format!("{}-{}.ply", curve.method, point.triangles);
-                voxlod_io::write_poly_mesh(&dir.join(&file), &point.level)?;
+                out.poly_mesh(&dir.join(&file), &point.level)?;
                 meshes.push(format!("meshes/{file}"));
             }
         }
@@ -222,9 +222,7 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
     }
     let plot = match &chart {
         Some(chart) => {
-            voxlod_io::atomic::write_atomically(&in_dir(&args.output, "plot.png"), |w| {
-                std::io::Write::write_all(w, &chart.png)
-            })?;
+            out.png(&in_dir(&args.output, "plot.png"), &chart.png)?;
             Some("plot.png".to_string())
         }
         None => None,
@@ -245,7 +243,7 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
     };
     let json = serde_json::to_string_pretty(&report)
         .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
-    write_text(&in_dir(&args.output, "report.json"), &json)?;
+    out.text(&in_dir(&args.output, "report.json"), &json)?;
     let context = ReportContext {
         input: name,
         plot_file: plot,
@@ -253,10 +251,11 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
         previews: strips.iter().map(|(m, f, _)| (*m, f.clone())).collect(),
         notes,
     };
-    write_text(
+    out.text(
         &in_dir(&args.output, "report.md"),
         &markdown(&evaluation, &context),
     )?;
+    out.commit()?;
     if args.json {
         return print_json(&report);
     }

@@ -186,6 +186,12 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
     let start = Instant::now();
     // Everything that can be refused is refused before any work.
     let kind = out_kind(&args.output)?;
+    let mut out = voxlod_io::OutputSet::protecting([&args.input]);
+    out.check(&args.output)?;
+    if let Some(preview) = &args.preview {
+        voxlod_io::check_image_path(preview)?;
+        out.check(preview)?;
+    }
     let view = parse_view(&args.view)?;
     let size = parse_size(&args.size)?;
     let plan = PlanOptions {
@@ -241,20 +247,20 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
         Some(path) => Some((path, preview_png(&layered, view, size)?)),
         None => None,
     };
+    // The shells and the preview appear together or not at all.
     match bytes {
-        Some(b) => {
-            voxlod_io::atomic::write_atomically(&args.output, |w| std::io::Write::write_all(w, &b))?
+        Some(b) => out.bytes(&args.output, &b)?,
+        None => {
+            let order = Some(&layered.orders[octant.index()][..]);
+            let poly = voxlod_layers::to_poly_mesh(&layered.mesh, order)
+                .map_err(|e| layers_error(&args.output, e))?;
+            out.poly_mesh(&args.output, &poly)?
         }
-        None => voxlod_layers::write_layered_mesh(
-            &args.output,
-            &layered.mesh,
-            Some(&layered.orders[octant.index()]),
-        )
-        .map_err(|e| layers_error(&args.output, e))?,
     }
     if let Some((path, png)) = &preview {
-        voxlod_io::atomic::write_atomically(path, |w| std::io::Write::write_all(w, png))?;
+        out.png(path, png)?;
     }
+    out.commit()?;
     bar.finish_and_clear();
     let report = report(&args, &layered, start.elapsed().as_secs_f64());
     if args.json {

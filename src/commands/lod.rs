@@ -3,13 +3,12 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use clap::Args;
+use clap::{Args, ValueEnum};
 use serde::Serialize;
+use voxlod_io::OutputSet;
 use voxlod_sampling::{DensityReport, Filter, PyramidOptions};
 
-use super::common::{
-    describe_mesh, ensure_dir, in_dir, print_json, progress, write_text, CliError, MeshExtension,
-};
+use super::common::{describe_mesh, in_dir, print_json, progress, CliError, MeshExtension};
 use super::envelope::{then_envelope, ThenEnvelope, ThenEnvelopeReport};
 use super::source::{load, Loaded, MeshSummary, Prepared, VolumeRoute};
 use crate::lod::{build_level, plan, LodOptions};
@@ -21,7 +20,8 @@ use crate::lod::{build_level, plan, LodOptions};
 /// Every level is filtered from the original object, never from the level above. Level k has
 /// RESOLUTION/2^k samples across the longest side of the object's box and a filter radius of one
 /// voxel of that level, as in the paper's tables. Writes DIR/level-0.ply, DIR/level-1.ply, …
-/// and DIR/report.json.
+/// and DIR/report.json, all at the end, and removes level files of an earlier run that this one
+/// does not write.
 ///
 /// Examples:
 ///   voxlod lod bunny.obj -o bunny-lods
@@ -114,7 +114,24 @@ struct LodReport {
     filter: Filter,
     iso: f32,
     levels: Vec<LevelReport>,
+    /// What the writing had to say: stale level files removed, for instance.
+    warnings: Vec<String>,
     total_seconds: f64,
+}
+
+/// `level-N.EXT` for a mesh extension: the names `lod` writes, and the only ones it removes.
+fn is_level_file(name: &str) -> bool {
+    let Some((number, ext)) = name
+        .strip_prefix("level-")
+        .and_then(|rest| rest.split_once('.'))
+    else {
+        return false;
+    };
+    !number.is_empty()
+        && number.bytes().all(|b| b.is_ascii_digit())
+        && MeshExtension::value_variants()
+            .iter()
+            .any(|e| e.as_str() == ext)
 }
 
 pub fn run(args: LodArgs) -> Result<(), CliError> {
@@ -149,7 +166,13 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     let source = prepared.source();
     let plans = plan(&source, &options)
         .map_err(|e| CliError::msg(format!("{}: {e}", args.input.display())))?;
-    ensure_dir(&args.output)?;
+    // Everything is written at the end, as one set; refuse now what it would refuse then.
+    let mut out = OutputSet::protecting([&args.input]);
+    let level_name = |level: usize| format!("level-{level}.{}", args.format.as_str());
+    for p in &plans {
+        out.check(&in_dir(&args.output, &level_name(p.level)))?;
+    }
+    out.create_dir(&args.output)?;
     if let Loaded::Mesh(_, summary) = &loaded {
         let p = &summary.preparation;
         let repairs: Vec<String> = [
@@ -187,11 +210,11 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
             }
             None => None,
         };
-        let name = format!("level-{}.{}", level_plan.level, args.format.as_str());
+        let name = level_name(level_plan.level);
         let write_start = Instant::now();
         let file = (!level.mesh.is_empty()).then(|| name.clone());
         if file.is_some() {
-            voxlod_io::write_mesh(&in_dir(&args.output, &name), &level.mesh)?;
+            out.mesh(&in_dir(&args.output, &name), &level.mesh)?;
         }
         let write_seconds = write_start.elapsed().as_secs_f64();
         let t = &level.topology;
@@ -240,6 +263,10 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         }
     }
     bar.finish_and_clear();
+    if levels.iter().all(|l| l.file.is_none()) {
+        return Err(no_surface(&args, &plans, iso));
+    }
+    out.remove_stale(&args.output, is_level_file);
     let report = LodReport {
         input: args.input.display().to_string(),
         mesh: match &loaded {
@@ -254,20 +281,40 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         filter: args.filter,
         iso,
         levels,
+        warnings: out.warnings().to_vec(),
         total_seconds: start.elapsed().as_secs_f64(),
     };
     let text = serde_json::to_string_pretty(&report)
         .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
-    write_text(&in_dir(&args.output, "report.json"), &text)?;
+    out.text(&in_dir(&args.output, "report.json"), &text)?;
+    out.commit()?;
     if args.json {
         print_json(&report)?;
     } else {
+        for w in &report.warnings {
+            eprintln!("warning: {w}");
+        }
+        let written = report.levels.iter().filter(|l| l.file.is_some()).count();
         println!(
-            "{} levels in {:.2} s; report in {}",
+            "{written} of {} levels written in {:.2} s; report in {}",
             report.levels.len(),
             report.total_seconds,
             in_dir(&args.output, "report.json").display()
         );
     }
     Ok(())
+}
+
+/// Why there is nothing to write: every level came out empty.
+fn no_surface(args: &LodArgs, plans: &[voxlod_sampling::LevelPlan], iso: f32) -> CliError {
+    let first = &plans[0];
+    CliError::msg(format!(
+        "{}: no level has a surface, so nothing was written: at every level the filtered density \
+         stays below the isodensity {iso}. The object is thinner than the filter (level 0: voxel \
+         {:.4}, radius {:.4}) or encloses no volume; use a higher --resolution, a smaller \
+         --radius or a lower --iso",
+        args.input.display(),
+        first.voxel_size,
+        first.radius
+    ))
 }

@@ -169,6 +169,9 @@ enum Loaded {
 
 pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let start = Instant::now();
+    voxlod_io::check_image_path(&args.output)?;
+    let mut out = voxlod_io::OutputSet::protecting(&args.meshes);
+    out.check(&args.output)?;
     let view = parse_view(&args.view)?;
     let (width, height) = parse_size(&args.size)?;
     if !(1..=32).contains(&args.supersample) {
@@ -301,7 +304,8 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     }
     let image = render(&scene, &camera, &options).map_err(|e| CliError::msg(e.to_string()))?;
     let png = image.to_png().map_err(|e| CliError::msg(e.to_string()))?;
-    voxlod_io::atomic::write_atomically(&args.output, |w| std::io::Write::write_all(w, &png))?;
+    out.png(&args.output, &png)?;
+    out.commit()?;
     report.seconds = start.elapsed().as_secs_f64();
     if args.json {
         return print_json(&report);

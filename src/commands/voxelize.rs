@@ -56,6 +56,10 @@ pub struct VoxelizeArgs {
 struct VoxelizeReport {
     input: String,
     output: String,
+    /// Every file written: the volume, and the data file of a `.nhdr` or `.mhd`.
+    files: Vec<String>,
+    /// A data file written under another name than usual, for instance.
+    warnings: Vec<String>,
     dims: [usize; 3],
     spacing: f64,
     radius: f64,
@@ -73,6 +77,8 @@ pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
             "--radius must be a positive number of voxels",
         ));
     }
+    let mut out = voxlod_io::OutputSet::protecting([&args.input]);
+    out.check(&args.output)?;
     let loaded = load(&args.input, &args.route)?;
     let prepared = Prepared::new(&loaded, &args.route, &args.input)?;
     let source = prepared.source();
@@ -108,16 +114,25 @@ pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
     };
     let sample_seconds = start.elapsed().as_secs_f64();
     let start = Instant::now();
-    voxlod_io::write_volume_with(
+    out.volume(
         &args.output,
         &density,
         &voxlod_io::VolumeWriteOptions {
             compress: args.compress,
         },
     )?;
+    let files = out
+        .files()
+        .iter()
+        .map(|f| f.display().to_string())
+        .collect();
+    let warnings = out.warnings().to_vec();
+    out.commit()?;
     let report = VoxelizeReport {
         input: args.input.display().to_string(),
         output: args.output.display().to_string(),
+        files,
+        warnings,
         dims: grid.dims,
         spacing: voxel,
         radius,
@@ -128,6 +143,9 @@ pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
     if args.json {
         print_json(&report)?;
     } else {
+        for w in &report.warnings {
+            eprintln!("warning: {w}");
+        }
         println!(
             "{}: {}x{}x{} samples of spacing {:.5}, {} radius {:.5}, in {:.2} s -> {}",
             args.input.display(),

@@ -25,6 +25,8 @@ pub enum IoErrorKind {
     SizeMismatch,
     /// Reading it would not fit in memory.
     TooLarge,
+    /// Writing it would replace an input, or another output of the same command.
+    Conflict,
 }
 
 /// An error about one file: its path and a one-line description of the problem.

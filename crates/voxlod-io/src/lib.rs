@@ -21,9 +21,12 @@
 //! [`IoErrorKind`] to act on; no input, however broken, makes a reader panic. Readers never
 //! repair: degenerate and duplicate triangles are returned as stored, for
 //! `voxlod_core::repair` and `inspect` to see. Volumes come out as `f32` with the file's
-//! spacing and origin, in millimetres where the file says which unit it uses. Every writer goes
-//! through [`atomic::write_atomically`]: a failed write leaves neither a partial file nor a
-//! temporary one behind.
+//! spacing and origin, in millimetres where the file says which unit it uses.
+//!
+//! Every writer goes through an [`OutputSet`] (`outputs.rs`): files are written to temporaries
+//! (unnamed ones on Linux) and put in place together, so a failed, interrupted or killed write
+//! leaves neither a partial file nor a temporary one behind, and no output replaces an input the
+//! set protects. The `write_*` functions below are sets of one file that protect nothing.
 
 pub mod atomic;
 pub mod ear_clipping;
@@ -33,6 +36,7 @@ mod nifti;
 mod nrrd;
 mod obj;
 mod off;
+mod outputs;
 mod ply;
 mod raw;
 mod samples;
@@ -48,9 +52,11 @@ use std::path::Path;
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh, Volume};
 
 pub use error::{IoError, IoErrorKind};
+pub use outputs::{check_image_path, OutputSet, IMAGE_EXTENSIONS};
 pub use raw::{Endian, ParseNameError, RawLayout, RawType};
 pub use voxlod_core::weld::WeldReport;
 
+use atomic::TempFile;
 use vtk::Flavor;
 
 // -------------------------------------------------------------------------------------------
@@ -390,13 +396,21 @@ pub fn read_poly_mesh(path: &Path) -> Result<PolyMesh, IoError> {
 }
 
 /// Checks a mesh before writing it, so that a bad mesh fails before any file is touched.
-fn check_for_writing(path: &Path, mesh: &PolyMesh) -> Result<(), IoError> {
+pub(crate) fn check_for_writing(path: &Path, mesh: &PolyMesh) -> Result<(), IoError> {
     check_finite(path, &mesh.mesh)?;
     mesh.validate()
         .map_err(|e| IoError::malformed(path, format!("cannot write: {e}")))
 }
 
-fn write_view(path: &Path, view: PolyView<'_>) -> Result<(), IoError> {
+/// [`check_for_writing`] for a plain triangle mesh.
+pub(crate) fn check_triangles_for_writing(path: &Path, mesh: &TriangleMesh) -> Result<(), IoError> {
+    check_finite(path, mesh)?;
+    mesh.validate()
+        .map_err(|e| IoError::malformed(path, format!("cannot write: {e}")))
+}
+
+/// The temporary file of a mesh, in the format of its extension.
+pub(crate) fn stage_view(path: &Path, view: PolyView<'_>) -> Result<TempFile, IoError> {
     let plain = view.lines.is_empty()
         && view.points.is_empty()
         && view.vertex_attributes.is_empty()
@@ -425,10 +439,9 @@ fn write_view(path: &Path, view: PolyView<'_>) -> Result<(), IoError> {
 /// Writes a triangle mesh, by extension: `.ply` (binary little-endian, with normals when
 /// present), `.obj`, `.stl` (binary), `.off`, `.vtp` and `.vtk` (VTK PolyData).
 pub fn write_mesh(path: &Path, mesh: &TriangleMesh) -> Result<(), IoError> {
-    check_finite(path, mesh)?;
-    mesh.validate()
-        .map_err(|e| IoError::malformed(path, format!("cannot write: {e}")))?;
-    write_view(path, PolyView::from(mesh))
+    let mut set = OutputSet::new();
+    set.mesh(path, mesh)?;
+    set.commit()
 }
 
 /// Writes a mesh with its lines, points and attributes: `.ply` (an `edge` element with one
@@ -437,8 +450,9 @@ pub fn write_mesh(path: &Path, mesh: &TriangleMesh) -> Result<(), IoError> {
 /// `.obj` (lines and points, no attributes). STL and OFF hold triangles only: a mesh with
 /// anything more is refused rather than silently reduced.
 pub fn write_poly_mesh(path: &Path, mesh: &PolyMesh) -> Result<(), IoError> {
-    check_for_writing(path, mesh)?;
-    write_view(path, PolyView::from(mesh))
+    let mut set = OutputSet::new();
+    set.poly_mesh(path, mesh)?;
+    set.commit()
 }
 
 // -------------------------------------------------------------------------------------------
@@ -487,13 +501,32 @@ pub fn write_volume(path: &Path, volume: &Volume) -> Result<(), IoError> {
 
 /// Writes a volume by extension, samples as `f32`: `.nrrd`, `.nhdr` (+ `<name>.raw` beside
 /// it), `.vti`, `.vtk` (legacy), `.mha`, `.mhd` (+ `<name>.raw`), `.raw` (headerless,
-/// little-endian; spacing and origin are not stored). NIfTI is read-only.
+/// little-endian; spacing and origin are not stored). NIfTI is read-only. The data file of a
+/// `.nhdr` or `.mhd` never replaces another file: when `<name>.raw` exists (and is not the data
+/// file of the header being replaced) it gets a free name that the header records; an
+/// [`OutputSet`] says which.
 pub fn write_volume_with(
     path: &Path,
     volume: &Volume,
     options: &VolumeWriteOptions,
 ) -> Result<(), IoError> {
+    let mut set = OutputSet::new();
+    set.volume(path, volume, options)?;
+    set.commit()
+}
+
+/// The format of `path`, once `volume` is known to be writable there.
+pub(crate) fn check_volume_for_writing(
+    path: &Path,
+    volume: &Volume,
+) -> Result<VolumeFormat, IoError> {
     let format = volume_format_of(path)?;
+    if format == VolumeFormat::Nifti {
+        return Err(IoError::unsupported(
+            path,
+            "writing NIfTI is not supported; write .nrrd, .vti, .mha or .vtk",
+        ));
+    }
     let g = &volume.grid;
     if volume.values.len() != g.len() || volume.values.as_slice().is_none() {
         return Err(IoError::malformed(
@@ -509,18 +542,46 @@ pub fn write_volume_with(
     }
     voxlod_core::Grid::new(g.dims, g.spacing, g.origin)
         .map_err(|e| IoError::malformed(path, format!("cannot write: {e}")))?;
-    let compress = options.compress;
-    match format {
-        VolumeFormat::Nrrd => nrrd::write(path, volume, compress),
-        VolumeFormat::Nhdr => nrrd::write_detached(path, volume, compress),
-        VolumeFormat::Vti => vtk_image::write(path, volume, Flavor::Xml, compress),
-        VolumeFormat::Vtk => vtk_image::write(path, volume, Flavor::Legacy, false),
-        VolumeFormat::Mha => metaimage::write(path, volume, compress),
-        VolumeFormat::Mhd => metaimage::write_detached(path, volume, compress),
-        VolumeFormat::Raw => raw::write(path, volume),
-        VolumeFormat::Nifti => Err(IoError::unsupported(
-            path,
-            "writing NIfTI is not supported; write .nrrd, .vti, .mha or .vtk",
-        )),
+    Ok(format)
+}
+
+/// The extension of the data file beside a volume header (`.nhdr`, `.mhd`); `None` for formats
+/// with the data inside.
+pub(crate) fn detached_data_extension(
+    format: VolumeFormat,
+    options: &VolumeWriteOptions,
+) -> Option<&'static str> {
+    match (format, options.compress) {
+        (VolumeFormat::Nhdr | VolumeFormat::Mhd, false) => Some("raw"),
+        (VolumeFormat::Nhdr, true) => Some("raw.gz"),
+        (VolumeFormat::Mhd, true) => Some("zraw"),
+        _ => None,
     }
+}
+
+/// The temporary files of a volume in `format` (checked by [`check_volume_for_writing`]): the
+/// data file's first when `data` names one (for the formats of [`detached_data_extension`]).
+pub(crate) fn stage_volume(
+    path: &Path,
+    format: VolumeFormat,
+    volume: &Volume,
+    options: &VolumeWriteOptions,
+    data: Option<&Path>,
+) -> Result<Vec<TempFile>, IoError> {
+    let compress = options.compress;
+    let detached = || {
+        data.ok_or_else(|| IoError::unsupported(path, "a detached header needs a data file name"))
+    };
+    Ok(match format {
+        VolumeFormat::Nrrd => vec![nrrd::write(path, volume, compress)?],
+        VolumeFormat::Nhdr => nrrd::write_detached(path, detached()?, volume, compress)?.into(),
+        VolumeFormat::Vti => vec![vtk_image::write(path, volume, Flavor::Xml, compress)?],
+        VolumeFormat::Vtk => vec![vtk_image::write(path, volume, Flavor::Legacy, false)?],
+        VolumeFormat::Mha => vec![metaimage::write(path, volume, compress)?],
+        VolumeFormat::Mhd => metaimage::write_detached(path, detached()?, volume, compress)?.into(),
+        VolumeFormat::Raw => vec![raw::write(path, volume)?],
+        VolumeFormat::Nifti => {
+            return Err(IoError::unsupported(path, "writing NIfTI is not supported"))
+        }
+    })
 }

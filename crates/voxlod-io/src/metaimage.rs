@@ -14,7 +14,9 @@
 //!
 //! Writing produces `MET_FLOAT`, little-endian, with `ElementSpacing` and `Offset`, data zlib
 //! compressed when [`VolumeWriteOptions::compress`](crate::VolumeWriteOptions) asks; a `.mhd`
-//! gets its data in `<name>.raw` (or `<name>.zraw`) beside it, both written atomically.
+//! gets its data in `<name>.raw` (or `<name>.zraw`) beside it, or another free name when that one
+//! is taken (see [`crate::OutputSet`]); the header records the name, and both files appear
+//! together.
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom, Write};
@@ -23,7 +25,7 @@ use std::path::{Path, PathBuf};
 use flate2::write::ZlibEncoder;
 use voxlod_core::Volume;
 
-use crate::atomic::{write_atomically, TempFile};
+use crate::atomic::{stage, TempFile};
 use crate::samples::{self, SampleType};
 use crate::{Endian, IoError};
 
@@ -294,33 +296,40 @@ fn data_bytes(volume: &Volume, compress: bool) -> std::io::Result<Vec<u8>> {
 }
 
 /// Writes a `.mha` with the data after the header (`ElementDataFile = LOCAL`).
-pub(crate) fn write(path: &Path, volume: &Volume, compress: bool) -> Result<(), IoError> {
+pub(crate) fn write(path: &Path, volume: &Volume, compress: bool) -> Result<TempFile, IoError> {
     if compress {
         // The header states the compressed size, so the data is compressed first.
         let data =
             data_bytes(volume, true).map_err(|e| IoError::access(path, "cannot compress", &e))?;
         let header = header_text(volume, Some(data.len() as u64), "LOCAL");
-        write_atomically(path, |w| {
+        stage(path, |w| {
             w.write_all(header.as_bytes())?;
             w.write_all(&data)
         })
     } else {
         let header = header_text(volume, None, "LOCAL");
-        write_atomically(path, |w| {
+        stage(path, |w| {
             w.write_all(header.as_bytes())?;
             crate::raw::write_samples_f32_le(w, volume.as_slice())
         })
     }
 }
 
-/// Writes a `.mhd` and its data file beside it; neither appears unless both were written.
-pub(crate) fn write_detached(path: &Path, volume: &Volume, compress: bool) -> Result<(), IoError> {
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "volume".to_string());
-    let data_name = format!("{stem}.{}", if compress { "zraw" } else { "raw" });
-    let data_path = path.with_file_name(&data_name);
+/// The data file that the MetaImage header `path` names, if it can be read and names one.
+pub(crate) fn data_file_of(path: &Path) -> Option<PathBuf> {
+    let file = File::open(path).ok()?;
+    read_header(path, &mut BufReader::new(file)).ok()?.data_file
+}
+
+/// Writes a `.mhd` and its data file `data_path` (in the same folder, chosen by
+/// [`crate::OutputSet`]): the data file's temporary first, then the header's.
+pub(crate) fn write_detached(
+    path: &Path,
+    data_path: &Path,
+    volume: &Volume,
+    compress: bool,
+) -> Result<[TempFile; 2], IoError> {
+    let data_name = crate::outputs::name_in_header(path, data_path)?;
     let data = if compress {
         Some(data_bytes(volume, true).map_err(|e| IoError::access(path, "cannot compress", &e))?)
     } else {
@@ -329,14 +338,13 @@ pub(crate) fn write_detached(path: &Path, volume: &Volume, compress: bool) -> Re
     let header = header_text(volume, data.as_ref().map(|d| d.len() as u64), &data_name);
     // The header first, so that an unwritable directory is reported for the file asked for.
     let mut header_file = TempFile::create(path)?;
-    let mut data_file = TempFile::create(&data_path)?;
+    let mut data_file = TempFile::create(data_path)?;
     data_file.write_with(|w| match &data {
         Some(bytes) => w.write_all(bytes),
         None => crate::raw::write_samples_f32_le(w, volume.as_slice()),
     })?;
     header_file.write_with(|w| w.write_all(header.as_bytes()))?;
-    data_file.commit()?;
-    header_file.commit()
+    Ok([data_file, header_file])
 }
 
 #[cfg(test)]

@@ -15,7 +15,8 @@
 //! Writing produces `NRRD0004`, `type: float`, little-endian, `space dimension: 3`, diagonal
 //! `space directions` holding the spacing and `space origin`; encoding `raw`, or `gzip` when
 //! [`VolumeWriteOptions::compress`](crate::VolumeWriteOptions) asks. A `.nhdr` gets its data in
-//! `<name>.raw` (`<name>.raw.gz` compressed) beside it; both files are written atomically.
+//! `<name>.raw` (`<name>.raw.gz` compressed) beside it, or another free name when that one is
+//! taken (see [`crate::OutputSet`]); the header records the name, and both files appear together.
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom, Write};
@@ -24,7 +25,7 @@ use std::path::{Path, PathBuf};
 use flate2::write::GzEncoder;
 use voxlod_core::Volume;
 
-use crate::atomic::{write_atomically, TempFile};
+use crate::atomic::{stage, TempFile};
 use crate::samples::{self, millimetres_per, SampleType};
 use crate::{Endian, IoError, IoErrorKind};
 
@@ -426,31 +427,36 @@ fn write_data(w: &mut impl Write, volume: &Volume, compress: bool) -> std::io::R
 }
 
 /// Writes a `.nrrd` with attached data.
-pub(crate) fn write(path: &Path, volume: &Volume, compress: bool) -> Result<(), IoError> {
+pub(crate) fn write(path: &Path, volume: &Volume, compress: bool) -> Result<TempFile, IoError> {
     let header = header_text(volume, compress, None);
-    write_atomically(path, |w| {
+    stage(path, |w| {
         w.write_all(header.as_bytes())?;
         write_data(w, volume, compress)
     })
 }
 
-/// Writes a `.nhdr` and its data file beside it; neither appears unless both were written.
-pub(crate) fn write_detached(path: &Path, volume: &Volume, compress: bool) -> Result<(), IoError> {
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "volume".to_string());
-    let data_name = format!("{stem}.raw{}", if compress { ".gz" } else { "" });
-    let data_path = path.with_file_name(&data_name);
-    let header = header_text(volume, compress, Some(&data_name));
+/// The data file that the NRRD header `path` names, if it can be read and names one.
+pub(crate) fn data_file_of(path: &Path) -> Option<PathBuf> {
+    let file = File::open(path).ok()?;
+    read_header(path, &mut BufReader::new(file)).ok()?.data_file
+}
 
+/// Writes a `.nhdr` and its data file `data_path` (in the same folder, chosen by
+/// [`crate::OutputSet`]): the data file's temporary first, then the header's.
+pub(crate) fn write_detached(
+    path: &Path,
+    data_path: &Path,
+    volume: &Volume,
+    compress: bool,
+) -> Result<[TempFile; 2], IoError> {
+    let data_name = crate::outputs::name_in_header(path, data_path)?;
+    let header = header_text(volume, compress, Some(&data_name));
     // The header first, so that an unwritable directory is reported for the file asked for.
     let mut header_file = TempFile::create(path)?;
-    let mut data_file = TempFile::create(&data_path)?;
+    let mut data_file = TempFile::create(data_path)?;
     data_file.write_with(|w| write_data(w, volume, compress))?;
     header_file.write_with(|w| w.write_all(header.as_bytes()))?;
-    data_file.commit()?;
-    header_file.commit()
+    Ok([data_file, header_file])
 }
 
 #[cfg(test)]

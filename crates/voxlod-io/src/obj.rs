@@ -21,7 +21,7 @@ use std::path::Path;
 use glam::{DVec3, Vec3};
 use voxlod_core::{PolyMesh, TriangleMesh};
 
-use crate::atomic::write_atomically;
+use crate::atomic::{stage, TempFile};
 use crate::{ear_clipping, IoError, IoErrorKind, PolyView};
 
 /// What the OBJ reader found, before the common checks.
@@ -259,7 +259,7 @@ fn per_vertex_normals(
 
 /// Writes positions, normals when present, triangles, and the lines and points of a
 /// [`PolyMesh`] (`l` and `p`). Coordinates use the shortest text that reads back exactly.
-pub(crate) fn write(path: &Path, mesh: PolyView<'_>) -> Result<(), IoError> {
+pub(crate) fn write(path: &Path, mesh: PolyView<'_>) -> Result<TempFile, IoError> {
     if !mesh.vertex_attributes.is_empty() || !mesh.line_attributes.is_empty() {
         return Err(IoError::new(
             path,
@@ -269,7 +269,7 @@ pub(crate) fn write(path: &Path, mesh: PolyView<'_>) -> Result<(), IoError> {
     }
     let m = mesh.mesh;
     let has_normals = !m.normals.is_empty();
-    write_atomically(path, |w| {
+    stage(path, |w| {
         writeln!(w, "# written by voxlod")?;
         writeln!(
             w,

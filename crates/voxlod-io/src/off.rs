@@ -19,7 +19,7 @@ use std::path::Path;
 use glam::{DVec3, Vec3};
 use voxlod_core::TriangleMesh;
 
-use crate::atomic::write_atomically;
+use crate::atomic::{stage, TempFile};
 use crate::{ear_clipping, IoError, IoErrorKind};
 
 pub(crate) struct OffContent {
@@ -191,9 +191,9 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<OffContent, IoError> {
 }
 
 /// Writes `OFF` (or `NOFF` with normals), one vertex and one triangle per line.
-pub(crate) fn write(path: &Path, mesh: &TriangleMesh) -> Result<(), IoError> {
+pub(crate) fn write(path: &Path, mesh: &TriangleMesh) -> Result<TempFile, IoError> {
     let has_normals = !mesh.normals.is_empty();
-    write_atomically(path, |w| {
+    stage(path, |w| {
         writeln!(w, "{}", if has_normals { "NOFF" } else { "OFF" })?;
         writeln!(w, "# written by voxlod")?;
         writeln!(w, "{} {} 0", mesh.positions.len(), mesh.triangles.len())?;

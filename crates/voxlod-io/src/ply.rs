@@ -28,7 +28,7 @@ use ply_rs_bw::ply::{
 use ply_rs_bw::writer::Writer;
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh};
 
-use crate::atomic::write_atomically;
+use crate::atomic::{stage, TempFile};
 use crate::{ear_clipping, IoError, IoErrorKind, PolyView};
 
 /// What the PLY reader found, before the common checks.
@@ -544,7 +544,7 @@ fn check_names(path: &Path, attributes: &[Attribute], reserved: &[&str]) -> Resu
     Ok(())
 }
 
-pub(crate) fn write(path: &Path, view: PolyView<'_>) -> Result<(), IoError> {
+pub(crate) fn write(path: &Path, view: PolyView<'_>) -> Result<TempFile, IoError> {
     let m = view.mesh;
     check_names(
         path,
@@ -611,7 +611,7 @@ pub(crate) fn write(path: &Path, view: PolyView<'_>) -> Result<(), IoError> {
         header.elements.add(point_def.clone());
     }
 
-    write_atomically(path, |w| {
+    stage(path, |w| {
         Writer::<Skipped>::new().write_header(w, &header)?;
         let vertex_writer = Writer::<VertexOut>::new();
         let mut vertex = VertexOut {

@@ -14,7 +14,7 @@ use std::str::FromStr;
 
 use voxlod_core::Volume;
 
-use crate::atomic::write_atomically;
+use crate::atomic::{stage, TempFile};
 use crate::samples::{self, SampleType};
 use crate::{IoError, IoErrorKind};
 
@@ -229,8 +229,8 @@ fn size_mismatch(path: &Path, layout: &RawLayout, file_len: u64, expected: u64) 
 }
 
 /// Writes the samples as `f32` little-endian, with no header.
-pub(crate) fn write(path: &Path, volume: &Volume) -> Result<(), IoError> {
-    write_atomically(path, |w| write_samples_f32_le(w, volume.as_slice()))
+pub(crate) fn write(path: &Path, volume: &Volume) -> Result<TempFile, IoError> {
+    stage(path, |w| write_samples_f32_le(w, volume.as_slice()))
 }
 
 /// Streams samples as little-endian `f32`, in blocks so no second copy of the volume is made.

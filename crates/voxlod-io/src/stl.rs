@@ -20,7 +20,7 @@ use stl_io::{Normal, Triangle, Vertex};
 use voxlod_core::weld::{weld_vertices, WeldReport};
 use voxlod_core::TriangleMesh;
 
-use crate::atomic::write_atomically;
+use crate::atomic::{stage, TempFile};
 use crate::{IoError, IoErrorKind};
 
 const HEADER: usize = 84;
@@ -131,7 +131,7 @@ fn soup(path: &Path, bytes: Vec<u8>, ascii: bool) -> Result<TriangleMesh, IoErro
 }
 
 /// Writes binary STL: each triangle with its geometric unit normal (zero if it has no area).
-pub(crate) fn write(path: &Path, mesh: &TriangleMesh) -> Result<(), IoError> {
+pub(crate) fn write(path: &Path, mesh: &TriangleMesh) -> Result<TempFile, IoError> {
     if mesh.triangles.len() > u32::MAX as usize {
         return Err(IoError::unsupported(
             path,
@@ -146,7 +146,7 @@ pub(crate) fn write(path: &Path, mesh: &TriangleMesh) -> Result<(), IoError> {
             vertices: [a, b, c].map(|p| Vertex::new(p.to_array())),
         }
     };
-    write_atomically(path, |w| {
+    stage(path, |w| {
         stl_io::write_stl(w, (0..mesh.triangles.len()).map(triangle))
     })
 }

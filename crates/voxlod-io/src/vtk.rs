@@ -15,7 +15,7 @@ use std::path::Path;
 use vtkio::model::{IOBuffer, Vtk};
 use vtkio::xml::Compressor;
 
-use crate::atomic::write_atomically;
+use crate::atomic::{stage, TempFile};
 use crate::{IoError, IoErrorKind};
 
 /// Which of the two VTK encodings a file uses.
@@ -73,10 +73,15 @@ pub(crate) fn load(path: &Path, flavor: Flavor) -> Result<Vtk, IoError> {
 }
 
 /// Saves through the atomic writer.
-pub(crate) fn save(path: &Path, vtk: Vtk, flavor: Flavor, compress: bool) -> Result<(), IoError> {
+pub(crate) fn save(
+    path: &Path,
+    vtk: Vtk,
+    flavor: Flavor,
+    compress: bool,
+) -> Result<TempFile, IoError> {
     let to_io = |e: vtkio::Error| std::io::Error::other(e.to_string());
     match flavor {
-        Flavor::Legacy => write_atomically(path, |w| vtk.write_legacy(w).map_err(to_io)),
+        Flavor::Legacy => stage(path, |w| vtk.write_legacy(w).map_err(to_io)),
         Flavor::Xml => {
             let (compressor, level) = if compress {
                 (Compressor::ZLib, 6)
@@ -86,7 +91,7 @@ pub(crate) fn save(path: &Path, vtk: Vtk, flavor: Flavor, compress: bool) -> Res
             let file = vtk.try_into_xml_format(compressor, level).map_err(|e| {
                 IoError::unsupported(path, format!("cannot express as VTK XML: {e}"))
             })?;
-            write_atomically(path, |w| {
+            stage(path, |w| {
                 file.write(w)
                     .map_err(|e| std::io::Error::other(e.to_string()))
             })

@@ -107,7 +107,7 @@ pub(crate) fn write(
     volume: &Volume,
     flavor: Flavor,
     compress: bool,
-) -> Result<(), IoError> {
+) -> Result<crate::atomic::TempFile, IoError> {
     let g = &volume.grid;
     if g.dims.iter().any(|&d| d > i32::MAX as usize) {
         return Err(IoError::unsupported(path, "VTK extents are 32-bit"));

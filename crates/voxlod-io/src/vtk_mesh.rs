@@ -22,6 +22,7 @@ use vtkio::model::{
     PolyDataPiece, Version, VertexNumbers, Vtk,
 };
 
+use crate::atomic::TempFile;
 use crate::vtk::{self, Flavor};
 use crate::{ear_clipping, IoError, PolyView};
 
@@ -393,7 +394,7 @@ fn cell_numbers<'a>(
     })
 }
 
-pub(crate) fn write(path: &Path, view: PolyView<'_>, flavor: Flavor) -> Result<(), IoError> {
+pub(crate) fn write(path: &Path, view: PolyView<'_>, flavor: Flavor) -> Result<TempFile, IoError> {
     if flavor == Flavor::Legacy {
         check_legacy_names(path, &view)?;
     }

@@ -224,29 +224,28 @@ pub fn compare_antialiasing(
     })
 }
 
-/// The comparison on the [`bolt`] with the default options, written into `dir`:
+/// The comparison on the [`bolt`] with the default options, staged in `out` into `dir`:
 /// `antialias.png` (single surface, layered shells and reference side by side),
 /// `antialias-single.png`, `antialias-layered.png`, `antialias-reference.png` and
-/// `antialias.json` (the figures). Returns a one-line summary. Used by `voxlod demo`.
-pub fn demo_comparison(dir: &std::path::Path) -> Result<String, LayersError> {
+/// `antialias.json` (the figures). Returns a one-line summary. Used by `voxlod demo`, which
+/// commits `out`.
+pub fn demo_comparison(
+    out: &mut voxlod_io::OutputSet,
+    dir: &std::path::Path,
+) -> Result<String, LayersError> {
     let solid = voxlod_sampling::CsgSolid::new(bolt())?;
     let c = compare_antialiasing(&solid, &CompareOptions::default())?;
-    let write_png = |name: &str, image: &Image| -> Result<(), LayersError> {
-        let png = image.to_png()?;
-        voxlod_io::atomic::write_atomically(&dir.join(name), |w| {
-            std::io::Write::write_all(w, &png)
-        })?;
-        Ok(())
-    };
-    write_png("antialias.png", &c.montage())?;
-    write_png("antialias-single.png", &c.single)?;
-    write_png("antialias-layered.png", &c.layered)?;
-    write_png("antialias-reference.png", &c.reference)?;
+    for (name, image) in [
+        ("antialias.png", &c.montage()),
+        ("antialias-single.png", &c.single),
+        ("antialias-layered.png", &c.layered),
+        ("antialias-reference.png", &c.reference),
+    ] {
+        out.png(&dir.join(name), &image.to_png()?)?;
+    }
     let json = serde_json::to_string_pretty(&c.report)
         .map_err(|e| LayersError::Invalid(format!("cannot encode the report: {e}")))?;
-    voxlod_io::atomic::write_atomically(&dir.join("antialias.json"), |w| {
-        std::io::Write::write_all(w, json.as_bytes())
-    })?;
+    out.text(&dir.join("antialias.json"), &json)?;
     let r = &c.report;
     Ok(format!(
         "Antialiasing (paper §3, Figure 7): the bolt at {0}x{0} px, RMS near silhouettes against \
