@@ -346,7 +346,7 @@ fn bad_volumes_fail_cleanly_and_write_nothing() {
         "--endian",
         "big",
     ]);
-    assert_clean_failure(&o, "outside the data's range");
+    assert_clean_failure(&o, "--iso 5000 is above the data's maximum");
     assert!(!out.exists());
     // A volume given to lod without a route.
     let lod_out = d.join("levels");

@@ -10,6 +10,7 @@ use voxlod_baselines::{
 };
 
 use super::common::{level_path, print_json, progress, read_mesh_input, thousands, CliError};
+use super::values::number;
 
 /// Simplify a mesh by vertex clustering: the baselines voxlod is compared with.
 ///
@@ -41,10 +42,11 @@ pub struct ClusterArgs {
     #[arg(long, default_value = "rossignac-borrel")]
     pub method: Method,
     /// Cells along the longest side of the object's box at the finest level
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = number::<u32>, allow_hyphen_values = true)]
     pub cells: u32,
     /// Levels, each with cells twice as large
-    #[arg(long, value_name = "L", default_value_t = 1)]
+    #[arg(long, value_name = "L", default_value_t = 1,
+        value_parser = number::<u32>, allow_hyphen_values = true)]
     pub levels: u32,
     /// Rossignac–Borrel synthesis: mean (weighted centre, smoothing) or max-weight (the
     /// heaviest vertex, detail removal)
@@ -73,6 +75,8 @@ struct ClusterReport {
     method: Method,
     input_triangles: usize,
     levels: Vec<ClusterLevel>,
+    /// Every warning printed without --json.
+    warnings: Vec<String>,
 }
 
 pub fn run(args: ClusterArgs) -> Result<(), CliError> {
@@ -127,6 +131,7 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
         method: args.method,
         input_triangles: mesh.triangles.len(),
         levels: Vec::new(),
+        warnings: Vec::new(),
     };
     for level in &levels {
         let path = level_path(&args.output, level.report.level, args.levels as usize);

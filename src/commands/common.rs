@@ -53,94 +53,77 @@ pub fn progress(len: u64, message: &str, quiet: bool) -> ProgressBar {
 
 use std::path::{Path, PathBuf};
 
+use std::str::FromStr;
+
 use clap::Args;
 use voxlod_core::{TriangleMesh, Volume};
 use voxlod_io::{Endian, FileKind, LoadedMesh, RawLayout, RawType};
 
+use super::values::{number, numbers};
+
 /// How to read a headerless raw volume. Only needed when the input has no header.
-#[derive(Args, Debug, Clone, Default)]
+#[derive(Args, Debug, Clone)]
 pub struct RawArgs {
     /// Samples along x, y and z of a headerless raw volume (x varies fastest), e.g. 256,256,113
-    #[arg(long, value_name = "X,Y,Z", help_heading = "Raw volumes")]
-    pub dims: Option<String>,
+    #[arg(long, value_name = "X,Y,Z", help_heading = "Raw volumes",
+        value_parser = numbers::<usize, 3>, allow_hyphen_values = true)]
+    pub dims: Option<[usize; 3]>,
     /// Sample type of the raw volume: u8, i16, u16, i32 or f32
-    #[arg(
-        long,
-        value_name = "TYPE",
-        default_value = "u8",
-        help_heading = "Raw volumes"
-    )]
-    pub dtype: String,
+    #[arg(long, value_name = "TYPE", default_value = "u8", help_heading = "Raw volumes",
+        value_parser = RawType::from_str)]
+    pub dtype: RawType,
     /// Byte order of the raw samples: little or big
-    #[arg(
-        long,
-        value_name = "ORDER",
-        default_value = "little",
-        help_heading = "Raw volumes"
-    )]
-    pub endian: String,
+    #[arg(long, value_name = "ORDER", default_value = "little", help_heading = "Raw volumes",
+        value_parser = Endian::from_str)]
+    pub endian: Endian,
     /// Distance between samples along x, y and z, in world units (millimetres for a CT)
-    #[arg(
-        long,
-        value_name = "SX,SY,SZ",
-        default_value = "1,1,1",
-        help_heading = "Raw volumes"
-    )]
-    pub spacing: String,
+    #[arg(long, value_name = "SX,SY,SZ", default_value = "1,1,1", help_heading = "Raw volumes",
+        value_parser = numbers::<f64, 3>, allow_hyphen_values = true)]
+    pub spacing: [f64; 3],
     /// World position of the first sample
-    #[arg(
-        long,
-        value_name = "X,Y,Z",
-        default_value = "0,0,0",
-        help_heading = "Raw volumes"
-    )]
-    pub origin: String,
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,0", help_heading = "Raw volumes",
+        value_parser = numbers::<f64, 3>, allow_hyphen_values = true)]
+    pub origin: [f64; 3],
     /// Bytes to skip at the start of the raw file
-    #[arg(
-        long,
-        value_name = "BYTES",
-        default_value_t = 0,
-        help_heading = "Raw volumes"
-    )]
+    #[arg(long, value_name = "BYTES", default_value_t = 0, help_heading = "Raw volumes",
+        value_parser = number::<u64>, allow_hyphen_values = true)]
     pub header_bytes: u64,
 }
 
 impl RawArgs {
     /// The raw layout, when `--dims` was given.
     pub fn layout(&self) -> Result<Option<RawLayout>, CliError> {
-        let Some(dims) = &self.dims else {
+        let Some(dims) = self.dims else {
             return Ok(None);
         };
-        let dims = parse_triple::<usize>(dims, "--dims")?;
-        let dtype: RawType = self
-            .dtype
-            .parse()
-            .map_err(|e| CliError::msg(format!("--dtype: {e}")))?;
-        let endian: Endian = self
-            .endian
-            .parse()
-            .map_err(|e| CliError::msg(format!("--endian: {e}")))?;
-        let mut layout = RawLayout::new(dims, dtype, endian);
-        layout.spacing = parse_triple::<f64>(&self.spacing, "--spacing")?;
-        layout.origin = parse_triple::<f64>(&self.origin, "--origin")?;
+        let list = |v: [String; 3]| v.join(",");
+        if dims.contains(&0) {
+            return Err(CliError::msg(format!(
+                "--dims {}: each dimension must be at least 1 sample",
+                list(dims.map(|d| d.to_string()))
+            )));
+        }
+        if self.spacing.iter().any(|&s| s <= 0.0) {
+            return Err(CliError::msg(format!(
+                "--spacing {}: the distance between samples must be more than 0 along every axis",
+                list(self.spacing.map(|s| s.to_string()))
+            )));
+        }
+        let mut layout = RawLayout::new(dims, self.dtype, self.endian);
+        layout.spacing = self.spacing;
+        layout.origin = self.origin;
         layout.header_bytes = self.header_bytes;
         Ok(Some(layout))
     }
-}
 
-/// Parses `A,B,C`.
-pub fn parse_triple<T: std::str::FromStr>(text: &str, flag: &str) -> Result<[T; 3], CliError> {
-    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    if parts.len() != 3 {
-        return Err(CliError::msg(format!(
-            "{flag} takes three comma-separated values, got '{text}'"
-        )));
+    /// Where a volume's spacing and origin come from, for errors about them.
+    pub fn spacing_source(&self) -> &'static str {
+        if self.dims.is_some() {
+            "--spacing and --origin"
+        } else {
+            "the spacing and origin in the file's header"
+        }
     }
-    let parse = |s: &str| {
-        s.parse::<T>()
-            .map_err(|_| CliError::msg(format!("{flag}: '{s}' is not a valid number")))
-    };
-    Ok([parse(parts[0])?, parse(parts[1])?, parse(parts[2])?])
 }
 
 /// A file given on the command line: a mesh or a volume.
@@ -162,6 +145,12 @@ pub fn read_input(path: &Path, raw: &RawArgs) -> Result<Input, CliError> {
         ))),
         FileKind::Volume(_) => Ok(Input::Volume(voxlod_io::read_volume(path, None)?)),
     }
+}
+
+/// Whether `path` is a binary glTF file (`.glb`), which the layers crate reads.
+pub fn is_glb(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb"))
 }
 
 /// Reads a mesh, refusing volumes.
@@ -237,4 +226,66 @@ pub fn describe_mesh(mesh: &TriangleMesh) -> String {
         thousands(mesh.positions.len()),
         thousands(mesh.triangles.len())
     )
+}
+
+/// The largest coordinate a mesh can hold (its positions are 32-bit floats).
+const LARGEST_COORDINATE: f64 = f32::MAX as f64;
+
+/// Refuses a volume whose samples lie beyond the 32-bit range of mesh coordinates, before any
+/// work: its surfaces would have infinite vertices. `source` says where the spacing and origin
+/// came from ("the file's header", "--spacing and --origin").
+pub fn check_grid_range(volume: &Volume, path: &Path, source: &str) -> Result<(), CliError> {
+    let g = &volume.grid;
+    for (axis, name) in ["x", "y", "z"].iter().enumerate() {
+        let far = g.origin[axis] + g.spacing[axis] * (g.dims[axis].max(1) - 1) as f64;
+        let reach = if g.origin[axis].abs() > far.abs() {
+            g.origin[axis]
+        } else {
+            far
+        };
+        if reach.is_nan() || reach.abs() > LARGEST_COORDINATE {
+            return Err(CliError::msg(format!(
+                "{}: the samples reach {name} = {reach:.3e} (origin {}, spacing {}), beyond the \
+                 ±{LARGEST_COORDINATE:.1e} of 32-bit mesh coordinates; check {source}",
+                path.display(),
+                short_number(g.origin[axis]),
+                short_number(g.spacing[axis])
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A number as people write it: plain, or in scientific notation when very large or small.
+fn short_number(x: f64) -> String {
+    if x != 0.0 && !(1e-4..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// Refuses a computed mesh with a non-finite vertex or normal, as what it is: the computation
+/// left the range of 32-bit floats (`what` names the input and step, `cause` what led there),
+/// rather than letting the writer blame the output file.
+pub fn check_computed_mesh(mesh: &TriangleMesh, what: &str, cause: &str) -> Result<(), CliError> {
+    if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
+        let p = mesh.positions[i];
+        return Err(CliError::msg(format!(
+            "{what}: the computed surface has a vertex at ({}, {}, {}), beyond the range of \
+             32-bit coordinates; {cause}",
+            p.x, p.y, p.z
+        )));
+    }
+    if mesh.normals.iter().any(|n| !n.is_finite()) {
+        return Err(CliError::msg(format!(
+            "{what}: the computed surface has a non-finite normal; {cause}"
+        )));
+    }
+    Ok(())
+}
+
+/// `n thing` or `n things`: "1 level", "5 levels", "0 vertices" (give both forms).
+pub fn count(n: usize, one: &str, many: &str) -> String {
+    format!("{} {}", thousands(n), if n == 1 { one } else { many })
 }

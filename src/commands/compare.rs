@@ -9,6 +9,7 @@ use voxlod_core::TriangleMesh;
 use voxlod_metrics::{mesh_distance, DistanceOptions, DistanceReport, MetricsError};
 
 use super::common::{print_json, read_mesh_input, thousands, CliError};
+use super::values::number;
 
 /// Measure the two-sided distance between the surfaces of two meshes.
 ///
@@ -30,10 +31,11 @@ pub struct CompareArgs {
     /// The second mesh
     pub b: PathBuf,
     /// Points sampled on each surface
-    #[arg(long, value_name = "N", default_value_t = 100_000)]
+    #[arg(long, value_name = "N", default_value_t = 100_000,
+        value_parser = number::<usize>, allow_hyphen_values = true)]
     pub samples: usize,
     /// Seed of the samples (the second surface uses the next one)
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", value_parser = number::<u64>, allow_hyphen_values = true)]
     pub seed: Option<u64>,
     /// Print the report as JSON on standard output
     #[arg(long)]

@@ -8,8 +8,12 @@ use serde::Serialize;
 use voxlod_contouring::{marching_cubes, ContourOptions};
 use voxlod_core::mesh_topology;
 
-use super::common::{describe_mesh, print_json, read_input, CliError, Input, RawArgs};
-use super::source::check_iso;
+use super::common::{
+    check_computed_mesh, check_grid_range, describe_mesh, print_json, read_input, CliError, Input,
+    RawArgs,
+};
+use super::source::iso_without_surface;
+use super::values::number;
 
 /// Extract the isosurface of a volume with marching cubes.
 ///
@@ -30,7 +34,7 @@ pub struct ContourArgs {
     #[arg(short, long, value_name = "MESH")]
     pub output: PathBuf,
     /// The iso value, in the data's units
-    #[arg(long, value_name = "V")]
+    #[arg(long, value_name = "V", value_parser = number::<f32>, allow_hyphen_values = true)]
     pub iso: f32,
     /// Skip normals (geometry only, as VTK's Flying Edges computes by default)
     #[arg(long)]
@@ -60,6 +64,7 @@ struct ContourReport {
     read_seconds: f64,
     contour_seconds: f64,
     write_seconds: f64,
+    warnings: Vec<String>,
 }
 
 pub fn run(args: ContourArgs) -> Result<(), CliError> {
@@ -75,7 +80,19 @@ pub fn run(args: ContourArgs) -> Result<(), CliError> {
             )))
         }
     };
-    check_iso(args.iso, &volume, &args.volume)?;
+    let mut warnings = Vec::new();
+    check_grid_range(&volume, &args.volume, args.raw.spacing_source())?;
+    match iso_without_surface(args.iso, &volume, &args.volume)? {
+        // With --close, an iso at or below every sample is the volume's box: say so.
+        Some(_) if args.close && volume.range().is_some_and(|(lo, _)| args.iso <= lo) => warnings
+            .push(format!(
+                "--iso {} is at or below every sample: all of the volume is inside, so the \
+                 surface is the box --close puts around it",
+                args.iso
+            )),
+        Some(why) => return Err(CliError::msg(why)),
+        None => {}
+    }
     let volume = if args.close {
         pad_below(&volume, args.iso)?
     } else {
@@ -90,6 +107,11 @@ pub fn run(args: ContourArgs) -> Result<(), CliError> {
     let mesh = marching_cubes(&volume, &options)
         .map_err(|e| CliError::msg(format!("{}: {e}", args.volume.display())))?;
     let contour_seconds = start.elapsed().as_secs_f64();
+    check_computed_mesh(
+        &mesh,
+        &args.volume.display().to_string(),
+        "the volume's spacing or origin is too large",
+    )?;
     let start = Instant::now();
     out.mesh(&args.output, &mesh)?;
     out.commit()?;
@@ -108,10 +130,14 @@ pub fn run(args: ContourArgs) -> Result<(), CliError> {
         read_seconds,
         contour_seconds,
         write_seconds,
+        warnings,
     };
     if args.json {
         print_json(&report)?;
     } else {
+        for w in &report.warnings {
+            eprintln!("warning: {w}");
+        }
         println!(
             "{}: {} ({}) in {:.3} s -> {}",
             args.volume.display(),

@@ -59,6 +59,8 @@ struct DemoReport {
     iso: f32,
     table1: Vec<Row>,
     total_seconds: f64,
+    /// Every warning printed without --json.
+    warnings: Vec<String>,
 }
 
 pub fn run(args: DemoArgs) -> Result<(), CliError> {
@@ -100,6 +102,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         iso: options.iso,
         table1: rows,
         total_seconds: start.elapsed().as_secs_f64(),
+        warnings: Vec::new(),
     };
     let text = serde_json::to_string_pretty(&report)
         .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;

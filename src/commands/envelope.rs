@@ -13,6 +13,7 @@ use voxlod_baselines::envelope::{
 use voxlod_core::TriangleMesh;
 
 use super::common::{level_path, print_json, progress, read_mesh_input, thousands, CliError};
+use super::values::number;
 
 /// Simplify a mesh within ε by simplification envelopes, keeping its topology.
 ///
@@ -44,29 +45,21 @@ pub struct EnvelopeArgs {
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
     /// ε of a single level: a distance, or a percentage of the bounding-box diagonal (1%)
-    #[arg(
-        long,
-        value_name = "E",
-        required_unless_present = "levels",
-        conflicts_with = "levels",
-        allow_hyphen_values = true
-    )]
-    pub epsilon: Option<String>,
+    #[arg(long, value_name = "E", required_unless_present = "levels", conflicts_with = "levels",
+        value_parser = epsilon_value, allow_hyphen_values = true)]
+    pub epsilon: Option<Epsilon>,
     /// A series of levels with growing ε, each simplifying the one before, e.g. 1%,2%,4%,8%
-    #[arg(
-        long,
-        value_name = "E,E,...",
-        value_delimiter = ',',
-        allow_hyphen_values = true
-    )]
-    pub levels: Option<Vec<String>>,
+    #[arg(long, value_name = "E,E,...", value_delimiter = ',',
+        value_parser = epsilon_value, allow_hyphen_values = true)]
+    pub levels: Option<Vec<Epsilon>>,
     /// Keep every edge whose dihedral angle exceeds DEG degrees (sharp features)
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", value_parser = number::<f64>, allow_hyphen_values = true)]
     pub keep_sharp: Option<f64>,
-    /// A box whose ε is SCALE times the level's: X0,Y0,Z0,X1,Y1,Z1:SCALE (repeatable; the
-    /// last box containing a vertex wins)
-    #[arg(long, value_name = "BOX:SCALE")]
-    pub region: Vec<String>,
+    /// A box whose ε is SCALE times the level's (repeatable; the last box containing a vertex
+    /// wins), e.g. -0.2,-0.2,0,0.2,0.2,1:0.25
+    #[arg(long, value_name = "X0,Y0,Z0,X1,Y1,Z1:SCALE",
+        value_parser = |s: &str| s.parse::<RegionEpsilon>(), allow_hyphen_values = true)]
+    pub region: Vec<RegionEpsilon>,
     /// Cut a non-manifold or inconsistently oriented input into a manifold first
     #[arg(long)]
     pub repair: bool,
@@ -84,10 +77,11 @@ pub struct EnvelopeArgs {
     #[arg(long, value_parser = ["voronoi", "crossings"])]
     pub offsets: Option<String>,
     /// Rounds of smoothing of the normals the offsets follow (0: raw); overrides the preset
-    #[arg(long, value_name = "ROUNDS")]
+    #[arg(long, value_name = "ROUNDS", value_parser = number::<usize>, allow_hyphen_values = true)]
     pub smooth_normals: Option<usize>,
     /// Points per side for measuring each level's two-sided distance to the input (0: skip)
-    #[arg(long, value_name = "N", default_value_t = 100_000)]
+    #[arg(long, value_name = "N", default_value_t = 100_000,
+        value_parser = number::<usize>, allow_hyphen_values = true)]
     pub samples: usize,
     /// Print the report as JSON on standard output
     #[arg(long)]
@@ -113,36 +107,40 @@ struct Report {
     options: EnvelopeOptions,
     levels: Vec<LevelOut>,
     total_seconds: f64,
+    /// Every warning printed without --json (what --repair changed).
+    warnings: Vec<String>,
 }
 
 /// Parses a distance or percentage, naming the flag in the error.
 pub fn parse_epsilon(text: &str, flag: &str) -> Result<Epsilon, CliError> {
+    epsilon_value(text).map_err(|e| CliError::msg(format!("{flag} {e}")))
+}
+
+/// The value parser of ε flags: a distance or a percentage (the error without the flag).
+pub fn epsilon_value(text: &str) -> Result<Epsilon, String> {
     text.parse::<Epsilon>().map_err(|_| {
-        CliError::msg(format!(
-            "{flag} '{text}': ε must be a positive distance (0.5) or percentage of the \
-             bounding-box diagonal (1%)"
-        ))
+        format!(
+            "'{text}': ε must be a positive distance (0.5) or percentage of the bounding-box \
+             diagonal (1%)"
+        )
     })
 }
 
 pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    let epsilons: Vec<Epsilon> = match (&args.epsilon, &args.levels) {
-        (Some(e), _) => vec![parse_epsilon(e, "--epsilon")?],
-        (None, Some(list)) => list
-            .iter()
-            .map(|e| parse_epsilon(e, "--levels"))
-            .collect::<Result<_, _>>()?,
+    let epsilons: Vec<Epsilon> = match (args.epsilon, &args.levels) {
+        (Some(e), _) => vec![e],
+        (None, Some(list)) => list.clone(),
         (None, None) => return Err(CliError::msg("give --epsilon E or --levels E,E,...")),
     };
-    let regions: Vec<RegionEpsilon> = args
-        .region
-        .iter()
-        .map(|r| {
-            r.parse()
-                .map_err(|e: String| CliError::msg(format!("--region: {e}")))
-        })
-        .collect::<Result<_, _>>()?;
+    if let Some(deg) = args.keep_sharp {
+        if !(0.0..=180.0).contains(&deg) {
+            return Err(CliError::msg(format!(
+                "--keep-sharp {deg}: a dihedral angle is between 0 and 180 degrees"
+            )));
+        }
+    }
+    let regions = args.region.clone();
     let mut options = match args.preset.as_str() {
         "tight" => EnvelopeOptions::tight(),
         _ => EnvelopeOptions::paper(),
@@ -174,10 +172,17 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
     let loaded = read_mesh_input(&args.input)?;
     let in_file =
         |e: &dyn std::fmt::Display| CliError::msg(format!("{}: {e}", args.input.display()));
+    let mut warnings = Vec::new();
     let (mesh, repair) = if args.repair {
         let (m, r) = repair_for_envelope(&loaded.mesh);
-        if !args.json && r.changed_anything() {
-            eprintln!("{}: repaired: {r:?}", args.input.display());
+        if r.changed_anything() {
+            warnings.push(format!(
+                "{}: cut into a manifold for the envelope: {r}",
+                args.input.display()
+            ));
+            if !args.json {
+                eprintln!("warning: {}", warnings[0]);
+            }
         }
         (m, Some(r))
     } else {
@@ -218,6 +223,7 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
         options,
         levels,
         total_seconds: start.elapsed().as_secs_f64(),
+        warnings,
     };
     if args.json {
         return print_json(&report);
@@ -263,16 +269,19 @@ pub enum ThenEnvelope {
 
 impl ThenEnvelope {
     pub fn parse(text: &str) -> Result<ThenEnvelope, CliError> {
+        Self::parse_value(text).map_err(|e| CliError::msg(format!("--then-envelope {e}")))
+    }
+
+    /// The value parser of `--then-envelope` (the error without the flag's name).
+    pub fn parse_value(text: &str) -> Result<ThenEnvelope, String> {
         let t = text.trim();
         if let Some(v) = t.strip_suffix("vox") {
             return match v.trim().parse::<f64>() {
                 Ok(x) if x > 0.0 && x.is_finite() => Ok(ThenEnvelope::Voxels(x)),
-                _ => Err(CliError::msg(format!(
-                    "--then-envelope '{text}': the number of voxels must be positive"
-                ))),
+                _ => Err(format!("'{text}': the number of voxels must be positive")),
             };
         }
-        parse_epsilon(t, "--then-envelope").map(ThenEnvelope::Epsilon)
+        epsilon_value(t).map(ThenEnvelope::Epsilon)
     }
 }
 

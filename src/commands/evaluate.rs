@@ -11,6 +11,7 @@ use voxlod_metrics::DistanceOptions;
 const PREVIEW_SIZE: u32 = 200;
 
 use super::common::{in_dir, print_json, progress, read_mesh_input, CliError};
+use super::values::number;
 use crate::evaluate::images::preview_strip;
 use crate::evaluate::plot::plot_evaluation;
 use crate::evaluate::report::{markdown, ReportContext};
@@ -51,28 +52,28 @@ pub struct EvaluateArgs {
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
     /// Triangle budgets, e.g. 20000,5000,1000 (default: halving from half the input's count)
-    #[arg(long, value_name = "A,B,...", value_delimiter = ',')]
+    #[arg(long, value_name = "A,B,...", value_delimiter = ',',
+        value_parser = number::<usize>, allow_hyphen_values = true)]
     pub budgets: Option<Vec<usize>>,
     /// Number of halving budgets when --budgets is not given
-    #[arg(
-        long,
-        value_name = "N",
-        default_value_t = 8,
-        conflicts_with = "budgets"
-    )]
+    #[arg(long, value_name = "N", default_value_t = 8, conflicts_with = "budgets",
+        value_parser = number::<usize>, allow_hyphen_values = true)]
     pub count: usize,
     /// Methods to run (default: all): voxel-hypercone, voxel-gaussian, rossignac-borrel,
     /// low-tan, envelope, voxel-envelope
     #[arg(long, value_name = "M,...", value_delimiter = ',')]
     pub methods: Option<Vec<Method>>,
     /// Points sampled on each surface for each distance
-    #[arg(long, value_name = "N", default_value_t = 100_000)]
+    #[arg(long, value_name = "N", default_value_t = 100_000,
+        value_parser = number::<usize>, allow_hyphen_values = true)]
     pub samples: usize,
     /// Accepted relative miss of a budget, e.g. 0.1 for ±10 %
-    #[arg(long, value_name = "T", default_value_t = 0.1)]
+    #[arg(long, value_name = "T", default_value_t = 0.1,
+        value_parser = number::<f64>, allow_hyphen_values = true)]
     pub tolerance: f64,
     /// Views of the silhouette difference (0 to 14; 0 skips it and the previews)
-    #[arg(long, value_name = "N", default_value_t = 14)]
+    #[arg(long, value_name = "N", default_value_t = 14,
+        value_parser = number::<usize>, allow_hyphen_values = true)]
     pub views: usize,
     /// Also write every kept level to DIR/meshes/
     #[arg(long)]
@@ -92,6 +93,8 @@ struct EvaluateReport<'a> {
     plot_font: Option<String>,
     previews: Vec<String>,
     meshes: Vec<String>,
+    /// Every warning printed without --json.
+    warnings: Vec<String>,
 }
 
 pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
@@ -175,10 +178,14 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
         .input
         .file_name()
         .map_or(name.clone(), |f| f.to_string_lossy().into_owned());
+    let mut warnings = Vec::new();
     let chart = match plot_evaluation(&evaluation, &title) {
         Ok(chart) => Some(chart),
         Err(e) => {
-            eprintln!("warning: no chart: {e}");
+            warnings.push(format!("no chart: {e}"));
+            if !args.json {
+                eprintln!("warning: no chart: {e}");
+            }
             None
         }
     };
@@ -240,6 +247,7 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
             .map(|f| f.display().to_string()),
         previews: strips.iter().map(|(_, f, _)| f.clone()).collect(),
         meshes,
+        warnings,
     };
     let json = serde_json::to_string_pretty(&report)
         .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;

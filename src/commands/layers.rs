@@ -13,8 +13,9 @@ use voxlod_layers::{
 use voxlod_render::{Camera, RenderOptions};
 use voxlod_sampling::Filter;
 
-use super::common::{parse_triple, print_json, progress, CliError};
-use super::source::{load, Prepared, VolumeRoute};
+use super::common::{print_json, progress, CliError};
+use super::source::{load, threshold_warning, Prepared, VolumeRoute};
+use super::values::{image_size, number, numbers, ImageSize};
 use crate::lod::LodSource;
 
 /// Build multi-layer translucent shells for antialiased rendering (He et al. 1995, §3).
@@ -44,21 +45,19 @@ pub struct LayersArgs {
     pub output: PathBuf,
     /// Error bound ε on ∫₀^R |p − d| dx in units of R (0.01 to 0.2 typical; smaller means more
     /// layers; the hyper-cone needs 5 layers for 0.025, 10 for 0.0104)
-    #[arg(
-        long,
-        value_name = "E",
-        default_value_t = 0.025,
-        allow_negative_numbers = true
-    )]
+    #[arg(long, value_name = "E", default_value_t = 0.025,
+        value_parser = number::<f64>, allow_hyphen_values = true)]
     pub error: f64,
     /// Samples across the longest side of the object
-    #[arg(long, value_name = "N", default_value_t = 128)]
+    #[arg(long, value_name = "N", default_value_t = 128,
+        value_parser = number::<usize>, allow_hyphen_values = true)]
     pub resolution: usize,
     /// Low-pass filter: hypercone (paper eq. 3) or gaussian (σ = R/3)
     #[arg(long, default_value = "hypercone")]
     pub filter: Filter,
     /// Filter support radius R, in voxels
-    #[arg(long, value_name = "VOXELS", default_value_t = 1.0)]
+    #[arg(long, value_name = "VOXELS", default_value_t = 1.0,
+        value_parser = number::<f64>, allow_hyphen_values = true)]
     pub radius: f64,
     /// Blend alphas: composited (the shells' back-to-front composite has translucency 1 − d/m
     /// along every ray) or direct (alpha = 1 − translucency for each layer on its own)
@@ -67,19 +66,12 @@ pub struct LayersArgs {
     /// Also draw the layered shells to this PNG (one sample per pixel, stored order)
     #[arg(long, value_name = "PNG")]
     pub preview: Option<PathBuf>,
-    /// View direction (eye to scene) of the preview, and octant of a PLY/VTK file's order
-    #[arg(
-        long,
-        value_name = "X,Y,Z",
-        default_value = "-1,-1,-1",
-        allow_hyphen_values = true
-    )]
-    pub view: String,
-    /// Preview size in pixels
-    #[arg(long, value_name = "WxH", default_value = "800x800")]
-    pub size: String,
+    // The preview's camera; its view direction also picks the octant of a PLY/VTK file's order.
+    #[command(flatten)]
+    pub camera: CameraArgs,
     /// Quadrature lines per filter radius
-    #[arg(long, value_name = "Q", default_value_t = 4)]
+    #[arg(long, value_name = "Q", default_value_t = 4,
+        value_parser = number::<usize>, allow_hyphen_values = true)]
     pub lines_per_radius: usize,
     /// Print the report as JSON on standard output
     #[arg(long)]
@@ -120,36 +112,35 @@ struct LayersReport {
     extract_seconds: f64,
     order_seconds: f64,
     total_seconds: f64,
+    /// Every warning printed without --json.
+    warnings: Vec<String>,
 }
 
-/// Parses `WxH`.
-pub fn parse_size(text: &str) -> Result<(u32, u32), CliError> {
-    let bad = || CliError::msg(format!("--size takes WIDTHxHEIGHT in pixels, got '{text}'"));
-    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
-    let w: u32 = w.trim().parse().map_err(|_| bad())?;
-    let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    if !(1..=16384).contains(&w) || !(1..=16384).contains(&h) {
-        return Err(CliError::msg(format!(
-            "--size {text}: both sides must be between 1 and 16384 pixels"
-        )));
-    }
-    Ok((w, h))
+/// Where the camera looks from and the image's size, for `render` and the preview of `layers`.
+#[derive(Args, Debug, Clone)]
+pub struct CameraArgs {
+    /// Direction the camera looks along, eye to scene (layers: also the octant of the order a
+    /// PLY/VTK file stores)
+    #[arg(long, value_name = "X,Y,Z", default_value = "-1,-1,-1",
+        value_parser = numbers::<f64, 3>, allow_hyphen_values = true)]
+    pub view: [f64; 3],
+    /// Image size in pixels
+    #[arg(long, value_name = "WxH", default_value = "800x800",
+        value_parser = image_size, allow_hyphen_values = true)]
+    pub size: ImageSize,
 }
 
-/// Parses `--view X,Y,Z`, refusing a zero or non-finite direction.
-pub fn parse_view(text: &str) -> Result<DVec3, CliError> {
-    let v = DVec3::from(parse_triple::<f64>(text, "--view")?);
-    if !v.is_finite() {
-        return Err(CliError::msg(format!(
-            "--view {text}: not a finite direction"
-        )));
+/// The direction of `--view X,Y,Z` (scaled so that its largest component is ±1, which keeps
+/// its length finite), refusing a zero one.
+pub fn view_direction(view: [f64; 3]) -> Result<DVec3, CliError> {
+    let v = DVec3::from(view);
+    let largest = v.abs().max_element();
+    if largest == 0.0 {
+        return Err(CliError::msg(
+            "--view 0,0,0: the view direction has zero length",
+        ));
     }
-    if v.length_squared() == 0.0 {
-        return Err(CliError::msg(format!(
-            "--view {text}: the view direction has zero length"
-        )));
-    }
-    Ok(v)
+    Ok(v / largest)
 }
 
 fn layers_error(path: &Path, e: LayersError) -> CliError {
@@ -192,8 +183,8 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
         voxlod_io::check_image_path(preview)?;
         out.check(preview)?;
     }
-    let view = parse_view(&args.view)?;
-    let size = parse_size(&args.size)?;
+    let view = view_direction(args.camera.view)?;
+    let size = (args.camera.size.width, args.camera.size.height);
     let plan = PlanOptions {
         blending: args.blending,
         ..PlanOptions::new(args.filter, args.error)
@@ -214,6 +205,9 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
     }
     let loaded = load(&args.input, &args.route)?;
     let prepared = Prepared::new(&loaded, &args.route, &args.input)?;
+    let warnings: Vec<String> = threshold_warning(&loaded, &args.route)
+        .into_iter()
+        .collect();
     let solid = match prepared.source() {
         LodSource::Solid(s) => s,
         LodSource::Direct(_) => {
@@ -262,9 +256,15 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
     }
     out.commit()?;
     bar.finish_and_clear();
-    let report = report(&args, &layered, start.elapsed().as_secs_f64());
+    let report = LayersReport {
+        warnings,
+        ..report(&args, &layered, start.elapsed().as_secs_f64())
+    };
     if args.json {
         return print_json(&report);
+    }
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
     }
     println!(
         "{}: {} layers (achieved error {:.5} ≤ {}), {} triangles -> {}",
@@ -349,6 +349,7 @@ fn report(args: &LayersArgs, layered: &Layered, total_seconds: f64) -> LayersRep
         extract_seconds: t.extract_seconds,
         order_seconds: t.order_seconds,
         total_seconds,
+        warnings: Vec::new(),
     }
 }
 

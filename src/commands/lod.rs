@@ -8,9 +8,13 @@ use serde::Serialize;
 use voxlod_io::OutputSet;
 use voxlod_sampling::{DensityReport, Filter, PyramidOptions};
 
-use super::common::{describe_mesh, in_dir, print_json, progress, CliError, MeshExtension};
+use super::common::{
+    check_computed_mesh, count, describe_mesh, in_dir, print_json, progress, CliError,
+    MeshExtension,
+};
 use super::envelope::{then_envelope, ThenEnvelope, ThenEnvelopeReport};
-use super::source::{load, Loaded, MeshSummary, Prepared, VolumeRoute};
+use super::source::{load, threshold_warning, Loaded, MeshSummary, Prepared, VolumeRoute};
+use super::values::number;
 use crate::lod::{build_level, plan, LodOptions};
 
 /// Build levels of detail: a pyramid of filtered volumes, marching cubes on each (paper §2).
@@ -38,43 +42,44 @@ pub struct LodArgs {
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
     /// Samples across the longest side of the object at level 0
-    #[arg(long, value_name = "N", default_value_t = 256)]
+    #[arg(long, value_name = "N", default_value_t = 256,
+        value_parser = number::<usize>, allow_hyphen_values = true)]
     pub resolution: usize,
     /// Number of levels, each half the resolution of the one before
-    #[arg(
-        long,
-        value_name = "L",
-        default_value_t = 6,
-        conflicts_with = "resolutions"
-    )]
+    #[arg(long, value_name = "L", default_value_t = 6, conflicts_with = "resolutions",
+        value_parser = number::<usize>, allow_hyphen_values = true)]
     pub levels: usize,
     /// Explicit resolutions, one per level, e.g. 200,100,50,30,15,5
-    #[arg(long, value_name = "A,B,...", value_delimiter = ',')]
+    #[arg(long, value_name = "A,B,...", value_delimiter = ',',
+        value_parser = number::<usize>, allow_hyphen_values = true)]
     pub resolutions: Option<Vec<usize>>,
     /// Low-pass filter: hypercone (paper eq. 3) or gaussian (σ = R/3)
     #[arg(long, default_value = "hypercone")]
     pub filter: Filter,
     /// Filter support radius, in voxels of each level
-    #[arg(long, value_name = "VOXELS", default_value_t = 1.0)]
+    #[arg(long, value_name = "VOXELS", default_value_t = 1.0,
+        value_parser = number::<f64>, allow_hyphen_values = true)]
     pub radius: f64,
     /// Isodensity of the surfaces: between 0 and 1 for meshes and --threshold (default 0.5);
     /// in data units with --direct (required)
-    #[arg(long, value_name = "V")]
+    #[arg(long, value_name = "V", value_parser = number::<f32>, allow_hyphen_values = true)]
     pub iso: Option<f32>,
     /// Format of the level meshes
     #[arg(long, value_enum, default_value = "ply")]
     pub format: MeshExtension,
     /// Quadrature lines per filter radius (accuracy against speed; 4 keeps the half-space
     /// profile within 0.01 of the paper's equation 5)
-    #[arg(long, value_name = "Q", default_value_t = 4)]
+    #[arg(long, value_name = "Q", default_value_t = 4,
+        value_parser = number::<usize>, allow_hyphen_values = true)]
     pub lines_per_radius: usize,
     /// Print the report as JSON on standard output (no progress bar)
     #[arg(long)]
     pub json: bool,
     /// Then simplify each level within E by simplification envelopes (genus and holes stay): a
     /// distance, a percentage of the level's diagonal (1%), or voxels of the level (1vox)
-    #[arg(long, value_name = "E", allow_hyphen_values = true)]
-    pub then_envelope: Option<String>,
+    #[arg(long, value_name = "E", value_parser = ThenEnvelope::parse_value,
+        allow_hyphen_values = true)]
+    pub then_envelope: Option<ThenEnvelope>,
     #[command(flatten)]
     pub route: VolumeRoute,
 }
@@ -114,9 +119,10 @@ struct LodReport {
     filter: Filter,
     iso: f32,
     levels: Vec<LevelReport>,
-    /// What the writing had to say: stale level files removed, for instance.
-    warnings: Vec<String>,
     total_seconds: f64,
+    /// Every warning printed without --json: levels the filter removed, stale level files
+    /// removed from the output folder.
+    warnings: Vec<String>,
 }
 
 /// `level-N.EXT` for a mesh extension: the names `lod` writes, and the only ones it removes.
@@ -139,11 +145,7 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     let loaded = load(&args.input, &args.route)?;
     let prepared = Prepared::new(&loaded, &args.route, &args.input)?;
     let iso = prepared.iso(args.iso, &args.input)?;
-    let envelope_eps = args
-        .then_envelope
-        .as_deref()
-        .map(ThenEnvelope::parse)
-        .transpose()?;
+    let envelope_eps = args.then_envelope;
     let mut pyramid = match &args.resolutions {
         Some(list) => PyramidOptions::with_resolutions(list.clone(), args.filter),
         None => {
@@ -193,6 +195,12 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     let finest = plans[0].voxel_size;
     let bar = progress(plans.len() as u64, "levels", args.json);
     let mut levels = Vec::new();
+    let mut warnings: Vec<String> = threshold_warning(&loaded, &args.route)
+        .into_iter()
+        .collect();
+    if let (false, Some(w)) = (args.json, warnings.first()) {
+        eprintln!("warning: {w}");
+    }
     for level_plan in &plans {
         let mut level = build_level(&source, level_plan, &options).map_err(|e| {
             CliError::msg(format!(
@@ -201,6 +209,11 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
                 level_plan.level
             ))
         })?;
+        check_computed_mesh(
+            &level.mesh,
+            &format!("{}: level {}", args.input.display(), level_plan.level),
+            "the object's extent or position is too large for 32-bit coordinates",
+        )?;
         let envelope = match envelope_eps {
             Some(eps) => {
                 let what = format!("{}: level {}", args.input.display(), level_plan.level);
@@ -240,15 +253,18 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
             envelope,
         });
         bar.inc(1);
+        if level.mesh.is_empty() {
+            warnings.push(format!(
+                "level {}: the filter of radius {:.4} removed the whole object (no density \
+                 reaches {iso}); no file written. Use fewer levels, or a lower --iso for parts \
+                 thinner than a voxel",
+                level_plan.level, level_plan.radius
+            ));
+        }
         if !args.json {
             bar.suspend(|| {
-                if level.mesh.is_empty() {
-                    eprintln!(
-                        "warning: level {}: the filter of radius {:.4} removed the whole object \
-                         (no density reaches {iso}); no file written. Use fewer levels, or a \
-                         lower --iso for parts thinner than a voxel",
-                        level_plan.level, level_plan.radius
-                    );
+                if let (true, Some(w)) = (level.mesh.is_empty(), warnings.last()) {
+                    eprintln!("warning: {w}");
                 } else {
                     println!(
                         "level {}: resolution {:>4}, radius {:.4}: {} -> {}",
@@ -267,6 +283,8 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         return Err(no_surface(&args, &plans, iso));
     }
     out.remove_stale(&args.output, is_level_file);
+    let written_warnings = out.warnings().len();
+    warnings.extend(out.warnings().iter().cloned());
     let report = LodReport {
         input: args.input.display().to_string(),
         mesh: match &loaded {
@@ -281,8 +299,8 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         filter: args.filter,
         iso,
         levels,
-        warnings: out.warnings().to_vec(),
         total_seconds: start.elapsed().as_secs_f64(),
+        warnings,
     };
     let text = serde_json::to_string_pretty(&report)
         .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
@@ -291,13 +309,13 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     if args.json {
         print_json(&report)?;
     } else {
-        for w in &report.warnings {
+        // The level warnings were printed as the levels were made; the writing's come last.
+        for w in &report.warnings[report.warnings.len() - written_warnings..] {
             eprintln!("warning: {w}");
         }
-        let written = report.levels.iter().filter(|l| l.file.is_some()).count();
         println!(
-            "{written} of {} levels written in {:.2} s; report in {}",
-            report.levels.len(),
+            "{} in {:.2} s; report in {}",
+            written_summary(&report.levels),
             report.total_seconds,
             in_dir(&args.output, "report.json").display()
         );
@@ -317,4 +335,27 @@ fn no_surface(args: &LodArgs, plans: &[voxlod_sampling::LevelPlan], iso: f32) ->
         first.voxel_size,
         first.radius
     ))
+}
+
+/// "6 levels written", or "5 of 6 levels written (level 5 is empty)": what is on disk.
+fn written_summary(levels: &[LevelReport]) -> String {
+    let empty: Vec<String> = levels
+        .iter()
+        .filter(|l| l.file.is_none())
+        .map(|l| l.level.to_string())
+        .collect();
+    let written = levels.len() - empty.len();
+    match empty.len() {
+        0 => format!("{} written", count(written, "level", "levels")),
+        1 => format!(
+            "{written} of {} written (level {} is empty)",
+            count(levels.len(), "level", "levels"),
+            empty[0]
+        ),
+        _ => format!(
+            "{written} of {} written (levels {} are empty)",
+            count(levels.len(), "level", "levels"),
+            empty.join(", ")
+        ),
+    }
 }

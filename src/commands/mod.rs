@@ -16,6 +16,7 @@ pub mod lod;
 pub mod render;
 pub mod select;
 pub mod source;
+pub mod values;
 pub mod voxelize;
 
 pub use common::CliError;
@@ -62,5 +63,55 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Evaluate(args) => evaluate::run(args),
         Command::Layers(args) => layers::run(args),
         Command::Render(args) => render::run(args),
+    }
+}
+
+/// A message as one line: its lines joined with "; ", or with a space after a colon (an
+/// error is always one line).
+pub fn one_line(text: &str) -> String {
+    let mut out = String::new();
+    for line in text.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if out.ends_with(':') {
+            out.push(' ');
+        } else if !out.is_empty() {
+            out.push_str("; ");
+        }
+        out.push_str(line);
+    }
+    out
+}
+
+/// clap's rendered usage error as one line: the error and its tips, without the usage
+/// synopsis, and a pointer to `--help`.
+pub fn usage_error_line(rendered: &str) -> String {
+    let body: Vec<&str> = rendered
+        .lines()
+        .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
+        .collect();
+    let text = one_line(&body.join("\n"));
+    let text = text.strip_prefix("error: ").unwrap_or(&text);
+    format!("{text} (see --help)")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn usage_errors_become_one_line() {
+        let rendered = "error: unexpected argument '-x' found\n\n  tip: to pass '-x' as a value, \
+                        use '-- -x'\n\nUsage: voxlod contour [OPTIONS] <VOLUME>\n\nFor more \
+                        information, try '--help'.\n";
+        assert_eq!(
+            usage_error_line(rendered),
+            "unexpected argument '-x' found; tip: to pass '-x' as a value, use '-- -x' \
+             (see --help)"
+        );
+        let e = Cli::try_parse_from(["voxlod", "contour", "v.nrrd", "--iso", "1"]).unwrap_err();
+        let line = usage_error_line(&e.render().to_string());
+        assert_eq!(
+            line,
+            "the following required arguments were not provided: --output <MESH> (see --help)"
+        );
     }
 }

@@ -9,8 +9,12 @@ use voxlod_core::{Bounds, PolyMesh, TriangleMesh};
 use voxlod_layers::{read_glb, recover_cells, scene_order, CellTriangles, GlbScene, Octant, View};
 use voxlod_render::{render, Camera, LineItem, MeshItem, PointItem, RenderOptions, Scene};
 
-use super::common::{parse_triple, print_json, CliError};
-use super::layers::{parse_size, parse_view};
+use super::common::{is_glb, print_json, CliError};
+use super::layers::{view_direction, CameraArgs};
+use super::values::{number, numbers, ImageSize};
+
+/// The vertical field of view of `--perspective`, in degrees, when `--fov` is not given.
+const DEFAULT_FOV: f64 = 35.0;
 
 /// The colour of surfaces (linear RGB): a light steel grey.
 pub const SURFACE_COLOR: [f32; 3] = [0.85, 0.86, 0.9];
@@ -40,35 +44,31 @@ pub struct RenderArgs {
     /// The PNG to write
     #[arg(short, long, value_name = "PNG")]
     pub output: PathBuf,
-    /// Direction the camera looks along (eye to scene)
-    #[arg(
-        long,
-        value_name = "X,Y,Z",
-        default_value = "-1,-1,-1",
-        allow_hyphen_values = true
-    )]
-    pub view: String,
-    /// Image size in pixels
-    #[arg(long, value_name = "WxH", default_value = "800x800")]
-    pub size: String,
+    #[command(flatten)]
+    pub camera: CameraArgs,
     /// N×N samples per pixel (1 to 32)
-    #[arg(long, value_name = "N", default_value_t = 1)]
+    #[arg(long, value_name = "N", default_value_t = 1,
+        value_parser = number::<u32>, allow_hyphen_values = true)]
     pub supersample: u32,
     /// A perspective camera instead of an orthographic one
     #[arg(long)]
     pub perspective: bool,
-    /// Vertical field of view of the perspective camera, in degrees
-    #[arg(long, value_name = "DEG", default_value_t = 35.0)]
-    pub fov: f64,
+    /// Vertical field of view of the perspective camera, in degrees (more than 0, less than
+    /// 180; 35 when not given)
+    #[arg(long, value_name = "DEG", value_parser = number::<f64>, allow_hyphen_values = true)]
+    pub fov: Option<f64>,
     /// Width of dangling edges, in pixels
-    #[arg(long, value_name = "PX", default_value_t = 2.0)]
+    #[arg(long, value_name = "PX", default_value_t = 2.0,
+        value_parser = number::<f32>, allow_hyphen_values = true)]
     pub line_width: f32,
     /// Side of isolated points, in pixels
-    #[arg(long, value_name = "PX", default_value_t = 4.0)]
+    #[arg(long, value_name = "PX", default_value_t = 4.0,
+        value_parser = number::<f32>, allow_hyphen_values = true)]
     pub point_size: f32,
     /// Background colour, linear RGB in [0, 1]
-    #[arg(long, value_name = "R,G,B", default_value = "0.05,0.06,0.08")]
-    pub background: String,
+    #[arg(long, value_name = "R,G,B", default_value = "0.05,0.06,0.08",
+        value_parser = numbers::<f32, 3>, allow_hyphen_values = true)]
+    pub background: [f32; 3],
     /// Print a JSON report on standard output
     #[arg(long)]
     pub json: bool,
@@ -90,6 +90,7 @@ struct RenderReport {
     /// "stored" (the file's order for the octant) or "computed" (from the volume grids).
     layered_order: Option<&'static str>,
     seconds: f64,
+    warnings: Vec<String>,
 }
 
 /// Dangling edges of one look, drawn as one line item.
@@ -172,22 +173,14 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     voxlod_io::check_image_path(&args.output)?;
     let mut out = voxlod_io::OutputSet::protecting(&args.meshes);
     out.check(&args.output)?;
-    let view = parse_view(&args.view)?;
-    let (width, height) = parse_size(&args.size)?;
-    if !(1..=32).contains(&args.supersample) {
-        return Err(CliError::msg(format!(
-            "--supersample {}: choose 1 to 32",
-            args.supersample
-        )));
-    }
-    let background = parse_triple::<f32>(&args.background, "--background")?;
+    let view = view_direction(args.camera.view)?;
+    let (width, height) = (args.camera.size.width, args.camera.size.height);
+    let warnings = check_render_args(&args)?;
+    let background = args.background;
     let octant = Octant::of(view).map_err(|e| CliError::msg(format!("--view: {e}")))?;
     let mut inputs = Vec::new();
     for path in &args.meshes {
-        let is_glb = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("glb"));
-        if is_glb {
+        if is_glb(path) {
             let scene = read_glb(path).map_err(|e| CliError::msg(e.to_string()))?;
             if scene.is_layered() {
                 inputs.push(Loaded::Layered(scene, path.clone()));
@@ -216,7 +209,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         &bounds,
         width,
         height,
-        args.perspective.then_some(args.fov),
+        args.perspective.then_some(args.fov.unwrap_or(DEFAULT_FOV)),
     )
     .map_err(|e| CliError::msg(e.to_string()))?;
     let options = RenderOptions {
@@ -230,7 +223,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         height,
         supersample: args.supersample,
         perspective: args.perspective,
-        view: view.to_array(),
+        view: args.camera.view,
         octant: octant.name(),
         opaque_triangles: 0,
         layered_triangles: 0,
@@ -238,6 +231,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         points: 0,
         layered_order: None,
         seconds: 0.0,
+        warnings,
     };
     // Opaque meshes, lines, points.
     let mut groups = Vec::new();
@@ -310,6 +304,9 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     if args.json {
         return print_json(&report);
     }
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
     println!(
         "{} opaque and {} layered triangles at {}x{} ({}x{} samples per pixel) in {:.2} s -> {}",
         super::common::thousands(report.opaque_triangles),
@@ -322,6 +319,46 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         args.output.display()
     );
     Ok(())
+}
+
+/// Refuses flags out of their range; returns warnings for flags that have no effect.
+fn check_render_args(args: &RenderArgs) -> Result<Vec<String>, CliError> {
+    if !(1..=32).contains(&args.supersample) {
+        return Err(CliError::msg(format!(
+            "--supersample {}: choose 1 to 32 samples per pixel side",
+            args.supersample
+        )));
+    }
+    let fov = args.fov.unwrap_or(DEFAULT_FOV);
+    if !(fov > 0.0 && fov < 180.0) {
+        return Err(CliError::msg(format!(
+            "--fov {fov}: the field of view must be more than 0 and less than 180 degrees"
+        )));
+    }
+    let widest = ImageSize::MAX_SIDE as f32;
+    for (flag, px) in [
+        ("--line-width", args.line_width),
+        ("--point-size", args.point_size),
+    ] {
+        if !(px > 0.0 && px <= widest) {
+            return Err(CliError::msg(format!(
+                "{flag} {px}: choose more than 0 and at most {widest} pixels"
+            )));
+        }
+    }
+    if let Some(c) = args.background.iter().find(|c| !(0.0..=1.0).contains(*c)) {
+        let [r, g, b] = args.background;
+        return Err(CliError::msg(format!(
+            "--background {r},{g},{b}: each component is linear RGB from 0 to 1, not {c}"
+        )));
+    }
+    let mut warnings = Vec::new();
+    if args.fov.is_some() && !args.perspective {
+        warnings.push(format!(
+            "--fov {fov} has no effect without --perspective (the camera is orthographic)"
+        ));
+    }
+    Ok(warnings)
 }
 
 fn poly_bounds(m: &PolyMesh) -> Bounds {

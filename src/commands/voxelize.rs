@@ -8,7 +8,8 @@ use serde::Serialize;
 use voxlod_sampling::{DensityOptions, Filter};
 
 use super::common::{print_json, CliError};
-use super::source::{load, Prepared, VolumeRoute};
+use super::source::{load, threshold_warning, Prepared, VolumeRoute};
+use super::values::number;
 use crate::lod::LodSource;
 
 /// Sample the input into a filtered density volume (paper §2, equations 1–3).
@@ -31,16 +32,18 @@ pub struct VoxelizeArgs {
     #[arg(short, long, value_name = "VOLUME")]
     pub output: PathBuf,
     /// Samples across the longest side of the object
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = number::<usize>, allow_hyphen_values = true)]
     pub resolution: usize,
     /// Low-pass filter: hypercone or gaussian
     #[arg(long, default_value = "hypercone")]
     pub filter: Filter,
     /// Filter support radius, in voxels
-    #[arg(long, value_name = "VOXELS", default_value_t = 1.0)]
+    #[arg(long, value_name = "VOXELS", default_value_t = 1.0,
+        value_parser = number::<f64>, allow_hyphen_values = true)]
     pub radius: f64,
     /// Quadrature lines per filter radius
-    #[arg(long, value_name = "Q", default_value_t = 4)]
+    #[arg(long, value_name = "Q", default_value_t = 4,
+        value_parser = number::<usize>, allow_hyphen_values = true)]
     pub lines_per_radius: usize,
     /// Compress the output (gzip for NRRD, zlib for VTI and MetaImage)
     #[arg(long)]
@@ -58,14 +61,15 @@ struct VoxelizeReport {
     output: String,
     /// Every file written: the volume, and the data file of a `.nhdr` or `.mhd`.
     files: Vec<String>,
-    /// A data file written under another name than usual, for instance.
-    warnings: Vec<String>,
     dims: [usize; 3],
     spacing: f64,
     radius: f64,
     filter: Filter,
     sample_seconds: f64,
     write_seconds: f64,
+    /// Every warning printed without --json: an object the filter removed, a data file written
+    /// under another name than usual.
+    warnings: Vec<String>,
 }
 
 pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
@@ -113,6 +117,17 @@ pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
         }
     };
     let sample_seconds = start.elapsed().as_secs_f64();
+    let mut warnings: Vec<String> = threshold_warning(&loaded, &args.route)
+        .into_iter()
+        .collect();
+    let solid = matches!(source, LodSource::Solid(_));
+    if solid && density.range().is_none_or(|(_, hi)| hi < 0.5) {
+        warnings.push(format!(
+            "the filter of radius {radius:.4} removed the whole object: no sample reaches the \
+             density 0.5 of its surface (the object is thinner than the filter; use a higher \
+             --resolution)"
+        ));
+    }
     let start = Instant::now();
     out.volume(
         &args.output,
@@ -126,19 +141,19 @@ pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
         .iter()
         .map(|f| f.display().to_string())
         .collect();
-    let warnings = out.warnings().to_vec();
+    warnings.extend(out.warnings().iter().cloned());
     out.commit()?;
     let report = VoxelizeReport {
         input: args.input.display().to_string(),
         output: args.output.display().to_string(),
         files,
-        warnings,
         dims: grid.dims,
         spacing: voxel,
         radius,
         filter: args.filter,
         sample_seconds,
         write_seconds: start.elapsed().as_secs_f64(),
+        warnings,
     };
     if args.json {
         print_json(&report)?;

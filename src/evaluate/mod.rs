@@ -545,7 +545,7 @@ fn envelope_input(
             std::borrow::Cow::Owned(repaired),
             vec![format!(
                 "The input is not a consistently oriented manifold ({problems}); the envelope \
-                 simplified a repaired copy ({repair:?}) and was measured against the input."
+                 simplified a repaired copy ({repair}) and was measured against the input."
             )],
         )),
         Err(e) => Err(format!(

@@ -21,7 +21,7 @@ pub struct Topology {
     pub edges: usize,
     /// Edges used by exactly one triangle.
     pub boundary_edges: usize,
-    /// Closed loops formed by the boundary edges (holes): the cycle rank of the boundary graph.
+    /// Closed loops of the surface's boundary (holes); see [`count_boundary_loops`].
     pub boundary_loops: usize,
     /// Edges used by three or more triangles.
     pub non_manifold_edges: usize,
@@ -139,9 +139,8 @@ pub fn mesh_topology(mesh: &TriangleMesh) -> Topology {
     let mut boundary_edges = 0;
     let mut non_manifold_edges = 0;
     let mut inconsistent_edges = 0;
-    let mut boundary_graph = UnionFind::new(nv);
-    let mut boundary_vertex = vec![false; nv];
-    let mut boundary_edge_list = Vec::new();
+    // Edges used an odd number of times: the boundary, and the non-manifold edges it runs on.
+    let mut odd_edges = Vec::new();
     let mut start = 0;
     while start < half.len() {
         let key = half[start].0;
@@ -153,41 +152,24 @@ pub fn mesh_topology(mesh: &TriangleMesh) -> Topology {
         match end - start {
             1 => {
                 boundary_edges += 1;
-                let (a, b) = ((key >> 32) as u32, key as u32);
-                boundary_graph.union(a, b);
-                boundary_vertex[a as usize] = true;
-                boundary_vertex[b as usize] = true;
-                boundary_edge_list.push((a, b));
+                odd_edges.push(((key >> 32) as u32, key as u32, true));
             }
             2 => {
                 if half[start].1 == half[start + 1].1 {
                     inconsistent_edges += 1;
                 }
             }
-            _ => non_manifold_edges += 1,
+            uses => {
+                non_manifold_edges += 1;
+                if uses % 2 == 1 {
+                    odd_edges.push(((key >> 32) as u32, key as u32, false));
+                }
+            }
         }
         start = end;
     }
 
-    // Boundary loops: the independent cycles of the boundary-edge graph, its cycle rank
-    // E - V + C. A vertex where two holes touch joins them into one component with two cycles;
-    // a chain of boundary edges that does not close (possible only around non-manifold edges)
-    // is a tree and counts no loop.
-    let boundary_loops = {
-        let mut comp_edges = std::collections::HashMap::<u32, (usize, usize)>::new();
-        for &(a, _) in &boundary_edge_list {
-            comp_edges.entry(boundary_graph.find(a)).or_default().0 += 1;
-        }
-        for v in 0..nv as u32 {
-            if boundary_vertex[v as usize] {
-                comp_edges.entry(boundary_graph.find(v)).or_default().1 += 1;
-            }
-        }
-        comp_edges
-            .values()
-            .map(|&(e, v)| (e + 1).saturating_sub(v))
-            .sum()
-    };
+    let boundary_loops = count_boundary_loops(&odd_edges, nv);
 
     // Components over shared vertices.
     let mut uf = UnionFind::new(nv);
@@ -233,6 +215,42 @@ pub fn mesh_topology(mesh: &TriangleMesh) -> Topology {
         euler_characteristic,
         genus,
     }
+}
+
+/// The holes of a surface: the independent cycles of its boundary, counted as the cycle rank
+/// E − V + C of the graph of edges used an odd number of times (the boundary of the triangles
+/// as a chain modulo 2, which always closes into cycles), over its components that hold at least
+/// one edge used once. `odd_edges` are `(a, b, used_once)`; `vertex_count` bounds the indices.
+///
+/// On a manifold these are the boundary edges alone, and a vertex where two holes touch gives
+/// two cycles. Where a hole's rim runs along a non-manifold edge (a fin's base, a sheet glued
+/// along an edge: used three times), the loop continues through that edge, so a rim of boundary
+/// edges broken by non-manifold ones still counts as the loop it is. Components of odd
+/// non-manifold edges only (no edge used once) are not holes and count nothing. Cost: a
+/// union-find pass over the edges.
+pub fn count_boundary_loops(odd_edges: &[(u32, u32, bool)], vertex_count: usize) -> usize {
+    let mut graph = UnionFind::new(vertex_count);
+    for &(a, b, _) in odd_edges {
+        graph.union(a, b);
+    }
+    // Per component: edges, vertices, and whether an edge is used once.
+    let mut components = std::collections::HashMap::<u32, (usize, usize, bool)>::new();
+    let mut seen = std::collections::HashSet::new();
+    for &(a, b, once) in odd_edges {
+        let c = components.entry(graph.find(a)).or_default();
+        c.0 += 1;
+        c.2 |= once;
+        for v in [a, b] {
+            if seen.insert(v) {
+                components.entry(graph.find(v)).or_default().1 += 1;
+            }
+        }
+    }
+    components
+        .values()
+        .filter(|c| c.2)
+        .map(|&(e, v, _)| (e + 1).saturating_sub(v))
+        .sum()
 }
 
 /// A vertex is manifold when the triangles around it are connected through the edges that
@@ -320,6 +338,53 @@ mod tests {
         assert_eq!(t.boundary_loops, 1);
         assert_eq!(t.genus, Some(0));
         assert!(!t.is_closed_manifold());
+    }
+
+    #[test]
+    fn a_rim_through_non_manifold_edges_is_one_loop() {
+        // A closed cube plus a fin: a triangle on cube edge 0–1 (then used three times) to a new
+        // vertex 8. The fin's two free edges are the only boundary edges; with the fin's base
+        // they close one loop. Counting boundary edges alone finds a path and no loop.
+        let mut m = unit_cube();
+        let (a, b) = (m.triangles[0][0], m.triangles[0][1]);
+        m.positions.push(Vec3::new(0.5, -1.0, -1.0));
+        m.triangles.push([a, b, 8]);
+        let t = mesh_topology(&m);
+        assert_eq!((t.boundary_edges, t.non_manifold_edges), (2, 1));
+        assert_eq!(t.boundary_loops, 1);
+        // A second fin on another edge: a second loop.
+        let (c, d) = (m.triangles[2][1], m.triangles[2][2]);
+        m.positions.push(Vec3::new(2.0, 2.0, 2.0));
+        m.triangles.push([c, d, 9]);
+        let t = mesh_topology(&m);
+        assert_eq!((t.boundary_edges, t.non_manifold_edges), (4, 2));
+        assert_eq!(t.boundary_loops, 2);
+    }
+
+    #[test]
+    fn loops_of_touching_holes_and_of_sheets_on_one_edge() {
+        // Two triangles touching at vertex 0: two rims sharing a vertex, two loops.
+        let m = TriangleMesh::new(
+            vec![Vec3::ZERO, Vec3::X, Vec3::Y, -Vec3::X, -Vec3::Y],
+            vec![[0, 1, 2], [0, 3, 4]],
+        );
+        assert_eq!(mesh_topology(&m).boundary_loops, 2);
+        // Three triangles on edge 0–1 (a book of three pages): each page's two free edges
+        // close through the spine, three loops.
+        let m = TriangleMesh::new(
+            vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z, -Vec3::Y],
+            vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
+        );
+        let t = mesh_topology(&m);
+        assert_eq!((t.boundary_edges, t.boundary_loops), (6, 3));
+        // Four triangles on one edge (used an even number of times): the spine is not on the
+        // boundary; the four pages' free edges are four paths from 0 to 1, three loops.
+        let m = TriangleMesh::new(
+            vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z, -Vec3::Y, -Vec3::Z],
+            vec![[0, 1, 2], [1, 0, 3], [0, 1, 4], [1, 0, 5]],
+        );
+        let t = mesh_topology(&m);
+        assert_eq!((t.boundary_edges, t.boundary_loops), (8, 3));
     }
 
     #[test]

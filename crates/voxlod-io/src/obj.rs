@@ -198,9 +198,14 @@ fn resolve(path: &Path, line: usize, text: &str, count: usize, what: &str) -> Re
         }
     };
     if resolved < 0 || resolved >= count as i64 || resolved > u32::MAX as i64 {
+        let so_far = match (count, what) {
+            (1, _) => what.to_string(),
+            (_, "vertex") => "vertices".to_string(),
+            _ => format!("{what}s"),
+        };
         return Err(IoError::malformed(
             path,
-            format!("line {line}: {what} index {index} is out of range ({count} {what}s so far)"),
+            format!("line {line}: {what} index {index} is out of range ({count} {so_far} so far)"),
         ));
     }
     Ok(resolved as u32)

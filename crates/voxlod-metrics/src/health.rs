@@ -146,27 +146,50 @@ impl MeshReport {
             ));
         }
         if t.boundary_edges > 0 {
+            let through = if t.non_manifold_edges > 0 {
+                " (a loop closes through the edges shared by three or more triangles that its \
+                 rim meets)"
+            } else {
+                ""
+            };
             notes.push(format!(
-                "the surface is open: {} boundary edges in {} loops, so the volume is not an enclosed volume",
-                t.boundary_edges, t.boundary_loops
+                "the surface is open: {} in {}{through}, so the volume is not an enclosed volume",
+                count(t.boundary_edges, "boundary edge", "boundary edges"),
+                count(t.boundary_loops, "loop", "loops"),
             ));
         }
         if t.non_manifold_edges > 0 || t.non_manifold_vertices > 0 {
             notes.push(format!(
-                "not a manifold: {} edges shared by three or more triangles, {} pinched vertices",
-                t.non_manifold_edges, t.non_manifold_vertices
+                "not a manifold: {} shared by three or more triangles, {}",
+                count(t.non_manifold_edges, "edge", "edges"),
+                count(
+                    t.non_manifold_vertices,
+                    "pinched vertex",
+                    "pinched vertices"
+                ),
             ));
         }
         if t.inconsistent_edges > 0 {
             notes.push(format!(
-                "inconsistent orientation: {} edges used twice in the same direction",
-                t.inconsistent_edges
+                "inconsistent orientation: {} used twice in the same direction",
+                count(t.inconsistent_edges, "edge", "edges")
             ));
         }
         if t.degenerate_triangles > 0 || self.zero_area_triangles > 0 || t.duplicate_triangles > 0 {
             notes.push(format!(
-                "{} triangles repeat a vertex, {} others have zero area, {} are duplicates",
-                t.degenerate_triangles, self.zero_area_triangles, t.duplicate_triangles
+                "{} a vertex, {} zero area, {} {}",
+                count(
+                    t.degenerate_triangles,
+                    "triangle repeats",
+                    "triangles repeat"
+                ),
+                count(self.zero_area_triangles, "other has", "others have"),
+                t.duplicate_triangles,
+                if t.duplicate_triangles == 1 {
+                    "is a duplicate"
+                } else {
+                    "are duplicates"
+                }
             ));
         }
         if t.genus.is_none() {
@@ -223,6 +246,11 @@ impl fmt::Display for MeshReport {
         }
         Ok(())
     }
+}
+
+/// `n thing` or `n things` (`one` and `many` may carry a verb: "triangle repeats").
+fn count(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
 }
 
 fn yes_no(b: bool) -> &'static str {

@@ -46,7 +46,35 @@ fn open_box_has_one_boundary_loop_and_no_enclosed_volume() {
     assert_eq!(r.topology.boundary_edges, 4);
     assert_eq!(r.topology.genus, Some(0));
     assert!(!r.volume_is_enclosed && !r.inside_out && !r.closed_manifold);
-    assert!(r.to_string().contains("the surface is open"), "{r}");
+    assert!(
+        r.to_string()
+            .contains("the surface is open: 4 boundary edges in 1 loop, so"),
+        "{r}"
+    );
+}
+
+#[test]
+fn a_fin_on_a_closed_cube_is_one_loop_through_its_base() {
+    // The fin's base is a cube edge, then used three times; its two free edges and the base
+    // close one loop (hand-counted). Notes say it in the singular where it is one.
+    let mut m = common::unit_cube();
+    let (a, b) = (m.triangles[0][0], m.triangles[0][1]);
+    m.positions.push(Vec3::new(0.5, -1.0, -1.0));
+    m.triangles.push([a, b, 8]);
+    let r = mesh_report(&m).unwrap();
+    let t = &r.topology;
+    assert_eq!((t.boundary_edges, t.boundary_loops), (2, 1));
+    let text = r.to_string();
+    assert!(
+        text.contains("2 boundary edges in 1 loop (a loop closes through"),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            "not a manifold: 1 edge shared by three or more triangles, 0 pinched vertices"
+        ),
+        "{text}"
+    );
 }
 
 #[test]
@@ -182,5 +210,11 @@ fn real_meshes_match_their_documented_shape() {
         assert!(r.zero_area_triangles + r.topology.degenerate_triangles > 0);
         assert!(r.topology.non_manifold_edges > 0 && r.topology.inconsistent_edges > 0);
         assert!(r.topology.genus.is_none());
+        // Four boundary edges, each between two edges used three times: two rims that close
+        // through 12 and 8 of those edges (counted by hand from the welded file).
+        assert_eq!(
+            (r.topology.boundary_edges, r.topology.boundary_loops),
+            (4, 2)
+        );
     }
 }

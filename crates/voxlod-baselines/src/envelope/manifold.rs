@@ -230,6 +230,50 @@ impl ManifoldRepair {
     }
 }
 
+/// What the repair did, in words: "2 duplicate triangles removed, 3 vertices added to give each
+/// fan its own, 6 half-edges left as border", or "nothing to repair".
+impl fmt::Display for ManifoldRepair {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut parts = Vec::new();
+        for (n, one, many) in [
+            (
+                self.degenerate_triangles_removed,
+                "triangle that repeats a vertex removed",
+                "triangles that repeat a vertex removed",
+            ),
+            (
+                self.duplicate_triangles_removed,
+                "duplicate triangle removed",
+                "duplicate triangles removed",
+            ),
+            (
+                self.vertices_added,
+                "vertex added to give each fan its own",
+                "vertices added to give each fan its own",
+            ),
+            (
+                self.triangles_detached,
+                "triangle detached with its own vertices",
+                "triangles detached with their own vertices",
+            ),
+            (
+                self.half_edges_unpaired,
+                "half-edge without an opposite partner left as border",
+                "half-edges without an opposite partner left as border",
+            ),
+        ] {
+            if n > 0 {
+                parts.push(format!("{n} {}", if n == 1 { one } else { many }));
+            }
+        }
+        if parts.is_empty() {
+            write!(f, "nothing to repair")
+        } else {
+            write!(f, "{}", parts.join(", "))
+        }
+    }
+}
+
 /// Cuts `mesh` into a consistently oriented 2-manifold without moving any point (see the module
 /// documentation). Normals, when present, are copied to the added vertices.
 pub fn repair_for_envelope(mesh: &TriangleMesh) -> (TriangleMesh, ManifoldRepair) {
@@ -438,6 +482,7 @@ mod tests {
         assert!(check_manifold(&cube()).is_ok());
         let (m, r) = repair_for_envelope(&cube());
         assert!(!r.changed_anything());
+        assert_eq!(r.to_string(), "nothing to repair");
         assert_eq!(m, cube());
     }
 
@@ -488,6 +533,7 @@ mod tests {
             .any(|e| e == "vertex 6 joins separate fans"));
         let (fixed, r) = repair_for_envelope(&m);
         assert_eq!(r.vertices_added, 1);
+        assert_eq!(r.to_string(), "1 vertex added to give each fan its own");
         let topo = mesh_topology(&fixed);
         assert_eq!(topo.components, 2);
         assert!(topo.is_closed_manifold());
