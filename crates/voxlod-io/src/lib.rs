@@ -26,20 +26,24 @@
 //! temporary one behind.
 
 pub mod atomic;
+mod budget;
 pub mod ear_clipping;
 mod error;
+mod guard;
 mod metaimage;
 mod nifti;
 mod nrrd;
 mod obj;
 mod off;
 mod ply;
+mod ply_header;
 mod raw;
 mod samples;
 mod stl;
 mod vtk;
 mod vtk_image;
 mod vtk_mesh;
+mod vtk_xml;
 
 use std::fmt;
 use std::io::Read;
@@ -298,8 +302,7 @@ pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, IoError> {
     let len = std::fs::metadata(path)
         .map_err(|e| IoError::access(path, "cannot open", &e))?
         .len();
-    voxlod_core::memory::check_allocation("reading the file", len)
-        .map_err(|e| IoError::from_core(path, e))?;
+    budget::check_bytes(path, "reading the file", len)?;
     std::fs::read(path).map_err(|e| IoError::access(path, "cannot read", &e))
 }
 

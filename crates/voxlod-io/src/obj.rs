@@ -200,7 +200,14 @@ fn resolve(path: &Path, line: usize, text: &str, count: usize, what: &str) -> Re
     if resolved < 0 || resolved >= count as i64 || resolved > u32::MAX as i64 {
         return Err(IoError::malformed(
             path,
-            format!("line {line}: {what} index {index} is out of range ({count} {what}s so far)"),
+            format!(
+                "line {line}: {what} index {index} is out of range ({count} {} so far)",
+                if what == "vertex" {
+                    "vertices"
+                } else {
+                    "normals"
+                }
+            ),
         ));
     }
     Ok(resolved as u32)

@@ -20,7 +20,7 @@ use glam::{DVec3, Vec3};
 use voxlod_core::TriangleMesh;
 
 use crate::atomic::write_atomically;
-use crate::{ear_clipping, IoError, IoErrorKind};
+use crate::{budget, ear_clipping, IoError, IoErrorKind};
 
 pub(crate) struct OffContent {
     pub mesh: TriangleMesh,
@@ -96,6 +96,13 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<OffContent, IoError> {
         ));
     }
 
+    budget::check_count(
+        path,
+        "the vertices of the OFF file",
+        vertex_count as u64,
+        24,
+    )?;
+    budget::check_count(path, "the faces of the OFF file", face_count as u64, 24)?;
     let mut positions = Vec::with_capacity(vertex_count);
     let mut normals = Vec::with_capacity(if has_normals { vertex_count } else { 0 });
     for v in 0..vertex_count {

@@ -16,7 +16,7 @@
 //! through ply-rs-bw's writer, so no second copy of the mesh is built.
 
 use std::fs::File;
-use std::io::{BufReader, Write};
+use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
@@ -29,7 +29,7 @@ use ply_rs_bw::writer::Writer;
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh};
 
 use crate::atomic::write_atomically;
-use crate::{ear_clipping, IoError, IoErrorKind, PolyView};
+use crate::{budget, ear_clipping, guard, ply_header, IoError, PolyView};
 
 /// What the PLY reader found, before the common checks.
 pub(crate) struct PlyContent {
@@ -194,20 +194,6 @@ impl PropertyAccess for Skipped {
 // ---------------------------------------------------------------------------------------------
 // Reading.
 
-fn parse_error(path: &Path, element: &str, e: ply_rs_bw::parser::ParseError) -> IoError {
-    let kind = if e.kind() == std::io::ErrorKind::UnexpectedEof {
-        IoErrorKind::Truncated
-    } else {
-        IoErrorKind::Malformed
-    };
-    let context = if element.is_empty() {
-        "in the header".to_string()
-    } else {
-        format!("in element '{element}'")
-    };
-    IoError::new(path, kind, format!("{context}: {e}"))
-}
-
 /// The fewest bytes one element can take, to catch counts the file cannot hold before reading.
 fn min_element_bytes(def: &ElementDef, encoding: Encoding) -> u64 {
     if encoding == Encoding::Ascii {
@@ -232,6 +218,31 @@ fn min_element_bytes(def: &ElementDef, encoding: Encoding) -> u64 {
         .max(1)
 }
 
+/// Reading the elements of one kind, through ply-rs-bw under the panic guard.
+struct Payload<'a, R: std::io::BufRead> {
+    path: &'a Path,
+    reader: &'a mut Reader<R>,
+    def: &'a ElementDef,
+    header: &'a Header,
+}
+
+impl<R: std::io::BufRead> Payload<'_, R> {
+    fn elements<E: PropertyAccess>(&mut self) -> Result<Vec<E>, IoError> {
+        let (path, def) = (self.path, self.def);
+        let binary = self.header.encoding != Encoding::Ascii;
+        guard::quietly(|| {
+            Parser::<E>::new().read_payload_for_element(self.reader, def, self.header)
+        })
+        .ok_or_else(|| {
+            IoError::malformed(
+                path,
+                format!("the '{}' elements cannot be decoded", def.name),
+            )
+        })?
+        .map_err(|e| IoError::from_ply(path, &def.name, binary, &e))
+    }
+}
+
 fn index(path: &Path, what: &str, i: usize, v: i64, vertex_count: usize) -> Result<u32, IoError> {
     if v < 0 || v >= vertex_count as i64 {
         return Err(IoError::malformed(
@@ -248,23 +259,30 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
         .metadata()
         .map_err(|e| IoError::access(path, "cannot read", &e))?
         .len();
-    let mut reader = Reader::new(BufReader::with_capacity(1 << 20, file));
-    let header = Parser::<Skipped>::new()
-        .read_header(&mut reader)
-        .map_err(|e| parse_error(path, "", e))?;
+    let mut reader = BufReader::with_capacity(1 << 20, file);
+    let start = reader
+        .fill_buf()
+        .map_err(|e| IoError::access(path, "cannot read", &e))?;
+    ply_header::check(path, start)?;
+    let mut reader = Reader::new(reader);
+    let header = guard::quietly(|| Parser::<Skipped>::new().read_header(&mut reader))
+        .ok_or_else(|| IoError::malformed(path, "the header is not valid PLY"))?
+        .map_err(|e| IoError::from_ply(path, "", false, &e))?;
 
-    // Element counts the file cannot possibly hold are errors, not allocations.
+    // Element counts the file cannot possibly hold are errors, not allocations; the others go
+    // through the memory budget (a record per element, and the mesh built from them).
     for def in header.elements.values() {
-        let need = (def.count as u64).saturating_mul(min_element_bytes(def, header.encoding));
-        if need > file_len {
-            return Err(IoError::truncated(
-                path,
-                format!(
-                    "the header declares {} '{}' elements, which need at least {need} bytes, but the file has {file_len}",
-                    def.count, def.name
-                ),
-            ));
-        }
+        let what = format!("'{}' elements", def.name);
+        let count = def.count as u64;
+        budget::check_fits_file(
+            path,
+            &what,
+            count,
+            min_element_bytes(def, header.encoding),
+            file_len,
+        )?;
+        let record = 64 + 8 * def.properties.len() as u64;
+        budget::check_count(path, &format!("the {what}"), count, record)?;
     }
     let vertex_def = header
         .elements
@@ -287,32 +305,19 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
     let mut edges: Vec<EdgeRecord> = Vec::new();
     let mut point_records: Vec<PointRecord> = Vec::new();
     for (name, def) in &header.elements {
-        let err = |e| parse_error(path, name, e);
+        let mut read = Payload {
+            path,
+            reader: &mut reader,
+            def,
+            header: &header,
+        };
         match name.as_str() {
-            "vertex" => {
-                vertices = Parser::new()
-                    .read_payload_for_element(&mut reader, def, &header)
-                    .map_err(err)?
-            }
-            "face" => {
-                faces = Parser::new()
-                    .read_payload_for_element(&mut reader, def, &header)
-                    .map_err(err)?
-            }
-            "edge" => {
-                edges = Parser::new()
-                    .read_payload_for_element(&mut reader, def, &header)
-                    .map_err(err)?
-            }
-            "point" => {
-                point_records = Parser::new()
-                    .read_payload_for_element(&mut reader, def, &header)
-                    .map_err(err)?
-            }
+            "vertex" => vertices = read.elements()?,
+            "face" => faces = read.elements()?,
+            "edge" => edges = read.elements()?,
+            "point" => point_records = read.elements()?,
             _ => {
-                Parser::<Skipped>::new()
-                    .read_payload_for_element(&mut reader, def, &header)
-                    .map_err(err)?;
+                read.elements::<Skipped>()?;
             }
         }
     }

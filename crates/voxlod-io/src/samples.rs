@@ -7,7 +7,7 @@ use std::path::Path;
 
 use voxlod_core::{memory, Grid, Volume};
 
-use crate::{Endian, IoError, IoErrorKind};
+use crate::{budget, Endian, IoError, IoErrorKind};
 
 /// A stored sample type. Everything is converted to `f32` in memory; 32-bit integers and `f64`
 /// lose precision beyond 24 bits of mantissa, which no scanner comes near.
@@ -107,7 +107,7 @@ pub(crate) fn check_volume_size(
     };
     let stored = memory::bytes_of::<u8>(count).saturating_mul(ty.size() as u64);
     let needed = stored.saturating_add(memory::bytes_of::<f32>(count));
-    memory::check_allocation(&what, needed).map_err(|e| IoError::from_core(path, e))?;
+    budget::check_bytes(path, &what, needed)?;
     Ok((count, count * ty.size()))
 }
 
@@ -179,8 +179,10 @@ pub(crate) fn make_volume(
         return Err(IoError::malformed(
             path,
             format!(
-                "spacing {:?} is not finite and positive along axis {}",
-                spacing,
+                "spacing {} {} {} is not finite and positive along {}",
+                spacing[0],
+                spacing[1],
+                spacing[2],
                 ["x", "y", "z"][axis]
             ),
         ));
@@ -188,7 +190,10 @@ pub(crate) fn make_volume(
     if origin.iter().any(|o| !o.is_finite()) {
         return Err(IoError::malformed(
             path,
-            format!("origin {origin:?} is not finite"),
+            format!(
+                "origin {} {} {} is not finite",
+                origin[0], origin[1], origin[2]
+            ),
         ));
     }
     let grid = Grid::new(dims, spacing, origin).map_err(|e| IoError::from_core(path, e))?;

@@ -108,10 +108,24 @@ enum PointArray {
     Other,
 }
 
-fn classify(attribute: VtkAttribute, expected: usize) -> PointArray {
-    let VtkAttribute::DataArray(DataArray { name, elem, data }) = attribute else {
-        return PointArray::Other;
-    };
+/// The usable arrays of one attribute: a data array, or each array of a legacy `FIELD` (VTK 9's
+/// legacy writer stores arrays that are not scalars, vectors or normals as field data).
+fn classify(attribute: VtkAttribute, expected: usize) -> Vec<PointArray> {
+    match attribute {
+        VtkAttribute::DataArray(DataArray { name, elem, data }) => {
+            vec![classify_array(name, elem, data, expected)]
+        }
+        VtkAttribute::Field { data_array, .. } => data_array
+            .into_iter()
+            .map(|f| {
+                let elem = ElementType::Generic(f.elem);
+                classify_array(f.name, elem, f.data, expected)
+            })
+            .collect(),
+    }
+}
+
+fn classify_array(name: String, elem: ElementType, data: IOBuffer, expected: usize) -> PointArray {
     let components = elem.num_comp() as usize;
     if data.len() != expected * components {
         return PointArray::Other;
@@ -283,8 +297,13 @@ fn append_piece(path: &Path, piece: PolyDataPiece, out: &mut PolyMesh) -> Result
     let had_vertices = base > 0;
     let mut normals = None;
     let mut scalars = Vec::new();
-    for attribute in piece.data.point {
-        match classify(attribute, count) {
+    for attribute in piece
+        .data
+        .point
+        .into_iter()
+        .flat_map(|a| classify(a, count))
+    {
+        match attribute {
             PointArray::Normals(n) if normals.is_none() => normals = Some(n),
             PointArray::Scalar(a) => scalars.push(a),
             _ => {}
@@ -302,8 +321,13 @@ fn append_piece(path: &Path, piece: PolyDataPiece, out: &mut PolyMesh) -> Result
     // Cell data on lines.
     let line_before = out.lines.len() - segment_cells.len();
     let mut line_scalars = Vec::new();
-    for attribute in piece.data.cell {
-        if let PointArray::Scalar(a) = classify(attribute, total_cells) {
+    for attribute in piece
+        .data
+        .cell
+        .into_iter()
+        .flat_map(|a| classify(a, total_cells))
+    {
+        if let PointArray::Scalar(a) = attribute {
             line_scalars.push(Attribute {
                 name: a.name,
                 values: segment_cells.iter().map(|&c| a.values[c]).collect(),
