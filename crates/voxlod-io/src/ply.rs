@@ -540,8 +540,9 @@ fn check_names(path: &Path, attributes: &[Attribute], reserved: &[&str]) -> Resu
             return Err(IoError::unsupported(
                 path,
                 format!(
-                    "attribute name '{}' cannot be a PLY property (empty, spaces, repeated, or one of {reserved:?})",
-                    a.name
+                    "attribute name '{}' cannot be a PLY property (empty, spaces, repeated, or one of {})",
+                    a.name,
+                    reserved.join(", ")
                 ),
             ));
         }

@@ -334,7 +334,8 @@ impl Rewrite<'_> {
     ) -> Result<(), IoError> {
         let path = self.path;
         self.data_set = attribute(e, b"type").unwrap_or_default();
-        self.layout.big_endian = match attribute(e, b"byte_order").as_deref() {
+        let byte_order = attribute(e, b"byte_order");
+        self.layout.big_endian = match byte_order.as_deref() {
             None | Some("LittleEndian") => false,
             Some("BigEndian") => true,
             Some(other) => {
@@ -377,6 +378,11 @@ impl Rewrite<'_> {
                 .map(|v| v.into_owned())
                 .unwrap_or_default();
             tag.push_str(&format!(" {key}=\"{}\"", quick_xml::escape::escape(&value)));
+        }
+        if byte_order.is_none() {
+            // vtkio insists on it; VTK's writers always say it. Little-endian, as VTK's reader
+            // assumes on the machines that write such files.
+            tag.push_str(" byte_order=\"LittleEndian\"");
         }
         tag.push_str(if empty {
             " header_type=\"UInt64\"/>"
@@ -466,13 +472,12 @@ impl Rewrite<'_> {
     ) -> Result<(), IoError> {
         let path = self.path;
         let name = attribute(e, b"Name").unwrap_or_default();
+        let label = self.label(&name);
         let type_name = attribute(e, b"type").unwrap_or_default();
         let size = type_size(&type_name).ok_or_else(|| {
             IoError::unsupported(
                 path,
-                format!(
-                    "data array '{name}' has type '{type_name}', which is not a numeric VTK type"
-                ),
+                format!("{label} has type '{type_name}', which is not a numeric VTK type"),
             )
         })?;
         let components = match attribute(e, b"NumberOfComponents") {
@@ -483,25 +488,22 @@ impl Rewrite<'_> {
                 .ok()
                 .filter(|&c| c > 0)
                 .ok_or_else(|| {
-                    IoError::malformed(
-                        path,
-                        format!("data array '{name}' has NumberOfComponents '{text}'"),
-                    )
+                    IoError::malformed(path, format!("{label} has NumberOfComponents '{text}'"))
                 })?,
         };
-        let Some(bytes) = self.binary_bytes(e, &name, content, components)? else {
+        let Some(bytes) = self.binary_bytes(e, &label, content, components)? else {
             return Ok(());
         };
         if !(bytes.len() as u64).is_multiple_of(size) {
             return Err(IoError::malformed(
                 path,
                 format!(
-                    "data array '{name}' holds {} bytes, not a whole number of {type_name} values",
+                    "{label} holds {} bytes, not a whole number of {type_name} values",
                     bytes.len()
                 ),
             ));
         }
-        self.check_length(&name, bytes.len() as u64 / size, components)?;
+        self.check_length(&label, bytes.len() as u64 / size, components)?;
         self.decoded = self.decoded.saturating_add(bytes.len() as u64);
         budget::check_bytes(
             path,
@@ -530,7 +532,7 @@ impl Rewrite<'_> {
     fn binary_bytes(
         &self,
         e: &BytesStart<'_>,
-        name: &str,
+        label: &str,
         content: &[u8],
         components: u64,
     ) -> Result<Option<Vec<u8>>, IoError> {
@@ -538,11 +540,32 @@ impl Rewrite<'_> {
         let format = attribute(e, b"format").unwrap_or_default();
         let bytes = match format.as_str() {
             "ascii" => {
-                let values = content
+                // vtkio drops an attribute array it cannot parse without a word; say which.
+                let integer = attribute(e, b"type").is_some_and(|t| t.contains("Int"));
+                let mut values = 0u64;
+                for token in content
                     .split(|b| b.is_ascii_whitespace())
                     .filter(|t| !t.is_empty())
-                    .count() as u64;
-                self.check_length(name, values, components)?;
+                {
+                    let text = String::from_utf8_lossy(token);
+                    let number = if integer {
+                        text.parse::<i128>().is_ok()
+                    } else {
+                        text.parse::<f64>().is_ok()
+                    };
+                    if !number {
+                        return Err(IoError::malformed(
+                            path,
+                            format!(
+                                "{label}: value {values} is '{}', not {}",
+                                text.chars().take(40).collect::<String>(),
+                                if integer { "an integer" } else { "a number" }
+                            ),
+                        ));
+                    }
+                    values += 1;
+                }
+                self.check_length(label, values, components)?;
                 return Ok(None);
             }
             "binary" => {
@@ -551,27 +574,29 @@ impl Rewrite<'_> {
                     .copied()
                     .filter(|b| !b.is_ascii_whitespace())
                     .collect();
-                decode_array(path, name, Stream::Base64(&text), 0, &self.layout)?
+                decode_array(path, label, Stream::Base64(&text), 0, &self.layout)?
             }
             "appended" => {
                 let stream = self.appended.ok_or_else(|| {
                     IoError::malformed(
                         path,
-                        format!("data array '{name}' refers to appended data, but the file has no <AppendedData>"),
+                        format!(
+                            "{label} refers to appended data, but the file has no <AppendedData>"
+                        ),
                     )
                 })?;
                 let offset = match attribute(e, b"offset") {
                     None => 0,
                     Some(text) => text.trim().parse::<u64>().map_err(|_| {
-                        IoError::malformed(path, format!("data array '{name}' has offset '{text}'"))
+                        IoError::malformed(path, format!("{label} has offset '{text}'"))
                     })?,
                 };
-                decode_array(path, name, stream, offset, &self.layout)?
+                decode_array(path, label, stream, offset, &self.layout)?
             }
             other => {
                 return Err(IoError::malformed(
                     path,
-                    format!("data array '{name}' has format '{other}' (ascii, binary or appended)"),
+                    format!("{label} has format '{other}' (ascii, binary or appended)"),
                 ))
             }
         };
@@ -579,7 +604,23 @@ impl Rewrite<'_> {
     }
 
     /// Point and cell arrays must have one tuple per point or cell of their piece.
-    fn check_length(&self, name: &str, values: u64, components: u64) -> Result<(), IoError> {
+    /// How messages name an array: by its `Name`, or by where it is.
+    fn label(&self, name: &str) -> String {
+        if name.is_empty() {
+            let section = self
+                .open
+                .last()
+                .map(|s| String::from_utf8_lossy(s).into_owned());
+            format!(
+                "the unnamed data array in <{}>",
+                section.unwrap_or_default()
+            )
+        } else {
+            format!("data array '{name}'")
+        }
+    }
+
+    fn check_length(&self, label: &str, values: u64, components: u64) -> Result<(), IoError> {
         let section = self.open.last().map(Vec::as_slice).unwrap_or_default();
         let (what, count) = match section {
             b"Points" => ("points", self.piece.points),
@@ -595,7 +636,7 @@ impl Rewrite<'_> {
             return Ok(());
         }
         let message = format!(
-            "data array '{name}' of piece {} holds {values} values where its {count} {what} of {components} component{} need {expected}",
+            "{label} of piece {} holds {values} values where its {count} {what} of {components} component{} need {expected}",
             self.piece.number,
             if components == 1 { "" } else { "s" }
         );

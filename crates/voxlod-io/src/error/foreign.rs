@@ -79,9 +79,9 @@ impl IoError {
             return IoError::malformed(path, format!("{at}the header is not valid PLY"));
         }
         let problem = if binary {
-            format!("an '{element}' element has a negative list length or a list length of a float type")
+            format!("the '{element}' elements hold a negative list length, or a list length of a float type")
         } else {
-            format!("{at}an '{element}' element does not match its declared properties (a value is missing, extra, or not a number of the declared type)")
+            format!("{at}this '{element}' element does not match the header's properties (a value is missing, extra, or not a number of the declared type)")
         };
         IoError::malformed(path, problem)
     }
@@ -172,7 +172,7 @@ fn legacy_parse(path: &Path, kind: nom::error::ErrorKind) -> IoError {
         ),
         _ => (
             IoErrorKind::Malformed,
-            "the file does not follow the legacy VTK format",
+            "a section does not follow the format: it ends early, or holds something other than the keywords and values its header announces",
         ),
     };
     IoError::new(path, kind, format!("legacy VTK: {what}"))
@@ -212,19 +212,18 @@ fn validation(path: &Path, v: vtkio::xml::ValidationError) -> IoError {
             name,
             expected,
             actual,
-        } => {
-            return IoError::new(
-                path,
-                if actual < expected {
-                    IoErrorKind::Truncated
-                } else {
-                    IoErrorKind::Malformed
-                },
-                format!(
-                    "data array '{name}' holds {actual} values where its piece needs {expected}"
-                ),
-            )
-        }
+        } => return IoError::new(
+            path,
+            if actual < expected {
+                IoErrorKind::Truncated
+            } else {
+                IoErrorKind::Malformed
+            },
+            format!(
+                "data array '{name}' holds {actual} value{} where its piece declares {expected}",
+                if actual == 1 { "" } else { "s" }
+            ),
+        ),
         V::DataSetMismatch => "the VTKFile type does not match the data set element".to_string(),
         V::MissingDataSet => "the file holds no data set".to_string(),
         V::InvalidDataFormat => {

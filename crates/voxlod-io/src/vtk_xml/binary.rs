@@ -86,7 +86,7 @@ impl<'a> Stream<'a> {
         let end = at.saturating_add(self.units(bytes));
         if end > self.len() {
             return Err(format!(
-                "needs {bytes} bytes from position {at}, past the end of the data ({} {})",
+                "is cut short: it needs {bytes} bytes at position {at} but the data ends after {} {}",
                 self.len(),
                 match self {
                     Stream::Raw(_) => "bytes",
@@ -111,15 +111,16 @@ impl<'a> Stream<'a> {
     }
 }
 
-/// Decodes one array's bytes (in the file's byte order) starting at unit `at` of `stream`.
+/// Decodes one array's bytes (in the file's byte order) starting at unit `at` of `stream`;
+/// `label` names the array in messages.
 pub(super) fn decode_array(
     path: &Path,
-    name: &str,
+    label: &str,
     stream: Stream<'_>,
     at: u64,
     layout: &Layout,
 ) -> Result<Vec<u8>, IoError> {
-    let bad = |problem: String| IoError::malformed(path, format!("data array '{name}' {problem}"));
+    let bad = |problem: String| IoError::malformed(path, format!("{label} {problem}"));
     let h = layout.header as u64;
     let first = stream.read(at, h).map_err(bad)?;
     let count = layout.number(&first);
@@ -129,16 +130,12 @@ pub(super) fn decode_array(
             return Err(IoError::truncated(
                 path,
                 format!(
-                    "data array '{name}' declares {count} bytes but the data ends {} units after it starts",
+                    "{label} declares {count} bytes but the data ends {} units after it starts",
                     stream.len().saturating_sub(at)
                 ),
             ));
         }
-        budget::check_bytes(
-            path,
-            &format!("data array '{name}'"),
-            count.saturating_mul(3),
-        )?;
+        budget::check_bytes(path, label, count.saturating_mul(3))?;
         let mut all = stream.read(at, h + count).map_err(bad)?;
         all.drain(..h as usize);
         return Ok(all);
@@ -148,7 +145,7 @@ pub(super) fn decode_array(
     if blocks.saturating_mul(h) > stream.len() {
         return Err(IoError::truncated(
             path,
-            format!("data array '{name}' declares {blocks} compressed blocks, more than the file can hold"),
+            format!("{label} declares {blocks} compressed blocks, more than the file can hold"),
         ));
     }
     let header_bytes = (3 + blocks) * h;
@@ -176,11 +173,7 @@ pub(super) fn decode_array(
             "declares a last block of {last_size} bytes, larger than its blocks of {block_size}"
         )));
     }
-    budget::check_bytes(
-        path,
-        &format!("data array '{name}'"),
-        total.saturating_mul(3),
-    )?;
+    budget::check_bytes(path, label, total.saturating_mul(3))?;
     let compressed: u64 = sizes
         .iter()
         .try_fold(0u64, |s, &n| s.checked_add(n))
@@ -189,7 +182,7 @@ pub(super) fn decode_array(
     let packed = stream.read(data_at, compressed).map_err(bad)?;
     inflate_blocks(
         path,
-        name,
+        label,
         &packed,
         sizes,
         block_size,
@@ -201,7 +194,7 @@ pub(super) fn decode_array(
 /// Decompresses the blocks of one array into `total` bytes.
 fn inflate_blocks(
     path: &Path,
-    name: &str,
+    label: &str,
     packed: &[u8],
     sizes: &[u64],
     block_size: u64,
@@ -234,7 +227,7 @@ fn inflate_blocks(
             return Err(IoError::malformed(
                 path,
                 format!(
-                    "data array '{name}': compressed block {b} of {} does not decompress to its {} bytes",
+                    "{label}: compressed block {b} of {} does not decompress to its {} bytes",
                     sizes.len(),
                     target.len()
                 ),
