@@ -22,7 +22,7 @@ use glam::{DVec3, Vec3};
 use voxlod_core::{PolyMesh, TriangleMesh};
 
 use crate::atomic::write_atomically;
-use crate::{ear_clipping, IoError, IoErrorKind, PolyView};
+use crate::{budget, ear_clipping, IoError, IoErrorKind, PolyView};
 
 /// What the OBJ reader found, before the common checks.
 pub(crate) struct ObjContent {
@@ -32,6 +32,13 @@ pub(crate) struct ObjContent {
 
 pub(crate) fn read(path: &Path) -> Result<ObjContent, IoError> {
     let bytes = crate::read_file(path)?;
+    // OBJ declares no counts; a line of at least 8 bytes ("v 0 0 0\n", "f 1 2 3\n") becomes
+    // up to 36 bytes of vertices, triangles and corner normals.
+    budget::check_bytes(
+        path,
+        "the mesh of the OBJ file",
+        (bytes.len() as u64).saturating_mul(5),
+    )?;
     parse(path, &bytes)
 }
 

@@ -234,3 +234,45 @@ fn no_debug_formatting_in_the_readers() {
     }
     assert!(offenders.is_empty(), "{offenders:#?}");
 }
+
+/// vtkio still panics on some files that voxlod does not read (a structured grid piece
+/// without points reaches an `unwrap`): the panic is caught and, seen from outside, nothing
+/// but the error is printed. Run in a child process, whose stderr is what a user would see.
+#[test]
+fn a_panic_inside_vtkio_prints_nothing() {
+    const CHILD: &str = "VOXLOD_TEST_READ_IN_CHILD";
+    if let Ok(path) = std::env::var(CHILD) {
+        let err = read_poly_mesh(Path::new(&path)).unwrap_err();
+        println!("child error: {err}");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(
+        dir.path(),
+        "grid.vtp",
+        b"<VTKFile type=\"StructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\"><StructuredGrid WholeExtent=\"0 0 0 0 0 0\"><Piece Extent=\"0 0 0 0 0 0\"></Piece></StructuredGrid></VTKFile>",
+    );
+    let output = std::process::Command::new(std::env::current_exe().unwrap())
+        .args([
+            "--exact",
+            "a_panic_inside_vtkio_prints_nothing",
+            "--nocapture",
+        ])
+        .env(CHILD, &path)
+        .output()
+        .unwrap();
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr),
+    );
+    assert!(output.status.success(), "{stdout}\n{stderr}");
+    for text in [&stdout, &stderr] {
+        for sign in ["panicked", "unwrap", ".rs:", "RUST_BACKTRACE"] {
+            assert!(!text.contains(sign), "{text}");
+        }
+    }
+    assert!(
+        stdout.contains("child error:") && stdout.contains("grid.vtp: the VTK file is corrupt"),
+        "{stdout}"
+    );
+}

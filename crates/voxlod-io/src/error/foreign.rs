@@ -212,18 +212,20 @@ fn validation(path: &Path, v: vtkio::xml::ValidationError) -> IoError {
             name,
             expected,
             actual,
-        } => return IoError::new(
-            path,
-            if actual < expected {
-                IoErrorKind::Truncated
-            } else {
-                IoErrorKind::Malformed
-            },
-            format!(
+        } => {
+            return IoError::new(
+                path,
+                if actual < expected {
+                    IoErrorKind::Truncated
+                } else {
+                    IoErrorKind::Malformed
+                },
+                format!(
                 "data array '{name}' holds {actual} value{} where its piece declares {expected}",
                 if actual == 1 { "" } else { "s" }
             ),
-        ),
+            )
+        }
         V::DataSetMismatch => "the VTKFile type does not match the data set element".to_string(),
         V::MissingDataSet => "the file holds no data set".to_string(),
         V::InvalidDataFormat => {
