@@ -2,8 +2,9 @@
 //! the number of bytes a header promises (plain or compressed), the memory check before any
 //! large allocation, and the final checks on grid geometry.
 
+use std::fs::File;
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use voxlod_core::{memory, Grid, Volume};
 
@@ -198,6 +199,40 @@ pub(crate) fn make_volume(
     }
     let grid = Grid::new(dims, spacing, origin).map_err(|e| IoError::from_core(path, e))?;
     Volume::from_vec(grid, values).map_err(|e| IoError::from_core(path, e))
+}
+
+/// The data file a detached header names (`field` is the header's key, for messages):
+/// relative names are relative to the header's folder.
+pub(crate) fn data_file_path(header: &Path, field: &str, name: &str) -> Result<PathBuf, IoError> {
+    if name.trim().is_empty() {
+        return Err(IoError::malformed(
+            header,
+            format!("the '{field}' field names no file"),
+        ));
+    }
+    let name = Path::new(name);
+    Ok(if name.is_absolute() {
+        name.to_path_buf()
+    } else {
+        header.parent().unwrap_or(Path::new("")).join(name)
+    })
+}
+
+/// Opens the data file of a detached header; errors name both files.
+pub(crate) fn open_data_file(header: &Path, data: &Path) -> Result<File, IoError> {
+    let doing = format!("cannot open the data file of {}", header.display());
+    let file = File::open(data).map_err(|e| IoError::access(data, &doing, &e))?;
+    let meta = file
+        .metadata()
+        .map_err(|e| IoError::access(data, &doing, &e))?;
+    if !meta.is_file() {
+        return Err(IoError::new(
+            data,
+            IoErrorKind::Access,
+            format!("the data file of {} is not a file", header.display()),
+        ));
+    }
+    Ok(file)
 }
 
 /// Scale from a length unit to millimetres, for the units headers may declare.

@@ -7,8 +7,8 @@ mod common;
 
 use std::path::Path;
 
-use common::{gzip, write, zlib};
-use voxlod_io::{read_poly_mesh, read_volume, Endian, IoError, RawLayout, RawType};
+use common::{gzip, nifti, read_by_extension, write, zlib};
+use voxlod_io::read_poly_mesh;
 
 /// Signs of a parser's internals in a message.
 const DEBUG_SIGNS: [&str; 14] = [
@@ -28,32 +28,11 @@ const DEBUG_SIGNS: [&str; 14] = [
     "IllFormed",
 ];
 
-/// Reads `path` as its extension says: a mesh, a volume, or raw samples with a small layout.
-fn read(path: &Path) -> Result<(), IoError> {
-    let name = path
-        .file_name()
-        .unwrap()
-        .to_string_lossy()
-        .to_ascii_lowercase();
-    let mesh = [".obj", ".ply", ".stl", ".off", ".vtp"]
-        .iter()
-        .any(|e| name.ends_with(e))
-        || (name.ends_with(".vtk") && name.starts_with("mesh"));
-    if mesh {
-        read_poly_mesh(path).map(|_| ())
-    } else if name.ends_with(".raw") {
-        let layout = RawLayout::new([2, 2, 2], RawType::U16, Endian::Big);
-        read_volume(path, Some(&layout)).map(|_| ())
-    } else {
-        read_volume(path, None).map(|_| ())
-    }
-}
-
 /// Asserts that every file is refused in plain words; returns how many were checked.
 fn check_all(dir: &Path, cases: &[(&str, Vec<u8>)]) -> usize {
     for (name, bytes) in cases {
         let path = write(dir, name, bytes);
-        let err = read(&path).expect_err(&format!("{name} was accepted"));
+        let err = read_by_extension(&path).expect_err(&format!("{name} was accepted"));
         let text = err.to_string();
         if std::env::var("VOXLOD_SHOW_MESSAGES").is_ok() {
             eprintln!("{name}: {}", err.message);
@@ -127,23 +106,6 @@ fn mesh_cases() -> Vec<(&'static str, Vec<u8>)> {
         ("mesh-e.vtk", text("# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 9 float\n0 0 0\n")),
         ("mesh-f.vtk", text("# vtk DataFile\n")),
     ]
-}
-
-/// A NIfTI-1 header (348 bytes and 4 of extension flags) with the given dim and datatype.
-fn nifti(dim: [i16; 8], datatype: i16, bitpix: i16) -> Vec<u8> {
-    let mut h = vec![0u8; 352];
-    h[0..4].copy_from_slice(&348i32.to_le_bytes());
-    for (i, d) in dim.iter().enumerate() {
-        h[40 + 2 * i..42 + 2 * i].copy_from_slice(&d.to_le_bytes());
-    }
-    h[70..72].copy_from_slice(&datatype.to_le_bytes());
-    h[72..74].copy_from_slice(&bitpix.to_le_bytes());
-    for i in 0..8 {
-        h[76 + 4 * i..80 + 4 * i].copy_from_slice(&1f32.to_le_bytes());
-    }
-    h[108..112].copy_from_slice(&352f32.to_le_bytes());
-    h[344..348].copy_from_slice(b"n+1\0");
-    h
 }
 
 fn volume_cases() -> Vec<(&'static str, Vec<u8>)> {
@@ -275,4 +237,27 @@ fn a_panic_inside_vtkio_prints_nothing() {
         stdout.contains("child error:") && stdout.contains("grid.vtp: the VTK file is corrupt"),
         "{stdout}"
     );
+}
+
+/// The messages the hardening issue quoted as misleading, each now saying what is wrong.
+#[test]
+fn the_misleading_messages_of_the_issue() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n";
+    let image = |extent: &str| {
+        text(&format!("<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\"><ImageData WholeExtent=\"{extent}\" Origin=\"0 0 0\" Spacing=\"1 1 1\"><Piece Extent=\"{extent}\"><PointData><DataArray type=\"Float32\" Name=\"density\" format=\"ascii\">1 2 3 4 5 6 7 8</DataArray></PointData></Piece></ImageData></VTKFile>"))
+    };
+    for (name, bytes, expected) in [
+        ("v.obj", text(&format!("{cube}f 1 2 9\n")), "vertex index 9 is out of range (8 vertices so far)"),
+        ("w.vti", image("0 1 0 1 0 2"), "data array 'density' of piece 0 holds 8 values where its 12 points of 1 component need 12"),
+        ("x.vti", image("0 1 0 1 1 0"), "ends before it starts along z (0 < 1)"),
+        ("z.nii", nifti([3, 64, 64, 0, 1, 1, 1, 1], 2, 8), "dim[3] = 0: the size along axis 3 must be at least 1"),
+        ("s.ply", text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 x\n"), "line 13: this 'face' element does not match"),
+        ("t.ply", text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x y\nend_header\n"), "line 4 of the header: expected 'property TYPE NAME'"),
+        ("u.vtk", text("# vtk DataFile Version 3.0\nt\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 2 two 2\n"), "a number is missing or is not a number"),
+    ] {
+        let path = write(dir.path(), name, &bytes);
+        let err = read_by_extension(&path).expect_err(name);
+        assert!(err.message.contains(expected), "{name}: {err}");
+    }
 }
