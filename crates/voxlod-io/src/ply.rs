@@ -253,7 +253,9 @@ fn index(path: &Path, what: &str, i: usize, v: i64, vertex_count: usize) -> Resu
     Ok(v as u32)
 }
 
-pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
+/// Opens the file and reads its header, checked line by line and then by ply-rs-bw, with every
+/// element count checked against the file's size and the memory budget.
+fn open_header(path: &Path) -> Result<(Reader<BufReader<File>>, Header), IoError> {
     let file = File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
     let file_len = file
         .metadata()
@@ -274,13 +276,8 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
     for def in header.elements.values() {
         let what = format!("'{}' elements", def.name);
         let count = def.count as u64;
-        budget::check_fits_file(
-            path,
-            &what,
-            count,
-            min_element_bytes(def, header.encoding),
-            file_len,
-        )?;
+        let least = min_element_bytes(def, header.encoding);
+        budget::check_fits_file(path, &what, count, least, file_len)?;
         let record = 64 + 8 * def.properties.len() as u64;
         budget::check_count(path, &format!("the {what}"), count, record)?;
     }
@@ -299,53 +296,50 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
             ));
         }
     }
+    Ok((reader, header))
+}
 
-    let mut vertices: Vec<VertexRecord> = Vec::new();
-    let mut faces: Vec<FaceRecord> = Vec::new();
-    let mut edges: Vec<EdgeRecord> = Vec::new();
-    let mut point_records: Vec<PointRecord> = Vec::new();
+/// The elements voxlod reads, as parsed.
+#[derive(Default)]
+struct Records {
+    vertices: Vec<VertexRecord>,
+    faces: Vec<FaceRecord>,
+    edges: Vec<EdgeRecord>,
+    points: Vec<PointRecord>,
+}
+
+fn read_records(
+    path: &Path,
+    reader: &mut Reader<BufReader<File>>,
+    header: &Header,
+) -> Result<Records, IoError> {
+    let mut records = Records::default();
     for (name, def) in &header.elements {
         let mut read = Payload {
             path,
-            reader: &mut reader,
+            reader,
             def,
-            header: &header,
+            header,
         };
         match name.as_str() {
-            "vertex" => vertices = read.elements()?,
-            "face" => faces = read.elements()?,
-            "edge" => edges = read.elements()?,
-            "point" => point_records = read.elements()?,
+            "vertex" => records.vertices = read.elements()?,
+            "face" => records.faces = read.elements()?,
+            "edge" => records.edges = read.elements()?,
+            "point" => records.points = read.elements()?,
             _ => {
                 read.elements::<Skipped>()?;
             }
         }
     }
+    Ok(records)
+}
 
-    // Vertices, normals, attributes.
-    let has_normals = ["nx", "ny", "nz"]
-        .iter()
-        .all(|n| vertex_def.properties.contains_key(*n));
-    let vertex_count = vertices.len();
-    let positions: Vec<Vec3> = vertices
-        .iter()
-        .map(|v| DVec3::from(v.position).as_vec3())
-        .collect();
-    let normals: Vec<Vec3> = if has_normals {
-        vertices.iter().map(|v| Vec3::from(v.normal)).collect()
-    } else {
-        Vec::new()
-    };
-    let vertex_names: Vec<&str> = vertex_def
-        .properties
-        .values()
-        .filter(|d| is_vertex_extra(d))
-        .map(|d| d.name.as_str())
-        .collect();
-    let vertex_attributes = collect_attributes(&vertex_names, vertices.iter().map(|v| &v.extra));
-    drop(vertices);
-
-    // Faces.
+/// The faces as triangles, polygons ear-clipped; also how many polygons were.
+fn triangulate_faces(
+    path: &Path,
+    faces: &[FaceRecord],
+    positions: &[Vec3],
+) -> Result<(Vec<[u32; 3]>, usize), IoError> {
     let mut triangles = Vec::with_capacity(faces.len());
     let mut polygons_triangulated = 0;
     let mut polygon = Vec::new();
@@ -368,7 +362,7 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
         let corners: Vec<u32> = face
             .corners
             .iter()
-            .map(|&v| index(path, "face", f, v, vertex_count))
+            .map(|&v| index(path, "face", f, v, positions.len()))
             .collect::<Result<_, _>>()?;
         if corners.len() == 3 {
             triangles.push([corners[0], corners[1], corners[2]]);
@@ -383,10 +377,51 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
             polygons_triangulated += 1;
         }
     }
-    drop(faces);
+    Ok((triangles, polygons_triangulated))
+}
+
+/// The names of the extra scalar properties of `element`, in header order.
+fn extra_names<'a>(
+    header: &'a Header,
+    element: &str,
+    is_extra: fn(&PropertyDef) -> bool,
+) -> Vec<&'a str> {
+    header.elements.get(element).map_or_else(Vec::new, |def| {
+        def.properties
+            .values()
+            .filter(|d| is_extra(d))
+            .map(|d| d.name.as_str())
+            .collect()
+    })
+}
+
+pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
+    let (mut reader, header) = open_header(path)?;
+    let records = read_records(path, &mut reader, &header)?;
+
+    // Vertices, normals, attributes.
+    let has_normals = ["nx", "ny", "nz"]
+        .iter()
+        .all(|n| header.elements["vertex"].properties.contains_key(*n));
+    let vertices = &records.vertices;
+    let vertex_count = vertices.len();
+    let positions: Vec<Vec3> = vertices
+        .iter()
+        .map(|v| DVec3::from(v.position).as_vec3())
+        .collect();
+    let normals: Vec<Vec3> = if has_normals {
+        vertices.iter().map(|v| Vec3::from(v.normal)).collect()
+    } else {
+        Vec::new()
+    };
+    let vertex_names = extra_names(&header, "vertex", is_vertex_extra);
+    let vertex_attributes = collect_attributes(&vertex_names, vertices.iter().map(|v| &v.extra));
+
+    let (triangles, polygons_triangulated) = triangulate_faces(path, &records.faces, &positions)?;
 
     // Edges and points.
-    let lines: Vec<[u32; 2]> = edges
+    let lines: Vec<[u32; 2]> = records
+        .edges
         .iter()
         .enumerate()
         .map(|(e, r)| {
@@ -396,19 +431,10 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
             ])
         })
         .collect::<Result<_, IoError>>()?;
-    let line_attributes = match header.elements.get("edge") {
-        Some(def) => {
-            let names: Vec<&str> = def
-                .properties
-                .values()
-                .filter(|d| is_edge_extra(d))
-                .map(|d| d.name.as_str())
-                .collect();
-            collect_attributes(&names, edges.iter().map(|e| &e.extra))
-        }
-        None => Vec::new(),
-    };
-    let points: Vec<u32> = point_records
+    let edge_names = extra_names(&header, "edge", is_edge_extra);
+    let line_attributes = collect_attributes(&edge_names, records.edges.iter().map(|e| &e.extra));
+    let points: Vec<u32> = records
+        .points
         .iter()
         .enumerate()
         .map(|(p, r)| index(path, "point", p, r.vertex, vertex_count))
