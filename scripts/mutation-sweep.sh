@@ -8,7 +8,7 @@
 #   ITERATIONS=20000 ROUNDS=100 scripts/mutation-sweep.sh
 #   FIRST_SEED=7 ROUNDS=1 scripts/mutation-sweep.sh   # one round again, to reproduce it
 #
-# The CI run (cargo test) uses 160 mutations per seed file and a fixed seed.
+# The CI run (cargo test) uses 400 mutations per seed file and a fixed seed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 iterations=${ITERATIONS:-5000}

@@ -5,7 +5,7 @@
 //! a worker thread. Any result is fine but a panic, a read that takes longer than the watchdog
 //! allows, or an error that does not name the file in one plain line.
 //!
-//! `VOXLOD_SWEEP_ITERATIONS` (mutations per seed, default 160) and `VOXLOD_SWEEP_SEED`
+//! `VOXLOD_SWEEP_ITERATIONS` (mutations per seed, default 400) and `VOXLOD_SWEEP_SEED`
 //! (default fixed) make it longer or different: `scripts/mutation-sweep.sh` runs it for a
 //! night. A failing file is kept under the target directory's temporary folder, and its path
 //! is printed.
@@ -347,7 +347,7 @@ fn mutated_files_never_panic_hang_or_leak_internals() {
     let iterations: usize = std::env::var("VOXLOD_SWEEP_ITERATIONS")
         .ok()
         .and_then(|v| v.parse().ok())
-        .unwrap_or(160);
+        .unwrap_or(400);
     let base_seed: u64 = std::env::var("VOXLOD_SWEEP_SEED")
         .ok()
         .and_then(|v| v.parse().ok())
