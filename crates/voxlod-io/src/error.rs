@@ -1,10 +1,18 @@
 //! The one error type of every reader and writer: the file, what kind of problem, and a
 //! one-line message saying what was expected and what was found.
+//!
+//! Messages are plain words about the file, never a parser's internals: the failures of the
+//! third-party parsers (vtkio, quick-xml, ply-rs-bw, stl_io, nifti) reach an [`IoError`] only
+//! through the constructors of [`foreign`], which translate each kind of failure rather than
+//! print the parser's `Debug` or `Display` text (both of which quote its own types). Nothing
+//! in this crate formats a foreign error with `{:?}`; a test scans the sources for it.
 
 use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 use voxlod_core::CoreError;
+
+pub(crate) mod foreign;
 
 /// What went wrong with a file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

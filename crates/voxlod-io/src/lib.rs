@@ -8,17 +8,19 @@
 //! | `.ply` | mesh | ASCII and binary; normals, attributes, edges, points | binary little-endian, same | `ply.rs` |
 //! | `.stl` | mesh | ASCII and binary, welded on load | binary | `stl.rs` |
 //! | `.off` | mesh | OFF/COFF/NOFF, polygons | OFF/NOFF | `off.rs` |
-//! | `.vtp`, `.vtk` | mesh | VTK PolyData (XML, legacy) | same, with attributes | `vtk_mesh.rs` |
+//! | `.vtp`, `.vtk` | mesh | VTK PolyData (XML in every encoding VTK writes, legacy) | same, with attributes | `vtk_mesh.rs`, `vtk_xml.rs` |
 //! | `.nrrd`, `.nhdr` | volume | raw, gzip, ascii; attached or detached data | raw or gzip | `nrrd.rs` |
-//! | `.vti`, `.vtk` | volume | VTK image data (XML, legacy) | same | `vtk_image.rs` |
+//! | `.vti`, `.vtk` | volume | VTK image data (XML in every encoding VTK writes, legacy) | same | `vtk_image.rs`, `vtk_xml.rs` |
 //! | `.nii`, `.nii.gz` | volume | NIfTI-1 | — | `nifti.rs` |
 //! | `.mha`, `.mhd` | volume | MetaImage, zlib or not, local or detached data | same | `metaimage.rs` |
 //! | `.raw` (or any other, given a [`RawLayout`]) | volume | headerless samples | `f32` little-endian | `raw.rs` |
 //!
 //! A `.vtk` file may hold either kind: [`file_kind`] looks inside to tell.
 //!
-//! Every error is an [`IoError`] that prints as `path: problem` on one line, with an
-//! [`IoErrorKind`] to act on; no input, however broken, makes a reader panic. Readers never
+//! Every error is an [`IoError`] that prints as `path: problem` on one line, in plain words
+//! (never a parser's internals), with an [`IoErrorKind`] to act on; no input, however broken,
+//! makes a reader panic or hang (`tests/mutation_sweep.rs`), and every size read from a file
+//! meets the memory budget before anything of that size is allocated (`budget.rs`). Readers never
 //! repair: degenerate and duplicate triangles are returned as stored, for
 //! `voxlod_core::repair` and `inspect` to see. Volumes come out as `f32` with the file's
 //! spacing and origin, in millimetres where the file says which unit it uses.
@@ -29,8 +31,10 @@
 //! set protects. The `write_*` functions below are sets of one file that protect nothing.
 
 pub mod atomic;
+mod budget;
 pub mod ear_clipping;
 mod error;
+mod guard;
 mod metaimage;
 mod nifti;
 mod nrrd;
@@ -38,12 +42,14 @@ mod obj;
 mod off;
 mod outputs;
 mod ply;
+mod ply_header;
 mod raw;
 mod samples;
 mod stl;
 mod vtk;
 mod vtk_image;
 mod vtk_mesh;
+mod vtk_xml;
 
 use std::fmt;
 use std::io::Read;
@@ -304,8 +310,7 @@ pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, IoError> {
     let len = std::fs::metadata(path)
         .map_err(|e| IoError::access(path, "cannot open", &e))?
         .len();
-    voxlod_core::memory::check_allocation("reading the file", len)
-        .map_err(|e| IoError::from_core(path, e))?;
+    budget::check_bytes(path, "reading the file", len)?;
     std::fs::read(path).map_err(|e| IoError::access(path, "cannot read", &e))
 }
 

@@ -169,12 +169,7 @@ fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError
             format!("'ElementDataFile = {data_name}': only LOCAL or a single file is supported"),
         ));
     } else {
-        let name = Path::new(data_name);
-        Some(if name.is_absolute() {
-            name.to_path_buf()
-        } else {
-            path.parent().unwrap_or(Path::new("")).join(name)
-        })
+        Some(samples::data_file_path(path, "ElementDataFile", data_name)?)
     };
     let header_size = match get("headersize") {
         None => 0,
@@ -205,13 +200,7 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
     let (data_path, mut data) = match &header.data_file {
         None => (path.to_path_buf(), reader),
         Some(other) => {
-            let f = File::open(other).map_err(|e| {
-                IoError::access(
-                    other,
-                    &format!("cannot open the data file of {}", path.display()),
-                    &e,
-                )
-            })?;
+            let f = samples::open_data_file(path, other)?;
             let mut data = BufReader::with_capacity(1 << 20, f);
             if header.header_size == -1 {
                 if header.compressed {

@@ -20,11 +20,11 @@ use std::fs::File;
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
-use ::nifti::{NiftiError, NiftiHeader, NiftiType};
+use ::nifti::NiftiHeader;
 use voxlod_core::Volume;
 
 use crate::samples::{self, SampleType};
-use crate::{Endian, IoError};
+use crate::{guard, Endian, IoError};
 
 /// The file's bytes, decompressed if they are gzip.
 fn open(path: &Path) -> Result<Box<dyn Read>, IoError> {
@@ -41,69 +41,94 @@ fn open(path: &Path) -> Result<Box<dyn Read>, IoError> {
     })
 }
 
-fn header_error(path: &Path, e: NiftiError) -> IoError {
-    match e {
-        NiftiError::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
-            IoError::truncated(path, "the file ends within the 348-byte NIfTI-1 header")
-        }
-        NiftiError::Io(io) => {
-            IoError::malformed(path, format!("cannot read the NIfTI header: {io}"))
-        }
-        NiftiError::InvalidFormat => IoError::malformed(
-            path,
-            "not a NIfTI-1 file (bad header size field; NIfTI-2 is not supported)",
-        ),
-        other => IoError::malformed(path, format!("invalid NIfTI header: {other}")),
-    }
-}
-
-fn sample_type(path: &Path, header: &NiftiHeader) -> Result<SampleType, IoError> {
-    let t = header.data_type().map_err(|_| {
-        IoError::malformed(path, format!("unknown datatype code {}", header.datatype))
-    })?;
-    Ok(match t {
-        NiftiType::Uint8 => SampleType::U8,
-        NiftiType::Int8 => SampleType::I8,
-        NiftiType::Uint16 => SampleType::U16,
-        NiftiType::Int16 => SampleType::I16,
-        NiftiType::Uint32 => SampleType::U32,
-        NiftiType::Int32 => SampleType::I32,
-        NiftiType::Float32 => SampleType::F32,
-        NiftiType::Float64 => SampleType::F64,
+/// The sample type of a `datatype` code (NIfTI-1 `nifti1.h`).
+fn sample_type(path: &Path, code: i16) -> Result<SampleType, IoError> {
+    Ok(match code {
+        2 => SampleType::U8,
+        256 => SampleType::I8,
+        4 => SampleType::I16,
+        512 => SampleType::U16,
+        8 => SampleType::I32,
+        768 => SampleType::U32,
+        16 => SampleType::F32,
+        64 => SampleType::F64,
         other => {
+            let name = match other {
+                32 => "complex64",
+                128 => "RGB24",
+                1024 => "int64",
+                1280 => "uint64",
+                1536 => "float128",
+                1792 => "complex128",
+                2048 => "complex256",
+                2304 => "RGBA32",
+                _ => {
+                    return Err(IoError::malformed(
+                        path,
+                        format!("datatype code {other} is not a NIfTI-1 type"),
+                    ))
+                }
+            };
             return Err(IoError::unsupported(
                 path,
-                format!("datatype {other:?} is not supported (only scalar 8/16/32-bit integer and float data)"),
-            ))
+                format!("datatype {name} (code {other}) is not supported: only scalar 8-, 16- and 32-bit integer and float data are read"),
+            ));
         }
     })
 }
 
+/// The grid size from `dim`, read as the signed shorts NIfTI stores: `dim[0]` axes (1 to 7),
+/// each of size at least 1, and nothing but ones beyond the third.
+fn dimensions(path: &Path, raw: &[u16; 8]) -> Result<[usize; 3], IoError> {
+    let dim = raw.map(|d| d as i16);
+    let axes = dim[0];
+    if !(1..=7).contains(&axes) {
+        return Err(IoError::malformed(
+            path,
+            format!("dim[0] = {axes}: the number of dimensions must be 1 to 7"),
+        ));
+    }
+    let axes = axes as usize;
+    if let Some(i) = (1..=axes).find(|&i| dim[i] < 1) {
+        return Err(IoError::malformed(
+            path,
+            format!(
+                "dim[{i}] = {}: the size along axis {i} must be at least 1",
+                dim[i]
+            ),
+        ));
+    }
+    let mut dims = [1usize; 3];
+    for (axis, size) in dims.iter_mut().enumerate().take(axes) {
+        *size = dim[axis + 1] as usize;
+    }
+    let volumes: u64 = (4..=axes).map(|i| dim[i] as u64).product();
+    if volumes > 1 {
+        let sizes: Vec<String> = (1..=axes).map(|i| dim[i].to_string()).collect();
+        return Err(IoError::unsupported(
+            path,
+            format!(
+                "a series of {volumes} volumes (sizes {}): only single 3-D volumes are read",
+                sizes.join(" x ")
+            ),
+        ));
+    }
+    Ok(dims)
+}
+
 pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
-    let header = NiftiHeader::from_reader(open(path)?).map_err(|e| header_error(path, e))?;
+    let header = guard::quietly(|| {
+        NiftiHeader::from_reader(open(path)?).map_err(|e| IoError::from_nifti(path, &e))
+    })
+    .ok_or_else(|| IoError::malformed(path, "the NIfTI-1 header cannot be decoded"))??;
     if &header.magic != b"n+1\0" {
         return Err(IoError::unsupported(
             path,
             "not a single-file NIfTI-1 image (header/image pairs .hdr/.img are not supported)",
         ));
     }
-    let dim = header
-        .dim()
-        .map_err(|e| IoError::malformed(path, format!("invalid dimensions: {e}")))?;
-    let mut dims = [1usize; 3];
-    for (axis, &d) in dim.iter().take(3).enumerate() {
-        dims[axis] = d as usize;
-    }
-    let volumes: usize = dim.iter().skip(3).map(|&d| d as usize).product();
-    if volumes > 1 {
-        return Err(IoError::unsupported(
-            path,
-            format!(
-                "a series of {volumes} volumes (dim {dim:?}): only single 3-D volumes are read"
-            ),
-        ));
-    }
-    let sample = sample_type(path, &header)?;
+    let dims = dimensions(path, &header.dim)?;
+    let sample = sample_type(path, header.datatype)?;
     let (_, data_bytes) = samples::check_volume_size(path, dims, sample)?;
 
     // Skip to the data: the header and any extensions come first.
@@ -149,7 +174,8 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
         _ => 1.0,    // millimetres, or unspecified
     };
     let mut spacing = [1.0f64; 3];
-    for (axis, s) in spacing.iter_mut().enumerate().take(dim.len()) {
+    let axes = (header.dim[0] as i16).clamp(1, 3) as usize;
+    for (axis, s) in spacing.iter_mut().enumerate().take(axes) {
         *s = header.pixdim[axis + 1] as f64 * unit;
     }
     let offsets = if header.sform_code > 0 {

@@ -247,14 +247,7 @@ fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError
                 format!("'data file: {name}': only a single data file is supported"),
             ))
         }
-        Some(name) => {
-            let name = Path::new(name);
-            Some(if name.is_absolute() {
-                name.to_path_buf()
-            } else {
-                path.parent().unwrap_or(Path::new("")).join(name)
-            })
-        }
+        Some(name) => Some(samples::data_file_path(path, "data file", name)?),
     };
     let line_skip = match get(&["line skip", "lineskip"]) {
         None => 0,
@@ -292,21 +285,25 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
     let (data_path, mut data): (PathBuf, BufReader<File>) = match &header.data_file {
         None => (path.to_path_buf(), reader),
         Some(other) => {
-            let f = File::open(other).map_err(|e| {
-                IoError::access(
-                    other,
-                    &format!("cannot open the data file of {}", path.display()),
-                    &e,
-                )
-            })?;
+            let f = samples::open_data_file(path, other)?;
             (other.clone(), BufReader::with_capacity(1 << 20, f))
         }
     };
     let data_path = data_path.as_path();
-    for _ in 0..header.line_skip {
+    for line in 0..header.line_skip {
         let mut skipped = Vec::new();
-        data.read_until(b'\n', &mut skipped)
+        let n = data
+            .read_until(b'\n', &mut skipped)
             .map_err(|e| IoError::access(data_path, "cannot read", &e))?;
+        if n == 0 {
+            return Err(IoError::truncated(
+                data_path,
+                format!(
+                    "the file ends after {line} of the {} lines to skip",
+                    header.line_skip
+                ),
+            ));
+        }
     }
 
     let values = match header.encoding {

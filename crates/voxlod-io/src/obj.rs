@@ -22,7 +22,7 @@ use glam::{DVec3, Vec3};
 use voxlod_core::{PolyMesh, TriangleMesh};
 
 use crate::atomic::{stage, TempFile};
-use crate::{ear_clipping, IoError, IoErrorKind, PolyView};
+use crate::{budget, ear_clipping, IoError, IoErrorKind, PolyView};
 
 /// What the OBJ reader found, before the common checks.
 pub(crate) struct ObjContent {
@@ -32,6 +32,13 @@ pub(crate) struct ObjContent {
 
 pub(crate) fn read(path: &Path) -> Result<ObjContent, IoError> {
     let bytes = crate::read_file(path)?;
+    // OBJ declares no counts; a line of at least 8 bytes ("v 0 0 0\n", "f 1 2 3\n") becomes
+    // up to 36 bytes of vertices, triangles and corner normals.
+    budget::check_bytes(
+        path,
+        "the mesh of the OBJ file",
+        (bytes.len() as u64).saturating_mul(5),
+    )?;
     parse(path, &bytes)
 }
 
@@ -42,18 +49,116 @@ struct Corner {
     vn: Option<u32>,
 }
 
-fn parse(path: &Path, bytes: &[u8]) -> Result<ObjContent, IoError> {
-    let mut positions: Vec<Vec3> = Vec::new();
-    let mut file_normals: Vec<Vec3> = Vec::new();
-    let mut triangles: Vec<[u32; 3]> = Vec::new();
-    // For each triangle corner, the normal index the file gave it (if any).
-    let mut corner_normals: Vec<Option<u32>> = Vec::new();
-    let mut lines_out: Vec<[u32; 2]> = Vec::new();
-    let mut points: Vec<u32> = Vec::new();
-    let mut polygons_triangulated = 0;
-    let mut face: Vec<Corner> = Vec::new();
-    let mut polygon: Vec<DVec3> = Vec::new();
+/// What has been read so far.
+#[derive(Default)]
+struct Builder {
+    positions: Vec<Vec3>,
+    file_normals: Vec<Vec3>,
+    triangles: Vec<[u32; 3]>,
+    /// For each triangle corner, the normal index the file gave it (if any).
+    corner_normals: Vec<Option<u32>>,
+    lines: Vec<[u32; 2]>,
+    points: Vec<u32>,
+    polygons_triangulated: usize,
+    face: Vec<Corner>,
+    polygon: Vec<DVec3>,
+}
 
+impl Builder {
+    /// An `f` line (`at` is its number): a triangle, or a polygon ear-clipped.
+    fn face<'a>(
+        &mut self,
+        path: &Path,
+        at: usize,
+        tokens: impl Iterator<Item = &'a str>,
+    ) -> Result<(), IoError> {
+        self.face.clear();
+        for token in tokens {
+            let corner = parse_corner(
+                path,
+                at,
+                token,
+                self.positions.len(),
+                self.file_normals.len(),
+            )?;
+            self.face.push(corner);
+        }
+        if self.face.len() < 3 {
+            return Err(IoError::malformed(
+                path,
+                format!(
+                    "line {at}: a face needs at least 3 corners, this one has {}",
+                    self.face.len()
+                ),
+            ));
+        }
+        let face = std::mem::take(&mut self.face);
+        if face.len() == 3 {
+            self.add([face[0], face[1], face[2]]);
+        } else {
+            self.polygon.clear();
+            let positions = &self.positions;
+            self.polygon
+                .extend(face.iter().map(|c| positions[c.v as usize].as_dvec3()));
+            for [a, b, c] in ear_clipping::triangulate(&self.polygon) {
+                self.add([face[a], face[b], face[c]]);
+            }
+            self.polygons_triangulated += 1;
+        }
+        self.face = face;
+        Ok(())
+    }
+
+    fn add(&mut self, corners: [Corner; 3]) {
+        self.triangles.push(corners.map(|c| c.v));
+        self.corner_normals.extend(corners.map(|c| c.vn));
+    }
+
+    /// An `l` line: a poly-line, as segments.
+    fn line<'a>(
+        &mut self,
+        path: &Path,
+        at: usize,
+        tokens: impl Iterator<Item = &'a str>,
+    ) -> Result<(), IoError> {
+        let vs: Vec<u32> = tokens
+            .map(|t| parse_corner(path, at, t, self.positions.len(), 0).map(|c| c.v))
+            .collect::<Result<_, _>>()?;
+        if vs.len() < 2 {
+            return Err(IoError::malformed(
+                path,
+                format!("line {at}: a line element needs at least 2 vertices"),
+            ));
+        }
+        self.lines.extend(vs.windows(2).map(|w| [w[0], w[1]]));
+        Ok(())
+    }
+
+    fn finish(self) -> ObjContent {
+        let normals = per_vertex_normals(
+            self.positions.len(),
+            &self.triangles,
+            &self.corner_normals,
+            &self.file_normals,
+        );
+        ObjContent {
+            mesh: PolyMesh {
+                mesh: TriangleMesh {
+                    positions: self.positions,
+                    normals,
+                    triangles: self.triangles,
+                },
+                lines: self.lines,
+                points: self.points,
+                ..Default::default()
+            },
+            polygons_triangulated: self.polygons_triangulated,
+        }
+    }
+}
+
+fn parse(path: &Path, bytes: &[u8]) -> Result<ObjContent, IoError> {
+    let mut built = Builder::default();
     let mut logical = String::new();
     let mut line_no = 0usize;
     let mut first_line_no = 0usize;
@@ -80,82 +185,24 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<ObjContent, IoError> {
         match keyword {
             "v" => {
                 let p = parse_vec3(path, at, &mut tokens, "vertex")?;
-                positions.push(p);
+                built.positions.push(p);
             }
             "vn" => {
                 let n = parse_vec3(path, at, &mut tokens, "normal")?;
-                file_normals.push(n);
+                built.file_normals.push(n);
             }
-            "f" | "fo" => {
-                face.clear();
-                for token in tokens {
-                    face.push(parse_corner(
-                        path,
-                        at,
-                        token,
-                        positions.len(),
-                        file_normals.len(),
-                    )?);
-                }
-                if face.len() < 3 {
-                    return Err(IoError::malformed(
-                        path,
-                        format!(
-                            "line {at}: a face needs at least 3 corners, this one has {}",
-                            face.len()
-                        ),
-                    ));
-                }
-                let mut add = |corners: [Corner; 3]| {
-                    triangles.push(corners.map(|c| c.v));
-                    corner_normals.extend(corners.map(|c| c.vn));
-                };
-                if face.len() == 3 {
-                    add([face[0], face[1], face[2]]);
-                } else {
-                    polygon.clear();
-                    polygon.extend(face.iter().map(|c| positions[c.v as usize].as_dvec3()));
-                    for [a, b, c] in ear_clipping::triangulate(&polygon) {
-                        add([face[a], face[b], face[c]]);
-                    }
-                    polygons_triangulated += 1;
-                }
-            }
-            "l" => {
-                let vs: Vec<u32> = tokens
-                    .map(|t| parse_corner(path, at, t, positions.len(), 0).map(|c| c.v))
-                    .collect::<Result<_, _>>()?;
-                if vs.len() < 2 {
-                    return Err(IoError::malformed(
-                        path,
-                        format!("line {at}: a line element needs at least 2 vertices"),
-                    ));
-                }
-                lines_out.extend(vs.windows(2).map(|w| [w[0], w[1]]));
-            }
+            "f" | "fo" => built.face(path, at, tokens)?,
+            "l" => built.line(path, at, tokens)?,
             "p" => {
                 for t in tokens {
-                    points.push(parse_corner(path, at, t, positions.len(), 0)?.v);
+                    let corner = parse_corner(path, at, t, built.positions.len(), 0)?;
+                    built.points.push(corner.v);
                 }
             }
             _ => {}
         }
     }
-
-    let normals = per_vertex_normals(positions.len(), &triangles, &corner_normals, &file_normals);
-    Ok(ObjContent {
-        mesh: PolyMesh {
-            mesh: TriangleMesh {
-                positions,
-                normals,
-                triangles,
-            },
-            lines: lines_out,
-            points,
-            ..Default::default()
-        },
-        polygons_triangulated,
-    })
+    Ok(built.finish())
 }
 
 fn parse_vec3<'a>(

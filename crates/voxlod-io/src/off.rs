@@ -20,7 +20,7 @@ use glam::{DVec3, Vec3};
 use voxlod_core::TriangleMesh;
 
 use crate::atomic::{stage, TempFile};
-use crate::{ear_clipping, IoError, IoErrorKind};
+use crate::{budget, ear_clipping, IoError, IoErrorKind};
 
 pub(crate) struct OffContent {
     pub mesh: TriangleMesh,
@@ -40,12 +40,23 @@ fn content_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
     })
 }
 
-fn parse(path: &Path, bytes: &[u8]) -> Result<OffContent, IoError> {
-    let text = String::from_utf8_lossy(bytes);
-    let mut lines = content_lines(&text);
-    let malformed =
-        |line: usize, what: String| IoError::malformed(path, format!("line {line}: {what}"));
+fn malformed(path: &Path, line: usize, what: String) -> IoError {
+    IoError::malformed(path, format!("line {line}: {what}"))
+}
 
+/// What the header says: normals or not, and the counts (checked against the file's size and
+/// the memory budget).
+struct Header {
+    has_normals: bool,
+    vertices: usize,
+    faces: usize,
+}
+
+fn parse_header<'a>(
+    path: &Path,
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+    file_bytes: usize,
+) -> Result<Header, IoError> {
     // Header keyword, with the counts on the same line or the next.
     let (line_no, header) = lines
         .next()
@@ -54,6 +65,7 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<OffContent, IoError> {
     let keyword = header_tokens.next().unwrap_or("");
     let Some(prefix) = keyword.strip_suffix("OFF") else {
         return Err(malformed(
+            path,
             line_no,
             format!("expected an OFF header keyword, found '{keyword}'"),
         ));
@@ -67,7 +79,6 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<OffContent, IoError> {
     if header_tokens.clone().next() == Some("BINARY") {
         return Err(IoError::unsupported(path, "binary OFF is not supported"));
     }
-    let has_normals = prefix.contains('N');
     let mut counts: Vec<&str> = header_tokens.collect();
     let mut counts_line = line_no;
     if counts.is_empty() {
@@ -81,71 +92,93 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<OffContent, IoError> {
         counts
             .get(k)
             .and_then(|t| t.parse().ok())
-            .ok_or_else(|| malformed(counts_line, format!("expected the {what} count")))
+            .ok_or_else(|| malformed(path, counts_line, format!("expected the {what} count")))
     };
-    let vertex_count = count(0, "vertex")?;
-    let face_count = count(1, "face")?;
+    let (vertices, faces) = (count(0, "vertex")?, count(1, "face")?);
     // Each vertex and face takes at least a couple of bytes: larger counts are lies.
-    if vertex_count.saturating_add(face_count) > bytes.len() / 2 {
+    if vertices.saturating_add(faces) > file_bytes / 2 {
         return Err(IoError::truncated(
             path,
             format!(
-                "the header declares {vertex_count} vertices and {face_count} faces, more than the {} bytes of the file can hold",
-                bytes.len()
+                "the header declares {vertices} vertices and {faces} faces, more than the {file_bytes} bytes of the file can hold"
             ),
         ));
     }
+    budget::check_count(path, "the vertices of the OFF file", vertices as u64, 24)?;
+    budget::check_count(path, "the faces of the OFF file", faces as u64, 24)?;
+    Ok(Header {
+        has_normals: prefix.contains('N'),
+        vertices,
+        faces,
+    })
+}
 
-    let mut positions = Vec::with_capacity(vertex_count);
-    let mut normals = Vec::with_capacity(if has_normals { vertex_count } else { 0 });
-    for v in 0..vertex_count {
+fn read_vertices<'a>(
+    path: &Path,
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+    header: &Header,
+) -> Result<(Vec<Vec3>, Vec<Vec3>), IoError> {
+    let count = header.vertices;
+    let needed = if header.has_normals { 6 } else { 3 };
+    let mut positions = Vec::with_capacity(count);
+    let mut normals = Vec::with_capacity(if header.has_normals { count } else { 0 });
+    for v in 0..count {
         let (n, line) = lines.next().ok_or_else(|| {
-            IoError::truncated(
-                path,
-                format!("the file ends after {v} of {vertex_count} vertices"),
-            )
+            IoError::truncated(path, format!("the file ends after {v} of {count} vertices"))
         })?;
         let values: Vec<f32> = line
             .split_whitespace()
-            .take(if has_normals { 6 } else { 3 })
+            .take(needed)
             .map(|t| t.parse::<f32>())
             .collect::<Result<_, _>>()
             .map_err(|_| {
                 malformed(
+                    path,
                     n,
                     format!("vertex {v} has a coordinate that is not a number"),
                 )
             })?;
-        let needed = if has_normals { 6 } else { 3 };
         if values.len() < needed {
             return Err(malformed(
+                path,
                 n,
                 format!("vertex {v} has {} values, expected {needed}", values.len()),
             ));
         }
         positions.push(Vec3::new(values[0], values[1], values[2]));
-        if has_normals {
+        if header.has_normals {
             normals.push(Vec3::new(values[3], values[4], values[5]));
         }
     }
+    Ok((positions, normals))
+}
 
-    let mut triangles = Vec::with_capacity(face_count);
+/// The faces as triangles, polygons ear-clipped; also how many polygons were.
+fn read_faces<'a>(
+    path: &Path,
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+    count: usize,
+    positions: &[Vec3],
+) -> Result<(Vec<[u32; 3]>, usize), IoError> {
+    let mut triangles = Vec::with_capacity(count);
     let mut polygons_triangulated = 0;
     let mut corners: Vec<u32> = Vec::new();
     let mut polygon: Vec<DVec3> = Vec::new();
-    for f in 0..face_count {
+    for f in 0..count {
         let (n, line) = lines.next().ok_or_else(|| {
-            IoError::truncated(
-                path,
-                format!("the file ends after {f} of {face_count} faces"),
-            )
+            IoError::truncated(path, format!("the file ends after {f} of {count} faces"))
         })?;
         let mut tokens = line.split_whitespace();
         let size: usize = tokens.next().and_then(|t| t.parse().ok()).ok_or_else(|| {
-            malformed(n, format!("face {f} does not start with its corner count"))
+            malformed(
+                path,
+                n,
+                format!("face {f} does not start with its corner count"),
+            )
         })?;
         if size < 3 {
             return Err(malformed(
+                path,
                 n,
                 format!("face {f} has {size} corners; a face needs at least 3"),
             ));
@@ -153,16 +186,24 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<OffContent, IoError> {
         corners.clear();
         for _ in 0..size {
             let token = tokens.next().ok_or_else(|| {
-                malformed(n, format!("face {f} lists fewer than its {size} corners"))
+                malformed(
+                    path,
+                    n,
+                    format!("face {f} lists fewer than its {size} corners"),
+                )
             })?;
             let index: u32 = token
                 .parse()
                 .ok()
-                .filter(|&i: &u32| (i as usize) < vertex_count)
+                .filter(|&i: &u32| (i as usize) < positions.len())
                 .ok_or_else(|| {
                     malformed(
+                        path,
                         n,
-                        format!("face {f} refers to vertex '{token}' but there are {vertex_count} vertices"),
+                        format!(
+                            "face {f} refers to vertex '{token}' but there are {} vertices",
+                            positions.len()
+                        ),
                     )
                 })?;
             corners.push(index);
@@ -180,6 +221,16 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<OffContent, IoError> {
             polygons_triangulated += 1;
         }
     }
+    Ok((triangles, polygons_triangulated))
+}
+
+fn parse(path: &Path, bytes: &[u8]) -> Result<OffContent, IoError> {
+    let text = String::from_utf8_lossy(bytes);
+    let mut lines = content_lines(&text);
+    let header = parse_header(path, &mut lines, bytes.len())?;
+    let (positions, normals) = read_vertices(path, &mut lines, &header)?;
+    let (triangles, polygons_triangulated) =
+        read_faces(path, &mut lines, header.faces, &positions)?;
     Ok(OffContent {
         mesh: TriangleMesh {
             positions,

@@ -16,7 +16,7 @@
 //! through ply-rs-bw's writer, so no second copy of the mesh is built.
 
 use std::fs::File;
-use std::io::{BufReader, Write};
+use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
@@ -29,7 +29,7 @@ use ply_rs_bw::writer::Writer;
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh};
 
 use crate::atomic::{stage, TempFile};
-use crate::{ear_clipping, IoError, IoErrorKind, PolyView};
+use crate::{budget, ear_clipping, guard, ply_header, IoError, PolyView};
 
 /// What the PLY reader found, before the common checks.
 pub(crate) struct PlyContent {
@@ -194,20 +194,6 @@ impl PropertyAccess for Skipped {
 // ---------------------------------------------------------------------------------------------
 // Reading.
 
-fn parse_error(path: &Path, element: &str, e: ply_rs_bw::parser::ParseError) -> IoError {
-    let kind = if e.kind() == std::io::ErrorKind::UnexpectedEof {
-        IoErrorKind::Truncated
-    } else {
-        IoErrorKind::Malformed
-    };
-    let context = if element.is_empty() {
-        "in the header".to_string()
-    } else {
-        format!("in element '{element}'")
-    };
-    IoError::new(path, kind, format!("{context}: {e}"))
-}
-
 /// The fewest bytes one element can take, to catch counts the file cannot hold before reading.
 fn min_element_bytes(def: &ElementDef, encoding: Encoding) -> u64 {
     if encoding == Encoding::Ascii {
@@ -232,6 +218,31 @@ fn min_element_bytes(def: &ElementDef, encoding: Encoding) -> u64 {
         .max(1)
 }
 
+/// Reading the elements of one kind, through ply-rs-bw under the panic guard.
+struct Payload<'a, R: std::io::BufRead> {
+    path: &'a Path,
+    reader: &'a mut Reader<R>,
+    def: &'a ElementDef,
+    header: &'a Header,
+}
+
+impl<R: std::io::BufRead> Payload<'_, R> {
+    fn elements<E: PropertyAccess>(&mut self) -> Result<Vec<E>, IoError> {
+        let (path, def) = (self.path, self.def);
+        let binary = self.header.encoding != Encoding::Ascii;
+        guard::quietly(|| {
+            Parser::<E>::new().read_payload_for_element(self.reader, def, self.header)
+        })
+        .ok_or_else(|| {
+            IoError::malformed(
+                path,
+                format!("the '{}' elements cannot be decoded", def.name),
+            )
+        })?
+        .map_err(|e| IoError::from_ply(path, &def.name, binary, &e))
+    }
+}
+
 fn index(path: &Path, what: &str, i: usize, v: i64, vertex_count: usize) -> Result<u32, IoError> {
     if v < 0 || v >= vertex_count as i64 {
         return Err(IoError::malformed(
@@ -242,29 +253,33 @@ fn index(path: &Path, what: &str, i: usize, v: i64, vertex_count: usize) -> Resu
     Ok(v as u32)
 }
 
-pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
+/// Opens the file and reads its header, checked line by line and then by ply-rs-bw, with every
+/// element count checked against the file's size and the memory budget.
+fn open_header(path: &Path) -> Result<(Reader<BufReader<File>>, Header), IoError> {
     let file = File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
     let file_len = file
         .metadata()
         .map_err(|e| IoError::access(path, "cannot read", &e))?
         .len();
-    let mut reader = Reader::new(BufReader::with_capacity(1 << 20, file));
-    let header = Parser::<Skipped>::new()
-        .read_header(&mut reader)
-        .map_err(|e| parse_error(path, "", e))?;
+    let mut reader = BufReader::with_capacity(1 << 20, file);
+    let start = reader
+        .fill_buf()
+        .map_err(|e| IoError::access(path, "cannot read", &e))?;
+    ply_header::check(path, start)?;
+    let mut reader = Reader::new(reader);
+    let header = guard::quietly(|| Parser::<Skipped>::new().read_header(&mut reader))
+        .ok_or_else(|| IoError::malformed(path, "the header is not valid PLY"))?
+        .map_err(|e| IoError::from_ply(path, "", false, &e))?;
 
-    // Element counts the file cannot possibly hold are errors, not allocations.
+    // Element counts the file cannot possibly hold are errors, not allocations; the others go
+    // through the memory budget (a record per element, and the mesh built from them).
     for def in header.elements.values() {
-        let need = (def.count as u64).saturating_mul(min_element_bytes(def, header.encoding));
-        if need > file_len {
-            return Err(IoError::truncated(
-                path,
-                format!(
-                    "the header declares {} '{}' elements, which need at least {need} bytes, but the file has {file_len}",
-                    def.count, def.name
-                ),
-            ));
-        }
+        let what = format!("'{}' elements", def.name);
+        let count = def.count as u64;
+        let least = min_element_bytes(def, header.encoding);
+        budget::check_fits_file(path, &what, count, least, file_len)?;
+        let record = 64 + 8 * def.properties.len() as u64;
+        budget::check_count(path, &format!("the {what}"), count, record)?;
     }
     let vertex_def = header
         .elements
@@ -281,66 +296,50 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
             ));
         }
     }
+    Ok((reader, header))
+}
 
-    let mut vertices: Vec<VertexRecord> = Vec::new();
-    let mut faces: Vec<FaceRecord> = Vec::new();
-    let mut edges: Vec<EdgeRecord> = Vec::new();
-    let mut point_records: Vec<PointRecord> = Vec::new();
+/// The elements voxlod reads, as parsed.
+#[derive(Default)]
+struct Records {
+    vertices: Vec<VertexRecord>,
+    faces: Vec<FaceRecord>,
+    edges: Vec<EdgeRecord>,
+    points: Vec<PointRecord>,
+}
+
+fn read_records(
+    path: &Path,
+    reader: &mut Reader<BufReader<File>>,
+    header: &Header,
+) -> Result<Records, IoError> {
+    let mut records = Records::default();
     for (name, def) in &header.elements {
-        let err = |e| parse_error(path, name, e);
+        let mut read = Payload {
+            path,
+            reader,
+            def,
+            header,
+        };
         match name.as_str() {
-            "vertex" => {
-                vertices = Parser::new()
-                    .read_payload_for_element(&mut reader, def, &header)
-                    .map_err(err)?
-            }
-            "face" => {
-                faces = Parser::new()
-                    .read_payload_for_element(&mut reader, def, &header)
-                    .map_err(err)?
-            }
-            "edge" => {
-                edges = Parser::new()
-                    .read_payload_for_element(&mut reader, def, &header)
-                    .map_err(err)?
-            }
-            "point" => {
-                point_records = Parser::new()
-                    .read_payload_for_element(&mut reader, def, &header)
-                    .map_err(err)?
-            }
+            "vertex" => records.vertices = read.elements()?,
+            "face" => records.faces = read.elements()?,
+            "edge" => records.edges = read.elements()?,
+            "point" => records.points = read.elements()?,
             _ => {
-                Parser::<Skipped>::new()
-                    .read_payload_for_element(&mut reader, def, &header)
-                    .map_err(err)?;
+                read.elements::<Skipped>()?;
             }
         }
     }
+    Ok(records)
+}
 
-    // Vertices, normals, attributes.
-    let has_normals = ["nx", "ny", "nz"]
-        .iter()
-        .all(|n| vertex_def.properties.contains_key(*n));
-    let vertex_count = vertices.len();
-    let positions: Vec<Vec3> = vertices
-        .iter()
-        .map(|v| DVec3::from(v.position).as_vec3())
-        .collect();
-    let normals: Vec<Vec3> = if has_normals {
-        vertices.iter().map(|v| Vec3::from(v.normal)).collect()
-    } else {
-        Vec::new()
-    };
-    let vertex_names: Vec<&str> = vertex_def
-        .properties
-        .values()
-        .filter(|d| is_vertex_extra(d))
-        .map(|d| d.name.as_str())
-        .collect();
-    let vertex_attributes = collect_attributes(&vertex_names, vertices.iter().map(|v| &v.extra));
-    drop(vertices);
-
-    // Faces.
+/// The faces as triangles, polygons ear-clipped; also how many polygons were.
+fn triangulate_faces(
+    path: &Path,
+    faces: &[FaceRecord],
+    positions: &[Vec3],
+) -> Result<(Vec<[u32; 3]>, usize), IoError> {
     let mut triangles = Vec::with_capacity(faces.len());
     let mut polygons_triangulated = 0;
     let mut polygon = Vec::new();
@@ -363,7 +362,7 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
         let corners: Vec<u32> = face
             .corners
             .iter()
-            .map(|&v| index(path, "face", f, v, vertex_count))
+            .map(|&v| index(path, "face", f, v, positions.len()))
             .collect::<Result<_, _>>()?;
         if corners.len() == 3 {
             triangles.push([corners[0], corners[1], corners[2]]);
@@ -378,10 +377,51 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
             polygons_triangulated += 1;
         }
     }
-    drop(faces);
+    Ok((triangles, polygons_triangulated))
+}
+
+/// The names of the extra scalar properties of `element`, in header order.
+fn extra_names<'a>(
+    header: &'a Header,
+    element: &str,
+    is_extra: fn(&PropertyDef) -> bool,
+) -> Vec<&'a str> {
+    header.elements.get(element).map_or_else(Vec::new, |def| {
+        def.properties
+            .values()
+            .filter(|d| is_extra(d))
+            .map(|d| d.name.as_str())
+            .collect()
+    })
+}
+
+pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
+    let (mut reader, header) = open_header(path)?;
+    let records = read_records(path, &mut reader, &header)?;
+
+    // Vertices, normals, attributes.
+    let has_normals = ["nx", "ny", "nz"]
+        .iter()
+        .all(|n| header.elements["vertex"].properties.contains_key(*n));
+    let vertices = &records.vertices;
+    let vertex_count = vertices.len();
+    let positions: Vec<Vec3> = vertices
+        .iter()
+        .map(|v| DVec3::from(v.position).as_vec3())
+        .collect();
+    let normals: Vec<Vec3> = if has_normals {
+        vertices.iter().map(|v| Vec3::from(v.normal)).collect()
+    } else {
+        Vec::new()
+    };
+    let vertex_names = extra_names(&header, "vertex", is_vertex_extra);
+    let vertex_attributes = collect_attributes(&vertex_names, vertices.iter().map(|v| &v.extra));
+
+    let (triangles, polygons_triangulated) = triangulate_faces(path, &records.faces, &positions)?;
 
     // Edges and points.
-    let lines: Vec<[u32; 2]> = edges
+    let lines: Vec<[u32; 2]> = records
+        .edges
         .iter()
         .enumerate()
         .map(|(e, r)| {
@@ -391,19 +431,10 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
             ])
         })
         .collect::<Result<_, IoError>>()?;
-    let line_attributes = match header.elements.get("edge") {
-        Some(def) => {
-            let names: Vec<&str> = def
-                .properties
-                .values()
-                .filter(|d| is_edge_extra(d))
-                .map(|d| d.name.as_str())
-                .collect();
-            collect_attributes(&names, edges.iter().map(|e| &e.extra))
-        }
-        None => Vec::new(),
-    };
-    let points: Vec<u32> = point_records
+    let edge_names = extra_names(&header, "edge", is_edge_extra);
+    let line_attributes = collect_attributes(&edge_names, records.edges.iter().map(|e| &e.extra));
+    let points: Vec<u32> = records
+        .points
         .iter()
         .enumerate()
         .map(|(p, r)| index(path, "point", p, r.vertex, vertex_count))
@@ -535,8 +566,9 @@ fn check_names(path: &Path, attributes: &[Attribute], reserved: &[&str]) -> Resu
             return Err(IoError::unsupported(
                 path,
                 format!(
-                    "attribute name '{}' cannot be a PLY property (empty, spaces, repeated, or one of {reserved:?})",
-                    a.name
+                    "attribute name '{}' cannot be a PLY property (empty, spaces, repeated, or one of {})",
+                    a.name,
+                    reserved.join(", ")
                 ),
             ));
         }

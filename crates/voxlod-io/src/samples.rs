@@ -2,12 +2,13 @@
 //! the number of bytes a header promises (plain or compressed), the memory check before any
 //! large allocation, and the final checks on grid geometry.
 
+use std::fs::File;
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use voxlod_core::{memory, Grid, Volume};
 
-use crate::{Endian, IoError, IoErrorKind};
+use crate::{budget, Endian, IoError, IoErrorKind};
 
 /// A stored sample type. Everything is converted to `f32` in memory; 32-bit integers and `f64`
 /// lose precision beyond 24 bits of mantissa, which no scanner comes near.
@@ -107,7 +108,7 @@ pub(crate) fn check_volume_size(
     };
     let stored = memory::bytes_of::<u8>(count).saturating_mul(ty.size() as u64);
     let needed = stored.saturating_add(memory::bytes_of::<f32>(count));
-    memory::check_allocation(&what, needed).map_err(|e| IoError::from_core(path, e))?;
+    budget::check_bytes(path, &what, needed)?;
     Ok((count, count * ty.size()))
 }
 
@@ -179,8 +180,10 @@ pub(crate) fn make_volume(
         return Err(IoError::malformed(
             path,
             format!(
-                "spacing {:?} is not finite and positive along axis {}",
-                spacing,
+                "spacing {} {} {} is not finite and positive along {}",
+                spacing[0],
+                spacing[1],
+                spacing[2],
                 ["x", "y", "z"][axis]
             ),
         ));
@@ -188,11 +191,48 @@ pub(crate) fn make_volume(
     if origin.iter().any(|o| !o.is_finite()) {
         return Err(IoError::malformed(
             path,
-            format!("origin {origin:?} is not finite"),
+            format!(
+                "origin {} {} {} is not finite",
+                origin[0], origin[1], origin[2]
+            ),
         ));
     }
     let grid = Grid::new(dims, spacing, origin).map_err(|e| IoError::from_core(path, e))?;
     Volume::from_vec(grid, values).map_err(|e| IoError::from_core(path, e))
+}
+
+/// The data file a detached header names (`field` is the header's key, for messages):
+/// relative names are relative to the header's folder.
+pub(crate) fn data_file_path(header: &Path, field: &str, name: &str) -> Result<PathBuf, IoError> {
+    if name.trim().is_empty() {
+        return Err(IoError::malformed(
+            header,
+            format!("the '{field}' field names no file"),
+        ));
+    }
+    let name = Path::new(name);
+    Ok(if name.is_absolute() {
+        name.to_path_buf()
+    } else {
+        header.parent().unwrap_or(Path::new("")).join(name)
+    })
+}
+
+/// Opens the data file of a detached header; errors name both files.
+pub(crate) fn open_data_file(header: &Path, data: &Path) -> Result<File, IoError> {
+    let doing = format!("cannot open the data file of {}", header.display());
+    let file = File::open(data).map_err(|e| IoError::access(data, &doing, &e))?;
+    let meta = file
+        .metadata()
+        .map_err(|e| IoError::access(data, &doing, &e))?;
+    if !meta.is_file() {
+        return Err(IoError::new(
+            data,
+            IoErrorKind::Access,
+            format!("the data file of {} is not a file", header.display()),
+        ));
+    }
+    Ok(file)
 }
 
 /// Scale from a length unit to millimetres, for the units headers may declare.

@@ -21,7 +21,7 @@ use voxlod_core::weld::{weld_vertices, WeldReport};
 use voxlod_core::TriangleMesh;
 
 use crate::atomic::{stage, TempFile};
-use crate::{IoError, IoErrorKind};
+use crate::{budget, guard, IoError, IoErrorKind};
 
 const HEADER: usize = 84;
 const RECORD: u64 = 50;
@@ -56,6 +56,13 @@ pub(crate) fn read(path: &Path) -> Result<(TriangleMesh, WeldReport), IoError> {
                 ),
             ));
         }
+        // Three corners and a triangle, before and while welding.
+        budget::check_count(
+            path,
+            "the triangles of the binary STL",
+            count,
+            3 * 12 + 12 + 48,
+        )?;
         // Keep stl_io from taking a header that starts with "solid" for ASCII, and drop any
         // bytes after the last triangle.
         bytes[..80].fill(0);
@@ -86,30 +93,19 @@ fn read_ascii(path: &Path, bytes: Vec<u8>) -> Result<TriangleMesh, IoError> {
 /// Reads the triangles as a soup: three new vertices per triangle.
 fn soup(path: &Path, bytes: Vec<u8>, ascii: bool) -> Result<TriangleMesh, IoError> {
     let mut cursor = Cursor::new(bytes);
-    let triangles = stl_io::create_stl_reader(&mut cursor)
-        .map_err(|e| IoError::malformed(path, format!("not a readable STL file: {e}")))?;
+    let format = if ascii { "an ASCII" } else { "a binary" };
+    let not_stl = || IoError::malformed(path, format!("not readable as {format} STL file"));
+    let triangles = guard::quietly(|| stl_io::create_stl_reader(&mut cursor))
+        .ok_or_else(not_stl)?
+        .map_err(|_| not_stl())?;
+    let mut triangles = triangles.enumerate();
     let mut mesh = TriangleMesh::default();
-    for (t, triangle) in triangles.enumerate() {
-        let triangle = triangle.map_err(|e| {
-            let text = e.to_string();
-            let kind = if text.contains("finite") {
-                IoErrorKind::NonFinite
-            } else if e.kind() == std::io::ErrorKind::UnexpectedEof {
-                IoErrorKind::Truncated
-            } else {
-                IoErrorKind::Malformed
-            };
-            let format = if ascii { "ASCII" } else { "binary" };
-            IoError::new(
-                path,
-                kind,
-                format!(
-                    "{format} STL, triangle {t} (vertices {} to {}): {text}",
-                    3 * t,
-                    3 * t + 2
-                ),
-            )
-        })?;
+    loop {
+        let next = guard::quietly(|| triangles.next()).ok_or_else(not_stl)?;
+        let Some((t, triangle)) = next else {
+            break;
+        };
+        let triangle = triangle.map_err(|e| IoError::from_stl(path, ascii, t, &e))?;
         let base = mesh.positions.len() as u32;
         for (k, v) in triangle.vertices.iter().enumerate() {
             let p = Vec3::from(v.0);

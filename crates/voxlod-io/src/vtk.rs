@@ -2,21 +2,23 @@
 //! XML), saving one through the atomic writer, and converting vtkio's typed buffers.
 //!
 //! vtkio chooses legacy or XML by the (lower-case) extension and writes straight to the path;
-//! we choose ourselves (extensions are case-insensitive here) and give it a reader or the
-//! temporary file's writer instead. Legacy files are written binary big-endian, as the legacy
-//! format prescribes; XML files with raw (base64) data, zlib-compressed when asked. vtkio's
-//! parsers are third-party code fed arbitrary bytes, so a panic inside them is caught and
-//! reported as a malformed file rather than taking the program down.
+//! we choose ourselves (extensions are case-insensitive here) and give it the file's bytes or
+//! the temporary file's writer instead. XML files first go through [`vtk_xml`], which decodes
+//! the binary data vtkio 0.7.0-rc2 cannot (raw appended data, compressed empty arrays) and
+//! checks the rest; legacy files get their header lines checked, since vtkio cannot say where
+//! a parse failed. vtkio's parsers are third-party code fed arbitrary bytes, so a panic inside
+//! them is caught, silently, and reported as a corrupt file ([`guard`]); its errors are
+//! translated into plain words ([`IoError::from_vtkio`]). Legacy files are written binary
+//! big-endian, as the legacy format prescribes; XML files with base64 data, zlib-compressed
+//! when asked.
 
-use std::io::BufReader;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
 use vtkio::model::{IOBuffer, Vtk};
 use vtkio::xml::Compressor;
 
 use crate::atomic::{stage, TempFile};
-use crate::{IoError, IoErrorKind};
+use crate::{budget, guard, vtk_xml, IoError};
 
 /// Which of the two VTK encodings a file uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -27,49 +29,89 @@ pub(crate) enum Flavor {
     Xml,
 }
 
-fn vtkio_error(path: &Path, e: vtkio::Error) -> IoError {
-    let (kind, message) = match &e {
-        vtkio::Error::IO(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => (
-            IoErrorKind::Truncated,
-            format!("the VTK data ends early: {io}"),
-        ),
-        vtkio::Error::IO(io) => (IoErrorKind::Access, format!("cannot read: {io}")),
-        vtkio::Error::Unknown => (
-            IoErrorKind::Truncated,
-            "the legacy VTK data ends before what its header announces (or cannot be parsed)"
-                .to_string(),
-        ),
-        other => (
-            IoErrorKind::Malformed,
-            format!("not a readable VTK file: {other}"),
-        ),
-    };
-    IoError::new(path, kind, message)
-}
-
-/// Loads a VTK file of either flavour.
+/// Loads a VTK file of either flavour: the whole file in memory (after the budget check), XML
+/// binary data decoded by [`vtk_xml`], then vtkio under [`guard::quietly`].
 pub(crate) fn load(path: &Path, flavor: Flavor) -> Result<Vtk, IoError> {
-    let file = std::fs::File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
-    // vtkio holds the whole file, and then the decoded arrays, in memory.
-    let len = file
-        .metadata()
-        .map_err(|e| IoError::access(path, "cannot read", &e))?
-        .len();
-    voxlod_core::memory::check_allocation("reading the VTK file", len.saturating_mul(2))
-        .map_err(|e| IoError::from_core(path, e))?;
-    let reader = BufReader::with_capacity(1 << 20, file);
-    let parsed = catch_unwind(AssertUnwindSafe(|| match flavor {
-        // Legacy binary data is big-endian by definition.
-        Flavor::Legacy => Vtk::parse_legacy_be(reader),
-        Flavor::Xml => Vtk::parse_xml(reader),
-    }));
+    let bytes = crate::read_file(path)?;
+    let parsed = match flavor {
+        Flavor::Legacy => {
+            check_legacy_header(path, &bytes)?;
+            // vtkio copies the file, then holds the decoded arrays.
+            budget::check_bytes(
+                path,
+                "parsing the VTK file",
+                (bytes.len() as u64).saturating_mul(4),
+            )?;
+            // Legacy binary data is big-endian by definition.
+            guard::quietly(|| Vtk::parse_legacy_be(&bytes[..]))
+        }
+        Flavor::Xml => {
+            let rewritten = vtk_xml::rewrite(path, &bytes)?;
+            let document = rewritten.as_deref().unwrap_or(&bytes);
+            budget::check_bytes(
+                path,
+                "parsing the VTK file",
+                (document.len() as u64).saturating_mul(3),
+            )?;
+            guard::quietly(|| Vtk::parse_xml(document))
+        }
+    };
     match parsed {
-        Ok(result) => result.map_err(|e| vtkio_error(path, e)),
-        Err(_) => Err(IoError::malformed(
+        Some(result) => result.map_err(|e| IoError::from_vtkio(path, e)),
+        None => Err(IoError::malformed(
             path,
-            "the VTK parser (vtkio) failed on this file: it is corrupt or uses a feature vtkio does not handle",
+            "the VTK file is corrupt: its data cannot be decoded",
         )),
     }
+}
+
+/// The four header lines of a legacy file, checked here because vtkio reports a failure
+/// without saying where.
+fn check_legacy_header(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    let head = &bytes[..bytes.len().min(4096)];
+    let text = String::from_utf8_lossy(head);
+    let mut lines = text.lines();
+    let first = lines.next().unwrap_or("").trim();
+    let words: Vec<String> = first
+        .trim_start_matches('#')
+        .split_whitespace()
+        .map(str::to_ascii_lowercase)
+        .collect();
+    if !first.starts_with('#') || words.len() < 4 || words[..3] != ["vtk", "datafile", "version"] {
+        return Err(IoError::malformed(
+            path,
+            "line 1 is not '# vtk DataFile Version x.y': not a legacy VTK file",
+        ));
+    }
+    if lines.next().is_none_or(|title| title.trim().is_empty()) {
+        return Err(IoError::malformed(
+            path,
+            "line 2, the title, is empty or missing (the legacy format needs one)",
+        ));
+    }
+    let kind = lines.next().unwrap_or("").trim();
+    if !(kind.eq_ignore_ascii_case("ascii") || kind.eq_ignore_ascii_case("binary")) {
+        return Err(IoError::malformed(
+            path,
+            format!("line 3 must say ASCII or BINARY, it says '{}'", clip(kind)),
+        ));
+    }
+    let dataset = lines.find(|l| !l.trim().is_empty()).unwrap_or("").trim();
+    if !dataset.to_ascii_uppercase().starts_with("DATASET") {
+        return Err(IoError::malformed(
+            path,
+            format!(
+                "expected 'DATASET <type>' after the header, found '{}'",
+                clip(dataset)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// At most 40 characters of a line of the file, for a message.
+fn clip(text: &str) -> String {
+    text.chars().take(40).collect()
 }
 
 /// Saves through the atomic writer.

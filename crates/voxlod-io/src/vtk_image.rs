@@ -67,11 +67,26 @@ pub(crate) fn read(path: &Path, flavor: Flavor) -> Result<Volume, IoError> {
         (Extent::Ranges(_), _) => piece_extent,
         _ => extent,
     };
-    let start = match &used {
-        Extent::Ranges([x, y, z]) => [*x.start(), *y.start(), *z.start()],
-        Extent::Dims(_) => [0; 3],
+    // In i64: an extent's width can overflow the i32 it is stored in.
+    let (start, dims) = match &used {
+        Extent::Ranges(ranges) => {
+            let start = ranges.clone().map(|r| *r.start() as i64);
+            let end = ranges.clone().map(|r| *r.end() as i64);
+            if let Some(axis) = (0..3).find(|&a| end[a] < start[a]) {
+                return Err(IoError::malformed(
+                    path,
+                    format!(
+                        "the extent ends before it starts along {} ({} < {})",
+                        ["x", "y", "z"][axis],
+                        end[axis],
+                        start[axis]
+                    ),
+                ));
+            }
+            (start, [0, 1, 2].map(|a| (end[a] - start[a] + 1) as usize))
+        }
+        Extent::Dims(dims) => ([0; 3], dims.map(|d| d as usize)),
     };
-    let dims = used.into_dims().map(|d| d as usize);
 
     let array = data.point.into_iter().find_map(|a| match a {
         Attribute::DataArray(DataArray { elem, data, .. }) if elem.num_comp() == 1 => Some(data),

@@ -109,10 +109,24 @@ enum PointArray {
     Other,
 }
 
-fn classify(attribute: VtkAttribute, expected: usize) -> PointArray {
-    let VtkAttribute::DataArray(DataArray { name, elem, data }) = attribute else {
-        return PointArray::Other;
-    };
+/// The usable arrays of one attribute: a data array, or each array of a legacy `FIELD` (VTK 9's
+/// legacy writer stores arrays that are not scalars, vectors or normals as field data).
+fn classify(attribute: VtkAttribute, expected: usize) -> Vec<PointArray> {
+    match attribute {
+        VtkAttribute::DataArray(DataArray { name, elem, data }) => {
+            vec![classify_array(name, elem, data, expected)]
+        }
+        VtkAttribute::Field { data_array, .. } => data_array
+            .into_iter()
+            .map(|f| {
+                let elem = ElementType::Generic(f.elem);
+                classify_array(f.name, elem, f.data, expected)
+            })
+            .collect(),
+    }
+}
+
+fn classify_array(name: String, elem: ElementType, data: IOBuffer, expected: usize) -> PointArray {
     let components = elem.num_comp() as usize;
     if data.len() != expected * components {
         return PointArray::Other;
@@ -187,105 +201,149 @@ fn append_piece(path: &Path, piece: PolyDataPiece, out: &mut PolyMesh) -> Result
             format!("{} point coordinates is not a multiple of 3", coords.len()),
         ));
     }
-    let count = coords.len() / 3;
-    let base = out.mesh.positions.len() as u32;
     let positions: Vec<Vec3> = coords
         .chunks_exact(3)
         .map(|c| DVec3::new(c[0], c[1], c[2]).as_vec3())
         .collect();
-    let index = |what: &str, cell: usize, v: u64| -> Result<u32, IoError> {
-        Ok(base + vertex_index(path, what, cell, v, count)?)
+    let cells = Cells {
+        path,
+        base: out.mesh.positions.len() as u32,
+        positions: &positions,
     };
+    let segment_cells = cells.points_and_lines(&piece, out)?;
+    let triangulated = cells.polygons_and_strips(&piece, out)?;
+    append_data(piece, cells.base, positions.len(), &segment_cells, out);
+    out.mesh.positions.extend(positions);
+    Ok(triangulated)
+}
 
-    // Points.
-    if let Some(verts) = &piece.verts {
-        for_each_cell(path, verts, "vertex", |c, ids| {
-            for &v in ids {
-                out.points.push(index("vertex", c, v)?);
-            }
-            Ok(())
-        })?;
+/// The cells of one piece, whose points are `positions`, numbered from `base` in the mesh.
+struct Cells<'a> {
+    path: &'a Path,
+    base: u32,
+    positions: &'a [Vec3],
+}
+
+impl Cells<'_> {
+    fn index(&self, what: &str, cell: usize, v: u64) -> Result<u32, IoError> {
+        Ok(self.base + vertex_index(self.path, what, cell, v, self.positions.len())?)
     }
-    // Lines, remembering which cell each segment came from.
-    let vert_cells = piece.verts.as_ref().map_or(0, |v| v.num_cells());
-    let mut segment_cells = Vec::new();
-    if let Some(lines) = &piece.lines {
-        for_each_cell(path, lines, "line", |c, ids| {
-            for pair in ids.windows(2) {
-                out.lines
-                    .push([index("line", c, pair[0])?, index("line", c, pair[1])?]);
-                segment_cells.push(vert_cells + c);
-            }
-            Ok(())
-        })?;
+
+    /// Appends the vertex cells as points and the poly-lines as segments; returns the cell
+    /// number (among all the piece's cells) of each segment.
+    fn points_and_lines(
+        &self,
+        piece: &PolyDataPiece,
+        out: &mut PolyMesh,
+    ) -> Result<Vec<usize>, IoError> {
+        if let Some(verts) = &piece.verts {
+            for_each_cell(self.path, verts, "vertex", |c, ids| {
+                for &v in ids {
+                    out.points.push(self.index("vertex", c, v)?);
+                }
+                Ok(())
+            })?;
+        }
+        let vert_cells = piece.verts.as_ref().map_or(0, |v| v.num_cells());
+        let mut segment_cells = Vec::new();
+        if let Some(lines) = &piece.lines {
+            for_each_cell(self.path, lines, "line", |c, ids| {
+                for pair in ids.windows(2) {
+                    out.lines.push([
+                        self.index("line", c, pair[0])?,
+                        self.index("line", c, pair[1])?,
+                    ]);
+                    segment_cells.push(vert_cells + c);
+                }
+                Ok(())
+            })?;
+        }
+        Ok(segment_cells)
     }
-    // Polygons and strips.
-    let mut triangulated = 0;
-    let mut polygon = Vec::new();
-    let mut corners = Vec::new();
-    if let Some(polys) = &piece.polys {
-        for_each_cell(path, polys, "polygon", |c, ids| {
-            corners.clear();
-            for &v in ids {
-                corners.push(index("polygon", c, v)?);
-            }
-            match corners.len() {
-                0..=2 => Err(IoError::malformed(
-                    path,
-                    format!(
-                        "polygon cell {c} has {} corners; at least 3 are needed",
-                        corners.len()
-                    ),
-                )),
-                3 => {
+
+    /// Appends the polygons (ear-clipped) and strips as triangles; returns how many polygons
+    /// were ear-clipped.
+    fn polygons_and_strips(
+        &self,
+        piece: &PolyDataPiece,
+        out: &mut PolyMesh,
+    ) -> Result<usize, IoError> {
+        let mut triangulated = 0;
+        let mut polygon = Vec::new();
+        let mut corners = Vec::new();
+        if let Some(polys) = &piece.polys {
+            for_each_cell(self.path, polys, "polygon", |c, ids| {
+                corners.clear();
+                for &v in ids {
+                    corners.push(self.index("polygon", c, v)?);
+                }
+                if corners.len() < 3 {
+                    return Err(IoError::malformed(
+                        self.path,
+                        format!(
+                            "polygon cell {c} has {} corners; at least 3 are needed",
+                            corners.len()
+                        ),
+                    ));
+                }
+                if corners.len() == 3 {
                     out.mesh
                         .triangles
                         .push([corners[0], corners[1], corners[2]]);
-                    Ok(())
+                    return Ok(());
                 }
-                _ => {
-                    polygon.clear();
-                    polygon.extend(
-                        corners
-                            .iter()
-                            .map(|&v| positions[(v - base) as usize].as_dvec3()),
-                    );
-                    out.mesh.triangles.extend(
-                        ear_clipping::triangulate(&polygon)
-                            .into_iter()
-                            .map(|t| t.map(|i| corners[i])),
-                    );
-                    triangulated += 1;
-                    Ok(())
-                }
-            }
-        })?;
-    }
-    if let Some(strips) = &piece.strips {
-        for_each_cell(path, strips, "strip", |c, ids| {
-            for (k, w) in ids.windows(3).enumerate() {
-                let [a, b, d] = [w[0], w[1], w[2]];
-                let (a, b, d) = (
-                    index("strip", c, a)?,
-                    index("strip", c, b)?,
-                    index("strip", c, d)?,
+                polygon.clear();
+                polygon.extend(
+                    corners
+                        .iter()
+                        .map(|&v| self.positions[(v - self.base) as usize].as_dvec3()),
                 );
-                // Every other triangle of a strip is reversed to keep the winding.
-                out.mesh
-                    .triangles
-                    .push(if k % 2 == 0 { [a, b, d] } else { [b, a, d] });
-            }
-            Ok(())
-        })?;
+                out.mesh.triangles.extend(
+                    ear_clipping::triangulate(&polygon)
+                        .into_iter()
+                        .map(|t| t.map(|i| corners[i])),
+                );
+                triangulated += 1;
+                Ok(())
+            })?;
+        }
+        if let Some(strips) = &piece.strips {
+            for_each_cell(self.path, strips, "strip", |c, ids| {
+                for (k, w) in ids.windows(3).enumerate() {
+                    let [a, b, d] = [w[0], w[1], w[2]].map(|v| self.index("strip", c, v));
+                    let (a, b, d) = (a?, b?, d?);
+                    // Every other triangle of a strip is reversed to keep the winding.
+                    out.mesh
+                        .triangles
+                        .push(if k % 2 == 0 { [a, b, d] } else { [b, a, d] });
+                }
+                Ok(())
+            })?;
+        }
+        Ok(triangulated)
     }
+}
 
-    // Point data: normals and scalars.
+/// Appends a piece's point data (normals, scalars) and the cell data of its line cells
+/// (`segment_cells`: the cell of each segment it added).
+fn append_data(
+    piece: PolyDataPiece,
+    base: u32,
+    count: usize,
+    segment_cells: &[usize],
+    out: &mut PolyMesh,
+) {
     let total_cells = piece.num_cells();
     let had_vertices = base > 0;
     let mut normals = None;
     let mut scalars = Vec::new();
-    for attribute in piece.data.point {
-        match classify(attribute, count) {
+    for attribute in piece
+        .data
+        .point
+        .into_iter()
+        .flat_map(|a| classify(a, count))
+    {
+        match attribute {
             PointArray::Normals(n) if normals.is_none() => normals = Some(n),
             PointArray::Scalar(a) => scalars.push(a),
             _ => {}
@@ -300,11 +358,15 @@ fn append_piece(path: &Path, piece: PolyDataPiece, out: &mut PolyMesh) -> Result
     }
     merge_attributes(&mut out.vertex_attributes, scalars, base as usize, count);
 
-    // Cell data on lines.
     let line_before = out.lines.len() - segment_cells.len();
     let mut line_scalars = Vec::new();
-    for attribute in piece.data.cell {
-        if let PointArray::Scalar(a) = classify(attribute, total_cells) {
+    for attribute in piece
+        .data
+        .cell
+        .into_iter()
+        .flat_map(|a| classify(a, total_cells))
+    {
+        if let PointArray::Scalar(a) = attribute {
             line_scalars.push(Attribute {
                 name: a.name,
                 values: segment_cells.iter().map(|&c| a.values[c]).collect(),
@@ -317,9 +379,6 @@ fn append_piece(path: &Path, piece: PolyDataPiece, out: &mut PolyMesh) -> Result
         line_before,
         segment_cells.len(),
     );
-
-    out.mesh.positions.extend(positions);
-    Ok(triangulated)
 }
 
 /// Appends a piece's attributes to the ones gathered so far, by name; an attribute missing on

@@ -93,3 +93,43 @@ pub fn zlib(bytes: &[u8]) -> Vec<u8> {
     enc.write_all(bytes).unwrap();
     enc.finish().unwrap()
 }
+
+/// A NIfTI-1 header (348 bytes and 4 of extension flags) with the given dim and datatype.
+pub fn nifti(dim: [i16; 8], datatype: i16, bitpix: i16) -> Vec<u8> {
+    let mut h = vec![0u8; 352];
+    h[0..4].copy_from_slice(&348i32.to_le_bytes());
+    for (i, d) in dim.iter().enumerate() {
+        h[40 + 2 * i..42 + 2 * i].copy_from_slice(&d.to_le_bytes());
+    }
+    h[70..72].copy_from_slice(&datatype.to_le_bytes());
+    h[72..74].copy_from_slice(&bitpix.to_le_bytes());
+    for i in 0..8 {
+        h[76 + 4 * i..80 + 4 * i].copy_from_slice(&1f32.to_le_bytes());
+    }
+    h[108..112].copy_from_slice(&352f32.to_le_bytes());
+    h[344..348].copy_from_slice(b"n+1\0");
+    h
+}
+
+/// Reads `path` as its extension says: a mesh (a `.vtk` whose name starts with `mesh` or `cube`
+/// too), a volume, or for `.raw` 2x2x2 big-endian `u16` samples.
+pub fn read_by_extension(path: &Path) -> Result<(), IoError> {
+    let name = path
+        .file_name()
+        .unwrap()
+        .to_string_lossy()
+        .to_ascii_lowercase();
+    let mesh = [".obj", ".ply", ".stl", ".off", ".vtp"]
+        .iter()
+        .any(|e| name.ends_with(e))
+        || (name.ends_with(".vtk") && (name.starts_with("mesh") || name.starts_with("cube")));
+    if mesh {
+        voxlod_io::read_poly_mesh(path).map(|_| ())
+    } else if name.ends_with(".raw") {
+        let layout =
+            voxlod_io::RawLayout::new([2, 2, 2], voxlod_io::RawType::U16, voxlod_io::Endian::Big);
+        voxlod_io::read_volume(path, Some(&layout)).map(|_| ())
+    } else {
+        voxlod_io::read_volume(path, None).map(|_| ())
+    }
+}
