@@ -1,0 +1,119 @@
+//! Model selection (Low–Tan's display step, also Rossignac–Borrel §5.4): given how much of
+//! object space one pixel covers, pick the simplified model whose clustering cells fit in it.
+//!
+//! The patent's argument: points that fall on the same pixel show as one, so a model whose
+//! clustering merged only points closer than a pixel looks like the original. The rule here:
+//! the coarsest level whose cell size is at most `tolerance × pixel size`; if even the finest
+//! level's cells are larger, the original model. With `tolerance = 1` a cell is no larger than a
+//! pixel along an axis; `1/√3` makes the cell's diagonal fit ([`SelectOptions::diagonal`]);
+//! values above 1 trade fidelity for speed.
+//!
+//! It serves both kinds of levels: a clustering series (cell size) and the voxel pyramid of
+//! [`crate::lod`] (a level's cell is its voxel).
+//!
+//! Cost: O(levels).
+
+use serde::Serialize;
+
+use voxlod_clustering::{ClusteringError, LevelReport};
+
+/// Options of [`select_level`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SelectOptions {
+    /// A level fits when its cell size is at most `tolerance` pixel sizes.
+    pub tolerance: f64,
+}
+
+impl Default for SelectOptions {
+    fn default() -> Self {
+        SelectOptions { tolerance: 1.0 }
+    }
+}
+
+impl SelectOptions {
+    /// A cell fits when its side is at most a pixel (the default).
+    pub fn side() -> Self {
+        Self::default()
+    }
+
+    /// A cell fits when its diagonal is at most a pixel: no two vertices merged by a grid cell
+    /// are further apart than a pixel.
+    pub fn diagonal() -> Self {
+        SelectOptions {
+            tolerance: 1.0 / 3f64.sqrt(),
+        }
+    }
+
+    /// A cell fits when its side is at most `pixels` pixels.
+    pub fn pixels(pixels: f64) -> Self {
+        SelectOptions { tolerance: pixels }
+    }
+}
+
+/// The model to draw.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Selection {
+    /// No level's cells fit in a pixel: draw the original model.
+    Original,
+    /// Draw this level (an index into the list given to [`select_level`]).
+    Level(usize),
+}
+
+/// The coarsest of the levels with the given cell sizes (any order) that fits `pixel_size`.
+pub fn select_level(
+    cell_sizes: &[f64],
+    pixel_size: f64,
+    options: &SelectOptions,
+) -> Result<Selection, ClusteringError> {
+    positive("the pixel size", pixel_size)?;
+    positive("the selection tolerance", options.tolerance)?;
+    for &s in cell_sizes {
+        positive("a level's cell size", s)?;
+    }
+    let limit = options.tolerance * pixel_size;
+    Ok(cell_sizes
+        .iter()
+        .enumerate()
+        .filter(|(_, &s)| s <= limit)
+        .max_by(|a, b| a.1.total_cmp(b.1).then(b.0.cmp(&a.0)))
+        .map_or(Selection::Original, |(i, _)| Selection::Level(i)))
+}
+
+/// [`select_level`] over reports of a series (their `cell_size`).
+pub fn select_from_reports(
+    reports: &[LevelReport],
+    pixel_size: f64,
+    options: &SelectOptions,
+) -> Result<Selection, ClusteringError> {
+    let sizes: Vec<f64> = reports.iter().map(|r| r.cell_size).collect();
+    select_level(&sizes, pixel_size, options)
+}
+
+/// Object-space size covered by one pixel at `distance` from a perspective camera with a
+/// vertical field of view `vertical_fov` (radians) and a viewport `viewport_height` pixels high:
+/// `2 · distance · tan(fov / 2) / height`.
+pub fn pixel_size(
+    distance: f64,
+    vertical_fov: f64,
+    viewport_height: u32,
+) -> Result<f64, ClusteringError> {
+    positive("the distance", distance)?;
+    positive("the field of view", vertical_fov)?;
+    if vertical_fov >= std::f64::consts::PI {
+        return Err(ClusteringError::InvalidParameter {
+            what: "the field of view (below π)",
+            value: vertical_fov,
+        });
+    }
+    positive("the viewport height", viewport_height as f64)?;
+    Ok(2.0 * distance * (0.5 * vertical_fov).tan() / viewport_height as f64)
+}
+
+fn positive(what: &'static str, value: f64) -> Result<(), ClusteringError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(ClusteringError::InvalidParameter { what, value })
+    }
+}
