@@ -10,13 +10,13 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::DVec3;
-use voxlod_layers::compare::{bolt, render_layered};
+use voxlod_layers::{bolt, render_layered};
 use voxlod_layers::{filter_solid, layer_solid, layer_volume, LayersOptions, Octant};
 use voxlod_render::{Camera, RenderOptions};
 use voxlod_sampling::{CsgSolid, MeshSolid, Solid};
 
 fn bench(c: &mut Criterion) {
-    let (name, solid): (&str, Box<dyn Solid>) = match voxlod_core::testdata::shared_data_or_skip(
+    let (name, solid): (&str, Box<dyn Solid>) = match voxlod_testkit::data::shared_data_or_skip(
         "meshes/stanford-bunny.obj",
         "the bunny bench",
     ) {

@@ -7,7 +7,7 @@
 use std::time::Instant;
 
 use glam::DVec3;
-use voxlod_layers::compare::{bolt, render_layered};
+use voxlod_layers::{bolt, render_layered};
 use voxlod_layers::{
     filter_solid, layer_solid, layer_volume, ExtractOptions, LayersOptions, Octant,
 };
@@ -26,7 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .transpose()?
         .unwrap_or(5);
     println!("{} threads", rayon::current_num_threads());
-    let (name, solid): (&str, Box<dyn Solid>) = match voxlod_core::testdata::shared_data_or_skip(
+    let (name, solid): (&str, Box<dyn Solid>) = match voxlod_testkit::data::shared_data_or_skip(
         "meshes/stanford-bunny.obj",
         "the bunny timing (using the bolt)",
     ) {

@@ -11,10 +11,12 @@
 //! - [`glb`]: binary glTF with the eight orders stored; [`export`]: PLY and VTK with per-vertex
 //!   `opacity` and `layer`.
 //! - [`pipeline`]: solid → volume → plan → layers → orders in one call.
-//! - [`compare`]: the paper's antialiasing claim measured: single surface and layered shells at
-//!   one sample per pixel against a 16×16-supersampled reference.
+//! - [`preview`]: drawing the layered shells in a stored order.
+//! - [`bolt()`]: the bolt of Figure 7, a CSG part.
+//!
+//! The paper's antialiasing claim, measured, is in `voxlod-eval` (`antialias`).
 
-pub mod compare;
+mod bolt;
 pub mod error;
 pub mod export;
 pub mod extract;
@@ -23,9 +25,11 @@ pub mod glb;
 pub mod order;
 pub mod pipeline;
 pub mod plan;
+pub mod preview;
 pub mod scene;
 pub mod verify;
 
+pub use bolt::bolt;
 pub use error::LayersError;
 pub use export::{to_poly_mesh, write_layered_mesh};
 pub use extract::{extract_layers, Concatenated, ExtractOptions, Layer, LayeredMesh};
@@ -41,5 +45,6 @@ pub use plan::{
     blend_alphas, optimal_plan, plan_layers, Blending, LayerPlan, PlanOptions, PlannedLayer,
     MAX_LAYERS,
 };
+pub use preview::render_layered;
 pub use scene::{scene_order, SceneOrder};
 pub use verify::{check_order, OrderCheck};

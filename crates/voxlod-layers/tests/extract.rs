@@ -11,7 +11,7 @@ use voxlod_layers::{
 use voxlod_sampling::{filtered_density, level_grid, CsgSolid, DensityOptions, Filter, Solid};
 
 fn bolt_volume(resolution: usize) -> Volume {
-    let solid = CsgSolid::new(voxlod_layers::compare::bolt()).unwrap();
+    let solid = CsgSolid::new(voxlod_layers::bolt()).unwrap();
     let bounds = solid.bounds();
     let r = bounds.longest_extent() / resolution as f64;
     let grid = level_grid(&bounds, resolution, r).unwrap();

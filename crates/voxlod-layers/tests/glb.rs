@@ -10,7 +10,7 @@ use voxlod_layers::{glb_bytes, parse_glb, read_glb, write_glb, GlbOptions, Octan
 
 fn validator() -> Option<(PathBuf, PathBuf)> {
     let python = dirs_home()?.join(".cache/voxlod-peers/bin/python");
-    let script = voxlod_core::testdata::workspace_root().join("../shared/peers/peers.py");
+    let script = voxlod_testkit::data::workspace_root().join("../shared/peers/peers.py");
     let node_ok = Command::new("node").arg("--version").output().is_ok();
     (python.is_file() && script.is_file() && node_ok).then_some((python, script))
 }

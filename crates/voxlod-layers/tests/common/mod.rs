@@ -3,7 +3,7 @@
 
 #![allow(dead_code)]
 
-use voxlod_layers::compare::bolt;
+use voxlod_layers::bolt;
 use voxlod_layers::{layer_solid, Layered, LayersOptions};
 use voxlod_sampling::{CsgSolid, MeshSolid};
 
@@ -20,7 +20,7 @@ pub fn layered_bolt(resolution: usize) -> Layered {
 }
 
 pub fn bunny_solid(test: &str) -> Option<MeshSolid> {
-    let path = voxlod_core::testdata::shared_data_or_skip("meshes/stanford-bunny.obj", test)?;
+    let path = voxlod_testkit::data::shared_data_or_skip("meshes/stanford-bunny.obj", test)?;
     let mesh = voxlod_io::read_mesh(&path).unwrap().mesh;
     Some(MeshSolid::new(&mesh).unwrap())
 }

@@ -2,10 +2,10 @@
 //! closer to the 16×16-supersampled single surface than the single surface at one sample per
 //! pixel is — for the bolt-like CSG part and for the bunny.
 
-mod common;
-
-use voxlod_layers::compare::{bolt, compare_antialiasing, CompareOptions};
-use voxlod_sampling::{CsgSolid, Solid};
+use voxlod::layers::bolt;
+use voxlod::sampling::{CsgSolid, MeshSolid, Solid};
+use voxlod_eval::antialias::{compare_antialiasing, CompareOptions};
+use voxlod_testkit::data::shared_data_or_skip;
 
 fn check(solid: &dyn Solid, name: &str) {
     let c = compare_antialiasing(solid, &CompareOptions::default()).unwrap();
@@ -32,8 +32,12 @@ fn layered_bolt_is_closer_to_the_reference() {
 
 #[test]
 fn layered_bunny_is_closer_to_the_reference() {
-    let Some(solid) = common::bunny_solid("layered_bunny_is_closer_to_the_reference") else {
+    let Some(path) = shared_data_or_skip(
+        "meshes/stanford-bunny.obj",
+        "layered_bunny_is_closer_to_the_reference",
+    ) else {
         return;
     };
-    check(&solid, "bunny");
+    let mesh = voxlod::io::read_mesh(&path).unwrap().mesh;
+    check(&MeshSolid::new(&mesh).unwrap(), "bunny");
 }

@@ -4,14 +4,14 @@
 //! (so several filter radii in pixels). Writes `antialias-<shape>-<size>.png` (the three side by
 //! side) into OUT_DIR.
 //!
-//!     cargo run --release -p voxlod-layers --example antialias -- [OUT_DIR] [--resolution N]
+//!     cargo run --release -p voxlod-eval --example antialias -- [OUT_DIR] [--resolution N]
 //!         [--filter hypercone|gaussian] [--blending composited|direct] [SIZE...]
 
 use std::path::PathBuf;
 
-use voxlod_layers::compare::{bolt, compare_antialiasing, CompareOptions};
-use voxlod_layers::Blending;
-use voxlod_sampling::{CsgSolid, Filter, MeshSolid, Solid};
+use voxlod::layers::{bolt, Blending};
+use voxlod::sampling::{CsgSolid, Filter, MeshSolid, Solid};
+use voxlod_eval::antialias::{compare_antialiasing, CompareOptions};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut out = PathBuf::from("target/antialias");
@@ -39,11 +39,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     std::fs::create_dir_all(&out)?;
     let mut shapes: Vec<(&str, Box<dyn Solid>)> = vec![("bolt", Box::new(CsgSolid::new(bolt())?))];
-    if let Some(path) = voxlod_core::testdata::shared_data_or_skip(
+    if let Some(path) = voxlod_testkit::data::shared_data_or_skip(
         "meshes/stanford-bunny.obj",
         "the bunny comparison",
     ) {
-        let mesh = voxlod_io::read_mesh(&path)?.mesh;
+        let mesh = voxlod::io::read_mesh(&path)?.mesh;
         shapes.push(("bunny", Box::new(MeshSolid::new(&mesh)?)));
     }
     println!(
@@ -82,7 +82,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
             let png = c.montage().to_png()?;
             let path = out.join(format!("antialias-{name}-{size}.png"));
-            voxlod_io::atomic::write_atomically(&path, |w| std::io::Write::write_all(w, &png))?;
+            voxlod::io::atomic::write_atomically(&path, |w| std::io::Write::write_all(w, &png))?;
         }
     }
     Ok(())

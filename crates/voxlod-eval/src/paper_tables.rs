@@ -3,7 +3,7 @@
 //! resolutions and returns our counts beside the paper's.
 //!
 //! - Table 1: the 820-sphere sphereflake, Gaussian filter ([`table1`], object
-//!   [`voxlod_sampling::sphereflake`]).
+//!   [`voxlod::sampling::sphereflake()`]).
 //! - Table 2: a mechanical part made by CSG, Gaussian filter ([`table2`], object
 //!   [`mechanical_part`]: the paper does not give its part, so this is our own with the same
 //!   5 : 5 : 3 box, holes of three sizes and a through-bore).
@@ -22,10 +22,9 @@ use std::time::Instant;
 
 use glam::DVec3;
 use serde::Serialize;
-use voxlod_core::Axis;
-use voxlod_sampling::{Filter, PyramidOptions, Shape};
-
-use crate::lod::{build_level, plan, LodError, LodLevel, LodOptions, LodSource};
+use voxlod::core::Axis;
+use voxlod::lod::{build_level, plan, LodError, LodLevel, LodOptions, LodSource};
+use voxlod::sampling::{Filter, PyramidOptions, Shape};
 
 /// One row of a paper's table.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -48,6 +47,16 @@ pub struct PaperTable {
     pub rows: Vec<PaperRow>,
 }
 
+/// The paper's triangle counts (Table 1: sphereflake, Gaussian filter, isodensity 0.5).
+pub const PAPER_TABLE1: [(&str, usize, f64, usize); 6] = [
+    ("a", 200, 1.0, 322_214),
+    ("b", 100, 2.0, 64_926),
+    ("c", 50, 4.0, 13_576),
+    ("d", 30, 6.7, 3_756),
+    ("e", 15, 13.3, 636),
+    ("f", 5, 40.0, 8),
+];
+
 const fn row(index: &'static str, dims: [usize; 3], radius: f64, triangles: usize) -> PaperRow {
     PaperRow {
         index,
@@ -63,7 +72,7 @@ pub fn table1() -> PaperTable {
         number: 1,
         object: "fractal sphereflake, 820 spheres",
         filter: Filter::GAUSSIAN,
-        rows: crate::commands::demo::PAPER_TABLE1
+        rows: PAPER_TABLE1
             .iter()
             .map(|&(index, n, radius, triangles)| row(index, [n; 3], radius, triangles))
             .collect(),
@@ -297,18 +306,18 @@ pub fn write_level(
     table: &PaperTable,
     row: &TableRow,
     level: &LodLevel,
-) -> Result<Option<PathBuf>, voxlod_io::IoError> {
+) -> Result<Option<PathBuf>, voxlod::io::IoError> {
     if level.mesh.is_empty() {
         return Ok(None);
     }
     std::fs::create_dir_all(dir).map_err(|e| {
-        voxlod_io::IoError::new(
+        voxlod::io::IoError::new(
             dir,
-            voxlod_io::IoErrorKind::Access,
+            voxlod::io::IoErrorKind::Access,
             format!("cannot create the folder: {e}"),
         )
     })?;
     let path = dir.join(format!("table{}-{}.ply", table.number, row.paper.index));
-    voxlod_io::write_mesh(&path, &level.mesh)?;
+    voxlod::io::write_mesh(&path, &level.mesh)?;
     Ok(Some(path))
 }

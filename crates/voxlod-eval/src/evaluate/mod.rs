@@ -4,7 +4,7 @@
 //! [`plot`] draws and [`report`] writes up.
 //!
 //! The methods ([`Method`]) are controlled by a parameter, not by a triangle count: the voxel
-//! pipeline by its resolution (samples across the longest side, [`crate::lod`]), the clustering
+//! pipeline by its resolution (samples across the longest side, [`voxlod::lod`]), the clustering
 //! baselines by their cells across the longest side. [`evaluate`] finds, for each budget, the
 //! parameter whose output is nearest the budget: a search on the parameter in log–log space
 //! (triangle counts grow about as the square of either parameter), interpolating between the
@@ -14,7 +14,7 @@
 //! typically one to three runs per budget.
 //!
 //! The error of a level is the two-sided surface distance to the input
-//! ([`voxlod_metrics::mesh_distance`]: Hausdorff, mean and RMS over area-uniform samples of both
+//! ([`voxlod::metrics::mesh_distance`]: Hausdorff, mean and RMS over area-uniform samples of both
 //! surfaces), given absolutely and as a fraction of the **input's** bounding-box diagonal (the
 //! same unit for every level and method, unlike `voxlod compare`, whose unit is the box of both
 //! meshes). Only triangles are measured: the dangling edges and isolated points that clustering
@@ -51,17 +51,17 @@ pub use images::{ImageDifference, ImageOptions, SilhouetteReference};
 use std::time::Instant;
 
 use serde::Serialize;
-use voxlod_baselines::envelope::{check_manifold, repair_for_envelope};
-use voxlod_baselines::{
-    low_tan, rossignac_borrel, simplify_envelope, BaselineError, ClusterOptions, EnvelopeError,
-    EnvelopeOptions, Epsilon, FloatingCellOptions,
+use voxlod::clustering::{
+    low_tan, rossignac_borrel, ClusterOptions, ClusteringError, FloatingCellOptions,
 };
-use voxlod_core::{mesh_topology, PolyMesh, TriangleMesh};
-use voxlod_metrics::{mesh_distance, welded_mesh_report, DistanceOptions, MetricsError};
-use voxlod_render::RenderError;
-use voxlod_sampling::{Filter, MeshSolid, PyramidOptions, SamplingError};
+use voxlod::core::{mesh_topology, PolyMesh, TriangleMesh};
+use voxlod::envelope::{check_manifold, repair_for_envelope};
+use voxlod::envelope::{simplify_envelope, EnvelopeError, EnvelopeOptions, Epsilon};
+use voxlod::metrics::{mesh_distance, welded_mesh_report, DistanceOptions, MetricsError};
+use voxlod::render::RenderError;
+use voxlod::sampling::{Filter, MeshSolid, PyramidOptions, SamplingError};
 
-use crate::lod::{build_level, plan, LodError, LodOptions, LodSource};
+use voxlod::lod::{build_level, plan, LodError, LodOptions, LodSource};
 
 /// A simplification method the evaluation can run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
@@ -525,7 +525,7 @@ pub enum RunFailure {
     #[error(transparent)]
     Voxel(#[from] LodError),
     #[error(transparent)]
-    Clustering(#[from] BaselineError),
+    Clustering(#[from] ClusteringError),
     #[error(transparent)]
     Envelope(#[from] EnvelopeError),
 }
@@ -654,7 +654,7 @@ impl Runner<'_> {
 }
 
 /// The one level a single-level clustering run made.
-fn first_level(levels: Vec<voxlod_baselines::Level>) -> PolyMesh {
+fn first_level(levels: Vec<voxlod::clustering::Level>) -> PolyMesh {
     levels.into_iter().next().expect("one level asked for").mesh
 }
 

@@ -13,62 +13,19 @@
 //! about the support radius R outside the surface, so they help while R is up to about half a
 //! pixel and blur beyond; [`ComparisonReport::radius_pixels`] reports it.
 //!
-//! [`bolt`] is the bolt-like CSG part: a hexagonal head, a shank, and thread ridges.
+//! The object of Figure 7 is `voxlod::layers::bolt`, a CSG part: a hexagonal head, a shank, and
+//! thread ridges.
 
 use glam::DVec3;
 use serde::Serialize;
-use voxlod_contouring::{marching_cubes, ContourOptions};
-use voxlod_core::{Axis, TriangleMesh};
-use voxlod_render::{
+use voxlod::contouring::{marching_cubes, ContourOptions};
+use voxlod::layers::{
+    bolt, filter_solid, layer_volume, render_layered, LayersError, LayersOptions, Octant,
+};
+use voxlod::render::{
     render, rms_difference, silhouette_mask, Camera, Image, MeshItem, RenderOptions, Scene,
 };
-use voxlod_sampling::{Shape, Solid};
-
-use crate::order::Octant;
-use crate::pipeline::{filter_solid, layer_volume, LayersOptions};
-use crate::LayersError;
-
-/// A bolt-like part, about 1.6 units long along z: a hexagonal head 1 across the flats, a shank
-/// of radius 0.25 and ten thread ridges of radius 0.31.
-pub fn bolt() -> Shape {
-    let mut head_faces = Vec::new();
-    for k in 0..3 {
-        let a = (k as f64) * std::f64::consts::PI / 3.0;
-        let n = DVec3::new(a.cos(), a.sin(), 0.0);
-        head_faces.push(Shape::HalfSpace {
-            normal: n,
-            offset: 0.5,
-        });
-        head_faces.push(Shape::HalfSpace {
-            normal: -n,
-            offset: 0.5,
-        });
-    }
-    head_faces.push(Shape::cuboid(
-        DVec3::new(-0.6, -0.6, 1.2),
-        DVec3::new(0.6, 0.6, 1.55),
-    ));
-    // A chamfer on the top of the head: a sphere trimming its corners.
-    head_faces.push(Shape::sphere(DVec3::new(0.0, 0.0, 1.05), 0.72));
-    let head = Shape::Intersection(head_faces);
-    let washer = Shape::cylinder(DVec3::new(0.0, 0.0, 1.17), Axis::Z, 0.45, 0.04);
-    let shank = Shape::cylinder(DVec3::new(0.0, 0.0, 0.6), Axis::Z, 0.25, 0.6);
-    let mut parts = vec![head, washer, shank];
-    for i in 0..10 {
-        let z = 0.08 + 0.085 * i as f64;
-        parts.push(Shape::cylinder(
-            DVec3::new(0.0, 0.0, z),
-            Axis::Z,
-            0.31,
-            0.022,
-        ));
-    }
-    // A slot across the head.
-    Shape::Union(parts).minus(Shape::cuboid(
-        DVec3::new(-0.7, -0.06, 1.42),
-        DVec3::new(0.7, 0.06, 1.6),
-    ))
-}
+use voxlod::sampling::Solid;
 
 /// How to compare.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -230,10 +187,10 @@ pub fn compare_antialiasing(
 /// `antialias.json` (the figures). Returns a one-line summary. Used by `voxlod demo`, which
 /// commits `out`.
 pub fn demo_comparison(
-    out: &mut voxlod_io::OutputSet,
+    out: &mut voxlod::io::OutputSet,
     dir: &std::path::Path,
 ) -> Result<String, LayersError> {
-    let solid = voxlod_sampling::CsgSolid::new(bolt())?;
+    let solid = voxlod::sampling::CsgSolid::new(bolt())?;
     let c = compare_antialiasing(&solid, &CompareOptions::default())?;
     for (name, image) in [
         ("antialias.png", &c.montage()),
@@ -258,28 +215,4 @@ pub fn demo_comparison(
         100.0 * (r.rms_layered / r.rms_single - 1.0),
         dir.display()
     ))
-}
-
-/// Draws layered shells blended in `order`: layer `l` in `color` with alpha `alphas[l]`.
-pub fn render_layered(
-    mesh: &TriangleMesh,
-    triangle_layer: &[u16],
-    alphas: &[f32],
-    order: &[u32],
-    color: [f32; 3],
-    camera: &Camera,
-    options: &RenderOptions,
-) -> Result<Image, LayersError> {
-    let palette = alphas
-        .iter()
-        .map(|&a| [color[0], color[1], color[2], a])
-        .collect();
-    Ok(render(
-        &Scene {
-            meshes: vec![MeshItem::blended(mesh, palette, triangle_layer, order)],
-            ..Default::default()
-        },
-        camera,
-        options,
-    )?)
 }

@@ -17,8 +17,8 @@
 
 use glam::DVec3;
 use serde::Serialize;
-use voxlod_core::{Bounds, PolyMesh, TriangleMesh};
-use voxlod_render::{
+use voxlod::core::{Bounds, PolyMesh, TriangleMesh};
+use voxlod::render::{
     render, Camera, Image, LineItem, MeshItem, PointItem, RenderError, RenderOptions, Scene,
 };
 
