@@ -5,10 +5,10 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod_core::TriangleMesh;
-use voxlod_layers::glb::GlbPart;
-use voxlod_layers::read_glb;
-use voxlod_metrics::{mesh_report, welded_mesh_report, MeshReport};
+use voxlod::core::TriangleMesh;
+use voxlod::layers::glb::GlbPart;
+use voxlod::layers::read_glb;
+use voxlod::metrics::{mesh_report, welded_mesh_report, MeshReport};
 
 use super::common::{count, is_glb, print_json, read_mesh_input, CliError};
 

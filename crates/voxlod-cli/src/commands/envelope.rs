@@ -6,11 +6,11 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod_baselines::envelope::{
+use voxlod::core::TriangleMesh;
+use voxlod::envelope::{
     envelope_series_with, repair_for_envelope, simplify_envelope, EnvelopeOptions, EnvelopeReport,
     Epsilon, ManifoldRepair, OffsetRule, RegionEpsilon, RemovalOrder,
 };
-use voxlod_core::TriangleMesh;
 
 use super::common::{level_path, print_json, progress, read_mesh_input, thousands, CliError};
 use super::values::number;
@@ -164,8 +164,8 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
     options.regions = regions;
     options.measure_samples = args.samples;
     // Refuse an output format we cannot write before any work.
-    voxlod_io::mesh_format_of(&args.output)?;
-    let mut out = voxlod_io::OutputSet::protecting([&args.input]);
+    voxlod::io::mesh_format_of(&args.output)?;
+    let mut out = voxlod::io::OutputSet::protecting([&args.input]);
     for level in 0..epsilons.len() {
         out.check(&level_path(&args.output, level, epsilons.len()))?;
     }

@@ -7,10 +7,10 @@ use std::path::{Path, PathBuf};
 
 use clap::{ArgAction, CommandFactory};
 use common::*;
-use voxlod::commands::Cli;
 use voxlod::core::glam::Vec3;
-use voxlod::core::testdata::shared_data_or_skip;
 use voxlod::core::TriangleMesh;
+use voxlod_cli::commands::Cli;
+use voxlod_testkit::data::shared_data_or_skip;
 
 // -------------------------------------------------------------------------------------------
 // Negative numbers, for every numeric flag of every subcommand.
@@ -271,7 +271,7 @@ fn negative_thresholds_isos_and_origins_reach_the_commands() {
 
 /// A closed axis-aligned cube of side 2 around the origin, as an OBJ file.
 fn cube_obj(dir: &Path) -> PathBuf {
-    let mesh = voxlod::core::shapes::unit_cube();
+    let mesh = voxlod_testkit::shapes::unit_cube();
     let positions = mesh
         .positions
         .iter()
@@ -357,7 +357,7 @@ fn inspect_counts_a_rim_through_a_non_manifold_edge_as_a_loop() {
     let dir = tempfile::tempdir().unwrap();
     // The cube plus a fin on its edge 0–2 (then used three times): the fin's two free edges
     // close one loop through the fin's base (counted by hand).
-    let mut mesh = voxlod::core::shapes::unit_cube();
+    let mut mesh = voxlod_testkit::shapes::unit_cube();
     mesh.positions.push(Vec3::new(0.5, -1.0, -1.0));
     mesh.triangles.push([0, 2, 8]);
     let path = write_mesh(dir.path(), "fin.obj", &mesh);

@@ -3,6 +3,7 @@
 
 use clap::{Parser, Subcommand};
 
+pub mod camera;
 pub mod cluster;
 pub mod common;
 pub mod compare;

@@ -11,9 +11,9 @@ pub enum CliError {
     #[error("{0}")]
     Message(String),
     #[error(transparent)]
-    Core(#[from] voxlod_core::CoreError),
+    Core(#[from] voxlod::core::CoreError),
     #[error(transparent)]
-    Io(#[from] voxlod_io::IoError),
+    Io(#[from] voxlod::io::IoError),
 }
 
 impl CliError {
@@ -56,8 +56,8 @@ use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
 use clap::Args;
-use voxlod_core::{TriangleMesh, Volume};
-use voxlod_io::{Endian, FileKind, LoadedMesh, RawLayout, RawType};
+use voxlod::core::{TriangleMesh, Volume};
+use voxlod::io::{Endian, FileKind, LoadedMesh, RawLayout, RawType};
 
 use super::values::{number, numbers};
 
@@ -135,15 +135,15 @@ pub enum Input {
 /// Reads `path` as a mesh or a volume, by its extension (or as raw when `--dims` is given).
 pub fn read_input(path: &Path, raw: &RawArgs) -> Result<Input, CliError> {
     if let Some(layout) = raw.layout()? {
-        return Ok(Input::Volume(voxlod_io::read_volume(path, Some(&layout))?));
+        return Ok(Input::Volume(voxlod::io::read_volume(path, Some(&layout))?));
     }
-    match voxlod_io::file_kind(path)? {
-        FileKind::Mesh(_) => Ok(Input::Mesh(voxlod_io::read_mesh(path)?)),
-        FileKind::Volume(voxlod_io::VolumeFormat::Raw) => Err(CliError::msg(format!(
+    match voxlod::io::file_kind(path)? {
+        FileKind::Mesh(_) => Ok(Input::Mesh(voxlod::io::read_mesh(path)?)),
+        FileKind::Volume(voxlod::io::VolumeFormat::Raw) => Err(CliError::msg(format!(
             "{}: a headerless raw volume needs --dims X,Y,Z (and --dtype, --endian, --spacing)",
             path.display()
         ))),
-        FileKind::Volume(_) => Ok(Input::Volume(voxlod_io::read_volume(path, None)?)),
+        FileKind::Volume(_) => Ok(Input::Volume(voxlod::io::read_volume(path, None)?)),
     }
 }
 
@@ -155,8 +155,8 @@ pub fn is_glb(path: &Path) -> bool {
 
 /// Reads a mesh, refusing volumes.
 pub fn read_mesh_input(path: &Path) -> Result<LoadedMesh, CliError> {
-    match voxlod_io::file_kind(path)? {
-        FileKind::Mesh(_) => Ok(voxlod_io::read_mesh(path)?),
+    match voxlod::io::file_kind(path)? {
+        FileKind::Mesh(_) => Ok(voxlod::io::read_mesh(path)?),
         FileKind::Volume(_) => Err(CliError::msg(format!(
             "{}: this is a volume; this command takes a mesh",
             path.display()

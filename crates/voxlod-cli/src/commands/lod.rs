@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use serde::Serialize;
-use voxlod_io::OutputSet;
-use voxlod_sampling::{DensityReport, Filter, PyramidOptions};
+use voxlod::io::OutputSet;
+use voxlod::sampling::{DensityReport, Filter, PyramidOptions};
 
 use super::common::{
     check_computed_mesh, count, describe_mesh, in_dir, print_json, progress, CliError,
@@ -15,7 +15,7 @@ use super::common::{
 use super::envelope::{then_envelope, ThenEnvelope, ThenEnvelopeReport};
 use super::source::{load, threshold_warning, Loaded, MeshSummary, Prepared, VolumeRoute};
 use super::values::number;
-use crate::lod::{build_level, plan, LodOptions};
+use voxlod::lod::{build_level, plan, LodOptions};
 
 /// Build levels of detail: a pyramid of filtered volumes, marching cubes on each (paper §2).
 ///
@@ -324,7 +324,7 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
 }
 
 /// Why there is nothing to write: every level came out empty.
-fn no_surface(args: &LodArgs, plans: &[voxlod_sampling::LevelPlan], iso: f32) -> CliError {
+fn no_surface(args: &LodArgs, plans: &[voxlod::sampling::LevelPlan], iso: f32) -> CliError {
     let first = &plans[0];
     CliError::msg(format!(
         "{}: no level has a surface, so nothing was written: at every level the filtered density \

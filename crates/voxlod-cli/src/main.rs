@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use clap::error::ErrorKind;
 use clap::Parser;
 
-use voxlod::commands::{self, one_line, Cli};
+use voxlod_cli::commands::{self, one_line, Cli};
 
 fn main() -> ExitCode {
     // Before any thread starts: SIGINT, SIGTERM and SIGHUP then remove unfinished files and end
@@ -18,7 +18,7 @@ fn main() -> ExitCode {
         Err(e) => return usage_error(e),
     };
     // A malformed VOXLOD_MAX_MEMORY is reported before any work, not at the first large buffer.
-    let budget = voxlod_core::memory::available_bytes().map_err(commands::CliError::from);
+    let budget = voxlod::core::memory::available_bytes().map_err(commands::CliError::from);
     match budget.and_then(|_| commands::run(cli)) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {

@@ -5,12 +5,12 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod_sampling::{DensityOptions, Filter};
+use voxlod::sampling::{DensityOptions, Filter};
 
 use super::common::{print_json, CliError};
 use super::source::{load, threshold_warning, Prepared, VolumeRoute};
 use super::values::number;
-use crate::lod::LodSource;
+use voxlod::lod::LodSource;
 
 /// Sample the input into a filtered density volume (paper §2, equations 1–3).
 ///
@@ -81,17 +81,18 @@ pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
             "--radius must be a positive number of voxels",
         ));
     }
-    let mut out = voxlod_io::OutputSet::protecting([&args.input]);
+    let mut out = voxlod::io::OutputSet::protecting([&args.input]);
     out.check(&args.output)?;
     let loaded = load(&args.input, &args.route)?;
     let prepared = Prepared::new(&loaded, &args.route, &args.input)?;
     let source = prepared.source();
     let bounds = source.bounds();
-    let in_file =
-        |e: voxlod_sampling::SamplingError| CliError::msg(format!("{}: {e}", args.input.display()));
-    let plans = voxlod_sampling::plan_levels(
+    let in_file = |e: voxlod::sampling::SamplingError| {
+        CliError::msg(format!("{}: {e}", args.input.display()))
+    };
+    let plans = voxlod::sampling::plan_levels(
         &bounds,
-        &voxlod_sampling::PyramidOptions {
+        &voxlod::sampling::PyramidOptions {
             resolutions: vec![args.resolution],
             radius_voxels: args.radius,
             filter: args.filter,
@@ -108,12 +109,12 @@ pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
                 radius,
                 lines_per_radius: args.lines_per_radius,
             };
-            voxlod_sampling::filtered_density(solid, &grid, &options)
+            voxlod::sampling::filtered_density(solid, &grid, &options)
                 .map_err(in_file)?
                 .0
         }
         LodSource::Direct(volume) => {
-            voxlod_sampling::direct_density(volume, &grid, args.filter, radius).map_err(in_file)?
+            voxlod::sampling::direct_density(volume, &grid, args.filter, radius).map_err(in_file)?
         }
     };
     let sample_seconds = start.elapsed().as_secs_f64();
@@ -132,7 +133,7 @@ pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
     out.volume(
         &args.output,
         &density,
-        &voxlod_io::VolumeWriteOptions {
+        &voxlod::io::VolumeWriteOptions {
             compress: args.compress,
         },
     )?;

@@ -6,17 +6,18 @@ use std::time::Instant;
 use clap::Args;
 use glam::DVec3;
 use serde::Serialize;
-use voxlod_layers::{
+use voxlod::layers::{
     glb_bytes, layer_solid, Blending, GlbOptions, Layered, LayersError, LayersOptions, Octant,
     PlanOptions, ORDER_NAMES,
 };
-use voxlod_render::{Camera, RenderOptions};
-use voxlod_sampling::Filter;
+use voxlod::render::{Camera, RenderOptions};
+use voxlod::sampling::Filter;
 
+use super::camera::{view_direction, CameraArgs, SURFACE_COLOR};
 use super::common::{print_json, progress, CliError};
 use super::source::{load, threshold_warning, Prepared, VolumeRoute};
-use super::values::{image_size, number, numbers, ImageSize};
-use crate::lod::LodSource;
+use super::values::number;
+use voxlod::lod::LodSource;
 
 /// Build multi-layer translucent shells for antialiased rendering (He et al. 1995, §3).
 ///
@@ -116,33 +117,6 @@ struct LayersReport {
     warnings: Vec<String>,
 }
 
-/// Where the camera looks from and the image's size, for `render` and the preview of `layers`.
-#[derive(Args, Debug, Clone)]
-pub struct CameraArgs {
-    /// Direction the camera looks along, eye to scene (layers: also the octant of the order a
-    /// PLY/VTK file stores)
-    #[arg(long, value_name = "X,Y,Z", default_value = "-1,-1,-1",
-        value_parser = numbers::<f64, 3>, allow_hyphen_values = true)]
-    pub view: [f64; 3],
-    /// Image size in pixels
-    #[arg(long, value_name = "WxH", default_value = "800x800",
-        value_parser = image_size, allow_hyphen_values = true)]
-    pub size: ImageSize,
-}
-
-/// The direction of `--view X,Y,Z` (scaled so that its largest component is ±1, which keeps
-/// its length finite), refusing a zero one.
-pub fn view_direction(view: [f64; 3]) -> Result<DVec3, CliError> {
-    let v = DVec3::from(view);
-    let largest = v.abs().max_element();
-    if largest == 0.0 {
-        return Err(CliError::msg(
-            "--view 0,0,0: the view direction has zero length",
-        ));
-    }
-    Ok(v / largest)
-}
-
 fn layers_error(path: &Path, e: LayersError) -> CliError {
     CliError::msg(format!("{}: {e}", path.display()))
 }
@@ -177,10 +151,10 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
     let start = Instant::now();
     // Everything that can be refused is refused before any work.
     let kind = out_kind(&args.output)?;
-    let mut out = voxlod_io::OutputSet::protecting([&args.input]);
+    let mut out = voxlod::io::OutputSet::protecting([&args.input]);
     out.check(&args.output)?;
     if let Some(preview) = &args.preview {
-        voxlod_io::check_image_path(preview)?;
+        voxlod::io::check_image_path(preview)?;
         out.check(preview)?;
     }
     let view = view_direction(args.camera.view)?;
@@ -189,7 +163,7 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
         blending: args.blending,
         ..PlanOptions::new(args.filter, args.error)
     };
-    voxlod_layers::plan_layers(&plan)
+    voxlod::layers::plan_layers(&plan)
         .map_err(|e| CliError::msg(format!("--error {}: {e}", args.error)))?;
     if args.resolution < 2 {
         return Err(CliError::msg("--resolution must be at least 2"));
@@ -246,7 +220,7 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
         Some(b) => out.bytes(&args.output, &b)?,
         None => {
             let order = Some(&layered.orders[octant.index()][..]);
-            let poly = voxlod_layers::to_poly_mesh(&layered.mesh, order)
+            let poly = voxlod::layers::to_poly_mesh(&layered.mesh, order)
                 .map_err(|e| layers_error(&args.output, e))?;
             out.poly_mesh(&args.output, &poly)?
         }
@@ -297,12 +271,12 @@ fn preview_png(layered: &Layered, view: DVec3, (w, h): (u32, u32)) -> Result<Vec
         .map_err(|e| CliError::msg(format!("--preview: {e}")))?;
     let octant = Octant::of(view).map_err(|e| CliError::msg(format!("--view: {e}")))?;
     let alphas: Vec<f32> = layered.mesh.layers.iter().map(|l| l.alpha).collect();
-    let image = voxlod_layers::compare::render_layered(
+    let image = voxlod::layers::render_layered(
         &cat.mesh,
         &cat.triangle_layer,
         &alphas,
         &layered.orders[octant.index()],
-        super::render::SURFACE_COLOR,
+        SURFACE_COLOR,
         &camera,
         &RenderOptions::default(),
     )
@@ -363,14 +337,14 @@ mod tests {
 
     /// A closed input mesh: the bolt's surface at a coarse resolution.
     fn input(dir: &Path) -> std::path::PathBuf {
-        let solid = voxlod_sampling::CsgSolid::new(voxlod_layers::compare::bolt()).unwrap();
-        let options = voxlod_layers::LayersOptions {
+        let solid = voxlod::sampling::CsgSolid::new(voxlod::layers::bolt()).unwrap();
+        let options = voxlod::layers::LayersOptions {
             resolution: 24,
             ..Default::default()
         };
-        let l = voxlod_layers::layer_solid(&solid, &options).unwrap();
+        let l = voxlod::layers::layer_solid(&solid, &options).unwrap();
         let path = dir.join("bolt.ply");
-        voxlod_io::write_mesh(&path, &l.mesh.layers[0].mesh).unwrap();
+        voxlod::io::write_mesh(&path, &l.mesh.layers[0].mesh).unwrap();
         path
     }
 
@@ -401,7 +375,7 @@ mod tests {
             "--json",
         ])
         .unwrap();
-        let scene = voxlod_layers::read_glb(&dir.path().join("bolt.glb")).unwrap();
+        let scene = voxlod::layers::read_glb(&dir.path().join("bolt.glb")).unwrap();
         assert!(scene.is_layered());
         // ε = 0.05: three hyper-cone layers (0.0559 > 0.05 ≥ 0.0361).
         assert_eq!(scene.parts.len(), 3);
@@ -417,7 +391,7 @@ mod tests {
             "24",
         ])
         .unwrap();
-        let poly = voxlod_io::read_poly_mesh(&dir.path().join("bolt.vtp")).unwrap();
+        let poly = voxlod::io::read_poly_mesh(&dir.path().join("bolt.vtp")).unwrap();
         assert!(poly.vertex_attributes.iter().any(|a| a.name == "opacity"));
         let (glb, r) = (d("bolt.glb"), d("r.png"));
         for extra in [&[][..], &["--perspective"][..]] {

@@ -8,7 +8,7 @@
 mod common;
 
 use common::*;
-use voxlod::core::testdata::{shared_data, shared_data_or_skip};
+use voxlod_testkit::data::{shared_data, shared_data_or_skip};
 
 const MESHES: [&str; 11] = [
     "stanford-bunny.obj",

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod_baselines::{
+use voxlod::clustering::{
     low_tan, rossignac_borrel, ClusterOptions, FloatingCellOptions, LevelReport, Method, Synthesis,
 };
 
@@ -91,13 +91,13 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
             args.output.display()
         )));
     }
-    let mut out = voxlod_io::OutputSet::protecting([&args.input]);
+    let mut out = voxlod::io::OutputSet::protecting([&args.input]);
     for level in 0..args.levels as usize {
         out.check(&level_path(&args.output, level, args.levels as usize))?;
     }
     let loaded = read_mesh_input(&args.input)?;
     let mesh = &loaded.mesh;
-    let in_file = |e: voxlod_baselines::BaselineError| {
+    let in_file = |e: voxlod::clustering::ClusteringError| {
         CliError::msg(format!("{}: {e}", args.input.display()))
     };
     let bar = progress(1, "clustering", args.json);

@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod_core::TriangleMesh;
-use voxlod_metrics::{mesh_distance, DistanceOptions, DistanceReport, MetricsError};
+use voxlod::core::TriangleMesh;
+use voxlod::metrics::{mesh_distance, DistanceOptions, DistanceReport, MetricsError};
 
 use super::common::{print_json, read_mesh_input, thousands, CliError};
 use super::values::number;

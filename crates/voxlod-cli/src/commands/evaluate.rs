@@ -4,18 +4,20 @@ use std::path::PathBuf;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod_core::PolyMesh;
-use voxlod_metrics::DistanceOptions;
+use voxlod::core::PolyMesh;
+use voxlod::metrics::DistanceOptions;
 
 /// Side of each image of the preview strips, in pixels.
 const PREVIEW_SIZE: u32 = 200;
 
 use super::common::{in_dir, print_json, progress, read_mesh_input, CliError};
 use super::values::number;
-use crate::evaluate::images::preview_strip;
-use crate::evaluate::plot::plot_evaluation;
-use crate::evaluate::report::{markdown, ReportContext};
-use crate::evaluate::{evaluate, parameter_text, Budgets, EvaluateOptions, Evaluation, Method};
+use voxlod_eval::evaluate::images::preview_strip;
+use voxlod_eval::evaluate::plot::plot_evaluation;
+use voxlod_eval::evaluate::report::{markdown, ReportContext};
+use voxlod_eval::evaluate::{
+    evaluate, parameter_text, Budgets, EvaluateOptions, Evaluation, Method,
+};
 
 /// Evaluate every simplification method on a mesh: error against triangle count.
 ///
@@ -147,7 +149,7 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
     }
     options.images.views = args.views;
 
-    let mut out = voxlod_io::OutputSet::protecting([&args.input]);
+    let mut out = voxlod::io::OutputSet::protecting([&args.input]);
     for file in ["report.json", "report.md", "plot.png"] {
         out.check(&in_dir(&args.output, file))?;
     }

@@ -5,19 +5,16 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod_core::{Bounds, PolyMesh, TriangleMesh};
-use voxlod_layers::{read_glb, recover_cells, scene_order, CellTriangles, GlbScene, Octant, View};
-use voxlod_render::{render, Camera, LineItem, MeshItem, PointItem, RenderOptions, Scene};
+use voxlod::core::{Bounds, PolyMesh, TriangleMesh};
+use voxlod::layers::{read_glb, recover_cells, scene_order, CellTriangles, GlbScene, Octant, View};
+use voxlod::render::{render, Camera, LineItem, MeshItem, PointItem, RenderOptions, Scene};
 
+use super::camera::{view_direction, CameraArgs, SURFACE_COLOR};
 use super::common::{is_glb, print_json, CliError};
-use super::layers::{view_direction, CameraArgs};
 use super::values::{number, numbers, ImageSize};
 
 /// The vertical field of view of `--perspective`, in degrees, when `--fov` is not given.
 const DEFAULT_FOV: f64 = 35.0;
-
-/// The colour of surfaces (linear RGB): a light steel grey.
-pub const SURFACE_COLOR: [f32; 3] = [0.85, 0.86, 0.9];
 
 /// Draw meshes and layered shells to a PNG (software rasterizer, Lambert shading).
 ///
@@ -113,7 +110,7 @@ fn line_groups(
     options: &RenderOptions,
     default_width: f32,
 ) -> Result<Vec<LineGroup>, CliError> {
-    use voxlod_baselines::thick_edges::{dynamic_normal, NORMAL, WIDTH};
+    use voxlod::clustering::thick_edges::{dynamic_normal, NORMAL, WIDTH};
     let attr = |name: &str| m.line_attributes.iter().find(|a| a.name == name);
     let Some(widths) = attr(WIDTH) else {
         return Ok(vec![LineGroup {
@@ -170,8 +167,8 @@ enum Loaded {
 
 pub fn run(args: RenderArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    voxlod_io::check_image_path(&args.output)?;
-    let mut out = voxlod_io::OutputSet::protecting(&args.meshes);
+    voxlod::io::check_image_path(&args.output)?;
+    let mut out = voxlod::io::OutputSet::protecting(&args.meshes);
     out.check(&args.output)?;
     let view = view_direction(args.camera.view)?;
     let (width, height) = (args.camera.size.width, args.camera.size.height);
@@ -188,7 +185,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
                 inputs.push(Loaded::Plain(PolyMesh::from(scene.mesh)));
             }
         } else {
-            inputs.push(Loaded::Plain(voxlod_io::read_poly_mesh(path)?));
+            inputs.push(Loaded::Plain(voxlod::io::read_poly_mesh(path)?));
         }
     }
     // The camera frames everything.
@@ -475,8 +472,8 @@ fn blend_layers(
 #[cfg(test)]
 mod tests {
     use glam::{DVec3, Vec3};
-    use voxlod_core::{Attribute, Bounds, PolyMesh, TriangleMesh};
-    use voxlod_render::{Camera, RenderOptions};
+    use voxlod::core::{Attribute, Bounds, PolyMesh, TriangleMesh};
+    use voxlod::render::{Camera, RenderOptions};
 
     use super::line_groups;
 
@@ -505,7 +502,7 @@ mod tests {
             None,
         )
         .unwrap();
-        cam.projection = voxlod_render::Projection::Orthographic { half_height: 1.0 };
+        cam.projection = voxlod::render::Projection::Orthographic { half_height: 1.0 };
         let options = RenderOptions::default();
         let groups = line_groups(0, &m, &cam, &options, 2.0).unwrap();
         let mut widths: Vec<f32> = groups.iter().map(|g| g.width).collect();

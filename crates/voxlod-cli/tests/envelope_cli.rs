@@ -6,8 +6,9 @@ mod common;
 
 use common::*;
 use voxlod::core::glam::Vec3;
-use voxlod::core::testdata::shared_data_or_skip;
-use voxlod::core::{mesh_topology, shapes, TriangleMesh};
+use voxlod::core::{mesh_topology, TriangleMesh};
+use voxlod_testkit::data::shared_data_or_skip;
+use voxlod_testkit::shapes;
 
 #[test]
 fn envelope_writes_a_level_within_epsilon() {

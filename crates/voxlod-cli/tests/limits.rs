@@ -78,7 +78,7 @@ fn lone_point() -> Soup {
 
 /// A closed unit cube and one facet collapsed to a point that no real triangle shares.
 fn cube_and_point() -> Soup {
-    let cube = voxlod::core::shapes::unit_cube();
+    let cube = voxlod_testkit::shapes::unit_cube();
     let mut positions: Vec<[f32; 3]> = cube.positions.iter().map(|p| p.to_array()).collect();
     positions.push([5.0; 3]);
     let mut triangles = cube.triangles.clone();
@@ -273,7 +273,7 @@ fn glb_container(mut json: Vec<u8>, mut bin: Vec<u8>) -> Vec<u8> {
     out
 }
 
-/// The eight formats `voxlod_io::read_mesh` reads, by file name, with their writers.
+/// The eight formats `voxlod::io::read_mesh` reads, by file name, with their writers.
 type Writer = fn(&Soup) -> Vec<u8>;
 const IO_FORMATS: [(&str, Writer); 8] = [
     ("mesh.obj", obj),
@@ -326,7 +326,7 @@ fn collapsed_triangles_in_the_glb_that_render_reads() {
     for (soup, label, components) in [(lone_point(), "point", 1), (cube_and_point(), "cube", 2)] {
         let path = dir.path().join(format!("{label}.glb"));
         std::fs::write(&path, glb(&soup)).unwrap();
-        let scene = voxlod_layers::read_glb(&path).unwrap();
+        let scene = voxlod::layers::read_glb(&path).unwrap();
         let t = welded_topology(scene.mesh);
         assert_eq!(t.degenerate_triangles, 1, "{label}");
         assert_eq!(t.components, components, "{label}");

@@ -5,21 +5,12 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod_io::OutputSet;
-use voxlod_sampling::{sphereflake, CsgSolid};
+use voxlod::io::OutputSet;
+use voxlod::sampling::{sphereflake, CsgSolid};
 
 use super::common::{in_dir, print_json, progress, thousands, CliError};
-use crate::lod::{build_level, plan, LodOptions, LodSource};
-
-/// The paper's triangle counts (Table 1: sphereflake, Gaussian filter, isodensity 0.5).
-pub const PAPER_TABLE1: [(&str, usize, f64, usize); 6] = [
-    ("a", 200, 1.0, 322_214),
-    ("b", 100, 2.0, 64_926),
-    ("c", 50, 4.0, 13_576),
-    ("d", 30, 6.7, 3_756),
-    ("e", 15, 13.3, 636),
-    ("f", 5, 40.0, 8),
-];
+use voxlod::lod::{build_level, plan, LodOptions, LodSource};
+use voxlod_eval::paper_tables::PAPER_TABLE1;
 
 /// Run the paper's Table 1 on a generated 820-sphere sphereflake (no input needed).
 ///
@@ -97,7 +88,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     bar.finish_and_clear();
     let report = DemoReport {
         object: "sphereflake (He et al. 1995, Table 1)",
-        spheres: voxlod_sampling::sphereflake_spheres(3).len(),
+        spheres: voxlod::sampling::sphereflake_spheres(3).len(),
         filter: "gaussian, sigma = R/3",
         iso: options.iso,
         table1: rows,
@@ -108,7 +99,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
     out.text(&in_dir(&args.output, "report.json"), &text)?;
     // Paper §3, Figure 7: single surface, layered shells and the 16x16 reference, side by side.
-    let antialias = voxlod_layers::compare::demo_comparison(&mut out, &args.output)
+    let antialias = voxlod_eval::antialias::demo_comparison(&mut out, &args.output)
         .map_err(|e| CliError::msg(e.to_string()))?;
     out.commit()?;
     if args.json {

@@ -9,9 +9,9 @@ use std::process::{Command, Output};
 
 use common::*;
 use voxlod::core::glam::Vec3;
-use voxlod::core::shapes::{torus, unit_cube};
-use voxlod::core::testdata::shared_data_or_skip;
 use voxlod::core::TriangleMesh;
+use voxlod_testkit::data::shared_data_or_skip;
+use voxlod_testkit::shapes::{torus, unit_cube};
 
 /// Every triangle with its own three vertices: the same surface as a soup.
 fn soup(mesh: &TriangleMesh) -> TriangleMesh {
@@ -230,7 +230,8 @@ fn compare_of_a_mesh_with_itself_is_zero_and_seeded() {
     let b = write_mesh(dir.path(), "b.stl", &ring);
     let r = json(&voxlod(&["compare", arg(&a), arg(&b), "--json"]));
     assert!(r["hausdorff"].as_f64().unwrap() < 1e-6, "{r}");
-    let bumpy = voxlod::core::shapes::torus_with(50, 25, 2.0, |u, _| 0.6 + 0.05 * (5.0 * u).sin());
+    let bumpy =
+        voxlod_testkit::shapes::torus_with(50, 25, 2.0, |u, _| 0.6 + 0.05 * (5.0 * u).sin());
     let c = write_mesh(dir.path(), "c.ply", &bumpy);
     let run = |seed: &str| {
         json(&voxlod(&[
@@ -573,7 +574,7 @@ fn evaluate_repairs_a_non_manifold_input_for_the_envelope_and_says_so() {
 #[test]
 fn silhouette_difference_is_zero_for_the_input_and_grows_as_a_copy_shrinks() {
     use voxlod::core::PolyMesh;
-    use voxlod::evaluate::{ImageOptions, SilhouetteReference};
+    use voxlod_eval::evaluate::{ImageOptions, SilhouetteReference};
     let ring = torus(48, 24, 2.0, 0.7);
     let reference = SilhouetteReference::new(&ring, &ImageOptions::quick()).unwrap();
     let same = reference.difference(&PolyMesh::from(ring.clone())).unwrap();

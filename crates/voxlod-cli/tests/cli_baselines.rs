@@ -4,7 +4,8 @@ mod common;
 
 use common::*;
 use voxlod::core::glam::Vec3;
-use voxlod::core::{shapes, TriangleMesh};
+use voxlod::core::TriangleMesh;
+use voxlod_testkit::shapes;
 
 #[test]
 fn a_cube_in_one_cell_is_one_point_in_the_file() {

@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod_contouring::{marching_cubes, ContourOptions};
-use voxlod_core::mesh_topology;
+use voxlod::contouring::{marching_cubes, ContourOptions};
+use voxlod::core::mesh_topology;
 
 use super::common::{
     check_computed_mesh, check_grid_range, describe_mesh, print_json, read_input, CliError, Input,
@@ -69,7 +69,7 @@ struct ContourReport {
 
 pub fn run(args: ContourArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    let mut out = voxlod_io::OutputSet::protecting([&args.volume]);
+    let mut out = voxlod::io::OutputSet::protecting([&args.volume]);
     out.check(&args.output)?;
     let volume = match read_input(&args.volume, &args.raw)? {
         Input::Volume(v) => v,
@@ -155,14 +155,14 @@ pub fn run(args: ContourArgs) -> Result<(), CliError> {
 }
 
 /// The volume with one more sample on every side, all below `iso`.
-fn pad_below(volume: &voxlod_core::Volume, iso: f32) -> Result<voxlod_core::Volume, CliError> {
+fn pad_below(volume: &voxlod::core::Volume, iso: f32) -> Result<voxlod::core::Volume, CliError> {
     let g = volume.grid;
     let dims = g.dims.map(|d| d + 2);
     let origin = [0, 1, 2].map(|a| g.origin[a] - g.spacing[a]);
-    let grid = voxlod_core::Grid::new(dims, g.spacing, origin)?;
+    let grid = voxlod::core::Grid::new(dims, g.spacing, origin)?;
     let (lo, _) = volume.range().unwrap_or((iso, iso));
     let below = lo.min(iso) - 1.0;
-    let mut padded = voxlod_core::Volume::filled(grid, below, "the padded volume")?;
+    let mut padded = voxlod::core::Volume::filled(grid, below, "the padded volume")?;
     for k in 0..g.dims[2] {
         for j in 0..g.dims[1] {
             for i in 0..g.dims[0] {

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod_baselines::{pixel_size, select_level, SelectOptions, Selection};
+use voxlod::select::{pixel_size, select_level, SelectOptions, Selection};
 
 use super::common::{print_json, CliError};
 use super::values::number;
@@ -172,7 +172,7 @@ fn select_with_mesh(
     with_mesh: &[bool],
     pixel: f64,
     options: &SelectOptions,
-) -> Result<(Selection, Vec<String>), voxlod_baselines::BaselineError> {
+) -> Result<(Selection, Vec<String>), voxlod::clustering::ClusteringError> {
     let drawable: Vec<usize> = (0..sizes.len()).filter(|&i| with_mesh[i]).collect();
     let drawable_sizes: Vec<f64> = drawable.iter().map(|&i| sizes[i]).collect();
     let selection = match select_level(&drawable_sizes, pixel, options)? {

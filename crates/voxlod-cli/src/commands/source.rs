@@ -5,12 +5,12 @@ use std::path::Path;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod_core::Volume;
-use voxlod_sampling::{MeshPreparation, MeshSolid, ThresholdSolid};
+use voxlod::core::Volume;
+use voxlod::sampling::{MeshPreparation, MeshSolid, ThresholdSolid};
 
 use super::common::{check_grid_range, read_input, CliError, Input, RawArgs};
 use super::values::number;
-use crate::lod::LodSource;
+use voxlod::lod::LodSource;
 
 /// How a scanned volume enters the pipeline.
 #[derive(Args, Debug, Clone)]
