@@ -6,7 +6,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use voxlod_contouring::{marching_cubes, ContourOptions};
-use voxlod_sampling::fields::{gyroid_field, sphereflake_field};
+use voxlod_testkit::fields::{gyroid_field, sphereflake_field};
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("marching_cubes");

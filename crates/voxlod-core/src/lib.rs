@@ -15,8 +15,8 @@ pub mod grid;
 pub mod memory;
 pub mod mesh;
 pub mod repair;
-pub mod shapes;
-pub mod testdata;
+#[cfg(test)]
+mod test_shapes;
 pub mod topology;
 pub mod volume;
 pub mod weld;

@@ -236,7 +236,7 @@ impl PolyMesh {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shapes::unit_cube;
+    use crate::test_shapes::unit_cube;
 
     #[test]
     fn cube_measures() {

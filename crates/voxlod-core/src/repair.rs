@@ -159,7 +159,7 @@ pub fn close_boundary_loops(mesh: &mut TriangleMesh) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shapes::unit_cube;
+    use crate::test_shapes::unit_cube;
     use glam::Vec3;
 
     #[test]

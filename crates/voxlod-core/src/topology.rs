@@ -314,7 +314,7 @@ fn count_non_manifold_vertices(mesh: &TriangleMesh, used: &[bool]) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shapes::unit_cube;
+    use crate::test_shapes::unit_cube;
     use glam::Vec3;
 
     #[test]

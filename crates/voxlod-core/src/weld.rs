@@ -56,7 +56,7 @@ pub fn weld_vertices(mesh: &mut TriangleMesh) -> WeldReport {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{mesh_topology, shapes::unit_cube};
+    use crate::{mesh_topology, test_shapes::unit_cube};
 
     #[test]
     fn welding_a_soup_closes_it() {

@@ -423,15 +423,8 @@ mod unnamed {
 pub(crate) mod tests {
     use super::*;
 
-    /// The names in `dir`, sorted.
-    pub(crate) fn entries(dir: &Path) -> Vec<String> {
-        let mut names: Vec<String> = std::fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        names
-    }
+    /// The names in a folder, sorted.
+    pub(crate) use voxlod_testkit::files::entries;
 
     #[test]
     fn success_leaves_only_the_target() {

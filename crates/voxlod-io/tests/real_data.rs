@@ -3,8 +3,8 @@
 //! skips, saying why, when the data is not beside the checkout.
 
 use voxlod_core::mesh_topology;
-use voxlod_core::testdata::shared_data_or_skip;
 use voxlod_io::{read_mesh, read_volume, Endian, MeshFormat, RawLayout, RawType};
+use voxlod_testkit::data::shared_data_or_skip;
 
 /// (file, vertices, triangles) as documented; STL vertex counts are after welding.
 const MESHES: [(&str, usize, usize); 11] = [

@@ -7,9 +7,9 @@ use glam::{DVec3, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
-use voxlod_core::testdata::shared_data_or_skip;
 use voxlod_core::TriangleMesh;
 use voxlod_metrics::{closest_point_on_triangle, MeshDistance, MetricsError, QueryHint};
+use voxlod_testkit::data::shared_data_or_skip;
 
 fn random_unit(rng: &mut Pcg64Mcg) -> DVec3 {
     loop {

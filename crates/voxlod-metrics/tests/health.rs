@@ -3,9 +3,9 @@
 mod common;
 
 use glam::Vec3;
-use voxlod_core::testdata::shared_data_or_skip;
 use voxlod_core::TriangleMesh;
 use voxlod_metrics::{mesh_report, welded_mesh_report, MetricsError};
+use voxlod_testkit::data::shared_data_or_skip;
 
 #[test]
 fn cube_is_a_closed_genus_zero_shell_of_volume_one() {

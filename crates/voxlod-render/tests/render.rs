@@ -219,7 +219,7 @@ fn thick_lines_and_points_cover_their_area() {
 }
 
 fn cube() -> TriangleMesh {
-    let mut m = voxlod_core::shapes::unit_cube();
+    let mut m = voxlod_testkit::shapes::unit_cube();
     m.compute_vertex_normals();
     m
 }

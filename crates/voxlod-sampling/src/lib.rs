@@ -18,7 +18,6 @@ pub mod csg;
 pub mod density;
 pub mod direct;
 pub mod error;
-pub mod fields;
 pub mod filter;
 pub mod gaussian;
 pub mod hypercone;

@@ -11,7 +11,7 @@
 use rayon::prelude::*;
 use voxlod_core::{Grid, Volume};
 
-use crate::{sphereflake_spheres, SamplingError};
+use voxlod_sampling::{sphereflake_spheres, SamplingError};
 
 fn unit_grid(n: usize) -> Result<Grid, SamplingError> {
     let h = 2.0 / (n as f64 - 1.0);

@@ -7,13 +7,13 @@
 //!   inside/outside occupancy of the same grid. The mesh is the sphereflake field's isosurface
 //!   at 392³, as `peers.py gen-mesh --n 392` makes it.
 //!
-//!     cargo bench -p voxlod-sampling --bench sampling
+//!     cargo bench -p voxlod --bench sampling
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use voxlod_contouring::{marching_cubes, ContourOptions};
-use voxlod_sampling::fields::sphereflake_field;
-use voxlod_sampling::gaussian::gaussian_blur;
-use voxlod_sampling::{filtered_density, level_grid, DensityOptions, Filter, MeshSolid, Solid};
+use voxlod::contouring::{marching_cubes, ContourOptions};
+use voxlod::sampling::gaussian::gaussian_blur;
+use voxlod::sampling::{filtered_density, level_grid, DensityOptions, Filter, MeshSolid, Solid};
+use voxlod_testkit::fields::sphereflake_field;
 
 fn gaussian(c: &mut Criterion) {
     let volume = sphereflake_field(512).unwrap();

@@ -1,11 +1,15 @@
 //! Closed triangle meshes made in code: for examples, tests and benchmarks that must not depend
 //! on files. All are counter-clockwise seen from outside (positive enclosed volume).
+//!
+//! Two unit cubes with different vertex numberings: [`unit_cube`] (corner `x + 2y + 4z`) and
+//! [`unit_cube_ringwise`] (around the bottom face, then the top), which hand-checked tests rely
+//! on index by index.
 
 use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
 
-use crate::TriangleMesh;
+use voxlod_core::TriangleMesh;
 
 /// The unit cube [0, 1]³: 8 vertices, 12 triangles.
 pub fn unit_cube() -> TriangleMesh {
@@ -129,10 +133,138 @@ pub fn torus(n: u32, m: u32, major: f64, minor: f64) -> TriangleMesh {
     torus_with(n, m, major, |_, _| minor)
 }
 
+/// The unit cube [0, 1]³ with its vertices numbered counter-clockwise around the bottom face
+/// (z = 0), then around the top: 8 vertices, 12 outward triangles.
+pub fn unit_cube_ringwise() -> TriangleMesh {
+    let p = Vec3::new;
+    TriangleMesh::new(
+        vec![
+            p(0., 0., 0.),
+            p(1., 0., 0.),
+            p(1., 1., 0.),
+            p(0., 1., 0.),
+            p(0., 0., 1.),
+            p(1., 0., 1.),
+            p(1., 1., 1.),
+            p(0., 1., 1.),
+        ],
+        vec![
+            [0, 2, 1],
+            [0, 3, 2],
+            [4, 5, 6],
+            [4, 6, 7],
+            [0, 1, 5],
+            [0, 5, 4],
+            [1, 2, 6],
+            [1, 6, 5],
+            [2, 3, 7],
+            [2, 7, 6],
+            [3, 0, 4],
+            [3, 4, 7],
+        ],
+    )
+}
+
+/// An [`icosphere`] of radius `radius` centred at `centre`.
+pub fn icosphere_at(levels: u32, radius: f32, centre: Vec3) -> TriangleMesh {
+    let mut mesh = icosphere(levels);
+    mesh.positions
+        .iter_mut()
+        .for_each(|p| *p = *p * radius + centre);
+    mesh
+}
+
+/// Appends `other` to `mesh` (its own vertices, indices shifted).
+pub fn append(mesh: &mut TriangleMesh, other: &TriangleMesh) {
+    let base = mesh.positions.len() as u32;
+    mesh.positions.extend_from_slice(&other.positions);
+    mesh.triangles
+        .extend(other.triangles.iter().map(|t| t.map(|v| v + base)));
+}
+
+/// A box with a through-hole along z (genus 1), as a closed triangle mesh: the outer box
+/// [-1, 1]² × [-0.5, 0.5] minus the square hole [-0.4, 0.4]².
+pub fn holed_block() -> TriangleMesh {
+    let (o, i, h) = (1.0f32, 0.4f32, 0.5f32);
+    let mut positions = Vec::new();
+    // Rings: outer and inner squares at bottom (z = -h) and top (z = +h).
+    for &z in &[-h, h] {
+        for &s in &[o, i] {
+            positions.extend([
+                Vec3::new(-s, -s, z),
+                Vec3::new(s, -s, z),
+                Vec3::new(s, s, z),
+                Vec3::new(-s, s, z),
+            ]);
+        }
+    }
+    // Indices: bottom outer 0..4, bottom inner 4..8, top outer 8..12, top inner 12..16.
+    let mut triangles = Vec::new();
+    for k in 0..4u32 {
+        let n = (k + 1) % 4;
+        // Top face ring (normal +z) and bottom face ring (normal -z).
+        triangles.push([8 + k, 8 + n, 12 + n]);
+        triangles.push([8 + k, 12 + n, 12 + k]);
+        triangles.push([k, 4 + n, n]);
+        triangles.push([k, 4 + k, 4 + n]);
+        // Outer walls (normal outwards) and inner walls (normal into the hole).
+        triangles.push([k, n, 8 + n]);
+        triangles.push([k, 8 + n, 8 + k]);
+        triangles.push([4 + k, 12 + n, 4 + n]);
+        triangles.push([4 + k, 12 + k, 12 + n]);
+    }
+    TriangleMesh::new(positions, triangles)
+}
+
+/// A closed prism along x from 0 to `length`: rings of the cross-section `section` (y, z
+/// points, counter-clockwise) every `spacing` starting at `spacing / 2`, closed by a fan to a
+/// centre point at each end (x = 0 and x = `length`).
+pub fn prism(section: &[(f32, f32)], length: f32, spacing: f32) -> TriangleMesh {
+    let n = section.len() as u32;
+    let rings = (length / spacing).round() as u32;
+    let mut positions = Vec::new();
+    for r in 0..rings {
+        let x = spacing * (r as f32 + 0.5);
+        for &(y, z) in section {
+            positions.push(Vec3::new(x, y, z));
+        }
+    }
+    let start = positions.len() as u32;
+    positions.push(Vec3::ZERO);
+    positions.push(Vec3::new(length, 0.0, 0.0));
+    let mut triangles = Vec::new();
+    for r in 0..rings - 1 {
+        for i in 0..n {
+            let a = r * n + i;
+            let b = r * n + (i + 1) % n;
+            let (c, d) = (a + n, b + n);
+            triangles.push([a, b, d]);
+            triangles.push([a, d, c]);
+        }
+    }
+    let last = (rings - 1) * n;
+    for i in 0..n {
+        triangles.push([start, (i + 1) % n, i]);
+        triangles.push([start + 1, last + i, last + (i + 1) % n]);
+    }
+    TriangleMesh::new(positions, triangles)
+}
+
+/// A regular `n`-gon of diameter `d` centred on the x axis, as (y, z) points
+/// counter-clockwise: a [`prism`]'s cross-section.
+pub fn round_section(n: usize, d: f32) -> Vec<(f32, f32)> {
+    (0..n)
+        .map(|i| {
+            let a = i as f32 * std::f32::consts::TAU / n as f32;
+            (0.5 * d * a.cos(), 0.5 * d * a.sin())
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh_topology;
+    use voxlod_core::mesh_topology;
 
     #[test]
     fn shapes_are_closed_outward_and_of_the_right_genus() {

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 /// The workspace root (the folder holding the top-level `Cargo.toml`).
 pub fn workspace_root() -> PathBuf {
-    // This crate lives in <root>/crates/voxlod-core.
+    // This crate lives in <root>/crates/voxlod-testkit.
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../..")
         .canonicalize()
@@ -41,4 +41,25 @@ pub fn shared_data_or_skip(relative: &str, test: &str) -> Option<PathBuf> {
             None
         }
     }
+}
+
+/// The meshes of the shared data folder (its `.obj`, `.off` and `.stl` files, sorted), or none
+/// after printing why the caller skips.
+pub fn shared_meshes(test: &str) -> Vec<PathBuf> {
+    let Some(any) = shared_data_or_skip("meshes/fandisk.obj", test) else {
+        return Vec::new();
+    };
+    let dir = any.parent().unwrap().to_path_buf();
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            matches!(
+                p.extension().and_then(|e| e.to_str()),
+                Some("obj" | "off" | "stl")
+            )
+        })
+        .collect();
+    files.sort();
+    files
 }

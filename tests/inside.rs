@@ -1,17 +1,18 @@
 //! The inside function of meshes, as the filtered density and its surface show it: closed
 //! meshes, inside-out shells, duplicates, holes (closed by fans, or left to the majority vote),
 //! non-manifold fins, nested shells, and thresholded volumes.
+//!
+//! End to end (sampling, then marching cubes), so it lives here rather than in voxlod-sampling,
+//! which does not depend on voxlod-contouring.
 
-mod common;
-
-use common::{append, icosphere};
-use glam::Vec3;
-use voxlod_contouring::{marching_cubes, ContourOptions};
-use voxlod_core::{mesh_topology, Grid, TriangleMesh, Volume};
-use voxlod_sampling::{
+use voxlod::contouring::{marching_cubes, ContourOptions};
+use voxlod::core::glam::Vec3;
+use voxlod::core::{mesh_topology, Grid, TriangleMesh, Volume};
+use voxlod::sampling::{
     filtered_density, level_grid, DensityOptions, DensityReport, Filter, MeshSolid,
     MeshSolidOptions, Solid, ThresholdSolid,
 };
+use voxlod_testkit::shapes::{append, icosphere_at};
 
 const RESOLUTION: usize = 40;
 
@@ -32,7 +33,7 @@ fn sphere_volume(r: f64) -> f64 {
 
 #[test]
 fn a_closed_mesh_keeps_its_volume_and_genus() {
-    let sphere = icosphere(4, 1.0, Vec3::ZERO);
+    let sphere = icosphere_at(4, 1.0, Vec3::ZERO);
     let solid = MeshSolid::new(&sphere).unwrap();
     assert!(solid.is_exact());
     let (_, mesh, report) = surface_of(&solid, &solid);
@@ -45,7 +46,7 @@ fn a_closed_mesh_keeps_its_volume_and_genus() {
 
 #[test]
 fn inside_out_and_duplicated_meshes_sample_identically() {
-    let sphere = icosphere(3, 1.0, Vec3::ZERO);
+    let sphere = icosphere_at(3, 1.0, Vec3::ZERO);
     let reference = MeshSolid::new(&sphere).unwrap();
     let (density, ..) = surface_of(&reference, &reference);
 
@@ -78,7 +79,7 @@ fn inside_out_and_duplicated_meshes_sample_identically() {
 
 /// The sphere with the triangles of a polar cap removed: one hole.
 fn holed_sphere() -> (TriangleMesh, TriangleMesh) {
-    let sphere = icosphere(4, 1.0, Vec3::ZERO);
+    let sphere = icosphere_at(4, 1.0, Vec3::ZERO);
     let mut holed = sphere.clone();
     holed.triangles.retain(|t| {
         let centre = t
@@ -129,7 +130,7 @@ fn the_majority_vote_alone_gives_the_solid_a_person_sees() {
 
 #[test]
 fn a_non_manifold_fin_is_outvoted() {
-    let sphere = icosphere(4, 1.0, Vec3::ZERO);
+    let sphere = icosphere_at(4, 1.0, Vec3::ZERO);
     let mut finned = sphere.clone();
     // A third triangle on edge (a, b), reaching outside the sphere: the edge is used 3 times.
     let [a, b, _] = finned.triangles[0];
@@ -152,8 +153,8 @@ fn a_non_manifold_fin_is_outvoted() {
 
 #[test]
 fn nested_shells_leave_a_cavity() {
-    let mut shells = icosphere(4, 1.0, Vec3::ZERO);
-    append(&mut shells, &icosphere(4, 0.5, Vec3::ZERO));
+    let mut shells = icosphere_at(4, 1.0, Vec3::ZERO);
+    append(&mut shells, &icosphere_at(4, 0.5, Vec3::ZERO));
     let solid = MeshSolid::new(&shells).unwrap();
     assert!(solid.is_exact());
     let (_, mesh, _) = surface_of(&solid, &solid);

@@ -1,0 +1,21 @@
+//! Fixtures for voxlod's tests, benchmarks and examples: a dev-dependency only, never a normal
+//! dependency of any crate (it is not published).
+//!
+//! - [`data`]: where the shared real data lives (`../shared/data` or `VOXLOD_SHARED_DATA`), with
+//!   the skip-with-a-printed-reason lookup that tests must use when it is absent.
+//! - [`shapes`]: closed meshes made in code (cubes, icospheres, tori, a holed block, prisms).
+//! - [`fields`]: the sphereflake and gyroid fields of the peers' benchmark kit.
+//! - [`volumes`]: small volumes made in code.
+//! - [`files`]: writing and listing files, gzip and zlib streams.
+//! - [`readers`]: minimal OBJ and ASCII STL readers independent of `voxlod-io`.
+//!
+//! It depends on `voxlod-core`, and on `voxlod-sampling` for the sphereflake's spheres: every
+//! other crate can use it without a dependency loop. Those two keep small private helpers in
+//! their unit tests, and tests that need more run from the workspace root's `tests/`.
+
+pub mod data;
+pub mod fields;
+pub mod files;
+pub mod readers;
+pub mod shapes;
+pub mod volumes;
