@@ -32,6 +32,7 @@
 
 pub mod atomic;
 mod budget;
+mod detached;
 pub mod ear_clipping;
 mod error;
 mod guard;

@@ -318,7 +318,7 @@ pub(crate) fn write_detached(
     volume: &Volume,
     compress: bool,
 ) -> Result<[TempFile; 2], IoError> {
-    let data_name = crate::outputs::name_in_header(path, data_path)?;
+    let data_name = crate::detached::name_in_header(path, data_path)?;
     let data = if compress {
         Some(data_bytes(volume, true).map_err(|e| IoError::access(path, "cannot compress", &e))?)
     } else {

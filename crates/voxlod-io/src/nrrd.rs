@@ -446,7 +446,7 @@ pub(crate) fn write_detached(
     volume: &Volume,
     compress: bool,
 ) -> Result<[TempFile; 2], IoError> {
-    let data_name = crate::outputs::name_in_header(path, data_path)?;
+    let data_name = crate::detached::name_in_header(path, data_path)?;
     let header = header_text(volume, compress, Some(&data_name));
     // The header first, so that an unwritable directory is reported for the file asked for.
     let mut header_file = TempFile::create(path)?;

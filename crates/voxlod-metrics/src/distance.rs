@@ -24,9 +24,11 @@ use serde::Serialize;
 use voxlod_core::TriangleMesh;
 
 use crate::closest_point::{MeshDistance, QueryHint, QUERY_CHUNK};
-use crate::error::{check_sample_count, MetricsError};
+use crate::error::MetricsError;
 use crate::spatial_order::z_order;
-use crate::surface_sampling::{SampleLayout, SamplingOptions, SurfaceSampler, DEFAULT_SEED};
+use crate::surface_sampling::{
+    check_sample_count, SampleLayout, SamplingOptions, SurfaceSampler, DEFAULT_SEED,
+};
 
 /// How densely to sample the two surfaces.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -281,7 +283,7 @@ impl fmt::Display for DistanceReport {
 mod tests {
     use super::*;
     use crate::surface_sampling::{SurfaceSampler, MAX_SAMPLES};
-    use voxlod_core::shapes::unit_cube;
+    use voxlod_testkit::shapes::unit_cube;
 
     #[test]
     fn refuses_sample_counts_that_would_run_for_hours() {
@@ -302,6 +304,6 @@ mod tests {
         let too_many = options.sampling(0);
         assert!(sampler.samples(&too_many).is_err());
         // At the ceiling the count is accepted (checked without drawing them).
-        assert!(crate::error::check_sample_count(MAX_SAMPLES).is_ok());
+        assert!(crate::surface_sampling::check_sample_count(MAX_SAMPLES).is_ok());
     }
 }

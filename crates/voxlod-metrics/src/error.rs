@@ -49,26 +49,6 @@ impl MetricsError {
     }
 }
 
-/// Refuses a sample count of zero or above [`crate::surface_sampling::MAX_SAMPLES`].
-pub(crate) fn check_sample_count(samples: usize) -> Result<(), MetricsError> {
-    if samples == 0 {
-        return Err(MetricsError::NoSamples);
-    }
-    check_sample_ceiling(samples)
-}
-
-/// Refuses a sample count above [`crate::surface_sampling::MAX_SAMPLES`].
-pub(crate) fn check_sample_ceiling(samples: usize) -> Result<(), MetricsError> {
-    use crate::surface_sampling::MAX_SAMPLES;
-    if samples > MAX_SAMPLES {
-        return Err(MetricsError::TooManySamples {
-            requested: samples,
-            max: MAX_SAMPLES,
-        });
-    }
-    Ok(())
-}
-
 /// Checks what every measurement needs: at least one triangle, vertex indices in range and
 /// finite coordinates (for every stored vertex, used or not). Area is checked separately, by
 /// the measurements that need it.

@@ -26,12 +26,31 @@ use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
 use voxlod_core::TriangleMesh;
 
-use crate::error::{check_mesh, check_sample_ceiling, MetricsError};
+use crate::error::{check_mesh, MetricsError};
 
 /// The most samples drawn on one surface: 10⁸, a hundred times the count that gives final
 /// figures, and about a minute of work per surface. A larger count is refused rather than left
 /// to run for hours.
 pub const MAX_SAMPLES: usize = 100_000_000;
+
+/// Refuses a sample count of zero or above [`MAX_SAMPLES`].
+pub(crate) fn check_sample_count(samples: usize) -> Result<(), MetricsError> {
+    if samples == 0 {
+        return Err(MetricsError::NoSamples);
+    }
+    check_sample_ceiling(samples)
+}
+
+/// Refuses a sample count above [`MAX_SAMPLES`].
+pub(crate) fn check_sample_ceiling(samples: usize) -> Result<(), MetricsError> {
+    if samples > MAX_SAMPLES {
+        return Err(MetricsError::TooManySamples {
+            requested: samples,
+            max: MAX_SAMPLES,
+        });
+    }
+    Ok(())
+}
 
 /// How the samples share out the surface (see the module documentation).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
