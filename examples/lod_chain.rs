@@ -1,6 +1,6 @@
 //! The main job as a library call: levels of detail of a mesh, each written to a PLY file.
 //!
-//!     cargo run --release --example lod_chain -- data/holed-block.obj /tmp/block-lods
+//!     cargo run --release -p voxlod --example lod_chain -- data/holed-block.obj /tmp/block-lods
 //!
 //! Builds six levels from 128 with the hyper-cone filter and prints each level's resolution,
 //! triangle count and genus.

@@ -2,13 +2,13 @@
 //! 200³, 100³, 50³, 30³, 15³ and 5³, our triangle counts beside the paper's (the same run as
 //! `voxlod demo`, through the library).
 //!
-//!     cargo run --release --example table1_sphereflake [-- OUT_DIR]
+//!     cargo run --release -p voxlod --example table1_sphereflake [-- OUT_DIR]
 //!
 //! With OUT_DIR, each level is written there as `table1-a.ply`, `table1-b.ply`, …
 
 use voxlod::lod::LodSource;
-use voxlod::paper_tables::{output_folder, reproduce_and_print, table1};
 use voxlod::sampling::{sphereflake, CsgSolid};
+use voxlod_eval::paper_tables::{output_folder, reproduce_and_print, table1};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // An empty or "-" folder writes nothing.

@@ -1,15 +1,15 @@
 //! The voxel paper's Table 2 regenerated on our own CSG mechanical part (a plate with a boss,
 //! a counterbored through-bore, a cross hole, bolt holes, small holes and a notch; see
-//! `voxlod::paper_tables::mechanical_part`), Gaussian filter, at 200×200×120 down to 5×5×3,
+//! `voxlod_eval::paper_tables::mechanical_part`), Gaussian filter, at 200×200×120 down to 5×5×3,
 //! our triangle counts and genus beside the paper's counts.
 //!
-//!     cargo run --release --example table2_mechanical_part [-- OUT_DIR]
+//!     cargo run --release -p voxlod --example table2_mechanical_part [-- OUT_DIR]
 //!
 //! With OUT_DIR, each level is written there as `table2-a.ply`, `table2-b.ply`, …
 
 use voxlod::lod::LodSource;
-use voxlod::paper_tables::{mechanical_part, output_folder, reproduce_and_print, table2};
 use voxlod::sampling::CsgSolid;
+use voxlod_eval::paper_tables::{mechanical_part, output_folder, reproduce_and_print, table2};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // An empty or "-" folder writes nothing.

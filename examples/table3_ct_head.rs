@@ -3,7 +3,7 @@
 //! skin with trilinear interpolation and filtered with the hyper-cone, our triangle counts
 //! beside the paper's.
 //!
-//!     cargo run --release --example table3_ct_head [-- OUT_DIR|- [THRESHOLD]]
+//!     cargo run --release -p voxlod --example table3_ct_head [-- OUT_DIR|- [THRESHOLD]]
 //!
 //! The paper's scan had 256 × 256 × 225 samples, ours has 113 slices 2 mm apart: the same
 //! 255 × 255 × 224 mm box (225 = 2 × 112 + 1: the paper's slices are ours at 1 mm). Resolutions
@@ -13,8 +13,10 @@
 
 use voxlod::io::{Endian, RawLayout, RawType};
 use voxlod::lod::LodSource;
-use voxlod::paper_tables::{output_folder, reproduce_and_print, table3, CT_HEAD_SKIN_THRESHOLD};
 use voxlod::sampling::ThresholdSolid;
+use voxlod_eval::paper_tables::{
+    output_folder, reproduce_and_print, table3, CT_HEAD_SKIN_THRESHOLD,
+};
 
 const HEAD: &str = "volumes/CThead_256x256x113_uint16be.raw";
 
@@ -26,7 +28,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some(t) => t.parse()?,
         None => CT_HEAD_SKIN_THRESHOLD,
     };
-    let Some(path) = voxlod::core::testdata::shared_data_or_skip(HEAD, "table3_ct_head") else {
+    let Some(path) = voxlod_testkit::data::shared_data_or_skip(HEAD, "table3_ct_head") else {
         return Ok(());
     };
     let mut layout = RawLayout::new([256, 256, 113], RawType::U16, Endian::Big);

@@ -6,11 +6,11 @@
 //! pruning, Z-ordered blocks, chunked sums, pooling, the diagonal) to 1e-6 relative.
 
 use voxlod::core::glam::{DVec3, Vec3};
-use voxlod::core::shapes::{icosphere, torus, torus_with, unit_cube};
 use voxlod::core::TriangleMesh;
 use voxlod::metrics::{
     mesh_distance, DistanceOptions, SampleLayout, SamplingOptions, SurfaceSampler,
 };
+use voxlod_testkit::shapes::{icosphere, torus, torus_with, unit_cube};
 
 fn point_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
     let ab = b - a;
