@@ -32,14 +32,14 @@ echo "== Gaussian sigma = 1 voxel on 512^3 (peers: SciPy, VTK)"
 echo "== occupancy / filtered density of the ~1.4 M-triangle sphereflake mesh at 128^3 (peers: Open3D, trimesh)"
 "$P" "$KIT" occupancy "$D/sf1M.ply" --res 128
 echo "== voxlod criterion benches (Gaussian, density, marching cubes)"
-cargo bench -q -p voxlod-sampling --bench sampling 2>&1 | grep -E "^(gaussian|density)/|time:"
+cargo bench -q -p voxlod --bench sampling 2>&1 | grep -E "^(gaussian|density)/|time:"
 cargo bench -q -p voxlod-contouring --bench marching_cubes 2>&1 | grep -E "^marching_cubes/|time:"
 
 echo "== vertex clustering at 64 cells (peers: Open3D, meshoptimizer simplifySloppy, VTK quadric clustering)"
 "$P" "$KIT" --repeats 9 cluster "$D/sf1M.ply" --cells 64
 echo "== voxlod clustering, 2 threads then 1 (best and median of 15)"
-cargo run --release -q -p voxlod-baselines --example cluster_timing -- "$D/sf1M.ply" 64 15
-RAYON_NUM_THREADS=1 cargo run --release -q -p voxlod-baselines --example cluster_timing -- "$D/sf1M.ply" 64 15
+cargo run --release -q -p voxlod-clustering --example cluster_timing -- "$D/sf1M.ply" 64 15
+RAYON_NUM_THREADS=1 cargo run --release -q -p voxlod-clustering --example cluster_timing -- "$D/sf1M.ply" 64 15
 
 if [ -f ../shared/data/meshes/stanford-bunny.obj ]; then
   echo "== voxlod lod on the bunny, 6 levels from 256"

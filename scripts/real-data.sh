@@ -4,4 +4,4 @@
 # manifold. Takes a minute or two; CI runs the moderate-resolution version.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo test --release --test real_data -- --include-ignored "$@"
+cargo test --release -p voxlod-cli --test real_data -- --include-ignored "$@"
