@@ -484,7 +484,11 @@ pub(crate) mod tests {
         let mut temp = TempFile::create(&path).unwrap();
         if temp.is_named() {
             // ext4, XFS, Btrfs and tmpfs have it; some overlay and network file systems do not.
-            eprintln!("skipped: the file system of {dir:?} has no O_TMPFILE");
+            let temp_dir = std::env::temp_dir();
+            voxlod_testkit::skips::skip(format!(
+                "the file system of {} has no O_TMPFILE",
+                temp_dir.display()
+            ));
             return;
         }
         temp.write_with(|w| w.write_all(&[7u8; 100_000])).unwrap();
