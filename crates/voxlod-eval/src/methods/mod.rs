@@ -13,8 +13,9 @@
 //! | voxel pipeline, then envelopes within one voxel (§5) | `voxel_envelope.rs` | resolution |
 //!
 //! **Adding a method**: a file here with a unit struct that implements [`Simplifier`], its `mod`
-//! line below, and one line in [`Method::ALL`]. The budget search, the measuring, the reports and
-//! the chart take it from there. A method of your own can also be evaluated without touching
+//! line below (and a `pub use` line if callers should name the struct), and one line in
+//! [`Method::ALL`]. The budget search, the measuring, the command line's `--methods`, the reports
+//! and the chart take it from there. A method of your own can also be evaluated without touching
 //! this crate: [`Method::new`] wraps any `&'static dyn Simplifier`.
 //!
 //! What the methods need made from the input once ([`Needs`]: the input as a solid, or as a
