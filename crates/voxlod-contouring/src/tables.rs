@@ -52,6 +52,7 @@ pub const EDGE_AXIS: [u8; 12] = [0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2];
 pub struct Tables {
     /// For each case, up to five triangles; `triangle_count[case]` of them are valid.
     pub triangles: [[[u8; 3]; 5]; 256],
+    /// For each case, how many of its five `triangles` are used (0 to 5).
     pub triangle_count: [u8; 256],
     /// For each case, the number of closed loops (separate surface pieces) in the cell.
     pub loop_count: [u8; 256],
