@@ -1,6 +1,10 @@
 //! Combinatorial topology of a triangle mesh: edges, boundary loops, manifoldness, orientation,
 //! components, Euler characteristic and genus.
 //!
+//! The genus is how the voxel paper's claim is checked (§1, §4): filtering simplifies the genus
+//! of an object in a controlled way, level after level, while every level stays a closed,
+//! consistently oriented manifold.
+//!
 //! Everything here is decided from the vertex indices alone (weld coincident vertices first,
 //! see [`crate::weld`], to judge a triangle soup). Cost: one sort of the 3F half-edges,
 //! O(F log F), plus near-linear union-find passes.

@@ -66,15 +66,20 @@ fn lookup(table: &[f64], reach: f64, inv_step: f64, tau: f64, cumulative: bool) 
 /// the index of its profile.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PatternLine {
+    /// Offset across `u`, in lattice steps.
     pub du: i32,
+    /// Offset across `v`, in lattice steps.
     pub dv: i32,
+    /// Index into [`LineKernel::profiles`] of the line's distance ρ.
     pub profile: u32,
 }
 
 /// The lines within the support of a sample and their profiles, in index units of the grid.
 #[derive(Clone, Debug)]
 pub struct LineKernel {
+    /// Every lattice line within the support, as an offset from the sample's own line.
     pub lines: Vec<PatternLine>,
+    /// One profile per distinct distance ρ of those lines.
     pub profiles: Vec<LineProfile>,
     /// Support radius in index units.
     pub radius: f64,
