@@ -11,6 +11,9 @@
 //!
 //! `G_ρ` is tabulated once per distinct ρ on 512 intervals (Simpson's rule on each) and read by
 //! linear interpolation: its error is below 1e-6 of a line's weight.
+//!
+//! Cost: building a kernel is O(L) for the L lines within the support (about π R² times the
+//! lines per voxel side squared) plus 512 intervals per distinct ρ; a contribution is then O(1).
 
 use crate::Filter;
 
