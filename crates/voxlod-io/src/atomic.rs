@@ -1,6 +1,6 @@
 //! Writing files so that they appear whole or not at all, even when the process is stopped.
 //!
-//! Every writer of this crate goes through a [`TempFile`] in the target's own directory (so the
+//! Every writer of this crate goes through a `TempFile` in the target's own directory (so the
 //! final step never crosses file systems), and only when everything has been written and flushed
 //! is it put in place under the target's name. On any failure — an I/O error, an error of the
 //! format code, even a panic — the temporary file is discarded and the target is left as it was.
