@@ -312,7 +312,25 @@ fn lod_error(args: &LodArgs, e: voxlod::Error) -> CliError {
              higher --resolution, a smaller --radius or a lower --iso",
             args.input.display()
         )),
+        voxlod::Error::InvalidOption(o) => CliError::usage(format!(
+            "--{} {}: {}",
+            flag_name(o.option),
+            o.value,
+            o.problem
+        )),
+        voxlod::Error::IsoRequired => CliError::usage(format!(
+            "{}: --direct needs --iso V in the data's units",
+            args.input.display()
+        )),
         e => in_file(&args.input, e),
+    }
+}
+
+/// The flag of a [`voxlod::LodOptions`] field.
+fn flag_name(option: &str) -> String {
+    match option {
+        "radius_voxels" => "radius".to_string(),
+        other => other.replace('_', "-"),
     }
 }
 
