@@ -5,10 +5,16 @@
 //! - [`marching_cubes`]: the extraction, in bit-parallel passes in the manner of Flying Edges;
 //!   [`marching_cubes_with_cells`] also gives each triangle's cell, and [`marching_cubes_multi`]
 //!   several isosurfaces from one read of the volume (the multi-layer shells of paper §3).
+//! - [`block_marching_cubes`]: the same extraction block by block, with global edge keys, and
+//!   the stitching of the pieces into the whole-volume mesh.
 
+pub mod block_marching_cubes;
 pub mod marching_cubes;
 pub mod tables;
 
+pub use block_marching_cubes::{
+    block_marching_cubes, stitch_blocks, Block, BlockError, BlockPiece,
+};
 pub use marching_cubes::{
     marching_cubes, marching_cubes_multi, marching_cubes_with_cells, CellMesh, ContourError,
     ContourOptions,
