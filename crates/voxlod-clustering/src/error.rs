@@ -14,25 +14,8 @@ pub enum ClusteringError {
     ZeroLevels,
     #[error("{levels} levels starting from {cells} cells per axis: at most {max} (the coarsest level has a single cell along the longest axis)")]
     TooManyLevels { levels: u32, cells: u32, max: u32 },
-    #[error("the mesh has no triangles")]
-    EmptyMesh,
     #[error("the mesh is too large: {what}")]
     TooLarge { what: String },
-    #[error("vertex {vertex} has a non-finite coordinate ({x}, {y}, {z})")]
-    NonFiniteCoordinate {
-        vertex: usize,
-        x: f32,
-        y: f32,
-        z: f32,
-    },
-    #[error(
-        "triangle {triangle} refers to vertex {vertex} but there are only {vertices} vertices"
-    )]
-    IndexOutOfRange {
-        triangle: usize,
-        vertex: u32,
-        vertices: usize,
-    },
     #[error("the clustering box must be finite and not empty (got min {min:?}, max {max:?})")]
     InvalidBounds { min: [f64; 3], max: [f64; 3] },
     #[error("{what} must be positive and finite (got {value})")]

@@ -9,8 +9,6 @@ use super::manifold::ManifoldProblems;
 /// Why the envelope simplifier refused to run.
 #[derive(Debug, Error)]
 pub enum EnvelopeError {
-    #[error("the mesh has no triangles")]
-    EmptyMesh,
     #[error("ε must be a positive, finite distance or percentage of the bounding-box diagonal (got {0})")]
     InvalidEpsilon(String),
     #[error("the levels must have growing ε (level {level} has {epsilon}, not more than the level before)")]
@@ -23,21 +21,6 @@ pub enum EnvelopeError {
     },
     #[error("the mesh is not a consistently oriented manifold: {0}; repair it first (voxlod envelope --repair)")]
     NotManifold(ManifoldProblems),
-    #[error("vertex {vertex} has a non-finite coordinate ({x}, {y}, {z})")]
-    NonFiniteCoordinate {
-        vertex: usize,
-        x: f32,
-        y: f32,
-        z: f32,
-    },
-    #[error(
-        "triangle {triangle} refers to vertex {vertex} but there are only {vertices} vertices"
-    )]
-    IndexOutOfRange {
-        triangle: usize,
-        vertex: u32,
-        vertices: usize,
-    },
     #[error("the mesh is too large: {0}")]
     TooLarge(String),
     #[error(transparent)]

@@ -48,6 +48,7 @@ pub mod offsets;
 pub mod removal;
 pub mod retriangulate;
 
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use serde::Serialize;
@@ -280,6 +281,20 @@ pub fn envelope_series_with(
     options: &EnvelopeOptions,
     mut each: impl FnMut(EnvelopeLevel),
 ) -> Result<(), EnvelopeError> {
+    envelope_series_until(mesh, epsilons, options, |level| {
+        each(level);
+        ControlFlow::Continue(())
+    })
+}
+
+/// [`envelope_series_with`], stopping before the next level when `each` breaks (so a caller
+/// can cancel a long series between levels).
+pub fn envelope_series_until(
+    mesh: &TriangleMesh,
+    epsilons: &[Epsilon],
+    options: &EnvelopeOptions,
+    mut each: impl FnMut(EnvelopeLevel) -> ControlFlow<()>,
+) -> Result<(), EnvelopeError> {
     let start = Instant::now();
     options.check()?;
     if epsilons.is_empty() {
@@ -377,11 +392,14 @@ pub fn envelope_series_with(
             distance,
         };
         debug_assert_eq!(work.triangle_count(), out.triangles.len());
-        each(EnvelopeLevel {
+        let level = EnvelopeLevel {
             mesh: out,
             vertex_map,
             report,
-        });
+        };
+        if each(level).is_break() {
+            break;
+        }
         level_start = Instant::now();
     }
     Ok(())

@@ -6,23 +6,8 @@ use voxlod_core::{CoreError, TriangleMesh};
 /// Why a measurement could not be made.
 #[derive(Debug, Error)]
 pub enum MetricsError {
-    #[error("the mesh has no triangles")]
-    EmptyMesh,
     #[error("the mesh has no area ({triangles} triangles, all degenerate)")]
     NoArea { triangles: usize },
-    #[error("vertex {vertex} has a non-finite coordinate ({x}, {y}, {z})")]
-    NonFiniteCoordinate {
-        vertex: usize,
-        x: f32,
-        y: f32,
-        z: f32,
-    },
-    #[error("triangle {triangle} refers to vertex {vertex} but the mesh has only {vertex_count} vertices")]
-    VertexIndexOutOfRange {
-        triangle: usize,
-        vertex: u32,
-        vertex_count: usize,
-    },
     #[error("the sample count must be at least 1")]
     NoSamples,
     #[error(
@@ -53,27 +38,6 @@ impl MetricsError {
 /// finite coordinates (for every stored vertex, used or not). Area is checked separately, by
 /// the measurements that need it.
 pub(crate) fn check_mesh(mesh: &TriangleMesh) -> Result<(), MetricsError> {
-    if mesh.triangles.is_empty() {
-        return Err(MetricsError::EmptyMesh);
-    }
-    if let Some(vertex) = mesh.positions.iter().position(|p| !p.is_finite()) {
-        let p = mesh.positions[vertex];
-        return Err(MetricsError::NonFiniteCoordinate {
-            vertex,
-            x: p.x,
-            y: p.y,
-            z: p.z,
-        });
-    }
-    let vertex_count = mesh.positions.len();
-    for (triangle, tri) in mesh.triangles.iter().enumerate() {
-        if let Some(&vertex) = tri.iter().find(|&&v| v as usize >= vertex_count) {
-            return Err(MetricsError::VertexIndexOutOfRange {
-                triangle,
-                vertex,
-                vertex_count,
-            });
-        }
-    }
-    Ok(())
+    let required = voxlod_core::validate::Requirements::default();
+    Ok(voxlod_core::validate::validate_mesh(mesh, &required)?)
 }

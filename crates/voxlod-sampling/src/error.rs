@@ -8,8 +8,6 @@ pub enum SamplingError {
     EmptyMesh,
     #[error("the solid is empty: its bounds have no extent")]
     EmptyBounds,
-    #[error("invalid mesh: {0}")]
-    InvalidMesh(String),
     #[error("invalid option: {0}")]
     InvalidOption(String),
     #[error(transparent)]
