@@ -37,8 +37,10 @@ use crate::marching_cubes::{marching_cubes_with_cells, CellMesh, ContourError, C
 /// Why a block could not be contoured or the pieces stitched.
 #[derive(Debug, Error)]
 pub enum BlockError {
+    /// The block's cells or samples reach past its sub-volume or the whole grid.
     #[error("the block does not fit its grid: {0}")]
     OutsideGrid(String),
+    /// The extraction failed (32-bit limits, the memory budget).
     #[error(transparent)]
     Contour(#[from] ContourError),
 }
@@ -58,6 +60,7 @@ pub struct Block {
 /// global cell keys.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct BlockPiece {
+    /// The vertices (world positions, gradient normals) and triangles of the block's cells.
     pub mesh: TriangleMesh,
     /// Global edge key of each vertex.
     pub edges: Vec<u64>,

@@ -124,10 +124,7 @@ fn piece_from(piece: &PieceIn<'_>) -> PyResult<BlockPiece> {
 /// `stitch_blocks(pieces)`: the pieces of every block as one mesh (verts, faces, normals), the
 /// whole-volume mesh index for index.
 #[pyfunction]
-pub fn stitch<'py>(
-    py: Python<'py>,
-    pieces: Vec<PieceIn<'py>>,
-) -> PyResult<Stitched<'py>> {
+pub fn stitch<'py>(py: Python<'py>, pieces: Vec<PieceIn<'py>>) -> PyResult<Stitched<'py>> {
     let pieces: Vec<BlockPiece> = pieces.iter().map(piece_from).collect::<PyResult<_>>()?;
     let mesh = py.detach(|| stitch_blocks(&pieces).map_err(Failure::from))?;
     Ok((

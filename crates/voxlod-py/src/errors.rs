@@ -3,6 +3,7 @@
 //! `OSError`), carrying the library's one-line message.
 
 use pyo3::prelude::*;
+use voxlod::ErrorClass;
 use voxlod_contouring::{BlockError, ContourError};
 use voxlod_core::CoreError;
 use voxlod_sampling::SamplingError;
@@ -59,14 +60,6 @@ pub fn usage(message: impl Into<String>) -> PyErr {
     error(Kind::Usage, message)
 }
 
-fn core_kind(e: &CoreError) -> Kind {
-    match e {
-        CoreError::OutOfMemory { .. } => Kind::TooLarge,
-        CoreError::BadMemoryLimit { .. } => Kind::Usage,
-        CoreError::InvalidGrid(_) | CoreError::InvalidMesh(_) => Kind::BadInput,
-    }
-}
-
 impl From<Failure> for PyErr {
     fn from(failure: Failure) -> PyErr {
         error(failure.kind, failure.message)
@@ -89,22 +82,32 @@ impl Failure {
     }
 }
 
-impl From<CoreError> for Failure {
-    fn from(e: CoreError) -> Failure {
-        Failure::new(core_kind(&e), e.to_string())
-    }
-}
-
-impl From<ContourError> for Failure {
-    fn from(e: ContourError) -> Failure {
-        let kind = match &e {
-            ContourError::NonFiniteIso(_) => Kind::Usage,
-            ContourError::TooManyVertices(_) | ContourError::TooManyCells(_) => Kind::TooLarge,
-            ContourError::Memory(core) => core_kind(core),
+impl From<voxlod::Error> for Failure {
+    /// The library's class decides the Python class.
+    fn from(e: voxlod::Error) -> Failure {
+        let kind = match e.class() {
+            ErrorClass::Usage => Kind::Usage,
+            ErrorClass::BadInput => Kind::BadInput,
+            ErrorClass::TooLarge => Kind::TooLarge,
+            ErrorClass::Io => Kind::Io,
+            ErrorClass::Cancelled => Kind::Cancelled,
         };
         Failure::new(kind, e.to_string())
     }
 }
+
+/// The stage crates' errors, classed as the facade classes them.
+macro_rules! through_the_facade {
+    ($($error:ty),*) => {$(
+        impl From<$error> for Failure {
+            fn from(e: $error) -> Failure {
+                voxlod::Error::from(e).into()
+            }
+        }
+    )*};
+}
+
+through_the_facade!(CoreError, ContourError, SamplingError);
 
 impl From<BlockError> for Failure {
     fn from(e: BlockError) -> Failure {
@@ -112,16 +115,5 @@ impl From<BlockError> for Failure {
             BlockError::OutsideGrid(_) => Failure::new(Kind::Usage, e.to_string()),
             BlockError::Contour(c) => c.into(),
         }
-    }
-}
-
-impl From<SamplingError> for Failure {
-    fn from(e: SamplingError) -> Failure {
-        let kind = match &e {
-            SamplingError::Core(core) => core_kind(core),
-            SamplingError::InvalidOption(_) => Kind::Usage,
-            _ => Kind::BadInput,
-        };
-        Failure::new(kind, e.to_string())
     }
 }

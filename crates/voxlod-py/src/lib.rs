@@ -10,6 +10,7 @@ mod arrays;
 mod blocks;
 mod contour;
 mod errors;
+mod facade;
 mod filter;
 
 use pyo3::prelude::*;
@@ -27,6 +28,17 @@ fn _voxlod(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(filter::gaussian_filter, m)?)?;
     m.add_function(wrap_pyfunction!(blocks::contour_block, m)?)?;
     m.add_function(wrap_pyfunction!(blocks::stitch, m)?)?;
+    m.add_function(wrap_pyfunction!(facade::lod_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(facade::lod_volume, m)?)?;
+    m.add_function(wrap_pyfunction!(facade::read_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(facade::write_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(facade::read_volume, m)?)?;
+    m.add_function(wrap_pyfunction!(facade::write_volume, m)?)?;
+    m.add_function(wrap_pyfunction!(facade::inspect, m)?)?;
+    m.add_function(wrap_pyfunction!(facade::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(facade::cluster, m)?)?;
+    m.add_function(wrap_pyfunction!(facade::envelope, m)?)?;
+    m.add_function(wrap_pyfunction!(facade::layers, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

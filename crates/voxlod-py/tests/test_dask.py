@@ -63,3 +63,21 @@ def test_chunks_without_surface_are_skipped():
     assert len(pieces) == 8 and sum(p is None for p in pieces) == 7
     whole = voxlod.marching_cubes(volume, 0.5)
     assert_same_mesh(voxlod.dask.marching_cubes(array, 0.5), whole)
+
+
+def test_lod_volume_contours_on_the_cluster_then_builds_the_chain(client):
+    z, y, x = np.mgrid[-20:21, -20:21, -20:21]
+    ct = np.where(x**2 + y**2 + z**2 < 15**2, 1000, 0).astype(np.int16)
+    ct[18:23, 18:23, :] = 0  # a tunnel through the ball: genus 1
+    levels = voxlod.dask.lod_volume(da.from_array(ct, chunks=16), client=client, threshold=500,
+                                    spacing=(2.0, 1.0, 1.0), resolution=32, levels=3)
+    finest = levels[0]
+    whole = voxlod.marching_cubes(ct, float(np.nextafter(np.float32(500), np.float32(0))),
+                                  spacing=(2.0, 1.0, 1.0))
+    np.testing.assert_array_equal(finest.faces, whole[1])
+    np.testing.assert_allclose(finest.vertices, whole[0][:, ::-1], atol=1e-4)
+    mesh = as_trimesh(finest.vertices, finest.faces)
+    assert mesh.is_watertight and mesh.volume > 0 and finest.genus == 1
+    counts = [len(level.faces) for level in levels]
+    assert all(a > b for a, b in zip(counts, counts[1:])), counts
+    assert [level.resolution for level in levels[1:]] == [32, 16, 8]

@@ -103,6 +103,7 @@ pub struct GaussianFilterOptions {
     pub sigma: [f64; 3],
     /// Truncation in standard deviations.
     pub truncate: f64,
+    /// How samples past the borders are made up.
     pub mode: BoundaryMode,
 }
 
@@ -128,6 +129,7 @@ impl GaussianFilterOptions {
 pub trait FilterSample:
     Copy + Send + Sync + Default + Add<Output = Self> + Mul<Output = Self> + AddAssign + 'static
 {
+    /// The nearest value of this type.
     fn from_f64(value: f64) -> Self;
 }
 

@@ -6,7 +6,11 @@ Drop-ins for the functions Python users already call, several times faster:
 - :func:`marching_cubes` for ``skimage.measure.marching_cubes``;
 - :func:`gaussian_filter` for ``scipy.ndimage.gaussian_filter`` on 3-D float arrays.
 
-Blockwise contouring on a Dask cluster is :mod:`voxlod.dask`. Every function releases the GIL
+The library's own calls: :func:`lod` and :func:`lod_volume` (levels of detail of a mesh or a
+scan, paper §2 and §4), :func:`read_mesh`, :func:`write_mesh`, :func:`read_volume`,
+:func:`write_volume`, :func:`inspect`, :func:`compare`, :func:`layers` (translucent shells,
+§3), and the baselines :func:`cluster` and :func:`envelope`. Blockwise contouring on a Dask cluster
+is :mod:`voxlod.dask`. Every function releases the GIL
 while it works; every failure is a :class:`voxlod.Error` (see :mod:`voxlod.errors`).
 
 >>> import numpy as np, voxlod
@@ -25,6 +29,20 @@ import numpy as np
 
 from . import _voxlod
 from ._arrays import check_fits, triple, volume_array
+from ._facade import (
+    Level,
+    cluster,
+    compare,
+    envelope,
+    inspect,
+    layers,
+    lod,
+    lod_volume,
+    read_mesh,
+    read_volume,
+    write_mesh,
+    write_volume,
+)
 from .errors import Cancelled, Error, FileError, InputError, NoSurfaceError, TooLargeError, UsageError
 
 __version__: str = _voxlod.__version__
@@ -32,6 +50,18 @@ __version__: str = _voxlod.__version__
 __all__ = [
     "marching_cubes",
     "gaussian_filter",
+    "lod",
+    "lod_volume",
+    "Level",
+    "read_mesh",
+    "write_mesh",
+    "read_volume",
+    "write_volume",
+    "inspect",
+    "compare",
+    "layers",
+    "cluster",
+    "envelope",
     "Error",
     "UsageError",
     "InputError",

@@ -136,7 +136,49 @@ def marching_cubes(
     return verts, faces, normals
 
 
-def lod_volume(source: Any, *, client: Any = None, **keywords: Any) -> Any:
-    """Levels of detail of a volume with its finest surface contoured on a Dask cluster; see
-    the package README. Keywords as for :func:`voxlod.lod_volume`."""
-    raise NotImplementedError  # bound once the library facade is available
+def lod_volume(
+    source: Any,
+    *,
+    client: Any = None,
+    threshold: Optional[float] = None,
+    direct: bool = False,
+    iso: Optional[float] = None,
+    spacing: Sequence[float] = (1.0, 1.0, 1.0),
+    origin: Sequence[float] = (0.0, 0.0, 0.0),
+    **chain: Any,
+) -> List[Any]:
+    """Levels of detail of a volume too large for one machine: its full-resolution surface
+    contoured chunk by chunk on the cluster (:func:`marching_cubes`), then the chain of coarser
+    levels of that closed surface in this process (:func:`voxlod.lod`, the mesh route).
+
+    ``threshold=T`` takes the surface of the samples ``>= T``; ``direct=True`` the isosurface
+    at ``iso`` of the data itself. ``spacing`` and ``origin`` are in array-axis order; the
+    remaining keywords (``resolution``, ``levels``, ``filter``, ``resolutions``, ``radius``,
+    ``normals``, ``progress``) go to :func:`voxlod.lod`.
+
+    Returns
+    -------
+    list of :class:`voxlod.Level`
+        First the full-resolution surface (its ``resolution`` the longest side in samples), in
+        world (x, y, z) coordinates, then the levels of :func:`voxlod.lod`, finest first.
+
+    This is not :func:`voxlod.lod_volume` run blockwise: the coarser levels filter the
+    contoured surface's solid rather than the scan; the full-resolution surface is the mesh
+    :func:`voxlod.marching_cubes` gives for the whole volume.
+    """
+    from . import _facade
+
+    if (threshold is None) == (not direct):
+        raise UsageError("give either threshold=T or direct=True with iso")
+    if direct and iso is None:
+        raise UsageError("direct=True needs iso, in the data's units")
+    # Inside is `>= threshold` in the library, `> level` in marching cubes: the level just below.
+    level = float(np.nextafter(np.float32(threshold), np.float32(-np.inf))) if threshold is not None else float(iso)
+    verts, faces, normals = marching_cubes(source, level, spacing=spacing, client=client)
+    # Array-axis order to world (x, y, z): reversing the axes also turns the winding outward.
+    vertices = (verts[:, ::-1] + np.asarray(triple(origin, "origin"))[::-1]).astype(np.float32)
+    report = _facade.inspect(vertices, faces, welded=False)
+    finest = _facade.Level(vertices=vertices, faces=faces, normals=normals[:, ::-1].copy(),
+                           resolution=int(max(as_dask_array(source).shape)),
+                           genus=report["genus"], topology=report)
+    return [finest] + _facade.lod(vertices, faces, **chain)
