@@ -57,6 +57,37 @@ pub fn first_nan(samples: &[f32], dims: [usize; 3]) -> Option<[usize; 3]> {
     Some([z, y, x])
 }
 
+/// The smallest and largest sample, in one parallel pass (NaN is ignored here).
+fn sample_range(samples: &[f32]) -> (f32, f32) {
+    samples
+        .par_chunks(1 << 16)
+        .map(|chunk| {
+            chunk
+                .iter()
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
+                    (lo.min(v), hi.max(v))
+                })
+        })
+        .reduce(
+            || (f32::INFINITY, f32::NEG_INFINITY),
+            |a, b| (a.0.min(b.0), a.1.max(b.1)),
+        )
+}
+
+/// The level asked for, or scikit-image's default (the middle of the range), checked against
+/// the range as scikit-image checks it.
+fn checked_level(samples: &[f32], level: Option<f32>) -> Result<f32, Failure> {
+    let (lo, hi) = sample_range(samples);
+    match level {
+        None => Ok(0.5 * (lo + hi)),
+        Some(level) if level >= lo && level <= hi => Ok(level),
+        Some(level) => Err(Failure::new(
+            Kind::Usage,
+            format!("Surface level {level} must be within volume data range [{lo}, {hi}]."),
+        )),
+    }
+}
+
 /// A voxlod volume (unit spacing, origin 0) holding a copy of the samples.
 pub fn owned_volume(samples: &[f32], dims: [usize; 3]) -> Result<Volume, Failure> {
     let grid = Grid::unit(dims)?;
@@ -67,41 +98,39 @@ pub fn owned_volume(samples: &[f32], dims: [usize; 3]) -> Result<Volume, Failure
     Ok(Volume::from_vec(grid, samples.to_vec())?)
 }
 
-/// Per vertex, the largest corner range of the cells of the triangles that use it.
+/// Per vertex, the largest corner range of the cells of the triangles that use it: the
+/// ranges per triangle in parallel, then one pass to spread them to the vertices.
 fn corner_ranges(volume: &Volume, surface: &TriangleMesh, cells: &[u32]) -> Vec<f32> {
     let [nx, ny, _] = volume.grid.dims;
     let data = volume.as_slice();
+    let corners = [
+        0,
+        1,
+        nx,
+        nx + 1,
+        nx * ny,
+        nx * ny + 1,
+        nx * ny + nx,
+        nx * ny + nx + 1,
+    ];
+    let range_of = |cell: u32| {
+        let c = cell as usize;
+        let (i, j, k) = (
+            c % (nx - 1),
+            (c / (nx - 1)) % (ny - 1),
+            c / ((nx - 1) * (ny - 1)),
+        );
+        let base = i + nx * (j + ny * k);
+        let (lo, hi) = corners
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &o| {
+                (lo.min(data[base + o]), hi.max(data[base + o]))
+            });
+        hi - lo
+    };
+    let ranges: Vec<f32> = cells.par_iter().map(|&c| range_of(c)).collect();
     let mut values = vec![0.0f32; surface.positions.len()];
-    let mut last: Option<(u32, f32)> = None;
-    for (triangle, &cell) in surface.triangles.iter().zip(cells) {
-        let range = match last {
-            Some((c, r)) if c == cell => r,
-            _ => {
-                let c = cell as usize;
-                let (i, j, k) = (
-                    c % (nx - 1),
-                    (c / (nx - 1)) % (ny - 1),
-                    c / ((nx - 1) * (ny - 1)),
-                );
-                let base = i + nx * (j + ny * k);
-                let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
-                for offset in [
-                    0,
-                    1,
-                    nx,
-                    nx + 1,
-                    nx * ny,
-                    nx * ny + 1,
-                    nx * ny + nx,
-                    nx * ny + nx + 1,
-                ] {
-                    lo = lo.min(data[base + offset]);
-                    hi = hi.max(data[base + offset]);
-                }
-                last = Some((cell, hi - lo));
-                hi - lo
-            }
-        };
+    for (triangle, range) in surface.triangles.iter().zip(ranges) {
         for &v in triangle {
             values[v as usize] = values[v as usize].max(range);
         }
@@ -113,7 +142,7 @@ fn corner_ranges(volume: &Volume, surface: &TriangleMesh, cells: &[u32]) -> Vec<
 fn extract(
     samples: &[f32],
     dims: [usize; 3],
-    level: f32,
+    level: Option<f32>,
     mask: Option<&[bool]>,
 ) -> Result<(TriangleMesh, Vec<f32>), Failure> {
     if let Some([a, b, c]) = first_nan(samples, dims) {
@@ -122,6 +151,7 @@ fn extract(
             format!("the volume has NaN at index ({a}, {b}, {c}); marching cubes needs numbers"),
         ));
     }
+    let level = checked_level(samples, level)?;
     let volume = owned_volume(samples, dims)?;
     let surface = marching_cubes_with_cells(&volume, &ContourOptions::at(next_above(level)))?;
     let CellMesh { mesh, cells } = match mask {
@@ -145,14 +175,15 @@ fn extract(
     Ok((mesh, values))
 }
 
-/// `marching_cubes(volume, level, descent, mask)`: see the module documentation. The Python
-/// half checks the arguments, converts the volume to C-ordered `float32` and applies spacing.
+/// `marching_cubes(volume, level, descent, mask)`: see the module documentation; `level`
+/// None is the middle of the data's range. The Python half checks the other arguments,
+/// converts the volume to C-ordered `float32` and applies spacing.
 #[pyfunction]
 #[pyo3(signature = (volume, level, descent, mask=None))]
 pub fn marching_cubes<'py>(
     py: Python<'py>,
     volume: PyReadonlyArray3<'py, f32>,
-    level: f32,
+    level: Option<f32>,
     descent: bool,
     mask: Option<PyReadonlyArray3<'py, bool>>,
 ) -> PyResult<Surface<'py>> {

@@ -42,7 +42,7 @@ def test_blockwise_mesh_is_the_single_process_mesh(client):
 
 
 def test_zarr_paths_spacing_and_ascent(client, tmp_path):
-    zarr = pytest.importorskip("zarr")
+    pytest.importorskip("zarr")
     volume = -gyroid(64)
     path = tmp_path / "gyroid.zarr"
     da.from_array(volume, chunks=24).to_zarr(str(path))

@@ -88,9 +88,12 @@ def test_files_round_trip(tmp_path, torus):
     np.testing.assert_array_equal(samples, volume)
     assert spacing == (3.0, 2.0, 1.0) and origin == (1.0, 2.0, 3.0)
     raw = tmp_path / "v.raw"
-    volume.astype(">u2").tofile(raw)
-    samples, _, _ = voxlod.read_volume(raw, shape=(5, 6, 7), dtype="u16", endian="big")
-    np.testing.assert_array_equal(samples, volume.astype(">u2").astype(np.float32))
+    counts = (volume * 60000).astype(">u2")
+    counts.tofile(raw)
+    samples, spacing, _ = voxlod.read_volume(raw, shape=(5, 6, 7), dtype="u16", endian="big",
+                                             spacing=(2, 1, 1))
+    np.testing.assert_array_equal(samples, counts.astype(np.float32))
+    assert spacing == (2.0, 1.0, 1.0) and samples.max() > 1000
 
 
 def test_file_errors_are_os_errors(tmp_path):
@@ -159,6 +162,6 @@ def test_cluster_and_envelope_simplify(torus):
     assert level["lines"].shape[1] == 2
     (level,) = voxlod.envelope(*torus, 0.02)
     simplified = as_trimesh(level["vertices"], level["faces"])
-    assert simplified.is_watertight and len(level["faces"]) < len(torus[1]) / 3
+    assert simplified.is_watertight and len(level["faces"]) < len(torus[1]) / 2
     # Within ε of the input: every simplified vertex is an input vertex.
     assert len(np.setdiff1d(level["vertices"].view("V12"), torus[0].view("V12"))) == 0

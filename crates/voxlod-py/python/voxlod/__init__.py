@@ -135,14 +135,9 @@ def marching_cubes(
     True
     """
     array = volume_array(volume, np.float32, "volume", min_side=2)
-    low, high = float(array.min()), float(array.max())
-    if level is None:
-        level = float(np.float32(0.5) * (np.float32(low) + np.float32(high)))
-    else:
-        level = float(level)
-        if level < low or level > high:
-            raise UsageError(f"Surface level {level} must be within volume data range "
-                             f"[{low}, {high}].")
+    # None: the middle of the data's range; a level outside the range is refused (in Rust, in
+    # the same pass that looks for NaN).
+    level = None if level is None else float(level)
     spacing = triple(spacing, "spacing")
     if gradient_direction not in ("descent", "ascent"):
         raise UsageError(f"Incorrect input {gradient_direction!r} in `gradient_direction`: "
