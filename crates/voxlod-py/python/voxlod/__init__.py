@@ -1,7 +1,7 @@
 """voxlod: levels of detail from meshes and scanned volumes by voxel filtering and marching
 cubes (He, Hong, Kaufman, Varshney, Wang 1995), with NumPy in and out.
 
-Drop-ins for the functions Python users already call, several times faster:
+Drop-ins for the functions Python users already call, in parallel Rust:
 
 - :func:`marching_cubes` for ``skimage.measure.marching_cubes``;
 - :func:`gaussian_filter` for ``scipy.ndimage.gaussian_filter`` on 3-D float arrays.
