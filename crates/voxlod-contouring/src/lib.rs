@@ -6,6 +6,9 @@
 //!   Flying Edges (module [`mod@marching_cubes`]); [`marching_cubes_with_cells`] also gives each
 //!   triangle's cell, and [`marching_cubes_multi`] several isosurfaces from one read of the
 //!   volume (the multi-layer shells of paper §3).
+//! - [`block_marching_cubes()`]: the same extraction block by block, with global edge keys, and
+//!   [`stitch_blocks`], the stitching of the pieces into the whole-volume mesh (module
+//!   [`mod@block_marching_cubes`]).
 //!
 //! Cost: one read of the volume, then O(N³/64) word operations and work proportional to the
 //! surface.
@@ -30,9 +33,13 @@
 
 #![warn(missing_docs)]
 
+pub mod block_marching_cubes;
 pub mod marching_cubes;
 pub mod tables;
 
+pub use block_marching_cubes::{
+    block_marching_cubes, stitch_blocks, Block, BlockError, BlockPiece,
+};
 pub use marching_cubes::{
     marching_cubes, marching_cubes_multi, marching_cubes_with_cells, CellMesh, ContourError,
     ContourOptions,

@@ -12,7 +12,8 @@
 //!   ([`line_kernel`]) and blends the three axis families ([`density`]).
 //! - The [`pyramid`]: every level filtered from the original object with its own radius.
 //! - Scanned volumes filtered directly, without thresholding: [`direct_density`]; and the
-//!   separable [`gaussian::gaussian_blur`] of a whole volume.
+//!   separable [`gaussian::gaussian_blur`] of a whole volume, and
+//!   [`gaussian_filter::gaussian_filter`] with SciPy's border modes.
 //!
 //! Cost: each level is dominated by [`filtered_density`], linear in the grid's samples plus the
 //! crossings of the lattice lines, after an O(F log F) BVH build for a mesh.
@@ -62,6 +63,7 @@ pub mod direct;
 pub mod error;
 pub mod filter;
 pub mod gaussian;
+pub mod gaussian_filter;
 pub mod hypercone;
 pub mod lattice;
 pub mod line_kernel;
@@ -77,6 +79,7 @@ pub use density::{filtered_density, DensityOptions, DensityReport};
 pub use direct::direct_density;
 pub use error::SamplingError;
 pub use filter::Filter;
+pub use gaussian_filter::{gaussian_filter, BoundaryMode, GaussianFilterOptions};
 pub use mesh_solid::{MeshPreparation, MeshSolid, MeshSolidOptions};
 pub use pyramid::{level_grid, plan_levels, LevelPlan, PyramidOptions};
 pub use solid::Solid;
