@@ -13,6 +13,7 @@ use super::common::{
     MeshExtension,
 };
 use super::envelope::{then_envelope, ThenEnvelope, ThenEnvelopeReport};
+use super::lod_glb::{add_chain, GlbArgs, GlbReport, LodFormat, CHAIN_FILE};
 use super::source::{load, threshold_warning, Loaded, MeshSummary, Prepared, VolumeRoute};
 use super::values::number;
 use voxlod::lod::{build_level, plan, LodOptions};
@@ -64,9 +65,11 @@ pub struct LodArgs {
     /// in data units with --direct (required)
     #[arg(long, value_name = "V", value_parser = number::<f32>, allow_hyphen_values = true)]
     pub iso: Option<f32>,
-    /// Format of the level meshes
+    /// Format of the level meshes, or glb: one DIR/lod.glb chaining every level (MSFT_lod)
     #[arg(long, value_enum, default_value = "ply")]
-    pub format: MeshExtension,
+    pub format: LodFormat,
+    #[command(flatten)]
+    pub glb: GlbArgs,
     /// Quadrature lines per filter radius (accuracy against speed; 4 keeps the half-space
     /// profile within 0.01 of the paper's equation 5)
     #[arg(long, value_name = "Q", default_value_t = 4,
@@ -119,6 +122,9 @@ struct LodReport {
     filter: Filter,
     iso: f32,
     levels: Vec<LevelReport>,
+    /// The MSFT_lod chain file, with --format glb.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    glb: Option<GlbReport>,
     total_seconds: f64,
     /// Every warning printed without --json: levels the filter removed, stale level files
     /// removed from the output folder.
@@ -142,6 +148,7 @@ fn is_level_file(name: &str) -> bool {
 
 pub fn run(args: LodArgs) -> Result<(), CliError> {
     let start = Instant::now();
+    args.glb.check(args.format)?;
     let loaded = load(&args.input, &args.route)?;
     let prepared = Prepared::new(&loaded, &args.route, &args.input)?;
     let iso = prepared.iso(args.iso, &args.input)?;
@@ -170,10 +177,17 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::msg(format!("{}: {e}", args.input.display())))?;
     // Everything is written at the end, as one set; refuse now what it would refuse then.
     let mut out = OutputSet::protecting([&args.input]);
-    let level_name = |level: usize| format!("level-{level}.{}", args.format.as_str());
+    let level_name =
+        |level: usize| format!("level-{level}.{}", args.format.level_extension().as_str());
+    let glb = args.format == LodFormat::Glb;
+    let level_files = !glb || args.glb.split;
     for p in &plans {
         out.check(&in_dir(&args.output, &level_name(p.level)))?;
     }
+    if glb {
+        out.check(&in_dir(&args.output, CHAIN_FILE))?;
+    }
+    let mut chain = Vec::new();
     out.create_dir(&args.output)?;
     if let Loaded::Mesh(_, summary) = &loaded {
         let p = &summary.preparation;
@@ -225,9 +239,18 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         };
         let name = level_name(level_plan.level);
         let write_start = Instant::now();
-        let file = (!level.mesh.is_empty()).then(|| name.clone());
-        if file.is_some() {
+        let file = (!level.mesh.is_empty()).then(|| {
+            if level_files {
+                name.clone()
+            } else {
+                CHAIN_FILE.into()
+            }
+        });
+        if file.is_some() && level_files {
             out.mesh(&in_dir(&args.output, &name), &level.mesh)?;
+        }
+        if glb && !level.mesh.is_empty() {
+            chain.push((level_plan.level, level.mesh.clone(), level_plan.voxel_size));
         }
         let write_seconds = write_start.elapsed().as_secs_f64();
         let t = &level.topology;
@@ -282,6 +305,11 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     if levels.iter().all(|l| l.file.is_none()) {
         return Err(no_surface(&args, &plans, iso));
     }
+    let glb_report = if glb {
+        Some(add_chain(&mut out, &args.output, &chain, &args.glb)?)
+    } else {
+        None
+    };
     out.remove_stale(&args.output, is_level_file);
     let written_warnings = out.warnings().len();
     warnings.extend(out.warnings().iter().cloned());
@@ -299,6 +327,7 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         filter: args.filter,
         iso,
         levels,
+        glb: glb_report,
         total_seconds: start.elapsed().as_secs_f64(),
         warnings,
     };
