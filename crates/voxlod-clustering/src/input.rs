@@ -28,11 +28,13 @@ pub(crate) struct Prepared {
 }
 
 impl Prepared {
+    /// Whether some triangle uses vertex `v`.
     #[inline]
     pub fn is_referenced(&self, v: usize) -> bool {
         self.offsets[v + 1] > self.offsets[v]
     }
 
+    /// The (next, previous) vertices of every triangle corner at `v`, in triangle order.
     #[inline]
     pub fn neighbours_of(&self, v: usize) -> &[[u32; 2]] {
         &self.neighbours[self.offsets[v] as usize..self.offsets[v + 1] as usize]
@@ -42,7 +44,7 @@ impl Prepared {
 /// A raw pointer that workers may share because each writes only its own slots.
 #[derive(Clone, Copy)]
 struct SharedSlots(*mut [u32; 2]);
-// SAFETY: used only in `prepare`, where the slots written by different workers are disjoint
+// SAFETY: used only in `fill_neighbours`, where the slots written by different workers are disjoint
 // (each worker owns the range of cursors it computed for its chunk of triangles).
 unsafe impl Send for SharedSlots {}
 unsafe impl Sync for SharedSlots {}
@@ -61,9 +63,7 @@ impl SharedSlots {
 /// name, an index out of range (the first such triangle is named) and a non-finite coordinate
 /// (on any vertex, used or not; the first is named).
 pub(crate) fn prepare(mesh: &TriangleMesh) -> Result<Prepared, ClusteringError> {
-    if mesh.triangles.is_empty() {
-        return Err(ClusteringError::EmptyMesh);
-    }
+    voxlod_core::validate::validate_mesh(mesh, &Default::default())?;
     let n = mesh.positions.len();
     if n >= u32::MAX as usize {
         return Err(ClusteringError::TooLarge {
@@ -89,33 +89,38 @@ pub(crate) fn prepare(mesh: &TriangleMesh) -> Result<Prepared, ClusteringError> 
         memory::bytes_of::<[u32; 2]>(corner_count)
             + memory::bytes_of::<u32>((chunks + 1) * (n + 1)),
     )?;
+    let mut counts = count_corners(mesh, chunk);
+    let offsets = offsets_and_cursors(&mut counts, n);
+    debug_assert_eq!(offsets[n] as usize, corner_count);
+    let neighbours = fill_neighbours(mesh, chunk, counts, corner_count);
+    let (bounds, referenced) = used_bounds(mesh, &offsets)?;
+    Ok(Prepared {
+        offsets,
+        neighbours,
+        bounds,
+        referenced,
+    })
+}
 
-    // Pass 1: per chunk, the corners of each vertex (and the first bad index).
-    let per_chunk: Vec<Result<Vec<u32>, ClusteringError>> = mesh
-        .triangles
+/// Pass 1: per chunk of `chunk` triangles, how many corners each vertex has in it (indices
+/// are in range: validated by the caller).
+fn count_corners(mesh: &TriangleMesh, chunk: usize) -> Vec<Vec<u32>> {
+    let n = mesh.positions.len();
+    mesh.triangles
         .par_chunks(chunk)
-        .enumerate()
-        .map(|(c, tris)| {
+        .map(|tris| {
             let mut count = vec![0u32; n];
-            for (i, tri) in tris.iter().enumerate() {
-                for &v in tri {
-                    if v as usize >= n {
-                        return Err(ClusteringError::IndexOutOfRange {
-                            triangle: c * chunk + i,
-                            vertex: v,
-                            vertices: n,
-                        });
-                    }
-                    count[v as usize] += 1;
-                }
+            for &v in tris.iter().flatten() {
+                count[v as usize] += 1;
             }
-            Ok(count)
+            count
         })
-        .collect();
-    // The first chunk in order with a bad index names the first bad triangle.
-    let mut counts: Vec<Vec<u32>> = per_chunk.into_iter().collect::<Result<_, _>>()?;
+        .collect()
+}
 
-    // Offsets, and each chunk's first slot per vertex (counts become cursors in place).
+/// The table's offsets (length `n + 1`), and each chunk's first slot per vertex: the counts
+/// become cursors in place.
+fn offsets_and_cursors(counts: &mut [Vec<u32>], n: usize) -> Vec<u32> {
     let mut offsets = vec![0u32; n + 1];
     let mut sum = 0u32;
     for v in 0..n {
@@ -127,14 +132,21 @@ pub(crate) fn prepare(mesh: &TriangleMesh) -> Result<Prepared, ClusteringError> 
         }
     }
     offsets[n] = sum;
-    debug_assert_eq!(sum as usize, corner_count);
+    offsets
+}
 
-    // Pass 2: fill, each chunk through its own cursors.
+/// Pass 2: the table, each chunk writing through its own cursors, in parallel.
+fn fill_neighbours(
+    mesh: &TriangleMesh,
+    chunk: usize,
+    mut cursors: Vec<Vec<u32>>,
+    corner_count: usize,
+) -> Vec<[u32; 2]> {
     let mut neighbours = vec![[0u32; 2]; corner_count];
     let slots = SharedSlots(neighbours.as_mut_ptr());
     mesh.triangles
         .par_chunks(chunk)
-        .zip(counts.par_iter_mut())
+        .zip(cursors.par_iter_mut())
         .for_each(|(tris, cursor)| {
             for &[a, b, c] in tris {
                 for (v, next, prev) in [(a, b, c), (b, c, a), (c, a, b)] {
@@ -146,23 +158,24 @@ pub(crate) fn prepare(mesh: &TriangleMesh) -> Result<Prepared, ClusteringError> 
                 }
             }
         });
-    drop(counts);
+    neighbours
+}
 
-    // Pass 3: non-finite coordinates, and the box of the used vertices.
+/// Pass 3: the box and number of the used vertices (those with a corner in `offsets`;
+/// coordinates are finite: validated by the caller).
+fn used_bounds(mesh: &TriangleMesh, offsets: &[u32]) -> Result<(Bounds, usize), ClusteringError> {
     const BLOCK: usize = 1 << 14;
-    let parts: Vec<([f32; 3], [f32; 3], usize, usize)> = mesh
+    let parts: Vec<([f32; 3], [f32; 3], usize)> = mesh
         .positions
         .par_chunks(BLOCK)
         .enumerate()
         .map(|(c, ps)| {
             let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-            let (mut k, mut bad) = (0usize, usize::MAX);
+            let mut k = 0usize;
             let base = c * BLOCK;
             for (i, p) in ps.iter().enumerate() {
                 let v = base + i;
-                if !p.is_finite() {
-                    bad = bad.min(v);
-                } else if offsets[v + 1] > offsets[v] {
+                if offsets[v + 1] > offsets[v] {
                     for (axis, x) in p.to_array().into_iter().enumerate() {
                         lo[axis] = if x < lo[axis] { x } else { lo[axis] };
                         hi[axis] = if x > hi[axis] { x } else { hi[axis] };
@@ -170,34 +183,19 @@ pub(crate) fn prepare(mesh: &TriangleMesh) -> Result<Prepared, ClusteringError> 
                     k += 1;
                 }
             }
-            (lo, hi, k, bad)
+            (lo, hi, k)
         })
         .collect();
     let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-    let (mut referenced, mut bad) = (0, usize::MAX);
-    for (l, h, k, b) in parts {
+    let mut referenced = 0;
+    for (l, h, k) in parts {
         lo = lo.min(Vec3::from(l));
         hi = hi.max(Vec3::from(h));
         referenced += k;
-        bad = bad.min(b);
-    }
-    if bad != usize::MAX {
-        let p = mesh.positions[bad];
-        return Err(ClusteringError::NonFiniteCoordinate {
-            vertex: bad,
-            x: p.x,
-            y: p.y,
-            z: p.z,
-        });
     }
     let bounds = Bounds::new(lo.as_dvec3(), hi.as_dvec3());
     debug_assert!(referenced > 0 && !bounds.is_empty());
-    Ok(Prepared {
-        offsets,
-        neighbours,
-        bounds,
-        referenced,
-    })
+    Ok((bounds, referenced))
 }
 
 #[cfg(test)]

@@ -9,9 +9,10 @@ use std::process::Command;
 
 use common::{chain_levels, sphere_chain};
 use voxlod_gltf::{write_chain_glb, ChainOptions};
+use voxlod_testkit::skips::skip;
 
-/// The validator's command, or `None` after printing why the test skips.
-fn validator(test: &str) -> Option<(PathBuf, PathBuf)> {
+/// The validator's command, or `None` after recording why the test skips.
+fn validator() -> Option<(PathBuf, PathBuf)> {
     let python = std::env::var_os("HOME")
         .map(|h| PathBuf::from(h).join(".cache/voxlod-peers/bin/python"))
         .filter(|p| p.is_file());
@@ -21,13 +22,11 @@ fn validator(test: &str) -> Option<(PathBuf, PathBuf)> {
     match (python, peers) {
         (Some(py), Some(script)) => Some((py, script)),
         (None, _) => {
-            eprintln!(
-                "skipping {test}: ~/.cache/voxlod-peers/bin/python (the peers' kit) is missing"
-            );
+            skip("no glTF validator: ~/.cache/voxlod-peers/bin/python (the peers' kit) is missing");
             None
         }
         (_, None) => {
-            eprintln!("skipping {test}: ../shared/peers/peers.py is not beside the checkout");
+            skip("no glTF validator: ../shared/peers/peers.py is not beside the checkout");
             None
         }
     }
@@ -50,7 +49,7 @@ fn validate(python: &PathBuf, script: &PathBuf, file: &std::path::Path) -> (u64,
 
 #[test]
 fn chains_pass_the_khronos_validator() {
-    let Some((python, script)) = validator("chains_pass_the_khronos_validator") else {
+    let Some((python, script)) = validator() else {
         return;
     };
     let chain = sphere_chain();

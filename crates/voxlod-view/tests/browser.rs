@@ -17,22 +17,23 @@ use std::process::Command;
 use common::{write_sphere_chain, write_two_layers, SPHERE_CELLS};
 use image::RgbImage;
 use voxlod_gltf::ChainOptions;
+use voxlod_testkit::skips::skip;
 use voxlod_view::{write_page, ViewOptions, PATCH_COLORS};
 
 const SIZE: u32 = 400;
 const FOV: f64 = std::f64::consts::PI / 4.0;
 
-fn chromium(test: &str) -> Option<PathBuf> {
+fn chromium() -> Option<PathBuf> {
     let path = std::env::var_os("VOXLOD_CHROMIUM")
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from("/usr/bin/chromium"));
     if path.is_file() {
         Some(path)
     } else {
-        eprintln!(
-            "skipping {test}: {} is missing (apt-get install chromium, as .ci/run does)",
+        skip(format!(
+            "no browser: {} is missing (apt-get install chromium, as .ci/run does)",
             path.display()
-        );
+        ));
         None
     }
 }
@@ -109,8 +110,7 @@ fn expected_level(distance: f64) -> usize {
 
 #[test]
 fn lod_page_draws_the_model_and_switches_levels_with_distance() {
-    let Some(browser) = chromium("lod_page_draws_the_model_and_switches_levels_with_distance")
-    else {
+    let Some(browser) = chromium() else {
         return;
     };
     let (_keep, dir) = shots();
@@ -144,8 +144,7 @@ fn lod_page_draws_the_model_and_switches_levels_with_distance() {
 
 #[test]
 fn layered_page_switches_the_order_across_an_octant_boundary() {
-    let Some(browser) = chromium("layered_page_switches_the_order_across_an_octant_boundary")
-    else {
+    let Some(browser) = chromium() else {
         return;
     };
     let (_keep, dir) = shots();

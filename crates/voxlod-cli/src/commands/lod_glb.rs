@@ -63,7 +63,7 @@ impl GlbArgs {
     /// Refuses the flags without `--format glb`.
     pub fn check(&self, format: LodFormat) -> Result<(), CliError> {
         if format != LodFormat::Glb && (self.split || self.compress.is_some()) {
-            return Err(CliError::msg("--split and --compress need --format glb"));
+            return Err(CliError::usage("--split and --compress need --format glb"));
         }
         Ok(())
     }

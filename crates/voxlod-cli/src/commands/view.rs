@@ -96,8 +96,8 @@ pub fn run(args: ViewArgs) -> Result<(), CliError> {
 
 fn view_error(e: ViewError) -> CliError {
     match e {
-        ViewError::Io(e) => CliError::Io(e),
-        ViewError::Core(e) => CliError::Core(e),
+        ViewError::Io(e) => e.into(),
+        ViewError::Core(e) => e.into(),
         other => CliError::msg(other.to_string()),
     }
 }

@@ -5,6 +5,7 @@ use std::path::Path;
 use serde_json::json;
 use voxlod_core::TriangleMesh;
 use voxlod_gltf::{write_chain_glb, ChainLevel, ChainOptions};
+use voxlod_layers::ORDER_NAMES;
 
 /// Cell sizes of the three icosphere levels of [`write_sphere_chain`].
 pub const SPHERE_CELLS: [f64; 3] = [0.005, 0.01, 0.02];
@@ -66,16 +67,6 @@ pub fn write_two_layers(path: &Path, radius: f64) {
             bin.extend_from_slice(&v.to_le_bytes());
         }
     }
-    let names = [
-        "order+x+y+z",
-        "order+x+y-z",
-        "order+x-y+z",
-        "order+x-y-z",
-        "order-x+y+z",
-        "order-x+y-z",
-        "order-x-y+z",
-        "order-x-y-z",
-    ];
     let mut accessors = vec![];
     for layer in 0..2 {
         let z = 0.5 * layer as f64;
@@ -92,7 +83,7 @@ pub fn write_two_layers(path: &Path, radius: f64) {
             "count": 6, "type": "SCALAR"}),
         );
     }
-    for (o, name) in names.iter().enumerate() {
+    for (o, name) in ORDER_NAMES.iter().enumerate() {
         accessors.push(
             json!({"bufferView": 3, "byteOffset": 48 * o, "componentType": 5125,
             "count": 12, "type": "SCALAR", "name": name}),
