@@ -291,7 +291,11 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
                         level_plan.resolution,
                         level_plan.radius,
                         describe_mesh(&level.mesh),
-                        if level_files { name.as_str() } else { CHAIN_FILE }
+                        if level_files {
+                            name.as_str()
+                        } else {
+                            CHAIN_FILE
+                        }
                     );
                 }
             });
