@@ -13,6 +13,7 @@ use super::common::{
     check_grid_range, count, describe_mesh, in_dir, in_file, print_json, progress, read_input,
     CliError, Input, MeshExtension,
 };
+use super::lod_glb::{add_chain, GlbArgs, GlbReport, LodFormat, CHAIN_FILE};
 use super::source::{MeshSummary, VolumeRoute};
 use super::values::number;
 
@@ -63,9 +64,11 @@ pub struct LodArgs {
     /// in data units with --direct (required)
     #[arg(long, value_name = "V", value_parser = number::<f32>, allow_hyphen_values = true)]
     pub iso: Option<f32>,
-    /// Format of the level meshes
+    /// Format of the level meshes, or glb: one DIR/lod.glb chaining every level (MSFT_lod)
     #[arg(long, value_enum, default_value = "ply")]
-    pub format: MeshExtension,
+    pub format: LodFormat,
+    #[command(flatten)]
+    pub glb: GlbArgs,
     /// Quadrature lines per filter radius (accuracy against speed; 4 keeps the half-space
     /// profile within 0.01 of the paper's equation 5)
     #[arg(long, value_name = "Q", default_value_t = 4,
@@ -118,6 +121,9 @@ struct LodReport {
     filter: Filter,
     iso: f32,
     levels: Vec<LevelReport>,
+    /// The MSFT_lod chain file, with --format glb.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    glb: Option<GlbReport>,
     total_seconds: f64,
     /// Every warning printed without --json: a threshold below every sample, levels the filter
     /// removed, stale level files removed from the output folder.
@@ -200,12 +206,16 @@ fn source<'a>(loaded: &'a Loaded, route: &VolumeRoute) -> voxlod::Source<'a> {
 }
 
 pub fn run(args: LodArgs) -> Result<(), CliError> {
+    args.glb.check(args.format)?;
     let options = lod_options(&args)?;
     let loaded = load(&args)?;
     // Everything is written at the end, as one set; refuse now what it would refuse then.
     let mut out = OutputSet::protecting([&args.input]);
     for level in 0..options.pyramid.resolutions.len() {
         out.check(&in_dir(&args.output, &level_name(&args, level)))?;
+    }
+    if args.format == LodFormat::Glb {
+        out.check(&in_dir(&args.output, CHAIN_FILE))?;
     }
     out.create_dir(&args.output)?;
     let bar = progress(
@@ -226,8 +236,13 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
             lod.levels[0].plan.voxel_size,
         )?);
     }
+    let glb = match args.format {
+        LodFormat::Glb => Some(add_chain(&mut out, &args.output, &chain(&lod), &args.glb)?),
+        _ => None,
+    };
     out.remove_stale(&args.output, is_level_file);
-    let report = lod_report(&args, &loaded, &lod, levels, out.warnings());
+    let mut report = lod_report(&args, &loaded, &lod, levels, out.warnings());
+    report.glb = glb;
     let text = serde_json::to_string_pretty(&report)
         .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
     out.text(&in_dir(&args.output, "report.json"), &text)?;
@@ -252,7 +267,30 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
 
 /// `level-N.EXT`.
 fn level_name(args: &LodArgs, level: usize) -> String {
-    format!("level-{level}.{}", args.format.as_str())
+    format!("level-{level}.{}", args.format.level_extension().as_str())
+}
+
+/// Whether each level gets a file of its own (always, but for `--format glb` without `--split`).
+fn level_files(args: &LodArgs) -> bool {
+    args.format != LodFormat::Glb || args.glb.split
+}
+
+/// The file a level is in: its own, or the chain.
+fn level_file(args: &LodArgs, level: usize) -> String {
+    if level_files(args) {
+        level_name(args, level)
+    } else {
+        CHAIN_FILE.to_string()
+    }
+}
+
+/// The non-empty levels for the glTF chain: level, mesh, voxel size.
+fn chain(lod: &Lod) -> Vec<(usize, voxlod::core::TriangleMesh, f64)> {
+    lod.levels
+        .iter()
+        .filter(|l| !l.mesh.is_empty())
+        .map(|l| (l.plan.level, l.mesh.clone(), l.plan.voxel_size))
+        .collect()
 }
 
 /// The progress callback: the bar, the preparation's warnings as the work starts, and a line
@@ -269,7 +307,7 @@ fn show_level(args: &LodArgs, bar: &ProgressBar, p: Progress) -> Control {
     let file = if level.mesh.is_empty() {
         "empty, no file (see the warnings)".to_string()
     } else {
-        level_name(args, plan.level)
+        level_file(args, plan.level)
     };
     bar.println(format!(
         "level {}: resolution {:>4}, radius {:.4}: {} -> {file}",
@@ -342,11 +380,13 @@ fn write_level(
     finest_voxel: f64,
 ) -> Result<LevelReport, CliError> {
     let plan = &level.plan;
-    let name = level_name(args, plan.level);
     let write_start = std::time::Instant::now();
-    let file = (!level.mesh.is_empty()).then(|| name.clone());
-    if file.is_some() {
-        out.mesh(&in_dir(&args.output, &name), &level.mesh)?;
+    let file = (!level.mesh.is_empty()).then(|| level_file(args, plan.level));
+    if file.is_some() && level_files(args) {
+        out.mesh(
+            &in_dir(&args.output, &level_name(args, plan.level)),
+            &level.mesh,
+        )?;
     }
     let write_seconds = write_start.elapsed().as_secs_f64();
     let t = &level.topology;
@@ -401,6 +441,7 @@ fn lod_report(
         filter: args.filter,
         iso: lod.iso,
         levels,
+        glb: None,
         total_seconds: lod.seconds,
         warnings,
     }

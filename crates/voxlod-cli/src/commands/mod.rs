@@ -14,10 +14,12 @@ pub mod evaluate;
 pub mod inspect;
 pub mod layers;
 pub mod lod;
+pub mod lod_glb;
 pub mod render;
 pub mod select;
 pub mod source;
 pub mod values;
+pub mod view;
 pub mod voxelize;
 
 pub use common::CliError;
@@ -47,6 +49,7 @@ pub enum Command {
     Evaluate(evaluate::EvaluateArgs),
     Layers(layers::LayersArgs),
     Render(render::RenderArgs),
+    View(view::ViewArgs),
 }
 
 /// Runs the chosen subcommand.
@@ -64,6 +67,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Evaluate(args) => evaluate::run(args),
         Command::Layers(args) => layers::run(args),
         Command::Render(args) => render::run(args),
+        Command::View(args) => view::run(args),
     }
 }
 
