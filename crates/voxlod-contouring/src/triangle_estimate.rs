@@ -82,7 +82,7 @@ mod tests {
         );
         assert!((estimated_triangles(&square, 0.1) - 200.0).abs() < 1e-9);
         assert_eq!(estimated_triangles(&square, 0.0), 0.0);
-        assert_eq!(estimated_triangles_at(&square, 10), 200.0);
+        assert!((estimated_triangles_at(&square, 10) - 200.0).abs() < 1e-9);
         assert_eq!(resolution_for_triangles(&square, 200), Some(10));
         assert_eq!(resolution_for_triangles(&square, 199), Some(9));
         assert_eq!(resolution_for_triangles(&TriangleMesh::default(), 10), None);
