@@ -14,6 +14,8 @@
 //! - Topology that only simplifies along the pyramid (beyond the paper): [`monotone_level`]
 //!   keeps each level's genus at most its finer neighbour's, using the exact
 //!   [`digital_topology`] of the samples marching cubes will contour.
+//! - Levels that vanish (a sheet thinner than the filter): [`level_is_empty`] and
+//!   [`find_surface_resolution`], the coarsest finer resolution that still has a surface.
 //! - Scanned volumes filtered directly, without thresholding: [`direct_density`]; and the
 //!   separable [`gaussian::gaussian_blur`] of a whole volume.
 
@@ -34,6 +36,7 @@ pub mod pyramid;
 pub mod solid;
 pub mod sphereflake;
 pub mod threshold;
+pub mod vanishing;
 
 pub use csg::{CsgSolid, Shape};
 pub use density::{filtered_density, DensityOptions, DensityReport};
@@ -49,3 +52,4 @@ pub use pyramid::{level_grid, plan_levels, LevelPlan, PyramidOptions};
 pub use solid::Solid;
 pub use sphereflake::{sphereflake, sphereflake_spheres};
 pub use threshold::ThresholdSolid;
+pub use vanishing::{find_surface_resolution, level_is_empty, Vanishing};
