@@ -23,6 +23,9 @@
 //!    condition fails), one of its corners moves to the centroid of its neighbours if that
 //!    turns nothing over and the triangle grows.
 //!
+//! Every step is also refused when a triangle it makes would meet a triangle nearby (two sheets
+//! of a thin part can lie closer than a step moves a vertex), by the guard in `local_crossings.rs`.
+//!
 //! Passes repeat until nothing changes (at most [`CleanOptions::max_passes`]); then dead
 //! triangles and vertices are dropped. Orientation is kept by construction: collapses rename a
 //! vertex inside oriented triangles, flips replace two oriented triangles by two oriented ones.
@@ -35,6 +38,8 @@ use glam::{DVec3, Vec3};
 use serde::Serialize;
 use thiserror::Error;
 use voxlod_core::{memory, CoreError, TriangleMesh};
+
+use crate::local_crossings::{triangles_meet, Buckets};
 
 /// How [`clean_mesh`] cleans.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -101,17 +106,23 @@ struct Work {
     around: Vec<Vec<u32>>,
     /// Moved or merged in this pass.
     touched: Vec<bool>,
+    buckets: Buckets,
 }
 
 impl Work {
-    fn new(mesh: &TriangleMesh) -> Work {
+    fn new(mesh: &TriangleMesh, cell: f64) -> Work {
         let mut around = vec![Vec::new(); mesh.positions.len()];
         for (t, tri) in mesh.triangles.iter().enumerate() {
             for &v in tri {
                 around[v as usize].push(t as u32);
             }
         }
+        let centroids = (0..mesh.triangles.len()).map(|t| {
+            let [a, b, c] = mesh.corners(t);
+            (a + b + c) / 3.0
+        });
         Work {
+            buckets: Buckets::new(cell, centroids),
             positions: mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
             normals: mesh.normals.clone(),
             triangles: mesh.triangles.clone(),
@@ -156,6 +167,42 @@ impl Work {
     fn area(&self, t: u32) -> f64 {
         0.5 * self.normal(t, &[], DVec3::ZERO).length()
     }
+
+    /// Triangle `t` with the vertices in `from` renamed `into`, placed at `to`.
+    fn moved(&self, t: u32, from: &[u32], into: u32, to: DVec3) -> ([u32; 3], [DVec3; 3]) {
+        let ids = self.triangles[t as usize].map(|v| if from.contains(&v) { into } else { v });
+        let at = ids.map(|v| {
+            if v == into {
+                to
+            } else {
+                self.positions[v as usize]
+            }
+        });
+        (ids, at)
+    }
+
+    /// Some proposed triangle meets a live triangle nearby, other than those in `changing`.
+    fn crosses(&self, proposed: &[([u32; 3], [DVec3; 3])], changing: &[u32]) -> bool {
+        proposed.iter().any(|&(ids, at)| {
+            let centroid = (at[0] + at[1] + at[2]) / 3.0;
+            self.buckets.near(centroid).any(|u| {
+                if !self.alive[u as usize] || changing.contains(&u) {
+                    return false;
+                }
+                let other = self.triangles[u as usize];
+                triangles_meet(at, ids, other.map(|v| self.positions[v as usize]), other)
+            })
+        })
+    }
+
+    /// Re-buckets the triangles around `v`.
+    fn rebucket(&mut self, v: u32) {
+        let fan: Vec<u32> = self.fan(v).collect();
+        for t in fan {
+            let c = self.triangles[t as usize].map(|w| self.positions[w as usize]);
+            self.buckets.update(t, (c[0] + c[1] + c[2]) / 3.0);
+        }
+    }
 }
 
 /// The mesh with short edges collapsed and small triangles flipped away. See the module
@@ -173,7 +220,7 @@ pub fn clean_mesh(
         "cleaning a level",
         memory::bytes_of::<[u64; 8]>(mesh.positions.len() + mesh.triangles.len()),
     )?;
-    let mut work = Work::new(mesh);
+    let mut work = Work::new(mesh, cell);
     let mut report = CleanReport::default();
     let (min_edge, min_area) = (options.min_edge * cell, options.min_area * cell * cell);
     for _ in 0..options.max_passes {
@@ -241,13 +288,24 @@ fn try_collapse(work: &mut Work, a: u32, b: u32) -> bool {
         return false;
     }
     let (pa, pb) = (work.positions[a as usize], work.positions[b as usize]);
+    let mut ring: Vec<u32> = work.fan(a).chain(work.fan(b)).collect();
+    ring.sort_unstable();
+    ring.dedup();
+    let allowed = |to: DVec3| {
+        let proposed: Vec<_> = (ring.iter())
+            .filter(|t| !shared.contains(t))
+            .map(|&t| work.moved(t, &[a, b], a, to))
+            .collect();
+        !turns_over(work, &[a, b], to, &shared) && !work.crosses(&proposed, &ring)
+    };
     let Some(to) = [0.5 * (pa + pb), pa, pb]
         .into_iter()
-        .find(|&to| !turns_over(work, &[a, b], to, &shared))
+        .find(|&to| allowed(to))
     else {
         return false;
     };
     merge(work, a, b, to, &shared);
+    work.rebucket(a);
     true
 }
 
@@ -380,8 +438,14 @@ fn try_relax(work: &mut Work, v: u32, t: u32) -> bool {
     if !grows || turns_over(work, &[v], to, &[]) {
         return false;
     }
+    let fan: Vec<u32> = work.fan(v).collect();
+    let proposed: Vec<_> = fan.iter().map(|&u| work.moved(u, &[v], v, to)).collect();
+    if work.crosses(&proposed, &fan) {
+        return false;
+    }
     work.positions[v as usize] = to;
     work.touched[v as usize] = true;
+    work.rebucket(v);
     true
 }
 
@@ -418,6 +482,10 @@ fn flip_longest(work: &mut Work, t: u32) -> bool {
     if n1.dot(before) <= 0.0 || n2.dot(before) <= 0.0 || new_quality <= old_quality {
         return false;
     }
+    let proposed = [(new_t, new_t.map(at)), (new_u, new_u.map(at))];
+    if work.crosses(&proposed, &[t, u]) {
+        return false;
+    }
     work.triangles[t as usize] = new_t;
     work.triangles[u as usize] = new_u;
     work.around[d as usize].push(t);
@@ -425,6 +493,8 @@ fn flip_longest(work: &mut Work, t: u32) -> bool {
     // a loses u and b loses t: prune them from the lists.
     work.around[a as usize].retain(|&x| x != u);
     work.around[b as usize].retain(|&x| x != t);
+    work.rebucket(c);
+    work.rebucket(d);
     true
 }
 

@@ -11,6 +11,7 @@
 //!   before sampling (beyond the paper), and the resolution for a triangle budget.
 
 pub mod clean_mesh;
+mod local_crossings;
 pub mod marching_cubes;
 pub mod tables;
 pub mod triangle_estimate;

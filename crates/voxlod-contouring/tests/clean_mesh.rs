@@ -7,21 +7,11 @@
 
 use glam::{DVec3, Vec3};
 use voxlod_contouring::{clean_mesh, marching_cubes, CleanOptions, ContourOptions};
-use voxlod_core::{mesh_topology, Grid, TriangleMesh, Volume};
+use voxlod_core::{mesh_topology, Grid, Volume};
 use voxlod_sampling::{filtered_density, level_grid, DensityOptions, Filter, MeshSolid, Solid};
 use voxlod_testkit::fields::{gyroid_field, sphereflake_field};
-use voxlod_testkit::intersections::self_intersections;
+use voxlod_testkit::intersections::{self_intersections, triangles_smaller_than};
 use voxlod_testkit::shapes::{append, torus};
-
-/// Triangles of `mesh` with area under `limit`.
-fn small_triangles(mesh: &TriangleMesh, limit: f64) -> usize {
-    (0..mesh.triangles.len())
-        .filter(|&t| {
-            let [a, b, c] = mesh.corners(t);
-            0.5 * (b - a).cross(c - a).length() < limit
-        })
-        .count()
-}
 
 /// Contours, cleans with the defaults and checks the cleaned level; returns the raw level's
 /// (small triangles, crossing pairs) for the caller to check that there was work to do.
@@ -30,9 +20,12 @@ fn check(name: &str, volume: &Volume, iso: f32) -> (usize, usize) {
     let raw = marching_cubes(volume, &ContourOptions::at(iso)).unwrap();
     let (clean, report) = clean_mesh(&raw, cell, &CleanOptions::default()).unwrap();
     let limit = CleanOptions::default().min_area * cell * cell;
-    let before = (small_triangles(&raw, limit), self_intersections(&raw).len());
+    let before = (
+        triangles_smaller_than(&raw, limit),
+        self_intersections(&raw).len(),
+    );
     let after = (
-        small_triangles(&clean, limit),
+        triangles_smaller_than(&clean, limit),
         self_intersections(&clean).len(),
     );
     eprintln!(
@@ -93,6 +86,23 @@ fn spheres_through_and_next_to_samples() {
         0.0,
     );
     check("sphere r=13", &sphere_through_samples(31, 13.0), 0.0);
+}
+
+#[test]
+fn two_spheres_a_thousandth_of_a_cell_apart() {
+    // Two spheres of radius 5 whose gap, 1e-3 cells wide, straddles the sample (11, 11, 11):
+    // a near-pinch, where cleaning must neither join the sheets nor push one through the other.
+    let n = 23;
+    let grid = Grid::unit([n; 3]).unwrap();
+    let values = (0..grid.len())
+        .map(|i| {
+            let p = DVec3::new((i % n) as f64, ((i / n) % n) as f64, (i / (n * n)) as f64);
+            let d = |x: f64| 5.0 - p.distance(DVec3::new(x, 11.0, 11.0));
+            d(11.0 - 5.0005).max(d(11.0 + 5.0005)) as f32
+        })
+        .collect();
+    let volume = Volume::from_vec(grid, values).unwrap();
+    check("two spheres", &volume, 0.0);
 }
 
 #[test]

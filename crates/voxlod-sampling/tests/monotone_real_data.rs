@@ -7,13 +7,14 @@
 
 use std::path::Path;
 
-use voxlod_core::{Grid, TriangleMesh, Volume};
+use voxlod_core::TriangleMesh;
 use voxlod_sampling::{
     filtered_density, monotone_level, plan_levels, Filter, LevelShape, MeshSolid, MonotoneOptions,
     PyramidOptions, Solid, ThresholdSolid,
 };
-use voxlod_testkit::data::{shared_data_or_skip, shared_meshes};
+use voxlod_testkit::data::shared_meshes;
 use voxlod_testkit::readers::{read_ascii_stl, read_obj};
+use voxlod_testkit::volumes::shared_ct_head;
 
 fn finest() -> usize {
     std::env::var("VOXLOD_MONOTONE_RESOLUTION")
@@ -62,17 +63,9 @@ fn genus_sequences_of_the_shared_data() {
         let name = path.file_name().unwrap().to_string_lossy();
         eprintln!("{name}: plain {raw:?} monotone {monotone:?}");
     }
-    let relative = "volumes/CThead_256x256x113_uint16be.raw";
-    let Some(path) = shared_data_or_skip(relative, "genus_sequences_of_the_shared_data") else {
+    let Some(volume) = shared_ct_head("genus_sequences_of_the_shared_data") else {
         return;
     };
-    let bytes = std::fs::read(path).unwrap();
-    let values = bytes
-        .chunks_exact(2)
-        .map(|b| u16::from_be_bytes([b[0], b[1]]) as f32)
-        .collect();
-    let grid = Grid::new([256, 256, 113], [1.0, 1.0, 2.0], [0.0; 3]).unwrap();
-    let volume = Volume::from_vec(grid, values).unwrap();
     let solid = ThresholdSolid::new(&volume, 1500.0).unwrap();
     let (raw, monotone) = genus_sequences(&solid);
     eprintln!("CT head at 1500: plain {raw:?} monotone {monotone:?}");

@@ -139,6 +139,16 @@ pub fn triangles_intersect(mesh: &TriangleMesh, i: usize, j: usize) -> bool {
     }
 }
 
+/// Triangles of `mesh` whose area is under `limit`.
+pub fn triangles_smaller_than(mesh: &TriangleMesh, limit: f64) -> usize {
+    (0..mesh.triangles.len())
+        .filter(|&t| {
+            let [a, b, c] = mesh.corners(t);
+            0.5 * (b - a).cross(c - a).length() < limit
+        })
+        .count()
+}
+
 /// Every intersecting pair `(i, j)`, `i < j`, of `mesh`'s non-degenerate triangles.
 pub fn self_intersections(mesh: &TriangleMesh) -> Vec<(usize, usize)> {
     let n = mesh.triangles.len();
