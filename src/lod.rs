@@ -10,7 +10,9 @@
 use std::time::Instant;
 
 use serde::Serialize;
-use voxlod_contouring::{marching_cubes, ContourError, ContourOptions};
+use voxlod_contouring::{
+    clean_mesh, marching_cubes, CleanError, CleanOptions, ContourError, ContourOptions,
+};
 use voxlod_core::{mesh_topology, Bounds, Topology, TriangleMesh, Volume};
 use voxlod_sampling::{
     direct_density, filtered_density, plan_levels, DensityReport, LevelPlan, PyramidOptions,
@@ -44,15 +46,20 @@ pub struct LodOptions {
     pub iso: f32,
     /// Gradient normals on the output meshes.
     pub normals: bool,
+    /// Clean each level (no sliver, needle or zero-area triangle, no self-intersection; beyond
+    /// the paper, see [`voxlod_contouring::clean_mesh`]); `None` keeps raw marching cubes.
+    pub clean: Option<CleanOptions>,
 }
 
 impl Default for LodOptions {
-    /// Six levels from 256, hyper-cone filter of one voxel, isodensity 0.5, with normals.
+    /// Six levels from 256, hyper-cone filter of one voxel, isodensity 0.5, with normals,
+    /// cleaned.
     fn default() -> Self {
         LodOptions {
             pyramid: PyramidOptions::default(),
             iso: 0.5,
             normals: true,
+            clean: Some(CleanOptions::default()),
         }
     }
 }
@@ -86,6 +93,8 @@ pub enum LodError {
     Sampling(#[from] SamplingError),
     #[error(transparent)]
     Contour(#[from] ContourError),
+    #[error(transparent)]
+    Clean(#[from] CleanError),
 }
 
 /// Plans every level: grids, radii, and a memory check of the largest.
@@ -117,7 +126,10 @@ pub fn build_level(
         iso: options.iso,
         normals: options.normals,
     };
-    let mesh = marching_cubes(&volume, &contour)?;
+    let mut mesh = marching_cubes(&volume, &contour)?;
+    if let Some(clean) = &options.clean {
+        mesh = clean_mesh(&mesh, plan.voxel_size, clean)?.0;
+    }
     let contour_seconds = start.elapsed().as_secs_f64();
     let topology = mesh_topology(&mesh);
     Ok(LodLevel {

@@ -164,6 +164,7 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         pyramid,
         iso,
         normals: true,
+        ..LodOptions::default()
     };
     let source = prepared.source();
     let plans = plan(&source, &options)

@@ -620,6 +620,7 @@ impl Runner<'_> {
                     pyramid,
                     iso: 0.5,
                     normals: false,
+                    ..LodOptions::default()
                 };
                 let solid = self.solid.expect("the solid is built for voxel methods");
                 let source = LodSource::Solid(solid);
