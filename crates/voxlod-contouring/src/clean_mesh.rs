@@ -48,6 +48,7 @@ pub struct CleanOptions {
     pub min_edge: f64,
     /// Triangles smaller than this many square cells are fixed.
     pub min_area: f64,
+    /// Passes of both steps at most.
     pub max_passes: usize,
 }
 
@@ -76,14 +77,19 @@ impl CleanOptions {
 /// What [`clean_mesh`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct CleanReport {
+    /// Edges collapsed (short ones, and those of small triangles).
     pub collapsed_edges: usize,
+    /// Longest edges of small triangles flipped.
     pub flipped_edges: usize,
     /// Corners of small triangles moved to the centroid of their neighbours.
     pub relaxed_vertices: usize,
+    /// Triangles fewer than the input.
     pub removed_triangles: usize,
+    /// Vertices fewer than the input.
     pub removed_vertices: usize,
     /// Triangles still below `min_area` (where neither fix was allowed).
     pub small_triangles_left: usize,
+    /// Passes run.
     pub passes: usize,
 }
 
@@ -91,8 +97,10 @@ pub struct CleanReport {
 #[derive(Debug, Error)]
 pub enum CleanError {
     #[error("the cell size {0} is not a positive number")]
+    /// The cell size is not finite and positive.
     BadCell(f64),
     #[error(transparent)]
+    /// The mesh is invalid, or too big for memory.
     Mesh(#[from] CoreError),
 }
 

@@ -12,7 +12,7 @@
 //! **How, and why this way.** Two rules, the second only when the first is not enough:
 //!
 //! 1. *Cavities stay filled.* The samples of a finer level's cavities (outside samples enclosed
-//!    by the inside, see [`crate::digital_topology`]), and what a finer level already kept
+//!    by the inside, see [`mod@crate::digital_topology`]), and what a finer level already kept
 //!    filled, count as solid from then on: their filtered density (the level's own filter and
 //!    radius, summed over the finer level's samples) is added to the level's, as if the object
 //!    had been filled before filtering (the filter is linear), and they are kept inside. A
@@ -28,7 +28,7 @@
 //!    the previous level's filled inside set carried onto this grid (a sample is in it when any
 //!    finer sample inside its voxel is). A sample is added only when the inside around it is at
 //!    most one piece (`T6 <= 1`) and removed only when the outside around it is exactly one
-//!    piece (`T̄18 = 1`); by [`crate::digital_topology`]'s local numbers neither can open a
+//!    piece (`T̄18 = 1`); by [`mod@crate::digital_topology`]'s local numbers neither can open a
 //!    tunnel, so the genus cannot exceed the start's, while handles may still close, pieces
 //!    vanish and cavities open. A perforation stays closed by a membrane one sample thick.
 //!    When the carried set itself has too many handles (a finer level's thin wall, resampled
@@ -123,6 +123,7 @@ pub enum MonotoneStage {
 /// What [`monotone_level`] changed, for the level's report.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct TopologyRecord {
+    /// The rule that decided the level.
     pub stage: MonotoneStage,
     /// The plain threshold's topology.
     pub raw: DigitalTopology,
@@ -147,7 +148,9 @@ pub struct TopologyRecord {
 /// What a level became, carried to the next call of [`monotone_level`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct LevelShape {
+    /// The level's grid.
     pub grid: Grid,
+    /// The topology of the level's surface.
     pub topology: DigitalTopology,
     /// Inside samples and cavities (the solid seen from outside).
     filled: Vec<bool>,
@@ -160,6 +163,7 @@ pub struct LevelShape {
 pub struct MonotoneLevel {
     /// The density to contour (the input's where nothing changed).
     pub volume: Volume,
+    /// What changed.
     pub record: TopologyRecord,
     /// Pass it to the next level's call.
     pub shape: LevelShape,
@@ -169,12 +173,21 @@ pub struct MonotoneLevel {
 #[derive(Debug, Error)]
 pub enum MonotoneError {
     #[error("the isodensity {0} is not a finite number")]
+    /// The isodensity is NaN or infinite.
     NonFiniteIso(f32),
     #[error("the level would have genus {genus} after the level above had {previous}, even from a genus-0 start")]
-    Unresolved { genus: u64, previous: u64 },
+    /// Even the genus-0 fallback kept more handles than the level above (a defect).
+    Unresolved {
+        /// The level's genus.
+        genus: u64,
+        /// The level above's.
+        previous: u64,
+    },
     #[error(transparent)]
+    /// Labelling or memory failed.
     Sampling(#[from] SamplingError),
     #[error(transparent)]
+    /// A buffer would not fit in memory.
     Core(#[from] CoreError),
 }
 
