@@ -47,6 +47,7 @@ pub mod repair;
 #[cfg(test)]
 mod test_shapes;
 pub mod topology;
+pub mod validate;
 pub mod volume;
 pub mod weld;
 
