@@ -189,18 +189,23 @@ impl Work {
         (ids, at)
     }
 
-    /// Some proposed triangle meets a live triangle nearby, other than those in `changing`.
+    /// Some proposed triangle meets another, or a live triangle nearby other than those in
+    /// `changing`.
     fn crosses(&self, proposed: &[([u32; 3], [DVec3; 3])], changing: &[u32]) -> bool {
-        proposed.iter().any(|&(ids, at)| {
-            let centroid = (at[0] + at[1] + at[2]) / 3.0;
-            self.buckets.near(centroid).any(|u| {
-                if !self.alive[u as usize] || changing.contains(&u) {
-                    return false;
-                }
-                let other = self.triangles[u as usize];
-                triangles_meet(at, ids, other.map(|v| self.positions[v as usize]), other)
+        let among = proposed.iter().enumerate().any(|(k, &(ids, at))| {
+            (proposed[k + 1..].iter()).any(|&(other, there)| triangles_meet(at, ids, there, other))
+        });
+        among
+            || proposed.iter().any(|&(ids, at)| {
+                let centroid = (at[0] + at[1] + at[2]) / 3.0;
+                self.buckets.near(centroid).any(|u| {
+                    if !self.alive[u as usize] || changing.contains(&u) {
+                        return false;
+                    }
+                    let other = self.triangles[u as usize];
+                    triangles_meet(at, ids, other.map(|v| self.positions[v as usize]), other)
+                })
             })
-        })
     }
 
     /// Re-buckets the triangles around `v`.

@@ -54,6 +54,20 @@ fn report(name: &str, volume: &Volume, cell: f64, dir: &Path) -> Vec<PathBuf> {
             t.is_closed_manifold(),
             mesh.signed_volume()
         );
+        for (i, j) in self_intersections(mesh) {
+            let area = |t: usize| {
+                let [a, b, c] = mesh.corners(t);
+                0.5 * (b - a).cross(c - a).length() / (cell * cell)
+            };
+            let shared = (mesh.triangles[i].iter())
+                .filter(|v| mesh.triangles[j].contains(v))
+                .count();
+            eprintln!(
+                "  crossing {i} {j}: areas {:.1e} {:.1e} cells², {shared} shared vertices",
+                area(i),
+                area(j)
+            );
+        }
         let path = dir.join(format!("{name}-{what}.obj"));
         write_obj(&path, mesh);
         files.push(path);

@@ -88,7 +88,8 @@ pub use error::SamplingError;
 pub use filter::Filter;
 pub use mesh_solid::{MeshPreparation, MeshSolid, MeshSolidOptions};
 pub use monotone_topology::{
-    monotone_level, LevelShape, MonotoneError, MonotoneLevel, MonotoneOptions, TopologyRecord,
+    monotone_level, LevelShape, MonotoneChain, MonotoneError, MonotoneLevel, MonotoneOptions,
+    TopologyRecord,
 };
 pub use pyramid::{level_grid, plan_levels, LevelPlan, PyramidOptions};
 pub use solid::Solid;

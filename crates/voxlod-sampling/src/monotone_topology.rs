@@ -268,6 +268,37 @@ pub fn monotone_level(
     })
 }
 
+/// A pyramid's levels made monotone one after another, finest first: [`monotone_level`] with
+/// the previous level's shape carried along.
+#[derive(Clone, Debug, Default)]
+pub struct MonotoneChain {
+    /// The rules to apply.
+    pub options: MonotoneOptions,
+    previous: Option<LevelShape>,
+}
+
+impl MonotoneChain {
+    /// A chain with no level yet.
+    pub fn new(options: MonotoneOptions) -> MonotoneChain {
+        MonotoneChain {
+            options,
+            previous: None,
+        }
+    }
+
+    /// The next (coarser) level: its density to contour and what changed.
+    pub fn next(
+        &mut self,
+        volume: &Volume,
+        iso: f32,
+        filter: &DensityOptions,
+    ) -> Result<(Volume, TopologyRecord), MonotoneError> {
+        let level = monotone_level(volume, iso, filter, self.previous.as_ref(), &self.options)?;
+        self.previous = Some(level.shape);
+        Ok((level.volume, level.record))
+    }
+}
+
 /// The inside set a level settled on, before its volume is adjusted.
 struct Decided<'a> {
     inside: Vec<bool>,

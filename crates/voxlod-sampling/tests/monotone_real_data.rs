@@ -9,7 +9,7 @@ use std::path::Path;
 
 use voxlod_core::TriangleMesh;
 use voxlod_sampling::{
-    filtered_density, monotone_level, plan_levels, Filter, LevelShape, MeshSolid, MonotoneOptions,
+    filtered_density, plan_levels, Filter, MeshSolid, MonotoneChain, MonotoneOptions,
     PyramidOptions, Solid, ThresholdSolid,
 };
 use voxlod_testkit::data::shared_meshes;
@@ -28,15 +28,13 @@ fn genus_sequences(solid: &dyn Solid) -> (Vec<u64>, Vec<u64>) {
     let pyramid = PyramidOptions::halving(finest(), 6, Filter::Hypercone);
     let plans = plan_levels(&solid.bounds(), &pyramid).unwrap();
     let (mut raw, mut monotone) = (Vec::new(), Vec::new());
-    let mut previous: Option<LevelShape> = None;
+    let mut chain = MonotoneChain::new(MonotoneOptions::default());
     for plan in &plans {
         let filter = plan.density_options(&pyramid);
         let (density, _) = filtered_density(solid, &plan.grid, &filter).unwrap();
-        let options = MonotoneOptions::default();
-        let level = monotone_level(&density, 0.5, &filter, previous.as_ref(), &options).unwrap();
-        raw.push(level.record.raw.genus);
-        monotone.push(level.record.result.genus);
-        previous = Some(level.shape);
+        let (_, record) = chain.next(&density, 0.5, &filter).unwrap();
+        raw.push(record.raw.genus);
+        monotone.push(record.result.genus);
     }
     assert!(monotone.windows(2).all(|w| w[1] <= w[0]), "{monotone:?}");
     (raw, monotone)
