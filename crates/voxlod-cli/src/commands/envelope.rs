@@ -6,10 +6,9 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod::core::TriangleMesh;
 use voxlod::envelope::{
-    envelope_series_with, repair_for_envelope, simplify_envelope, EnvelopeOptions, EnvelopeReport,
-    Epsilon, ManifoldRepair, OffsetRule, RegionEpsilon, RemovalOrder,
+    envelope_series_with, repair_for_envelope, EnvelopeOptions, EnvelopeReport, Epsilon,
+    ManifoldRepair, OffsetRule, RegionEpsilon, RemovalOrder,
 };
 
 use super::common::{level_path, print_json, progress, read_mesh_input, thousands, CliError};
@@ -256,78 +255,6 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-// -------------------------------------------------------------------------------------------
-// `voxlod lod --then-envelope E`.
-
-/// ε of `--then-envelope`: a distance, a percentage of each level's diagonal, or voxels of
-/// each level (`1vox`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ThenEnvelope {
-    Epsilon(Epsilon),
-    Voxels(f64),
-}
-
-impl ThenEnvelope {
-    pub fn parse(text: &str) -> Result<ThenEnvelope, CliError> {
-        Self::parse_value(text).map_err(|e| CliError::msg(format!("--then-envelope {e}")))
-    }
-
-    /// The value parser of `--then-envelope` (the error without the flag's name).
-    pub fn parse_value(text: &str) -> Result<ThenEnvelope, String> {
-        let t = text.trim();
-        if let Some(v) = t.strip_suffix("vox") {
-            return match v.trim().parse::<f64>() {
-                Ok(x) if x > 0.0 && x.is_finite() => Ok(ThenEnvelope::Voxels(x)),
-                _ => Err(format!("'{text}': the number of voxels must be positive")),
-            };
-        }
-        epsilon_value(t).map(ThenEnvelope::Epsilon)
-    }
-}
-
-/// What `--then-envelope` did to one level.
-#[derive(Clone, Debug, Serialize)]
-pub struct ThenEnvelopeReport {
-    pub epsilon: f64,
-    pub triangles_before: usize,
-    pub triangles: usize,
-    pub reduction_percent: f64,
-    pub seconds: f64,
-    pub hausdorff: Option<f64>,
-    pub genus: Option<i64>,
-}
-
-/// Simplifies a marching-cubes level within `eps` (voxels of size `voxel_size`); an empty
-/// level stays empty. Errors start with `what` (the file and level).
-pub fn then_envelope(
-    mesh: &TriangleMesh,
-    eps: ThenEnvelope,
-    voxel_size: f64,
-    what: &str,
-) -> Result<(TriangleMesh, Option<ThenEnvelopeReport>), CliError> {
-    if mesh.triangles.is_empty() {
-        return Ok((mesh.clone(), None));
-    }
-    let epsilon = match eps {
-        ThenEnvelope::Epsilon(e) => e,
-        ThenEnvelope::Voxels(v) => Epsilon::Absolute(v * voxel_size),
-    };
-    let options = EnvelopeOptions::paper().with_measure_samples(50_000);
-    let level = simplify_envelope(mesh, epsilon, &options)
-        .map_err(|e| CliError::msg(format!("{what}: --then-envelope: {e}")))?;
-    let r = &level.report;
-    let report = ThenEnvelopeReport {
-        epsilon: r.epsilon,
-        triangles_before: r.input_triangles,
-        triangles: r.triangles,
-        reduction_percent: r.reduction_percent,
-        seconds: r.seconds,
-        hausdorff: r.distance.map(|d| d.hausdorff),
-        genus: r.topology.genus,
-    };
-    Ok((level.mesh, Some(report)))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -348,15 +275,6 @@ mod tests {
         assert_eq!(
             parse_epsilon("2%", "--epsilon").unwrap(),
             Epsilon::DiagonalFraction(0.02)
-        );
-        assert_eq!(
-            ThenEnvelope::parse("1.5vox").unwrap(),
-            ThenEnvelope::Voxels(1.5)
-        );
-        assert!(ThenEnvelope::parse("0vox").is_err());
-        assert_eq!(
-            ThenEnvelope::parse("0.25").unwrap(),
-            ThenEnvelope::Epsilon(Epsilon::Absolute(0.25))
         );
     }
 }
