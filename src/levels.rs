@@ -196,6 +196,7 @@ pub fn lod_with(
         pyramid: options.pyramid.clone(),
         iso,
         normals: options.normals,
+        ..LevelOptions::default()
     };
     let lod_source = prepared.lod_source();
     let plans = plan(&lod_source, &level_options)?;

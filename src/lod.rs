@@ -13,7 +13,9 @@
 use std::time::Instant;
 
 use serde::Serialize;
-use voxlod_contouring::{marching_cubes, ContourError, ContourOptions};
+use voxlod_contouring::{
+    clean_mesh, marching_cubes, CleanError, CleanOptions, ContourError, ContourOptions,
+};
 use voxlod_core::{mesh_topology, Bounds, Topology, TriangleMesh, Volume};
 
 use crate::then_envelope::EnvelopeStep;
@@ -51,6 +53,9 @@ pub struct LevelOptions {
     pub iso: f32,
     /// Gradient normals on the output meshes.
     pub normals: bool,
+    /// Clean each level (no sliver, needle or zero-area triangle, no self-intersection; beyond
+    /// the paper, see [`voxlod_contouring::clean_mesh()`]); `None` keeps raw marching cubes.
+    pub clean: Option<CleanOptions>,
 }
 
 /// The former name of [`LevelOptions`], kept while `voxlod-eval` still uses it. Not to be
@@ -58,12 +63,14 @@ pub struct LevelOptions {
 pub type LodOptions = LevelOptions;
 
 impl Default for LevelOptions {
-    /// Six levels from 256, hyper-cone filter of one voxel, isodensity 0.5, with normals.
+    /// Six levels from 256, hyper-cone filter of one voxel, isodensity 0.5, with normals,
+    /// cleaned.
     fn default() -> Self {
         LevelOptions {
             pyramid: PyramidOptions::default(),
             iso: 0.5,
             normals: true,
+            clean: Some(CleanOptions::default()),
         }
     }
 }
@@ -73,6 +80,8 @@ impl LevelOptions {
     pub fn paper_table1() -> Self {
         LevelOptions {
             pyramid: PyramidOptions::paper_table1(),
+            // The paper's counts are of plain marching cubes.
+            clean: None,
             ..Default::default()
         }
     }
@@ -108,6 +117,9 @@ pub enum LodError {
     /// Marching cubes failed (32-bit limits, the memory budget).
     #[error(transparent)]
     Contour(#[from] ContourError),
+    /// Cleaning the level failed (the memory budget).
+    #[error(transparent)]
+    Clean(#[from] CleanError),
 }
 
 /// Plans every level: grids, radii, and a memory check of the largest.
@@ -167,7 +179,10 @@ impl SampledLevel {
             iso: options.iso,
             normals: options.normals,
         };
-        let mesh = marching_cubes(&self.volume, &contour)?;
+        let mut mesh = marching_cubes(&self.volume, &contour)?;
+        if let Some(clean) = &options.clean {
+            mesh = clean_mesh(&mesh, self.plan.voxel_size, clean)?.0;
+        }
         let contour_seconds = start.elapsed().as_secs_f64();
         let topology = mesh_topology(&mesh);
         Ok(LodLevel {

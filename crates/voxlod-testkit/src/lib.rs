@@ -8,6 +8,7 @@
 //! - [`shapes`]: closed meshes made in code (cubes, icospheres, tori, a holed block, prisms).
 //! - [`fields`]: the sphereflake and gyroid fields of the peers' benchmark kit.
 //! - [`volumes`]: small volumes made in code.
+//! - [`intersections`]: an independent triangle–triangle intersection test of a mesh.
 //! - [`files`]: writing and listing files, gzip and zlib streams.
 //! - [`readers`]: minimal OBJ and ASCII STL readers independent of `voxlod-io`.
 //!
@@ -18,6 +19,7 @@
 pub mod data;
 pub mod fields;
 pub mod files;
+pub mod intersections;
 pub mod readers;
 pub mod shapes;
 pub mod skips;
