@@ -6,10 +6,12 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
+use voxlod::core::TriangleMesh;
 use voxlod::envelope::{
     envelope_series_with, repair_for_envelope, EnvelopeOptions, EnvelopeReport, Epsilon,
     ManifoldRepair, OffsetRule, RegionEpsilon, RemovalOrder,
 };
+use voxlod::io::OutputSet;
 
 use super::common::{level_path, print_json, progress, read_mesh_input, thousands, CliError};
 use super::values::number;
@@ -125,8 +127,8 @@ pub fn epsilon_value(text: &str) -> Result<Epsilon, String> {
     })
 }
 
-pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
-    let start = Instant::now();
+/// The ε of each level and the envelope options, from the flags.
+fn envelope_options(args: &EnvelopeArgs) -> Result<(Vec<Epsilon>, EnvelopeOptions), CliError> {
     let epsilons: Vec<Epsilon> = match (args.epsilon, &args.levels) {
         (Some(e), _) => vec![e],
         (None, Some(list)) => list.clone(),
@@ -139,7 +141,6 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
             )));
         }
     }
-    let regions = args.region.clone();
     let mut options = match args.preset.as_str() {
         "tight" => EnvelopeOptions::tight(),
         _ => EnvelopeOptions::paper(),
@@ -160,37 +161,46 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
         options.normal_smoothing = rounds;
     }
     options.keep_sharp = args.keep_sharp;
-    options.regions = regions;
+    options.regions = args.region.clone();
     options.measure_samples = args.samples;
-    // Refuse an output format we cannot write before any work.
-    voxlod::io::mesh_format_of(&args.output)?;
-    let mut out = voxlod::io::OutputSet::protecting([&args.input]);
-    for level in 0..epsilons.len() {
-        out.check(&level_path(&args.output, level, epsilons.len()))?;
+    Ok((epsilons, options))
+}
+
+/// The mesh to simplify: the input, or with --repair the input cut into a manifold (what that
+/// changed is a warning, printed at once without --json).
+fn repaired(
+    args: &EnvelopeArgs,
+    mesh: TriangleMesh,
+    warnings: &mut Vec<String>,
+) -> (TriangleMesh, Option<ManifoldRepair>) {
+    if !args.repair {
+        return (mesh, None);
     }
-    let loaded = read_mesh_input(&args.input)?;
-    let in_file =
-        |e: &dyn std::fmt::Display| CliError::msg(format!("{}: {e}", args.input.display()));
-    let mut warnings = Vec::new();
-    let (mesh, repair) = if args.repair {
-        let (m, r) = repair_for_envelope(&loaded.mesh);
-        if r.changed_anything() {
-            warnings.push(format!(
-                "{}: cut into a manifold for the envelope: {r}",
-                args.input.display()
-            ));
-            if !args.json {
-                eprintln!("warning: {}", warnings[0]);
-            }
+    let (m, r) = repair_for_envelope(&mesh);
+    if r.changed_anything() {
+        warnings.push(format!(
+            "{}: cut into a manifold for the envelope: {r}",
+            args.input.display()
+        ));
+        if !args.json {
+            eprintln!("warning: {}", warnings[0]);
         }
-        (m, Some(r))
-    } else {
-        (loaded.mesh, None)
-    };
+    }
+    (m, Some(r))
+}
+
+/// The series, each level added to the output set as soon as it is made.
+fn simplify(
+    args: &EnvelopeArgs,
+    out: &mut OutputSet,
+    mesh: &TriangleMesh,
+    epsilons: &[Epsilon],
+    options: &EnvelopeOptions,
+) -> Result<Vec<LevelOut>, CliError> {
     let bar = progress(epsilons.len() as u64, "levels", args.json);
     let mut levels = Vec::new();
     let mut write_error = None;
-    envelope_series_with(&mesh, &epsilons, &options, |level| {
+    envelope_series_with(mesh, epsilons, options, |level| {
         if write_error.is_some() {
             return;
         }
@@ -208,11 +218,27 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
             write_seconds: t.elapsed().as_secs_f64(),
         });
     })
-    .map_err(|e| in_file(&e))?;
+    .map_err(|e| CliError::msg(format!("{}: {e}", args.input.display())))?;
     bar.finish_and_clear();
-    if let Some(e) = write_error {
-        return Err(e.into());
+    match write_error {
+        Some(e) => Err(e.into()),
+        None => Ok(levels),
     }
+}
+
+pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    let (epsilons, options) = envelope_options(&args)?;
+    // Refuse an output format we cannot write before any work.
+    voxlod::io::mesh_format_of(&args.output)?;
+    let mut out = OutputSet::protecting([&args.input]);
+    for level in 0..epsilons.len() {
+        out.check(&level_path(&args.output, level, epsilons.len()))?;
+    }
+    let loaded = read_mesh_input(&args.input)?;
+    let mut warnings = Vec::new();
+    let (mesh, repair) = repaired(&args, loaded.mesh, &mut warnings);
+    let levels = simplify(&args, &mut out, &mesh, &epsilons, &options)?;
     out.commit()?;
     let report = Report {
         input: args.input.display().to_string(),
@@ -227,6 +253,12 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
     if args.json {
         return print_json(&report);
     }
+    print_report(&report);
+    Ok(())
+}
+
+/// A line per level and a summary on standard output.
+fn print_report(report: &Report) {
     for l in &report.levels {
         let r = &l.report;
         let distance = r.distance.map_or(String::new(), |d| {
@@ -252,7 +284,6 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
         report.levels.len(),
         report.total_seconds
     );
-    Ok(())
 }
 
 #[cfg(test)]
