@@ -283,7 +283,10 @@ fn interrupt(
         && writing == Writing::Named
         && names(&out).iter().any(|n| n.contains(".tmp-"))
     {
-        eprintln!("skipped: the file system of {out:?} has no O_TMPFILE, so kill -9 leaves the named temporary");
+        voxlod_testkit::skips::skip(format!(
+            "the file system of {} has no O_TMPFILE, so kill -9 leaves the named temporary",
+            std::env::temp_dir().display()
+        ));
         return None;
     }
     if existing {

@@ -8,7 +8,7 @@
 mod common;
 
 use common::*;
-use voxlod_testkit::data::{shared_data, shared_data_or_skip};
+use voxlod_testkit::data::shared_data_or_skip;
 
 const MESHES: [&str; 11] = [
     "stanford-bunny.obj",
@@ -163,10 +163,6 @@ fn the_ct_head_gives_closed_skin_and_bone() {
 
 #[test]
 fn other_scans_enter_by_threshold_and_directly() {
-    let Some(dir) = shared_data() else {
-        eprintln!("skipping other_scans_enter_by_threshold_and_directly: ../shared/data is absent");
-        return;
-    };
     let cases: [(&str, Vec<&str>); 4] = [
         (
             "volumes/tooth_103x94x161_uint8.nrrd",
@@ -186,11 +182,10 @@ fn other_scans_enter_by_threshold_and_directly() {
         ),
     ];
     for (file, route) in cases {
-        let path = dir.join(file);
-        if !path.is_file() {
-            eprintln!("skipping {file}: missing");
+        let Some(path) = shared_data_or_skip(file, "other_scans_enter_by_threshold_and_directly")
+        else {
             continue;
-        }
+        };
         let mut flags = route.clone();
         flags.extend(["--resolution", "64", "--levels", "2"]);
         check_lod(&path, &flags);

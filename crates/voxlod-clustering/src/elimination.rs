@@ -40,6 +40,7 @@ use crate::sort::{bits_for, radix_sort_by_key};
 pub struct Simplices {
     /// Distinct triangles, winding of their first source, ordered by sorted vertex ids.
     pub triangles: Vec<[u32; 3]>,
+    /// For each of `triangles`, the first input triangle that produced it.
     pub triangle_sources: Vec<u32>,
     /// Dangling edges `[a, b]` with `a < b`, in increasing order; none bounds a triangle.
     pub edges: Vec<[u32; 2]>,

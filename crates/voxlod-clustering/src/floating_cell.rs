@@ -56,6 +56,7 @@ pub struct FloatingCellOptions {
 }
 
 impl Default for FloatingCellOptions {
+    /// One level of 64 cells, with thick edges, on the mesh's own box.
     fn default() -> Self {
         FloatingCellOptions {
             cells: 64,
@@ -84,6 +85,7 @@ impl FloatingCellOptions {
         }
     }
 
+    /// The same with the cell size taken from `bounds` (a whole scene's box, say).
     pub fn with_bounds(self, bounds: Bounds) -> Self {
         FloatingCellOptions {
             bounds: Some(bounds),
@@ -91,6 +93,7 @@ impl FloatingCellOptions {
         }
     }
 
+    /// The same with thick edges on or off.
     pub fn with_thick_edges(self, thick_edges: bool) -> Self {
         FloatingCellOptions {
             thick_edges,
@@ -109,6 +112,48 @@ impl FloatingCellOptions {
 }
 
 /// Simplifies `mesh` into `options.levels` levels, finest first.
+///
+/// # Errors
+///
+/// [`ClusteringError`] for zero cells or levels, more levels than the cells allow, a bad box,
+/// and a mesh without triangles, with an index out of range or a non-finite coordinate.
+///
+/// # Example
+///
+/// A 16 × 16 grid of quads on the unit square in floating cells of 1/4: every representative
+/// is an input vertex (the heaviest of its cluster), and every input vertex lies in the cube of
+/// side 1/4 centred on its representative.
+///
+/// ```
+/// use glam::Vec3;
+/// use voxlod_clustering::{low_tan, FloatingCellOptions};
+/// use voxlod_core::TriangleMesh;
+///
+/// let n = 16u32;
+/// let positions = (0..=n)
+///     .flat_map(|j| (0..=n).map(move |i| Vec3::new(i as f32, j as f32, 0.0) / n as f32))
+///     .collect();
+/// let id = |i: u32, j: u32| j * (n + 1) + i;
+/// let mut triangles = Vec::new();
+/// for j in 0..n {
+///     for i in 0..n {
+///         let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+///         triangles.extend([[a, b, c], [a, c, d]]);
+///     }
+/// }
+/// let plane = TriangleMesh::new(positions, triangles);
+///
+/// let level = &low_tan(&plane, &FloatingCellOptions::single(4))?[0];
+/// assert_eq!(level.report.cell_size, 0.25);
+/// assert!(level.mesh.mesh.triangles.len() < plane.triangles.len());
+/// let representatives = &level.mesh.mesh.positions;
+/// assert!(representatives.iter().all(|r| plane.positions.contains(r)));
+/// for (p, &c) in plane.positions.iter().zip(&level.cluster_of) {
+///     let off = (*p - representatives[c as usize]).abs().max_element();
+///     assert!(off <= 0.125, "{p} is {off} from its representative");
+/// }
+/// # Ok::<(), voxlod_clustering::ClusteringError>(())
+/// ```
 pub fn low_tan(
     mesh: &TriangleMesh,
     options: &FloatingCellOptions,

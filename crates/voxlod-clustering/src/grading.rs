@@ -50,7 +50,9 @@ use crate::ClusteringError;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Grading {
+    /// `L · π / max(θ, θ₀)` (§3.1).
     RossignacBorrel,
+    /// `L · cos(θ/2)` (step 1).
     LowTan,
 }
 
@@ -83,6 +85,7 @@ pub fn low_tan_weight(longest_edge: f32, max_angle_cos: f32) -> f32 {
 }
 
 impl Grading {
+    /// The weight of a vertex of this shape under this grading.
     #[inline]
     pub fn weight(self, shape: VertexShape) -> f32 {
         match self {

@@ -28,11 +28,13 @@ pub(crate) struct Prepared {
 }
 
 impl Prepared {
+    /// Whether some triangle uses vertex `v`.
     #[inline]
     pub fn is_referenced(&self, v: usize) -> bool {
         self.offsets[v + 1] > self.offsets[v]
     }
 
+    /// The (next, previous) vertices of every triangle corner at `v`, in triangle order.
     #[inline]
     pub fn neighbours_of(&self, v: usize) -> &[[u32; 2]] {
         &self.neighbours[self.offsets[v] as usize..self.offsets[v + 1] as usize]
@@ -42,7 +44,7 @@ impl Prepared {
 /// A raw pointer that workers may share because each writes only its own slots.
 #[derive(Clone, Copy)]
 struct SharedSlots(*mut [u32; 2]);
-// SAFETY: used only in `prepare`, where the slots written by different workers are disjoint
+// SAFETY: used only in `fill_neighbours`, where the slots written by different workers are disjoint
 // (each worker owns the range of cursors it computed for its chunk of triangles).
 unsafe impl Send for SharedSlots {}
 unsafe impl Sync for SharedSlots {}
@@ -89,8 +91,23 @@ pub(crate) fn prepare(mesh: &TriangleMesh) -> Result<Prepared, ClusteringError> 
         memory::bytes_of::<[u32; 2]>(corner_count)
             + memory::bytes_of::<u32>((chunks + 1) * (n + 1)),
     )?;
+    let mut counts = count_corners(mesh, chunk)?;
+    let offsets = offsets_and_cursors(&mut counts, n);
+    debug_assert_eq!(offsets[n] as usize, corner_count);
+    let neighbours = fill_neighbours(mesh, chunk, counts, corner_count);
+    let (bounds, referenced) = used_bounds(mesh, &offsets)?;
+    Ok(Prepared {
+        offsets,
+        neighbours,
+        bounds,
+        referenced,
+    })
+}
 
-    // Pass 1: per chunk, the corners of each vertex (and the first bad index).
+/// Pass 1: per chunk of `chunk` triangles, how many corners each vertex has in it. Refuses an
+/// index out of range, naming the first bad triangle.
+fn count_corners(mesh: &TriangleMesh, chunk: usize) -> Result<Vec<Vec<u32>>, ClusteringError> {
+    let n = mesh.positions.len();
     let per_chunk: Vec<Result<Vec<u32>, ClusteringError>> = mesh
         .triangles
         .par_chunks(chunk)
@@ -113,9 +130,12 @@ pub(crate) fn prepare(mesh: &TriangleMesh) -> Result<Prepared, ClusteringError> 
         })
         .collect();
     // The first chunk in order with a bad index names the first bad triangle.
-    let mut counts: Vec<Vec<u32>> = per_chunk.into_iter().collect::<Result<_, _>>()?;
+    per_chunk.into_iter().collect()
+}
 
-    // Offsets, and each chunk's first slot per vertex (counts become cursors in place).
+/// The table's offsets (length `n + 1`), and each chunk's first slot per vertex: the counts
+/// become cursors in place.
+fn offsets_and_cursors(counts: &mut [Vec<u32>], n: usize) -> Vec<u32> {
     let mut offsets = vec![0u32; n + 1];
     let mut sum = 0u32;
     for v in 0..n {
@@ -127,14 +147,21 @@ pub(crate) fn prepare(mesh: &TriangleMesh) -> Result<Prepared, ClusteringError> 
         }
     }
     offsets[n] = sum;
-    debug_assert_eq!(sum as usize, corner_count);
+    offsets
+}
 
-    // Pass 2: fill, each chunk through its own cursors.
+/// Pass 2: the table, each chunk writing through its own cursors, in parallel.
+fn fill_neighbours(
+    mesh: &TriangleMesh,
+    chunk: usize,
+    mut cursors: Vec<Vec<u32>>,
+    corner_count: usize,
+) -> Vec<[u32; 2]> {
     let mut neighbours = vec![[0u32; 2]; corner_count];
     let slots = SharedSlots(neighbours.as_mut_ptr());
     mesh.triangles
         .par_chunks(chunk)
-        .zip(counts.par_iter_mut())
+        .zip(cursors.par_iter_mut())
         .for_each(|(tris, cursor)| {
             for &[a, b, c] in tris {
                 for (v, next, prev) in [(a, b, c), (b, c, a), (c, a, b)] {
@@ -146,9 +173,12 @@ pub(crate) fn prepare(mesh: &TriangleMesh) -> Result<Prepared, ClusteringError> 
                 }
             }
         });
-    drop(counts);
+    neighbours
+}
 
-    // Pass 3: non-finite coordinates, and the box of the used vertices.
+/// Pass 3: non-finite coordinates, and the box and number of the used vertices (those with a
+/// corner in `offsets`).
+fn used_bounds(mesh: &TriangleMesh, offsets: &[u32]) -> Result<(Bounds, usize), ClusteringError> {
     const BLOCK: usize = 1 << 14;
     let parts: Vec<([f32; 3], [f32; 3], usize, usize)> = mesh
         .positions
@@ -192,12 +222,7 @@ pub(crate) fn prepare(mesh: &TriangleMesh) -> Result<Prepared, ClusteringError> 
     }
     let bounds = Bounds::new(lo.as_dvec3(), hi.as_dvec3());
     debug_assert!(referenced > 0 && !bounds.is_empty());
-    Ok(Prepared {
-        offsets,
-        neighbours,
-        bounds,
-        referenced,
-    })
+    Ok((bounds, referenced))
 }
 
 #[cfg(test)]

@@ -17,9 +17,49 @@
 //! checks its input and returns a [`ClusteringError`]: zero cells or levels, an empty mesh,
 //! non-finite coordinates, indices out of range.
 //!
+//! Cost: O(V + T) per level for both methods (plus an O(V log V) sort for Low–Tan), parallel;
+//! see each module.
+//!
 //! Vertices that no triangle uses are ignored throughout. Speed: see the workspace's
 //! `BENCHMARKS.md` (beside the peers), and `examples/cluster_timing.rs` for a stage-by-stage
 //! timing.
+//!
+//! # Example
+//!
+//! A flat 8 × 8 grid of quads on the unit square (81 vertices, 128 triangles) clustered on
+//! 4 × 4 cells: the vertices at x, y = 1/8, 3/8, 5/8 and 7/8 fall in one cell with their right
+//! and upper neighbours, so only the quads across the 3 × 3 inner cell borders keep three
+//! clusters; the result is the 4 × 4 vertex grid in 2 · 3 · 3 = 18 triangles, every other
+//! triangle an edge or point that bounds them.
+//!
+//! ```
+//! use glam::Vec3;
+//! use voxlod_clustering::{rossignac_borrel, ClusterOptions};
+//! use voxlod_core::TriangleMesh;
+//!
+//! let n = 8u32;
+//! let positions = (0..=n)
+//!     .flat_map(|j| (0..=n).map(move |i| Vec3::new(i as f32, j as f32, 0.0) / n as f32))
+//!     .collect();
+//! let id = |i: u32, j: u32| j * (n + 1) + i;
+//! let mut triangles = Vec::new();
+//! for j in 0..n {
+//!     for i in 0..n {
+//!         let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+//!         triangles.extend([[a, b, c], [a, c, d]]);
+//!     }
+//! }
+//! let plane = TriangleMesh::new(positions, triangles);
+//!
+//! let levels = rossignac_borrel(&plane, &ClusterOptions::smoothing(4))?;
+//! let report = &levels[0].report;
+//! assert_eq!((report.clusters, report.triangles), (16, 18));
+//! assert_eq!((report.dangling_edges, report.isolated_points), (0, 0));
+//! assert_eq!(report.cell_size, 0.25);
+//! # Ok::<(), voxlod_clustering::ClusteringError>(())
+//! ```
+
+#![warn(missing_docs)]
 
 pub mod elimination;
 pub mod error;

@@ -83,6 +83,7 @@ pub struct ClusterOptions {
     pub cells: u32,
     /// Number of levels: the finest, then each with cells twice as large (§4).
     pub levels: u32,
+    /// How a cluster's representative is made (§3.4).
     pub synthesis: Synthesis,
     /// The clustering box; `None` for the box of the mesh's (used) vertices. Give the box of the
     /// whole scene to cluster all its objects on one grid.
@@ -92,6 +93,7 @@ pub struct ClusterOptions {
 }
 
 impl Default for ClusterOptions {
+    /// One level of 64 cells, weighted centres of mass, on the mesh's own box, no thick edges.
     fn default() -> Self {
         ClusterOptions {
             cells: 64,
@@ -135,10 +137,12 @@ impl ClusterOptions {
         Self::series(cells, grid::max_levels(cells))
     }
 
+    /// The same with another synthesis.
     pub fn with_synthesis(self, synthesis: Synthesis) -> Self {
         ClusterOptions { synthesis, ..self }
     }
 
+    /// The same on the grid over `bounds` (a whole scene's box, say).
     pub fn with_bounds(self, bounds: Bounds) -> Self {
         ClusterOptions {
             bounds: Some(bounds),
@@ -146,6 +150,7 @@ impl ClusterOptions {
         }
     }
 
+    /// The same with thick edges on or off.
     pub fn with_thick_edges(self, thick_edges: bool) -> Self {
         ClusterOptions {
             thick_edges,
@@ -164,6 +169,43 @@ impl ClusterOptions {
 }
 
 /// Simplifies `mesh` into `options.levels` levels, finest first.
+///
+/// # Errors
+///
+/// [`ClusteringError`] for zero cells or levels, more levels than the cells allow, a bad box,
+/// and a mesh without triangles, with an index out of range or a non-finite coordinate.
+///
+/// # Example
+///
+/// A unit cube on 2 × 2 × 2 cells keeps each corner in a cell of its own, so it comes back
+/// unchanged; the octree's next level (§4) merges all eight cells and the cube collapses to
+/// one isolated point.
+///
+/// ```
+/// use glam::Vec3;
+/// use voxlod_clustering::{rossignac_borrel, ClusterOptions};
+/// use voxlod_core::TriangleMesh;
+///
+/// // Corner k is at (k & 1, (k >> 1) & 1, k >> 2).
+/// let corner = |k: u32| Vec3::new((k & 1) as f32, ((k >> 1) & 1) as f32, (k >> 2) as f32);
+/// let cube = TriangleMesh::new(
+///     (0..8).map(corner).collect(),
+///     vec![
+///         [0, 2, 3], [0, 3, 1], [4, 5, 7], [4, 7, 6], [0, 1, 5], [0, 5, 4],
+///         [2, 6, 7], [2, 7, 3], [0, 4, 6], [0, 6, 2], [1, 3, 7], [1, 7, 5],
+///     ],
+/// );
+/// let levels = rossignac_borrel(&cube, &ClusterOptions::series(2, 2))?;
+/// let counts = |l: usize| {
+///     let m = &levels[l].mesh;
+///     (m.mesh.triangles.len(), m.lines.len(), m.points.len())
+/// };
+/// assert_eq!(counts(0), (12, 0, 0));
+/// assert_eq!(levels[0].mesh.mesh.positions, cube.positions);
+/// assert_eq!(counts(1), (0, 0, 1));
+/// assert_eq!(levels[1].cluster_of, vec![0; 8]);
+/// # Ok::<(), voxlod_clustering::ClusteringError>(())
+/// ```
 pub fn rossignac_borrel(
     mesh: &TriangleMesh,
     options: &ClusterOptions,

@@ -34,13 +34,15 @@ use crate::sort::{bits_for, radix_sort_by_key};
 /// Width and static normal of one dangling edge.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ThickEdge {
+    /// Estimated thickness of the collapsed part, in the mesh's units.
     pub width: f32,
     /// Unit vector across the edge (see the module documentation).
     pub normal: Vec3,
 }
 
-/// Names of the line attributes that [`attach`] writes.
+/// Name of the line attribute that [`attach`] writes the widths to.
 pub const WIDTH: &str = "width";
+/// Names of the line attributes that [`attach`] writes the normals' x, y and z to.
 pub const NORMAL: [&str; 3] = ["normal_x", "normal_y", "normal_z"];
 
 /// For each of `edges` (cluster ids `[a, b]`, `a < b`, sorted), the width and normal of the group

@@ -18,6 +18,19 @@ pub(crate) trait Samples: Sync {
     fn at(&self, i: usize, j: usize, k: usize) -> f32;
 }
 
+/// The samples of a dense volume, x fastest.
+pub(crate) struct DenseSamples<'a> {
+    pub data: &'a [f32],
+    pub dims: [usize; 3],
+}
+
+impl Samples for DenseSamples<'_> {
+    #[inline]
+    fn at(&self, i: usize, j: usize, k: usize) -> f32 {
+        self.data[i + self.dims[0] * (j + self.dims[1] * k)]
+    }
+}
+
 impl Samples for BrickVolume {
     #[inline]
     fn at(&self, i: usize, j: usize, k: usize) -> f32 {

@@ -28,6 +28,7 @@ pub enum Brick<'a> {
 /// A grid's samples stored brick by brick (see the module documentation).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BrickVolume {
+    /// The sample grid the bricks cut up.
     pub grid: Grid,
     /// log2 of the brick side.
     shift: u32,
@@ -172,10 +173,12 @@ impl BrickVolume {
         self.brick_dims
     }
 
+    /// Bricks in all.
     pub fn brick_count(&self) -> usize {
         self.slots.len()
     }
 
+    /// Bricks stored densely.
     pub fn leaf_count(&self) -> usize {
         self.leaf_bricks.len()
     }

@@ -21,9 +21,11 @@ use super::EnvelopeError;
 
 /// The prepared input (see the module documentation).
 pub(crate) struct Base {
+    /// The input's positions, in `f64`.
     pub pos: Vec<DVec3>,
     /// Unit angle-weighted vertex normals; zero for vertices no proper triangle uses.
     pub normals: Vec<DVec3>,
+    /// The input's triangles.
     pub tris: Vec<[u32; 3]>,
     /// `star_offsets[v]..star_offsets[v + 1]` indexes `star_list` for vertex `v`.
     star_offsets: Vec<u32>,
@@ -34,6 +36,7 @@ pub(crate) struct Base {
     pub diagonal: f64,
     /// Contact tolerance of the intersection tests, in mesh units (10⁻⁹ of the diagonal).
     pub tol: f64,
+    /// Closest points on the input (for the Voronoi limit).
     pub distance: MeshDistance,
 }
 
@@ -73,69 +76,9 @@ impl Base {
         check_manifold(mesh)?;
         let pos: Vec<DVec3> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
         let tris = mesh.triangles.clone();
-
-        let mut star_offsets = vec![0u32; n + 1];
-        for tri in &tris {
-            for &v in tri {
-                star_offsets[v as usize + 1] += 1;
-            }
-        }
-        for i in 0..n {
-            star_offsets[i + 1] += star_offsets[i];
-        }
-        let mut fill = star_offsets.clone();
-        let mut star_list = vec![0u32; star_offsets[n] as usize];
-        for (t, tri) in tris.iter().enumerate() {
-            for &v in tri {
-                star_list[fill[v as usize] as usize] = t as u32;
-                fill[v as usize] += 1;
-            }
-        }
-
-        let mut acc = vec![DVec3::ZERO; n];
-        for &[a, b, c] in &tris {
-            let p = [pos[a as usize], pos[b as usize], pos[c as usize]];
-            let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
-            for (i, &v) in [a, b, c].iter().enumerate() {
-                let e1 = (p[(i + 1) % 3] - p[i]).normalize_or_zero();
-                let e2 = (p[(i + 2) % 3] - p[i]).normalize_or_zero();
-                let angle = e1.dot(e2).clamp(-1.0, 1.0).acos();
-                acc[v as usize] += face * angle;
-            }
-        }
-        let mut normals: Vec<DVec3> = acc.into_iter().map(|v| v.normalize_or_zero()).collect();
-        for _ in 0..smoothing {
-            // Each edge is seen from both of its triangles (once from the border's): the weights
-            // do not matter much, the direction does.
-            let mut sum = normals.clone();
-            for &[a, b, c] in &tris {
-                for (u, w) in [(a, b), (b, c), (c, a)] {
-                    sum[u as usize] += normals[w as usize];
-                    sum[w as usize] += normals[u as usize];
-                }
-            }
-            normals = sum.into_iter().map(|v| v.normalize_or_zero()).collect();
-        }
-
-        // In a manifold, an inner vertex has as many neighbours as triangles; a border vertex
-        // one more.
-        let border = (0..n)
-            .map(|v| {
-                let ts = &star_list[star_offsets[v] as usize..star_offsets[v + 1] as usize];
-                if ts.is_empty() {
-                    return false;
-                }
-                let mut around: Vec<u32> = ts
-                    .iter()
-                    .flat_map(|&t| tris[t as usize])
-                    .filter(|&w| w as usize != v)
-                    .collect();
-                around.sort_unstable();
-                around.dedup();
-                around.len() != ts.len()
-            })
-            .collect();
-
+        let (star_offsets, star_list) = stars(&tris, n, |_| true);
+        let normals = vertex_normals(&pos, &tris, smoothing);
+        let border = border_vertices(&tris, &star_offsets, &star_list);
         let bounds = mesh.bounds();
         let diagonal = bounds.diagonal();
         let distance = MeshDistance::new(mesh)?;
@@ -152,6 +95,7 @@ impl Base {
         })
     }
 
+    /// How many vertices the input has (used or not).
     pub fn vertex_count(&self) -> usize {
         self.pos.len()
     }
@@ -162,6 +106,7 @@ impl Base {
         &self.star_list[self.star_offsets[v] as usize..self.star_offsets[v + 1] as usize]
     }
 
+    /// The corners of input triangle `t`.
     #[inline]
     pub fn corners(&self, t: usize) -> [DVec3; 3] {
         self.tris[t].map(|v| self.pos[v as usize])
@@ -172,4 +117,85 @@ impl Base {
     pub fn is_used(&self, v: usize) -> bool {
         self.star_offsets[v + 1] > self.star_offsets[v]
     }
+}
+
+/// Each vertex's triangles (its star), over the triangles `keep` accepts, as a compressed
+/// table: `offsets[v]..offsets[v + 1]` indexes `list` for vertex `v` (a counting sort,
+/// triangles in order).
+pub(crate) fn stars(
+    tris: &[[u32; 3]],
+    n: usize,
+    keep: impl Fn(&[u32; 3]) -> bool,
+) -> (Vec<u32>, Vec<u32>) {
+    let mut offsets = vec![0u32; n + 1];
+    for tri in tris.iter().filter(|t| keep(t)) {
+        for &v in tri {
+            offsets[v as usize + 1] += 1;
+        }
+    }
+    for i in 0..n {
+        offsets[i + 1] += offsets[i];
+    }
+    let mut fill = offsets.clone();
+    let mut list = vec![0u32; offsets[n] as usize];
+    for (t, tri) in tris.iter().enumerate() {
+        if keep(tri) {
+            for &v in tri {
+                list[fill[v as usize] as usize] = t as u32;
+                fill[v as usize] += 1;
+            }
+        }
+    }
+    (offsets, list)
+}
+
+/// Unit angle-weighted vertex normals, then `smoothing` rounds of smoothing (see the module
+/// documentation); zero for vertices no proper triangle uses.
+fn vertex_normals(pos: &[DVec3], tris: &[[u32; 3]], smoothing: usize) -> Vec<DVec3> {
+    let mut acc = vec![DVec3::ZERO; pos.len()];
+    for &[a, b, c] in tris {
+        let p = [pos[a as usize], pos[b as usize], pos[c as usize]];
+        let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        for (i, &v) in [a, b, c].iter().enumerate() {
+            let e1 = (p[(i + 1) % 3] - p[i]).normalize_or_zero();
+            let e2 = (p[(i + 2) % 3] - p[i]).normalize_or_zero();
+            let angle = e1.dot(e2).clamp(-1.0, 1.0).acos();
+            acc[v as usize] += face * angle;
+        }
+    }
+    let mut normals: Vec<DVec3> = acc.into_iter().map(|v| v.normalize_or_zero()).collect();
+    for _ in 0..smoothing {
+        // Each edge is seen from both of its triangles (once from the border's): the weights
+        // do not matter much, the direction does.
+        let mut sum = normals.clone();
+        for &[a, b, c] in tris {
+            for (u, w) in [(a, b), (b, c), (c, a)] {
+                sum[u as usize] += normals[w as usize];
+                sum[w as usize] += normals[u as usize];
+            }
+        }
+        normals = sum.into_iter().map(|v| v.normalize_or_zero()).collect();
+    }
+    normals
+}
+
+/// The vertices on the border. In a manifold, an inner vertex has as many neighbours as
+/// triangles; a border vertex one more.
+fn border_vertices(tris: &[[u32; 3]], star_offsets: &[u32], star_list: &[u32]) -> Vec<bool> {
+    (0..star_offsets.len() - 1)
+        .map(|v| {
+            let ts = &star_list[star_offsets[v] as usize..star_offsets[v + 1] as usize];
+            if ts.is_empty() {
+                return false;
+            }
+            let mut around: Vec<u32> = ts
+                .iter()
+                .flat_map(|&t| tris[t as usize])
+                .filter(|&w| w as usize != v)
+                .collect();
+            around.sort_unstable();
+            around.dedup();
+            around.len() != ts.len()
+        })
+        .collect()
 }

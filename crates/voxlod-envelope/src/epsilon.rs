@@ -1,6 +1,8 @@
 //! How large ε is: a distance in the mesh's units, or a percentage of the diagonal of the
 //! mesh's bounding box (the paper's Table 2 heuristic, §7); and regions with their own ε
 //! (adaptive approximation, §6.5).
+//!
+//! Cost: O(V × regions) to give every vertex its ε.
 
 use std::fmt;
 use std::str::FromStr;
@@ -75,8 +77,11 @@ impl FromStr for Epsilon {
 /// one listed wins.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RegionEpsilon {
+    /// Lower corner of the box, in the mesh's units.
     pub min: DVec3,
+    /// Upper corner of the box, in the mesh's units.
     pub max: DVec3,
+    /// The factor on the level's ε for vertices in the box.
     pub scale: f64,
 }
 
@@ -92,6 +97,7 @@ impl Serialize for RegionEpsilon {
 }
 
 impl RegionEpsilon {
+    /// Whether `p` lies in the box (its faces included).
     pub fn contains(&self, p: DVec3) -> bool {
         p.cmpge(self.min).all() && p.cmple(self.max).all()
     }

@@ -34,6 +34,57 @@
 //! offsets and one against the current mesh, in parallel batches. Memory: O(V + F), with three
 //! BVHs (the two offsets, the current mesh) beside the input's closest-point BVH. The bunny
 //! (69,451 triangles) takes a few seconds at 1 % on two cores (figures in BENCHMARKS.md).
+//!
+//! # Example
+//!
+//! A torus of 48 × 24 quads (2 304 triangles, genus 1) at 1 % and then 4 % of its diagonal:
+//! each level has fewer triangles than the one before, stays a closed, consistently oriented
+//! manifold of genus 1, keeps only input vertices, and is measured within its ε.
+//!
+//! ```
+//! use glam::Vec3;
+//! use voxlod_core::{mesh_topology, TriangleMesh};
+//! use voxlod_envelope::{envelope_series, EnvelopeOptions, Epsilon};
+//!
+//! let (n, m) = (48u32, 24u32);
+//! let tau = std::f32::consts::TAU;
+//! let mut positions = Vec::new();
+//! for i in 0..n {
+//!     for j in 0..m {
+//!         let (u, v) = (tau * i as f32 / n as f32, tau * j as f32 / m as f32);
+//!         let r = 1.0 + 0.4 * v.cos();
+//!         positions.push(Vec3::new(r * u.cos(), r * u.sin(), 0.4 * v.sin()));
+//!     }
+//! }
+//! let id = |i: u32, j: u32| (i % n) * m + j % m;
+//! let mut triangles = Vec::new();
+//! for i in 0..n {
+//!     for j in 0..m {
+//!         triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+//!         triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+//!     }
+//! }
+//! let torus = TriangleMesh::new(positions, triangles);
+//!
+//! let options = EnvelopeOptions::paper().with_measure_samples(20_000);
+//! let epsilons = [Epsilon::percent(1.0), Epsilon::percent(4.0)];
+//! let levels = envelope_series(&torus, &epsilons, &options)?;
+//! assert!(levels[0].mesh.triangles.len() < torus.triangles.len());
+//! assert!(levels[1].mesh.triangles.len() < levels[0].mesh.triangles.len());
+//! for level in &levels {
+//!     let topology = mesh_topology(&level.mesh);
+//!     assert!(topology.is_closed_manifold() && topology.is_consistently_oriented());
+//!     assert_eq!(topology.genus, Some(1));
+//!     for (kept, &input) in level.mesh.positions.iter().zip(&level.vertex_map) {
+//!         assert_eq!(*kept, torus.positions[input as usize]);
+//!     }
+//!     let distance = level.report.distance.expect("measured");
+//!     assert!(distance.hausdorff <= level.report.epsilon * (1.0 + 1e-9));
+//! }
+//! # Ok::<(), voxlod_envelope::EnvelopeError>(())
+//! ```
+
+#![warn(missing_docs)]
 
 mod base;
 pub mod checks;
@@ -141,26 +192,31 @@ impl EnvelopeOptions {
         }
     }
 
+    /// The same, keeping every edge sharper than `degrees` (§6.5).
     pub fn with_keep_sharp(mut self, degrees: f64) -> Self {
         self.keep_sharp = Some(degrees);
         self
     }
 
+    /// The same with another removal order.
     pub fn with_order(mut self, order: RemovalOrder) -> Self {
         self.order = order;
         self
     }
 
+    /// The same with these boxes of their own ε (§6.5).
     pub fn with_regions(mut self, regions: Vec<RegionEpsilon>) -> Self {
         self.regions = regions;
         self
     }
 
+    /// The same with `rounds` of normal smoothing.
     pub fn with_normal_smoothing(mut self, rounds: usize) -> Self {
         self.normal_smoothing = rounds;
         self
     }
 
+    /// The same, measuring each level with `samples` points per side (0: not at all).
     pub fn with_measure_samples(mut self, samples: usize) -> Self {
         self.measure_samples = samples;
         self
@@ -208,8 +264,11 @@ pub struct MeasuredDistance {
     pub hausdorff: f64,
     /// `hausdorff / ε`: at most 1 when the guarantee holds.
     pub hausdorff_over_epsilon: f64,
+    /// Mean sampled distance, both ways.
     pub mean: f64,
+    /// Points sampled on each surface.
     pub samples_per_side: usize,
+    /// Wall time of the measuring.
     pub seconds: f64,
 }
 
@@ -220,22 +279,30 @@ pub struct EnvelopeReport {
     pub level: usize,
     /// ε as given.
     pub epsilon_given: Epsilon,
-    /// ε in the mesh's units, and as a fraction of the bounding-box diagonal.
+    /// ε in the mesh's units.
     pub epsilon: f64,
+    /// ε as a fraction of the bounding-box diagonal.
     pub epsilon_fraction: f64,
+    /// Triangles of the input.
     pub input_triangles: usize,
+    /// Triangles of this level.
     pub triangles: usize,
+    /// Vertices of this level.
     pub vertices: usize,
     /// Triangles removed, in percent of the input's (cumulative, as in the paper's Table 2).
     pub reduction_percent: f64,
     /// Wall time of this level: offsets and removals (level 0 also checks and prepares the
     /// input), without measuring.
     pub seconds: f64,
+    /// How the offsets' ε were limited.
     pub offsets: OffsetReport,
+    /// What the removals did.
     pub removal: RemovalReport,
     /// §6.4: α(1 + lg d); the optimum has at least `triangles / quality_factor` triangles.
     pub quality_factor: f64,
+    /// Topology of this level (the input's, by construction).
     pub topology: Topology,
+    /// The measured distance to the input, when the options ask for it.
     pub distance: Option<MeasuredDistance>,
 }
 
@@ -247,10 +314,42 @@ pub struct EnvelopeLevel {
     pub mesh: TriangleMesh,
     /// For each vertex of `mesh`, the input vertex it is (increasing).
     pub vertex_map: Vec<u32>,
+    /// The level's figures.
     pub report: EnvelopeReport,
 }
 
 /// Simplifies `mesh` within `epsilon` (one level).
+///
+/// # Errors
+///
+/// [`EnvelopeError::EmptyMesh`], [`EnvelopeError::IndexOutOfRange`],
+/// [`EnvelopeError::NonFiniteCoordinate`] and [`EnvelopeError::NotManifold`] for an input it
+/// cannot take (see [`repair_for_envelope`] for the last), [`EnvelopeError::InvalidEpsilon`] and
+/// [`EnvelopeError::InvalidOption`] for bad settings.
+///
+/// # Example
+///
+/// The icosahedron subdivided three times (1 280 triangles on the unit sphere) within 2 % of
+/// its diagonal: far fewer triangles, still a closed sphere, every input vertex within ε.
+///
+/// ```
+/// use voxlod_core::mesh_topology;
+/// use voxlod_envelope::{simplify_envelope, EnvelopeOptions, Epsilon};
+/// use voxlod_metrics::MeshDistance;
+///
+/// let sphere = voxlod_testkit::shapes::icosphere(3);
+/// let options = EnvelopeOptions::unmeasured();
+/// let level = simplify_envelope(&sphere, Epsilon::percent(2.0), &options)?;
+/// assert!(level.mesh.triangles.len() < sphere.triangles.len() / 2);
+/// let topology = mesh_topology(&level.mesh);
+/// assert!(topology.is_closed_manifold());
+/// assert_eq!((topology.genus, topology.components), (Some(0), 1));
+/// let inputs: Vec<_> = sphere.positions.iter().map(|p| p.as_dvec3()).collect();
+/// let distances = MeshDistance::new(&level.mesh)?.distances(&inputs);
+/// let farthest = distances.into_iter().fold(0.0, f64::max);
+/// assert!(farthest <= level.report.epsilon * (1.0 + 1e-9));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn simplify_envelope(
     mesh: &TriangleMesh,
     epsilon: Epsilon,
@@ -293,7 +392,6 @@ pub fn envelope_series_with(
         e.check()?;
     }
     let base = Base::new(mesh, options.normal_smoothing)?;
-    let n = base.vertex_count();
     let resolved: Vec<f64> = epsilons.iter().map(|e| e.resolve(base.diagonal)).collect();
     for (i, w) in resolved.windows(2).enumerate() {
         if w[1] < w[0] {
@@ -303,32 +401,72 @@ pub fn envelope_series_with(
             });
         }
     }
-    let scales = epsilon::region_scales(&base.pos, &options.regions);
-    let sharp = match options.keep_sharp {
-        Some(degrees) => features::sharp_vertices(&base, degrees).0,
-        None => vec![false; n],
+    let series = Series {
+        mesh,
+        options,
+        scales: epsilon::region_scales(&base.pos, &options.regions),
+        always_fixed: always_fixed(&base, options),
+        base: &base,
     };
-    let always_fixed: Vec<bool> = (0..n)
-        .map(|v| {
-            !base.is_used(v) || base.border[v] || sharp[v] || base.normals[v] == glam::DVec3::ZERO
-        })
-        .collect();
     let mut work = Work::new(&base);
     let mut level_start = start;
     for (index, (&given, &eps)) in epsilons.iter().zip(&resolved).enumerate() {
+        each(series.level(&mut work, index, (given, eps), level_start)?);
+        level_start = Instant::now();
+    }
+    Ok(())
+}
+
+/// The vertices no level may remove: unused, on the border, on a kept sharp edge (§6.5), or
+/// without a normal.
+fn always_fixed(base: &Base, options: &EnvelopeOptions) -> Vec<bool> {
+    let n = base.vertex_count();
+    let sharp = match options.keep_sharp {
+        Some(degrees) => features::sharp_vertices(base, degrees).0,
+        None => vec![false; n],
+    };
+    (0..n)
+        .map(|v| {
+            !base.is_used(v) || base.border[v] || sharp[v] || base.normals[v] == glam::DVec3::ZERO
+        })
+        .collect()
+}
+
+/// What every level of one series shares.
+struct Series<'a> {
+    mesh: &'a TriangleMesh,
+    base: &'a Base,
+    options: &'a EnvelopeOptions,
+    /// Each vertex's ε as a multiple of the level's ([`RegionEpsilon`]).
+    scales: Vec<f64>,
+    always_fixed: Vec<bool>,
+}
+
+impl Series<'_> {
+    /// Level `index` of ε `given` (`eps` in mesh units): the offsets around the input, then
+    /// removals from the previous level's mesh in `work`; measured if the options ask.
+    fn level(
+        &self,
+        work: &mut Work,
+        index: usize,
+        (given, eps): (Epsilon, f64),
+        level_start: Instant,
+    ) -> Result<EnvelopeLevel, EnvelopeError> {
+        let (base, options, mesh) = (self.base, self.options, self.mesh);
+        let n = base.vertex_count();
         let target: Vec<f64> = (0..n)
             .map(|v| {
                 if base.is_used(v) {
-                    eps * scales[v]
+                    eps * self.scales[v]
                 } else {
                     0.0
                 }
             })
             .collect();
-        let offsets = Offsets::new(&base, &target, options.offsets)?;
-        let envelope = offsets.envelope(&base)?;
+        let offsets = Offsets::new(base, &target, options.offsets)?;
+        let envelope = offsets.envelope(base)?;
         let fixed: Vec<bool> = (0..n)
-            .map(|v| always_fixed[v] || offsets.outer[v] <= 0.0 || offsets.inner[v] <= 0.0)
+            .map(|v| self.always_fixed[v] || offsets.outer[v] <= 0.0 || offsets.inner[v] <= 0.0)
             .collect();
         let removal = work.run(&RemovalSettings {
             target: &target,
@@ -341,23 +479,7 @@ pub fn envelope_series_with(
         drop(envelope);
         let (out, vertex_map) = work.snapshot(mesh);
         let seconds = level_start.elapsed().as_secs_f64();
-        let distance = if options.measure_samples > 0 {
-            let t = Instant::now();
-            let d = mesh_distance(
-                mesh,
-                &out,
-                &DistanceOptions::with_samples(options.measure_samples),
-            )?;
-            Some(MeasuredDistance {
-                hausdorff: d.hausdorff,
-                hausdorff_over_epsilon: d.hausdorff / eps,
-                mean: d.mean,
-                samples_per_side: options.measure_samples,
-                seconds: t.elapsed().as_secs_f64(),
-            })
-        } else {
-            None
-        };
+        let distance = measure(mesh, &out, eps, options.measure_samples)?;
         let d = removal.max_cover.max(1) as f64;
         let report = EnvelopeReport {
             level: index,
@@ -377,12 +499,32 @@ pub fn envelope_series_with(
             distance,
         };
         debug_assert_eq!(work.triangle_count(), out.triangles.len());
-        each(EnvelopeLevel {
+        Ok(EnvelopeLevel {
             mesh: out,
             vertex_map,
             report,
-        });
-        level_start = Instant::now();
+        })
     }
-    Ok(())
+}
+
+/// The two-sided distance between `mesh` and `out` by `samples` points per side; `None` when
+/// `samples` is 0.
+fn measure(
+    mesh: &TriangleMesh,
+    out: &TriangleMesh,
+    eps: f64,
+    samples: usize,
+) -> Result<Option<MeasuredDistance>, EnvelopeError> {
+    if samples == 0 {
+        return Ok(None);
+    }
+    let t = Instant::now();
+    let d = mesh_distance(mesh, out, &DistanceOptions::with_samples(samples))?;
+    Ok(Some(MeasuredDistance {
+        hausdorff: d.hausdorff,
+        hausdorff_over_epsilon: d.hausdorff / eps,
+        mean: d.mean,
+        samples_per_side: samples,
+        seconds: t.elapsed().as_secs_f64(),
+    }))
 }

@@ -51,10 +51,12 @@ impl LiveSet {
         LiveSet { bvh, tol }
     }
 
+    /// Adds triangle `t` with these corners.
     pub fn insert(&mut self, t: u32, corners: &[DVec3; 3]) {
         self.bvh.insert_primitive(padded_box(corners, self.tol), t);
     }
 
+    /// Takes triangle `t` out.
     pub fn remove(&mut self, t: u32) {
         self.bvh.remove_primitive(t);
     }

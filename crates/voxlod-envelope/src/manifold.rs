@@ -22,6 +22,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 use voxlod_core::TriangleMesh;
 
+use super::base::stars;
 use super::EnvelopeError;
 
 /// At most this many offending items are named in an error message.
@@ -43,6 +44,7 @@ pub struct ManifoldProblems {
 }
 
 impl ManifoldProblems {
+    /// Whether nothing is wrong.
     pub fn is_empty(&self) -> bool {
         self.degenerate_triangles == 0
             && self.non_manifold_edges == 0
@@ -151,26 +153,8 @@ pub fn manifold_problems(mesh: &TriangleMesh) -> ManifoldProblems {
 /// Vertices whose incident proper triangles are not connected through edges at the vertex.
 fn pinched_vertices(mesh: &TriangleMesh) -> Vec<u32> {
     let n = mesh.positions.len();
-    let mut offsets = vec![0u32; n + 1];
     let proper = |&[a, b, c]: &[u32; 3]| a != b && b != c && a != c;
-    for t in mesh.triangles.iter().filter(|t| proper(t)) {
-        for &v in t {
-            offsets[v as usize + 1] += 1;
-        }
-    }
-    for i in 0..n {
-        offsets[i + 1] += offsets[i];
-    }
-    let mut fill = offsets.clone();
-    let mut around = vec![0u32; offsets[n] as usize];
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        if proper(tri) {
-            for &v in tri {
-                around[fill[v as usize] as usize] = t as u32;
-                fill[v as usize] += 1;
-            }
-        }
-    }
+    let (offsets, around) = stars(&mesh.triangles, n, proper);
     (0..n)
         .into_par_iter()
         .filter(|&v| {
@@ -214,7 +198,9 @@ fn pinched_vertices(mesh: &TriangleMesh) -> Vec<u32> {
 /// What [`repair_for_envelope`] changed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct ManifoldRepair {
+    /// Triangles with a repeated vertex index, dropped.
     pub degenerate_triangles_removed: usize,
+    /// Second and later copies of a triangle (same vertices, either winding), dropped.
     pub duplicate_triangles_removed: usize,
     /// Half-edges left without a partner in the opposite direction (now border).
     pub half_edges_unpaired: usize,
@@ -225,6 +211,7 @@ pub struct ManifoldRepair {
 }
 
 impl ManifoldRepair {
+    /// Whether the repair changed the mesh at all.
     pub fn changed_anything(&self) -> bool {
         *self != ManifoldRepair::default()
     }

@@ -82,6 +82,7 @@ pub struct OffsetReport {
     pub unresolved_crossings: usize,
     /// Mean of ε⁺/target and ε⁻/target over the used vertices: 1 when nothing was shrunk.
     pub mean_fraction: f64,
+    /// Wall time of both steps.
     pub seconds: f64,
 }
 
@@ -91,6 +92,7 @@ pub(crate) struct Offsets {
     pub outer: Vec<f64>,
     /// ε⁻ of each vertex (inwards).
     pub inner: Vec<f64>,
+    /// What the limits did.
     pub report: OffsetReport,
 }
 
@@ -116,8 +118,8 @@ impl Offsets {
                 }
             })
             .collect();
-        let (mut outer, mut inner): (Vec<f64>, Vec<f64>) = limits.into_iter().unzip();
-        let mut report = OffsetReport {
+        let (outer, inner): (Vec<f64>, Vec<f64>) = limits.into_iter().unzip();
+        let report = OffsetReport {
             vertices: (0..n).filter(|&v| base.is_used(v)).count(),
             limited_by_voronoi: (0..n)
                 .filter(|&v| usable(v))
@@ -125,85 +127,115 @@ impl Offsets {
                 .sum(),
             ..Default::default()
         };
+        let mut offsets = Offsets {
+            outer,
+            inner,
+            report,
+        };
+        offsets.shrink_crossings(base, target)?;
+        offsets.finish_report(base, target);
+        offsets.report.seconds = start.elapsed().as_secs_f64();
+        Ok(offsets)
+    }
 
-        let before: Vec<(f64, f64)> = outer.iter().copied().zip(inner.iter().copied()).collect();
+    /// Step 2, the crossing check: shrinks the ε of the vertices of crossing offset triangles,
+    /// round after round, and zeroes what still crosses after the last round.
+    fn shrink_crossings(&mut self, base: &Base, target: &[f64]) -> Result<(), EnvelopeError> {
+        let n = base.vertex_count();
+        let before: Vec<(f64, f64)> = self
+            .outer
+            .iter()
+            .copied()
+            .zip(self.inner.iter().copied())
+            .collect();
         let mut pending: Option<Vec<bool>> = None;
-        let mut set = Envelope::new(base, &outer, &inner)?;
+        let mut set = Envelope::new(base, &self.outer, &self.inner)?;
         for round in 0..=ROUNDS {
             if round > 0 {
-                set.update(base, &outer, &inner);
+                set.update(base, &self.outer, &self.inner);
             }
-            let crossing = crossing_triangles(base, &set, &outer, &inner, pending.as_deref());
+            let crossing =
+                crossing_triangles(base, &set, &self.outer, &self.inner, pending.as_deref());
             let count = crossing.iter().filter(|&&c| c).count();
             if count == 0 {
                 break;
             }
             if round == ROUNDS {
-                report.zeroed_after_rounds = count;
-                let mut moved = vec![false; n];
-                for (i, _) in crossing.iter().enumerate().filter(|(_, &c)| c) {
-                    let (side, t) = (i / base.tris.len(), i % base.tris.len());
-                    for &v in &base.tris[t] {
-                        let e = if side == 0 { &mut outer } else { &mut inner };
-                        e[v as usize] = 0.0;
-                        moved[v as usize] = true;
-                    }
-                }
-                // Count what crosses even now (it is left as it is: zeroing more only spreads
-                // the kinks).
-                set.update(base, &outer, &inner);
-                let only: Vec<bool> = (0..2 * base.tris.len())
-                    .map(|i| {
-                        base.tris[i % base.tris.len()]
-                            .iter()
-                            .any(|&v| moved[v as usize])
-                    })
-                    .collect();
-                report.unresolved_crossings =
-                    crossing_triangles(base, &set, &outer, &inner, Some(&only))
-                        .iter()
-                        .filter(|&&c| c)
-                        .count();
+                self.report.zeroed_after_rounds = count;
+                self.zero_crossing(base, &mut set, &crossing);
                 break;
             }
-            report.crossing_rounds += 1;
-            // Each vertex side shrinks once per round, however many crossings it is in.
-            let mut moved = [vec![false; n], vec![false; n]];
-            for (i, _) in crossing.iter().enumerate().filter(|(_, &c)| c) {
-                let (side, t) = (i / base.tris.len(), i % base.tris.len());
-                for &v in &base.tris[t] {
-                    let v = v as usize;
-                    if moved[side][v] {
-                        continue;
-                    }
-                    moved[side][v] = true;
-                    let e = if side == 0 {
-                        &mut outer[v]
-                    } else {
-                        &mut inner[v]
-                    };
-                    *e *= SHRINK;
-                    if *e < target[v] * 1e-4 {
-                        *e = 0.0;
-                    }
+            self.report.crossing_rounds += 1;
+            let moved_vertex = self.shrink_round(base, target, &crossing);
+            // Next round: the triangles touching a moved vertex.
+            pending = Some(touching(base, &moved_vertex));
+        }
+        self.report.limited_by_crossings = (0..n)
+            .map(|v| {
+                (self.outer[v] < before[v].0) as usize + (self.inner[v] < before[v].1) as usize
+            })
+            .sum();
+        Ok(())
+    }
+
+    /// One round: the ε of every vertex side of a crossing triangle shrinks once (however many
+    /// crossings it is in), to zero below 10⁻⁴ of its target. Returns the vertices that moved.
+    fn shrink_round(&mut self, base: &Base, target: &[f64], crossing: &[bool]) -> Vec<bool> {
+        let n = base.vertex_count();
+        let mut moved = [vec![false; n], vec![false; n]];
+        for (i, _) in crossing.iter().enumerate().filter(|(_, &c)| c) {
+            let (side, t) = (i / base.tris.len(), i % base.tris.len());
+            for &v in &base.tris[t] {
+                let v = v as usize;
+                if moved[side][v] {
+                    continue;
+                }
+                moved[side][v] = true;
+                let e = if side == 0 {
+                    &mut self.outer[v]
+                } else {
+                    &mut self.inner[v]
+                };
+                *e *= SHRINK;
+                if *e < target[v] * 1e-4 {
+                    *e = 0.0;
                 }
             }
-            let moved_vertex: Vec<bool> = (0..n).map(|v| moved[0][v] || moved[1][v]).collect();
-            // Next round: the triangles touching a moved vertex.
-            pending = Some(
-                (0..2 * base.tris.len())
-                    .map(|i| {
-                        base.tris[i % base.tris.len()]
-                            .iter()
-                            .any(|&v| moved_vertex[v as usize])
-                    })
-                    .collect(),
-            );
         }
-        report.limited_by_crossings = (0..n)
-            .map(|v| (outer[v] < before[v].0) as usize + (inner[v] < before[v].1) as usize)
-            .sum();
-        report.zero_sides = (0..n)
+        (0..n).map(|v| moved[0][v] || moved[1][v]).collect()
+    }
+
+    /// After the last round: the ε of every vertex of a crossing triangle, on its side, set to
+    /// zero, and what crosses even then counted as unresolved (it is left as it is: zeroing
+    /// more only spreads the kinks).
+    fn zero_crossing(&mut self, base: &Base, set: &mut Envelope, crossing: &[bool]) {
+        let mut moved = vec![false; base.vertex_count()];
+        for (i, _) in crossing.iter().enumerate().filter(|(_, &c)| c) {
+            let (side, t) = (i / base.tris.len(), i % base.tris.len());
+            for &v in &base.tris[t] {
+                let e = if side == 0 {
+                    &mut self.outer
+                } else {
+                    &mut self.inner
+                };
+                e[v as usize] = 0.0;
+                moved[v as usize] = true;
+            }
+        }
+        set.update(base, &self.outer, &self.inner);
+        let only = touching(base, &moved);
+        self.report.unresolved_crossings =
+            crossing_triangles(base, set, &self.outer, &self.inner, Some(&only))
+                .iter()
+                .filter(|&&c| c)
+                .count();
+    }
+
+    /// The sides left at zero and the mean fraction of the targets kept.
+    fn finish_report(&mut self, base: &Base, target: &[f64]) {
+        let (outer, inner) = (&self.outer, &self.inner);
+        let n = base.vertex_count();
+        self.report.zero_sides = (0..n)
             .filter(|&v| base.is_used(v) && target[v] > 0.0)
             .map(|v| (outer[v] == 0.0) as usize + (inner[v] == 0.0) as usize)
             .sum();
@@ -214,13 +246,7 @@ impl Offsets {
                 count += 2;
             }
         }
-        report.mean_fraction = if count > 0 { sum / count as f64 } else { 0.0 };
-        report.seconds = start.elapsed().as_secs_f64();
-        Ok(Offsets {
-            outer,
-            inner,
-            report,
-        })
+        self.report.mean_fraction = if count > 0 { sum / count as f64 } else { 0.0 };
     }
 
     /// The envelope: both offset surfaces, searchable.
@@ -317,6 +343,19 @@ impl Envelope {
     }
 }
 
+/// For each offset triangle (outer `t`, inner `F + t`): whether it has a vertex in `moved`.
+fn touching(base: &Base, moved: &[bool]) -> Vec<bool> {
+    (0..2 * base.tris.len())
+        .map(|i| {
+            base.tris[i % base.tris.len()]
+                .iter()
+                .any(|&v| moved[v as usize])
+        })
+        .collect()
+}
+
+/// The corners of every offset triangle (outer `t`, inner `F + t`) at the ε given, and their
+/// vertex ids (see [`inner_id`]).
 fn offset_triangles(base: &Base, outer: &[f64], inner: &[f64]) -> (Vec<[DVec3; 3]>, Vec<[u32; 3]>) {
     let n = base.vertex_count();
     let f = base.tris.len();

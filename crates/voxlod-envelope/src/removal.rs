@@ -97,14 +97,20 @@ pub struct RemovalReport {
     pub attempts: usize,
     /// Batches of removals evaluated together (`attempts / batches` is the mean batch size).
     pub batches: usize,
-    /// Refusals by reason.
+    /// Refused: the vertex is fixed (border, sharp edge, zero offset, no normal) or gone.
     pub refused_fixed: usize,
+    /// Refused: too many neighbours, or a link that is not one closed cycle.
     pub refused_valence: usize,
+    /// Refused: the star does not project one-to-one on the hole's plane.
     pub refused_not_flat: usize,
+    /// Refused: no triangulation of the hole is left (every one folds, is too thin, would
+    /// repeat an edge or was forbidden).
     pub refused_no_triangulation: usize,
+    /// Refused: a new triangle touches an offset surface.
     pub refused_envelope: usize,
     /// New triangles that would cut through the current mesh outside the hole.
     pub refused_crossing: usize,
+    /// Refused: a covered input vertex would be farther than its ε from the new triangles.
     pub refused_guard: usize,
     /// Re-evaluations not queued because every triangulation of the hole leaves, by the quick
     /// estimate, a covered vertex beyond its ε.
@@ -116,6 +122,7 @@ pub struct RemovalReport {
     pub alpha: f64,
     /// §6.4: the largest number of input vertices a triangle covers.
     pub max_cover: usize,
+    /// Wall time of the removals.
     pub seconds: f64,
 }
 
@@ -164,15 +171,148 @@ impl Candidate {
     }
 }
 
+/// A triangulation of a hole that passed the checks asked for.
+struct Plan {
+    /// The new triangles, as positions in the hole's link.
+    chosen: Vec<[usize; 3]>,
+    /// The quick covering estimate of `chosen`.
+    estimate: Estimate,
+    /// The covered input vertices, the last one blamed first.
+    covered: Vec<u32>,
+    /// Envelope tests spent.
+    tests: usize,
+}
+
+/// The removal heap: (priority key, vertex, the vertex's stamp when pushed).
+type Heap = BinaryHeap<(u64, u32, u32)>;
+
+impl RemovalReport {
+    /// Counts one refusal under its reason.
+    fn count_refusal(&mut self, refusal: Refusal) {
+        *match refusal {
+            Refusal::Fixed => &mut self.refused_fixed,
+            Refusal::Valence => &mut self.refused_valence,
+            Refusal::NotFlat => &mut self.refused_not_flat,
+            Refusal::NoTriangulation => &mut self.refused_no_triangulation,
+            Refusal::Envelope => &mut self.refused_envelope,
+            Refusal::Crossing => &mut self.refused_crossing,
+            Refusal::Guard => &mut self.refused_guard,
+        } += 1;
+    }
+}
+
+/// The hole a removal leaves: the link of the removed vertex, projected on the plane of the
+/// star's area-weighted normal through it.
+struct Hole {
+    /// The neighbours, in order around the vertex.
+    link: Vec<u32>,
+    /// The removed vertex's position.
+    centre: DVec3,
+    /// Unit normal of the plane.
+    normal: DVec3,
+    /// Orthonormal axes of the plane.
+    e1: DVec3,
+    e2: DVec3,
+    /// The link on the plane, relative to `centre`.
+    flat: Vec<DVec2>,
+    /// The largest squared distance of a link vertex from `centre` on the plane.
+    scale2: f64,
+}
+
+impl Hole {
+    /// The hole of `v` with `link`; `None` when the star does not project one-to-one on the
+    /// plane (a fold, or a fan winding around more than once).
+    fn new(pos: &[DVec3], v: usize, link: Vec<u32>) -> Option<Hole> {
+        let k = link.len();
+        let pv = pos[v];
+        let mut normal = DVec3::ZERO;
+        for i in 0..k {
+            normal += (pos[link[i] as usize] - pv).cross(pos[link[(i + 1) % k] as usize] - pv);
+        }
+        let normal = normal.normalize_or_zero();
+        if normal == DVec3::ZERO {
+            return None;
+        }
+        let (e1, e2) = normal.any_orthonormal_pair();
+        let flat: Vec<DVec2> = link
+            .iter()
+            .map(|&w| {
+                let d = pos[w as usize] - pv;
+                DVec2::new(d.dot(e1), d.dot(e2))
+            })
+            .collect();
+        let scale2 = flat.iter().map(|p| p.length_squared()).fold(0.0, f64::max);
+        let mut winding = 0.0;
+        for i in 0..k {
+            let (a, b) = (flat[i], flat[(i + 1) % k]);
+            if a.perp_dot(b) < -1e-12 * scale2 {
+                return None;
+            }
+            winding += a.perp_dot(b).atan2(a.dot(b));
+        }
+        if winding > 2.5 * std::f64::consts::PI {
+            return None;
+        }
+        Some(Hole {
+            link,
+            centre: pv,
+            normal,
+            e1,
+            e2,
+            flat,
+            scale2,
+        })
+    }
+
+    /// The quality of every triangle (i < m < j) of link positions, at `(i k + m) k + j`:
+    /// aspect ratio times facing; NaN for a triangle that is flat or reversed on the plane,
+    /// below `min_aspect`, or facing away from the hole.
+    fn qualities(&self, pos: &[DVec3], min_aspect: f64) -> Vec<f64> {
+        let (k, flat, scale2) = (self.link.len(), &self.flat, self.scale2);
+        let corner = |i: usize| pos[self.link[i] as usize];
+        let mut quality = vec![f64::NAN; k * k * k];
+        for i in 0..k {
+            for m in i + 1..k {
+                for j in m + 1..k {
+                    let area2 = (flat[m] - flat[i]).perp_dot(flat[j] - flat[i]);
+                    if area2 <= 1e-10 * scale2 {
+                        continue;
+                    }
+                    let (a, b, c) = (corner(i), corner(m), corner(j));
+                    let n3 = (b - a).cross(c - a);
+                    let l = n3.length();
+                    let sum = (b - a).length_squared()
+                        + (c - b).length_squared()
+                        + (a - c).length_squared();
+                    if l == 0.0 || sum == 0.0 {
+                        continue;
+                    }
+                    let aspect = 2.0 * 3f64.sqrt() * l / sum;
+                    let facing = n3.dot(self.normal) / l;
+                    if aspect < min_aspect || facing < MIN_FACING {
+                        continue;
+                    }
+                    quality[(i * k + m) * k + j] = aspect * facing;
+                }
+            }
+        }
+        quality
+    }
+}
+
 /// The settings of one level's run.
 pub(crate) struct RemovalSettings<'a> {
     /// Target ε of each input vertex (the guard's bound).
     pub target: &'a [f64],
     /// Vertices that must stay (border, sharp edges, zero offset, no normal).
     pub fixed: &'a [bool],
+    /// Both offset surfaces: no new triangle may touch them.
     pub envelope: &'a Envelope,
+    /// Which removal to try first.
     pub order: RemovalOrder,
+    /// Smallest aspect ratio of a new triangle.
     pub min_aspect: f64,
+    /// Vertices with more neighbours are kept.
     pub max_valence: usize,
 }
 
@@ -194,6 +334,7 @@ pub(crate) struct Work<'a> {
 }
 
 impl<'a> Work<'a> {
+    /// The input itself, nothing removed yet.
     pub fn new(base: &'a Base) -> Work<'a> {
         let n = base.vertex_count();
         Work {
@@ -210,6 +351,7 @@ impl<'a> Work<'a> {
         }
     }
 
+    /// Triangles of the current mesh.
     pub fn triangle_count(&self) -> usize {
         self.alive_count
     }
@@ -221,8 +363,6 @@ impl<'a> Work<'a> {
             alpha: 1.0,
             ..Default::default()
         };
-        let n = self.base.vertex_count();
-        let order = level.order;
         self.compact();
         let pos = &self.base.pos;
         let tris = &self.tris;
@@ -231,54 +371,14 @@ impl<'a> Work<'a> {
             &self.alive,
             self.base.tol,
         ));
-        let initial: Vec<(u64, u32)> = (0..n)
-            .into_par_iter()
-            .filter(|&v| !self.removed[v] && !level.fixed[v] && !self.around[v].is_empty())
-            .filter_map(|v| {
-                self.evaluate(v, level, false)
-                    .ok()
-                    .map(|c| (c.key(order), v as u32))
-            })
-            .collect();
-        let mut heap: BinaryHeap<(u64, u32, u32)> = initial
-            .into_iter()
-            .map(|(key, v)| (key, v, self.stamp[v as usize]))
-            .collect();
+        let mut heap = self.initial_heap(level);
         let mut first_cover: Option<u32> = None;
         // The vertices claimed by the batch being collected (`claim[v] == batch number`).
-        let mut claim = vec![0u32; n];
+        let mut claim = vec![0u32; self.base.vertex_count()];
         let mut batch_number = 0u32;
         loop {
-            // A batch: the best entries whose closed one-rings are disjoint, in heap order;
-            // an entry overlapping an earlier one waits for the next batch (at most LOOKAHEAD
-            // entries are looked at).
             batch_number += 1;
-            let mut batch: Vec<(u64, usize)> = Vec::with_capacity(BATCH);
-            let mut deferred = Vec::new();
-            let mut looked = 0;
-            while batch.len() < BATCH && looked < LOOKAHEAD {
-                let Some((key, v, stamp)) = heap.pop() else {
-                    break;
-                };
-                let v = v as usize;
-                if self.removed[v] || stamp != self.stamp[v] {
-                    continue;
-                }
-                looked += 1;
-                let ring = self.around[v]
-                    .iter()
-                    .flat_map(|&t| self.tris[t as usize])
-                    .chain(std::iter::once(v as u32));
-                if ring.clone().any(|w| claim[w as usize] == batch_number) {
-                    deferred.push((key, v as u32, stamp));
-                    continue;
-                }
-                for w in ring {
-                    claim[w as usize] = batch_number;
-                }
-                batch.push((key, v));
-            }
-            heap.extend(deferred);
+            let batch = self.next_batch(&mut heap, &mut claim, batch_number);
             if batch.is_empty() {
                 break;
             }
@@ -291,88 +391,162 @@ impl<'a> Work<'a> {
                     .map(|&(_, v)| self.evaluate(v, level, true))
                     .collect()
             };
-            let mut touched = Vec::new();
-            let mut batch_triangles: Vec<([u32; 3], [DVec3; 3])> = Vec::new();
-            for (&(key, v), result) in batch.iter().zip(results) {
-                report.attempts += 1;
-                if first_cover.is_none() {
-                    first_cover = Some((key >> 32) as u32);
-                }
-                // A removal applied earlier in the batch may have put a triangle in the way
-                // (the evaluations saw the mesh before the batch).
-                let result = result.and_then(|c| {
-                    let crossed = c.triangles.iter().any(|t| {
-                        let corners = t.map(|w| self.base.pos[w as usize]);
-                        batch_triangles
-                            .iter()
-                            .any(|(ids, other): &([u32; 3], [DVec3; 3])| {
-                                !ids.iter().any(|w| t.contains(w))
-                                    && triangles_intersect(&corners, other, self.base.tol)
-                            })
-                    });
-                    if crossed {
-                        Err((Refusal::Crossing, c.envelope_tests))
-                    } else {
-                        Ok(c)
-                    }
-                });
-                match result {
-                    Ok(candidate) => {
-                        report.envelope_tests += candidate.envelope_tests;
-                        if order == RemovalOrder::Coverage {
-                            let top = first_cover.take().unwrap_or(candidate.cover).max(1);
-                            report.alpha =
-                                report.alpha.max(top as f64 / candidate.cover.max(1) as f64);
-                        }
-                        report.max_cover = report.max_cover.max(candidate.cover as usize);
-                        batch_triangles.extend(
-                            candidate
-                                .triangles
-                                .iter()
-                                .map(|t| (*t, t.map(|w| self.base.pos[w as usize]))),
-                        );
-                        touched.extend(self.apply(v, candidate));
-                        report.removed += 1;
-                    }
-                    Err((refusal, tests)) => {
-                        report.envelope_tests += tests;
-                        *match refusal {
-                            Refusal::Fixed => &mut report.refused_fixed,
-                            Refusal::Valence => &mut report.refused_valence,
-                            Refusal::NotFlat => &mut report.refused_not_flat,
-                            Refusal::NoTriangulation => &mut report.refused_no_triangulation,
-                            Refusal::Envelope => &mut report.refused_envelope,
-                            Refusal::Crossing => &mut report.refused_crossing,
-                            Refusal::Guard => &mut report.refused_guard,
-                        } += 1;
-                    }
-                }
-            }
-            // Plan the neighbours of the removed vertices again.
-            touched.sort_unstable();
-            touched.dedup();
-            for &w in &touched {
-                self.stamp[w as usize] = self.stamp[w as usize].wrapping_add(1);
-            }
-            touched.retain(|&w| !level.fixed[w as usize] && !self.removed[w as usize]);
-            let planned: Vec<Result<u64, Refusal>> = touched
-                .par_iter()
-                .map(|&w| {
-                    self.evaluate(w as usize, level, false)
-                        .map(|c| c.key(order))
-                        .map_err(|(r, _)| r)
-                })
-                .collect();
-            for (&w, plan) in touched.iter().zip(planned) {
-                match plan {
-                    Ok(key) => heap.push((key, w, self.stamp[w as usize])),
-                    Err(Refusal::Guard) => report.pruned += 1,
-                    Err(_) => {}
-                }
-            }
+            let touched =
+                self.apply_batch(&batch, results, level.order, &mut report, &mut first_cover);
+            self.replan(touched, level, &mut heap, &mut report);
         }
         report.seconds = start.elapsed().as_secs_f64();
         report
+    }
+
+    /// Every removable vertex planned (without envelope queries), by priority.
+    fn initial_heap(&self, level: &RemovalSettings) -> Heap {
+        let order = level.order;
+        let initial: Vec<(u64, u32)> = (0..self.base.vertex_count())
+            .into_par_iter()
+            .filter(|&v| !self.removed[v] && !level.fixed[v] && !self.around[v].is_empty())
+            .filter_map(|v| {
+                self.evaluate(v, level, false)
+                    .ok()
+                    .map(|c| (c.key(order), v as u32))
+            })
+            .collect();
+        initial
+            .into_iter()
+            .map(|(key, v)| (key, v, self.stamp[v as usize]))
+            .collect()
+    }
+
+    /// A batch: the best entries whose closed one-rings are disjoint, in heap order, as
+    /// (key, vertex); an entry overlapping an earlier one waits for the next batch (at most
+    /// [`LOOKAHEAD`] entries are looked at). Stale entries are dropped.
+    fn next_batch(
+        &self,
+        heap: &mut Heap,
+        claim: &mut [u32],
+        batch_number: u32,
+    ) -> Vec<(u64, usize)> {
+        let mut batch: Vec<(u64, usize)> = Vec::with_capacity(BATCH);
+        let mut deferred = Vec::new();
+        let mut looked = 0;
+        while batch.len() < BATCH && looked < LOOKAHEAD {
+            let Some((key, v, stamp)) = heap.pop() else {
+                break;
+            };
+            let v = v as usize;
+            if self.removed[v] || stamp != self.stamp[v] {
+                continue;
+            }
+            looked += 1;
+            let ring = self.around[v]
+                .iter()
+                .flat_map(|&t| self.tris[t as usize])
+                .chain(std::iter::once(v as u32));
+            if ring.clone().any(|w| claim[w as usize] == batch_number) {
+                deferred.push((key, v as u32, stamp));
+                continue;
+            }
+            for w in ring {
+                claim[w as usize] = batch_number;
+            }
+            batch.push((key, v));
+        }
+        heap.extend(deferred);
+        batch
+    }
+
+    /// Applies the batch's accepted removals in order, refusing one whose new triangles cross
+    /// a triangle an earlier removal of the batch made (the evaluations saw the mesh before the
+    /// batch), and counts everything in `report`. Returns the neighbours of the removed vertices.
+    fn apply_batch(
+        &mut self,
+        batch: &[(u64, usize)],
+        results: Vec<Result<Candidate, (Refusal, usize)>>,
+        order: RemovalOrder,
+        report: &mut RemovalReport,
+        first_cover: &mut Option<u32>,
+    ) -> Vec<u32> {
+        let mut touched = Vec::new();
+        let mut batch_triangles: Vec<([u32; 3], [DVec3; 3])> = Vec::new();
+        for (&(key, v), result) in batch.iter().zip(results) {
+            report.attempts += 1;
+            if first_cover.is_none() {
+                *first_cover = Some((key >> 32) as u32);
+            }
+            let result = result.and_then(|c| {
+                if self.crosses_any(&c.triangles, &batch_triangles) {
+                    Err((Refusal::Crossing, c.envelope_tests))
+                } else {
+                    Ok(c)
+                }
+            });
+            match result {
+                Ok(candidate) => {
+                    report.envelope_tests += candidate.envelope_tests;
+                    if order == RemovalOrder::Coverage {
+                        let top = first_cover.take().unwrap_or(candidate.cover).max(1);
+                        report.alpha = report.alpha.max(top as f64 / candidate.cover.max(1) as f64);
+                    }
+                    report.max_cover = report.max_cover.max(candidate.cover as usize);
+                    batch_triangles.extend(
+                        candidate
+                            .triangles
+                            .iter()
+                            .map(|t| (*t, t.map(|w| self.base.pos[w as usize]))),
+                    );
+                    touched.extend(self.apply(v, candidate));
+                    report.removed += 1;
+                }
+                Err((refusal, tests)) => {
+                    report.envelope_tests += tests;
+                    report.count_refusal(refusal);
+                }
+            }
+        }
+        touched
+    }
+
+    /// Whether one of `triangles` crosses one of `others` that shares no vertex with it.
+    fn crosses_any(&self, triangles: &[[u32; 3]], others: &[([u32; 3], [DVec3; 3])]) -> bool {
+        triangles.iter().any(|t| {
+            let corners = t.map(|w| self.base.pos[w as usize]);
+            others.iter().any(|(ids, other)| {
+                !ids.iter().any(|w| t.contains(w))
+                    && triangles_intersect(&corners, other, self.base.tol)
+            })
+        })
+    }
+
+    /// Plans the `touched` vertices again (their neighbourhood changed) and queues those that
+    /// pass, under a new stamp.
+    fn replan(
+        &mut self,
+        mut touched: Vec<u32>,
+        level: &RemovalSettings,
+        heap: &mut Heap,
+        report: &mut RemovalReport,
+    ) {
+        touched.sort_unstable();
+        touched.dedup();
+        for &w in &touched {
+            self.stamp[w as usize] = self.stamp[w as usize].wrapping_add(1);
+        }
+        touched.retain(|&w| !level.fixed[w as usize] && !self.removed[w as usize]);
+        let planned: Vec<Result<u64, Refusal>> = touched
+            .par_iter()
+            .map(|&w| {
+                self.evaluate(w as usize, level, false)
+                    .map(|c| c.key(level.order))
+                    .map_err(|(r, _)| r)
+            })
+            .collect();
+        for (&w, plan) in touched.iter().zip(planned) {
+            match plan {
+                Ok(key) => heap.push((key, w, self.stamp[w as usize])),
+                Err(Refusal::Guard) => report.pruned += 1,
+                Err(_) => {}
+            }
+        }
     }
 
     /// Renumbers the live triangles `0..F` in order, dropping the free slots.
@@ -420,190 +594,26 @@ impl<'a> Work<'a> {
         if k < 3 || k > level.max_valence.min(MAX_VALENCE) {
             return Err((Refusal::Valence, 0));
         }
-        let pos = &self.base.pos;
-        // The link, in order: triangle (v, a, b) counter-clockwise gives a → b.
-        let pairs: Vec<(u32, u32)> = star
-            .iter()
-            .map(|&t| {
-                let tri = self.tris[t as usize];
-                let r = tri.iter().position(|&w| w as usize == v).unwrap_or(0);
-                (tri[(r + 1) % 3], tri[(r + 2) % 3])
-            })
-            .collect();
-        let mut link = Vec::with_capacity(k);
-        link.push(pairs[0].0);
-        let mut current = pairs[0].1;
-        while link.len() < k {
-            if link.contains(&current) {
-                return Err((Refusal::Valence, 0));
-            }
-            link.push(current);
-            match pairs.iter().find(|p| p.0 == current) {
-                Some(p) => current = p.1,
-                None => return Err((Refusal::Valence, 0)),
-            }
-        }
-        if current != link[0] {
-            // Not a closed fan (a border vertex that was not marked, which cannot happen for a
-            // checked manifold).
-            return Err((Refusal::Valence, 0));
-        }
-
-        // The hole's plane and the 2-D polygon.
-        let pv = pos[v];
-        let mut normal = DVec3::ZERO;
-        for i in 0..k {
-            normal += (pos[link[i] as usize] - pv).cross(pos[link[(i + 1) % k] as usize] - pv);
-        }
-        let normal = normal.normalize_or_zero();
-        if normal == DVec3::ZERO {
-            return Err((Refusal::NotFlat, 0));
-        }
-        let (e1, e2) = normal.any_orthonormal_pair();
-        let flat: Vec<DVec2> = link
-            .iter()
-            .map(|&w| {
-                let d = pos[w as usize] - pv;
-                DVec2::new(d.dot(e1), d.dot(e2))
-            })
-            .collect();
-        let scale2 = flat.iter().map(|p| p.length_squared()).fold(0.0, f64::max);
-        let mut winding = 0.0;
-        for i in 0..k {
-            let (a, b) = (flat[i], flat[(i + 1) % k]);
-            if a.perp_dot(b) < -1e-12 * scale2 {
-                return Err((Refusal::NotFlat, 0));
-            }
-            winding += a.perp_dot(b).atan2(a.dot(b));
-        }
-        if winding > 2.5 * std::f64::consts::PI {
-            return Err((Refusal::NotFlat, 0));
-        }
-
-        // Edges already present between link vertices (outside the star), and for k = 3 the
-        // face.
-        let mut edge = vec![false; k * k];
-        for i in 0..k {
-            for &t in &self.around[link[i] as usize] {
-                let tri = self.tris[t as usize];
-                if tri.contains(&(v as u32)) {
-                    continue;
-                }
-                if k == 3 && link.iter().all(|w| tri.contains(w)) {
-                    return Err((Refusal::NoTriangulation, 0));
-                }
-                for &w in &tri {
-                    if let Some(j) = link.iter().position(|&x| x == w) {
-                        if j != i {
-                            edge[i * k + j] = true;
-                            edge[j * k + i] = true;
-                        }
-                    }
-                }
-            }
-        }
-        let diagonal_free: Vec<bool> = edge.iter().map(|&e| !e).collect();
-
-        // Quality of every triangle of the polygon.
-        let corner = |i: usize| pos[link[i] as usize];
-        let mut quality = vec![f64::NAN; k * k * k];
-        for i in 0..k {
-            for m in i + 1..k {
-                for j in m + 1..k {
-                    let area2 = (flat[m] - flat[i]).perp_dot(flat[j] - flat[i]);
-                    if area2 <= 1e-10 * scale2 {
-                        continue;
-                    }
-                    let (a, b, c) = (corner(i), corner(m), corner(j));
-                    let n3 = (b - a).cross(c - a);
-                    let l = n3.length();
-                    let sum = (b - a).length_squared()
-                        + (c - b).length_squared()
-                        + (a - c).length_squared();
-                    if l == 0.0 || sum == 0.0 {
-                        continue;
-                    }
-                    let aspect = 2.0 * 3f64.sqrt() * l / sum;
-                    let facing = n3.dot(normal) / l;
-                    if aspect < level.min_aspect || facing < MIN_FACING {
-                        continue;
-                    }
-                    quality[(i * k + m) * k + j] = aspect * facing;
-                }
-            }
-        }
-
-        // Best triangulation. A triangle is forbidden, and the triangulation planned again,
-        // when the quick covering estimate puts a covered vertex beyond its ε from the new
-        // triangles (blaming the triangle it projects into) and, with `full`, when it touches
-        // the envelope or cuts through the mesh.
-        let mut covered: Vec<u32> = std::iter::once(v as u32)
+        let link = self.link(v).ok_or((Refusal::Valence, 0))?;
+        let hole = Hole::new(&self.base.pos, v, link).ok_or((Refusal::NotFlat, 0))?;
+        let diagonal_free = self
+            .free_diagonals(v, &hole.link)
+            .ok_or((Refusal::NoTriangulation, 0))?;
+        let covered: Vec<u32> = std::iter::once(v as u32)
             .chain(
                 star.iter()
                     .flat_map(|&t| self.covered[t as usize].iter().copied()),
             )
             .collect();
-        let mut chosen = Vec::with_capacity(k - 2);
-        let mut tested = vec![false; k * k * k];
-        let mut tests = 0;
-        let mut last = Refusal::NoTriangulation;
-        let estimate = loop {
-            if best_triangulation(k, &quality, &diagonal_free, &mut chosen).is_none() {
-                return Err((last, tests));
-            }
-            let estimate =
-                self.assign_by_projection(&covered, &chosen, &link, &flat, (pv, e1, e2), level);
-            if let Some((blamed, offender)) = estimate.blamed {
-                // The same vertex is the likeliest to fail the next plan: check it first.
-                if let Some(at) = covered.iter().position(|&u| u == offender) {
-                    covered.swap(0, at);
-                }
-                let [i, m, j] = chosen[blamed];
-                quality[(i * k + m) * k + j] = f64::NAN;
-                last = Refusal::Guard;
-                continue;
-            }
-            if !full {
-                break estimate;
-            }
-            // Largest triangle first (the likeliest to leave the envelope); stop at the first
-            // refusal and plan again without it.
-            let mut order: Vec<usize> = (0..chosen.len()).collect();
-            order.sort_by_cached_key(|&c| {
-                let [i, m, j] = chosen[c];
-                let area2 = (corner(m) - corner(i))
-                    .cross(corner(j) - corner(i))
-                    .length_squared();
-                std::cmp::Reverse((area2 as f32).to_bits())
-            });
-            let mut blocked = false;
-            for c in order {
-                let [i, m, j] = chosen[c];
-                let slot = (i * k + m) * k + j;
-                if tested[slot] {
-                    continue;
-                }
-                tested[slot] = true;
-                tests += 1;
-                let t = [corner(i), corner(m), corner(j)];
-                let refusal = if level.envelope.touches(&t) {
-                    Refusal::Envelope
-                } else if self.cuts_through(&t, [link[i], link[m], link[j]], v as u32) {
-                    Refusal::Crossing
-                } else {
-                    continue;
-                };
-                quality[slot] = f64::NAN;
-                last = refusal;
-                blocked = true;
-                break;
-            }
-            if !blocked {
-                break estimate;
-            }
-        };
+        let Plan {
+            chosen,
+            estimate,
+            covered,
+            tests,
+        } = self.plan(v, &hole, &diagonal_free, covered, level, full)?;
+        let link = &hole.link;
         let (owner, counts, deviation) = if full {
-            self.assign_by_fibres(covered.into_iter(), &chosen, &link, level)
+            self.assign_by_fibres(covered.into_iter(), &chosen, link, level)
                 .map_err(|refusal| (refusal, tests))?
         } else {
             (estimate.owner, estimate.counts, estimate.deviation)
@@ -618,6 +628,166 @@ impl<'a> Work<'a> {
             deviation,
             envelope_tests: tests,
         })
+    }
+
+    /// The link of `v` in order (triangle (v, a, b) counter-clockwise gives a → b); `None`
+    /// unless it is one closed cycle through every neighbour.
+    fn link(&self, v: usize) -> Option<Vec<u32>> {
+        let star = &self.around[v];
+        let k = star.len();
+        let pairs: Vec<(u32, u32)> = star
+            .iter()
+            .map(|&t| {
+                let tri = self.tris[t as usize];
+                let r = tri.iter().position(|&w| w as usize == v).unwrap_or(0);
+                (tri[(r + 1) % 3], tri[(r + 2) % 3])
+            })
+            .collect();
+        let mut link = Vec::with_capacity(k);
+        link.push(pairs[0].0);
+        let mut current = pairs[0].1;
+        while link.len() < k {
+            if link.contains(&current) {
+                return None;
+            }
+            link.push(current);
+            current = pairs.iter().find(|p| p.0 == current)?.1;
+        }
+        // Not a closed fan: a border vertex that was not marked, which cannot happen for a
+        // checked manifold.
+        (current == link[0]).then_some(link)
+    }
+
+    /// For each pair of link positions, whether a new edge may join them: not when the edge
+    /// already exists outside `v`'s star; `None` when, for `k = 3`, the hole's triangle is
+    /// already a face.
+    fn free_diagonals(&self, v: usize, link: &[u32]) -> Option<Vec<bool>> {
+        let k = link.len();
+        let mut edge = vec![false; k * k];
+        for i in 0..k {
+            for &t in &self.around[link[i] as usize] {
+                let tri = self.tris[t as usize];
+                if tri.contains(&(v as u32)) {
+                    continue;
+                }
+                if k == 3 && link.iter().all(|w| tri.contains(w)) {
+                    return None;
+                }
+                for &w in &tri {
+                    if let Some(j) = link.iter().position(|&x| x == w) {
+                        if j != i {
+                            edge[i * k + j] = true;
+                            edge[j * k + i] = true;
+                        }
+                    }
+                }
+            }
+        }
+        Some(edge.iter().map(|&e| !e).collect())
+    }
+
+    /// The best triangulation of the hole that passes. A triangle is forbidden, and the
+    /// triangulation planned again, when the quick covering estimate puts a covered vertex
+    /// beyond its ε from the new triangles (blaming the triangle it projects into) and, with
+    /// `full`, when it touches the envelope or cuts through the mesh. Returns the chosen
+    /// triangles, their estimate, the covered vertices (the last offender first) and the
+    /// envelope tests spent.
+    fn plan(
+        &self,
+        v: usize,
+        hole: &Hole,
+        diagonal_free: &[bool],
+        mut covered: Vec<u32>,
+        level: &RemovalSettings,
+        full: bool,
+    ) -> Result<Plan, (Refusal, usize)> {
+        let k = hole.link.len();
+        let mut quality = hole.qualities(&self.base.pos, level.min_aspect);
+        let mut chosen = Vec::with_capacity(k - 2);
+        let mut tested = vec![false; k * k * k];
+        let mut tests = 0;
+        let mut last = Refusal::NoTriangulation;
+        loop {
+            if best_triangulation(k, &quality, diagonal_free, &mut chosen).is_none() {
+                return Err((last, tests));
+            }
+            let frame = (hole.centre, hole.e1, hole.e2);
+            let estimate =
+                self.assign_by_projection(&covered, &chosen, &hole.link, &hole.flat, frame, level);
+            if let Some((blamed, offender)) = estimate.blamed {
+                // The same vertex is the likeliest to fail the next plan: check it first.
+                if let Some(at) = covered.iter().position(|&u| u == offender) {
+                    covered.swap(0, at);
+                }
+                let [i, m, j] = chosen[blamed];
+                quality[(i * k + m) * k + j] = f64::NAN;
+                last = Refusal::Guard;
+                continue;
+            }
+            if !full {
+                return Ok(Plan {
+                    chosen,
+                    estimate,
+                    covered,
+                    tests,
+                });
+            }
+            match self.first_blocked(v, hole, &chosen, &mut tested, &mut tests, level) {
+                Some((slot, refusal)) => {
+                    quality[slot] = f64::NAN;
+                    last = refusal;
+                }
+                None => {
+                    return Ok(Plan {
+                        chosen,
+                        estimate,
+                        covered,
+                        tests,
+                    })
+                }
+            }
+        }
+    }
+
+    /// The first of the chosen triangles, largest first (the likeliest to leave the envelope),
+    /// that touches the envelope or cuts through the mesh, as its quality slot and the refusal;
+    /// triangles already `tested` are skipped, and each test is counted in `tests`.
+    fn first_blocked(
+        &self,
+        v: usize,
+        hole: &Hole,
+        chosen: &[[usize; 3]],
+        tested: &mut [bool],
+        tests: &mut usize,
+        level: &RemovalSettings,
+    ) -> Option<(usize, Refusal)> {
+        let (k, link) = (hole.link.len(), &hole.link);
+        let corner = |i: usize| self.base.pos[link[i] as usize];
+        let mut order: Vec<usize> = (0..chosen.len()).collect();
+        order.sort_by_cached_key(|&c| {
+            let [i, m, j] = chosen[c];
+            let area2 = (corner(m) - corner(i))
+                .cross(corner(j) - corner(i))
+                .length_squared();
+            std::cmp::Reverse((area2 as f32).to_bits())
+        });
+        for c in order {
+            let [i, m, j] = chosen[c];
+            let slot = (i * k + m) * k + j;
+            if tested[slot] {
+                continue;
+            }
+            tested[slot] = true;
+            *tests += 1;
+            let t = [corner(i), corner(m), corner(j)];
+            if level.envelope.touches(&t) {
+                return Some((slot, Refusal::Envelope));
+            }
+            if self.cuts_through(&t, [link[i], link[m], link[j]], v as u32) {
+                return Some((slot, Refusal::Crossing));
+            }
+        }
+        None
     }
 
     /// The covering of §5, for a removal that will be applied: a vertex is covered by the new

@@ -35,6 +35,7 @@ pub struct CompareOptions {
     /// View direction, eye to scene.
     #[serde(skip)]
     pub view: DVec3,
+    /// The filtered volume's resolution and filter, and the layers' isodensities.
     pub layers: LayersOptions,
     /// Samples per pixel side of the reference.
     pub reference_supersample: u32,
@@ -65,30 +66,46 @@ impl Default for CompareOptions {
 /// The three images and their errors.
 #[derive(Clone, Debug)]
 pub struct Comparison {
+    /// The single surface at one sample per pixel.
     pub single: Image,
+    /// The layered shells at one sample per pixel.
     pub layered: Image,
+    /// The single surface supersampled: the reference.
     pub reference: Image,
+    /// The figures.
     pub report: ComparisonReport,
 }
 
 /// The figures of a comparison.
 #[derive(Clone, Debug, Serialize)]
 pub struct ComparisonReport {
+    /// Image side in pixels.
     pub size: u32,
+    /// Layers of the layered shells.
     pub layers: usize,
+    /// Their isodensities.
     pub isodensities: Vec<f32>,
+    /// The layer plan's error, `∫₀¹ |p − d| dx` of the layers' opacity against the filtered
+    /// density's profile (see `voxlod::layers`).
     pub achieved_error: f64,
+    /// Triangles of the single surface.
     pub single_triangles: usize,
+    /// Triangles of all the layers.
     pub layered_triangles: usize,
     /// The filter's support radius in pixels at the object's centre.
     pub radius_pixels: f64,
+    /// Pixels near silhouettes, where the errors below are measured.
     pub silhouette_pixels: usize,
-    /// RMS difference from the reference over the pixels near silhouettes.
+    /// RMS difference of the single surface from the reference over the pixels near
+    /// silhouettes.
     pub rms_single: f64,
+    /// The same for the layered shells.
     pub rms_layered: f64,
-    /// Over the whole image.
+    /// RMS difference of the single surface from the reference over the whole image.
     pub rms_single_all: f64,
+    /// The same for the layered shells.
     pub rms_layered_all: f64,
+    /// The view's octant, which decides the layers' drawing order.
     pub octant: &'static str,
 }
 

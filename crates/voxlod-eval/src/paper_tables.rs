@@ -35,15 +35,20 @@ pub struct PaperRow {
     pub dims: [usize; 3],
     /// Filter radius in voxels of the finest level.
     pub radius: f64,
+    /// The paper's triangle count.
     pub triangles: usize,
 }
 
 /// One of the paper's tables.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PaperTable {
+    /// The table's number in the paper.
     pub number: u8,
+    /// The object, in words.
     pub object: &'static str,
+    /// The filter of every row.
     pub filter: Filter,
+    /// The rows, finest level first.
     pub rows: Vec<PaperRow>,
 }
 
@@ -163,6 +168,7 @@ pub fn mechanical_part() -> Shape {
 /// One row of ours beside the paper's.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TableRow {
+    /// The paper's row.
     pub paper: PaperRow,
     /// Samples across the object's longest side.
     pub resolution: usize,
@@ -170,16 +176,25 @@ pub struct TableRow {
     /// the paper's dimensions (the grid itself is padded by the radius and two voxels on each
     /// side).
     pub object_voxels: [usize; 3],
+    /// Samples of the level's grid along x, y, z.
     pub grid: [usize; 3],
+    /// The level's voxel side, in world units.
     pub voxel_size: f64,
-    /// Filter radius in world units and in voxels of the finest level.
+    /// Filter radius in world units.
     pub radius: f64,
+    /// Filter radius in voxels of the finest level (the paper's radius column).
     pub radius_in_finest_voxels: f64,
+    /// Our triangles.
     pub triangles: usize,
+    /// Our vertices.
     pub vertices: usize,
+    /// Connected components of our level.
     pub components: usize,
+    /// Genus of our level, when it is a closed manifold.
     pub genus: Option<i64>,
+    /// Whether our level is a closed, consistently oriented manifold.
     pub closed_manifold: bool,
+    /// Time to sample and contour the level.
     pub seconds: f64,
 }
 

@@ -2,6 +2,8 @@
 //! hexagonal head with a chamfer and a slot, a washer, a shank and ten thread ridges. The
 //! antialiasing comparison (`voxlod-eval`), `voxlod demo`, and the layers tests, benchmark and
 //! examples use it.
+//!
+//! Cost: building the shape is O(1); sampling it is the CSG solid's (voxlod-sampling).
 
 use glam::DVec3;
 use voxlod_core::Axis;

@@ -26,11 +26,13 @@ use crate::LayersError;
 /// One shell: an isosurface of the filtered volume with its translucency.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Layer {
+    /// The density level of this shell's surface (between 0 and 1 for a filtered solid).
     pub isodensity: f32,
     /// `1 − isodensity / m` (paper equation 4): 0 for the innermost layer.
     pub translucency: f32,
     /// The alpha to blend with (see [`crate::plan::Blending`]): 1 for the innermost layer.
     pub alpha: f32,
+    /// The isosurface: closed where the volume's density falls to 0 at its border.
     pub mesh: TriangleMesh,
     /// The cell of each triangle in the volume's grid (see
     /// [`voxlod_contouring::CellMesh::cells`]).
@@ -42,6 +44,7 @@ pub struct Layer {
 pub struct LayeredMesh {
     /// The sample grid of the filtered volume; its cells are `dims − 1` per axis.
     pub grid: Grid,
+    /// The shells, innermost first.
     pub layers: Vec<Layer>,
 }
 
@@ -49,21 +52,25 @@ pub struct LayeredMesh {
 /// exports index.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Concatenated {
+    /// All layers' vertices (normals when every layer has them) and triangles.
     pub mesh: TriangleMesh,
     /// Cell of each triangle.
     pub cells: Vec<u32>,
     /// Layer of each triangle.
     pub triangle_layer: Vec<u16>,
-    /// First vertex and first triangle of each layer, and the totals at the end.
+    /// First vertex of each layer, and the total at the end.
     pub vertex_start: Vec<u32>,
+    /// First triangle of each layer, and the total at the end.
     pub triangle_start: Vec<u32>,
 }
 
 impl LayeredMesh {
+    /// Triangles in all layers.
     pub fn triangle_count(&self) -> usize {
         self.layers.iter().map(|l| l.mesh.triangles.len()).sum()
     }
 
+    /// Vertices in all layers.
     pub fn vertex_count(&self) -> usize {
         self.layers.iter().map(|l| l.mesh.positions.len()).sum()
     }
@@ -155,6 +162,7 @@ pub struct ExtractOptions {
 }
 
 impl Default for ExtractOptions {
+    /// Normals, one pass.
     fn default() -> Self {
         ExtractOptions {
             normals: true,

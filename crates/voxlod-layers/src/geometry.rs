@@ -12,7 +12,9 @@ use glam::{DVec2, DVec3};
 /// plane perpendicular to `direction` (perspective; points must lie in front of the eye).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Projector {
+    /// The eye of a perspective projection; `None` for orthographic.
     pub eye: Option<DVec3>,
+    /// Unit view direction (eye to scene).
     pub direction: DVec3,
     u: DVec3,
     v: DVec3,
@@ -86,16 +88,23 @@ impl Projector {
 /// A triangle prepared for pair tests: its projection, projected box and plane.
 #[derive(Clone, Copy, Debug)]
 pub struct Projected {
+    /// The corners on the image plane.
     pub corners: [DVec2; 3],
+    /// Lower corner of the projected box.
     pub min: DVec2,
+    /// Upper corner of the projected box.
     pub max: DVec2,
     /// Twice the signed projected area.
     pub area2: f64,
+    /// The plane's normal (not normalised: the cross product of two edges).
     pub normal: DVec3,
+    /// The plane is `normal · x = offset`.
     pub offset: f64,
-    /// Depth of the centroid, and the range of the corners' depths.
+    /// Depth of the centroid.
     pub depth: f64,
+    /// Smallest depth of a corner.
     pub depth_min: f64,
+    /// Largest depth of a corner.
     pub depth_max: f64,
     /// The corners in the world.
     pub world: [DVec3; 3],
@@ -148,6 +157,7 @@ impl Projected {
         })
     }
 
+    /// Whether the projected boxes overlap (touching does not count).
     #[inline]
     pub fn boxes_overlap(&self, other: &Projected) -> bool {
         self.min.x < other.max.x
@@ -160,11 +170,14 @@ impl Projected {
 /// A convex polygon of at most 9 corners (a triangle clipped by three half-planes).
 #[derive(Clone, Copy, Debug)]
 pub struct Polygon {
+    /// The corners, counter-clockwise; only the first `len` are used.
     pub corners: [DVec2; 9],
+    /// How many corners the polygon has.
     pub len: usize,
 }
 
 impl Polygon {
+    /// The signed area (positive counter-clockwise).
     pub fn area(&self) -> f64 {
         let mut a = 0.0;
         for i in 0..self.len {

@@ -35,12 +35,9 @@ use gltf::json::validation::{Checked, USize64};
 use serde::Serialize;
 use voxlod_core::TriangleMesh;
 
-use crate::extract::LayeredMesh;
+use crate::extract::{Layer, LayeredMesh};
 use crate::order::{Octant, ORDER_NAMES};
 use crate::LayersError;
-
-const ARRAY_BUFFER: u32 = 34962;
-const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 
 /// How the file looks.
 #[derive(Clone, Debug, PartialEq)]
@@ -108,6 +105,8 @@ struct GridExtras {
     origin: [f64; 3],
 }
 
+/// The glTF document of `layered` and its eight orders, and its binary buffer (see the module
+/// documentation for the layout).
 fn document(
     layered: &LayeredMesh,
     orders: &[Vec<u32>],
@@ -132,191 +131,11 @@ fn document(
         },
         ..Default::default()
     };
-    let buffer = root.push(json::Buffer {
-        byte_length: USize64(0), // set below
-        name: None,
-        uri: None,
-        extensions: None,
-        extras: None,
-    });
-    let view = |root: &mut json::Root,
-                offset: usize,
-                len: usize,
-                stride: Option<usize>,
-                target: u32,
-                name: &str| {
-        root.push(json::buffer::View {
-            buffer,
-            byte_length: USize64(len as u64),
-            byte_offset: Some(USize64(offset as u64)),
-            byte_stride: stride.map(json::buffer::Stride),
-            name: Some(name.into()),
-            target: Some(Checked::Valid(if target == ARRAY_BUFFER {
-                json::buffer::Target::ArrayBuffer
-            } else {
-                json::buffer::Target::ElementArrayBuffer
-            })),
-            extensions: None,
-            extras: None,
-        })
-    };
-    // Positions, normals: one view each, one accessor per layer.
-    let positions_at = bin.len();
-    for l in &layered.layers {
-        for p in &l.mesh.positions {
-            push_vec3(&mut bin, *p);
-        }
-    }
-    let positions_view = view(
-        &mut root,
-        positions_at,
-        bin.len() - positions_at,
-        Some(12),
-        ARRAY_BUFFER,
-        "positions",
-    );
-    let normals_view = if with_normals {
-        let at = bin.len();
-        for l in &layered.layers {
-            for (n, p) in l.mesh.normals.iter().zip(&l.mesh.positions) {
-                push_vec3(&mut bin, unit_normal(*n, *p));
-            }
-        }
-        Some(view(
-            &mut root,
-            at,
-            bin.len() - at,
-            Some(12),
-            ARRAY_BUFFER,
-            "normals",
-        ))
-    } else {
-        None
-    };
-    let indices_at = bin.len();
-    for l in &layered.layers {
-        for t in &l.mesh.triangles {
-            for &v in t {
-                bin.extend_from_slice(&v.to_le_bytes());
-            }
-        }
-    }
-    let indices_view = view(
-        &mut root,
-        indices_at,
-        bin.len() - indices_at,
-        None,
-        ELEMENT_ARRAY_BUFFER,
-        "layer indices",
-    );
-    let concatenated = layered.concatenated();
-    let orders_at = bin.len();
-    for order in orders {
-        for &t in order {
-            for &v in &concatenated.mesh.triangles[t as usize] {
-                bin.extend_from_slice(&v.to_le_bytes());
-            }
-        }
-    }
-    let orders_view = view(
-        &mut root,
-        orders_at,
-        bin.len() - orders_at,
-        None,
-        ELEMENT_ARRAY_BUFFER,
-        "back-to-front orders",
-    );
-    debug_assert_eq!(bin.len() % 4, 0);
-    root.buffers[0].byte_length = USize64(bin.len() as u64);
-
-    let mut first_vertex = 0usize;
-    let mut first_index = 0usize;
-    let mut nodes = Vec::new();
-    for (i, l) in layered.layers.iter().enumerate() {
-        let nv = l.mesh.positions.len();
-        if l.mesh.triangles.is_empty() {
-            // glTF has no empty meshes; an empty layer has no vertices either.
-            first_vertex += nv;
-            continue;
-        }
-        let (min, max) = min_max(&l.mesh.positions);
-        let pos = root.push(accessor(
-            positions_view,
-            first_vertex * 12,
-            nv,
-            json::accessor::ComponentType::F32,
-            json::accessor::Type::Vec3,
-            Some((min, max)),
-            format!("layer {i} positions"),
-        ));
-        let mut attributes = BTreeMap::new();
-        attributes.insert(Checked::Valid(json::mesh::Semantic::Positions), pos);
-        if let Some(nview) = normals_view {
-            let nor = root.push(accessor(
-                nview,
-                first_vertex * 12,
-                nv,
-                json::accessor::ComponentType::F32,
-                json::accessor::Type::Vec3,
-                None,
-                format!("layer {i} normals"),
-            ));
-            attributes.insert(Checked::Valid(json::mesh::Semantic::Normals), nor);
-        }
-        let count = l.mesh.triangles.len() * 3;
-        let indices = root.push(accessor(
-            indices_view,
-            first_index * 4,
-            count,
-            json::accessor::ComponentType::U32,
-            json::accessor::Type::Scalar,
-            None,
-            format!("layer {i} indices"),
-        ));
-        let c = options.color;
-        let material = root.push(json::Material {
-            alpha_mode: Checked::Valid(json::material::AlphaMode::Blend),
-            double_sided: true,
-            name: Some(format!("layer {i} opacity {:.4}", l.alpha)),
-            pbr_metallic_roughness: json::material::PbrMetallicRoughness {
-                base_color_factor: json::material::PbrBaseColorFactor([c[0], c[1], c[2], l.alpha]),
-                metallic_factor: json::material::StrengthFactor(0.0),
-                roughness_factor: json::material::StrengthFactor(1.0),
-                ..Default::default()
-            },
-            ..Default::default()
-        });
-        let mesh = root.push(json::Mesh {
-            extensions: None,
-            extras: raw(serde_json::json!({
-                "layer": i,
-                "isodensity": l.isodensity,
-                "translucency": l.translucency,
-                "alpha": l.alpha,
-            })),
-            name: Some(format!("layer {i}")),
-            primitives: vec![json::mesh::Primitive {
-                attributes,
-                extensions: None,
-                extras: None,
-                indices: (count > 0).then_some(indices),
-                material: Some(material),
-                mode: Checked::Valid(json::mesh::Mode::Triangles),
-                targets: None,
-            }],
-            weights: None,
-        });
-        nodes.push(root.push(json::Node {
-            mesh: Some(mesh),
-            name: Some(format!("layer {i}")),
-            ..Default::default()
-        }));
-        first_vertex += nv;
-        first_index += count;
-    }
+    let views = write_buffer(&mut root, &mut bin, layered, orders, with_normals);
+    let nodes = push_layers(&mut root, layered, &views, options.color);
     for (o, name) in ORDER_NAMES.iter().enumerate() {
         root.push(accessor(
-            orders_view,
+            views.orders,
             o * total_triangles * 12,
             total_triangles * 3,
             json::accessor::ComponentType::U32,
@@ -340,6 +159,236 @@ fn document(
     });
     root.scene = Some(scene);
     Ok((root, bin))
+}
+
+/// The four buffer views of the file's one buffer.
+struct BufferViews {
+    positions: json::Index<json::buffer::View>,
+    normals: Option<json::Index<json::buffer::View>>,
+    indices: json::Index<json::buffer::View>,
+    orders: json::Index<json::buffer::View>,
+}
+
+/// Fills `bin` with the positions, normals (when every layer has them), each layer's own
+/// indices and the orders (as triangles of concatenated vertex indices), and adds the buffer
+/// and a view over each part to `root`.
+fn write_buffer(
+    root: &mut json::Root,
+    bin: &mut Vec<u8>,
+    layered: &LayeredMesh,
+    orders: &[Vec<u32>],
+    with_normals: bool,
+) -> BufferViews {
+    use json::buffer::Target::{ArrayBuffer, ElementArrayBuffer};
+    let buffer = root.push(json::Buffer {
+        byte_length: USize64(0), // set below
+        name: None,
+        uri: None,
+        extensions: None,
+        extras: None,
+    });
+    let at = bin.len();
+    for l in &layered.layers {
+        for p in &l.mesh.positions {
+            push_vec3(bin, *p);
+        }
+    }
+    let positions = push_view(
+        root,
+        buffer,
+        at..bin.len(),
+        Some(12),
+        ArrayBuffer,
+        "positions",
+    );
+    let normals = with_normals.then(|| {
+        let at = bin.len();
+        for l in &layered.layers {
+            for (n, p) in l.mesh.normals.iter().zip(&l.mesh.positions) {
+                push_vec3(bin, unit_normal(*n, *p));
+            }
+        }
+        push_view(
+            root,
+            buffer,
+            at..bin.len(),
+            Some(12),
+            ArrayBuffer,
+            "normals",
+        )
+    });
+    let at = bin.len();
+    for l in &layered.layers {
+        for t in &l.mesh.triangles {
+            for &v in t {
+                bin.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    }
+    let indices = push_view(
+        root,
+        buffer,
+        at..bin.len(),
+        None,
+        ElementArrayBuffer,
+        "layer indices",
+    );
+    let concatenated = layered.concatenated();
+    let at = bin.len();
+    for order in orders {
+        for &t in order {
+            for &v in &concatenated.mesh.triangles[t as usize] {
+                bin.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    }
+    let orders = push_view(
+        root,
+        buffer,
+        at..bin.len(),
+        None,
+        ElementArrayBuffer,
+        "back-to-front orders",
+    );
+    debug_assert_eq!(bin.len() % 4, 0);
+    root.buffers[0].byte_length = USize64(bin.len() as u64);
+    BufferViews {
+        positions,
+        normals,
+        indices,
+        orders,
+    }
+}
+
+/// Adds a view of `bytes` of `buffer` to `root`.
+fn push_view(
+    root: &mut json::Root,
+    buffer: json::Index<json::Buffer>,
+    bytes: std::ops::Range<usize>,
+    stride: Option<usize>,
+    target: json::buffer::Target,
+    name: &str,
+) -> json::Index<json::buffer::View> {
+    root.push(json::buffer::View {
+        buffer,
+        byte_length: USize64(bytes.len() as u64),
+        byte_offset: Some(USize64(bytes.start as u64)),
+        byte_stride: stride.map(json::buffer::Stride),
+        name: Some(name.into()),
+        target: Some(Checked::Valid(target)),
+        extensions: None,
+        extras: None,
+    })
+}
+
+/// Adds each layer with triangles as accessors, a material, a mesh and a node to `root`;
+/// returns the nodes.
+fn push_layers(
+    root: &mut json::Root,
+    layered: &LayeredMesh,
+    views: &BufferViews,
+    color: [f32; 3],
+) -> Vec<json::Index<json::Node>> {
+    let mut first_vertex = 0usize;
+    let mut first_index = 0usize;
+    let mut nodes = Vec::new();
+    for (i, l) in layered.layers.iter().enumerate() {
+        let nv = l.mesh.positions.len();
+        if !l.mesh.triangles.is_empty() {
+            // glTF has no empty meshes; an empty layer has no vertices either.
+            nodes.push(push_layer(
+                root,
+                (i, l),
+                views,
+                (first_vertex, first_index),
+                color,
+            ));
+        }
+        first_vertex += nv;
+        first_index += l.mesh.triangles.len() * 3;
+    }
+    nodes
+}
+
+/// Adds layer `i` (its vertices and indices starting at `first`) as its accessors, material,
+/// mesh and node to `root`; returns the node.
+fn push_layer(
+    root: &mut json::Root,
+    (i, l): (usize, &Layer),
+    views: &BufferViews,
+    (first_vertex, first_index): (usize, usize),
+    c: [f32; 3],
+) -> json::Index<json::Node> {
+    // This layer's slice of a view of float triples (positions or normals).
+    let vec3s = |view, bounds, what: &str| {
+        accessor(
+            view,
+            first_vertex * 12,
+            l.mesh.positions.len(),
+            json::accessor::ComponentType::F32,
+            json::accessor::Type::Vec3,
+            bounds,
+            format!("layer {i} {what}"),
+        )
+    };
+    let pos = root.push(vec3s(
+        views.positions,
+        Some(min_max(&l.mesh.positions)),
+        "positions",
+    ));
+    let mut attributes = BTreeMap::new();
+    attributes.insert(Checked::Valid(json::mesh::Semantic::Positions), pos);
+    if let Some(nview) = views.normals {
+        let nor = root.push(vec3s(nview, None, "normals"));
+        attributes.insert(Checked::Valid(json::mesh::Semantic::Normals), nor);
+    }
+    let count = l.mesh.triangles.len() * 3;
+    let indices = root.push(accessor(
+        views.indices,
+        first_index * 4,
+        count,
+        json::accessor::ComponentType::U32,
+        json::accessor::Type::Scalar,
+        None,
+        format!("layer {i} indices"),
+    ));
+    let material = root.push(json::Material {
+        alpha_mode: Checked::Valid(json::material::AlphaMode::Blend),
+        double_sided: true,
+        name: Some(format!("layer {i} opacity {:.4}", l.alpha)),
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor([c[0], c[1], c[2], l.alpha]),
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(1.0),
+            ..Default::default()
+        },
+        ..Default::default()
+    });
+    let mesh = root.push(json::Mesh {
+        extensions: None,
+        extras: raw(serde_json::json!({
+            "layer": i,
+            "isodensity": l.isodensity,
+            "translucency": l.translucency,
+            "alpha": l.alpha,
+        })),
+        name: Some(format!("layer {i}")),
+        primitives: vec![json::mesh::Primitive {
+            attributes,
+            extensions: None,
+            extras: None,
+            indices: (count > 0).then_some(indices),
+            material: Some(material),
+            mode: Checked::Valid(json::mesh::Mode::Triangles),
+            targets: None,
+        }],
+        weights: None,
+    });
+    root.push(json::Node {
+        mesh: Some(mesh),
+        name: Some(format!("layer {i}")),
+        ..Default::default()
+    })
 }
 
 fn accessor(
@@ -400,12 +449,15 @@ fn min_max(points: &[Vec3]) -> ([f32; 3], [f32; 3]) {
 /// One mesh primitive of a glTF file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GlbPart {
+    /// The mesh's name, or `mesh M` for an unnamed one.
     pub name: String,
     /// Its vertices are `first_vertex..first_vertex + vertex_count` of [`GlbScene::mesh`].
     pub first_vertex: u32,
+    /// How many vertices it has.
     pub vertex_count: u32,
     /// Its triangles are `first_triangle..` of [`GlbScene::mesh`], `triangle_count` of them.
     pub first_triangle: u32,
+    /// How many triangles it has.
     pub triangle_count: u32,
     /// Base colour factor (RGBA); alpha is the opacity.
     pub color: [f32; 4],
@@ -418,6 +470,7 @@ pub struct GlbPart {
 pub struct GlbScene {
     /// All primitives' vertices and triangles, in mesh then primitive order (global indices).
     pub mesh: TriangleMesh,
+    /// Where each primitive lies in `mesh`, and its material.
     pub parts: Vec<GlbPart>,
     /// The `order±x±y±z` accessors by [`Octant::index`], as triangles of global vertex indices.
     pub orders: Vec<Option<Vec<[u32; 3]>>>,
@@ -471,6 +524,28 @@ pub fn read_glb(path: &Path) -> Result<GlbScene, LayersError> {
 }
 
 /// Parses the bytes of a `.glb`.
+///
+/// # Example
+///
+/// Layered shells written with [`glb_bytes`] read back as one part per layer, with the
+/// layer's alpha and blending, and all eight orders.
+///
+/// ```
+/// use voxlod_layers::{glb_bytes, layer_solid, parse_glb, GlbOptions, LayersOptions};
+/// use voxlod_sampling::{CsgSolid, Shape};
+///
+/// let solid = CsgSolid::new(Shape::sphere(glam::DVec3::ZERO, 1.0))?;
+/// let layered = layer_solid(&solid, &LayersOptions { resolution: 12, ..Default::default() })?;
+/// let bytes = glb_bytes(&layered.mesh, &layered.orders, &GlbOptions::default())?;
+/// let scene = parse_glb(&bytes)?;
+/// assert!(scene.is_layered());
+/// assert_eq!(scene.parts.len(), layered.mesh.layers.len());
+/// assert_eq!(scene.mesh.triangles.len(), layered.mesh.triangle_count());
+/// assert!(scene.parts.iter().all(|p| p.blend));
+/// assert_eq!(scene.parts[0].color[3], 1.0);
+/// assert_eq!(scene.grid, Some(layered.mesh.grid));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn parse_glb(bytes: &[u8]) -> Result<GlbScene, LayersError> {
     let bad = |m: String| LayersError::Gltf(m);
     let glb =
@@ -485,101 +560,128 @@ pub fn parse_glb(bytes: &[u8]) -> Result<GlbScene, LayersError> {
     };
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, prim) in mesh.primitives.iter().enumerate() {
-            match prim.mode {
-                Checked::Valid(json::mesh::Mode::Triangles) => {}
-                _ => continue,
-            }
-            let Some(pos) = prim
-                .attributes
-                .get(&Checked::Valid(json::mesh::Semantic::Positions))
-            else {
-                continue;
-            };
-            let positions = reader.vec3(pos.value())?;
-            let normals = match prim
-                .attributes
-                .get(&Checked::Valid(json::mesh::Semantic::Normals))
-            {
-                Some(n) => Some(reader.vec3(n.value())?),
-                None => None,
-            };
-            let n = positions.len() as u32;
-            let indices = match prim.indices {
-                Some(i) => reader.indices(i.value())?,
-                None => (0..n).collect(),
-            };
-            if indices.len() % 3 != 0 {
-                return Err(bad(format!(
-                    "mesh {m} primitive {p}: {} indices is not a whole number of triangles",
-                    indices.len()
-                )));
-            }
-            if let Some(&v) = indices.iter().find(|&&v| v >= n) {
-                return Err(bad(format!(
-                    "mesh {m} primitive {p}: index {v} beyond its {n} vertices"
-                )));
-            }
-            let base = scene.mesh.positions.len() as u32;
-            let first_triangle = scene.mesh.triangles.len() as u32;
-            let had_normals = !scene.mesh.normals.is_empty() || scene.mesh.positions.is_empty();
-            match (normals, had_normals) {
-                (Some(nr), true) if nr.len() == positions.len() => {
-                    scene.mesh.normals.extend_from_slice(&nr)
-                }
-                _ => scene.mesh.normals.clear(),
-            }
-            scene.mesh.positions.extend_from_slice(&positions);
-            scene.mesh.triangles.extend(
-                indices
-                    .chunks_exact(3)
-                    .map(|c| [c[0] + base, c[1] + base, c[2] + base]),
-            );
-            let (color, blend) = match prim.material {
-                Some(mi) => {
-                    let mat = root
-                        .materials
-                        .get(mi.value())
-                        .ok_or_else(|| bad(format!("mesh {m}: material {} missing", mi.value())))?;
-                    (
-                        mat.pbr_metallic_roughness.base_color_factor.0,
-                        matches!(
-                            mat.alpha_mode,
-                            Checked::Valid(json::material::AlphaMode::Blend)
-                        ),
-                    )
-                }
-                None => ([1.0; 4], false),
-            };
-            scene.parts.push(GlbPart {
-                name: mesh.name.clone().unwrap_or_else(|| format!("mesh {m}")),
-                first_vertex: base,
-                vertex_count: n,
-                first_triangle,
-                triangle_count: (indices.len() / 3) as u32,
-                color,
-                blend,
-            });
+            read_primitive(&reader, (m, mesh), (p, prim), &mut scene)?;
         }
     }
+    read_orders(&reader, &mut scene)?;
+    if scene.mesh.triangles.is_empty() {
+        return Err(bad("no triangle primitives".into()));
+    }
+    scene.grid = stored_grid(&root);
+    Ok(scene)
+}
+
+/// Appends primitive `p` of mesh `m` to `scene` as a part, when it draws triangles with
+/// positions (others are skipped). Normals are kept while every primitive so far has them.
+fn read_primitive(
+    reader: &Reader,
+    (m, mesh): (usize, &json::Mesh),
+    (p, prim): (usize, &json::mesh::Primitive),
+    scene: &mut GlbScene,
+) -> Result<(), LayersError> {
+    let bad = |m: String| LayersError::Gltf(m);
+    match prim.mode {
+        Checked::Valid(json::mesh::Mode::Triangles) => {}
+        _ => return Ok(()),
+    }
+    let Some(pos) = prim
+        .attributes
+        .get(&Checked::Valid(json::mesh::Semantic::Positions))
+    else {
+        return Ok(());
+    };
+    let positions = reader.vec3(pos.value())?;
+    let normals = match prim
+        .attributes
+        .get(&Checked::Valid(json::mesh::Semantic::Normals))
+    {
+        Some(n) => Some(reader.vec3(n.value())?),
+        None => None,
+    };
+    let n = positions.len() as u32;
+    let indices = match prim.indices {
+        Some(i) => reader.indices(i.value())?,
+        None => (0..n).collect(),
+    };
+    if indices.len() % 3 != 0 {
+        return Err(bad(format!(
+            "mesh {m} primitive {p}: {} indices is not a whole number of triangles",
+            indices.len()
+        )));
+    }
+    if let Some(&v) = indices.iter().find(|&&v| v >= n) {
+        return Err(bad(format!(
+            "mesh {m} primitive {p}: index {v} beyond its {n} vertices"
+        )));
+    }
+    let base = scene.mesh.positions.len() as u32;
+    let first_triangle = scene.mesh.triangles.len() as u32;
+    let had_normals = !scene.mesh.normals.is_empty() || scene.mesh.positions.is_empty();
+    match (normals, had_normals) {
+        (Some(nr), true) if nr.len() == positions.len() => {
+            scene.mesh.normals.extend_from_slice(&nr)
+        }
+        _ => scene.mesh.normals.clear(),
+    }
+    scene.mesh.positions.extend_from_slice(&positions);
+    scene.mesh.triangles.extend(
+        indices
+            .chunks_exact(3)
+            .map(|c| [c[0] + base, c[1] + base, c[2] + base]),
+    );
+    let (color, blend) = match prim.material {
+        Some(mi) => {
+            let mat = reader
+                .root
+                .materials
+                .get(mi.value())
+                .ok_or_else(|| bad(format!("mesh {m}: material {} missing", mi.value())))?;
+            (
+                mat.pbr_metallic_roughness.base_color_factor.0,
+                matches!(
+                    mat.alpha_mode,
+                    Checked::Valid(json::material::AlphaMode::Blend)
+                ),
+            )
+        }
+        None => ([1.0; 4], false),
+    };
+    scene.parts.push(GlbPart {
+        name: mesh.name.clone().unwrap_or_else(|| format!("mesh {m}")),
+        first_vertex: base,
+        vertex_count: n,
+        first_triangle,
+        triangle_count: (indices.len() / 3) as u32,
+        color,
+        blend,
+    });
+    Ok(())
+}
+
+/// Reads the accessors named `order±x±y±z` into `scene.orders`; each must be a triangle list
+/// over the vertices read.
+fn read_orders(reader: &Reader, scene: &mut GlbScene) -> Result<(), LayersError> {
     let total = scene.mesh.positions.len() as u32;
-    for (a, acc) in root.accessors.iter().enumerate() {
+    for (a, acc) in reader.root.accessors.iter().enumerate() {
         let Some(o) = acc.name.as_deref().and_then(Octant::from_name) else {
             continue;
         };
         let idx = reader.indices(a)?;
         if idx.len() % 3 != 0 || idx.iter().any(|&v| v >= total) {
-            return Err(bad(format!(
+            return Err(LayersError::Gltf(format!(
                 "accessor {}: not a triangle list over the {total} vertices",
                 o.name()
             )));
         }
         scene.orders[o.index()] = Some(idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect());
     }
-    if scene.mesh.triangles.is_empty() {
-        return Err(bad("no triangle primitives".into()));
-    }
-    scene.grid = root
-        .scene
+    Ok(())
+}
+
+/// The volume grid of a voxlod file, from the extras of its scene (or its first scene);
+/// `None` when absent or not a valid grid.
+fn stored_grid(root: &json::Root) -> Option<voxlod_core::Grid> {
+    root.scene
         .and_then(|i| root.scenes.get(i.value()))
         .or(root.scenes.first())
         .and_then(|sc| sc.extras.as_ref())
@@ -596,8 +698,7 @@ pub fn parse_glb(bytes: &[u8]) -> Result<GlbScene, LayersError> {
             };
             let dims = triple(&g["dims"])?.map(|d| d as usize);
             voxlod_core::Grid::new(dims, triple(&g["spacing"])?, triple(&g["origin"])?).ok()
-        });
-    Ok(scene)
+        })
 }
 
 /// Bounds-checked accessor reading.

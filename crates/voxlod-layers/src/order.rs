@@ -61,6 +61,7 @@ pub const OVERLAP_TOLERANCE: f64 = 1e-7;
 pub struct Octant(u8);
 
 impl Octant {
+    /// The eight octants, by index.
     pub const ALL: [Octant; 8] = [
         Octant(0),
         Octant(1),
@@ -82,11 +83,13 @@ impl Octant {
         ))
     }
 
+    /// The octant of index `index` (0 to 7; panics beyond).
     pub fn from_index(index: usize) -> Octant {
         assert!(index < 8);
         Octant(index as u8)
     }
 
+    /// 0 to 7: bit 4 for x < 0, 2 for y < 0, 1 for z < 0.
     pub fn index(self) -> usize {
         self.0 as usize
     }
@@ -107,6 +110,7 @@ impl Octant {
         ORDER_NAMES[self.index()]
     }
 
+    /// The octant of a stored order's name (see [`ORDER_NAMES`]).
     pub fn from_name(name: &str) -> Option<Octant> {
         ORDER_NAMES
             .iter()
@@ -131,13 +135,20 @@ pub fn check_direction(direction: DVec3) -> Result<(), LayersError> {
 /// How the scene is looked at.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum View {
-    /// Parallel rays along `direction` (eye to scene).
-    Orthographic { direction: DVec3 },
-    /// Rays from `eye`.
-    Perspective { eye: DVec3 },
+    /// Parallel rays.
+    Orthographic {
+        /// The view direction, eye to scene (need not be normalised).
+        direction: DVec3,
+    },
+    /// Rays from an eye.
+    Perspective {
+        /// Where the eye is, in the mesh's coordinates.
+        eye: DVec3,
+    },
 }
 
 impl View {
+    /// Refuses a zero or non-finite direction, or a non-finite eye.
     pub fn check(&self) -> Result<(), LayersError> {
         match *self {
             View::Orthographic { direction } => check_direction(direction),
@@ -157,7 +168,9 @@ impl View {
 pub struct CellTriangles<'a> {
     /// The volume's sample grid: cells are `dims − 1` per axis.
     pub grid: Grid,
+    /// The vertices.
     pub positions: &'a [Vec3],
+    /// The triangles, as indices into `positions`.
     pub triangles: &'a [[u32; 3]],
     /// Linear cell index `i + cx (j + cy k)` per triangle.
     pub cells: &'a [u32],
@@ -226,6 +239,7 @@ pub struct CellIndex {
 }
 
 impl CellIndex {
+    /// How many cells hold a triangle.
     pub fn occupied_cells(&self) -> usize {
         self.cells.len()
     }
@@ -479,56 +493,100 @@ fn sort_cell(
     s: &mut Scratch,
     out: &mut Vec<u32>,
 ) {
-    let n = tris.len();
-    let projector = match in_cell {
+    let projector = cell_projector(obj, tris, in_cell);
+    let projected = projector
+        .as_ref()
+        .is_some_and(|p| project_cell(obj, tris, p, &mut s.projected));
+    if !projected || tris.len() > MAX_EXACT_CELL {
+        // The eye is in the cell, or the cell is too full for pair tests.
+        push_farthest_centroid_first(obj, tris, in_cell, s, out);
+        return;
+    }
+    let projector = projector.expect("checked");
+    first_guess(&projector, s);
+    // Most cells are already in order by the first guess: check that no later triangle lies
+    // behind an earlier one (cheap when it does not), and only sort topologically if one does.
+    if !has_conflict(&projector, s) {
+        out.extend(s.by_depth.iter().map(|&i| tris[i]));
+        return;
+    }
+    overlap_constraints(&projector, s);
+    if s.edges.is_empty() {
+        out.extend(s.by_depth.iter().map(|&i| tris[i]));
+        return;
+    }
+    topological_order(tris, s, out);
+}
+
+/// The projection the cell's triangles are compared in: along the direction, or from the eye
+/// towards the cell's centroid (`None` when the eye is at the centroid).
+#[inline]
+fn cell_projector(obj: &CellTriangles, tris: &[u32], in_cell: InCell) -> Option<Projector> {
+    match in_cell {
         InCell::Direction(d) => Some(Projector::orthographic(d)),
         InCell::Eye(eye) => {
             let centre: DVec3 = tris
                 .iter()
                 .map(|&t| obj.corners(t).iter().sum::<DVec3>() / 3.0)
                 .sum::<DVec3>()
-                / n as f64;
+                / tris.len() as f64;
             let d = centre - eye;
             (d.length_squared() > 0.0).then(|| Projector::perspective(eye, d))
         }
-    };
-    s.projected.clear();
-    let mut ok = projector.is_some();
-    if let Some(p) = &projector {
-        for &t in tris {
-            match Projected::new(p, obj.corners(t)) {
-                Some(x) => s.projected.push(x),
-                None => {
-                    ok = false;
-                    break;
-                }
-            }
+    }
+}
+
+/// Projects every triangle of the cell into `projected`; `false` when one cannot be (it reaches
+/// behind the eye).
+#[inline]
+fn project_cell(
+    obj: &CellTriangles,
+    tris: &[u32],
+    projector: &Projector,
+    projected: &mut Vec<Projected>,
+) -> bool {
+    projected.clear();
+    for &t in tris {
+        match Projected::new(projector, obj.corners(t)) {
+            Some(x) => projected.push(x),
+            None => return false,
         }
     }
-    if !ok || n > MAX_EXACT_CELL {
-        // The eye is in the cell, or the cell is too full for pair tests: farthest centroid
-        // first.
-        let eye = match in_cell {
-            InCell::Eye(e) => e,
-            InCell::Direction(d) => -d * 1e30,
-        };
-        s.by_depth.clear();
-        s.by_depth.extend(0..n);
-        let dist: Vec<f64> = tris
-            .iter()
-            .map(|&t| (obj.corners(t).iter().sum::<DVec3>() / 3.0 - eye).length())
-            .collect();
-        s.by_depth
-            .sort_by(|&a, &b| dist[b].total_cmp(&dist[a]).then(a.cmp(&b)));
-        out.extend(s.by_depth.iter().map(|&i| tris[i]));
-        return;
-    }
-    let projector = projector.expect("checked");
-    // A first guess, farthest first. The layers in a cell are nearly parallel offsets of one
-    // surface, so where the cell's surface faces the eye the inner layers (smaller offset along
-    // the mean outward normal) are behind, and where it faces away the outer ones: the offset
-    // along the normal, signed by the facing, orders nested layers where centroid depth along
-    // the view would be fooled by their sideways shifts. Near silhouettes, view depth.
+    true
+}
+
+/// Appends the cell's triangles farthest centroid first (from the eye, or from far back along
+/// the direction), ties by position in the cell.
+fn push_farthest_centroid_first(
+    obj: &CellTriangles,
+    tris: &[u32],
+    in_cell: InCell,
+    s: &mut Scratch,
+    out: &mut Vec<u32>,
+) {
+    let eye = match in_cell {
+        InCell::Eye(e) => e,
+        InCell::Direction(d) => -d * 1e30,
+    };
+    s.by_depth.clear();
+    s.by_depth.extend(0..tris.len());
+    let dist: Vec<f64> = tris
+        .iter()
+        .map(|&t| (obj.corners(t).iter().sum::<DVec3>() / 3.0 - eye).length())
+        .collect();
+    s.by_depth
+        .sort_by(|&a, &b| dist[b].total_cmp(&dist[a]).then(a.cmp(&b)));
+    out.extend(s.by_depth.iter().map(|&i| tris[i]));
+}
+
+/// A first guess of the order, farthest first, into `s.by_depth`. The layers in a cell are
+/// nearly parallel offsets of one surface, so where the cell's surface faces the eye the inner
+/// layers (smaller offset along the mean outward normal) are behind, and where it faces away
+/// the outer ones: the offset along the normal, signed by the facing, orders nested layers
+/// where centroid depth along the view would be fooled by their sideways shifts. Near
+/// silhouettes, view depth.
+#[inline]
+fn first_guess(projector: &Projector, s: &mut Scratch) {
     let proj = &s.projected;
     let normal: DVec3 = proj.iter().map(|p| p.normal).sum();
     let view = projector.direction;
@@ -544,42 +602,48 @@ fn sort_cell(
         s.key.extend(proj.iter().map(|p| p.depth));
     }
     s.by_depth.clear();
-    s.by_depth.extend(0..n);
+    s.by_depth.extend(0..proj.len());
     let key = &s.key;
     s.by_depth
         .sort_by(|&a, &b| key[b].total_cmp(&key[a]).then(a.cmp(&b)));
-    // Most cells are already in order by centroid depth: check that no later triangle lies
-    // behind an earlier one (cheap when it does not), and only sort topologically if one does.
-    let mut conflict = false;
-    'scan: for x in 0..n {
+}
+
+/// Whether some triangle of `s.by_depth` lies behind one before it.
+#[inline]
+fn has_conflict(projector: &Projector, s: &Scratch) -> bool {
+    let proj = &s.projected;
+    for x in 0..s.by_depth.len() {
         let a = &proj[s.by_depth[x]];
         for &y in &s.by_depth[x + 1..] {
-            if second_is_behind(&projector, a, &proj[y], OVERLAP_TOLERANCE) {
-                conflict = true;
-                break 'scan;
+            if second_is_behind(projector, a, &proj[y], OVERLAP_TOLERANCE) {
+                return true;
             }
         }
     }
-    if !conflict {
-        out.extend(s.by_depth.iter().map(|&i| tris[i]));
-        return;
-    }
-    // Constraints "i before j" for every overlapping pair.
+    false
+}
+
+/// The constraints "i before j" for every overlapping pair of the cell, into `s.edges`.
+fn overlap_constraints(projector: &Projector, s: &mut Scratch) {
+    let proj = &s.projected;
+    let n = proj.len();
     s.edges.clear();
     for i in 0..n {
         for j in i + 1..n {
-            match behind_fast(&projector, &proj[i], &proj[j], OVERLAP_TOLERANCE) {
+            match behind_fast(projector, &proj[i], &proj[j], OVERLAP_TOLERANCE) {
                 Some(true) => s.edges.push((i as u16, j as u16)),
                 Some(false) => s.edges.push((j as u16, i as u16)),
                 None => {}
             }
         }
     }
-    if s.edges.is_empty() {
-        out.extend(s.by_depth.iter().map(|&i| tris[i]));
-        return;
-    }
-    // Kahn's algorithm, choosing the farthest ready triangle each time.
+}
+
+/// Appends the cell's triangles in an order that keeps every constraint of `s.edges` (Kahn's
+/// algorithm, choosing the farthest ready triangle of `s.by_depth` each time; a cycle between
+/// crossing triangles is broken at the farthest remaining).
+fn topological_order(tris: &[u32], s: &mut Scratch, out: &mut Vec<u32>) {
+    let n = tris.len();
     s.indegree.clear();
     s.indegree.resize(n, 0);
     s.succ_start.clear();

@@ -1,6 +1,10 @@
 //! The whole job as one call: a solid filtered into a volume (paper §2), the layers planned for
 //! the filter (§3, equations 4–6), cut from the volume in one pass, and put in the eight
 //! back-to-front orders. Each stage is timed for reports.
+//!
+//! Cost: the filtering dominates (O(N³) samples, each a quadrature over the filter's support,
+//! see voxlod-sampling); the rest is [`crate::extract`]'s one read of the volume and
+//! [`crate::order`]'s O(T).
 
 use std::time::Instant;
 
@@ -24,6 +28,7 @@ pub struct LayersOptions {
     pub plan: PlanOptions,
     /// Quadrature lines per support radius (see [`DensityOptions`]).
     pub lines_per_radius: usize,
+    /// Normals, and one pass or one per layer.
     pub extract: ExtractOptions,
 }
 
@@ -54,21 +59,29 @@ impl LayersOptions {
 /// Seconds spent per stage.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct Timings {
+    /// Filtering the solid into the volume (0 when given a volume).
     pub sample_seconds: f64,
+    /// Planning the layers.
     pub plan_seconds: f64,
+    /// Cutting the layers from the volume.
     pub extract_seconds: f64,
+    /// The eight back-to-front orders.
     pub order_seconds: f64,
 }
 
 /// Planned, extracted and ordered layers.
 #[derive(Clone, Debug)]
 pub struct Layered {
+    /// How many layers, at which isodensities, with which alphas.
     pub plan: LayerPlan,
+    /// The layers' meshes, innermost first.
     pub mesh: LayeredMesh,
     /// The eight orders by [`crate::Octant::index`], as global triangle indices into
     /// [`LayeredMesh::concatenated`].
     pub orders: Vec<Vec<u32>>,
+    /// How the solid was filtered (`None` when given a volume).
     pub density: Option<DensityReport>,
+    /// Seconds per stage.
     pub timings: Timings,
 }
 

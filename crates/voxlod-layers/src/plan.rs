@@ -114,6 +114,7 @@ impl Default for PlanOptions {
 }
 
 impl PlanOptions {
+    /// Plan for `filter` within `error`, at most [`MAX_LAYERS`] layers, composited alphas.
     pub fn new(filter: Filter, error: f64) -> PlanOptions {
         PlanOptions {
             filter,
@@ -142,8 +143,9 @@ pub struct PlannedLayer {
     pub translucency: f64,
     /// The alpha to blend the layer with (see [`Blending`]); 1 for the innermost layer.
     pub alpha: f64,
-    /// The segment `[start, end]` of the profile this layer stands for, in units of R.
+    /// Where the segment of the profile this layer stands for starts, in units of R.
     pub start: f64,
+    /// Where the segment ends, in units of R.
     pub end: f64,
     /// Distance of the layer's surface outside the object's, in units of R (the midpoint).
     pub offset: f64,
@@ -154,20 +156,25 @@ pub struct PlannedLayer {
 /// A plan: the layers from the innermost (opaque) outwards, and the error it achieves.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct LayerPlan {
+    /// The filter whose profile the layers follow.
     pub filter: Filter,
     /// The ε asked for, when planned by error bound.
     pub error_bound: Option<f64>,
+    /// How the alphas were made from the translucencies.
     pub blending: Blending,
     /// `∫₀¹ |p − d| dx` of this plan.
     pub achieved_error: f64,
+    /// The layers, innermost (opaque) first.
     pub layers: Vec<PlannedLayer>,
 }
 
 impl LayerPlan {
+    /// How many layers.
     pub fn len(&self) -> usize {
         self.layers.len()
     }
 
+    /// Whether the plan has no layer (never, for a plan this crate makes).
     pub fn is_empty(&self) -> bool {
         self.layers.is_empty()
     }
@@ -357,6 +364,33 @@ pub fn plan_from_breaks(filter: &Filter, breaks: &[f64], error_bound: Option<f64
 }
 
 /// The fewest layers whose optimal plan is within `options.error` (equation 6).
+///
+/// # Errors
+///
+/// [`LayersError::NonPositiveError`] for an ε that is not positive and finite,
+/// [`LayersError::TooManyLayers`] when even `options.max_layers` layers do not reach it.
+///
+/// # Example
+///
+/// One layer at the median level of the hyper-cone's profile costs exactly 1/8, so ε = 0.126
+/// needs one layer and ε = 0.12 two; the default ε = 0.025 needs five, at isodensities falling
+/// outwards, the innermost opaque.
+///
+/// ```
+/// use voxlod_layers::{plan_layers, PlanOptions};
+/// use voxlod_sampling::Filter;
+///
+/// assert_eq!(plan_layers(&PlanOptions::new(Filter::Hypercone, 0.126))?.len(), 1);
+/// assert_eq!(plan_layers(&PlanOptions::new(Filter::Hypercone, 0.12))?.len(), 2);
+/// let plan = plan_layers(&PlanOptions::default())?;
+/// assert_eq!(plan.len(), 5);
+/// assert!(plan.achieved_error <= 0.025);
+/// let iso = plan.isodensities();
+/// assert!(iso.windows(2).all(|w| w[0] > w[1]));
+/// assert_eq!(plan.layers[0].alpha, 1.0);
+/// assert!(plan_layers(&PlanOptions::new(Filter::Hypercone, 0.0)).is_err());
+/// # Ok::<(), voxlod_layers::LayersError>(())
+/// ```
 pub fn plan_layers(options: &PlanOptions) -> Result<LayerPlan, LayersError> {
     let bound = options.error;
     if !(bound.is_finite() && bound > 0.0) {

@@ -27,6 +27,7 @@ use crate::LayersError;
 /// The order of several objects' triangles: (object, triangle) pairs, back to front.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SceneOrder {
+    /// Every triangle of every object, as (object, triangle), back to front.
     pub order: Vec<(u32, u32)>,
     /// Groups of objects with overlapping boxes (objects alone count as a group).
     pub groups: usize,
@@ -123,10 +124,50 @@ fn find(parent: &mut [usize], x: usize) -> usize {
 pub fn scene_order(objects: &[CellTriangles], view: &View) -> Result<SceneOrder, LayersError> {
     view.check()?;
     let boxes: Vec<Option<Bounds>> = objects.iter().map(occupied_box).collect();
-    let live: Vec<usize> = (0..objects.len()).filter(|&o| boxes[o].is_some()).collect();
+    let groups = overlap_groups(&boxes);
+    let group_order = order_groups(&groups, &boxes, view);
+    // Traverse each group.
+    let mut out = SceneOrder {
+        groups: groups.len(),
+        ..Default::default()
+    };
+    for h in group_order {
+        let members = &groups[h];
+        if let [o] = members[..] {
+            out.order.extend(
+                view_order(&objects[o], view)?
+                    .into_iter()
+                    .map(|t| (o as u32, t)),
+            );
+            continue;
+        }
+        let (merged, exact) = merge(objects, members)?;
+        if exact {
+            out.merged_groups += 1;
+        } else {
+            out.approximate_groups += 1;
+        }
+        let obj = CellTriangles {
+            grid: merged.grid,
+            positions: &merged.positions,
+            triangles: &merged.triangles,
+            cells: &merged.cells,
+        };
+        for t in view_order(&obj, view)? {
+            let slot = merged.start.partition_point(|&s| s <= t) - 1;
+            out.order
+                .push((members[slot] as u32, t - merged.start[slot]));
+        }
+    }
+    Ok(out)
+}
+
+/// Step 2: the objects that have an occupied box, grouped by overlapping boxes (transitively,
+/// by union–find); each group lists its objects in increasing index. O(objects²).
+fn overlap_groups(boxes: &[Option<Bounds>]) -> Vec<Vec<usize>> {
+    let live: Vec<usize> = (0..boxes.len()).filter(|&o| boxes[o].is_some()).collect();
     let bx = |o: usize| boxes[o].expect("live object");
-    // 2. Groups of overlapping boxes.
-    let mut parent: Vec<usize> = (0..objects.len()).collect();
+    let mut parent: Vec<usize> = (0..boxes.len()).collect();
     for (n, &a) in live.iter().enumerate() {
         for &b in &live[n + 1..] {
             if boxes_overlap(&bx(a), &bx(b)) {
@@ -136,7 +177,7 @@ pub fn scene_order(objects: &[CellTriangles], view: &View) -> Result<SceneOrder,
         }
     }
     let mut groups: Vec<Vec<usize>> = Vec::new();
-    let mut group_of = vec![usize::MAX; objects.len()];
+    let mut group_of = vec![usize::MAX; boxes.len()];
     for &o in &live {
         let r = find(&mut parent, o);
         if group_of[r] == usize::MAX {
@@ -145,7 +186,14 @@ pub fn scene_order(objects: &[CellTriangles], view: &View) -> Result<SceneOrder,
         }
         groups[group_of[r]].push(o);
     }
-    // 3. Order of the groups.
+    groups
+}
+
+/// Step 3: the groups in drawing order: a group that may hide another comes after it; among
+/// the groups free to go, the farthest first; a cycle is broken at the farthest group left.
+/// O(objects²) box tests.
+fn order_groups(groups: &[Vec<usize>], boxes: &[Option<Bounds>], view: &View) -> Vec<usize> {
+    let bx = |o: usize| boxes[o].expect("live object");
     let g = groups.len();
     let depth: Vec<f64> = groups
         .iter()
@@ -186,40 +234,7 @@ pub fn scene_order(objects: &[CellTriangles], view: &View) -> Result<SceneOrder,
         done[pick] = true;
         group_order.push(pick);
     }
-    // Traverse each group.
-    let mut out = SceneOrder {
-        groups: g,
-        ..Default::default()
-    };
-    for h in group_order {
-        let members = &groups[h];
-        if let [o] = members[..] {
-            out.order.extend(
-                view_order(&objects[o], view)?
-                    .into_iter()
-                    .map(|t| (o as u32, t)),
-            );
-            continue;
-        }
-        let (merged, exact) = merge(objects, members)?;
-        if exact {
-            out.merged_groups += 1;
-        } else {
-            out.approximate_groups += 1;
-        }
-        let obj = CellTriangles {
-            grid: merged.grid,
-            positions: &merged.positions,
-            triangles: &merged.triangles,
-            cells: &merged.cells,
-        };
-        for t in view_order(&obj, view)? {
-            let slot = merged.start.partition_point(|&s| s <= t) - 1;
-            out.order
-                .push((members[slot] as u32, t - merged.start[slot]));
-        }
-    }
-    Ok(out)
+    group_order
 }
 
 /// Several objects on one lattice.

@@ -10,7 +10,7 @@
 //! O(Σ pairs per bin): for surfaces of small triangles, about the depth complexity squared per
 //! bin. Bins run in parallel.
 
-use glam::{DVec3, Vec3};
+use glam::{DVec2, DVec3, UVec2, Vec3};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -21,6 +21,7 @@ use crate::LayersError;
 /// What [`check_order`] found.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct OrderCheck {
+    /// Triangles in the mesh.
     pub triangles: usize,
     /// Pairs whose projections overlap and that do not cross: the ones with a right order.
     pub overlapping_pairs: u64,
@@ -34,6 +35,26 @@ pub struct OrderCheck {
 pub const CHECK_OVERLAP: f64 = 1e-6;
 
 /// Checks `order` (a permutation of the triangles) for `view`.
+///
+/// # Example
+///
+/// Two stacked triangles seen from above: drawing the lower one first is right, the other way
+/// round is one violation.
+///
+/// ```
+/// use glam::{DVec3, Vec3};
+/// use voxlod_layers::{check_order, View};
+///
+/// let corners = |z| [Vec3::new(0.0, 0.0, z), Vec3::new(1.0, 0.0, z), Vec3::new(0.0, 1.0, z)];
+/// let positions = [corners(0.0), corners(1.0)].concat();
+/// let triangles = [[0, 1, 2], [3, 4, 5]];
+/// let view = View::Orthographic { direction: DVec3::new(0.1, 0.05, -1.0) };
+/// let right = check_order(&positions, &triangles, &[0, 1], &view)?;
+/// assert_eq!((right.overlapping_pairs, right.violations), (1, 0));
+/// let wrong = check_order(&positions, &triangles, &[1, 0], &view)?;
+/// assert_eq!(wrong.violations, 1);
+/// # Ok::<(), voxlod_layers::LayersError>(())
+/// ```
 pub fn check_order(
     positions: &[Vec3],
     triangles: &[[u32; 3]],
@@ -41,34 +62,8 @@ pub fn check_order(
     view: &View,
 ) -> Result<OrderCheck, LayersError> {
     view.check()?;
-    if order.len() != triangles.len() {
-        return Err(LayersError::Invalid(format!(
-            "the order lists {} triangles of {}",
-            order.len(),
-            triangles.len()
-        )));
-    }
-    let mut rank = vec![u32::MAX; triangles.len()];
-    for (i, &t) in order.iter().enumerate() {
-        if t as usize >= triangles.len() || rank[t as usize] != u32::MAX {
-            return Err(LayersError::Invalid(format!(
-                "the order is not a permutation (triangle {t} at {i})"
-            )));
-        }
-        rank[t as usize] = i as u32;
-    }
-    let projector = match *view {
-        View::Orthographic { direction } => Projector::orthographic(direction),
-        View::Perspective { eye } => {
-            let c = positions.iter().map(|p| p.as_dvec3()).sum::<DVec3>()
-                / positions.len().max(1) as f64;
-            let d = c - eye;
-            if d.length_squared() == 0.0 {
-                return Err(LayersError::ZeroViewDirection);
-            }
-            Projector::perspective(eye, d)
-        }
-    };
+    let rank = ranks(order, triangles.len())?;
+    let projector = projector_for(view, positions)?;
     let projected: Vec<Option<Projected>> = triangles
         .par_iter()
         .map(|t| Projected::new(&projector, t.map(|v| positions[v as usize].as_dvec3())))
@@ -84,88 +79,170 @@ pub fn check_order(
         return Ok(check);
     }
     let p = |t: u32| projected[t as usize].as_ref().expect("live");
-    // Bins twice the mean triangle extent, at most 2048 per side.
-    let (mut lo, mut hi) = (p(live[0]).min, p(live[0]).max);
-    let mut extent = 0.0;
-    for &t in &live {
-        lo = lo.min(p(t).min);
-        hi = hi.max(p(t).max);
-        extent += (p(t).max - p(t).min).max_element();
-    }
-    let size = (2.0 * extent / live.len() as f64)
-        .max((hi - lo).max_element() / 2048.0)
-        .max(1e-300);
-    let nb = ((hi - lo) / size).floor().as_uvec2() + 1;
-    let bin = |x: f64, y: f64| {
-        let i = (((x - lo.x) / size) as u32).min(nb.x - 1);
-        let j = (((y - lo.y) / size) as u32).min(nb.y - 1);
-        (i, j)
-    };
-    let mut count = vec![0u32; (nb.x * nb.y) as usize + 1];
-    let span = |t: u32| {
-        let (i0, j0) = bin(p(t).min.x, p(t).min.y);
-        let (i1, j1) = bin(p(t).max.x, p(t).max.y);
-        (i0, j0, i1, j1)
-    };
-    for &t in &live {
-        let (i0, j0, i1, j1) = span(t);
-        for j in j0..=j1 {
-            for i in i0..=i1 {
-                count[(j * nb.x + i) as usize + 1] += 1;
-            }
-        }
-    }
-    for b in 0..count.len() - 1 {
-        count[b + 1] += count[b];
-    }
-    let mut fill = count.clone();
-    let mut members = vec![0u32; count[count.len() - 1] as usize];
-    for &t in &live {
-        let (i0, j0, i1, j1) = span(t);
-        for j in j0..=j1 {
-            for i in i0..=i1 {
-                let b = (j * nb.x + i) as usize;
-                members[fill[b] as usize] = t;
-                fill[b] += 1;
-            }
-        }
-    }
-    let totals = (0..(nb.x * nb.y) as usize)
+    let bins = Bins::new(&live, p);
+    let (start, members) = bins.members(&live, p);
+    let totals = (0..bins.count())
         .into_par_iter()
         .map(|b| {
-            let list = &members[count[b] as usize..count[b + 1] as usize];
-            let (bi, bj) = ((b as u32) % nb.x, (b as u32) / nb.x);
-            let mut c = (0u64, 0u64, 0u64);
-            for (n, &s) in list.iter().enumerate() {
-                for &t in &list[n + 1..] {
-                    let (a, b2) = (p(s), p(t));
-                    if !a.boxes_overlap(b2) {
-                        continue;
-                    }
-                    // Check each pair once: in the bin of its boxes' common lower corner.
-                    if bin(a.min.x.max(b2.min.x), a.min.y.max(b2.min.y)) != (bi, bj) {
-                        continue;
-                    }
-                    match compare(&projector, a, b2) {
-                        Relation::Apart => {}
-                        Relation::Crossing => c.2 += 1,
-                        Relation::Behind(first_is_behind) => {
-                            c.0 += 1;
-                            let (back, front) = if first_is_behind { (s, t) } else { (t, s) };
-                            if rank[back as usize] > rank[front as usize] {
-                                c.1 += 1;
-                            }
-                        }
-                    }
-                }
-            }
-            c
+            let list = &members[start[b] as usize..start[b + 1] as usize];
+            bins.check_pairs(b, list, &projector, &rank, p)
         })
         .reduce(|| (0, 0, 0), |x, y| (x.0 + y.0, x.1 + y.1, x.2 + y.2));
     check.overlapping_pairs = totals.0;
     check.violations = totals.1;
     check.crossing_pairs = totals.2;
     Ok(check)
+}
+
+/// The position of each triangle in `order`; refuses an order that is not a permutation of
+/// `0..triangles`.
+fn ranks(order: &[u32], triangles: usize) -> Result<Vec<u32>, LayersError> {
+    if order.len() != triangles {
+        return Err(LayersError::Invalid(format!(
+            "the order lists {} triangles of {}",
+            order.len(),
+            triangles
+        )));
+    }
+    let mut rank = vec![u32::MAX; triangles];
+    for (i, &t) in order.iter().enumerate() {
+        if t as usize >= triangles || rank[t as usize] != u32::MAX {
+            return Err(LayersError::Invalid(format!(
+                "the order is not a permutation (triangle {t} at {i})"
+            )));
+        }
+        rank[t as usize] = i as u32;
+    }
+    Ok(rank)
+}
+
+/// The projection of `view`; a perspective view looks from its eye at the vertices' centroid.
+fn projector_for(view: &View, positions: &[Vec3]) -> Result<Projector, LayersError> {
+    Ok(match *view {
+        View::Orthographic { direction } => Projector::orthographic(direction),
+        View::Perspective { eye } => {
+            let c = positions.iter().map(|p| p.as_dvec3()).sum::<DVec3>()
+                / positions.len().max(1) as f64;
+            let d = c - eye;
+            if d.length_squared() == 0.0 {
+                return Err(LayersError::ZeroViewDirection);
+            }
+            Projector::perspective(eye, d)
+        }
+    })
+}
+
+/// Square bins over the image plane, twice the mean triangle extent, at most 2048 per side.
+struct Bins {
+    lo: DVec2,
+    size: f64,
+    nb: UVec2,
+}
+
+impl Bins {
+    fn new<'a>(live: &[u32], p: impl Fn(u32) -> &'a Projected) -> Bins {
+        let (mut lo, mut hi) = (p(live[0]).min, p(live[0]).max);
+        let mut extent = 0.0;
+        for &t in live {
+            lo = lo.min(p(t).min);
+            hi = hi.max(p(t).max);
+            extent += (p(t).max - p(t).min).max_element();
+        }
+        let size = (2.0 * extent / live.len() as f64)
+            .max((hi - lo).max_element() / 2048.0)
+            .max(1e-300);
+        let nb = ((hi - lo) / size).floor().as_uvec2() + 1;
+        Bins { lo, size, nb }
+    }
+
+    fn count(&self) -> usize {
+        (self.nb.x * self.nb.y) as usize
+    }
+
+    /// The bin (column, row) of a point.
+    #[inline]
+    fn bin(&self, x: f64, y: f64) -> (u32, u32) {
+        let i = (((x - self.lo.x) / self.size) as u32).min(self.nb.x - 1);
+        let j = (((y - self.lo.y) / self.size) as u32).min(self.nb.y - 1);
+        (i, j)
+    }
+
+    /// The bins (first column, first row, last column, last row) a triangle's box touches.
+    #[inline]
+    fn span(&self, p: &Projected) -> (u32, u32, u32, u32) {
+        let (i0, j0) = self.bin(p.min.x, p.min.y);
+        let (i1, j1) = self.bin(p.max.x, p.max.y);
+        (i0, j0, i1, j1)
+    }
+
+    /// The live triangles of each bin (a counting sort): where each bin's list starts (with
+    /// the total at the end), and the lists.
+    fn members<'a>(&self, live: &[u32], p: impl Fn(u32) -> &'a Projected) -> (Vec<u32>, Vec<u32>) {
+        let nx = self.nb.x;
+        let mut count = vec![0u32; self.count() + 1];
+        for &t in live {
+            let (i0, j0, i1, j1) = self.span(p(t));
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    count[(j * nx + i) as usize + 1] += 1;
+                }
+            }
+        }
+        for b in 0..count.len() - 1 {
+            count[b + 1] += count[b];
+        }
+        let mut fill = count.clone();
+        let mut members = vec![0u32; count[count.len() - 1] as usize];
+        for &t in live {
+            let (i0, j0, i1, j1) = self.span(p(t));
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    let b = (j * nx + i) as usize;
+                    members[fill[b] as usize] = t;
+                    fill[b] += 1;
+                }
+            }
+        }
+        (count, members)
+    }
+
+    /// The pairs of bin `b`'s triangles `list` that overlap, counted in the bin of their
+    /// boxes' common lower corner only: (ordered pairs, violations of `rank`, crossing pairs).
+    fn check_pairs<'a>(
+        &self,
+        b: usize,
+        list: &[u32],
+        projector: &Projector,
+        rank: &[u32],
+        p: impl Fn(u32) -> &'a Projected,
+    ) -> (u64, u64, u64) {
+        let (bi, bj) = ((b as u32) % self.nb.x, (b as u32) / self.nb.x);
+        let mut c = (0u64, 0u64, 0u64);
+        for (n, &s) in list.iter().enumerate() {
+            for &t in &list[n + 1..] {
+                let (a, b2) = (p(s), p(t));
+                if !a.boxes_overlap(b2) {
+                    continue;
+                }
+                // Check each pair once: in the bin of its boxes' common lower corner.
+                if self.bin(a.min.x.max(b2.min.x), a.min.y.max(b2.min.y)) != (bi, bj) {
+                    continue;
+                }
+                match compare(projector, a, b2) {
+                    Relation::Apart => {}
+                    Relation::Crossing => c.2 += 1,
+                    Relation::Behind(first_is_behind) => {
+                        c.0 += 1;
+                        let (back, front) = if first_is_behind { (s, t) } else { (t, s) };
+                        if rank[back as usize] > rank[front as usize] {
+                            c.1 += 1;
+                        }
+                    }
+                }
+            }
+        }
+        c
+    }
 }
 
 enum Relation {

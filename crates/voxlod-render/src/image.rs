@@ -1,4 +1,6 @@
 //! The rendered image: linear RGB and coverage per pixel, PNG encoding, side-by-side montage.
+//!
+//! Cost: O(pixels) for each conversion; 16 bytes a pixel.
 
 use image::ImageEncoder;
 
@@ -7,13 +9,18 @@ use crate::RenderError;
 /// Linear RGB in [0, 1] and coverage (alpha: the fraction of the pixel the scene covers).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
+    /// Pixels per row.
     pub width: u32,
+    /// Rows.
     pub height: u32,
+    /// Linear RGB of each pixel, row by row from the top left.
     pub rgb: Vec<[f32; 3]>,
+    /// The fraction of each pixel the scene covers, row by row (0 for background only).
     pub coverage: Vec<f32>,
 }
 
 impl Image {
+    /// An image of `width × height` pixels of `background`, nothing covered.
     pub fn new(width: u32, height: u32, background: [f32; 3]) -> Image {
         let n = width as usize * height as usize;
         Image {
@@ -24,6 +31,7 @@ impl Image {
         }
     }
 
+    /// The index of pixel (x, y) in [`Image::rgb`] and [`Image::coverage`] (y down).
     #[inline]
     pub fn index(&self, x: u32, y: u32) -> usize {
         y as usize * self.width as usize + x as usize

@@ -14,14 +14,20 @@
 /// 1/w, and Lambert shade (NaN: shade the triangle flat from its face).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ScreenVertex {
+    /// Output pixels from the left edge.
     pub x: f32,
+    /// Output pixels from the top edge.
     pub y: f32,
+    /// The camera's depth key (see [`crate::camera::ScreenPoint::depth_key`]).
     pub z: f32,
+    /// 1 / view depth (perspective), 1 (orthographic).
     pub w: f32,
+    /// Lambert shade in [0, 1], or NaN for the triangle's flat shade.
     pub shade: f32,
 }
 
 impl ScreenVertex {
+    /// A vertex that is not drawn (before a perspective camera's near plane): all NaN.
     pub const CULLED: ScreenVertex = ScreenVertex {
         x: f32::NAN,
         y: f32::NAN,
@@ -30,6 +36,7 @@ impl ScreenVertex {
         shade: f32::NAN,
     };
 
+    /// Whether this is [`ScreenVertex::CULLED`].
     pub fn is_culled(&self) -> bool {
         self.x.is_nan()
     }
@@ -37,17 +44,23 @@ impl ScreenVertex {
 
 /// The samples of one tile.
 pub struct Tile {
-    /// First sample (x, y) of the tile in the whole sample grid.
+    /// First sample column of the tile in the whole sample grid.
     pub x0: i64,
+    /// First sample row of the tile in the whole sample grid.
     pub y0: i64,
     /// Samples per side.
     pub size: usize,
+    /// Linear RGB of each sample, row by row.
     pub color: Vec<[f32; 3]>,
+    /// Depth key of the nearest opaque surface at each sample (infinity: none).
     pub depth: Vec<f32>,
+    /// Coverage of each sample: 1 under an opaque surface, else the composite of the blended
+    /// alphas (`c ← c + (1 − c) α` per layer).
     pub coverage: Vec<f32>,
 }
 
 impl Tile {
+    /// A tile of `size × size` samples at the origin of the sample grid.
     pub fn new(size: usize) -> Tile {
         Tile {
             x0: 0,
@@ -59,6 +72,8 @@ impl Tile {
         }
     }
 
+    /// Moves the tile to first sample (x0, y0) and fills it with `background`, uncovered, at
+    /// infinite depth.
     pub fn clear(&mut self, x0: i64, y0: i64, background: [f32; 3]) {
         self.x0 = x0;
         self.y0 = y0;
@@ -68,6 +83,7 @@ impl Tile {
     }
 }
 
+/// Sub-sample positions per sample side: vertices snap to 1/256 of a sample.
 const SUB: i64 = 256;
 
 #[inline]
@@ -75,18 +91,21 @@ fn on_edge_included(dx: i64, dy: i64) -> bool {
     dy > 0 || (dy == 0 && dx > 0)
 }
 
-/// Draws one triangle into `tile`. `n` is the samples per pixel side; `flat` the shade to use
-/// when the vertices carry none; `rgba` the colour and opacity; `blend` selects alpha blending
-/// (z-tested, no depth write) over the z-buffered opaque write.
-#[allow(clippy::too_many_arguments)]
-pub fn raster_triangle(
-    tile: &mut Tile,
+/// A triangle snapped to the sub-sample lattice, counter-clockwise on screen.
+struct Snapped {
+    /// Corners in 1/[`SUB`] of a sample.
+    p: [(i64, i64); 3],
+    /// The screen vertices, in the same order as `p`.
     v: [ScreenVertex; 3],
-    n: u32,
-    flat: f32,
-    rgba: [f32; 4],
-    blend: bool,
-) {
+    /// Twice the area in snapped units, positive.
+    area2: i64,
+}
+
+/// The vertices snapped to 1/[`SUB`] of a sample (`n` samples per pixel side) and put in
+/// counter-clockwise order on screen, with twice their area in snapped units; `None` for a
+/// triangle of zero area.
+#[inline]
+fn snap_counter_clockwise(v: [ScreenVertex; 3], n: u32) -> Option<Snapped> {
     let scale = n as f32 * SUB as f32;
     let fx = |a: f32| (a * scale).round() as i64;
     let mut p = [
@@ -97,14 +116,20 @@ pub fn raster_triangle(
     let mut v = v;
     let mut area2 = (p[1].0 - p[0].0) * (p[2].1 - p[0].1) - (p[1].1 - p[0].1) * (p[2].0 - p[0].0);
     if area2 == 0 {
-        return;
+        return None;
     }
     if area2 < 0 {
         p.swap(1, 2);
         v.swap(1, 2);
         area2 = -area2;
     }
-    // Samples whose centres (s·SUB + SUB/2) lie in the box, clipped to the tile.
+    Some(Snapped { p, v, area2 })
+}
+
+/// The samples (first x, last x, first y, last y, in the whole sample grid) whose centres
+/// (`s·SUB + SUB/2`) lie in the box of `p`, clipped to the tile; `None` when none do.
+#[inline]
+fn sample_box(p: &[(i64, i64); 3], tile: &Tile) -> Option<(i64, i64, i64, i64)> {
     let min_x = p[0].0.min(p[1].0).min(p[2].0);
     let max_x = p[0].0.max(p[1].0).max(p[2].0);
     let min_y = p[0].1.min(p[1].1).min(p[2].1);
@@ -116,26 +141,67 @@ pub fn raster_triangle(
     let sx1 = last(max_x).min(tile.x0 + size - 1);
     let sy0 = first(min_y).max(tile.y0);
     let sy1 = last(max_y).min(tile.y0 + size - 1);
-    if sx0 > sx1 || sy0 > sy1 {
+    (sx0 <= sx1 && sy0 <= sy1).then_some((sx0, sx1, sy0, sy1))
+}
+
+/// The three edge functions of a counter-clockwise triangle, `E_k(P) = a_k P.x + b_k P.y + c_k`
+/// in snapped units; edge k is opposite vertex k, from vertex k+1 to vertex k+2. A sample is
+/// inside when `E_k + bias_k ≥ 0` for all three (the bias excludes the edges that belong to
+/// the neighbour).
+struct EdgeFunctions {
+    a: [i64; 3],
+    b: [i64; 3],
+    c: [i64; 3],
+    bias: [i64; 3],
+}
+
+impl EdgeFunctions {
+    #[inline]
+    fn new(p: &[(i64, i64); 3]) -> EdgeFunctions {
+        let mut e = EdgeFunctions {
+            a: [0; 3],
+            b: [0; 3],
+            c: [0; 3],
+            bias: [0; 3],
+        };
+        for k in 0..3 {
+            let (s, end) = (p[(k + 1) % 3], p[(k + 2) % 3]);
+            let (dx, dy) = (end.0 - s.0, end.1 - s.1);
+            // E(P) = dx (P.y − s.y) − dy (P.x − s.x)
+            e.a[k] = -dy;
+            e.b[k] = dx;
+            e.c[k] = dy * s.0 - dx * s.1;
+            e.bias[k] = if on_edge_included(dx, dy) { 0 } else { -1 };
+        }
+        e
+    }
+
+    /// Edge function `k` at the centre of sample (sx, sy).
+    #[inline]
+    fn at(&self, k: usize, sx: i64, sy: i64) -> i64 {
+        self.a[k] * (sx * SUB + SUB / 2) + self.b[k] * (sy * SUB + SUB / 2) + self.c[k]
+    }
+}
+
+/// Draws one triangle into `tile`. `n` is the samples per pixel side; `flat` the shade to use
+/// when the vertices carry none; `rgba` the colour and opacity; `blend` selects alpha blending
+/// (z-tested, no depth write) over the z-buffered opaque write.
+pub fn raster_triangle(
+    tile: &mut Tile,
+    v: [ScreenVertex; 3],
+    n: u32,
+    flat: f32,
+    rgba: [f32; 4],
+    blend: bool,
+) {
+    let Some(Snapped { p, v, area2 }) = snap_counter_clockwise(v, n) else {
         return;
-    }
-    // Edge k is opposite vertex k: from vertex k+1 to vertex k+2.
-    let mut a = [0i64; 3];
-    let mut b = [0i64; 3];
-    let mut c = [0i64; 3];
-    let mut bias = [0i64; 3];
-    for k in 0..3 {
-        let (s, e) = (p[(k + 1) % 3], p[(k + 2) % 3]);
-        let (dx, dy) = (e.0 - s.0, e.1 - s.1);
-        // E(P) = dx (P.y − s.y) − dy (P.x − s.x)
-        a[k] = -dy;
-        b[k] = dx;
-        c[k] = dy * s.0 - dx * s.1;
-        bias[k] = if on_edge_included(dx, dy) { 0 } else { -1 };
-    }
-    let at = |k: usize, sx: i64, sy: i64| {
-        a[k] * (sx * SUB + SUB / 2) + b[k] * (sy * SUB + SUB / 2) + c[k]
     };
+    let Some((sx0, sx1, sy0, sy1)) = sample_box(&p, tile) else {
+        return;
+    };
+    let edges = EdgeFunctions::new(&p);
+    let bias = edges.bias;
     let inv = 1.0 / area2 as f32;
     let shade_of = |i: usize| {
         if v[i].shade.is_nan() {
@@ -149,9 +215,13 @@ pub fn raster_triangle(
     let (z0, z1, z2) = (v[0].z, v[1].z, v[2].z);
     let alpha = rgba[3];
     let rgb = [rgba[0], rgba[1], rgba[2]];
-    let step_x = [a[0] * SUB, a[1] * SUB, a[2] * SUB];
+    let step_x = edges.a.map(|a| a * SUB);
     for sy in sy0..=sy1 {
-        let mut e = [at(0, sx0, sy), at(1, sx0, sy), at(2, sx0, sy)];
+        let mut e = [
+            edges.at(0, sx0, sy),
+            edges.at(1, sx0, sy),
+            edges.at(2, sx0, sy),
+        ];
         let row = ((sy - tile.y0) as usize) * tile.size;
         for sx in sx0..=sx1 {
             if ((e[0] + bias[0]) | (e[1] + bias[1]) | (e[2] + bias[2])) >= 0 {

@@ -30,6 +30,7 @@ use crate::{Camera, Image, RenderError};
 pub struct RenderOptions {
     /// Samples per pixel side (1 to 32): N×N samples per pixel, box-filtered.
     pub supersample: u32,
+    /// Linear RGB of uncovered pixels.
     pub background: [f32; 3],
     /// Light that reaches surfaces facing away from it.
     pub ambient: f32,
@@ -79,6 +80,7 @@ impl RenderOptions {
 /// A triangle mesh to draw, opaque or blended.
 #[derive(Clone, Debug)]
 pub struct MeshItem<'a> {
+    /// The triangles; shaded from its normals, or flat per face when it has none.
     pub mesh: &'a TriangleMesh,
     /// Linear RGBA colours; alpha is used when blending.
     pub palette: Vec<[f32; 4]>,
@@ -86,6 +88,7 @@ pub struct MeshItem<'a> {
     pub triangle_palette: Option<&'a [u16]>,
     /// Triangles in drawing order (all, in storage order, when `None`).
     pub order: Option<&'a [u32]>,
+    /// Alpha-blended after everything opaque, in `order`, writing no depth; else opaque.
     pub blend: bool,
 }
 
@@ -121,26 +124,37 @@ impl<'a> MeshItem<'a> {
 /// Line segments drawn `width` pixels wide, opaque and unshaded.
 #[derive(Clone, Copy, Debug)]
 pub struct LineItem<'a> {
+    /// The vertices the lines refer to.
     pub positions: &'a [Vec3],
+    /// Segments, as pairs of indices into `positions`.
     pub lines: &'a [[u32; 2]],
+    /// Linear RGB.
     pub color: [f32; 3],
+    /// Width in output pixels.
     pub width: f32,
 }
 
 /// Points drawn as squares of `size` pixels.
 #[derive(Clone, Copy, Debug)]
 pub struct PointItem<'a> {
+    /// The vertices the points refer to.
     pub positions: &'a [Vec3],
+    /// Indices into `positions` of the points to draw.
     pub points: &'a [u32],
+    /// Linear RGB.
     pub color: [f32; 3],
+    /// Side of the square in output pixels.
     pub size: f32,
 }
 
 /// Everything to draw. Blended meshes are drawn after everything else, in their order here.
 #[derive(Clone, Debug, Default)]
 pub struct Scene<'a> {
+    /// Opaque and blended meshes.
     pub meshes: Vec<MeshItem<'a>>,
+    /// Thick line segments (drawn opaque, after the opaque meshes).
     pub lines: Vec<LineItem<'a>>,
+    /// Square points (drawn opaque, after the lines).
     pub points: Vec<PointItem<'a>>,
 }
 
@@ -230,11 +244,81 @@ struct Prepared {
 }
 
 /// Renders `scene` as seen by `camera` (see the module documentation).
+///
+/// # Errors
+///
+/// [`RenderError::BadSize`] for an image side outside 1 to 16384 pixels,
+/// [`RenderError::BadSupersample`] outside 1 to 32, [`RenderError::Invalid`] for a mesh, palette,
+/// order or index that does not fit, [`RenderError::ZeroViewDirection`] or
+/// [`RenderError::NonFiniteView`] for a bad light direction, and the memory budget's refusal
+/// ([`RenderError::Core`]).
+///
+/// # Example
+///
+/// A unit square seen from above fills, at one sample per pixel, the pixels whose centres it
+/// holds: a quarter of a 32×32 image framed on a box twice its size.
+///
+/// ```
+/// use glam::{DVec3, Vec3};
+/// use voxlod_core::{Bounds, TriangleMesh};
+/// use voxlod_render::{render, Camera, MeshItem, Projection, RenderOptions, Scene};
+///
+/// let square = TriangleMesh::new(
+///     vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+///     vec![[0, 1, 2], [0, 2, 3]],
+/// );
+/// let frame = Bounds::new(DVec3::new(-0.5, -0.5, -0.5), DVec3::new(1.5, 1.5, 0.5));
+/// let mut camera = Camera::fit(DVec3::NEG_Z, &frame, 32, 32, None)?;
+/// camera.projection = Projection::Orthographic { half_height: 1.0 }; // 2 units across 32 px
+/// let scene = Scene {
+///     meshes: vec![MeshItem::opaque(&square, [1.0, 0.5, 0.2])],
+///     ..Default::default()
+/// };
+/// let image = render(&scene, &camera, &RenderOptions::default())?;
+/// let covered = image.coverage.iter().filter(|&&c| c == 1.0).count();
+/// assert_eq!(covered, 16 * 16);
+/// # Ok::<(), voxlod_render::RenderError>(())
+/// ```
 pub fn render(
     scene: &Scene,
     camera: &Camera,
     options: &RenderOptions,
 ) -> Result<Image, RenderError> {
+    check_request(scene, camera, options)?;
+    let light = options.light_direction(camera)?.as_vec3();
+    // (1) Project and shade; lines and points become quads.
+    let mut prepared = prepare_meshes(scene, camera, options, light);
+    let quads = Quads::of(scene, camera);
+    prepared.push(quads.prepared);
+    let sources = Sources {
+        scene,
+        prepared,
+        quad_source: scene.meshes.len() as u32,
+        quad_triangles: quads.triangles,
+        quad_colors: quads.colors,
+    };
+    let draws = DrawList::of(scene, sources.quad_triangles.len());
+    // (2) Bin.
+    let tiling = Tiling::new(camera.width, camera.height, options.supersample);
+    let bins = bin_draws(&draws.draws, &sources, &tiling);
+    // (3) Draw the tiles.
+    let tiles: Vec<(Vec<[f32; 3]>, Vec<f32>)> = (0..tiling.count)
+        .into_par_iter()
+        .map_init(
+            || Tile::new((tiling.tile_px * options.supersample) as usize),
+            |tile, t| draw_tile(tile, t, &draws, &bins, &sources, &tiling, options),
+        )
+        .collect();
+    Ok(assemble(tiles, &tiling, options.background))
+}
+
+/// Refuses an image size outside 1 to 16384, a supersampling outside 1 to 32, a scene whose
+/// items do not fit together, and an image the memory budget cannot hold.
+fn check_request(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+) -> Result<(), RenderError> {
     let (width, height) = (camera.width, camera.height);
     if !(1..=16384).contains(&width) || !(1..=16384).contains(&height) {
         return Err(RenderError::BadSize(width, height));
@@ -248,23 +332,35 @@ pub fn render(
         &format!("a {width}x{height} image"),
         voxlod_core::memory::bytes_of::<[f32; 4]>(width as usize * height as usize),
     )?;
-    let light = options.light_direction(camera)?.as_vec3();
-    let lambert = |n: Vec3| options.shade(n, light);
+    Ok(())
+}
 
-    // (1) Project and shade.
-    let project = |p: Vec3| -> ScreenVertex {
-        match camera.project(p.as_dvec3()) {
-            Some(s) => ScreenVertex {
-                x: s.x as f32,
-                y: s.y as f32,
-                z: s.depth_key as f32,
-                w: s.w_inv as f32,
-                shade: f32::NAN,
-            },
-            None => ScreenVertex::CULLED,
-        }
-    };
-    let mut prepared: Vec<Prepared> = scene
+/// Where `p` lands on screen, or [`ScreenVertex::CULLED`] before a perspective camera's near
+/// plane; the shade is left NaN.
+#[inline]
+fn project(camera: &Camera, p: Vec3) -> ScreenVertex {
+    match camera.project(p.as_dvec3()) {
+        Some(s) => ScreenVertex {
+            x: s.x as f32,
+            y: s.y as f32,
+            z: s.depth_key as f32,
+            w: s.w_inv as f32,
+            shade: f32::NAN,
+        },
+        None => ScreenVertex::CULLED,
+    }
+}
+
+/// Every mesh's vertices projected and shaded from their normals, or, for a mesh without
+/// normals, a flat shade per triangle; in parallel.
+fn prepare_meshes(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    light: Vec3,
+) -> Vec<Prepared> {
+    let lambert = |n: Vec3| options.shade(n, light);
+    scene
         .meshes
         .iter()
         .map(|m| {
@@ -273,7 +369,7 @@ pub fn render(
             let vertices: Vec<ScreenVertex> = (0..mesh.positions.len())
                 .into_par_iter()
                 .map(|i| {
-                    let mut v = project(mesh.positions[i]);
+                    let mut v = project(camera, mesh.positions[i]);
                     if with_normals && !v.is_culled() {
                         v.shade = lambert(mesh.normals[i].normalize_or_zero());
                     }
@@ -293,29 +389,53 @@ pub fn render(
             };
             Prepared { vertices, flat }
         })
-        .collect();
-    // Lines and points as quads.
-    let mut quads = Prepared {
-        vertices: Vec::new(),
-        flat: Vec::new(),
-    };
-    let mut quad_colors: Vec<[f32; 4]> = Vec::new();
-    let mut quad_tris: Vec<[u32; 3]> = Vec::new();
-    let mut push_quad = |corners: [ScreenVertex; 4], color: [f32; 3]| {
-        let base = quads.vertices.len() as u32;
-        quads.vertices.extend_from_slice(&corners);
-        for t in [[0, 1, 2], [0, 2, 3]] {
-            quad_tris.push(t.map(|k| base + k));
-            quads.flat.push(1.0);
-            quad_colors.push([color[0], color[1], color[2], 1.0]);
+        .collect()
+}
+
+/// The scene's lines and points as screen-space quads of their width, two triangles each.
+struct Quads {
+    prepared: Prepared,
+    triangles: Vec<[u32; 3]>,
+    colors: Vec<[f32; 4]>,
+}
+
+impl Quads {
+    /// The quads of every line and point of `scene`, lines first.
+    fn of(scene: &Scene, camera: &Camera) -> Quads {
+        let mut quads = Quads {
+            prepared: Prepared {
+                vertices: Vec::new(),
+                flat: Vec::new(),
+            },
+            triangles: Vec::new(),
+            colors: Vec::new(),
+        };
+        for l in &scene.lines {
+            quads.add_lines(l, camera);
         }
-    };
-    for l in &scene.lines {
+        for p in &scene.points {
+            quads.add_points(p, camera);
+        }
+        quads
+    }
+
+    fn push(&mut self, corners: [ScreenVertex; 4], color: [f32; 3]) {
+        let base = self.prepared.vertices.len() as u32;
+        self.prepared.vertices.extend_from_slice(&corners);
+        for t in [[0, 1, 2], [0, 2, 3]] {
+            self.triangles.push(t.map(|k| base + k));
+            self.prepared.flat.push(1.0);
+            self.colors.push([color[0], color[1], color[2], 1.0]);
+        }
+    }
+
+    /// Each segment as a rectangle `width` pixels across, centred on it.
+    fn add_lines(&mut self, l: &LineItem, camera: &Camera) {
         let half = 0.5 * l.width.max(0.0);
         for &[a, b] in l.lines {
             let (pa, pb) = (
-                project(l.positions[a as usize]),
-                project(l.positions[b as usize]),
+                project(camera, l.positions[a as usize]),
+                project(camera, l.positions[b as usize]),
             );
             if pa.is_culled() || pb.is_culled() || half == 0.0 {
                 continue;
@@ -333,16 +453,18 @@ pub fn render(
                 shade: 1.0,
                 ..v
             };
-            push_quad(
+            self.push(
                 [off(pa, 1.0), off(pb, 1.0), off(pb, -1.0), off(pa, -1.0)],
                 l.color,
             );
         }
     }
-    for p in &scene.points {
+
+    /// Each point as a square `size` pixels across, centred on it.
+    fn add_points(&mut self, p: &PointItem, camera: &Camera) {
         let half = 0.5 * p.size.max(0.0);
         for &v in p.points {
-            let c = project(p.positions[v as usize]);
+            let c = project(camera, p.positions[v as usize]);
             if c.is_culled() || half == 0.0 {
                 continue;
             }
@@ -352,73 +474,132 @@ pub fn render(
                 shade: 1.0,
                 ..c
             };
-            push_quad(
+            self.push(
                 [at(-1.0, -1.0), at(1.0, -1.0), at(1.0, 1.0), at(-1.0, 1.0)],
                 p.color,
             );
         }
     }
-    let quad_source = prepared.len() as u32;
-    prepared.push(quads);
+}
 
-    // The draw list, in drawing order.
-    let mut draws: Vec<Draw> = Vec::new();
-    for (s, m) in scene.meshes.iter().enumerate().filter(|(_, m)| !m.blend) {
-        draws.extend((0..m.mesh.triangles.len() as u32).map(|tri| Draw {
-            source: s as u32,
-            tri,
-        }));
-    }
-    draws.extend((0..quad_tris.len() as u32).map(|tri| Draw {
-        source: quad_source,
-        tri,
-    }));
-    let first_blended = draws.len();
-    for (s, m) in scene.meshes.iter().enumerate().filter(|(_, m)| m.blend) {
-        match m.order {
-            Some(o) => draws.extend(o.iter().map(|&tri| Draw {
-                source: s as u32,
-                tri,
-            })),
-            None => draws.extend((0..m.mesh.triangles.len() as u32).map(|tri| Draw {
-                source: s as u32,
-                tri,
-            })),
-        }
-    }
+/// Everything a draw refers to: the meshes, their prepared vertices, and the quads (source
+/// `quad_source`, the last of `prepared`).
+struct Sources<'s, 'a> {
+    scene: &'s Scene<'a>,
+    prepared: Vec<Prepared>,
+    quad_source: u32,
+    quad_triangles: Vec<[u32; 3]>,
+    quad_colors: Vec<[f32; 4]>,
+}
 
-    let corners = |d: Draw| -> [ScreenVertex; 3] {
-        let tri = if d.source == quad_source {
-            quad_tris[d.tri as usize]
+impl Sources<'_, '_> {
+    /// The screen vertices of a draw's triangle.
+    #[inline]
+    fn corners(&self, d: Draw) -> [ScreenVertex; 3] {
+        let tri = if d.source == self.quad_source {
+            self.quad_triangles[d.tri as usize]
         } else {
-            scene.meshes[d.source as usize].mesh.triangles[d.tri as usize]
+            self.scene.meshes[d.source as usize].mesh.triangles[d.tri as usize]
         };
-        let verts = &prepared[d.source as usize].vertices;
+        let verts = &self.prepared[d.source as usize].vertices;
         tri.map(|v| verts[v as usize])
-    };
-    let material = |d: Draw| -> ([f32; 4], f32) {
-        if d.source == quad_source {
-            return (quad_colors[d.tri as usize], 1.0);
+    }
+
+    /// A draw's colour (RGBA) and flat shade.
+    #[inline]
+    fn material(&self, d: Draw) -> ([f32; 4], f32) {
+        if d.source == self.quad_source {
+            return (self.quad_colors[d.tri as usize], 1.0);
         }
-        let m = &scene.meshes[d.source as usize];
+        let m = &self.scene.meshes[d.source as usize];
         let c = m.palette[m
             .triangle_palette
             .map_or(0, |tp| tp[d.tri as usize] as usize)];
-        let flat = prepared[d.source as usize]
+        let flat = self.prepared[d.source as usize]
             .flat
             .get(d.tri as usize)
             .copied()
             .unwrap_or(1.0);
         (c, flat)
-    };
+    }
+}
 
-    // (2) Bin.
-    let tile_px = (128 / n).clamp(8, 32);
-    let tiles_x = width.div_ceil(tile_px);
-    let tiles_y = height.div_ceil(tile_px);
-    let tile_count = (tiles_x * tiles_y) as usize;
-    let guard = 8.0 * width.max(height) as f32;
-    let tile_range = |v: &[ScreenVertex; 3]| -> Option<(u32, u32, u32, u32)> {
+/// The draws in drawing order: opaque triangles, line and point quads, then the blended
+/// triangles, mesh by mesh in their orders (from `first_blended` on).
+struct DrawList {
+    draws: Vec<Draw>,
+    first_blended: usize,
+}
+
+impl DrawList {
+    fn of(scene: &Scene, quad_triangles: usize) -> DrawList {
+        let quad_source = scene.meshes.len() as u32;
+        let mut draws: Vec<Draw> = Vec::new();
+        for (s, m) in scene.meshes.iter().enumerate().filter(|(_, m)| !m.blend) {
+            draws.extend((0..m.mesh.triangles.len() as u32).map(|tri| Draw {
+                source: s as u32,
+                tri,
+            }));
+        }
+        draws.extend((0..quad_triangles as u32).map(|tri| Draw {
+            source: quad_source,
+            tri,
+        }));
+        let first_blended = draws.len();
+        for (s, m) in scene.meshes.iter().enumerate().filter(|(_, m)| m.blend) {
+            match m.order {
+                Some(o) => draws.extend(o.iter().map(|&tri| Draw {
+                    source: s as u32,
+                    tri,
+                })),
+                None => draws.extend((0..m.mesh.triangles.len() as u32).map(|tri| Draw {
+                    source: s as u32,
+                    tri,
+                })),
+            }
+        }
+        DrawList {
+            draws,
+            first_blended,
+        }
+    }
+}
+
+/// The image cut into square tiles of `tile_px` pixels (smaller for more samples per pixel).
+struct Tiling {
+    width: u32,
+    height: u32,
+    /// Samples per pixel side.
+    n: u32,
+    tile_px: u32,
+    tiles_x: u32,
+    tiles_y: u32,
+    count: usize,
+    /// Triangles reaching beyond ±`guard` pixels are skipped.
+    guard: f32,
+}
+
+impl Tiling {
+    fn new(width: u32, height: u32, n: u32) -> Tiling {
+        let tile_px = (128 / n).clamp(8, 32);
+        let tiles_x = width.div_ceil(tile_px);
+        let tiles_y = height.div_ceil(tile_px);
+        Tiling {
+            width,
+            height,
+            n,
+            tile_px,
+            tiles_x,
+            tiles_y,
+            count: (tiles_x * tiles_y) as usize,
+            guard: 8.0 * width.max(height) as f32,
+        }
+    }
+
+    /// The tiles (first x, first y, last x, last y) a triangle's box touches; `None` for a
+    /// culled triangle, one off the image, or one reaching beyond the guard band.
+    #[inline]
+    fn tile_range(&self, v: &[ScreenVertex; 3]) -> Option<(u32, u32, u32, u32)> {
         if v.iter().any(|x| x.is_culled()) {
             return None;
         }
@@ -426,26 +607,39 @@ pub fn render(
         let max_x = v[0].x.max(v[1].x).max(v[2].x);
         let min_y = v[0].y.min(v[1].y).min(v[2].y);
         let max_y = v[0].y.max(v[1].y).max(v[2].y);
-        if !(max_x >= 0.0 && max_y >= 0.0 && min_x <= width as f32 && min_y <= height as f32) {
+        if !(max_x >= 0.0
+            && max_y >= 0.0
+            && min_x <= self.width as f32
+            && min_y <= self.height as f32)
+        {
             return None;
         }
+        let guard = self.guard;
         if min_x < -guard || min_y < -guard || max_x > guard || max_y > guard {
             return None;
         }
-        let t = tile_px as f32;
+        let t = self.tile_px as f32;
         let tx0 = (min_x.max(0.0) / t) as u32;
         let ty0 = (min_y.max(0.0) / t) as u32;
-        let tx1 = ((max_x / t) as u32).min(tiles_x - 1);
-        let ty1 = ((max_y / t) as u32).min(tiles_y - 1);
+        let tx1 = ((max_x / t) as u32).min(self.tiles_x - 1);
+        let ty1 = ((max_y / t) as u32).min(self.tiles_y - 1);
         Some((tx0, ty0, tx1, ty1))
-    };
+    }
+}
+
+/// Bins the draws into tiles, in parallel over chunks of the draw list: per chunk, the start of
+/// each tile's list (length tiles + 1) and the draws (indices into `draws`) in order.
+fn bin_draws(draws: &[Draw], sources: &Sources, tiling: &Tiling) -> Vec<(Vec<u32>, Vec<u32>)> {
+    let (tile_count, tiles_x) = (tiling.count, tiling.tiles_x);
     let chunk = (draws.len() / (4 * rayon::current_num_threads().max(1))).max(4096);
-    let bins: Vec<(Vec<u32>, Vec<u32>)> = draws
+    draws
         .par_chunks(chunk)
         .enumerate()
         .map(|(ci, ds)| {
-            let ranges: Vec<Option<(u32, u32, u32, u32)>> =
-                ds.iter().map(|&d| tile_range(&corners(d))).collect();
+            let ranges: Vec<Option<(u32, u32, u32, u32)>> = ds
+                .iter()
+                .map(|&d| tiling.tile_range(&sources.corners(d)))
+                .collect();
             let mut start = vec![0u32; tile_count + 1];
             for r in ranges.iter().flatten() {
                 for ty in r.1..=r.3 {
@@ -472,63 +666,75 @@ pub fn render(
             }
             (start, items)
         })
-        .collect();
+        .collect()
+}
 
-    // (3) Draw the tiles.
-    let side = (tile_px * n) as usize;
+/// Draws tile `t`: every draw binned to it, chunk by chunk in order, then the N×N samples of
+/// each pixel box-filtered into the pixel's colour and coverage.
+fn draw_tile(
+    tile: &mut Tile,
+    t: usize,
+    draws: &DrawList,
+    bins: &[(Vec<u32>, Vec<u32>)],
+    sources: &Sources,
+    tiling: &Tiling,
+    options: &RenderOptions,
+) -> (Vec<[f32; 3]>, Vec<f32>) {
+    let (n, tile_px) = (tiling.n, tiling.tile_px);
+    let (tx, ty) = (t as u32 % tiling.tiles_x, t as u32 / tiling.tiles_x);
+    tile.clear(
+        (tx * tile_px * n) as i64,
+        (ty * tile_px * n) as i64,
+        options.background,
+    );
+    for (start, items) in bins {
+        for &k in &items[start[t] as usize..start[t + 1] as usize] {
+            let d = draws.draws[k as usize];
+            let (rgba, flat) = sources.material(d);
+            raster_triangle(
+                tile,
+                sources.corners(d),
+                n,
+                flat,
+                rgba,
+                k as usize >= draws.first_blended,
+            );
+        }
+    }
+    box_filter(tile, tile_px as usize, n as usize)
+}
+
+/// The mean of each pixel's N×N samples: colour and coverage of the tile's `px × px` pixels.
+fn box_filter(tile: &Tile, px: usize, n: usize) -> (Vec<[f32; 3]>, Vec<f32>) {
+    let side = tile.size;
     let samples = (n * n) as f32;
-    let tiles: Vec<(Vec<[f32; 3]>, Vec<f32>)> = (0..tile_count)
-        .into_par_iter()
-        .map_init(
-            || Tile::new(side),
-            |tile, t| {
-                let (tx, ty) = (t as u32 % tiles_x, t as u32 / tiles_x);
-                tile.clear(
-                    (tx * tile_px * n) as i64,
-                    (ty * tile_px * n) as i64,
-                    options.background,
-                );
-                for (start, items) in &bins {
-                    for &k in &items[start[t] as usize..start[t + 1] as usize] {
-                        let d = draws[k as usize];
-                        let (rgba, flat) = material(d);
-                        raster_triangle(
-                            tile,
-                            corners(d),
-                            n,
-                            flat,
-                            rgba,
-                            k as usize >= first_blended,
-                        );
-                    }
-                }
-                // Box filter N×N samples into each pixel.
-                let px = tile_px as usize;
-                let mut rgb = vec![[0.0f32; 3]; px * px];
-                let mut cov = vec![0.0f32; px * px];
-                for y in 0..side {
-                    for x in 0..side {
-                        let s = y * side + x;
-                        let p = (y / n as usize) * px + x / n as usize;
-                        for (acc, v) in rgb[p].iter_mut().zip(tile.color[s]) {
-                            *acc += v;
-                        }
-                        cov[p] += tile.coverage[s];
-                    }
-                }
-                for (pixel, c) in rgb.iter_mut().zip(cov.iter_mut()) {
-                    for v in pixel.iter_mut() {
-                        *v /= samples;
-                    }
-                    *c /= samples;
-                }
-                (rgb, cov)
-            },
-        )
-        .collect();
-    let mut image = Image::new(width, height, options.background);
+    let mut rgb = vec![[0.0f32; 3]; px * px];
+    let mut cov = vec![0.0f32; px * px];
+    for y in 0..side {
+        for x in 0..side {
+            let s = y * side + x;
+            let p = (y / n) * px + x / n;
+            for (acc, v) in rgb[p].iter_mut().zip(tile.color[s]) {
+                *acc += v;
+            }
+            cov[p] += tile.coverage[s];
+        }
+    }
+    for (pixel, c) in rgb.iter_mut().zip(cov.iter_mut()) {
+        for v in pixel.iter_mut() {
+            *v /= samples;
+        }
+        *c /= samples;
+    }
+    (rgb, cov)
+}
+
+/// The image from its tiles (in tile order), cropping the tiles that overhang its edges.
+fn assemble(tiles: Vec<(Vec<[f32; 3]>, Vec<f32>)>, tiling: &Tiling, background: [f32; 3]) -> Image {
+    let (width, height, tile_px) = (tiling.width, tiling.height, tiling.tile_px);
+    let mut image = Image::new(width, height, background);
     for (t, (rgb, cov)) in tiles.into_iter().enumerate() {
-        let (tx, ty) = (t as u32 % tiles_x, t as u32 / tiles_x);
+        let (tx, ty) = (t as u32 % tiling.tiles_x, t as u32 / tiling.tiles_x);
         for y in 0..tile_px {
             let iy = ty * tile_px + y;
             if iy >= height {
@@ -545,5 +751,5 @@ pub fn render(
             }
         }
     }
-    Ok(image)
+    image
 }

@@ -2,9 +2,12 @@
 //!
 //! The project's checkout sees the shared folder at `../shared` from the workspace root (override
 //! with `VOXLOD_SHARED_DATA=/path/to/shared/data`). A user's fresh clone has no such folder:
-//! callers must then skip, saying why, through [`shared_data_or_skip`].
+//! callers must then skip, saying why, through [`shared_data_or_skip`], which counts the skip
+//! ([`crate::skips`]).
 
 use std::path::PathBuf;
+
+use crate::skips::skip_as;
 
 /// The workspace root (the folder holding the top-level `Cargo.toml`).
 pub fn workspace_root() -> PathBuf {
@@ -23,28 +26,28 @@ pub fn shared_data() -> Option<PathBuf> {
     dir.is_dir().then_some(dir)
 }
 
-/// A file of the shared data folder, or `None` after printing why the caller skips.
+/// A file of the shared data folder, or `None` after recording why the caller skips
+/// ([`crate::skips::skip`]; `test` names the caller where it is not a test, as in an example).
 pub fn shared_data_or_skip(relative: &str, test: &str) -> Option<PathBuf> {
     match shared_data() {
         Some(dir) if dir.join(relative).is_file() => Some(dir.join(relative)),
         Some(dir) => {
-            eprintln!(
-                "skipping {test}: {} is missing",
-                dir.join(relative).display()
-            );
+            skip_as(test, format!("{} is missing", dir.join(relative).display()));
             None
         }
         None => {
-            eprintln!(
-                "skipping {test}: ../shared/data is not beside the checkout (set VOXLOD_SHARED_DATA)"
-            );
+            let reason = match std::env::var_os("VOXLOD_SHARED_DATA") {
+                Some(dir) => format!("VOXLOD_SHARED_DATA={} is not a folder", dir.display()),
+                None => "no ../shared/data beside the checkout (or VOXLOD_SHARED_DATA)".into(),
+            };
+            skip_as(test, reason);
             None
         }
     }
 }
 
 /// The meshes of the shared data folder (its `.obj`, `.off` and `.stl` files, sorted), or none
-/// after printing why the caller skips.
+/// after recording why the caller skips.
 pub fn shared_meshes(test: &str) -> Vec<PathBuf> {
     let Some(any) = shared_data_or_skip("meshes/fandisk.obj", test) else {
         return Vec::new();

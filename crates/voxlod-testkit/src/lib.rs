@@ -3,6 +3,8 @@
 //!
 //! - [`data`]: where the shared real data lives (`../shared/data` or `VOXLOD_SHARED_DATA`), with
 //!   the skip-with-a-printed-reason lookup that tests must use when it is absent.
+//! - [`skips`]: every skip (no shared data, a missing tool) recorded, for the count and reasons
+//!   that `scripts/test` prints at the end.
 //! - [`shapes`]: closed meshes made in code (cubes, icospheres, tori, a holed block, prisms).
 //! - [`fields`]: the sphereflake and gyroid fields of the peers' benchmark kit.
 //! - [`volumes`]: small volumes made in code.
@@ -18,4 +20,5 @@ pub mod fields;
 pub mod files;
 pub mod readers;
 pub mod shapes;
+pub mod skips;
 pub mod volumes;

@@ -65,8 +65,11 @@ impl ImageOptions {
 pub struct ImageDifference {
     /// Pixels covered in exactly one image over pixels covered in either, over all views.
     pub fraction: f64,
+    /// Pixels covered in exactly one of the two images, over all views.
     pub differing_pixels: u64,
+    /// Pixels covered in either image, over all views.
     pub covered_pixels: u64,
+    /// Views rendered.
     pub views: usize,
 }
 

@@ -22,13 +22,15 @@ use plotters::style::FontStyle;
 
 use super::{Evaluation, Method};
 
-/// Size of one panel in pixels: the chart is as many panels wide as it has.
+/// Width of one panel in pixels: the chart is as many panels wide as it has.
 pub const PANEL_WIDTH: u32 = 700;
+/// Height of the chart in pixels.
 pub const HEIGHT: u32 = 600;
 
 /// A drawn chart.
 #[derive(Clone, Debug)]
 pub struct Chart {
+    /// The chart, PNG-encoded.
     pub png: Vec<u8>,
     /// Whether text (titles, axes, legend) is drawn; false when no font was found.
     pub labelled: bool,
@@ -39,24 +41,38 @@ pub struct Chart {
 /// Why a chart could not be drawn.
 #[derive(Debug, thiserror::Error)]
 pub enum PlotError {
+    /// plotters failed to draw.
     #[error("cannot draw the chart: {0}")]
     Draw(String),
+    /// The image could not be encoded.
     #[error("cannot encode the chart as PNG: {0}")]
     Encode(String),
+    /// There is nothing to draw.
     #[error("no method has a measured level to plot")]
     Empty,
 }
 
-/// The colour of a method's curve, as `#rrggbb` for the report's legend.
+/// The colours of the curves, by the method's place in [`Method::ALL`] (the first ten of
+/// matplotlib's "tab10" palette, reordered so the voxel pipeline is red).
+const PALETTE: [(u8, u8, u8); 10] = [
+    (214, 39, 40),
+    (255, 127, 14),
+    (31, 119, 180),
+    (44, 160, 44),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (188, 189, 34),
+    (23, 190, 207),
+    (127, 127, 127),
+];
+
+/// The colour of a method's curve, as `#rrggbb` for the report's legend: by its place in
+/// [`Method::ALL`], grey for a method of the caller's own.
 pub fn method_colour(method: Method) -> (u8, u8, u8) {
-    match method {
-        Method::VoxelHypercone => (214, 39, 40),
-        Method::VoxelGaussian => (255, 127, 14),
-        Method::RossignacBorrel => (31, 119, 180),
-        Method::LowTan => (44, 160, 44),
-        Method::Envelope => (148, 103, 189),
-        Method::VoxelEnvelope => (140, 86, 75),
-    }
+    method
+        .index()
+        .map_or(PALETTE[9], |i| PALETTE[i % (PALETTE.len() - 1)])
 }
 
 /// Font files tried, in order, after `$VOXLOD_FONT`.

@@ -1,0 +1,299 @@
+//! The budget search: for each triangle budget, the parameter of a method whose level comes
+//! nearest it.
+//!
+//! Triangle counts grow about as a power of the parameter ([`SearchSpace::exponent`]), so the
+//! search works in log–log space: with nothing known it tries [`SearchSpace::first`]; with trials
+//! on one side of the budget only it extrapolates along the power law; with trials on both sides
+//! it interpolates between the nearest below and above. A guess already tried moves one step of
+//! the parameter's grid towards the budget, never across a tried step on the far side. The search
+//! of a budget ends when a trial lands within [`EvaluateOptions::tolerance`] of it, when no
+//! untried step can do better, or after [`EvaluateOptions::max_trials`] runs. Every trial of a
+//! method is kept, so each budget's search starts from what the earlier ones learnt: typically
+//! one to three runs per budget.
+//!
+//! The trial kept for a budget is the one nearest it in ratio; it is measured
+//! ([`super::measure`]) unless it misses the budget by more than
+//! [`EvaluateOptions::max_miss_factor`], is the level already kept for another budget, or has
+//! no area. Cost: that of the runs and measurements; the search's own bookkeeping is
+//! negligible.
+
+use std::time::Instant;
+
+use voxlod::core::PolyMesh;
+use voxlod::metrics::MetricsError;
+
+use super::measure::Measurer;
+use super::{parameter_text, Curve, CurvePoint, EvaluateError, EvaluateOptions};
+use crate::methods::{Method, MethodInput, SearchSpace};
+
+/// One run of a method.
+pub(super) struct Trial {
+    /// The parameter's step on its grid, and its value.
+    pub step: i64,
+    pub parameter: f64,
+    /// Triangles, and for clustering the dangling edges and isolated points.
+    pub level: PolyMesh,
+    /// Time of the run.
+    pub seconds: f64,
+}
+
+impl Trial {
+    pub fn triangles(&self) -> usize {
+        self.level.mesh.triangles.len()
+    }
+}
+
+/// Runs `method` at `step`'s value.
+fn run_trial(
+    method: Method,
+    input: &MethodInput,
+    step: i64,
+    parameter: f64,
+) -> Result<Trial, EvaluateError> {
+    let start = Instant::now();
+    let level = method
+        .simplifier()
+        .run(input, parameter)
+        .map_err(|source| EvaluateError::Run {
+            method,
+            parameter: method.parameter_name(),
+            value: parameter,
+            source,
+        })?;
+    Ok(Trial {
+        step,
+        parameter,
+        level,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// The trials of one method so far.
+struct Trials {
+    list: Vec<Trial>,
+}
+
+impl Trials {
+    fn get(&self, step: i64) -> Option<&Trial> {
+        self.list.iter().find(|t| t.step == step)
+    }
+
+    /// The parameter step to try next for `budget`, or `None` when no untried step can do
+    /// better than the trials so far.
+    fn next_guess(&self, budget: usize, space: &SearchSpace) -> Option<i64> {
+        let count = |t: &Trial| t.triangles();
+        // The nearest trials with fewer triangles than the budget and with at least as many.
+        let below = self
+            .list
+            .iter()
+            .filter(|t| count(t) < budget)
+            .max_by_key(|t| (count(t), std::cmp::Reverse(t.step)));
+        let above = self
+            .list
+            .iter()
+            .filter(|t| count(t) >= budget)
+            .min_by_key(|t| (count(t), t.step));
+        let mut guess = space.step_of(guess_value(below, above, budget, space));
+        if let Some(tried) = self.get(guess) {
+            // Move one step from the tried parameter towards the budget.
+            let towards_more = count(tried) < budget;
+            guess += if towards_more == (space.exponent > 0.0) {
+                1
+            } else {
+                -1
+            };
+            // Never cross a tried parameter on the far side of the budget.
+            let crosses = match (below, above) {
+                (Some(b), Some(a)) => guess <= b.step.min(a.step) || guess >= b.step.max(a.step),
+                _ => false,
+            };
+            if !space.contains(guess) || self.get(guess).is_some() || crosses {
+                return None;
+            }
+        }
+        Some(guess)
+    }
+
+    /// The trial nearest `budget` in ratio (ties: fewer triangles), among those with triangles.
+    fn nearest(&self, budget: usize) -> Option<&Trial> {
+        let miss = |t: &Trial| ((t.triangles() as f64) / budget as f64).ln().abs();
+        self.list
+            .iter()
+            .filter(|t| t.triangles() > 0)
+            .min_by(|a, b| {
+                miss(a)
+                    .total_cmp(&miss(b))
+                    .then(a.triangles().cmp(&b.triangles()))
+            })
+    }
+}
+
+/// The parameter value aimed at for `budget`, from the nearest trials below and above it: the
+/// first value, a power-law extrapolation from one side, or a log–log interpolation between
+/// both.
+fn guess_value(
+    below: Option<&Trial>,
+    above: Option<&Trial>,
+    budget: usize,
+    space: &SearchSpace,
+) -> f64 {
+    let target = (budget as f64).ln();
+    let count = |t: &Trial| t.triangles();
+    match (below, above) {
+        (None, None) => space.first,
+        (Some(b), Some(a)) if count(b) > 0 => {
+            let (xb, xa) = (b.parameter.ln(), a.parameter.ln());
+            let (tb, ta) = ((count(b) as f64).ln(), (count(a) as f64).ln());
+            if ta > tb {
+                (xb + (target - tb) * (xa - xb) / (ta - tb)).exp()
+            } else {
+                (b.parameter * a.parameter).sqrt()
+            }
+        }
+        (Some(b), Some(a)) => (b.parameter + a.parameter) / 2.0,
+        (Some(near), None) | (None, Some(near)) => {
+            if count(near) == 0 {
+                near.parameter * 2f64.powf(space.exponent.signum())
+            } else {
+                let ratio = budget as f64 / count(near) as f64;
+                near.parameter * ratio.powf(1.0 / space.exponent)
+            }
+        }
+    }
+}
+
+fn within(triangles: usize, budget: usize, tolerance: f64) -> bool {
+    (triangles as f64 / budget as f64 - 1.0).abs() <= tolerance
+}
+
+/// Searches each of `budgets` in turn, then measures the level kept for it: the curve of
+/// `method`. `on_point` hears of each measured level.
+pub(super) fn method_curve(
+    method: Method,
+    input: &MethodInput,
+    measurer: &Measurer,
+    budgets: &[usize],
+    options: &EvaluateOptions,
+    on_point: &mut impl FnMut(Method, &CurvePoint),
+) -> Result<Curve, EvaluateError> {
+    let start = Instant::now();
+    let space = method.simplifier().search_space(options);
+    let mut trials = Trials { list: Vec::new() };
+    let mut points: Vec<CurvePoint> = Vec::new();
+    let mut misses = Vec::new();
+    for &budget in budgets {
+        search_budget(method, input, &space, &mut trials, budget, options)?;
+        let best = match kept_trial(method, &trials, &points, budget, options) {
+            Ok(best) => best,
+            Err(miss) => {
+                misses.push(miss);
+                continue;
+            }
+        };
+        match measurer.measure(method, best, budget) {
+            Ok(point) => {
+                on_point(method, &point);
+                points.push(point);
+            }
+            Err(e) => misses.push(unmeasurable(e, method, best, budget)?),
+        }
+    }
+    Ok(Curve {
+        method,
+        parameter: method.parameter_name(),
+        points,
+        misses,
+        trials: trials.list.len(),
+        seconds: start.elapsed().as_secs_f64(),
+        notes: Vec::new(),
+    })
+}
+
+/// Runs `method` until a trial lands within the tolerance of `budget`, no untried step can do
+/// better, or the budget's runs are spent.
+fn search_budget(
+    method: Method,
+    input: &MethodInput,
+    space: &SearchSpace,
+    trials: &mut Trials,
+    budget: usize,
+    options: &EvaluateOptions,
+) -> Result<(), EvaluateError> {
+    for _ in 0..options.max_trials.max(1) {
+        if trials
+            .nearest(budget)
+            .is_some_and(|t| within(t.triangles(), budget, options.tolerance))
+        {
+            break;
+        }
+        let Some(step) = trials.next_guess(budget, space) else {
+            break;
+        };
+        trials
+            .list
+            .push(run_trial(method, input, step, space.value_of(step))?);
+    }
+    Ok(())
+}
+
+/// The trial to measure for `budget`, or why none is kept (the report's miss).
+fn kept_trial<'t>(
+    method: Method,
+    trials: &'t Trials,
+    points: &[CurvePoint],
+    budget: usize,
+    options: &EvaluateOptions,
+) -> Result<&'t Trial, String> {
+    let Some(best) = trials.nearest(budget) else {
+        return Err(format!(
+            "budget {budget}: no {} gave any triangles",
+            method.parameter_name()
+        ));
+    };
+    let ratio = best.triangles() as f64 / budget as f64;
+    if ratio.ln().abs() > options.max_miss_factor.ln() {
+        return Err(format!(
+            "budget {budget}: out of reach; the nearest level has {} triangles ({} {})",
+            best.triangles(),
+            method.parameter_name(),
+            parameter_text(best.parameter)
+        ));
+    }
+    if let Some(same) = points.iter().find(|p| p.parameter == best.parameter) {
+        return Err(format!(
+            "budget {budget}: the nearest level ({} {}, {} triangles) is the one kept for \
+             budget {}",
+            method.parameter_name(),
+            parameter_text(best.parameter),
+            best.triangles(),
+            same.budget
+        ));
+    }
+    Ok(best)
+}
+
+/// The miss for a level that could not be measured because its triangles all collapsed to zero
+/// area (nothing to sample); any other failure is passed on.
+fn unmeasurable(
+    error: EvaluateError,
+    method: Method,
+    best: &Trial,
+    budget: usize,
+) -> Result<String, EvaluateError> {
+    match error {
+        EvaluateError::Distance {
+            source:
+                MetricsError::InMesh {
+                    which: "second",
+                    source,
+                },
+            ..
+        } if matches!(*source, MetricsError::NoArea { .. }) => Ok(format!(
+            "budget {budget}: the nearest level ({} {}) has {} triangles but no area",
+            method.parameter_name(),
+            parameter_text(best.parameter),
+            best.triangles()
+        )),
+        e => Err(e),
+    }
+}

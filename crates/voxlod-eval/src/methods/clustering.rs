@@ -1,0 +1,25 @@
+//! What the two clustering methods share (not a method itself): the search space of their
+//! cells, and the one level of a single-level run.
+
+use voxlod::clustering::Level;
+use voxlod::core::PolyMesh;
+
+use super::{ParameterGrid, SearchSpace};
+use crate::evaluate::EvaluateOptions;
+
+/// Cells across the longest side from 1 to [`EvaluateOptions::max_cells`], starting at 64;
+/// triangle counts grow about as the square of the cells.
+pub(super) fn cells_space(options: &EvaluateOptions) -> SearchSpace {
+    SearchSpace {
+        lowest: 1.0,
+        highest: options.max_cells as f64,
+        first: 64.0,
+        exponent: 2.0,
+        grid: ParameterGrid::Integers,
+    }
+}
+
+/// The one level a single-level clustering run made.
+pub(super) fn first_level(levels: Vec<Level>) -> PolyMesh {
+    levels.into_iter().next().expect("one level asked for").mesh
+}
