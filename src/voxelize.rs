@@ -114,10 +114,11 @@ pub fn voxelize(source: &Source, options: &VoxelizeOptions) -> Result<Voxelized,
     let level_plan = plan(&lod_source, &level_options)?[0];
     let start = Instant::now();
     let sampled = sample_level(&lod_source, &level_plan, &level_options)?;
+    let volume = sampled.volume.into_dense()?;
     let seconds = start.elapsed().as_secs_f64();
     let mut warnings = prepared.warnings().to_vec();
     let solid = prepared.solid().is_some();
-    if solid && sampled.volume.range().is_none_or(|(_, hi)| hi < 0.5) {
+    if solid && volume.range().is_none_or(|(_, hi)| hi < 0.5) {
         warnings.push(format!(
             "the filter of radius {:.4} removed the whole object: no sample reaches the density \
              0.5 of its surface (the object is thinner than the filter; use a higher \
@@ -126,7 +127,7 @@ pub fn voxelize(source: &Source, options: &VoxelizeOptions) -> Result<Voxelized,
         ));
     }
     Ok(Voxelized {
-        volume: sampled.volume,
+        volume,
         plan: level_plan,
         density: sampled.density,
         warnings,

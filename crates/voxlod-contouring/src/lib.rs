@@ -14,6 +14,8 @@
 //!   the paper).
 //! - [`triangle_estimate`]: marching cubes' triangle count of a mesh's surface at a resolution,
 //!   before sampling (beyond the paper), and the resolution for a triangle budget.
+//! - [`sparse_marching_cubes()`]: the same triangles from a [`voxlod_core::BrickVolume`],
+//!   visiting only the bricks the surface touches (module [`mod@sparse_marching_cubes`]).
 //!
 //! Cost: one read of the volume, then O(N³/64) word operations and work proportional to the
 //! surface.
@@ -40,8 +42,10 @@
 
 pub mod block_marching_cubes;
 pub mod clean_mesh;
+mod edge_vertex;
 mod local_crossings;
 pub mod marching_cubes;
+pub mod sparse_marching_cubes;
 pub mod tables;
 pub mod triangle_estimate;
 
@@ -53,3 +57,4 @@ pub use marching_cubes::{
     marching_cubes, marching_cubes_multi, marching_cubes_with_cells, CellMesh, ContourError,
     ContourOptions,
 };
+pub use sparse_marching_cubes::sparse_marching_cubes;

@@ -4,6 +4,8 @@
 //!   richer output of clustering and layering (dangling edges, isolated points, attributes).
 //! - [`Grid`] and [`Volume`]: a regular lattice of samples with spacing and origin in world units
 //!   (millimetres for a CT), and a scalar field on it.
+//! - [`BrickVolume`]: the same samples stored sparsely, dense leaf bricks near the surface and
+//!   one value per brick elsewhere.
 //! - [`topology`]: edge-based manifold checks, Euler characteristic and genus.
 //! - [`weld`]: merging coincident vertices, as STL triangle soups need.
 //! - [`memory`]: refusing allocations that cannot fit, with the size they would need.
@@ -38,6 +40,7 @@
 #![warn(missing_docs)]
 
 pub mod bounds;
+pub mod bricks;
 pub mod disjoint;
 pub mod error;
 pub mod grid;
@@ -52,6 +55,7 @@ pub mod volume;
 pub mod weld;
 
 pub use bounds::Bounds;
+pub use bricks::{Brick, BrickVolume};
 pub use error::CoreError;
 pub use grid::{Axis, Grid};
 pub use mesh::{Attribute, PolyMesh, TriangleMesh};

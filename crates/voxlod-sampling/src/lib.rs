@@ -10,6 +10,8 @@
 //!   with their analytic half-space profiles (equation 5).
 //! - Equation 1: [`filtered_density`] integrates the filter along lattice lines exactly
 //!   ([`line_kernel`]) and blends the three axis families ([`density`]).
+//! - [`narrow_band_density`]: the same density computed only in the bricks the surface reaches,
+//!   as a [`voxlod_core::BrickVolume`]; memory grows with the surface.
 //! - The [`pyramid`]: every level filtered from the original object with its own radius.
 //! - Topology that only simplifies along the pyramid (beyond the paper): [`monotone_level`]
 //!   keeps each level's genus at most its finer neighbour's, using the exact
@@ -76,6 +78,7 @@ pub mod line_kernel;
 pub mod majority;
 pub mod mesh_solid;
 pub mod monotone_topology;
+pub mod narrow_band;
 pub mod pyramid;
 pub mod solid;
 pub mod sphereflake;
@@ -94,7 +97,8 @@ pub use monotone_topology::{
     monotone_level, LevelShape, MonotoneChain, MonotoneError, MonotoneLevel, MonotoneOptions,
     TopologyRecord,
 };
-pub use pyramid::{level_grid, plan_levels, LevelPlan, PyramidOptions};
+pub use narrow_band::{narrow_band_density, BandReport, NarrowBandOptions};
+pub use pyramid::{level_grid, plan_levels, plan_levels_with, LevelPlan, PyramidOptions};
 pub use solid::Solid;
 pub use sphereflake::{sphereflake, sphereflake_spheres};
 pub use threshold::ThresholdSolid;
