@@ -1,3 +1,7 @@
+//! [`Volume`]: a scalar field on a [`Grid`], the input (a scan) and output (a filtered density,
+//! paper §2 equation 1) of sampling, and the input of marching cubes. Memory: 4 bytes per
+//! sample, checked against the budget before allocating; trilinear lookups cost O(1).
+
 use ndarray::Array3;
 
 use crate::{memory, CoreError, Grid};
@@ -6,7 +10,9 @@ use crate::{memory, CoreError, Grid};
 /// `(nz, ny, nx)` so that x varies fastest in memory, as in NRRD, VTK and raw CT files.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Volume {
+    /// Where the samples sit.
     pub grid: Grid,
+    /// The samples, indexed `[k, j, i]` (z, y, x).
     pub values: Array3<f32>,
 }
 
@@ -46,12 +52,14 @@ impl Volume {
             .expect("volumes are always stored in standard layout")
     }
 
+    /// The samples as one mutable slice, x fastest.
     pub fn as_slice_mut(&mut self) -> &mut [f32] {
         self.values
             .as_slice_mut()
             .expect("volumes are always stored in standard layout")
     }
 
+    /// The sample at (i, j, k); panics outside the grid.
     #[inline]
     pub fn get(&self, i: usize, j: usize, k: usize) -> f32 {
         self.values[[k, j, i]]

@@ -54,8 +54,11 @@ pub struct MeshSolid {
 /// What [`MeshSolid::new`] did to the input.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct MeshPreparation {
+    /// Vertices merged into another with the same coordinates.
     pub welded_vertices: usize,
+    /// Triangles dropped for a repeated vertex or zero area.
     pub degenerate_triangles: usize,
+    /// Triangles dropped as copies of another.
     pub duplicate_triangles: usize,
     /// Boundary loops closed by a fan before sampling ([`repair::close_boundary_loops`]).
     pub holes_closed: usize,
@@ -96,8 +99,7 @@ impl MeshSolid {
         mesh: &TriangleMesh,
         options: MeshSolidOptions,
     ) -> Result<MeshSolid, SamplingError> {
-        mesh.validate()
-            .map_err(|e| SamplingError::InvalidMesh(e.to_string()))?;
+        voxlod_core::validate::validate_mesh(mesh, &Default::default())?;
         let mut clean = TriangleMesh::new(mesh.positions.clone(), mesh.triangles.clone());
         let welded = weld::weld_vertices(&mut clean);
         let removed = repair::remove_degenerate_and_duplicate_triangles(&mut clean);
@@ -142,6 +144,7 @@ impl MeshSolid {
         })
     }
 
+    /// Triangles sampled: the prepared mesh's, hole fans included.
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
     }
