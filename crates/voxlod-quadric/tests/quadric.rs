@@ -44,7 +44,8 @@ fn trefoil(n: u32, m: u32, tube: f64) -> TriangleMesh {
             -(3.0 * t).sin(),
         )
     };
-    let mut positions = Vec::new();
+    // The torus's grid of n × m quads, its vertices moved onto the knotted tube.
+    let mut mesh = torus(n, m, 1.0, 0.5);
     for i in 0..n {
         let t = tau * i as f64 / n as f64;
         let p = curve(t);
@@ -53,18 +54,10 @@ fn trefoil(n: u32, m: u32, tube: f64) -> TriangleMesh {
         let up = side.cross(tangent);
         for j in 0..m {
             let v = tau * j as f64 / m as f64;
-            positions.push((p + tube * (v.cos() * side + v.sin() * up)).as_vec3());
+            let q = p + tube * (v.cos() * side + v.sin() * up);
+            mesh.positions[(i * m + j) as usize] = q.as_vec3();
         }
     }
-    let id = |i: u32, j: u32| (i % n) * m + (j % m);
-    let mut triangles = Vec::new();
-    for i in 0..n {
-        for j in 0..m {
-            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    let mut mesh = TriangleMesh::new(positions, triangles);
     if mesh.signed_volume() < 0.0 {
         mesh.flip_orientation();
     }
