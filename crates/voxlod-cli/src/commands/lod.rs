@@ -32,6 +32,14 @@ use super::values::number;
 ///   voxlod lod part.stl -o out --resolutions 200,100,50,30,15,5 --filter gaussian
 ///   voxlod lod head.raw --dims 256,256,113 --dtype u16 --endian big --spacing 1,1,2 \
 ///       --threshold 1500 -o head-bone
+///
+/// By triangle budget or error (paper §5: the voxel method first, then a geometric simplifier):
+/// each budget gets the resolution that filters away what it cannot afford (handles, thin
+/// parts, small pieces), then quadric collapse or simplification envelopes spend the triangles
+/// where the shape needs them; an open scan keeps its holes (--closed fills them):
+///   voxlod lod bunny.obj -o chain --triangles 20000,5000,1000,250
+///   voxlod lod part.stl -o fine --error 0.5%        # one level within 0.5 % of the diagonal
+///   voxlod lod scan.ply -o out --triangles 2000 --then quadric --closed --json
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct LodArgs {
@@ -82,6 +90,38 @@ pub struct LodArgs {
     #[arg(long, value_name = "E", value_parser = parse_level_epsilon,
         allow_hyphen_values = true)]
     pub then_envelope: Option<LevelEpsilon>,
+    /// Levels by triangle budget, one per count (e.g. 20000,5000,1000,250): each within 10 %
+    /// or the report says why; the resolutions are chosen per budget
+    #[arg(long, value_name = "N,N,...", value_delimiter = ',', help_heading = "Budgets",
+        value_parser = number::<usize>, allow_hyphen_values = true)]
+    pub triangles: Option<Vec<usize>>,
+    /// An error target, a distance or a percentage of the diagonal (0.5%): alone, one level
+    /// within it; with --triangles, the bound of each level's geometric stage
+    #[arg(
+        long,
+        value_name = "E",
+        help_heading = "Budgets",
+        allow_hyphen_values = true
+    )]
+    pub error: Option<voxlod::budget::ErrorTarget>,
+    /// The geometric stage after the voxel stage: auto (whichever is measured closer to the
+    /// input), quadric (meshoptimizer, topology kept), envelope (simplification envelopes,
+    /// ε-bounded) or none (the marching-cubes level nearest the budget)
+    #[arg(
+        long,
+        value_name = "STAGE",
+        default_value = "auto",
+        help_heading = "Budgets"
+    )]
+    pub then: voxlod::budget::Then,
+    /// Keep the caps that sampling puts over an open input's holes (watertight levels); by
+    /// default they are cut away and the holes stay open
+    #[arg(long, help_heading = "Budgets")]
+    pub closed: bool,
+    /// Seconds each budget may spend trying neighbouring resolutions for a smaller distance
+    #[arg(long, value_name = "SECONDS", default_value_t = 1.0, help_heading = "Budgets",
+        value_parser = number::<f64>, allow_hyphen_values = true)]
+    pub time_cap: f64,
     #[command(flatten)]
     pub route: VolumeRoute,
 }
@@ -167,6 +207,7 @@ fn lod_options(args: &LodArgs) -> Result<LodOptions, CliError> {
         iso: args.iso,
         normals: true,
         then_envelope: args.then_envelope.map(voxlod::ThenEnvelope::new),
+        ..LodOptions::default()
     })
 }
 
@@ -206,6 +247,9 @@ fn source<'a>(loaded: &'a Loaded, route: &VolumeRoute) -> voxlod::Source<'a> {
 }
 
 pub fn run(args: LodArgs) -> Result<(), CliError> {
+    if args.triangles.is_some() || args.error.is_some() {
+        return super::lod_budget::run(&args);
+    }
     args.glb.check(args.format)?;
     let options = lod_options(&args)?;
     let loaded = load(&args)?;
@@ -266,7 +310,7 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
 }
 
 /// `level-N.EXT`.
-fn level_name(args: &LodArgs, level: usize) -> String {
+pub(super) fn level_name(args: &LodArgs, level: usize) -> String {
     format!("level-{level}.{}", args.format.level_extension().as_str())
 }
 

@@ -14,6 +14,7 @@ pub mod evaluate;
 pub mod inspect;
 pub mod layers;
 pub mod lod;
+pub mod lod_budget;
 pub mod lod_glb;
 pub mod render;
 pub mod select;
