@@ -136,8 +136,9 @@ fn voxelize_then_contour_gives_the_lod_level() {
         "--json",
     ]);
     let l = json(&o);
-    // `contour` gives marching cubes as is; `lod` then collapses its slivers and needles
-    // (clean_mesh), which only removes triangles and keeps the surface closed.
+    // `contour` gives marching cubes as is; `lod` gives the same unless its levels are cleaned
+    // (clean_mesh collapses slivers and needles: it only removes triangles, keeping the
+    // surface closed).
     let (raw, cleaned) = (
         c["triangles"].as_u64().unwrap(),
         l["levels"][0]["triangles"].as_u64().unwrap(),
