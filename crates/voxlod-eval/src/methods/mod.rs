@@ -5,8 +5,8 @@
 //!
 //! | method | file | parameter |
 //! |---|---|---|
-//! | voxel pipeline, hyper-cone filter (He et al. 1995, §2, equation 3) | `voxel_hypercone.rs` | resolution |
-//! | voxel pipeline, truncated Gaussian (§2) | `voxel_gaussian.rs` | resolution |
+//! | voxel pipeline, hyper-cone filter (He et al. 1995, §2, equation 3) | `voxel_filter.rs` | resolution |
+//! | voxel pipeline, truncated Gaussian (§2) | `voxel_filter.rs` | resolution |
 //! | vertex clustering (Rossignac and Borrel 1993) | `rossignac_borrel.rs` | cells |
 //! | floating-cell clustering (Low and Tan 1997) | `low_tan.rs` | cells |
 //! | simplification envelopes (Varshney et al.) | `envelope.rs` | ε in % of the diagonal |
@@ -35,8 +35,7 @@ mod meshopt_sloppy;
 mod rossignac_borrel;
 mod voxel;
 mod voxel_envelope;
-mod voxel_gaussian;
-mod voxel_hypercone;
+mod voxel_filter;
 
 pub use budget_pipeline::BudgetPipeline;
 pub use envelope::Envelope;
@@ -46,8 +45,7 @@ pub use meshopt_simplify::MeshoptSimplify;
 pub use meshopt_sloppy::MeshoptSloppy;
 pub use rossignac_borrel::RossignacBorrel;
 pub use voxel_envelope::VoxelEnvelope;
-pub use voxel_gaussian::VoxelGaussian;
-pub use voxel_hypercone::VoxelHypercone;
+pub use voxel_filter::{VoxelFilter, VOXEL_GAUSSIAN, VOXEL_HYPERCONE};
 
 use serde::Serialize;
 use voxlod::clustering::ClusteringError;
@@ -230,8 +228,8 @@ impl Method {
     /// Every method of the project, in the order reports list them (and that gives each its
     /// colour in charts).
     pub const ALL: &'static [Method] = &[
-        Method(&VoxelHypercone),
-        Method(&VoxelGaussian),
+        Method(&VOXEL_HYPERCONE),
+        Method(&VOXEL_GAUSSIAN),
         Method(&RossignacBorrel),
         Method(&LowTan),
         Method(&Envelope),
