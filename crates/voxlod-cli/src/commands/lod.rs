@@ -104,9 +104,11 @@ pub struct LodArgs {
         allow_hyphen_values = true
     )]
     pub error: Option<voxlod::budget::ErrorTarget>,
-    /// The geometric stage after the voxel stage: auto (whichever is measured closer to the
-    /// input), quadric (meshoptimizer, topology kept), envelope (simplification envelopes,
-    /// ε-bounded) or none (the marching-cubes level nearest the budget)
+    /// The geometric stage after the voxel stage: auto (quadric, and envelopes where it stalls
+    /// above the budget, whichever is measured closer to the input), quadric (meshoptimizer,
+    /// topology kept), envelope (simplification envelopes, ε-bounded) or none (the
+    /// marching-cubes level nearest the budget). With auto or quadric, a budget that affords the
+    /// input mesh's genus and components collapses the input itself (stage input-quadric)
     #[arg(
         long,
         value_name = "STAGE",
