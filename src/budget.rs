@@ -917,6 +917,7 @@ pub(crate) fn lod_by_budget(
         iso,
         warnings,
         budgets: reports,
+        finest: None,
         seconds: start.elapsed().as_secs_f64(),
     })
 }

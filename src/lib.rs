@@ -58,6 +58,7 @@ mod contour;
 mod envelope_series;
 mod error;
 mod files;
+pub mod finest;
 mod inspect;
 mod levels;
 pub mod lod;
@@ -74,6 +75,7 @@ pub use contour::{contour, Contour, ContourOptions};
 pub use envelope_series::{envelope, envelope_with, EnvelopeSeries, EnvelopeSeriesOptions};
 pub use error::{Error, ErrorClass, InvalidOption};
 pub use files::{read_mesh, read_volume, write_mesh, write_volume};
+pub use finest::Finest;
 pub use inspect::{
     inspect, inspect_scene, InspectOptions, Inspection, PartInspection, SceneInspection,
 };
