@@ -18,6 +18,7 @@
 //! | baselines | [`clustering`], [`envelope`] | vertex clustering; simplification envelopes |
 //! | measurement | [`metrics`] | distances and mesh health |
 
+pub mod labels;
 pub mod lod;
 pub mod select;
 

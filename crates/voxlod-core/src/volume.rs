@@ -1,13 +1,16 @@
 use ndarray::Array3;
 
-use crate::{memory, CoreError, Grid};
+use crate::{memory, CoreError, Grid, Orientation, WorldTransform};
 
 /// A scalar field sampled on a [`Grid`]: one `f32` per sample, stored in an ndarray of shape
 /// `(nz, ny, nx)` so that x varies fastest in memory, as in NRRD, VTK and raw CT files.
+/// `orientation` turns the axis-aligned grid into the patient's world (`world.rs`); the
+/// default, identity in an unknown frame, is what formats without orientation give.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Volume {
     pub grid: Grid,
     pub values: Array3<f32>,
+    pub orientation: Orientation,
 }
 
 impl Volume {
@@ -36,7 +39,24 @@ impl Volume {
         }
         let values = Array3::from_shape_vec((nz, ny, nx), values)
             .map_err(|e| CoreError::InvalidGrid(e.to_string()))?;
-        Ok(Volume { grid, values })
+        Ok(Volume {
+            grid,
+            values,
+            orientation: Orientation::default(),
+        })
+    }
+
+    /// The volume placed by `orientation` (direction and frame).
+    pub fn oriented(self, orientation: Orientation) -> Volume {
+        Volume {
+            orientation,
+            ..self
+        }
+    }
+
+    /// The full index-to-world transform.
+    pub fn world(&self) -> WorldTransform {
+        WorldTransform::of(&self.grid, &self.orientation)
     }
 
     /// The samples as one slice, x fastest.

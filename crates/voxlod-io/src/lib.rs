@@ -13,6 +13,7 @@
 //! | `.vti`, `.vtk` | volume | VTK image data (XML in every encoding VTK writes, legacy) | same | `vtk_image.rs`, `vtk_xml.rs` |
 //! | `.nii`, `.nii.gz` | volume | NIfTI-1 | — | `nifti.rs` |
 //! | `.mha`, `.mhd` | volume | MetaImage, zlib or not, local or detached data | same | `metaimage.rs` |
+//! | `.dcm`, a folder | volume | DICOM series (one SeriesInstanceUID), in LPS | — | `dicom.rs`, `dicom_geometry.rs` |
 //! | `.raw` (or any other, given a [`RawLayout`]) | volume | headerless samples | `f32` little-endian | `raw.rs` |
 //!
 //! A `.vtk` file may hold either kind: [`file_kind`] looks inside to tell.
@@ -33,9 +34,12 @@
 pub mod atomic;
 mod budget;
 mod detached;
+mod dicom;
+mod dicom_geometry;
 pub mod ear_clipping;
 mod error;
 mod guard;
+mod label_table;
 mod metaimage;
 mod nifti;
 mod nrrd;
@@ -58,7 +62,9 @@ use std::path::Path;
 
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh, Volume};
 
+pub use dicom::{list_dicom_series, read_dicom_series, DicomOptions, SeriesSummary};
 pub use error::{IoError, IoErrorKind};
+pub use label_table::{read_label_table, LabelName};
 pub use outputs::{check_image_path, OutputSet, IMAGE_EXTENSIONS};
 pub use raw::{Endian, ParseNameError, RawLayout, RawType};
 pub use voxlod_core::weld::WeldReport;
@@ -101,6 +107,8 @@ pub enum VolumeFormat {
     Mhd,
     /// Headerless samples.
     Raw,
+    /// A DICOM series: a folder of slices, or one `.dcm` file (read-only).
+    Dicom,
 }
 
 /// What a file holds, as [`file_kind`] tells.
@@ -134,12 +142,14 @@ impl fmt::Display for VolumeFormat {
             VolumeFormat::Mha => "MetaImage",
             VolumeFormat::Mhd => "MetaImage (detached header)",
             VolumeFormat::Raw => "headerless raw",
+            VolumeFormat::Dicom => "DICOM series",
         })
     }
 }
 
 const MESH_EXTENSIONS: &str = ".obj, .ply, .stl, .off, .vtp, .vtk";
-const VOLUME_EXTENSIONS: &str = ".nrrd, .nhdr, .vti, .vtk, .nii, .nii.gz, .mha, .mhd, .raw";
+const VOLUME_EXTENSIONS: &str =
+    ".nrrd, .nhdr, .vti, .vtk, .nii, .nii.gz, .mha, .mhd, .raw, .dcm or a DICOM folder";
 
 /// The lower-case file name, for extension tests.
 fn lower_name(path: &Path) -> String {
@@ -186,6 +196,9 @@ pub fn volume_format_of(path: &Path) -> Result<VolumeFormat, IoError> {
     if lower_name(path).ends_with(".nii.gz") {
         return Ok(VolumeFormat::Nifti);
     }
+    if path.is_dir() {
+        return Ok(VolumeFormat::Dicom);
+    }
     Ok(match extension(path).as_str() {
         "nrrd" => VolumeFormat::Nrrd,
         "nhdr" => VolumeFormat::Nhdr,
@@ -195,6 +208,8 @@ pub fn volume_format_of(path: &Path) -> Result<VolumeFormat, IoError> {
         "mha" => VolumeFormat::Mha,
         "mhd" => VolumeFormat::Mhd,
         "raw" => VolumeFormat::Raw,
+        "dcm" | "dicom" => VolumeFormat::Dicom,
+        _ if dicom::looks_like_dicom(path) => VolumeFormat::Dicom,
         other => {
             return Err(IoError::unsupported(
                 path,
@@ -483,8 +498,11 @@ pub fn read_volume(path: &Path, raw: Option<&RawLayout>) -> Result<Volume, IoErr
         Err(_) if raw.is_some() => VolumeFormat::Raw,
         Err(e) => return Err(e),
     };
-    check_readable(path)?;
+    if format != VolumeFormat::Dicom {
+        check_readable(path)?;
+    }
     match format {
+        VolumeFormat::Dicom => read_dicom_series(&[path.to_path_buf()], &DicomOptions::default()),
         VolumeFormat::Nrrd | VolumeFormat::Nhdr => nrrd::read(path),
         VolumeFormat::Vti => vtk_image::read(path, Flavor::Xml),
         VolumeFormat::Vtk => vtk_image::read(path, Flavor::Legacy),
@@ -527,10 +545,10 @@ pub(crate) fn check_volume_for_writing(
     volume: &Volume,
 ) -> Result<VolumeFormat, IoError> {
     let format = volume_format_of(path)?;
-    if format == VolumeFormat::Nifti {
+    if matches!(format, VolumeFormat::Nifti | VolumeFormat::Dicom) {
         return Err(IoError::unsupported(
             path,
-            "writing NIfTI is not supported; write .nrrd, .vti, .mha or .vtk",
+            format!("writing {format} is not supported; write .nrrd, .vti, .mha or .vtk"),
         ));
     }
     let g = &volume.grid;
@@ -586,8 +604,11 @@ pub(crate) fn stage_volume(
         VolumeFormat::Mha => vec![metaimage::write(path, volume, compress)?],
         VolumeFormat::Mhd => metaimage::write_detached(path, detached()?, volume, compress)?.into(),
         VolumeFormat::Raw => vec![raw::write(path, volume)?],
-        VolumeFormat::Nifti => {
-            return Err(IoError::unsupported(path, "writing NIfTI is not supported"))
+        VolumeFormat::Nifti | VolumeFormat::Dicom => {
+            return Err(IoError::unsupported(
+                path,
+                format!("writing {format} is not supported"),
+            ))
         }
     })
 }
