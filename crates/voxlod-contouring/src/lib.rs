@@ -2,9 +2,33 @@
 //! consistently oriented triangle mesh with shared vertices and gradient normals.
 //!
 //! - [`tables`]: the 256-case lookup tables, generated from first principles.
-//! - [`marching_cubes`]: the extraction, in bit-parallel passes in the manner of Flying Edges;
-//!   [`marching_cubes_with_cells`] also gives each triangle's cell, and [`marching_cubes_multi`]
-//!   several isosurfaces from one read of the volume (the multi-layer shells of paper §3).
+//! - [`marching_cubes()`]: the extraction (paper §2), in bit-parallel passes in the manner of
+//!   Flying Edges (module [`mod@marching_cubes`]); [`marching_cubes_with_cells`] also gives each
+//!   triangle's cell, and [`marching_cubes_multi`] several isosurfaces from one read of the
+//!   volume (the multi-layer shells of paper §3).
+//!
+//! Cost: one read of the volume, then O(N³/64) word operations and work proportional to the
+//! surface.
+//!
+//! One sample inside a 3×3×3 grid of outside samples comes out as an octahedron, one triangle
+//! in each of the eight cells around it, closed and outward-facing:
+//!
+//! ```
+//! use voxlod_contouring::{marching_cubes, ContourOptions};
+//! use voxlod_core::{mesh_topology, Grid, Volume};
+//!
+//! let mut values = vec![0.0f32; 27];
+//! values[13] = 1.0; // sample (1, 1, 1)
+//! let volume = Volume::from_vec(Grid::unit([3, 3, 3])?, values)?;
+//! let mesh = marching_cubes(&volume, &ContourOptions::default())?; // iso 0.5, with normals
+//! assert_eq!((mesh.vertex_count(), mesh.triangle_count()), (6, 8));
+//! let topology = mesh_topology(&mesh);
+//! assert!(topology.is_closed_manifold() && topology.is_consistently_oriented());
+//! assert_eq!(topology.genus, Some(0));
+//! # Ok::<(), voxlod_contouring::ContourError>(())
+//! ```
+
+#![warn(missing_docs)]
 
 pub mod marching_cubes;
 pub mod tables;

@@ -39,7 +39,7 @@ use rayon::prelude::*;
 use thiserror::Error;
 use voxlod_core::{memory, CoreError, TriangleMesh, Volume};
 
-use crate::tables::tables;
+use crate::tables::{tables, Tables};
 
 /// Options of [`marching_cubes`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -81,12 +81,16 @@ impl ContourOptions {
 /// Why marching cubes could not run.
 #[derive(Debug, Error)]
 pub enum ContourError {
+    /// The iso value is NaN or infinite.
     #[error("the iso value {0} is not a finite number")]
     NonFiniteIso(f32),
+    /// The surface would have this many vertices, too many for `u32` triangle indices.
     #[error("the surface has {0} vertices, more than 32-bit indices can address")]
     TooManyVertices(u64),
+    /// The grid has this many cells, too many for the `u32` cell indices of [`CellMesh`].
     #[error("the grid has {0} cells, more than 32-bit cell indices can address")]
     TooManyCells(u64),
+    /// The classification bits or the mesh would not fit in the memory budget.
     #[error(transparent)]
     Memory(#[from] CoreError),
 }
@@ -198,7 +202,38 @@ fn valid_mask(n: usize, w: usize) -> u64 {
     }
 }
 
-/// Extracts the isosurface of `volume` at `options.iso`. See the module documentation.
+/// Extracts the isosurface of `volume` at `options.iso`, in the volume's world units (its
+/// spacing and origin). See the module documentation.
+///
+/// One sample inside a grid of outside ones is cut off by the eight cells around it, one
+/// triangle each: an octahedron with a vertex on each of the six edges from that sample, here at
+/// a quarter of the way along since the iso value is a quarter of the way from 1 down to 0.
+///
+/// ```
+/// use voxlod_contouring::{marching_cubes, ContourOptions};
+/// use voxlod_core::{glam::Vec3, Grid, Volume};
+///
+/// let mut values = vec![0.0f32; 27];
+/// values[13] = 1.0; // sample (1, 1, 1) of a 3×3×3 grid
+/// let grid = Grid::new([3, 3, 3], [2.0; 3], [10.0, 0.0, 0.0])?; // 2 mm apart
+/// let volume = Volume::from_vec(grid, values)?;
+/// let mesh = marching_cubes(&volume, &ContourOptions::at(0.75))?;
+/// assert_eq!((mesh.vertex_count(), mesh.triangle_count()), (6, 8));
+///
+/// let centre = Vec3::new(12.0, 2.0, 2.0);
+/// for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+///     assert!(((*p - centre).length() - 0.5).abs() < 1e-6); // a quarter of 2 mm
+///     assert!(n.dot(*p - centre) > 0.99 * 0.5); // unit normals, pointing outwards
+/// }
+/// // Counter-clockwise seen from outside: a positive enclosed volume, (4/3)·0.5³.
+/// assert!((mesh.signed_volume() - 4.0 / 3.0 * 0.125).abs() < 1e-6);
+///
+/// // Geometry only: the same triangles, no normals.
+/// let bare = marching_cubes(&volume, &ContourOptions::geometry_only(0.75))?;
+/// assert_eq!(bare.triangles, mesh.triangles);
+/// assert!(bare.normals.is_empty());
+/// # Ok::<(), voxlod_contouring::ContourError>(())
+/// ```
 pub fn marching_cubes(
     volume: &Volume,
     options: &ContourOptions,
@@ -213,6 +248,7 @@ pub fn marching_cubes(
 /// A surface with, for every triangle, the cell it came from.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct CellMesh {
+    /// The surface, exactly as [`marching_cubes`] gives it.
     pub mesh: TriangleMesh,
     /// Linear index `i + (nx-1) * (j + (ny-1) * k)` of the cell (i, j, k) of each triangle, for
     /// a grid of `nx × ny × nz` samples. Non-decreasing: triangles are stored cell by cell.
@@ -221,6 +257,20 @@ pub struct CellMesh {
 
 /// As [`marching_cubes`] (the same mesh), and the cell of each triangle: what a back-to-front
 /// traversal of the cells needs (paper §3).
+///
+/// ```
+/// use voxlod_contouring::{marching_cubes, marching_cubes_with_cells, ContourOptions};
+/// use voxlod_core::{Grid, Volume};
+///
+/// // The octahedron of [`marching_cubes`]: one triangle in each of the 2×2×2 cells.
+/// let mut values = vec![0.0f32; 27];
+/// values[13] = 1.0;
+/// let volume = Volume::from_vec(Grid::unit([3, 3, 3])?, values)?;
+/// let with_cells = marching_cubes_with_cells(&volume, &ContourOptions::at(0.5))?;
+/// assert_eq!(with_cells.cells, (0..8).collect::<Vec<u32>>());
+/// assert_eq!(with_cells.mesh, marching_cubes(&volume, &ContourOptions::at(0.5))?);
+/// # Ok::<(), voxlod_contouring::ContourError>(())
+/// ```
 pub fn marching_cubes_with_cells(
     volume: &Volume,
     options: &ContourOptions,
@@ -236,6 +286,22 @@ pub fn marching_cubes_with_cells(
 /// [`marching_cubes_with_cells`]): the volume is read once to classify every sample against
 /// every iso value; the later passes run per surface on the bits and touch the floats only at
 /// crossed edges. Each surface is the one [`marching_cubes`] gives for its iso value.
+///
+/// ```
+/// use voxlod_contouring::{marching_cubes, marching_cubes_multi, ContourOptions};
+/// use voxlod_core::{Grid, Volume};
+///
+/// // Nested octahedra around the one inside sample: the lower the iso value, the larger.
+/// let mut values = vec![0.0f32; 27];
+/// values[13] = 1.0;
+/// let volume = Volume::from_vec(Grid::unit([3, 3, 3])?, values)?;
+/// let shells = marching_cubes_multi(&volume, &[0.25, 0.75], true)?;
+/// let volumes: Vec<f64> = shells.iter().map(|s| s.mesh.signed_volume()).collect();
+/// assert!((volumes[0] - 4.0 / 3.0 * 0.75f64.powi(3)).abs() < 1e-6);
+/// assert!((volumes[1] - 4.0 / 3.0 * 0.25f64.powi(3)).abs() < 1e-6);
+/// assert_eq!(shells[1].mesh, marching_cubes(&volume, &ContourOptions::at(0.75))?);
+/// # Ok::<(), voxlod_contouring::ContourError>(())
+/// ```
 pub fn marching_cubes_multi(
     volume: &Volume,
     isos: &[f32],
@@ -361,18 +427,62 @@ fn extract(
     with_cells: bool,
 ) -> Result<(TriangleMesh, Vec<u32>), ContourError> {
     let dims = volume.grid.dims;
-    let [nx, ny, nz] = dims;
-    let data = volume.as_slice();
-    let words = bits.words;
-    let rows = ny * nz;
-    debug_assert_eq!(bits.bits.len(), rows * words);
-
-    // Pass 2: vertices owned by each vertex row, triangles of each cell row.
+    debug_assert_eq!(bits.bits.len(), dims[1] * dims[2] * bits.words);
     let table = tables();
-    let counts: Vec<(u32, u32)> = (0..nz)
+    let counts = count_rows(bits, dims, table);
+    let layout = OutputLayout::new(&counts, dims[1], with_normals, with_cells)?;
+
+    let mut positions = vec![Vec3::ZERO; layout.vertices];
+    let mut normals = if with_normals {
+        vec![Vec3::ZERO; layout.vertices]
+    } else {
+        Vec::new()
+    };
+    let mut triangles = vec![[0u32; 3]; layout.triangles];
+    let mut cells = if with_cells {
+        vec![0u32; layout.triangles]
+    } else {
+        Vec::new()
+    };
+    let parts = layout.split_per_slice(&mut positions, &mut normals, &mut triangles, &mut cells);
+    let writer = SliceWriter {
+        bits,
+        dims,
+        table,
+        row_vertex_base: &layout.row_vertex_base,
+        field: Field {
+            data: volume.as_slice(),
+            dims,
+            spacing: volume.grid.spacing_vec(),
+            origin: volume.grid.origin_vec(),
+            iso,
+        },
+        with_normals,
+        with_cells,
+    };
+    parts
+        .into_par_iter()
+        .for_each(|part| writer.write_slice(part));
+
+    let mut mesh = TriangleMesh {
+        positions,
+        normals,
+        triangles,
+    };
+    if with_normals {
+        repair_zero_normals(&mut mesh);
+    }
+    Ok((mesh, cells))
+}
+
+/// Pass 2: for every row (j, k), in z-then-y order, the vertices on the edges the vertex row
+/// owns and the triangles of the cell row with the same corner (none past the last row).
+fn count_rows(bits: &BitVolume, dims: [usize; 3], table: &Tables) -> Vec<(u32, u32)> {
+    let [_, ny, nz] = dims;
+    (0..nz)
         .into_par_iter()
         .flat_map_iter(|k| {
-            let mut edges = RowEdges::new(words);
+            let mut edges = RowEdges::new(bits.words);
             (0..ny).map(move |j| {
                 let vertices = edges.compute(bits, dims, j, k);
                 let mut triangles = 0u32;
@@ -384,161 +494,220 @@ fn extract(
                 (vertices, triangles)
             })
         })
-        .collect();
+        .collect()
+}
 
-    // Prefix sums per z-slice and per row.
-    let total_vertices: u64 = counts.iter().map(|c| c.0 as u64).sum();
-    let total_triangles: u64 = counts.iter().map(|c| c.1 as u64).sum();
-    if total_vertices >= u32::MAX as u64 {
-        return Err(ContourError::TooManyVertices(total_vertices));
-    }
-    let vertex_bytes =
-        memory::bytes_of::<Vec3>(total_vertices as usize) * if with_normals { 2 } else { 1 };
-    let cell_bytes = if with_cells {
-        memory::bytes_of::<u32>(total_triangles as usize)
-    } else {
-        0
-    };
-    memory::check_allocation(
-        "the marching cubes mesh",
-        vertex_bytes + memory::bytes_of::<[u32; 3]>(total_triangles as usize) + cell_bytes,
-    )?;
-    let mut row_vertex_base = Vec::with_capacity(rows);
-    let mut running = 0u32;
-    for c in &counts {
-        row_vertex_base.push(running);
-        running += c.0;
-    }
-    let slice_vertices: Vec<usize> = counts
-        .chunks(ny)
-        .map(|s| s.iter().map(|c| c.0 as usize).sum())
-        .collect();
-    let slice_triangles: Vec<usize> = counts
-        .chunks(ny)
-        .map(|s| s.iter().map(|c| c.1 as usize).sum())
-        .collect();
+/// Where each row's and each z-slice's output goes: the prefix sums of pass 2's counts.
+struct OutputLayout {
+    vertices: usize,
+    triangles: usize,
+    /// Mesh index of the first vertex of each vertex row (j, k), at `k * ny + j`.
+    row_vertex_base: Vec<u32>,
+    /// Vertices and triangles of each z-slice.
+    slice_vertices: Vec<usize>,
+    slice_triangles: Vec<usize>,
+    with_normals: bool,
+    with_cells: bool,
+}
 
-    let mut positions = vec![Vec3::ZERO; total_vertices as usize];
-    let mut normals = if with_normals {
-        vec![Vec3::ZERO; total_vertices as usize]
-    } else {
-        Vec::new()
-    };
-    let mut triangles = vec![[0u32; 3]; total_triangles as usize];
-    let mut cells = if with_cells {
-        vec![0u32; total_triangles as usize]
-    } else {
-        Vec::new()
-    };
-
-    // Split the outputs into one part per z-slice.
-    let mut parts = Vec::with_capacity(nz);
-    {
-        let (mut p_rest, mut n_rest, mut t_rest, mut c_rest) = (
-            positions.as_mut_slice(),
-            normals.as_mut_slice(),
-            triangles.as_mut_slice(),
-            cells.as_mut_slice(),
-        );
-        for k in 0..nz {
-            let (p, pr) = p_rest.split_at_mut(slice_vertices[k]);
-            let (n, nr) = if with_normals {
-                n_rest.split_at_mut(slice_vertices[k])
-            } else {
-                n_rest.split_at_mut(0)
-            };
-            let (t, tr) = t_rest.split_at_mut(slice_triangles[k]);
-            let (c, cr) = if with_cells {
-                c_rest.split_at_mut(slice_triangles[k])
-            } else {
-                c_rest.split_at_mut(0)
-            };
-            parts.push((k, p, n, t, c));
-            p_rest = pr;
-            n_rest = nr;
-            t_rest = tr;
-            c_rest = cr;
+impl OutputLayout {
+    /// The layout of the counts of [`count_rows`], once the mesh is known to be addressable
+    /// with 32-bit indices and to fit in memory.
+    fn new(
+        counts: &[(u32, u32)],
+        ny: usize,
+        with_normals: bool,
+        with_cells: bool,
+    ) -> Result<OutputLayout, ContourError> {
+        let total_vertices: u64 = counts.iter().map(|c| c.0 as u64).sum();
+        let total_triangles: u64 = counts.iter().map(|c| c.1 as u64).sum();
+        if total_vertices >= u32::MAX as u64 {
+            return Err(ContourError::TooManyVertices(total_vertices));
         }
+        let vertex_bytes =
+            memory::bytes_of::<Vec3>(total_vertices as usize) * if with_normals { 2 } else { 1 };
+        let cell_bytes = if with_cells {
+            memory::bytes_of::<u32>(total_triangles as usize)
+        } else {
+            0
+        };
+        memory::check_allocation(
+            "the marching cubes mesh",
+            vertex_bytes + memory::bytes_of::<[u32; 3]>(total_triangles as usize) + cell_bytes,
+        )?;
+        let mut row_vertex_base = Vec::with_capacity(counts.len());
+        let mut running = 0u32;
+        for c in counts {
+            row_vertex_base.push(running);
+            running += c.0;
+        }
+        let per_slice = |pick: fn(&(u32, u32)) -> u32| -> Vec<usize> {
+            counts
+                .chunks(ny)
+                .map(|s| s.iter().map(|c| pick(c) as usize).sum())
+                .collect()
+        };
+        Ok(OutputLayout {
+            vertices: total_vertices as usize,
+            triangles: total_triangles as usize,
+            row_vertex_base,
+            slice_vertices: per_slice(|c| c.0),
+            slice_triangles: per_slice(|c| c.1),
+            with_normals,
+            with_cells,
+        })
     }
 
-    let field = Field {
-        data,
-        dims,
-        spacing: volume.grid.spacing_vec(),
-        origin: volume.grid.origin_vec(),
-        iso,
-    };
-    parts.into_par_iter().for_each(|(k, pos, nor, tri, cel)| {
+    /// The output arrays cut into one part per z-slice (normals and cells empty when not asked
+    /// for).
+    fn split_per_slice<'a>(
+        &self,
+        positions: &'a mut [Vec3],
+        normals: &'a mut [Vec3],
+        triangles: &'a mut [[u32; 3]],
+        cells: &'a mut [u32],
+    ) -> Vec<SliceOutput<'a>> {
+        let nz = self.slice_vertices.len();
+        let mut parts = Vec::with_capacity(nz);
+        let (mut p_rest, mut n_rest, mut t_rest, mut c_rest) =
+            (positions, normals, triangles, cells);
+        for k in 0..nz {
+            let vertices = self.slice_vertices[k];
+            let triangles = self.slice_triangles[k];
+            let (p, pr) = p_rest.split_at_mut(vertices);
+            let (n, nr) = n_rest.split_at_mut(if self.with_normals { vertices } else { 0 });
+            let (t, tr) = t_rest.split_at_mut(triangles);
+            let (c, cr) = c_rest.split_at_mut(if self.with_cells { triangles } else { 0 });
+            parts.push(SliceOutput {
+                k,
+                positions: p,
+                normals: n,
+                triangles: t,
+                cells: c,
+            });
+            (p_rest, n_rest, t_rest, c_rest) = (pr, nr, tr, cr);
+        }
+        parts
+    }
+}
+
+/// One z-slice's part of the output: the vertices its vertex rows own, the triangles of its
+/// cells.
+struct SliceOutput<'a> {
+    k: usize,
+    positions: &'a mut [Vec3],
+    normals: &'a mut [Vec3],
+    triangles: &'a mut [[u32; 3]],
+    cells: &'a mut [u32],
+}
+
+/// Pass 3: what every z-slice reads to write its part of the mesh.
+struct SliceWriter<'a> {
+    bits: &'a BitVolume,
+    dims: [usize; 3],
+    table: &'a Tables,
+    /// See [`OutputLayout::row_vertex_base`].
+    row_vertex_base: &'a [u32],
+    field: Field<'a>,
+    with_normals: bool,
+    with_cells: bool,
+}
+
+impl SliceWriter<'_> {
+    /// Fills `edges` with the crossed edges of vertex row (j, k) and its first vertex index.
+    #[inline]
+    fn load_row(&self, edges: &mut RowEdges, j: usize, k: usize) {
+        edges.compute(self.bits, self.dims, j, k);
+        edges.base = self.row_vertex_base[k * self.dims[1] + j];
+    }
+
+    /// Writes the vertices of slice k's vertex rows and the triangles of its cell rows, row
+    /// by row, keeping the four vertex rows around the current cell row.
+    fn write_slice(&self, mut out: SliceOutput<'_>) {
+        let [_, ny, nz] = self.dims;
+        let k = out.k;
+        let words = self.bits.words;
         let mut lower = [RowEdges::new(words), RowEdges::new(words)]; // rows (j, k), (j, k+1)
         let mut upper = [RowEdges::new(words), RowEdges::new(words)]; // rows (j+1, k), (j+1, k+1)
-        let row_base = |j: usize, k: usize| row_vertex_base[k * ny + j];
-        lower[0].compute(bits, dims, 0, k);
-        lower[0].base = row_base(0, k);
+        self.load_row(&mut lower[0], 0, k);
         if k + 1 < nz {
-            lower[1].compute(bits, dims, 0, k + 1);
-            lower[1].base = row_base(0, k + 1);
+            self.load_row(&mut lower[1], 0, k + 1);
         }
-        let slice_base = row_base(0, k);
+        let slice_base = lower[0].base;
         let mut written = 0usize;
         let mut tri_written = 0usize;
         for j in 0..ny {
-            // Vertices owned by row (j, k), in the order `RowEdges::vertex` counts them.
-            let own = &lower[0];
-            for w in 0..words {
-                let mut any = own.x[w] | own.y[w] | own.z[w];
-                while any != 0 {
-                    let b = any.trailing_zeros() as usize;
-                    any &= any - 1;
-                    let x = w * 64 + b;
-                    let bit = 1u64 << b;
-                    for (axis, mask) in [own.x[w], own.y[w], own.z[w]].into_iter().enumerate() {
-                        if mask & bit != 0 {
-                            debug_assert_eq!(own.vertex(axis, x) - slice_base, written as u32);
-                            let (p, n) = field.edge_vertex([x, j, k], axis, with_normals);
-                            pos[written] = p;
-                            if with_normals {
-                                nor[written] = n;
-                            }
-                            written += 1;
-                        }
-                    }
-                }
-            }
+            self.write_row_vertices(&lower[0], [j, k], slice_base, &mut out, &mut written);
             if j + 1 < ny {
-                upper[0].compute(bits, dims, j + 1, k);
-                upper[0].base = row_base(j + 1, k);
+                self.load_row(&mut upper[0], j + 1, k);
                 if k + 1 < nz {
-                    upper[1].compute(bits, dims, j + 1, k + 1);
-                    upper[1].base = row_base(j + 1, k + 1);
+                    self.load_row(&mut upper[1], j + 1, k + 1);
                     let rows = [&lower[0], &upper[0], &lower[1], &upper[1]];
-                    let row_cell = ((nx - 1) * (j + (ny - 1) * k)) as u32;
-                    for_each_mixed_cell(bits, dims, j, k, |x, case| {
-                        let n = table.triangle_count[case as usize] as usize;
-                        for t in &table.triangles[case as usize][..n] {
-                            tri[tri_written] = t.map(|e| cell_edge_vertex(&rows, e, x));
-                            if with_cells {
-                                cel[tri_written] = row_cell + x as u32;
-                            }
-                            tri_written += 1;
-                        }
-                    });
+                    self.write_row_triangles(&rows, [j, k], &mut out, &mut tri_written);
                 }
                 std::mem::swap(&mut lower, &mut upper);
             }
         }
-        debug_assert_eq!(written, pos.len());
-        debug_assert_eq!(tri_written, tri.len());
-    });
-
-    let mut mesh = TriangleMesh {
-        positions,
-        normals,
-        triangles,
-    };
-    if with_normals {
-        repair_zero_normals(&mut mesh);
+        debug_assert_eq!(written, out.positions.len());
+        debug_assert_eq!(tri_written, out.triangles.len());
     }
-    Ok((mesh, cells))
+
+    /// The vertices owned by vertex row `own` = (j, k), in the order [`RowEdges::vertex`]
+    /// counts them: by x, then edge axis.
+    #[inline]
+    fn write_row_vertices(
+        &self,
+        own: &RowEdges,
+        [j, k]: [usize; 2],
+        slice_base: u32,
+        out: &mut SliceOutput<'_>,
+        written: &mut usize,
+    ) {
+        for w in 0..self.bits.words {
+            let mut any = own.x[w] | own.y[w] | own.z[w];
+            while any != 0 {
+                let b = any.trailing_zeros() as usize;
+                any &= any - 1;
+                let x = w * 64 + b;
+                let bit = 1u64 << b;
+                for (axis, mask) in [own.x[w], own.y[w], own.z[w]].into_iter().enumerate() {
+                    if mask & bit != 0 {
+                        debug_assert_eq!(own.vertex(axis, x) - slice_base, *written as u32);
+                        let (p, n) = self.field.edge_vertex([x, j, k], axis, self.with_normals);
+                        out.positions[*written] = p;
+                        if self.with_normals {
+                            out.normals[*written] = n;
+                        }
+                        *written += 1;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The triangles of cell row (j, k), given its four vertex rows (j,k), (j+1,k), (j,k+1),
+    /// (j+1,k+1).
+    #[inline]
+    fn write_row_triangles(
+        &self,
+        rows: &[&RowEdges; 4],
+        [j, k]: [usize; 2],
+        out: &mut SliceOutput<'_>,
+        tri_written: &mut usize,
+    ) {
+        let [nx, ny, _] = self.dims;
+        let row_cell = ((nx - 1) * (j + (ny - 1) * k)) as u32;
+        for_each_mixed_cell(self.bits, self.dims, j, k, |x, case| {
+            let n = self.table.triangle_count[case as usize] as usize;
+            for t in &self.table.triangles[case as usize][..n] {
+                out.triangles[*tri_written] = t.map(|e| cell_edge_vertex(rows, e, x));
+                if self.with_cells {
+                    out.cells[*tri_written] = row_cell + x as u32;
+                }
+                *tri_written += 1;
+            }
+        });
+    }
 }
 
 /// Calls `visit(x, case)` for every cell of cell row (j, k) whose corners are not all alike.

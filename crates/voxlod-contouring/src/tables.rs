@@ -26,6 +26,9 @@
 //! Numbering: corner `c` sits at `(c & 1, (c >> 1) & 1, (c >> 2) & 1)`. Edges 0–3 run along x
 //! from corners 0, 2, 4, 6; edges 4–7 along y from corners 0, 1, 4, 5; edges 8–11 along z from
 //! corners 0, 1, 2, 3. Bit `c` of a case index is set when corner `c` is inside.
+//!
+//! Cost: the 256 cases are built once, on first use; the tables take a few
+//! kilobytes, and a look-up is O(1).
 
 use std::sync::OnceLock;
 
@@ -52,6 +55,7 @@ pub const EDGE_AXIS: [u8; 12] = [0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2];
 pub struct Tables {
     /// For each case, up to five triangles; `triangle_count[case]` of them are valid.
     pub triangles: [[[u8; 3]; 5]; 256],
+    /// For each case, how many of its five `triangles` are used (0 to 5).
     pub triangle_count: [u8; 256],
     /// For each case, the number of closed loops (separate surface pieces) in the cell.
     pub loop_count: [u8; 256],

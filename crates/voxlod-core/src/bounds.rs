@@ -1,9 +1,15 @@
+//! Axis-aligned boxes in world units: the extent of a mesh, of a grid, of a BVH node's
+//! contents. The voxel paper (§2) sizes every level by the longest side of the object's box.
+//! Cost: O(1) per operation, O(n) to bound n points.
+
 use glam::{DVec3, Vec3};
 
 /// An axis-aligned box in world units, in double precision.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bounds {
+    /// The corner with the smallest coordinates.
     pub min: DVec3,
+    /// The corner with the largest coordinates.
     pub max: DVec3,
 }
 
@@ -14,10 +20,12 @@ impl Bounds {
         max: DVec3::splat(f64::NEG_INFINITY),
     };
 
+    /// The box from `min` to `max`, as given (not checked: `min` above `max` is empty).
     pub fn new(min: DVec3, max: DVec3) -> Self {
         Bounds { min, max }
     }
 
+    /// The smallest box holding every point; [`Bounds::EMPTY`] for no points.
     pub fn from_points<'a>(points: impl IntoIterator<Item = &'a Vec3>) -> Self {
         let mut b = Bounds::EMPTY;
         for p in points {
@@ -26,19 +34,23 @@ impl Bounds {
         b
     }
 
+    /// Grows the box to hold `p`.
     pub fn grow(&mut self, p: DVec3) {
         self.min = self.min.min(p);
         self.max = self.max.max(p);
     }
 
+    /// The smallest box holding both boxes.
     pub fn union(&self, other: &Bounds) -> Bounds {
         Bounds::new(self.min.min(other.min), self.max.max(other.max))
     }
 
+    /// Holds no point: `min` is above `max` along some axis (or a coordinate is NaN).
     pub fn is_empty(&self) -> bool {
         !(self.min.x <= self.max.x && self.min.y <= self.max.y && self.min.z <= self.max.z)
     }
 
+    /// The side lengths, zero for an empty box.
     pub fn size(&self) -> DVec3 {
         if self.is_empty() {
             DVec3::ZERO
@@ -47,18 +59,22 @@ impl Bounds {
         }
     }
 
+    /// The midpoint of `min` and `max`.
     pub fn center(&self) -> DVec3 {
         0.5 * (self.min + self.max)
     }
 
+    /// The length of the diagonal, from `min` to `max`.
     pub fn diagonal(&self) -> f64 {
         self.size().length()
     }
 
+    /// The longest side.
     pub fn longest_extent(&self) -> f64 {
         self.size().max_element()
     }
 
+    /// The box grown by `margin` on every side.
     pub fn expanded(&self, margin: f64) -> Bounds {
         Bounds::new(
             self.min - DVec3::splat(margin),
@@ -66,10 +82,12 @@ impl Bounds {
         )
     }
 
+    /// `p` lies inside or on the box.
     pub fn contains(&self, p: DVec3) -> bool {
         p.cmpge(self.min).all() && p.cmple(self.max).all()
     }
 
+    /// The boxes share at least one point (touching counts).
     pub fn intersects(&self, other: &Bounds) -> bool {
         self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
     }

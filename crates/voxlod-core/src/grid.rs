@@ -1,3 +1,7 @@
+//! The regular lattice every volume lives on: [`Grid`] (dimensions, spacing and origin in world
+//! units, millimetres for a CT) and [`Axis`]. The voxel paper (§2) samples each level of detail
+//! on such a grid, its spacing set by the level's resolution. Cost: O(1) per operation.
+
 use glam::DVec3;
 use serde::Serialize;
 
@@ -6,14 +10,19 @@ use crate::{Bounds, CoreError};
 /// One of the three coordinate axes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 pub enum Axis {
+    /// The x axis; samples along it are adjacent in memory.
     X = 0,
+    /// The y axis.
     Y = 1,
+    /// The z axis (slices of a scan).
     Z = 2,
 }
 
 impl Axis {
+    /// The three axes in order x, y, z.
     pub const ALL: [Axis; 3] = [Axis::X, Axis::Y, Axis::Z];
 
+    /// 0, 1 or 2: the axis as an index into `[x, y, z]` arrays.
     pub fn index(self) -> usize {
         self as usize
     }
@@ -35,8 +44,11 @@ impl Axis {
 /// eight neighbouring samples, so there are `dims - 1` cells per axis.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Grid {
+    /// Samples along x, y and z (at least 1 each).
     pub dims: [usize; 3],
+    /// Distance between neighbouring samples along x, y and z, in world units.
     pub spacing: [f64; 3],
+    /// World position of sample (0, 0, 0).
     pub origin: [f64; 3],
 }
 
@@ -81,10 +93,12 @@ impl Grid {
         Grid::new(dims, [1.0; 3], [0.0; 3])
     }
 
+    /// Number of samples, `nx × ny × nz`.
     pub fn len(&self) -> usize {
         self.dims[0] * self.dims[1] * self.dims[2]
     }
 
+    /// No samples (never true of a grid made by [`Grid::new`]).
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -116,10 +130,12 @@ impl Grid {
         Bounds::new(DVec3::from(self.origin), max)
     }
 
+    /// [`Grid::spacing`] as a vector.
     pub fn spacing_vec(&self) -> DVec3 {
         DVec3::from(self.spacing)
     }
 
+    /// [`Grid::origin`] as a vector.
     pub fn origin_vec(&self) -> DVec3 {
         DVec3::from(self.origin)
     }

@@ -9,6 +9,35 @@
 //! - [`topology`]: edge-based manifold checks, Euler characteristic and genus.
 //! - [`weld`]: merging coincident vertices, as STL triangle soups need.
 //! - [`memory`]: refusing allocations that cannot fit, with the size they would need.
+//! - [`repair`]: dropping degenerate and duplicate triangles, closing holes for the inside test.
+//! - [`Bounds`], [`CoreError`], and [`disjoint`] writes from several threads.
+//!
+//! The types are the data of the voxel paper's pipeline (He et al. 1995): the object and its
+//! levels are triangle meshes, the filtered buffers of §2 are volumes on grids, and the genus
+//! the paper simplifies (§1, §4) is computed by [`topology`]. Cost: the types are plain arrays
+//! (12 bytes a vertex, 12 a triangle, 4 a sample); each module gives the cost of its functions.
+//!
+//! A closed mesh and what its topology says of it (a tetrahedron: a sphere, genus 0):
+//!
+//! ```
+//! use voxlod_core::{glam::Vec3, mesh_topology, TriangleMesh};
+//!
+//! let tetrahedron = TriangleMesh::new(
+//!     vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
+//!     vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+//! );
+//! tetrahedron.validate()?;
+//! let topology = mesh_topology(&tetrahedron);
+//! assert_eq!((topology.vertices, topology.edges, topology.triangles), (4, 6, 4));
+//! assert_eq!(topology.euler_characteristic, 2);
+//! assert_eq!(topology.genus, Some(0));
+//! assert!(topology.is_closed_manifold() && topology.is_consistently_oriented());
+//! // Outward winding encloses a positive volume: 1/6 of the unit cube's corner.
+//! assert!((tetrahedron.signed_volume() - 1.0 / 6.0).abs() < 1e-12);
+//! # Ok::<(), voxlod_core::CoreError>(())
+//! ```
+
+#![warn(missing_docs)]
 
 pub mod bounds;
 pub mod disjoint;

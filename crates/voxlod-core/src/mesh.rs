@@ -1,3 +1,9 @@
+//! The meshes voxlod reads, builds and writes: [`TriangleMesh`] (what marching cubes makes from
+//! each level, paper §2) and [`PolyMesh`] (a triangle mesh with the dangling edges and isolated
+//! points of vertex clustering, and the per-vertex opacity of the multi-layer shells of §3).
+//! Coordinates are in world units, `f32`; sums (area, volume) are taken in `f64`. Cost: every
+//! operation here is one linear pass over the vertices or triangles.
+
 use glam::{DVec3, Vec3};
 
 use crate::{Bounds, CoreError};
@@ -6,12 +12,17 @@ use crate::{Bounds, CoreError};
 /// optionally one normal per vertex (`normals` is either empty or as long as `positions`).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TriangleMesh {
+    /// Vertex positions, in world units.
     pub positions: Vec<Vec3>,
+    /// Unit normals, one per vertex, or none at all.
     pub normals: Vec<Vec3>,
+    /// Three indices into `positions` per triangle, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
 }
 
 impl TriangleMesh {
+    /// A mesh of these vertices and triangles, without normals (not checked: see
+    /// [`TriangleMesh::validate`]).
     pub fn new(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> TriangleMesh {
         TriangleMesh {
             positions,
@@ -20,14 +31,17 @@ impl TriangleMesh {
         }
     }
 
+    /// Number of vertices, used by a triangle or not.
     pub fn vertex_count(&self) -> usize {
         self.positions.len()
     }
 
+    /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
     }
 
+    /// No triangles (vertices alone do not count).
     pub fn is_empty(&self) -> bool {
         self.triangles.is_empty()
     }
@@ -169,7 +183,9 @@ impl TriangleMesh {
 /// A named scalar per element (per vertex, or per line), such as a layer's opacity.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Attribute {
+    /// The name written to the file (a PLY property, a VTK array), e.g. `opacity`.
     pub name: String,
+    /// One value per vertex (or per line), in element order.
     pub values: Vec<f32>,
 }
 
@@ -177,10 +193,15 @@ pub struct Attribute {
 /// isolated points, and named per-vertex and per-line scalars.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PolyMesh {
+    /// The vertices (shared by triangles, lines and points) and the triangles.
     pub mesh: TriangleMesh,
+    /// Dangling edges: two vertex indices each.
     pub lines: Vec<[u32; 2]>,
+    /// Isolated points: one vertex index each.
     pub points: Vec<u32>,
+    /// Scalars with one value per vertex of `mesh`.
     pub vertex_attributes: Vec<Attribute>,
+    /// Scalars with one value per line.
     pub line_attributes: Vec<Attribute>,
 }
 

@@ -1,3 +1,7 @@
+//! [`Volume`]: a scalar field on a [`Grid`], the input (a scan) and output (a filtered density,
+//! paper §2 equation 1) of sampling, and the input of marching cubes. Memory: 4 bytes per
+//! sample, checked against the budget before allocating; trilinear lookups cost O(1).
+
 use ndarray::Array3;
 
 use crate::{memory, CoreError, Grid, Orientation, WorldTransform};
@@ -8,7 +12,9 @@ use crate::{memory, CoreError, Grid, Orientation, WorldTransform};
 /// default, identity in an unknown frame, is what formats without orientation give.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Volume {
+    /// Where the samples sit.
     pub grid: Grid,
+    /// The samples, indexed `[k, j, i]` (z, y, x).
     pub values: Array3<f32>,
     pub orientation: Orientation,
 }
@@ -66,12 +72,14 @@ impl Volume {
             .expect("volumes are always stored in standard layout")
     }
 
+    /// The samples as one mutable slice, x fastest.
     pub fn as_slice_mut(&mut self) -> &mut [f32] {
         self.values
             .as_slice_mut()
             .expect("volumes are always stored in standard layout")
     }
 
+    /// The sample at (i, j, k); panics outside the grid.
     #[inline]
     pub fn get(&self, i: usize, j: usize, k: usize) -> f32 {
         self.values[[k, j, i]]

@@ -11,7 +11,9 @@ use crate::TriangleMesh;
 /// Outcome of [`weld_vertices`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WeldReport {
+    /// Vertices before welding.
     pub vertices_before: usize,
+    /// Vertices after welding: the distinct coordinates.
     pub vertices_after: usize,
 }
 

@@ -6,6 +6,8 @@
 //! header ends as an [`IoErrorKind::TooLarge`](crate::IoErrorKind::TooLarge) error naming the
 //! bytes it would take, never as an abort. The budget itself is
 //! [`voxlod_core::memory::available_bytes`].
+//!
+//! Cost: O(1) per check.
 
 use std::path::Path;
 

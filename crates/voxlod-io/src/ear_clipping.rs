@@ -9,10 +9,10 @@
 //!
 //! Cost: the textbook method tests every corner against every candidate ear, O(n²) for n
 //! corners (a 200,000-corner face took minutes). Here only the corners that can block an ear,
-//! the reflex ones, are kept, in a uniform grid of about one cell per corner ([`reflex_grid`];
+//! the reflex ones, are kept, in a uniform grid of about one cell per corner (`reflex_grid.rs`;
 //! Mapbox's earcut has the same idea with a z-order hash), and an ear test looks only at the
 //! cells its triangle crosses. Corners on a straight line are set aside and put back at the end
-//! ([`ring`]), and the search steps back after a cut only where the new ear is small. Measured
+//! (`ring.rs`), and the search steps back after a cut only where the new ear is small. Measured
 //! work per corner (cells and corners looked at): a comb 7, a spiral band 27, at every size
 //! from 10³ to 4·10⁵ corners; a star, whose every spike spans half the face, about 0.7·√n.
 //! The work is capped at n·(32 + 2√n) + 4·10⁶; a face that exceeds it (a self-intersecting or

@@ -10,6 +10,9 @@
 //!
 //! The guard needs unwinding: under `panic = "abort"` nothing can be caught, which is why the
 //! readers also check what they can before calling a parser.
+//!
+//! Cost: one `catch_unwind` around each parser call, which costs nothing measurable when the
+//! parser does not panic.
 
 use std::cell::Cell;
 use std::panic::{catch_unwind, AssertUnwindSafe};

@@ -17,6 +17,10 @@
 //! gets its data in `<name>.raw` (or `<name>.zraw`) beside it, or another free name when that one
 //! is taken (see [`crate::OutputSet`]); the header records the name, and both files appear
 //! together.
+//!
+//! Cost: O(header) to parse the header, then one read of the N samples in O(N) time; memory at
+//! the peak is the stored bytes (N × sample size) plus the `f32` volume (4N bytes), both
+//! checked against the budget first (`samples::check_volume_size`).
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom, Write};

@@ -15,6 +15,10 @@
 //!   flips of the `qform`/`sform` are not applied: the grid is axis-aligned in index order.
 //! - Only 3-D data: a 4-D series with more than one volume is refused rather than cut short.
 //! - Header/image pairs (`.hdr`/`.img`, magic `ni1`) and NIfTI-2 are not supported.
+//!
+//! Cost: O(1) for the header, then one streaming read of the N samples (decompressed on the fly
+//! when gzipped), O(N); memory the stored samples plus the `f32` volume, checked against the
+//! budget from the header's dimensions before reading.
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read};

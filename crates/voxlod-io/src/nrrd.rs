@@ -17,6 +17,11 @@
 //! [`VolumeWriteOptions::compress`](crate::VolumeWriteOptions) asks. A `.nhdr` gets its data in
 //! `<name>.raw` (`<name>.raw.gz` compressed) beside it, or another free name when that one is
 //! taken (see [`crate::OutputSet`]); the header records the name, and both files appear together.
+//!
+//! Cost: O(header) to parse the header, then one read of the N samples in O(N) time; memory at
+//! the peak is the stored bytes (N × sample size) plus the `f32` volume (4N bytes), both
+//! checked against the budget first (`samples::check_volume_size`). ASCII data is parsed number
+//! by number, O(file size).
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom, Write};
@@ -146,121 +151,40 @@ fn read_header(path: &Path, reader: &mut impl BufRead) -> Result<Header, IoError
     interpret(path, &fields)
 }
 
-fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError> {
-    let get = |names: &[&str]| {
-        fields
+/// The header's fields by lower-case name, with the errors that name the file.
+struct Fields<'a> {
+    path: &'a Path,
+    fields: &'a [(String, String)],
+}
+
+impl<'a> Fields<'a> {
+    /// The value of the first field called by one of `names`, if any.
+    fn get(&self, names: &[&str]) -> Option<&'a str> {
+        self.fields
             .iter()
             .find(|(k, _)| names.contains(&k.as_str()))
             .map(|(_, v)| v.as_str())
-    };
-    let require = |names: &[&str]| {
-        get(names).ok_or_else(|| {
-            IoError::malformed(path, format!("the header has no '{}' field", names[0]))
+    }
+
+    /// As [`Fields::get`], an error naming `names[0]` when the field is absent.
+    fn require(&self, names: &[&str]) -> Result<&'a str, IoError> {
+        self.get(names).ok_or_else(|| {
+            IoError::malformed(self.path, format!("the header has no '{}' field", names[0]))
         })
-    };
-    let bad = |field: &str, value: &str| {
-        IoError::malformed(path, format!("cannot understand '{field}: {value}'"))
-    };
-
-    let type_name = require(&["type"])?;
-    let sample = sample_type(type_name).ok_or_else(|| {
-        IoError::unsupported(path, format!("sample type '{type_name}' is not supported"))
-    })?;
-    let dimension_text = require(&["dimension"])?;
-    let dimension: usize = dimension_text
-        .parse()
-        .map_err(|_| bad("dimension", dimension_text))?;
-    if !(1..=3).contains(&dimension) {
-        return Err(IoError::unsupported(
-            path,
-            format!("dimension {dimension}: only 1- to 3-dimensional scalar volumes are read"),
-        ));
-    }
-    let sizes_text = require(&["sizes"])?;
-    let sizes: Vec<usize> =
-        samples::parse_list(sizes_text, dimension).ok_or_else(|| bad("sizes", sizes_text))?;
-    let mut dims = [1usize; 3];
-    dims[..dimension].copy_from_slice(&sizes);
-
-    let endian = match get(&["endian"]) {
-        Some("little") | None => Endian::Little,
-        Some("big") => Endian::Big,
-        Some(other) => return Err(bad("endian", other)),
-    };
-    let encoding = match require(&["encoding"])? {
-        "raw" => Encoding::Raw,
-        "gzip" | "gz" => Encoding::Gzip,
-        "ascii" | "text" | "txt" => Encoding::Ascii,
-        other => {
-            return Err(IoError::unsupported(
-                path,
-                format!("encoding '{other}' is not supported (raw, gzip and ascii are)"),
-            ))
-        }
-    };
-
-    // Units to millimetres, when declared and known.
-    let mut unit_scale = [1.0f64; 3];
-    if let Some(units) = get(&["space units"]) {
-        for (axis, unit) in units.split_whitespace().take(3).enumerate() {
-            unit_scale[axis] = millimetres_per(unit).unwrap_or(1.0);
-        }
-    }
-    let mut spacing = [1.0f64; 3];
-    if let Some(text) = get(&["space directions"]) {
-        let vectors = parse_vectors(text).ok_or_else(|| bad("space directions", text))?;
-        if vectors.len() != dimension {
-            return Err(bad("space directions", text));
-        }
-        for (axis, v) in vectors.iter().enumerate() {
-            let Some(v) = v else {
-                return Err(IoError::unsupported(
-                    path,
-                    format!("axis {axis} is not spatial ('none' direction): only scalar volumes are read"),
-                ));
-            };
-            spacing[axis] = v.iter().map(|c| c * c).sum::<f64>().sqrt() * unit_scale[axis];
-        }
-    } else if let Some(text) = get(&["spacings"]) {
-        let values: Vec<f64> =
-            samples::parse_list(text, dimension).ok_or_else(|| bad("spacings", text))?;
-        spacing[..dimension].copy_from_slice(&values);
-    }
-    let mut origin = [0.0f64; 3];
-    if let Some(text) = get(&["space origin"]) {
-        let vectors = parse_vectors(text).ok_or_else(|| bad("space origin", text))?;
-        match vectors.as_slice() {
-            [Some(v)] if (1..=3).contains(&v.len()) => {
-                for (axis, c) in v.iter().enumerate() {
-                    origin[axis] = c * unit_scale[axis];
-                }
-            }
-            _ => return Err(bad("space origin", text)),
-        }
     }
 
-    let data_file = match get(&["data file", "datafile"]) {
-        None => None,
-        Some(name) if name.starts_with("LIST") || name.split_whitespace().count() > 1 => {
-            return Err(IoError::unsupported(
-                path,
-                format!("'data file: {name}': only a single data file is supported"),
-            ))
-        }
-        Some(name) => Some(samples::data_file_path(path, "data file", name)?),
-    };
-    let line_skip = match get(&["line skip", "lineskip"]) {
-        None => 0,
-        Some(t) => t.parse().map_err(|_| bad("line skip", t))?,
-    };
-    let byte_skip = match get(&["byte skip", "byteskip"]) {
-        None => 0,
-        Some(t) => t
-            .parse::<i64>()
-            .ok()
-            .filter(|&b| b >= -1)
-            .ok_or_else(|| bad("byte skip", t))?,
-    };
+    fn bad(&self, field: &str, value: &str) -> IoError {
+        IoError::malformed(self.path, format!("cannot understand '{field}: {value}'"))
+    }
+}
+
+/// The header's meaning, from its fields, read in the order below.
+fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError> {
+    let fields = Fields { path, fields };
+    let (sample, dimension, dims) = interpret_layout(&fields)?;
+    let (endian, encoding) = interpret_storage(&fields)?;
+    let (spacing, origin) = interpret_geometry(&fields, dimension)?;
+    let (data_file, line_skip, byte_skip) = interpret_data_location(&fields)?;
     Ok(Header {
         sample,
         dims,
@@ -272,6 +196,127 @@ fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError
         line_skip,
         byte_skip,
     })
+}
+
+/// `type`, `dimension` and `sizes`: the sample type, the number of axes, the dimensions (1
+/// along the missing axes).
+fn interpret_layout(fields: &Fields) -> Result<(SampleType, usize, [usize; 3]), IoError> {
+    let type_name = fields.require(&["type"])?;
+    let sample = sample_type(type_name).ok_or_else(|| {
+        IoError::unsupported(
+            fields.path,
+            format!("sample type '{type_name}' is not supported"),
+        )
+    })?;
+    let dimension_text = fields.require(&["dimension"])?;
+    let dimension: usize = dimension_text
+        .parse()
+        .map_err(|_| fields.bad("dimension", dimension_text))?;
+    if !(1..=3).contains(&dimension) {
+        return Err(IoError::unsupported(
+            fields.path,
+            format!("dimension {dimension}: only 1- to 3-dimensional scalar volumes are read"),
+        ));
+    }
+    let sizes_text = fields.require(&["sizes"])?;
+    let sizes: Vec<usize> = samples::parse_list(sizes_text, dimension)
+        .ok_or_else(|| fields.bad("sizes", sizes_text))?;
+    let mut dims = [1usize; 3];
+    dims[..dimension].copy_from_slice(&sizes);
+    Ok((sample, dimension, dims))
+}
+
+/// `endian` (little when absent) and `encoding`.
+fn interpret_storage(fields: &Fields) -> Result<(Endian, Encoding), IoError> {
+    let endian = match fields.get(&["endian"]) {
+        Some("little") | None => Endian::Little,
+        Some("big") => Endian::Big,
+        Some(other) => return Err(fields.bad("endian", other)),
+    };
+    let encoding = match fields.require(&["encoding"])? {
+        "raw" => Encoding::Raw,
+        "gzip" | "gz" => Encoding::Gzip,
+        "ascii" | "text" | "txt" => Encoding::Ascii,
+        other => {
+            return Err(IoError::unsupported(
+                fields.path,
+                format!("encoding '{other}' is not supported (raw, gzip and ascii are)"),
+            ))
+        }
+    };
+    Ok((endian, encoding))
+}
+
+/// Spacing and origin in millimetres, from `space units`, `space directions` (or `spacings`)
+/// and `space origin`.
+fn interpret_geometry(fields: &Fields, dimension: usize) -> Result<([f64; 3], [f64; 3]), IoError> {
+    // Units to millimetres, when declared and known.
+    let mut unit_scale = [1.0f64; 3];
+    if let Some(units) = fields.get(&["space units"]) {
+        for (axis, unit) in units.split_whitespace().take(3).enumerate() {
+            unit_scale[axis] = millimetres_per(unit).unwrap_or(1.0);
+        }
+    }
+    let mut spacing = [1.0f64; 3];
+    if let Some(text) = fields.get(&["space directions"]) {
+        let vectors = parse_vectors(text).ok_or_else(|| fields.bad("space directions", text))?;
+        if vectors.len() != dimension {
+            return Err(fields.bad("space directions", text));
+        }
+        for (axis, v) in vectors.iter().enumerate() {
+            let Some(v) = v else {
+                return Err(IoError::unsupported(
+                    fields.path,
+                    format!("axis {axis} is not spatial ('none' direction): only scalar volumes are read"),
+                ));
+            };
+            spacing[axis] = v.iter().map(|c| c * c).sum::<f64>().sqrt() * unit_scale[axis];
+        }
+    } else if let Some(text) = fields.get(&["spacings"]) {
+        let values: Vec<f64> =
+            samples::parse_list(text, dimension).ok_or_else(|| fields.bad("spacings", text))?;
+        spacing[..dimension].copy_from_slice(&values);
+    }
+    let mut origin = [0.0f64; 3];
+    if let Some(text) = fields.get(&["space origin"]) {
+        let vectors = parse_vectors(text).ok_or_else(|| fields.bad("space origin", text))?;
+        match vectors.as_slice() {
+            [Some(v)] if (1..=3).contains(&v.len()) => {
+                for (axis, c) in v.iter().enumerate() {
+                    origin[axis] = c * unit_scale[axis];
+                }
+            }
+            _ => return Err(fields.bad("space origin", text)),
+        }
+    }
+    Ok((spacing, origin))
+}
+
+/// `data file`, `line skip` and `byte skip`: where the samples start.
+fn interpret_data_location(fields: &Fields) -> Result<(Option<PathBuf>, usize, i64), IoError> {
+    let data_file = match fields.get(&["data file", "datafile"]) {
+        None => None,
+        Some(name) if name.starts_with("LIST") || name.split_whitespace().count() > 1 => {
+            return Err(IoError::unsupported(
+                fields.path,
+                format!("'data file: {name}': only a single data file is supported"),
+            ))
+        }
+        Some(name) => Some(samples::data_file_path(fields.path, "data file", name)?),
+    };
+    let line_skip = match fields.get(&["line skip", "lineskip"]) {
+        None => 0,
+        Some(t) => t.parse().map_err(|_| fields.bad("line skip", t))?,
+    };
+    let byte_skip = match fields.get(&["byte skip", "byteskip"]) {
+        None => 0,
+        Some(t) => t
+            .parse::<i64>()
+            .ok()
+            .filter(|&b| b >= -1)
+            .ok_or_else(|| fields.bad("byte skip", t))?,
+    };
+    Ok((data_file, line_skip, byte_skip))
 }
 
 pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {

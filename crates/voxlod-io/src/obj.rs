@@ -14,6 +14,9 @@
 //!   dropped otherwise (the pipeline recomputes them).
 //! - Groups, objects, materials, smoothing groups, free-form geometry are ignored; a trailing
 //!   `\` continues a line.
+//!
+//! Cost: one pass over the file, O(file size) time; memory the mesh plus the lines' polygon
+//! lists while they are triangulated (ear clipping, see [`crate::ear_clipping`]).
 
 use std::io::Write;
 use std::path::Path;

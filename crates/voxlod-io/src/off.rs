@@ -12,6 +12,9 @@
 //! faces are one per line; values after the ones we need (colours, texture coordinates) are
 //! ignored, and so are normals unless the header says `N`. Polygons are ear-clipped. Not
 //! supported: binary OFF, `4OFF` and `nOFF` (other dimensions). The writer emits plain `OFF`.
+//!
+//! Cost: one pass over the file, O(file size) time; memory the mesh, with counts from the
+//! header checked against the budget before allocating.
 
 use std::io::Write;
 use std::path::Path;

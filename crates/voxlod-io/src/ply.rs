@@ -576,24 +576,18 @@ fn check_names(path: &Path, attributes: &[Attribute], reserved: &[&str]) -> Resu
     Ok(())
 }
 
-pub(crate) fn write(path: &Path, view: PolyView<'_>) -> Result<TempFile, IoError> {
-    let m = view.mesh;
-    check_names(
-        path,
-        view.vertex_attributes,
-        &["x", "y", "z", "nx", "ny", "nz"],
-    )?;
-    check_names(path, view.line_attributes, &["vertex1", "vertex2"])?;
-    let mut indices = (m.triangles.iter().flatten())
-        .chain(view.lines.iter().flatten())
-        .chain(view.points);
-    if let Some(&too_big) = indices.find(|&&v| v > i32::MAX as u32) {
-        return Err(IoError::unsupported(
-            path,
-            format!("vertex index {too_big} does not fit PLY's int indices"),
-        ));
-    }
+/// The four elements a written PLY file may hold.
+struct Elements {
+    vertex: ElementDef,
+    face: ElementDef,
+    edge: ElementDef,
+    point: ElementDef,
+}
 
+/// The element definitions of `view`: vertex (position, normal when present, attributes),
+/// face (an index list), edge (two indices and the line attributes) and point (one index).
+fn element_definitions(view: PolyView<'_>) -> Elements {
+    let m = view.mesh;
     let float = || PropertyType::Scalar(ScalarType::Float);
     let int = || PropertyType::Scalar(ScalarType::Int);
     let mut vertex_props = vec![
@@ -630,7 +624,38 @@ pub(crate) fn write(path: &Path, view: PolyView<'_>) -> Result<TempFile, IoError
         view.points.len(),
         vec![property("vertex_index", int())],
     );
+    Elements {
+        vertex: vertex_def,
+        face: face_def,
+        edge: edge_def,
+        point: point_def,
+    }
+}
 
+pub(crate) fn write(path: &Path, view: PolyView<'_>) -> Result<TempFile, IoError> {
+    let m = view.mesh;
+    check_names(
+        path,
+        view.vertex_attributes,
+        &["x", "y", "z", "nx", "ny", "nz"],
+    )?;
+    check_names(path, view.line_attributes, &["vertex1", "vertex2"])?;
+    let mut indices = (m.triangles.iter().flatten())
+        .chain(view.lines.iter().flatten())
+        .chain(view.points);
+    if let Some(&too_big) = indices.find(|&&v| v > i32::MAX as u32) {
+        return Err(IoError::unsupported(
+            path,
+            format!("vertex index {too_big} does not fit PLY's int indices"),
+        ));
+    }
+
+    let Elements {
+        vertex: vertex_def,
+        face: face_def,
+        edge: edge_def,
+        point: point_def,
+    } = element_definitions(view);
     let mut header = Header::new();
     header.encoding = Encoding::BinaryLittleEndian;
     header.comments.push("written by voxlod".to_string());

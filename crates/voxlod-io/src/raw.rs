@@ -6,6 +6,10 @@
 //! whose message names both sizes and suggests layouts that would fit (another depth, another
 //! sample type, a header). Writing produces `f32` little-endian samples and nothing else; keep
 //! the dimensions, spacing and origin yourself, or prefer NRRD.
+//!
+//! Cost: one read of the N samples in O(N) time; memory at the peak is the stored bytes (N ×
+//! sample size) plus the `f32` volume (4N bytes), both checked against the budget first
+//! (`samples::check_volume_size`).
 
 use std::fmt;
 use std::io::{BufReader, Read, Seek, SeekFrom, Write};
@@ -21,17 +25,24 @@ use crate::{IoError, IoErrorKind};
 /// Sample type of a headerless raw volume.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum RawType {
+    /// Unsigned 8-bit integers.
     U8,
+    /// Signed 16-bit integers (most CT scans).
     I16,
+    /// Unsigned 16-bit integers (the Stanford CT head).
     U16,
+    /// Signed 32-bit integers.
     I32,
+    /// 32-bit IEEE floats.
     F32,
 }
 
 /// Byte order of multi-byte samples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Endian {
+    /// Least significant byte first (x86, ARM, most files today).
     Little,
+    /// Most significant byte first (older scanners and workstations).
     Big,
 }
 
@@ -45,6 +56,7 @@ pub struct ParseNameError {
 }
 
 impl RawType {
+    /// Every sample type, smallest first.
     pub const ALL: [RawType; 5] = [
         RawType::U8,
         RawType::I16,
@@ -138,7 +150,9 @@ impl FromStr for Endian {
 pub struct RawLayout {
     /// Samples along x, y, z (x varies fastest in the file).
     pub dims: [usize; 3],
+    /// The type of every sample.
     pub dtype: RawType,
+    /// The byte order of multi-byte samples (ignored for `u8`).
     pub endian: Endian,
     /// Distance between neighbouring samples, in millimetres for a scan.
     pub spacing: [f64; 3],

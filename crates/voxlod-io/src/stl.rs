@@ -11,6 +11,9 @@
 //! anything else is a binary file of the wrong size (truncated, named as such). The binary
 //! header is then blanked before stl_io sees it. Only the first `solid … endsolid` block of an
 //! ASCII file is read.
+//!
+//! Cost: O(F) expected for F triangles (stl_io's parse, then welding the 3F corners through a
+//! hash map); memory the file's bytes, the triangle soup and the welded mesh.
 
 use std::io::Cursor;
 use std::path::Path;

@@ -11,6 +11,9 @@
 //! translated into plain words ([`IoError::from_vtkio`]). Legacy files are written binary
 //! big-endian, as the legacy format prescribes; XML files with base64 data, zlib-compressed
 //! when asked.
+//!
+//! Cost: vtkio parses the whole file into its own model before we convert it: O(file size)
+//! time, and about twice the data's memory at the peak.
 
 use std::path::Path;
 

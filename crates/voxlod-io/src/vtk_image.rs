@@ -12,6 +12,9 @@
 //! files zlib-compressed when [`VolumeWriteOptions::compress`](crate::VolumeWriteOptions) asks.
 //! vtkio owns the data it writes, so writing makes one copy of the samples, and its
 //! compressor feeds zlib one sample at a time (seconds for a 256³ volume).
+//!
+//! Cost: O(N) for N samples; memory the vtkio model plus the `f32` volume (two copies of the
+//! samples at the peak).
 
 use std::path::Path;
 

@@ -12,6 +12,8 @@
 //! per segment) and `Polys` (triangles); normals and vertex attributes as point data, line
 //! attributes as cell data. Cell data in VTK covers every cell (verts, then lines, then polys),
 //! so vertex and triangle cells carry NaN in the line attribute arrays.
+//!
+//! Cost: O(file size) time; memory the vtkio model plus the mesh (two copies at the peak).
 
 use std::path::Path;
 

@@ -37,6 +37,7 @@ pub struct DistanceOptions {
     pub samples_per_side: usize,
     /// Seed of the first surface's samples; the second surface's use the next seed.
     pub seed: u64,
+    /// How the samples share out each surface.
     pub layout: SampleLayout,
 }
 
@@ -62,6 +63,7 @@ impl DistanceOptions {
         DistanceOptions::with_samples(1_000_000)
     }
 
+    /// `samples_per_side` stratified samples per side from the default seed.
     pub fn with_samples(samples_per_side: usize) -> Self {
         DistanceOptions {
             samples_per_side,
@@ -84,8 +86,11 @@ impl DistanceOptions {
 pub struct OneSidedDistance {
     /// Largest sample distance (the one-sided Hausdorff distance, as sampled).
     pub max: f64,
+    /// Mean sample distance.
     pub mean: f64,
+    /// Root mean square sample distance.
     pub rms: f64,
+    /// Samples drawn on the surface.
     pub samples: usize,
 }
 
@@ -98,8 +103,11 @@ pub struct DistanceReport {
     pub mean: f64,
     /// Root mean square distance over the samples of both sides.
     pub rms: f64,
+    /// `hausdorff` divided by `diagonal` (0 when the diagonal is 0).
     pub hausdorff_fraction: f64,
+    /// `mean` divided by `diagonal`.
     pub mean_fraction: f64,
+    /// `rms` divided by `diagonal`.
     pub rms_fraction: f64,
     /// Samples drawn on each side.
     pub samples: usize,
@@ -118,6 +126,27 @@ pub struct DistanceReport {
 /// Fails when either mesh is empty, invalid, or has no area (the error names which one), when
 /// the sample count is zero or above [`crate::surface_sampling::MAX_SAMPLES`], and when a block
 /// of samples would not fit in the memory budget.
+///
+/// Two unit squares a quarter apart: every sample of either lies exactly 0.25 from the other.
+///
+/// ```
+/// use voxlod_core::{glam::Vec3, TriangleMesh};
+/// use voxlod_metrics::{mesh_distance, DistanceOptions};
+///
+/// let square = |z: f32| {
+///     let corners = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+///     let positions = corners.iter().map(|&[x, y]| Vec3::new(x, y, z)).collect();
+///     TriangleMesh::new(positions, vec![[0, 1, 2], [0, 2, 3]])
+/// };
+/// let report = mesh_distance(&square(0.0), &square(0.25), &DistanceOptions::with_samples(1000))?;
+/// for d in [report.hausdorff, report.mean, report.rms] {
+///     assert!((d - 0.25).abs() < 1e-6);
+/// }
+/// assert!((report.diagonal - 2.0625f64.sqrt()).abs() < 1e-6);
+/// assert!((report.hausdorff_fraction - 0.25 / report.diagonal).abs() < 1e-9);
+/// assert_eq!(report.first_to_second.samples, 1000);
+/// # Ok::<(), voxlod_metrics::MetricsError>(())
+/// ```
 pub fn mesh_distance(
     first: &TriangleMesh,
     second: &TriangleMesh,

@@ -25,12 +25,14 @@ use crate::error::{check_mesh, MetricsError};
 /// at the top level beside `area`, `volume` and the rest; `genus` is `null` where undefined.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MeshReport {
+    /// Counts, manifoldness, orientation, components and genus from the vertex indices.
     #[serde(flatten)]
     pub topology: Topology,
     /// Triangles with three distinct vertex indices but no area: the height over the longest
     /// edge is below `f32` precision of that edge (`|ab × ac| ≤ ε·L²`). Triangles with a
     /// repeated index are counted in `degenerate_triangles` instead.
     pub zero_area_triangles: usize,
+    /// Total surface area.
     pub area: f64,
     /// Signed volume by the divergence theorem. It is the enclosed volume when
     /// `volume_is_enclosed`; negative then means the shell is inside out.
@@ -40,10 +42,14 @@ pub struct MeshReport {
     /// A closed, consistently oriented shell whose triangles wind clockwise seen from outside
     /// (negative volume).
     pub inside_out: bool,
+    /// [`Topology::is_closed_manifold`]: no boundary, every edge shared by two triangles, every
+    /// vertex a single fan.
     pub closed_manifold: bool,
+    /// [`Topology::is_consistently_oriented`]: neighbouring triangles agree across every edge.
     pub consistently_oriented: bool,
     /// Bounds of the vertices that triangles use.
     pub bounds: BoxReport,
+    /// Length of the diagonal of `bounds`.
     pub diagonal: f64,
     /// Set by [`welded_mesh_report`]: the counts above are of the welded mesh.
     pub welding: Option<WeldSummary>,
@@ -52,14 +58,18 @@ pub struct MeshReport {
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct BoxReport {
+    /// The smallest x, y and z.
     pub min: [f64; 3],
+    /// The largest x, y and z.
     pub max: [f64; 3],
 }
 
 /// How many vertices welding coincident ones left.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct WeldSummary {
+    /// Vertices in the mesh as given.
     pub vertices_before: usize,
+    /// Vertices once coincident ones are merged.
     pub vertices_after: usize,
 }
 
@@ -68,6 +78,30 @@ pub struct WeldSummary {
 ///
 /// Fails on an empty mesh, an out-of-range index or a non-finite coordinate. A mesh with no
 /// area is reported, not refused.
+///
+/// A triangle soup (every triangle with its own corners, as in STL) is twelve separate pieces
+/// until its coincident corners are welded:
+///
+/// ```
+/// use voxlod_core::{glam::Vec3, TriangleMesh};
+/// use voxlod_metrics::{mesh_report, welded_mesh_report, WeldSummary};
+///
+/// let corners = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+/// let faces = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+/// let soup = TriangleMesh::new(
+///     faces.iter().flat_map(|f| f.map(|v| corners[v])).collect(),
+///     (0..4).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect(),
+/// );
+/// let as_stored = mesh_report(&soup)?;
+/// assert_eq!((as_stored.topology.components, as_stored.topology.boundary_loops), (4, 4));
+/// assert!(!as_stored.closed_manifold);
+///
+/// let welded = welded_mesh_report(&soup)?;
+/// assert!(welded.closed_manifold && welded.volume_is_enclosed);
+/// let summary = WeldSummary { vertices_before: 12, vertices_after: 4 };
+/// assert_eq!(welded.welding, Some(summary));
+/// # Ok::<(), voxlod_metrics::MetricsError>(())
+/// ```
 pub fn mesh_report(mesh: &TriangleMesh) -> Result<MeshReport, MetricsError> {
     check_mesh(mesh)?;
     let topology = mesh_topology(mesh);

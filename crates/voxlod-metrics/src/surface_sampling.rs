@@ -65,8 +65,11 @@ pub enum SampleLayout {
 /// How many samples to draw, from which seed, laid out how.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SamplingOptions {
+    /// Points to draw.
     pub samples: usize,
+    /// Seed of the random generator: the same seed gives the same points.
     pub seed: u64,
+    /// How the points share out the surface.
     pub layout: SampleLayout,
 }
 
@@ -96,7 +99,9 @@ pub const DEFAULT_SEED: u64 = 0x766f_786c_6f64; // "voxlod"
 /// A point on the surface and the triangle it lies on.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceSample {
+    /// The point, in the mesh's coordinates.
     pub point: DVec3,
+    /// Index of the triangle it lies on.
     pub triangle: u32,
 }
 

@@ -19,28 +19,41 @@ use crate::SamplingError;
 /// A CSG tree of axis-aligned primitives and half-spaces.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
+    /// A ball.
     Sphere {
+        /// Its centre, in world units.
         center: DVec3,
+        /// Its radius, in world units.
         radius: f64,
     },
     /// An axis-aligned box.
     Cuboid {
+        /// The corner with the smallest coordinates.
         min: DVec3,
+        /// The corner with the largest coordinates.
         max: DVec3,
     },
     /// A circular cylinder along `axis`, from `center[axis] - half_length` to `+ half_length`.
     Cylinder {
+        /// The middle of its axis.
         center: DVec3,
+        /// The axis it runs along.
         axis: Axis,
+        /// The radius of its circular section.
         radius: f64,
+        /// Half its length along `axis`.
         half_length: f64,
     },
     /// The points `p` with `normal · p <= offset` (unbounded: intersect it with something).
     HalfSpace {
+        /// The outward normal of the bounding plane (any length: `offset` scales with it).
         normal: DVec3,
+        /// The plane's value of `normal · p`.
         offset: f64,
     },
+    /// Inside any of the shapes.
     Union(Vec<Shape>),
+    /// Inside all of the shapes (none: nothing).
     Intersection(Vec<Shape>),
     /// The first shape minus the second.
     Difference(Box<Shape>, Box<Shape>),
@@ -50,14 +63,17 @@ pub enum Shape {
 type Intervals = Vec<(f64, f64)>;
 
 impl Shape {
+    /// [`Shape::Sphere`].
     pub fn sphere(center: DVec3, radius: f64) -> Shape {
         Shape::Sphere { center, radius }
     }
 
+    /// [`Shape::Cuboid`].
     pub fn cuboid(min: DVec3, max: DVec3) -> Shape {
         Shape::Cuboid { min, max }
     }
 
+    /// [`Shape::Cylinder`].
     pub fn cylinder(center: DVec3, axis: Axis, radius: f64, half_length: f64) -> Shape {
         Shape::Cylinder {
             center,
@@ -67,6 +83,7 @@ impl Shape {
         }
     }
 
+    /// `self` with `other` taken away: [`Shape::Difference`].
     pub fn minus(self, other: Shape) -> Shape {
         Shape::Difference(Box::new(self), Box::new(other))
     }
@@ -145,85 +162,36 @@ impl Shape {
         }
     }
 
-    /// The inside intervals of the line along `axis` at cross-coordinates `(u, v)`.
+    /// The inside intervals of the line along `axis` at cross-coordinates `(u, v)` (the other
+    /// two axes in cyclic order, see [`Axis::others`]): sorted, disjoint, in world units along
+    /// the axis.
+    ///
+    /// ```
+    /// use voxlod_core::{glam::DVec3, Axis};
+    /// use voxlod_sampling::Shape;
+    ///
+    /// // A ball of radius 5 with a 2-unit hole drilled through along x.
+    /// let ball = Shape::sphere(DVec3::ZERO, 5.0);
+    /// let drilled = ball.minus(Shape::cylinder(DVec3::ZERO, Axis::X, 1.0, 10.0));
+    /// // The line along z through (x, y) = (0, 0) meets the hole at its middle.
+    /// assert_eq!(drilled.intervals(Axis::Z, 0.0, 0.0), vec![(-5.0, -1.0), (1.0, 5.0)]);
+    /// // Along x the hole takes the whole line: nothing is left.
+    /// assert!(drilled.intervals(Axis::X, 0.0, 0.0).is_empty());
+    /// // Along y at z = 3 (u = z, v = x for lines along y): a chord of length 2·4 = 8.
+    /// assert_eq!(drilled.intervals(Axis::Y, 3.0, 0.0), vec![(-4.0, 4.0)]);
+    /// ```
     pub fn intervals(&self, axis: Axis, u: f64, v: f64) -> Intervals {
-        let a = axis.index();
-        let (ua, va) = axis.others();
-        let point = |t: f64| {
-            let mut p = DVec3::ZERO;
-            p[a] = t;
-            p[ua.index()] = u;
-            p[va.index()] = v;
-            p
-        };
         match self {
-            Shape::Sphere { center, radius } => {
-                let (du, dv) = (u - center[ua.index()], v - center[va.index()]);
-                let h2 = radius * radius - du * du - dv * dv;
-                if h2 > 0.0 {
-                    let h = h2.sqrt();
-                    vec![(center[a] - h, center[a] + h)]
-                } else {
-                    Vec::new()
-                }
-            }
-            Shape::Cuboid { min, max } => {
-                let inside = (min[ua.index()]..=max[ua.index()]).contains(&u)
-                    && (min[va.index()]..=max[va.index()]).contains(&v);
-                if inside && min[a] < max[a] {
-                    vec![(min[a], max[a])]
-                } else {
-                    Vec::new()
-                }
-            }
+            Shape::Sphere { center, radius } => sphere_intervals(*center, *radius, axis, u, v),
+            Shape::Cuboid { min, max } => cuboid_intervals(*min, *max, axis, u, v),
             Shape::Cylinder {
                 center,
                 axis: c_axis,
                 radius,
                 half_length,
-            } => {
-                if *c_axis == axis {
-                    let (du, dv) = (u - center[ua.index()], v - center[va.index()]);
-                    if du * du + dv * dv < radius * radius {
-                        vec![(center[a] - half_length, center[a] + half_length)]
-                    } else {
-                        Vec::new()
-                    }
-                } else {
-                    // The line crosses the cylinder's axis at a right angle.
-                    let c = c_axis.index();
-                    let along = if c == ua.index() { u } else { v };
-                    if (along - center[c]).abs() > *half_length {
-                        return Vec::new();
-                    }
-                    let w = 3 - a - c; // the remaining axis
-                    let off = if w == ua.index() { u } else { v } - center[w];
-                    let h2 = radius * radius - off * off;
-                    if h2 > 0.0 {
-                        let h = h2.sqrt();
-                        vec![(center[a] - h, center[a] + h)]
-                    } else {
-                        Vec::new()
-                    }
-                }
-            }
+            } => cylinder_intervals(*center, *c_axis, *radius, *half_length, axis, u, v),
             Shape::HalfSpace { normal, offset } => {
-                let rest = normal.dot(point(0.0));
-                let na = normal[a];
-                if na == 0.0 {
-                    if rest <= *offset {
-                        vec![(f64::NEG_INFINITY, f64::INFINITY)]
-                    } else {
-                        Vec::new()
-                    }
-                } else {
-                    let t0 = (offset - rest) / na;
-                    if na > 0.0 {
-                        vec![(f64::NEG_INFINITY, t0)]
-                    } else {
-                        vec![(t0, f64::INFINITY)]
-                    }
-                }
+                half_space_intervals(*normal, *offset, axis, u, v)
             }
             Shape::Union(children) => {
                 let mut all: Intervals = children
@@ -253,6 +221,96 @@ impl Shape {
                 }
                 subtract(&ia, &b.intervals(axis, u, v))
             }
+        }
+    }
+}
+
+/// The chord of a ball along the line.
+fn sphere_intervals(center: DVec3, radius: f64, axis: Axis, u: f64, v: f64) -> Intervals {
+    let a = axis.index();
+    let (ua, va) = axis.others();
+    let (du, dv) = (u - center[ua.index()], v - center[va.index()]);
+    chord(center[a], radius * radius - du * du - dv * dv)
+}
+
+/// The interval `mid ± √h2` of a chord whose half-length squared is `h2`; none unless `h2 > 0`.
+#[inline]
+fn chord(mid: f64, h2: f64) -> Intervals {
+    if h2 > 0.0 {
+        let h = h2.sqrt();
+        vec![(mid - h, mid + h)]
+    } else {
+        Vec::new()
+    }
+}
+
+/// The box's extent along the line, when the line passes through it (its faces included).
+fn cuboid_intervals(min: DVec3, max: DVec3, axis: Axis, u: f64, v: f64) -> Intervals {
+    let a = axis.index();
+    let (ua, va) = axis.others();
+    let inside = (min[ua.index()]..=max[ua.index()]).contains(&u)
+        && (min[va.index()]..=max[va.index()]).contains(&v);
+    if inside && min[a] < max[a] {
+        vec![(min[a], max[a])]
+    } else {
+        Vec::new()
+    }
+}
+
+/// The cylinder along the line: its whole length when the line runs along its axis inside it,
+/// else the chord of its circular section.
+fn cylinder_intervals(
+    center: DVec3,
+    c_axis: Axis,
+    radius: f64,
+    half_length: f64,
+    axis: Axis,
+    u: f64,
+    v: f64,
+) -> Intervals {
+    let a = axis.index();
+    let (ua, va) = axis.others();
+    if c_axis == axis {
+        let (du, dv) = (u - center[ua.index()], v - center[va.index()]);
+        if du * du + dv * dv < radius * radius {
+            vec![(center[a] - half_length, center[a] + half_length)]
+        } else {
+            Vec::new()
+        }
+    } else {
+        // The line crosses the cylinder's axis at a right angle.
+        let c = c_axis.index();
+        let along = if c == ua.index() { u } else { v };
+        if (along - center[c]).abs() > half_length {
+            return Vec::new();
+        }
+        let w = 3 - a - c; // the remaining axis
+        let off = if w == ua.index() { u } else { v } - center[w];
+        chord(center[a], radius * radius - off * off)
+    }
+}
+
+/// The half-line (or whole line, or nothing) of `normal · p <= offset`.
+fn half_space_intervals(normal: DVec3, offset: f64, axis: Axis, u: f64, v: f64) -> Intervals {
+    let a = axis.index();
+    let (ua, va) = axis.others();
+    let mut at_zero = DVec3::ZERO;
+    at_zero[ua.index()] = u;
+    at_zero[va.index()] = v;
+    let rest = normal.dot(at_zero);
+    let na = normal[a];
+    if na == 0.0 {
+        if rest <= offset {
+            vec![(f64::NEG_INFINITY, f64::INFINITY)]
+        } else {
+            Vec::new()
+        }
+    } else {
+        let t0 = (offset - rest) / na;
+        if na > 0.0 {
+            vec![(f64::NEG_INFINITY, t0)]
+        } else {
+            vec![(t0, f64::INFINITY)]
         }
     }
 }
@@ -312,6 +370,7 @@ fn subtract(x: &Intervals, y: &Intervals) -> Intervals {
 /// A CSG shape as a [`Solid`]; intervals are clipped to `bounds` (the shape's own, or given).
 #[derive(Clone, Debug)]
 pub struct CsgSolid {
+    /// The CSG tree.
     pub shape: Shape,
     bounds: Bounds,
 }

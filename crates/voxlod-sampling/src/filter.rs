@@ -1,4 +1,5 @@
-//! The low-pass filters of paper §2: which one, and what it does to a half-space.
+//! The low-pass filters of paper §2: which one, and what it does to a half-space (§3,
+//! equation 5). Cost: O(1) per weight or profile value.
 
 use serde::Serialize;
 
@@ -12,7 +13,10 @@ pub enum Filter {
     Hypercone,
     /// `exp(-r² / 2σ²)` truncated at R and renormalised, with `σ = sigma_ratio · R`: the
     /// paper's "higher-order filter", used for the sphereflake and the mechanical part.
-    Gaussian { sigma_ratio: f64 },
+    Gaussian {
+        /// σ as a fraction of the support radius R ([`Filter::GAUSSIAN`]: 1/3).
+        sigma_ratio: f64,
+    },
 }
 
 impl Filter {

@@ -11,6 +11,9 @@
 //!
 //! `G_ρ` is tabulated once per distinct ρ on 512 intervals (Simpson's rule on each) and read by
 //! linear interpolation: its error is below 1e-6 of a line's weight.
+//!
+//! Cost: building a kernel is O(L) for the L lines within the support (about π R² times the
+//! lines per voxel side squared) plus 512 intervals per distinct ρ; a contribution is then O(1).
 
 use crate::Filter;
 
@@ -66,15 +69,20 @@ fn lookup(table: &[f64], reach: f64, inv_step: f64, tau: f64, cumulative: bool) 
 /// the index of its profile.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PatternLine {
+    /// Offset across `u`, in lattice steps.
     pub du: i32,
+    /// Offset across `v`, in lattice steps.
     pub dv: i32,
+    /// Index into [`LineKernel::profiles`] of the line's distance ρ.
     pub profile: u32,
 }
 
 /// The lines within the support of a sample and their profiles, in index units of the grid.
 #[derive(Clone, Debug)]
 pub struct LineKernel {
+    /// Every lattice line within the support, as an offset from the sample's own line.
     pub lines: Vec<PatternLine>,
+    /// One profile per distinct distance ρ of those lines.
     pub profiles: Vec<LineProfile>,
     /// Support radius in index units.
     pub radius: f64,

@@ -23,6 +23,8 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
+use voxlod_core::Axis;
+
 use crate::lattice::LineCrossings;
 
 /// What the vote changed.
@@ -120,6 +122,16 @@ struct SliceVotes {
     disagree: [Vec<u64>; 3],
 }
 
+impl SliceVotes {
+    /// No disagreement anywhere: what lies beyond the first and last slice.
+    fn agreeing(size: LatticeSize) -> SliceVotes {
+        let n = size.ly * size.wx;
+        SliceVotes {
+            disagree: [vec![0; n], vec![0; n], vec![0; n]],
+        }
+    }
+}
+
 /// Words of `row` shifted so that bit p holds bit p - 1 (`up`) or bit p + 1 (`down`).
 #[inline]
 fn neighbour_bits(row: &[u64], w: usize) -> (u64, u64) {
@@ -128,153 +140,245 @@ fn neighbour_bits(row: &[u64], w: usize) -> (u64, u64) {
     ((row[w] << 1) | below, (row[w] >> 1) | above)
 }
 
+/// The lattice the three families share: points per axis, words per bit row along x and y,
+/// and lattice lines per voxel.
+#[derive(Clone, Copy)]
+struct LatticeSize {
+    lx: usize,
+    ly: usize,
+    lz: usize,
+    wx: usize,
+    wy: usize,
+    q: f64,
+}
+
 /// Runs the vote over the three families (ordered x, y, z) and repairs their crossings.
 pub fn majority_vote(families: &mut [LineCrossings; 3]) -> MajorityReport {
     let fx = families[0].family;
-    let q = fx.lines_per_voxel as f64;
-    let lx = fx.lattice_len(voxlod_core::Axis::X);
-    let ly = fx.lattice_len(voxlod_core::Axis::Y);
-    let lz = fx.lattice_len(voxlod_core::Axis::Z);
-    let (wx, wy) = (lx.div_ceil(64), ly.div_ceil(64));
+    let (lx, ly) = (fx.lattice_len(Axis::X), fx.lattice_len(Axis::Y));
+    let size = LatticeSize {
+        lx,
+        ly,
+        lz: fx.lattice_len(Axis::Z),
+        wx: lx.div_ceil(64),
+        wy: ly.div_ceil(64),
+        q: fx.lines_per_voxel as f64,
+    };
+    let toggles = z_toggles(&families[2], size);
 
-    // z-line crossings bucketed by the first slice they affect: (slice, x, y).
-    let zc = &families[2];
-    let mut toggles: Vec<(u32, u32, u32)> = Vec::new();
-    for p in 0..lx {
-        for m in 0..ly {
-            // Family z: cross axes (x, y), line (m = x, n = y).
-            for &t in zc.line(p as isize, m as isize) {
-                let s = first_point_after(t, q).clamp(0, lz as i64) as u32;
-                toggles.push((s, p as u32, m as u32));
-            }
-        }
-    }
-    toggles.sort_unstable();
-
-    let chunks = (rayon::current_num_threads().max(1) * 4).min(lz);
-    let per_chunk = lz.div_ceil(chunks);
+    // Step 1 and 2 on chunks of slices in parallel, then step 3 family by family.
+    let chunks = (rayon::current_num_threads().max(1) * 4).min(size.lz);
+    let per_chunk = size.lz.div_ceil(chunks);
     let fams = &*families;
     let results: Vec<([Vec<RunEvent>; 3], u64)> = (0..chunks)
         .into_par_iter()
         .map(|c| {
-            let (s0, s1) = (c * per_chunk, ((c + 1) * per_chunk).min(lz));
-            let mut events: [Vec<RunEvent>; 3] = Default::default();
-            let mut outvoted = 0u64;
-            if s0 >= s1 {
-                return (events, outvoted);
-            }
-            let mut zstate = vec![0u64; ly * wx];
-            let mut applied = 0;
-            let mut xbits = vec![0u64; ly * wx];
-            let mut ycols = vec![0u64; lx * wy];
-            let mut ybits = vec![0u64; ly * wx];
-            let mut row = vec![0u64; wx.max(wy)];
-            // The votes of slice s; slices must be asked for in increasing order.
-            let mut vote_slice = |s: usize| -> SliceVotes {
-                while applied < toggles.len() && toggles[applied].0 as usize <= s {
-                    let (_, p, m) = toggles[applied];
-                    zstate[m as usize * wx + p as usize / 64] ^= 1u64 << (p % 64);
-                    applied += 1;
-                }
-                // x-lines of this slice: cross axes (y, z), line (m = y, n = s).
-                for m in 0..ly {
-                    line_bits(fams[0].line(m as isize, s as isize), q, lx, &mut row[..wx]);
-                    xbits[m * wx..(m + 1) * wx].copy_from_slice(&row[..wx]);
-                }
-                // y-lines: cross axes (z, x), line (m = s, n = p), bits along y.
-                for p in 0..lx {
-                    line_bits(fams[1].line(s as isize, p as isize), q, ly, &mut row[..wy]);
-                    ycols[p * wy..(p + 1) * wy].copy_from_slice(&row[..wy]);
-                }
-                transpose(&ycols, lx, ly, &mut ybits);
-                let mut disagree: [Vec<u64>; 3] =
-                    [vec![0; ly * wx], vec![0; ly * wx], vec![0; ly * wx]];
-                for i in 0..ly * wx {
-                    let (x, y, z) = (xbits[i], ybits[i], zstate[i]);
-                    let vote = (x & y) | (x & z) | (y & z);
-                    disagree[0][i] = x ^ vote;
-                    disagree[1][i] = y ^ vote;
-                    disagree[2][i] = z ^ vote;
-                }
-                SliceVotes { disagree }
-            };
-            let empty = || SliceVotes {
-                disagree: [vec![0; ly * wx], vec![0; ly * wx], vec![0; ly * wx]],
-            };
-            // Start the z-state one slice early so the previous slice's votes are known.
-            let mut prev = if s0 > 0 { vote_slice(s0 - 1) } else { empty() };
-            let mut cur = vote_slice(s0);
-            for s in s0..s1 {
-                let next = if s + 1 < lz {
-                    vote_slice(s + 1)
-                } else {
-                    empty()
-                };
-                let su = s as u32;
-                for m in 0..ly {
-                    let r = m * wx..(m + 1) * wx;
-                    let (dx, dy, dz) = (
-                        &cur.disagree[0][r.clone()],
-                        &cur.disagree[1],
-                        &cur.disagree[2],
-                    );
-                    for w in 0..wx {
-                        let i = m * wx + w;
-                        outvoted +=
-                            (dx[w].count_ones() + dy[i].count_ones() + dz[i].count_ones()) as u64;
-                        // x-lines run along the bits of the row.
-                        let (left, right) = neighbour_bits(dx, w);
-                        emit(&mut events[0], dx[w] & !left, dx[w] & !right, w, |p| {
-                            (m as u32, su, p)
-                        });
-                        // y-lines run across rows m.
-                        let up = if m > 0 { dy[i - wx] } else { 0 };
-                        let down = if m + 1 < ly { dy[i + wx] } else { 0 };
-                        emit(&mut events[1], dy[i] & !up, dy[i] & !down, w, |p| {
-                            (su, p, m as u32)
-                        });
-                        // z-lines run across slices.
-                        let (before, after) = (prev.disagree[2][i], next.disagree[2][i]);
-                        emit(&mut events[2], dz[i] & !before, dz[i] & !after, w, |p| {
-                            (p, m as u32, su)
-                        });
-                    }
-                }
-                prev = cur;
-                cur = next;
-            }
-            (events, outvoted)
+            let slices = c * per_chunk..((c + 1) * per_chunk).min(size.lz);
+            disagreeing_runs(fams, &toggles, size, slices)
         })
         .collect();
 
     let mut report = MajorityReport::default();
     for (f, family) in families.iter_mut().enumerate() {
-        let mut events: Vec<RunEvent> = results
+        let events = results
             .iter()
             .flat_map(|r| r.0[f].iter().copied())
             .collect();
-        if events.is_empty() {
-            continue;
-        }
-        events.sort_unstable_by_key(|&(m, n, p, kind)| (n, m, p, kind));
-        let len = family.family.lattice_len(family.family.axis);
-        let mut repaired: Vec<(usize, Vec<f32>)> = Vec::new();
-        for group in events.chunk_by(|a, b| (a.0, a.1) == (b.0, b.1)) {
-            let (m, n) = (group[0].0 as usize, group[0].1 as usize);
-            debug_assert!(
-                group.len() % 2 == 0,
-                "unpaired run boundary on line ({m}, {n})"
-            );
-            let runs: Vec<(u32, u32)> =
-                group.chunks(2).map(|pair| (pair[0].2, pair[1].2)).collect();
-            let fixed = repair_line(family.line(m as isize, n as isize), &runs, q, len);
-            repaired.push((family.family.slot(m, n), fixed));
-        }
-        report.lines_repaired += repaired.len() as u64;
-        family.replace_lines(repaired);
+        report.lines_repaired += repair_family(family, events, size.q);
     }
     report.points_outvoted = results.iter().map(|r| r.1).sum();
     report
+}
+
+/// The z-line crossings as toggles `(slice, x, y)`, sorted by the first slice they affect.
+fn z_toggles(zc: &LineCrossings, size: LatticeSize) -> Vec<(u32, u32, u32)> {
+    let mut toggles: Vec<(u32, u32, u32)> = Vec::new();
+    for p in 0..size.lx {
+        for m in 0..size.ly {
+            // Family z: cross axes (x, y), line (m = x, n = y).
+            for &t in zc.line(p as isize, m as isize) {
+                let s = first_point_after(t, size.q).clamp(0, size.lz as i64) as u32;
+                toggles.push((s, p as u32, m as u32));
+            }
+        }
+    }
+    toggles.sort_unstable();
+    toggles
+}
+
+/// Steps 1 and 2 over the slices `slices`: the runs of points where each family's lines
+/// disagree with the vote, as run events, and the number of points outvoted.
+fn disagreeing_runs(
+    families: &[LineCrossings; 3],
+    toggles: &[(u32, u32, u32)],
+    size: LatticeSize,
+    slices: std::ops::Range<usize>,
+) -> ([Vec<RunEvent>; 3], u64) {
+    let mut events: [Vec<RunEvent>; 3] = Default::default();
+    let mut outvoted = 0u64;
+    if slices.is_empty() {
+        return (events, outvoted);
+    }
+    let (s0, s1) = (slices.start, slices.end);
+    let mut voter = SliceVoter::new(families, toggles, size);
+    // Start the z-state one slice early so the previous slice's votes are known.
+    let mut prev = if s0 > 0 {
+        voter.vote(s0 - 1)
+    } else {
+        SliceVotes::agreeing(size)
+    };
+    let mut cur = voter.vote(s0);
+    for s in s0..s1 {
+        let next = if s + 1 < size.lz {
+            voter.vote(s + 1)
+        } else {
+            SliceVotes::agreeing(size)
+        };
+        outvoted += slice_runs(&prev, &cur, &next, s, size, &mut events);
+        prev = cur;
+        cur = next;
+    }
+    (events, outvoted)
+}
+
+/// The run boundaries in slice `s` (given the slices before and after it, for the z-lines), and
+/// the number of disagreeing points there.
+#[inline]
+fn slice_runs(
+    prev: &SliceVotes,
+    cur: &SliceVotes,
+    next: &SliceVotes,
+    s: usize,
+    size: LatticeSize,
+    events: &mut [Vec<RunEvent>; 3],
+) -> u64 {
+    let LatticeSize { ly, wx, .. } = size;
+    let su = s as u32;
+    let mut outvoted = 0u64;
+    for m in 0..ly {
+        let r = m * wx..(m + 1) * wx;
+        let (dx, dy, dz) = (
+            &cur.disagree[0][r.clone()],
+            &cur.disagree[1],
+            &cur.disagree[2],
+        );
+        for w in 0..wx {
+            let i = m * wx + w;
+            outvoted += (dx[w].count_ones() + dy[i].count_ones() + dz[i].count_ones()) as u64;
+            // x-lines run along the bits of the row.
+            let (left, right) = neighbour_bits(dx, w);
+            emit(&mut events[0], dx[w] & !left, dx[w] & !right, w, |p| {
+                (m as u32, su, p)
+            });
+            // y-lines run across rows m.
+            let up = if m > 0 { dy[i - wx] } else { 0 };
+            let down = if m + 1 < ly { dy[i + wx] } else { 0 };
+            emit(&mut events[1], dy[i] & !up, dy[i] & !down, w, |p| {
+                (su, p, m as u32)
+            });
+            // z-lines run across slices.
+            let (before, after) = (prev.disagree[2][i], next.disagree[2][i]);
+            emit(&mut events[2], dz[i] & !before, dz[i] & !after, w, |p| {
+                (p, m as u32, su)
+            });
+        }
+    }
+    outvoted
+}
+
+/// Step 1 for one thread: the parity bits of the three families slice by slice, and the vote.
+/// Slices must be asked for in increasing order (the z-lines' state runs along z).
+struct SliceVoter<'a> {
+    families: &'a [LineCrossings; 3],
+    toggles: &'a [(u32, u32, u32)],
+    size: LatticeSize,
+    /// Toggles applied to `zstate` so far.
+    applied: usize,
+    zstate: Vec<u64>,
+    xbits: Vec<u64>,
+    ycols: Vec<u64>,
+    ybits: Vec<u64>,
+    row: Vec<u64>,
+}
+
+impl<'a> SliceVoter<'a> {
+    fn new(
+        families: &'a [LineCrossings; 3],
+        toggles: &'a [(u32, u32, u32)],
+        size: LatticeSize,
+    ) -> Self {
+        let LatticeSize { lx, ly, wx, wy, .. } = size;
+        SliceVoter {
+            families,
+            toggles,
+            size,
+            applied: 0,
+            zstate: vec![0u64; ly * wx],
+            xbits: vec![0u64; ly * wx],
+            ycols: vec![0u64; lx * wy],
+            ybits: vec![0u64; ly * wx],
+            row: vec![0u64; wx.max(wy)],
+        }
+    }
+
+    /// The disagreements of slice `s`.
+    fn vote(&mut self, s: usize) -> SliceVotes {
+        let LatticeSize {
+            lx, ly, wx, wy, q, ..
+        } = self.size;
+        while self.applied < self.toggles.len() && self.toggles[self.applied].0 as usize <= s {
+            let (_, p, m) = self.toggles[self.applied];
+            self.zstate[m as usize * wx + p as usize / 64] ^= 1u64 << (p % 64);
+            self.applied += 1;
+        }
+        let row = &mut self.row;
+        // x-lines of this slice: cross axes (y, z), line (m = y, n = s).
+        for m in 0..ly {
+            let line = self.families[0].line(m as isize, s as isize);
+            line_bits(line, q, lx, &mut row[..wx]);
+            self.xbits[m * wx..(m + 1) * wx].copy_from_slice(&row[..wx]);
+        }
+        // y-lines: cross axes (z, x), line (m = s, n = p), bits along y.
+        for p in 0..lx {
+            let line = self.families[1].line(s as isize, p as isize);
+            line_bits(line, q, ly, &mut row[..wy]);
+            self.ycols[p * wy..(p + 1) * wy].copy_from_slice(&row[..wy]);
+        }
+        transpose(&self.ycols, lx, ly, &mut self.ybits);
+        let mut votes = SliceVotes::agreeing(self.size);
+        for i in 0..ly * wx {
+            let (x, y, z) = (self.xbits[i], self.ybits[i], self.zstate[i]);
+            let vote = (x & y) | (x & z) | (y & z);
+            votes.disagree[0][i] = x ^ vote;
+            votes.disagree[1][i] = y ^ vote;
+            votes.disagree[2][i] = z ^ vote;
+        }
+        votes
+    }
+}
+
+/// Step 3 for one family: sorts its run events by line and repairs each line they name.
+/// Returns the number of lines repaired.
+fn repair_family(family: &mut LineCrossings, mut events: Vec<RunEvent>, q: f64) -> u64 {
+    if events.is_empty() {
+        return 0;
+    }
+    events.sort_unstable_by_key(|&(m, n, p, kind)| (n, m, p, kind));
+    let len = family.family.lattice_len(family.family.axis);
+    let mut repaired: Vec<(usize, Vec<f32>)> = Vec::new();
+    for group in events.chunk_by(|a, b| (a.0, a.1) == (b.0, b.1)) {
+        let (m, n) = (group[0].0 as usize, group[0].1 as usize);
+        debug_assert!(
+            group.len() % 2 == 0,
+            "unpaired run boundary on line ({m}, {n})"
+        );
+        let runs: Vec<(u32, u32)> = group.chunks(2).map(|pair| (pair[0].2, pair[1].2)).collect();
+        let fixed = repair_line(family.line(m as isize, n as isize), &runs, q, len);
+        repaired.push((family.family.slot(m, n), fixed));
+    }
+    let count = repaired.len() as u64;
+    family.replace_lines(repaired);
+    count
 }
 
 /// Records run starts and ends of word `w` (bit b stands for point 64 w + b on the line that

@@ -54,8 +54,11 @@ pub struct MeshSolid {
 /// What [`MeshSolid::new`] did to the input.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct MeshPreparation {
+    /// Vertices merged into another with the same coordinates.
     pub welded_vertices: usize,
+    /// Triangles dropped for a repeated vertex or zero area.
     pub degenerate_triangles: usize,
+    /// Triangles dropped as copies of another.
     pub duplicate_triangles: usize,
     /// Boundary loops closed by a fan before sampling ([`repair::close_boundary_loops`]).
     pub holes_closed: usize,
@@ -142,6 +145,7 @@ impl MeshSolid {
         })
     }
 
+    /// Triangles sampled: the prepared mesh's, hole fans included.
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
     }

@@ -10,6 +10,10 @@
 //! Each level's grid is the object's box, padded by the support radius plus two voxels on every
 //! side, so that the filtered density is zero on the grid's boundary and marching cubes closes
 //! every surface. The padding is why a level of "resolution 200" has a few more samples.
+//!
+//! Cost: planning is O(levels), and checks every level against the memory budget before any
+//! work starts; each level then costs one [`crate::filtered_density`], so the finest level
+//! dominates (halving the resolution divides the samples by eight).
 
 use serde::Serialize;
 use voxlod_core::{Bounds, Grid};
@@ -24,6 +28,7 @@ pub struct PyramidOptions {
     pub resolutions: Vec<usize>,
     /// Support radius in voxels of each level (the paper uses 1).
     pub radius_voxels: f64,
+    /// The low-pass filter of every level.
     pub filter: Filter,
     /// Quadrature lines per support radius (see [`DensityOptions`]).
     pub lines_per_radius: usize,
@@ -70,10 +75,15 @@ impl PyramidOptions {
 /// One level: its nominal resolution, voxel size, support radius (world units) and grid.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct LevelPlan {
+    /// 0 for the finest level, counting up as the levels coarsen.
     pub level: usize,
+    /// Samples across the longest side of the object's box (before padding).
     pub resolution: usize,
+    /// Sample spacing, world units.
     pub voxel_size: f64,
+    /// Support radius R of the filter, world units.
     pub radius: f64,
+    /// The padded grid the level is sampled on.
     pub grid: Grid,
 }
 

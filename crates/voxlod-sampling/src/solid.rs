@@ -5,7 +5,9 @@
 //! [`crate::MeshSolid`] (a triangle mesh through a BVH), [`crate::ThresholdSolid`] (a scanned
 //! volume thresholded with trilinear interpolation) and [`crate::CsgSolid`] (primitives combined
 //! by union, intersection and difference, such as the sphereflake and the mechanical part).
-//! The sampler asks for the crossings of whole families of lattice lines at once.
+//! The sampler asks for the crossings of whole families of lattice lines at once, tile by tile
+//! in parallel ([`crossings_per_tile`]); the cost of a family is each solid's own (see its
+//! module).
 
 use rayon::prelude::*;
 use voxlod_core::{Bounds, WorldTransform};
