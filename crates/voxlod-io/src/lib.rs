@@ -87,6 +87,7 @@ mod guard;
 mod label_table;
 mod metaimage;
 mod nifti;
+mod nifti_affine;
 mod nrrd;
 mod obj;
 mod off;
@@ -639,6 +640,14 @@ pub(crate) fn check_volume_for_writing(
     }
     voxlod_core::Grid::new(g.dims, g.spacing, g.origin)
         .map_err(|e| IoError::malformed(path, format!("cannot write: {e}")))?;
+    if matches!(format, VolumeFormat::Vti | VolumeFormat::Vtk)
+        && !volume.orientation.is_axis_aligned()
+    {
+        return Err(IoError::unsupported(
+            path,
+            "the volume is oblique (its index axes are not the world axes) and VTK image data as written here cannot hold a direction; write .nrrd or .mha to keep it",
+        ));
+    }
     Ok(format)
 }
 
