@@ -19,14 +19,14 @@ use voxlod_core::glam::DVec3;
 use voxlod_core::{memory, Frame, Grid, Placement, TriangleMesh, Volume};
 use voxlod_sampling::{PyramidOptions, SamplingError, ThresholdSolid};
 
-use crate::lod::{build_level, plan, LodError, LodLevel, LodOptions, LodSource};
+use crate::lod::{build_level, plan, LevelOptions, LodError, LodLevel, LodSource};
 
 /// How label meshes are made.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct LabelOptions {
     /// The pyramid (levels, filter, radius); its `resolutions` are replaced per label by
     /// halving from the map's own resolution over the label's box: only their count is used.
-    pub lod: LodOptions,
+    pub lod: LevelOptions,
     /// Only these label values (all non-zero labels when `None`).
     pub labels: Option<Vec<i64>>,
     /// The frame of the meshes: the map's own when `None`.
@@ -36,7 +36,7 @@ pub struct LabelOptions {
 impl Default for LabelOptions {
     /// One level at the map's resolution, hyper-cone of one voxel, isodensity ½.
     fn default() -> Self {
-        let mut lod = LodOptions::default();
+        let mut lod = LevelOptions::default();
         lod.pyramid.resolutions.truncate(1);
         LabelOptions {
             lod,
@@ -182,16 +182,20 @@ pub fn label_levels(
     let indicator = label_indicator(map, label)?;
     let solid = ThresholdSolid::new(&indicator, 0.5)?;
     let source = LodSource::Solid(&solid);
-    let lod = LodOptions {
+    let lod = LevelOptions {
         pyramid: label_pyramid(&indicator, options),
         ..options.lod.clone()
     };
-    let placement = Placement::of(&indicator.world(), options.frame);
+    // The pipeline places each level in the map's world (the indicator keeps its transform);
+    // only a change of frame is left to do.
+    let to_frame = options.frame.map_or(Placement::IDENTITY, |target| {
+        Placement::between_frames(map.orientation.frame, target)
+    });
     plan(&source, &lod)?
         .iter()
         .map(|p| {
             let mut level = build_level(&source, p, &lod)?;
-            placement.apply(&mut level.mesh);
+            to_frame.apply(&mut level.mesh);
             Ok(level)
         })
         .collect()

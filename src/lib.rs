@@ -1,26 +1,92 @@
 //! voxlod: levels of detail from polygon meshes and scanned volumes, by voxel filtering and
 //! marching cubes (He, Hong, Kaufman, Varshney, Wang 1995), with the classic baselines beside it.
 //!
-//! This is the library facade: it re-exports the stage crates, whose dependencies point one
-//! way (`core ← io`, `core ← sampling`, `core ← contouring`, `core ← metrics ← clustering,
-//! envelope`, `core ← render ← layers`, layers also on io, sampling and contouring), and adds
-//! the calls that span stages. The `voxlod` command line (crate `voxlod-cli`) and the
-//! measurements (crate `voxlod-eval`) are built on it; it depends on neither.
+//! This is the library facade: one call per job, each a free function over data with an options
+//! struct (`Default` and named presets), the simple call first and the general form after.
+//!
+//! ```no_run
+//! # fn main() -> Result<(), voxlod::Error> {
+//! let mesh = voxlod::read_mesh("bunny.obj")?;
+//! let lod = voxlod::lod(&voxlod::Source::Mesh(&mesh), &voxlod::LodOptions::default())?;
+//! for level in &lod.levels {
+//!     println!("{}: {} triangles", level.resolution, level.mesh.triangle_count());
+//! }
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! | job | call | options |
+//! |---|---|---|
+//! | files | [`read_mesh`], [`write_mesh`], [`read_volume`], [`write_volume`] | |
+//! | levels of detail (§2, §4) | [`lod()`], [`lod_with`]; one level at a time: [`lod::plan`], [`lod::build_level`] | [`LodOptions`] |
+//! | one filtered volume | [`voxelize`] | [`VoxelizeOptions`] |
+//! | marching cubes on any volume | [`contour`] | [`ContourOptions`] |
+//! | layered translucent shells (§3) | [`layers()`], [`layers_with`] | [`LayersOptions`] |
+//! | vertex clustering baselines | [`cluster`] | [`ClusteringOptions`] |
+//! | simplification envelopes | [`envelope()`], [`envelope_with`] | [`EnvelopeSeriesOptions`] |
+//! | topology and health | [`inspect`], [`inspect_scene`] | [`InspectOptions`] |
+//! | distance between surfaces | [`compare`] | [`CompareOptions`] |
+//! | which level for a pixel | [`select()`] | [`SelectOptions`] |
+//!
+//! Every call returns [`Error`], whose [`Error::class`] says what kind of failure it is. The
+//! long calls take a progress callback that can stop them ([`ProgressFn`], [`Control`]).
+//!
+//! The stage crates are re-exported for the general forms, and their dependencies point one
+//! way (`core ← io`, `core ← sampling`, `core ← contouring`, `core ← metrics ← envelope`,
+//! `core ← clustering`, `core ← render ← layers`, layers also on io, sampling and contouring).
+//! The `voxlod` command line (crate `voxlod-cli`) and the measurements (crate `voxlod-eval`) are
+//! built on this crate; it depends on neither.
 //!
 //! | stage | crate | what |
 //! |---|---|---|
-//! | types | [`core`] | meshes, grids, volumes, topology, memory budget |
+//! | types | [`core`] | meshes, grids, volumes, topology, validation, memory budget |
 //! | files | [`io`] | OBJ, PLY, STL, OFF, VTK meshes; NRRD, VTI, NIfTI, MetaImage, raw volumes |
 //! | sampling | [`sampling`] | inside tests, hyper-cone and Gaussian filters, the pyramid |
 //! | contouring | [`contouring`] | table-driven marching cubes |
-//! | levels of detail | [`lod`], [`select`] | the pyramid of closed meshes; which level to draw for a pixel size |
 //! | layers | [`layers`], [`render`] | multi-layer translucent shells (§3), the software rasterizer |
 //! | baselines | [`clustering`], [`envelope`] | vertex clustering; simplification envelopes |
 //! | measurement | [`metrics`] | distances and mesh health |
 
+#![warn(missing_docs)]
+
+mod cluster;
+mod compare;
+mod contour;
+mod envelope_series;
+mod error;
+mod files;
+mod inspect;
 pub mod labels;
+mod levels;
 pub mod lod;
+mod progress;
 pub mod select;
+mod shells;
+mod source;
+mod then_envelope;
+mod voxelize;
+
+pub use cluster::{cluster, ClusteringOptions};
+pub use compare::{compare, CompareOptions, Comparison};
+pub use contour::{contour, Contour, ContourOptions};
+pub use envelope_series::{envelope, envelope_with, EnvelopeSeries, EnvelopeSeriesOptions};
+pub use error::{Error, ErrorClass, InvalidOption};
+pub use files::{read_mesh, read_volume, write_mesh, write_volume};
+pub use inspect::{
+    inspect, inspect_scene, InspectOptions, Inspection, PartInspection, SceneInspection,
+};
+pub use levels::{lod, lod_with, Lod, LodOptions};
+pub use lod::LodLevel;
+pub use progress::{run_to_end, Control, Event, Progress, ProgressFn};
+pub use select::{select, SelectOptions, Selection};
+pub use shells::{
+    check_layers_options, layered_poly_mesh, layered_preview, layers, layers_with, Layers,
+    SURFACE_COLOR,
+};
+pub use source::{iso_outside_data, Prepared, Route, Source};
+pub use then_envelope::{EnvelopeStep, LevelEpsilon, ThenEnvelope};
+pub use voxelize::{voxelize, VoxelizeOptions, Voxelized};
+pub use voxlod_layers::LayersOptions;
 
 pub use voxlod_clustering as clustering;
 pub use voxlod_contouring as contouring;

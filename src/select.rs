@@ -117,3 +117,25 @@ fn positive(what: &'static str, value: f64) -> Result<(), ClusteringError> {
         Err(ClusteringError::InvalidParameter { what, value })
     }
 }
+
+/// The facade's call: [`select_level`] with [`crate::Error`], for the voxel pyramid's levels
+/// (their voxel sizes, [`crate::LodLevel::plan`]) or a clustering series' cell sizes.
+///
+/// ```
+/// # fn main() -> Result<(), voxlod::Error> {
+/// // Levels with voxels of 1, 2 and 4 units; a pixel covers 2.5 units: level 1 fits.
+/// let choice = voxlod::select(&[1.0, 2.0, 4.0], 2.5, &voxlod::SelectOptions::default())?;
+/// assert_eq!(choice, voxlod::Selection::Level(1));
+/// // A pixel smaller than the finest voxel: draw the original.
+/// let choice = voxlod::select(&[1.0, 2.0, 4.0], 0.5, &voxlod::SelectOptions::side())?;
+/// assert_eq!(choice, voxlod::Selection::Original);
+/// # Ok(())
+/// # }
+/// ```
+pub fn select(
+    cell_sizes: &[f64],
+    pixel_size: f64,
+    options: &SelectOptions,
+) -> Result<Selection, crate::Error> {
+    Ok(select_level(cell_sizes, pixel_size, options)?)
+}

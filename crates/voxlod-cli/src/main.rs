@@ -23,7 +23,7 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("voxlod: error: {}", one_line(&err.to_string()));
-            ExitCode::FAILURE
+            ExitCode::from(err.exit_code())
         }
     }
 }

@@ -403,7 +403,8 @@ fn an_address_space_limit_is_a_clean_refusal_not_an_abort() {
     // Resolution 1000 takes a 4 GB volume (7.6 GiB as the plan reckons): within the memory of
     // many machines, beyond 2 GB of address space, where it used to abort allocating.
     let o = voxelize("1000");
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    // Exit status 3: would not fit in memory.
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert_clean_failure(&o, "would need 7.6 GiB");
     assert!(stderr(&o).contains("bytes) but only"), "{}", stderr(&o));
     assert!(!out.exists());

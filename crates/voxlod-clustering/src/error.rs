@@ -30,38 +30,11 @@ pub enum ClusteringError {
         /// The most levels from that many cells.
         max: u32,
     },
-    /// A mesh without triangles.
-    #[error("the mesh has no triangles")]
-    EmptyMesh,
     /// More vertices or triangles than 32-bit ids can name (what, and the limit).
     #[error("the mesh is too large: {what}")]
     TooLarge {
         /// The count and its limit, in words.
         what: String,
-    },
-    /// A vertex with a NaN or infinite coordinate (the first one).
-    #[error("vertex {vertex} has a non-finite coordinate ({x}, {y}, {z})")]
-    NonFiniteCoordinate {
-        /// The vertex's index.
-        vertex: usize,
-        /// Its x.
-        x: f32,
-        /// Its y.
-        y: f32,
-        /// Its z.
-        z: f32,
-    },
-    /// A triangle naming a vertex that does not exist (the first one).
-    #[error(
-        "triangle {triangle} refers to vertex {vertex} but there are only {vertices} vertices"
-    )]
-    IndexOutOfRange {
-        /// The triangle's index.
-        triangle: usize,
-        /// The vertex index it names.
-        vertex: u32,
-        /// How many vertices the mesh has.
-        vertices: usize,
     },
     /// A clustering box that is empty or not finite.
     #[error("the clustering box must be finite and not empty (got min {min:?}, max {max:?})")]

@@ -63,9 +63,7 @@ impl SharedSlots {
 /// name, an index out of range (the first such triangle is named) and a non-finite coordinate
 /// (on any vertex, used or not; the first is named).
 pub(crate) fn prepare(mesh: &TriangleMesh) -> Result<Prepared, ClusteringError> {
-    if mesh.triangles.is_empty() {
-        return Err(ClusteringError::EmptyMesh);
-    }
+    voxlod_core::validate::validate_mesh(mesh, &Default::default())?;
     let n = mesh.positions.len();
     if n >= u32::MAX as usize {
         return Err(ClusteringError::TooLarge {
@@ -91,7 +89,7 @@ pub(crate) fn prepare(mesh: &TriangleMesh) -> Result<Prepared, ClusteringError> 
         memory::bytes_of::<[u32; 2]>(corner_count)
             + memory::bytes_of::<u32>((chunks + 1) * (n + 1)),
     )?;
-    let mut counts = count_corners(mesh, chunk)?;
+    let mut counts = count_corners(mesh, chunk);
     let offsets = offsets_and_cursors(&mut counts, n);
     debug_assert_eq!(offsets[n] as usize, corner_count);
     let neighbours = fill_neighbours(mesh, chunk, counts, corner_count);
@@ -104,33 +102,20 @@ pub(crate) fn prepare(mesh: &TriangleMesh) -> Result<Prepared, ClusteringError> 
     })
 }
 
-/// Pass 1: per chunk of `chunk` triangles, how many corners each vertex has in it. Refuses an
-/// index out of range, naming the first bad triangle.
-fn count_corners(mesh: &TriangleMesh, chunk: usize) -> Result<Vec<Vec<u32>>, ClusteringError> {
+/// Pass 1: per chunk of `chunk` triangles, how many corners each vertex has in it (indices
+/// are in range: validated by the caller).
+fn count_corners(mesh: &TriangleMesh, chunk: usize) -> Vec<Vec<u32>> {
     let n = mesh.positions.len();
-    let per_chunk: Vec<Result<Vec<u32>, ClusteringError>> = mesh
-        .triangles
+    mesh.triangles
         .par_chunks(chunk)
-        .enumerate()
-        .map(|(c, tris)| {
+        .map(|tris| {
             let mut count = vec![0u32; n];
-            for (i, tri) in tris.iter().enumerate() {
-                for &v in tri {
-                    if v as usize >= n {
-                        return Err(ClusteringError::IndexOutOfRange {
-                            triangle: c * chunk + i,
-                            vertex: v,
-                            vertices: n,
-                        });
-                    }
-                    count[v as usize] += 1;
-                }
+            for &v in tris.iter().flatten() {
+                count[v as usize] += 1;
             }
-            Ok(count)
+            count
         })
-        .collect();
-    // The first chunk in order with a bad index names the first bad triangle.
-    per_chunk.into_iter().collect()
+        .collect()
 }
 
 /// The table's offsets (length `n + 1`), and each chunk's first slot per vertex: the counts
@@ -176,23 +161,21 @@ fn fill_neighbours(
     neighbours
 }
 
-/// Pass 3: non-finite coordinates, and the box and number of the used vertices (those with a
-/// corner in `offsets`).
+/// Pass 3: the box and number of the used vertices (those with a corner in `offsets`;
+/// coordinates are finite: validated by the caller).
 fn used_bounds(mesh: &TriangleMesh, offsets: &[u32]) -> Result<(Bounds, usize), ClusteringError> {
     const BLOCK: usize = 1 << 14;
-    let parts: Vec<([f32; 3], [f32; 3], usize, usize)> = mesh
+    let parts: Vec<([f32; 3], [f32; 3], usize)> = mesh
         .positions
         .par_chunks(BLOCK)
         .enumerate()
         .map(|(c, ps)| {
             let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-            let (mut k, mut bad) = (0usize, usize::MAX);
+            let mut k = 0usize;
             let base = c * BLOCK;
             for (i, p) in ps.iter().enumerate() {
                 let v = base + i;
-                if !p.is_finite() {
-                    bad = bad.min(v);
-                } else if offsets[v + 1] > offsets[v] {
+                if offsets[v + 1] > offsets[v] {
                     for (axis, x) in p.to_array().into_iter().enumerate() {
                         lo[axis] = if x < lo[axis] { x } else { lo[axis] };
                         hi[axis] = if x > hi[axis] { x } else { hi[axis] };
@@ -200,25 +183,15 @@ fn used_bounds(mesh: &TriangleMesh, offsets: &[u32]) -> Result<(Bounds, usize), 
                     k += 1;
                 }
             }
-            (lo, hi, k, bad)
+            (lo, hi, k)
         })
         .collect();
     let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-    let (mut referenced, mut bad) = (0, usize::MAX);
-    for (l, h, k, b) in parts {
+    let mut referenced = 0;
+    for (l, h, k) in parts {
         lo = lo.min(Vec3::from(l));
         hi = hi.max(Vec3::from(h));
         referenced += k;
-        bad = bad.min(b);
-    }
-    if bad != usize::MAX {
-        let p = mesh.positions[bad];
-        return Err(ClusteringError::NonFiniteCoordinate {
-            vertex: bad,
-            x: p.x,
-            y: p.y,
-            z: p.z,
-        });
     }
     let bounds = Bounds::new(lo.as_dvec3(), hi.as_dvec3());
     debug_assert!(referenced > 0 && !bounds.is_empty());

@@ -31,6 +31,9 @@ pub enum CoreError {
     /// Triangle indices out of range, normals that do not match the vertices, and the like.
     #[error("invalid mesh: {0}")]
     InvalidMesh(String),
+    /// A defect [`crate::validate::validate_mesh`] found (the one check every stage uses).
+    #[error(transparent)]
+    Mesh(#[from] crate::validate::MeshDefect),
 }
 
 /// Formats a byte count with a binary unit, e.g. `1.5 GiB`.

@@ -49,6 +49,7 @@ pub mod repair;
 #[cfg(test)]
 mod test_shapes;
 pub mod topology;
+pub mod validate;
 pub mod volume;
 pub mod weld;
 pub mod world;

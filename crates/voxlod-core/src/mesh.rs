@@ -49,31 +49,7 @@ impl TriangleMesh {
     /// Checks what every algorithm assumes: finite coordinates, indices in range, normals either
     /// absent or one per vertex. The message names the first offending vertex or triangle.
     pub fn validate(&self) -> Result<(), CoreError> {
-        if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
-            return Err(CoreError::InvalidMesh(format!(
-                "vertex {i} has a non-finite coordinate {:?}",
-                self.positions[i]
-            )));
-        }
-        let n = self.positions.len() as u64;
-        if let Some(t) = self
-            .triangles
-            .iter()
-            .position(|tri| tri.iter().any(|&v| v as u64 >= n))
-        {
-            return Err(CoreError::InvalidMesh(format!(
-                "triangle {t} refers to vertex {:?} but there are only {n} vertices",
-                self.triangles[t]
-            )));
-        }
-        if !self.normals.is_empty() && self.normals.len() != self.positions.len() {
-            return Err(CoreError::InvalidMesh(format!(
-                "{} normals for {} vertices",
-                self.normals.len(),
-                self.positions.len()
-            )));
-        }
-        Ok(())
+        crate::validate::validate_mesh(self, &crate::validate::Requirements::well_formed())
     }
 
     /// Bounds of the vertices that triangles use (unreferenced vertices do not count).

@@ -210,6 +210,12 @@ pub struct Placement {
 }
 
 impl Placement {
+    /// The map that changes nothing.
+    pub const IDENTITY: Placement = Placement {
+        linear: DMat3::IDENTITY,
+        translation: DVec3::ZERO,
+    };
+
     /// The placement of a volume in its own frame, or converted to `frame`.
     pub fn of(world: &WorldTransform, frame: Option<Frame>) -> Placement {
         match frame {

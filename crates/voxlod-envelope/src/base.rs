@@ -44,9 +44,7 @@ impl Base {
     /// Checks `mesh` (triangles present, indices in range, finite coordinates, manifold and
     /// consistently oriented) and prepares it, with `smoothing` rounds of normal smoothing.
     pub fn new(mesh: &TriangleMesh, smoothing: usize) -> Result<Base, EnvelopeError> {
-        if mesh.triangles.is_empty() {
-            return Err(EnvelopeError::EmptyMesh);
-        }
+        voxlod_core::validate::validate_mesh(mesh, &Default::default())?;
         let n = mesh.positions.len();
         if n >= (u32::MAX / 2) as usize || mesh.triangles.len() >= (u32::MAX / 2) as usize {
             return Err(EnvelopeError::TooLarge(format!(
@@ -54,24 +52,6 @@ impl Base {
                 mesh.triangles.len(),
                 u32::MAX / 2 - 1
             )));
-        }
-        for (t, tri) in mesh.triangles.iter().enumerate() {
-            if let Some(&v) = tri.iter().find(|&&v| v as usize >= n) {
-                return Err(EnvelopeError::IndexOutOfRange {
-                    triangle: t,
-                    vertex: v,
-                    vertices: n,
-                });
-            }
-        }
-        if let Some(v) = mesh.positions.iter().position(|p| !p.is_finite()) {
-            let p = mesh.positions[v];
-            return Err(EnvelopeError::NonFiniteCoordinate {
-                vertex: v,
-                x: p.x,
-                y: p.y,
-                z: p.z,
-            });
         }
         check_manifold(mesh)?;
         let pos: Vec<DVec3> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();

@@ -9,9 +9,6 @@ use super::manifold::ManifoldProblems;
 /// Why the envelope simplifier refused to run.
 #[derive(Debug, Error)]
 pub enum EnvelopeError {
-    /// A mesh without triangles.
-    #[error("the mesh has no triangles")]
-    EmptyMesh,
     /// An ε that is zero, negative or not finite (as written).
     #[error("ε must be a positive, finite distance or percentage of the bounding-box diagonal (got {0})")]
     InvalidEpsilon(String),
@@ -36,30 +33,6 @@ pub enum EnvelopeError {
     /// A mesh that is not a consistently oriented manifold (what is wrong, with examples).
     #[error("the mesh is not a consistently oriented manifold: {0}; repair it first (voxlod envelope --repair)")]
     NotManifold(ManifoldProblems),
-    /// A vertex with a NaN or infinite coordinate (the first one).
-    #[error("vertex {vertex} has a non-finite coordinate ({x}, {y}, {z})")]
-    NonFiniteCoordinate {
-        /// The vertex's index.
-        vertex: usize,
-        /// Its x.
-        x: f32,
-        /// Its y.
-        y: f32,
-        /// Its z.
-        z: f32,
-    },
-    /// A triangle naming a vertex that does not exist (the first one).
-    #[error(
-        "triangle {triangle} refers to vertex {vertex} but there are only {vertices} vertices"
-    )]
-    IndexOutOfRange {
-        /// The triangle's index.
-        triangle: usize,
-        /// The vertex index it names.
-        vertex: u32,
-        /// How many vertices the mesh has.
-        vertices: usize,
-    },
     /// More vertices or triangles than the ids can name (the counts and the limit, in words).
     #[error("the mesh is too large: {0}")]
     TooLarge(String),

@@ -99,6 +99,7 @@ pub mod offsets;
 pub mod removal;
 pub mod retriangulate;
 
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use serde::Serialize;
@@ -379,6 +380,20 @@ pub fn envelope_series_with(
     options: &EnvelopeOptions,
     mut each: impl FnMut(EnvelopeLevel),
 ) -> Result<(), EnvelopeError> {
+    envelope_series_until(mesh, epsilons, options, |level| {
+        each(level);
+        ControlFlow::Continue(())
+    })
+}
+
+/// [`envelope_series_with`], stopping before the next level when `each` breaks (so a caller
+/// can cancel a long series between levels).
+pub fn envelope_series_until(
+    mesh: &TriangleMesh,
+    epsilons: &[Epsilon],
+    options: &EnvelopeOptions,
+    mut each: impl FnMut(EnvelopeLevel) -> ControlFlow<()>,
+) -> Result<(), EnvelopeError> {
     let start = Instant::now();
     options.check()?;
     if epsilons.is_empty() {
@@ -411,7 +426,9 @@ pub fn envelope_series_with(
     let mut work = Work::new(&base);
     let mut level_start = start;
     for (index, (&given, &eps)) in epsilons.iter().zip(&resolved).enumerate() {
-        each(series.level(&mut work, index, (given, eps), level_start)?);
+        if each(series.level(&mut work, index, (given, eps), level_start)?).is_break() {
+            break;
+        }
         level_start = Instant::now();
     }
     Ok(())

@@ -320,7 +320,9 @@ fn bad_input_is_refused_with_a_reason() {
     let empty = TriangleMesh::new(vec![Vec3::ZERO], vec![]);
     assert!(matches!(
         run(&empty, Epsilon::percent(1.0)),
-        Err(EnvelopeError::EmptyMesh)
+        Err(EnvelopeError::Core(voxlod_core::CoreError::Mesh(
+            voxlod_core::validate::MeshDefect::NoTriangles
+        )))
     ));
     for eps in [
         Epsilon::Absolute(0.0),

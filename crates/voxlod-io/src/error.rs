@@ -86,7 +86,10 @@ impl IoError {
             CoreError::OutOfMemory { .. } | CoreError::BadMemoryLimit { .. } => {
                 IoErrorKind::TooLarge
             }
-            CoreError::InvalidGrid(_) | CoreError::InvalidMesh(_) => IoErrorKind::Malformed,
+            CoreError::Mesh(defect) if defect.is_non_finite() => IoErrorKind::NonFinite,
+            CoreError::InvalidGrid(_) | CoreError::InvalidMesh(_) | CoreError::Mesh(_) => {
+                IoErrorKind::Malformed
+            }
         };
         IoError::new(path, kind, err.to_string())
     }

@@ -106,6 +106,7 @@ use std::fmt;
 use std::io::Read;
 use std::path::Path;
 
+use voxlod_core::validate::{find_defect, validate_mesh, Requirements};
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh, Volume};
 
 pub use dicom::{list_dicom_series, read_dicom_series, DicomOptions, SeriesSummary};
@@ -384,26 +385,17 @@ pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, IoError> {
     std::fs::read(path).map_err(|e| IoError::access(path, "cannot read", &e))
 }
 
-/// Coordinates and normals must be finite; the message names the first bad vertex.
+/// Coordinates and normals must be finite; the message names the first bad vertex. (Other
+/// defects are the `validate` that follows: a malformed file, or a mesh that cannot be written.)
 fn check_finite(path: &Path, mesh: &TriangleMesh) -> Result<(), IoError> {
-    if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
-        return Err(IoError::new(
+    match find_defect(mesh, &Requirements::files()) {
+        Some(defect) if defect.is_non_finite() => Err(IoError::new(
             path,
             IoErrorKind::NonFinite,
-            format!(
-                "vertex {i} has a non-finite coordinate ({}, {}, {})",
-                mesh.positions[i].x, mesh.positions[i].y, mesh.positions[i].z
-            ),
-        ));
+            defect.to_string(),
+        )),
+        _ => Ok(()),
     }
-    if let Some(i) = mesh.normals.iter().position(|n| !n.is_finite()) {
-        return Err(IoError::new(
-            path,
-            IoErrorKind::NonFinite,
-            format!("the normal of vertex {i} is not finite"),
-        ));
-    }
-    Ok(())
 }
 
 /// Reads any supported format into a [`PolyMesh`], with what the reader did.
@@ -448,8 +440,8 @@ fn read_any(path: &Path) -> Result<(PolyMesh, MeshFormat, Option<WeldReport>, us
 /// [`IoErrorKind::Malformed`].
 pub fn read_mesh(path: &Path) -> Result<LoadedMesh, IoError> {
     let (poly, format, welded, polygons_triangulated) = read_any(path)?;
-    if poly.mesh.triangles.is_empty() {
-        return Err(IoError::malformed(path, "no triangles"));
+    if let Err(e) = validate_mesh(&poly.mesh, &Requirements::default()) {
+        return Err(IoError::malformed(path, e.to_string()));
     }
     Ok(LoadedMesh {
         mesh: poly.mesh,

@@ -85,7 +85,10 @@ fn the_bundled_meshes_are_closed_with_their_documented_topology() {
         let mesh = read_mesh(&data(name)).unwrap().mesh;
         let t = mesh_topology(&mesh);
         assert_eq!((t.vertices, t.triangles), (vertices, triangles), "{name}");
-        assert!(t.is_closed_manifold() && t.is_consistently_oriented(), "{name}: {t:?}");
+        assert!(
+            t.is_closed_manifold() && t.is_consistently_oriented(),
+            "{name}: {t:?}"
+        );
         assert_eq!((t.components, t.genus), (components, Some(genus)), "{name}");
         assert!(mesh.signed_volume() > 0.0, "{name} is inside out");
     }

@@ -7,36 +7,11 @@ use voxlod_core::{CoreError, TriangleMesh};
 /// Why a measurement could not be made.
 #[derive(Debug, Error)]
 pub enum MetricsError {
-    /// The mesh has no triangles.
-    #[error("the mesh has no triangles")]
-    EmptyMesh,
     /// Every triangle is degenerate, so there is no surface to sample.
     #[error("the mesh has no area ({triangles} triangles, all degenerate)")]
     NoArea {
         /// Triangles in the mesh.
         triangles: usize,
-    },
-    /// A vertex coordinate is NaN or infinite.
-    #[error("vertex {vertex} has a non-finite coordinate ({x}, {y}, {z})")]
-    NonFiniteCoordinate {
-        /// Index of the first such vertex.
-        vertex: usize,
-        /// Its x coordinate.
-        x: f32,
-        /// Its y coordinate.
-        y: f32,
-        /// Its z coordinate.
-        z: f32,
-    },
-    /// A triangle refers to a vertex the mesh does not have.
-    #[error("triangle {triangle} refers to vertex {vertex} but the mesh has only {vertex_count} vertices")]
-    VertexIndexOutOfRange {
-        /// Index of the first such triangle.
-        triangle: usize,
-        /// The index it holds.
-        vertex: u32,
-        /// Vertices in the mesh.
-        vertex_count: usize,
     },
     /// Zero samples were asked for.
     #[error("the sample count must be at least 1")]
@@ -79,27 +54,6 @@ impl MetricsError {
 /// finite coordinates (for every stored vertex, used or not). Area is checked separately, by
 /// the measurements that need it.
 pub(crate) fn check_mesh(mesh: &TriangleMesh) -> Result<(), MetricsError> {
-    if mesh.triangles.is_empty() {
-        return Err(MetricsError::EmptyMesh);
-    }
-    if let Some(vertex) = mesh.positions.iter().position(|p| !p.is_finite()) {
-        let p = mesh.positions[vertex];
-        return Err(MetricsError::NonFiniteCoordinate {
-            vertex,
-            x: p.x,
-            y: p.y,
-            z: p.z,
-        });
-    }
-    let vertex_count = mesh.positions.len();
-    for (triangle, tri) in mesh.triangles.iter().enumerate() {
-        if let Some(&vertex) = tri.iter().find(|&&v| v as usize >= vertex_count) {
-            return Err(MetricsError::VertexIndexOutOfRange {
-                triangle,
-                vertex,
-                vertex_count,
-            });
-        }
-    }
-    Ok(())
+    let required = voxlod_core::validate::Requirements::default();
+    Ok(voxlod_core::validate::validate_mesh(mesh, &required)?)
 }

@@ -7,7 +7,8 @@ use glam::{DVec3, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
-use voxlod_core::TriangleMesh;
+use voxlod_core::validate::MeshDefect;
+use voxlod_core::{CoreError, TriangleMesh};
 use voxlod_metrics::{closest_point_on_triangle, MeshDistance, MetricsError, QueryHint};
 use voxlod_testkit::data::shared_data_or_skip;
 
@@ -289,11 +290,11 @@ fn refuses_meshes_it_cannot_measure() {
     cube.triangles[3][2] = 42;
     assert_eq!(
         message(&cube),
-        "triangle 3 refers to vertex 42 but the mesh has only 8 vertices"
+        "triangle 3 refers to vertex 42 but there are only 8 vertices"
     );
     assert!(matches!(
         MeshDistance::new(&TriangleMesh::default()),
-        Err(MetricsError::EmptyMesh)
+        Err(MetricsError::Core(CoreError::Mesh(MeshDefect::NoTriangles)))
     ));
 }
 

@@ -3,7 +3,8 @@
 mod common;
 
 use glam::Vec3;
-use voxlod_core::TriangleMesh;
+use voxlod_core::validate::MeshDefect;
+use voxlod_core::{CoreError, TriangleMesh};
 use voxlod_metrics::{mesh_report, welded_mesh_report, MetricsError};
 use voxlod_testkit::data::shared_data_or_skip;
 
@@ -169,7 +170,7 @@ fn json_has_the_keys_the_command_line_promises() {
 fn refuses_what_it_cannot_report() {
     assert!(matches!(
         mesh_report(&TriangleMesh::default()),
-        Err(MetricsError::EmptyMesh)
+        Err(MetricsError::Core(CoreError::Mesh(MeshDefect::NoTriangles)))
     ));
     let mut cube = common::unit_cube();
     cube.positions[2] = Vec3::NAN;

@@ -5,7 +5,8 @@ mod common;
 use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
-use voxlod_core::TriangleMesh;
+use voxlod_core::validate::MeshDefect;
+use voxlod_core::{CoreError, TriangleMesh};
 use voxlod_metrics::{
     closest_point_on_triangle, sample_surface, MetricsError, SampleLayout, SamplingOptions,
     SurfaceSampler,
@@ -211,6 +212,6 @@ fn refuses_a_mesh_without_area() {
     );
     assert!(matches!(
         sample_surface(&TriangleMesh::default(), &SamplingOptions::default()),
-        Err(MetricsError::EmptyMesh)
+        Err(MetricsError::Core(CoreError::Mesh(MeshDefect::NoTriangles)))
     ));
 }

@@ -12,9 +12,6 @@ pub enum SamplingError {
     /// The solid's box is empty or flat, so no grid can be fitted to it.
     #[error("the solid is empty: its bounds have no extent")]
     EmptyBounds,
-    /// The mesh breaks an invariant (an index out of range, a non-finite coordinate).
-    #[error("invalid mesh: {0}")]
-    InvalidMesh(String),
     /// An option out of its range (a radius, a resolution), said in words.
     #[error("invalid option: {0}")]
     InvalidOption(String),

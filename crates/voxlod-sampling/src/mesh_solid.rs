@@ -99,8 +99,7 @@ impl MeshSolid {
         mesh: &TriangleMesh,
         options: MeshSolidOptions,
     ) -> Result<MeshSolid, SamplingError> {
-        mesh.validate()
-            .map_err(|e| SamplingError::InvalidMesh(e.to_string()))?;
+        voxlod_core::validate::validate_mesh(mesh, &Default::default())?;
         let mut clean = TriangleMesh::new(mesh.positions.clone(), mesh.triangles.clone());
         let welded = weld::weld_vertices(&mut clean);
         let removed = repair::remove_degenerate_and_duplicate_triangles(&mut clean);

@@ -5,20 +5,75 @@ use std::time::Duration;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
-/// Any failure of a subcommand, shown as one line: `voxlod: error: <message>`.
+/// Any failure of a subcommand, shown as one line: `voxlod: error: <message>`, and ending the
+/// run with the exit status of its class ([`CliError::exit_code`]).
 #[derive(Debug, thiserror::Error)]
 pub enum CliError {
+    /// A failure of the library: its class decides the exit status.
+    #[error(transparent)]
+    Library(#[from] voxlod::Error),
+    /// A flag out of its range, or flags that do not go together (exit status 2).
+    #[error("{0}")]
+    Usage(String),
+    /// Anything else the command refuses about its input (exit status 1).
     #[error("{0}")]
     Message(String),
-    #[error(transparent)]
-    Core(#[from] voxlod::core::CoreError),
-    #[error(transparent)]
-    Io(#[from] voxlod::io::IoError),
 }
 
+impl From<voxlod::core::CoreError> for CliError {
+    fn from(e: voxlod::core::CoreError) -> Self {
+        CliError::Library(e.into())
+    }
+}
+
+impl From<voxlod::io::IoError> for CliError {
+    fn from(e: voxlod::io::IoError) -> Self {
+        CliError::Library(e.into())
+    }
+}
+
+/// A library failure about `path`: `path: <problem>`, keeping the failure's class.
+pub fn in_file(path: &std::path::Path, e: impl Into<voxlod::Error>) -> CliError {
+    CliError::Library(e.into().context(path.display().to_string()))
+}
+
+/// Exit status of a usage error (a flag out of range; also clap's).
+pub const EXIT_USAGE: u8 = 2;
+/// Exit status of input that cannot be processed as asked.
+pub const EXIT_BAD_INPUT: u8 = 1;
+/// Exit status of work that would not fit in the memory budget (`VOXLOD_MAX_MEMORY`).
+pub const EXIT_TOO_LARGE: u8 = 3;
+/// Exit status of a file that cannot be opened, read, written or renamed.
+pub const EXIT_IO: u8 = 4;
+/// Exit status of a run stopped by SIGINT (128 + 2; SIGTERM gives 143).
+pub const EXIT_INTERRUPTED: u8 = 130;
+
 impl CliError {
+    /// An error described in words (bad input, exit status 1).
     pub fn msg(text: impl Into<String>) -> CliError {
         CliError::Message(text.into())
+    }
+
+    /// A flag out of its range (exit status 2).
+    pub fn usage(text: impl Into<String>) -> CliError {
+        CliError::Usage(text.into())
+    }
+
+    /// The exit status of this error's class: usage 2, bad input 1, too large for memory 3,
+    /// I/O 4, cancelled 130.
+    pub fn exit_code(&self) -> u8 {
+        use voxlod::ErrorClass;
+        match self {
+            CliError::Usage(_) => EXIT_USAGE,
+            CliError::Message(_) => EXIT_BAD_INPUT,
+            CliError::Library(e) => match e.class() {
+                ErrorClass::Usage => EXIT_USAGE,
+                ErrorClass::BadInput => EXIT_BAD_INPUT,
+                ErrorClass::TooLarge => EXIT_TOO_LARGE,
+                ErrorClass::Io => EXIT_IO,
+                ErrorClass::Cancelled => EXIT_INTERRUPTED,
+            },
+        }
     }
 }
 
@@ -98,13 +153,13 @@ impl RawArgs {
         };
         let list = |v: [String; 3]| v.join(",");
         if dims.contains(&0) {
-            return Err(CliError::msg(format!(
+            return Err(CliError::usage(format!(
                 "--dims {}: each dimension must be at least 1 sample",
                 list(dims.map(|d| d.to_string()))
             )));
         }
         if self.spacing.iter().any(|&s| s <= 0.0) {
-            return Err(CliError::msg(format!(
+            return Err(CliError::usage(format!(
                 "--spacing {}: the distance between samples must be more than 0 along every axis",
                 list(self.spacing.map(|s| s.to_string()))
             )));

@@ -60,7 +60,7 @@ struct CompareReport {
 pub fn run(args: CompareArgs) -> Result<(), CliError> {
     let start = Instant::now();
     if args.samples == 0 {
-        return Err(CliError::msg("--samples must be at least 1"));
+        return Err(CliError::usage("--samples must be at least 1"));
     }
     let (a, b) = rayon::join(|| read_mesh_input(&args.a), || read_mesh_input(&args.b));
     let (a, b) = (a?.mesh, b?.mesh);

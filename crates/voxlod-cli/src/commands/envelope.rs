@@ -135,7 +135,7 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
     };
     if let Some(deg) = args.keep_sharp {
         if !(0.0..=180.0).contains(&deg) {
-            return Err(CliError::msg(format!(
+            return Err(CliError::usage(format!(
                 "--keep-sharp {deg}: a dihedral angle is between 0 and 180 degrees"
             )));
         }

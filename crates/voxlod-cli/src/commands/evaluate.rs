@@ -101,10 +101,10 @@ struct EvaluateReport<'a> {
 
 pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
     if args.samples == 0 {
-        return Err(CliError::msg("--samples must be at least 1"));
+        return Err(CliError::usage("--samples must be at least 1"));
     }
     if !(args.tolerance > 0.0 && args.tolerance < 1.0) {
-        return Err(CliError::msg(format!(
+        return Err(CliError::usage(format!(
             "--tolerance must lie strictly between 0 and 1, got {}",
             args.tolerance
         )));
@@ -113,7 +113,7 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
     options.budgets = match &args.budgets {
         Some(list) => {
             if let Some(zero) = list.iter().position(|&b| b == 0) {
-                return Err(CliError::msg(format!(
+                return Err(CliError::usage(format!(
                     "--budgets: budget {} is 0; budgets are triangle counts of at least 1",
                     zero + 1
                 )));
@@ -122,7 +122,7 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
         }
         None => {
             if args.count == 0 {
-                return Err(CliError::msg("--count must be at least 1"));
+                return Err(CliError::usage("--count must be at least 1"));
             }
             Budgets::Halving {
                 count: args.count,
@@ -142,7 +142,7 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
     options.distance = DistanceOptions::with_samples(args.samples);
     options.tolerance = args.tolerance;
     if args.views > 14 {
-        return Err(CliError::msg(format!(
+        return Err(CliError::usage(format!(
             "--views {}: at most 14 (the octant diagonals and the axes)",
             args.views
         )));

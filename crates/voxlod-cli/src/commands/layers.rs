@@ -166,16 +166,16 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
     voxlod::layers::plan_layers(&plan)
         .map_err(|e| CliError::msg(format!("--error {}: {e}", args.error)))?;
     if args.resolution < 2 {
-        return Err(CliError::msg("--resolution must be at least 2"));
+        return Err(CliError::usage("--resolution must be at least 2"));
     }
     if !(args.radius.is_finite() && args.radius > 0.0) {
-        return Err(CliError::msg(format!(
+        return Err(CliError::usage(format!(
             "--radius {}: the filter radius must be a positive number of voxels",
             args.radius
         )));
     }
     if args.lines_per_radius == 0 {
-        return Err(CliError::msg("--lines-per-radius must be at least 1"));
+        return Err(CliError::usage("--lines-per-radius must be at least 1"));
     }
     let loaded = load(&args.input, &args.route)?;
     let prepared = Prepared::new(&loaded, &args.route, &args.input)?;

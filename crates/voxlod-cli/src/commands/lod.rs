@@ -9,7 +9,7 @@ use voxlod::io::OutputSet;
 use voxlod::sampling::{DensityReport, Filter, PyramidOptions};
 
 use super::common::{
-    check_computed_mesh, count, describe_mesh, in_dir, print_json, progress, CliError,
+    check_computed_mesh, count, describe_mesh, in_dir, in_file, print_json, progress, CliError,
     MeshExtension,
 };
 use super::envelope::{then_envelope, ThenEnvelope, ThenEnvelopeReport};
@@ -150,13 +150,13 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         Some(list) => PyramidOptions::with_resolutions(list.clone(), args.filter),
         None => {
             if args.levels == 0 {
-                return Err(CliError::msg("--levels must be at least 1"));
+                return Err(CliError::usage("--levels must be at least 1"));
             }
             PyramidOptions::halving(args.resolution, args.levels, args.filter)
         }
     };
     if args.resolution == 0 {
-        return Err(CliError::msg("--resolution must be at least 1"));
+        return Err(CliError::usage("--resolution must be at least 1"));
     }
     pyramid.radius_voxels = args.radius;
     pyramid.lines_per_radius = args.lines_per_radius;
@@ -166,8 +166,7 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         normals: true,
     };
     let source = prepared.source();
-    let plans = plan(&source, &options)
-        .map_err(|e| CliError::msg(format!("{}: {e}", args.input.display())))?;
+    let plans = plan(&source, &options).map_err(|e| in_file(&args.input, e))?;
     // Everything is written at the end, as one set; refuse now what it would refuse then.
     let mut out = OutputSet::protecting([&args.input]);
     let level_name = |level: usize| format!("level-{level}.{}", args.format.as_str());
@@ -203,11 +202,8 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     }
     for level_plan in &plans {
         let mut level = build_level(&source, level_plan, &options).map_err(|e| {
-            CliError::msg(format!(
-                "{}: level {}: {e}",
-                args.input.display(),
-                level_plan.level
-            ))
+            let level = voxlod::Error::from(e).context(format!("level {}", level_plan.level));
+            in_file(&args.input, level)
         })?;
         check_computed_mesh(
             &level.mesh,

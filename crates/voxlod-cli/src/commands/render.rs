@@ -321,14 +321,14 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
 /// Refuses flags out of their range; returns warnings for flags that have no effect.
 fn check_render_args(args: &RenderArgs) -> Result<Vec<String>, CliError> {
     if !(1..=32).contains(&args.supersample) {
-        return Err(CliError::msg(format!(
+        return Err(CliError::usage(format!(
             "--supersample {}: choose 1 to 32 samples per pixel side",
             args.supersample
         )));
     }
     let fov = args.fov.unwrap_or(DEFAULT_FOV);
     if !(fov > 0.0 && fov < 180.0) {
-        return Err(CliError::msg(format!(
+        return Err(CliError::usage(format!(
             "--fov {fov}: the field of view must be more than 0 and less than 180 degrees"
         )));
     }
@@ -345,7 +345,7 @@ fn check_render_args(args: &RenderArgs) -> Result<Vec<String>, CliError> {
     }
     if let Some(c) = args.background.iter().find(|c| !(0.0..=1.0).contains(*c)) {
         let [r, g, b] = args.background;
-        return Err(CliError::msg(format!(
+        return Err(CliError::usage(format!(
             "--background {r},{g},{b}: each component is linear RGB from 0 to 1, not {c}"
         )));
     }

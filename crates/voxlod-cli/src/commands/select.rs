@@ -153,7 +153,7 @@ fn check_select_args(args: &SelectArgs) -> Result<(), CliError> {
         }
     }
     if let Some(fov) = args.fov.filter(|f| !(*f > 0.0 && *f < 180.0)) {
-        return Err(CliError::msg(format!(
+        return Err(CliError::usage(format!(
             "--fov {fov}: the field of view must be more than 0 and less than 180 degrees"
         )));
     }

@@ -145,7 +145,7 @@ impl<'a> Prepared<'a> {
                 } else {
                     return Ok(iso);
                 };
-                Err(CliError::msg(format!(
+                Err(CliError::usage(format!(
                     "--iso {iso}: the filtered density runs from 0 (outside) to 1 (deep inside); \
                      {why}. Choose an isodensity strictly between 0 and 1 (0.5 follows the \
                      object's surface)"

@@ -74,7 +74,7 @@ struct VoxelizeReport {
 
 pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
     if args.resolution == 0 {
-        return Err(CliError::msg("--resolution must be at least 1"));
+        return Err(CliError::usage("--resolution must be at least 1"));
     }
     if !(args.radius.is_finite() && args.radius > 0.0) {
         return Err(CliError::msg(
@@ -87,9 +87,7 @@ pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
     let prepared = Prepared::new(&loaded, &args.route, &args.input)?;
     let source = prepared.source();
     let bounds = source.bounds();
-    let in_file = |e: voxlod::sampling::SamplingError| {
-        CliError::msg(format!("{}: {e}", args.input.display()))
-    };
+    let in_file = |e: voxlod::sampling::SamplingError| super::common::in_file(&args.input, e);
     let plans = voxlod::sampling::plan_levels(
         &bounds,
         &voxlod::sampling::PyramidOptions {

@@ -1,0 +1,145 @@
+//! Multi-layer translucent shells in one call (paper §3): the source filtered into one volume,
+//! the fewest layers whose piecewise constant profile is within the error bound of the
+//! filter's density profile (equations 4–6), each layer an isosurface of the volume, all
+//! triangles in the eight back-to-front orders. Also a layered file's preview picture and its
+//! triangles in one view's order, as the command line writes them. Cost: the filtering
+//! (O(N³) samples), extraction (O(N³)) and ordering (O(T log T)).
+
+use std::time::Instant;
+
+use voxlod_core::glam::DVec3;
+use voxlod_core::PolyMesh;
+use voxlod_layers::{
+    filter_solid, layer_volume, plan_layers, render_layered, to_poly_mesh, LayerPlan, Layered,
+    LayersOptions, Octant,
+};
+use voxlod_render::{Camera, Image, RenderOptions};
+
+use crate::error::{Error, InvalidOption};
+use crate::progress::{run_to_end, ProgressFn, Tracker};
+use crate::source::Source;
+
+/// Layered shells and what to know about them.
+#[derive(Clone, Debug)]
+pub struct Layers {
+    /// The plan, the layers' meshes, the eight orders, the timings.
+    pub layered: Layered,
+    /// A threshold at or below every sample.
+    pub warnings: Vec<String>,
+    /// Wall time of the whole call.
+    pub seconds: f64,
+}
+
+/// The layer plan of `options` (equations 4–6), refusing options out of range: a bound that is
+/// not positive or needs too many layers, a resolution below 2, a radius that is not a
+/// positive number of voxels, no quadrature line. Cheap; call it to refuse bad options before
+/// reading any input.
+pub fn check_layers_options(options: &LayersOptions) -> Result<LayerPlan, Error> {
+    let plan = plan_layers(&options.plan).map_err(|e| {
+        Error::from(InvalidOption::new(
+            "error",
+            options.plan.error,
+            e.to_string(),
+        ))
+    })?;
+    if options.resolution < 2 {
+        let problem = "must be at least 2";
+        return Err(InvalidOption::new("resolution", options.resolution, problem).into());
+    }
+    let r = options.radius_voxels;
+    if !(r.is_finite() && r > 0.0) {
+        let problem = "the filter radius must be a positive number of voxels";
+        return Err(InvalidOption::new("radius_voxels", r, problem).into());
+    }
+    if options.lines_per_radius == 0 {
+        return Err(InvalidOption::new("lines_per_radius", 0, "must be at least 1").into());
+    }
+    Ok(plan)
+}
+
+/// Layered shells of `source`, which must be a solid (a mesh, a thresholded volume, an implicit
+/// solid).
+///
+/// ```
+/// # fn main() -> Result<(), voxlod::Error> {
+/// use voxlod::sampling::{CsgSolid, Shape};
+/// use voxlod::core::glam::DVec3;
+/// let ball = CsgSolid::new(Shape::sphere(DVec3::ZERO, 1.0))?;
+/// let options = voxlod::LayersOptions { resolution: 16, ..Default::default() };
+/// let shells = voxlod::layers(&voxlod::Source::Solid(&ball), &options)?;
+/// // ε = 0.025 with the hyper-cone: five layers, innermost opaque, the others translucent.
+/// assert_eq!(shells.layered.mesh.layers.len(), 5);
+/// assert_eq!(shells.layered.orders.len(), 8);
+/// # Ok(())
+/// # }
+/// ```
+pub fn layers(source: &Source, options: &LayersOptions) -> Result<Layers, Error> {
+    layers_with(source, options, &run_to_end)
+}
+
+/// [`layers`], reporting progress after the filtering and after the extraction and ordering,
+/// and stopping with [`Error::Cancelled`] when asked.
+pub fn layers_with(
+    source: &Source,
+    options: &LayersOptions,
+    progress: &ProgressFn,
+) -> Result<Layers, Error> {
+    let start = Instant::now();
+    check_layers_options(options)?;
+    let prepared = source.prepare()?;
+    let solid = prepared.solid().ok_or(Error::NeedsSolid)?;
+    let mut tracker = Tracker::start(progress, 2)?;
+    let (volume, density) = filter_solid(solid, options)?;
+    let sample_seconds = start.elapsed().as_secs_f64();
+    tracker.step(0, "filtered")?;
+    let mut layered = layer_volume(&volume, &options.plan, &options.extract)?;
+    layered.density = Some(density);
+    layered.timings.sample_seconds = sample_seconds;
+    tracker.step(0, "extracted")?;
+    Ok(Layers {
+        layered,
+        warnings: prepared.warnings().to_vec(),
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// The colour of an opaque surface in previews (light grey-blue; the command line's too).
+pub const SURFACE_COLOR: [f32; 3] = [0.85, 0.86, 0.9];
+
+/// The octant of a view direction, naming the option `view` when it has none.
+fn octant(view: DVec3) -> Result<Octant, Error> {
+    Octant::of(view).map_err(|e| {
+        let value = format!("{},{},{}", view.x, view.y, view.z);
+        InvalidOption::new("view", value, e.to_string()).into()
+    })
+}
+
+/// All layers in one mesh with per-vertex `opacity` and `layer`, triangles back to front for
+/// views along `view` (its octant's order): what a PLY or VTK file of layers holds.
+pub fn layered_poly_mesh(layered: &Layered, view: DVec3) -> Result<PolyMesh, Error> {
+    let order = &layered.orders[octant(view)?.index()];
+    Ok(to_poly_mesh(&layered.mesh, Some(order))?)
+}
+
+/// The layered shells drawn along `view` at `width` × `height` pixels, one sample per pixel,
+/// blended in the stored order of the view's octant.
+pub fn layered_preview(
+    layered: &Layered,
+    view: DVec3,
+    width: u32,
+    height: u32,
+) -> Result<Image, Error> {
+    let cat = layered.mesh.concatenated();
+    let octant = octant(view)?;
+    let camera = Camera::fit(view, &cat.mesh.bounds(), width, height, None)?;
+    let alphas: Vec<f32> = layered.mesh.layers.iter().map(|l| l.alpha).collect();
+    Ok(render_layered(
+        &cat.mesh,
+        &cat.triangle_layer,
+        &alphas,
+        &layered.orders[octant.index()],
+        SURFACE_COLOR,
+        &camera,
+        &RenderOptions::default(),
+    )?)
+}

@@ -1,0 +1,278 @@
+//! What a level of detail is made from, and its preparation (paper §2 and §4).
+//!
+//! A [`Source`] is a polygon mesh, a scanned volume thresholded into a solid (§4, first route),
+//! a scanned volume filtered directly (§4, second route), or any implicit solid. Preparing it
+//! ([`Source::prepare`]) does what sampling needs first: a mesh is checked, welded, cleared of
+//! degenerate and duplicate triangles, its holes closed with fans and a BVH built
+//! ([`MeshSolid`], cost O(T log T)); a volume's grid is checked against the range of 32-bit mesh
+//! coordinates, and a threshold at or below every sample is reported as a warning. The
+//! prepared source also gives the iso value: 0.5 by default for solids, which must lie strictly
+//! between 0 and 1; required, and checked against the data's range, for direct filtering.
+
+use std::fmt;
+
+use serde::Serialize;
+use voxlod_core::{Bounds, Volume};
+use voxlod_sampling::{MeshPreparation, MeshSolid, Solid, ThresholdSolid};
+
+use crate::error::{Error, InvalidOption};
+use crate::lod::LodSource;
+use voxlod_core::TriangleMesh;
+
+/// What the levels are made from.
+#[derive(Clone, Copy)]
+pub enum Source<'a> {
+    /// A polygon mesh: welded, holes closed, then its inside function filtered.
+    Mesh(&'a TriangleMesh),
+    /// A scanned volume: inside where the trilinearly interpolated data is `>= threshold`; the
+    /// solid is filtered, so the iso value stays a density between 0 and 1.
+    Threshold {
+        /// The scan.
+        volume: &'a Volume,
+        /// The inside's lowest value, in the data's units.
+        threshold: f32,
+    },
+    /// A scanned volume whose data is filtered itself; the iso value is in the data's units.
+    Direct(&'a Volume),
+    /// Any solid with an inside test (CSG, the sphereflake).
+    Solid(&'a dyn Solid),
+}
+
+impl fmt::Debug for Source<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Source::Mesh(m) => write!(f, "Source::Mesh({} triangles)", m.triangle_count()),
+            Source::Threshold { volume, threshold } => write!(
+                f,
+                "Source::Threshold({:?} samples, threshold {threshold})",
+                volume.grid.dims
+            ),
+            Source::Direct(v) => write!(f, "Source::Direct({:?} samples)", v.grid.dims),
+            Source::Solid(_) => write!(f, "Source::Solid"),
+        }
+    }
+}
+
+/// How a source enters the pipeline, for reports.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Route {
+    /// A polygon mesh.
+    Mesh,
+    /// A thresholded volume.
+    Threshold,
+    /// A volume filtered directly.
+    Direct,
+    /// An implicit solid.
+    Solid,
+}
+
+impl Route {
+    /// `"mesh"`, `"threshold"`, `"direct"` or `"solid"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Route::Mesh => "mesh",
+            Route::Threshold => "threshold",
+            Route::Direct => "direct",
+            Route::Solid => "solid",
+        }
+    }
+}
+
+impl<'a> Source<'a> {
+    /// How this source enters the pipeline.
+    pub fn route(&self) -> Route {
+        match self {
+            Source::Mesh(_) => Route::Mesh,
+            Source::Threshold { .. } => Route::Threshold,
+            Source::Direct(_) => Route::Direct,
+            Source::Solid(_) => Route::Solid,
+        }
+    }
+
+    /// Prepares the source for sampling (see the module documentation).
+    ///
+    /// ```
+    /// # fn main() -> Result<(), voxlod::Error> {
+    /// let volume = voxlod::core::Volume::filled(
+    ///     voxlod::core::Grid::new([4, 4, 4], [1.0; 3], [0.0; 3])?, 3.0, "doc")?;
+    /// // A threshold at or below every sample: all of the volume is inside, and it says so.
+    /// let prepared = voxlod::Source::Threshold { volume: &volume, threshold: 1.0 }.prepare()?;
+    /// assert!(prepared.warnings()[0].contains("at or below every sample"));
+    /// assert_eq!(prepared.iso(None)?, 0.5);
+    /// assert!(prepared.iso(Some(1.5)).is_err());
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn prepare(&self) -> Result<Prepared<'a>, Error> {
+        let mut warnings = Vec::new();
+        let (inner, preparation) = match *self {
+            Source::Mesh(mesh) => {
+                let solid = MeshSolid::new(mesh)?;
+                let preparation = solid.preparation;
+                (Inner::Mesh(Box::new(solid)), Some(preparation))
+            }
+            Source::Threshold { volume, threshold } => {
+                check_grid_range(volume)?;
+                warnings.extend(threshold_warning(volume, threshold));
+                (
+                    Inner::Threshold(ThresholdSolid::new(volume, threshold)?),
+                    None,
+                )
+            }
+            Source::Direct(volume) => {
+                check_grid_range(volume)?;
+                (Inner::Direct(volume), None)
+            }
+            Source::Solid(solid) => (Inner::Solid(solid), None),
+        };
+        Ok(Prepared {
+            inner,
+            route: self.route(),
+            preparation,
+            warnings,
+        })
+    }
+}
+
+/// A source ready for sampling; see [`Source::prepare`].
+pub struct Prepared<'a> {
+    inner: Inner<'a>,
+    route: Route,
+    preparation: Option<MeshPreparation>,
+    warnings: Vec<String>,
+}
+
+enum Inner<'a> {
+    Mesh(Box<MeshSolid>),
+    Threshold(ThresholdSolid<'a>),
+    Direct(&'a Volume),
+    Solid(&'a dyn Solid),
+}
+
+impl Prepared<'_> {
+    /// What the levels are sampled from ([`crate::lod::build_level`]).
+    pub fn lod_source(&self) -> LodSource<'_> {
+        match &self.inner {
+            Inner::Mesh(s) => LodSource::Solid(s.as_ref()),
+            Inner::Threshold(s) => LodSource::Solid(s),
+            Inner::Direct(v) => LodSource::Direct(v),
+            Inner::Solid(s) => LodSource::Solid(*s),
+        }
+    }
+
+    /// The solid, unless the source is a volume filtered directly.
+    pub fn solid(&self) -> Option<&dyn Solid> {
+        match self.lod_source() {
+            LodSource::Solid(s) => Some(s),
+            LodSource::Direct(_) => None,
+        }
+    }
+
+    /// The box the levels cover.
+    pub fn bounds(&self) -> Bounds {
+        self.lod_source().bounds()
+    }
+
+    /// How the source entered the pipeline.
+    pub fn route(&self) -> Route {
+        self.route
+    }
+
+    /// What the preparation of a mesh did (welding, holes closed), for a mesh source.
+    pub fn preparation(&self) -> Option<&MeshPreparation> {
+        self.preparation.as_ref()
+    }
+
+    /// Warnings about the source (a threshold at or below every sample).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// The iso value to contour at: `given`, checked, or the default 0.5 of solids. A solid's
+    /// density runs from 0 to 1, so its iso value must lie strictly between; a volume filtered
+    /// directly needs one in its units at which some samples are inside and some are not.
+    pub fn iso(&self, given: Option<f32>) -> Result<f32, Error> {
+        match &self.inner {
+            Inner::Direct(volume) => {
+                let iso = given.ok_or(Error::IsoRequired)?;
+                match iso_outside_data(iso, volume)? {
+                    Some(e) => Err(e),
+                    None => Ok(iso),
+                }
+            }
+            _ => solid_iso(given),
+        }
+    }
+}
+
+/// The isodensity of a solid's filtered density: `given` or 0.5, strictly between 0 and 1.
+pub(crate) fn solid_iso(given: Option<f32>) -> Result<f32, Error> {
+    let iso = given.unwrap_or(0.5);
+    let why = if !iso.is_finite() {
+        "it is not a finite number"
+    } else if iso <= 0.0 {
+        "at or below 0 every sample is inside (the density is 0 far outside the object), so \
+         there is no surface"
+    } else if iso >= 1.0 {
+        "at or above 1 only samples of full density (deep inside) could be inside, which \
+         rounding makes unreliable"
+    } else {
+        return Ok(iso);
+    };
+    Err(InvalidOption::new(
+        "iso",
+        iso,
+        format!(
+            "the filtered density runs from 0 (outside) to 1 (deep inside); {why}. Choose an \
+             isodensity strictly between 0 and 1 (0.5 follows the object's surface)"
+        ),
+    )
+    .into())
+}
+
+/// [`Error::IsoOutsideData`] when no sample of `volume` is on one side of `iso` (a sample is
+/// inside when its value is `>= iso`), `None` when a surface can exist; fails when the volume
+/// has no finite sample.
+pub fn iso_outside_data(iso: f32, volume: &Volume) -> Result<Option<Error>, Error> {
+    let (min, max) = volume.range().ok_or(Error::NoFiniteSamples)?;
+    Ok((iso <= min || iso > max).then_some(Error::IsoOutsideData { iso, min, max }))
+}
+
+/// A warning when `threshold` is at or below every sample: all of the volume is inside, and
+/// the surfaces are those of its box.
+fn threshold_warning(volume: &Volume, threshold: f32) -> Option<String> {
+    let (lo, hi) = volume.range()?;
+    (threshold <= lo).then(|| {
+        format!(
+            "`threshold` {threshold} is at or below every sample (the data runs from {lo} to \
+             {hi}): all of the volume is inside, so the surfaces are those of its box"
+        )
+    })
+}
+
+/// The largest coordinate a mesh can hold (its positions are 32-bit floats).
+const LARGEST_COORDINATE: f64 = f32::MAX as f64;
+
+/// Refuses a volume whose samples lie beyond the 32-bit range of mesh coordinates, before any
+/// work: its surfaces would have infinite vertices.
+pub(crate) fn check_grid_range(volume: &Volume) -> Result<(), Error> {
+    let g = &volume.grid;
+    for (axis, name) in ['x', 'y', 'z'].into_iter().enumerate() {
+        let far = g.origin[axis] + g.spacing[axis] * (g.dims[axis].max(1) - 1) as f64;
+        let reach = if g.origin[axis].abs() > far.abs() {
+            g.origin[axis]
+        } else {
+            far
+        };
+        if reach.is_nan() || reach.abs() > LARGEST_COORDINATE {
+            return Err(Error::GridBeyondCoordinates {
+                axis: name,
+                reach,
+                origin: g.origin[axis],
+                spacing: g.spacing[axis],
+            });
+        }
+    }
+    Ok(())
+}
