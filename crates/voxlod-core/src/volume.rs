@@ -16,6 +16,7 @@ pub struct Volume {
     pub grid: Grid,
     /// The samples, indexed `[k, j, i]` (z, y, x).
     pub values: Array3<f32>,
+    /// Direction cosines and anatomical frame (`world.rs`).
     pub orientation: Orientation,
 }
 

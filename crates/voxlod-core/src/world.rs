@@ -61,6 +61,7 @@ impl Frame {
 pub struct Orientation {
     /// Column `c` is the unit world direction of index axis `c`.
     pub direction: DMat3,
+    /// The anatomical meaning of the world axes.
     pub frame: Frame,
 }
 
@@ -84,10 +85,13 @@ impl Orientation {
 /// index)`, in `frame`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WorldTransform {
+    /// World position of sample (0, 0, 0).
     pub origin: DVec3,
+    /// Distance between neighbouring samples along each index axis.
     pub spacing: DVec3,
     /// Columns: unit world directions of the index axes.
     pub direction: DMat3,
+    /// The anatomical meaning of the world axes.
     pub frame: Frame,
 }
 
@@ -205,7 +209,9 @@ impl WorldTransform {
 /// translation`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Placement {
+    /// The linear part.
     pub linear: DMat3,
+    /// Where grid-space zero lands.
     pub translation: DVec3,
 }
 

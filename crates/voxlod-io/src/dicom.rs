@@ -56,9 +56,13 @@ impl DicomOptions {
 /// One series found in the input.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SeriesSummary {
+    /// SeriesInstanceUID.
     pub uid: String,
+    /// Files of the series.
     pub slices: usize,
+    /// SeriesDescription (may be empty).
     pub description: String,
+    /// Modality (CT, MR, ...).
     pub modality: String,
 }
 

@@ -13,7 +13,9 @@ use crate::{IoError, IoErrorKind};
 /// One named structure of a label map.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LabelName {
+    /// The label value in the map.
     pub value: i64,
+    /// The segment's name (may be empty).
     pub name: String,
     /// Red, green, blue in 0..=1, when the file gives them.
     pub color: Option<[f32; 3]>,
