@@ -9,8 +9,8 @@ use voxlod::core::glam::{DMat3, DVec3};
 use voxlod::core::{mesh_topology, Frame, TriangleMesh, Volume};
 use voxlod::io::{read_dicom_series, read_volume, DicomOptions};
 use voxlod::labels::{find_labels, label_levels, voxel_volume, LabelOptions};
-use voxlod::lod::{threshold_mesh_in_world, LodOptions};
-use voxlod::sampling::PyramidOptions;
+use voxlod::lod::{build_level, plan, LevelOptions, LodSource};
+use voxlod::sampling::{Filter, PyramidOptions, ThresholdSolid};
 use voxlod_testkit::dicom::{ball_series, write_slice};
 use voxlod_testkit::peers::run_python;
 
@@ -28,11 +28,14 @@ fn centroid_and_volume(mesh: &TriangleMesh) -> (DVec3, f64) {
 
 /// Level 0 of the thresholded volume at about `resolution` samples across, in world coordinates.
 fn world_mesh(volume: &Volume, threshold: f32, resolution: usize) -> TriangleMesh {
-    let options = LodOptions {
-        pyramid: PyramidOptions::with_resolutions(vec![resolution], Default::default()),
-        ..LodOptions::default()
+    let options = LevelOptions {
+        pyramid: PyramidOptions::with_resolutions(vec![resolution], Filter::Hypercone),
+        ..LevelOptions::default()
     };
-    threshold_mesh_in_world(volume, threshold, &options).unwrap()
+    let solid = ThresholdSolid::new(volume, threshold).unwrap();
+    let source = LodSource::Solid(&solid);
+    let plans = plan(&source, &options).unwrap();
+    build_level(&source, &plans[0], &options).unwrap().mesh
 }
 
 /// A ball of `radius` mm about `centre` (world), sampled through `index_to_world`.

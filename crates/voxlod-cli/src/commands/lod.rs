@@ -15,6 +15,7 @@ use super::common::{
 use super::envelope::{then_envelope, ThenEnvelope, ThenEnvelopeReport};
 use super::source::{load, threshold_warning, Loaded, MeshSummary, Prepared, VolumeRoute};
 use super::values::number;
+use super::world::{frame_report, FrameArg};
 use voxlod::lod::{build_level, plan, LodOptions};
 
 /// Build levels of detail: a pyramid of filtered volumes, marching cubes on each (paper §2).
@@ -82,6 +83,8 @@ pub struct LodArgs {
     pub then_envelope: Option<ThenEnvelope>,
     #[command(flatten)]
     pub route: VolumeRoute,
+    #[command(flatten)]
+    pub frame: FrameArg,
 }
 
 /// One level in the report.
@@ -118,6 +121,12 @@ struct LodReport {
     route: &'static str,
     filter: Filter,
     iso: f32,
+    /// For a volume: the frame of the meshes (lps, ras, unknown) and the input's index-to-world
+    /// matrix in it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    frame: Option<voxlod::core::Frame>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    transform: Option<[[f64; 4]; 4]>,
     levels: Vec<LevelReport>,
     total_seconds: f64,
     /// Every warning printed without --json: levels the filter removed, stale level files
@@ -143,6 +152,14 @@ fn is_level_file(name: &str) -> bool {
 pub fn run(args: LodArgs) -> Result<(), CliError> {
     let start = Instant::now();
     let loaded = load(&args.input, &args.route)?;
+    if let Loaded::Volume(v) = &loaded {
+        args.frame.check(v, &args.input)?;
+    } else if args.frame.target().is_some() {
+        return Err(CliError::usage(format!(
+            "{}: --frame applies to volumes (a mesh has no anatomical frame)",
+            args.input.display()
+        )));
+    }
     let prepared = Prepared::new(&loaded, &args.route, &args.input)?;
     let iso = prepared.iso(args.iso, &args.input)?;
     let envelope_eps = args.then_envelope;
@@ -205,6 +222,9 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
             let level = voxlod::Error::from(e).context(format!("level {}", level_plan.level));
             in_file(&args.input, level)
         })?;
+        if let Loaded::Volume(v) = &loaded {
+            args.frame.convert(v, &mut level.mesh);
+        }
         check_computed_mesh(
             &level.mesh,
             &format!("{}: level {}", args.input.display(), level_plan.level),
@@ -281,7 +301,13 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     out.remove_stale(&args.output, is_level_file);
     let written_warnings = out.warnings().len();
     warnings.extend(out.warnings().iter().cloned());
+    let frame = match &loaded {
+        Loaded::Volume(v) => Some(frame_report(v, args.frame.target())),
+        Loaded::Mesh(..) => None,
+    };
     let report = LodReport {
+        frame: frame.as_ref().map(|f| f.frame),
+        transform: frame.map(|f| f.transform),
         input: args.input.display().to_string(),
         mesh: match &loaded {
             Loaded::Mesh(_, summary) => Some(summary.clone()),

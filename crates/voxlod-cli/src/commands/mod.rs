@@ -12,6 +12,7 @@ pub mod demo;
 pub mod envelope;
 pub mod evaluate;
 pub mod inspect;
+pub mod labels;
 pub mod layers;
 pub mod lod;
 pub mod render;
@@ -19,6 +20,7 @@ pub mod select;
 pub mod source;
 pub mod values;
 pub mod voxelize;
+pub mod world;
 
 pub use common::CliError;
 
@@ -43,6 +45,7 @@ pub enum Command {
     Envelope(envelope::EnvelopeArgs),
     Select(select::SelectArgs),
     Inspect(inspect::InspectArgs),
+    Labels(labels::LabelsArgs),
     Compare(compare::CompareArgs),
     Evaluate(evaluate::EvaluateArgs),
     Layers(layers::LayersArgs),
@@ -60,6 +63,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Envelope(args) => envelope::run(args),
         Command::Select(args) => select::run(args),
         Command::Inspect(args) => inspect::run(args),
+        Command::Labels(args) => labels::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Evaluate(args) => evaluate::run(args),
         Command::Layers(args) => layers::run(args),
