@@ -58,24 +58,32 @@ impl LabelOptions {
 /// One label of a map: its value, how many voxels carry it, and their index box.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct LabelInfo {
+    /// The label value.
     pub value: i64,
+    /// How many voxels carry it.
     pub voxels: usize,
-    /// Smallest and largest index along x, y, z.
+    /// Smallest index along x, y, z.
     pub min: [usize; 3],
+    /// Largest index along x, y, z.
     pub max: [usize; 3],
 }
 
 /// Why a label map cannot be meshed.
 #[derive(Debug, thiserror::Error)]
 pub enum LabelError {
+    /// A sample is not an integer.
     #[error("sample ({0}, {1}, {2}) holds {3}, which is not an integer label")]
     NotALabel(usize, usize, usize, f32),
+    /// A label asked for is not in the map.
     #[error("the map has no label {0} (it holds {1})")]
     Missing(i64, String),
+    /// Only background.
     #[error("the map holds no label other than 0")]
     NoLabels,
+    /// Filtering or contouring failed.
     #[error(transparent)]
     Lod(#[from] LodError),
+    /// The indicator or its solid could not be made.
     #[error(transparent)]
     Sampling(#[from] SamplingError),
 }
