@@ -78,7 +78,8 @@ pub struct Comparison {
 /// );
 /// let c = voxlod::compare(&square(0.0), &square(0.25), &voxlod::CompareOptions::quick())?;
 /// assert!((c.distance.hausdorff - 0.25).abs() < 1e-6);
-/// assert!(c.warnings.is_empty());
+/// // Two flat boxes 0.25 apart do not overlap, and the report says so.
+/// assert!(c.warnings[0].contains("do not overlap"));
 /// # Ok(())
 /// # }
 /// ```

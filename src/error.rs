@@ -12,7 +12,7 @@ use std::path::Path;
 
 use serde::Serialize;
 use voxlod_clustering::ClusteringError;
-use voxlod_contouring::ContourError;
+use voxlod_contouring::{CleanError, ContourError};
 use voxlod_core::validate::MeshDefect;
 use voxlod_core::CoreError;
 use voxlod_envelope::EnvelopeError;
@@ -198,6 +198,12 @@ impl From<LodError> for Error {
         match e {
             LodError::Sampling(e) => Error::Sampling(e),
             LodError::Contour(e) => Error::Contour(e),
+            LodError::Clean(CleanError::Mesh(e)) => Error::Core(e),
+            LodError::Clean(CleanError::BadCell(cell)) => Error::InvalidOption(InvalidOption {
+                option: "resolution",
+                value: cell.to_string(),
+                problem: "gives a level whose cell size is not a positive number".into(),
+            }),
         }
     }
 }

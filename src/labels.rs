@@ -19,7 +19,11 @@ use voxlod_core::glam::DVec3;
 use voxlod_core::{memory, Frame, Grid, Placement, TriangleMesh, Volume};
 use voxlod_sampling::{PyramidOptions, SamplingError, ThresholdSolid};
 
+use voxlod_core::mesh_topology;
+use voxlod_envelope::EnvelopeError;
+
 use crate::lod::{build_level, plan, LevelOptions, LodError, LodLevel, LodSource};
+use crate::then_envelope::{simplify_level, ThenEnvelope};
 
 /// How label meshes are made.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -31,6 +35,8 @@ pub struct LabelOptions {
     pub labels: Option<Vec<i64>>,
     /// The frame of the meshes: the map's own when `None`.
     pub frame: Option<Frame>,
+    /// Then simplify each level by simplification envelopes, as `LodOptions::then_envelope`.
+    pub then_envelope: Option<ThenEnvelope>,
 }
 
 impl Default for LabelOptions {
@@ -42,6 +48,7 @@ impl Default for LabelOptions {
             lod,
             labels: None,
             frame: None,
+            then_envelope: None,
         }
     }
 }
@@ -86,6 +93,9 @@ pub enum LabelError {
     /// The indicator or its solid could not be made.
     #[error(transparent)]
     Sampling(#[from] SamplingError),
+    /// The envelope step failed.
+    #[error("`then_envelope`: {0}")]
+    Envelope(#[from] EnvelopeError),
 }
 
 /// The non-zero labels of a map, in increasing order, with their voxel counts and boxes.
@@ -204,6 +214,12 @@ pub fn label_levels(
         .map(|p| {
             let mut level = build_level(&source, p, &lod)?;
             to_frame.apply(&mut level.mesh);
+            if let Some(step) = &options.then_envelope {
+                let (mesh, report) = simplify_level(&level.mesh, step, p.voxel_size)?;
+                level.mesh = mesh;
+                level.envelope = report;
+                level.topology = mesh_topology(&level.mesh);
+            }
             Ok(level)
         })
         .collect()

@@ -18,6 +18,7 @@ use voxlod_core::mesh_topology;
 use voxlod_core::validate::{find_defect, Requirements};
 use voxlod_sampling::{Filter, LevelPlan, MeshPreparation, PyramidOptions};
 
+use crate::budget::{check_budgets, lod_by_budget, BudgetLevel, ErrorTarget, Then};
 use crate::error::{Error, InvalidOption};
 use crate::lod::{plan, sample_level, LevelOptions, LodLevel, LodSource};
 use crate::progress::{run_to_end, Event, ProgressFn, Tracker};
@@ -37,6 +38,21 @@ pub struct LodOptions {
     pub normals: bool,
     /// Then simplify each level by simplification envelopes within ε.
     pub then_envelope: Option<ThenEnvelope>,
+    /// Levels by triangle budget, one per count in the order given ([`crate::budget`]): the
+    /// resolutions of `pyramid` are then chosen per budget (its filter, radius and quadrature
+    /// are used).
+    pub triangles: Option<Vec<usize>>,
+    /// An error target: with `triangles`, the bound of every level's geometric stage; alone,
+    /// one level within it ([`crate::budget`]).
+    pub error: Option<ErrorTarget>,
+    /// The geometric stage of the budget levels.
+    pub then: Then,
+    /// Budget levels of an open mesh keep the caps that sampling puts over its holes
+    /// (watertight levels); by default the caps are cut away and the openings kept.
+    pub closed: bool,
+    /// Seconds each budget's search may spend on neighbouring resolutions after its first
+    /// candidate (`f64::INFINITY`: all of them, `0`: the first only).
+    pub time_cap: f64,
 }
 
 impl Default for LodOptions {
@@ -48,11 +64,37 @@ impl Default for LodOptions {
             iso: None,
             normals: true,
             then_envelope: None,
+            triangles: None,
+            error: None,
+            then: Then::Auto,
+            closed: false,
+            time_cap: 1.0,
         }
     }
 }
 
 impl LodOptions {
+    /// One level per triangle count in `budgets`, by the budget pipeline ([`crate::budget`]):
+    ///
+    /// ```
+    /// # fn main() -> Result<(), voxlod::Error> {
+    /// # let mesh = voxlod_testkit::shapes::torus(64, 32, 2.0, 0.7);
+    /// // `mesh`: a closed torus of 4 096 triangles (or any mesh from `voxlod::read_mesh`).
+    /// let lod = voxlod::lod(&voxlod::Source::Mesh(&mesh), &voxlod::LodOptions::budgets(vec![1000, 250]))?;
+    /// for (level, report) in lod.levels.iter().zip(&lod.budgets) {
+    ///     let miss = level.mesh.triangle_count() as f64 / report.budget.unwrap() as f64 - 1.0;
+    ///     assert!(miss.abs() <= 0.1 && level.topology.is_closed_manifold());
+    /// }
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn budgets(triangles: Vec<usize>) -> Self {
+        LodOptions {
+            triangles: Some(triangles),
+            ..Default::default()
+        }
+    }
+
     /// `levels` levels from `resolution` samples, halving each time, with `filter`.
     pub fn halving(resolution: usize, levels: usize, filter: Filter) -> Self {
         LodOptions {
@@ -109,6 +151,23 @@ impl LodOptions {
             let problem = "at least one quadrature line per filter radius";
             return Err(InvalidOption::new("lines_per_radius", 0, problem).into());
         }
+        if self.time_cap.is_nan() || self.time_cap < 0.0 {
+            let problem = "the time cap is a number of seconds, zero or more";
+            return Err(InvalidOption::new("time_cap", self.time_cap, problem).into());
+        }
+        if self.then_envelope.is_some() && (self.triangles.is_some() || self.error.is_some()) {
+            let problem = "the envelope step is part of the budget pipeline; choose it with `then`";
+            return Err(InvalidOption::new("then_envelope", "set", problem).into());
+        }
+        if let Some(budgets) = &self.triangles {
+            check_budgets(budgets)?;
+        }
+        if let Some(e @ (ErrorTarget::Distance(x) | ErrorTarget::Fraction(x))) = self.error {
+            if !(x.is_finite() && x > 0.0) {
+                let problem = "the error target must be a positive distance or fraction";
+                return Err(InvalidOption::new("error", e, problem).into());
+            }
+        }
         Ok(())
     }
 }
@@ -132,6 +191,8 @@ pub struct Lod {
     pub iso: f32,
     /// Empty levels, a threshold at or below every sample: each in one line.
     pub warnings: Vec<String>,
+    /// Per level, what the budget pipeline did (empty unless `triangles` or `error` was set).
+    pub budgets: Vec<BudgetLevel>,
     /// Wall time of the whole call.
     pub seconds: f64,
 }
@@ -190,12 +251,16 @@ pub fn lod_with(
 ) -> Result<Lod, Error> {
     let start = Instant::now();
     options.check()?;
+    if options.triangles.is_some() || options.error.is_some() {
+        return lod_by_budget(source, options, progress);
+    }
     let prepared = source.prepare()?;
     let iso = prepared.iso(options.iso)?;
     let level_options = LevelOptions {
         pyramid: options.pyramid.clone(),
         iso,
         normals: options.normals,
+        ..LevelOptions::default()
     };
     let lod_source = prepared.lod_source();
     let plans = plan(&lod_source, &level_options)?;
@@ -229,6 +294,7 @@ pub fn lod_with(
         preparation: prepared.preparation().copied(),
         iso,
         warnings,
+        budgets: Vec::new(),
         seconds: start.elapsed().as_secs_f64(),
     })
 }
@@ -253,7 +319,8 @@ fn one_level(
     }
     tracker.step(plan.level, "contoured")?;
     if let Some(step) = &options.then_envelope {
-        let (mesh, report) = simplify_level(&level.mesh, step, plan.voxel_size)?;
+        let (mesh, report) = simplify_level(&level.mesh, step, plan.voxel_size)
+            .map_err(|e| Error::from(e).context("`then_envelope`"))?;
         level.mesh = mesh;
         level.envelope = report;
         level.topology = mesh_topology(&level.mesh);

@@ -19,6 +19,7 @@
 //! |---|---|---|
 //! | files | [`read_mesh`], [`write_mesh`], [`read_volume`], [`write_volume`] | |
 //! | levels of detail (§2, §4) | [`lod()`], [`lod_with`]; one level at a time: [`lod::plan`], [`lod::build_level`] | [`LodOptions`] |
+//! | levels by triangle budget or error (§5) | [`lod()`] with [`LodOptions::budgets`] | [`budget`] |
 //! | one filtered volume | [`voxelize`] | [`VoxelizeOptions`] |
 //! | marching cubes on any volume | [`contour`] | [`ContourOptions`] |
 //! | layered translucent shells (§3) | [`layers()`], [`layers_with`] | [`LayersOptions`] |
@@ -49,6 +50,8 @@
 
 #![warn(missing_docs)]
 
+pub mod budget;
+mod caps;
 mod cluster;
 mod compare;
 mod contour;
@@ -95,5 +98,6 @@ pub use voxlod_envelope as envelope;
 pub use voxlod_io as io;
 pub use voxlod_layers as layers;
 pub use voxlod_metrics as metrics;
+pub use voxlod_quadric as quadric;
 pub use voxlod_render as render;
 pub use voxlod_sampling as sampling;

@@ -9,18 +9,43 @@
 //! the iso value's check, warnings, progress and the optional envelope step; use this module
 //! when levels must be handled one by one. Cost per level: the sampling (O(N³) samples, each a
 //! sum over the lattice lines within the radius) and marching cubes (O(N³)).
+//!
+//! **Large levels of solids** (beyond the paper): when the dense sampling of a solid's level
+//! would need more than [`BAND_ABOVE_BYTES`], the level is sampled only in the narrow band of
+//! bricks the surface reaches ([`voxlod_sampling::narrow_band`]) and contoured by
+//! [`sparse_marching_cubes`]: the same surface as the dense path, with memory and time that grow
+//! with the surface's area instead of the grid's volume, so `--resolution 2048` fits.
 
 use std::time::Instant;
 
 use serde::Serialize;
-use voxlod_contouring::{marching_cubes, ContourError, ContourOptions};
-use voxlod_core::{mesh_topology, Bounds, Placement, Topology, TriangleMesh, Volume};
+use voxlod_contouring::{
+    clean_mesh, marching_cubes, sparse_marching_cubes, CleanError, CleanOptions, ContourError,
+    ContourOptions,
+};
+use voxlod_core::{
+    mesh_topology, Bounds, BrickVolume, Grid, Placement, Topology, TriangleMesh, Volume,
+};
+use voxlod_sampling::density::estimated_bytes;
+use voxlod_sampling::narrow_band::{
+    lattice_estimated_bytes, narrow_band_density, BandReport, NarrowBandOptions,
+};
 
 use crate::then_envelope::EnvelopeStep;
 use voxlod_sampling::{
-    direct_density, filtered_density, plan_levels, DensityReport, LevelPlan, PyramidOptions,
+    direct_density, filtered_density, plan_levels_with, DensityReport, LevelPlan, PyramidOptions,
     SamplingError, Solid,
 };
+
+/// Levels of solids whose dense sampling would need more bytes than this go through the narrow
+/// band and sparse marching cubes (the dense path stays for smaller grids, where it is as fast).
+pub const BAND_ABOVE_BYTES: u64 = 1 << 30;
+
+/// Whether a level of `source` on `grid` with `lines_per_voxel` goes through the narrow band.
+fn uses_band(source: &LodSource, grid: &Grid, lines_per_voxel: usize) -> bool {
+    matches!(source, LodSource::Solid(_))
+        && estimated_bytes(grid, lines_per_voxel) > BAND_ABOVE_BYTES
+}
 
 /// What a level is made from: a prepared source ([`crate::Prepared::lod_source`]).
 pub enum LodSource<'a> {
@@ -61,6 +86,9 @@ pub struct LevelOptions {
     pub iso: f32,
     /// Gradient normals on the output meshes.
     pub normals: bool,
+    /// Clean each level (no sliver, needle or zero-area triangle, no self-intersection; beyond
+    /// the paper, see [`voxlod_contouring::clean_mesh()`]); `None` keeps raw marching cubes.
+    pub clean: Option<CleanOptions>,
 }
 
 /// The former name of [`LevelOptions`], kept while `voxlod-eval` still uses it. Not to be
@@ -68,12 +96,15 @@ pub struct LevelOptions {
 pub type LodOptions = LevelOptions;
 
 impl Default for LevelOptions {
-    /// Six levels from 256, hyper-cone filter of one voxel, isodensity 0.5, with normals.
+    /// Six levels from 256, hyper-cone filter of one voxel, isodensity 0.5, with normals, plain
+    /// marching cubes (the budget pipeline cleans its levels; cleaning every level by default
+    /// waits on an inside-out coarse level of thingi10k-138207 being understood).
     fn default() -> Self {
         LevelOptions {
             pyramid: PyramidOptions::default(),
             iso: 0.5,
             normals: true,
+            clean: None,
         }
     }
 }
@@ -105,6 +136,8 @@ pub struct LodLevel {
     pub sample_seconds: f64,
     /// Wall time of marching cubes.
     pub contour_seconds: f64,
+    /// Present when the level went through the narrow band: its bricks.
+    pub band: Option<BandReport>,
     /// What the envelope step did ([`crate::LodOptions::then_envelope`]), when asked.
     pub envelope: Option<EnvelopeStep>,
 }
@@ -118,11 +151,25 @@ pub enum LodError {
     /// Marching cubes failed (32-bit limits, the memory budget).
     #[error(transparent)]
     Contour(#[from] ContourError),
+    /// Cleaning the level failed (the memory budget).
+    #[error(transparent)]
+    Clean(#[from] CleanError),
 }
 
 /// Plans every level: grids, radii, and a memory check of the largest.
 pub fn plan(source: &LodSource, options: &LevelOptions) -> Result<Vec<LevelPlan>, LodError> {
-    Ok(plan_levels(&source.bounds(), &options.pyramid)?)
+    let estimate = |grid: &Grid, q: usize| {
+        if uses_band(source, grid, q) {
+            lattice_estimated_bytes(grid, q, NarrowBandOptions::default().brick_size)
+        } else {
+            estimated_bytes(grid, q)
+        }
+    };
+    Ok(plan_levels_with(
+        &source.bounds(),
+        &options.pyramid,
+        &estimate,
+    )?)
 }
 
 /// Samples and contours one planned level.
@@ -137,11 +184,28 @@ pub fn build_level(
 /// A level sampled but not yet contoured (the first half of [`build_level`]).
 pub(crate) struct SampledLevel {
     pub(crate) plan: LevelPlan,
-    pub(crate) volume: Volume,
+    pub(crate) volume: LevelVolume,
     /// Grid space to the world of an oriented scan (`voxlod_core::world`), applied to the mesh.
     pub(crate) placement: Placement,
     pub(crate) density: Option<DensityReport>,
+    pub(crate) band: Option<BandReport>,
     pub(crate) sample_seconds: f64,
+}
+
+/// The samples of a level: dense, or bricks from the narrow band.
+pub(crate) enum LevelVolume {
+    Dense(Volume),
+    Bricks(BrickVolume),
+}
+
+impl LevelVolume {
+    /// The samples as one dense volume (checked against the memory budget).
+    pub(crate) fn into_dense(self) -> Result<Volume, LodError> {
+        match self {
+            LevelVolume::Dense(volume) => Ok(volume),
+            LevelVolume::Bricks(bricks) => Ok(bricks.to_volume().map_err(SamplingError::from)?),
+        }
+    }
 }
 
 /// The filtered density of one planned level: the source's inside function filtered, or the
@@ -152,14 +216,27 @@ pub(crate) fn sample_level(
     options: &LevelOptions,
 ) -> Result<SampledLevel, LodError> {
     let start = Instant::now();
-    let (volume, density) = match source {
+    let density_options = plan.density_options(&options.pyramid);
+    let q = density_options.lines_per_voxel(plan.voxel_size);
+    let (volume, density, band) = match source {
+        LodSource::Solid(solid) if uses_band(source, &plan.grid, q) => {
+            let band = NarrowBandOptions::default();
+            let (bricks, report, band) =
+                narrow_band_density(*solid, &plan.grid, &density_options, &band)?;
+            (LevelVolume::Bricks(bricks), Some(report), Some(band))
+        }
         LodSource::Solid(solid) => {
-            let (v, report) =
-                filtered_density(*solid, &plan.grid, &plan.density_options(&options.pyramid))?;
-            (v, Some(report))
+            let (v, report) = filtered_density(*solid, &plan.grid, &density_options)?;
+            (LevelVolume::Dense(v), Some(report), None)
         }
         LodSource::Direct(volume) => (
-            direct_density(volume, &plan.grid, options.pyramid.filter, plan.radius)?,
+            LevelVolume::Dense(direct_density(
+                volume,
+                &plan.grid,
+                options.pyramid.filter,
+                plan.radius,
+            )?),
+            None,
             None,
         ),
     };
@@ -168,6 +245,7 @@ pub(crate) fn sample_level(
         volume,
         placement: source.placement(),
         density,
+        band,
         sample_seconds: start.elapsed().as_secs_f64(),
     })
 }
@@ -180,7 +258,14 @@ impl SampledLevel {
             iso: options.iso,
             normals: options.normals,
         };
-        let mut mesh = marching_cubes(&self.volume, &contour)?;
+        let mut mesh = match &self.volume {
+            LevelVolume::Dense(volume) => marching_cubes(volume, &contour)?,
+            LevelVolume::Bricks(bricks) => sparse_marching_cubes(bricks, &contour)?,
+        };
+        drop(self.volume);
+        if let Some(clean) = &options.clean {
+            mesh = clean_mesh(&mesh, self.plan.voxel_size, clean)?.0;
+        }
         // The one place where levels leave grid space: an oblique or flipped scan's mesh moves
         // to its world here, rewound when the transform flips handedness.
         self.placement.apply(&mut mesh);
@@ -194,6 +279,7 @@ impl SampledLevel {
             density: self.density,
             sample_seconds: self.sample_seconds,
             contour_seconds,
+            band: self.band,
             envelope: None,
         })
     }

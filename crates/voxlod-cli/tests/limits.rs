@@ -400,12 +400,13 @@ fn an_address_space_limit_is_a_clean_refusal_not_an_abort() {
         ];
         voxlod_under_ulimit_v(2_000_000, &args)
     };
-    // Resolution 1000 takes a 4 GB volume (7.6 GiB as the plan reckons): within the memory of
-    // many machines, beyond 2 GB of address space, where it used to abort allocating.
+    // Resolution 1000 takes a 4 GB volume: within the memory of many machines, beyond 2 GB of
+    // address space, where it used to abort allocating. The narrow band fits; the dense volume
+    // that voxelize writes (1.9 GiB) does not, and is refused before allocating.
     let o = voxelize("1000");
     // Exit status 3: would not fit in memory.
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
-    assert_clean_failure(&o, "would need 7.6 GiB");
+    assert_clean_failure(&o, "would need 1.9 GiB");
     assert!(stderr(&o).contains("bytes) but only"), "{}", stderr(&o));
     assert!(!out.exists());
     // Small work still runs under the limit.

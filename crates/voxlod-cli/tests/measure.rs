@@ -327,13 +327,16 @@ fn png_size(path: &Path) -> (u32, u32) {
     (be(&bytes[16..20]), be(&bytes[20..24]))
 }
 
-const ALL_METHODS: [&str; 6] = [
+const ALL_METHODS: [&str; 9] = [
     "voxel-hypercone",
     "voxel-gaussian",
     "rossignac-borrel",
     "low-tan",
     "envelope",
     "voxel-envelope",
+    "budget",
+    "meshopt-simplify",
+    "meshopt-sloppy",
 ];
 
 /// Checks the files and the curves of an evaluation written to `out`; returns report.json.

@@ -6,6 +6,16 @@
 //!   Flying Edges (module [`mod@marching_cubes`]); [`marching_cubes_with_cells`] also gives each
 //!   triangle's cell, and [`marching_cubes_multi`] several isosurfaces from one read of the
 //!   volume (the multi-layer shells of paper §3).
+//! - [`block_marching_cubes()`]: the same extraction block by block, with global edge keys, and
+//!   [`stitch_blocks`], the stitching of the pieces into the whole-volume mesh (module
+//!   [`mod@block_marching_cubes`]).
+//! - [`clean_mesh()`] (module [`mod@clean_mesh`]): short edges collapsed and caps flipped, so
+//!   that a level has no sliver, needle or zero-area triangle and no self-intersection (beyond
+//!   the paper).
+//! - [`triangle_estimate`]: marching cubes' triangle count of a mesh's surface at a resolution,
+//!   before sampling (beyond the paper), and the resolution for a triangle budget.
+//! - [`sparse_marching_cubes()`]: the same triangles from a [`voxlod_core::BrickVolume`],
+//!   visiting only the bricks the surface touches (module [`mod@sparse_marching_cubes`]).
 //!
 //! Cost: one read of the volume, then O(N³/64) word operations and work proportional to the
 //! surface.
@@ -30,10 +40,21 @@
 
 #![warn(missing_docs)]
 
+pub mod block_marching_cubes;
+pub mod clean_mesh;
+mod edge_vertex;
+mod local_crossings;
 pub mod marching_cubes;
+pub mod sparse_marching_cubes;
 pub mod tables;
+pub mod triangle_estimate;
 
+pub use block_marching_cubes::{
+    block_marching_cubes, stitch_blocks, Block, BlockError, BlockPiece,
+};
+pub use clean_mesh::{clean_mesh, CleanError, CleanOptions, CleanReport};
 pub use marching_cubes::{
     marching_cubes, marching_cubes_multi, marching_cubes_with_cells, CellMesh, ContourError,
     ContourOptions,
 };
+pub use sparse_marching_cubes::sparse_marching_cubes;

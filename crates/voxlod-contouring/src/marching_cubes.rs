@@ -34,11 +34,12 @@
 //! Vertex interpolation parameters are clamped to `[1e-4, 1 - 1e-4]` along their edge so that a
 //! sample exactly at the iso value does not collapse triangles to zero area.
 
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 use rayon::prelude::*;
 use thiserror::Error;
 use voxlod_core::{memory, CoreError, TriangleMesh, Volume};
 
+use crate::edge_vertex::{repair_zero_normals, DenseSamples, VertexPlacer};
 use crate::tables::{tables, Tables};
 
 /// Options of [`marching_cubes`].
@@ -94,8 +95,6 @@ pub enum ContourError {
     #[error(transparent)]
     Memory(#[from] CoreError),
 }
-
-const CLAMP: f32 = 1e-4;
 
 /// Bit rows of one z-slice: `words` 64-bit words per row, `ny` rows.
 struct BitVolume {
@@ -445,18 +444,16 @@ fn extract(
         Vec::new()
     };
     let parts = layout.split_per_slice(&mut positions, &mut normals, &mut triangles, &mut cells);
+    let samples = DenseSamples {
+        data: volume.as_slice(),
+        dims,
+    };
     let writer = SliceWriter {
         bits,
         dims,
         table,
         row_vertex_base: &layout.row_vertex_base,
-        field: Field {
-            data: volume.as_slice(),
-            dims,
-            spacing: volume.grid.spacing_vec(),
-            origin: volume.grid.origin_vec(),
-            iso,
-        },
+        field: VertexPlacer::new(&samples, &volume.grid, iso),
         with_normals,
         with_cells,
     };
@@ -608,7 +605,7 @@ struct SliceWriter<'a> {
     table: &'a Tables,
     /// See [`OutputLayout::row_vertex_base`].
     row_vertex_base: &'a [u32],
-    field: Field<'a>,
+    field: VertexPlacer<'a, DenseSamples<'a>>,
     with_normals: bool,
     with_cells: bool,
 }
@@ -767,90 +764,5 @@ fn cell_edge_vertex(rows: &[&RowEdges; 4], e: u8, x: usize) -> u32 {
         9 => rows[0].vertex(2, x + 1),
         10 => rows[1].vertex(2, x),
         _ => rows[1].vertex(2, x + 1),
-    }
-}
-
-/// The sampled field with its geometry, for vertex placement.
-struct Field<'a> {
-    data: &'a [f32],
-    dims: [usize; 3],
-    spacing: DVec3,
-    origin: DVec3,
-    iso: f32,
-}
-
-impl Field<'_> {
-    #[inline]
-    fn at(&self, i: usize, j: usize, k: usize) -> f32 {
-        self.data[i + self.dims[0] * (j + self.dims[1] * k)]
-    }
-
-    /// Density gradient at a sample, in index units (central differences, one-sided at borders).
-    fn gradient(&self, p: [usize; 3]) -> Vec3 {
-        let mut g = [0.0f32; 3];
-        for (axis, slot) in g.iter_mut().enumerate() {
-            let n = self.dims[axis];
-            let (mut lo, mut hi) = (p, p);
-            if p[axis] > 0 {
-                lo[axis] -= 1;
-            }
-            if p[axis] + 1 < n {
-                hi[axis] += 1;
-            }
-            let span = (hi[axis] - lo[axis]) as f32;
-            if span > 0.0 {
-                *slot = (self.at(hi[0], hi[1], hi[2]) - self.at(lo[0], lo[1], lo[2])) / span;
-            }
-        }
-        Vec3::from(g)
-    }
-
-    /// Position and outward normal of the vertex on the edge from sample `p` along `axis`.
-    fn edge_vertex(&self, p: [usize; 3], axis: usize, with_normal: bool) -> (Vec3, Vec3) {
-        let mut q = p;
-        q[axis] += 1;
-        let (a, b) = (self.at(p[0], p[1], p[2]), self.at(q[0], q[1], q[2]));
-        let t = (self.iso - a) / (b - a);
-        let t = if t.is_finite() {
-            t.clamp(CLAMP, 1.0 - CLAMP)
-        } else {
-            0.5
-        };
-        let mut index = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
-        index[axis] += t as f64;
-        let position = (self.origin + index * self.spacing).as_vec3();
-        let normal = if with_normal {
-            let g = self.gradient(p).lerp(self.gradient(q), t);
-            // World-space gradient divides by the spacing; the normal points down the gradient.
-            let world = -(g.as_dvec3() / self.spacing);
-            world.normalize_or_zero().as_vec3()
-        } else {
-            Vec3::ZERO
-        };
-        (position, normal)
-    }
-}
-
-/// Vertices whose interpolated gradient vanished get the area-weighted normal of their triangles.
-fn repair_zero_normals(mesh: &mut TriangleMesh) {
-    if !mesh.normals.contains(&Vec3::ZERO) {
-        return;
-    }
-    let mut acc = vec![Vec3::ZERO; mesh.positions.len()];
-    for &[a, b, c] in &mesh.triangles {
-        let (pa, pb, pc) = (
-            mesh.positions[a as usize],
-            mesh.positions[b as usize],
-            mesh.positions[c as usize],
-        );
-        let n = (pb - pa).cross(pc - pa);
-        for v in [a, b, c] {
-            acc[v as usize] += n;
-        }
-    }
-    for (n, a) in mesh.normals.iter_mut().zip(acc) {
-        if *n == Vec3::ZERO {
-            *n = a.normalize_or_zero();
-        }
     }
 }

@@ -6,6 +6,8 @@
 //!   (millimetres for a CT), and a scalar field on it.
 //! - [`world`]: where a volume sits in the patient: direction cosines, LPS or RAS, and the
 //!   map of finished meshes from grid space to the world.
+//! - [`BrickVolume`]: the same samples stored sparsely, dense leaf bricks near the surface and
+//!   one value per brick elsewhere.
 //! - [`topology`]: edge-based manifold checks, Euler characteristic and genus.
 //! - [`weld`]: merging coincident vertices, as STL triangle soups need.
 //! - [`memory`]: refusing allocations that cannot fit, with the size they would need.
@@ -40,6 +42,7 @@
 #![warn(missing_docs)]
 
 pub mod bounds;
+pub mod bricks;
 pub mod disjoint;
 pub mod error;
 pub mod grid;
@@ -55,6 +58,7 @@ pub mod weld;
 pub mod world;
 
 pub use bounds::Bounds;
+pub use bricks::{Brick, BrickVolume};
 pub use error::CoreError;
 pub use grid::{Axis, Grid};
 pub use mesh::{Attribute, PolyMesh, TriangleMesh};

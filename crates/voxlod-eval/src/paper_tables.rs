@@ -222,6 +222,8 @@ pub fn reproduce(
         pyramid: PyramidOptions::with_resolutions(resolutions, table.filter),
         iso,
         normals: true,
+        // The paper's counts are of plain marching cubes.
+        clean: None,
     };
     let plans = plan(source, &options)?;
     let size = source.bounds().size();

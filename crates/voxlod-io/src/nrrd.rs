@@ -333,7 +333,13 @@ fn interpret_geometry(
             _ => return Err(fields.bad("space origin", text)),
         }
     }
-    let steps = match direction_vectors(fields, dimension, unit_scale)? {
+    let directions = direction_vectors(fields, dimension, unit_scale)?;
+    let source = if directions.is_some() {
+        "'space directions'"
+    } else {
+        "'spacings'"
+    };
+    let steps = match directions {
         Some(steps) => complete_steps(steps),
         None => {
             let mut spacing = [1.0f64; 3];
@@ -347,7 +353,7 @@ fn interpret_geometry(
         }
     };
     let world = WorldTransform::from_columns(flip * origin, steps.map(|s| flip * s), frame)
-        .map_err(|e| IoError::malformed(fields.path, format!("'space directions': {e}")))?;
+        .map_err(|e| IoError::malformed(fields.path, format!("{source}: {e}")))?;
     let orientation = Orientation {
         direction: world.direction,
         frame,

@@ -118,6 +118,21 @@ pub fn filtered_density(
     grid: &Grid,
     options: &DensityOptions,
 ) -> Result<(Volume, DensityReport), SamplingError> {
+    let (crossings, kernel, report) =
+        lattice_crossings(solid, grid, options, &|q| estimated_bytes(grid, q))?;
+    let volume = integrate_families(&crossings, &kernel, grid)?;
+    Ok((volume, report))
+}
+
+/// The lattice crossings of the three families (majority-voted when the solid is not exact),
+/// the line kernel and the report, after checking the options and `estimate(q)` bytes against
+/// the memory budget. Shared by [`filtered_density`] and [`crate::narrow_band`].
+pub(crate) fn lattice_crossings(
+    solid: &dyn Solid,
+    grid: &Grid,
+    options: &DensityOptions,
+    estimate: &dyn Fn(usize) -> u64,
+) -> Result<([LineCrossings; 3], LineKernel, DensityReport), SamplingError> {
     let h = grid.spacing[0];
     if grid.spacing.iter().any(|s| (s - h).abs() > 1e-9 * h) {
         return Err(SamplingError::InvalidOption(format!(
@@ -142,7 +157,7 @@ pub fn filtered_density(
             "sampling a {}x{}x{} grid",
             grid.dims[0], grid.dims[1], grid.dims[2]
         ),
-        estimated_bytes(grid, q),
+        estimate(q),
     )?;
     let mut families = [Axis::X, Axis::Y, Axis::Z].map(|a| LineFamily::new(a, *grid, q));
     let crossings: Result<Vec<LineCrossings>, SamplingError> =
@@ -150,25 +165,24 @@ pub fn filtered_density(
     let mut crossings: [LineCrossings; 3] = crossings?.try_into().expect("three families");
     let majority = (!solid.is_exact()).then(|| majority_vote(&mut crossings));
     let kernel = LineKernel::new(options.filter, options.radius / h, q);
-    let volume = integrate_families(&crossings, &kernel, grid)?;
     let report = DensityReport {
         lines_per_voxel: q,
         lattice_lines: crossings.iter().map(|c| c.family.line_count() as u64).sum(),
         crossings: crossings.iter().map(|c| c.len() as u64).sum(),
         majority,
     };
-    Ok((volume, report))
+    Ok((crossings, kernel, report))
 }
 
 /// Scratch rows for one thread: the density and surface weight of one row of samples.
-struct Rows {
-    density: Vec<f64>,
-    weight: Vec<f64>,
+pub(crate) struct Rows {
+    pub(crate) density: Vec<f64>,
+    pub(crate) weight: Vec<f64>,
     diff: Vec<f64>,
 }
 
 impl Rows {
-    fn new(n: usize) -> Rows {
+    pub(crate) fn new(n: usize) -> Rows {
         Rows {
             density: vec![0.0; n],
             weight: vec![0.0; n],
@@ -178,7 +192,7 @@ impl Rows {
 
     /// Sample `i` of the last row as its blend terms: (w² f, w²).
     #[inline]
-    fn weighted(&self, i: usize) -> (f64, f64) {
+    pub(crate) fn weighted(&self, i: usize) -> (f64, f64) {
         let w2 = self.weight[i] * self.weight[i];
         (w2 * self.density[i], w2)
     }
@@ -186,7 +200,7 @@ impl Rows {
     /// Integrates the samples `range` of the row along line (m0, n0) of a family into
     /// `density[..range.len()]` and `weight[..range.len()]`. False when no line of the pattern
     /// holds a crossing (the row is then empty and the buffers are zero).
-    fn run(
+    pub(crate) fn run(
         &mut self,
         crossings: &LineCrossings,
         kernel: &LineKernel,

@@ -13,16 +13,13 @@
 //! `d(r) = [σ√(π/2) (erf(R/s) - erf(r/s)) - (R - r) E] / [2σ√(π/2) erf(R/s) - 2 R E]`.
 //!
 //! **Volumes.** [`gaussian_blur`] filters a sampled volume directly (the paper's second route for
-//! scanned data, and the peers' `scipy.ndimage.gaussian_filter`): the Gaussian is separable, so
-//! three one-dimensional passes along x, y and z replace the 3-D convolution. The x and y passes
-//! run slice by slice in cache into the output; the z pass then sweeps strips of the slices
-//! along z in place, keeping the strips under the filter in cache. Cost: O(N³ (2⌈tσ⌉ + 1)) for
-//! truncation t, one output volume, about two reads and two writes of its memory.
+//! scanned data, and the peers' `scipy.ndimage.gaussian_filter`) with the separable filter of
+//! [`crate::gaussian_filter`], σ given in world units and borders reflected. Cost: O(N³ (2⌈tσ⌉ +
+//! 1)) for truncation t, one output volume, about two reads and two writes of its memory.
 
-use rayon::prelude::*;
-use voxlod_core::disjoint::DisjointSlice;
-use voxlod_core::{memory, Volume};
+use voxlod_core::Volume;
 
+use crate::gaussian_filter::{gaussian_filter, BoundaryMode, GaussianFilterOptions};
 use crate::SamplingError;
 
 /// σ = R / 3.
@@ -66,33 +63,9 @@ pub fn gaussian_taps(sigma: f64, truncate: f64) -> Vec<f32> {
     taps.into_iter().map(|t| t as f32).collect()
 }
 
-/// Convolves one line with `taps`, the border handled by reflection (like SciPy's `reflect`):
-/// the interior as one shifted multiply-add of the whole line per tap (which vectorises), the
-/// `r` samples at each end tap by tap.
-fn convolve_line(input: &[f32], taps: &[f32], output: &mut [f32]) {
-    let n = input.len();
-    let r = taps.len() / 2;
-    if n > 2 * r {
-        let interior = &mut output[r..n - r];
-        interior.fill(0.0);
-        for (t, &w) in taps.iter().enumerate() {
-            for (o, x) in interior.iter_mut().zip(&input[t..t + n - 2 * r]) {
-                *o += w * x;
-            }
-        }
-    }
-    let border = (0..r.min(n)).chain(n.saturating_sub(r).max(r.min(n))..n);
-    for i in border {
-        output[i] = taps
-            .iter()
-            .enumerate()
-            .map(|(t, &w)| w * input[reflect_index(i as i64 - r as i64 + t as i64, n as i64)])
-            .sum();
-    }
-}
-
 /// Filters `volume` with a Gaussian of standard deviation `sigma` (world units, per axis)
-/// truncated at `truncate` standard deviations. See the module documentation.
+/// truncated at `truncate` standard deviations, borders reflected (like SciPy's `reflect`):
+/// [`crate::gaussian_filter::gaussian_filter`] with σ in samples.
 pub fn gaussian_blur(
     volume: &Volume,
     sigma: [f64; 3],
@@ -104,96 +77,20 @@ pub fn gaussian_blur(
             "Gaussian sigma {sigma:?} and truncation {truncate} must be positive"
         )));
     }
-    let [nx, ny, nz] = volume.grid.dims;
-    memory::check_allocation(
-        "a filtered copy of the volume",
-        memory::bytes_of::<f32>(2 * volume.grid.len()),
-    )?;
-    let taps: Vec<Vec<f32>> = (0..3)
-        .map(|a| gaussian_taps(sigma[a] / volume.grid.spacing[a], truncate))
-        .collect();
-    let input = volume.as_slice();
-    let slice_len = nx * ny;
-
-    // Pass 1: x then y, slice by slice, into the output.
-    let mut output: Vec<f32> = memory::zeroed_vec(input.len());
-    output
-        .par_chunks_mut(slice_len)
-        .zip(input.par_chunks(slice_len))
-        .for_each_init(
-            || vec![0.0f32; slice_len],
-            |tmp, (out, slice)| {
-                for (row_out, row_in) in tmp.chunks_mut(nx).zip(slice.chunks(nx)) {
-                    convolve_line(row_in, &taps[0], row_out);
-                }
-                // y pass on whole rows: out[j] = Σ_k taps[k] tmp[reflect(j - r + k)].
-                let r = (taps[1].len() / 2) as i64;
-                for j in 0..ny as i64 {
-                    let row = &mut out[j as usize * nx..(j as usize + 1) * nx];
-                    row.fill(0.0);
-                    for (k, &w) in taps[1].iter().enumerate() {
-                        let src = reflect_index(j - r + k as i64, ny as i64);
-                        for (o, s) in row.iter_mut().zip(&tmp[src * nx..(src + 1) * nx]) {
-                            *o += w * s;
-                        }
-                    }
-                }
-            },
-        );
-
-    // Pass 2: z, in place, strip by strip of the slices. Before slice k of a strip is
-    // overwritten its original is kept in a ring of the last r + 1 slices; the slices above k
-    // are still original in place. Each sample is read from memory about once.
-    const STRIP: usize = 2048;
-    let r = taps[2].len() / 2;
-    let shared = DisjointSlice::new(&mut output);
-    (0..slice_len.div_ceil(STRIP))
-        .into_par_iter()
-        .for_each_init(
-            || (vec![0.0f32; (r + 1) * STRIP], vec![0.0f32; STRIP]),
-            |(ring, acc), strip| {
-                let start = strip * STRIP;
-                let width = STRIP.min(slice_len - start);
-                for k in 0..nz {
-                    // SAFETY: strip `strip` (this run of every slice) belongs to this task.
-                    let here = unsafe { shared.run_mut(k * slice_len + start, width) };
-                    ring[(k % (r + 1)) * STRIP..][..width].copy_from_slice(here);
-                    let acc = &mut acc[..width];
-                    acc.fill(0.0);
-                    for (t, &w) in taps[2].iter().enumerate() {
-                        let j = reflect_index(k as i64 - r as i64 + t as i64, nz as i64);
-                        let src: &[f32] = if j > k {
-                            // SAFETY: as above; slice j > k of this strip is not yet written.
-                            unsafe { shared.run_mut(j * slice_len + start, width) }
-                        } else {
-                            &ring[(j % (r + 1)) * STRIP..][..width]
-                        };
-                        for (o, s) in acc.iter_mut().zip(src) {
-                            *o += w * s;
-                        }
-                    }
-                    // SAFETY: as above.
-                    unsafe { shared.run_mut(k * slice_len + start, width) }.copy_from_slice(acc);
-                }
-            },
-        );
+    let options = GaussianFilterOptions {
+        sigma: std::array::from_fn(|a| sigma[a] / volume.grid.spacing[a]),
+        truncate,
+        mode: BoundaryMode::Reflect,
+    };
+    let output = gaussian_filter(volume.as_slice(), volume.grid.dims, &options)?;
     Ok(Volume::from_vec(volume.grid, output)?)
 }
 
-#[inline]
-fn reflect_index(mut i: i64, n: i64) -> usize {
-    if n == 1 {
-        return 0;
-    }
-    loop {
-        if i < 0 {
-            i = -i - 1;
-        } else if i >= n {
-            i = 2 * n - i - 1;
-        } else {
-            return i as usize;
-        }
-    }
+#[cfg(test)]
+fn reflect_index(i: i64, n: i64) -> usize {
+    BoundaryMode::Reflect
+        .index(i, n)
+        .expect("reflection always lands inside")
 }
 
 #[cfg(test)]

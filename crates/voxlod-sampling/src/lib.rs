@@ -10,9 +10,17 @@
 //!   with their analytic half-space profiles (equation 5).
 //! - Equation 1: [`filtered_density`] integrates the filter along lattice lines exactly
 //!   ([`line_kernel`]) and blends the three axis families ([`density`]).
+//! - [`narrow_band_density`]: the same density computed only in the bricks the surface reaches,
+//!   as a [`voxlod_core::BrickVolume`]; memory grows with the surface.
 //! - The [`pyramid`]: every level filtered from the original object with its own radius.
+//! - Topology that only simplifies along the pyramid (beyond the paper): [`monotone_level`]
+//!   keeps each level's genus at most its finer neighbour's, using the exact
+//!   [`digital_topology()`] of the samples marching cubes will contour.
+//! - Levels that vanish (a sheet thinner than the filter): [`level_is_empty`] and
+//!   [`find_surface_resolution`], the coarsest finer resolution that still has a surface.
 //! - Scanned volumes filtered directly, without thresholding: [`direct_density`]; and the
-//!   separable [`gaussian::gaussian_blur`] of a whole volume.
+//!   separable [`gaussian::gaussian_blur`] of a whole volume, and
+//!   [`gaussian_filter::gaussian_filter`] with SciPy's border modes.
 //!
 //! Cost: each level is dominated by [`filtered_density`], linear in the grid's samples plus the
 //! crossings of the lattice lines, after an O(F log F) BVH build for a mesh.
@@ -58,27 +66,40 @@
 
 pub mod csg;
 pub mod density;
+pub mod digital_topology;
 pub mod direct;
 pub mod error;
 pub mod filter;
 pub mod gaussian;
+pub mod gaussian_filter;
 pub mod hypercone;
 pub mod lattice;
 pub mod line_kernel;
 pub mod majority;
 pub mod mesh_solid;
+pub mod monotone_topology;
+pub mod narrow_band;
 pub mod pyramid;
 pub mod solid;
 pub mod sphereflake;
 pub mod threshold;
+pub mod vanishing;
 
 pub use csg::{CsgSolid, Shape};
 pub use density::{filtered_density, DensityOptions, DensityReport};
+pub use digital_topology::{digital_topology, DigitalTopology};
 pub use direct::direct_density;
 pub use error::SamplingError;
 pub use filter::Filter;
+pub use gaussian_filter::{gaussian_filter, BoundaryMode, GaussianFilterOptions};
 pub use mesh_solid::{MeshPreparation, MeshSolid, MeshSolidOptions};
-pub use pyramid::{level_grid, plan_levels, LevelPlan, PyramidOptions};
+pub use monotone_topology::{
+    monotone_level, LevelShape, MonotoneChain, MonotoneError, MonotoneLevel, MonotoneOptions,
+    TopologyRecord,
+};
+pub use narrow_band::{narrow_band_density, BandReport, NarrowBandOptions};
+pub use pyramid::{level_grid, plan_levels, plan_levels_with, LevelPlan, PyramidOptions};
 pub use solid::Solid;
 pub use sphereflake::{sphereflake, sphereflake_spheres};
 pub use threshold::ThresholdSolid;
+pub use vanishing::{find_surface_resolution, level_is_empty, Vanishing};

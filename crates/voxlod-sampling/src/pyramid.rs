@@ -128,6 +128,16 @@ pub fn plan_levels(
     bounds: &Bounds,
     options: &PyramidOptions,
 ) -> Result<Vec<LevelPlan>, SamplingError> {
+    plan_levels_with(bounds, options, &estimated_bytes)
+}
+
+/// As [`plan_levels`], with the bytes a level needs given by `estimate(grid, lines_per_voxel)`
+/// (the dense sampler's [`estimated_bytes`], or the narrow band's lattice).
+pub fn plan_levels_with(
+    bounds: &Bounds,
+    options: &PyramidOptions,
+    estimate: &dyn Fn(&Grid, usize) -> u64,
+) -> Result<Vec<LevelPlan>, SamplingError> {
     if options.resolutions.is_empty() {
         return Err(SamplingError::InvalidOption("no levels requested".into()));
     }
@@ -152,14 +162,13 @@ pub fn plan_levels(
             let radius = options.radius_voxels * voxel_size;
             // Refuse absurd sizes before even forming the grid.
             let approx_side = resolution as f64 + 2.0 * options.radius_voxels + 6.0;
-            let approx_bytes = approx_side.powi(3) * 8.0;
+            let approx_bytes = match Grid::unit([approx_side as usize; 3]) {
+                Ok(cube) if approx_side < (1u64 << 40) as f64 => estimate(&cube, 1),
+                _ => u64::MAX,
+            };
             voxlod_core::memory::check_allocation(
                 &format!("level {level} at resolution {resolution}"),
-                if approx_bytes.is_finite() {
-                    approx_bytes as u64
-                } else {
-                    u64::MAX
-                },
+                approx_bytes,
             )?;
             let grid = level_grid(bounds, resolution, radius)?;
             let plan = LevelPlan {
@@ -172,7 +181,7 @@ pub fn plan_levels(
             let q = plan.density_options(options).lines_per_voxel(voxel_size);
             voxlod_core::memory::check_allocation(
                 &format!("level {level} at resolution {resolution}"),
-                estimated_bytes(&grid, q),
+                estimate(&grid, q),
             )?;
             Ok(plan)
         })

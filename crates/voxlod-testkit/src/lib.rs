@@ -9,6 +9,7 @@
 //! - [`fields`]: the sphereflake and gyroid fields of the peers' benchmark kit.
 //! - [`volumes`]: small volumes made in code.
 //! - [`dicom`]: DICOM slices and series of a ball phantom, written with dicom-object.
+//! - [`intersections`]: an independent triangle–triangle intersection test of a mesh.
 //! - [`files`]: writing and listing files, gzip and zlib streams.
 //! - [`peers`]: the peers' Python (nibabel, pydicom, SimpleITK, zmesh), or a recorded skip.
 //! - [`readers`]: minimal OBJ and ASCII STL readers independent of `voxlod-io`.
@@ -21,6 +22,7 @@ pub mod data;
 pub mod dicom;
 pub mod fields;
 pub mod files;
+pub mod intersections;
 pub mod peers;
 pub mod readers;
 pub mod shapes;

@@ -8,3 +8,17 @@ pub fn small_volume() -> Volume {
     let values = (0..60).map(|i| i as f32 * 1.5 - 7.0).collect();
     Volume::from_vec(grid, values).unwrap()
 }
+
+/// The CT head of the shared data (256 × 256 × 113, big-endian `u16`, spacing 1, 1, 2), or
+/// `None` with a printed reason when it is absent.
+pub fn shared_ct_head(test: &str) -> Option<Volume> {
+    let relative = "volumes/CThead_256x256x113_uint16be.raw";
+    let path = crate::data::shared_data_or_skip(relative, test)?;
+    let bytes = std::fs::read(path).expect("the CT head is readable");
+    let values = bytes
+        .chunks_exact(2)
+        .map(|b| u16::from_be_bytes([b[0], b[1]]) as f32)
+        .collect();
+    let grid = voxlod_core::Grid::new([256, 256, 113], [1.0, 1.0, 2.0], [0.0; 3]).ok()?;
+    Volume::from_vec(grid, values).ok()
+}

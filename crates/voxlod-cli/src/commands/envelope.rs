@@ -8,9 +8,10 @@ use clap::Args;
 use serde::Serialize;
 use voxlod::core::TriangleMesh;
 use voxlod::envelope::{
-    envelope_series_with, repair_for_envelope, simplify_envelope, EnvelopeOptions, EnvelopeReport,
-    Epsilon, ManifoldRepair, OffsetRule, RegionEpsilon, RemovalOrder,
+    envelope_series_with, repair_for_envelope, EnvelopeOptions, EnvelopeReport, Epsilon,
+    ManifoldRepair, OffsetRule, RegionEpsilon, RemovalOrder,
 };
+use voxlod::io::OutputSet;
 
 use super::common::{level_path, print_json, progress, read_mesh_input, thousands, CliError};
 use super::values::number;
@@ -126,8 +127,8 @@ pub fn epsilon_value(text: &str) -> Result<Epsilon, String> {
     })
 }
 
-pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
-    let start = Instant::now();
+/// The ε of each level and the envelope options, from the flags.
+fn envelope_options(args: &EnvelopeArgs) -> Result<(Vec<Epsilon>, EnvelopeOptions), CliError> {
     let epsilons: Vec<Epsilon> = match (args.epsilon, &args.levels) {
         (Some(e), _) => vec![e],
         (None, Some(list)) => list.clone(),
@@ -140,7 +141,6 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
             )));
         }
     }
-    let regions = args.region.clone();
     let mut options = match args.preset.as_str() {
         "tight" => EnvelopeOptions::tight(),
         _ => EnvelopeOptions::paper(),
@@ -161,37 +161,46 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
         options.normal_smoothing = rounds;
     }
     options.keep_sharp = args.keep_sharp;
-    options.regions = regions;
+    options.regions = args.region.clone();
     options.measure_samples = args.samples;
-    // Refuse an output format we cannot write before any work.
-    voxlod::io::mesh_format_of(&args.output)?;
-    let mut out = voxlod::io::OutputSet::protecting([&args.input]);
-    for level in 0..epsilons.len() {
-        out.check(&level_path(&args.output, level, epsilons.len()))?;
+    Ok((epsilons, options))
+}
+
+/// The mesh to simplify: the input, or with --repair the input cut into a manifold (what that
+/// changed is a warning, printed at once without --json).
+fn repaired(
+    args: &EnvelopeArgs,
+    mesh: TriangleMesh,
+    warnings: &mut Vec<String>,
+) -> (TriangleMesh, Option<ManifoldRepair>) {
+    if !args.repair {
+        return (mesh, None);
     }
-    let loaded = read_mesh_input(&args.input)?;
-    let in_file =
-        |e: &dyn std::fmt::Display| CliError::msg(format!("{}: {e}", args.input.display()));
-    let mut warnings = Vec::new();
-    let (mesh, repair) = if args.repair {
-        let (m, r) = repair_for_envelope(&loaded.mesh);
-        if r.changed_anything() {
-            warnings.push(format!(
-                "{}: cut into a manifold for the envelope: {r}",
-                args.input.display()
-            ));
-            if !args.json {
-                eprintln!("warning: {}", warnings[0]);
-            }
+    let (m, r) = repair_for_envelope(&mesh);
+    if r.changed_anything() {
+        warnings.push(format!(
+            "{}: cut into a manifold for the envelope: {r}",
+            args.input.display()
+        ));
+        if !args.json {
+            eprintln!("warning: {}", warnings[0]);
         }
-        (m, Some(r))
-    } else {
-        (loaded.mesh, None)
-    };
+    }
+    (m, Some(r))
+}
+
+/// The series, each level added to the output set as soon as it is made.
+fn simplify(
+    args: &EnvelopeArgs,
+    out: &mut OutputSet,
+    mesh: &TriangleMesh,
+    epsilons: &[Epsilon],
+    options: &EnvelopeOptions,
+) -> Result<Vec<LevelOut>, CliError> {
     let bar = progress(epsilons.len() as u64, "levels", args.json);
     let mut levels = Vec::new();
     let mut write_error = None;
-    envelope_series_with(&mesh, &epsilons, &options, |level| {
+    envelope_series_with(mesh, epsilons, options, |level| {
         if write_error.is_some() {
             return;
         }
@@ -209,11 +218,27 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
             write_seconds: t.elapsed().as_secs_f64(),
         });
     })
-    .map_err(|e| in_file(&e))?;
+    .map_err(|e| CliError::msg(format!("{}: {e}", args.input.display())))?;
     bar.finish_and_clear();
-    if let Some(e) = write_error {
-        return Err(e.into());
+    match write_error {
+        Some(e) => Err(e.into()),
+        None => Ok(levels),
     }
+}
+
+pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    let (epsilons, options) = envelope_options(&args)?;
+    // Refuse an output format we cannot write before any work.
+    voxlod::io::mesh_format_of(&args.output)?;
+    let mut out = OutputSet::protecting([&args.input]);
+    for level in 0..epsilons.len() {
+        out.check(&level_path(&args.output, level, epsilons.len()))?;
+    }
+    let loaded = read_mesh_input(&args.input)?;
+    let mut warnings = Vec::new();
+    let (mesh, repair) = repaired(&args, loaded.mesh, &mut warnings);
+    let levels = simplify(&args, &mut out, &mesh, &epsilons, &options)?;
     out.commit()?;
     let report = Report {
         input: args.input.display().to_string(),
@@ -228,6 +253,12 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
     if args.json {
         return print_json(&report);
     }
+    print_report(&report);
+    Ok(())
+}
+
+/// A line per level and a summary on standard output.
+fn print_report(report: &Report) {
     for l in &report.levels {
         let r = &l.report;
         let distance = r.distance.map_or(String::new(), |d| {
@@ -253,79 +284,6 @@ pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
         report.levels.len(),
         report.total_seconds
     );
-    Ok(())
-}
-
-// -------------------------------------------------------------------------------------------
-// `voxlod lod --then-envelope E`.
-
-/// ε of `--then-envelope`: a distance, a percentage of each level's diagonal, or voxels of
-/// each level (`1vox`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ThenEnvelope {
-    Epsilon(Epsilon),
-    Voxels(f64),
-}
-
-impl ThenEnvelope {
-    pub fn parse(text: &str) -> Result<ThenEnvelope, CliError> {
-        Self::parse_value(text).map_err(|e| CliError::msg(format!("--then-envelope {e}")))
-    }
-
-    /// The value parser of `--then-envelope` (the error without the flag's name).
-    pub fn parse_value(text: &str) -> Result<ThenEnvelope, String> {
-        let t = text.trim();
-        if let Some(v) = t.strip_suffix("vox") {
-            return match v.trim().parse::<f64>() {
-                Ok(x) if x > 0.0 && x.is_finite() => Ok(ThenEnvelope::Voxels(x)),
-                _ => Err(format!("'{text}': the number of voxels must be positive")),
-            };
-        }
-        epsilon_value(t).map(ThenEnvelope::Epsilon)
-    }
-}
-
-/// What `--then-envelope` did to one level.
-#[derive(Clone, Debug, Serialize)]
-pub struct ThenEnvelopeReport {
-    pub epsilon: f64,
-    pub triangles_before: usize,
-    pub triangles: usize,
-    pub reduction_percent: f64,
-    pub seconds: f64,
-    pub hausdorff: Option<f64>,
-    pub genus: Option<i64>,
-}
-
-/// Simplifies a marching-cubes level within `eps` (voxels of size `voxel_size`); an empty
-/// level stays empty. Errors start with `what` (the file and level).
-pub fn then_envelope(
-    mesh: &TriangleMesh,
-    eps: ThenEnvelope,
-    voxel_size: f64,
-    what: &str,
-) -> Result<(TriangleMesh, Option<ThenEnvelopeReport>), CliError> {
-    if mesh.triangles.is_empty() {
-        return Ok((mesh.clone(), None));
-    }
-    let epsilon = match eps {
-        ThenEnvelope::Epsilon(e) => e,
-        ThenEnvelope::Voxels(v) => Epsilon::Absolute(v * voxel_size),
-    };
-    let options = EnvelopeOptions::paper().with_measure_samples(50_000);
-    let level = simplify_envelope(mesh, epsilon, &options)
-        .map_err(|e| CliError::msg(format!("{what}: --then-envelope: {e}")))?;
-    let r = &level.report;
-    let report = ThenEnvelopeReport {
-        epsilon: r.epsilon,
-        triangles_before: r.input_triangles,
-        triangles: r.triangles,
-        reduction_percent: r.reduction_percent,
-        seconds: r.seconds,
-        hausdorff: r.distance.map(|d| d.hausdorff),
-        genus: r.topology.genus,
-    };
-    Ok((level.mesh, Some(report)))
 }
 
 #[cfg(test)]
@@ -348,15 +306,6 @@ mod tests {
         assert_eq!(
             parse_epsilon("2%", "--epsilon").unwrap(),
             Epsilon::DiagonalFraction(0.02)
-        );
-        assert_eq!(
-            ThenEnvelope::parse("1.5vox").unwrap(),
-            ThenEnvelope::Voxels(1.5)
-        );
-        assert!(ThenEnvelope::parse("0vox").is_err());
-        assert_eq!(
-            ThenEnvelope::parse("0.25").unwrap(),
-            ThenEnvelope::Epsilon(Epsilon::Absolute(0.25))
         );
     }
 }

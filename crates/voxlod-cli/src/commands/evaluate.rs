@@ -4,7 +4,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod::core::PolyMesh;
+use voxlod::core::{PolyMesh, TriangleMesh};
+use voxlod::io::OutputSet;
 use voxlod::metrics::DistanceOptions;
 
 /// Side of each image of the preview strips, in pixels.
@@ -13,7 +14,7 @@ const PREVIEW_SIZE: u32 = 200;
 use super::common::{in_dir, print_json, progress, read_mesh_input, CliError};
 use super::values::number;
 use voxlod_eval::evaluate::images::preview_strip;
-use voxlod_eval::evaluate::plot::plot_evaluation;
+use voxlod_eval::evaluate::plot::{plot_evaluation, Chart};
 use voxlod_eval::evaluate::report::{markdown, ReportContext};
 use voxlod_eval::evaluate::{
     evaluate, parameter_text, Budgets, EvaluateOptions, Evaluation, Method,
@@ -99,7 +100,8 @@ struct EvaluateReport<'a> {
     warnings: Vec<String>,
 }
 
-pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
+/// The evaluation's options from the flags.
+fn evaluate_options(args: &EvaluateArgs) -> Result<EvaluateOptions, CliError> {
     if args.samples == 0 {
         return Err(CliError::usage("--samples must be at least 1"));
     }
@@ -110,26 +112,7 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
         )));
     }
     let mut options = EvaluateOptions::standard();
-    options.budgets = match &args.budgets {
-        Some(list) => {
-            if let Some(zero) = list.iter().position(|&b| b == 0) {
-                return Err(CliError::usage(format!(
-                    "--budgets: budget {} is 0; budgets are triangle counts of at least 1",
-                    zero + 1
-                )));
-            }
-            Budgets::Explicit(list.clone())
-        }
-        None => {
-            if args.count == 0 {
-                return Err(CliError::usage("--count must be at least 1"));
-            }
-            Budgets::Halving {
-                count: args.count,
-                smallest: 100,
-            }
-        }
-    };
+    options.budgets = budgets(args)?;
     if let Some(methods) = &args.methods {
         let mut unique: Vec<Method> = Vec::new();
         for &m in methods {
@@ -148,17 +131,38 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
         )));
     }
     options.images.views = args.views;
+    Ok(options)
+}
 
-    let mut out = voxlod::io::OutputSet::protecting([&args.input]);
-    for file in ["report.json", "report.md", "plot.png"] {
-        out.check(&in_dir(&args.output, file))?;
+/// The triangle budgets: --budgets, or --count halvings down to 100 triangles.
+fn budgets(args: &EvaluateArgs) -> Result<Budgets, CliError> {
+    match &args.budgets {
+        Some(list) => {
+            if let Some(zero) = list.iter().position(|&b| b == 0) {
+                return Err(CliError::usage(format!(
+                    "--budgets: budget {} is 0; budgets are triangle counts of at least 1",
+                    zero + 1
+                )));
+            }
+            Ok(Budgets::Explicit(list.clone()))
+        }
+        None if args.count == 0 => Err(CliError::usage("--count must be at least 1")),
+        None => Ok(Budgets::Halving {
+            count: args.count,
+            smallest: 100,
+        }),
     }
-    let loaded = read_mesh_input(&args.input)?;
-    let name = args.input.display().to_string();
-    let mesh = loaded.mesh;
+}
+
+/// Every method at every budget, a line per kept level on standard error (without --json).
+fn measure(
+    args: &EvaluateArgs,
+    mesh: &TriangleMesh,
+    options: &EvaluateOptions,
+) -> Result<Evaluation, CliError> {
     let steps = options.methods.len() * options.budgets.resolve(mesh.triangles.len()).len();
     let bar = progress(steps as u64, "levels", args.json);
-    let evaluation = evaluate(&mesh, &options, |method, point| {
+    let evaluation = evaluate(mesh, options, |method, point| {
         bar.inc(1);
         if !args.json {
             bar.suspend(|| {
@@ -173,15 +177,23 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
             });
         }
     })
-    .map_err(|e| CliError::msg(format!("{name}: {e}")))?;
+    .map_err(|e| CliError::msg(format!("{}: {e}", args.input.display())))?;
     bar.finish_and_clear();
+    Ok(evaluation)
+}
 
+/// The plot of error against triangles, or a warning (printed at once without --json).
+fn chart(
+    args: &EvaluateArgs,
+    evaluation: &Evaluation,
+    warnings: &mut Vec<String>,
+) -> Option<Chart> {
+    let name = args.input.display().to_string();
     let title = args
         .input
         .file_name()
-        .map_or(name.clone(), |f| f.to_string_lossy().into_owned());
-    let mut warnings = Vec::new();
-    let chart = match plot_evaluation(&evaluation, &title) {
+        .map_or(name, |f| f.to_string_lossy().into_owned());
+    match plot_evaluation(evaluation, &title) {
         Ok(chart) => Some(chart),
         Err(e) => {
             warnings.push(format!("no chart: {e}"));
@@ -190,29 +202,52 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
             }
             None
         }
-    };
-
-    let mut strips = Vec::new();
-    if args.views > 0 {
-        for curve in evaluation.curves.iter().filter(|c| !c.points.is_empty()) {
-            let levels: Vec<&PolyMesh> = curve.points.iter().map(|p| &p.level).collect();
-            let strip = preview_strip(&mesh, &levels, PREVIEW_SIZE)
-                .and_then(|image| image.to_png())
-                .map_err(|e| CliError::msg(format!("{name}: preview of {}: {e}", curve.method)))?;
-            strips.push((
-                curve.method,
-                format!("previews/{}.png", curve.method),
-                strip,
-            ));
-        }
     }
+}
 
-    // Everything is computed: now write, as one set that appears at the end.
-    out.create_dir(&args.output)?;
+/// One preview strip per method with levels: (method, file in DIR, PNG bytes).
+type Strip = (Method, String, Vec<u8>);
+
+/// The input and each method's levels rendered side by side (none with --views 0).
+fn preview_strips(
+    args: &EvaluateArgs,
+    mesh: &TriangleMesh,
+    evaluation: &Evaluation,
+) -> Result<Vec<Strip>, CliError> {
+    let mut strips = Vec::new();
+    if args.views == 0 {
+        return Ok(strips);
+    }
+    for curve in evaluation.curves.iter().filter(|c| !c.points.is_empty()) {
+        let levels: Vec<&PolyMesh> = curve.points.iter().map(|p| &p.level).collect();
+        let strip = preview_strip(mesh, &levels, PREVIEW_SIZE)
+            .and_then(|image| image.to_png())
+            .map_err(|e| {
+                let name = args.input.display();
+                CliError::msg(format!("{name}: preview of {}: {e}", curve.method))
+            })?;
+        strips.push((
+            curve.method,
+            format!("previews/{}.png", curve.method),
+            strip,
+        ));
+    }
+    Ok(strips)
+}
+
+/// Adds the previews, the level meshes (with --meshes) and the plot to the output set:
+/// the level meshes' files and the report's notes.
+fn write_files(
+    args: &EvaluateArgs,
+    out: &mut OutputSet,
+    evaluation: &Evaluation,
+    strips: &[Strip],
+    chart: Option<&Chart>,
+) -> Result<(Vec<String>, Vec<String>), CliError> {
     let mut notes = Vec::new();
     if !strips.is_empty() {
         out.create_dir(&in_dir(&args.output, "previews"))?;
-        for (_, file, png) in &strips {
+        for (_, file, png) in strips {
             out.png(&in_dir(&args.output, file), png)?;
         }
     }
@@ -229,16 +264,31 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
         }
         notes.push(format!("{} level meshes in `meshes/`.", meshes.len()));
     }
-    let plot = match &chart {
-        Some(chart) => {
-            out.png(&in_dir(&args.output, "plot.png"), &chart.png)?;
-            Some("plot.png".to_string())
-        }
-        None => None,
-    };
-    if let Some(font) = chart.as_ref().and_then(|c| c.font.as_ref()) {
+    if let Some(chart) = chart {
+        out.png(&in_dir(&args.output, "plot.png"), &chart.png)?;
+    }
+    if let Some(font) = chart.and_then(|c| c.font.as_ref()) {
         notes.push(format!("Chart text in {}.", font.display()));
     }
+    Ok((meshes, notes))
+}
+
+pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
+    let options = evaluate_options(&args)?;
+    let mut out = OutputSet::protecting([&args.input]);
+    for file in ["report.json", "report.md", "plot.png"] {
+        out.check(&in_dir(&args.output, file))?;
+    }
+    let mesh = read_mesh_input(&args.input)?.mesh;
+    let name = args.input.display().to_string();
+    let evaluation = measure(&args, &mesh, &options)?;
+    let mut warnings = Vec::new();
+    let chart = chart(&args, &evaluation, &mut warnings);
+    let strips = preview_strips(&args, &mesh, &evaluation)?;
+    // Everything is computed: now write, as one set that appears at the end.
+    out.create_dir(&args.output)?;
+    let (meshes, notes) = write_files(&args, &mut out, &evaluation, &strips, chart.as_ref())?;
+    let plot = chart.as_ref().map(|_| "plot.png".to_string());
     let report = EvaluateReport {
         input: name.clone(),
         evaluation: &evaluation,
@@ -269,6 +319,12 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
     if args.json {
         return print_json(&report);
     }
+    print_summary(&args, &evaluation);
+    Ok(())
+}
+
+/// What was left out, and one line of totals, on standard output.
+fn print_summary(args: &EvaluateArgs, evaluation: &Evaluation) {
     for o in &evaluation.omitted {
         println!("not evaluated: {}: {}", o.what, o.reason);
     }
@@ -283,5 +339,4 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
         evaluation.seconds,
         in_dir(&args.output, "report.md").display()
     );
-    Ok(())
 }

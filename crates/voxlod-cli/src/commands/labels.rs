@@ -12,9 +12,9 @@ use voxlod::labels::{
     find_labels, label_levels, merge_labelled, select_labels, voxel_volume, LabelInfo, LabelOptions,
 };
 use voxlod::sampling::Filter;
+use voxlod::{EnvelopeStep, LevelEpsilon, ThenEnvelope};
 
 use super::common::{check_computed_mesh, in_dir, print_json, progress, CliError, MeshExtension};
-use super::envelope::{then_envelope, ThenEnvelope, ThenEnvelopeReport};
 use super::values::number;
 use super::world::{frame_report, FrameArg, FrameReport};
 
@@ -60,9 +60,9 @@ pub struct LabelsArgs {
     pub format: MeshExtension,
     /// Then simplify each level within E by simplification envelopes: a distance, a percentage
     /// of the level's diagonal (1%), or voxels of the level (1vox)
-    #[arg(long, value_name = "E", value_parser = ThenEnvelope::parse_value,
+    #[arg(long, value_name = "E", value_parser = parse_level_epsilon,
         allow_hyphen_values = true)]
-    pub then_envelope: Option<ThenEnvelope>,
+    pub then_envelope: Option<LevelEpsilon>,
     #[command(flatten)]
     pub frame: FrameArg,
     /// Print the report as JSON on standard output (no progress bar)
@@ -83,7 +83,7 @@ struct LevelReport {
     closed_manifold: bool,
     seconds: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
-    envelope: Option<ThenEnvelopeReport>,
+    envelope: Option<EnvelopeStep>,
 }
 
 #[derive(Serialize)]
@@ -138,6 +138,11 @@ fn file_name(
     format!("{stem}.{ext}")
 }
 
+/// The value parser of `--then-envelope` (the error without the flag's name).
+fn parse_level_epsilon(text: &str) -> Result<LevelEpsilon, String> {
+    text.parse()
+}
+
 fn read_map(path: &Path) -> Result<Volume, CliError> {
     Ok(voxlod::io::read_volume(path, None)?)
 }
@@ -159,20 +164,13 @@ fn mesh_label(
     let count = levels.len();
     for level in levels {
         let start = Instant::now();
-        let mut mesh = level.mesh;
+        let mesh = level.mesh;
         check_computed_mesh(
             &mesh,
             &what,
             "the map's extent is too large for 32-bit coordinates",
         )?;
-        let envelope = match args.then_envelope {
-            Some(eps) => {
-                let (m, report) = then_envelope(&mesh, eps, level.plan.voxel_size, &what)?;
-                mesh = m;
-                report
-            }
-            None => None,
-        };
+        let envelope = level.envelope;
         let k = level.plan.level;
         let file = (!mesh.is_empty())
             .then(|| file_name(label.value, name, k, count, args.format.as_str()));
@@ -223,6 +221,7 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
     options.lod.pyramid.radius_voxels = args.radius;
     args.frame.check(&map, &args.input)?;
     options.frame = args.frame.target();
+    options.then_envelope = args.then_envelope.map(ThenEnvelope::new);
     let mut out = OutputSet::protecting([&args.input]);
     out.create_dir(&args.output)?;
     let bar = progress(chosen.len() as u64, "labels", args.json);

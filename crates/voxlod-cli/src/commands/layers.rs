@@ -6,18 +6,18 @@ use std::time::Instant;
 use clap::Args;
 use glam::DVec3;
 use serde::Serialize;
+use voxlod::io::OutputSet;
 use voxlod::layers::{
-    glb_bytes, layer_solid, Blending, GlbOptions, Layered, LayersError, LayersOptions, Octant,
-    PlanOptions, ORDER_NAMES,
+    glb_bytes, Blending, GlbOptions, Layered, LayersError, LayersOptions, Octant, PlanOptions,
+    ORDER_NAMES,
 };
 use voxlod::render::{Camera, RenderOptions};
 use voxlod::sampling::Filter;
 
 use super::camera::{view_direction, CameraArgs, SURFACE_COLOR};
-use super::common::{print_json, progress, CliError};
-use super::source::{load, threshold_warning, Prepared, VolumeRoute};
+use super::common::{in_file, print_json, progress, thousands, CliError, Input};
+use super::source::{in_flag_words, VolumeRoute};
 use super::values::number;
-use voxlod::lod::LodSource;
 
 /// Build multi-layer translucent shells for antialiased rendering (He et al. 1995, §3).
 ///
@@ -147,18 +147,19 @@ fn out_kind(path: &Path) -> Result<OutKind, CliError> {
     }
 }
 
-pub fn run(args: LayersArgs) -> Result<(), CliError> {
-    let start = Instant::now();
-    // Everything that can be refused is refused before any work.
+/// Refuses now the outputs the set would refuse at the end: the kind of OUT, the preview's.
+fn check_outputs(args: &LayersArgs, out: &mut OutputSet) -> Result<OutKind, CliError> {
     let kind = out_kind(&args.output)?;
-    let mut out = voxlod::io::OutputSet::protecting([&args.input]);
     out.check(&args.output)?;
     if let Some(preview) = &args.preview {
         voxlod::io::check_image_path(preview)?;
         out.check(preview)?;
     }
-    let view = view_direction(args.camera.view)?;
-    let size = (args.camera.size.width, args.camera.size.height);
+    Ok(kind)
+}
+
+/// The library's options from the flags.
+fn layers_options(args: &LayersArgs) -> Result<LayersOptions, CliError> {
     let plan = PlanOptions {
         blending: args.blending,
         ..PlanOptions::new(args.filter, args.error)
@@ -177,33 +178,38 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
     if args.lines_per_radius == 0 {
         return Err(CliError::usage("--lines-per-radius must be at least 1"));
     }
-    let loaded = load(&args.input, &args.route)?;
-    let prepared = Prepared::new(&loaded, &args.route, &args.input)?;
-    let warnings: Vec<String> = threshold_warning(&loaded, &args.route)
-        .into_iter()
-        .collect();
-    let solid = match prepared.source() {
-        LodSource::Solid(s) => s,
-        LodSource::Direct(_) => {
-            return Err(CliError::msg(format!(
-                "{}: layers need a solid (density 1 inside, 0 outside): give a mesh, or a volume \
-                 with --threshold T",
-                args.input.display()
-            )))
-        }
-    };
-    let options = LayersOptions {
+    Ok(LayersOptions {
         resolution: args.resolution,
         radius_voxels: args.radius,
         plan,
         lines_per_radius: args.lines_per_radius,
         extract: Default::default(),
-    };
-    let bar = progress(3, "layers", args.json);
-    let layered = layer_solid(solid, &options).map_err(|e| layers_error(&args.input, e))?;
-    bar.inc(2);
+    })
+}
+
+/// Reads the input, refusing a volume filtered directly: layers need a solid.
+fn read(args: &LayersArgs) -> Result<Input, CliError> {
+    let input = args.route.read(&args.input)?;
+    if matches!(input, Input::Volume(_)) && args.route.threshold.is_none() {
+        return Err(CliError::msg(format!(
+            "{}: layers need a solid (density 1 inside, 0 outside): give a mesh, or a volume \
+             with --threshold T",
+            args.input.display()
+        )));
+    }
+    Ok(input)
+}
+
+/// Adds the shells (and the preview) to the output set, all encoded before anything is written.
+fn write_outputs(
+    args: &LayersArgs,
+    out: &mut OutputSet,
+    kind: OutKind,
+    view: DVec3,
+    layered: &Layered,
+) -> Result<(), CliError> {
+    let size = (args.camera.size.width, args.camera.size.height);
     let octant = Octant::of(view).map_err(|e| CliError::msg(format!("--view: {e}")))?;
-    // Encode everything before writing anything.
     let bytes = match kind {
         OutKind::Glb => Some(
             glb_bytes(&layered.mesh, &layered.orders, &GlbOptions::default())
@@ -212,7 +218,7 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
         OutKind::Mesh => None,
     };
     let preview = match &args.preview {
-        Some(path) => Some((path, preview_png(&layered, view, size)?)),
+        Some(path) => Some((path, preview_png(layered, view, size)?)),
         None => None,
     };
     // The shells and the preview appear together or not at all.
@@ -228,15 +234,37 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
     if let Some((path, png)) = &preview {
         out.png(path, png)?;
     }
+    Ok(())
+}
+
+pub fn run(args: LayersArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    // Everything that can be refused is refused before any work.
+    let mut out = OutputSet::protecting([&args.input]);
+    let kind = check_outputs(&args, &mut out)?;
+    let view = view_direction(args.camera.view)?;
+    let options = layers_options(&args)?;
+    let input = read(&args)?;
+    let bar = progress(3, "layers", args.json);
+    let shells = voxlod::layers(&args.route.source(&input), &options)
+        .map_err(|e| in_file(&args.input, e))?;
+    bar.inc(2);
+    write_outputs(&args, &mut out, kind, view, &shells.layered)?;
     out.commit()?;
     bar.finish_and_clear();
     let report = LayersReport {
-        warnings,
-        ..report(&args, &layered, start.elapsed().as_secs_f64())
+        warnings: shells.warnings.iter().map(|w| in_flag_words(w)).collect(),
+        ..report(&args, &shells.layered, start.elapsed().as_secs_f64())
     };
     if args.json {
         return print_json(&report);
     }
+    print_report(&args, &report);
+    Ok(())
+}
+
+/// The warnings on standard error; the layers and the files on standard output.
+fn print_report(args: &LayersArgs, report: &LayersReport) {
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }
@@ -246,7 +274,7 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
         report.layers.len(),
         report.achieved_error,
         report.error_bound,
-        super::common::thousands(report.triangles),
+        thousands(report.triangles),
         args.output.display()
     );
     for l in &report.layers {
@@ -256,13 +284,12 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
             l.isodensity,
             l.translucency,
             l.alpha,
-            super::common::thousands(l.triangles)
+            thousands(l.triangles)
         );
     }
     if let Some(p) = &report.preview {
         println!("preview -> {p}");
     }
-    Ok(())
 }
 
 fn preview_png(layered: &Layered, view: DVec3, (w, h): (u32, u32)) -> Result<Vec<u8>, CliError> {

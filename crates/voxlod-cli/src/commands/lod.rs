@@ -1,22 +1,22 @@
 //! `voxlod lod`: the main job. A mesh or a scanned volume in, one closed mesh per level out.
 
 use std::path::PathBuf;
-use std::time::Instant;
 
 use clap::{Args, ValueEnum};
+use indicatif::ProgressBar;
 use serde::Serialize;
 use voxlod::io::OutputSet;
 use voxlod::sampling::{DensityReport, Filter, PyramidOptions};
+use voxlod::{Control, EnvelopeStep, Event, LevelEpsilon, Lod, LodLevel, LodOptions, Progress};
 
 use super::common::{
-    check_computed_mesh, count, describe_mesh, in_dir, in_file, print_json, progress, CliError,
-    MeshExtension,
+    check_grid_range, count, describe_mesh, in_dir, in_file, print_json, progress, read_input,
+    CliError, Input, MeshExtension,
 };
-use super::envelope::{then_envelope, ThenEnvelope, ThenEnvelopeReport};
-use super::source::{load, threshold_warning, Loaded, MeshSummary, Prepared, VolumeRoute};
+use super::lod_glb::{add_chain, GlbArgs, GlbReport, LodFormat, CHAIN_FILE};
+use super::source::{MeshSummary, VolumeRoute};
 use super::values::number;
 use super::world::{frame_report, FrameArg};
-use voxlod::lod::{build_level, plan, LodOptions};
 
 /// Build levels of detail: a pyramid of filtered volumes, marching cubes on each (paper §2).
 ///
@@ -33,6 +33,14 @@ use voxlod::lod::{build_level, plan, LodOptions};
 ///   voxlod lod part.stl -o out --resolutions 200,100,50,30,15,5 --filter gaussian
 ///   voxlod lod head.raw --dims 256,256,113 --dtype u16 --endian big --spacing 1,1,2 \
 ///       --threshold 1500 -o head-bone
+///
+/// By triangle budget or error (paper §5: the voxel method first, then a geometric simplifier):
+/// each budget gets the resolution that filters away what it cannot afford (handles, thin
+/// parts, small pieces), then quadric collapse or simplification envelopes spend the triangles
+/// where the shape needs them; an open scan keeps its holes (--closed fills them):
+///   voxlod lod bunny.obj -o chain --triangles 20000,5000,1000,250
+///   voxlod lod part.stl -o fine --error 0.5%        # one level within 0.5 % of the diagonal
+///   voxlod lod scan.ply -o out --triangles 2000 --then quadric --closed --json
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct LodArgs {
@@ -65,9 +73,11 @@ pub struct LodArgs {
     /// in data units with --direct (required)
     #[arg(long, value_name = "V", value_parser = number::<f32>, allow_hyphen_values = true)]
     pub iso: Option<f32>,
-    /// Format of the level meshes
+    /// Format of the level meshes, or glb: one DIR/lod.glb chaining every level (MSFT_lod)
     #[arg(long, value_enum, default_value = "ply")]
-    pub format: MeshExtension,
+    pub format: LodFormat,
+    #[command(flatten)]
+    pub glb: GlbArgs,
     /// Quadrature lines per filter radius (accuracy against speed; 4 keeps the half-space
     /// profile within 0.01 of the paper's equation 5)
     #[arg(long, value_name = "Q", default_value_t = 4,
@@ -78,9 +88,41 @@ pub struct LodArgs {
     pub json: bool,
     /// Then simplify each level within E by simplification envelopes (genus and holes stay): a
     /// distance, a percentage of the level's diagonal (1%), or voxels of the level (1vox)
-    #[arg(long, value_name = "E", value_parser = ThenEnvelope::parse_value,
+    #[arg(long, value_name = "E", value_parser = parse_level_epsilon,
         allow_hyphen_values = true)]
-    pub then_envelope: Option<ThenEnvelope>,
+    pub then_envelope: Option<LevelEpsilon>,
+    /// Levels by triangle budget, one per count (e.g. 20000,5000,1000,250): each within 10 %
+    /// or the report says why; the resolutions are chosen per budget
+    #[arg(long, value_name = "N,N,...", value_delimiter = ',', help_heading = "Budgets",
+        value_parser = number::<usize>, allow_hyphen_values = true)]
+    pub triangles: Option<Vec<usize>>,
+    /// An error target, a distance or a percentage of the diagonal (0.5%): alone, one level
+    /// within it; with --triangles, the bound of each level's geometric stage
+    #[arg(
+        long,
+        value_name = "E",
+        help_heading = "Budgets",
+        allow_hyphen_values = true
+    )]
+    pub error: Option<voxlod::budget::ErrorTarget>,
+    /// The geometric stage after the voxel stage: auto (whichever is measured closer to the
+    /// input), quadric (meshoptimizer, topology kept), envelope (simplification envelopes,
+    /// ε-bounded) or none (the marching-cubes level nearest the budget)
+    #[arg(
+        long,
+        value_name = "STAGE",
+        default_value = "auto",
+        help_heading = "Budgets"
+    )]
+    pub then: voxlod::budget::Then,
+    /// Keep the caps that sampling puts over an open input's holes (watertight levels); by
+    /// default they are cut away and the holes stay open
+    #[arg(long, help_heading = "Budgets")]
+    pub closed: bool,
+    /// Seconds each budget may spend trying neighbouring resolutions for a smaller distance
+    #[arg(long, value_name = "SECONDS", default_value_t = 1.0, help_heading = "Budgets",
+        value_parser = number::<f64>, allow_hyphen_values = true)]
+    pub time_cap: f64,
     #[command(flatten)]
     pub route: VolumeRoute,
     #[command(flatten)]
@@ -111,7 +153,7 @@ struct LevelReport {
     write_seconds: f64,
     density: Option<DensityReport>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    envelope: Option<ThenEnvelopeReport>,
+    envelope: Option<EnvelopeStep>,
 }
 
 #[derive(Serialize)]
@@ -128,10 +170,18 @@ struct LodReport {
     #[serde(skip_serializing_if = "Option::is_none")]
     transform: Option<[[f64; 4]; 4]>,
     levels: Vec<LevelReport>,
+    /// The MSFT_lod chain file, with --format glb.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    glb: Option<GlbReport>,
     total_seconds: f64,
-    /// Every warning printed without --json: levels the filter removed, stale level files
-    /// removed from the output folder.
+    /// Every warning printed without --json: a threshold below every sample, levels the filter
+    /// removed, stale level files removed from the output folder.
     warnings: Vec<String>,
+}
+
+/// The value parser of `--then-envelope` (the error without the flag's name).
+fn parse_level_epsilon(text: &str) -> Result<LevelEpsilon, String> {
+    text.parse()
 }
 
 /// `level-N.EXT` for a mesh extension: the names `lod` writes, and the only ones it removes.
@@ -149,214 +199,326 @@ fn is_level_file(name: &str) -> bool {
             .any(|e| e.as_str() == ext)
 }
 
-pub fn run(args: LodArgs) -> Result<(), CliError> {
-    let start = Instant::now();
-    let loaded = load(&args.input, &args.route)?;
-    if let Loaded::Volume(v) = &loaded {
-        args.frame.check(v, &args.input)?;
-    } else if args.frame.target().is_some() {
-        return Err(CliError::usage(format!(
-            "{}: --frame applies to volumes (a mesh has no anatomical frame)",
-            args.input.display()
-        )));
-    }
-    let prepared = Prepared::new(&loaded, &args.route, &args.input)?;
-    let iso = prepared.iso(args.iso, &args.input)?;
-    let envelope_eps = args.then_envelope;
-    let mut pyramid = match &args.resolutions {
-        Some(list) => PyramidOptions::with_resolutions(list.clone(), args.filter),
-        None => {
-            if args.levels == 0 {
-                return Err(CliError::usage("--levels must be at least 1"));
-            }
-            PyramidOptions::halving(args.resolution, args.levels, args.filter)
-        }
-    };
+/// The library's options from the flags.
+fn lod_options(args: &LodArgs) -> Result<LodOptions, CliError> {
     if args.resolution == 0 {
         return Err(CliError::usage("--resolution must be at least 1"));
     }
+    let mut pyramid = match &args.resolutions {
+        Some(list) => PyramidOptions::with_resolutions(list.clone(), args.filter),
+        None if args.levels == 0 => return Err(CliError::usage("--levels must be at least 1")),
+        None => PyramidOptions::halving(args.resolution, args.levels, args.filter),
+    };
     pyramid.radius_voxels = args.radius;
     pyramid.lines_per_radius = args.lines_per_radius;
-    let options = LodOptions {
+    Ok(LodOptions {
         pyramid,
-        iso,
+        iso: args.iso,
         normals: true,
-    };
-    let source = prepared.source();
-    let plans = plan(&source, &options).map_err(|e| in_file(&args.input, e))?;
+        then_envelope: args.then_envelope.map(voxlod::ThenEnvelope::new),
+        ..LodOptions::default()
+    })
+}
+
+/// What was read: a mesh (with what its reader did) or a volume.
+enum Loaded {
+    Mesh(voxlod::io::LoadedMesh),
+    Volume(voxlod::core::Volume),
+}
+
+/// Reads the input, refusing a volume without a route.
+fn load(args: &LodArgs) -> Result<Loaded, CliError> {
+    match read_input(&args.input, &args.route.raw)? {
+        Input::Mesh(mesh) => Ok(Loaded::Mesh(mesh)),
+        Input::Volume(volume) => {
+            check_grid_range(&volume, &args.input, args.route.raw.spacing_source())?;
+            if args.route.threshold.is_none() && !args.route.direct {
+                return Err(CliError::msg(format!(
+                    "{}: a volume needs --threshold T (inside where the data is >= T) or --direct \
+                     (filter the data itself, with --iso in its units)",
+                    args.input.display()
+                )));
+            }
+            Ok(Loaded::Volume(volume))
+        }
+    }
+}
+
+/// The library's source for what was read.
+fn source<'a>(loaded: &'a Loaded, route: &VolumeRoute) -> voxlod::Source<'a> {
+    match (loaded, route.threshold) {
+        (Loaded::Mesh(m), _) => voxlod::Source::Mesh(&m.mesh),
+        (Loaded::Volume(volume), Some(threshold)) => {
+            voxlod::Source::Threshold { volume, threshold }
+        }
+        (Loaded::Volume(volume), None) => voxlod::Source::Direct(volume),
+    }
+}
+
+pub fn run(args: LodArgs) -> Result<(), CliError> {
+    if args.triangles.is_some() || args.error.is_some() {
+        return super::lod_budget::run(&args);
+    }
+    args.glb.check(args.format)?;
+    let options = lod_options(&args)?;
+    let loaded = load(&args)?;
+    match &loaded {
+        Loaded::Volume(v) => args.frame.check(v, &args.input)?,
+        Loaded::Mesh(_) if args.frame.target().is_some() => {
+            return Err(CliError::usage(format!(
+                "{}: --frame applies to volumes (a mesh has no anatomical frame)",
+                args.input.display()
+            )))
+        }
+        Loaded::Mesh(_) => {}
+    }
     // Everything is written at the end, as one set; refuse now what it would refuse then.
     let mut out = OutputSet::protecting([&args.input]);
-    let level_name = |level: usize| format!("level-{level}.{}", args.format.as_str());
-    for p in &plans {
-        out.check(&in_dir(&args.output, &level_name(p.level)))?;
+    for level in 0..options.pyramid.resolutions.len() {
+        out.check(&in_dir(&args.output, &level_name(&args, level)))?;
+    }
+    if args.format == LodFormat::Glb {
+        out.check(&in_dir(&args.output, CHAIN_FILE))?;
     }
     out.create_dir(&args.output)?;
-    if let Loaded::Mesh(_, summary) = &loaded {
-        let p = &summary.preparation;
-        let repairs: Vec<String> = [
-            (p.welded_vertices, "coincident vertices welded"),
-            (p.degenerate_triangles, "degenerate triangles dropped"),
-            (p.duplicate_triangles, "duplicate triangles dropped"),
-            (p.holes_closed, "holes closed"),
-        ]
-        .iter()
-        .filter(|(n, _)| *n > 0)
-        .map(|(n, what)| format!("{n} {what}"))
-        .collect();
-        if !args.json && !repairs.is_empty() {
-            eprintln!("{}: {}", args.input.display(), repairs.join(", "));
-        }
-    }
-
-    let finest = plans[0].voxel_size;
-    let bar = progress(plans.len() as u64, "levels", args.json);
-    let mut levels = Vec::new();
-    let mut warnings: Vec<String> = threshold_warning(&loaded, &args.route)
-        .into_iter()
-        .collect();
-    if let (false, Some(w)) = (args.json, warnings.first()) {
-        eprintln!("warning: {w}");
-    }
-    for level_plan in &plans {
-        let mut level = build_level(&source, level_plan, &options).map_err(|e| {
-            let level = voxlod::Error::from(e).context(format!("level {}", level_plan.level));
-            in_file(&args.input, level)
-        })?;
-        if let Loaded::Volume(v) = &loaded {
+    let bar = progress(
+        options.pyramid.resolutions.len() as u64,
+        "levels",
+        args.json,
+    );
+    let show = |p: Progress| show_level(&args, &bar, p);
+    let mut lod = voxlod::lod_with(&source(&loaded, &args.route), &options, &show)
+        .map_err(|e| lod_error(&args, e))?;
+    bar.finish_and_clear();
+    if let Loaded::Volume(v) = &loaded {
+        for level in &mut lod.levels {
             args.frame.convert(v, &mut level.mesh);
         }
-        check_computed_mesh(
-            &level.mesh,
-            &format!("{}: level {}", args.input.display(), level_plan.level),
-            "the object's extent or position is too large for 32-bit coordinates",
-        )?;
-        let envelope = match envelope_eps {
-            Some(eps) => {
-                let what = format!("{}: level {}", args.input.display(), level_plan.level);
-                let (mesh, report) = then_envelope(&level.mesh, eps, level_plan.voxel_size, &what)?;
-                level.mesh = mesh;
-                report
-            }
-            None => None,
-        };
-        let name = level_name(level_plan.level);
-        let write_start = Instant::now();
-        let file = (!level.mesh.is_empty()).then(|| name.clone());
-        if file.is_some() {
-            out.mesh(&in_dir(&args.output, &name), &level.mesh)?;
-        }
-        let write_seconds = write_start.elapsed().as_secs_f64();
-        let t = &level.topology;
-        levels.push(LevelReport {
-            level: level_plan.level,
-            resolution: level_plan.resolution,
-            voxel_size: level_plan.voxel_size,
-            radius: level_plan.radius,
-            radius_in_finest_voxels: level_plan.radius / finest,
-            grid: level_plan.grid.dims,
-            file,
-            vertices: level.mesh.positions.len(),
-            triangles: level.mesh.triangles.len(),
-            euler_characteristic: t.euler_characteristic,
-            genus: t.genus,
-            components: t.components,
-            closed_manifold: t.is_closed_manifold() && t.is_consistently_oriented(),
-            seconds: level.sample_seconds + level.contour_seconds + write_seconds,
-            sample_seconds: level.sample_seconds,
-            contour_seconds: level.contour_seconds,
-            write_seconds,
-            density: level.density,
-            envelope,
-        });
-        bar.inc(1);
-        if level.mesh.is_empty() {
-            warnings.push(format!(
-                "level {}: the filter of radius {:.4} removed the whole object (no density \
-                 reaches {iso}); no file written. Use fewer levels, or a lower --iso for parts \
-                 thinner than a voxel",
-                level_plan.level, level_plan.radius
-            ));
-        }
-        if !args.json {
-            bar.suspend(|| {
-                if let (true, Some(w)) = (level.mesh.is_empty(), warnings.last()) {
-                    eprintln!("warning: {w}");
-                } else {
-                    println!(
-                        "level {}: resolution {:>4}, radius {:.4}: {} -> {}",
-                        level_plan.level,
-                        level_plan.resolution,
-                        level_plan.radius,
-                        describe_mesh(&level.mesh),
-                        name
-                    );
-                }
-            });
-        }
     }
-    bar.finish_and_clear();
-    if levels.iter().all(|l| l.file.is_none()) {
-        return Err(no_surface(&args, &plans, iso));
+    let mut levels = Vec::with_capacity(lod.levels.len());
+    for level in &lod.levels {
+        levels.push(write_level(
+            &args,
+            &mut out,
+            level,
+            lod.levels[0].plan.voxel_size,
+        )?);
     }
+    let glb = match args.format {
+        LodFormat::Glb => Some(add_chain(&mut out, &args.output, &chain(&lod), &args.glb)?),
+        _ => None,
+    };
     out.remove_stale(&args.output, is_level_file);
-    let written_warnings = out.warnings().len();
-    warnings.extend(out.warnings().iter().cloned());
-    let frame = match &loaded {
-        Loaded::Volume(v) => Some(frame_report(v, args.frame.target())),
-        Loaded::Mesh(..) => None,
-    };
-    let report = LodReport {
-        frame: frame.as_ref().map(|f| f.frame),
-        transform: frame.map(|f| f.transform),
-        input: args.input.display().to_string(),
-        mesh: match &loaded {
-            Loaded::Mesh(_, summary) => Some(summary.clone()),
-            Loaded::Volume(_) => None,
-        },
-        route: match prepared {
-            Prepared::Mesh(_) => "mesh",
-            Prepared::Threshold(_) => "threshold",
-            Prepared::Direct(_) => "direct",
-        },
-        filter: args.filter,
-        iso,
-        levels,
-        total_seconds: start.elapsed().as_secs_f64(),
-        warnings,
-    };
+    let mut report = lod_report(&args, &loaded, &lod, levels, out.warnings());
+    report.glb = glb;
     let text = serde_json::to_string_pretty(&report)
         .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
     out.text(&in_dir(&args.output, "report.json"), &text)?;
     out.commit()?;
     if args.json {
-        print_json(&report)?;
-    } else {
-        // The level warnings were printed as the levels were made; the writing's come last.
-        for w in &report.warnings[report.warnings.len() - written_warnings..] {
-            eprintln!("warning: {w}");
-        }
-        println!(
-            "{} in {:.2} s; report in {}",
-            written_summary(&report.levels),
-            report.total_seconds,
-            in_dir(&args.output, "report.json").display()
-        );
+        return print_json(&report);
     }
+    if let Some(m) = &report.mesh {
+        print_repairs(&args, &m.preparation);
+    }
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
+    println!(
+        "{} in {:.2} s; report in {}",
+        written_summary(&report.levels),
+        report.total_seconds,
+        in_dir(&args.output, "report.json").display()
+    );
     Ok(())
 }
 
-/// Why there is nothing to write: every level came out empty.
-fn no_surface(args: &LodArgs, plans: &[voxlod::sampling::LevelPlan], iso: f32) -> CliError {
-    let first = &plans[0];
-    CliError::msg(format!(
-        "{}: no level has a surface, so nothing was written: at every level the filtered density \
-         stays below the isodensity {iso}. The object is thinner than the filter (level 0: voxel \
-         {:.4}, radius {:.4}) or encloses no volume; use a higher --resolution, a smaller \
-         --radius or a lower --iso",
-        args.input.display(),
-        first.voxel_size,
-        first.radius
-    ))
+/// `level-N.EXT`.
+pub(super) fn level_name(args: &LodArgs, level: usize) -> String {
+    format!("level-{level}.{}", args.format.level_extension().as_str())
+}
+
+/// Whether each level gets a file of its own (always, but for `--format glb` without `--split`).
+fn level_files(args: &LodArgs) -> bool {
+    args.format != LodFormat::Glb || args.glb.split
+}
+
+/// The file a level is in: its own, or the chain.
+fn level_file(args: &LodArgs, level: usize) -> String {
+    if level_files(args) {
+        level_name(args, level)
+    } else {
+        CHAIN_FILE.to_string()
+    }
+}
+
+/// The non-empty levels for the glTF chain: level, mesh, voxel size.
+fn chain(lod: &Lod) -> Vec<(usize, voxlod::core::TriangleMesh, f64)> {
+    lod.levels
+        .iter()
+        .filter(|l| !l.mesh.is_empty())
+        .map(|l| (l.plan.level, l.mesh.clone(), l.plan.voxel_size))
+        .collect()
+}
+
+/// The progress callback: the bar, the preparation's warnings as the work starts, and a line
+/// per finished level (or its warning when the filter removed the object).
+fn show_level(args: &LodArgs, bar: &ProgressBar, p: Progress) -> Control {
+    if args.json {
+        return Control::Continue;
+    }
+    let Event::LodLevel(level) = p.event else {
+        return Control::Continue;
+    };
+    bar.inc(1);
+    let plan = &level.plan;
+    let file = if level.mesh.is_empty() {
+        "empty, no file (see the warnings)".to_string()
+    } else {
+        level_file(args, plan.level)
+    };
+    bar.println(format!(
+        "level {}: resolution {:>4}, radius {:.4}: {} -> {file}",
+        plan.level,
+        plan.resolution,
+        plan.radius,
+        describe_mesh(&level.mesh),
+    ));
+    Control::Continue
+}
+
+/// What the mesh preparation repaired, in one line on standard error.
+fn print_repairs(args: &LodArgs, p: &voxlod::sampling::MeshPreparation) {
+    let repairs: Vec<String> = [
+        (p.welded_vertices, "coincident vertices welded"),
+        (p.degenerate_triangles, "degenerate triangles dropped"),
+        (p.duplicate_triangles, "duplicate triangles dropped"),
+        (p.holes_closed, "holes closed"),
+    ]
+    .iter()
+    .filter(|(n, _)| *n > 0)
+    .map(|(n, what)| format!("{n} {what}"))
+    .collect();
+    if !repairs.is_empty() {
+        eprintln!("{}: {}", args.input.display(), repairs.join(", "));
+    }
+}
+
+/// The library's failure about the input; "no surface" in the flags' words.
+fn lod_error(args: &LodArgs, e: voxlod::Error) -> CliError {
+    match e {
+        voxlod::Error::NoSurface {
+            iso,
+            voxel_size,
+            radius,
+        } => CliError::msg(format!(
+            "{}: no level has a surface, so nothing was written: at every level the filtered \
+             density stays below the isodensity {iso}. The object is thinner than the filter \
+             (level 0: voxel {voxel_size:.4}, radius {radius:.4}) or encloses no volume; use a \
+             higher --resolution, a smaller --radius or a lower --iso",
+            args.input.display()
+        )),
+        voxlod::Error::InvalidOption(o) => CliError::usage(format!(
+            "--{} {}: {}",
+            flag_name(o.option),
+            o.value,
+            o.problem
+        )),
+        voxlod::Error::IsoRequired => CliError::usage(format!(
+            "{}: --direct needs --iso V in the data's units",
+            args.input.display()
+        )),
+        e => in_file(&args.input, e),
+    }
+}
+
+/// The flag of a [`voxlod::LodOptions`] field.
+fn flag_name(option: &str) -> String {
+    match option {
+        "radius_voxels" => "radius".to_string(),
+        other => other.replace('_', "-"),
+    }
+}
+
+/// Adds one level's mesh to the output set (none for an empty level) and reports it.
+fn write_level(
+    args: &LodArgs,
+    out: &mut OutputSet,
+    level: &LodLevel,
+    finest_voxel: f64,
+) -> Result<LevelReport, CliError> {
+    let plan = &level.plan;
+    let write_start = std::time::Instant::now();
+    let file = (!level.mesh.is_empty()).then(|| level_file(args, plan.level));
+    if file.is_some() && level_files(args) {
+        out.mesh(
+            &in_dir(&args.output, &level_name(args, plan.level)),
+            &level.mesh,
+        )?;
+    }
+    let write_seconds = write_start.elapsed().as_secs_f64();
+    let t = &level.topology;
+    let envelope_seconds = level.envelope.as_ref().map_or(0.0, |e| e.seconds);
+    Ok(LevelReport {
+        level: plan.level,
+        resolution: plan.resolution,
+        voxel_size: plan.voxel_size,
+        radius: plan.radius,
+        radius_in_finest_voxels: plan.radius / finest_voxel,
+        grid: plan.grid.dims,
+        file,
+        vertices: level.mesh.positions.len(),
+        triangles: level.mesh.triangles.len(),
+        euler_characteristic: t.euler_characteristic,
+        genus: t.genus,
+        components: t.components,
+        closed_manifold: t.is_closed_manifold() && t.is_consistently_oriented(),
+        seconds: level.sample_seconds + level.contour_seconds + envelope_seconds + write_seconds,
+        sample_seconds: level.sample_seconds,
+        contour_seconds: level.contour_seconds,
+        write_seconds,
+        density: level.density,
+        envelope: level.envelope.clone(),
+    })
+}
+
+/// The report: the input, its preparation, every level, and every warning.
+fn lod_report(
+    args: &LodArgs,
+    loaded: &Loaded,
+    lod: &Lod,
+    levels: Vec<LevelReport>,
+    written_warnings: &[String],
+) -> LodReport {
+    let mesh = match (loaded, lod.preparation) {
+        (Loaded::Mesh(m), Some(preparation)) => Some(MeshSummary {
+            format: m.format.to_string(),
+            vertices: m.mesh.positions.len(),
+            triangles: m.mesh.triangles.len(),
+            polygons_triangulated: m.polygons_triangulated,
+            preparation,
+        }),
+        _ => None,
+    };
+    let mut warnings = lod.warnings.clone();
+    warnings.extend(written_warnings.iter().cloned());
+    let frame = match loaded {
+        Loaded::Volume(v) => Some(frame_report(v, args.frame.target())),
+        Loaded::Mesh(_) => None,
+    };
+    LodReport {
+        frame: frame.as_ref().map(|f| f.frame),
+        transform: frame.map(|f| f.transform),
+        input: args.input.display().to_string(),
+        mesh,
+        route: lod.route.name(),
+        filter: args.filter,
+        iso: lod.iso,
+        levels,
+        glb: None,
+        total_seconds: lod.seconds,
+        warnings,
+    }
 }
 
 /// "6 levels written", or "5 of 6 levels written (level 5 is empty)": what is on disk.

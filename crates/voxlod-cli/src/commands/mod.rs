@@ -15,10 +15,13 @@ pub mod inspect;
 pub mod labels;
 pub mod layers;
 pub mod lod;
+pub mod lod_budget;
+pub mod lod_glb;
 pub mod render;
 pub mod select;
 pub mod source;
 pub mod values;
+pub mod view;
 pub mod voxelize;
 pub mod world;
 
@@ -50,6 +53,7 @@ pub enum Command {
     Evaluate(evaluate::EvaluateArgs),
     Layers(layers::LayersArgs),
     Render(render::RenderArgs),
+    View(view::ViewArgs),
 }
 
 /// Runs the chosen subcommand.
@@ -68,6 +72,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Evaluate(args) => evaluate::run(args),
         Command::Layers(args) => layers::run(args),
         Command::Render(args) => render::run(args),
+        Command::View(args) => view::run(args),
     }
 }
 

@@ -4,13 +4,14 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
+use glam::DVec3;
 use serde::Serialize;
 use voxlod::core::{Bounds, PolyMesh, TriangleMesh};
 use voxlod::layers::{read_glb, recover_cells, scene_order, CellTriangles, GlbScene, Octant, View};
 use voxlod::render::{render, Camera, LineItem, MeshItem, PointItem, RenderOptions, Scene};
 
 use super::camera::{view_direction, CameraArgs, SURFACE_COLOR};
-use super::common::{is_glb, print_json, CliError};
+use super::common::{is_glb, print_json, thousands, CliError};
 use super::values::{number, numbers, ImageSize};
 
 /// The vertical field of view of `--perspective`, in degrees, when `--fov` is not given.
@@ -165,18 +166,10 @@ enum Loaded {
     Layered(GlbScene, PathBuf),
 }
 
-pub fn run(args: RenderArgs) -> Result<(), CliError> {
-    let start = Instant::now();
-    voxlod::io::check_image_path(&args.output)?;
-    let mut out = voxlod::io::OutputSet::protecting(&args.meshes);
-    out.check(&args.output)?;
-    let view = view_direction(args.camera.view)?;
-    let (width, height) = (args.camera.size.width, args.camera.size.height);
-    let warnings = check_render_args(&args)?;
-    let background = args.background;
-    let octant = Octant::of(view).map_err(|e| CliError::msg(format!("--view: {e}")))?;
+/// Reads every input: plain meshes, and layered or plain `.glb` files.
+fn read_inputs(paths: &[PathBuf]) -> Result<Vec<Loaded>, CliError> {
     let mut inputs = Vec::new();
-    for path in &args.meshes {
+    for path in paths {
         if is_glb(path) {
             let scene = read_glb(path).map_err(|e| CliError::msg(e.to_string()))?;
             if scene.is_layered() {
@@ -188,9 +181,13 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             inputs.push(Loaded::Plain(voxlod::io::read_poly_mesh(path)?));
         }
     }
-    // The camera frames everything.
+    Ok(inputs)
+}
+
+/// The camera along `view` that frames everything.
+fn frame(args: &RenderArgs, view: DVec3, inputs: &[Loaded]) -> Result<Camera, CliError> {
     let mut bounds = Bounds::EMPTY;
-    for input in &inputs {
+    for input in inputs {
         bounds = bounds.union(&match input {
             Loaded::Plain(m) => poly_bounds(m),
             Loaded::Layered(g, _) => g.mesh.bounds(),
@@ -201,23 +198,22 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             "nothing to draw: the inputs hold no geometry",
         ));
     }
-    let camera = Camera::fit(
+    Camera::fit(
         view,
         &bounds,
-        width,
-        height,
+        args.camera.size.width,
+        args.camera.size.height,
         args.perspective.then_some(args.fov.unwrap_or(DEFAULT_FOV)),
     )
-    .map_err(|e| CliError::msg(e.to_string()))?;
-    let options = RenderOptions {
-        supersample: args.supersample,
-        background,
-        ..Default::default()
-    };
-    let mut report = RenderReport {
+    .map_err(|e| CliError::msg(e.to_string()))
+}
+
+/// The report before drawing: the image, the camera and the warnings; no counts yet.
+fn empty_report(args: &RenderArgs, octant: Octant, warnings: Vec<String>) -> RenderReport {
+    RenderReport {
         output: args.output.display().to_string(),
-        width,
-        height,
+        width: args.camera.size.width,
+        height: args.camera.size.height,
         supersample: args.supersample,
         perspective: args.perspective,
         view: args.camera.view,
@@ -229,18 +225,18 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
         layered_order: None,
         seconds: 0.0,
         warnings,
-    };
-    // Opaque meshes, lines, points.
-    let mut groups = Vec::new();
-    for (i, input) in inputs.iter().enumerate() {
-        if let Loaded::Plain(m) = input {
-            if !m.lines.is_empty() {
-                groups.extend(line_groups(i, m, &camera, &options, args.line_width)?);
-            }
-        }
     }
-    let mut scene = Scene::default();
-    for input in &inputs {
+}
+
+/// The plain inputs' opaque meshes, points and line groups in the scene, counted in the report.
+fn add_plain<'a>(
+    args: &RenderArgs,
+    inputs: &'a [Loaded],
+    groups: &'a [LineGroup],
+    scene: &mut Scene<'a>,
+    report: &mut RenderReport,
+) {
+    for input in inputs {
         if let Loaded::Plain(m) = input {
             report.opaque_triangles += m.mesh.triangles.len();
             report.lines += m.lines.len();
@@ -258,7 +254,7 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             }
         }
     }
-    for g in &groups {
+    for g in groups {
         let Loaded::Plain(m) = &inputs[g.input] else {
             unreachable!("line groups come from plain meshes")
         };
@@ -269,7 +265,16 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             width: g.width,
         });
     }
-    // Layered files: one blended mesh in back-to-front order.
+}
+
+/// The layered inputs in one blended mesh in back-to-front order (none without them).
+fn blend_inputs(
+    args: &RenderArgs,
+    inputs: &[Loaded],
+    octant: Octant,
+    camera: &Camera,
+    report: &mut RenderReport,
+) -> Result<Option<Blended>, CliError> {
     let layered: Vec<(&GlbScene, &PathBuf)> = inputs
         .iter()
         .filter_map(|i| match i {
@@ -277,14 +282,44 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             Loaded::Plain(_) => None,
         })
         .collect();
-    let blended = if layered.is_empty() {
-        None
-    } else {
-        let (b, how) = blend_layers(&layered, octant, &camera, args.perspective)?;
-        report.layered_order = Some(how);
-        report.layered_triangles = b.mesh.triangles.len();
-        Some(b)
+    if layered.is_empty() {
+        return Ok(None);
+    }
+    let (b, how) = blend_layers(&layered, octant, camera, args.perspective)?;
+    report.layered_order = Some(how);
+    report.layered_triangles = b.mesh.triangles.len();
+    Ok(Some(b))
+}
+
+pub fn run(args: RenderArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    voxlod::io::check_image_path(&args.output)?;
+    let mut out = voxlod::io::OutputSet::protecting(&args.meshes);
+    out.check(&args.output)?;
+    let view = view_direction(args.camera.view)?;
+    let warnings = check_render_args(&args)?;
+    let octant = Octant::of(view).map_err(|e| CliError::msg(format!("--view: {e}")))?;
+    let inputs = read_inputs(&args.meshes)?;
+    let camera = frame(&args, view, &inputs)?;
+    let options = RenderOptions {
+        supersample: args.supersample,
+        background: args.background,
+        ..Default::default()
     };
+    let mut report = empty_report(&args, octant, warnings);
+    // Opaque meshes, lines, points.
+    let mut groups = Vec::new();
+    for (i, input) in inputs.iter().enumerate() {
+        if let Loaded::Plain(m) = input {
+            if !m.lines.is_empty() {
+                groups.extend(line_groups(i, m, &camera, &options, args.line_width)?);
+            }
+        }
+    }
+    let mut scene = Scene::default();
+    add_plain(&args, &inputs, &groups, &mut scene, &mut report);
+    // Layered files: one blended mesh in back-to-front order.
+    let blended = blend_inputs(&args, &inputs, octant, &camera, &mut report)?;
     if let Some(b) = &blended {
         scene.meshes.push(MeshItem::blended(
             &b.mesh,
@@ -301,21 +336,26 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
     if args.json {
         return print_json(&report);
     }
+    print_report(&args, &report);
+    Ok(())
+}
+
+/// The warnings on standard error and one line on standard output.
+fn print_report(args: &RenderArgs, report: &RenderReport) {
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }
     println!(
         "{} opaque and {} layered triangles at {}x{} ({}x{} samples per pixel) in {:.2} s -> {}",
-        super::common::thousands(report.opaque_triangles),
-        super::common::thousands(report.layered_triangles),
-        width,
-        height,
+        thousands(report.opaque_triangles),
+        thousands(report.layered_triangles),
+        report.width,
+        report.height,
         args.supersample,
         args.supersample,
         report.seconds,
         args.output.display()
     );
-    Ok(())
 }
 
 /// Refuses flags out of their range; returns warnings for flags that have no effect.

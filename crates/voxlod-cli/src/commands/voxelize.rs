@@ -5,12 +5,13 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod::sampling::{DensityOptions, Filter};
+use voxlod::io::{OutputSet, VolumeWriteOptions};
+use voxlod::sampling::Filter;
+use voxlod::VoxelizeOptions;
 
-use super::common::{print_json, CliError};
-use super::source::{load, threshold_warning, Prepared, VolumeRoute};
+use super::common::{in_file, print_json, CliError};
+use super::source::{in_flag_words, VolumeRoute};
 use super::values::number;
-use voxlod::lod::LodSource;
 
 /// Sample the input into a filtered density volume (paper §2, equations 1–3).
 ///
@@ -72,7 +73,8 @@ struct VoxelizeReport {
     warnings: Vec<String>,
 }
 
-pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
+/// The library's options from the flags.
+fn voxelize_options(args: &VoxelizeArgs) -> Result<VoxelizeOptions, CliError> {
     if args.resolution == 0 {
         return Err(CliError::usage("--resolution must be at least 1"));
     }
@@ -81,57 +83,26 @@ pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
             "--radius must be a positive number of voxels",
         ));
     }
-    let mut out = voxlod::io::OutputSet::protecting([&args.input]);
+    Ok(VoxelizeOptions {
+        resolution: args.resolution,
+        filter: args.filter,
+        radius_voxels: args.radius,
+        lines_per_radius: args.lines_per_radius,
+    })
+}
+
+pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
+    let options = voxelize_options(&args)?;
+    let mut out = OutputSet::protecting([&args.input]);
     out.check(&args.output)?;
-    let loaded = load(&args.input, &args.route)?;
-    let prepared = Prepared::new(&loaded, &args.route, &args.input)?;
-    let source = prepared.source();
-    let bounds = source.bounds();
-    let in_file = |e: voxlod::sampling::SamplingError| super::common::in_file(&args.input, e);
-    let plans = voxlod::sampling::plan_levels(
-        &bounds,
-        &voxlod::sampling::PyramidOptions {
-            resolutions: vec![args.resolution],
-            radius_voxels: args.radius,
-            filter: args.filter,
-            lines_per_radius: args.lines_per_radius,
-        },
-    )
-    .map_err(in_file)?;
-    let (grid, voxel, radius) = (plans[0].grid, plans[0].voxel_size, plans[0].radius);
-    let start = Instant::now();
-    let density = match source {
-        LodSource::Solid(solid) => {
-            let options = DensityOptions {
-                filter: args.filter,
-                radius,
-                lines_per_radius: args.lines_per_radius,
-            };
-            voxlod::sampling::filtered_density(solid, &grid, &options)
-                .map_err(in_file)?
-                .0
-        }
-        LodSource::Direct(volume) => {
-            voxlod::sampling::direct_density(volume, &grid, args.filter, radius).map_err(in_file)?
-        }
-    };
-    let sample_seconds = start.elapsed().as_secs_f64();
-    let mut warnings: Vec<String> = threshold_warning(&loaded, &args.route)
-        .into_iter()
-        .collect();
-    let solid = matches!(source, LodSource::Solid(_));
-    if solid && density.range().is_none_or(|(_, hi)| hi < 0.5) {
-        warnings.push(format!(
-            "the filter of radius {radius:.4} removed the whole object: no sample reaches the \
-             density 0.5 of its surface (the object is thinner than the filter; use a higher \
-             --resolution)"
-        ));
-    }
+    let input = args.route.read(&args.input)?;
+    let voxelized = voxlod::voxelize(&args.route.source(&input), &options)
+        .map_err(|e| in_file(&args.input, e))?;
     let start = Instant::now();
     out.volume(
         &args.output,
-        &density,
-        &voxlod::io::VolumeWriteOptions {
+        &voxelized.volume,
+        &VolumeWriteOptions {
             compress: args.compress,
         },
     )?;
@@ -140,38 +111,47 @@ pub fn run(args: VoxelizeArgs) -> Result<(), CliError> {
         .iter()
         .map(|f| f.display().to_string())
         .collect();
+    let mut warnings: Vec<String> = voxelized
+        .warnings
+        .iter()
+        .map(|w| in_flag_words(w))
+        .collect();
     warnings.extend(out.warnings().iter().cloned());
     out.commit()?;
     let report = VoxelizeReport {
         input: args.input.display().to_string(),
         output: args.output.display().to_string(),
         files,
-        dims: grid.dims,
-        spacing: voxel,
-        radius,
+        dims: voxelized.plan.grid.dims,
+        spacing: voxelized.plan.voxel_size,
+        radius: voxelized.plan.radius,
         filter: args.filter,
-        sample_seconds,
+        sample_seconds: voxelized.seconds,
         write_seconds: start.elapsed().as_secs_f64(),
         warnings,
     };
     if args.json {
-        print_json(&report)?;
-    } else {
-        for w in &report.warnings {
-            eprintln!("warning: {w}");
-        }
-        println!(
-            "{}: {}x{}x{} samples of spacing {:.5}, {} radius {:.5}, in {:.2} s -> {}",
-            args.input.display(),
-            grid.dims[0],
-            grid.dims[1],
-            grid.dims[2],
-            voxel,
-            args.filter.name(),
-            radius,
-            sample_seconds,
-            args.output.display()
-        );
+        return print_json(&report);
     }
+    print_report(&args, &report);
     Ok(())
+}
+
+/// The warnings on standard error and one line on standard output.
+fn print_report(args: &VoxelizeArgs, report: &VoxelizeReport) {
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
+    println!(
+        "{}: {}x{}x{} samples of spacing {:.5}, {} radius {:.5}, in {:.2} s -> {}",
+        args.input.display(),
+        report.dims[0],
+        report.dims[1],
+        report.dims[2],
+        report.spacing,
+        args.filter.name(),
+        report.radius,
+        report.sample_seconds,
+        args.output.display()
+    );
 }

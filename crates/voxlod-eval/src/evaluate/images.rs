@@ -182,7 +182,9 @@ fn plain() -> RenderOptions {
 pub const PREVIEW_DIRECTION: DVec3 = DVec3::new(-0.55, -0.45, -1.0);
 
 /// `input` then each of `levels`, `size` pixels square each, side by side, framed alike (the
-/// input's box).
+/// input's box) and shaded alike: flat per face for every mesh, whatever normals it carries
+/// (marching cubes' gradient normals would smooth-shade the voxel levels beside a flat input and
+/// make sharp-edged levels look blotchy).
 pub fn preview_strip(
     input: &TriangleMesh,
     levels: &[&PolyMesh],
@@ -194,10 +196,15 @@ pub fn preview_strip(
         supersample: 2,
         ..RenderOptions::default()
     };
-    let input = PolyMesh::from(input.clone());
+    let flat = |mesh: &PolyMesh| {
+        let mut mesh = mesh.clone();
+        mesh.mesh.normals.clear();
+        mesh
+    };
+    let input = flat(&PolyMesh::from(input.clone()));
     let mut images = vec![render(&scene(&input), &camera, &options)?];
     for level in levels {
-        images.push(render(&scene(level), &camera, &options)?);
+        images.push(render(&scene(&flat(level)), &camera, &options)?);
     }
     let refs: Vec<&Image> = images.iter().collect();
     Ok(Image::side_by_side(&refs, 4, options.background))

@@ -7,15 +7,21 @@
 //! it interpolates between the nearest below and above. A guess already tried moves one step of
 //! the parameter's grid towards the budget, never across a tried step on the far side. The search
 //! of a budget ends when a trial lands within [`EvaluateOptions::tolerance`] of it, when no
-//! untried step can do better, or after [`EvaluateOptions::max_trials`] runs. Every trial of a
-//! method is kept, so each budget's search starts from what the earlier ones learnt: typically
-//! one to three runs per budget.
+//! untried step can do better, or after [`EvaluateOptions::max_trials`] runs.
 //!
-//! The trial kept for a budget is the one nearest it in ratio; it is measured
-//! ([`super::measure`]) unless it misses the budget by more than
-//! [`EvaluateOptions::max_miss_factor`], is the level already kept for another budget, or has
-//! no area. Cost: that of the runs and measurements; the search's own bookkeeping is
-//! negligible.
+//! **A budget's result depends on that budget alone**, not on the other budgets of the run: each
+//! budget's search starts from nothing and sees only its own trials, so it takes the same steps
+//! in any run. Runs are deterministic, so every run of a method is cached by its step and a step
+//! that another budget already ran is taken from the cache instead of run again. (Before, each
+//! budget's search started from the trials of the budgets before it and stopped at the first
+//! one within the tolerance, so `--budgets 5022,627` and the default series kept different levels
+//! for 627.)
+//!
+//! The trial kept for a budget is the one nearest it in ratio among its own search's; it is
+//! measured ([`super::measure`]) unless it misses the budget by more than
+//! [`EvaluateOptions::max_miss_factor`] or has no area. A level already measured for another
+//! budget is not measured again: its point is repeated for this budget. Cost: that of the runs
+//! and measurements; the search's own bookkeeping is negligible.
 
 use std::time::Instant;
 
@@ -68,14 +74,27 @@ fn run_trial(
     })
 }
 
-/// The trials of one method so far.
+/// The runs of one method so far (a cache by step), and the steps the current budget's search
+/// has seen.
 struct Trials {
     list: Vec<Trial>,
+    seen: Vec<i64>,
 }
 
 impl Trials {
+    /// The current search's trial at `step`.
     fn get(&self, step: i64) -> Option<&Trial> {
-        self.list.iter().find(|t| t.step == step)
+        self.seen().find(|t| t.step == step)
+    }
+
+    /// The current search's trials.
+    fn seen(&self) -> impl Iterator<Item = &Trial> {
+        self.list.iter().filter(|t| self.seen.contains(&t.step))
+    }
+
+    /// Starts the search of another budget, with the cache kept.
+    fn new_search(&mut self) {
+        self.seen.clear();
     }
 
     /// The parameter step to try next for `budget`, or `None` when no untried step can do
@@ -84,13 +103,11 @@ impl Trials {
         let count = |t: &Trial| t.triangles();
         // The nearest trials with fewer triangles than the budget and with at least as many.
         let below = self
-            .list
-            .iter()
+            .seen()
             .filter(|t| count(t) < budget)
             .max_by_key(|t| (count(t), std::cmp::Reverse(t.step)));
         let above = self
-            .list
-            .iter()
+            .seen()
             .filter(|t| count(t) >= budget)
             .min_by_key(|t| (count(t), t.step));
         let mut guess = space.step_of(guess_value(below, above, budget, space));
@@ -117,14 +134,11 @@ impl Trials {
     /// The trial nearest `budget` in ratio (ties: fewer triangles), among those with triangles.
     fn nearest(&self, budget: usize) -> Option<&Trial> {
         let miss = |t: &Trial| ((t.triangles() as f64) / budget as f64).ln().abs();
-        self.list
-            .iter()
-            .filter(|t| t.triangles() > 0)
-            .min_by(|a, b| {
-                miss(a)
-                    .total_cmp(&miss(b))
-                    .then(a.triangles().cmp(&b.triangles()))
-            })
+        self.seen().filter(|t| t.triangles() > 0).min_by(|a, b| {
+            miss(a)
+                .total_cmp(&miss(b))
+                .then(a.triangles().cmp(&b.triangles()))
+        })
     }
 }
 
@@ -178,18 +192,30 @@ pub(super) fn method_curve(
 ) -> Result<Curve, EvaluateError> {
     let start = Instant::now();
     let space = method.simplifier().search_space(options);
-    let mut trials = Trials { list: Vec::new() };
+    let mut trials = Trials {
+        list: Vec::new(),
+        seen: Vec::new(),
+    };
     let mut points: Vec<CurvePoint> = Vec::new();
     let mut misses = Vec::new();
     for &budget in budgets {
         search_budget(method, input, &space, &mut trials, budget, options)?;
-        let best = match kept_trial(method, &trials, &points, budget, options) {
+        let best = match kept_trial(method, &trials, budget, options) {
             Ok(best) => best,
             Err(miss) => {
                 misses.push(miss);
                 continue;
             }
         };
+        if let Some(same) = points.iter().find(|p| p.parameter == best.parameter) {
+            let point = CurvePoint {
+                budget,
+                ..same.clone()
+            };
+            on_point(method, &point);
+            points.push(point);
+            continue;
+        }
         match measurer.measure(method, best, budget) {
             Ok(point) => {
                 on_point(method, &point);
@@ -219,6 +245,7 @@ fn search_budget(
     budget: usize,
     options: &EvaluateOptions,
 ) -> Result<(), EvaluateError> {
+    trials.new_search();
     for _ in 0..options.max_trials.max(1) {
         if trials
             .nearest(budget)
@@ -229,9 +256,11 @@ fn search_budget(
         let Some(step) = trials.next_guess(budget, space) else {
             break;
         };
-        trials
-            .list
-            .push(run_trial(method, input, step, space.value_of(step))?);
+        if !trials.list.iter().any(|t| t.step == step) {
+            let trial = run_trial(method, input, step, space.value_of(step))?;
+            trials.list.push(trial);
+        }
+        trials.seen.push(step);
     }
     Ok(())
 }
@@ -240,7 +269,6 @@ fn search_budget(
 fn kept_trial<'t>(
     method: Method,
     trials: &'t Trials,
-    points: &[CurvePoint],
     budget: usize,
     options: &EvaluateOptions,
 ) -> Result<&'t Trial, String> {
@@ -257,16 +285,6 @@ fn kept_trial<'t>(
             best.triangles(),
             method.parameter_name(),
             parameter_text(best.parameter)
-        ));
-    }
-    if let Some(same) = points.iter().find(|p| p.parameter == best.parameter) {
-        return Err(format!(
-            "budget {budget}: the nearest level ({} {}, {} triangles) is the one kept for \
-             budget {}",
-            method.parameter_name(),
-            parameter_text(best.parameter),
-            best.triangles(),
-            same.budget
         ));
     }
     Ok(best)

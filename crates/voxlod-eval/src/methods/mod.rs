@@ -5,12 +5,15 @@
 //!
 //! | method | file | parameter |
 //! |---|---|---|
-//! | voxel pipeline, hyper-cone filter (He et al. 1995, §2, equation 3) | `voxel_hypercone.rs` | resolution |
-//! | voxel pipeline, truncated Gaussian (§2) | `voxel_gaussian.rs` | resolution |
+//! | voxel pipeline, hyper-cone filter (He et al. 1995, §2, equation 3) | `voxel_filter.rs` | resolution |
+//! | voxel pipeline, truncated Gaussian (§2) | `voxel_filter.rs` | resolution |
 //! | vertex clustering (Rossignac and Borrel 1993) | `rossignac_borrel.rs` | cells |
 //! | floating-cell clustering (Low and Tan 1997) | `low_tan.rs` | cells |
 //! | simplification envelopes (Varshney et al.) | `envelope.rs` | ε in % of the diagonal |
 //! | voxel pipeline, then envelopes within one voxel (§5) | `voxel_envelope.rs` | resolution |
+//! | voxel resolution for the budget, then a geometric stage (§5) | `budget_pipeline.rs` | target triangles |
+//! | meshoptimizer `simplify`, quadric collapse (reference) | `meshopt_simplify.rs` | target triangles |
+//! | meshoptimizer `simplifySloppy`, clustering (reference) | `meshopt_sloppy.rs` | target triangles |
 //!
 //! **Adding a method**: a file here with a unit struct that implements [`Simplifier`], its `mod`
 //! line below (and a `pub use` line if callers should name the struct), and one line in
@@ -22,29 +25,34 @@
 //! consistently oriented manifold) is made by [`MethodInput::prepare`] and shared by all of
 //! them. Cost: that of the methods; see each file.
 
+mod budget_pipeline;
 mod clustering;
 mod envelope;
 mod input;
 mod low_tan;
+mod meshopt_simplify;
+mod meshopt_sloppy;
 mod rossignac_borrel;
 mod voxel;
 mod voxel_envelope;
-mod voxel_gaussian;
-mod voxel_hypercone;
+mod voxel_filter;
 
+pub use budget_pipeline::BudgetPipeline;
 pub use envelope::Envelope;
 pub use input::{MethodInput, Needs};
 pub use low_tan::LowTan;
+pub use meshopt_simplify::MeshoptSimplify;
+pub use meshopt_sloppy::MeshoptSloppy;
 pub use rossignac_borrel::RossignacBorrel;
 pub use voxel_envelope::VoxelEnvelope;
-pub use voxel_gaussian::VoxelGaussian;
-pub use voxel_hypercone::VoxelHypercone;
+pub use voxel_filter::{VoxelFilter, VOXEL_GAUSSIAN, VOXEL_HYPERCONE};
 
 use serde::Serialize;
 use voxlod::clustering::ClusteringError;
 use voxlod::core::PolyMesh;
 use voxlod::envelope::EnvelopeError;
 use voxlod::lod::LodError;
+use voxlod_quadric::QuadricError;
 
 use crate::evaluate::EvaluateOptions;
 
@@ -173,6 +181,18 @@ impl SearchSpace {
     }
 }
 
+/// The search space of a method whose parameter is the triangle count it is asked for: whole
+/// numbers from 1 to 100 million, counts growing as the parameter, starting at 1 000.
+fn target_count_space() -> SearchSpace {
+    SearchSpace {
+        lowest: 1.0,
+        highest: 1e8,
+        first: 1000.0,
+        exponent: 1.0,
+        grid: ParameterGrid::Integers,
+    }
+}
+
 /// Why one run of a method failed.
 #[derive(Debug, thiserror::Error)]
 pub enum RunFailure {
@@ -185,6 +205,12 @@ pub enum RunFailure {
     /// Simplification envelopes failed.
     #[error(transparent)]
     Envelope(#[from] EnvelopeError),
+    /// The budget pipeline failed (the facade's error, as its message).
+    #[error("{0}")]
+    Pipeline(String),
+    /// meshoptimizer (or the quadric stage around it) refused the input.
+    #[error(transparent)]
+    Quadric(#[from] QuadricError),
     /// The method needs something of the input that [`MethodInput::prepare`] was not asked for.
     #[error("the input was not prepared {0} (see Simplifier::needs)")]
     NotPrepared(&'static str),
@@ -202,12 +228,15 @@ impl Method {
     /// Every method of the project, in the order reports list them (and that gives each its
     /// colour in charts).
     pub const ALL: &'static [Method] = &[
-        Method(&VoxelHypercone),
-        Method(&VoxelGaussian),
+        Method(&VOXEL_HYPERCONE),
+        Method(&VOXEL_GAUSSIAN),
         Method(&RossignacBorrel),
         Method(&LowTan),
         Method(&Envelope),
         Method(&VoxelEnvelope),
+        Method(&BudgetPipeline),
+        Method(&MeshoptSimplify),
+        Method(&MeshoptSloppy),
     ];
 
     /// A handle on any simplifier, one of the list or one of the caller's own.

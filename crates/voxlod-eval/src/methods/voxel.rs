@@ -25,6 +25,7 @@ pub(super) fn voxel_level(
         pyramid,
         iso: 0.5,
         normals: false,
+        ..LodOptions::default()
     };
     let source = LodSource::Solid(input.solid()?);
     let plans = plan(&source, &lod)?;

@@ -1,0 +1,174 @@
+//! `voxlod lod --triangles A,B,… | --error E`: levels by triangle budget or error target, the
+//! library's budget pipeline (`voxlod::budget`: the voxel resolution that filters away what the
+//! budget cannot afford, then a geometric stage, paper §5). Writes `DIR/level-N.EXT` and
+//! `DIR/report.json` with, per level, the budget, the chosen resolution, the stage and its error
+//! bound, the measured two-sided distance to the input, genus, components and handles removed,
+//! and every warning (with `--json` too).
+
+use std::time::Instant;
+
+use serde::Serialize;
+use voxlod::budget::BudgetLevel;
+use voxlod::io::OutputSet;
+use voxlod::{Lod, LodOptions, Source};
+
+use super::common::{describe_mesh, in_dir, in_file, print_json, read_input, CliError, Input};
+use super::lod::LodArgs;
+
+/// The report of a budget run.
+#[derive(Serialize)]
+struct BudgetReport {
+    input: String,
+    route: &'static str,
+    then: voxlod::budget::Then,
+    closed: bool,
+    time_cap_seconds: f64,
+    levels: Vec<BudgetLevelReport>,
+    total_seconds: f64,
+    /// Every warning, also printed on standard error without --json.
+    warnings: Vec<String>,
+}
+
+#[derive(Serialize)]
+struct BudgetLevelReport {
+    level: usize,
+    file: Option<String>,
+    vertices: usize,
+    closed_manifold: bool,
+    #[serde(flatten)]
+    budget: BudgetLevel,
+}
+
+/// Runs the budget pipeline as `args` ask (`--triangles` or `--error` was given).
+pub fn run(args: &LodArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    let options = options(args)?;
+    let input = read_input(&args.input, &args.route.raw)?;
+    let source = match &input {
+        Input::Mesh(loaded) => Source::Mesh(&loaded.mesh),
+        Input::Volume(volume) => match (args.route.threshold, args.route.direct) {
+            (Some(threshold), _) => Source::Threshold { volume, threshold },
+            (None, true) => Source::Direct(volume),
+            (None, false) => {
+                return Err(CliError::msg(format!(
+                    "{}: a volume needs --threshold T (inside where the data is >= T) or \
+                     --direct (filter the data itself, with --iso in its units)",
+                    args.input.display()
+                )))
+            }
+        },
+    };
+    let lod = voxlod::lod(&source, &options).map_err(|e| in_file(&args.input, e))?;
+    let level_name = |level: usize| super::lod::level_name(args, level);
+    let mut out = OutputSet::protecting([&args.input]);
+    for i in 0..lod.levels.len() {
+        out.check(&in_dir(&args.output, &level_name(i)))?;
+    }
+    out.create_dir(&args.output)?;
+    let mut levels = Vec::new();
+    for (i, (level, budget)) in lod.levels.iter().zip(&lod.budgets).enumerate() {
+        let file = (!level.mesh.is_empty()).then(|| level_name(i));
+        if let Some(name) = &file {
+            out.mesh(&in_dir(&args.output, name), &level.mesh)?;
+        }
+        let t = &level.topology;
+        levels.push(BudgetLevelReport {
+            level: i,
+            file,
+            vertices: level.mesh.positions.len(),
+            closed_manifold: t.is_closed_manifold() && t.is_consistently_oriented(),
+            budget: budget.clone(),
+        });
+    }
+    let report = report(args, &options, &lod, levels, start);
+    let text = serde_json::to_string_pretty(&report)
+        .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
+    out.text(&in_dir(&args.output, "report.json"), &text)?;
+    out.commit()?;
+    if args.json {
+        return print_json(&report);
+    }
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
+    for (l, level) in report.levels.iter().zip(&lod.levels) {
+        println!("{}", describe_level(l, &level.mesh));
+    }
+    println!(
+        "{} levels in {:.2} s; report in {}",
+        report.levels.len(),
+        report.total_seconds,
+        in_dir(&args.output, "report.json").display()
+    );
+    Ok(())
+}
+
+/// The library options of `args`.
+fn options(args: &LodArgs) -> Result<LodOptions, CliError> {
+    let mut options = LodOptions {
+        triangles: args.triangles.clone(),
+        error: args.error,
+        then: args.then,
+        closed: args.closed,
+        time_cap: args.time_cap,
+        iso: args.iso,
+        ..LodOptions::default()
+    };
+    options.pyramid.filter = args.filter;
+    options.pyramid.radius_voxels = args.radius;
+    options.pyramid.lines_per_radius = args.lines_per_radius;
+    if args.then_envelope.is_some() {
+        return Err(CliError::usage(
+            "--then-envelope works on resolutions; with --triangles or --error choose the stage \
+             with --then envelope",
+        ));
+    }
+    if args.resolutions.is_some() {
+        return Err(CliError::usage(
+            "--resolutions and --triangles/--error exclude each other: the budget pipeline \
+             chooses the resolution of each level",
+        ));
+    }
+    Ok(options)
+}
+
+fn report(
+    args: &LodArgs,
+    options: &LodOptions,
+    lod: &Lod,
+    levels: Vec<BudgetLevelReport>,
+    start: Instant,
+) -> BudgetReport {
+    BudgetReport {
+        input: args.input.display().to_string(),
+        route: lod.route.name(),
+        then: options.then,
+        closed: options.closed,
+        time_cap_seconds: options.time_cap,
+        levels,
+        total_seconds: start.elapsed().as_secs_f64(),
+        warnings: lod.warnings.clone(),
+    }
+}
+
+/// One line per level: budget, resolution, stage, what came out, the distance measured.
+fn describe_level(l: &BudgetLevelReport, mesh: &voxlod::core::TriangleMesh) -> String {
+    let b = &l.budget;
+    let aim = match (b.budget, b.error_target) {
+        (Some(n), _) => format!("budget {n}"),
+        (None, Some(e)) => format!("error {e:.4}"),
+        (None, None) => String::new(),
+    };
+    let distance = b
+        .hausdorff
+        .map(|h| format!(", Hausdorff {h:.4}"))
+        .unwrap_or_default();
+    format!(
+        "level {}: {aim}: resolution {}, then {:?}: {}{distance} -> {}",
+        l.level,
+        b.resolution,
+        b.stage,
+        describe_mesh(mesh),
+        l.file.as_deref().unwrap_or("(empty, not written)")
+    )
+}

@@ -1,0 +1,27 @@
+//! voxlod level chains as glTF 2.0, for engines and browsers.
+//!
+//! A chain of levels from the voxel pyramid (He, Hong, Kaufman, Varshney, Wang 1995, §2) is
+//! written as one `.glb` whose meshes are chained with `MSFT_lod` from the finest to the
+//! coarsest, with `MSFT_screencoverage` computed from the pixel-size rule of `voxlod select`
+//! ([`coverage`]), so an engine switches where the paper's selection would. Optionally the
+//! geometry is quantized (`KHR_mesh_quantization`) and encoded with meshoptimizer
+//! (`EXT_meshopt_compression`), as gltfpack does ([`streams`], [`encode`]); [`decode`] undoes
+//! the encoding for readers without a decoder.
+//!
+//! Beyond the paper: the paper stops at the meshes; the file format and the switching rule are
+//! ours. The JSON is built with `gltf-json`; extensions it has no types for are added to the
+//! JSON value in one place ([`chain`]'s `finish`).
+
+pub mod chain;
+pub mod coverage;
+pub mod decode;
+pub mod encode;
+pub mod error;
+pub mod streams;
+
+pub use chain::{
+    chain_document, chain_glb_bytes, to_glb, write_chain_glb, ChainLevel, ChainOptions, Compression,
+};
+pub use coverage::{fitting_coverage, pixel_size_at, screen_coverages, CoverageOptions};
+pub use decode::decompress_glb;
+pub use error::GltfError;

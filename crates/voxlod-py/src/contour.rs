@@ -1,0 +1,218 @@
+//! `voxlod.marching_cubes`, the drop-in for `skimage.measure.marching_cubes`: voxlod's
+//! table-driven marching cubes ([`voxlod_contouring::marching_cubes_with_cells`]) with
+//! scikit-image's conventions around it.
+//!
+//! - A sample is inside when it is *above* the level (scikit-image's rule; voxlod's own is
+//!   `>=`), so the extraction runs at the next `f32` above the level.
+//! - Vertices in index units along array axes 0, 1, 2 (the Python half multiplies by the
+//!   spacing, as scikit-image does); normals point down the gradient in index space.
+//! - Triangles wind as scikit-image's do: for `descent` (the object above the level) the signed
+//!   volume in array-axis coordinates is negative, for `ascent` positive.
+//! - `values`: per vertex, the largest corner range (max − min) of the cells whose triangles use
+//!   it, as scikit-image reports.
+//! - `mask`: a cell is contoured when the mask is true at its corner of highest indices, as in
+//!   scikit-image.
+//!
+//! The volume is copied once into voxlod's volume (which owns its samples); the results go to
+//! NumPy without a copy. Cost: that of the extraction, plus one pass over the triangles.
+
+use numpy::{PyArray1, PyArray2, PyReadonlyArray3};
+use pyo3::prelude::*;
+use rayon::prelude::*;
+use voxlod_contouring::block_marching_cubes::retain_cells;
+use voxlod_contouring::{marching_cubes_with_cells, CellMesh, ContourOptions};
+use voxlod_core::{memory, Grid, TriangleMesh, Volume};
+
+use crate::arrays::{column, faces_i32, points_zyx, rows, volume_slice};
+use crate::errors::{Failure, Kind};
+
+/// What [`marching_cubes`] returns to Python: verts, faces, normals, values.
+type Surface<'py> = (
+    Bound<'py, PyArray2<f32>>,
+    Bound<'py, PyArray2<i32>>,
+    Bound<'py, PyArray2<f32>>,
+    Bound<'py, PyArray1<f32>>,
+);
+
+/// The smallest `f32` above `value`.
+pub fn next_above(value: f32) -> f32 {
+    if value.is_nan() || value == f32::INFINITY {
+        return value;
+    }
+    if value == 0.0 {
+        return f32::from_bits(1);
+    }
+    let bits = value.to_bits();
+    f32::from_bits(if value > 0.0 { bits + 1 } else { bits - 1 })
+}
+
+/// The first NaN sample, as (axis 0, axis 1, axis 2) indices.
+pub fn first_nan(samples: &[f32], dims: [usize; 3]) -> Option<[usize; 3]> {
+    let at = samples.par_iter().position_first(|v| v.is_nan())?;
+    let (x, y, z) = (
+        at % dims[0],
+        (at / dims[0]) % dims[1],
+        at / (dims[0] * dims[1]),
+    );
+    Some([z, y, x])
+}
+
+/// The smallest and largest sample, in one parallel pass (NaN is ignored here).
+fn sample_range(samples: &[f32]) -> (f32, f32) {
+    samples
+        .par_chunks(1 << 16)
+        .map(|chunk| {
+            chunk
+                .iter()
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
+                    (lo.min(v), hi.max(v))
+                })
+        })
+        .reduce(
+            || (f32::INFINITY, f32::NEG_INFINITY),
+            |a, b| (a.0.min(b.0), a.1.max(b.1)),
+        )
+}
+
+/// The level asked for, or scikit-image's default (the middle of the range), checked against
+/// the range as scikit-image checks it.
+fn checked_level(samples: &[f32], level: Option<f32>) -> Result<f32, Failure> {
+    let (lo, hi) = sample_range(samples);
+    match level {
+        None => Ok(0.5 * (lo + hi)),
+        Some(level) if level >= lo && level <= hi => Ok(level),
+        Some(level) => Err(Failure::new(
+            Kind::Usage,
+            format!("Surface level {level} must be within volume data range [{lo}, {hi}]."),
+        )),
+    }
+}
+
+/// A voxlod volume (unit spacing, origin 0) holding a copy of the samples.
+pub fn owned_volume(samples: &[f32], dims: [usize; 3]) -> Result<Volume, Failure> {
+    let grid = Grid::unit(dims)?;
+    memory::check_allocation(
+        "a copy of the volume",
+        memory::bytes_of::<f32>(samples.len()),
+    )?;
+    Ok(Volume::from_vec(grid, samples.to_vec())?)
+}
+
+/// Per vertex, the largest corner range of the cells of the triangles that use it: the
+/// ranges per triangle in parallel, then one pass to spread them to the vertices.
+fn corner_ranges(volume: &Volume, surface: &TriangleMesh, cells: &[u32]) -> Vec<f32> {
+    let [nx, ny, _] = volume.grid.dims;
+    let data = volume.as_slice();
+    let corners = [
+        0,
+        1,
+        nx,
+        nx + 1,
+        nx * ny,
+        nx * ny + 1,
+        nx * ny + nx,
+        nx * ny + nx + 1,
+    ];
+    let range_of = |cell: u32| {
+        let c = cell as usize;
+        let (i, j, k) = (
+            c % (nx - 1),
+            (c / (nx - 1)) % (ny - 1),
+            c / ((nx - 1) * (ny - 1)),
+        );
+        let base = i + nx * (j + ny * k);
+        let (lo, hi) = corners
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &o| {
+                (lo.min(data[base + o]), hi.max(data[base + o]))
+            });
+        hi - lo
+    };
+    let ranges: Vec<f32> = cells.par_iter().map(|&c| range_of(c)).collect();
+    let mut values = vec![0.0f32; surface.positions.len()];
+    for (triangle, range) in surface.triangles.iter().zip(ranges) {
+        for &v in triangle {
+            values[v as usize] = values[v as usize].max(range);
+        }
+    }
+    values
+}
+
+/// The surface with scikit-image's conventions, computed without the GIL.
+fn extract(
+    samples: &[f32],
+    dims: [usize; 3],
+    level: Option<f32>,
+    mask: Option<&[bool]>,
+) -> Result<(TriangleMesh, Vec<f32>), Failure> {
+    if let Some([a, b, c]) = first_nan(samples, dims) {
+        return Err(Failure::new(
+            Kind::BadInput,
+            format!("the volume has NaN at index ({a}, {b}, {c}); marching cubes needs numbers"),
+        ));
+    }
+    let level = checked_level(samples, level)?;
+    let volume = owned_volume(samples, dims)?;
+    let surface = marching_cubes_with_cells(&volume, &ContourOptions::at(next_above(level)))?;
+    let CellMesh { mesh, cells } = match mask {
+        None => surface,
+        Some(mask) => {
+            let [nx, ny, _] = dims;
+            let upper_corner = |cell: u32| {
+                let c = cell as usize;
+                let (i, j, k) = (
+                    c % (nx - 1),
+                    (c / (nx - 1)) % (ny - 1),
+                    c / ((nx - 1) * (ny - 1)),
+                );
+                mask[(i + 1) + nx * ((j + 1) + ny * (k + 1))]
+            };
+            let (mesh, cells, _) = retain_cells(surface, upper_corner);
+            CellMesh { mesh, cells }
+        }
+    };
+    let values = corner_ranges(&volume, &mesh, &cells);
+    Ok((mesh, values))
+}
+
+/// `marching_cubes(volume, level, descent, mask)`: see the module documentation; `level`
+/// None is the middle of the data's range. The Python half checks the other arguments,
+/// converts the volume to C-ordered `float32` and applies spacing.
+#[pyfunction]
+#[pyo3(signature = (volume, level, descent, mask=None))]
+pub fn marching_cubes<'py>(
+    py: Python<'py>,
+    volume: PyReadonlyArray3<'py, f32>,
+    level: Option<f32>,
+    descent: bool,
+    mask: Option<PyReadonlyArray3<'py, bool>>,
+) -> PyResult<Surface<'py>> {
+    let (samples, dims) = volume_slice(&volume, "volume")?;
+    if dims.iter().any(|&n| n < 2) {
+        return Err(crate::errors::usage("the volume must be at least 2x2x2"));
+    }
+    let mask_slice = match &mask {
+        Some(m) => {
+            let (slice, mask_dims) = volume_slice(m, "mask")?;
+            if mask_dims != dims {
+                return Err(crate::errors::usage(
+                    "volume and mask must have the same shape",
+                ));
+            }
+            Some(slice)
+        }
+        None => None,
+    };
+    let (mesh, values) = py.detach(|| extract(samples, dims, level, mask_slice))?;
+    let TriangleMesh {
+        positions,
+        normals,
+        triangles,
+    } = mesh;
+    Ok((
+        rows(py, points_zyx(positions)),
+        rows(py, faces_i32(triangles, !descent)),
+        rows(py, points_zyx(normals)),
+        column(py, values),
+    ))
+}

@@ -1,0 +1,231 @@
+//! What the page will draw, checked before it is embedded: the page's script trusts its data,
+//! so a broken `.glb` must be refused here with a clear error, not fail in the browser.
+//!
+//! The file is decoded from `EXT_meshopt_compression` first ([`voxlod_gltf::decompress_glb`]),
+//! then its JSON is validated by the `gltf` crate (every index refers to something), every
+//! accessor the page reads is bounds-checked against its view and the binary chunk, every index
+//! against its primitive's vertices, and the node graph must be a forest (the script walks it).
+//! Cost: linear in the file.
+
+use gltf::json;
+use gltf::json::validation::Checked;
+
+/// Required extensions the page handles (quantized attributes are plain WebGL attributes).
+const READ_EXTENSIONS: &[&str] = &["KHR_mesh_quantization"];
+
+/// A checked file: its plain bytes and what it holds.
+#[derive(Clone, Debug)]
+pub struct CheckedGlb {
+    pub bytes: Vec<u8>,
+    pub triangles: usize,
+    /// `MSFT_lod` levels in the scene's first node (1 when there is no chain).
+    pub levels: usize,
+    /// Whether it holds the eight back-to-front orders of layered shells.
+    pub layered: bool,
+}
+
+/// Checks `bytes` (a `.glb`); the error says what is wrong, without the file's name.
+pub fn check_glb(bytes: &[u8]) -> Result<CheckedGlb, String> {
+    let plain = voxlod_gltf::decompress_glb(bytes).map_err(|e| e.to_string())?;
+    let glb = gltf::binary::Glb::from_slice(&plain).map_err(|e| format!("not a GLB file: {e}"))?;
+    let mut root: json::Root =
+        json::deserialize::from_slice(&glb.json).map_err(|e| format!("bad JSON chunk: {e}"))?;
+    if let Some(ext) = root
+        .extensions_required
+        .iter()
+        .find(|e| !READ_EXTENSIONS.contains(&e.as_str()))
+    {
+        return Err(format!(
+            "it requires the extension {ext}, which the viewer does not read"
+        ));
+    }
+    root.extensions_required.clear();
+    check_position_references(&root)?;
+    let document = gltf::Document::from_json(root).map_err(|e| format!("invalid glTF: {e}"))?;
+    let root = document.into_json();
+    let bin: &[u8] = glb.bin.as_deref().unwrap_or(&[]);
+    for (i, view) in root.buffer_views.iter().enumerate() {
+        let start = view.byte_offset.map_or(0, |o| o.0) as usize;
+        let end = start.checked_add(view.byte_length.0 as usize);
+        if view.buffer.value() != 0 || end.is_none_or(|e| e > bin.len()) {
+            return Err(format!(
+                "buffer view {i} is not inside the file's binary chunk"
+            ));
+        }
+    }
+    for i in 0..root.accessors.len() {
+        accessor_bytes(&root, i)?;
+    }
+    let mut triangles = 0;
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            triangles += check_primitive(&root, bin, prim)
+                .map_err(|e| format!("mesh {m} primitive {p}: {e}"))?;
+        }
+    }
+    check_forest(&root)?;
+    if triangles == 0 && root.meshes.is_empty() {
+        return Err("it holds no mesh to draw".into());
+    }
+    let layered = root
+        .accessors
+        .iter()
+        .filter(|a| {
+            a.name
+                .as_deref()
+                .is_some_and(|n| n.starts_with("order") && n.len() == 11)
+        })
+        .count()
+        == 8;
+    let levels = lod_levels(&glb.json)?;
+    Ok(CheckedGlb {
+        bytes: plain,
+        triangles,
+        levels,
+        layered,
+    })
+}
+
+/// gltf-json 1.4's validation indexes the accessors of POSITION attributes without a bounds
+/// check (a panic on a file whose position accessor is missing), so they are checked first.
+fn check_position_references(root: &json::Root) -> Result<(), String> {
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let semantic = Checked::Valid(json::mesh::Semantic::Positions);
+            if let Some(a) = prim.attributes.get(&semantic) {
+                if a.value() >= root.accessors.len() {
+                    return Err(format!(
+                        "mesh {m} primitive {p}: positions accessor {} does not exist",
+                        a.value()
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// (offset in the binary chunk, element stride, element size, count) of accessor `i`.
+fn accessor_bytes(root: &json::Root, i: usize) -> Result<(usize, usize, usize, usize), String> {
+    let a = &root.accessors[i];
+    let bad = |m: &str| format!("accessor {i}: {m}");
+    let view_index = a
+        .buffer_view
+        .ok_or_else(|| bad("has no buffer view (sparse data is not read)"))?;
+    let view = &root.buffer_views[view_index.value()];
+    let Checked::Valid(ct) = a.component_type else {
+        return Err(bad("invalid component type"));
+    };
+    let Checked::Valid(kind) = a.type_ else {
+        return Err(bad("invalid type"));
+    };
+    let size = ct.0.size() * kind.multiplicity();
+    let stride = view.byte_stride.map_or(size, |s| s.0);
+    let count = a.count.0 as usize;
+    let offset = a.byte_offset.map_or(0, |o| o.0) as usize;
+    let needed = match count {
+        0 => Some(0),
+        n => (n - 1)
+            .checked_mul(stride)
+            .and_then(|x| x.checked_add(offset + size)),
+    };
+    if stride < size || needed.is_none_or(|n| n > view.byte_length.0 as usize) {
+        return Err(bad("reaches beyond its buffer view"));
+    }
+    let start = view.byte_offset.map_or(0, |o| o.0) as usize + offset;
+    Ok((start, stride, size, count))
+}
+
+/// The primitive's triangles, after checking its indices against its vertices.
+fn check_primitive(
+    root: &json::Root,
+    bin: &[u8],
+    prim: &json::mesh::Primitive,
+) -> Result<usize, String> {
+    let Some(pos) = prim
+        .attributes
+        .get(&Checked::Valid(json::mesh::Semantic::Positions))
+    else {
+        return Ok(0);
+    };
+    let vertices = root.accessors[pos.value()].count.0 as usize;
+    for (semantic, a) in &prim.attributes {
+        if root.accessors[a.value()].count.0 as usize != vertices {
+            return Err(format!(
+                "attribute {semantic:?} has another count than the positions"
+            ));
+        }
+    }
+    let mode = match prim.mode {
+        Checked::Valid(m) => m,
+        Checked::Invalid => return Err("invalid mode".into()),
+    };
+    let count = match prim.indices {
+        Some(i) => {
+            let (start, stride, size, count) = accessor_bytes(root, i.value())?;
+            for e in 0..count {
+                let b = &bin[start + e * stride..start + e * stride + size];
+                let v = match size {
+                    1 => b[0] as usize,
+                    2 => u16::from_le_bytes([b[0], b[1]]) as usize,
+                    4 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize,
+                    _ => return Err("indices must be unsigned integers".into()),
+                };
+                if v >= vertices {
+                    return Err(format!("index {v} beyond its {vertices} vertices"));
+                }
+            }
+            count
+        }
+        None => vertices,
+    };
+    Ok(if mode == json::mesh::Mode::Triangles {
+        count / 3
+    } else {
+        0
+    })
+}
+
+/// Every node has at most one parent and no node is its own ancestor.
+fn check_forest(root: &json::Root) -> Result<(), String> {
+    let mut parent = vec![None; root.nodes.len()];
+    for (i, n) in root.nodes.iter().enumerate() {
+        for c in n.children.iter().flatten() {
+            if parent[c.value()].replace(i).is_some() {
+                return Err(format!("node {} has two parents", c.value()));
+            }
+        }
+    }
+    for start in 0..root.nodes.len() {
+        let (mut at, mut steps) = (start, 0);
+        while let Some(p) = parent[at] {
+            at = p;
+            steps += 1;
+            if steps > root.nodes.len() {
+                return Err(format!("node {start} is its own ancestor"));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Levels of the `MSFT_lod` chain on the scene's first node (1 without one); every id must be
+/// a node.
+fn lod_levels(json_chunk: &[u8]) -> Result<usize, String> {
+    let doc: serde_json::Value =
+        serde_json::from_slice(json_chunk).map_err(|e| format!("bad JSON chunk: {e}"))?;
+    let scene = doc["scene"].as_u64().unwrap_or(0) as usize;
+    let Some(first) = doc["scenes"][scene]["nodes"][0].as_u64() else {
+        return Ok(1);
+    };
+    let nodes = doc["nodes"].as_array().map_or(0, Vec::len) as u64;
+    let Some(ids) = doc["nodes"][first as usize]["extensions"]["MSFT_lod"]["ids"].as_array() else {
+        return Ok(1);
+    };
+    if let Some(bad) = ids.iter().find(|i| i.as_u64().is_none_or(|i| i >= nodes)) {
+        return Err(format!(
+            "MSFT_lod refers to node {bad}, which does not exist"
+        ));
+    }
+    Ok(1 + ids.len())
+}

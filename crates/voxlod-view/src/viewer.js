@@ -1,0 +1,523 @@
+// voxlod view: a small WebGL2 renderer for voxlod's .glb files (crates/voxlod-view/src/lib.rs
+// says why it is ours rather than three.js). It draws one model at a time:
+//  - an MSFT_lod chain, choosing the level by screen coverage (the MSFT_screencoverage entries,
+//    scaled from the file's viewport height to the canvas's: voxlod select's pixel-size rule);
+//  - layered shells (accessors order±x±y±z), blended back to front with the order of the view
+//    direction's octant, and only while the filter radius on screen is at most 0.45 px
+//    (BENCHMARKS.md); closer, the single surface (the layer nearest isodensity 0.5), opaque;
+//  - any other glTF: triangles shaded, lines as thick screen-space quads, points as squares.
+// The camera is set by the URL hash (#camera=DISTANCE,DX,DY,DZ&model=I, DX.. pointing from the
+// object's centre to the eye) or window.voxlodView.setCamera(distance, [dx, dy, dz]).
+// The state drawn is in document.title and in a colour patch at the top left (level or octant).
+"use strict";
+(function () {
+  const FOV = Math.PI / 4;
+  const EDGE_PX = 3.0;
+  const POINT_PX = 7.0;
+  const RADIUS_LIMIT_PX = 0.45;
+  const PALETTE = [
+    [230, 25, 75], [60, 180, 75], [0, 130, 200], [245, 130, 48],
+    [145, 30, 180], [70, 240, 240], [240, 50, 230], [210, 245, 60],
+  ];
+  const COMPONENTS = {
+    5120: [Int8Array, 1], 5121: [Uint8Array, 1], 5122: [Int16Array, 2],
+    5123: [Uint16Array, 2], 5125: [Uint32Array, 4], 5126: [Float32Array, 4],
+  };
+  const SIZES = { SCALAR: 1, VEC2: 2, VEC3: 3, VEC4: 4 };
+
+  function fromBase64(text) {
+    const raw = atob(text);
+    const out = new Uint8Array(raw.length);
+    for (let i = 0; i < raw.length; i++) out[i] = raw.charCodeAt(i);
+    return out.buffer;
+  }
+
+  function parseGlb(buffer) {
+    const dv = new DataView(buffer);
+    if (buffer.byteLength < 12 || dv.getUint32(0, true) !== 0x46546c67) throw new Error("not a GLB file");
+    let at = 12, json = null, bin = new Uint8Array(0);
+    while (at + 8 <= buffer.byteLength) {
+      const len = dv.getUint32(at, true), type = dv.getUint32(at + 4, true);
+      if (type === 0x4e4f534a) json = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, at + 8, len)));
+      else if (type === 0x004e4942) bin = new Uint8Array(buffer, at + 8, len);
+      at += 8 + len;
+    }
+    if (!json) throw new Error("no JSON chunk");
+    return { json, bin };
+  }
+
+  // The accessor's elements, tightly packed, with what WebGL needs to read them.
+  function accessor(g, index) {
+    const a = g.json.accessors[index], v = g.json.bufferViews[a.bufferView];
+    const [Type, bytes] = COMPONENTS[a.componentType];
+    const n = SIZES[a.type], size = n * bytes, stride = v.byteStride || size;
+    const base = (v.byteOffset || 0) + (a.byteOffset || 0);
+    const out = new Uint8Array(a.count * size);
+    for (let e = 0; e < a.count; e++) out.set(g.bin.subarray(base + e * stride, base + e * stride + size), e * size);
+    return { data: new Type(out.buffer), n, type: a.componentType, normalized: !!a.normalized, count: a.count, name: a.name || "" };
+  }
+
+  // Column-major 4×4 matrices.
+  function multiply(a, b) {
+    const o = new Float32Array(16);
+    for (let c = 0; c < 4; c++) for (let r = 0; r < 4; r++) {
+      let s = 0;
+      for (let k = 0; k < 4; k++) s += a[k * 4 + r] * b[c * 4 + k];
+      o[c * 4 + r] = s;
+    }
+    return o;
+  }
+  function nodeMatrix(node) {
+    if (node.matrix) return new Float32Array(node.matrix);
+    const [x, y, z, w] = node.rotation || [0, 0, 0, 1];
+    const [sx, sy, sz] = node.scale || [1, 1, 1];
+    const t = node.translation || [0, 0, 0];
+    return new Float32Array([
+      (1 - 2 * (y * y + z * z)) * sx, 2 * (x * y + z * w) * sx, 2 * (x * z - y * w) * sx, 0,
+      2 * (x * y - z * w) * sy, (1 - 2 * (x * x + z * z)) * sy, 2 * (y * z + x * w) * sy, 0,
+      2 * (x * z + y * w) * sz, 2 * (y * z - x * w) * sz, (1 - 2 * (x * x + y * y)) * sz, 0,
+      t[0], t[1], t[2], 1,
+    ]);
+  }
+  function transformPoint(m, p) {
+    return [0, 1, 2].map((r) => m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r]);
+  }
+  function perspective(fov, aspect, near, far) {
+    const f = 1 / Math.tan(fov / 2), nf = 1 / (near - far);
+    return new Float32Array([f / aspect, 0, 0, 0, 0, f, 0, 0, 0, 0, (far + near) * nf, -1, 0, 0, 2 * far * near * nf, 0]);
+  }
+  function lookAt(eye, target, up) {
+    const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    const unit = (a) => { const l = Math.hypot(a[0], a[1], a[2]) || 1; return a.map((x) => x / l); };
+    const z = unit(sub(eye, target));
+    let x = cross(up, z);
+    if (Math.hypot(x[0], x[1], x[2]) < 1e-6) x = cross([1, 0, 0], z);
+    x = unit(x);
+    const y = cross(z, x);
+    const d = (a) => -(a[0] * eye[0] + a[1] * eye[1] + a[2] * eye[2]);
+    return new Float32Array([x[0], y[0], z[0], 0, x[1], y[1], z[1], 0, x[2], y[2], z[2], 0, d(x), d(y), d(z), 1]);
+  }
+
+  const SHADED_VS = `#version 300 es
+    layout(location=0) in vec3 position; layout(location=1) in vec3 normal; layout(location=2) in vec4 vcolor;
+    uniform mat4 model, viewProj; uniform float pointSize;
+    out vec3 vNormal; out vec3 vWorld; out vec4 vColor;
+    void main() {
+      vec4 w = model * vec4(position, 1.0);
+      vWorld = w.xyz; vNormal = mat3(model) * normal; vColor = vcolor;
+      gl_Position = viewProj * w; gl_PointSize = pointSize;
+    }`;
+  const SHADED_FS = `#version 300 es
+    precision highp float;
+    in vec3 vNormal; in vec3 vWorld; in vec4 vColor;
+    uniform vec4 color; uniform vec3 eye; uniform bool lit; uniform bool vertexColor;
+    out vec4 outColor;
+    void main() {
+      float shade = 1.0;
+      if (lit) {
+        vec3 n = normalize(vNormal), v = normalize(eye - vWorld);
+        shade = 0.3 + 0.7 * abs(dot(n, v));
+      }
+      vec4 c = vertexColor ? vColor : color;
+      outColor = vec4(c.rgb * shade, c.a);
+    }`;
+  // Thick edges: every segment an instanced quad offset across the line on screen.
+  const EDGE_VS = `#version 300 es
+    layout(location=0) in vec3 a; layout(location=1) in vec3 b; layout(location=2) in vec2 corner;
+    uniform mat4 model, viewProj; uniform vec2 viewport; uniform float width;
+    void main() {
+      vec4 pa = viewProj * model * vec4(a, 1.0), pb = viewProj * model * vec4(b, 1.0);
+      vec2 sa = pa.xy / pa.w * viewport, sb = pb.xy / pb.w * viewport;
+      vec2 dir = normalize(sb - sa + vec2(1e-6, 0.0));
+      vec2 off = vec2(-dir.y, dir.x) * width * corner.y;
+      vec4 p = corner.x < 0.5 ? pa : pb;
+      gl_Position = vec4(p.xy + off / viewport * p.w, p.zw);
+    }`;
+  const EDGE_FS = `#version 300 es
+    precision highp float; uniform vec4 color; out vec4 outColor;
+    void main() { outColor = color; }`;
+
+  function program(gl, vs, fs) {
+    const p = gl.createProgram();
+    for (const [type, src] of [[gl.VERTEX_SHADER, vs], [gl.FRAGMENT_SHADER, fs]]) {
+      const s = gl.createShader(type);
+      gl.shaderSource(s, src);
+      gl.compileShader(s);
+      if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(s));
+      gl.attachShader(p, s);
+    }
+    gl.linkProgram(p);
+    if (!gl.getProgramParameter(p, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(p));
+    const uniforms = {};
+    for (let i = 0; i < gl.getProgramParameter(p, gl.ACTIVE_UNIFORMS); i++) {
+      const name = gl.getActiveUniform(p, i).name;
+      uniforms[name] = gl.getUniformLocation(p, name);
+    }
+    return { p, u: uniforms };
+  }
+
+  function arrayBuffer(gl, target, data) {
+    const b = gl.createBuffer();
+    gl.bindBuffer(target, b);
+    gl.bufferData(target, data, gl.STATIC_DRAW);
+    return b;
+  }
+
+  function attribute(gl, loc, acc) {
+    arrayBuffer(gl, gl.ARRAY_BUFFER, acc.data);
+    gl.enableVertexAttribArray(loc);
+    gl.vertexAttribPointer(loc, acc.n, acc.type, acc.normalized, 0, 0);
+  }
+
+  function indexData(acc) {
+    return acc.type === 5121 ? new Uint16Array(acc.data) : acc.data;
+  }
+
+  // A GPU draw of one primitive: triangles or points with the shaded program, lines as quads.
+  function uploadPrimitive(gl, g, prim, model) {
+    const mode = prim.mode === undefined ? 4 : prim.mode;
+    const pos = accessor(g, prim.attributes.POSITION);
+    const nor = prim.attributes.NORMAL !== undefined ? accessor(g, prim.attributes.NORMAL) : null;
+    const idx = prim.indices !== undefined ? indexData(accessor(g, prim.indices)) : null;
+    const mat = g.json.materials && prim.material !== undefined ? g.json.materials[prim.material] : {};
+    const pbr = mat.pbrMetallicRoughness || {};
+    const color = pbr.baseColorFactor || (mode === 4 ? [0.75, 0.76, 0.8, 1] : [0.1, 0.1, 0.12, 1]);
+    const vao = gl.createVertexArray();
+    gl.bindVertexArray(vao);
+    let draw;
+    if (mode === 1 || mode === 3 || mode === 2) {
+      draw = edgeDraw(gl, pos, idx, mode);
+    } else {
+      attribute(gl, 0, pos);
+      if (nor) attribute(gl, 1, nor);
+      else gl.vertexAttrib3f(1, 0, 0, 1);
+      gl.vertexAttrib4f(2, 1, 1, 1, 1);
+      let count = pos.count, type = null;
+      if (idx) {
+        arrayBuffer(gl, gl.ELEMENT_ARRAY_BUFFER, idx);
+        count = idx.length;
+        type = idx instanceof Uint32Array ? gl.UNSIGNED_INT : gl.UNSIGNED_SHORT;
+      }
+      draw = { kind: "shaded", mode, count, type, lit: !!nor && mode >= 4 };
+    }
+    gl.bindVertexArray(null);
+    const triangles = mode === 4 ? (idx ? idx.length : pos.count) / 3 : 0;
+    return Object.assign(draw, { vao, model, color, blend: mat.alphaMode === "BLEND", triangles });
+  }
+
+  // Segments as instances: endpoints per instance, a unit quad's corners per vertex.
+  function edgeDraw(gl, pos, idx, mode) {
+    const order = idx || Array.from({ length: pos.count }, (_, i) => i);
+    const pairs = [];
+    const step = mode === 1 ? 2 : 1;
+    const last = mode === 2 ? order.length : order.length - 1;
+    for (let i = 0; i + (mode === 1 ? 1 : 0) < last; i += step) pairs.push(order[i], order[(i + 1) % order.length]);
+    const a = new Float32Array(pairs.length / 2 * 3), b = new Float32Array(pairs.length / 2 * 3);
+    const scale = pos.normalized ? { 5120: 127, 5121: 255, 5122: 32767, 5123: 65535 }[pos.type] || 1 : 1;
+    for (let s = 0; s < pairs.length / 2; s++) for (let c = 0; c < 3; c++) {
+      a[s * 3 + c] = pos.data[pairs[2 * s] * 3 + c] / scale;
+      b[s * 3 + c] = pos.data[pairs[2 * s + 1] * 3 + c] / scale;
+    }
+    for (const [loc, data] of [[0, a], [1, b]]) {
+      arrayBuffer(gl, gl.ARRAY_BUFFER, data);
+      gl.enableVertexAttribArray(loc);
+      gl.vertexAttribPointer(loc, 3, gl.FLOAT, false, 0, 0);
+      gl.vertexAttribDivisor(loc, 1);
+    }
+    arrayBuffer(gl, gl.ARRAY_BUFFER, new Float32Array([0, -1, 1, -1, 1, 1, 0, -1, 1, 1, 0, 1]));
+    gl.enableVertexAttribArray(2);
+    gl.vertexAttribPointer(2, 2, gl.FLOAT, false, 0, 0);
+    return { kind: "edges", count: pairs.length / 2 };
+  }
+
+  function drawsOfNode(gl, g, index, parent, out) {
+    const node = g.json.nodes[index];
+    const m = multiply(parent, nodeMatrix(node));
+    if (node.mesh !== undefined) {
+      for (const prim of g.json.meshes[node.mesh].primitives) {
+        if (prim.attributes.POSITION !== undefined) out.push(uploadPrimitive(gl, g, prim, m));
+      }
+    }
+    for (const c of node.children || []) drawsOfNode(gl, g, c, m, out);
+    return out;
+  }
+
+  const IDENTITY = new Float32Array([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]);
+
+  // The box of every position accessor under the scene's nodes, in world units.
+  function sceneBounds(g, roots) {
+    const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+    const visit = (index, parent) => {
+      const node = g.json.nodes[index], m = multiply(parent, nodeMatrix(node));
+      if (node.mesh !== undefined) for (const prim of g.json.meshes[node.mesh].primitives) {
+        const a = g.json.accessors[prim.attributes.POSITION];
+        if (!a || !a.min || !a.max) continue;
+        for (let c = 0; c < 8; c++) {
+          const p = transformPoint(m, [0, 1, 2].map((k) => ((c >> k) & 1 ? a.max[k] : a.min[k])));
+          for (let k = 0; k < 3; k++) { lo[k] = Math.min(lo[k], p[k]); hi[k] = Math.max(hi[k], p[k]); }
+        }
+      }
+      for (const ch of node.children || []) visit(ch, m);
+    };
+    for (const r of roots) visit(r, IDENTITY);
+    return { lo, hi };
+  }
+
+  function octantName(d) {
+    return "order" + (d[0] < 0 ? "-" : "+") + "x" + (d[1] < 0 ? "-" : "+") + "y" + (d[2] < 0 ? "-" : "+") + "z";
+  }
+
+  // Layered shells: every layer's vertices concatenated (as the orders index them), a per-vertex
+  // alpha from its layer's material, the eight orders as index buffers.
+  function layeredModel(gl, g, orderAccessors) {
+    const positions = [], normals = [], alphas = [], layers = [];
+    let first = 0;
+    for (const mesh of g.json.meshes) for (const prim of mesh.primitives) {
+      if ((prim.mode === undefined ? 4 : prim.mode) !== 4) continue;
+      const pos = accessor(g, prim.attributes.POSITION);
+      if (pos.type !== 5126) throw new Error("layered shells must have float positions");
+      const mat = (g.json.materials || [])[prim.material] || {};
+      const rgba = (mat.pbrMetallicRoughness || {}).baseColorFactor || [1, 1, 1, 1];
+      positions.push(pos.data);
+      const nor = prim.attributes.NORMAL !== undefined ? accessor(g, prim.attributes.NORMAL) : null;
+      normals.push(nor && nor.type === 5126 ? nor.data : new Float32Array(pos.count * 3));
+      const colors = new Float32Array(pos.count * 4);
+      for (let v = 0; v < pos.count; v++) colors.set(rgba, v * 4);
+      alphas.push(colors);
+      const iso = (mesh.extras || {}).isodensity;
+      const indices = prim.indices !== undefined ? indexData(accessor(g, prim.indices)) : Uint32Array.from({ length: pos.count }, (_, i) => i);
+      layers.push({ first, count: pos.count, rgba, iso, indices });
+      first += pos.count;
+    }
+    const join = (parts, T) => { const out = new T(parts.reduce((s, p) => s + p.length, 0)); let at = 0; for (const p of parts) { out.set(p, at); at += p.length; } return out; };
+    const vao = gl.createVertexArray();
+    gl.bindVertexArray(vao);
+    for (const [loc, data, n] of [[0, join(positions, Float32Array), 3], [1, join(normals, Float32Array), 3], [2, join(alphas, Float32Array), 4]]) {
+      arrayBuffer(gl, gl.ARRAY_BUFFER, data);
+      gl.enableVertexAttribArray(loc);
+      gl.vertexAttribPointer(loc, n, gl.FLOAT, false, 0, 0);
+    }
+    gl.bindVertexArray(null);
+    const orders = {};
+    for (const i of orderAccessors) {
+      const acc = accessor(g, i), data = indexData(acc);
+      const type = data instanceof Uint32Array ? gl.UNSIGNED_INT : gl.UNSIGNED_SHORT;
+      orders[acc.name] = { buffer: arrayBuffer(gl, gl.ELEMENT_ARRAY_BUFFER, data), count: acc.count, type };
+    }
+    // The single surface: the layer nearest isodensity 0.5, with its own indices shifted.
+    const single = layers.reduce((best, l) => (Math.abs((l.iso ?? 0.5) - 0.5) < Math.abs((best.iso ?? 0.5) - 0.5) ? l : best), layers[0]);
+    const shifted = new Uint32Array(single.indices.length);
+    for (let i = 0; i < shifted.length; i++) shifted[i] = single.indices[i] + single.first;
+    const grid = ((g.json.scenes[g.json.scene || 0].extras || {}).voxlod || {}).grid;
+    const sceneExtras = (g.json.scenes[g.json.scene || 0].extras || {}).voxlod || {};
+    const radius = sceneExtras.radius || (grid ? Math.max(...grid.spacing) : 0);
+    return {
+      vao, orders, color: layers[0].rgba, radius,
+      single: { buffer: arrayBuffer(gl, gl.ELEMENT_ARRAY_BUFFER, shifted), count: shifted.length, rgba: single.rgba },
+      triangles: layers.reduce((s, l) => s + l.indices.length / 3, 0),
+    };
+  }
+
+  function loadModel(gl, entry) {
+    const g = parseGlb(fromBase64(entry.glb));
+    const sceneIndex = g.json.scene || 0;
+    const scene = (g.json.scenes || [])[sceneIndex] || { nodes: (g.json.nodes || []).map((_, i) => i) };
+    const extras = (scene.extras || {}).voxlod || {};
+    const orderAccessors = (g.json.accessors || []).map((a, i) => [a.name || "", i]).filter(([n]) => /^order[+-]x[+-]y[+-]z$/.test(n)).map(([, i]) => i);
+    const { lo, hi } = sceneBounds(g, scene.nodes);
+    const centre = [0, 1, 2].map((k) => (lo[k] + hi[k]) / 2);
+    const diameter = Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1;
+    const model = { name: entry.name, centre, diameter, kind: "mesh" };
+    if (orderAccessors.length === 8) {
+      return Object.assign(model, { kind: "layered", layered: layeredModel(gl, g, orderAccessors) });
+    }
+    const root = g.json.nodes && g.json.nodes[scene.nodes[0]];
+    const lod = root && root.extensions && root.extensions.MSFT_lod;
+    if (lod) {
+      const ids = [scene.nodes[0]].concat(lod.ids);
+      model.kind = "lod";
+      model.levels = ids.map((id) => drawsOfNode(gl, g, id, IDENTITY, []));
+      model.levelNames = ids.map((id) => g.json.nodes[id].name || "node " + id);
+      model.coverage = (root.extras || {}).MSFT_screencoverage || ids.map((_, i) => (i === ids.length - 1 ? 0 : 1 / (i + 2)));
+      const sc = extras.screen_coverage || {};
+      model.viewportHeight = sc.viewport_height || 1080;
+      if (sc.diameter) model.diameter = sc.diameter;
+      return model;
+    }
+    model.draws = scene.nodes.flatMap((n) => drawsOfNode(gl, g, n, IDENTITY, []));
+    return model;
+  }
+
+  function start() {
+    const canvas = document.getElementById("view");
+    const gl = canvas.getContext("webgl2", { antialias: true, preserveDrawingBuffer: true });
+    const overlay = document.getElementById("overlay");
+    if (!gl) { overlay.textContent = "WebGL2 is not available"; document.title = "voxlod: no webgl2"; return; }
+    const shaded = program(gl, SHADED_VS, SHADED_FS), edges = program(gl, EDGE_VS, EDGE_FS);
+    const entries = JSON.parse(document.getElementById("voxlod-data").textContent);
+    const models = entries.map((e) => loadModel(gl, e));
+    const state = { model: 0, distance: 0, dir: [0.4, 0.3, 1.0] };
+    const resetDistance = () => { state.distance = 2.0 * models[state.model].diameter; };
+    resetDistance();
+
+    function readHash() {
+      const params = new URLSearchParams(location.hash.slice(1));
+      if (params.has("model")) state.model = Math.min(models.length - 1, Math.max(0, parseInt(params.get("model"), 10) || 0));
+      const cam = params.get("camera");
+      if (cam) {
+        const v = cam.split(",").map(Number);
+        if (v.length === 4 && v.every(Number.isFinite) && v[0] > 0) { state.distance = v[0]; state.dir = v.slice(1); }
+      }
+    }
+
+    function chooseLevel(m, distance, height) {
+      const coverage = m.diameter / (2 * distance * Math.tan(FOV / 2)) * height / m.viewportHeight;
+      for (let k = 0; k < m.coverage.length; k++) if (coverage > m.coverage[k]) return Math.min(k, m.levels.length - 1);
+      return m.levels.length - 1;
+    }
+
+    function drawShaded(d, viewProj, eye, override) {
+      gl.useProgram(shaded.p);
+      gl.uniformMatrix4fv(shaded.u.model, false, d.model);
+      gl.uniformMatrix4fv(shaded.u.viewProj, false, viewProj);
+      gl.uniform3fv(shaded.u.eye, eye);
+      gl.uniform4fv(shaded.u.color, override || d.color);
+      gl.uniform1i(shaded.u.lit, d.lit ? 1 : 0);
+      gl.uniform1i(shaded.u.vertexColor, 0);
+      gl.uniform1f(shaded.u.pointSize, POINT_PX);
+      gl.bindVertexArray(d.vao);
+      if (d.type) gl.drawElements(d.mode, d.count, d.type, 0);
+      else gl.drawArrays(d.mode, 0, d.count);
+    }
+
+    function drawEdges(d, viewProj) {
+      gl.useProgram(edges.p);
+      gl.uniformMatrix4fv(edges.u.model, false, d.model);
+      gl.uniformMatrix4fv(edges.u.viewProj, false, viewProj);
+      gl.uniform2f(edges.u.viewport, gl.drawingBufferWidth / 2, gl.drawingBufferHeight / 2);
+      gl.uniform1f(edges.u.width, EDGE_PX / 2);
+      gl.uniform4fv(edges.u.color, d.color);
+      gl.bindVertexArray(d.vao);
+      gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, d.count);
+    }
+
+    function drawDraws(draws, viewProj, eye) {
+      gl.enable(gl.DEPTH_TEST);
+      for (const d of draws) (d.kind === "edges" ? drawEdges : drawShaded)(d, viewProj, eye);
+      return draws.reduce((s, d) => s + d.triangles, 0);
+    }
+
+    function drawLayered(m, viewProj, eye, view) {
+      const L = m.layered;
+      const pixel = 2 * view.distance * Math.tan(FOV / 2) / gl.drawingBufferHeight;
+      const radiusPx = L.radius / pixel;
+      gl.useProgram(shaded.p);
+      gl.uniformMatrix4fv(shaded.u.model, false, IDENTITY);
+      gl.uniformMatrix4fv(shaded.u.viewProj, false, viewProj);
+      gl.uniform3fv(shaded.u.eye, eye);
+      gl.uniform1i(shaded.u.lit, 1);
+      gl.bindVertexArray(L.vao);
+      if (L.radius > 0 && radiusPx > RADIUS_LIMIT_PX) {
+        gl.enable(gl.DEPTH_TEST);
+        gl.uniform4fv(shaded.u.color, [L.single.rgba[0], L.single.rgba[1], L.single.rgba[2], 1]);
+        gl.uniform1i(shaded.u.vertexColor, 0);
+        gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, L.single.buffer);
+        gl.drawElements(gl.TRIANGLES, L.single.count, gl.UNSIGNED_INT, 0);
+        return { triangles: L.single.count / 3, order: "single surface", radiusPx, patch: 8 };
+      }
+      const name = octantName(view.sight);
+      const order = L.orders[name];
+      gl.disable(gl.DEPTH_TEST);
+      gl.enable(gl.BLEND);
+      gl.blendFuncSeparate(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA, gl.ONE, gl.ONE_MINUS_SRC_ALPHA);
+      gl.uniform4fv(shaded.u.color, L.color);
+      gl.uniform1i(shaded.u.vertexColor, 1);
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, order.buffer);
+      gl.drawElements(gl.TRIANGLES, order.count, order.type, 0);
+      gl.disable(gl.BLEND);
+      const octant = (view.sight[0] < 0) << 2 | (view.sight[1] < 0) << 1 | (view.sight[2] < 0);
+      return { triangles: order.count / 3, order: name, radiusPx, patch: octant };
+    }
+
+    function patch(colour) {
+      gl.enable(gl.SCISSOR_TEST);
+      gl.scissor(0, gl.drawingBufferHeight - 24, 24, 24);
+      gl.clearColor(colour[0] / 255, colour[1] / 255, colour[2] / 255, 1);
+      gl.clear(gl.COLOR_BUFFER_BIT);
+      gl.disable(gl.SCISSOR_TEST);
+    }
+
+    function render() {
+      const m = models[state.model];
+      const width = canvas.clientWidth, height = canvas.clientHeight;
+      if (canvas.width !== width || canvas.height !== height) { canvas.width = width; canvas.height = height; }
+      gl.viewport(0, 0, gl.drawingBufferWidth, gl.drawingBufferHeight);
+      gl.clearColor(1, 1, 1, 1);
+      gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+      const len = Math.hypot(...state.dir) || 1;
+      const dir = state.dir.map((x) => x / len);
+      const eye = [0, 1, 2].map((k) => m.centre[k] + dir[k] * state.distance);
+      const near = Math.max(state.distance - m.diameter, state.distance * 1e-3, 1e-6);
+      const far = state.distance + m.diameter;
+      const up = Math.abs(dir[1]) > 0.99 ? [0, 0, 1] : [0, 1, 0];
+      const viewProj = multiply(perspective(FOV, gl.drawingBufferWidth / gl.drawingBufferHeight, near, far), lookAt(eye, m.centre, up));
+      const view = { distance: state.distance, sight: dir.map((x) => -x) };
+      let text, title;
+      if (m.kind === "lod") {
+        const level = chooseLevel(m, state.distance, gl.drawingBufferHeight);
+        const triangles = drawDraws(m.levels[level], viewProj, eye);
+        patch(PALETTE[level % PALETTE.length]);
+        text = `${m.name}: ${m.levelNames[level]} (${level + 1} of ${m.levels.length}), ${triangles} triangles`;
+        title = `voxlod level=${level} triangles=${triangles}`;
+      } else if (m.kind === "layered") {
+        const r = drawLayered(m, viewProj, eye, view);
+        patch(r.patch < PALETTE.length ? PALETTE[r.patch] : [0, 0, 0]);
+        text = `${m.name}: layered, ${r.order}, ${r.triangles} triangles, filter radius ${r.radiusPx.toFixed(2)} px`;
+        title = `voxlod order=${r.order} triangles=${r.triangles}`;
+      } else {
+        const triangles = drawDraws(m.draws, viewProj, eye);
+        text = `${m.name}: ${triangles} triangles`;
+        title = `voxlod triangles=${triangles}`;
+      }
+      overlay.textContent = `${text} · distance ${state.distance.toPrecision(4)}`;
+      document.title = title;
+    }
+
+    function orbit() {
+      let last = null;
+      canvas.addEventListener("pointerdown", (e) => { last = [e.clientX, e.clientY]; canvas.setPointerCapture(e.pointerId); });
+      canvas.addEventListener("pointerup", () => { last = null; });
+      canvas.addEventListener("pointermove", (e) => {
+        if (!last) return;
+        const [dx, dy] = [e.clientX - last[0], e.clientY - last[1]];
+        last = [e.clientX, e.clientY];
+        const [x, y, z] = state.dir, r = Math.hypot(x, y, z) || 1;
+        let az = Math.atan2(x, z) - dx * 0.01, el = Math.asin(Math.max(-1, Math.min(1, y / r))) + dy * 0.01;
+        el = Math.max(-1.55, Math.min(1.55, el));
+        state.dir = [Math.cos(el) * Math.sin(az), Math.sin(el), Math.cos(el) * Math.cos(az)];
+        requestAnimationFrame(render);
+      });
+      canvas.addEventListener("wheel", (e) => { e.preventDefault(); state.distance *= Math.exp(e.deltaY * 0.001); requestAnimationFrame(render); }, { passive: false });
+      window.addEventListener("keydown", (e) => {
+        const k = parseInt(e.key, 10);
+        if (k >= 1 && k <= models.length) { state.model = k - 1; resetDistance(); requestAnimationFrame(render); }
+      });
+    }
+
+    readHash();
+    window.addEventListener("hashchange", () => { readHash(); render(); });
+    window.addEventListener("resize", render);
+    window.voxlodView = {
+      setCamera(distance, dir) { state.distance = distance; state.dir = dir.slice(); render(); },
+      state: () => ({ model: state.model, distance: state.distance, dir: state.dir.slice(), title: document.title }),
+    };
+    orbit();
+    render();
+  }
+
+  try { start(); } catch (e) {
+    document.getElementById("overlay").textContent = "voxlod view: " + e.message;
+    document.title = "voxlod error: " + e.message;
+  }
+})();

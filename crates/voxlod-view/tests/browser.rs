@@ -1,0 +1,208 @@
+//! The page in a real browser: headless Chromium drawing WebGL2 through SwiftShader, with
+//! screenshots read back. Skips with a printed reason where `/usr/bin/chromium` (Debian's
+//! `chromium`, installed by `.ci/run`) is missing, or `VOXLOD_CHROMIUM` names another binary.
+//!
+//! - an MSFT_lod chain at three distances: the model is drawn (its pixels cover the disc the
+//!   sphere projects to), and the level patch shows the level the pixel-size rule gives there,
+//!   a different one at each distance;
+//! - two layered squares seen from either side of the z = 0 plane: the octant order switches,
+//!   so the nearer square is blended last and its colour dominates; and closer than the 0.45 px
+//!   filter-radius limit the single surface is drawn opaque.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use common::{write_sphere_chain, write_two_layers, SPHERE_CELLS};
+use image::RgbImage;
+use voxlod_gltf::ChainOptions;
+use voxlod_testkit::skips::skip;
+use voxlod_view::{write_page, ViewOptions, PATCH_COLORS};
+
+const SIZE: u32 = 400;
+const FOV: f64 = std::f64::consts::PI / 4.0;
+
+fn chromium() -> Option<PathBuf> {
+    let path = std::env::var_os("VOXLOD_CHROMIUM")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("/usr/bin/chromium"));
+    if path.is_file() {
+        Some(path)
+    } else {
+        skip(format!(
+            "no browser: {} is missing (apt-get install chromium, as .ci/run does)",
+            path.display()
+        ));
+        None
+    }
+}
+
+/// A screenshot of `page` with the camera at `distance` along `dir` (centre to eye).
+fn screenshot(browser: &Path, page: &Path, distance: f64, dir: [f64; 3], png: &Path) -> RgbImage {
+    let profile = tempfile::tempdir().unwrap();
+    let url = format!(
+        "file://{}#camera={distance},{},{},{}",
+        page.display(),
+        dir[0],
+        dir[1],
+        dir[2]
+    );
+    let out = Command::new(browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--use-gl=swiftshader",
+            "--enable-unsafe-swiftshader",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--no-first-run",
+            "--hide-scrollbars",
+            "--virtual-time-budget=5000",
+        ])
+        .arg(format!("--user-data-dir={}", profile.path().display()))
+        .arg(format!("--window-size={SIZE},{SIZE}"))
+        .arg(format!("--screenshot={}", png.display()))
+        .arg(url)
+        .output()
+        .expect("chromium runs");
+    assert!(
+        png.is_file(),
+        "no screenshot: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    image::open(png).unwrap().to_rgb8()
+}
+
+fn patch(img: &RgbImage) -> [u8; 3] {
+    img.get_pixel(8, 8).0
+}
+
+/// Pixels away from white, outside the top strip (patch and overlay).
+fn drawn_pixels(img: &RgbImage) -> usize {
+    img.enumerate_pixels()
+        .filter(|(_, y, p)| *y >= 30 && p.0.iter().any(|&c| c < 235))
+        .count()
+}
+
+/// Where screenshots go: `VOXLOD_VIEW_SHOTS` to keep them, else a temporary folder.
+fn shots() -> (Option<tempfile::TempDir>, PathBuf) {
+    match std::env::var_os("VOXLOD_VIEW_SHOTS") {
+        Some(dir) => {
+            std::fs::create_dir_all(&dir).unwrap();
+            (None, PathBuf::from(dir))
+        }
+        None => {
+            let t = tempfile::tempdir().unwrap();
+            let p = t.path().to_path_buf();
+            (Some(t), p)
+        }
+    }
+}
+
+/// The level the page must show: `voxlod select`'s rule for a 400-pixel viewport.
+fn expected_level(distance: f64) -> usize {
+    let pixel = 2.0 * distance * (FOV / 2.0).tan() / SIZE as f64;
+    SPHERE_CELLS.iter().rposition(|&c| c <= pixel).unwrap_or(0)
+}
+
+#[test]
+fn lod_page_draws_the_model_and_switches_levels_with_distance() {
+    let Some(browser) = chromium() else {
+        return;
+    };
+    let (_keep, dir) = shots();
+    let glb = dir.join("sphere-lod.glb");
+    write_sphere_chain(&glb, &ChainOptions::meshopt());
+    let page = dir.join("sphere-lod.html");
+    write_page(&[glb], &page, &ViewOptions::default()).unwrap();
+    let mut seen = Vec::new();
+    for distance in [3.0, 7.0, 14.0] {
+        let png = dir.join(format!("sphere-lod-{distance}.png"));
+        let img = screenshot(&browser, &page, distance, [0.3, 0.4, 1.0], &png);
+        let level = expected_level(distance);
+        assert_eq!(
+            patch(&img),
+            PATCH_COLORS[level],
+            "distance {distance}: level {level}"
+        );
+        // The unit sphere's silhouette: a disc of radius f·tan(asin(1/d)) pixels.
+        let focal = SIZE as f64 / 2.0 / (FOV / 2.0).tan();
+        let radius = focal * (1.0 / distance).asin().tan();
+        let disc = std::f64::consts::PI * radius * radius;
+        let drawn = drawn_pixels(&img) as f64;
+        assert!(
+            (drawn / disc - 1.0).abs() < 0.12,
+            "distance {distance}: {drawn} pixels drawn, the sphere covers {disc:.0}"
+        );
+        seen.push(level);
+    }
+    assert_eq!(seen, vec![0, 1, 2], "three distances, three levels");
+}
+
+#[test]
+fn layered_page_switches_the_order_across_an_octant_boundary() {
+    let Some(browser) = chromium() else {
+        return;
+    };
+    let (_keep, dir) = shots();
+    let glb = dir.join("two-layers.glb");
+    write_two_layers(&glb, 0.002);
+    let page = dir.join("two-layers.html");
+    write_page(&[glb], &page, &ViewOptions::default()).unwrap();
+    let centre = |img: &RgbImage| img.get_pixel(SIZE / 2, SIZE / 2).0.map(i32::from);
+    // Blue in front (eye at +z): blue last over red; red in front (eye at −z): the reverse.
+    let front_blue = screenshot(
+        &browser,
+        &page,
+        4.0,
+        [0.05, 0.05, 1.0],
+        &dir.join("two-layers-plus-z.png"),
+    );
+    let front_red = screenshot(
+        &browser,
+        &page,
+        4.0,
+        [0.05, 0.05, -1.0],
+        &dir.join("two-layers-minus-z.png"),
+    );
+    // The octant of the sight (eye to centre): (−, −, −) is index 7, (−, −, +) index 6.
+    assert_eq!(patch(&front_blue), PATCH_COLORS[7]);
+    assert_eq!(patch(&front_red), PATCH_COLORS[6]);
+    // 0.6 of the front colour over 0.4 × (0.6 of the back colour over white), shaded by
+    // |n·v| ≈ 1 (0.3 + 0.7·0.9975).
+    let shade = 0.3 + 0.7 * (1.0 / (1.0f64 + 2.0 * 0.0025).sqrt());
+    let expect = |front: [f64; 3], back: [f64; 3]| -> [i32; 3] {
+        std::array::from_fn(|c| {
+            let under = 0.6 * back[c] * shade + 0.4;
+            (255.0 * (0.6 * front[c] * shade + 0.4 * under)).round() as i32
+        })
+    };
+    let (red, blue) = ([1.0, 0.0, 0.0], [0.0, 0.0, 1.0]);
+    for (img, want) in [
+        (&front_blue, expect(blue, red)),
+        (&front_red, expect(red, blue)),
+    ] {
+        let got = centre(img);
+        assert!(
+            got.iter().zip(want).all(|(g, w)| (g - w).abs() <= 6),
+            "centre pixel {got:?}, expected {want:?}"
+        );
+    }
+    // Closer than the radius rule allows (0.002 / pixel > 0.45 px): the single surface, opaque.
+    let near = screenshot(
+        &browser,
+        &page,
+        1.0,
+        [0.05, 0.05, 1.0],
+        &dir.join("two-layers-near.png"),
+    );
+    assert_eq!(patch(&near), [0, 0, 0]);
+    let got = centre(&near);
+    assert!(
+        got[0] > 200 && got[1] < 10 && got[2] < 10,
+        "opaque red, got {got:?}"
+    );
+}

@@ -1,0 +1,653 @@
+//! Levels by triangle budget or by error target: the voxel method first, then a geometric
+//! simplifier, as the paper proposes (He et al. 1995, §5: the voxel method removes the small
+//! features and holes, a geometric method then spends the triangles where the shape needs them).
+//!
+//! For each budget `B` of [`crate::LodOptions::triangles`], on its own:
+//!
+//! 1. **Resolution.** The finest voxel resolution whose marching-cubes level has about
+//!    `4 B` triangles: what the budget cannot afford (handles, thin parts, small pieces below a
+//!    voxel) is filtered away there, and the geometric stage gets room to choose. Found by
+//!    probing: from resolution 32, each try scales the resolution by `√(wanted / got)`
+//!    (marching cubes' count grows as the resolution squared), at most five tries. A level
+//!    that vanished (a sheet thinner than a voxel) sends the search to twice the resolution,
+//!    with a warning.
+//! 2. **Openings.** An open mesh input keeps its openings: the caps that sampling put over its
+//!    holes are cut away from the level ([`crate::caps`]), unless
+//!    [`crate::LodOptions::closed`] asks for watertight levels.
+//! 3. **Geometric stage** ([`Then`]): meshoptimizer's quadric collapse with the topology kept
+//!    (voxlod-quadric), or simplification envelopes (voxlod-envelope, `tight` preset, ε searched
+//!    for the count), or none. [`Then::Auto`] runs both and keeps the one measured closer to the
+//!    input.
+//! 4. **Search.** Within [`crate::LodOptions::time_cap`] seconds per budget, the neighbouring
+//!    resolutions (about `8 B` and `2 B` triangles) are tried too, and the candidate within
+//!    10 % of the budget with the smallest measured two-sided Hausdorff distance to the input
+//!    is kept (without a mesh input, the first within 10 %).
+//!
+//! **Independence.** A budget's level depends on that budget and the options alone, never on
+//! the other budgets of the run: each search starts from nothing, and levels built for one
+//! budget are reused by another only because building them again would give the same level.
+//! The time cap charges a reused level its original building time, so it stops a search at the
+//! same candidate whatever ran before (up to the machine's timing noise).
+//!
+//! **Error target.** With [`crate::LodOptions::error`] and no budgets, one level: the resolution
+//! whose voxel is the error, then the quadric stage within the error; with budgets too, the
+//! error bounds every geometric stage.
+//!
+//! Every level is within 10 % of its budget or its report says why not
+//! ([`BudgetLevel::note`]). Cost: per budget, two to five samplings (the finest dominates,
+//! O(N³)), marching cubes, one to three geometric stages and a distance measurement each.
+
+use std::collections::HashMap;
+use std::fmt;
+use std::str::FromStr;
+use std::sync::Mutex;
+use std::time::Instant;
+
+use serde::Serialize;
+use voxlod_core::{mesh_topology, Topology, TriangleMesh};
+use voxlod_envelope::{simplify_envelope, EnvelopeOptions, Epsilon};
+use voxlod_metrics::{mesh_distance, DistanceOptions, DistanceReport};
+use voxlod_quadric::{simplify_to_budget, QuadricOptions};
+use voxlod_sampling::PyramidOptions;
+
+use crate::caps::{cut_caps, InputBorder};
+use crate::error::{Error, InvalidOption};
+use crate::levels::{Lod, LodOptions};
+use crate::lod::{build_level, plan, LevelOptions, LodLevel, LodSource};
+use crate::progress::{Event, ProgressFn, Tracker};
+use crate::source::Source;
+
+/// A budget's level may miss it by this fraction.
+pub const BUDGET_TOLERANCE: f64 = 0.10;
+/// The marching-cubes level aimed at has this many times the budget's triangles.
+const HEADROOM: f64 = 4.0;
+/// Resolutions searched: at most this fine (memory is checked as well), at least this coarse.
+const FINEST: usize = 512;
+const COARSEST: usize = 4;
+
+/// An error target: a distance in the input's units, or a fraction of its box's diagonal.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "kebab-case", tag = "unit", content = "value")]
+pub enum ErrorTarget {
+    /// A distance.
+    Distance(f64),
+    /// A fraction of the bounding-box diagonal (`0.005` is 0.5 %).
+    Fraction(f64),
+}
+
+impl ErrorTarget {
+    /// The target in mesh units, for an object whose box has diagonal `diagonal`.
+    pub fn distance(self, diagonal: f64) -> f64 {
+        match self {
+            ErrorTarget::Distance(d) => d,
+            ErrorTarget::Fraction(f) => f * diagonal,
+        }
+    }
+}
+
+impl FromStr for ErrorTarget {
+    type Err = String;
+
+    /// `0.5` (a distance) or `0.5%` (of the diagonal); positive and finite.
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        let t = text.trim();
+        let (number, percent) = match t.strip_suffix('%') {
+            Some(n) => (n.trim(), true),
+            None => (t, false),
+        };
+        match number.parse::<f64>() {
+            Ok(x) if x > 0.0 && x.is_finite() => Ok(if percent {
+                ErrorTarget::Fraction(x / 100.0)
+            } else {
+                ErrorTarget::Distance(x)
+            }),
+            _ => Err(format!(
+                "'{text}': the error must be a positive distance (0.5) or percentage of the \
+                 bounding-box diagonal (0.5%)"
+            )),
+        }
+    }
+}
+
+impl fmt::Display for ErrorTarget {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ErrorTarget::Distance(d) => write!(f, "{d}"),
+            ErrorTarget::Fraction(x) => write!(f, "{}%", x * 100.0),
+        }
+    }
+}
+
+/// The geometric stage after the voxel stage.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Then {
+    /// Both, keeping whichever is measured closer to the input (the quadric stage alone when
+    /// there is no input mesh to measure against).
+    #[default]
+    Auto,
+    /// Simplification envelopes (tight preset), ε searched for the budget.
+    Envelope,
+    /// meshoptimizer's quadric collapse, topology kept.
+    Quadric,
+    /// None: the marching-cubes level nearest the budget.
+    None,
+}
+
+impl FromStr for Then {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        match text.trim() {
+            "auto" => Ok(Then::Auto),
+            "envelope" => Ok(Then::Envelope),
+            "quadric" => Ok(Then::Quadric),
+            "none" => Ok(Then::None),
+            other => Err(format!(
+                "'{other}': expected auto, envelope, quadric or none"
+            )),
+        }
+    }
+}
+
+/// The stage that made a level.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Stage {
+    /// Marching cubes alone.
+    Voxel,
+    /// Then meshoptimizer's quadric collapse.
+    Quadric,
+    /// Then simplification envelopes.
+    Envelope,
+}
+
+/// What the budget pipeline did for one level.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BudgetLevel {
+    /// The triangle budget (`None` for an error target alone).
+    pub budget: Option<usize>,
+    /// The error target in mesh units, if one was given.
+    pub error_target: Option<f64>,
+    /// The voxel resolution chosen.
+    pub resolution: usize,
+    /// Triangles of that resolution's marching-cubes level (after cutting caps).
+    pub voxel_triangles: usize,
+    /// Cap triangles cut away over the input's holes.
+    pub caps_cut: usize,
+    /// The stage that made the level.
+    pub stage: Stage,
+    /// The final stage's own error bound in mesh units: meshoptimizer's estimate (quadric), ε
+    /// (envelope), or half a voxel (marching cubes' placement of the surface).
+    pub error_bound: f64,
+    /// Two-sided Hausdorff and mean distance to the input mesh (`None` without one).
+    pub hausdorff: Option<f64>,
+    /// See [`BudgetLevel::hausdorff`].
+    pub mean_distance: Option<f64>,
+    /// Triangles of the level.
+    pub triangles: usize,
+    /// Genus, components and boundary loops of the level.
+    pub genus: Option<i64>,
+    /// See [`BudgetLevel::genus`].
+    pub components: usize,
+    /// See [`BudgetLevel::genus`].
+    pub boundary_loops: usize,
+    /// Handles of the input that the level no longer has (input genus − level genus), when
+    /// both are known.
+    pub handles_removed: Option<i64>,
+    /// Candidates (resolution and stage) built and measured.
+    pub candidates: usize,
+    /// Why the level misses its budget by more than 10 %, or what else to know.
+    pub note: Option<String>,
+    /// Time of this budget's search.
+    pub seconds: f64,
+}
+
+/// What the budgets share: the source, the input mesh and its border, levels built so far.
+pub(crate) struct BudgetContext<'a> {
+    pub(crate) source: &'a LodSource<'a>,
+    pub(crate) level_options: LevelOptions,
+    pub(crate) input: Option<&'a TriangleMesh>,
+    pub(crate) border: Option<InputBorder>,
+    pub(crate) input_genus: Option<i64>,
+    pub(crate) then: Then,
+    pub(crate) time_cap: f64,
+    pub(crate) diagonal: f64,
+    /// Levels by resolution, with the seconds they took to build.
+    levels: Mutex<HashMap<usize, (LodLevel, f64)>>,
+}
+
+/// One candidate for a budget: the level and its report.
+struct Candidate {
+    mesh: TriangleMesh,
+    stage: Stage,
+    error_bound: f64,
+    distance: Option<DistanceReport>,
+}
+
+impl<'a> BudgetContext<'a> {
+    /// The context of a run; `closed` keeps the caps over an open input's holes.
+    pub(crate) fn new(
+        source: &'a LodSource<'a>,
+        level_options: LevelOptions,
+        input: Option<&'a TriangleMesh>,
+        then: Then,
+        closed: bool,
+        time_cap: f64,
+    ) -> Result<Self, Error> {
+        let border = match (input, closed) {
+            (Some(mesh), false) => InputBorder::new(mesh)?,
+            _ => None,
+        };
+        let input_genus = input.and_then(|m| mesh_topology(m).genus);
+        Ok(BudgetContext {
+            source,
+            level_options,
+            input,
+            border,
+            input_genus,
+            then,
+            time_cap,
+            diagonal: source.bounds().diagonal(),
+            levels: Mutex::new(HashMap::new()),
+        })
+    }
+
+    /// The marching-cubes level at `resolution` and the seconds it took (built once).
+    fn level(&self, resolution: usize) -> Result<(LodLevel, f64), Error> {
+        if let Some(found) = self.levels.lock().expect("not poisoned").get(&resolution) {
+            return Ok(found.clone());
+        }
+        let start = Instant::now();
+        let options = LevelOptions {
+            pyramid: PyramidOptions {
+                resolutions: vec![resolution],
+                ..self.level_options.pyramid.clone()
+            },
+            ..self.level_options.clone()
+        };
+        let plans = plan(self.source, &options)?;
+        let level = build_level(self.source, &plans[0], &options)?;
+        let built = (level, start.elapsed().as_secs_f64());
+        self.levels
+            .lock()
+            .expect("not poisoned")
+            .insert(resolution, built.clone());
+        Ok(built)
+    }
+
+    /// The resolution whose level has about `wanted` triangles (module docs, step 1), the
+    /// seconds charged for the probes, and warnings for levels that vanished.
+    fn resolution_for(&self, wanted: f64) -> Result<(usize, f64, Vec<String>), Error> {
+        let (mut resolution, mut charged, mut warnings) = (32usize, 0.0, Vec::new());
+        for _ in 0..5 {
+            let (level, seconds) = self.level(resolution)?;
+            charged += seconds;
+            let got = level.mesh.triangle_count();
+            let next = if got == 0 {
+                warnings.push(format!(
+                    "resolution {resolution}: the level vanished (parts thinner than a voxel); \
+                     trying {}",
+                    (resolution * 2).min(FINEST)
+                ));
+                resolution * 2
+            } else {
+                (resolution as f64 * (wanted / got as f64).sqrt()).round() as usize
+            };
+            let next = next.clamp(COARSEST, FINEST);
+            if next == resolution || (got > 0 && (got as f64 / wanted - 1.0).abs() < 0.15) {
+                break;
+            }
+            resolution = next;
+        }
+        Ok((resolution, charged, warnings))
+    }
+
+    /// The level at `resolution` with the caps over the input's holes cut (unless closed).
+    fn uncapped(&self, resolution: usize) -> Result<(LodLevel, usize, f64), Error> {
+        let (mut level, seconds) = self.level(resolution)?;
+        let mut cut = 0;
+        if let Some(border) = &self.border {
+            let (mesh, n) = cut_caps(&level.mesh, border, 0.5 * level.plan.voxel_size);
+            level.mesh = mesh;
+            level.topology = mesh_topology(&level.mesh);
+            cut = n;
+        }
+        Ok((level, cut, seconds))
+    }
+
+    /// Two-sided distance from the input to `mesh`, when there is an input mesh.
+    fn measure(&self, mesh: &TriangleMesh) -> Option<DistanceReport> {
+        let input = self.input?;
+        mesh_distance(input, mesh, &DistanceOptions::quick()).ok()
+    }
+}
+
+/// Refuses budgets no closed surface can meet.
+pub(crate) fn check_budgets(budgets: &[usize]) -> Result<(), Error> {
+    if budgets.is_empty() {
+        return Err(InvalidOption::new("triangles", "[]", "give at least one budget").into());
+    }
+    if let Some(&b) = budgets.iter().find(|&&b| b < 4) {
+        let problem =
+            "a closed surface needs at least 4 triangles (a tetrahedron); ask for 4 or more";
+        return Err(InvalidOption::new("triangles", b, problem).into());
+    }
+    Ok(())
+}
+
+/// The level for `budget` (see the module documentation), with an optional error bound for the
+/// geometric stage, and the warnings of its search.
+pub(crate) fn budget_level(
+    ctx: &BudgetContext,
+    budget: usize,
+    error: Option<f64>,
+) -> Result<(LodLevel, BudgetLevel, Vec<String>), Error> {
+    let start = Instant::now();
+    let headroom = if ctx.then == Then::None {
+        1.0
+    } else {
+        HEADROOM
+    };
+    let (first, mut charged, mut warnings) = ctx.resolution_for(headroom * budget as f64)?;
+    let mut resolutions = vec![first];
+    if ctx.then != Then::None {
+        let step = |f: f64| ((first as f64 * f).round() as usize).clamp(COARSEST, FINEST);
+        for r in [step(2f64.sqrt()), step(0.5f64.sqrt())] {
+            if !resolutions.contains(&r) {
+                resolutions.push(r);
+            }
+        }
+    }
+    let mut best: Option<(Candidate, LodLevel, usize)> = None;
+    let mut tried = 0;
+    for (i, &resolution) in resolutions.iter().enumerate() {
+        if i > 0 && charged >= ctx.time_cap {
+            break;
+        }
+        let stage_start = Instant::now();
+        let (level, cut, seconds) = ctx.uncapped(resolution)?;
+        if level.mesh.is_empty() {
+            continue;
+        }
+        for candidate in stages(ctx, &level, budget, error) {
+            tried += 1;
+            if better(&candidate, best.as_ref().map(|b| &b.0), budget) {
+                best = Some((candidate, level.clone(), cut));
+            }
+        }
+        charged += if i > 0 { seconds } else { 0.0 } + stage_start.elapsed().as_secs_f64();
+    }
+    let Some((chosen, mut level, cut)) = best else {
+        warnings.push(format!(
+            "budget {budget}: every resolution tried vanished; the level is empty"
+        ));
+        let (level, _) = ctx.level(first)?;
+        let report = report(ctx, &level, Some(budget), error, 0, tried, start);
+        return Ok((level, report, warnings));
+    };
+    level.mesh = chosen.mesh;
+    level.topology = mesh_topology(&level.mesh);
+    let mut report = report(ctx, &level, Some(budget), error, cut, tried, start);
+    report.stage = chosen.stage;
+    report.error_bound = chosen.error_bound;
+    report.hausdorff = chosen.distance.as_ref().map(|d| d.hausdorff);
+    report.mean_distance = chosen.distance.as_ref().map(|d| d.mean);
+    report.note = miss_note(&level.topology, budget);
+    if let Some(note) = &report.note {
+        warnings.push(format!("budget {budget}: {note}"));
+    }
+    Ok((level, report, warnings))
+}
+
+/// The report of `level` before its stage is known: the voxel level's figures.
+fn report(
+    ctx: &BudgetContext,
+    level: &LodLevel,
+    budget: Option<usize>,
+    error: Option<f64>,
+    caps_cut: usize,
+    candidates: usize,
+    start: Instant,
+) -> BudgetLevel {
+    let t = &level.topology;
+    BudgetLevel {
+        budget,
+        error_target: error,
+        resolution: level.resolution,
+        voxel_triangles: level.mesh.triangle_count(),
+        caps_cut,
+        stage: Stage::Voxel,
+        error_bound: 0.5 * level.plan.voxel_size,
+        hausdorff: None,
+        mean_distance: None,
+        triangles: level.mesh.triangle_count(),
+        genus: t.genus,
+        components: t.components,
+        boundary_loops: t.boundary_loops,
+        handles_removed: ctx.input_genus.zip(t.genus).map(|(a, b)| a - b),
+        candidates,
+        note: None,
+        seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+/// Why a level misses its budget by more than 10 %, if it does.
+fn miss_note(topology: &Topology, budget: usize) -> Option<String> {
+    let got = topology.triangles;
+    if (got as f64 / budget as f64 - 1.0).abs() <= BUDGET_TOLERANCE {
+        return None;
+    }
+    Some(if got > budget {
+        format!(
+            "{got} triangles, more than 10 % over the budget: the level's topology (genus {}, \
+             {} components, {} boundary loops) or the error bound stopped the simplification",
+            topology.genus.map_or("?".to_string(), |g| g.to_string()),
+            topology.components,
+            topology.boundary_loops
+        )
+    } else {
+        format!(
+            "{got} triangles, more than 10 % under the budget: no voxel resolution up to {FINEST} \
+             gives more"
+        )
+    })
+}
+
+/// Whether `candidate` beats `best` for `budget`: within 10 % beats outside; then the smaller
+/// measured Hausdorff distance (or, unmeasured, the count nearer the budget).
+fn better(candidate: &Candidate, best: Option<&Candidate>, budget: usize) -> bool {
+    let Some(best) = best else {
+        return true;
+    };
+    let miss = |c: &Candidate| (c.mesh.triangle_count() as f64 / budget as f64).ln().abs();
+    let fits = |c: &Candidate| miss(c) <= (1.0 + BUDGET_TOLERANCE).ln();
+    match (fits(candidate), fits(best)) {
+        (true, false) => true,
+        (false, true) => false,
+        (false, false) => miss(candidate) < miss(best),
+        (true, true) => match (&candidate.distance, &best.distance) {
+            (Some(a), Some(b)) => a.hausdorff < b.hausdorff,
+            _ => false,
+        },
+    }
+}
+
+/// The geometric stages asked for, applied to `level` for `budget`; a stage that fails is
+/// left out (the voxel level itself is the candidate of [`Then::None`]).
+fn stages(
+    ctx: &BudgetContext,
+    level: &LodLevel,
+    budget: usize,
+    error: Option<f64>,
+) -> Vec<Candidate> {
+    let mut out = Vec::new();
+    let want_quadric = matches!(ctx.then, Then::Auto | Then::Quadric);
+    let want_envelope =
+        ctx.then == Then::Envelope || (ctx.then == Then::Auto && ctx.input.is_some());
+    if ctx.then == Then::None {
+        out.push(Candidate {
+            mesh: level.mesh.clone(),
+            stage: Stage::Voxel,
+            error_bound: 0.5 * level.plan.voxel_size,
+            distance: ctx.measure(&level.mesh),
+        });
+    }
+    if want_quadric {
+        let options = QuadricOptions::bounded(error.unwrap_or(f64::INFINITY));
+        if let Ok(done) = simplify_to_budget(&level.mesh, budget, &options) {
+            out.push(Candidate {
+                distance: ctx.measure(&done.mesh),
+                mesh: done.mesh,
+                stage: Stage::Quadric,
+                error_bound: done.error_bound,
+            });
+        }
+    }
+    if want_envelope {
+        if let Some((mesh, epsilon)) = envelope_to_count(&level.mesh, budget, error, level) {
+            out.push(Candidate {
+                distance: ctx.measure(&mesh),
+                mesh,
+                stage: Stage::Envelope,
+                error_bound: epsilon,
+            });
+        }
+    }
+    out
+}
+
+/// Simplification envelopes (tight preset) with ε searched so that the count comes near
+/// `budget`: ε starts at one voxel and is scaled by the count's ratio to the budget (counts fall
+/// about as 1/ε), at most four runs, ε never above `error`. The run nearest the budget and its ε.
+fn envelope_to_count(
+    mesh: &TriangleMesh,
+    budget: usize,
+    error: Option<f64>,
+    level: &LodLevel,
+) -> Option<(TriangleMesh, f64)> {
+    let options = EnvelopeOptions::tight().with_measure_samples(0);
+    let cap = error.unwrap_or(f64::INFINITY);
+    let mut epsilon = level.plan.voxel_size.min(cap);
+    let mut best: Option<(TriangleMesh, f64)> = None;
+    for _ in 0..4 {
+        let done = simplify_envelope(mesh, Epsilon::Absolute(epsilon), &options).ok()?;
+        let got = done.mesh.triangle_count().max(1);
+        let miss = |n: usize| (n as f64 / budget as f64).ln().abs();
+        if best
+            .as_ref()
+            .is_none_or(|b| miss(got) < miss(b.0.triangle_count()))
+        {
+            best = Some((done.mesh, epsilon));
+        }
+        if miss(got) <= (1.0 + BUDGET_TOLERANCE).ln() {
+            break;
+        }
+        let next = (epsilon * got as f64 / budget as f64).min(cap);
+        if next == epsilon {
+            break;
+        }
+        epsilon = next;
+    }
+    best
+}
+
+/// The level for an error target alone: the resolution whose voxel is `error`, then the
+/// quadric stage within `error`.
+pub(crate) fn error_level(
+    ctx: &BudgetContext,
+    error: f64,
+) -> Result<(LodLevel, BudgetLevel, Vec<String>), Error> {
+    let start = Instant::now();
+    let longest = ctx.source.bounds().longest_extent();
+    let resolution = ((longest / error).ceil() as usize).clamp(COARSEST, FINEST);
+    let (mut level, cut, _) = ctx.uncapped(resolution)?;
+    let mut warnings = Vec::new();
+    if level.mesh.is_empty() {
+        warnings.push(format!(
+            "error {error}: the level at resolution {resolution} vanished (parts thinner than a \
+             voxel); the level is empty"
+        ));
+        let report = report(ctx, &level, None, Some(error), cut, 0, start);
+        return Ok((level, report, warnings));
+    }
+    let voxel_triangles = level.mesh.triangle_count();
+    let mut stage = (Stage::Voxel, 0.5 * level.plan.voxel_size);
+    if ctx.then != Then::None {
+        let options = QuadricOptions::bounded(0.5 * error);
+        if let Ok(done) = simplify_to_budget(&level.mesh, 4, &options) {
+            level.mesh = done.mesh;
+            level.topology = done.topology;
+            stage = (Stage::Quadric, done.error_bound);
+        }
+    }
+    let mut report = report(ctx, &level, None, Some(error), cut, 1, start);
+    report.voxel_triangles = voxel_triangles;
+    (report.stage, report.error_bound) = stage;
+    let distance = ctx.measure(&level.mesh);
+    report.hausdorff = distance.as_ref().map(|d| d.hausdorff);
+    report.mean_distance = distance.as_ref().map(|d| d.mean);
+    Ok((level, report, warnings))
+}
+
+/// [`crate::lod_with`] for budgets or an error target (the options are checked): one level per
+/// budget, in the order given, or one for the error target alone.
+pub(crate) fn lod_by_budget(
+    source: &Source,
+    options: &LodOptions,
+    progress: &ProgressFn,
+) -> Result<Lod, Error> {
+    let start = Instant::now();
+    let prepared = source.prepare()?;
+    let iso = prepared.iso(options.iso)?;
+    let level_options = LevelOptions {
+        pyramid: options.pyramid.clone(),
+        iso,
+        normals: options.normals,
+        clean: Some(voxlod_contouring::CleanOptions::default()),
+    };
+    let lod_source = prepared.lod_source();
+    let input = match source {
+        Source::Mesh(mesh) => Some(*mesh),
+        _ => None,
+    };
+    let ctx = BudgetContext::new(
+        &lod_source,
+        level_options,
+        input,
+        options.then,
+        options.closed,
+        options.time_cap,
+    )?;
+    let error = options.error.map(|e| e.distance(ctx.diagonal));
+    let budgets = options.triangles.clone().unwrap_or_default();
+    let mut tracker = Tracker::start(progress, budgets.len().max(1))?;
+    let mut warnings = prepared.warnings().to_vec();
+    let (mut levels, mut reports) = (Vec::new(), Vec::new());
+    let mut done = |level: LodLevel, report, more: Vec<String>, tracker: &mut Tracker| {
+        warnings.extend(more);
+        tracker.step(levels.len(), "budget level")?;
+        tracker.ask(Event::LodLevel(&level))?;
+        levels.push(level);
+        reports.push(report);
+        Ok::<(), Error>(())
+    };
+    if budgets.is_empty() {
+        let (level, report, more) = error_level(&ctx, error.unwrap_or(f64::INFINITY))?;
+        done(level, report, more, &mut tracker)?;
+    }
+    for (i, &budget) in budgets.iter().enumerate() {
+        let (level, report, more) = budget_level(&ctx, budget, error)
+            .map_err(|e| e.context(format!("budget {budget} (level {i})")))?;
+        done(level, report, more, &mut tracker)?;
+    }
+    Ok(Lod {
+        levels,
+        route: prepared.route(),
+        preparation: prepared.preparation().copied(),
+        iso,
+        warnings,
+        budgets: reports,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}

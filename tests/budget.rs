@@ -1,0 +1,153 @@
+//! The budget pipeline: counts within 10 %, closed manifolds from closed inputs, genus never
+//! above the voxel level's, openings kept, budgets independent of each other, bad budgets
+//! refused.
+
+use voxlod::budget::{ErrorTarget, Then};
+use voxlod::core::{mesh_topology, TriangleMesh};
+use voxlod::{lod, LodOptions, Source};
+use voxlod_testkit::shapes::{icosphere, torus};
+
+fn options(budgets: &[usize]) -> LodOptions {
+    LodOptions {
+        // Every candidate is tried: no timing decides anything in these tests.
+        time_cap: f64::INFINITY,
+        ..LodOptions::budgets(budgets.to_vec())
+    }
+}
+
+fn within(count: usize, budget: usize) -> bool {
+    (count as f64 / budget as f64 - 1.0).abs() <= 0.10
+}
+
+#[test]
+fn a_torus_gets_closed_manifold_levels_within_ten_percent() {
+    let mesh = torus(96, 48, 2.0, 0.7);
+    let out = lod(&Source::Mesh(&mesh), &options(&[3000, 600, 150])).unwrap();
+    assert_eq!(out.levels.len(), 3);
+    for (level, report) in out.levels.iter().zip(&out.budgets) {
+        let budget = report.budget.unwrap();
+        let t = mesh_topology(&level.mesh);
+        assert!(
+            within(t.triangles, budget),
+            "{budget}: {} triangles",
+            t.triangles
+        );
+        assert!(t.is_closed_manifold(), "{budget}: {t:?}");
+        assert!(t.is_consistently_oriented(), "{budget}: {t:?}");
+        assert!(t.genus.unwrap() <= 1, "{budget}: genus {:?}", t.genus);
+        assert_eq!(report.triangles, t.triangles);
+        assert_eq!(report.genus, t.genus);
+        assert!(report.hausdorff.unwrap() > 0.0);
+        assert!(report.note.is_none(), "{:?}", report.note);
+    }
+}
+
+#[test]
+fn the_genus_is_never_above_the_voxel_levels() {
+    // Two rings close together: at coarse resolutions the filter merges them, and the geometric
+    // stage must not open what the voxel level closed.
+    let mut mesh = torus(64, 24, 1.0, 0.3);
+    let other = torus(64, 24, 1.0, 0.3);
+    let offset = mesh.positions.len() as u32;
+    let shift = voxlod::core::glam::Vec3::new(2.3, 0.0, 0.0);
+    mesh.positions
+        .extend(other.positions.iter().map(|p| *p + shift));
+    mesh.triangles
+        .extend(other.triangles.iter().map(|t| t.map(|v| v + offset)));
+    for then in [Then::Quadric, Then::Envelope] {
+        let options = LodOptions {
+            then,
+            ..options(&[800, 100])
+        };
+        let out = lod(&Source::Mesh(&mesh), &options).unwrap();
+        for (level, report) in out.levels.iter().zip(&out.budgets) {
+            let voxel = voxlod::lod(
+                &Source::Mesh(&mesh),
+                &LodOptions {
+                    pyramid: voxlod::sampling::PyramidOptions {
+                        resolutions: vec![report.resolution],
+                        ..LodOptions::default().pyramid
+                    },
+                    ..LodOptions::default()
+                },
+            )
+            .unwrap();
+            let voxel_genus = voxel.levels[0].topology.genus.unwrap();
+            let genus = mesh_topology(&level.mesh).genus.unwrap();
+            assert!(
+                genus <= voxel_genus,
+                "{then:?}: genus {genus} > {voxel_genus}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_budget_gets_the_same_level_whatever_other_budgets_run() {
+    let mesh = torus(96, 48, 2.0, 0.7);
+    let alone = lod(&Source::Mesh(&mesh), &options(&[600])).unwrap();
+    let with_others = lod(&Source::Mesh(&mesh), &options(&[4000, 600, 150])).unwrap();
+    assert_eq!(alone.levels[0].mesh, with_others.levels[1].mesh);
+    assert_eq!(
+        alone.budgets[0].resolution,
+        with_others.budgets[1].resolution
+    );
+}
+
+/// An icosphere with the triangles around its north pole removed: one hole.
+fn sphere_with_a_hole() -> TriangleMesh {
+    let mut mesh = icosphere(4);
+    mesh.triangles.retain(|t| {
+        let z = t.iter().map(|&v| mesh.positions[v as usize].z).sum::<f32>() / 3.0;
+        z < 0.8
+    });
+    mesh.remove_unreferenced_vertices();
+    mesh
+}
+
+#[test]
+fn an_open_input_keeps_its_opening_unless_closed_is_asked() {
+    let mesh = sphere_with_a_hole();
+    assert_eq!(mesh_topology(&mesh).boundary_loops, 1);
+    let out = lod(&Source::Mesh(&mesh), &options(&[1500, 300])).unwrap();
+    for (level, report) in out.levels.iter().zip(&out.budgets) {
+        let t = mesh_topology(&level.mesh);
+        assert_eq!(t.boundary_loops, 1, "{report:?}");
+        assert!(t.is_manifold() && t.is_consistently_oriented(), "{t:?}");
+        assert!(report.caps_cut > 0);
+        assert!(within(t.triangles, report.budget.unwrap()), "{report:?}");
+    }
+    let closed = LodOptions {
+        closed: true,
+        ..options(&[300])
+    };
+    let out = lod(&Source::Mesh(&mesh), &closed).unwrap();
+    let t = mesh_topology(&out.levels[0].mesh);
+    assert!(t.is_closed_manifold(), "{t:?}");
+    assert_eq!(out.budgets[0].caps_cut, 0);
+}
+
+#[test]
+fn an_error_target_alone_gives_one_level_near_it() {
+    let mesh = torus(96, 48, 2.0, 0.7);
+    let options = LodOptions {
+        error: Some(ErrorTarget::Fraction(0.01)),
+        ..LodOptions::default()
+    };
+    let out = lod(&Source::Mesh(&mesh), &options).unwrap();
+    assert_eq!(out.levels.len(), 1);
+    let report = &out.budgets[0];
+    let target = report.error_target.unwrap();
+    assert!(report.hausdorff.unwrap() < 2.0 * target, "{report:?}");
+    assert!(report.triangles < mesh.triangle_count());
+    assert!(mesh_topology(&out.levels[0].mesh).is_closed_manifold());
+}
+
+#[test]
+fn impossible_budgets_are_refused() {
+    let mesh = torus(24, 12, 2.0, 0.7);
+    for budgets in [vec![], vec![1000, 3]] {
+        let e = lod(&Source::Mesh(&mesh), &LodOptions::budgets(budgets)).unwrap_err();
+        assert!(e.to_string().contains("triangles"), "{e}");
+    }
+}
