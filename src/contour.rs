@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use voxlod_contouring::marching_cubes;
 use voxlod_core::validate::{find_defect, Requirements};
-use voxlod_core::{mesh_topology, Grid, Topology, TriangleMesh, Volume};
+use voxlod_core::{mesh_topology, Grid, Placement, Topology, TriangleMesh, Volume};
 
 use crate::error::Error;
 use crate::source::{check_grid_range, iso_outside_data};
@@ -117,7 +117,9 @@ pub fn contour(volume: &Volume, options: &ContourOptions) -> Result<Contour, Err
         iso: options.iso,
         normals: options.normals,
     };
-    let mesh = marching_cubes(volume, &contour)?;
+    let mut mesh = marching_cubes(volume, &contour)?;
+    // An oblique or flipped scan's mesh goes to its world (`voxlod_core::world`).
+    Placement::of(&volume.world(), None).apply(&mut mesh);
     if let Some(defect) = find_defect(&mesh, &Requirements::computed()) {
         return Err(Error::ComputedBeyondRange {
             defect,

@@ -445,7 +445,8 @@ fn one_level(
     }
     tracker.step(plan.level, "contoured")?;
     if let Some(step) = &options.then_envelope {
-        let (mesh, report) = simplify_level(&level.mesh, step, plan.voxel_size)?;
+        let (mesh, report) = simplify_level(&level.mesh, step, plan.voxel_size)
+            .map_err(|e| Error::from(e).context("`then_envelope`"))?;
         level.mesh = mesh;
         level.envelope = report;
         level.topology = mesh_topology(&level.mesh);

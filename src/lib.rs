@@ -60,6 +60,7 @@ mod error;
 mod files;
 pub mod finest;
 mod inspect;
+pub mod labels;
 mod levels;
 pub mod lod;
 mod progress;

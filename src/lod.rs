@@ -23,7 +23,9 @@ use voxlod_contouring::{
     clean_mesh, marching_cubes, sparse_marching_cubes, CleanError, CleanOptions, ContourError,
     ContourOptions,
 };
-use voxlod_core::{mesh_topology, Bounds, BrickVolume, Grid, Topology, TriangleMesh, Volume};
+use voxlod_core::{
+    mesh_topology, Bounds, BrickVolume, Grid, Placement, Topology, TriangleMesh, Volume,
+};
 use voxlod_sampling::density::estimated_bytes;
 use voxlod_sampling::narrow_band::{
     lattice_estimated_bytes, narrow_band_density, BandReport, NarrowBandOptions,
@@ -55,6 +57,16 @@ pub enum LodSource<'a> {
 }
 
 impl LodSource<'_> {
+    /// The map of finished meshes from grid space to the source's world: the scan's own
+    /// transform for a thresholded or directly filtered volume, the identity otherwise.
+    pub fn placement(&self) -> Placement {
+        let world = match self {
+            LodSource::Solid(s) => s.world(),
+            LodSource::Direct(v) => Some(v.world()),
+        };
+        world.map_or(Placement::IDENTITY, |w| Placement::of(&w, None))
+    }
+
     /// The box the levels cover.
     pub fn bounds(&self) -> Bounds {
         match self {
@@ -184,6 +196,8 @@ pub fn build_level(
 pub(crate) struct SampledLevel {
     pub(crate) plan: LevelPlan,
     pub(crate) volume: LevelVolume,
+    /// Grid space to the world of an oriented scan (`voxlod_core::world`), applied to the mesh.
+    pub(crate) placement: Placement,
     pub(crate) density: Option<DensityReport>,
     pub(crate) band: Option<BandReport>,
     pub(crate) sample_seconds: f64,
@@ -240,6 +254,7 @@ pub(crate) fn sample_level(
     Ok(SampledLevel {
         plan: *plan,
         volume,
+        placement: source.placement(),
         density,
         band,
         sample_seconds: start.elapsed().as_secs_f64(),
@@ -262,6 +277,9 @@ impl SampledLevel {
         if let Some(clean) = &options.clean {
             mesh = clean_mesh(&mesh, self.plan.voxel_size, clean)?.0;
         }
+        // The one place where levels leave grid space: an oblique or flipped scan's mesh moves
+        // to its world here, rewound when the transform flips handedness.
+        self.placement.apply(&mut mesh);
         let contour_seconds = start.elapsed().as_secs_f64();
         let topology = mesh_topology(&mesh);
         Ok(LodLevel {

@@ -10,9 +10,7 @@ use std::str::FromStr;
 
 use serde::Serialize;
 use voxlod_core::TriangleMesh;
-use voxlod_envelope::{simplify_envelope, EnvelopeOptions, Epsilon};
-
-use crate::error::Error;
+use voxlod_envelope::{simplify_envelope, EnvelopeError, EnvelopeOptions, Epsilon};
 
 /// ε of the envelope step of a level.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -116,13 +114,12 @@ pub(crate) fn simplify_level(
     mesh: &TriangleMesh,
     step: &ThenEnvelope,
     voxel_size: f64,
-) -> Result<(TriangleMesh, Option<EnvelopeStep>), Error> {
+) -> Result<(TriangleMesh, Option<EnvelopeStep>), EnvelopeError> {
     if mesh.triangles.is_empty() {
         return Ok((mesh.clone(), None));
     }
     let epsilon = step.epsilon.for_level(voxel_size);
-    let level = simplify_envelope(mesh, epsilon, &step.options)
-        .map_err(|e| Error::from(e).context("`then_envelope`"))?;
+    let level = simplify_envelope(mesh, epsilon, &step.options)?;
     let r = &level.report;
     let report = EnvelopeStep {
         epsilon: r.epsilon,

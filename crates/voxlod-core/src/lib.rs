@@ -4,6 +4,8 @@
 //!   richer output of clustering and layering (dangling edges, isolated points, attributes).
 //! - [`Grid`] and [`Volume`]: a regular lattice of samples with spacing and origin in world units
 //!   (millimetres for a CT), and a scalar field on it.
+//! - [`world`]: where a volume sits in the patient: direction cosines, LPS or RAS, and the
+//!   map of finished meshes from grid space to the world.
 //! - [`BrickVolume`]: the same samples stored sparsely, dense leaf bricks near the surface and
 //!   one value per brick elsewhere.
 //! - [`topology`]: edge-based manifold checks, Euler characteristic and genus.
@@ -53,6 +55,7 @@ pub mod topology;
 pub mod validate;
 pub mod volume;
 pub mod weld;
+pub mod world;
 
 pub use bounds::Bounds;
 pub use bricks::{Brick, BrickVolume};
@@ -61,6 +64,7 @@ pub use grid::{Axis, Grid};
 pub use mesh::{Attribute, PolyMesh, TriangleMesh};
 pub use topology::{mesh_topology, Topology};
 pub use volume::Volume;
+pub use world::{Frame, Orientation, Placement, WorldTransform};
 
 pub use glam;
 pub use ndarray;

@@ -4,16 +4,20 @@
 
 use ndarray::Array3;
 
-use crate::{memory, CoreError, Grid};
+use crate::{memory, CoreError, Grid, Orientation, WorldTransform};
 
 /// A scalar field sampled on a [`Grid`]: one `f32` per sample, stored in an ndarray of shape
 /// `(nz, ny, nx)` so that x varies fastest in memory, as in NRRD, VTK and raw CT files.
+/// `orientation` turns the axis-aligned grid into the patient's world (`world.rs`); the
+/// default, identity in an unknown frame, is what formats without orientation give.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Volume {
     /// Where the samples sit.
     pub grid: Grid,
     /// The samples, indexed `[k, j, i]` (z, y, x).
     pub values: Array3<f32>,
+    /// Direction cosines and anatomical frame (`world.rs`).
+    pub orientation: Orientation,
 }
 
 impl Volume {
@@ -42,7 +46,24 @@ impl Volume {
         }
         let values = Array3::from_shape_vec((nz, ny, nx), values)
             .map_err(|e| CoreError::InvalidGrid(e.to_string()))?;
-        Ok(Volume { grid, values })
+        Ok(Volume {
+            grid,
+            values,
+            orientation: Orientation::default(),
+        })
+    }
+
+    /// The volume placed by `orientation` (direction and frame).
+    pub fn oriented(self, orientation: Orientation) -> Volume {
+        Volume {
+            orientation,
+            ..self
+        }
+    }
+
+    /// The full index-to-world transform.
+    pub fn world(&self) -> WorldTransform {
+        WorldTransform::of(&self.grid, &self.orientation)
     }
 
     /// The samples as one slice, x fastest.

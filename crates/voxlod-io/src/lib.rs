@@ -13,6 +13,7 @@
 //! | `.vti`, `.vtk` | volume | VTK image data (XML in every encoding VTK writes, legacy) | same | `vtk_image.rs`, `vtk_xml.rs` |
 //! | `.nii`, `.nii.gz` | volume | NIfTI-1 | — | `nifti.rs` |
 //! | `.mha`, `.mhd` | volume | MetaImage, zlib or not, local or detached data | same | `metaimage.rs` |
+//! | `.dcm`, a folder | volume | DICOM series (one SeriesInstanceUID), in LPS | — | `dicom.rs`, `dicom_geometry.rs` |
 //! | `.raw` (or any other, given a [`RawLayout`]) | volume | headerless samples | `f32` little-endian | `raw.rs` |
 //!
 //! A `.vtk` file may hold either kind: [`file_kind`] looks inside to tell.
@@ -78,11 +79,15 @@
 pub mod atomic;
 mod budget;
 mod detached;
+mod dicom;
+mod dicom_geometry;
 pub mod ear_clipping;
 mod error;
 mod guard;
+mod label_table;
 mod metaimage;
 mod nifti;
+mod nifti_affine;
 mod nrrd;
 mod obj;
 mod off;
@@ -104,7 +109,9 @@ use std::path::Path;
 use voxlod_core::validate::{find_defect, validate_mesh, Requirements};
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh, Volume};
 
+pub use dicom::{list_dicom_series, read_dicom_series, DicomOptions, SeriesSummary};
 pub use error::{IoError, IoErrorKind};
+pub use label_table::{read_label_table, LabelName};
 pub use outputs::{check_image_path, OutputSet, IMAGE_EXTENSIONS};
 pub use raw::{Endian, ParseNameError, RawLayout, RawType};
 pub use voxlod_core::weld::WeldReport;
@@ -151,6 +158,8 @@ pub enum VolumeFormat {
     Mhd,
     /// Headerless samples.
     Raw,
+    /// A DICOM series: a folder of slices, or one `.dcm` file (read-only).
+    Dicom,
 }
 
 /// What a file holds, as [`file_kind`] tells.
@@ -186,12 +195,14 @@ impl fmt::Display for VolumeFormat {
             VolumeFormat::Mha => "MetaImage",
             VolumeFormat::Mhd => "MetaImage (detached header)",
             VolumeFormat::Raw => "headerless raw",
+            VolumeFormat::Dicom => "DICOM series",
         })
     }
 }
 
 const MESH_EXTENSIONS: &str = ".obj, .ply, .stl, .off, .vtp, .vtk";
-const VOLUME_EXTENSIONS: &str = ".nrrd, .nhdr, .vti, .vtk, .nii, .nii.gz, .mha, .mhd, .raw";
+const VOLUME_EXTENSIONS: &str =
+    ".nrrd, .nhdr, .vti, .vtk, .nii, .nii.gz, .mha, .mhd, .raw, .dcm or a DICOM folder";
 
 /// The lower-case file name, for extension tests.
 fn lower_name(path: &Path) -> String {
@@ -238,6 +249,9 @@ pub fn volume_format_of(path: &Path) -> Result<VolumeFormat, IoError> {
     if lower_name(path).ends_with(".nii.gz") {
         return Ok(VolumeFormat::Nifti);
     }
+    if path.is_dir() {
+        return Ok(VolumeFormat::Dicom);
+    }
     Ok(match extension(path).as_str() {
         "nrrd" => VolumeFormat::Nrrd,
         "nhdr" => VolumeFormat::Nhdr,
@@ -247,6 +261,8 @@ pub fn volume_format_of(path: &Path) -> Result<VolumeFormat, IoError> {
         "mha" => VolumeFormat::Mha,
         "mhd" => VolumeFormat::Mhd,
         "raw" => VolumeFormat::Raw,
+        "dcm" | "dicom" => VolumeFormat::Dicom,
+        _ if dicom::looks_like_dicom(path) => VolumeFormat::Dicom,
         other => {
             return Err(IoError::unsupported(
                 path,
@@ -548,8 +564,11 @@ pub fn read_volume(path: &Path, raw: Option<&RawLayout>) -> Result<Volume, IoErr
         Err(_) if raw.is_some() => VolumeFormat::Raw,
         Err(e) => return Err(e),
     };
-    check_readable(path)?;
+    if format != VolumeFormat::Dicom {
+        check_readable(path)?;
+    }
     match format {
+        VolumeFormat::Dicom => read_dicom_series(&[path.to_path_buf()], &DicomOptions::default()),
         VolumeFormat::Nrrd | VolumeFormat::Nhdr => nrrd::read(path),
         VolumeFormat::Vti => vtk_image::read(path, Flavor::Xml),
         VolumeFormat::Vtk => vtk_image::read(path, Flavor::Legacy),
@@ -592,10 +611,10 @@ pub(crate) fn check_volume_for_writing(
     volume: &Volume,
 ) -> Result<VolumeFormat, IoError> {
     let format = volume_format_of(path)?;
-    if format == VolumeFormat::Nifti {
+    if matches!(format, VolumeFormat::Nifti | VolumeFormat::Dicom) {
         return Err(IoError::unsupported(
             path,
-            "writing NIfTI is not supported; write .nrrd, .vti, .mha or .vtk",
+            format!("writing {format} is not supported; write .nrrd, .vti, .mha or .vtk"),
         ));
     }
     let g = &volume.grid;
@@ -613,6 +632,14 @@ pub(crate) fn check_volume_for_writing(
     }
     voxlod_core::Grid::new(g.dims, g.spacing, g.origin)
         .map_err(|e| IoError::malformed(path, format!("cannot write: {e}")))?;
+    if matches!(format, VolumeFormat::Vti | VolumeFormat::Vtk)
+        && !volume.orientation.is_axis_aligned()
+    {
+        return Err(IoError::unsupported(
+            path,
+            "the volume is oblique (its index axes are not the world axes) and VTK image data as written here cannot hold a direction; write .nrrd or .mha to keep it",
+        ));
+    }
     Ok(format)
 }
 
@@ -651,8 +678,11 @@ pub(crate) fn stage_volume(
         VolumeFormat::Mha => vec![metaimage::write(path, volume, compress)?],
         VolumeFormat::Mhd => metaimage::write_detached(path, detached()?, volume, compress)?.into(),
         VolumeFormat::Raw => vec![raw::write(path, volume)?],
-        VolumeFormat::Nifti => {
-            return Err(IoError::unsupported(path, "writing NIfTI is not supported"))
+        VolumeFormat::Nifti | VolumeFormat::Dicom => {
+            return Err(IoError::unsupported(
+                path,
+                format!("writing {format} is not supported"),
+            ))
         }
     })
 }

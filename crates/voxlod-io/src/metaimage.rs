@@ -9,10 +9,15 @@
 //! `Origin` or `Position`), `HeaderSize` (bytes to skip in a data file; `-1`: the data is at its
 //! end) and `ElementDataFile` (`LOCAL` or one file name, relative to the header). Keys are
 //! matched without regard to case. Not supported: ASCII data (`BinaryData = False`), lists and
-//! patterns of data files, several channels. `TransformMatrix` is not applied: the grid is
-//! axis-aligned in index order, starting at `Offset`.
+//! patterns of data files, several channels. `TransformMatrix` (else `Rotation` or
+//! `Orientation`) gives the direction cosines, its first `NDims` numbers the world direction of
+//! the first index axis, as ITK reads them; the world is LPS, ITK's physical space, whenever the
+//! header has a `TransformMatrix` or an `AnatomicalOrientation` (which ITK does not use to
+//! place the image, and neither do we), else the frame is unknown.
 //!
-//! Writing produces `MET_FLOAT`, little-endian, with `ElementSpacing` and `Offset`, data zlib
+//! Writing produces `MET_FLOAT`, little-endian, with `TransformMatrix`, `Offset` and
+//! `ElementSpacing` in LPS (a RAS volume is converted; with `AnatomicalOrientation` when the
+//! frame is known), data zlib
 //! compressed when [`VolumeWriteOptions::compress`](crate::VolumeWriteOptions) asks; a `.mhd`
 //! gets its data in `<name>.raw` (or `<name>.zraw`) beside it, or another free name when that one
 //! is taken (see [`crate::OutputSet`]); the header records the name, and both files appear
@@ -27,7 +32,8 @@ use std::io::{BufRead, BufReader, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use flate2::write::ZlibEncoder;
-use voxlod_core::Volume;
+use voxlod_core::glam::{DMat3, DVec3};
+use voxlod_core::{Frame, Orientation, Volume, WorldTransform};
 
 use crate::atomic::{stage, TempFile};
 use crate::samples::{self, SampleType};
@@ -43,6 +49,7 @@ struct Header {
     compressed: bool,
     spacing: [f64; 3],
     origin: [f64; 3],
+    orientation: Orientation,
     /// `None` for `LOCAL`.
     data_file: Option<PathBuf>,
     header_size: i64,
@@ -163,6 +170,30 @@ fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError
     };
     let spacing = triple(&["elementspacing", "elementsize"], 1.0)?;
     let origin = triple(&["offset", "origin", "position"], 0.0)?;
+    let matrix = ["transformmatrix", "rotation", "orientation"]
+        .iter()
+        .find_map(|k| get(k).map(|v| (*k, v)));
+    let mut columns = [DVec3::X, DVec3::Y, DVec3::Z];
+    if let Some((key, text)) = matrix {
+        let m: Vec<f64> = samples::parse_list(text, ndims * ndims).ok_or_else(|| bad(key, text))?;
+        for (a, column) in columns.iter_mut().enumerate().take(ndims) {
+            for c in 0..ndims {
+                column[c] = m[a * ndims + c];
+            }
+        }
+    }
+    let frame = if matrix.is_some() || get("anatomicalorientation").is_some() {
+        Frame::Lps
+    } else {
+        Frame::Unknown
+    };
+    let steps = [0, 1, 2].map(|a| columns[a].normalize_or_zero() * spacing[a]);
+    let world = WorldTransform::from_columns(DVec3::from(origin), steps, frame)
+        .map_err(|e| IoError::malformed(path, format!("TransformMatrix or ElementSpacing: {e}")))?;
+    let orientation = Orientation {
+        direction: world.direction,
+        frame,
+    };
 
     let data_name = require("elementdatafile", "ElementDataFile")?;
     let data_file = if data_name.eq_ignore_ascii_case("LOCAL") {
@@ -190,6 +221,7 @@ fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError
         compressed,
         spacing,
         origin,
+        orientation,
         data_file,
         header_size,
     })
@@ -242,13 +274,47 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
     let values = samples::decode(&bytes, header.sample, header.endian);
     drop(bytes);
     samples::make_volume(path, header.dims, header.spacing, header.origin, values)
+        .map(|v| v.oriented(header.orientation))
+}
+
+/// ITK's three-letter code of a direction in LPS: for each index axis, the side it runs
+/// from (`R` for +x, `A` for +y, `I` for +z), by its largest component.
+fn orientation_code(direction: DMat3) -> String {
+    (0..3)
+        .map(|a| {
+            let d = direction.col(a);
+            let axis = (0..3)
+                .max_by(|&i, &j| d[i].abs().total_cmp(&d[j].abs()))
+                .unwrap_or(a);
+            let from = [['R', 'L'], ['A', 'P'], ['I', 'S']][axis];
+            if d[axis] >= 0.0 {
+                from[0]
+            } else {
+                from[1]
+            }
+        })
+        .collect()
 }
 
 fn header_text(volume: &Volume, compressed_size: Option<u64>, data_file: &str) -> String {
     let g = &volume.grid;
     let [nx, ny, nz] = g.dims;
     let [sx, sy, sz] = g.spacing;
-    let [ox, oy, oz] = g.origin;
+    // MetaImage's world is ITK's, LPS: a RAS volume is converted.
+    let world = volume.world().in_frame(Frame::Lps);
+    let [ox, oy, oz] = world.origin.to_array();
+    let matrix: Vec<String> = (0..3)
+        .flat_map(|a| world.direction.col(a).to_array())
+        .map(|v| v.to_string())
+        .collect();
+    let matrix = matrix.join(" ");
+    let anatomical = match world.frame {
+        Frame::Unknown => String::new(),
+        _ => format!(
+            "AnatomicalOrientation = {}\n",
+            orientation_code(world.direction)
+        ),
+    };
     let mut text = format!(
         "ObjectType = Image\n\
          NDims = 3\n\
@@ -265,9 +331,9 @@ fn header_text(volume: &Volume, compressed_size: Option<u64>, data_file: &str) -
         text.push_str(&format!("CompressedDataSize = {size}\n"));
     }
     text.push_str(&format!(
-        "TransformMatrix = 1 0 0 0 1 0 0 0 1\n\
+        "TransformMatrix = {matrix}\n\
          Offset = {ox} {oy} {oz}\n\
-         ElementSpacing = {sx} {sy} {sz}\n\
+         {anatomical}ElementSpacing = {sx} {sy} {sz}\n\
          DimSize = {nx} {ny} {nz}\n\
          ElementType = MET_FLOAT\n\
          ElementDataFile = {data_file}\n"

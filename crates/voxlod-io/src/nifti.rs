@@ -9,10 +9,8 @@
 //!
 //! - Types: 8-, 16- and 32-bit integers, `float32`, `float64`; `scl_slope`/`scl_inter` are
 //!   applied when the slope is non-zero. RGB, complex and 64-bit integer data are refused.
-//! - Geometry: spacing from `pixdim[1..=3]`, origin from the `sform` offsets when
-//!   `sform_code > 0`, else the `qform` offsets when `qform_code > 0`, else zero; both converted
-//!   from the header's spatial unit (metres, micrometres) to millimetres. Rotations and axis
-//!   flips of the `qform`/`sform` are not applied: the grid is axis-aligned in index order.
+//! - Geometry: the full index-to-world transform in RAS and millimetres, chosen as nibabel
+//!   chooses it (sform, else qform, else the `pixdim` base affine; `nifti_affine.rs`).
 //! - Only 3-D data: a 4-D series with more than one volume is refused rather than cut short.
 //! - Header/image pairs (`.hdr`/`.img`, magic `ni1`) and NIfTI-2 are not supported.
 //!
@@ -171,24 +169,11 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
         }
     }
 
-    // Geometry in millimetres.
-    let unit = match header.xyzt_units & 0o7 {
-        1 => 1000.0, // metres
-        3 => 1e-3,   // micrometres
-        _ => 1.0,    // millimetres, or unspecified
-    };
-    let mut spacing = [1.0f64; 3];
-    let axes = (header.dim[0] as i16).clamp(1, 3) as usize;
-    for (axis, s) in spacing.iter_mut().enumerate().take(axes) {
-        *s = header.pixdim[axis + 1] as f64 * unit;
-    }
-    let offsets = if header.sform_code > 0 {
-        [header.srow_x[3], header.srow_y[3], header.srow_z[3]]
-    } else if header.qform_code > 0 {
-        [header.quatern_x, header.quatern_y, header.quatern_z]
-    } else {
-        [0.0; 3]
-    };
-    let origin = offsets.map(|o| o as f64 * unit);
-    samples::make_volume(path, dims, spacing, origin, values)
+    // Geometry in millimetres and RAS, as nibabel chooses it (`nifti_affine.rs`).
+    let world = crate::nifti_affine::world_of(path, &header, dims)?;
+    let (grid, orientation) = world
+        .split(dims)
+        .map_err(|e| IoError::malformed(path, e.to_string()))?;
+    samples::make_volume(path, dims, grid.spacing, grid.origin, values)
+        .map(|v| v.oriented(orientation))
 }

@@ -9,11 +9,15 @@
 //! relative to the header), `line skip` and `byte skip` (including `-1` for raw data at the end
 //! of the file). Comments and `key:=value` pairs are ignored. Not supported: 64-bit integer
 //! types, `bzip2` and `hex` encodings, lists of data files, non-spatial axes (colour
-//! channels, time). Direction vectors are not applied beyond their length: the grid is
-//! axis-aligned in index order, starting at `space origin`.
+//! channels, time). Geometry is the full index-to-world transform (`voxlod_core::world`): the
+//! `space directions` vectors give spacing (their lengths) and direction cosines, `space origin`
+//! the origin, and `space` the frame (`left-posterior-superior`/`LPS` and
+//! `right-anterior-superior`/`RAS` as they are; `left-anterior-superior`/`LAS` turned into RAS;
+//! anything else, or `space dimension` alone, an unknown frame). `measurement frame` is ignored:
+//! it orients tensor or vector samples, and voxlod reads scalars only.
 //!
-//! Writing produces `NRRD0004`, `type: float`, little-endian, `space dimension: 3`, diagonal
-//! `space directions` holding the spacing and `space origin`; encoding `raw`, or `gzip` when
+//! Writing produces `NRRD0004`, `type: float`, little-endian, `space` (or `space dimension: 3`
+//! when the frame is unknown), `space directions` (direction times spacing) and `space origin`; encoding `raw`, or `gzip` when
 //! [`VolumeWriteOptions::compress`](crate::VolumeWriteOptions) asks. A `.nhdr` gets its data in
 //! `<name>.raw` (`<name>.raw.gz` compressed) beside it, or another free name when that one is
 //! taken (see [`crate::OutputSet`]); the header records the name, and both files appear together.
@@ -28,7 +32,8 @@ use std::io::{BufRead, BufReader, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use flate2::write::GzEncoder;
-use voxlod_core::Volume;
+use voxlod_core::glam::{DMat3, DVec3};
+use voxlod_core::{Frame, Orientation, Volume, WorldTransform};
 
 use crate::atomic::{stage, TempFile};
 use crate::samples::{self, millimetres_per, SampleType};
@@ -53,6 +58,7 @@ struct Header {
     encoding: Encoding,
     spacing: [f64; 3],
     origin: [f64; 3],
+    orientation: Orientation,
     data_file: Option<PathBuf>,
     line_skip: usize,
     byte_skip: i64,
@@ -183,7 +189,7 @@ fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError
     let fields = Fields { path, fields };
     let (sample, dimension, dims) = interpret_layout(&fields)?;
     let (endian, encoding) = interpret_storage(&fields)?;
-    let (spacing, origin) = interpret_geometry(&fields, dimension)?;
+    let (spacing, origin, orientation) = interpret_geometry(&fields, dimension)?;
     let (data_file, line_skip, byte_skip) = interpret_data_location(&fields)?;
     Ok(Header {
         sample,
@@ -192,6 +198,7 @@ fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError
         encoding,
         spacing,
         origin,
+        orientation,
         data_file,
         line_skip,
         byte_skip,
@@ -247,9 +254,64 @@ fn interpret_storage(fields: &Fields) -> Result<(Endian, Encoding), IoError> {
     Ok((endian, encoding))
 }
 
-/// Spacing and origin in millimetres, from `space units`, `space directions` (or `spacings`)
-/// and `space origin`.
-fn interpret_geometry(fields: &Fields, dimension: usize) -> Result<([f64; 3], [f64; 3]), IoError> {
+/// The frame of a `space` field, and whether x must be negated to reach it (LAS to RAS).
+fn space_frame(space: Option<&str>) -> (Frame, bool) {
+    match space.map(|s| s.trim().to_ascii_lowercase()).as_deref() {
+        Some("left-posterior-superior" | "lps") => (Frame::Lps, false),
+        Some("right-anterior-superior" | "ras") => (Frame::Ras, false),
+        Some("left-anterior-superior" | "las") => (Frame::Ras, true),
+        _ => (Frame::Unknown, false),
+    }
+}
+
+/// The direction vectors of `space directions` in millimetres (one per axis; `None` for 'none').
+fn direction_vectors(
+    fields: &Fields,
+    dimension: usize,
+    unit_scale: [f64; 3],
+) -> Result<Option<Vec<DVec3>>, IoError> {
+    let Some(text) = fields.get(&["space directions"]) else {
+        return Ok(None);
+    };
+    let vectors = parse_vectors(text).ok_or_else(|| fields.bad("space directions", text))?;
+    if vectors.len() != dimension {
+        return Err(fields.bad("space directions", text));
+    }
+    let mut out = Vec::with_capacity(dimension);
+    for (axis, v) in vectors.iter().enumerate() {
+        let Some(v) = v else {
+            return Err(IoError::unsupported(
+                fields.path,
+                format!(
+                    "axis {axis} is not spatial ('none' direction): only scalar volumes are read"
+                ),
+            ));
+        };
+        let c = |i: usize| v.get(i).copied().unwrap_or(0.0) * unit_scale[i];
+        out.push(DVec3::new(c(0), c(1), c(2)));
+    }
+    Ok(Some(out))
+}
+
+/// The index steps of a 1- or 2-D image completed to three (the normal of the plane, or the
+/// remaining axes), of unit length.
+fn complete_steps(mut steps: Vec<DVec3>) -> [DVec3; 3] {
+    if steps.len() == 2 {
+        let n = steps[0].cross(steps[1]).normalize_or_zero();
+        steps.push(if n == DVec3::ZERO { DVec3::Z } else { n });
+    }
+    if steps.len() == 1 {
+        steps.extend([DVec3::Y, DVec3::Z]);
+    }
+    [steps[0], steps[1], steps[2]]
+}
+
+/// Spacing, origin and orientation in millimetres, from `space`, `space units`, `space
+/// directions` (or `spacings`) and `space origin`.
+fn interpret_geometry(
+    fields: &Fields,
+    dimension: usize,
+) -> Result<([f64; 3], [f64; 3], Orientation), IoError> {
     // Units to millimetres, when declared and known.
     let mut unit_scale = [1.0f64; 3];
     if let Some(units) = fields.get(&["space units"]) {
@@ -257,27 +319,9 @@ fn interpret_geometry(fields: &Fields, dimension: usize) -> Result<([f64; 3], [f
             unit_scale[axis] = millimetres_per(unit).unwrap_or(1.0);
         }
     }
-    let mut spacing = [1.0f64; 3];
-    if let Some(text) = fields.get(&["space directions"]) {
-        let vectors = parse_vectors(text).ok_or_else(|| fields.bad("space directions", text))?;
-        if vectors.len() != dimension {
-            return Err(fields.bad("space directions", text));
-        }
-        for (axis, v) in vectors.iter().enumerate() {
-            let Some(v) = v else {
-                return Err(IoError::unsupported(
-                    fields.path,
-                    format!("axis {axis} is not spatial ('none' direction): only scalar volumes are read"),
-                ));
-            };
-            spacing[axis] = v.iter().map(|c| c * c).sum::<f64>().sqrt() * unit_scale[axis];
-        }
-    } else if let Some(text) = fields.get(&["spacings"]) {
-        let values: Vec<f64> =
-            samples::parse_list(text, dimension).ok_or_else(|| fields.bad("spacings", text))?;
-        spacing[..dimension].copy_from_slice(&values);
-    }
-    let mut origin = [0.0f64; 3];
+    let (frame, flip_x) = space_frame(fields.get(&["space"]));
+    let flip = DMat3::from_diagonal(DVec3::new(if flip_x { -1.0 } else { 1.0 }, 1.0, 1.0));
+    let mut origin = DVec3::ZERO;
     if let Some(text) = fields.get(&["space origin"]) {
         let vectors = parse_vectors(text).ok_or_else(|| fields.bad("space origin", text))?;
         match vectors.as_slice() {
@@ -289,7 +333,36 @@ fn interpret_geometry(fields: &Fields, dimension: usize) -> Result<([f64; 3], [f
             _ => return Err(fields.bad("space origin", text)),
         }
     }
-    Ok((spacing, origin))
+    let directions = direction_vectors(fields, dimension, unit_scale)?;
+    let source = if directions.is_some() {
+        "'space directions'"
+    } else {
+        "'spacings'"
+    };
+    let steps = match directions {
+        Some(steps) => complete_steps(steps),
+        None => {
+            let mut spacing = [1.0f64; 3];
+            if let Some(text) = fields.get(&["spacings"]) {
+                let values: Vec<f64> = samples::parse_list(text, dimension)
+                    .ok_or_else(|| fields.bad("spacings", text))?;
+                spacing[..dimension].copy_from_slice(&values);
+            }
+            let [sx, sy, sz] = spacing;
+            [DVec3::X * sx, DVec3::Y * sy, DVec3::Z * sz]
+        }
+    };
+    let world = WorldTransform::from_columns(flip * origin, steps.map(|s| flip * s), frame)
+        .map_err(|e| IoError::malformed(fields.path, format!("{source}: {e}")))?;
+    let orientation = Orientation {
+        direction: world.direction,
+        frame,
+    };
+    Ok((
+        world.spacing.to_array(),
+        world.origin.to_array(),
+        orientation,
+    ))
 }
 
 /// `data file`, `line skip` and `byte skip`: where the samples start.
@@ -390,6 +463,7 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
         Encoding::Ascii => read_ascii(data_path, data, count)?,
     };
     samples::make_volume(path, header.dims, header.spacing, header.origin, values)
+        .map(|v| v.oriented(header.orientation))
 }
 
 fn skip(path: &Path, reader: &mut impl Read, bytes: u64) -> Result<(), IoError> {
@@ -434,16 +508,26 @@ fn read_ascii(path: &Path, reader: impl Read, count: usize) -> Result<Vec<f32>, 
 fn header_text(volume: &Volume, compress: bool, data_file: Option<&str>) -> String {
     let g = &volume.grid;
     let [nx, ny, nz] = g.dims;
-    let [sx, sy, sz] = g.spacing;
+    let world = volume.world();
+    let step = |a: usize| {
+        let v = world.direction.col(a) * world.spacing[a];
+        format!("({},{},{})", v.x, v.y, v.z)
+    };
+    let (x, y, z) = (step(0), step(1), step(2));
     let [ox, oy, oz] = g.origin;
+    let space = match volume.orientation.frame {
+        Frame::Lps => "space: left-posterior-superior",
+        Frame::Ras => "space: right-anterior-superior",
+        Frame::Unknown => "space dimension: 3",
+    };
     let mut text = format!(
         "NRRD0004\n\
          # written by voxlod\n\
          type: float\n\
          dimension: 3\n\
-         space dimension: 3\n\
+         {space}\n\
          sizes: {nx} {ny} {nz}\n\
-         space directions: ({sx},0,0) (0,{sy},0) (0,0,{sz})\n\
+         space directions: {x} {y} {z}\n\
          kinds: domain domain domain\n\
          space origin: ({ox},{oy},{oz})\n\
          endian: little\n\

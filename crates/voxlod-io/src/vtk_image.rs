@@ -5,8 +5,11 @@
 //! single-piece image, with its dimensions (from the extent, which may start anywhere: the
 //! origin moves accordingly), spacing and origin. vtkio holds spacing and origin as `f32`, so
 //! they survive a VTK round trip to `f32` precision (well below a micrometre for scans).
-//! Images with several pieces, or with cell data only, are refused. A `Direction` matrix (VTK
-//! 9) is not applied: the grid is axis-aligned in index order.
+//! Images with several pieces, or with cell data only, are refused. The `Direction` attribute of
+//! an XML image (VTK 9: nine numbers, row by row, its columns the world directions of the index
+//! axes), which vtkio drops, is read here from the `<ImageData>` tag; VTK has no anatomical
+//! frame, so the frame is unknown. vtkio cannot write a `Direction`, so an oblique volume is
+//! refused for VTK output (NRRD and MetaImage keep it).
 //!
 //! Writing: one piece, point data `values` as `f32`. Legacy files are binary big-endian; XML
 //! files zlib-compressed when [`VolumeWriteOptions::compress`](crate::VolumeWriteOptions) asks.
@@ -18,7 +21,8 @@
 
 use std::path::Path;
 
-use voxlod_core::Volume;
+use voxlod_core::glam::{DMat3, DVec3};
+use voxlod_core::{Frame, Orientation, Volume};
 use vtkio::model::{
     Attribute, Attributes, DataArray, DataSet, Extent, ImageDataPiece, Piece, Version, Vtk,
 };
@@ -116,8 +120,59 @@ pub(crate) fn read(path: &Path, flavor: Flavor) -> Result<Volume, IoError> {
         ));
     }
     let spacing = spacing.map(|s| s as f64);
-    let origin = [0, 1, 2].map(|a| origin[a] as f64 + start[a] as f64 * spacing[a]);
+    let direction = match flavor {
+        Flavor::Xml => xml_direction(path)?,
+        Flavor::Legacy => DMat3::IDENTITY,
+    };
+    let first = direction * (DVec3::from(start.map(|s| s as f64)) * DVec3::from(spacing));
+    let origin = [0, 1, 2].map(|a| origin[a] as f64 + first[a]);
+    let orientation = Orientation {
+        direction: voxlod_core::WorldTransform::from_columns(
+            DVec3::ZERO,
+            [direction.x_axis, direction.y_axis, direction.z_axis],
+            Frame::Unknown,
+        )
+        .map_err(|e| IoError::malformed(path, format!("Direction: {e}")))?
+        .direction,
+        frame: Frame::Unknown,
+    };
     samples::make_volume(path, dims, spacing, origin, vtk::into_f32(buffer))
+        .map(|v| v.oriented(orientation))
+}
+
+/// The `Direction` of the `<ImageData>` tag (identity when absent), from the first 64 KiB.
+fn xml_direction(path: &Path) -> Result<DMat3, IoError> {
+    use std::io::Read;
+    let mut head = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(1 << 16).read_to_end(&mut head))
+        .map_err(|e| IoError::access(path, "cannot read", &e))?;
+    let mut reader = quick_xml::Reader::from_reader(&head[..]);
+    let mut buf = Vec::new();
+    loop {
+        match reader.read_event_into(&mut buf) {
+            Ok(quick_xml::events::Event::Start(tag) | quick_xml::events::Event::Empty(tag))
+                if tag.name().as_ref() == b"ImageData" =>
+            {
+                let Some(attr) = tag
+                    .attributes()
+                    .flatten()
+                    .find(|a| a.key.as_ref() == b"Direction")
+                else {
+                    return Ok(DMat3::IDENTITY);
+                };
+                let text = String::from_utf8_lossy(&attr.value).into_owned();
+                let m: Vec<f64> = samples::parse_list(&text, 9).ok_or_else(|| {
+                    IoError::malformed(path, format!("cannot understand Direction=\"{text}\""))
+                })?;
+                return Ok(DMat3::from_cols_array(&[
+                    m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8],
+                ]));
+            }
+            Ok(quick_xml::events::Event::Eof) | Err(_) => return Ok(DMat3::IDENTITY),
+            _ => buf.clear(),
+        }
+    }
 }
 
 pub(crate) fn write(

@@ -171,7 +171,16 @@ fn volume_seeds() -> Vec<Seed> {
         single("n.nii", nii.clone()),
         single("n.nii.gz", gzip(&nii)),
         single("r.raw", (0..16u8).collect()),
+        dicom_seed(),
     ]
+}
+
+/// One CT slice (4x4, slope 2, intercept -1024) written with dicom-object.
+fn dicom_seed() -> Seed {
+    let slices = voxlod_testkit::dicom::ball_series("1.2.3", 4, 1, [1.0; 3], 0.3, [0.0; 3], 30.0);
+    seed_written("c.dcm", |p| {
+        voxlod_testkit::dicom::write_slice(p, &slices[0])
+    })
 }
 
 /// Interesting byte values: the ends of the ranges, digits and signs, separators.

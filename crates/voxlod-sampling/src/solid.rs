@@ -10,7 +10,7 @@
 //! module).
 
 use rayon::prelude::*;
-use voxlod_core::Bounds;
+use voxlod_core::{Bounds, WorldTransform};
 
 use crate::lattice::{LineCrossings, LineFamily, TILE};
 use crate::SamplingError;
@@ -28,6 +28,13 @@ pub trait Solid: Sync {
     /// volume). When false, the sampler corrects them by a majority vote of the three axis
     /// families ([`crate::majority`]).
     fn is_exact(&self) -> bool;
+
+    /// Where the solid's grid space lies in the world, for a solid made from an oriented scan
+    /// (`voxlod_core::world`): its meshes are moved there after contouring. `None` (the
+    /// default): grid space is the world.
+    fn world(&self) -> Option<WorldTransform> {
+        None
+    }
 }
 
 /// Fills a [`LineCrossings`] by calling `line(u, v, out)` for each line in parallel over tiles.

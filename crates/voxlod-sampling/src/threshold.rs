@@ -15,7 +15,7 @@
 use std::sync::OnceLock;
 
 use rayon::prelude::*;
-use voxlod_core::{Axis, Bounds, Volume};
+use voxlod_core::{Axis, Bounds, Volume, WorldTransform};
 
 use crate::lattice::{LineCrossings, LineFamily};
 use crate::solid::{crossings_per_line, Solid};
@@ -119,6 +119,10 @@ impl Solid for ThresholdSolid<'_> {
 
     fn is_exact(&self) -> bool {
         true
+    }
+
+    fn world(&self) -> Option<WorldTransform> {
+        Some(self.volume.world())
     }
 
     fn crossings(&self, family: &LineFamily) -> Result<LineCrossings, SamplingError> {

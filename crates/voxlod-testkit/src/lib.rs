@@ -8,8 +8,10 @@
 //! - [`shapes`]: closed meshes made in code (cubes, icospheres, tori, a holed block, prisms).
 //! - [`fields`]: the sphereflake and gyroid fields of the peers' benchmark kit.
 //! - [`volumes`]: small volumes made in code.
+//! - [`dicom`]: DICOM slices and series of a ball phantom, written with dicom-object.
 //! - [`intersections`]: an independent triangle–triangle intersection test of a mesh.
 //! - [`files`]: writing and listing files, gzip and zlib streams.
+//! - [`peers`]: the peers' Python (nibabel, pydicom, SimpleITK, zmesh), or a recorded skip.
 //! - [`readers`]: minimal OBJ and ASCII STL readers independent of `voxlod-io`.
 //!
 //! It depends on `voxlod-core`, and on `voxlod-sampling` for the sphereflake's spheres: every
@@ -17,9 +19,11 @@
 //! their unit tests, and tests that need more run from the workspace root's `tests/`.
 
 pub mod data;
+pub mod dicom;
 pub mod fields;
 pub mod files;
 pub mod intersections;
+pub mod peers;
 pub mod readers;
 pub mod shapes;
 pub mod skips;

@@ -20,6 +20,7 @@ use super::common::{
 use super::lod_glb::{add_chain, GlbArgs, GlbReport, LodFormat, CHAIN_FILE};
 use super::source::{MeshSummary, VolumeRoute};
 use super::values::number;
+use super::world::{frame_report, FrameArg};
 
 /// Build levels of detail: a pyramid of filtered volumes, marching cubes on each (paper §2).
 ///
@@ -140,6 +141,8 @@ pub struct LodArgs {
     pub time_cap: f64,
     #[command(flatten)]
     pub route: VolumeRoute,
+    #[command(flatten)]
+    pub frame: FrameArg,
 }
 
 /// One level in the report.
@@ -187,6 +190,12 @@ struct LodReport {
     /// How the finest resolution was chosen from the input's triangles (absent when given).
     #[serde(skip_serializing_if = "Option::is_none")]
     finest: Option<FinestChoice>,
+    /// For a volume: the frame of the meshes (lps, ras, unknown) and the input's index-to-world
+    /// matrix in it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    frame: Option<voxlod::core::Frame>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    transform: Option<[[f64; 4]; 4]>,
     levels: Vec<LevelReport>,
     /// The MSFT_lod chain file, with --format glb.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -293,6 +302,16 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     args.glb.check(args.format)?;
     let options = lod_options(&args)?;
     let loaded = load(&args)?;
+    match &loaded {
+        Loaded::Volume(v) => args.frame.check(v, &args.input)?,
+        Loaded::Mesh(_) if args.frame.target().is_some() => {
+            return Err(CliError::usage(format!(
+                "{}: --frame applies to volumes (a mesh has no anatomical frame)",
+                args.input.display()
+            )))
+        }
+        Loaded::Mesh(_) => {}
+    }
     // Everything is written at the end, as one set; refuse now what it would refuse then.
     let mut out = OutputSet::protecting([&args.input]);
     for level in 0..options.pyramid.resolutions.len() {
@@ -308,9 +327,14 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         args.json,
     );
     let show = |p: Progress| show_level(&args, &bar, p);
-    let lod = voxlod::lod_with(&source(&loaded, &args.route), &options, &show)
+    let mut lod = voxlod::lod_with(&source(&loaded, &args.route), &options, &show)
         .map_err(|e| lod_error(&args, e))?;
     bar.finish_and_clear();
+    if let Loaded::Volume(v) = &loaded {
+        for level in &mut lod.levels {
+            args.frame.convert(v, &mut level.mesh);
+        }
+    }
     let mut levels = Vec::with_capacity(lod.levels.len());
     for (k, level) in lod.levels.iter().enumerate() {
         let previous = k.checked_sub(1).map(|above| &lod.levels[above].topology);
@@ -540,7 +564,13 @@ fn lod_report(
     };
     let mut warnings = lod.warnings.clone();
     warnings.extend(written_warnings.iter().cloned());
+    let frame = match loaded {
+        Loaded::Volume(v) => Some(frame_report(v, args.frame.target())),
+        Loaded::Mesh(_) => None,
+    };
     LodReport {
+        frame: frame.as_ref().map(|f| f.frame),
+        transform: frame.map(|f| f.transform),
         input: args.input.display().to_string(),
         mesh,
         route: lod.route.name(),

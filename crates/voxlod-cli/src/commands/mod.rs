@@ -12,6 +12,7 @@ pub mod demo;
 pub mod envelope;
 pub mod evaluate;
 pub mod inspect;
+pub mod labels;
 pub mod layers;
 pub mod lod;
 pub mod lod_budget;
@@ -22,6 +23,7 @@ pub mod source;
 pub mod values;
 pub mod view;
 pub mod voxelize;
+pub mod world;
 
 pub use common::CliError;
 
@@ -46,6 +48,7 @@ pub enum Command {
     Envelope(envelope::EnvelopeArgs),
     Select(select::SelectArgs),
     Inspect(inspect::InspectArgs),
+    Labels(labels::LabelsArgs),
     Compare(compare::CompareArgs),
     Evaluate(evaluate::EvaluateArgs),
     Layers(layers::LayersArgs),
@@ -64,6 +67,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Envelope(args) => envelope::run(args),
         Command::Select(args) => select::run(args),
         Command::Inspect(args) => inspect::run(args),
+        Command::Labels(args) => labels::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Evaluate(args) => evaluate::run(args),
         Command::Layers(args) => layers::run(args),

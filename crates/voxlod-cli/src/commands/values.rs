@@ -32,6 +32,7 @@ macro_rules! flag_number {
 flag_number!("a number", f64::is_finite, f64);
 flag_number!("a number", f32::is_finite, f32);
 flag_number!("a whole number of 0 or more", |_| true, usize, u32, u64);
+flag_number!("a whole number", |_| true, i64);
 
 /// One finite number.
 pub fn number<T: FlagNumber>(text: &str) -> Result<T, String> {
