@@ -19,6 +19,7 @@
 pub mod data;
 pub mod fields;
 pub mod files;
+pub mod gltf_validator;
 pub mod intersections;
 pub mod readers;
 pub mod shapes;
