@@ -13,6 +13,7 @@ pub mod envelope;
 pub mod evaluate;
 pub mod inspect;
 pub mod layers;
+pub mod layers_lod;
 pub mod lod;
 pub mod lod_budget;
 pub mod lod_glb;
