@@ -14,6 +14,7 @@ pub mod evaluate;
 pub mod inspect;
 pub mod labels;
 pub mod layers;
+pub mod layers_lod;
 pub mod lod;
 pub mod lod_budget;
 pub mod lod_glb;
