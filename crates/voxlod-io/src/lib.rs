@@ -14,6 +14,7 @@
 //! | `.nii`, `.nii.gz` | volume | NIfTI-1 | — | `nifti.rs` |
 //! | `.mha`, `.mhd` | volume | MetaImage, zlib or not, local or detached data | same | `metaimage.rs` |
 //! | `.raw` (or any other, given a [`RawLayout`]) | volume | headerless samples | `f32` little-endian | `raw.rs` |
+//! | `.zarr` (a folder) | volume | Zarr v2/v3 arrays, OME-Zarr 0.4/0.5 images; whole or by region ([`open_zarr`]) | OME-Zarr 0.5 image (Zarr v3, zstd) | `zarr.rs`, `zarr_write.rs` |
 //!
 //! A `.vtk` file may hold either kind: [`file_kind`] looks inside to tell.
 //!
@@ -96,6 +97,9 @@ mod vtk;
 mod vtk_image;
 mod vtk_mesh;
 mod vtk_xml;
+mod zarr;
+mod zarr_errors;
+mod zarr_write;
 
 use std::fmt;
 use std::io::Read;
@@ -108,6 +112,7 @@ pub use error::{IoError, IoErrorKind};
 pub use outputs::{check_image_path, OutputSet, IMAGE_EXTENSIONS};
 pub use raw::{Endian, ParseNameError, RawLayout, RawType};
 pub use voxlod_core::weld::WeldReport;
+pub use zarr::{open_zarr, ZarrVolume};
 
 use atomic::TempFile;
 use vtk::Flavor;
@@ -151,6 +156,8 @@ pub enum VolumeFormat {
     Mhd,
     /// Headerless samples.
     Raw,
+    /// A Zarr array or OME-Zarr image (a folder).
+    Zarr,
 }
 
 /// What a file holds, as [`file_kind`] tells.
@@ -186,12 +193,13 @@ impl fmt::Display for VolumeFormat {
             VolumeFormat::Mha => "MetaImage",
             VolumeFormat::Mhd => "MetaImage (detached header)",
             VolumeFormat::Raw => "headerless raw",
+            VolumeFormat::Zarr => "Zarr",
         })
     }
 }
 
 const MESH_EXTENSIONS: &str = ".obj, .ply, .stl, .off, .vtp, .vtk";
-const VOLUME_EXTENSIONS: &str = ".nrrd, .nhdr, .vti, .vtk, .nii, .nii.gz, .mha, .mhd, .raw";
+const VOLUME_EXTENSIONS: &str = ".nrrd, .nhdr, .vti, .vtk, .nii, .nii.gz, .mha, .mhd, .raw, .zarr";
 
 /// The lower-case file name, for extension tests.
 fn lower_name(path: &Path) -> String {
@@ -247,6 +255,7 @@ pub fn volume_format_of(path: &Path) -> Result<VolumeFormat, IoError> {
         "mha" => VolumeFormat::Mha,
         "mhd" => VolumeFormat::Mhd,
         "raw" => VolumeFormat::Raw,
+        "zarr" => VolumeFormat::Zarr,
         other => {
             return Err(IoError::unsupported(
                 path,
@@ -548,8 +557,11 @@ pub fn read_volume(path: &Path, raw: Option<&RawLayout>) -> Result<Volume, IoErr
         Err(_) if raw.is_some() => VolumeFormat::Raw,
         Err(e) => return Err(e),
     };
-    check_readable(path)?;
+    if format != VolumeFormat::Zarr {
+        check_readable(path)?;
+    }
     match format {
+        VolumeFormat::Zarr => open_zarr(path)?.read_all(),
         VolumeFormat::Nrrd | VolumeFormat::Nhdr => nrrd::read(path),
         VolumeFormat::Vti => vtk_image::read(path, Flavor::Xml),
         VolumeFormat::Vtk => vtk_image::read(path, Flavor::Legacy),
@@ -653,6 +665,12 @@ pub(crate) fn stage_volume(
         VolumeFormat::Raw => vec![raw::write(path, volume)?],
         VolumeFormat::Nifti => {
             return Err(IoError::unsupported(path, "writing NIfTI is not supported"))
+        }
+        VolumeFormat::Zarr => {
+            return Err(IoError::unsupported(
+                path,
+                "a Zarr store is a folder: write it through an OutputSet",
+            ))
         }
     })
 }

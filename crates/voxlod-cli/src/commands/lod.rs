@@ -5,13 +5,13 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
 use serde::Serialize;
-use voxlod::io::OutputSet;
+use voxlod::io::{OutputSet, VolumeFormat};
 use voxlod::sampling::{DensityReport, Filter, PyramidOptions};
 use voxlod::{Control, EnvelopeStep, Event, LevelEpsilon, Lod, LodLevel, LodOptions, Progress};
 
 use super::common::{
-    check_grid_range, count, describe_mesh, in_dir, in_file, print_json, progress, read_input,
-    CliError, Input, MeshExtension,
+    check_grid_range, check_grid_reach, count, describe_mesh, in_dir, in_file, print_json,
+    progress, read_input, CliError, Input, MeshExtension,
 };
 use super::lod_glb::{add_chain, GlbArgs, GlbReport, LodFormat, CHAIN_FILE};
 use super::source::{MeshSummary, VolumeRoute};
@@ -215,10 +215,19 @@ fn lod_options(args: &LodArgs) -> Result<LodOptions, CliError> {
 enum Loaded {
     Mesh(voxlod::io::LoadedMesh),
     Volume(voxlod::core::Volume),
+    /// A Zarr scan with --threshold: never read whole, sampled window by window (the same
+    /// levels as a volume read whole).
+    Chunked(voxlod::io::ZarrVolume),
 }
 
 /// Reads the input, refusing a volume without a route.
 fn load(args: &LodArgs) -> Result<Loaded, CliError> {
+    let zarr = voxlod::io::volume_format_of(&args.input).ok() == Some(VolumeFormat::Zarr);
+    if zarr && args.route.threshold.is_some() {
+        let scan = voxlod::io::open_zarr(&args.input)?;
+        check_grid_reach(&scan.grid(), &args.input, args.route.raw.spacing_source())?;
+        return Ok(Loaded::Chunked(scan));
+    }
     match read_input(&args.input, &args.route.raw)? {
         Input::Mesh(mesh) => Ok(Loaded::Mesh(mesh)),
         Input::Volume(volume) => {
@@ -243,6 +252,10 @@ fn source<'a>(loaded: &'a Loaded, route: &VolumeRoute) -> voxlod::Source<'a> {
             voxlod::Source::Threshold { volume, threshold }
         }
         (Loaded::Volume(volume), None) => voxlod::Source::Direct(volume),
+        (Loaded::Chunked(scan), threshold) => voxlod::Source::ChunkedThreshold {
+            scan,
+            threshold: threshold.unwrap_or(f32::NAN),
+        },
     }
 }
 
