@@ -1,4 +1,5 @@
-//! The bricked threshold route gives the dense route's samples bit for bit: a generated gyroid
+//! The bricked threshold route gives the dense route's samples (to the f64 residue of the
+//! dense rows' running sums, ~1e-16, far from any iso value): a generated gyroid
 //! scan, thresholded, sampled block by block from windows of it, against `filtered_density` of
 //! the whole scan's `ThresholdSolid`, at several resolutions (level spacing unlike the scan's),
 //! both filters and both brick sides, with blocks small enough that every sample's filter
@@ -78,18 +79,25 @@ fn compare(
     );
     let [nx, ny, nz] = grid.dims;
     let mut differing = 0;
+    let mut worst = 0.0f32;
     for k in 0..nz {
         for j in 0..ny {
             for i in 0..nx {
-                if bricks.get(i, j, k).to_bits() != dense.get(i, j, k).to_bits() {
+                let (x, y) = (bricks.get(i, j, k), dense.get(i, j, k));
+                if x.to_bits() != y.to_bits() {
                     differing += 1;
+                    worst = worst.max((x - y).abs());
                 }
             }
         }
     }
-    assert_eq!(
-        differing, 0,
-        "resolution {resolution}, {filter:?}, bricks {brick}, blocks {block}: {differing} samples differ"
+    // Per brick, the difference array of a row starts at the brick's first sample rather than
+    // the grid's, so a span that ended before the brick leaves no f64 residue (`full - full`
+    // interleaved with other lines' terms) as it does in the dense row: values that are 0 in
+    // one route can be ~1e-16 in the other. Nothing else may differ.
+    assert!(
+        worst <= 1e-12,
+        "resolution {resolution}, {filter:?}, bricks {brick}, blocks {block}: {differing} samples differ, by up to {worst:e}"
     );
     assert!(report.crossings > 0);
     assert!(
@@ -99,12 +107,8 @@ fn compare(
     band.band_bricks
 }
 
-/// Known failure, not yet understood: with blocks of 8 or 16 samples a fraction of the samples
-/// differ from the dense route's (blocks of 128, as the CLI uses them, gave identical meshes on
-/// 48³ and 256³ gyroids; see the report of branch h/zarr).
 #[test]
-#[ignore = "known failure: small blocks differ from the dense route"]
-fn bricked_threshold_matches_the_dense_route_bit_for_bit() {
+fn bricked_threshold_matches_the_dense_route() {
     let scan = gyroid_scan(40, 23.0, 0.7);
     // The level about as fine as the scan, and coarser; hyper-cone and Gaussian.
     compare(&scan, 128.0, 40, Filter::Hypercone, 8, 8);
@@ -112,10 +116,7 @@ fn bricked_threshold_matches_the_dense_route_bit_for_bit() {
     compare(&scan, 128.0, 24, Filter::Hypercone, 8, 8);
 }
 
-/// Known failure, not yet understood: with the level finer than the scan (56 samples across
-/// a scan of 40) about a quarter of the samples differ from the dense route's.
 #[test]
-#[ignore = "known failure: a level finer than the scan differs from the dense route"]
 fn bricked_threshold_matches_the_dense_route_on_a_level_finer_than_the_scan() {
     let scan = gyroid_scan(40, 23.0, 0.7);
     compare(&scan, 128.0, 56, Filter::Hypercone, 8, 16);
