@@ -198,6 +198,7 @@ impl From<LodError> for Error {
         match e {
             LodError::Sampling(e) => Error::Sampling(e),
             LodError::Contour(e) => Error::Contour(e),
+            LodError::Read(e) => Error::Io(e),
             LodError::Clean(CleanError::Mesh(e)) => Error::Core(e),
             LodError::Clean(CleanError::BadCell(cell)) => Error::InvalidOption(InvalidOption {
                 option: "resolution",

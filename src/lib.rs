@@ -50,6 +50,7 @@
 
 #![warn(missing_docs)]
 
+pub mod bricked;
 pub mod budget;
 mod caps;
 mod cluster;

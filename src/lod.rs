@@ -31,6 +31,7 @@ use voxlod_sampling::narrow_band::{
     lattice_estimated_bytes, narrow_band_density, BandReport, NarrowBandOptions,
 };
 
+use crate::bricked::ChunkedThreshold;
 use crate::then_envelope::EnvelopeStep;
 use voxlod_sampling::{
     direct_density, filtered_density, plan_levels_with, DensityReport, LevelPlan, MonotoneChain,
@@ -54,6 +55,9 @@ pub enum LodSource<'a> {
     Solid(&'a dyn Solid),
     /// A scanned volume filtered directly: the density stays in the data's units.
     Direct(&'a Volume),
+    /// A scan thresholded and read window by window ([`crate::bricked`]): as `Solid` of its
+    /// [`voxlod_sampling::ThresholdSolid`], level by level through bricks.
+    Chunked(&'a ChunkedThreshold<'a>),
 }
 
 impl LodSource<'_> {
@@ -63,6 +67,8 @@ impl LodSource<'_> {
         let world = match self {
             LodSource::Solid(s) => s.world(),
             LodSource::Direct(v) => Some(v.world()),
+            // A Zarr scan has spacing and origin only: its grid space is its world.
+            LodSource::Chunked(_) => None,
         };
         world.map_or(Placement::IDENTITY, |w| Placement::of(&w, None))
     }
@@ -72,6 +78,7 @@ impl LodSource<'_> {
         match self {
             LodSource::Solid(s) => s.bounds(),
             LodSource::Direct(v) => v.grid.bounds(),
+            LodSource::Chunked(c) => c.bounds(),
         }
     }
 }
@@ -165,12 +172,17 @@ pub enum LodError {
     /// Keeping the chain's genus from rising failed (the memory budget).
     #[error(transparent)]
     Monotone(#[from] MonotoneError),
+    /// Reading a window of a chunked scan failed.
+    #[error(transparent)]
+    Read(voxlod_io::IoError),
 }
 
 /// Plans every level: grids, radii, and a memory check of the largest.
 pub fn plan(source: &LodSource, options: &LevelOptions) -> Result<Vec<LevelPlan>, LodError> {
     let estimate = |grid: &Grid, q: usize| {
-        if uses_band(source, grid, q) {
+        if let LodSource::Chunked(c) = source {
+            c.estimated_bytes(grid, q)
+        } else if uses_band(source, grid, q) {
             lattice_estimated_bytes(grid, q, NarrowBandOptions::default().brick_size)
         } else {
             estimated_bytes(grid, q)
@@ -239,6 +251,10 @@ pub(crate) fn sample_level(
         LodSource::Solid(solid) => {
             let (v, report) = filtered_density(*solid, &plan.grid, &density_options)?;
             (LevelVolume::Dense(v), Some(report), None)
+        }
+        LodSource::Chunked(scan) => {
+            let (bricks, report, band) = scan.sample(&plan.grid, &density_options)?;
+            (LevelVolume::Bricks(bricks), Some(report), Some(band))
         }
         LodSource::Direct(volume) => (
             LevelVolume::Dense(direct_density(

@@ -13,7 +13,9 @@ use std::fmt;
 
 use serde::Serialize;
 use voxlod_core::{Bounds, Volume};
-use voxlod_sampling::{MeshPreparation, MeshSolid, Solid, ThresholdSolid};
+use voxlod_sampling::{MeshPreparation, MeshSolid, SamplingError, Solid, ThresholdSolid};
+
+use crate::bricked::{ChunkedScan, ChunkedThreshold};
 
 use crate::error::{Error, InvalidOption};
 use crate::lod::LodSource;
@@ -36,6 +38,14 @@ pub enum Source<'a> {
     Direct(&'a Volume),
     /// Any solid with an inside test (CSG, the sphereflake).
     Solid(&'a dyn Solid),
+    /// A scan too large to hold, read window by window and thresholded like `Threshold` (the
+    /// same levels; no warning about the threshold, which would need a pass over the data).
+    ChunkedThreshold {
+        /// The scan.
+        scan: &'a dyn ChunkedScan,
+        /// The inside's lowest value, in the data's units.
+        threshold: f32,
+    },
 }
 
 impl fmt::Debug for Source<'_> {
@@ -49,6 +59,11 @@ impl fmt::Debug for Source<'_> {
             ),
             Source::Direct(v) => write!(f, "Source::Direct({:?} samples)", v.grid.dims),
             Source::Solid(_) => write!(f, "Source::Solid"),
+            Source::ChunkedThreshold { scan, threshold } => write!(
+                f,
+                "Source::ChunkedThreshold({:?} samples, threshold {threshold})",
+                scan.grid().dims
+            ),
         }
     }
 }
@@ -84,7 +99,7 @@ impl<'a> Source<'a> {
     pub fn route(&self) -> Route {
         match self {
             Source::Mesh(_) => Route::Mesh,
-            Source::Threshold { .. } => Route::Threshold,
+            Source::Threshold { .. } | Source::ChunkedThreshold { .. } => Route::Threshold,
             Source::Direct(_) => Route::Direct,
             Source::Solid(_) => Route::Solid,
         }
@@ -125,6 +140,16 @@ impl<'a> Source<'a> {
                 (Inner::Direct(volume), None)
             }
             Source::Solid(solid) => (Inner::Solid(solid), None),
+            Source::ChunkedThreshold { scan, threshold } => {
+                if !threshold.is_finite() {
+                    return Err(SamplingError::InvalidOption(format!(
+                        "the threshold {threshold} is not a finite number"
+                    ))
+                    .into());
+                }
+                let chunked = ChunkedThreshold { scan, threshold };
+                (Inner::Chunked(Box::new(chunked)), None)
+            }
         };
         Ok(Prepared {
             inner,
@@ -148,6 +173,7 @@ enum Inner<'a> {
     Threshold(ThresholdSolid<'a>),
     Direct(&'a Volume),
     Solid(&'a dyn Solid),
+    Chunked(Box<ChunkedThreshold<'a>>),
 }
 
 impl Prepared<'_> {
@@ -158,6 +184,7 @@ impl Prepared<'_> {
             Inner::Threshold(s) => LodSource::Solid(s),
             Inner::Direct(v) => LodSource::Direct(v),
             Inner::Solid(s) => LodSource::Solid(*s),
+            Inner::Chunked(c) => LodSource::Chunked(c.as_ref()),
         }
     }
 
@@ -165,7 +192,7 @@ impl Prepared<'_> {
     pub fn solid(&self) -> Option<&dyn Solid> {
         match self.lod_source() {
             LodSource::Solid(s) => Some(s),
-            LodSource::Direct(_) => None,
+            LodSource::Direct(_) | LodSource::Chunked(_) => None,
         }
     }
 

@@ -112,6 +112,50 @@ impl BrickVolume {
         })
     }
 
+    /// A volume from its parts, as a builder that made the leaves itself assembles them (the
+    /// bricked threshold route, brick by brick): `values` one per brick (used for the bricks
+    /// not in `leaf_bricks`), `leaf_bricks` the leaves' brick indices, strictly increasing, and
+    /// `leaves` their `B³` samples each, in that order.
+    pub fn from_parts(
+        grid: Grid,
+        brick_size: usize,
+        values: Vec<f32>,
+        leaf_bricks: Vec<u32>,
+        leaves: Vec<f32>,
+    ) -> Result<BrickVolume, CoreError> {
+        let shift = brick_shift(brick_size)?;
+        let brick_dims = grid.dims.map(|d| d.div_ceil(brick_size));
+        let count = brick_dims.iter().product::<usize>();
+        let increasing = leaf_bricks.windows(2).all(|w| w[0] < w[1]);
+        let in_range = leaf_bricks.last().is_none_or(|&b| (b as usize) < count);
+        if values.len() != count
+            || !increasing
+            || !in_range
+            || leaves.len() != leaf_bricks.len() * brick_size.pow(3)
+            || leaf_bricks.len() >= NO_LEAF as usize
+        {
+            return Err(CoreError::InvalidGrid(format!(
+                "{} brick values, {} leaves ({} samples) do not make a brick volume of {count} bricks",
+                values.len(),
+                leaf_bricks.len(),
+                leaves.len()
+            )));
+        }
+        let mut slots = vec![NO_LEAF; count];
+        for (slot, &b) in leaf_bricks.iter().enumerate() {
+            slots[b as usize] = slot as u32;
+        }
+        Ok(BrickVolume {
+            grid,
+            shift,
+            brick_dims,
+            values,
+            slots,
+            leaves,
+            leaf_bricks,
+        })
+    }
+
     /// Every brick uniform with `value`.
     pub fn uniform(grid: Grid, brick_size: usize, value: f32) -> Result<BrickVolume, CoreError> {
         let count: usize = grid

@@ -15,6 +15,7 @@
 //! | `.mha`, `.mhd` | volume | MetaImage, zlib or not, local or detached data | same | `metaimage.rs` |
 //! | `.dcm`, a folder | volume | DICOM series (one SeriesInstanceUID), in LPS | — | `dicom.rs`, `dicom_geometry.rs` |
 //! | `.raw` (or any other, given a [`RawLayout`]) | volume | headerless samples | `f32` little-endian | `raw.rs` |
+//! | `.zarr` (a folder) | volume | Zarr v2/v3 arrays, OME-Zarr 0.4/0.5 images; whole or by region ([`open_zarr`]) | OME-Zarr 0.5 image (Zarr v3, zstd) | `zarr.rs`, `zarr_write.rs` |
 //!
 //! A `.vtk` file may hold either kind: [`file_kind`] looks inside to tell.
 //!
@@ -101,6 +102,9 @@ mod vtk;
 mod vtk_image;
 mod vtk_mesh;
 mod vtk_xml;
+mod zarr;
+mod zarr_errors;
+mod zarr_write;
 
 use std::fmt;
 use std::io::Read;
@@ -115,6 +119,7 @@ pub use label_table::{read_label_table, LabelName};
 pub use outputs::{check_image_path, OutputSet, IMAGE_EXTENSIONS};
 pub use raw::{Endian, ParseNameError, RawLayout, RawType};
 pub use voxlod_core::weld::WeldReport;
+pub use zarr::{open_zarr, ZarrVolume};
 
 use atomic::TempFile;
 use vtk::Flavor;
@@ -160,6 +165,8 @@ pub enum VolumeFormat {
     Raw,
     /// A DICOM series: a folder of slices, or one `.dcm` file (read-only).
     Dicom,
+    /// A Zarr array or OME-Zarr image (a folder).
+    Zarr,
 }
 
 /// What a file holds, as [`file_kind`] tells.
@@ -196,13 +203,14 @@ impl fmt::Display for VolumeFormat {
             VolumeFormat::Mhd => "MetaImage (detached header)",
             VolumeFormat::Raw => "headerless raw",
             VolumeFormat::Dicom => "DICOM series",
+            VolumeFormat::Zarr => "Zarr",
         })
     }
 }
 
 const MESH_EXTENSIONS: &str = ".obj, .ply, .stl, .off, .vtp, .vtk";
 const VOLUME_EXTENSIONS: &str =
-    ".nrrd, .nhdr, .vti, .vtk, .nii, .nii.gz, .mha, .mhd, .raw, .dcm or a DICOM folder";
+    ".nrrd, .nhdr, .vti, .vtk, .nii, .nii.gz, .mha, .mhd, .raw, .zarr, .dcm or a DICOM folder";
 
 /// The lower-case file name, for extension tests.
 fn lower_name(path: &Path) -> String {
@@ -249,6 +257,11 @@ pub fn volume_format_of(path: &Path) -> Result<VolumeFormat, IoError> {
     if lower_name(path).ends_with(".nii.gz") {
         return Ok(VolumeFormat::Nifti);
     }
+    // Both are folders: a Zarr store by its extension or its metadata files, else DICOM slices.
+    let zarr_metadata = ["zarr.json", ".zarray", ".zgroup"];
+    if extension(path) == "zarr" || zarr_metadata.iter().any(|m| path.join(m).is_file()) {
+        return Ok(VolumeFormat::Zarr);
+    }
     if path.is_dir() {
         return Ok(VolumeFormat::Dicom);
     }
@@ -263,6 +276,7 @@ pub fn volume_format_of(path: &Path) -> Result<VolumeFormat, IoError> {
         "raw" => VolumeFormat::Raw,
         "dcm" | "dicom" => VolumeFormat::Dicom,
         _ if dicom::looks_like_dicom(path) => VolumeFormat::Dicom,
+        "zarr" => VolumeFormat::Zarr,
         other => {
             return Err(IoError::unsupported(
                 path,
@@ -564,11 +578,12 @@ pub fn read_volume(path: &Path, raw: Option<&RawLayout>) -> Result<Volume, IoErr
         Err(_) if raw.is_some() => VolumeFormat::Raw,
         Err(e) => return Err(e),
     };
-    if format != VolumeFormat::Dicom {
+    if !matches!(format, VolumeFormat::Dicom | VolumeFormat::Zarr) {
         check_readable(path)?;
     }
     match format {
         VolumeFormat::Dicom => read_dicom_series(&[path.to_path_buf()], &DicomOptions::default()),
+        VolumeFormat::Zarr => open_zarr(path)?.read_all(),
         VolumeFormat::Nrrd | VolumeFormat::Nhdr => nrrd::read(path),
         VolumeFormat::Vti => vtk_image::read(path, Flavor::Xml),
         VolumeFormat::Vtk => vtk_image::read(path, Flavor::Legacy),
@@ -682,6 +697,12 @@ pub(crate) fn stage_volume(
             return Err(IoError::unsupported(
                 path,
                 format!("writing {format} is not supported"),
+            ))
+        }
+        VolumeFormat::Zarr => {
+            return Err(IoError::unsupported(
+                path,
+                "a Zarr store is a folder: write it through an OutputSet",
             ))
         }
     })

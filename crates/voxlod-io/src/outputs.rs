@@ -293,6 +293,18 @@ impl OutputSet {
         volume: &Volume,
         options: &VolumeWriteOptions,
     ) -> Result<(), IoError> {
+        if crate::volume_format_of(path).ok() == Some(VolumeFormat::Zarr) {
+            // A Zarr store is a folder of files, each checked as it is staged.
+            crate::check_volume_for_writing(path, volume)?;
+            if let Some(input) = self.input_at(path) {
+                return Err(IoError::new(
+                    path,
+                    IoErrorKind::Conflict,
+                    format!("refusing to write over {}", input.describe()),
+                ));
+            }
+            return crate::zarr_write::stage(self, path, volume);
+        }
         self.check(path)?;
         let format = crate::check_volume_for_writing(path, volume)?;
         let data = match crate::detached_data_extension(format, options) {

@@ -178,6 +178,17 @@ pub(crate) fn make_volume(
     origin: [f64; 3],
     values: Vec<f32>,
 ) -> Result<Volume, IoError> {
+    check_geometry(path, spacing, origin)?;
+    let grid = Grid::new(dims, spacing, origin).map_err(|e| IoError::from_core(path, e))?;
+    Volume::from_vec(grid, values).map_err(|e| IoError::from_core(path, e))
+}
+
+/// Fails unless the spacing is finite and positive and the origin finite.
+pub(crate) fn check_geometry(
+    path: &Path,
+    spacing: [f64; 3],
+    origin: [f64; 3],
+) -> Result<(), IoError> {
     if let Some(axis) = spacing.iter().position(|s| !s.is_finite() || *s <= 0.0) {
         return Err(IoError::malformed(
             path,
@@ -199,8 +210,7 @@ pub(crate) fn make_volume(
             ),
         ));
     }
-    let grid = Grid::new(dims, spacing, origin).map_err(|e| IoError::from_core(path, e))?;
-    Volume::from_vec(grid, values).map_err(|e| IoError::from_core(path, e))
+    Ok(())
 }
 
 /// The data file a detached header names (`field` is the header's key, for messages):

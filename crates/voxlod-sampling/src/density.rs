@@ -133,25 +133,8 @@ pub(crate) fn lattice_crossings(
     options: &DensityOptions,
     estimate: &dyn Fn(usize) -> u64,
 ) -> Result<([LineCrossings; 3], LineKernel, DensityReport), SamplingError> {
+    let q = check_options(grid, options)?;
     let h = grid.spacing[0];
-    if grid.spacing.iter().any(|s| (s - h).abs() > 1e-9 * h) {
-        return Err(SamplingError::InvalidOption(format!(
-            "filtered sampling needs an isotropic grid, got spacing {:?}",
-            grid.spacing
-        )));
-    }
-    if !(options.radius.is_finite() && options.radius > 0.0) {
-        return Err(SamplingError::InvalidOption(format!(
-            "the support radius must be positive, got {}",
-            options.radius
-        )));
-    }
-    if options.lines_per_radius == 0 {
-        return Err(SamplingError::InvalidOption(
-            "lines per radius must be at least 1".into(),
-        ));
-    }
-    let q = options.lines_per_voxel(h);
     memory::check_allocation(
         &format!(
             "sampling a {}x{}x{} grid",
@@ -172,6 +155,29 @@ pub(crate) fn lattice_crossings(
         majority,
     };
     Ok((crossings, kernel, report))
+}
+
+/// Checks that `grid` is isotropic and the options usable; the lattice lines per voxel.
+pub(crate) fn check_options(grid: &Grid, options: &DensityOptions) -> Result<usize, SamplingError> {
+    let h = grid.spacing[0];
+    if grid.spacing.iter().any(|s| (s - h).abs() > 1e-9 * h) {
+        return Err(SamplingError::InvalidOption(format!(
+            "filtered sampling needs an isotropic grid, got spacing {:?}",
+            grid.spacing
+        )));
+    }
+    if !(options.radius.is_finite() && options.radius > 0.0) {
+        return Err(SamplingError::InvalidOption(format!(
+            "the support radius must be positive, got {}",
+            options.radius
+        )));
+    }
+    if options.lines_per_radius == 0 {
+        return Err(SamplingError::InvalidOption(
+            "lines per radius must be at least 1".into(),
+        ));
+    }
+    Ok(options.lines_per_voxel(h))
 }
 
 /// Scratch rows for one thread: the density and surface weight of one row of samples.

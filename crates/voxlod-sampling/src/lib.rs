@@ -64,6 +64,7 @@
 
 #![warn(missing_docs)]
 
+pub mod bricked_threshold;
 pub mod csg;
 pub mod density;
 pub mod digital_topology;
@@ -85,6 +86,7 @@ pub mod sphereflake;
 pub mod threshold;
 pub mod vanishing;
 
+pub use bricked_threshold::{bricked_threshold_density, BrickedError, BrickedThreshold};
 pub use csg::{CsgSolid, Shape};
 pub use density::{filtered_density, DensityOptions, DensityReport};
 pub use digital_topology::{digital_topology, DigitalTopology};

@@ -130,7 +130,7 @@ pub fn narrow_band_density(
             || BrickScratch::new(b),
             |scratch, (leaf, brick)| {
                 let origin = brick_origin(brick_dims, b, brick as usize);
-                scratch.fill(&crossings, &kernel, grid, origin, leaf);
+                scratch.fill(&crossings, &kernel, grid, origin, [0; 3], leaf);
             },
         );
     let band = BandReport {
@@ -209,8 +209,8 @@ fn outside_values(x_lines: &LineCrossings, grid: &Grid, b: usize, mask: &[bool])
         .collect()
 }
 
-/// One thread's buffers for filling band bricks.
-struct BrickScratch {
+/// One thread's buffers for filling band bricks (also the bricked threshold route's).
+pub(crate) struct BrickScratch {
     b: usize,
     rows: Rows,
     num: Vec<f32>,
@@ -218,7 +218,7 @@ struct BrickScratch {
 }
 
 impl BrickScratch {
-    fn new(b: usize) -> BrickScratch {
+    pub(crate) fn new(b: usize) -> BrickScratch {
         BrickScratch {
             b,
             rows: Rows::new(b),
@@ -229,19 +229,22 @@ impl BrickScratch {
 
     /// The filtered density of the brick at `origin` into `leaf`, as the dense sampler blends
     /// it: x rows set the weighted sums, y rows add to them in f32, z rows finish in f64.
-    fn fill(
+    /// `crossings` may hold a window of the lattice: its line (0, 0) is the one through sample
+    /// `first_line` (per axis) of `grid`.
+    pub(crate) fn fill(
         &mut self,
         crossings: &[LineCrossings; 3],
         kernel: &LineKernel,
         grid: &Grid,
         origin: [usize; 3],
+        first_line: [usize; 3],
         leaf: &mut [f32],
     ) {
         let b = self.b;
         let q = crossings[0].family.lines_per_voxel;
         let ext = [0, 1, 2].map(|a| (grid.dims[a] - origin[a]).min(b));
         let at = |i: usize, j: usize, k: usize| i + b * (j + b * k);
-        let line = |a: usize, c: usize| ((origin[a] + c) * q) as isize;
+        let line = |a: usize, c: usize| ((origin[a] + c - first_line[a]) * q) as isize;
         let span = |a: usize| origin[a]..origin[a] + ext[a];
         let rows = &mut self.rows;
         for k in 0..ext[2] {

@@ -15,15 +15,20 @@
 use std::sync::OnceLock;
 
 use rayon::prelude::*;
-use voxlod_core::{Axis, Bounds, Volume, WorldTransform};
+use voxlod_core::{Axis, Bounds, Grid, Volume, WorldTransform};
 
-use crate::lattice::{LineCrossings, LineFamily};
-use crate::solid::{crossings_per_line, Solid};
+use crate::lattice::{LineCrossings, LineFamily, TILE};
+use crate::solid::{crossings_per_line, crossings_per_tile, Solid};
 use crate::SamplingError;
 
 /// The solid `{ p : trilinear(volume, p) >= threshold }`.
 pub struct ThresholdSolid<'a> {
+    /// The samples held: the whole scan, or a window of it ([`ThresholdSolid::window`]).
     volume: &'a Volume,
+    /// The whole scan's grid; all arithmetic is in its indices and coordinates.
+    grid: Grid,
+    /// Index in the whole scan of the held samples' first one.
+    start: [usize; 3],
     threshold: f32,
     bounds: Bounds,
     /// Per axis, the run-length encoded cell columns, built on first use and kept for all levels.
@@ -44,39 +49,75 @@ impl<'a> ThresholdSolid<'a> {
                 "the threshold {threshold} is above every value of the volume (range {lo} to {hi})"
             )));
         }
-        Ok(ThresholdSolid {
-            volume,
+        Ok(Self::window(volume, volume.grid, [0; 3], threshold))
+    }
+
+    /// The solid of a scan with grid `grid`, of which only `window` is held: the samples from
+    /// index `start` on. Along a lattice line it gives the crossings the whole scan gives inside
+    /// the window (computed with the whole scan's coordinates, so bit for bit the same), plus
+    /// one where the line leaves the window inside the solid, at each end (for the bricked
+    /// route, [`crate::bricked_threshold`], whose windows reach beyond what a block reads).
+    pub fn window(
+        window: &'a Volume,
+        grid: Grid,
+        start: [usize; 3],
+        threshold: f32,
+    ) -> ThresholdSolid<'a> {
+        ThresholdSolid {
+            volume: window,
+            grid,
+            start,
             threshold,
-            bounds: volume.grid.bounds(),
+            bounds: grid.bounds(),
             columns: Default::default(),
-        })
+        }
+    }
+
+    /// Sample `i` along `axis` and `(a, b)` across it, in the whole scan's indices.
+    #[inline]
+    fn value(&self, axis: Axis, i: usize, a: usize, b: usize) -> f32 {
+        let (ua, va) = axis.others();
+        let mut p = [0usize; 3];
+        p[axis.index()] = i;
+        p[ua.index()] = a;
+        p[va.index()] = b;
+        let s = self.start;
+        self.volume.get(p[0] - s[0], p[1] - s[1], p[2] - s[2])
+    }
+
+    /// The held cells along `axis` (whole-scan indices of their lower samples) and the number
+    /// of cell columns across it.
+    fn held_cells(&self, axis: Axis) -> (std::ops::Range<usize>, usize, usize) {
+        let (ua, va) = axis.others();
+        let w = self.volume.grid.dims;
+        let first = self.start[axis.index()];
+        let cells = first..first + w[axis.index()].saturating_sub(1);
+        let (cu, cv) = (
+            w[ua.index()].saturating_sub(1).max(1),
+            w[va.index()].saturating_sub(1).max(1),
+        );
+        (cells, cu, cv)
     }
 
     /// The cells of one column along `axis` (the cells between data rows `a0..=a0+1` and
-    /// `b0..=b0+1` of the cross axes), run-length encoded as all-outside, all-inside or mixed.
+    /// `b0..=b0+1` of the cross axes, whole-scan indices), run-length encoded as all-outside,
+    /// all-inside or mixed.
     fn column_runs(&self, axis: Axis, a0: usize, b0: usize) -> Vec<CellRun> {
-        let g = &self.volume.grid;
+        let g = &self.grid;
         let (ua, va) = axis.others();
-        let na = g.dims[axis.index()];
         let (nu, nv) = (g.dims[ua.index()], g.dims[va.index()]);
         let (a1, b1) = ((a0 + 1).min(nu - 1), (b0 + 1).min(nv - 1));
-        let at = |i: usize, a: usize, b: usize| {
-            let mut p = [0usize; 3];
-            p[axis.index()] = i;
-            p[ua.index()] = a;
-            p[va.index()] = b;
-            self.volume.get(p[0], p[1], p[2])
-        };
         // Inside count of the four samples of each cross-section.
         let section = |i: usize| {
             [(a0, b0), (a1, b0), (a0, b1), (a1, b1)]
                 .iter()
-                .filter(|&&(a, b)| at(i, a, b) >= self.threshold)
+                .filter(|&&(a, b)| self.value(axis, i, a, b) >= self.threshold)
                 .count()
         };
+        let (cells, _, _) = self.held_cells(axis);
         let mut runs: Vec<CellRun> = Vec::new();
-        let mut prev = section(0);
-        for i in 0..na.saturating_sub(1) {
+        let mut prev = section(cells.start);
+        for i in cells {
             let next = section(i + 1);
             let state = match (prev, next) {
                 (0, 0) => CellState::Outside,
@@ -126,92 +167,162 @@ impl Solid for ThresholdSolid<'_> {
     }
 
     fn crossings(&self, family: &LineFamily) -> Result<LineCrossings, SamplingError> {
-        let g = self.volume.grid;
-        let axis = family.axis;
+        let columns = self.columns_along(family.axis);
+        Ok(crossings_per_line(family, |u, v, out| {
+            self.line_crossings(family.axis, columns, u, v, out)
+        }))
+    }
+}
+
+impl ThresholdSolid<'_> {
+    /// The cell columns along `axis`, indexed `[b * cu + a]` from the held window's first.
+    fn columns_along(&self, axis: Axis) -> &Vec<Vec<CellRun>> {
         let (ua, va) = axis.others();
-        let (na, nu, nv) = (g.dims[axis.index()], g.dims[ua.index()], g.dims[va.index()]);
-        // Columns of cells between neighbouring data rows, indexed [b0 * cu + a0].
-        let (cu, cv) = (nu.saturating_sub(1).max(1), nv.saturating_sub(1).max(1));
-        let columns = self.columns[axis.index()].get_or_init(|| {
+        let (_, cu, cv) = self.held_cells(axis);
+        let (su, sv) = (self.start[ua.index()], self.start[va.index()]);
+        self.columns[axis.index()].get_or_init(|| {
             (0..cu * cv)
                 .into_par_iter()
-                .map(|c| self.column_runs(axis, c % cu, c / cu))
+                .map(|c| self.column_runs(axis, su + c % cu, sv + c / cu))
                 .collect()
-        });
-        let t = self.threshold;
-        let value = |i: usize, a: usize, b: usize| {
-            let mut p = [0usize; 3];
-            p[axis.index()] = i;
-            p[ua.index()] = a;
-            p[va.index()] = b;
-            self.volume.get(p[0], p[1], p[2])
-        };
-        let to_world = |i: f64| g.origin[axis.index()] + i * g.spacing[axis.index()];
-        Ok(crossings_per_line(family, |u, v, out| {
-            let fu = (u - g.origin[ua.index()]) / g.spacing[ua.index()];
-            let fv = (v - g.origin[va.index()]) / g.spacing[va.index()];
-            if !(0.0..=(nu - 1) as f64).contains(&fu) || !(0.0..=(nv - 1) as f64).contains(&fv) {
-                return;
-            }
-            let a0 = (fu.floor() as usize).min(cu - 1);
-            let b0 = (fv.floor() as usize).min(cv - 1);
-            let (a1, b1) = ((a0 + 1).min(nu - 1), (b0 + 1).min(nv - 1));
-            let (wu, wv) = ((fu - a0 as f64) as f32, (fv - b0 as f64) as f32);
-            let weights = [
-                (a0, b0, (1.0 - wu) * (1.0 - wv)),
-                (a1, b0, wu * (1.0 - wv)),
-                (a0, b1, (1.0 - wu) * wv),
-                (a1, b1, wu * wv),
-            ];
-            let sample = |i: usize| -> f32 {
-                weights
-                    .iter()
-                    .map(|&(a, b, w)| if w > 0.0 { w * value(i, a, b) } else { 0.0 })
-                    .sum()
-            };
-            let runs = &columns[b0 * cu + a0];
-            if na == 1 || runs.iter().all(|r| r.state == CellState::Outside) {
-                if na == 1 && sample(0) >= t {
-                    out.push(to_world(0.0));
-                    out.push(to_world(0.0));
+        })
+    }
+
+    /// The crossings of `family`'s lines `lines` (ranges of m and n), as a [`LineCrossings`] of
+    /// `window_family` (a family with as many lines, whose line (m, n) is the whole family's
+    /// line (m + lines.0.start, n + lines.1.start)). Positions are those of the whole family.
+    pub(crate) fn window_crossings(
+        &self,
+        family: &LineFamily,
+        window_family: &LineFamily,
+        first_line: (usize, usize),
+    ) -> LineCrossings {
+        let columns = self.columns_along(family.axis);
+        crossings_per_tile(window_family, |tile_m, tile_n, out| {
+            let mut world = Vec::new();
+            for (row, n) in tile_n.clone().enumerate() {
+                for (col, m) in tile_m.clone().enumerate() {
+                    world.clear();
+                    let (u, v) = family.line_position(m + first_line.0, n + first_line.1);
+                    self.line_crossings(family.axis, columns, u, v, &mut world);
+                    let local = (row * TILE + col) as u16;
+                    out.extend(world.iter().map(|&w| (local, family.index_t(w) as f32)));
                 }
-                return;
             }
-            // Walk the runs; inside state at the start of the column decided by its first sample.
-            let mut inside = sample(0) >= t;
-            if inside {
+        })
+    }
+
+    /// The world coordinates of the crossings of the line along `axis` at `(u, v)` (see the
+    /// module documentation); for a window, within the window (see [`ThresholdSolid::window`]).
+    fn line_crossings(
+        &self,
+        axis: Axis,
+        columns: &[Vec<CellRun>],
+        u: f64,
+        v: f64,
+        out: &mut Vec<f64>,
+    ) {
+        let g = self.grid;
+        let (ua, va) = axis.others();
+        let (na, nu, nv) = (g.dims[axis.index()], g.dims[ua.index()], g.dims[va.index()]);
+        let (cu, cv) = (nu.saturating_sub(1).max(1), nv.saturating_sub(1).max(1));
+        let t = self.threshold;
+        let to_world = |i: f64| g.origin[axis.index()] + i * g.spacing[axis.index()];
+        let fu = (u - g.origin[ua.index()]) / g.spacing[ua.index()];
+        let fv = (v - g.origin[va.index()]) / g.spacing[va.index()];
+        if !(0.0..=(nu - 1) as f64).contains(&fu) || !(0.0..=(nv - 1) as f64).contains(&fv) {
+            return;
+        }
+        let a0 = (fu.floor() as usize).min(cu - 1);
+        let b0 = (fv.floor() as usize).min(cv - 1);
+        let (a1, b1) = ((a0 + 1).min(nu - 1), (b0 + 1).min(nv - 1));
+        // The column of the held window, if the line runs through it.
+        let (cells, wcu, wcv) = self.held_cells(axis);
+        let (su, sv) = (self.start[ua.index()], self.start[va.index()]);
+        let held = self.volume.grid.dims;
+        if a0 < su || b0 < sv || a1 >= su + held[ua.index()] || b1 >= sv + held[va.index()] {
+            return;
+        }
+        let (ca, cb) = (a0 - su, b0 - sv);
+        if ca >= wcu || cb >= wcv {
+            return;
+        }
+        let (wu, wv) = ((fu - a0 as f64) as f32, (fv - b0 as f64) as f32);
+        let weights = [
+            (a0, b0, (1.0 - wu) * (1.0 - wv)),
+            (a1, b0, wu * (1.0 - wv)),
+            (a0, b1, (1.0 - wu) * wv),
+            (a1, b1, wu * wv),
+        ];
+        let sample = |i: usize| -> f32 {
+            weights
+                .iter()
+                .map(|&(a, b, w)| {
+                    if w > 0.0 {
+                        w * self.value(axis, i, a, b)
+                    } else {
+                        0.0
+                    }
+                })
+                .sum()
+        };
+        let runs = &columns[cb * wcu + ca];
+        if na == 1 || runs.iter().all(|r| r.state == CellState::Outside) {
+            if na == 1 && sample(0) >= t {
+                out.push(to_world(0.0));
                 out.push(to_world(0.0));
             }
-            for run in runs {
-                match run.state {
-                    CellState::Outside | CellState::Inside => {
-                        let now = run.state == CellState::Inside;
-                        debug_assert_eq!(now, inside, "uniform run entered in the wrong state");
-                        inside = now;
-                    }
-                    CellState::Mixed => {
-                        let mut prev = sample(run.start);
-                        for i in run.start + 1..=run.end {
-                            let cur = sample(i);
-                            let now = cur >= t;
-                            if now != inside {
-                                let f = ((t - prev) / (cur - prev)) as f64;
-                                let f = if f.is_finite() {
-                                    f.clamp(0.0, 1.0)
-                                } else {
-                                    0.5
-                                };
-                                out.push(to_world(i as f64 - 1.0 + f));
-                                inside = now;
-                            }
-                            prev = cur;
+            return;
+        }
+        // Where the walk starts, and the inside state there: the scan's first sample, or for a
+        // window the end of its first cell, in the state the whole scan's walk has there.
+        let (first, mut inside) = match runs.first() {
+            Some(run) if cells.start > 0 => {
+                let from = cells.start + 1;
+                let state = match run.state {
+                    CellState::Mixed => sample(from) >= t,
+                    uniform => uniform == CellState::Inside,
+                };
+                (from, state)
+            }
+            _ => (cells.start, sample(cells.start) >= t),
+        };
+        if inside {
+            out.push(to_world(first as f64));
+        }
+        for run in runs {
+            let start = run.start.max(first);
+            if start >= run.end {
+                continue;
+            }
+            match run.state {
+                CellState::Outside | CellState::Inside => {
+                    let now = run.state == CellState::Inside;
+                    debug_assert_eq!(now, inside, "uniform run entered in the wrong state");
+                    inside = now;
+                }
+                CellState::Mixed => {
+                    let mut prev = sample(start);
+                    for i in start + 1..=run.end {
+                        let cur = sample(i);
+                        let now = cur >= t;
+                        if now != inside {
+                            let f = ((t - prev) / (cur - prev)) as f64;
+                            let f = if f.is_finite() {
+                                f.clamp(0.0, 1.0)
+                            } else {
+                                0.5
+                            };
+                            out.push(to_world(i as f64 - 1.0 + f));
+                            inside = now;
                         }
+                        prev = cur;
                     }
                 }
             }
-            if inside {
-                out.push(to_world((na - 1) as f64));
-            }
-        }))
+        }
+        if inside {
+            out.push(to_world(cells.end as f64));
+        }
     }
 }

@@ -290,7 +290,11 @@ const LARGEST_COORDINATE: f64 = f32::MAX as f64;
 /// work: its surfaces would have infinite vertices. `source` says where the spacing and origin
 /// came from ("the file's header", "--spacing and --origin").
 pub fn check_grid_range(volume: &Volume, path: &Path, source: &str) -> Result<(), CliError> {
-    let g = &volume.grid;
+    check_grid_reach(&volume.grid, path, source)
+}
+
+/// [`check_grid_range`] for a volume known by its grid only (a Zarr scan not read whole).
+pub fn check_grid_reach(g: &voxlod::core::Grid, path: &Path, source: &str) -> Result<(), CliError> {
     for (axis, name) in ["x", "y", "z"].iter().enumerate() {
         let far = g.origin[axis] + g.spacing[axis] * (g.dims[axis].max(1) - 1) as f64;
         let reach = if g.origin[axis].abs() > far.abs() {

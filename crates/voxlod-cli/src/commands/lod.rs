@@ -7,15 +7,15 @@ use indicatif::ProgressBar;
 use serde::Serialize;
 use voxlod::core::Topology;
 use voxlod::finest::FinestChoice;
-use voxlod::io::OutputSet;
+use voxlod::io::{OutputSet, VolumeFormat};
 use voxlod::sampling::{DensityReport, Filter, PyramidOptions, TopologyRecord};
 use voxlod::{
     Control, EnvelopeStep, Event, Finest, LevelEpsilon, Lod, LodLevel, LodOptions, Progress,
 };
 
 use super::common::{
-    check_grid_range, count, describe_mesh, in_dir, in_file, print_json, progress, read_input,
-    CliError, Input, MeshExtension,
+    check_grid_range, check_grid_reach, count, describe_mesh, in_dir, in_file, print_json,
+    progress, read_input, CliError, Input, MeshExtension,
 };
 use super::lod_glb::{add_chain, GlbArgs, GlbReport, LodFormat, CHAIN_FILE};
 use super::source::{MeshSummary, VolumeRoute};
@@ -264,10 +264,19 @@ fn lod_options(args: &LodArgs) -> Result<LodOptions, CliError> {
 enum Loaded {
     Mesh(voxlod::io::LoadedMesh),
     Volume(voxlod::core::Volume),
+    /// A Zarr scan with --threshold: never read whole, sampled window by window (the same
+    /// levels as a volume read whole).
+    Chunked(voxlod::io::ZarrVolume),
 }
 
 /// Reads the input, refusing a volume without a route.
 fn load(args: &LodArgs) -> Result<Loaded, CliError> {
+    let zarr = voxlod::io::volume_format_of(&args.input).ok() == Some(VolumeFormat::Zarr);
+    if zarr && args.route.threshold.is_some() {
+        let scan = voxlod::io::open_zarr(&args.input)?;
+        check_grid_reach(&scan.grid(), &args.input, args.route.raw.spacing_source())?;
+        return Ok(Loaded::Chunked(scan));
+    }
     match read_input(&args.input, &args.route.raw)? {
         Input::Mesh(mesh) => Ok(Loaded::Mesh(mesh)),
         Input::Volume(volume) => {
@@ -292,6 +301,10 @@ fn source<'a>(loaded: &'a Loaded, route: &VolumeRoute) -> voxlod::Source<'a> {
             voxlod::Source::Threshold { volume, threshold }
         }
         (Loaded::Volume(volume), None) => voxlod::Source::Direct(volume),
+        (Loaded::Chunked(scan), threshold) => voxlod::Source::ChunkedThreshold {
+            scan,
+            threshold: threshold.unwrap_or(f32::NAN),
+        },
     }
 }
 
@@ -304,13 +317,14 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     let loaded = load(&args)?;
     match &loaded {
         Loaded::Volume(v) => args.frame.check(v, &args.input)?,
-        Loaded::Mesh(_) if args.frame.target().is_some() => {
+        Loaded::Mesh(_) | Loaded::Chunked(_) if args.frame.target().is_some() => {
             return Err(CliError::usage(format!(
-                "{}: --frame applies to volumes (a mesh has no anatomical frame)",
+                "{}: --frame applies to volumes with an anatomical frame (NRRD, NIfTI, \
+                 MetaImage, VTI, DICOM); a mesh or a Zarr array has none",
                 args.input.display()
             )))
         }
-        Loaded::Mesh(_) => {}
+        Loaded::Mesh(_) | Loaded::Chunked(_) => {}
     }
     // Everything is written at the end, as one set; refuse now what it would refuse then.
     let mut out = OutputSet::protecting([&args.input]);
@@ -566,7 +580,7 @@ fn lod_report(
     warnings.extend(written_warnings.iter().cloned());
     let frame = match loaded {
         Loaded::Volume(v) => Some(frame_report(v, args.frame.target())),
-        Loaded::Mesh(_) => None,
+        Loaded::Mesh(_) | Loaded::Chunked(_) => None,
     };
     LodReport {
         frame: frame.as_ref().map(|f| f.frame),

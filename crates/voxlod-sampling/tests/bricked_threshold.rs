@@ -1,0 +1,137 @@
+//! The bricked threshold route gives the dense route's samples (to the f64 residue of the
+//! dense rows' running sums, ~1e-16, far from any iso value): a generated gyroid
+//! scan, thresholded, sampled block by block from windows of it, against `filtered_density` of
+//! the whole scan's `ThresholdSolid`, at several resolutions (level spacing unlike the scan's),
+//! both filters and both brick sides, with blocks small enough that every sample's filter
+//! reaches across block faces.
+
+use std::convert::Infallible;
+
+use voxlod_core::{Grid, Volume};
+use voxlod_sampling::narrow_band::NarrowBandOptions;
+use voxlod_sampling::{
+    bricked_threshold_density, filtered_density, level_grid, BrickedThreshold, DensityOptions,
+    Filter, ThresholdSolid,
+};
+
+/// A gyroid of period `period` samples as u8-like values 48..208, on an `n`³ grid of spacing
+/// `spacing` (so that the level grids never align with the scan's samples).
+fn gyroid_scan(n: usize, period: f64, spacing: f64) -> Volume {
+    let grid = Grid::new([n, n, n - 3], [spacing; 3], [-1.5, 2.0, 0.25]).unwrap();
+    let k = 2.0 * std::f64::consts::PI / period;
+    let mut values = Vec::with_capacity(grid.len());
+    for z in 0..grid.dims[2] {
+        for y in 0..n {
+            for x in 0..n {
+                let (x, y, z) = (x as f64 * k, y as f64 * k, z as f64 * k);
+                let g = x.sin() * y.cos() + y.sin() * z.cos() + z.sin() * x.cos();
+                values.push((128.0 + 80.0 * g).round() as f32);
+            }
+        }
+    }
+    Volume::from_vec(grid, values).unwrap()
+}
+
+fn window(scan: &Volume, start: [usize; 3], extent: [usize; 3]) -> Volume {
+    let s = &scan.grid;
+    let origin = [0, 1, 2].map(|a| s.origin[a] + start[a] as f64 * s.spacing[a]);
+    let grid = Grid::new(extent, s.spacing, origin).unwrap();
+    let mut values = Vec::with_capacity(grid.len());
+    for k in 0..extent[2] {
+        for j in 0..extent[1] {
+            for i in 0..extent[0] {
+                values.push(scan.get(start[0] + i, start[1] + j, start[2] + k));
+            }
+        }
+    }
+    Volume::from_vec(grid, values).unwrap()
+}
+
+/// Samples one level both ways and compares every sample's bits; returns the band's leaves.
+fn compare(
+    scan: &Volume,
+    threshold: f32,
+    resolution: usize,
+    filter: Filter,
+    brick: usize,
+    block: usize,
+) -> usize {
+    let solid = ThresholdSolid::new(scan, threshold).unwrap();
+    let voxel = scan.grid.bounds().longest_extent() / resolution as f64;
+    let radius = voxel
+        * if filter == Filter::Hypercone {
+            1.0
+        } else {
+            1.5
+        };
+    let grid = level_grid(&scan.grid.bounds(), resolution, radius).unwrap();
+    let options = DensityOptions::new(filter, radius);
+    let (dense, _) = filtered_density(&solid, &grid, &options).unwrap();
+    let band = NarrowBandOptions { brick_size: brick };
+    let mut level = BrickedThreshold::new(scan.grid, threshold, &grid, &options, &band).unwrap();
+    level.block_side = block;
+    let read = |start, extent| Ok::<_, Infallible>(window(scan, start, extent));
+    let (bricks, report, band) = bricked_threshold_density(&level, &read).unwrap();
+    let blocks: usize = level.block_dims().iter().product();
+    assert!(
+        blocks >= 8,
+        "{blocks} blocks: the test must cross block faces"
+    );
+    let [nx, ny, nz] = grid.dims;
+    let mut differing = 0;
+    let mut worst = 0.0f32;
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                let (x, y) = (bricks.get(i, j, k), dense.get(i, j, k));
+                if x.to_bits() != y.to_bits() {
+                    differing += 1;
+                    worst = worst.max((x - y).abs());
+                }
+            }
+        }
+    }
+    // Per brick, the difference array of a row starts at the brick's first sample rather than
+    // the grid's, so a span that ended before the brick leaves no f64 residue (`full - full`
+    // interleaved with other lines' terms) as it does in the dense row: values that are 0 in
+    // one route can be ~1e-16 in the other. Nothing else may differ.
+    assert!(
+        worst <= 1e-12,
+        "resolution {resolution}, {filter:?}, bricks {brick}, blocks {block}: {differing} samples differ, by up to {worst:e}"
+    );
+    assert!(report.crossings > 0);
+    assert!(band.band_bricks > 0, "{band:?}");
+    band.band_bricks
+}
+
+#[test]
+fn bricked_threshold_matches_the_dense_route() {
+    let scan = gyroid_scan(40, 23.0, 0.7);
+    // The level about as fine as the scan, and coarser; hyper-cone and Gaussian.
+    compare(&scan, 128.0, 40, Filter::Hypercone, 8, 8);
+    compare(&scan, 140.5, 40, Filter::GAUSSIAN, 16, 16);
+    compare(&scan, 128.0, 24, Filter::Hypercone, 8, 8);
+}
+
+#[test]
+fn bricked_threshold_matches_the_dense_route_on_a_level_finer_than_the_scan() {
+    let scan = gyroid_scan(40, 23.0, 0.7);
+    compare(&scan, 128.0, 56, Filter::Hypercone, 8, 16);
+}
+
+#[test]
+fn far_from_the_surface_bricks_are_single_values() {
+    // A slab that is inside for z below the middle: most bricks are all 0 or all 1.
+    let grid = Grid::new([48, 48, 48], [1.0; 3], [0.0; 3]).unwrap();
+    let values = (0..grid.len())
+        .map(|n| if n / (48 * 48) < 24 { 200.0 } else { 0.0 })
+        .collect();
+    let scan = Volume::from_vec(grid, values).unwrap();
+    let leaves = compare(&scan, 100.0, 48, Filter::Hypercone, 8, 16);
+    // The surface (z = 23.5) crosses one layer of bricks, and the box's faces a shell of them.
+    let bricks_per_layer = 7 * 7;
+    assert!(
+        leaves >= bricks_per_layer && leaves < 7 * 7 * 7 / 2,
+        "{leaves} leaves"
+    );
+}

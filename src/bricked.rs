@@ -1,0 +1,91 @@
+//! Scans read window by window for the threshold route (paper §4, first route; issue "Scale",
+//! item 3): a [`ChunkedScan`] is a volume that is never read whole (a Zarr array), and
+//! [`crate::Source::ChunkedThreshold`] samples each level from it block by block
+//! ([`voxlod_sampling::bricked_threshold`]) into bricks for sparse marching cubes. The levels
+//! are those of [`crate::Source::Threshold`] on the same data (same triangles, same vertices);
+//! peak memory is a few windows of the scan, the band of bricks the surface reaches, and the
+//! mesh.
+//!
+//! Beyond the paper (which holds the whole volume). Cost per level: each window is read once
+//! (the halos twice), every sample of the level is integrated as the dense route does.
+
+use voxlod_core::{Bounds, BrickVolume, Grid, Volume};
+use voxlod_io::{IoError, ZarrVolume};
+use voxlod_sampling::narrow_band::{BandReport, NarrowBandOptions};
+use voxlod_sampling::{
+    bricked_threshold_density, BrickedError, BrickedThreshold, DensityOptions, DensityReport,
+    SamplingError,
+};
+
+use crate::lod::LodError;
+
+/// A scanned volume read window by window.
+pub trait ChunkedScan: Sync {
+    /// The whole scan's grid.
+    fn grid(&self) -> Grid;
+    /// Samples `start .. start + extent` (x, y, z indices) as a volume.
+    fn read_window(&self, start: [usize; 3], extent: [usize; 3]) -> Result<Volume, IoError>;
+}
+
+impl ChunkedScan for ZarrVolume {
+    fn grid(&self) -> Grid {
+        ZarrVolume::grid(self)
+    }
+
+    fn read_window(&self, start: [usize; 3], extent: [usize; 3]) -> Result<Volume, IoError> {
+        self.read_region(start, extent)
+    }
+}
+
+/// A chunked scan and its threshold, as [`crate::lod::LodSource::Chunked`] samples it.
+pub struct ChunkedThreshold<'a> {
+    /// The scan.
+    pub scan: &'a dyn ChunkedScan,
+    /// Inside where the trilinear interpolation of the scan is `>= threshold`.
+    pub threshold: f32,
+}
+
+impl ChunkedThreshold<'_> {
+    /// The box the levels cover: the scan's.
+    pub fn bounds(&self) -> Bounds {
+        self.scan.grid().bounds()
+    }
+
+    /// How one level of `grid` is cut into blocks.
+    fn blocks(
+        &self,
+        grid: &Grid,
+        options: &DensityOptions,
+    ) -> Result<BrickedThreshold, SamplingError> {
+        BrickedThreshold::new(
+            self.scan.grid(),
+            self.threshold,
+            grid,
+            options,
+            &NarrowBandOptions::default(),
+        )
+    }
+
+    /// Bytes a level needs before its band is known: the brick index and a window of the scan
+    /// and its lattice per block in flight (two, one per core of this machine's kind).
+    pub fn estimated_bytes(&self, grid: &Grid, lines_per_voxel: usize) -> u64 {
+        let b = NarrowBandOptions::default().brick_size;
+        let q = lines_per_voxel as u64;
+        let block = (128 * q + 16 * q).pow(2) * 3 * 8 + 140u64.pow(3) * 4 * 2;
+        BrickVolume::estimated_bytes(grid, b, 0).saturating_add(2 * block)
+    }
+
+    /// The level's samples as bricks, with the sampling's and the band's figures.
+    pub(crate) fn sample(
+        &self,
+        grid: &Grid,
+        options: &DensityOptions,
+    ) -> Result<(BrickVolume, DensityReport, BandReport), LodError> {
+        let blocks = self.blocks(grid, options)?;
+        let read = |start, extent| self.scan.read_window(start, extent);
+        bricked_threshold_density(&blocks, &read).map_err(|e| match e {
+            BrickedError::Read(e) => LodError::Read(e),
+            BrickedError::Sampling(e) => LodError::Sampling(e),
+        })
+    }
+}
