@@ -140,11 +140,12 @@ pub(crate) fn filter_named(name: &str) -> PyResult<Filter> {
 }
 
 /// The options shared by `lod_mesh` and `lod_volume`: resolutions, filter, radius in voxels,
-/// isodensity, normals.
-type LevelArgs = (Vec<usize>, String, f64, Option<f32>, bool);
+/// isodensity, normals, and whether the resolutions were given (else a mesh's finest level is
+/// chosen from its triangle count, at most the first resolution: `voxlod::Finest`).
+type LevelArgs = (Vec<usize>, String, f64, Option<f32>, bool, bool);
 
 fn lod_options(levels: LevelArgs) -> PyResult<voxlod::LodOptions> {
-    let (resolutions, filter, radius, iso, normals) = levels;
+    let (resolutions, filter, radius, iso, normals, given) = levels;
     let pyramid = PyramidOptions {
         resolutions,
         radius_voxels: radius,
@@ -155,6 +156,11 @@ fn lod_options(levels: LevelArgs) -> PyResult<voxlod::LodOptions> {
         pyramid,
         iso,
         normals,
+        finest: if given {
+            voxlod::Finest::Given
+        } else {
+            voxlod::Finest::InputTriangles
+        },
         ..Default::default()
     })
 }

@@ -30,7 +30,7 @@ def contour_block(
 def stitch(pieces: List[Tuple[F32, I32, F32, U64, U64]]) -> Tuple[F32, I32, F32]: ...
 
 Mesh = Tuple[F32, npt.NDArray[np.uint32]]
-LevelArgs = Tuple[List[int], str, float, Optional[float], bool]
+LevelArgs = Tuple[List[int], str, float, Optional[float], bool, bool]
 Progress = Optional[Callable[[int, int, str], Optional[bool]]]
 
 def lod_mesh(mesh: Mesh, levels: LevelArgs, progress: Progress = ...) -> Tuple[List[Dict[str, Any]], List[str]]: ...
