@@ -10,8 +10,8 @@ use voxlod_contouring::{block_marching_cubes, stitch_blocks, Block, BlockPiece, 
 use voxlod_core::TriangleMesh;
 
 use crate::arrays::{column, faces_i32, points_xyz, points_zyx, rows, volume_slice};
-use crate::contour::{first_nan, next_above, owned_volume};
-use crate::errors::{usage, Failure, Kind};
+use crate::contour::{nan_error, next_above, scanned_copy};
+use crate::errors::{usage, Failure};
 
 /// A piece as NumPy arrays: verts (index units, axis order), faces, normals, edge keys, cell keys.
 type Piece<'py> = (
@@ -45,11 +45,10 @@ pub fn contour_block<'py>(
         global_dims: zyx(shape),
     };
     let piece = py.detach(|| -> Result<BlockPiece, Failure> {
-        if let Some([a, b, c]) = first_nan(samples, dims) {
-            let message = format!("the block has NaN at index ({a}, {b}, {c})");
-            return Err(Failure::new(Kind::BadInput, message));
+        let (mut volume, scan) = scanned_copy(samples, dims)?;
+        if let Some(at) = scan.first_nan(dims) {
+            return Err(nan_error("the block", at));
         }
-        let mut volume = owned_volume(samples, dims)?;
         volume.grid.origin = block.offset.map(|o| o as f64);
         let options = ContourOptions::at(next_above(level));
         Ok(block_marching_cubes(&volume, &block, &options)?)

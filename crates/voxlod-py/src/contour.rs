@@ -13,8 +13,8 @@
 //! - `mask`: a cell is contoured when the mask is true at its corner of highest indices, as in
 //!   scikit-image.
 //!
-//! The volume is copied once into voxlod's volume (which owns its samples); the results go to
-//! NumPy without a copy. Cost: that of the extraction, plus one pass over the triangles.
+//! The volume is copied once into voxlod's volume (which owns its samples), in parallel and in
+//! the same pass that looks for NaN and the range; the results go to NumPy without a copy. Cost: that of the extraction, plus one pass over the triangles.
 
 use numpy::{PyArray1, PyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
@@ -46,56 +46,106 @@ pub fn next_above(value: f32) -> f32 {
     f32::from_bits(if value > 0.0 { bits + 1 } else { bits - 1 })
 }
 
-/// The first NaN sample, as (axis 0, axis 1, axis 2) indices.
-pub fn first_nan(samples: &[f32], dims: [usize; 3]) -> Option<[usize; 3]> {
-    let at = samples.par_iter().position_first(|v| v.is_nan())?;
-    let (x, y, z) = (
-        at % dims[0],
-        (at / dims[0]) % dims[1],
-        at / (dims[0] * dims[1]),
-    );
-    Some([z, y, x])
+/// What one pass over the samples found: the first NaN (flat index) and the range of the
+/// others.
+#[derive(Clone, Copy)]
+pub struct Scan {
+    first_nan: Option<usize>,
+    lo: f32,
+    hi: f32,
 }
 
-/// The smallest and largest sample, in one parallel pass (NaN is ignored here).
-fn sample_range(samples: &[f32]) -> (f32, f32) {
-    samples
-        .par_chunks(1 << 16)
-        .map(|chunk| {
-            chunk
-                .iter()
-                .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
-                    (lo.min(v), hi.max(v))
-                })
-        })
-        .reduce(
-            || (f32::INFINITY, f32::NEG_INFINITY),
-            |a, b| (a.0.min(b.0), a.1.max(b.1)),
-        )
-}
+impl Scan {
+    const EMPTY: Scan = Scan {
+        first_nan: None,
+        lo: f32::INFINITY,
+        hi: f32::NEG_INFINITY,
+    };
 
-/// The level asked for, or scikit-image's default (the middle of the range), checked against
-/// the range as scikit-image checks it.
-fn checked_level(samples: &[f32], level: Option<f32>) -> Result<f32, Failure> {
-    let (lo, hi) = sample_range(samples);
-    match level {
-        None => Ok(0.5 * (lo + hi)),
-        Some(level) if level >= lo && level <= hi => Ok(level),
-        Some(level) => Err(Failure::new(
-            Kind::Usage,
-            format!("Surface level {level} must be within volume data range [{lo}, {hi}]."),
-        )),
+    /// The scan of `samples`, the chunk whose first sample has flat index `start`.
+    fn of(samples: &[f32], start: usize) -> Scan {
+        let first_nan = samples.iter().position(|v| v.is_nan()).map(|i| start + i);
+        let (lo, hi) = samples
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            });
+        Scan { first_nan, lo, hi }
+    }
+
+    fn merge(a: Scan, b: Scan) -> Scan {
+        let first_nan = match (a.first_nan, b.first_nan) {
+            (Some(x), Some(y)) => Some(x.min(y)),
+            (x, y) => x.or(y),
+        };
+        Scan {
+            first_nan,
+            lo: a.lo.min(b.lo),
+            hi: a.hi.max(b.hi),
+        }
+    }
+
+    /// The first NaN sample, as (axis 0, axis 1, axis 2) indices of a volume of voxlod `dims`.
+    pub fn first_nan(&self, dims: [usize; 3]) -> Option<[usize; 3]> {
+        let at = self.first_nan?;
+        let (x, y, z) = (
+            at % dims[0],
+            (at / dims[0]) % dims[1],
+            at / (dims[0] * dims[1]),
+        );
+        Some([z, y, x])
+    }
+
+    /// The level asked for, or scikit-image's default (the middle of the range), checked
+    /// against the range as scikit-image checks it.
+    fn checked_level(&self, level: Option<f32>) -> Result<f32, Failure> {
+        let (lo, hi) = (self.lo, self.hi);
+        match level {
+            None => Ok(0.5 * (lo + hi)),
+            Some(level) if level >= lo && level <= hi => Ok(level),
+            Some(level) => Err(Failure::new(
+                Kind::Usage,
+                format!("Surface level {level} must be within volume data range [{lo}, {hi}]."),
+            )),
+        }
     }
 }
 
-/// A voxlod volume (unit spacing, origin 0) holding a copy of the samples.
-pub fn owned_volume(samples: &[f32], dims: [usize; 3]) -> Result<Volume, Failure> {
+/// A voxlod volume (unit spacing, origin 0) holding a copy of the samples, and their [`Scan`]:
+/// the copy runs in parallel chunks that also look for NaN and the range, so the input is read
+/// once (it was read three times: NaN, range, copy).
+pub fn scanned_copy(samples: &[f32], dims: [usize; 3]) -> Result<(Volume, Scan), Failure> {
+    const CHUNK: usize = 1 << 16;
     let grid = Grid::unit(dims)?;
     memory::check_allocation(
         "a copy of the volume",
         memory::bytes_of::<f32>(samples.len()),
     )?;
-    Ok(Volume::from_vec(grid, samples.to_vec())?)
+    // Zeroed pages are mapped lazily: the threads that copy touch them first.
+    let mut copy: Vec<f32> = memory::zeroed_vec(samples.len());
+    let scan = copy
+        .par_chunks_mut(CHUNK)
+        .zip(samples.par_chunks(CHUNK))
+        .enumerate()
+        .map(|(c, (to, from))| {
+            to.copy_from_slice(from);
+            Scan::of(from, c * CHUNK)
+        })
+        .reduce(|| Scan::EMPTY, Scan::merge);
+    Ok((Volume::from_vec(grid, copy)?, scan))
+}
+
+/// A voxlod volume (unit spacing, origin 0) holding a copy of the samples.
+pub fn owned_volume(samples: &[f32], dims: [usize; 3]) -> Result<Volume, Failure> {
+    Ok(scanned_copy(samples, dims)?.0)
+}
+
+/// The error for a NaN at `[a, b, c]` (array-axis indices) of `what`.
+pub fn nan_error(what: &str, [a, b, c]: [usize; 3]) -> Failure {
+    Failure::new(
+        Kind::BadInput,
+        format!("{what} has NaN at index ({a}, {b}, {c}); marching cubes needs numbers"),
+    )
 }
 
 /// Per vertex, the largest corner range of the cells of the triangles that use it: the
@@ -145,14 +195,11 @@ fn extract(
     level: Option<f32>,
     mask: Option<&[bool]>,
 ) -> Result<(TriangleMesh, Vec<f32>), Failure> {
-    if let Some([a, b, c]) = first_nan(samples, dims) {
-        return Err(Failure::new(
-            Kind::BadInput,
-            format!("the volume has NaN at index ({a}, {b}, {c}); marching cubes needs numbers"),
-        ));
+    let (volume, scan) = scanned_copy(samples, dims)?;
+    if let Some(at) = scan.first_nan(dims) {
+        return Err(nan_error("the volume", at));
     }
-    let level = checked_level(samples, level)?;
-    let volume = owned_volume(samples, dims)?;
+    let level = scan.checked_level(level)?;
     let surface = marching_cubes_with_cells(&volume, &ContourOptions::at(next_above(level)))?;
     let CellMesh { mesh, cells } = match mask {
         None => surface,

@@ -56,7 +56,10 @@ fn mesh_from(mesh: &MeshIn<'_>) -> PyResult<TriangleMesh> {
 }
 
 /// A report as a Python dict, through its JSON form.
-fn as_dict<'py>(py: Python<'py>, report: &impl Serialize) -> PyResult<Bound<'py, PyAny>> {
+pub(crate) fn as_dict<'py>(
+    py: Python<'py>,
+    report: &impl Serialize,
+) -> PyResult<Bound<'py, PyAny>> {
     let text = serde_json::to_string(report)
         .map_err(|e| usage(format!("the report could not be encoded: {e}")))?;
     py.import("json")?.call_method1("loads", (text,))
@@ -126,7 +129,7 @@ fn describe(event: &Event<'_>) -> String {
     }
 }
 
-fn filter_named(name: &str) -> PyResult<Filter> {
+pub(crate) fn filter_named(name: &str) -> PyResult<Filter> {
     match name {
         "hypercone" | "hyper-cone" => Ok(Filter::Hypercone),
         "gaussian" => Ok(Filter::GAUSSIAN),
@@ -137,11 +140,12 @@ fn filter_named(name: &str) -> PyResult<Filter> {
 }
 
 /// The options shared by `lod_mesh` and `lod_volume`: resolutions, filter, radius in voxels,
-/// isodensity, normals.
-type LevelArgs = (Vec<usize>, String, f64, Option<f32>, bool);
+/// isodensity, normals, and whether the resolutions were given (else a mesh's finest level is
+/// chosen from its triangle count, at most the first resolution: `voxlod::Finest`).
+type LevelArgs = (Vec<usize>, String, f64, Option<f32>, bool, bool);
 
 fn lod_options(levels: LevelArgs) -> PyResult<voxlod::LodOptions> {
-    let (resolutions, filter, radius, iso, normals) = levels;
+    let (resolutions, filter, radius, iso, normals, given) = levels;
     let pyramid = PyramidOptions {
         resolutions,
         radius_voxels: radius,
@@ -152,6 +156,11 @@ fn lod_options(levels: LevelArgs) -> PyResult<voxlod::LodOptions> {
         pyramid,
         iso,
         normals,
+        finest: if given {
+            voxlod::Finest::Given
+        } else {
+            voxlod::Finest::InputTriangles
+        },
         ..Default::default()
     })
 }
@@ -164,18 +173,27 @@ fn run_lod<'py>(
     progress: Option<Py<PyAny>>,
 ) -> PyResult<(Vec<Bound<'py, PyDict>>, Vec<String>)> {
     let lod = watched(py, progress, |ask| voxlod::lod_with(source, options, ask))?;
-    let mut levels = Vec::with_capacity(lod.levels.len());
-    for level in lod.levels {
-        let dict = mesh_dict(py, level.mesh)?;
-        dict.set_item("resolution", level.resolution)?;
-        dict.set_item("plan", as_dict(py, &level.plan)?)?;
-        dict.set_item("topology", as_dict(py, &level.topology)?)?;
-        dict.set_item("genus", level.topology.genus)?;
-        dict.set_item("sample_seconds", level.sample_seconds)?;
-        dict.set_item("contour_seconds", level.contour_seconds)?;
-        levels.push(dict);
-    }
+    let levels = lod
+        .levels
+        .into_iter()
+        .map(|level| lod_level_dict(py, level))
+        .collect::<PyResult<_>>()?;
     Ok((levels, lod.warnings))
+}
+
+/// One level of detail as a dict of its mesh arrays, resolution, plan, topology and times.
+pub(crate) fn lod_level_dict(
+    py: Python<'_>,
+    level: voxlod::LodLevel,
+) -> PyResult<Bound<'_, PyDict>> {
+    let dict = mesh_dict(py, level.mesh)?;
+    dict.set_item("resolution", level.resolution)?;
+    dict.set_item("plan", as_dict(py, &level.plan)?)?;
+    dict.set_item("topology", as_dict(py, &level.topology)?)?;
+    dict.set_item("genus", level.topology.genus)?;
+    dict.set_item("sample_seconds", level.sample_seconds)?;
+    dict.set_item("contour_seconds", level.contour_seconds)?;
+    Ok(dict)
 }
 
 /// `lod_mesh((vertices, faces), (resolutions, filter, radius, iso, normals), progress)`.
@@ -193,7 +211,7 @@ pub fn lod_mesh<'py>(
 }
 
 /// A voxlod volume from a C-ordered `(nz, ny, nx)` array, spacing and origin in axis order.
-fn volume_from(
+pub(crate) fn volume_from(
     array: &PyReadonlyArray3<'_, f32>,
     spacing: [f64; 3],
     origin: [f64; 3],

@@ -12,6 +12,7 @@ mod contour;
 mod errors;
 mod facade;
 mod filter;
+mod labels;
 
 use pyo3::prelude::*;
 
@@ -39,6 +40,7 @@ fn _voxlod(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(facade::cluster, m)?)?;
     m.add_function(wrap_pyfunction!(facade::envelope, m)?)?;
     m.add_function(wrap_pyfunction!(facade::layers, m)?)?;
+    m.add_function(wrap_pyfunction!(labels::labels, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

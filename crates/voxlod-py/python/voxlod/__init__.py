@@ -7,10 +7,11 @@ Drop-ins for the functions Python users already call, in parallel Rust:
 - :func:`gaussian_filter` for ``scipy.ndimage.gaussian_filter`` on 3-D float arrays.
 
 The library's own calls: :func:`lod` and :func:`lod_volume` (levels of detail of a mesh or a
-scan, paper §2 and §4), :func:`read_mesh`, :func:`write_mesh`, :func:`read_volume`,
-:func:`write_volume`, :func:`inspect`, :func:`compare`, :func:`layers` (translucent shells,
-§3), and the baselines :func:`cluster` and :func:`envelope`. Blockwise contouring on a Dask cluster
-is :mod:`voxlod.dask`. Every function releases the GIL
+scan, paper §2 and §4), :func:`labels` (one mesh per structure of a label map),
+:func:`read_mesh`, :func:`write_mesh`, :func:`read_volume`, :func:`write_volume`,
+:func:`inspect`, :func:`compare`, :func:`layers` (translucent shells, §3), and the baselines
+:func:`cluster` and :func:`envelope`. Blockwise contouring on a Dask cluster is
+:mod:`voxlod.dask`. Every function releases the GIL
 while it works; every failure is a :class:`voxlod.Error` (see :mod:`voxlod.errors`).
 
 >>> import numpy as np, voxlod
@@ -29,6 +30,7 @@ import numpy as np
 
 from . import _voxlod
 from ._arrays import check_fits, triple, volume_array
+from ._labels import LabelMesh, labels
 from ._facade import (
     Level,
     cluster,
@@ -60,6 +62,8 @@ __all__ = [
     "inspect",
     "compare",
     "layers",
+    "labels",
+    "LabelMesh",
     "cluster",
     "envelope",
     "Error",

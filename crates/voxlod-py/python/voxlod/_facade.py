@@ -83,7 +83,7 @@ def _resolutions(resolution: int, levels: int, resolutions: Optional[Sequence[in
 def lod(
     vertices: Any,
     faces: Any,
-    resolution: int = 256,
+    resolution: Optional[int] = None,
     levels: int = 6,
     filter: str = "hypercone",
     *,
@@ -102,7 +102,10 @@ def lod(
     vertices, faces : (V, 3) and (F, 3) arrays
         The mesh, ideally closed; holes are closed with fans and soups welded first.
     resolution, levels : int
-        ``levels`` levels from ``resolution`` samples across the longest side, halving.
+        ``levels`` levels from ``resolution`` samples across the longest side, halving. Without
+        ``resolution`` (and ``resolutions``), the finest level is chosen from the mesh's own
+        triangle count, at most 256 (the library's default, as ``voxlod lod`` without
+        ``--resolution``).
     filter : {'hypercone', 'gaussian'}
     resolutions : sequence of int, optional
         The resolutions themselves, instead of ``resolution`` and ``levels``.
@@ -128,8 +131,9 @@ def lod(
     ([24, 12, 6], 0)
     """
     v, f = _mesh(vertices, faces)
-    options = (_resolutions(resolution, levels, resolutions), str(filter), float(radius), iso,
-               bool(normals))
+    given = resolution is not None or resolutions is not None
+    options = (_resolutions(256 if resolution is None else resolution, levels, resolutions),
+               str(filter), float(radius), iso, bool(normals), given)
     return _levels(_voxlod.lod_mesh((v, f), options, progress))
 
 
@@ -181,7 +185,7 @@ def lod_volume(
                          "(the data filtered itself, with iso in its units)")
     array = volume_array(volume, np.float32, "volume")
     options = (_resolutions(resolution, levels, resolutions), str(filter), float(radius), iso,
-               bool(normals))
+               bool(normals), True)
     return _levels(_voxlod.lod_volume(
         array, triple(spacing, "spacing"), triple(origin, "origin"),
         None if threshold is None else float(threshold), options, progress))

@@ -30,7 +30,7 @@ def contour_block(
 def stitch(pieces: List[Tuple[F32, I32, F32, U64, U64]]) -> Tuple[F32, I32, F32]: ...
 
 Mesh = Tuple[F32, npt.NDArray[np.uint32]]
-LevelArgs = Tuple[List[int], str, float, Optional[float], bool]
+LevelArgs = Tuple[List[int], str, float, Optional[float], bool, bool]
 Progress = Optional[Callable[[int, int, str], Optional[bool]]]
 
 def lod_mesh(mesh: Mesh, levels: LevelArgs, progress: Progress = ...) -> Tuple[List[Dict[str, Any]], List[str]]: ...
@@ -55,3 +55,10 @@ def envelope(
     mesh: Mesh, epsilons: List[float], progress: Progress = ..., *, relative: bool = ..., tight: bool = ...
 ) -> List[Dict[str, Any]]: ...
 def layers(mesh: Mesh, error: float, resolution: int, filter: str, progress: Progress = ...) -> List[Dict[str, Any]]: ...
+def labels(
+    map: F32,
+    spacing: Sequence[float],
+    origin: Sequence[float],
+    labels: Optional[List[int]],
+    options: Tuple[int, str, float, bool],
+) -> List[Dict[str, Any]]: ...
