@@ -116,9 +116,9 @@ pub fn find_labels(map: &Volume) -> Result<Vec<LabelInfo>, LabelError> {
             max: at,
         });
         info.voxels += 1;
-        for a in 0..3 {
-            info.min[a] = info.min[a].min(at[a]);
-            info.max[a] = info.max[a].max(at[a]);
+        for (a, &index) in at.iter().enumerate() {
+            info.min[a] = info.min[a].min(index);
+            info.max[a] = info.max[a].max(index);
         }
     }
     Ok(found.into_values().collect())

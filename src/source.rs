@@ -131,7 +131,7 @@ impl<'a> Source<'a> {
                 check_grid_range(volume)?;
                 warnings.extend(threshold_warning(volume, threshold));
                 (
-                    Inner::Threshold(ThresholdSolid::new(volume, threshold)?),
+                    Inner::Threshold(Box::new(ThresholdSolid::new(volume, threshold)?)),
                     None,
                 )
             }
@@ -170,7 +170,7 @@ pub struct Prepared<'a> {
 
 enum Inner<'a> {
     Mesh(Box<MeshSolid>),
-    Threshold(ThresholdSolid<'a>),
+    Threshold(Box<ThresholdSolid<'a>>),
     Direct(&'a Volume),
     Solid(&'a dyn Solid),
     Chunked(Box<ChunkedThreshold<'a>>),
@@ -181,7 +181,7 @@ impl Prepared<'_> {
     pub fn lod_source(&self) -> LodSource<'_> {
         match &self.inner {
             Inner::Mesh(s) => LodSource::Solid(s.as_ref()),
-            Inner::Threshold(s) => LodSource::Solid(s),
+            Inner::Threshold(s) => LodSource::Solid(s.as_ref()),
             Inner::Direct(v) => LodSource::Direct(v),
             Inner::Solid(s) => LodSource::Solid(*s),
             Inner::Chunked(c) => LodSource::Chunked(c.as_ref()),

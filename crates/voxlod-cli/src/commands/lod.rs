@@ -266,7 +266,7 @@ enum Loaded {
     Volume(voxlod::core::Volume),
     /// A Zarr scan with --threshold: never read whole, sampled window by window (the same
     /// levels as a volume read whole).
-    Chunked(voxlod::io::ZarrVolume),
+    Chunked(Box<voxlod::io::ZarrVolume>),
 }
 
 /// Reads the input, refusing a volume without a route.
@@ -275,7 +275,7 @@ fn load(args: &LodArgs) -> Result<Loaded, CliError> {
     if zarr && args.route.threshold.is_some() {
         let scan = voxlod::io::open_zarr(&args.input)?;
         check_grid_reach(&scan.grid(), &args.input, args.route.raw.spacing_source())?;
-        return Ok(Loaded::Chunked(scan));
+        return Ok(Loaded::Chunked(Box::new(scan)));
     }
     match read_input(&args.input, &args.route.raw)? {
         Input::Mesh(mesh) => Ok(Loaded::Mesh(mesh)),
@@ -302,7 +302,7 @@ fn source<'a>(loaded: &'a Loaded, route: &VolumeRoute) -> voxlod::Source<'a> {
         }
         (Loaded::Volume(volume), None) => voxlod::Source::Direct(volume),
         (Loaded::Chunked(scan), threshold) => voxlod::Source::ChunkedThreshold {
-            scan,
+            scan: scan.as_ref(),
             threshold: threshold.unwrap_or(f32::NAN),
         },
     }
