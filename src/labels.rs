@@ -116,10 +116,8 @@ pub fn find_labels(map: &Volume) -> Result<Vec<LabelInfo>, LabelError> {
             max: at,
         });
         info.voxels += 1;
-        for a in 0..3 {
-            info.min[a] = info.min[a].min(at[a]);
-            info.max[a] = info.max[a].max(at[a]);
-        }
+        info.min = std::array::from_fn(|a| info.min[a].min(at[a]));
+        info.max = std::array::from_fn(|a| info.max[a].max(at[a]));
     }
     Ok(found.into_values().collect())
 }
