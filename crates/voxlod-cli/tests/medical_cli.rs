@@ -6,10 +6,10 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{arg, assert_clean_failure, json, stderr, voxlod};
+use common::{arg, assert_clean_failure, centroid_and_volume, json, stderr, voxlod};
 use serde_json::Value;
 use voxlod::core::glam::DVec3;
-use voxlod::core::{mesh_topology, TriangleMesh};
+use voxlod::core::mesh_topology;
 use voxlod_testkit::dicom::{ball_series, write_slice};
 
 const OURS: &str = "1.2.826.0.1.3680043.9.7";
@@ -28,17 +28,6 @@ fn two_series(dir: &Path) -> PathBuf {
         write_slice(&folder.join(format!("IM{:04}", (n * 37) % 101)), s);
     }
     folder
-}
-
-fn centroid_and_volume(mesh: &TriangleMesh) -> (DVec3, f64) {
-    let (mut c, mut v) = (DVec3::ZERO, 0.0);
-    for t in &mesh.triangles {
-        let [a, b, d] = t.map(|i| mesh.positions[i as usize].as_dvec3());
-        let w = a.dot(b.cross(d)) / 6.0;
-        v += w;
-        c += (a + b + d) / 4.0 * w;
-    }
-    (c / v, v)
 }
 
 #[test]

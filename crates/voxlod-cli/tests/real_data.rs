@@ -241,18 +241,6 @@ else:
     print(*image.TransformContinuousIndexToPhysicalPoint(centre))
 "#;
 
-/// Volume-weighted centroid of a closed mesh.
-fn mesh_centroid(mesh: &voxlod::core::TriangleMesh) -> voxlod::core::glam::DVec3 {
-    let (mut c, mut v) = (voxlod::core::glam::DVec3::ZERO, 0.0);
-    for t in &mesh.triangles {
-        let [a, b, d] = t.map(|i| mesh.positions[i as usize].as_dvec3());
-        let w = a.dot(b.cross(d)) / 6.0;
-        v += w;
-        c += (a + b + d) / 4.0 * w;
-    }
-    c / v
-}
-
 #[test]
 fn shared_scans_land_where_nibabel_and_simpleitk_put_them() {
     let cases: [(&str, &str, Vec<&str>); 4] = [
@@ -295,7 +283,7 @@ fn shared_scans_land_where_nibabel_and_simpleitk_put_them() {
         let mesh = voxlod::io::read_mesh(&levels.join(level["file"].as_str().unwrap()))
             .unwrap()
             .mesh;
-        let ours = mesh_centroid(&mesh);
+        let ours = centroid_and_volume(&mesh).0;
         // The mesh encloses the filtered, trilinearly thresholded solid; the peers count whole
         // voxels, thin parts included that the filter removes (the lung CT's table: 9 mm
         // apart at 2.8 mm cells). So: within four cells, and on every axis where the centroid
