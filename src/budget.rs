@@ -4,24 +4,37 @@
 //!
 //! For each budget `B` of [`crate::LodOptions::triangles`], on its own:
 //!
+//! 0. **What the budget affords.** The marching-cubes level with about `B` triangles shows what
+//!    topology `B` triangles can carry. When it has no fewer handles and components than the
+//!    input mesh, the voxel stage has nothing to remove, and the geometric stage runs on the
+//!    input itself (quadric collapse, topology kept, [`Stage::InputQuadric`]): a filtered level
+//!    would only add the filter's smoothing to the error (measured on the bunny, rocker arm and
+//!    fandisk: the input's collapse is two to ten times closer than any voxel level's). If that
+//!    collapse reaches the budget, it is the level; if not (it stalls above it), it stays a
+//!    candidate of the search below. This shortcut is our addition to §5, which always filters.
 //! 1. **Resolution.** The finest voxel resolution whose marching-cubes level has about
 //!    `4 B` triangles: what the budget cannot afford (handles, thin parts, small pieces below a
 //!    voxel) is filtered away there, and the geometric stage gets room to choose. Found by
-//!    probing: from resolution 32, each try scales the resolution by `√(wanted / got)`
-//!    (marching cubes' count grows as the resolution squared), at most five tries. A level
-//!    that vanished (a sheet thinner than a voxel) sends the search to twice the resolution,
-//!    with a warning.
+//!    probing: from the resolution that [`voxlod_contouring::triangle_estimate`] predicts from
+//!    the input mesh (32 for a volume), each try scales the resolution by `√(wanted / got)`
+//!    (marching cubes' count grows as the resolution squared), until the count is within 25 %,
+//!    at most five tries. A level that vanished (a sheet thinner than a voxel) sends the search
+//!    to twice the resolution, with a warning.
 //! 2. **Openings.** An open mesh input keeps its openings: the caps that sampling put over its
 //!    holes are cut away from the level ([`crate::caps`]), unless
 //!    [`crate::LodOptions::closed`] asks for watertight levels.
 //! 3. **Geometric stage** ([`Then`]): meshoptimizer's quadric collapse with the topology kept
 //!    (voxlod-quadric), or simplification envelopes (voxlod-envelope, `tight` preset, ε searched
-//!    for the count), or none. [`Then::Auto`] runs both and keeps the one measured closer to the
-//!    input.
+//!    for the count), or none. [`Then::Auto`] runs the quadric stage, and the envelopes only on
+//!    a level where the quadric stage stalls above the budget: measured on the bunny's chain,
+//!    the envelopes cost 10 to 300 times the quadric stage's time and were closer to the input
+//!    only once, at the largest budget, where the input's own collapse (step 0) is closer
+//!    still.
 //! 4. **Search.** Within [`crate::LodOptions::time_cap`] seconds per budget, the neighbouring
 //!    resolutions (about `8 B` and `2 B` triangles) are tried too, and the candidate within
 //!    10 % of the budget with the smallest measured two-sided Hausdorff distance to the input
-//!    is kept (without a mesh input, the first within 10 %).
+//!    is kept (without a mesh input, the first within 10 %). Distances are sampled (10 000
+//!    points a side) against the input's closest-point structure, built once per run.
 //!
 //! **Independence.** A budget's level depends on that budget and the options alone, never on
 //! the other budgets of the run: each search starts from nothing, and levels built for one
@@ -34,8 +47,10 @@
 //! error bounds every geometric stage.
 //!
 //! Every level is within 10 % of its budget or its report says why not
-//! ([`BudgetLevel::note`]). Cost: per budget, two to five samplings (the finest dominates,
-//! O(N³)), marching cubes, one to three geometric stages and a distance measurement each.
+//! ([`BudgetLevel::note`]). Cost: per budget, one to five samplings (the finest dominates,
+//! O(N³)), marching cubes, one to four geometric stages and a distance measurement each; when
+//! the budget affords the input's topology, one small sampling and one collapse of the input,
+//! O(F log F).
 
 use std::collections::HashMap;
 use std::fmt;
@@ -44,9 +59,13 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use serde::Serialize;
+use voxlod_contouring::triangle_estimate::resolution_for_triangles;
+use voxlod_core::weld::weld_vertices;
 use voxlod_core::{mesh_topology, Topology, TriangleMesh};
 use voxlod_envelope::{simplify_envelope, EnvelopeOptions, Epsilon};
-use voxlod_metrics::{mesh_distance, DistanceOptions, DistanceReport};
+use voxlod_metrics::{
+    one_sided_distance, DistanceOptions, MeshDistance, SamplingOptions, SurfaceSampler,
+};
 use voxlod_quadric::{simplify_to_budget, QuadricOptions};
 use voxlod_sampling::PyramidOptions;
 
@@ -64,6 +83,10 @@ const HEADROOM: f64 = 4.0;
 /// Resolutions searched: at most this fine (memory is checked as well), at least this coarse.
 const FINEST: usize = 512;
 const COARSEST: usize = 4;
+/// The resolution search stops once a level's count is within this fraction of the wanted one.
+const PROBE_TOLERANCE: f64 = 0.25;
+/// Samples per side of the distances measured during the search.
+const SEARCH_SAMPLES: usize = 10_000;
 
 /// An error target: a distance in the input's units, or a fraction of its box's diagonal.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -122,8 +145,8 @@ impl fmt::Display for ErrorTarget {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Then {
-    /// Both, keeping whichever is measured closer to the input (the quadric stage alone when
-    /// there is no input mesh to measure against).
+    /// The quadric stage, and the envelopes where it stalls above the budget (module docs,
+    /// step 3), keeping whichever is measured closer to the input.
     #[default]
     Auto,
     /// Simplification envelopes (tight preset), ε searched for the budget.
@@ -160,6 +183,10 @@ pub enum Stage {
     Quadric,
     /// Then simplification envelopes.
     Envelope,
+    /// meshoptimizer's quadric collapse of the input mesh itself: the budget affords the
+    /// input's genus and components, so the voxel stage had nothing to remove (module docs,
+    /// step 0).
+    InputQuadric,
 }
 
 /// What the budget pipeline did for one level.
@@ -169,7 +196,8 @@ pub struct BudgetLevel {
     pub budget: Option<usize>,
     /// The error target in mesh units, if one was given.
     pub error_target: Option<f64>,
-    /// The voxel resolution chosen.
+    /// The voxel resolution chosen (for [`Stage::InputQuadric`], the resolution whose level
+    /// showed that the budget affords the input's topology).
     pub resolution: usize,
     /// Triangles of that resolution's marching-cubes level (after cutting caps).
     pub voxel_triangles: usize,
@@ -209,6 +237,9 @@ pub(crate) struct BudgetContext<'a> {
     pub(crate) level_options: LevelOptions,
     pub(crate) input: Option<&'a TriangleMesh>,
     pub(crate) border: Option<InputBorder>,
+    /// The input mesh welded, its topology, and its distance measure (with a mesh input).
+    welded: Option<(TriangleMesh, Topology)>,
+    measure: Option<InputMeasure<'a>>,
     pub(crate) input_genus: Option<i64>,
     pub(crate) then: Then,
     pub(crate) time_cap: f64,
@@ -222,7 +253,47 @@ struct Candidate {
     mesh: TriangleMesh,
     stage: Stage,
     error_bound: f64,
-    distance: Option<DistanceReport>,
+    distance: Option<Measured>,
+}
+
+/// A sampled two-sided distance.
+#[derive(Clone, Copy, Debug)]
+struct Measured {
+    hausdorff: f64,
+    mean: f64,
+}
+
+/// The input mesh's samples and closest-point structure, built once per run, so that each
+/// candidate's two-sided distance costs only its own structure and the queries.
+struct InputMeasure<'a> {
+    sampler: SurfaceSampler<'a>,
+    closest: MeshDistance,
+}
+
+impl<'a> InputMeasure<'a> {
+    fn new(input: &'a TriangleMesh) -> Option<Self> {
+        Some(InputMeasure {
+            sampler: SurfaceSampler::new(input).ok()?,
+            closest: MeshDistance::new(input).ok()?,
+        })
+    }
+
+    /// Two-sided distance between the input and `mesh`, [`SEARCH_SAMPLES`] a side.
+    fn measure(&self, mesh: &TriangleMesh) -> Option<Measured> {
+        let options = DistanceOptions::with_samples(SEARCH_SAMPLES);
+        let sampling = |side: u64| SamplingOptions {
+            seed: options.seed.wrapping_add(side),
+            ..SamplingOptions::with_samples(SEARCH_SAMPLES)
+        };
+        let sampler = SurfaceSampler::new(mesh).ok()?;
+        let closest = MeshDistance::new(mesh).ok()?;
+        let there = one_sided_distance(&self.sampler, &closest, &sampling(0));
+        let back = one_sided_distance(&sampler, &self.closest, &sampling(1));
+        Some(Measured {
+            hausdorff: there.max.max(back.max),
+            mean: 0.5 * (there.mean + back.mean),
+        })
+    }
 }
 
 impl<'a> BudgetContext<'a> {
@@ -239,12 +310,21 @@ impl<'a> BudgetContext<'a> {
             (Some(mesh), false) => InputBorder::new(mesh)?,
             _ => None,
         };
-        let input_genus = input.and_then(|m| mesh_topology(m).genus);
+        let welded = input.map(|m| {
+            let mut mesh = m.clone();
+            weld_vertices(&mut mesh);
+            mesh.remove_unreferenced_vertices();
+            let topology = mesh_topology(&mesh);
+            (mesh, topology)
+        });
+        let input_genus = welded.as_ref().and_then(|w| w.1.genus);
         Ok(BudgetContext {
             source,
             level_options,
             input,
             border,
+            welded,
+            measure: input.and_then(InputMeasure::new),
             input_genus,
             then,
             time_cap,
@@ -279,7 +359,12 @@ impl<'a> BudgetContext<'a> {
     /// The resolution whose level has about `wanted` triangles (module docs, step 1), the
     /// seconds charged for the probes, and warnings for levels that vanished.
     fn resolution_for(&self, wanted: f64) -> Result<(usize, f64, Vec<String>), Error> {
-        let (mut resolution, mut charged, mut warnings) = (32usize, 0.0, Vec::new());
+        let start = self
+            .input
+            .and_then(|mesh| resolution_for_triangles(mesh, wanted.round() as usize))
+            .unwrap_or(32)
+            .clamp(COARSEST, FINEST);
+        let (mut resolution, mut charged, mut warnings) = (start, 0.0, Vec::new());
         for _ in 0..5 {
             let (level, seconds) = self.level(resolution)?;
             charged += seconds;
@@ -295,7 +380,9 @@ impl<'a> BudgetContext<'a> {
                 (resolution as f64 * (wanted / got as f64).sqrt()).round() as usize
             };
             let next = next.clamp(COARSEST, FINEST);
-            if next == resolution || (got > 0 && (got as f64 / wanted - 1.0).abs() < 0.15) {
+            if next == resolution
+                || (got > 0 && (got as f64 / wanted - 1.0).abs() < PROBE_TOLERANCE)
+            {
                 break;
             }
             resolution = next;
@@ -317,9 +404,45 @@ impl<'a> BudgetContext<'a> {
     }
 
     /// Two-sided distance from the input to `mesh`, when there is an input mesh.
-    fn measure(&self, mesh: &TriangleMesh) -> Option<DistanceReport> {
-        let input = self.input?;
-        mesh_distance(input, mesh, &DistanceOptions::quick()).ok()
+    fn measure(&self, mesh: &TriangleMesh) -> Option<Measured> {
+        self.measure.as_ref()?.measure(mesh)
+    }
+
+    /// The input mesh collapsed towards `budget` when the budget affords the input's topology
+    /// (module docs, step 0): the candidate, and the level that showed it.
+    fn input_candidate(
+        &self,
+        budget: usize,
+        error: Option<f64>,
+    ) -> Result<Option<(Candidate, LodLevel, f64)>, Error> {
+        let Some((input, topology)) = &self.welded else {
+            return Ok(None);
+        };
+        // An open input under `closed` would keep its holes: the voxel levels close them.
+        let closed_asked = topology.boundary_loops > 0 && self.border.is_none();
+        if matches!(self.then, Then::None | Then::Envelope) || closed_asked {
+            return Ok(None);
+        }
+        let (resolution, charged, _) = self.resolution_for(budget as f64)?;
+        let (level, _, _) = self.uncapped(resolution)?;
+        let t = &level.topology;
+        let keeps =
+            |level: Option<i64>, input: Option<i64>| level.zip(input).is_some_and(|(l, i)| l >= i);
+        let removes_nothing = keeps(t.genus, topology.genus) && t.components >= topology.components;
+        if level.mesh.is_empty() || !removes_nothing {
+            return Ok(None);
+        }
+        let options = QuadricOptions::budget(error.unwrap_or(f64::INFINITY));
+        let Ok(done) = simplify_to_budget(input, budget, &options) else {
+            return Ok(None);
+        };
+        let candidate = Candidate {
+            distance: self.measure(&done.mesh),
+            mesh: done.mesh,
+            stage: Stage::InputQuadric,
+            error_bound: done.error_bound,
+        };
+        Ok(Some((candidate, level, charged)))
     }
 }
 
@@ -344,6 +467,23 @@ pub(crate) fn budget_level(
     error: Option<f64>,
 ) -> Result<(LodLevel, BudgetLevel, Vec<String>), Error> {
     let start = Instant::now();
+    let mut best: Option<(Candidate, LodLevel, usize)> = None;
+    if let Some((candidate, level, _)) = ctx.input_candidate(budget, error)? {
+        if fits(&candidate, budget) && closer_than_voxels(ctx, &candidate, budget) {
+            let voxel_triangles = level.mesh.triangle_count();
+            return Ok(finish(
+                ctx,
+                (candidate, level, 0),
+                voxel_triangles,
+                budget,
+                error,
+                1,
+                start,
+                Vec::new(),
+            ));
+        }
+        best = Some((candidate, level, 0));
+    }
     let headroom = if ctx.then == Then::None {
         1.0
     } else {
@@ -352,18 +492,26 @@ pub(crate) fn budget_level(
     let (first, mut charged, mut warnings) = ctx.resolution_for(headroom * budget as f64)?;
     let mut resolutions = vec![first];
     if ctx.then != Then::None {
+        // Finer and coarser neighbours (about 8 B and 2 B triangles), then, only while nothing
+        // fits the budget, coarser levels still (about B and B / 2), with less to keep.
         let step = |f: f64| ((first as f64 * f).round() as usize).clamp(COARSEST, FINEST);
-        for r in [step(2f64.sqrt()), step(0.5f64.sqrt())] {
+        for r in [2f64, 0.5, 0.25, 0.125].map(|f| step(f.sqrt())) {
             if !resolutions.contains(&r) {
                 resolutions.push(r);
             }
         }
     }
-    let mut best: Option<(Candidate, LodLevel, usize)> = None;
-    let mut tried = 0;
+    let mut tried = usize::from(best.is_some());
+    // Per resolution tried, the count of its best candidate (for the bisection below).
+    let mut counts: Vec<(usize, usize)> = Vec::new();
     for (i, &resolution) in resolutions.iter().enumerate() {
-        if i > 0 && charged >= ctx.time_cap {
+        let fitted = best.as_ref().is_some_and(|b| fits(&b.0, budget));
+        let over_time = i > 0 && charged >= ctx.time_cap;
+        if i > 0 && fitted && (over_time || resolution < step_down(first)) {
             break;
+        }
+        if over_time && resolution > first {
+            continue;
         }
         let stage_start = Instant::now();
         let (level, cut, seconds) = ctx.uncapped(resolution)?;
@@ -372,13 +520,27 @@ pub(crate) fn budget_level(
         }
         for candidate in stages(ctx, &level, budget, error) {
             tried += 1;
+            counts.push((resolution, candidate.mesh.triangle_count()));
             if better(&candidate, best.as_ref().map(|b| &b.0), budget) {
                 best = Some((candidate, level.clone(), cut));
             }
         }
         charged += if i > 0 { seconds } else { 0.0 } + stage_start.elapsed().as_secs_f64();
     }
-    let Some((chosen, mut level, cut)) = best else {
+    tried += bisect(ctx, &mut best, &mut counts, budget, error)?;
+    if let Some((stalled, level, cut)) = best.as_ref().filter(|b| !fits(&b.0, budget)) {
+        // Then::Auto's envelopes, where the quadric stage stalled on every level (step 3).
+        if ctx.then == Then::Auto && ctx.input.is_some() {
+            let level = level.clone();
+            if let Some(candidate) = envelope_candidate(ctx, &level, budget, error) {
+                tried += 1;
+                if better(&candidate, Some(stalled), budget) {
+                    best = Some((candidate, level, *cut));
+                }
+            }
+        }
+    }
+    let Some(chosen) = best else {
         warnings.push(format!(
             "budget {budget}: every resolution tried vanished; the level is empty"
         ));
@@ -386,9 +548,57 @@ pub(crate) fn budget_level(
         let report = report(ctx, &level, Some(budget), error, 0, tried, start);
         return Ok((level, report, warnings));
     };
+    let voxel_triangles = chosen.1.mesh.triangle_count();
+    Ok(finish(
+        ctx,
+        chosen,
+        voxel_triangles,
+        budget,
+        error,
+        tried,
+        start,
+        warnings,
+    ))
+}
+
+/// Whether `candidate` (the input's own collapse) is measured closer to the input than half a
+/// voxel of the resolution whose marching-cubes level would have `4 B` triangles: the accuracy
+/// of that level's surface placement, which a geometric stage on it can only add to, so the
+/// voxel search could not be expected to do better (module docs, step 0).
+fn closer_than_voxels(ctx: &BudgetContext, candidate: &Candidate, budget: usize) -> bool {
+    let (Some(input), Some(distance)) = (ctx.input, &candidate.distance) else {
+        return false;
+    };
+    let Some(resolution) = resolution_for_triangles(input, (HEADROOM * budget as f64) as usize)
+    else {
+        return false;
+    };
+    let voxel = ctx.source.bounds().longest_extent() / resolution.clamp(COARSEST, FINEST) as f64;
+    distance.hausdorff <= 0.5 * voxel
+}
+
+/// The level and report of the chosen candidate (on the level it came from, with the caps cut
+/// from that level), and the warnings with the note of a missed budget.
+#[allow(clippy::too_many_arguments)]
+fn finish(
+    ctx: &BudgetContext,
+    (chosen, mut level, cut): (Candidate, LodLevel, usize),
+    voxel_triangles: usize,
+    budget: usize,
+    error: Option<f64>,
+    tried: usize,
+    start: Instant,
+    mut warnings: Vec<String>,
+) -> (LodLevel, BudgetLevel, Vec<String>) {
     level.mesh = chosen.mesh;
     level.topology = mesh_topology(&level.mesh);
+    let cut = if chosen.stage == Stage::InputQuadric {
+        0
+    } else {
+        cut
+    };
     let mut report = report(ctx, &level, Some(budget), error, cut, tried, start);
+    report.voxel_triangles = voxel_triangles;
     report.stage = chosen.stage;
     report.error_bound = chosen.error_bound;
     report.hausdorff = chosen.distance.as_ref().map(|d| d.hausdorff);
@@ -397,7 +607,7 @@ pub(crate) fn budget_level(
     if let Some(note) = &report.note {
         warnings.push(format!("budget {budget}: {note}"));
     }
-    Ok((level, report, warnings))
+    (level, report, warnings)
 }
 
 /// The report of `level` before its stage is known: the voxel level's figures.
@@ -461,8 +671,7 @@ fn better(candidate: &Candidate, best: Option<&Candidate>, budget: usize) -> boo
         return true;
     };
     let miss = |c: &Candidate| (c.mesh.triangle_count() as f64 / budget as f64).ln().abs();
-    let fits = |c: &Candidate| miss(c) <= (1.0 + BUDGET_TOLERANCE).ln();
-    match (fits(candidate), fits(best)) {
+    match (fits(candidate, budget), fits(best, budget)) {
         (true, false) => true,
         (false, true) => false,
         (false, false) => miss(candidate) < miss(best),
@@ -473,8 +682,61 @@ fn better(candidate: &Candidate, best: Option<&Candidate>, budget: usize) -> boo
     }
 }
 
+/// While nothing fits the budget: bisects between the finest resolution whose candidate stayed
+/// under the budget and the coarsest whose candidate stalled over it (at most four tries: a
+/// level's topology, and so where the quadric stage stalls, can change quickly with the
+/// resolution). The candidates built.
+fn bisect(
+    ctx: &BudgetContext,
+    best: &mut Option<(Candidate, LodLevel, usize)>,
+    counts: &mut Vec<(usize, usize)>,
+    budget: usize,
+    error: Option<f64>,
+) -> Result<usize, Error> {
+    let mut tried = 0;
+    for _ in 0..4 {
+        if best.as_ref().is_none_or(|b| fits(&b.0, budget)) {
+            break;
+        }
+        let under = counts.iter().filter(|c| c.1 < budget).map(|c| c.0).max();
+        let over = counts.iter().filter(|c| c.1 > budget).map(|c| c.0).min();
+        let (Some(low), Some(high)) = (under, over) else {
+            break;
+        };
+        if high <= low + 1 {
+            break;
+        }
+        let resolution = (low + high) / 2;
+        let (level, cut, _) = ctx.uncapped(resolution)?;
+        counts.push((resolution, level.mesh.triangle_count()));
+        for candidate in stages(ctx, &level, budget, error) {
+            tried += 1;
+            counts.push((resolution, candidate.mesh.triangle_count()));
+            if better(&candidate, best.as_ref().map(|b| &b.0), budget) {
+                *best = Some((candidate, level.clone(), cut));
+            }
+        }
+    }
+    Ok(tried)
+}
+
+/// The coarsest resolution of the search's regular neighbours (about `2 B` triangles, for a
+/// first resolution of about `4 B`); coarser ones are tried only while nothing fits.
+fn step_down(first: usize) -> usize {
+    ((first as f64 * 0.5f64.sqrt()).round() as usize).clamp(COARSEST, FINEST)
+}
+
+/// Whether `candidate` is within 10 % of `budget` (as a ratio, the same above and below).
+fn fits(candidate: &Candidate, budget: usize) -> bool {
+    let miss = (candidate.mesh.triangle_count() as f64 / budget as f64)
+        .ln()
+        .abs();
+    miss <= (1.0 + BUDGET_TOLERANCE).ln()
+}
+
 /// The geometric stages asked for, applied to `level` for `budget`; a stage that fails is
-/// left out (the voxel level itself is the candidate of [`Then::None`]).
+/// left out (the voxel level itself is the candidate of [`Then::None`]; [`Then::Auto`]'s
+/// envelopes run after the search, where the quadric stage stalled).
 fn stages(
     ctx: &BudgetContext,
     level: &LodLevel,
@@ -483,8 +745,6 @@ fn stages(
 ) -> Vec<Candidate> {
     let mut out = Vec::new();
     let want_quadric = matches!(ctx.then, Then::Auto | Then::Quadric);
-    let want_envelope =
-        ctx.then == Then::Envelope || (ctx.then == Then::Auto && ctx.input.is_some());
     if ctx.then == Then::None {
         out.push(Candidate {
             mesh: level.mesh.clone(),
@@ -494,7 +754,7 @@ fn stages(
         });
     }
     if want_quadric {
-        let options = QuadricOptions::bounded(error.unwrap_or(f64::INFINITY));
+        let options = QuadricOptions::budget(error.unwrap_or(f64::INFINITY));
         if let Ok(done) = simplify_to_budget(&level.mesh, budget, &options) {
             out.push(Candidate {
                 distance: ctx.measure(&done.mesh),
@@ -504,17 +764,26 @@ fn stages(
             });
         }
     }
-    if want_envelope {
-        if let Some((mesh, epsilon)) = envelope_to_count(&level.mesh, budget, error, level) {
-            out.push(Candidate {
-                distance: ctx.measure(&mesh),
-                mesh,
-                stage: Stage::Envelope,
-                error_bound: epsilon,
-            });
-        }
+    if ctx.then == Then::Envelope {
+        out.extend(envelope_candidate(ctx, level, budget, error));
     }
     out
+}
+
+/// The envelope stage on `level` for `budget`, measured.
+fn envelope_candidate(
+    ctx: &BudgetContext,
+    level: &LodLevel,
+    budget: usize,
+    error: Option<f64>,
+) -> Option<Candidate> {
+    let (mesh, epsilon) = envelope_to_count(&level.mesh, budget, error, level)?;
+    Some(Candidate {
+        distance: ctx.measure(&mesh),
+        mesh,
+        stage: Stage::Envelope,
+        error_bound: epsilon,
+    })
 }
 
 /// Simplification envelopes (tight preset) with ε searched so that the count comes near
@@ -648,6 +917,7 @@ pub(crate) fn lod_by_budget(
         iso,
         warnings,
         budgets: reports,
+        finest: None,
         seconds: start.elapsed().as_secs_f64(),
     })
 }

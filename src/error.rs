@@ -20,7 +20,7 @@ use voxlod_io::{IoError, IoErrorKind};
 use voxlod_layers::LayersError;
 use voxlod_metrics::MetricsError;
 use voxlod_render::RenderError;
-use voxlod_sampling::SamplingError;
+use voxlod_sampling::{MonotoneError, SamplingError};
 
 use crate::lod::LodError;
 
@@ -204,6 +204,17 @@ impl From<LodError> for Error {
                 value: cell.to_string(),
                 problem: "gives a level whose cell size is not a positive number".into(),
             }),
+            LodError::Monotone(MonotoneError::Sampling(e)) => Error::Sampling(e),
+            LodError::Monotone(MonotoneError::Core(e)) => Error::Core(e),
+            LodError::Monotone(MonotoneError::NonFiniteIso(iso)) => {
+                Error::InvalidOption(InvalidOption::new("iso", iso, "must be a finite number"))
+            }
+            LodError::Monotone(e @ MonotoneError::Unresolved { .. }) => {
+                Error::Sampling(SamplingError::InvalidOption(format!(
+                    "keeping the genus from rising failed ({e}); set `monotone` to None for the \
+                     plain pyramid"
+                )))
+            }
         }
     }
 }

@@ -22,7 +22,7 @@
 //! | levels by triangle budget or error (§5) | [`lod()`] with [`LodOptions::budgets`] | [`budget`] |
 //! | one filtered volume | [`voxelize`] | [`VoxelizeOptions`] |
 //! | marching cubes on any volume | [`contour`] | [`ContourOptions`] |
-//! | layered translucent shells (§3) | [`layers()`], [`layers_with`] | [`LayersOptions`] |
+//! | layered translucent shells (§3) | [`layers()`], [`layers_with`]; a chain of levels: [`layers_levels`] | [`LayersOptions`] |
 //! | vertex clustering baselines | [`cluster`] | [`ClusteringOptions`] |
 //! | simplification envelopes | [`envelope()`], [`envelope_with`] | [`EnvelopeSeriesOptions`] |
 //! | topology and health | [`inspect`], [`inspect_scene`] | [`InspectOptions`] |
@@ -58,6 +58,7 @@ mod contour;
 mod envelope_series;
 mod error;
 mod files;
+pub mod finest;
 mod inspect;
 pub mod labels;
 mod levels;
@@ -75,6 +76,7 @@ pub use contour::{contour, Contour, ContourOptions};
 pub use envelope_series::{envelope, envelope_with, EnvelopeSeries, EnvelopeSeriesOptions};
 pub use error::{Error, ErrorClass, InvalidOption};
 pub use files::{read_mesh, read_volume, write_mesh, write_volume};
+pub use finest::Finest;
 pub use inspect::{
     inspect, inspect_scene, InspectOptions, Inspection, PartInspection, SceneInspection,
 };
@@ -83,8 +85,8 @@ pub use lod::LodLevel;
 pub use progress::{run_to_end, Control, Event, Progress, ProgressFn};
 pub use select::{select, SelectOptions, Selection};
 pub use shells::{
-    check_layers_options, layered_poly_mesh, layered_preview, layers, layers_with, Layers,
-    SURFACE_COLOR,
+    check_layers_options, layered_poly_mesh, layered_preview, layers, layers_levels, layers_radius,
+    layers_with, Layers, SURFACE_COLOR,
 };
 pub use source::{iso_outside_data, Prepared, Route, Source};
 pub use then_envelope::{EnvelopeStep, LevelEpsilon, ThenEnvelope};

@@ -33,8 +33,8 @@ use voxlod_sampling::narrow_band::{
 
 use crate::then_envelope::EnvelopeStep;
 use voxlod_sampling::{
-    direct_density, filtered_density, plan_levels_with, DensityReport, LevelPlan, PyramidOptions,
-    SamplingError, Solid,
+    direct_density, filtered_density, plan_levels_with, DensityReport, LevelPlan, MonotoneChain,
+    MonotoneError, PyramidOptions, SamplingError, Solid, TopologyRecord,
 };
 
 /// Levels of solids whose dense sampling would need more bytes than this go through the narrow
@@ -96,15 +96,14 @@ pub struct LevelOptions {
 pub type LodOptions = LevelOptions;
 
 impl Default for LevelOptions {
-    /// Six levels from 256, hyper-cone filter of one voxel, isodensity 0.5, with normals, plain
-    /// marching cubes (the budget pipeline cleans its levels; cleaning every level by default
-    /// waits on an inside-out coarse level of thingi10k-138207 being understood).
+    /// Six levels from 256, hyper-cone filter of one voxel, isodensity 0.5, with normals,
+    /// cleaned.
     fn default() -> Self {
         LevelOptions {
             pyramid: PyramidOptions::default(),
             iso: 0.5,
             normals: true,
-            clean: None,
+            clean: Some(CleanOptions::default()),
         }
     }
 }
@@ -114,6 +113,8 @@ impl LevelOptions {
     pub fn paper_table1() -> Self {
         LevelOptions {
             pyramid: PyramidOptions::paper_table1(),
+            // The paper's counts are of plain marching cubes.
+            clean: None,
             ..Default::default()
         }
     }
@@ -140,6 +141,13 @@ pub struct LodLevel {
     pub band: Option<BandReport>,
     /// What the envelope step did ([`crate::LodOptions::then_envelope`]), when asked.
     pub envelope: Option<EnvelopeStep>,
+    /// What keeping the chain's genus from rising changed at this level
+    /// ([`crate::LodOptions::monotone`]): handles removed since the level above, components
+    /// gained or lost, perforations prevented. `None` when not asked, or for a level sampled in
+    /// the narrow band (the chain then starts again at the next level).
+    pub monotone: Option<TopologyRecord>,
+    /// Wall time of keeping the genus from rising (zero when not asked).
+    pub monotone_seconds: f64,
 }
 
 /// Why a level could not be built.
@@ -154,6 +162,9 @@ pub enum LodError {
     /// Cleaning the level failed (the memory budget).
     #[error(transparent)]
     Clean(#[from] CleanError),
+    /// Keeping the chain's genus from rising failed (the memory budget).
+    #[error(transparent)]
+    Monotone(#[from] MonotoneError),
 }
 
 /// Plans every level: grids, radii, and a memory check of the largest.
@@ -281,7 +292,28 @@ impl SampledLevel {
             contour_seconds,
             band: self.band,
             envelope: None,
+            monotone: None,
+            monotone_seconds: 0.0,
         })
+    }
+
+    /// Adjusts the level's density so that its surface has no more handles than the chain's
+    /// previous level ([`voxlod_sampling::monotone_topology`]), and returns what changed. A level
+    /// sampled in the narrow band is left as it is (the rules need the dense volume, which is
+    /// what the band avoids) and starts the chain again: `None`.
+    pub(crate) fn keep_monotone(
+        &mut self,
+        chain: &mut MonotoneChain,
+        options: &LevelOptions,
+    ) -> Result<Option<TopologyRecord>, LodError> {
+        let LevelVolume::Dense(volume) = &self.volume else {
+            *chain = MonotoneChain::new(chain.options);
+            return Ok(None);
+        };
+        let filter = self.plan.density_options(&options.pyramid);
+        let (adjusted, record) = chain.next(volume, options.iso, &filter)?;
+        self.volume = LevelVolume::Dense(adjusted);
+        Ok(Some(record))
     }
 }
 

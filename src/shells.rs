@@ -103,6 +103,60 @@ pub fn layers_with(
     })
 }
 
+/// Layered shells at each of `resolutions` (finest first, strictly decreasing), each filtered
+/// from the source with `options`' radius in voxels of its own grid: the levels of a layered
+/// `MSFT_lod` chain (`voxlod_layers::layered_chain_bytes`; [`layers_radius`] gives each level's
+/// radius). The source is prepared once. Cost: the sum of the levels', the finest dominating.
+pub fn layers_levels(
+    source: &Source,
+    options: &LayersOptions,
+    resolutions: &[usize],
+) -> Result<Vec<Layers>, Error> {
+    if resolutions.is_empty() || resolutions.windows(2).any(|w| w[1] >= w[0]) {
+        let list = format!("{resolutions:?}");
+        let problem = "the levels' resolutions must decrease strictly from the finest";
+        return Err(InvalidOption::new("resolutions", list, problem).into());
+    }
+    let per_level = |resolution| LayersOptions {
+        resolution,
+        ..*options
+    };
+    for &r in resolutions {
+        check_layers_options(&per_level(r))?;
+    }
+    let prepared = source.prepare()?;
+    let solid = prepared.solid().ok_or(Error::NeedsSolid)?;
+    let mut out = Vec::with_capacity(resolutions.len());
+    for &r in resolutions {
+        let start = Instant::now();
+        let level_options = per_level(r);
+        let (volume, density) = filter_solid(solid, &level_options)?;
+        let sample_seconds = start.elapsed().as_secs_f64();
+        let mut layered = layer_volume(&volume, &options.plan, &options.extract)?;
+        layered.density = Some(density);
+        layered.timings.sample_seconds = sample_seconds;
+        out.push(Layers {
+            layered,
+            warnings: prepared.warnings().to_vec(),
+            seconds: start.elapsed().as_secs_f64(),
+        });
+    }
+    Ok(out)
+}
+
+/// The filter's support radius of layered shells in the input's units: `radius_voxels` voxels
+/// of their grid (its largest spacing).
+pub fn layers_radius(layered: &Layered, radius_voxels: f64) -> f64 {
+    radius_voxels
+        * layered
+            .mesh
+            .grid
+            .spacing
+            .iter()
+            .copied()
+            .fold(0.0, f64::max)
+}
+
 /// The colour of an opaque surface in previews (light grey-blue; the command line's too).
 pub const SURFACE_COLOR: [f32; 3] = [0.85, 0.86, 0.9];
 

@@ -2,7 +2,7 @@
 //! above the voxel level's, openings kept, budgets independent of each other, bad budgets
 //! refused.
 
-use voxlod::budget::{ErrorTarget, Then};
+use voxlod::budget::{ErrorTarget, Stage, Then};
 use voxlod::core::{mesh_topology, TriangleMesh};
 use voxlod::{lod, LodOptions, Source};
 use voxlod_testkit::shapes::{icosphere, torus};
@@ -114,7 +114,8 @@ fn an_open_input_keeps_its_opening_unless_closed_is_asked() {
         let t = mesh_topology(&level.mesh);
         assert_eq!(t.boundary_loops, 1, "{report:?}");
         assert!(t.is_manifold() && t.is_consistently_oriented(), "{t:?}");
-        assert!(report.caps_cut > 0);
+        // The input's own collapse has no caps; a voxel level had its cap cut.
+        assert_eq!(report.caps_cut > 0, report.stage != Stage::InputQuadric);
         assert!(within(t.triangles, report.budget.unwrap()), "{report:?}");
     }
     let closed = LodOptions {
@@ -125,6 +126,64 @@ fn an_open_input_keeps_its_opening_unless_closed_is_asked() {
     let t = mesh_topology(&out.levels[0].mesh);
     assert!(t.is_closed_manifold(), "{t:?}");
     assert_eq!(out.budgets[0].caps_cut, 0);
+}
+
+/// An icosphere with three holes: the triangles within `r` of three points on its surface
+/// removed.
+fn sphere_with_three_holes() -> TriangleMesh {
+    let mut mesh = icosphere(5);
+    let centres = [
+        voxlod::core::glam::Vec3::Z,
+        voxlod::core::glam::Vec3::X,
+        voxlod::core::glam::Vec3::new(-0.6, -0.8, 0.0),
+    ];
+    mesh.triangles.retain(|t| {
+        let c = t
+            .iter()
+            .map(|&v| mesh.positions[v as usize])
+            .sum::<voxlod::core::glam::Vec3>()
+            / 3.0;
+        centres.iter().all(|h| c.distance(*h) > 0.35)
+    });
+    mesh.remove_unreferenced_vertices();
+    mesh
+}
+
+#[test]
+fn every_voxel_level_keeps_exactly_the_inputs_three_openings() {
+    // Marching cubes alone (no geometric stage), so every level is a voxel level whose caps
+    // over the three holes were cut: one opening per hole, no stray loops, no islands.
+    let mesh = sphere_with_three_holes();
+    let input = mesh_topology(&mesh);
+    assert_eq!((input.boundary_loops, input.components), (3, 1));
+    let options = LodOptions {
+        then: Then::None,
+        ..options(&[8000, 3000, 1200])
+    };
+    let out = lod(&Source::Mesh(&mesh), &options).unwrap();
+    for (level, report) in out.levels.iter().zip(&out.budgets) {
+        let t = mesh_topology(&level.mesh);
+        assert_eq!(report.stage, Stage::Voxel);
+        assert!(report.caps_cut > 0, "{report:?}");
+        assert_eq!(t.boundary_loops, 3, "{report:?}");
+        assert_eq!(t.components, 1, "{report:?}");
+        assert_eq!(t.genus, Some(0), "{report:?}");
+        assert!(t.is_manifold() && t.is_consistently_oriented(), "{t:?}");
+    }
+}
+
+#[test]
+fn a_budget_that_affords_the_inputs_topology_simplifies_the_input_itself() {
+    // A torus: the level with about 3 000 triangles keeps its handle, so the voxel stage has
+    // nothing to remove, and the input's own collapse is far closer than half a voxel.
+    let mesh = torus(96, 48, 2.0, 0.7);
+    let out = lod(&Source::Mesh(&mesh), &options(&[3000])).unwrap();
+    let report = &out.budgets[0];
+    assert_eq!(report.stage, Stage::InputQuadric, "{report:?}");
+    let t = mesh_topology(&out.levels[0].mesh);
+    assert!(t.is_closed_manifold() && t.genus == Some(1), "{t:?}");
+    let voxel = 2.7 * 2.0 / report.resolution as f64;
+    assert!(report.hausdorff.unwrap() < 0.25 * voxel, "{report:?}");
 }
 
 #[test]

@@ -81,3 +81,164 @@ fn bad_flags_and_corrupt_inputs_are_refused_cleanly() {
     assert_clean_failure(&o, "corrupt.glb");
     assert!(!page.exists());
 }
+
+/// The JSON chunk of a `.glb` (the first chunk, after the 12-byte header and its own 8).
+fn glb_json(path: &Path) -> serde_json::Value {
+    let bytes = std::fs::read(path).unwrap();
+    let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    serde_json::from_slice(&bytes[20..20 + len]).unwrap()
+}
+
+fn assert_validator_clean(path: &Path) {
+    if let Some(v) = voxlod_testkit::gltf_validator::validate_gltf(path) {
+        assert_eq!((v.errors, v.warnings), (0, 0), "{}", v.report);
+    }
+}
+
+#[test]
+fn cluster_writes_every_level_with_its_edges_and_points_into_one_glb() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write_mesh(dir.path(), "block.ply", &holed_block());
+    let out = dir.path().join("rb.glb");
+    let o = voxlod(&[
+        "cluster",
+        arg(&input),
+        "-o",
+        arg(&out),
+        "--cells",
+        "3",
+        "--levels",
+        "3",
+        "--thick-edges",
+        "true",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(files_in(dir.path()).len(), 2, "the input and rb.glb only");
+    let report = json(&o);
+    let levels = report["levels"].as_array().unwrap();
+    assert_eq!(levels.len(), 3);
+    let doc = glb_json(&out);
+    assert_eq!(
+        doc["nodes"][0]["extensions"]["MSFT_lod"]["ids"],
+        serde_json::json!([1, 2])
+    );
+    let mut edges_seen = 0;
+    for (k, level) in levels.iter().enumerate() {
+        let n = |key: &str| level[key].as_u64().unwrap();
+        assert_eq!(level["file"], arg(&out));
+        // One primitive per kind the level has: triangles (4), lines (1), points (0).
+        let prims = doc["meshes"][k]["primitives"].as_array().unwrap();
+        let modes: Vec<u64> = prims
+            .iter()
+            .map(|p| p["mode"].as_u64().unwrap_or(4))
+            .collect();
+        let expect: Vec<u64> = [
+            (n("triangles"), 4),
+            (n("dangling_edges"), 1),
+            (n("isolated_points"), 0),
+        ]
+        .iter()
+        .filter(|(count, _)| *count > 0)
+        .map(|&(_, mode)| mode)
+        .collect();
+        assert_eq!(modes, expect, "level {k}");
+        for p in prims {
+            let count = doc["accessors"][p["attributes"]["POSITION"].as_u64().unwrap() as usize]
+                ["count"]
+                .as_u64()
+                .unwrap();
+            match p["mode"].as_u64().unwrap_or(4) {
+                1 => {
+                    assert_eq!(count, 2 * n("dangling_edges"));
+                    // Thick edges: a width per line end.
+                    let w = p["attributes"]["_WIDTH"].as_u64().unwrap() as usize;
+                    assert_eq!(doc["accessors"][w]["count"].as_u64(), Some(count));
+                    edges_seen += 1;
+                }
+                0 => assert_eq!(count, n("isolated_points")),
+                _ => {}
+            }
+        }
+    }
+    assert!(edges_seen > 0, "the coarse levels have dangling edges");
+    assert_validator_clean(&out);
+    let page = dir.path().join("page.html");
+    let o = voxlod(&["view", arg(&out), "-o", arg(&page), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(json(&o)["models"][0]["kind"], "lod chain");
+}
+
+#[test]
+fn layers_lod_writes_a_layered_chain_the_viewer_knows() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write_mesh(dir.path(), "block.ply", &holed_block());
+    let out = dir.path().join("chain.glb");
+    let o = voxlod(&[
+        "layers",
+        arg(&input),
+        "-o",
+        arg(&out),
+        "--resolution",
+        "24",
+        "--lod",
+        "--levels",
+        "2",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = json(&o);
+    let lod = &report["lod"];
+    let res: Vec<u64> = lod["levels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["resolution"].as_u64().unwrap())
+        .collect();
+    assert_eq!(res, vec![24, 12]);
+    assert_eq!(lod["radius_limit_pixels"], 0.45);
+    assert_eq!(
+        lod["bytes"].as_u64(),
+        Some(std::fs::metadata(&out).unwrap().len())
+    );
+    let doc = glb_json(&out);
+    assert_eq!(doc["meshes"].as_array().unwrap().len(), 2);
+    for (k, level) in lod["levels"].as_array().unwrap().iter().enumerate() {
+        let prims = doc["meshes"][k]["primitives"].as_array().unwrap().len() as u64;
+        assert_eq!(
+            Some(prims),
+            level["layers"].as_u64(),
+            "level {k}: a primitive per layer"
+        );
+        let radius = doc["nodes"][k]["extras"]["voxlod"]["radius"]
+            .as_f64()
+            .unwrap();
+        assert_eq!(Some(radius), level["radius"].as_f64());
+    }
+    assert_validator_clean(&out);
+    let page = dir.path().join("page.html");
+    let o = voxlod(&["view", arg(&out), "-o", arg(&page), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(json(&o)["models"][0]["kind"], "layered lod chain");
+    assert_eq!(json(&o)["models"][0]["levels"], 2);
+
+    // Refused before any work: a chain into a mesh file, rising resolutions, too many halvings.
+    for (extra, what) in [
+        (vec!["-o", "x.ply", "--lod"], "must be a .glb"),
+        (
+            vec!["-o", "x.glb", "--lod", "--resolutions", "12,24"],
+            "decrease strictly",
+        ),
+        (
+            vec!["-o", "x.glb", "--lod", "--levels", "6"],
+            "at least 2 samples",
+        ),
+        (vec!["-o", "x.glb", "--resolutions", "24,12"], "needs --lod"),
+    ] {
+        let mut args = vec!["layers", arg(&input), "--resolution", "24"];
+        args.extend(extra);
+        let o = voxlod(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(what), "{args:?}: {}", stderr(&o));
+    }
+}

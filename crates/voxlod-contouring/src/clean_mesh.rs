@@ -26,7 +26,13 @@
 //! Every step is also refused when a triangle it makes would meet a triangle nearby (two sheets
 //! of a thin part can lie closer than a step moves a vertex), by the guard in `local_crossings.rs`.
 //!
-//! Passes repeat until nothing changes (at most [`CleanOptions::max_passes`]); then dead
+//! Passes repeat until nothing changes (at most [`CleanOptions::max_passes`]). These tests are
+//! local, and a component so small that every edge is short has no inside for them to protect:
+//! the octahedron marching cubes makes around one sample barely above the isodensity (as at a
+//! coarse level of thingi10k-138207) collapses to a tetrahedron, and relaxing one corner of that
+//! to the centroid of the others flattens it to zero volume, outward or inward by rounding.
+//! So, last, every component whose enclosed volume fell below a quarter of the raw one, or
+//! changed sign, gets its raw triangles back (it stays as marching cubes made it). Then dead
 //! triangles and vertices are dropped. Orientation is kept by construction: collapses rename a
 //! vertex inside oriented triangles, flips replace two oriented triangles by two oriented ones.
 //! Normals: a merged vertex takes the normalised mean of the two.
@@ -40,6 +46,10 @@ use thiserror::Error;
 use voxlod_core::{memory, CoreError, TriangleMesh};
 
 use crate::local_crossings::{triangles_meet, Buckets};
+
+/// A component whose enclosed volume cleaning shrank below this fraction of the raw one (or
+/// turned over) is given back its raw triangles (see `restore_flattened`).
+const MIN_VOLUME_KEPT: f64 = 0.25;
 
 /// How [`clean_mesh`] cleans.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -89,6 +99,8 @@ pub struct CleanReport {
     pub removed_vertices: usize,
     /// Triangles still below `min_area` (where neither fix was allowed).
     pub small_triangles_left: usize,
+    /// Components given back their raw triangles because cleaning flattened them.
+    pub restored_components: usize,
     /// Passes run.
     pub passes: usize,
 }
@@ -248,6 +260,7 @@ pub fn clean_mesh(
             break;
         }
     }
+    report.restored_components = restore_flattened(&mut work, mesh);
     report.small_triangles_left = (0..work.triangles.len() as u32)
         .filter(|&t| work.alive[t as usize] && work.area(t) < min_area)
         .count();
@@ -509,6 +522,79 @@ fn flip_longest(work: &mut Work, t: u32) -> bool {
     work.rebucket(c);
     work.rebucket(d);
     true
+}
+
+/// The component of every vertex of `mesh` (through shared triangles); unused vertices get
+/// their own.
+fn vertex_components(mesh: &TriangleMesh) -> Vec<u32> {
+    let n = mesh.positions.len();
+    let mut around = vec![Vec::new(); n];
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        for &v in tri {
+            around[v as usize].push(t);
+        }
+    }
+    let mut label = vec![u32::MAX; n];
+    let mut stack = Vec::new();
+    for seed in 0..n {
+        if label[seed] != u32::MAX {
+            continue;
+        }
+        label[seed] = seed as u32;
+        stack.push(seed);
+        while let Some(v) = stack.pop() {
+            for &t in &around[v] {
+                for w in mesh.triangles[t] {
+                    if label[w as usize] == u32::MAX {
+                        label[w as usize] = seed as u32;
+                        stack.push(w as usize);
+                    }
+                }
+            }
+        }
+    }
+    label
+}
+
+/// Six times the signed volume enclosed by triangle `p` with the point `origin`.
+fn signed_volume6(p: [DVec3; 3], origin: DVec3) -> f64 {
+    (p[0] - origin).dot((p[1] - origin).cross(p[2] - origin))
+}
+
+/// Gives every component that cleaning flattened or turned over its raw triangles back (see
+/// the module documentation); returns how many. Collapses only merge neighbours and flips keep
+/// a triangle's slot, so every vertex and triangle slot stays in its raw component.
+fn restore_flattened(work: &mut Work, raw: &TriangleMesh) -> usize {
+    let label = vertex_components(raw);
+    let origin = |l: u32| raw.positions[l as usize].as_dvec3();
+    let mut volumes: std::collections::HashMap<u32, (f64, f64)> = Default::default();
+    for (t, tri) in raw.triangles.iter().enumerate() {
+        let l = label[tri[0] as usize];
+        let before = signed_volume6(raw.corners(t), origin(l));
+        volumes.entry(l).or_default().0 += before;
+        if work.alive[t] {
+            let p = work.triangles[t].map(|v| work.positions[v as usize]);
+            volumes.entry(l).or_default().1 += signed_volume6(p, origin(l));
+        }
+    }
+    let flattened: std::collections::HashSet<u32> = (volumes.iter())
+        .filter(|(_, &(before, after))| after * before.signum() < MIN_VOLUME_KEPT * before.abs())
+        .map(|(&l, _)| l)
+        .collect();
+    for (t, tri) in raw.triangles.iter().enumerate() {
+        if !flattened.contains(&label[tri[0] as usize]) {
+            continue;
+        }
+        work.triangles[t] = *tri;
+        work.alive[t] = true;
+        for &v in tri {
+            work.positions[v as usize] = raw.positions[v as usize].as_dvec3();
+            if !work.normals.is_empty() {
+                work.normals[v as usize] = raw.normals[v as usize];
+            }
+        }
+    }
+    flattened.len()
 }
 
 /// The live triangles and the vertices they use, numbered in order of first use.

@@ -129,3 +129,43 @@ fn a_filtered_chain_of_two_tori() {
         check(&format!("chain at {resolution}"), &density, 0.5);
     }
 }
+
+/// One sample barely above the isodensity among neighbours below it, as at the coarse level of
+/// thingi10k-138207 where the filter's peak just reaches 0.5: marching cubes makes an
+/// octahedron whose six vertices lie within a tenth of a cell of the sample, so all its edges
+/// are short, and the neighbourhood of any edge is the whole closed octahedron, whose area
+/// vectors sum to zero. Whether a collapse "turns a triangle over" against that sum is then
+/// rounding noise, and collapsing the octahedron down to a tetrahedron turned some of them
+/// inside out. Cleaning must leave every one outward-facing, closed and oriented.
+#[test]
+fn a_lone_sample_is_never_turned_inside_out() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(138207);
+    let grid = Grid::unit([5, 5, 5]).unwrap();
+    let mut inverted = 0;
+    for _ in 0..300 {
+        let mut values = vec![0.0f32; grid.len()];
+        for k in 1..4 {
+            for j in 1..4 {
+                for i in 1..4 {
+                    values[grid.index(i, j, k)] = rng.random_range(0.0..0.45);
+                }
+            }
+        }
+        values[grid.index(2, 2, 2)] = 0.5 + rng.random_range(0.002..0.04);
+        let volume = Volume::from_vec(grid, values).unwrap();
+        let raw = marching_cubes(&volume, &ContourOptions::at(0.5)).unwrap();
+        assert_eq!(raw.triangles.len(), 8);
+        assert!(raw.signed_volume() > 0.0);
+        let (clean, _) = clean_mesh(&raw, 1.0, &CleanOptions::default()).unwrap();
+        let t = mesh_topology(&clean);
+        assert!(
+            t.is_closed_manifold() && t.is_consistently_oriented(),
+            "{t:?}"
+        );
+        if clean.signed_volume() <= 0.0 {
+            inverted += 1;
+        }
+    }
+    assert_eq!(inverted, 0, "cleaning turned lone samples inside out");
+}

@@ -19,8 +19,9 @@
 use glam::DVec3;
 use serde::Serialize;
 use voxlod::contouring::{marching_cubes, ContourOptions};
+use voxlod::core::TriangleMesh;
 use voxlod::layers::{
-    bolt, filter_solid, layer_volume, render_layered, LayersError, LayersOptions, Octant,
+    bolt, filter_solid, layer_volume, render_layered, Layered, LayersError, LayersOptions, Octant,
 };
 use voxlod::render::{
     render, rms_difference, silhouette_mask, Camera, Image, MeshItem, RenderOptions, Scene,
@@ -120,33 +121,77 @@ impl Comparison {
     }
 }
 
+/// One filtered volume's single surface and layered shells, to draw at several sizes.
+#[derive(Clone, Debug)]
+pub struct Filtered {
+    /// The isosurface 0.5.
+    pub single: TriangleMesh,
+    /// The layers and their orders.
+    pub layered: Layered,
+    /// The filter's support radius in the object's units.
+    pub radius: f64,
+}
+
+/// Filters `solid` with `options` and cuts its single surface and layers.
+pub fn filter_for_comparison(
+    solid: &dyn Solid,
+    options: &LayersOptions,
+) -> Result<Filtered, LayersError> {
+    let (volume, _) = filter_solid(solid, options)?;
+    let single = marching_cubes(&volume, &ContourOptions::at(0.5))?;
+    if single.triangles.is_empty() {
+        return Err(LayersError::EmptyVolume);
+    }
+    let layered = layer_volume(&volume, &options.plan, &options.extract)?;
+    Ok(Filtered {
+        single,
+        radius: volume.grid.spacing[0] * options.radius_voxels,
+        layered,
+    })
+}
+
+/// The image side at which the filter radius of `filtered` spans `radius_pixels` on screen,
+/// viewed along `view` (the camera fits the layers' box, as [`compare_filtered`]'s).
+pub fn size_for_radius(
+    filtered: &Filtered,
+    view: DVec3,
+    radius_pixels: f64,
+) -> Result<u32, LayersError> {
+    const PROBE: u32 = 1000;
+    let bounds = filtered.layered.mesh.concatenated().mesh.bounds();
+    let camera = Camera::fit(view, &bounds, PROBE, PROBE, None)?;
+    let at_probe = filtered.radius / camera.pixel_size_at(bounds.center());
+    Ok((PROBE as f64 * radius_pixels / at_probe).round().max(8.0) as u32)
+}
+
 /// Filters `solid`, builds its single surface and layers, renders and measures (see the module
 /// documentation).
 pub fn compare_antialiasing(
     solid: &dyn Solid,
     options: &CompareOptions,
 ) -> Result<Comparison, LayersError> {
+    compare_filtered(&filter_for_comparison(solid, &options.layers)?, options)
+}
+
+/// Renders and measures a filtered object (`options.layers` is not used: it was filtered).
+pub fn compare_filtered(
+    filtered: &Filtered,
+    options: &CompareOptions,
+) -> Result<Comparison, LayersError> {
     let octant = Octant::of(options.view)?;
-    let lo = &options.layers;
-    let (volume, _) = filter_solid(solid, lo)?;
-    let single = marching_cubes(&volume, &ContourOptions::at(0.5))?;
-    if single.triangles.is_empty() {
-        return Err(LayersError::EmptyVolume);
-    }
-    let layered = layer_volume(&volume, &lo.plan, &lo.extract)?;
+    let Filtered {
+        single,
+        layered,
+        radius,
+    } = filtered;
     let cat = layered.mesh.concatenated();
-    let camera = Camera::fit(
-        options.view,
-        &cat.mesh.bounds(),
-        options.size,
-        options.size,
-        None,
-    )?;
+    let bounds = cat.mesh.bounds();
+    let camera = Camera::fit(options.view, &bounds, options.size, options.size, None)?;
     let base = RenderOptions::default();
     let draw_single = |supersample: u32| -> Result<Image, LayersError> {
         Ok(render(
             &Scene {
-                meshes: vec![MeshItem::opaque(&single, options.color)],
+                meshes: vec![MeshItem::opaque(single, options.color)],
                 ..Default::default()
             },
             &camera,
@@ -181,8 +226,7 @@ pub fn compare_antialiasing(
         achieved_error: layered.plan.achieved_error,
         single_triangles: single.triangles.len(),
         layered_triangles: cat.mesh.triangles.len(),
-        radius_pixels: volume.grid.spacing[0] * lo.radius_voxels
-            / camera.pixel_size_at(volume.grid.bounds().center()),
+        radius_pixels: radius / camera.pixel_size_at(layered.mesh.grid.bounds().center()),
         silhouette_pixels: mask.iter().filter(|&&m| m).count(),
         rms_single: rms(&single_image, Some(&mask)),
         rms_layered: rms(&layered_image, Some(&mask)),

@@ -30,7 +30,8 @@ use voxlod_core::TriangleMesh;
 
 use crate::coverage::{screen_coverages, CoverageOptions};
 use crate::streams::{
-    plain_streams, quantized_streams, Component, Quantization, Stream, StreamKind,
+    float_stream, plain_streams, quantized_streams, scalar_stream, Component, Quantization, Stream,
+    StreamKind,
 };
 use crate::GltfError;
 
@@ -42,6 +43,45 @@ pub struct ChainLevel<'a> {
     pub mesh: &'a TriangleMesh,
     /// The level's cell (voxel) size in the input's units: what the pixel-size rule compares.
     pub cell_size: f64,
+    /// Dangling edges (two vertex indices of `mesh` each), written as a `LINES` primitive.
+    pub lines: &'a [[u32; 2]],
+    /// One width per line in the input's units (Low–Tan's thick edges), written as the lines'
+    /// `_WIDTH` attribute; empty for none.
+    pub line_widths: &'a [f32],
+    /// Isolated points (vertex indices of `mesh`), written as a `POINTS` primitive.
+    pub points: &'a [u32],
+}
+
+impl<'a> ChainLevel<'a> {
+    /// A level of triangles only.
+    pub fn new(level: usize, mesh: &'a TriangleMesh, cell_size: f64) -> Self {
+        ChainLevel {
+            level,
+            mesh,
+            cell_size,
+            lines: &[],
+            line_widths: &[],
+            points: &[],
+        }
+    }
+
+    /// This level with dangling edges (and their widths, or none).
+    pub fn with_lines(self, lines: &'a [[u32; 2]], line_widths: &'a [f32]) -> Self {
+        ChainLevel {
+            lines,
+            line_widths,
+            ..self
+        }
+    }
+
+    /// This level with isolated points.
+    pub fn with_points(self, points: &'a [u32]) -> Self {
+        ChainLevel { points, ..self }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.mesh.triangles.is_empty() && self.lines.is_empty() && self.points.is_empty()
+    }
 }
 
 /// How the geometry is stored.
@@ -139,9 +179,18 @@ pub fn chain_document(
         .sum();
     voxlod_core::memory::check_allocation("the glTF buffer", size as u64)?;
 
+    if options.compression == Compression::Meshopt
+        && levels
+            .iter()
+            .any(|l| !l.lines.is_empty() || !l.points.is_empty())
+    {
+        return Err(GltfError::InvalidChain(
+            "lines and points are written without compression only".into(),
+        ));
+    }
     let mut doc = Document::new(options.compression);
     let grid = Quantization::over(lo, hi);
-    let material = doc.root.push(material(options.color));
+    let material = doc.root.push(material("voxlod surface", options.color));
     for l in &levels {
         let streams = match options.compression {
             Compression::None => plain_streams(l.mesh),
@@ -171,42 +220,65 @@ pub fn chain_document(
     doc.finish(&coverages, quantized)
 }
 
-/// Non-empty levels, finest first; refuses an empty chain or equal cell sizes.
+/// Non-empty levels, finest first; refuses an empty chain, equal cell sizes, or a level whose
+/// normals, lines, widths or points do not fit its vertices.
 fn sorted_levels<'a>(levels: &[ChainLevel<'a>]) -> Result<Vec<ChainLevel<'a>>, GltfError> {
-    let mut out: Vec<ChainLevel> = levels
-        .iter()
-        .copied()
-        .filter(|l| !l.mesh.triangles.is_empty())
-        .collect();
+    let mut out: Vec<ChainLevel> = levels.iter().copied().filter(|l| !l.is_empty()).collect();
     if out.is_empty() {
-        return Err(GltfError::InvalidChain("no level has a triangle".into()));
+        return Err(GltfError::InvalidChain(
+            "no level has a triangle, line or point".into(),
+        ));
     }
     out.sort_by(|a, b| a.cell_size.total_cmp(&b.cell_size));
     for l in &out {
-        let m = l.mesh;
-        if !m.normals.is_empty() && m.normals.len() != m.positions.len() {
-            return Err(GltfError::InvalidChain(format!(
-                "level {}: {} normals for {} vertices",
-                l.level,
-                m.normals.len(),
-                m.positions.len()
-            )));
-        }
-        if let Some(p) = m.positions.iter().find(|p| !p.is_finite()) {
-            return Err(GltfError::InvalidChain(format!(
-                "level {}: a vertex is not finite ({p})",
-                l.level
-            )));
-        }
+        check_level(l)?;
     }
-    if out.iter().any(|l| l.mesh.normals.is_empty())
-        != out.iter().all(|l| l.mesh.normals.is_empty())
-    {
+    // Levels of lines and points only draw no shaded triangles: their normals do not count.
+    let shaded = || out.iter().filter(|l| !l.mesh.triangles.is_empty());
+    if shaded().any(|l| l.mesh.normals.is_empty()) && shaded().any(|l| !l.mesh.normals.is_empty()) {
         return Err(GltfError::InvalidChain(
             "some levels have normals and some do not".into(),
         ));
     }
     Ok(out)
+}
+
+/// One level's sizes and values.
+fn check_level(l: &ChainLevel) -> Result<(), GltfError> {
+    let m = l.mesh;
+    let bad = |what: String| {
+        Err(GltfError::InvalidChain(format!(
+            "level {}: {what}",
+            l.level
+        )))
+    };
+    if !m.normals.is_empty() && m.normals.len() != m.positions.len() {
+        return bad(format!(
+            "{} normals for {} vertices",
+            m.normals.len(),
+            m.positions.len()
+        ));
+    }
+    if let Some(p) = m.positions.iter().find(|p| !p.is_finite()) {
+        return bad(format!("a vertex is not finite ({p})"));
+    }
+    let n = m.positions.len() as u64;
+    if l.lines
+        .iter()
+        .flatten()
+        .chain(l.points)
+        .any(|&v| v as u64 >= n)
+    {
+        return bad(format!("a line or point refers to a vertex beyond its {n}"));
+    }
+    if !l.line_widths.is_empty() && l.line_widths.len() != l.lines.len() {
+        let (w, e) = (l.line_widths.len(), l.lines.len());
+        return bad(format!("{w} line widths for {e} lines"));
+    }
+    if let Some(w) = l.line_widths.iter().find(|w| !w.is_finite()) {
+        return bad(format!("a line width is not finite ({w})"));
+    }
+    Ok(())
 }
 
 fn chain_bounds(levels: &[ChainLevel]) -> (Vec3, Vec3) {
@@ -216,9 +288,9 @@ fn chain_bounds(levels: &[ChainLevel]) -> (Vec3, Vec3) {
     )
 }
 
-fn material(color: [f32; 3]) -> json::Material {
+fn material(name: &str, color: [f32; 3]) -> json::Material {
     json::Material {
-        name: Some("voxlod surface".into()),
+        name: Some(name.into()),
         pbr_metallic_roughness: json::material::PbrMetallicRoughness {
             base_color_factor: json::material::PbrBaseColorFactor([
                 color[0], color[1], color[2], 1.0,
@@ -229,6 +301,17 @@ fn material(color: [f32; 3]) -> json::Material {
         },
         ..Default::default()
     }
+}
+
+/// Chains nodes `0..levels` of `doc` with `MSFT_lod` on node 0 (when there are two or more)
+/// and puts `coverages` in node 0's extras as `MSFT_screencoverage`. The caller lists
+/// `MSFT_lod` in `extensionsUsed` (gltf-json keeps that list, not the node extension).
+pub fn declare_lod(doc: &mut Value, levels: usize, coverages: &[f64]) {
+    if levels >= 2 {
+        doc["nodes"][0]["extensions"] =
+            value!({"MSFT_lod": {"ids": (1..levels).collect::<Vec<_>>()}});
+    }
+    doc["nodes"][0]["extras"]["MSFT_screencoverage"] = value!(coverages);
 }
 
 pub(crate) fn raw(value: &Value) -> json::Extras {
@@ -244,6 +327,8 @@ struct Document {
     fallback_len: usize,
     /// `EXT_meshopt_compression` objects by buffer view index.
     view_extensions: Vec<(usize, Value)>,
+    /// The material of lines and points, once a level has some.
+    edge_material: Option<json::Index<json::Material>>,
 }
 
 impl Document {
@@ -275,48 +360,52 @@ impl Document {
             compression,
             fallback_len: 0,
             view_extensions: Vec::new(),
+            edge_material: None,
         }
     }
 
-    /// The accessors, mesh and node of one level.
+    /// The accessors, mesh and node of one level: its triangles (from `streams`), then its
+    /// lines and its points as primitives of their own with their own float positions.
     fn add_level(
         &mut self,
         level: &ChainLevel,
         streams: &[Stream],
         material: json::Index<json::Material>,
     ) -> Result<(), GltfError> {
-        let mut attributes = std::collections::BTreeMap::new();
-        let mut indices = None;
-        for s in streams {
-            let accessor = self.add_stream(s, level.level)?;
-            match s.kind {
-                StreamKind::Positions => {
-                    attributes.insert(Checked::Valid(json::mesh::Semantic::Positions), accessor);
-                }
-                StreamKind::Normals => {
-                    attributes.insert(Checked::Valid(json::mesh::Semantic::Normals), accessor);
-                }
-                StreamKind::Indices => indices = Some(accessor),
+        use json::mesh::Mode;
+        let mut primitives = Vec::new();
+        if !level.mesh.triangles.is_empty() {
+            primitives.push(self.primitive(streams, level.level, Mode::Triangles, material)?);
+        }
+        let at = |v: &u32| level.mesh.positions[*v as usize];
+        if !level.lines.is_empty() {
+            let ends: Vec<Vec3> = level.lines.iter().flatten().map(at).collect();
+            let mut s = vec![float_stream(StreamKind::Positions, &ends)];
+            if !level.line_widths.is_empty() {
+                let twice: Vec<f32> = level.line_widths.iter().flat_map(|&w| [w, w]).collect();
+                s.push(scalar_stream(&twice));
             }
+            let m = self.edge_material();
+            primitives.push(self.primitive(&s, level.level, Mode::Lines, m)?);
+        }
+        if !level.points.is_empty() {
+            let points: Vec<Vec3> = level.points.iter().map(at).collect();
+            let s = [float_stream(StreamKind::Positions, &points)];
+            let m = self.edge_material();
+            primitives.push(self.primitive(&s, level.level, Mode::Points, m)?);
         }
         let extras = value!({"voxlod": {
             "level": level.level,
             "cell_size": level.cell_size,
             "triangles": level.mesh.triangles.len(),
+            "lines": level.lines.len(),
+            "points": level.points.len(),
         }});
         let mesh = self.root.push(json::Mesh {
             extensions: None,
             extras: raw(&extras),
             name: Some(format!("level {}", level.level)),
-            primitives: vec![json::mesh::Primitive {
-                attributes,
-                extensions: None,
-                extras: None,
-                indices,
-                material: Some(material),
-                mode: Checked::Valid(json::mesh::Mode::Triangles),
-                targets: None,
-            }],
+            primitives,
             weights: None,
         });
         self.root.push(json::Node {
@@ -326,6 +415,53 @@ impl Document {
             ..Default::default()
         });
         Ok(())
+    }
+
+    /// One primitive drawing `streams` (indexed when they hold indices).
+    fn primitive(
+        &mut self,
+        streams: &[Stream],
+        level: usize,
+        mode: json::mesh::Mode,
+        material: json::Index<json::Material>,
+    ) -> Result<json::mesh::Primitive, GltfError> {
+        use json::mesh::Semantic;
+        let mut attributes = std::collections::BTreeMap::new();
+        let mut indices = None;
+        for s in streams {
+            let accessor = self.add_stream(s, level)?;
+            let semantic = match s.kind {
+                StreamKind::Positions => Semantic::Positions,
+                StreamKind::Normals => Semantic::Normals,
+                StreamKind::Widths => Semantic::Extras("WIDTH".into()),
+                StreamKind::Indices => {
+                    indices = Some(accessor);
+                    continue;
+                }
+            };
+            attributes.insert(Checked::Valid(semantic), accessor);
+        }
+        Ok(json::mesh::Primitive {
+            attributes,
+            extensions: None,
+            extras: None,
+            indices,
+            material: Some(material),
+            mode: Checked::Valid(mode),
+            targets: None,
+        })
+    }
+
+    /// The material of lines and points: near black, so edges show against the surface.
+    fn edge_material(&mut self) -> json::Index<json::Material> {
+        if let Some(m) = self.edge_material {
+            return m;
+        }
+        let m = self
+            .root
+            .push(material("voxlod edges and points", [0.1, 0.1, 0.12]));
+        self.edge_material = Some(m);
+        m
     }
 
     /// One buffer view (plain or encoded) and its accessor.
@@ -402,11 +538,7 @@ impl Document {
         self.root.extensions_used = used;
         let mut doc =
             serde_json::to_value(&self.root).map_err(|e| GltfError::Encode(e.to_string()))?;
-        if levels >= 2 {
-            doc["nodes"][0]["extensions"] =
-                value!({"MSFT_lod": {"ids": (1..levels).collect::<Vec<_>>()}});
-        }
-        doc["nodes"][0]["extras"]["MSFT_screencoverage"] = value!(coverages);
+        declare_lod(&mut doc, levels, coverages);
         if let Some(q) = quantized {
             for n in 0..levels {
                 doc["nodes"][n]["translation"] = value!(q.offset.to_array());
@@ -433,6 +565,7 @@ fn accessor(s: &Stream, view: json::Index<json::buffer::View>, level: usize) -> 
     let (kind, name) = match s.kind {
         StreamKind::Positions => (json::accessor::Type::Vec3, "positions"),
         StreamKind::Normals => (json::accessor::Type::Vec3, "normals"),
+        StreamKind::Widths => (json::accessor::Type::Scalar, "widths"),
         StreamKind::Indices => (json::accessor::Type::Scalar, "indices"),
     };
     json::Accessor {

@@ -20,7 +20,8 @@ pub mod error;
 pub mod streams;
 
 pub use chain::{
-    chain_document, chain_glb_bytes, to_glb, write_chain_glb, ChainLevel, ChainOptions, Compression,
+    chain_document, chain_glb_bytes, declare_lod, to_glb, write_chain_glb, ChainLevel,
+    ChainOptions, Compression,
 };
 pub use coverage::{fitting_coverage, pixel_size_at, screen_coverages, CoverageOptions};
 pub use decode::decompress_glb;

@@ -32,6 +32,8 @@ pub enum Component {
 pub enum StreamKind {
     Positions,
     Normals,
+    /// One float per vertex (the `_WIDTH` of thick edges).
+    Widths,
     Indices,
 }
 
@@ -152,7 +154,8 @@ pub fn quantized_streams(
     Ok(out)
 }
 
-fn float_stream(kind: StreamKind, values: &[Vec3]) -> Stream {
+/// Float triples, with bounds when they are positions.
+pub(crate) fn float_stream(kind: StreamKind, values: &[Vec3]) -> Stream {
     let mut bytes = Vec::with_capacity(values.len() * 12);
     for v in values {
         for c in v.to_array() {
@@ -174,6 +177,19 @@ fn float_stream(kind: StreamKind, values: &[Vec3]) -> Stream {
         component: Component::F32,
         normalized: false,
         bounds,
+    }
+}
+
+/// One float per vertex.
+pub(crate) fn scalar_stream(values: &[f32]) -> Stream {
+    Stream {
+        kind: StreamKind::Widths,
+        bytes: values.iter().flat_map(|v| v.to_le_bytes()).collect(),
+        stride: 4,
+        count: values.len(),
+        component: Component::F32,
+        normalized: false,
+        bounds: None,
     }
 }
 
@@ -204,7 +220,7 @@ fn index_stream(indices: &[u32], vertex_count: usize) -> Stream {
 }
 
 /// A unit normal (glTF requires them): zero or non-finite normals become +z.
-fn unit_normal(n: Vec3) -> Vec3 {
+pub fn unit_normal(n: Vec3) -> Vec3 {
     let u = n.normalize_or_zero();
     if u == Vec3::ZERO || !u.is_finite() {
         Vec3::Z

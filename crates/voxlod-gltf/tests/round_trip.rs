@@ -5,12 +5,13 @@
 
 mod common;
 
-use common::{chain_levels, sphere_chain};
+use common::{chain_levels, lines_and_points, sphere_chain, two_cluster_levels};
 use glam::Vec3;
 use serde_json::Value;
 use voxlod::select::{select_level, SelectOptions, Selection};
 use voxlod_gltf::{
-    chain_glb_bytes, decompress_glb, pixel_size_at, ChainOptions, Compression, CoverageOptions,
+    chain_glb_bytes, decompress_glb, pixel_size_at, ChainLevel, ChainOptions, Compression,
+    CoverageOptions,
 };
 
 fn json_of(glb: &[u8]) -> Value {
@@ -210,11 +211,7 @@ fn bad_chains_are_refused() {
     levels[1].cell_size = levels[0].cell_size;
     assert!(chain_glb_bytes(&levels, &ChainOptions::default()).is_err());
     let empty = voxlod::core::TriangleMesh::default();
-    let none = [voxlod_gltf::ChainLevel {
-        level: 0,
-        mesh: &empty,
-        cell_size: 1.0,
-    }];
+    let none = [voxlod_gltf::ChainLevel::new(0, &empty, 1.0)];
     let e = chain_glb_bytes(&none, &ChainOptions::default()).unwrap_err();
     assert!(e.to_string().contains("no level has a triangle"), "{e}");
     let o = ChainOptions {
@@ -237,4 +234,87 @@ fn corrupt_compressed_files_are_errors_not_panics() {
         *b ^= 0xA5;
     }
     let _ = decompress_glb(&broken);
+}
+
+#[test]
+fn lines_and_points_are_primitives_of_their_own() {
+    let parts = lines_and_points();
+    let levels = two_cluster_levels(&parts);
+    let bytes = chain_glb_bytes(&levels, &ChainOptions::default()).unwrap();
+    let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
+    let blob = gltf.blob.clone().unwrap();
+    // Level 0: triangles (positions, normals, indices), lines (positions, _WIDTH), points
+    // (positions); level 1: triangles and points. Two materials: surface, edges and points.
+    assert_eq!(gltf.accessors().count(), 3 + 2 + 1 + 3 + 1);
+    assert_eq!(gltf.materials().count(), 2);
+    let modes: Vec<Vec<gltf::mesh::Mode>> = gltf
+        .meshes()
+        .map(|m| m.primitives().map(|p| p.mode()).collect())
+        .collect();
+    use gltf::mesh::Mode::{Lines, Points, Triangles};
+    assert_eq!(
+        modes,
+        vec![vec![Triangles, Lines, Points], vec![Triangles, Points]]
+    );
+    let level0 = gltf.meshes().next().unwrap();
+    let prims: Vec<_> = level0.primitives().collect();
+    let read = |p: &gltf::Primitive| -> Vec<[f32; 3]> {
+        p.reader(|b| (b.index() == 0).then_some(&blob[..]))
+            .read_positions()
+            .unwrap()
+            .collect()
+    };
+    // The lines' own vertices, two per line, in order; their widths twice each.
+    assert_eq!(
+        read(&prims[1]),
+        vec![
+            [2.0, 0.0, 0.0],
+            [3.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0]
+        ]
+    );
+    assert!(prims[1].indices().is_none());
+    let width = prims[1]
+        .attributes()
+        .find(|(s, _)| *s == gltf::Semantic::Extras("WIDTH".into()))
+        .map(|(_, a)| a)
+        .unwrap();
+    assert_eq!(
+        (width.count(), width.data_type()),
+        (4, gltf::accessor::DataType::F32)
+    );
+    let view = width.view().unwrap();
+    let at = view.offset() + width.offset();
+    let w: Vec<f32> = blob[at..at + 16]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    assert_eq!(w, vec![0.1, 0.1, 0.25, 0.25]);
+    assert_eq!(read(&prims[2]), vec![[0.0, 2.0, 1.0], [-1.0, 2.0, 1.0]]);
+    // The triangles keep all eight vertices (the ones of lines and points included).
+    assert_eq!(read(&prims[0]).len(), 8);
+}
+
+#[test]
+fn bad_lines_and_points_are_refused() {
+    let (mesh, lines, widths, points) = lines_and_points();
+    let chain = |level: ChainLevel| chain_glb_bytes(&[level], &ChainOptions::default());
+    let e = chain(ChainLevel::new(0, &mesh, 1.0).with_lines(&lines, &widths[..1])).unwrap_err();
+    assert!(e.to_string().contains("1 line widths for 2 lines"), "{e}");
+    let far = [[0, 8]];
+    let e = chain(ChainLevel::new(0, &mesh, 1.0).with_lines(&far, &[])).unwrap_err();
+    assert!(e.to_string().contains("beyond"), "{e}");
+    let e = chain(ChainLevel::new(0, &mesh, 1.0).with_points(&[9])).unwrap_err();
+    assert!(e.to_string().contains("beyond"), "{e}");
+    let nan = [f32::NAN, 1.0];
+    let e = chain(ChainLevel::new(0, &mesh, 1.0).with_lines(&lines, &nan)).unwrap_err();
+    assert!(e.to_string().contains("not finite"), "{e}");
+    let packed = ChainLevel::new(0, &mesh, 1.0).with_points(&points);
+    let e = chain_glb_bytes(&[packed], &ChainOptions::meshopt()).unwrap_err();
+    assert!(e.to_string().contains("without compression"), "{e}");
+    // A level of points only is a chain level of its own.
+    let empty = voxlod::core::TriangleMesh::new(mesh.positions.clone(), vec![]);
+    let only_points = chain(ChainLevel::new(0, &empty, 1.0).with_points(&points));
+    assert!(only_points.is_ok(), "{only_points:?}");
 }

@@ -46,6 +46,10 @@ pub struct GlbOptions {
     pub color: [f32; 3],
     /// Name of the scene.
     pub name: String,
+    /// The filter's support radius in the input's units, recorded in the scene extras for
+    /// viewers (`voxlod view` draws the layers only while it spans at most
+    /// [`RADIUS_LIMIT_PIXELS`] on screen); `None`: one voxel of the grid.
+    pub radius: Option<f64>,
 }
 
 impl Default for GlbOptions {
@@ -54,9 +58,16 @@ impl Default for GlbOptions {
         GlbOptions {
             color: [0.72, 0.74, 0.78],
             name: "voxlod layers".into(),
+            radius: None,
         }
     }
 }
+
+/// The largest filter radius on screen, in pixels, at which the layered shells are closer to a
+/// 16×16-supersampled reference than the single surface near silhouettes (measured in
+/// BENCHMARKS.md, "Layered shells and rendering"): beyond it the shells, which all lie outside
+/// the surface, widen the silhouette and the edges get worse. Viewers switch on it.
+pub const RADIUS_LIMIT_PIXELS: f64 = 0.45;
 
 /// The bytes of a `.glb` for `layered` and its eight orders (global triangle indices into the
 /// layers concatenated, by [`Octant::index`]).
@@ -66,19 +77,12 @@ pub fn glb_bytes(
     options: &GlbOptions,
 ) -> Result<Vec<u8>, LayersError> {
     let (root, bin) = document(layered, orders, options)?;
-    let json = json::serialize::to_vec(&root)
-        .map_err(|e| LayersError::Gltf(format!("cannot encode the JSON chunk: {e}")))?;
-    let glb = gltf::binary::Glb {
-        header: gltf::binary::Header {
-            magic: *b"glTF",
-            version: 2,
-            length: 0, // computed by the writer
-        },
-        json: json.into(),
-        bin: Some(bin.into()),
-    };
-    glb.to_vec()
-        .map_err(|e| LayersError::Gltf(format!("cannot encode the file: {e}")))
+    encode_glb(&root, bin)
+}
+
+/// The GLB container of a document (through `voxlod_gltf`, as every voxlod `.glb`).
+pub(crate) fn encode_glb(root: &serde_json::Value, bin: Vec<u8>) -> Result<Vec<u8>, LayersError> {
+    voxlod_gltf::to_glb(root, bin).map_err(|e| LayersError::Gltf(e.to_string()))
 }
 
 /// Writes `path` atomically (nothing is left behind on failure).
@@ -94,15 +98,52 @@ pub fn write_glb(
     })?)
 }
 
-fn raw(value: serde_json::Value) -> json::Extras {
+pub(crate) fn raw(value: serde_json::Value) -> json::Extras {
     serde_json::value::to_raw_value(&value).ok()
 }
 
+/// The grid of a layered mesh as extras.
 #[derive(Serialize)]
-struct GridExtras {
+pub(crate) struct GridExtras {
     dims: [usize; 3],
     spacing: [f64; 3],
     origin: [f64; 3],
+}
+
+impl GridExtras {
+    pub(crate) fn of(grid: &voxlod_core::Grid) -> GridExtras {
+        GridExtras {
+            dims: grid.dims,
+            spacing: grid.spacing,
+            origin: grid.origin,
+        }
+    }
+}
+
+/// The filter radius `options` give for `grid` (one voxel unless given).
+pub(crate) fn radius_of(grid: &voxlod_core::Grid, options: &GlbOptions) -> f64 {
+    options
+        .radius
+        .unwrap_or_else(|| grid.spacing.iter().copied().fold(0.0, f64::max))
+}
+
+/// A new document with voxlod as its generator and one buffer (its length set by the caller).
+pub(crate) fn new_root() -> json::Root {
+    let mut root = json::Root {
+        asset: json::Asset {
+            generator: Some(format!("voxlod {}", env!("CARGO_PKG_VERSION"))),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    root.push(json::Buffer {
+        byte_length: USize64(0),
+        name: None,
+        uri: None,
+        extensions: None,
+        extras: None,
+    });
+    root
 }
 
 /// The glTF document of `layered` and its eight orders, and its binary buffer (see the module
@@ -111,7 +152,76 @@ fn document(
     layered: &LayeredMesh,
     orders: &[Vec<u32>],
     options: &GlbOptions,
-) -> Result<(json::Root, Vec<u8>), LayersError> {
+) -> Result<(serde_json::Value, Vec<u8>), LayersError> {
+    let mut root = new_root();
+    let mut bin = Vec::new();
+    let level = push_level(&mut root, &mut bin, layered, orders, options.color, "")?;
+    let mut nodes = Vec::new();
+    for (i, primitive) in level.primitives {
+        let l = &layered.layers[i];
+        let mesh = root.push(json::Mesh {
+            extensions: None,
+            extras: raw(layer_extras(i, l)),
+            name: Some(format!("layer {i}")),
+            primitives: vec![primitive],
+            weights: None,
+        });
+        nodes.push(root.push(json::Node {
+            mesh: Some(mesh),
+            name: Some(format!("layer {i}")),
+            ..Default::default()
+        }));
+    }
+    root.buffers[0].byte_length = USize64(bin.len() as u64);
+    let scene = root.push(json::Scene {
+        extensions: None,
+        extras: raw(serde_json::json!({
+            "voxlod": {
+                "grid": GridExtras::of(&layered.grid),
+                "radius": radius_of(&layered.grid, options),
+                "orders": ORDER_NAMES,
+                "in_cell_direction": "octant diagonal",
+            }
+        })),
+        name: Some(options.name.clone()),
+        nodes,
+    });
+    root.scene = Some(scene);
+    let doc = serde_json::to_value(&root)
+        .map_err(|e| LayersError::Gltf(format!("cannot encode the JSON chunk: {e}")))?;
+    Ok((doc, bin))
+}
+
+/// What a layer's mesh (or primitive, in a chain) says about it.
+pub(crate) fn layer_extras(i: usize, l: &Layer) -> serde_json::Value {
+    serde_json::json!({
+        "layer": i,
+        "isodensity": l.isodensity,
+        "translucency": l.translucency,
+        "alpha": l.alpha,
+    })
+}
+
+/// One layered mesh in a document: a primitive per layer with triangles, and the eight order
+/// accessors.
+pub(crate) struct LevelParts {
+    /// (layer, its primitive), innermost first.
+    pub primitives: Vec<(usize, json::mesh::Primitive)>,
+    /// The order accessors by [`Octant::index`].
+    pub orders: Vec<json::Index<json::Accessor>>,
+}
+
+/// Appends `layered` and its `orders` to buffer 0 of `root` (bytes in `bin`): views, accessors
+/// and materials, names prefixed by `prefix`; checks the mesh, the orders and the memory
+/// budget first.
+pub(crate) fn push_level(
+    root: &mut json::Root,
+    bin: &mut Vec<u8>,
+    layered: &LayeredMesh,
+    orders: &[Vec<u32>],
+    color: [f32; 3],
+    prefix: &str,
+) -> Result<LevelParts, LayersError> {
     layered.validate()?;
     let total_triangles = layered.triangle_count();
     if orders.len() != 8 || orders.iter().any(|o| o.len() != total_triangles) {
@@ -122,46 +232,29 @@ fn document(
     let vertex_count = layered.vertex_count();
     let with_normals = layered.layers.iter().all(|l| !l.mesh.normals.is_empty());
     let bytes = vertex_count * 12 * (1 + with_normals as usize) + total_triangles * 12 * 9;
-    voxlod_core::memory::check_allocation("the glTF buffer", bytes as u64)?;
-    let mut bin: Vec<u8> = Vec::with_capacity(bytes);
-    let mut root = json::Root {
-        asset: json::Asset {
-            generator: Some(format!("voxlod {}", env!("CARGO_PKG_VERSION"))),
-            ..Default::default()
-        },
-        ..Default::default()
-    };
-    let views = write_buffer(&mut root, &mut bin, layered, orders, with_normals);
-    let nodes = push_layers(&mut root, layered, &views, options.color);
-    for (o, name) in ORDER_NAMES.iter().enumerate() {
-        root.push(accessor(
-            views.orders,
-            o * total_triangles * 12,
-            total_triangles * 3,
-            json::accessor::ComponentType::U32,
-            json::accessor::Type::Scalar,
-            None,
-            name.to_string(),
-        ));
-    }
-    let grid = &layered.grid;
-    let scene = root.push(json::Scene {
-        extensions: None,
-        extras: raw(serde_json::json!({
-            "voxlod": {
-                "grid": GridExtras { dims: grid.dims, spacing: grid.spacing, origin: grid.origin },
-                "orders": ORDER_NAMES,
-                "in_cell_direction": "octant diagonal",
-            }
-        })),
-        name: Some(options.name.clone()),
-        nodes,
-    });
-    root.scene = Some(scene);
-    Ok((root, bin))
+    voxlod_core::memory::check_allocation("the glTF buffer", (bin.len() + bytes) as u64)?;
+    bin.reserve(bytes);
+    let views = write_buffer(root, bin, layered, orders, with_normals, prefix);
+    let primitives = layer_primitives(root, layered, &views, color, prefix);
+    let orders = ORDER_NAMES
+        .iter()
+        .enumerate()
+        .map(|(o, name)| {
+            root.push(accessor(
+                views.orders,
+                o * total_triangles * 12,
+                total_triangles * 3,
+                json::accessor::ComponentType::U32,
+                json::accessor::Type::Scalar,
+                None,
+                format!("{prefix}{name}"),
+            ))
+        })
+        .collect();
+    Ok(LevelParts { primitives, orders })
 }
 
-/// The four buffer views of the file's one buffer.
+/// The four buffer views of one layered mesh.
 struct BufferViews {
     positions: json::Index<json::buffer::View>,
     normals: Option<json::Index<json::buffer::View>>,
@@ -169,53 +262,36 @@ struct BufferViews {
     orders: json::Index<json::buffer::View>,
 }
 
-/// Fills `bin` with the positions, normals (when every layer has them), each layer's own
-/// indices and the orders (as triangles of concatenated vertex indices), and adds the buffer
-/// and a view over each part to `root`.
+/// Appends to `bin` the positions, normals (when every layer has them), each layer's own
+/// indices and the orders (as triangles of concatenated vertex indices), and adds a view of
+/// buffer 0 over each part to `root`.
 fn write_buffer(
     root: &mut json::Root,
     bin: &mut Vec<u8>,
     layered: &LayeredMesh,
     orders: &[Vec<u32>],
     with_normals: bool,
+    prefix: &str,
 ) -> BufferViews {
     use json::buffer::Target::{ArrayBuffer, ElementArrayBuffer};
-    let buffer = root.push(json::Buffer {
-        byte_length: USize64(0), // set below
-        name: None,
-        uri: None,
-        extensions: None,
-        extras: None,
-    });
+    let view = |root: &mut json::Root, at: usize, end: usize, stride, target, name: &str| {
+        push_view(root, at..end, stride, target, &format!("{prefix}{name}"))
+    };
     let at = bin.len();
     for l in &layered.layers {
         for p in &l.mesh.positions {
             push_vec3(bin, *p);
         }
     }
-    let positions = push_view(
-        root,
-        buffer,
-        at..bin.len(),
-        Some(12),
-        ArrayBuffer,
-        "positions",
-    );
+    let positions = view(root, at, bin.len(), Some(12), ArrayBuffer, "positions");
     let normals = with_normals.then(|| {
         let at = bin.len();
         for l in &layered.layers {
-            for (n, p) in l.mesh.normals.iter().zip(&l.mesh.positions) {
-                push_vec3(bin, unit_normal(*n, *p));
+            for n in &l.mesh.normals {
+                push_vec3(bin, voxlod_gltf::streams::unit_normal(*n));
             }
         }
-        push_view(
-            root,
-            buffer,
-            at..bin.len(),
-            Some(12),
-            ArrayBuffer,
-            "normals",
-        )
+        view(root, at, bin.len(), Some(12), ArrayBuffer, "normals")
     });
     let at = bin.len();
     for l in &layered.layers {
@@ -225,10 +301,10 @@ fn write_buffer(
             }
         }
     }
-    let indices = push_view(
+    let indices = view(
         root,
-        buffer,
-        at..bin.len(),
+        at,
+        bin.len(),
         None,
         ElementArrayBuffer,
         "layer indices",
@@ -242,16 +318,15 @@ fn write_buffer(
             }
         }
     }
-    let orders = push_view(
+    let orders = view(
         root,
-        buffer,
-        at..bin.len(),
+        at,
+        bin.len(),
         None,
         ElementArrayBuffer,
         "back-to-front orders",
     );
     debug_assert_eq!(bin.len() % 4, 0);
-    root.buffers[0].byte_length = USize64(bin.len() as u64);
     BufferViews {
         positions,
         normals,
@@ -260,17 +335,16 @@ fn write_buffer(
     }
 }
 
-/// Adds a view of `bytes` of `buffer` to `root`.
+/// Adds a view of `bytes` of buffer 0 to `root`.
 fn push_view(
     root: &mut json::Root,
-    buffer: json::Index<json::Buffer>,
     bytes: std::ops::Range<usize>,
     stride: Option<usize>,
     target: json::buffer::Target,
     name: &str,
 ) -> json::Index<json::buffer::View> {
     root.push(json::buffer::View {
-        buffer,
+        buffer: json::Index::new(0),
         byte_length: USize64(bytes.len() as u64),
         byte_offset: Some(USize64(bytes.start as u64)),
         byte_stride: stride.map(json::buffer::Stride),
@@ -281,44 +355,40 @@ fn push_view(
     })
 }
 
-/// Adds each layer with triangles as accessors, a material, a mesh and a node to `root`;
-/// returns the nodes.
-fn push_layers(
+/// A primitive (with its accessors and material) for each layer with triangles.
+fn layer_primitives(
     root: &mut json::Root,
     layered: &LayeredMesh,
     views: &BufferViews,
     color: [f32; 3],
-) -> Vec<json::Index<json::Node>> {
+    prefix: &str,
+) -> Vec<(usize, json::mesh::Primitive)> {
     let mut first_vertex = 0usize;
     let mut first_index = 0usize;
-    let mut nodes = Vec::new();
+    let mut out = Vec::new();
     for (i, l) in layered.layers.iter().enumerate() {
-        let nv = l.mesh.positions.len();
         if !l.mesh.triangles.is_empty() {
-            // glTF has no empty meshes; an empty layer has no vertices either.
-            nodes.push(push_layer(
-                root,
-                (i, l),
-                views,
-                (first_vertex, first_index),
-                color,
-            ));
+            // glTF has no empty primitives; an empty layer has no vertices either.
+            let at = (first_vertex, first_index);
+            let p = layer_primitive(root, (i, l), views, at, color, prefix);
+            out.push((i, p));
         }
-        first_vertex += nv;
+        first_vertex += l.mesh.positions.len();
         first_index += l.mesh.triangles.len() * 3;
     }
-    nodes
+    out
 }
 
-/// Adds layer `i` (its vertices and indices starting at `first`) as its accessors, material,
-/// mesh and node to `root`; returns the node.
-fn push_layer(
+/// Layer `i` (its vertices and indices starting at `first`) as its accessors, material and
+/// primitive.
+fn layer_primitive(
     root: &mut json::Root,
     (i, l): (usize, &Layer),
     views: &BufferViews,
     (first_vertex, first_index): (usize, usize),
     c: [f32; 3],
-) -> json::Index<json::Node> {
+    prefix: &str,
+) -> json::mesh::Primitive {
     // This layer's slice of a view of float triples (positions or normals).
     let vec3s = |view, bounds, what: &str| {
         accessor(
@@ -328,7 +398,7 @@ fn push_layer(
             json::accessor::ComponentType::F32,
             json::accessor::Type::Vec3,
             bounds,
-            format!("layer {i} {what}"),
+            format!("{prefix}layer {i} {what}"),
         )
     };
     let pos = root.push(vec3s(
@@ -350,12 +420,12 @@ fn push_layer(
         json::accessor::ComponentType::U32,
         json::accessor::Type::Scalar,
         None,
-        format!("layer {i} indices"),
+        format!("{prefix}layer {i} indices"),
     ));
     let material = root.push(json::Material {
         alpha_mode: Checked::Valid(json::material::AlphaMode::Blend),
         double_sided: true,
-        name: Some(format!("layer {i} opacity {:.4}", l.alpha)),
+        name: Some(format!("{prefix}layer {i} opacity {:.4}", l.alpha)),
         pbr_metallic_roughness: json::material::PbrMetallicRoughness {
             base_color_factor: json::material::PbrBaseColorFactor([c[0], c[1], c[2], l.alpha]),
             metallic_factor: json::material::StrengthFactor(0.0),
@@ -364,31 +434,15 @@ fn push_layer(
         },
         ..Default::default()
     });
-    let mesh = root.push(json::Mesh {
+    json::mesh::Primitive {
+        attributes,
         extensions: None,
-        extras: raw(serde_json::json!({
-            "layer": i,
-            "isodensity": l.isodensity,
-            "translucency": l.translucency,
-            "alpha": l.alpha,
-        })),
-        name: Some(format!("layer {i}")),
-        primitives: vec![json::mesh::Primitive {
-            attributes,
-            extensions: None,
-            extras: None,
-            indices: (count > 0).then_some(indices),
-            material: Some(material),
-            mode: Checked::Valid(json::mesh::Mode::Triangles),
-            targets: None,
-        }],
-        weights: None,
-    });
-    root.push(json::Node {
-        mesh: Some(mesh),
-        name: Some(format!("layer {i}")),
-        ..Default::default()
-    })
+        extras: raw(layer_extras(i, l)),
+        indices: Some(indices),
+        material: Some(material),
+        mode: Checked::Valid(json::mesh::Mode::Triangles),
+        targets: None,
+    }
 }
 
 fn accessor(
@@ -419,16 +473,6 @@ fn accessor(
 fn push_vec3(bin: &mut Vec<u8>, v: Vec3) {
     for c in v.to_array() {
         bin.extend_from_slice(&c.to_le_bytes());
-    }
-}
-
-/// A unit normal (glTF requires them): zero or non-finite normals become +z.
-fn unit_normal(n: Vec3, _p: Vec3) -> Vec3 {
-    let u = n.normalize_or_zero();
-    if u == Vec3::ZERO {
-        Vec3::Z
-    } else {
-        u
     }
 }
 
@@ -558,12 +602,17 @@ pub fn parse_glb(bytes: &[u8]) -> Result<GlbScene, LayersError> {
         orders: vec![None; 8],
         ..Default::default()
     };
+    let chain = finest_of_chain(&root, &glb.json);
     for (m, mesh) in root.meshes.iter().enumerate() {
+        if chain.is_some_and(|finest| finest != m) {
+            continue;
+        }
         for (p, prim) in mesh.primitives.iter().enumerate() {
             read_primitive(&reader, (m, mesh), (p, prim), &mut scene)?;
         }
     }
-    read_orders(&reader, &mut scene)?;
+    let prefix = if chain.is_some() { "level 0 " } else { "" };
+    read_orders(&reader, &mut scene, prefix)?;
     if scene.mesh.triangles.is_empty() {
         return Err(bad("no triangle primitives".into()));
     }
@@ -658,12 +707,25 @@ fn read_primitive(
     Ok(())
 }
 
-/// Reads the accessors named `order±x±y±z` into `scene.orders`; each must be a triangle list
-/// over the vertices read.
-fn read_orders(reader: &Reader, scene: &mut GlbScene) -> Result<(), LayersError> {
+/// The mesh of the finest level when the file is an `MSFT_lod` chain (the scene's first node
+/// carries the extension): what the scene shows to a reader without the extension, and all
+/// that is read of a chain.
+fn finest_of_chain(root: &json::Root, json_chunk: &[u8]) -> Option<usize> {
+    let scene = root.scene.map_or(0, |s| s.value());
+    let node = root.scenes.get(scene)?.nodes.first()?.value();
+    // gltf-json drops extensions it has no type for, so the node is looked up in the JSON.
+    let doc: serde_json::Value = serde_json::from_slice(json_chunk).ok()?;
+    doc["nodes"][node]["extensions"].get("MSFT_lod")?;
+    Some(root.nodes.get(node)?.mesh?.value())
+}
+
+/// Reads the accessors named `PREFIXorder±x±y±z` into `scene.orders`; each must be a triangle
+/// list over the vertices read.
+fn read_orders(reader: &Reader, scene: &mut GlbScene, prefix: &str) -> Result<(), LayersError> {
     let total = scene.mesh.positions.len() as u32;
     for (a, acc) in reader.root.accessors.iter().enumerate() {
-        let Some(o) = acc.name.as_deref().and_then(Octant::from_name) else {
+        let name = acc.name.as_deref().and_then(|n| n.strip_prefix(prefix));
+        let Some(o) = name.and_then(Octant::from_name) else {
             continue;
         };
         let idx = reader.indices(a)?;

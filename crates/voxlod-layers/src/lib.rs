@@ -8,8 +8,9 @@
 //! - [`order`]: back to front by slice-by-slice traversal of the cells; the eight orthographic
 //!   orders; perspective orders split at the eye's cell. [`scene`]: several objects, by their
 //!   buffers' boxes, interleaved exactly where the buffers overlap. [`verify`]: checking an order.
-//! - [`glb`]: binary glTF with the eight orders stored; [`export`]: PLY and VTK with per-vertex
-//!   `opacity` and `layer`.
+//! - [`glb`]: binary glTF with the eight orders stored; [`glb_chain`]: layered levels as one
+//!   `MSFT_lod` chain, switched by the filter radius on screen; [`export`]: PLY and VTK with
+//!   per-vertex `opacity` and `layer`.
 //! - [`pipeline`]: solid → volume → plan → layers → orders in one call.
 //! - [`preview`]: drawing the layered shells in a stored order.
 //! - [`bolt()`]: the bolt of Figure 7, a CSG part.
@@ -57,6 +58,7 @@ pub mod export;
 pub mod extract;
 pub mod geometry;
 pub mod glb;
+pub mod glb_chain;
 pub mod order;
 pub mod pipeline;
 pub mod plan;
@@ -68,7 +70,12 @@ pub use bolt::bolt;
 pub use error::LayersError;
 pub use export::{to_poly_mesh, write_layered_mesh};
 pub use extract::{extract_layers, Concatenated, ExtractOptions, Layer, LayeredMesh};
-pub use glb::{glb_bytes, parse_glb, read_glb, write_glb, GlbOptions, GlbScene};
+pub use glb::{
+    glb_bytes, parse_glb, read_glb, write_glb, GlbOptions, GlbScene, RADIUS_LIMIT_PIXELS,
+};
+pub use glb_chain::{
+    layered_chain_bytes, layered_chain_document, layered_coverage_options, LayeredLevel,
+};
 pub use order::{
     index_cells, octant_order, octant_orders, recover_cells, view_order, CellIndex, CellTriangles,
     Octant, View, ORDER_NAMES,

@@ -3,39 +3,14 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
 use voxlod_layers::{glb_bytes, parse_glb, read_glb, write_glb, GlbOptions, Octant, ORDER_NAMES};
 
-fn validator() -> Option<(PathBuf, PathBuf)> {
-    let python = dirs_home()?.join(".cache/voxlod-peers/bin/python");
-    let script = voxlod_testkit::data::workspace_root().join("../shared/peers/peers.py");
-    let node_ok = Command::new("node").arg("--version").output().is_ok();
-    (python.is_file() && script.is_file() && node_ok).then_some((python, script))
-}
-
-fn dirs_home() -> Option<PathBuf> {
-    std::env::var_os("HOME").map(PathBuf::from)
-}
-
 /// Runs the Khronos validator on `path`: (errors, warnings, report), or `None` to skip.
 fn validate(path: &Path) -> Option<(u64, u64, String)> {
-    let Some((python, script)) = validator() else {
-        voxlod_testkit::skips::skip(
-            "no glTF validator: the peers' venv (~/.cache/voxlod-peers), ../shared/peers or node is missing",
-        );
-        return None;
-    };
-    let out = Command::new(python)
-        .arg(script)
-        .arg("validate-gltf")
-        .arg(path)
-        .output()
-        .ok()?;
-    let text = String::from_utf8_lossy(&out.stdout).to_string();
-    let v: serde_json::Value = serde_json::from_str(text.trim()).ok()?;
-    Some((v["errors"].as_u64()?, v["warnings"].as_u64()?, text))
+    let v = voxlod_testkit::gltf_validator::validate_gltf(path)?;
+    Some((v.errors, v.warnings, v.report))
 }
 
 #[test]

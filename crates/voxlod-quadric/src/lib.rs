@@ -19,7 +19,15 @@
 //! rejected if it breaks any of the above. After a rejection the next attempt asks for less,
 //! halfway between the asked count and the last accepted mesh's, and starts from that accepted
 //! mesh; after an accepted step that fell short of the budget the next attempt starts from it
-//! and asks for the budget again. So the simplification ratchets down through accepted meshes
+//! and asks for the budget again. A rejection in which some components lost their shape
+//! (meshoptimizer collapses a small closed piece, such as a blob the voxel stage left, to a
+//! flat pair or to nothing, or closes a handle of one) instead locks those components' vertices
+//! (meshoptimizer's `vertex_lock`) and asks again: they stay as they are, and the rest of the
+//! mesh can still reach the budget. A component lost its shape when its Euler characteristic
+//! changed or fewer than four of its triangles are left (fewer than a closed surface needs).
+//! In a large component only the ring around each pinch is locked. When the run with locks
+//! still stops above the budget, a run without them (the request halved after each rejection)
+//! is tried as well, and the smaller result kept. So the simplification ratchets down through accepted meshes
 //! only, until the budget is reached, the distance limit stops the collapses, or the attempts
 //! ([`QuadricOptions::max_attempts`]) run out.
 //!
@@ -32,6 +40,8 @@
 //!
 //! Cost: each attempt is one meshoptimizer pass, O(F log F), and one topology check, O(F log F);
 //! at most [`QuadricOptions::max_attempts`] of each. Memory O(V + F).
+
+use std::collections::{HashMap, HashSet};
 
 use meshopt::{SimplifyOptions, VertexDataAdapter};
 use serde::Serialize;
@@ -91,6 +101,17 @@ impl QuadricOptions {
         }
     }
 
+    /// The default with a distance limit in mesh units, 24 attempts (locks take some) and the
+    /// border free to collapse along itself (the openings keep their number, not every rim vertex): for a triangle budget,
+    /// where a rim's vertices are better spent elsewhere.
+    pub fn budget(max_error: f64) -> Self {
+        QuadricOptions {
+            max_error,
+            max_attempts: 24,
+            lock_border: false,
+        }
+    }
+
     /// Fewer attempts (4): for searches that try many levels and can afford to stop short.
     pub fn quick() -> Self {
         QuadricOptions {
@@ -139,6 +160,34 @@ pub fn simplify_to_budget(
     let reference = check_input(mesh, budget, options)?;
     let mut current = mesh.clone();
     current.remove_unreferenced_vertices();
+    let mut result = ratchet(current.clone(), &reference, budget, options, true);
+    if result.stop != Stop::Budget && result.rejected > 0 {
+        // Locks keep what they lock at full detail, which can itself stop the collapses short of
+        // the budget: the plain ratchet (halving the request after a rejection) then decides.
+        let plain = ratchet(current, &reference, budget, options, false);
+        if plain.mesh.triangle_count() < result.mesh.triangle_count() {
+            result = Simplified {
+                attempts: result.attempts + plain.attempts,
+                rejected: result.rejected + plain.rejected,
+                ..plain
+            };
+        }
+    }
+    if !mesh.normals.is_empty() {
+        result.mesh.compute_vertex_normals();
+    }
+    Ok(result)
+}
+
+/// The ratchet of the module docs from `current` (unused vertices dropped), with the locks of
+/// components that lost their shape when `locking`.
+fn ratchet(
+    current: TriangleMesh,
+    reference: &Topology,
+    budget: usize,
+    options: &QuadricOptions,
+    locking: bool,
+) -> Simplified {
     let mut result = Simplified {
         topology: reference.clone(),
         mesh: current,
@@ -148,22 +197,28 @@ pub fn simplify_to_budget(
         stop: Stop::Topology,
     };
     let mut ask = budget;
+    // Every step keeps the vertex buffer (meshoptimizer only drops vertices), so that the locks
+    // stay valid; unused vertices are dropped at the end.
+    let mut locked = vec![false; result.mesh.positions.len()];
     while result.mesh.triangle_count() > budget && result.attempts < options.max_attempts {
         let room = (options.max_error - result.error_bound).max(0.0);
         result.attempts += 1;
-        let (candidate, error) = collapse(&result.mesh, ask, room, options.lock_border);
+        let (candidate, error) = collapse(&result.mesh, ask, room, options.lock_border, &locked);
         if candidate.triangle_count() >= result.mesh.triangle_count() {
             result.stop = Stop::DistanceLimit;
             break;
         }
         let topology = mesh_topology(&candidate);
-        if keeps_topology(&reference, &topology) {
+        if keeps_topology(reference, &topology) {
             result.mesh = candidate;
             result.topology = topology;
             result.error_bound += error;
             ask = budget;
         } else {
             result.rejected += 1;
+            if locking && lock_changed_components(&result.mesh, &candidate, &mut locked) {
+                continue;
+            }
             let have = result.mesh.triangle_count();
             ask = ask + (have - ask) / 2;
             if ask + 1 >= have {
@@ -174,10 +229,8 @@ pub fn simplify_to_budget(
     if result.mesh.triangle_count() <= budget {
         result.stop = Stop::Budget;
     }
-    if !mesh.normals.is_empty() {
-        result.mesh.compute_vertex_normals();
-    }
-    Ok(result)
+    result.mesh.remove_unreferenced_vertices();
+    result
 }
 
 /// Validates the arguments and returns the input's topology.
@@ -225,13 +278,126 @@ pub fn keeps_topology(before: &Topology, after: &Topology) -> bool {
         && after.euler_characteristic == before.euler_characteristic
 }
 
-/// One meshoptimizer pass towards `target` triangles within `max_error` (mesh units): the
-/// compacted result and meshoptimizer's error estimate in mesh units.
+/// Locks the vertices of `before`'s components that lost their shape in `after` (both over
+/// the same vertices; module docs); whether any was newly locked.
+fn lock_changed_components(
+    before: &TriangleMesh,
+    after: &TriangleMesh,
+    locked: &mut [bool],
+) -> bool {
+    let mut parent: Vec<u32> = (0..before.positions.len() as u32).collect();
+    for &[a, b, c] in &before.triangles {
+        for (u, w) in [(a, b), (b, c)] {
+            let (ru, rw) = (root(&mut parent, u), root(&mut parent, w));
+            parent[ru as usize] = rw;
+        }
+    }
+    let shape_before = component_shapes(before, &mut parent);
+    let shape_after = component_shapes(after, &mut parent);
+    // A small component is locked whole; in a large one only the corners of the non-manifold
+    // edges and duplicate triangles that the pass made are.
+    let small = before.triangles.len() / 8;
+    let lost = |r: u32| {
+        let (b, a) = (shape_before.get(&r), shape_after.get(&r));
+        match (b, a) {
+            (Some(b), Some(a)) => b.1 <= small && (a.0 != b.0 || (a.1 < 4 && a.1 < b.1)),
+            (Some(_), None) => true,
+            _ => false,
+        }
+    };
+    let mut any = false;
+    for &v in before.triangles.as_flattened() {
+        let r = root(&mut parent, v);
+        if !locked[v as usize] && lost(r) {
+            locked[v as usize] = true;
+            any = true;
+        }
+    }
+    let mut pinched = vec![false; before.positions.len()];
+    for v in pinched_corners(after) {
+        pinched[v as usize] = true;
+    }
+    // The pinch's corners survived the pass; the vertex that collapsed onto them is among
+    // their neighbours in `before`, so their whole ring is locked.
+    for &[a, b, c] in &before.triangles {
+        if [a, b, c].iter().any(|&v| pinched[v as usize]) {
+            for v in [a, b, c] {
+                any |= !locked[v as usize];
+                locked[v as usize] = true;
+            }
+        }
+    }
+    any
+}
+
+/// The corners of `mesh`'s triangles that have an edge shared by more than two triangles or
+/// that repeat another triangle's vertices.
+fn pinched_corners(mesh: &TriangleMesh) -> Vec<u32> {
+    let mut uses: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    let mut seen: HashMap<[u32; 3], usize> = HashMap::new();
+    let mut corners = Vec::new();
+    for (t, &[a, b, c]) in mesh.triangles.iter().enumerate() {
+        for (u, w) in [(a, b), (b, c), (c, a)] {
+            uses.entry((u.min(w), u.max(w))).or_default().push(t);
+        }
+        let mut key = [a, b, c];
+        key.sort_unstable();
+        if let Some(&other) = seen.get(&key) {
+            corners.extend(mesh.triangles[other]);
+            corners.extend([a, b, c]);
+        } else {
+            seen.insert(key, t);
+        }
+    }
+    for triangles in uses.values().filter(|t| t.len() > 2) {
+        corners.extend(triangles.iter().flat_map(|&t| mesh.triangles[t]));
+    }
+    corners
+}
+
+/// The root of `v` in the union-find forest `parent`, halving the path.
+fn root(parent: &mut [u32], mut v: u32) -> u32 {
+    while parent[v as usize] != v {
+        parent[v as usize] = parent[parent[v as usize] as usize];
+        v = parent[v as usize];
+    }
+    v
+}
+
+/// Per component (by its root in `parent`): Euler characteristic V − E + F and triangle count
+/// of `mesh`'s triangles in it.
+fn component_shapes(mesh: &TriangleMesh, parent: &mut [u32]) -> HashMap<u32, (i64, usize)> {
+    let mut vertices = HashSet::new();
+    let mut edges = HashSet::new();
+    let mut shapes: HashMap<u32, (i64, usize)> = HashMap::new();
+    for &[a, b, c] in &mesh.triangles {
+        let r = root(parent, a);
+        let shape = shapes.entry(r).or_default();
+        shape.0 += 1;
+        shape.1 += 1;
+        for v in [a, b, c] {
+            if vertices.insert(v) {
+                shape.0 += 1;
+            }
+        }
+        for (u, w) in [(a, b), (b, c), (c, a)] {
+            if edges.insert((u.min(w), u.max(w))) {
+                shape.0 -= 1;
+            }
+        }
+    }
+    shapes
+}
+
+/// One meshoptimizer pass towards `target` triangles within `max_error` (mesh units), with
+/// the `locked` vertices kept: the result over the same vertices and meshoptimizer's error
+/// estimate in mesh units.
 fn collapse(
     mesh: &TriangleMesh,
     target: usize,
     max_error: f64,
     lock_border: bool,
+    locked: &[bool],
 ) -> (TriangleMesh, f64) {
     let positions = positions_of(mesh);
     let vertices = adapter(&positions);
@@ -240,15 +406,37 @@ fn collapse(
         flags |= SimplifyOptions::LockBorder;
     }
     let mut error = 0.0f32;
-    let indices = meshopt::simplify(
-        mesh.triangles.as_flattened(),
-        &vertices,
-        target * 3,
-        error_limit(max_error),
-        flags,
-        Some(&mut error),
-    );
-    (compact(mesh, &indices), error as f64)
+    let (indices, limit) = (mesh.triangles.as_flattened(), error_limit(max_error));
+    let indices = if locked.iter().any(|&l| l) {
+        meshopt::simplify_with_locks(
+            indices,
+            &vertices,
+            locked,
+            target * 3,
+            limit,
+            flags,
+            Some(&mut error),
+        )
+    } else {
+        meshopt::simplify(
+            indices,
+            &vertices,
+            target * 3,
+            limit,
+            flags,
+            Some(&mut error),
+        )
+    };
+    (triangles_of(mesh, &indices), error as f64)
+}
+
+/// The triangles of a meshoptimizer index list over `mesh`'s vertices.
+fn triangles_of(mesh: &TriangleMesh, indices: &[u32]) -> TriangleMesh {
+    let triangles = indices
+        .chunks_exact(3)
+        .map(|t| [t[0], t[1], t[2]])
+        .collect();
+    TriangleMesh::new(mesh.positions.clone(), triangles)
 }
 
 /// The vertex positions as meshoptimizer reads them: three packed `f32` each.
@@ -264,11 +452,7 @@ fn adapter(positions: &[[f32; 3]]) -> VertexDataAdapter<'_> {
 
 /// The triangles of a meshoptimizer index list over `mesh`'s vertices, unused vertices dropped.
 fn compact(mesh: &TriangleMesh, indices: &[u32]) -> TriangleMesh {
-    let triangles = indices
-        .chunks_exact(3)
-        .map(|t| [t[0], t[1], t[2]])
-        .collect();
-    let mut out = TriangleMesh::new(mesh.positions.clone(), triangles);
+    let mut out = triangles_of(mesh, indices);
     out.remove_unreferenced_vertices();
     out
 }
@@ -308,5 +492,7 @@ pub fn simplify_unchecked(
     lock_border: bool,
 ) -> Result<(TriangleMesh, f64), QuadricError> {
     check_basic(mesh, budget)?;
-    Ok(collapse(mesh, budget, f64::INFINITY, lock_border))
+    let (mut out, error) = collapse(mesh, budget, f64::INFINITY, lock_border, &[]);
+    out.remove_unreferenced_vertices();
+    Ok((out, error))
 }

@@ -339,7 +339,12 @@ fn finish(
     decided: Decided,
 ) -> Result<MonotoneLevel, MonotoneError> {
     let dims = volume.grid.dims;
-    let result = digital_topology(dims, &decided.inside)?;
+    // The plain threshold's topology is known already (the first level, and most others).
+    let result = if decided.inside == decided.raw {
+        decided.raw_topology
+    } else {
+        digital_topology(dims, &decided.inside)?
+    };
     let mut adjusted = volume.clone();
     let (low, high) = volume.range().unwrap_or((iso, iso));
     let mut record = TopologyRecord {

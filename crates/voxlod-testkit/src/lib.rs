@@ -22,6 +22,7 @@ pub mod data;
 pub mod dicom;
 pub mod fields;
 pub mod files;
+pub mod gltf_validator;
 pub mod intersections;
 pub mod peers;
 pub mod readers;

@@ -10,6 +10,8 @@
 use gltf::json;
 use gltf::json::validation::Checked;
 
+use voxlod_layers::ORDER_NAMES;
+
 /// Required extensions the page handles (quantized attributes are plain WebGL attributes).
 const READ_EXTENSIONS: &[&str] = &["KHR_mesh_quantization"];
 
@@ -20,7 +22,8 @@ pub struct CheckedGlb {
     pub triangles: usize,
     /// `MSFT_lod` levels in the scene's first node (1 when there is no chain).
     pub levels: usize,
-    /// Whether it holds the eight back-to-front orders of layered shells.
+    /// Whether it holds the eight back-to-front orders of layered shells (of every level, in a
+    /// chain).
     pub layered: bool,
 }
 
@@ -67,17 +70,15 @@ pub fn check_glb(bytes: &[u8]) -> Result<CheckedGlb, String> {
     if triangles == 0 && root.meshes.is_empty() {
         return Err("it holds no mesh to draw".into());
     }
-    let layered = root
+    let nodes = lod_nodes(&glb.json)?;
+    let levels = nodes.len().max(1);
+    let single_layered = root
         .accessors
         .iter()
-        .filter(|a| {
-            a.name
-                .as_deref()
-                .is_some_and(|n| n.starts_with("order") && n.len() == 11)
-        })
+        .filter(|a| a.name.as_deref().is_some_and(|n| ORDER_NAMES.contains(&n)))
         .count()
         == 8;
-    let levels = lod_levels(&glb.json)?;
+    let layered = single_layered || (levels > 1 && check_layered_chain(&root, bin, &nodes)?);
     Ok(CheckedGlb {
         bytes: plain,
         triangles,
@@ -161,22 +162,7 @@ fn check_primitive(
         Checked::Invalid => return Err("invalid mode".into()),
     };
     let count = match prim.indices {
-        Some(i) => {
-            let (start, stride, size, count) = accessor_bytes(root, i.value())?;
-            for e in 0..count {
-                let b = &bin[start + e * stride..start + e * stride + size];
-                let v = match size {
-                    1 => b[0] as usize,
-                    2 => u16::from_le_bytes([b[0], b[1]]) as usize,
-                    4 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize,
-                    _ => return Err("indices must be unsigned integers".into()),
-                };
-                if v >= vertices {
-                    return Err(format!("index {v} beyond its {vertices} vertices"));
-                }
-            }
-            count
-        }
+        Some(i) => check_indices(root, bin, i.value(), vertices)?,
         None => vertices,
     };
     Ok(if mode == json::mesh::Mode::Triangles {
@@ -184,6 +170,79 @@ fn check_primitive(
     } else {
         0
     })
+}
+
+/// The count of index accessor `a`, after checking every index is below `vertices`.
+fn check_indices(
+    root: &json::Root,
+    bin: &[u8],
+    a: usize,
+    vertices: usize,
+) -> Result<usize, String> {
+    let (start, stride, size, count) = accessor_bytes(root, a)?;
+    for e in 0..count {
+        let b = &bin[start + e * stride..start + e * stride + size];
+        let v = match size {
+            1 => b[0] as usize,
+            2 => u16::from_le_bytes([b[0], b[1]]) as usize,
+            4 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize,
+            _ => return Err("indices must be unsigned integers".into()),
+        };
+        if v >= vertices {
+            return Err(format!("index {v} beyond its {vertices} vertices"));
+        }
+    }
+    Ok(count)
+}
+
+/// Whether a chain holds layered levels (`voxlod layers --lod`): each level's mesh with its
+/// eight orders named `level K order±x±y±z`, every index below the vertices of the level's
+/// triangle primitives (which the page concatenates). Either every level has its eight or
+/// none does.
+fn check_layered_chain(root: &json::Root, bin: &[u8], nodes: &[usize]) -> Result<bool, String> {
+    let named = |name: &str| {
+        root.accessors
+            .iter()
+            .position(|a| a.name.as_deref() == Some(name))
+    };
+    let mut layered = 0;
+    for (k, &node) in nodes.iter().enumerate() {
+        let orders: Vec<usize> = ORDER_NAMES
+            .iter()
+            .filter_map(|o| named(&format!("level {k} {o}")))
+            .collect();
+        if orders.is_empty() {
+            continue;
+        }
+        if orders.len() != 8 {
+            return Err(format!(
+                "level {k} has {} of the eight orders",
+                orders.len()
+            ));
+        }
+        let mesh = root.nodes[node]
+            .mesh
+            .ok_or_else(|| format!("level {k}'s node has no mesh"))?;
+        let vertices: usize = root.meshes[mesh.value()]
+            .primitives
+            .iter()
+            .filter(|p| p.mode == Checked::Valid(json::mesh::Mode::Triangles))
+            .filter_map(|p| {
+                p.attributes
+                    .get(&Checked::Valid(json::mesh::Semantic::Positions))
+            })
+            .map(|a| root.accessors[a.value()].count.0 as usize)
+            .sum();
+        for a in orders {
+            check_indices(root, bin, a, vertices).map_err(|e| format!("level {k} order: {e}"))?;
+        }
+        layered += 1;
+    }
+    match layered {
+        0 => Ok(false),
+        n if n == nodes.len() => Ok(true),
+        n => Err(format!("{n} of the {} levels have orders", nodes.len())),
+    }
 }
 
 /// Every node has at most one parent and no node is its own ancestor.
@@ -209,23 +268,32 @@ fn check_forest(root: &json::Root) -> Result<(), String> {
     Ok(())
 }
 
-/// Levels of the `MSFT_lod` chain on the scene's first node (1 without one); every id must be
-/// a node.
-fn lod_levels(json_chunk: &[u8]) -> Result<usize, String> {
+/// The nodes of the `MSFT_lod` chain on the scene's first node, finest first (that node alone
+/// without a chain, none without a scene node); every id must be a node.
+fn lod_nodes(json_chunk: &[u8]) -> Result<Vec<usize>, String> {
     let doc: serde_json::Value =
         serde_json::from_slice(json_chunk).map_err(|e| format!("bad JSON chunk: {e}"))?;
     let scene = doc["scene"].as_u64().unwrap_or(0) as usize;
-    let Some(first) = doc["scenes"][scene]["nodes"][0].as_u64() else {
-        return Ok(1);
-    };
     let nodes = doc["nodes"].as_array().map_or(0, Vec::len) as u64;
-    let Some(ids) = doc["nodes"][first as usize]["extensions"]["MSFT_lod"]["ids"].as_array() else {
-        return Ok(1);
+    let Some(first) = doc["scenes"][scene]["nodes"][0]
+        .as_u64()
+        .filter(|&n| n < nodes)
+    else {
+        return Ok(Vec::new());
     };
-    if let Some(bad) = ids.iter().find(|i| i.as_u64().is_none_or(|i| i >= nodes)) {
-        return Err(format!(
-            "MSFT_lod refers to node {bad}, which does not exist"
-        ));
+    let Some(ids) = doc["nodes"][first as usize]["extensions"]["MSFT_lod"]["ids"].as_array() else {
+        return Ok(vec![first as usize]);
+    };
+    let mut out = vec![first as usize];
+    for id in ids {
+        match id.as_u64().filter(|&i| i < nodes) {
+            Some(i) => out.push(i as usize),
+            None => {
+                return Err(format!(
+                    "MSFT_lod refers to node {id}, which does not exist"
+                ))
+            }
+        }
     }
-    Ok(1 + ids.len())
+    Ok(out)
 }

@@ -9,7 +9,11 @@
 //!   the view direction's octant, switching the index buffer as the camera crosses an octant
 //!   boundary — while the filter radius on screen is at most 0.45 px, where BENCHMARKS.md
 //!   measured the layers beating the single surface; closer, the single surface is drawn;
-//! - any other glTF 2.0 binary: triangles shaded, lines as thick screen-space quads, points.
+//! - a chain of layered levels (`voxlod layers --lod`): the coarsest level whose filter radius
+//!   on screen is at most the file's limit (0.45 px), drawn as layered shells; closer than the
+//!   finest level allows, its single surface; a second patch shows the level;
+//! - any other glTF 2.0 binary (a `voxlod cluster` chain too): triangles shaded, lines as thick
+//!   screen-space quads (3 px, or their `_WIDTH` in object units on screen if wider), points.
 //!
 //! **Why our own renderer and not three.js**: the page needs a glTF subset (float and quantized
 //! attributes, three primitive modes, node transforms), one shaded program, instanced quads for

@@ -5,10 +5,15 @@
 //  - layered shells (accessors order±x±y±z), blended back to front with the order of the view
 //    direction's octant, and only while the filter radius on screen is at most 0.45 px
 //    (BENCHMARKS.md); closer, the single surface (the layer nearest isodensity 0.5), opaque;
-//  - any other glTF: triangles shaded, lines as thick screen-space quads, points as squares.
+//  - a chain of layered levels (voxlod layers --lod: accessors "level K order±x±y±z"): the
+//    coarsest level whose filter radius on screen is at most 0.45 px, drawn as above; closer
+//    than level 0 allows, level 0's single surface;
+//  - any other glTF: triangles shaded, lines as thick screen-space quads (at least EDGE_PX, or
+//    their _WIDTH in object units on screen), points as squares.
 // The camera is set by the URL hash (#camera=DISTANCE,DX,DY,DZ&model=I, DX.. pointing from the
 // object's centre to the eye) or window.voxlodView.setCamera(distance, [dx, dy, dz]).
-// The state drawn is in document.title and in a colour patch at the top left (level or octant).
+// The state drawn is in document.title and in a colour patch at the top left (level or octant;
+// a layered chain shows its level in a second patch below).
 "use strict";
 (function () {
   const FOV = Math.PI / 4;
@@ -125,13 +130,15 @@
   // Thick edges: every segment an instanced quad offset across the line on screen.
   const EDGE_VS = `#version 300 es
     layout(location=0) in vec3 a; layout(location=1) in vec3 b; layout(location=2) in vec2 corner;
-    uniform mat4 model, viewProj; uniform vec2 viewport; uniform float width;
+    layout(location=3) in float objectWidth;
+    uniform mat4 model, viewProj; uniform vec2 viewport; uniform float width, focal;
     void main() {
       vec4 pa = viewProj * model * vec4(a, 1.0), pb = viewProj * model * vec4(b, 1.0);
       vec2 sa = pa.xy / pa.w * viewport, sb = pb.xy / pb.w * viewport;
       vec2 dir = normalize(sb - sa + vec2(1e-6, 0.0));
-      vec2 off = vec2(-dir.y, dir.x) * width * corner.y;
       vec4 p = corner.x < 0.5 ? pa : pb;
+      float half_px = max(width, 0.5 * objectWidth * focal / p.w);
+      vec2 off = vec2(-dir.y, dir.x) * half_px * corner.y;
       gl_Position = vec4(p.xy + off / viewport * p.w, p.zw);
     }`;
   const EDGE_FS = `#version 300 es
@@ -187,7 +194,7 @@
     gl.bindVertexArray(vao);
     let draw;
     if (mode === 1 || mode === 3 || mode === 2) {
-      draw = edgeDraw(gl, pos, idx, mode);
+      draw = edgeDraw(gl, pos, idx, mode, prim.attributes._WIDTH !== undefined ? accessor(g, prim.attributes._WIDTH) : null);
     } else {
       attribute(gl, 0, pos);
       if (nor) attribute(gl, 1, nor);
@@ -206,8 +213,9 @@
     return Object.assign(draw, { vao, model, color, blend: mat.alphaMode === "BLEND", triangles });
   }
 
-  // Segments as instances: endpoints per instance, a unit quad's corners per vertex.
-  function edgeDraw(gl, pos, idx, mode) {
+  // Segments as instances: endpoints (and a width in object units, from _WIDTH) per instance,
+  // a unit quad's corners per vertex.
+  function edgeDraw(gl, pos, idx, mode, widths) {
     const order = idx || Array.from({ length: pos.count }, (_, i) => i);
     const pairs = [];
     const step = mode === 1 ? 2 : 1;
@@ -228,6 +236,17 @@
     arrayBuffer(gl, gl.ARRAY_BUFFER, new Float32Array([0, -1, 1, -1, 1, 1, 0, -1, 1, 1, 0, 1]));
     gl.enableVertexAttribArray(2);
     gl.vertexAttribPointer(2, 2, gl.FLOAT, false, 0, 0);
+    if (widths && widths.type === 5126 && widths.n === 1) {
+      // One width per segment: the larger of its two ends'.
+      const w = new Float32Array(pairs.length / 2);
+      for (let s = 0; s < w.length; s++) w[s] = Math.max(widths.data[pairs[2 * s]], widths.data[pairs[2 * s + 1]]);
+      arrayBuffer(gl, gl.ARRAY_BUFFER, w);
+      gl.enableVertexAttribArray(3);
+      gl.vertexAttribPointer(3, 1, gl.FLOAT, false, 0, 0);
+      gl.vertexAttribDivisor(3, 1);
+    } else {
+      gl.vertexAttrib1f(3, 0);
+    }
     return { kind: "edges", count: pairs.length / 2 };
   }
 
@@ -268,12 +287,13 @@
     return "order" + (d[0] < 0 ? "-" : "+") + "x" + (d[1] < 0 ? "-" : "+") + "y" + (d[2] < 0 ? "-" : "+") + "z";
   }
 
-  // Layered shells: every layer's vertices concatenated (as the orders index them), a per-vertex
-  // alpha from its layer's material, the eight orders as index buffers.
-  function layeredModel(gl, g, orderAccessors) {
+  // Layered shells: every layer's vertices (the triangle primitives of `meshes`) concatenated (as
+  // the orders index them), a per-vertex alpha from its layer's material, the eight orders
+  // ([octant name, accessor] pairs) as index buffers; `radius` is the filter's, in object units.
+  function layeredModel(gl, g, meshes, orderAccessors, radius) {
     const positions = [], normals = [], alphas = [], layers = [];
     let first = 0;
-    for (const mesh of g.json.meshes) for (const prim of mesh.primitives) {
+    for (const mesh of meshes.map((i) => g.json.meshes[i])) for (const prim of mesh.primitives) {
       if ((prim.mode === undefined ? 4 : prim.mode) !== 4) continue;
       const pos = accessor(g, prim.attributes.POSITION);
       if (pos.type !== 5126) throw new Error("layered shells must have float positions");
@@ -285,7 +305,7 @@
       const colors = new Float32Array(pos.count * 4);
       for (let v = 0; v < pos.count; v++) colors.set(rgba, v * 4);
       alphas.push(colors);
-      const iso = (mesh.extras || {}).isodensity;
+      const iso = (prim.extras || mesh.extras || {}).isodensity;
       const indices = prim.indices !== undefined ? indexData(accessor(g, prim.indices)) : Uint32Array.from({ length: pos.count }, (_, i) => i);
       layers.push({ first, count: pos.count, rgba, iso, indices });
       first += pos.count;
@@ -300,18 +320,15 @@
     }
     gl.bindVertexArray(null);
     const orders = {};
-    for (const i of orderAccessors) {
+    for (const [name, i] of orderAccessors) {
       const acc = accessor(g, i), data = indexData(acc);
       const type = data instanceof Uint32Array ? gl.UNSIGNED_INT : gl.UNSIGNED_SHORT;
-      orders[acc.name] = { buffer: arrayBuffer(gl, gl.ELEMENT_ARRAY_BUFFER, data), count: acc.count, type };
+      orders[name] = { buffer: arrayBuffer(gl, gl.ELEMENT_ARRAY_BUFFER, data), count: acc.count, type };
     }
     // The single surface: the layer nearest isodensity 0.5, with its own indices shifted.
     const single = layers.reduce((best, l) => (Math.abs((l.iso ?? 0.5) - 0.5) < Math.abs((best.iso ?? 0.5) - 0.5) ? l : best), layers[0]);
     const shifted = new Uint32Array(single.indices.length);
     for (let i = 0; i < shifted.length; i++) shifted[i] = single.indices[i] + single.first;
-    const grid = ((g.json.scenes[g.json.scene || 0].extras || {}).voxlod || {}).grid;
-    const sceneExtras = (g.json.scenes[g.json.scene || 0].extras || {}).voxlod || {};
-    const radius = sceneExtras.radius || (grid ? Math.max(...grid.spacing) : 0);
     return {
       vao, orders, color: layers[0].rgba, radius,
       single: { buffer: arrayBuffer(gl, gl.ELEMENT_ARRAY_BUFFER, shifted), count: shifted.length, rgba: single.rgba },
@@ -324,21 +341,33 @@
     const sceneIndex = g.json.scene || 0;
     const scene = (g.json.scenes || [])[sceneIndex] || { nodes: (g.json.nodes || []).map((_, i) => i) };
     const extras = (scene.extras || {}).voxlod || {};
-    const orderAccessors = (g.json.accessors || []).map((a, i) => [a.name || "", i]).filter(([n]) => /^order[+-]x[+-]y[+-]z$/.test(n)).map(([, i]) => i);
+    const named = (g.json.accessors || []).map((a, i) => [a.name || "", i]);
+    const orderAccessors = named.filter(([n]) => /^order[+-]x[+-]y[+-]z$/.test(n));
     const { lo, hi } = sceneBounds(g, scene.nodes);
     const centre = [0, 1, 2].map((k) => (lo[k] + hi[k]) / 2);
     const diameter = Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1;
     const model = { name: entry.name, centre, diameter, kind: "mesh" };
     if (orderAccessors.length === 8) {
-      return Object.assign(model, { kind: "layered", layered: layeredModel(gl, g, orderAccessors) });
+      const radius = extras.radius || (extras.grid ? Math.max(...extras.grid.spacing) : 0);
+      const meshes = (g.json.meshes || []).map((_, i) => i);
+      return Object.assign(model, { kind: "layered", layered: layeredModel(gl, g, meshes, orderAccessors, radius) });
     }
     const root = g.json.nodes && g.json.nodes[scene.nodes[0]];
     const lod = root && root.extensions && root.extensions.MSFT_lod;
     if (lod) {
       const ids = [scene.nodes[0]].concat(lod.ids);
+      const levelOrders = ids.map((_, k) => named.filter(([n]) => n.startsWith(`level ${k} order`)).map(([n, i]) => [n.slice(`level ${k} `.length), i]));
+      model.levelNames = ids.map((id) => g.json.nodes[id].name || "node " + id);
+      if (levelOrders.every((o) => o.length === 8)) {
+        // A layered chain: each level's radius from its node's extras.
+        model.kind = "layered lod";
+        model.levels = ids.map((id, k) => layeredModel(gl, g, [g.json.nodes[id].mesh], levelOrders[k], (((g.json.nodes[id].extras || {}).voxlod || {}).radius) || 0));
+        const sc = extras.screen_coverage || {};
+        model.radiusLimit = sc.measure === "filter radius" && sc.tolerance > 0 ? sc.tolerance : RADIUS_LIMIT_PX;
+        return model;
+      }
       model.kind = "lod";
       model.levels = ids.map((id) => drawsOfNode(gl, g, id, IDENTITY, []));
-      model.levelNames = ids.map((id) => g.json.nodes[id].name || "node " + id);
       model.coverage = (root.extras || {}).MSFT_screencoverage || ids.map((_, i) => (i === ids.length - 1 ? 0 : 1 / (i + 2)));
       const sc = extras.screen_coverage || {};
       model.viewportHeight = sc.viewport_height || 1080;
@@ -397,6 +426,7 @@
       gl.uniformMatrix4fv(edges.u.viewProj, false, viewProj);
       gl.uniform2f(edges.u.viewport, gl.drawingBufferWidth / 2, gl.drawingBufferHeight / 2);
       gl.uniform1f(edges.u.width, EDGE_PX / 2);
+      gl.uniform1f(edges.u.focal, gl.drawingBufferHeight / 2 / Math.tan(FOV / 2));
       gl.uniform4fv(edges.u.color, d.color);
       gl.bindVertexArray(d.vao);
       gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, d.count);
@@ -408,17 +438,26 @@
       return draws.reduce((s, d) => s + d.triangles, 0);
     }
 
-    function drawLayered(m, viewProj, eye, view) {
-      const L = m.layered;
-      const pixel = 2 * view.distance * Math.tan(FOV / 2) / gl.drawingBufferHeight;
-      const radiusPx = L.radius / pixel;
+    // The size of a pixel in object units at the object's distance.
+    const pixelSize = (distance) => 2 * distance * Math.tan(FOV / 2) / gl.drawingBufferHeight;
+
+    // The coarsest level of a layered chain whose filter radius on screen is within the limit
+    // (level 0 when none is: drawn as its single surface).
+    function chooseLayeredLevel(m, distance) {
+      let level = 0;
+      for (let k = 0; k < m.levels.length; k++) if (m.levels[k].radius / pixelSize(distance) <= m.radiusLimit) level = k;
+      return level;
+    }
+
+    function drawLayered(L, limit, viewProj, eye, view) {
+      const radiusPx = L.radius / pixelSize(view.distance);
       gl.useProgram(shaded.p);
       gl.uniformMatrix4fv(shaded.u.model, false, IDENTITY);
       gl.uniformMatrix4fv(shaded.u.viewProj, false, viewProj);
       gl.uniform3fv(shaded.u.eye, eye);
       gl.uniform1i(shaded.u.lit, 1);
       gl.bindVertexArray(L.vao);
-      if (L.radius > 0 && radiusPx > RADIUS_LIMIT_PX) {
+      if (L.radius > 0 && radiusPx > limit) {
         gl.enable(gl.DEPTH_TEST);
         gl.uniform4fv(shaded.u.color, [L.single.rgba[0], L.single.rgba[1], L.single.rgba[2], 1]);
         gl.uniform1i(shaded.u.vertexColor, 0);
@@ -440,9 +479,9 @@
       return { triangles: order.count / 3, order: name, radiusPx, patch: octant };
     }
 
-    function patch(colour) {
+    function patch(colour, row = 0) {
       gl.enable(gl.SCISSOR_TEST);
-      gl.scissor(0, gl.drawingBufferHeight - 24, 24, 24);
+      gl.scissor(0, gl.drawingBufferHeight - 24 * (row + 1), 24, 24);
       gl.clearColor(colour[0] / 255, colour[1] / 255, colour[2] / 255, 1);
       gl.clear(gl.COLOR_BUFFER_BIT);
       gl.disable(gl.SCISSOR_TEST);
@@ -471,10 +510,17 @@
         text = `${m.name}: ${m.levelNames[level]} (${level + 1} of ${m.levels.length}), ${triangles} triangles`;
         title = `voxlod level=${level} triangles=${triangles}`;
       } else if (m.kind === "layered") {
-        const r = drawLayered(m, viewProj, eye, view);
+        const r = drawLayered(m.layered, RADIUS_LIMIT_PX, viewProj, eye, view);
         patch(r.patch < PALETTE.length ? PALETTE[r.patch] : [0, 0, 0]);
         text = `${m.name}: layered, ${r.order}, ${r.triangles} triangles, filter radius ${r.radiusPx.toFixed(2)} px`;
         title = `voxlod order=${r.order} triangles=${r.triangles}`;
+      } else if (m.kind === "layered lod") {
+        const level = chooseLayeredLevel(m, state.distance);
+        const r = drawLayered(m.levels[level], m.radiusLimit, viewProj, eye, view);
+        patch(r.patch < PALETTE.length ? PALETTE[r.patch] : [0, 0, 0]);
+        patch(PALETTE[level % PALETTE.length], 1);
+        text = `${m.name}: ${m.levelNames[level]} (${level + 1} of ${m.levels.length}), layered, ${r.order}, ${r.triangles} triangles, filter radius ${r.radiusPx.toFixed(2)} px`;
+        title = `voxlod level=${level} order=${r.order} triangles=${r.triangles}`;
       } else {
         const triangles = drawDraws(m.draws, viewProj, eye);
         text = `${m.name}: ${triangles} triangles`;

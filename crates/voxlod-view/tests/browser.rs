@@ -7,14 +7,17 @@
 //!   a different one at each distance;
 //! - two layered squares seen from either side of the z = 0 plane: the octant order switches,
 //!   so the nearer square is blended last and its colour dominates; and closer than the 0.45 px
-//!   filter-radius limit the single surface is drawn opaque.
+//!   filter-radius limit the single surface is drawn opaque;
+//! - a layered chain (`voxlod layers --lod`) at three distances: the second patch shows the
+//!   coarsest level whose filter radius spans at most 0.45 px, and closer than level 0 allows,
+//!   the first patch turns black (level 0's single surface).
 
 mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::{write_sphere_chain, write_two_layers, SPHERE_CELLS};
+use common::{write_layered_ball_chain, write_sphere_chain, write_two_layers, SPHERE_CELLS};
 use image::RgbImage;
 use voxlod_gltf::ChainOptions;
 use voxlod_testkit::skips::skip;
@@ -205,4 +208,36 @@ fn layered_page_switches_the_order_across_an_octant_boundary() {
         got[0] > 200 && got[1] < 10 && got[2] < 10,
         "opaque red, got {got:?}"
     );
+}
+
+#[test]
+fn layered_chain_page_draws_the_level_whose_radius_fits_045_px() {
+    let Some(browser) = chromium() else {
+        return;
+    };
+    let (_keep, dir) = shots();
+    let glb = dir.join("ball-layered-chain.glb");
+    let radii = write_layered_ball_chain(&glb);
+    let page = dir.join("ball-layered-chain.html");
+    write_page(&[glb], &page, &ViewOptions::default()).unwrap();
+    // The distance at which a radius r spans `px` pixels of the 400-pixel-high view.
+    let distance = |r: f64, px: f64| r / px * SIZE as f64 / (2.0 * (FOV / 2.0).tan());
+    let level_patch = |img: &RgbImage| img.get_pixel(8, 32).0;
+    for (d, level, layered) in [
+        (distance(radii[1], 0.3), 1, true),  // level 1 fits
+        (distance(radii[1], 0.6), 0, true),  // level 1 too wide on screen: level 0 (0.3 px)
+        (distance(radii[0], 1.0), 0, false), // even level 0 too wide: its single surface
+    ] {
+        let png = dir.join(format!("ball-layered-chain-{d:.2}.png"));
+        let img = screenshot(&browser, &page, d, [0.3, 0.4, 1.0], &png);
+        assert_eq!(
+            level_patch(&img),
+            PATCH_COLORS[level],
+            "distance {d}: level {level}"
+        );
+        // Layered: the octant patch of the sight (−, −, −); else black.
+        let octant = if layered { PATCH_COLORS[7] } else { [0, 0, 0] };
+        assert_eq!(patch(&img), octant, "distance {d}");
+        assert!(drawn_pixels(&img) > 0, "distance {d}: nothing drawn");
+    }
 }

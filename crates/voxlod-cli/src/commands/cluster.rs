@@ -1,13 +1,15 @@
 //! `voxlod cluster`: the vertex-clustering baselines, Rossignac–Borrel and Low–Tan.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
 use voxlod::clustering::{
-    low_tan, rossignac_borrel, ClusterOptions, FloatingCellOptions, LevelReport, Method, Synthesis,
+    low_tan, rossignac_borrel, thick_edges, ClusterOptions, FloatingCellOptions, Level,
+    LevelReport, Method, Synthesis,
 };
+use voxlod_gltf::{chain_glb_bytes, ChainLevel, ChainOptions};
 
 use super::common::{level_path, print_json, progress, read_mesh_input, thousands, CliError};
 use super::values::number;
@@ -27,15 +29,22 @@ use super::values::number;
 /// with `edge` and `point` elements, or VTK PolyData with polys, lines and verts. With several
 /// levels, OUT's name gets the level: out.ply -> out-0.ply, out-1.ply, ...
 ///
+/// OUT.glb is one glTF file with every level: a mesh per level with a TRIANGLES, a LINES
+/// (the edges' widths as a _WIDTH attribute) and a POINTS primitive, chained with MSFT_lod
+/// finest first and switched by the pixel-size rule of `voxlod select` on the cell sizes
+/// (MSFT_screencoverage); `voxlod view` draws it.
+///
 /// Examples:
 ///   voxlod cluster bunny.obj -o bunny-rb.ply --method rossignac-borrel --cells 64
 ///   voxlod cluster bunny.obj -o bunny-lt.vtp --method low-tan --cells 32 --levels 4 --json
+///   voxlod cluster bunny.obj -o bunny-lt.glb --method low-tan --cells 64 --levels 4
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct ClusterArgs {
     /// The input mesh
     pub input: PathBuf,
-    /// Output (.ply, .vtp or .vtk: formats that hold edges and points)
+    /// Output (.ply, .vtp or .vtk: formats that hold edges and points; .glb: every level in one
+    /// MSFT_lod chain)
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
     /// rossignac-borrel or low-tan
@@ -85,15 +94,20 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
-    if !["ply", "vtp", "vtk"].contains(&ext.as_str()) {
+    if !["ply", "vtp", "vtk", "glb"].contains(&ext.as_str()) {
         return Err(CliError::msg(format!(
-            "{}: clustering output has dangling edges and points; write .ply, .vtp or .vtk",
+            "{}: clustering output has dangling edges and points; write .ply, .vtp, .vtk or .glb",
             args.output.display()
         )));
     }
+    let glb = ext == "glb";
     let mut out = voxlod::io::OutputSet::protecting([&args.input]);
-    for level in 0..args.levels as usize {
-        out.check(&level_path(&args.output, level, args.levels as usize))?;
+    if glb {
+        out.check(&args.output)?;
+    } else {
+        for level in 0..args.levels as usize {
+            out.check(&level_path(&args.output, level, args.levels as usize))?;
+        }
     }
     let loaded = read_mesh_input(&args.input)?;
     let mesh = &loaded.mesh;
@@ -133,7 +147,19 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
         levels: Vec::new(),
         warnings: Vec::new(),
     };
-    for level in &levels {
+    if glb {
+        let start = Instant::now();
+        out.bytes(&args.output, &cluster_glb(&args.output, &levels)?)?;
+        let seconds = start.elapsed().as_secs_f64();
+        for level in &levels {
+            report.levels.push(ClusterLevel {
+                report: level.report.clone(),
+                file: args.output.display().to_string(),
+                write_seconds: seconds,
+            });
+        }
+    }
+    for level in levels.iter().filter(|_| !glb) {
         let path = level_path(&args.output, level.report.level, args.levels as usize);
         let start = Instant::now();
         out.poly_mesh(&path, &level.mesh)?;
@@ -166,4 +192,34 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
         report.levels.len()
     );
     Ok(())
+}
+
+/// Every level in one MSFT_lod chain (crate `voxlod-gltf`): triangles, the dangling edges with
+/// their widths, the isolated points; coverages from each level's cell size.
+fn cluster_glb(output: &Path, levels: &[Level]) -> Result<Vec<u8>, CliError> {
+    let widths: Vec<&[f32]> = levels
+        .iter()
+        .map(|l| {
+            l.mesh
+                .line_attributes
+                .iter()
+                .find(|a| a.name == thick_edges::WIDTH)
+                .map_or(&[][..], |a| &a.values[..])
+        })
+        .collect();
+    let chain: Vec<ChainLevel> = levels
+        .iter()
+        .zip(&widths)
+        .map(|(l, w)| {
+            ChainLevel::new(l.report.level, &l.mesh.mesh, l.report.cell_size)
+                .with_lines(&l.mesh.lines, w)
+                .with_points(&l.mesh.points)
+        })
+        .collect();
+    let options = ChainOptions {
+        name: "voxlod clustering".into(),
+        ..Default::default()
+    };
+    chain_glb_bytes(&chain, &options)
+        .map_err(|e| CliError::msg(format!("{}: {e}", output.display())))
 }

@@ -16,6 +16,7 @@ use voxlod::sampling::Filter;
 
 use super::camera::{view_direction, CameraArgs, SURFACE_COLOR};
 use super::common::{in_file, print_json, progress, thousands, CliError, Input};
+use super::layers_lod::{layered_chain, ChainReport, LodArgs};
 use super::source::{in_flag_words, VolumeRoute};
 use super::values::number;
 
@@ -32,10 +33,17 @@ use super::values::number;
 /// .vtp or .vtk hold all layers in one mesh with per-vertex `opacity` and `layer`, triangles in
 /// the back-to-front order of --view's octant.
 ///
+/// With --lod, OUT.glb holds the layered shells at several resolutions (--levels halvings of
+/// --resolution, or --resolutions) as one MSFT_lod chain: one mesh per level with a primitive
+/// per layer and the level's eight orders (accessors "level K order+x+y+z" …); its
+/// MSFT_screencoverage switches to the coarsest level whose filter radius spans at most 0.45 px
+/// on screen, where the layers were measured to beat the single surface (BENCHMARKS.md).
+///
 /// Examples:
 ///   voxlod layers bunny.obj -o bunny.glb --error 0.025 --preview bunny.png
 ///   voxlod layers part.stl -o part.glb --error 0.01 --filter gaussian --resolution 200 --json
 ///   voxlod layers tooth.nrrd --threshold 120 -o tooth.vtp --error 0.05
+///   voxlod layers bunny.obj -o bunny-chain.glb --lod --resolutions 256,128,64,32
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct LayersArgs {
@@ -78,6 +86,8 @@ pub struct LayersArgs {
     #[arg(long)]
     pub json: bool,
     #[command(flatten)]
+    pub chain: LodArgs,
+    #[command(flatten)]
     pub route: VolumeRoute,
 }
 
@@ -113,6 +123,8 @@ struct LayersReport {
     extract_seconds: f64,
     order_seconds: f64,
     total_seconds: f64,
+    /// With --lod: the chain's levels, coverages and size (the fields above describe level 0).
+    lod: Option<ChainReport>,
     /// Every warning printed without --json.
     warnings: Vec<String>,
 }
@@ -147,9 +159,16 @@ fn out_kind(path: &Path) -> Result<OutKind, CliError> {
     }
 }
 
-/// Refuses now the outputs the set would refuse at the end: the kind of OUT, the preview's.
+/// Refuses now the outputs the set would refuse at the end: the kind of OUT, the preview's, a
+/// chain into another file than a .glb.
 fn check_outputs(args: &LayersArgs, out: &mut OutputSet) -> Result<OutKind, CliError> {
     let kind = out_kind(&args.output)?;
+    if args.chain.lod && matches!(kind, OutKind::Mesh) {
+        return Err(CliError::usage(format!(
+            "--lod writes an MSFT_lod chain: {} must be a .glb",
+            args.output.display()
+        )));
+    }
     out.check(&args.output)?;
     if let Some(preview) = &args.preview {
         voxlod::io::check_image_path(preview)?;
@@ -200,22 +219,28 @@ fn read(args: &LayersArgs) -> Result<Input, CliError> {
     Ok(input)
 }
 
-/// Adds the shells (and the preview) to the output set, all encoded before anything is written.
+/// Adds the shells (or the chain's bytes, with --lod) and the preview to the output set, all
+/// encoded before anything is written.
 fn write_outputs(
     args: &LayersArgs,
     out: &mut OutputSet,
-    kind: OutKind,
+    (kind, chain): (OutKind, Option<Vec<u8>>),
     view: DVec3,
     layered: &Layered,
 ) -> Result<(), CliError> {
     let size = (args.camera.size.width, args.camera.size.height);
     let octant = Octant::of(view).map_err(|e| CliError::msg(format!("--view: {e}")))?;
-    let bytes = match kind {
-        OutKind::Glb => Some(
-            glb_bytes(&layered.mesh, &layered.orders, &GlbOptions::default())
+    let glb = GlbOptions {
+        radius: Some(voxlod::layers_radius(layered, args.radius)),
+        ..Default::default()
+    };
+    let bytes = match (kind, chain) {
+        (_, Some(chain)) => Some(chain),
+        (OutKind::Glb, None) => Some(
+            glb_bytes(&layered.mesh, &layered.orders, &glb)
                 .map_err(|e| layers_error(&args.output, e))?,
         ),
-        OutKind::Mesh => None,
+        (OutKind::Mesh, None) => None,
     };
     let preview = match &args.preview {
         Some(path) => Some((path, preview_png(layered, view, size)?)),
@@ -243,17 +268,30 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
     let mut out = OutputSet::protecting([&args.input]);
     let kind = check_outputs(&args, &mut out)?;
     let view = view_direction(args.camera.view)?;
-    let options = layers_options(&args)?;
+    let resolutions = args.chain.resolutions(args.resolution)?;
+    let mut options = layers_options(&args)?;
     let input = read(&args)?;
     let bar = progress(3, "layers", args.json);
-    let shells = voxlod::layers(&args.route.source(&input), &options)
-        .map_err(|e| in_file(&args.input, e))?;
+    let source = args.route.source(&input);
+    let (shells, chain, lod) = match &resolutions {
+        Some(list) => {
+            let (mut levels, bytes, report) = layered_chain(&args.input, &source, &options, list)?;
+            options.resolution = list[0];
+            (levels.swap_remove(0), Some(bytes), Some(report))
+        }
+        None => {
+            let shells = voxlod::layers(&source, &options).map_err(|e| in_file(&args.input, e))?;
+            (shells, None, None)
+        }
+    };
     bar.inc(2);
-    write_outputs(&args, &mut out, kind, view, &shells.layered)?;
+    write_outputs(&args, &mut out, (kind, chain), view, &shells.layered)?;
     out.commit()?;
     bar.finish_and_clear();
     let report = LayersReport {
         warnings: shells.warnings.iter().map(|w| in_flag_words(w)).collect(),
+        resolution: options.resolution,
+        lod,
         ..report(&args, &shells.layered, start.elapsed().as_secs_f64())
     };
     if args.json {
@@ -286,6 +324,18 @@ fn print_report(args: &LayersArgs, report: &LayersReport) {
             l.alpha,
             thousands(l.triangles)
         );
+    }
+    if let Some(chain) = &report.lod {
+        for l in &chain.levels {
+            println!(
+                "  chain level {}: resolution {}, filter radius {:.4}, {} layers, {} triangles",
+                l.level,
+                l.resolution,
+                l.radius,
+                l.layers,
+                thousands(l.triangles)
+            );
+        }
     }
     if let Some(p) = &report.preview {
         println!("preview -> {p}");
@@ -350,6 +400,7 @@ fn report(args: &LayersArgs, layered: &Layered, total_seconds: f64) -> LayersRep
         extract_seconds: t.extract_seconds,
         order_seconds: t.order_seconds,
         total_seconds,
+        lod: None,
         warnings: Vec::new(),
     }
 }

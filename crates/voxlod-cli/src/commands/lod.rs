@@ -5,9 +5,13 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
 use serde::Serialize;
+use voxlod::core::Topology;
+use voxlod::finest::FinestChoice;
 use voxlod::io::OutputSet;
-use voxlod::sampling::{DensityReport, Filter, PyramidOptions};
-use voxlod::{Control, EnvelopeStep, Event, LevelEpsilon, Lod, LodLevel, LodOptions, Progress};
+use voxlod::sampling::{DensityReport, Filter, PyramidOptions, TopologyRecord};
+use voxlod::{
+    Control, EnvelopeStep, Event, Finest, LevelEpsilon, Lod, LodLevel, LodOptions, Progress,
+};
 
 use super::common::{
     check_grid_range, count, describe_mesh, in_dir, in_file, print_json, progress, read_input,
@@ -24,9 +28,13 @@ use super::world::{frame_report, FrameArg};
 ///
 /// Every level is filtered from the original object, never from the level above. Level k has
 /// RESOLUTION/2^k samples across the longest side of the object's box and a filter radius of one
-/// voxel of that level, as in the paper's tables. Writes DIR/level-0.ply, DIR/level-1.ply, …
-/// and DIR/report.json, all at the end, and removes level files of an earlier run that this one
-/// does not write.
+/// voxel of that level, as in the paper's tables. Without --resolution, a mesh starts where
+/// marching cubes' estimated count is at most the input's triangles (at most 256, at least 16);
+/// a volume starts at 256. The genus never rises from a level to the next (a thin wall closes
+/// up instead of perforating; --no-monotone gives the plain pyramid), and every level is
+/// cleaned of slivers, needles and self-intersections (--no-clean keeps plain marching cubes).
+/// Writes DIR/level-0.ply, DIR/level-1.ply, … and DIR/report.json, all at the end, and removes
+/// level files of an earlier run that this one does not write.
 ///
 /// Examples:
 ///   voxlod lod bunny.obj -o bunny-lods
@@ -50,10 +58,10 @@ pub struct LodArgs {
     /// Folder for the level meshes and report.json (created if missing)
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
-    /// Samples across the longest side of the object at level 0
-    #[arg(long, value_name = "N", default_value_t = 256,
-        value_parser = number::<usize>, allow_hyphen_values = true)]
-    pub resolution: usize,
+    /// Samples across the longest side of the object at level 0 [default: for a mesh, from its
+    /// triangle count, at most 256; for a volume, 256]
+    #[arg(long, value_name = "N", value_parser = number::<usize>, allow_hyphen_values = true)]
+    pub resolution: Option<usize>,
     /// Number of levels, each half the resolution of the one before
     #[arg(long, value_name = "L", default_value_t = 6, conflicts_with = "resolutions",
         value_parser = number::<usize>, allow_hyphen_values = true)]
@@ -86,6 +94,12 @@ pub struct LodArgs {
     /// Print the report as JSON on standard output (no progress bar)
     #[arg(long)]
     pub json: bool,
+    /// Let the genus rise between levels as plain filtering makes it (the paper's pyramid)
+    #[arg(long)]
+    pub no_monotone: bool,
+    /// Keep plain marching cubes (no cleaning of slivers, needles and self-intersections)
+    #[arg(long)]
+    pub no_clean: bool,
     /// Then simplify each level within E by simplification envelopes (genus and holes stay): a
     /// distance, a percentage of the level's diagonal (1%), or voxels of the level (1vox)
     #[arg(long, value_name = "E", value_parser = parse_level_epsilon,
@@ -105,9 +119,11 @@ pub struct LodArgs {
         allow_hyphen_values = true
     )]
     pub error: Option<voxlod::budget::ErrorTarget>,
-    /// The geometric stage after the voxel stage: auto (whichever is measured closer to the
-    /// input), quadric (meshoptimizer, topology kept), envelope (simplification envelopes,
-    /// ε-bounded) or none (the marching-cubes level nearest the budget)
+    /// The geometric stage after the voxel stage: auto (quadric, and envelopes where it stalls
+    /// above the budget, whichever is measured closer to the input), quadric (meshoptimizer,
+    /// topology kept), envelope (simplification envelopes, ε-bounded) or none (the
+    /// marching-cubes level nearest the budget). With auto or quadric, a budget that affords the
+    /// input mesh's genus and components collapses the input itself (stage input-quadric)
     #[arg(
         long,
         value_name = "STAGE",
@@ -147,8 +163,16 @@ struct LevelReport {
     genus: Option<i64>,
     components: usize,
     closed_manifold: bool,
+    /// Handles fewer than the level above (0 for the first level).
+    handles_removed: u64,
+    /// Surfaces (pieces and cavities) more (> 0) or fewer (< 0) than the level above.
+    components_gained: i64,
+    /// What keeping the genus from rising did here; absent with --no-monotone.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    topology_change: Option<TopologyRecord>,
     seconds: f64,
     sample_seconds: f64,
+    monotone_seconds: f64,
     contour_seconds: f64,
     write_seconds: f64,
     density: Option<DensityReport>,
@@ -163,6 +187,9 @@ struct LodReport {
     route: &'static str,
     filter: Filter,
     iso: f32,
+    /// How the finest resolution was chosen from the input's triangles (absent when given).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    finest: Option<FinestChoice>,
     /// For a volume: the frame of the meshes (lps, ras, unknown) and the input's index-to-world
     /// matrix in it.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -184,6 +211,9 @@ fn parse_level_epsilon(text: &str) -> Result<LevelEpsilon, String> {
     text.parse()
 }
 
+/// The finest resolution of a volume, and the most a mesh's may be chosen from its triangles.
+pub(super) const DEFAULT_RESOLUTION: usize = 256;
+
 /// `level-N.EXT` for a mesh extension: the names `lod` writes, and the only ones it removes.
 fn is_level_file(name: &str) -> bool {
     let Some((number, ext)) = name
@@ -201,22 +231,32 @@ fn is_level_file(name: &str) -> bool {
 
 /// The library's options from the flags.
 fn lod_options(args: &LodArgs) -> Result<LodOptions, CliError> {
-    if args.resolution == 0 {
+    if args.resolution == Some(0) {
         return Err(CliError::usage("--resolution must be at least 1"));
     }
+    let resolution = args.resolution.unwrap_or(DEFAULT_RESOLUTION);
     let mut pyramid = match &args.resolutions {
         Some(list) => PyramidOptions::with_resolutions(list.clone(), args.filter),
         None if args.levels == 0 => return Err(CliError::usage("--levels must be at least 1")),
-        None => PyramidOptions::halving(args.resolution, args.levels, args.filter),
+        None => PyramidOptions::halving(resolution, args.levels, args.filter),
     };
     pyramid.radius_voxels = args.radius;
     pyramid.lines_per_radius = args.lines_per_radius;
+    let defaults = LodOptions::default();
+    let given = args.resolution.is_some() || args.resolutions.is_some();
     Ok(LodOptions {
         pyramid,
         iso: args.iso,
         normals: true,
         then_envelope: args.then_envelope.map(voxlod::ThenEnvelope::new),
-        ..LodOptions::default()
+        finest: if given {
+            Finest::Given
+        } else {
+            defaults.finest
+        },
+        monotone: defaults.monotone.filter(|_| !args.no_monotone),
+        clean: defaults.clean.filter(|_| !args.no_clean),
+        ..defaults
     })
 }
 
@@ -296,11 +336,13 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         }
     }
     let mut levels = Vec::with_capacity(lod.levels.len());
-    for level in &lod.levels {
+    for (k, level) in lod.levels.iter().enumerate() {
+        let previous = k.checked_sub(1).map(|above| &lod.levels[above].topology);
         levels.push(write_level(
             &args,
             &mut out,
             level,
+            previous,
             lod.levels[0].plan.voxel_size,
         )?);
     }
@@ -445,6 +487,7 @@ fn write_level(
     args: &LodArgs,
     out: &mut OutputSet,
     level: &LodLevel,
+    previous: Option<&Topology>,
     finest_voxel: f64,
 ) -> Result<LevelReport, CliError> {
     let plan = &level.plan;
@@ -459,6 +502,17 @@ fn write_level(
     let write_seconds = write_start.elapsed().as_secs_f64();
     let t = &level.topology;
     let envelope_seconds = level.envelope.as_ref().map_or(0.0, |e| e.seconds);
+    let (handles_removed, components_gained) = match (&level.monotone, previous) {
+        (Some(record), _) => (record.handles_removed, record.surfaces_gained),
+        (None, Some(above)) => (
+            above
+                .genus
+                .unwrap_or(0)
+                .saturating_sub(t.genus.unwrap_or(0)) as u64,
+            t.components as i64 - above.components as i64,
+        ),
+        (None, None) => (0, 0),
+    };
     Ok(LevelReport {
         level: plan.level,
         resolution: plan.resolution,
@@ -473,8 +527,16 @@ fn write_level(
         genus: t.genus,
         components: t.components,
         closed_manifold: t.is_closed_manifold() && t.is_consistently_oriented(),
-        seconds: level.sample_seconds + level.contour_seconds + envelope_seconds + write_seconds,
+        handles_removed,
+        components_gained,
+        topology_change: level.monotone,
+        seconds: level.sample_seconds
+            + level.monotone_seconds
+            + level.contour_seconds
+            + envelope_seconds
+            + write_seconds,
         sample_seconds: level.sample_seconds,
+        monotone_seconds: level.monotone_seconds,
         contour_seconds: level.contour_seconds,
         write_seconds,
         density: level.density,
@@ -514,6 +576,7 @@ fn lod_report(
         route: lod.route.name(),
         filter: args.filter,
         iso: lod.iso,
+        finest: lod.finest,
         levels,
         glb: None,
         total_seconds: lod.seconds,

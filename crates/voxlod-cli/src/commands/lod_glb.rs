@@ -88,11 +88,7 @@ pub fn add_chain(
 ) -> Result<GlbReport, CliError> {
     let chain: Vec<ChainLevel> = levels
         .iter()
-        .map(|(level, mesh, cell_size)| ChainLevel {
-            level: *level,
-            mesh,
-            cell_size: *cell_size,
-        })
+        .map(|(level, mesh, cell_size)| ChainLevel::new(*level, mesh, *cell_size))
         .collect();
     let options = match args.compress {
         Some(CompressArg::Meshopt) => ChainOptions::meshopt(),

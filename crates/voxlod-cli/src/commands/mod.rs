@@ -15,6 +15,7 @@ pub mod inspect;
 pub mod labels;
 pub mod labels_glb;
 pub mod layers;
+pub mod layers_lod;
 pub mod lod;
 pub mod lod_budget;
 pub mod lod_glb;

@@ -72,7 +72,8 @@ pub fn run(args: ViewArgs) -> Result<(), CliError> {
             .map(|(m, p)| ModelReport {
                 input: p.display().to_string(),
                 kind: match (m.glb.layered, m.glb.levels) {
-                    (true, _) => "layered",
+                    (true, 1) => "layered",
+                    (true, _) => "layered lod chain",
                     (false, 1) => "mesh",
                     _ => "lod chain",
                 },

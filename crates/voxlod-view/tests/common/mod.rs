@@ -25,11 +25,7 @@ pub fn write_sphere_chain(path: &Path, options: &ChainOptions) -> Vec<TriangleMe
         .iter()
         .zip(SPHERE_CELLS)
         .enumerate()
-        .map(|(level, (mesh, cell_size))| ChainLevel {
-            level,
-            mesh,
-            cell_size,
-        })
+        .map(|(level, (mesh, cell_size))| ChainLevel::new(level, mesh, cell_size))
         .collect();
     write_chain_glb(path, &levels, options).unwrap();
     meshes
@@ -112,4 +108,40 @@ pub fn write_two_layers(path: &Path, radius: f64) {
     });
     let bytes = voxlod_gltf::to_glb(&doc, bin).unwrap();
     std::fs::write(path, bytes).unwrap();
+}
+
+/// A ball of radius 1 at the origin as layered shells at resolutions 16 and 8, chained
+/// (`voxlod layers --lod`); returns the two levels' filter radii.
+#[allow(dead_code)] // not every test file uses it
+pub fn write_layered_ball_chain(path: &Path) -> [f64; 2] {
+    use voxlod_layers::{layer_solid, layered_chain_bytes, GlbOptions, LayeredLevel};
+    let solid =
+        voxlod_sampling::CsgSolid::new(voxlod_sampling::Shape::sphere(glam::DVec3::ZERO, 1.0))
+            .unwrap();
+    let levels: Vec<_> = [16, 8]
+        .iter()
+        .map(|&resolution| {
+            let options = voxlod_layers::LayersOptions {
+                resolution,
+                ..Default::default()
+            };
+            layer_solid(&solid, &options).unwrap()
+        })
+        .collect();
+    let radii = [
+        levels[0].mesh.grid.spacing[0],
+        levels[1].mesh.grid.spacing[0],
+    ];
+    let chain: Vec<LayeredLevel> = levels
+        .iter()
+        .zip(radii)
+        .map(|(l, radius)| LayeredLevel {
+            mesh: &l.mesh,
+            orders: &l.orders,
+            radius,
+        })
+        .collect();
+    let bytes = layered_chain_bytes(&chain, &GlbOptions::default()).unwrap();
+    std::fs::write(path, bytes).unwrap();
+    radii
 }
