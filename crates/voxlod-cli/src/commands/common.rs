@@ -145,8 +145,18 @@ pub struct RawArgs {
     pub header_bytes: u64,
     /// DICOM: the SeriesInstanceUID to read from a folder holding several series (without it,
     /// such a folder is refused with the list of its series)
-    #[arg(long, value_name = "UID", help_heading = "DICOM")]
+    #[arg(long, value_name = "UID", help_heading = "DICOM", value_parser = series_uid,
+        allow_hyphen_values = true)]
     pub series: Option<String>,
+}
+
+/// A DICOM UID as `--series` takes it: digits and dots, at most 64 characters (PS3.5 §9.1).
+fn series_uid(text: &str) -> Result<String, String> {
+    let digits_and_dots = text.chars().all(|c| c.is_ascii_digit() || c == '.');
+    if text.is_empty() || text.len() > 64 || !digits_and_dots {
+        return Err("a SeriesInstanceUID is digits and dots, at most 64 characters".into());
+    }
+    Ok(text.to_string())
 }
 
 impl RawArgs {

@@ -116,12 +116,14 @@ pub fn labels_glb(labels: &[LabelMesh]) -> Result<Vec<u8>, CliError> {
     for l in labels.iter().filter(|l| !l.mesh.triangles.is_empty()) {
         let mut attributes = serde_json::Map::new();
         let mut indices = None;
-        for s in plain_streams(l.mesh) {
-            let accessor = buffers.stream(&s);
+        // Plain streams of a triangle mesh: positions, normals, indices (no thick-edge widths).
+        let streams = plain_streams(l.mesh);
+        for s in streams.iter().filter(|s| s.kind != StreamKind::Widths) {
+            let accessor = buffers.stream(s);
             let semantic = match s.kind {
                 StreamKind::Positions => "POSITION",
                 StreamKind::Normals => "NORMAL",
-                StreamKind::Indices => {
+                _ => {
                     indices = Some(accessor);
                     continue;
                 }
