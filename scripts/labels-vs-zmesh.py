@@ -6,11 +6,15 @@ Run with the peers' Python, which has numpy and zmesh:
 
     ~/.cache/voxlod-peers/bin/python scripts/labels-vs-zmesh.py [VOXLOD_BINARY] [--size N]
 
-The label map is made here: N^3 voxels (default 192) of spacing 1 x 1 x 1.5 mm holding eight
-ellipsoids, labels 1..8, two pairs touching, written as a NRRD (uint16). zmesh meshes every label
-at once (its `close=True` so meshes at the border are closed, no simplification, then again with
-`reduction_factor=10`); voxlod makes one level per label at the map's resolution (one filtered
-marching-cubes surface each, `--levels 1`). Both run on all cores the machine gives them.
+The label map is made here: N^3 voxels (default 256) of spacing 1 x 1 x 1.5 mm holding L
+ellipsoids (default 50, `--labels L`), random but fixed by a seed, later ones drawn over earlier
+ones where they overlap, so many touch; written as a NRRD (uint16). `--map FILE.nrrd` runs on an
+existing uint8/uint16 label map instead (raw or gzip NRRD with axis-aligned `space directions`).
+zmesh meshes every label at once (`close=True` so meshes at the border are closed, no
+simplification, then again with `reduction_factor=10`); voxlod makes one level per label at the
+map's resolution (one filtered marching-cubes surface each, `--levels 1`) and writes it, plus
+labels.vtp, labels.glb and report.json. voxlod runs on all cores (rayon); zmesh on one. The load
+average before the runs is printed: on a shared machine the times are only indicative.
 """
 
 import json
@@ -24,23 +28,34 @@ import numpy as np
 import zmesh
 
 
-def label_map(n):
+def label_map(n, count, seed=1):
+    rng = np.random.default_rng(seed)
     z, y, x = np.mgrid[0:n, 0:n, 0:n].astype(np.float32) / n
     labels = np.zeros((n, n, n), dtype=np.uint16)
-    blobs = [
-        ((0.30, 0.30, 0.30), (0.12, 0.10, 0.08)),
-        ((0.30, 0.30, 0.46), (0.12, 0.10, 0.08)),  # touches label 1
-        ((0.70, 0.30, 0.30), (0.08, 0.15, 0.10)),
-        ((0.30, 0.70, 0.30), (0.15, 0.08, 0.10)),
-        ((0.70, 0.70, 0.70), (0.10, 0.10, 0.10)),
-        ((0.70, 0.70, 0.50), (0.10, 0.10, 0.10)),  # touches label 5
-        ((0.50, 0.50, 0.50), (0.05, 0.05, 0.05)),
-        ((0.20, 0.80, 0.80), (0.06, 0.12, 0.06)),
-    ]
-    for value, (c, r) in enumerate(blobs, start=1):
+    for value in range(1, count + 1):
+        c = rng.uniform(0.15, 0.85, 3)
+        r = rng.uniform(0.03, 0.12, 3)
         inside = ((x - c[0]) / r[0]) ** 2 + ((y - c[1]) / r[1]) ** 2 + ((z - c[2]) / r[2]) ** 2 <= 1
-        labels[inside & (labels == 0)] = value
+        labels[inside] = value
     return labels
+
+
+def read_nrrd(path):
+    """A uint8/uint16 NRRD label map (raw or gzip) with axis-aligned space directions."""
+    import gzip
+    import re
+    with open(path, "rb") as f:
+        data = f.read()
+    head, _, body = data.partition(b"\n\n")
+    fields = dict(l.split(": ", 1) for l in head.decode().splitlines()[1:] if ": " in l)
+    sizes = [int(v) for v in fields["sizes"].split()]
+    dtype = {"uint8": "u1", "unsigned char": "u1", "uint16": "<u2", "unsigned short": "<u2"}[fields["type"]]
+    if fields.get("encoding") in ("gzip", "gz"):
+        body = gzip.decompress(body)
+    vectors = re.findall(r"\(([^)]*)\)", fields["space directions"])
+    spacing = tuple(float(np.linalg.norm([float(c) for c in v.split(",")])) for v in vectors)
+    labels = np.frombuffer(body[: np.prod(sizes) * np.dtype(dtype).itemsize], dtype=dtype)
+    return labels.reshape(sizes[::-1]).astype(np.uint16), spacing
 
 
 def write_nrrd(path, labels, spacing):
@@ -74,20 +89,30 @@ def run_zmesh(labels, spacing, reduction):
 def main():
     args = sys.argv[1:]
     binary = "target/release/voxlod"
-    n = 192
+    n, count, given = 256, 50, None
     while args:
         a = args.pop(0)
         if a == "--size":
             n = int(args.pop(0))
+        elif a == "--labels":
+            count = int(args.pop(0))
+        elif a == "--map":
+            given = args.pop(0)
         else:
             binary = a
-    spacing = (1.0, 1.0, 1.5)
-    labels = label_map(n)
+    if given:
+        labels, spacing = read_nrrd(given)
+    else:
+        spacing = (1.0, 1.0, 1.5)
+        labels = label_map(n, count)
     voxel = spacing[0] * spacing[1] * spacing[2]
-    counts = {int(v): int((labels == v).sum()) for v in np.unique(labels) if v != 0}
+    values, sizes = np.unique(labels, return_counts=True)
+    counts = {int(v): int(c) for v, c in zip(values, sizes) if v != 0}
+    load = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as tmp:
-        seg = os.path.join(tmp, "seg.nrrd")
-        write_nrrd(seg, labels, spacing)
+        seg = given or os.path.join(tmp, "seg.nrrd")
+        if not given:
+            write_nrrd(seg, labels, spacing)
         start = time.perf_counter()
         done = subprocess.run(
             [binary, "labels", seg, "-o", os.path.join(tmp, "out"), "--json"],
@@ -100,18 +125,26 @@ def main():
                 for l in json.loads(done.stdout)["labels"]}
     z_seconds, z = run_zmesh(labels, spacing, 0)
     zr_seconds, zr = run_zmesh(labels, spacing, 10)
-    print(f"label map {n}^3, spacing {spacing}, {len(counts)} labels")
+    shape = "x".join(str(s) for s in labels.shape[::-1])
+    print(f"label map {given or 'generated'} {shape}, spacing {spacing}, {len(counts)} labels; "
+          f"load average {load:.1f} on {os.cpu_count()} cores before the runs")
     print(f"voxlod labels: {ours_seconds:.2f} s (whole command: read, filter, contour, write)")
     print(f"zmesh:         {z_seconds:.2f} s (mesh + get, no simplification); "
           f"{zr_seconds:.2f} s with reduction_factor=10")
     print("label  voxels*dV   voxlod tris  vol err   zmesh tris  vol err   zmesh/10 tris  vol err")
+    totals = [0, 0, 0]
+    errors = [[], [], []]
     for label, count in counts.items():
         exact = count * voxel
         row = [f"{label:5d}", f"{exact:10.0f}"]
-        for result in (ours, z, zr):
+        for i, result in enumerate((ours, z, zr)):
             tris, vol = result.get(label, (0, 0.0))
+            totals[i] += tris
+            errors[i].append(abs(vol / exact - 1))
             row += [f"{tris:12d}", f"{100 * (vol / exact - 1):+7.2f}%"]
         print("  ".join(row))
+    print("total  " + " " * 10 + "  ".join(
+        f"{t:12d}  median |err| {100 * float(np.median(e)):.2f}%" for t, e in zip(totals, errors)))
 
 
 if __name__ == "__main__":

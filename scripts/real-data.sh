@@ -2,8 +2,11 @@
 # Full-resolution runs of `voxlod lod` on every mesh of ../shared/data, on the CT head at both
 # thresholds and on the other scans (6 levels, the command's defaults): every level must be a
 # closed manifold, and the genus must never rise from a level to the next (each chain's
-# resolutions and genus sequence are printed). Takes a few minutes; CI runs the
-# moderate-resolution version.
+# resolutions and genus sequence are printed). With them, the moderate-resolution tests, among
+# them the orientation check of the shared CT head, NIfTI (Colin27), MetaImage (lung CT) and
+# NRRD (tooth): the centroid of each mesh, in LPS, against the world centroid of the
+# thresholded voxels as nibabel's affine or SimpleITK places them (skipped, saying why, without
+# the peers' Python). Takes a few minutes; CI runs the moderate-resolution tests only.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo test --release -p voxlod-cli --test real_data -- --include-ignored --nocapture "$@"

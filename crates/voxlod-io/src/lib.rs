@@ -89,6 +89,7 @@ mod label_table;
 mod metaimage;
 mod nifti;
 mod nifti_affine;
+mod nifti_write;
 mod nrrd;
 mod obj;
 mod off;
@@ -543,7 +544,8 @@ pub fn write_poly_mesh(path: &Path, mesh: &PolyMesh) -> Result<(), IoError> {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct VolumeWriteOptions {
     /// Compress the samples: gzip for NRRD, zlib for VTK XML (`.vti`) and MetaImage. Legacy
-    /// VTK and raw files are never compressed. Off by default: compressing a large volume
+    /// VTK and raw files are never compressed; NIfTI is gzipped when its name ends in `.gz`,
+    /// whatever this says. Off by default: compressing a large volume
     /// costs far more time than writing it (vtkio's compressor is the slowest, several seconds
     /// for a 256³ volume; NRRD with gzip is the quick way to a small file).
     pub compress: bool,
@@ -606,7 +608,11 @@ pub fn write_volume(path: &Path, volume: &Volume) -> Result<(), IoError> {
 
 /// Writes a volume by extension, samples as `f32`: `.nrrd`, `.nhdr` (+ `<name>.raw` beside
 /// it), `.vti`, `.vtk` (legacy), `.mha`, `.mhd` (+ `<name>.raw`), `.raw` (headerless,
-/// little-endian; spacing and origin are not stored). NIfTI is read-only. The data file of a
+/// little-endian; spacing and origin are not stored), `.nii` and `.nii.gz` (NIfTI-1, gzip by
+/// the name alone; sform and qform, `nifti_write.rs`). Every format with a header keeps the
+/// index-to-world transform: NRRD and MetaImage in full (frame included), NIfTI in RAS, VTK XML
+/// as its `Direction` (VTK has no anatomical frame); legacy VTK refuses an oblique volume. DICOM
+/// is read-only. The data file of a
 /// `.nhdr` or `.mhd` never replaces another file: when `<name>.raw` exists (and is not the data
 /// file of the header being replaced) it gets a free name that the header records; an
 /// [`OutputSet`] says which.
@@ -626,10 +632,10 @@ pub(crate) fn check_volume_for_writing(
     volume: &Volume,
 ) -> Result<VolumeFormat, IoError> {
     let format = volume_format_of(path)?;
-    if matches!(format, VolumeFormat::Nifti | VolumeFormat::Dicom) {
+    if format == VolumeFormat::Dicom {
         return Err(IoError::unsupported(
             path,
-            format!("writing {format} is not supported; write .nrrd, .vti, .mha or .vtk"),
+            format!("writing {format} is not supported; write .nrrd, .nii, .vti, .mha or .vtk"),
         ));
     }
     let g = &volume.grid;
@@ -647,12 +653,10 @@ pub(crate) fn check_volume_for_writing(
     }
     voxlod_core::Grid::new(g.dims, g.spacing, g.origin)
         .map_err(|e| IoError::malformed(path, format!("cannot write: {e}")))?;
-    if matches!(format, VolumeFormat::Vti | VolumeFormat::Vtk)
-        && !volume.orientation.is_axis_aligned()
-    {
+    if format == VolumeFormat::Vtk && !volume.orientation.is_axis_aligned() {
         return Err(IoError::unsupported(
             path,
-            "the volume is oblique (its index axes are not the world axes) and VTK image data as written here cannot hold a direction; write .nrrd or .mha to keep it",
+            "the volume is oblique (its index axes are not the world axes) and legacy VTK structured points cannot hold a direction; write .vti, .nrrd, .nii or .mha to keep it",
         ));
     }
     Ok(format)
@@ -693,7 +697,11 @@ pub(crate) fn stage_volume(
         VolumeFormat::Mha => vec![metaimage::write(path, volume, compress)?],
         VolumeFormat::Mhd => metaimage::write_detached(path, detached()?, volume, compress)?.into(),
         VolumeFormat::Raw => vec![raw::write(path, volume)?],
-        VolumeFormat::Nifti | VolumeFormat::Dicom => {
+        VolumeFormat::Nifti => {
+            let gzip = lower_name(path).ends_with(".gz");
+            vec![nifti_write::write(path, volume, gzip)?]
+        }
+        VolumeFormat::Dicom => {
             return Err(IoError::unsupported(
                 path,
                 format!("writing {format} is not supported"),

@@ -128,20 +128,41 @@ pub(crate) fn save(
     match flavor {
         Flavor::Legacy => stage(path, |w| vtk.write_legacy(w).map_err(to_io)),
         Flavor::Xml => {
-            let (compressor, level) = if compress {
-                (Compressor::ZLib, 6)
-            } else {
-                (Compressor::None, 0)
-            };
-            let file = vtk.try_into_xml_format(compressor, level).map_err(|e| {
-                IoError::unsupported(path, format!("cannot express as VTK XML: {e}"))
-            })?;
+            let file = xml_file(path, vtk, compress)?;
             stage(path, |w| {
                 file.write(w)
                     .map_err(|e| std::io::Error::other(e.to_string()))
             })
         }
     }
+}
+
+/// vtkio's XML model of `vtk`, zlib-compressed when asked.
+fn xml_file(path: &Path, vtk: Vtk, compress: bool) -> Result<vtkio::xml::VTKFile, IoError> {
+    let (compressor, level) = if compress {
+        (Compressor::ZLib, 6)
+    } else {
+        (Compressor::None, 0)
+    };
+    vtk.try_into_xml_format(compressor, level)
+        .map_err(|e| IoError::unsupported(path, format!("cannot express as VTK XML: {e}")))
+}
+
+/// Saves VTK XML through the atomic writer after `patch` has changed vtkio's text (for what
+/// vtkio's model cannot hold, such as an image's `Direction`). The whole file is held in memory
+/// once more.
+pub(crate) fn save_patched(
+    path: &Path,
+    vtk: Vtk,
+    compress: bool,
+    patch: impl FnOnce(Vec<u8>) -> Result<Vec<u8>, String>,
+) -> Result<TempFile, IoError> {
+    let file = xml_file(path, vtk, compress)?;
+    let mut text = Vec::new();
+    file.write(&mut text)
+        .map_err(|e| IoError::unsupported(path, format!("cannot write VTK XML: {e}")))?;
+    let text = patch(text).map_err(|e| IoError::unsupported(path, e))?;
+    stage(path, |w| std::io::Write::write_all(w, &text))
 }
 
 /// Any numeric buffer as `f64`.

@@ -8,8 +8,10 @@
 //! Images with several pieces, or with cell data only, are refused. The `Direction` attribute of
 //! an XML image (VTK 9: nine numbers, row by row, its columns the world directions of the index
 //! axes), which vtkio drops, is read here from the `<ImageData>` tag; VTK has no anatomical
-//! frame, so the frame is unknown. vtkio cannot write a `Direction`, so an oblique volume is
-//! refused for VTK output (NRRD and MetaImage keep it).
+//! frame, so the frame is unknown. vtkio cannot write a `Direction` either: for an oblique
+//! volume it is put into the `<ImageData>` tag of vtkio's output here (`with_direction`), in the
+//! volume's own world (its frame is not recorded); legacy files have no place for it, so an
+//! oblique volume is refused for `.vtk` output (NRRD, NIfTI, MetaImage and VTI keep it).
 //!
 //! Writing: one piece, point data `values` as `f32`. Legacy files are binary big-endian; XML
 //! files zlib-compressed when [`VolumeWriteOptions::compress`](crate::VolumeWriteOptions) asks.
@@ -213,5 +215,30 @@ pub(crate) fn write(
             pieces: vec![Piece::Inline(Box::new(piece))],
         },
     };
+    if flavor == Flavor::Xml && !volume.orientation.is_axis_aligned() {
+        return vtk::save_patched(path, vtk, compress, |xml| {
+            with_direction(xml, volume.orientation.direction)
+        });
+    }
     vtk::save(path, vtk, flavor, compress)
+}
+
+/// vtkio's XML with ` Direction="..."` (row by row) added to the `<ImageData` tag.
+fn with_direction(xml: Vec<u8>, direction: DMat3) -> Result<Vec<u8>, String> {
+    const TAG: &[u8] = b"<ImageData";
+    let at = xml
+        .windows(TAG.len())
+        .position(|w| w == TAG)
+        .ok_or("vtkio wrote no <ImageData> tag")?
+        + TAG.len();
+    let rows: Vec<String> = (0..3)
+        .flat_map(|r| (0..3).map(move |c| direction.col(c)[r]))
+        .map(|v| v.to_string())
+        .collect();
+    let attribute = format!(" Direction=\"{}\"", rows.join(" "));
+    let mut out = Vec::with_capacity(xml.len() + attribute.len());
+    out.extend_from_slice(&xml[..at]);
+    out.extend_from_slice(attribute.as_bytes());
+    out.extend_from_slice(&xml[at..]);
+    Ok(out)
 }

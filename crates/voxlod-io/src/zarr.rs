@@ -145,8 +145,17 @@ impl ZarrVolume {
             return Err(IoError::malformed(
                 &self.path,
                 format!(
-                    "the region {start:?} + {dims:?} is not inside the {}x{}x{} array",
-                    whole[0], whole[1], whole[2]
+                    "the region from sample ({}, {}, {}) of {}x{}x{} samples is not inside the \
+                     {}x{}x{} array",
+                    start[0],
+                    start[1],
+                    start[2],
+                    dims[0],
+                    dims[1],
+                    dims[2],
+                    whole[0],
+                    whole[1],
+                    whole[2]
                 ),
             ));
         }

@@ -344,7 +344,7 @@ fn failed_writes_leave_nothing_behind() {
         assert_error(write_mesh(&path, &cube()), IoErrorKind::Access, &path);
     }
     for name in [
-        "v.nrrd", "v.nhdr", "v.vti", "v.vtk", "v.mha", "v.mhd", "v.raw",
+        "v.nrrd", "v.nhdr", "v.vti", "v.vtk", "v.mha", "v.mhd", "v.raw", "v.nii", "v.nii.gz",
     ] {
         let path = missing.join(name);
         assert_error(
@@ -356,11 +356,11 @@ fn failed_writes_leave_nothing_behind() {
     assert!(!missing.exists());
 
     // Things that cannot be written fail before a file is touched.
-    let nii = dir.path().join("v.nii");
+    let dcm = dir.path().join("v.dcm");
     assert_error(
-        write_volume(&nii, &small_volume()),
+        write_volume(&dcm, &small_volume()),
         IoErrorKind::Unsupported,
-        &nii,
+        &dcm,
     );
     let mut bad = cube();
     bad.triangles[4][2] = 99;

@@ -322,10 +322,13 @@ impl Nifti {
         for k in 0..3 {
             b[268 + 4 * k..272 + 4 * k].copy_from_slice(&f32b(self.qform.1[k]));
         }
+        // The sform's steps are the voxel sizes of pixdim, as real writers make them (the
+        // sform wins over pixdim when its code is set, as in nibabel).
+        let p = self.pixdim;
         let srow = [
-            [1.0, 0.0, 0.0, self.sform.1[0]],
-            [0.0, 1.0, 0.0, self.sform.1[1]],
-            [0.0, 0.0, 1.0, self.sform.1[2]],
+            [p[1], 0.0, 0.0, self.sform.1[0]],
+            [0.0, p[2], 0.0, self.sform.1[1]],
+            [0.0, 0.0, p[3], self.sform.1[2]],
         ];
         for (r, row) in srow.iter().enumerate() {
             for (k, v) in row.iter().enumerate() {

@@ -172,8 +172,14 @@ fn volume_seeds() -> Vec<Seed> {
         single("n.nii.gz", gzip(&nii)),
         single("r.raw", (0..16u8).collect()),
         dicom_seed(),
+        single("s.seg.nrrd", SEG_NRRD.to_vec()),
+        seed_written("w.nii", |p| write_volume(p, &v).unwrap()),
+        seed_written("z.nii.gz", |p| write_volume(p, &v).unwrap()),
     ]
 }
+
+/// A Slicer segmentation: a 2x2x2 label map with two named, coloured segments.
+const SEG_NRRD: &[u8] = b"NRRD0004\ntype: uint8\ndimension: 3\nspace: left-posterior-superior\nsizes: 2 2 2\nspace directions: (0.5,0,0) (0,0.5,0) (0,0,1)\nspace origin: (-1,2,3)\nencoding: raw\nSegment0_Name:=Left Lung\nSegment0_LabelValue:=1\nSegment0_Color:=0.9 0.2 0.1\nSegment0_Layer:=0\nSegment1_Name:=heart\nSegment1_LabelValue:=2\nSegment1_Color:=0.1 0.3 0.9\nSegment1_Layer:=0\n\n\x00\x01\x01\x02\x00\x02\x01\x00";
 
 /// One CT slice (4x4, slope 2, intercept -1024) written with dicom-object.
 fn dicom_seed() -> Seed {

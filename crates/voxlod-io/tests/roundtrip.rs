@@ -183,7 +183,7 @@ fn volume_formats_keep_samples_spacing_and_origin() {
     let dir = tempfile::tempdir().unwrap();
     let volume = small_volume();
     for name in [
-        "v.nrrd", "v.nhdr", "v.vti", "v.vtk", "v.mha", "v.mhd", "V.NRRD",
+        "v.nrrd", "v.nhdr", "v.vti", "v.vtk", "v.mha", "v.mhd", "V.NRRD", "v.nii", "v.nii.gz",
     ] {
         for compress in [false, true] {
             let path = dir.path().join(name);

@@ -143,6 +143,20 @@ pub struct RawArgs {
     #[arg(long, value_name = "BYTES", default_value_t = 0, help_heading = "Raw volumes",
         value_parser = number::<u64>, allow_hyphen_values = true)]
     pub header_bytes: u64,
+    /// DICOM: the SeriesInstanceUID to read from a folder holding several series (without it,
+    /// such a folder is refused with the list of its series)
+    #[arg(long, value_name = "UID", help_heading = "DICOM", value_parser = series_uid,
+        allow_hyphen_values = true)]
+    pub series: Option<String>,
+}
+
+/// A DICOM UID as `--series` takes it: digits and dots, at most 64 characters (PS3.5 §9.1).
+fn series_uid(text: &str) -> Result<String, String> {
+    let digits_and_dots = text.chars().all(|c| c.is_ascii_digit() || c == '.');
+    if text.is_empty() || text.len() > 64 || !digits_and_dots {
+        return Err("a SeriesInstanceUID is digits and dots, at most 64 characters".into());
+    }
+    Ok(text.to_string())
 }
 
 impl RawArgs {
@@ -192,7 +206,19 @@ pub fn read_input(path: &Path, raw: &RawArgs) -> Result<Input, CliError> {
     if let Some(layout) = raw.layout()? {
         return Ok(Input::Volume(voxlod::io::read_volume(path, Some(&layout))?));
     }
-    match voxlod::io::file_kind(path)? {
+    let kind = voxlod::io::file_kind(path)?;
+    if let Some(uid) = &raw.series {
+        if kind != FileKind::Volume(voxlod::io::VolumeFormat::Dicom) {
+            return Err(CliError::usage(format!(
+                "--series {uid}: {} is not a DICOM folder or file",
+                path.display()
+            )));
+        }
+        let options = voxlod::io::DicomOptions::series(uid);
+        let volume = voxlod::io::read_dicom_series(&[path.to_path_buf()], &options)?;
+        return Ok(Input::Volume(volume));
+    }
+    match kind {
         FileKind::Mesh(_) => Ok(Input::Mesh(voxlod::io::read_mesh(path)?)),
         FileKind::Volume(voxlod::io::VolumeFormat::Raw) => Err(CliError::msg(format!(
             "{}: a headerless raw volume needs --dims X,Y,Z (and --dtype, --endian, --spacing)",

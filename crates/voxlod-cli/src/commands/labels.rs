@@ -15,6 +15,7 @@ use voxlod::sampling::Filter;
 use voxlod::{EnvelopeStep, LevelEpsilon, ThenEnvelope};
 
 use super::common::{check_computed_mesh, in_dir, print_json, progress, CliError, MeshExtension};
+use super::labels_glb::{labels_glb, LabelMesh};
 use super::values::number;
 use super::world::{frame_report, FrameArg, FrameReport};
 
@@ -24,9 +25,10 @@ use super::world::{frame_report, FrameArg, FrameReport};
 /// contoured like a thresholded scan (paper §2, §4), so --levels, --filter, --radius and
 /// --then-envelope mean what they mean for `voxlod lod`; level 0 samples at the map's finest
 /// spacing. Writes DIR/label-V.ply (or label-V-NAME.ply when the file names its segments,
-/// label-V-K.ply for level K of several), DIR/labels.vtp with every label's level 0 and a
-/// per-vertex `label`, and DIR/report.json (per label: voxels, voxel volume, and per level
-/// triangles, mesh volume and area).
+/// label-V-K.ply for level K of several), every label's level 0 together in DIR/labels.vtp
+/// (per-vertex `label`) and DIR/labels.glb (one node per label, per-vertex `_LABEL`), and
+/// DIR/report.json (per label: voxels, voxel volume, and per level triangles, mesh volume and
+/// area).
 ///
 /// Examples:
 ///   voxlod labels segmentation.nii.gz -o organs
@@ -103,6 +105,8 @@ struct LabelsReport {
     #[serde(flatten)]
     frame: FrameReport,
     all_labels: Option<String>,
+    /// The glTF with every label's level 0 (`_LABEL` per vertex).
+    all_labels_gltf: Option<String>,
     labels: Vec<LabelReport>,
     total_seconds: f64,
 }
@@ -257,15 +261,26 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
     }
     bar.finish_and_clear();
     let all_labels = (!firsts.is_empty()).then(|| "labels.vtp".to_string());
+    let all_labels_gltf = (!firsts.is_empty()).then(|| "labels.glb".to_string());
     if all_labels.is_some() {
         let refs: Vec<(i64, &TriangleMesh)> = firsts.iter().map(|(v, m)| (*v, m)).collect();
         out.poly_mesh(&in_dir(&args.output, "labels.vtp"), &merge_labelled(&refs))?;
+        let gltf: Vec<LabelMesh> = firsts
+            .iter()
+            .map(|(value, mesh)| LabelMesh {
+                value: *value,
+                name: table.iter().find(|n| n.value == *value),
+                mesh,
+            })
+            .collect();
+        out.bytes(&in_dir(&args.output, "labels.glb"), &labels_glb(&gltf)?)?;
     }
     let frame = frame_report(&map, args.frame.target());
     let report = LabelsReport {
         input: args.input.display().to_string(),
         frame,
         all_labels,
+        all_labels_gltf,
         labels: reports,
         total_seconds: start.elapsed().as_secs_f64(),
     };

@@ -54,3 +54,15 @@ pub fn write_mesh(dir: &Path, name: &str, mesh: &TriangleMesh) -> PathBuf {
 pub fn arg(p: &Path) -> &str {
     p.to_str().unwrap()
 }
+
+/// The volume-weighted centroid and the enclosed volume of a closed mesh.
+pub fn centroid_and_volume(mesh: &TriangleMesh) -> (voxlod::core::glam::DVec3, f64) {
+    let (mut c, mut v) = (voxlod::core::glam::DVec3::ZERO, 0.0);
+    for t in &mesh.triangles {
+        let [a, b, d] = t.map(|i| mesh.positions[i as usize].as_dvec3());
+        let w = a.dot(b.cross(d)) / 6.0;
+        v += w;
+        c += (a + b + d) / 4.0 * w;
+    }
+    (c / v, v)
+}

@@ -65,6 +65,9 @@ pub fn read_by_extension(path: &Path) -> Result<(), IoError> {
         || (name.ends_with(".vtk") && (name.starts_with("mesh") || name.starts_with("cube")));
     if mesh {
         voxlod_io::read_poly_mesh(path).map(|_| ())
+    } else if name.ends_with(".seg.nrrd") {
+        voxlod_io::read_label_table(path)?;
+        voxlod_io::read_volume(path, None).map(|_| ())
     } else if name.ends_with(".raw") {
         let layout =
             voxlod_io::RawLayout::new([2, 2, 2], voxlod_io::RawType::U16, voxlod_io::Endian::Big);
