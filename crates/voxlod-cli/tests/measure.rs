@@ -702,15 +702,8 @@ fn evaluate_completes_on_the_bunny_and_the_rocker_arm() {
         assert!(o.status.success(), "{name}: {}", stderr(&o));
         let report = check_evaluation(&out, &ALL_METHODS);
         for c in report["curves"].as_array().unwrap() {
-            // Voxel-then-envelope on the bunny: the cleaned 256 level enveloped within one
-            // voxel has about 2,200 triangles, so 4000 is out of its reach; the rest must land.
-            let least = if c["method"] == "voxel-envelope" {
-                3
-            } else {
-                4
-            };
             assert!(
-                c["points"].as_array().unwrap().len() >= least,
+                c["points"].as_array().unwrap().len() >= 4,
                 "{name}: {} kept too few levels: {}",
                 c["method"],
                 c["misses"]

@@ -106,13 +106,64 @@ fn read_header(path: &Path, reader: &mut impl BufRead) -> Result<Header, IoError
     interpret(path, &fields)
 }
 
-fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError> {
-    let get = |key: &str| {
-        fields
-            .iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, v)| v.as_str())
+/// The value of a header key (keys are lower-cased when the header is read).
+fn field<'a>(fields: &'a [(String, String)], key: &str) -> Option<&'a str> {
+    fields
+        .iter()
+        .find(|(k, _)| k == key)
+        .map(|(_, v)| v.as_str())
+}
+
+/// Spacing, origin and orientation (LPS when a matrix or `AnatomicalOrientation` is given)
+/// from `ElementSpacing`, `Offset` and `TransformMatrix` or their synonyms.
+fn interpret_geometry(
+    path: &Path,
+    fields: &[(String, String)],
+    ndims: usize,
+) -> Result<([f64; 3], [f64; 3], Orientation), IoError> {
+    let get = |key: &str| field(fields, key);
+    let bad = |name: &str, value: &str| {
+        IoError::malformed(path, format!("cannot understand '{name} = {value}'"))
     };
+    let triple = |keys: &[&str], default: f64| -> Result<[f64; 3], IoError> {
+        let mut out = [default; 3];
+        if let Some((k, text)) = keys.iter().find_map(|k| get(k).map(|v| (*k, v))) {
+            let values: Vec<f64> = samples::parse_list(text, ndims).ok_or_else(|| bad(k, text))?;
+            out[..ndims].copy_from_slice(&values);
+        }
+        Ok(out)
+    };
+    let spacing = triple(&["elementspacing", "elementsize"], 1.0)?;
+    let origin = triple(&["offset", "origin", "position"], 0.0)?;
+    let matrix = ["transformmatrix", "rotation", "orientation"]
+        .iter()
+        .find_map(|k| get(k).map(|v| (*k, v)));
+    let mut columns = [DVec3::X, DVec3::Y, DVec3::Z];
+    if let Some((key, text)) = matrix {
+        let m: Vec<f64> = samples::parse_list(text, ndims * ndims).ok_or_else(|| bad(key, text))?;
+        for (a, column) in columns.iter_mut().enumerate().take(ndims) {
+            for c in 0..ndims {
+                column[c] = m[a * ndims + c];
+            }
+        }
+    }
+    let frame = if matrix.is_some() || get("anatomicalorientation").is_some() {
+        Frame::Lps
+    } else {
+        Frame::Unknown
+    };
+    let steps = [0, 1, 2].map(|a| columns[a].normalize_or_zero() * spacing[a]);
+    let world = WorldTransform::from_columns(DVec3::from(origin), steps, frame)
+        .map_err(|e| IoError::malformed(path, format!("TransformMatrix or ElementSpacing: {e}")))?;
+    let orientation = Orientation {
+        direction: world.direction,
+        frame,
+    };
+    Ok((spacing, origin, orientation))
+}
+
+fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError> {
+    let get = |key: &str| field(fields, key);
     let require = |key: &str, name: &str| {
         get(key).ok_or_else(|| IoError::malformed(path, format!("the header has no '{name}'")))
     };
@@ -160,40 +211,7 @@ fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError
     };
     let compressed = flag("compresseddata");
 
-    let triple = |keys: &[&str], default: f64| -> Result<[f64; 3], IoError> {
-        let mut out = [default; 3];
-        if let Some((k, text)) = keys.iter().find_map(|k| get(k).map(|v| (*k, v))) {
-            let values: Vec<f64> = samples::parse_list(text, ndims).ok_or_else(|| bad(k, text))?;
-            out[..ndims].copy_from_slice(&values);
-        }
-        Ok(out)
-    };
-    let spacing = triple(&["elementspacing", "elementsize"], 1.0)?;
-    let origin = triple(&["offset", "origin", "position"], 0.0)?;
-    let matrix = ["transformmatrix", "rotation", "orientation"]
-        .iter()
-        .find_map(|k| get(k).map(|v| (*k, v)));
-    let mut columns = [DVec3::X, DVec3::Y, DVec3::Z];
-    if let Some((key, text)) = matrix {
-        let m: Vec<f64> = samples::parse_list(text, ndims * ndims).ok_or_else(|| bad(key, text))?;
-        for (a, column) in columns.iter_mut().enumerate().take(ndims) {
-            for c in 0..ndims {
-                column[c] = m[a * ndims + c];
-            }
-        }
-    }
-    let frame = if matrix.is_some() || get("anatomicalorientation").is_some() {
-        Frame::Lps
-    } else {
-        Frame::Unknown
-    };
-    let steps = [0, 1, 2].map(|a| columns[a].normalize_or_zero() * spacing[a]);
-    let world = WorldTransform::from_columns(DVec3::from(origin), steps, frame)
-        .map_err(|e| IoError::malformed(path, format!("TransformMatrix or ElementSpacing: {e}")))?;
-    let orientation = Orientation {
-        direction: world.direction,
-        frame,
-    };
+    let (spacing, origin, orientation) = interpret_geometry(path, fields, ndims)?;
 
     let data_name = require("elementdatafile", "ElementDataFile")?;
     let data_file = if data_name.eq_ignore_ascii_case("LOCAL") {

@@ -76,26 +76,7 @@ pub(crate) fn read(path: &Path, flavor: Flavor) -> Result<Volume, IoError> {
         (Extent::Ranges(_), _) => piece_extent,
         _ => extent,
     };
-    // In i64: an extent's width can overflow the i32 it is stored in.
-    let (start, dims) = match &used {
-        Extent::Ranges(ranges) => {
-            let start = ranges.clone().map(|r| *r.start() as i64);
-            let end = ranges.clone().map(|r| *r.end() as i64);
-            if let Some(axis) = (0..3).find(|&a| end[a] < start[a]) {
-                return Err(IoError::malformed(
-                    path,
-                    format!(
-                        "the extent ends before it starts along {} ({} < {})",
-                        ["x", "y", "z"][axis],
-                        end[axis],
-                        start[axis]
-                    ),
-                ));
-            }
-            (start, [0, 1, 2].map(|a| (end[a] - start[a] + 1) as usize))
-        }
-        Extent::Dims(dims) => ([0; 3], dims.map(|d| d as usize)),
-    };
+    let (start, dims) = extent_start_and_dims(path, &used)?;
 
     let array = data.point.into_iter().find_map(|a| match a {
         Attribute::DataArray(DataArray { elem, data, .. }) if elem.num_comp() == 1 => Some(data),
@@ -140,6 +121,30 @@ pub(crate) fn read(path: &Path, flavor: Flavor) -> Result<Volume, IoError> {
     };
     samples::make_volume(path, dims, spacing, origin, vtk::into_f32(buffer))
         .map(|v| v.oriented(orientation))
+}
+
+/// The first index and the sample counts of an extent, in i64: an extent's width can overflow
+/// the i32 it is stored in.
+fn extent_start_and_dims(path: &Path, used: &Extent) -> Result<([i64; 3], [usize; 3]), IoError> {
+    match used {
+        Extent::Ranges(ranges) => {
+            let start = ranges.clone().map(|r| *r.start() as i64);
+            let end = ranges.clone().map(|r| *r.end() as i64);
+            if let Some(axis) = (0..3).find(|&a| end[a] < start[a]) {
+                return Err(IoError::malformed(
+                    path,
+                    format!(
+                        "the extent ends before it starts along {} ({} < {})",
+                        ["x", "y", "z"][axis],
+                        end[axis],
+                        start[axis]
+                    ),
+                ));
+            }
+            Ok((start, [0, 1, 2].map(|a| (end[a] - start[a] + 1) as usize)))
+        }
+        Extent::Dims(dims) => Ok(([0; 3], dims.map(|d| d as usize))),
+    }
 }
 
 /// The `Direction` of the `<ImageData>` tag (identity when absent), from the first 64 KiB.

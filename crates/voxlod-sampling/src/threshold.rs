@@ -274,55 +274,69 @@ impl ThresholdSolid<'_> {
             }
             return;
         }
-        // Where the walk starts, and the inside state there: the scan's first sample, or for a
-        // window the end of its first cell, in the state the whole scan's walk has there.
-        let (first, mut inside) = match runs.first() {
-            Some(run) if cells.start > 0 => {
-                let from = cells.start + 1;
-                let state = match run.state {
-                    CellState::Mixed => sample(from) >= t,
-                    uniform => uniform == CellState::Inside,
-                };
-                (from, state)
-            }
-            _ => (cells.start, sample(cells.start) >= t),
-        };
-        if inside {
-            out.push(to_world(first as f64));
+        walk_column(runs, cells, t, sample, to_world, out);
+    }
+}
+
+/// The crossings of one column's runs, walked from the first held cell: the line's value by
+/// `sample` at sample `i`, world coordinates by `to_world` (the second half of
+/// [`ThresholdSolid::line_crossings`]).
+fn walk_column(
+    runs: &[CellRun],
+    cells: std::ops::Range<usize>,
+    t: f32,
+    sample: impl Fn(usize) -> f32,
+    to_world: impl Fn(f64) -> f64,
+    out: &mut Vec<f64>,
+) {
+    // Where the walk starts, and the inside state there: the scan's first sample, or for a
+    // window the end of its first cell, in the state the whole scan's walk has there.
+    let (first, mut inside) = match runs.first() {
+        Some(run) if cells.start > 0 => {
+            let from = cells.start + 1;
+            let state = match run.state {
+                CellState::Mixed => sample(from) >= t,
+                uniform => uniform == CellState::Inside,
+            };
+            (from, state)
         }
-        for run in runs {
-            let start = run.start.max(first);
-            if start >= run.end {
-                continue;
+        _ => (cells.start, sample(cells.start) >= t),
+    };
+    if inside {
+        out.push(to_world(first as f64));
+    }
+    for run in runs {
+        let start = run.start.max(first);
+        if start >= run.end {
+            continue;
+        }
+        match run.state {
+            CellState::Outside | CellState::Inside => {
+                let now = run.state == CellState::Inside;
+                debug_assert_eq!(now, inside, "uniform run entered in the wrong state");
+                inside = now;
             }
-            match run.state {
-                CellState::Outside | CellState::Inside => {
-                    let now = run.state == CellState::Inside;
-                    debug_assert_eq!(now, inside, "uniform run entered in the wrong state");
-                    inside = now;
-                }
-                CellState::Mixed => {
-                    let mut prev = sample(start);
-                    for i in start + 1..=run.end {
-                        let cur = sample(i);
-                        let now = cur >= t;
-                        if now != inside {
-                            let f = ((t - prev) / (cur - prev)) as f64;
-                            let f = if f.is_finite() {
-                                f.clamp(0.0, 1.0)
-                            } else {
-                                0.5
-                            };
-                            out.push(to_world(i as f64 - 1.0 + f));
-                            inside = now;
-                        }
-                        prev = cur;
+            CellState::Mixed => {
+                let mut prev = sample(start);
+                for i in start + 1..=run.end {
+                    let cur = sample(i);
+                    let now = cur >= t;
+                    if now != inside {
+                        let f = ((t - prev) / (cur - prev)) as f64;
+                        let f = if f.is_finite() {
+                            f.clamp(0.0, 1.0)
+                        } else {
+                            0.5
+                        };
+                        out.push(to_world(i as f64 - 1.0 + f));
+                        inside = now;
                     }
+                    prev = cur;
                 }
             }
         }
-        if inside {
-            out.push(to_world(cells.end as f64));
-        }
+    }
+    if inside {
+        out.push(to_world(cells.end as f64));
     }
 }

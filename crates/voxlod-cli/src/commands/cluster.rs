@@ -116,28 +116,7 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
     };
     let bar = progress(1, "clustering", args.json);
     let start = Instant::now();
-    let levels = match args.method {
-        Method::RossignacBorrel => rossignac_borrel(
-            mesh,
-            &ClusterOptions {
-                cells: args.cells,
-                levels: args.levels,
-                synthesis: args.synthesis,
-                thick_edges: args.thick_edges.unwrap_or(false),
-                ..Default::default()
-            },
-        ),
-        Method::LowTan => low_tan(
-            mesh,
-            &FloatingCellOptions {
-                cells: args.cells,
-                levels: args.levels,
-                thick_edges: args.thick_edges.unwrap_or(true),
-                ..Default::default()
-            },
-        ),
-    }
-    .map_err(in_file)?;
+    let levels = cluster_levels(&args, mesh).map_err(in_file)?;
     let total = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     let mut report = ClusterReport {
@@ -173,6 +152,40 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
     if args.json {
         return print_json(&report);
     }
+    print_levels(&report, mesh.triangles.len(), total);
+    Ok(())
+}
+
+/// The chosen method's levels, with the flags' options.
+fn cluster_levels(
+    args: &ClusterArgs,
+    mesh: &voxlod::core::TriangleMesh,
+) -> Result<Vec<Level>, voxlod::clustering::ClusteringError> {
+    match args.method {
+        Method::RossignacBorrel => rossignac_borrel(
+            mesh,
+            &ClusterOptions {
+                cells: args.cells,
+                levels: args.levels,
+                synthesis: args.synthesis,
+                thick_edges: args.thick_edges.unwrap_or(false),
+                ..Default::default()
+            },
+        ),
+        Method::LowTan => low_tan(
+            mesh,
+            &FloatingCellOptions {
+                cells: args.cells,
+                levels: args.levels,
+                thick_edges: args.thick_edges.unwrap_or(true),
+                ..Default::default()
+            },
+        ),
+    }
+}
+
+/// One line per level and a summary, without --json.
+fn print_levels(report: &ClusterReport, input_triangles: usize, total: f64) {
     for l in &report.levels {
         println!(
             "level {}: {} cells of {:.4}: {} triangles, {} dangling edges, {} isolated points in {:.3} s -> {}",
@@ -188,10 +201,9 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
     }
     println!(
         "{} triangles in, {} levels in {total:.3} s",
-        thousands(mesh.triangles.len()),
+        thousands(input_triangles),
         report.levels.len()
     );
-    Ok(())
 }
 
 /// Every level in one MSFT_lod chain (crate `voxlod-gltf`): triangles, the dangling edges with

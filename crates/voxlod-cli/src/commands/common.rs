@@ -85,6 +85,17 @@ pub fn print_json<T: Serialize>(report: &T) -> Result<(), CliError> {
     Ok(())
 }
 
+/// Adds `DIR/report.json`, the pretty-printed report, to a command's output set.
+pub fn add_report<T: Serialize>(
+    out: &mut voxlod::io::OutputSet,
+    dir: &Path,
+    report: &T,
+) -> Result<(), CliError> {
+    let text = serde_json::to_string_pretty(report)
+        .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
+    Ok(out.text(&in_dir(dir, "report.json"), &text)?)
+}
+
 /// A progress bar on standard error for `len` steps, hidden when `quiet` (JSON mode) or when
 /// standard error is not a terminal. It only draws after a second, so quick work stays silent.
 pub fn progress(len: u64, message: &str, quiet: bool) -> ProgressBar {

@@ -8,7 +8,7 @@ use serde::Serialize;
 use voxlod::io::OutputSet;
 use voxlod::sampling::{sphereflake, CsgSolid};
 
-use super::common::{in_dir, print_json, progress, thousands, CliError};
+use super::common::{add_report, in_dir, print_json, progress, thousands, CliError};
 use voxlod::lod::{build_level, plan, LodOptions, LodSource};
 use voxlod_eval::paper_tables::PAPER_TABLE1;
 
@@ -95,9 +95,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         total_seconds: start.elapsed().as_secs_f64(),
         warnings: Vec::new(),
     };
-    let text = serde_json::to_string_pretty(&report)
-        .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
-    out.text(&in_dir(&args.output, "report.json"), &text)?;
+    add_report(&mut out, &args.output, &report)?;
     // Paper §3, Figure 7: single surface, layered shells and the 16x16 reference, side by side.
     let antialias = voxlod_eval::antialias::demo_comparison(&mut out, &args.output)
         .map_err(|e| CliError::msg(e.to_string()))?;

@@ -11,7 +11,7 @@ use voxlod::metrics::DistanceOptions;
 /// Side of each image of the preview strips, in pixels.
 const PREVIEW_SIZE: u32 = 200;
 
-use super::common::{in_dir, print_json, progress, read_mesh_input, CliError};
+use super::common::{add_report, in_dir, print_json, progress, read_mesh_input, CliError};
 use super::values::number;
 use voxlod_eval::evaluate::images::preview_strip;
 use voxlod_eval::evaluate::plot::{plot_evaluation, Chart};
@@ -301,9 +301,7 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
         meshes,
         warnings,
     };
-    let json = serde_json::to_string_pretty(&report)
-        .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
-    out.text(&in_dir(&args.output, "report.json"), &json)?;
+    add_report(&mut out, &args.output, &report)?;
     let context = ReportContext {
         input: name,
         plot_file: plot,

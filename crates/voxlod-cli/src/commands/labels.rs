@@ -14,7 +14,9 @@ use voxlod::labels::{
 use voxlod::sampling::Filter;
 use voxlod::{EnvelopeStep, LevelEpsilon, ThenEnvelope};
 
-use super::common::{check_computed_mesh, in_dir, print_json, progress, CliError, MeshExtension};
+use super::common::{
+    add_report, check_computed_mesh, in_dir, print_json, progress, CliError, MeshExtension,
+};
 use super::labels_glb::{labels_glb, LabelMesh};
 use super::values::number;
 use super::world::{frame_report, FrameArg, FrameReport};
@@ -284,9 +286,7 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
         labels: reports,
         total_seconds: start.elapsed().as_secs_f64(),
     };
-    let text = serde_json::to_string_pretty(&report)
-        .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
-    out.text(&in_dir(&args.output, "report.json"), &text)?;
+    add_report(&mut out, &args.output, &report)?;
     out.commit()?;
     if args.json {
         print_json(&report)?;

@@ -14,8 +14,8 @@ use voxlod::{
 };
 
 use super::common::{
-    check_grid_range, check_grid_reach, count, describe_mesh, in_dir, in_file, print_json,
-    progress, read_input, CliError, Input, MeshExtension,
+    add_report, check_grid_range, check_grid_reach, count, describe_mesh, in_dir, in_file,
+    print_json, progress, read_input, CliError, Input, MeshExtension,
 };
 use super::lod_glb::{add_chain, GlbArgs, GlbReport, LodFormat, CHAIN_FILE};
 use super::source::{MeshSummary, VolumeRoute};
@@ -367,9 +367,7 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     out.remove_stale(&args.output, is_level_file);
     let mut report = lod_report(&args, &loaded, &lod, levels, out.warnings());
     report.glb = glb;
-    let text = serde_json::to_string_pretty(&report)
-        .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
-    out.text(&in_dir(&args.output, "report.json"), &text)?;
+    add_report(&mut out, &args.output, &report)?;
     out.commit()?;
     if args.json {
         return print_json(&report);

@@ -12,7 +12,9 @@ use voxlod::budget::BudgetLevel;
 use voxlod::io::OutputSet;
 use voxlod::{Lod, LodOptions, Source};
 
-use super::common::{describe_mesh, in_dir, in_file, print_json, read_input, CliError, Input};
+use super::common::{
+    add_report, describe_mesh, in_dir, in_file, print_json, read_input, CliError, Input,
+};
 use super::lod::LodArgs;
 
 /// The report of a budget run.
@@ -81,9 +83,7 @@ pub fn run(args: &LodArgs) -> Result<(), CliError> {
         });
     }
     let report = report(args, &options, &lod, levels, start);
-    let text = serde_json::to_string_pretty(&report)
-        .map_err(|e| CliError::msg(format!("cannot encode the report: {e}")))?;
-    out.text(&in_dir(&args.output, "report.json"), &text)?;
+    add_report(&mut out, &args.output, &report)?;
     out.commit()?;
     if args.json {
         return print_json(&report);

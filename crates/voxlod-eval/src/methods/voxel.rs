@@ -25,7 +25,9 @@ pub(super) fn voxel_level(
         pyramid,
         iso: 0.5,
         normals: false,
-        ..LodOptions::default()
+        // The paper's levels are plain marching cubes; cleaning (beyond the paper) is measured
+        // through the budget pipeline, which cleans its own levels.
+        clean: None,
     };
     let source = LodSource::Solid(input.solid()?);
     let plans = plan(&source, &lod)?;
