@@ -19,7 +19,9 @@
 
 use voxlod_core::Volume;
 
-use crate::gaussian_filter::{gaussian_filter, BoundaryMode, GaussianFilterOptions};
+use crate::gaussian_filter::{
+    gaussian_filter, gaussian_taps_f64, BoundaryMode, GaussianFilterOptions,
+};
 use crate::SamplingError;
 
 /// σ = R / 3.
@@ -51,16 +53,13 @@ pub fn gaussian_half_space_density(r: f64, radius: f64, sigma: f64) -> f64 {
     }
 }
 
-/// Normalised 1-D Gaussian taps for standard deviation `sigma` (in samples), truncated at
-/// `truncate` standard deviations (the same rule as SciPy: radius `⌊truncate σ + 1/2⌋`).
+/// [`gaussian_taps_f64`] rounded to f32: normalised 1-D Gaussian taps for standard deviation
+/// `sigma` (in samples), truncated at `truncate` standard deviations (SciPy's rule).
 pub fn gaussian_taps(sigma: f64, truncate: f64) -> Vec<f32> {
-    let radius = (truncate * sigma + 0.5).floor().max(0.0) as i64;
-    let mut taps: Vec<f64> = (-radius..=radius)
-        .map(|i| (-(i * i) as f64 / (2.0 * sigma * sigma)).exp())
-        .collect();
-    let sum: f64 = taps.iter().sum();
-    taps.iter_mut().for_each(|t| *t /= sum);
-    taps.into_iter().map(|t| t as f32).collect()
+    gaussian_taps_f64(sigma, truncate)
+        .into_iter()
+        .map(|t| t as f32)
+        .collect()
 }
 
 /// Filters `volume` with a Gaussian of standard deviation `sigma` (world units, per axis)
