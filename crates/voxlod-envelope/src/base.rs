@@ -16,7 +16,7 @@ use glam::DVec3;
 use voxlod_core::TriangleMesh;
 use voxlod_metrics::MeshDistance;
 
-use super::manifold::check_manifold;
+use super::manifold::{check_manifold, stars};
 use super::EnvelopeError;
 
 /// The prepared input (see the module documentation).
@@ -97,36 +97,6 @@ impl Base {
     pub fn is_used(&self, v: usize) -> bool {
         self.star_offsets[v + 1] > self.star_offsets[v]
     }
-}
-
-/// Each vertex's triangles (its star), over the triangles `keep` accepts, as a compressed
-/// table: `offsets[v]..offsets[v + 1]` indexes `list` for vertex `v` (a counting sort,
-/// triangles in order).
-pub(crate) fn stars(
-    tris: &[[u32; 3]],
-    n: usize,
-    keep: impl Fn(&[u32; 3]) -> bool,
-) -> (Vec<u32>, Vec<u32>) {
-    let mut offsets = vec![0u32; n + 1];
-    for tri in tris.iter().filter(|t| keep(t)) {
-        for &v in tri {
-            offsets[v as usize + 1] += 1;
-        }
-    }
-    for i in 0..n {
-        offsets[i + 1] += offsets[i];
-    }
-    let mut fill = offsets.clone();
-    let mut list = vec![0u32; offsets[n] as usize];
-    for (t, tri) in tris.iter().enumerate() {
-        if keep(tri) {
-            for &v in tri {
-                list[fill[v as usize] as usize] = t as u32;
-                fill[v as usize] += 1;
-            }
-        }
-    }
-    (offsets, list)
 }
 
 /// Unit angle-weighted vertex normals, then `smoothing` rounds of smoothing (see the module

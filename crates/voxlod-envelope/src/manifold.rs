@@ -22,7 +22,6 @@ use rayon::prelude::*;
 use serde::Serialize;
 use voxlod_core::TriangleMesh;
 
-use super::base::stars;
 use super::EnvelopeError;
 
 /// At most this many offending items are named in an error message.
@@ -92,6 +91,36 @@ pub fn check_manifold(mesh: &TriangleMesh) -> Result<(), EnvelopeError> {
     } else {
         Err(EnvelopeError::NotManifold(problems))
     }
+}
+
+/// Each vertex's triangles (its star), over the triangles `keep` accepts, as a compressed
+/// table: `offsets[v]..offsets[v + 1]` indexes `list` for vertex `v` (a counting sort,
+/// triangles in order).
+pub(crate) fn stars(
+    tris: &[[u32; 3]],
+    n: usize,
+    keep: impl Fn(&[u32; 3]) -> bool,
+) -> (Vec<u32>, Vec<u32>) {
+    let mut offsets = vec![0u32; n + 1];
+    for tri in tris.iter().filter(|t| keep(t)) {
+        for &v in tri {
+            offsets[v as usize + 1] += 1;
+        }
+    }
+    for i in 0..n {
+        offsets[i + 1] += offsets[i];
+    }
+    let mut fill = offsets.clone();
+    let mut list = vec![0u32; offsets[n] as usize];
+    for (t, tri) in tris.iter().enumerate() {
+        if keep(tri) {
+            for &v in tri {
+                list[fill[v as usize] as usize] = t as u32;
+                fill[v as usize] += 1;
+            }
+        }
+    }
+    (offsets, list)
 }
 
 #[inline]
