@@ -204,8 +204,10 @@ impl Work {
     /// Some proposed triangle meets another, or a live triangle nearby other than those in
     /// `changing`.
     fn crosses(&self, proposed: &[([u32; 3], [DVec3; 3])], changing: &[u32]) -> bool {
+        let margin = self.buckets.margin();
         let among = proposed.iter().enumerate().any(|(k, &(ids, at))| {
-            (proposed[k + 1..].iter()).any(|&(other, there)| triangles_meet(at, ids, there, other))
+            (proposed[k + 1..].iter())
+                .any(|&(other, there)| triangles_meet(at, ids, there, other, margin))
         });
         among
             || proposed.iter().any(|&(ids, at)| {
@@ -215,7 +217,8 @@ impl Work {
                         return false;
                     }
                     let other = self.triangles[u as usize];
-                    triangles_meet(at, ids, other.map(|v| self.positions[v as usize]), other)
+                    let there = other.map(|v| self.positions[v as usize]);
+                    triangles_meet(at, ids, there, other, margin)
                 })
             })
     }
