@@ -45,7 +45,7 @@ use serde::Serialize;
 use thiserror::Error;
 use voxlod_core::{memory, CoreError, TriangleMesh};
 
-use crate::local_crossings::{triangles_meet, Buckets};
+use crate::local_crossings::{centroid, triangles_meet, Buckets};
 
 /// A component whose enclosed volume cleaning shrank below this fraction of the raw one (or
 /// turned over) is given back its raw triangles (see `restore_flattened`).
@@ -137,12 +137,9 @@ impl Work {
                 around[v as usize].push(t as u32);
             }
         }
-        let centroids = (0..mesh.triangles.len()).map(|t| {
-            let [a, b, c] = mesh.corners(t);
-            (a + b + c) / 3.0
-        });
+        let corners = (0..mesh.triangles.len()).map(|t| mesh.corners(t));
         Work {
-            buckets: Buckets::new(cell, centroids),
+            buckets: Buckets::new(cell, corners),
             positions: mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
             normals: mesh.normals.clone(),
             triangles: mesh.triangles.clone(),
@@ -211,9 +208,13 @@ impl Work {
         });
         among
             || proposed.iter().any(|&(ids, at)| {
-                let centroid = (at[0] + at[1] + at[2]) / 3.0;
-                self.buckets.near(centroid).any(|u| {
-                    if !self.alive[u as usize] || changing.contains(&u) {
+                self.buckets.near(centroid(at)).any(|entry| {
+                    let u = entry.triangle;
+                    // The box test first: most triangles nearby are ruled out by it alone.
+                    if entry.apart_from(at, margin)
+                        || !self.alive[u as usize]
+                        || changing.contains(&u)
+                    {
                         return false;
                     }
                     let other = self.triangles[u as usize];
@@ -223,12 +224,12 @@ impl Work {
             })
     }
 
-    /// Re-buckets the triangles around `v`.
+    /// Re-buckets the triangles around `v`, and updates their boxes.
     fn rebucket(&mut self, v: u32) {
         let fan: Vec<u32> = self.fan(v).collect();
         for t in fan {
             let c = self.triangles[t as usize].map(|w| self.positions[w as usize]);
-            self.buckets.update(t, (c[0] + c[1] + c[2]) / 3.0);
+            self.buckets.update(t, c);
         }
     }
 }

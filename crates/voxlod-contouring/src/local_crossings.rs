@@ -15,24 +15,55 @@ use rustc_hash::FxHashMap;
 
 use glam::DVec3;
 
-/// Triangles bucketed by centroid.
+/// A bucketed triangle and its bounding box.
+#[derive(Clone, Copy)]
+pub(crate) struct Entry {
+    /// The triangle.
+    pub(crate) triangle: u32,
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl Entry {
+    fn new(triangle: u32, corners: [DVec3; 3]) -> Entry {
+        let (lo, hi) = bounds(corners);
+        Entry { triangle, lo, hi }
+    }
+
+    /// The triangle's box and `corners`' lie apart by more than `margin` along some axis (see
+    /// [`triangles_meet`]).
+    pub(crate) fn apart_from(&self, corners: [DVec3; 3], margin: f64) -> bool {
+        let (lo, hi) = bounds(corners);
+        boxes_apart((self.lo, self.hi), (lo, hi), margin)
+    }
+}
+
+fn bounds(p: [DVec3; 3]) -> (DVec3, DVec3) {
+    (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]))
+}
+
+/// Triangles bucketed by centroid, with their boxes.
 pub(crate) struct Buckets {
     size: f64,
-    map: FxHashMap<[i64; 3], Vec<u32>>,
+    map: FxHashMap<[i64; 3], Vec<Entry>>,
     key_of: Vec<[i64; 3]>,
 }
 
 impl Buckets {
-    /// Buckets of two cells holding triangles `0..centroids.len()`.
-    pub(crate) fn new(cell: f64, centroids: impl Iterator<Item = DVec3>) -> Buckets {
+    /// Buckets of two cells holding triangles `0..corners.len()`, given by their corners.
+    pub(crate) fn new(cell: f64, corners: impl Iterator<Item = [DVec3; 3]>) -> Buckets {
         let mut buckets = Buckets {
             size: 2.0 * cell,
             map: FxHashMap::default(),
             key_of: Vec::new(),
         };
-        for (t, c) in centroids.enumerate() {
-            let key = buckets.key(c);
-            buckets.map.entry(key).or_default().push(t as u32);
+        for (t, c) in corners.enumerate() {
+            let key = buckets.key(centroid(c));
+            buckets
+                .map
+                .entry(key)
+                .or_default()
+                .push(Entry::new(t as u32, c));
             buckets.key_of.push(key);
         }
         buckets
@@ -48,28 +79,38 @@ impl Buckets {
         (p / self.size).floor().as_i64vec3().to_array()
     }
 
-    /// Moves triangle `t` to the bucket of its new centroid.
-    pub(crate) fn update(&mut self, t: u32, centroid: DVec3) {
-        let key = self.key(centroid);
+    /// Triangle `t` now has `corners`: its box is updated, and it moves to the bucket of its
+    /// new centroid.
+    pub(crate) fn update(&mut self, t: u32, corners: [DVec3; 3]) {
+        let key = self.key(centroid(corners));
         let old = self.key_of[t as usize];
-        if key == old {
-            return;
-        }
+        let entry = Entry::new(t, corners);
         if let Some(list) = self.map.get_mut(&old) {
-            list.retain(|&x| x != t);
+            if key == old {
+                if let Some(slot) = list.iter_mut().find(|e| e.triangle == t) {
+                    *slot = entry;
+                }
+                return;
+            }
+            list.retain(|e| e.triangle != t);
         }
-        self.map.entry(key).or_default().push(t);
+        self.map.entry(key).or_default().push(entry);
         self.key_of[t as usize] = key;
     }
 
     /// Triangles in the 27 buckets around `p`.
-    pub(crate) fn near(&self, p: DVec3) -> impl Iterator<Item = u32> + '_ {
+    pub(crate) fn near(&self, p: DVec3) -> impl Iterator<Item = &Entry> + '_ {
         let k = self.key(p);
         (0..27).flat_map(move |n| {
             let key = [k[0] + n % 3 - 1, k[1] + (n / 3) % 3 - 1, k[2] + n / 9 - 1];
-            self.map.get(&key).into_iter().flatten().copied()
+            self.map.get(&key).into_iter().flatten()
         })
     }
+}
+
+/// The centroid of a triangle.
+pub(crate) fn centroid(p: [DVec3; 3]) -> DVec3 {
+    (p[0] + p[1] + p[2]) / 3.0
 }
 
 /// Sign of the volume of the tetrahedron `a b c d` (+1, -1 or 0).
@@ -102,10 +143,8 @@ fn segment_meets(p: DVec3, q: DVec3, t: [DVec3; 3]) -> bool {
     !(e.iter().any(|&s| s > 0.0) && e.iter().any(|&s| s < 0.0))
 }
 
-/// The two triangles' bounding boxes lie apart along some axis by more than `margin`.
-fn boxes_apart(a: [DVec3; 3], b: [DVec3; 3], margin: f64) -> bool {
-    let (a_lo, a_hi) = (a[0].min(a[1]).min(a[2]), a[0].max(a[1]).max(a[2]));
-    let (b_lo, b_hi) = (b[0].min(b[1]).min(b[2]), b[0].max(b[1]).max(b[2]));
+/// Two boxes lie apart along some axis by more than `margin`.
+fn boxes_apart((a_lo, a_hi): (DVec3, DVec3), (b_lo, b_hi): (DVec3, DVec3), margin: f64) -> bool {
     (a_hi + margin).cmplt(b_lo).any() || (b_hi + margin).cmplt(a_lo).any()
 }
 
@@ -121,7 +160,7 @@ pub(crate) fn triangles_meet(
     ib: [u32; 3],
     margin: f64,
 ) -> bool {
-    if boxes_apart(a, b, margin) {
+    if boxes_apart(bounds(a), bounds(b), margin) {
         return false;
     }
     let edges_of = |p: [DVec3; 3], ip: [u32; 3], other: [u32; 3]| {
