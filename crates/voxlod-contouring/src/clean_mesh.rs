@@ -45,7 +45,7 @@ use serde::Serialize;
 use thiserror::Error;
 use voxlod_core::{memory, CoreError, TriangleMesh};
 
-use crate::local_crossings::{centroid, triangles_meet, Buckets};
+use crate::local_crossings::{triangles_meet, Buckets};
 
 /// A component whose enclosed volume cleaning shrank below this fraction of the raw one (or
 /// turned over) is given back its raw triangles (see `restore_flattened`).
@@ -206,21 +206,15 @@ impl Work {
             (proposed[k + 1..].iter())
                 .any(|&(other, there)| triangles_meet(at, ids, there, other, margin))
         });
+        let corners: Vec<[DVec3; 3]> = proposed.iter().map(|&(_, at)| at).collect();
         among
-            || proposed.iter().any(|&(ids, at)| {
-                self.buckets.near(centroid(at)).any(|entry| {
-                    let u = entry.triangle;
-                    // The box test first: most triangles nearby are ruled out by it alone.
-                    if entry.apart_from(at, margin)
-                        || !self.alive[u as usize]
-                        || changing.contains(&u)
-                    {
-                        return false;
-                    }
-                    let other = self.triangles[u as usize];
-                    let there = other.map(|v| self.positions[v as usize]);
-                    triangles_meet(at, ids, there, other, margin)
-                })
+            || self.buckets.any_near(&corners, |k, u| {
+                if !self.alive[u as usize] || changing.contains(&u) {
+                    return false;
+                }
+                let other = self.triangles[u as usize];
+                let there = other.map(|v| self.positions[v as usize]);
+                triangles_meet(proposed[k].1, proposed[k].0, there, other, margin)
             })
     }
 

@@ -29,13 +29,6 @@ impl Entry {
         let (lo, hi) = bounds(corners);
         Entry { triangle, lo, hi }
     }
-
-    /// The triangle's box and `corners`' lie apart by more than `margin` along some axis (see
-    /// [`triangles_meet`]).
-    pub(crate) fn apart_from(&self, corners: [DVec3; 3], margin: f64) -> bool {
-        let (lo, hi) = bounds(corners);
-        boxes_apart((self.lo, self.hi), (lo, hi), margin)
-    }
 }
 
 fn bounds(p: [DVec3; 3]) -> (DVec3, DVec3) {
@@ -98,13 +91,46 @@ impl Buckets {
         self.key_of[t as usize] = key;
     }
 
-    /// Triangles in the 27 buckets around `p`.
-    pub(crate) fn near(&self, p: DVec3) -> impl Iterator<Item = &Entry> + '_ {
-        let k = self.key(p);
-        (0..27).flat_map(move |n| {
-            let key = [k[0] + n % 3 - 1, k[1] + (n / 3) % 3 - 1, k[2] + n / 9 - 1];
-            self.map.get(&key).into_iter().flatten()
-        })
+    /// Whether `meets(k, triangle)` holds for some triangle `k` of `proposed` and some bucketed
+    /// triangle in the 27 buckets around the centroid of `k` whose box is not apart from
+    /// `k`'s (by [`Buckets::margin`]). These are the pairs of a search bucket by bucket around
+    /// each proposed triangle, but each bucket is read once for all the proposed triangles
+    /// around it.
+    pub(crate) fn any_near(
+        &self,
+        proposed: &[[DVec3; 3]],
+        mut meets: impl FnMut(usize, u32) -> bool,
+    ) -> bool {
+        let margin = self.margin();
+        let keys: Vec<[i64; 3]> = proposed.iter().map(|&p| self.key(centroid(p))).collect();
+        let boxes: Vec<(DVec3, DVec3)> = proposed.iter().map(|&p| bounds(p)).collect();
+        let mut seen: Vec<[i64; 3]> = Vec::with_capacity(64);
+        let mut around: Vec<usize> = Vec::with_capacity(proposed.len());
+        for k in &keys {
+            for n in 0..27 {
+                let key = [k[0] + n % 3 - 1, k[1] + (n / 3) % 3 - 1, k[2] + n / 9 - 1];
+                if seen.contains(&key) {
+                    continue;
+                }
+                seen.push(key);
+                let Some(list) = self.map.get(&key) else {
+                    continue;
+                };
+                around.clear();
+                around.extend(
+                    (0..keys.len()).filter(|&j| (0..3).all(|a| (keys[j][a] - key[a]).abs() <= 1)),
+                );
+                for entry in list {
+                    for &j in &around {
+                        let apart = boxes_apart((entry.lo, entry.hi), boxes[j], margin);
+                        if !apart && meets(j, entry.triangle) {
+                            return true;
+                        }
+                    }
+                }
+            }
+        }
+        false
     }
 }
 
