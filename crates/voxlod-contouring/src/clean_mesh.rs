@@ -137,12 +137,9 @@ impl Work {
                 around[v as usize].push(t as u32);
             }
         }
-        let centroids = (0..mesh.triangles.len()).map(|t| {
-            let [a, b, c] = mesh.corners(t);
-            (a + b + c) / 3.0
-        });
+        let corners = (0..mesh.triangles.len()).map(|t| mesh.corners(t));
         Work {
-            buckets: Buckets::new(cell, centroids),
+            buckets: Buckets::new(cell, corners),
             positions: mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
             normals: mesh.normals.clone(),
             triangles: mesh.triangles.clone(),
@@ -204,28 +201,29 @@ impl Work {
     /// Some proposed triangle meets another, or a live triangle nearby other than those in
     /// `changing`.
     fn crosses(&self, proposed: &[([u32; 3], [DVec3; 3])], changing: &[u32]) -> bool {
+        let margin = self.buckets.margin();
         let among = proposed.iter().enumerate().any(|(k, &(ids, at))| {
-            (proposed[k + 1..].iter()).any(|&(other, there)| triangles_meet(at, ids, there, other))
+            (proposed[k + 1..].iter())
+                .any(|&(other, there)| triangles_meet(at, ids, there, other, margin))
         });
+        let corners: Vec<[DVec3; 3]> = proposed.iter().map(|&(_, at)| at).collect();
         among
-            || proposed.iter().any(|&(ids, at)| {
-                let centroid = (at[0] + at[1] + at[2]) / 3.0;
-                self.buckets.near(centroid).any(|u| {
-                    if !self.alive[u as usize] || changing.contains(&u) {
-                        return false;
-                    }
-                    let other = self.triangles[u as usize];
-                    triangles_meet(at, ids, other.map(|v| self.positions[v as usize]), other)
-                })
+            || self.buckets.any_near(&corners, |k, u| {
+                if !self.alive[u as usize] || changing.contains(&u) {
+                    return false;
+                }
+                let other = self.triangles[u as usize];
+                let there = other.map(|v| self.positions[v as usize]);
+                triangles_meet(proposed[k].1, proposed[k].0, there, other, margin)
             })
     }
 
-    /// Re-buckets the triangles around `v`.
+    /// Re-buckets the triangles around `v`, and updates their boxes.
     fn rebucket(&mut self, v: u32) {
         let fan: Vec<u32> = self.fan(v).collect();
         for t in fan {
             let c = self.triangles[t as usize].map(|w| self.positions[w as usize]);
-            self.buckets.update(t, (c[0] + c[1] + c[2]) / 3.0);
+            self.buckets.update(t, c);
         }
     }
 }

@@ -28,14 +28,18 @@
 //! enclose a cavity or start a component), and removing x with `T̄18 <= 1` never adds one either.
 //! `T6 = T̄18 = 1` is the classic simple point, whose flip changes nothing.
 //!
-//! Cost: [`digital_topology`] is two labelling passes and one pass over the cells, O(N) time
-//! and 5 bytes per sample; [`local_numbers`] is O(1) (a search over 26 neighbours).
+//! Cost: [`digital_topology`] is two labellings by runs ([`crate::run_components`]) and one
+//! pass over the cells a row at a time, run side by side on the threads: O(N) time, and memory
+//! per run of equal samples rather than per sample; [`local_numbers`] is O(1) (a search over 26
+//! neighbours).
 
 use std::sync::OnceLock;
 
+use rayon::prelude::*;
 use serde::Serialize;
 use voxlod_core::{memory, Volume};
 
+use crate::run_components::{check_samples, RunComponents};
 use crate::SamplingError;
 
 /// The topology of the surface around a set of inside samples. See the module documentation.
@@ -61,23 +65,7 @@ impl DigitalTopology {
 /// The samples `>= iso` of a volume (NaN is outside), x fastest, as marching cubes decides them.
 pub fn inside_samples(volume: &Volume, iso: f32) -> Result<Vec<bool>, SamplingError> {
     memory::check_allocation("the inside samples of a level", volume.grid.len() as u64)?;
-    Ok(volume.as_slice().iter().map(|&v| v >= iso).collect())
-}
-
-/// Offsets of a sample's neighbours: (di, dj, dk) and whether they are 6-, 18- or 26-adjacent.
-fn neighbour_offsets(max_nonzero: usize) -> Vec<[i64; 3]> {
-    let mut out = Vec::new();
-    for dk in -1..=1i64 {
-        for dj in -1..=1i64 {
-            for di in -1..=1i64 {
-                let n = [di, dj, dk].iter().filter(|d| **d != 0).count();
-                if n > 0 && n <= max_nonzero {
-                    out.push([di, dj, dk]);
-                }
-            }
-        }
-    }
-    out
+    Ok(volume.as_slice().par_iter().map(|&v| v >= iso).collect())
 }
 
 /// Index of the neighbour of `p` at `offset`, or `None` outside the grid.
@@ -105,76 +93,23 @@ pub(crate) fn coordinates(dims: [usize; 3], index: usize) -> [usize; 3] {
 
 /// Labels the components of the samples equal to `value`, with 6-adjacency for inside and
 /// 18-adjacency for outside. For outside samples, every one on the grid's border belongs to the
-/// exterior (label 0, always counted). Returns the labels (`u32::MAX` for the other value) and
-/// the number of components.
+/// exterior (label 0, always counted). Returns the labels (`u32::MAX` for the other value),
+/// numbered in order of each component's first sample, and the number of components. The
+/// labelling is by runs ([`RunComponents`]).
 pub fn label_components(
     dims: [usize; 3],
     inside: &[bool],
     value: bool,
 ) -> Result<(Vec<u32>, u64), SamplingError> {
     memory::check_allocation("labelling a level", memory::bytes_of::<u32>(inside.len()))?;
-    let offsets = neighbour_offsets(if value { 1 } else { 2 });
-    let mut labels = vec![u32::MAX; inside.len()];
-    let mut stack = Vec::new();
-    let mut count = 0u64;
-    let on_border = |p: [usize; 3]| (0..3).any(|a| p[a] == 0 || p[a] + 1 == dims[a]);
-    if !value {
-        // The exterior: every outside sample on the border, one component (even if none).
-        for (i, &s) in inside.iter().enumerate() {
-            if !s && on_border(coordinates(dims, i)) {
-                labels[i] = 0;
-                stack.push(i);
-            }
-        }
-        flood(dims, inside, value, &offsets, &mut labels, &mut stack, 0);
-        count = 1;
-    }
-    for i in 0..inside.len() {
-        if inside[i] == value && labels[i] == u32::MAX {
-            let label = count as u32;
-            labels[i] = label;
-            stack.push(i);
-            flood(
-                dims,
-                inside,
-                value,
-                &offsets,
-                &mut labels,
-                &mut stack,
-                label,
-            );
-            count += 1;
-        }
-    }
-    Ok((labels, count))
-}
-
-fn flood(
-    dims: [usize; 3],
-    inside: &[bool],
-    value: bool,
-    offsets: &[[i64; 3]],
-    labels: &mut [u32],
-    stack: &mut Vec<usize>,
-    label: u32,
-) {
-    while let Some(i) = stack.pop() {
-        let p = coordinates(dims, i);
-        for &o in offsets {
-            if let Some(q) = step(dims, p, o) {
-                if inside[q] == value && labels[q] == u32::MAX {
-                    labels[q] = label;
-                    stack.push(q);
-                }
-            }
-        }
-    }
+    let components = RunComponents::new(dims, inside, value)?;
+    Ok((components.labels(), components.count()))
 }
 
 /// Outside samples enclosed by the inside set (in no path of outside samples to the border).
 pub fn cavity_samples(dims: [usize; 3], inside: &[bool]) -> Result<Vec<bool>, SamplingError> {
-    let (labels, _) = label_components(dims, inside, false)?;
-    Ok(labels.iter().map(|&l| l != 0 && l != u32::MAX).collect())
+    memory::check_allocation("the cavities of a level", inside.len() as u64)?;
+    Ok(RunComponents::new(dims, inside, false)?.enclosed())
 }
 
 /// Loops of marching cubes' surface in a cell of each of the 256 corner cases (corner `c` at
@@ -216,48 +151,90 @@ fn corner_pieces(case: u8, inside: bool) -> usize {
         .count()
 }
 
-/// Σ over cells of the loops, with the grid padded by one layer of outside samples.
+/// Row `(j, k)` of `inside`, or `None` beyond the grid (the padding's outside samples).
+fn sample_row(dims: [usize; 3], inside: &[bool], j: i64, k: i64) -> Option<&[bool]> {
+    if j < 0 || k < 0 || j >= dims[1] as i64 || k >= dims[2] as i64 {
+        return None;
+    }
+    let start = dims[0] * (j as usize + dims[1] * k as usize);
+    Some(&inside[start..start + dims[0]])
+}
+
+/// Σ over cells of the loops, with the grid padded by one layer of outside samples. Cells are
+/// taken a row at a time (the four sample rows at their corners), z layers in parallel.
 fn total_loops(dims: [usize; 3], inside: &[bool]) -> i64 {
     let loops = cell_loops();
-    let at = |i: i64, j: i64, k: i64| -> bool {
-        if i < 0 || j < 0 || k < 0 {
-            return false;
-        }
-        let (i, j, k) = (i as usize, j as usize, k as usize);
-        i < dims[0] && j < dims[1] && k < dims[2] && inside[i + dims[0] * (j + dims[1] * k)]
-    };
-    let mut total = 0i64;
-    for k in -1..dims[2] as i64 {
-        for j in -1..dims[1] as i64 {
-            for i in -1..dims[0] as i64 {
-                let mut case = 0usize;
-                for c in 0..8i64 {
-                    if at(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1)) {
-                        case |= 1 << c;
-                    }
+    // Corners (dy, dz) of a column of a cell: bit 2 dy + 4 dz of the case for dx = 0.
+    const SPREAD: [usize; 16] = {
+        let mut spread = [0usize; 16];
+        let mut column = 0;
+        while column < 16 {
+            let mut bit = 0;
+            while bit < 4 {
+                if column >> bit & 1 == 1 {
+                    spread[column] |= 1 << (2 * bit);
                 }
-                total += loops[case] as i64;
+                bit += 1;
             }
+            column += 1;
         }
-    }
-    total
+        spread
+    };
+    (-1..dims[2] as i64)
+        .into_par_iter()
+        .map(|k| {
+            let mut total = 0i64;
+            for j in -1..dims[1] as i64 {
+                let rows = [(j, k), (j + 1, k), (j, k + 1), (j + 1, k + 1)]
+                    .map(|(j, k)| sample_row(dims, inside, j, k));
+                if rows.iter().all(Option::is_none) {
+                    continue;
+                }
+                let column = |i: i64| -> usize {
+                    if i < 0 || i >= dims[0] as i64 {
+                        return 0;
+                    }
+                    (rows.iter().enumerate())
+                        .map(|(b, row)| (row.is_some_and(|r| r[i as usize]) as usize) << b)
+                        .sum()
+                };
+                let mut left = 0usize;
+                for i in -1..dims[0] as i64 {
+                    let right = column(i + 1);
+                    total += loops[SPREAD[left] | SPREAD[right] << 1] as i64;
+                    left = right;
+                }
+            }
+            total
+        })
+        .sum()
 }
 
 /// Grid edges (padded as in [`total_loops`]) whose two samples disagree: the surface's vertices.
 fn crossed_edges(dims: [usize; 3], inside: &[bool]) -> i64 {
-    let mut total = 0i64;
-    for (index, &s) in inside.iter().enumerate() {
-        let p = coordinates(dims, index);
-        for axis in 0..3 {
-            let mut offset = [0i64; 3];
-            offset[axis] = 1;
-            let next = step(dims, p, offset).map(|q| inside[q]).unwrap_or(false);
-            offset[axis] = -1;
-            let below_outside = step(dims, p, offset).is_none();
-            total += (s != next) as i64 + (below_outside && s) as i64;
-        }
-    }
-    total
+    (0..dims[2] as i64)
+        .into_par_iter()
+        .map(|k| {
+            let mut total = 0i64;
+            for j in 0..dims[1] as i64 {
+                let Some(row) = sample_row(dims, inside, j, k) else {
+                    continue;
+                };
+                let next_y = sample_row(dims, inside, j + 1, k);
+                let next_z = sample_row(dims, inside, j, k + 1);
+                for (i, &s) in row.iter().enumerate() {
+                    let next_x = row.get(i + 1).copied().unwrap_or(false);
+                    let y = next_y.is_some_and(|r| r[i]);
+                    let z = next_z.is_some_and(|r| r[i]);
+                    total += (s != next_x) as i64 + (s != y) as i64 + (s != z) as i64;
+                    // The padding below: edges from outside into the first sample of a line.
+                    let first = (i == 0) as i64 + (j == 0) as i64 + (k == 0) as i64;
+                    total += first * s as i64;
+                }
+            }
+            total
+        })
+        .sum()
 }
 
 /// The topology of the surface marching cubes would give for `inside` (x fastest on `dims`),
@@ -266,30 +243,41 @@ pub fn digital_topology(
     dims: [usize; 3],
     inside: &[bool],
 ) -> Result<DigitalTopology, SamplingError> {
-    if inside.len() != dims.iter().product::<usize>() {
-        return Err(SamplingError::InvalidOption(format!(
-            "{} inside flags for a {}x{}x{} grid",
-            inside.len(),
-            dims[0],
-            dims[1],
-            dims[2]
-        )));
-    }
-    let (_, components) = label_components(dims, inside, true)?;
-    let (_, outside) = label_components(dims, inside, false)?;
-    let euler = total_loops(dims, inside) - crossed_edges(dims, inside);
-    let surfaces = (components + outside - 1) as i64;
+    Ok(topology_and_outside(dims, inside)?.0)
+}
+
+/// [`digital_topology`] and the labelled outside samples, whose components other than the
+/// exterior are the cavities. The inside's labelling, the outside's and the count of loops and
+/// crossed edges run side by side.
+pub(crate) fn topology_and_outside(
+    dims: [usize; 3],
+    inside: &[bool],
+) -> Result<(DigitalTopology, RunComponents), SamplingError> {
+    check_samples(dims, inside)?;
+    let (labelled, euler) = rayon::join(
+        || {
+            rayon::join(
+                || RunComponents::new(dims, inside, true),
+                || RunComponents::new(dims, inside, false),
+            )
+        },
+        || total_loops(dims, inside) - crossed_edges(dims, inside),
+    );
+    let (components, outside) = (labelled.0?.count(), labelled.1?);
+    let outside_count = outside.count();
+    let surfaces = (components + outside_count - 1) as i64;
     let genus = surfaces - euler / 2;
     debug_assert!(
         euler % 2 == 0 && genus >= 0,
         "χ {euler}, surfaces {surfaces}"
     );
-    Ok(DigitalTopology {
+    let topology = DigitalTopology {
         genus: genus.max(0) as u64,
         components,
-        cavities: outside - 1,
+        cavities: outside_count - 1,
         euler_characteristic: euler,
-    })
+    };
+    Ok((topology, outside))
 }
 
 /// The local topological numbers of one sample. See the module documentation.

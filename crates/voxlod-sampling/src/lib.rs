@@ -81,6 +81,7 @@ pub mod mesh_solid;
 pub mod monotone_topology;
 pub mod narrow_band;
 pub mod pyramid;
+pub mod run_components;
 pub mod solid;
 pub mod sphereflake;
 pub mod threshold;

@@ -47,10 +47,16 @@
 //! range), so that marching cubes places the surface between them and their neighbours as it
 //! would for a real crossing.
 //!
-//! **Cost.** Rule 1: O(N) for N samples. Rule 2: O(N) for the genus checks plus O(D log D) for
-//! the D samples that disagree with the start (a band around the surface; the fallback makes
-//! D the whole outside). About 24 bytes per sample at most.
+//! **Cost.** Rule 1: O(N) for N samples, and nothing beyond the plain threshold's genus check
+//! when the finer levels kept nothing filled; the filled density sums weights only where a
+//! filter's support straddles the filled set's boundary (a table of counts settles the rest).
+//! Rule 2: O(N) for the genus checks plus O(D log D) for the D samples that disagree with the
+//! start (a band around the surface; the fallback makes D the whole outside). The plain
+//! threshold's genus check and labelling serve every stage that keeps its inside set. The
+//! O(N) passes run on all threads; the guarded threshold's queue is sequential (its order
+//! decides the result). About 24 bytes per sample at most.
 
+use std::borrow::Cow;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
@@ -60,9 +66,10 @@ use thiserror::Error;
 use voxlod_core::{memory, CoreError, Grid, Volume};
 
 use crate::digital_topology::{
-    cavity_samples, coordinates, digital_topology, inside_samples, local_numbers, step,
+    coordinates, digital_topology, inside_samples, local_numbers, step, topology_and_outside,
     DigitalTopology,
 };
+use crate::run_components::RunComponents;
 use crate::{DensityOptions, SamplingError};
 
 /// How [`monotone_level`] keeps the genus from rising.
@@ -211,56 +218,72 @@ pub fn monotone_level(
     )?;
     let dims = volume.grid.dims;
     let raw = inside_samples(volume, iso)?;
-    let raw_topology = digital_topology(dims, &raw)?;
-    let decided = |inside, locked, stage| Decided {
-        inside,
-        locked,
-        stage,
-        raw: &raw,
-        raw_topology,
-    };
+    let (raw_topology, raw_outside) = topology_and_outside(dims, &raw)?;
     let Some(previous) = previous else {
+        let decided = Decided::new(raw.clone(), vec![false; n], MonotoneStage::Unchanged);
+        let checked = (raw_topology, raw_outside);
         return finish(
-            volume,
+            Cow::Borrowed(volume),
             iso,
             None,
-            decided(raw.clone(), vec![false; n], MonotoneStage::Unchanged),
+            (&raw, raw_topology),
+            decided,
+            checked,
         );
     };
-    let (locked, volume) = if options.fill_cavities {
+    // Rule 1 changes nothing when the finer levels kept nothing filled.
+    let fills = options.fill_cavities && previous.kept_filled.par_iter().any(|&k| k);
+    let (locked, volume) = if fills {
         let locked = carry_nearest(&previous.kept_filled, &previous.grid, &volume.grid);
-        (
-            locked,
-            fill_density(volume, previous, filter, options.fill_density),
-        )
+        let filled = fill_density(volume, previous, filter, options.fill_density)?;
+        (locked, Cow::Owned(filled))
     } else {
-        (vec![false; n], volume.clone())
+        (vec![false; n], Cow::Borrowed(volume))
     };
-    let volume = &volume;
-    let filled: Vec<bool> = (volume.as_slice().iter().zip(&locked))
+    let values = volume.as_slice();
+    let filled: Vec<bool> = (values.par_iter().zip(&locked))
         .map(|(&v, &l)| v >= iso || l)
         .collect();
-    if digital_topology(dims, &filled)?.genus <= previous.topology.genus {
+    let settle = |volume: Cow<Volume>, decided, checked| {
+        finish(
+            volume,
+            iso,
+            Some(previous),
+            (&raw, raw_topology),
+            decided,
+            checked,
+        )
+    };
+    let checked = if filled == raw {
+        (raw_topology, raw_outside)
+    } else {
+        topology_and_outside(dims, &filled)?
+    };
+    if checked.0.genus <= previous.topology.genus {
         let stage = if filled == raw {
             MonotoneStage::Unchanged
         } else {
             MonotoneStage::CavitiesFilled
         };
-        return finish(volume, iso, Some(previous), decided(filled, locked, stage));
+        let decided = Decided::new(filled, locked, stage);
+        return settle(volume, decided, checked);
     }
-    let (start, stage) = guard_start(volume, previous, &locked, options)?;
-    let guarded = guarded_threshold(volume, iso, start, &locked)?;
-    let genus = digital_topology(dims, &guarded)?.genus;
-    if genus <= previous.topology.genus {
-        return finish(volume, iso, Some(previous), decided(guarded, locked, stage));
+    let (start, stage) = guard_start(&volume, previous, &locked, options)?;
+    let guarded = guarded_threshold(&volume, iso, start, &locked)?;
+    let checked = topology_and_outside(dims, &guarded)?;
+    if checked.0.genus <= previous.topology.genus {
+        let decided = Decided::new(guarded, locked, stage);
+        return settle(volume, decided, checked);
     }
+    let mut genus = checked.0.genus;
     if stage != MonotoneStage::GuardedFromHull {
-        let guarded = guarded_threshold(volume, iso, hull(dims, &locked), &locked)?;
-        let genus = digital_topology(dims, &guarded)?.genus;
-        if genus <= previous.topology.genus {
-            let stage = MonotoneStage::GuardedFromHull;
-            return finish(volume, iso, Some(previous), decided(guarded, locked, stage));
+        let guarded = guarded_threshold(&volume, iso, hull(dims, &locked), &locked)?;
+        let checked = topology_and_outside(dims, &guarded)?;
+        if checked.0.genus <= previous.topology.genus {
+            let decided = Decided::new(guarded, locked, MonotoneStage::GuardedFromHull);
+            return settle(volume, decided, checked);
         }
+        genus = checked.0.genus;
     }
     Err(MonotoneError::Unresolved {
         genus,
@@ -300,12 +323,20 @@ impl MonotoneChain {
 }
 
 /// The inside set a level settled on, before its volume is adjusted.
-struct Decided<'a> {
+struct Decided {
     inside: Vec<bool>,
     locked: Vec<bool>,
     stage: MonotoneStage,
-    raw: &'a [bool],
-    raw_topology: DigitalTopology,
+}
+
+impl Decided {
+    fn new(inside: Vec<bool>, locked: Vec<bool>, stage: MonotoneStage) -> Decided {
+        Decided {
+            inside,
+            locked,
+            stage,
+        }
+    }
 }
 
 /// The guard's start: the previous level's filled set carried over (dilated as needed), or the
@@ -330,57 +361,56 @@ fn guard_start(
     Ok((hull(dims, locked), MonotoneStage::GuardedFromHull))
 }
 
-/// Adjusts `volume` (the level's density, with filled cavities) to `decided.inside` and records
-/// what changed since the plain threshold.
+/// Adjusts `volume` (the level's density, with filled cavities) to `decided.inside`, whose
+/// topology and labelled outside are `checked`, and records what changed since the plain
+/// threshold `raw` (of topology `raw_topology`).
 fn finish(
-    volume: &Volume,
+    volume: Cow<Volume>,
     iso: f32,
     previous: Option<&LevelShape>,
+    (raw, raw_topology): (&[bool], DigitalTopology),
     decided: Decided,
+    (result, outside): (DigitalTopology, RunComponents),
 ) -> Result<MonotoneLevel, MonotoneError> {
-    let dims = volume.grid.dims;
-    // The plain threshold's topology is known already (the first level, and most others).
-    let result = if decided.inside == decided.raw {
-        decided.raw_topology
-    } else {
-        digital_topology(dims, &decided.inside)?
-    };
-    let mut adjusted = volume.clone();
     let (low, high) = volume.range().unwrap_or((iso, iso));
-    let mut record = TopologyRecord {
+    let mut adjusted = volume.into_owned();
+    let counts = adjusted
+        .as_slice_mut()
+        .par_iter_mut()
+        .enumerate()
+        .map(|(i, value)| {
+            let (now, above) = (decided.inside[i], *value >= iso);
+            let filled = now && !raw[i] && (above || decided.locked[i]);
+            let (mut kept_inside, mut kept_outside) = (false, false);
+            if now && !above {
+                kept_inside = !decided.locked[i];
+                *value = mirrored_inside(*value, iso, high);
+            } else if !now && above {
+                kept_outside = true;
+                *value = mirrored_outside(*value, iso, low);
+            }
+            [filled as usize, kept_inside as usize, kept_outside as usize]
+        })
+        .reduce(|| [0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
+    let record = TopologyRecord {
         stage: decided.stage,
-        raw: decided.raw_topology,
+        raw: raw_topology,
         result,
         previous: previous.map(|p| p.topology),
         handles_removed: previous.map_or(0, |p| p.topology.genus.saturating_sub(result.genus)),
-        handles_prevented: decided.raw_topology.genus.saturating_sub(result.genus),
+        handles_prevented: raw_topology.genus.saturating_sub(result.genus),
         surfaces_gained: previous.map_or(0, |p| {
             result.surfaces() as i64 - p.topology.surfaces() as i64
         }),
-        samples_filled: 0,
-        samples_kept_inside: 0,
-        samples_kept_outside: 0,
+        samples_filled: counts[0],
+        samples_kept_inside: counts[1],
+        samples_kept_outside: counts[2],
     };
-    for (i, value) in adjusted.as_slice_mut().iter_mut().enumerate() {
-        let (now, above) = (decided.inside[i], *value >= iso);
-        if now && !decided.raw[i] && (above || decided.locked[i]) {
-            record.samples_filled += 1;
-        }
-        if now && !above {
-            if !decided.locked[i] {
-                record.samples_kept_inside += 1;
-            }
-            *value = mirrored_inside(*value, iso, high);
-        } else if !now && above {
-            record.samples_kept_outside += 1;
-            *value = mirrored_outside(*value, iso, low);
-        }
-    }
-    let cavities = cavity_samples(dims, &decided.inside)?;
-    let filled = decided.inside.iter().zip(&cavities).map(|(&a, &c)| a || c);
-    let kept = decided.locked.iter().zip(&cavities).map(|(&a, &c)| a || c);
+    let cavities = outside.enclosed();
+    let filled = (decided.inside.par_iter().zip(&cavities)).map(|(&a, &c)| a || c);
+    let kept = (decided.locked.par_iter().zip(&cavities)).map(|(&a, &c)| a || c);
     let shape = LevelShape {
-        grid: volume.grid,
+        grid: adjusted.grid,
         topology: result,
         filled: filled.collect(),
         kept_filled: kept.collect(),
@@ -412,18 +442,22 @@ fn mirrored_outside(value: f32, iso: f32, low: f32) -> f32 {
 
 /// The level's density plus the filtered density of what `previous` kept filled (its cavities
 /// and what it kept filled itself), each finer sample standing for its voxel of solid of
-/// density `material`; weights normalised over the finer samples within the support.
+/// density `material`; weights normalised over the finer samples within the support. A sample
+/// whose support holds no kept sample is left as it is and one whose support holds only kept
+/// samples gains `material` (the normalised weights sum to exactly 1 there), both known from a
+/// table of counts; only the supports across the kept set's boundary are summed.
 fn fill_density(
     volume: &Volume,
     previous: &LevelShape,
     filter: &DensityOptions,
     material: f32,
-) -> Volume {
+) -> Result<Volume, MonotoneError> {
     let mut out = volume.clone();
     let from = &previous.grid;
     let Some((lo, hi)) = set_box(&previous.kept_filled, from) else {
-        return out;
+        return Ok(out);
     };
+    let counts = BoxCounts::new(&previous.kept_filled, from.dims, lo, hi)?;
     let radius = filter.radius;
     let reach = |c: f64, a: usize| -> (usize, usize) {
         let r = radius / from.spacing[a];
@@ -440,13 +474,29 @@ fn fill_density(
             if ranges.iter().any(|&(a, b)| a > b || b == usize::MAX) {
                 return;
             }
+            let kept = counts.count(ranges);
+            if kept == 0 {
+                return;
+            }
+            let weights = |k: usize, j: usize, i: usize| {
+                let d =
+                    from.position(i as f64, j as f64, k as f64) - from.position(f[0], f[1], f[2]);
+                filter.filter.weight(d.length(), radius)
+            };
+            let all = ranges
+                .iter()
+                .map(|&(a, b)| (b - a + 1) as u64)
+                .product::<u64>();
             let (mut filled, mut total) = (0.0f64, 0.0f64);
             for k in ranges[2].0..=ranges[2].1 {
                 for j in ranges[1].0..=ranges[1].1 {
                     for i in ranges[0].0..=ranges[0].1 {
-                        let d = from.position(i as f64, j as f64, k as f64)
-                            - from.position(f[0], f[1], f[2]);
-                        let w = filter.filter.weight(d.length(), radius);
+                        let w = weights(k, j, i);
+                        if kept == all && w > 0.0 {
+                            // filled and total would add the same weights in the same order.
+                            *value += material;
+                            return;
+                        }
                         total += w;
                         if previous.kept_filled[from.index(i, j, k)] {
                             filled += w;
@@ -458,20 +508,85 @@ fn fill_density(
                 *value += (filled / total) as f32 * material;
             }
         });
-    out
+    Ok(out)
+}
+
+/// Counts of a set's samples in index boxes, from a table of prefix sums over the set's box.
+struct BoxCounts {
+    lo: [usize; 3],
+    size: [usize; 3],
+    /// `prefix[(i + 1) + (size0 + 1) ((j + 1) + (size1 + 1) (k + 1))]`: samples in the box
+    /// from `lo` to `lo + (i, j, k)`.
+    prefix: Vec<u32>,
+}
+
+impl BoxCounts {
+    fn new(
+        set: &[bool],
+        dims: [usize; 3],
+        lo: [usize; 3],
+        hi: [usize; 3],
+    ) -> Result<BoxCounts, MonotoneError> {
+        let size = [0, 1, 2].map(|a| hi[a] - lo[a] + 1);
+        let (sx, sy) = (size[0] + 1, size[1] + 1);
+        let slice = sx * sy;
+        memory::check_allocation(
+            "the filled samples' counts",
+            memory::bytes_of::<u32>(slice * (size[2] + 1)),
+        )?;
+        let mut prefix = vec![0u32; slice * (size[2] + 1)];
+        // Each z slice's 2D prefix sums in parallel, then the slices accumulated along z.
+        prefix[slice..]
+            .par_chunks_mut(slice)
+            .enumerate()
+            .for_each(|(k, plane)| {
+                for j in 0..size[1] {
+                    let mut row = 0u32;
+                    for i in 0..size[0] {
+                        let at = lo[0] + i + dims[0] * (lo[1] + j + dims[1] * (lo[2] + k));
+                        row += set[at] as u32;
+                        plane[(i + 1) + sx * (j + 1)] = plane[(i + 1) + sx * j] + row;
+                    }
+                }
+            });
+        for k in 1..=size[2] {
+            let (below, above) = prefix.split_at_mut(k * slice);
+            let below = &below[(k - 1) * slice..];
+            (above[..slice].par_iter_mut().zip(below)).for_each(|(a, &b)| *a += b);
+        }
+        Ok(BoxCounts { lo, size, prefix })
+    }
+
+    /// Samples of the set in the index box `ranges` (inclusive, within the set's box).
+    fn count(&self, ranges: [(usize, usize); 3]) -> u64 {
+        let (sx, sy) = (self.size[0] + 1, self.size[1] + 1);
+        let at = |i: usize, j: usize, k: usize| self.prefix[i + sx * (j + sy * k)] as i64;
+        let [(i0, i1), (j0, j1), (k0, k1)] =
+            [0, 1, 2].map(|a| (ranges[a].0 - self.lo[a], ranges[a].1 - self.lo[a] + 1));
+        let sum = at(i1, j1, k1) - at(i0, j1, k1) - at(i1, j0, k1) - at(i1, j1, k0)
+            + at(i0, j0, k1)
+            + at(i0, j1, k0)
+            + at(i1, j0, k0)
+            - at(i0, j0, k0);
+        sum as u64
+    }
 }
 
 /// The index box of the samples in `set`, or `None` when it is empty.
 fn set_box(set: &[bool], grid: &Grid) -> Option<([usize; 3], [usize; 3])> {
-    let mut lo = [usize::MAX; 3];
-    let mut hi = [0usize; 3];
-    for (i, _) in set.iter().enumerate().filter(|(_, &s)| s) {
-        let p = coordinates(grid.dims, i);
-        for a in 0..3 {
-            lo[a] = lo[a].min(p[a]);
-            hi[a] = hi[a].max(p[a]);
-        }
-    }
+    let widen = |a: ([usize; 3], [usize; 3]), b: ([usize; 3], [usize; 3])| {
+        (
+            [0, 1, 2].map(|k| a.0[k].min(b.0[k])),
+            [0, 1, 2].map(|k| a.1[k].max(b.1[k])),
+        )
+    };
+    let (lo, hi) = (set.par_iter().enumerate())
+        .filter(|(_, &s)| s)
+        .map(|(i, _)| {
+            let p = coordinates(grid.dims, i);
+            (p, p)
+        })
+        .reduce(|| ([usize::MAX; 3], [0; 3]), widen);
     (lo[0] != usize::MAX).then_some((lo, hi))
 }
 
@@ -488,6 +603,7 @@ fn coordinates_in(grid: &Grid, index: usize, other: &Grid) -> [f64; 3] {
 /// `set` (on `from`) read at the nearest sample to every sample of `to`; outside `from` is out.
 fn carry_nearest(set: &[bool], from: &Grid, to: &Grid) -> Vec<bool> {
     (0..to.len())
+        .into_par_iter()
         .map(|i| {
             let f = coordinates_in(to, i, from);
             let mut q = [0usize; 3];
@@ -508,6 +624,7 @@ fn carry_nearest(set: &[bool], from: &Grid, to: &Grid) -> Vec<bool> {
 fn carry_covering(set: &[bool], from: &Grid, to: &Grid) -> Vec<bool> {
     let nearest = carry_nearest(set, from, to);
     (0..to.len())
+        .into_par_iter()
         .map(|i| {
             let f = coordinates_in(to, i, from);
             let mut range = [(0usize, 0usize); 3];
@@ -531,6 +648,7 @@ fn carry_covering(set: &[bool], from: &Grid, to: &Grid) -> Vec<bool> {
 /// One step of dilation through the face neighbours.
 fn dilate(dims: [usize; 3], set: &[bool]) -> Vec<bool> {
     (0..set.len())
+        .into_par_iter()
         .map(|i| {
             set[i] || {
                 let p = coordinates(dims, i);
@@ -554,6 +672,7 @@ const FACES: [[i64; 3]; 6] = [
 /// Every sample but the grid's border, and the locked ones: a genus-0 start.
 fn hull(dims: [usize; 3], locked: &[bool]) -> Vec<bool> {
     (0..locked.len())
+        .into_par_iter()
         .map(|i| {
             let p = coordinates(dims, i);
             locked[i] || (0..3).all(|a| p[a] > 0 && p[a] + 1 < dims[a])
@@ -586,10 +705,14 @@ pub fn guarded_threshold(
         }
     };
     let mut inside = start;
-    let mut heap: BinaryHeap<(u32, Reverse<usize>)> = (0..inside.len())
+    // Keys are distinct (the index breaks ties), so the order of pops is the same however the
+    // heap is built.
+    let disagreeing: Vec<(u32, Reverse<usize>)> = (0..inside.len())
+        .into_par_iter()
         .filter(|&i| inside[i] != wants(i))
         .map(|i| (certainty(i), Reverse(i)))
         .collect();
+    let mut heap = BinaryHeap::from(disagreeing);
     memory::check_allocation(
         "the guarded threshold's queue",
         memory::bytes_of::<(u32, usize)>(heap.len() * 4),
