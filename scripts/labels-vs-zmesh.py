@@ -12,13 +12,16 @@ ones where they overlap, so many touch; written as a NRRD (uint16). `--map FILE.
 existing uint8/uint16 label map instead (raw or gzip NRRD with axis-aligned `space directions`).
 zmesh meshes every label at once (`close=True` so meshes at the border are closed, no
 simplification, then again with `reduction_factor=10`); voxlod makes one level per label at the
-map's resolution (one filtered marching-cubes surface each, `--levels 1`) and writes it, plus
-labels.vtp, labels.glb and report.json. voxlod runs on all cores (rayon); zmesh on one. The load
-average before the runs is printed: on a shared machine the times are only indicative.
+map's resolution (one filtered marching-cubes surface each, `--levels 1`, cleaned of slivers by
+default, then again plain with `--no-clean`) and writes it, plus labels.vtp, labels.glb and
+report.json. voxlod runs on all cores (rayon, labels in parallel); zmesh on one. The load
+average before the runs is printed, and voxlod's CPU time (all threads) beside its wall time:
+on a shared machine the wall times are only indicative.
 """
 
 import json
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -71,7 +74,25 @@ def write_nrrd(path, labels, spacing):
         f.write(labels.astype("<u2").tobytes())
 
 
+def run_voxlod(binary, seg, out, flags):
+    """`voxlod labels` on `seg`: wall time, CPU time (user + system, all threads) and per label
+    (triangles, volume) of level 0."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    done = subprocess.run([binary, "labels", seg, "-o", out, "--json", *flags],
+                          capture_output=True, text=True)
+    seconds = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if done.returncode != 0:
+        sys.exit(f"voxlod failed: {done.stderr.strip()}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return (seconds, cpu), {l["label"]: (l["levels"][0]["triangles"], l["levels"][0]["volume"])
+                     for l in json.loads(done.stdout)["labels"]}
+
+
 def run_zmesh(labels, spacing, reduction):
+    """zmesh on `labels`: wall time (one thread, so also its CPU time) and per label (triangles,
+    volume)."""
     start = time.perf_counter()
     mesher = zmesh.Mesher(spacing)
     # zmesh takes x-fastest Fortran order as (x, y, z)
@@ -113,31 +134,26 @@ def main():
         seg = given or os.path.join(tmp, "seg.nrrd")
         if not given:
             write_nrrd(seg, labels, spacing)
-        start = time.perf_counter()
-        done = subprocess.run(
-            [binary, "labels", seg, "-o", os.path.join(tmp, "out"), "--json"],
-            capture_output=True, text=True,
-        )
-        ours_seconds = time.perf_counter() - start
-        if done.returncode != 0:
-            sys.exit(f"voxlod failed: {done.stderr.strip()}")
-        ours = {l["label"]: (l["levels"][0]["triangles"], l["levels"][0]["volume"])
-                for l in json.loads(done.stdout)["labels"]}
+        ours_seconds, ours = run_voxlod(binary, seg, os.path.join(tmp, "out"), [])
+        plain_seconds, plain = run_voxlod(binary, seg, os.path.join(tmp, "plain"), ["--no-clean"])
     z_seconds, z = run_zmesh(labels, spacing, 0)
     zr_seconds, zr = run_zmesh(labels, spacing, 10)
     shape = "x".join(str(s) for s in labels.shape[::-1])
     print(f"label map {given or 'generated'} {shape}, spacing {spacing}, {len(counts)} labels; "
           f"load average {load:.1f} on {os.cpu_count()} cores before the runs")
-    print(f"voxlod labels: {ours_seconds:.2f} s (whole command: read, filter, contour, write)")
+    print(f"voxlod labels: {ours_seconds[0]:.2f} s wall, {ours_seconds[1]:.2f} s CPU (whole "
+          f"command: read, filter, contour, clean, write); {plain_seconds[0]:.2f} s wall, "
+          f"{plain_seconds[1]:.2f} s CPU with --no-clean (plain marching cubes)")
     print(f"zmesh:         {z_seconds:.2f} s (mesh + get, no simplification); "
           f"{zr_seconds:.2f} s with reduction_factor=10")
-    print("label  voxels*dV   voxlod tris  vol err   zmesh tris  vol err   zmesh/10 tris  vol err")
-    totals = [0, 0, 0]
-    errors = [[], [], []]
+    print("label  voxels*dV   voxlod tris  vol err   no-clean tris  vol err   zmesh tris  vol err"
+          "   zmesh/10 tris  vol err")
+    totals = [0, 0, 0, 0]
+    errors = [[], [], [], []]
     for label, count in counts.items():
         exact = count * voxel
         row = [f"{label:5d}", f"{exact:10.0f}"]
-        for i, result in enumerate((ours, z, zr)):
+        for i, result in enumerate((ours, plain, z, zr)):
             tris, vol = result.get(label, (0, 0.0))
             totals[i] += tris
             errors[i].append(abs(vol / exact - 1))

@@ -12,11 +12,16 @@
 //!
 //! Beyond the paper: the paper treats one object per volume; the per-label split and the
 //! label table are ours. Cost: one pass over the map to find the labels and their boxes, then
-//! per label one copy of its box and the pyramid's cost for that box.
+//! per label one copy of its box and the pyramid's cost for that box; [`mesh_labels`] meshes
+//! the labels in parallel, largest box first, with the boxes in flight kept within the memory
+//! budget.
 
+use rayon::prelude::*;
 use serde::Serialize;
 use voxlod_core::glam::DVec3;
 use voxlod_core::{memory, Frame, Grid, Placement, TriangleMesh, Volume};
+use voxlod_sampling::density::estimated_bytes;
+use voxlod_sampling::pyramid::plan_levels_with;
 use voxlod_sampling::{PyramidOptions, SamplingError, ThresholdSolid};
 
 use voxlod_core::mesh_topology;
@@ -152,9 +157,12 @@ pub fn select_labels(
         .collect()
 }
 
-/// The indicator of `label` (1 inside, 0 outside) over its box grown by one voxel (clamped to
-/// the map), placed in the map's world.
-pub fn label_indicator(map: &Volume, label: &LabelInfo) -> Result<Volume, LabelError> {
+/// The index range and grid of `label`'s box grown by one voxel (clamped to the map), its first
+/// sample placed in the map's world.
+fn label_box(
+    map: &Volume,
+    label: &LabelInfo,
+) -> Result<([usize; 3], [usize; 3], Grid), LabelError> {
     let g = &map.grid;
     let lo: [usize; 3] = std::array::from_fn(|a| label.min[a].saturating_sub(1));
     let hi: [usize; 3] = std::array::from_fn(|a| (label.max[a] + 1).min(g.dims[a] - 1));
@@ -165,6 +173,13 @@ pub fn label_indicator(map: &Volume, label: &LabelInfo) -> Result<Volume, LabelE
         .world()
         .index_to_world(DVec3::new(lo[0] as f64, lo[1] as f64, lo[2] as f64));
     let grid = Grid::new(dims, g.spacing, origin.to_array()).map_err(SamplingError::from)?;
+    Ok((lo, hi, grid))
+}
+
+/// The indicator of `label` (1 inside, 0 outside) over its box grown by one voxel (clamped to
+/// the map), placed in the map's world.
+pub fn label_indicator(map: &Volume, label: &LabelInfo) -> Result<Volume, LabelError> {
+    let (lo, hi, grid) = label_box(map, label)?;
     memory::check_allocation("the label's indicator", memory::bytes_of::<f32>(grid.len()))
         .map_err(SamplingError::from)?;
     let value = label.value as f32;
@@ -180,8 +195,7 @@ pub fn label_indicator(map: &Volume, label: &LabelInfo) -> Result<Volume, LabelE
 
 /// The pyramid of one label: level 0 at the map's finest spacing over the indicator's box, each
 /// further level at half the resolution; `levels` comes from `options`.
-fn label_pyramid(indicator: &Volume, options: &LabelOptions) -> PyramidOptions {
-    let g = &indicator.grid;
+fn label_pyramid(g: &Grid, options: &LabelOptions) -> PyramidOptions {
     let finest = g.spacing.iter().cloned().fold(f64::INFINITY, f64::min);
     let longest = g.bounds().longest_extent();
     let native = ((longest / finest).round() as usize).max(2);
@@ -201,7 +215,7 @@ pub fn label_levels(
     let solid = ThresholdSolid::new(&indicator, 0.5)?;
     let source = LodSource::Solid(&solid);
     let lod = LevelOptions {
-        pyramid: label_pyramid(&indicator, options),
+        pyramid: label_pyramid(&indicator.grid, options),
         ..options.lod.clone()
     };
     // The pipeline places each level in the map's world (the indicator keeps its transform);
@@ -223,6 +237,85 @@ pub fn label_levels(
             Ok(level)
         })
         .collect()
+}
+
+/// Bytes one label needs at its peak, estimated before any is allocated: its indicator box and
+/// the densest of its levels' sampling ([`voxlod_sampling::density::estimated_bytes`]), or
+/// `u64::MAX` when its levels cannot even be planned (it then fails on its own, with the reason).
+pub fn label_estimated_bytes(map: &Volume, label: &LabelInfo, options: &LabelOptions) -> u64 {
+    let Ok((_, _, grid)) = label_box(map, label) else {
+        return u64::MAX;
+    };
+    let pyramid = label_pyramid(&grid, options);
+    let Ok(plans) = plan_levels_with(&grid.bounds(), &pyramid, &estimated_bytes) else {
+        return u64::MAX;
+    };
+    let sampling = plans
+        .iter()
+        .map(|p| {
+            let q = p.density_options(&pyramid).lines_per_voxel(p.voxel_size);
+            estimated_bytes(&p.grid, q)
+        })
+        .max()
+        .unwrap_or(0);
+    memory::bytes_of::<f32>(grid.len()).saturating_add(sampling)
+}
+
+/// Labels in groups whose estimated bytes together fit in `budget`, each group's largest
+/// first; the groups in decreasing size. A label larger than the budget is a group of its own
+/// (its sampling then refuses it with the figures).
+fn groups_within(mut sized: Vec<(usize, u64)>, budget: u64) -> Vec<Vec<usize>> {
+    sized.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut used = 0u64;
+    for (index, bytes) in sized {
+        if groups.is_empty() || used.saturating_add(bytes) > budget {
+            groups.push(Vec::new());
+            used = 0;
+        }
+        used = used.saturating_add(bytes);
+        groups.last_mut().expect("a group was pushed").push(index);
+    }
+    groups
+}
+
+/// Every label's levels ([`label_levels`]), the labels meshed in parallel (rayon), largest box
+/// first, in groups whose estimated peak memory ([`label_estimated_bytes`]) fits in the memory
+/// budget together (`voxlod_core::memory`), so the boxes in flight never exceed it. Returns one
+/// result per label, in the order of `labels`; `done` is called as each label finishes (from
+/// any thread). Beyond the paper; each label's meshes are the same as [`label_levels`] gives.
+pub fn mesh_labels(
+    map: &Volume,
+    labels: &[LabelInfo],
+    options: &LabelOptions,
+    done: &(dyn Fn(&LabelInfo) + Sync),
+) -> Result<Vec<Result<Vec<LodLevel>, LabelError>>, LabelError> {
+    let budget = memory::available_bytes().map_err(SamplingError::from)?;
+    let sized = labels
+        .iter()
+        .enumerate()
+        .map(|(n, l)| (n, label_estimated_bytes(map, l, options)))
+        .collect();
+    let mut results: Vec<Option<Result<Vec<LodLevel>, LabelError>>> =
+        labels.iter().map(|_| None).collect();
+    for group in groups_within(sized, budget) {
+        let meshed: Vec<(usize, Result<Vec<LodLevel>, LabelError>)> = group
+            .into_par_iter()
+            .with_max_len(1)
+            .map(|n| {
+                let levels = label_levels(map, &labels[n], options);
+                done(&labels[n]);
+                (n, levels)
+            })
+            .collect();
+        for (n, levels) in meshed {
+            results[n] = Some(levels);
+        }
+    }
+    Ok(results
+        .into_iter()
+        .map(|r| r.expect("every label is in one group"))
+        .collect())
 }
 
 /// Volume of `voxels` voxels of the map, in world units cubed.
@@ -255,5 +348,101 @@ pub fn merge_labelled(meshes: &[(i64, &TriangleMesh)]) -> voxlod_core::PolyMesh 
             values: labels,
         }],
         ..Default::default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn groups_fill_the_budget_largest_first_and_a_label_over_it_goes_alone() {
+        // Sizes by index: 0 → 5, 1 → 40, 2 → 30, 3 → 20, 4 → 100 (over the budget of 60).
+        let sized = vec![(0, 5), (1, 40), (2, 30), (3, 20), (4, 100)];
+        assert_eq!(
+            groups_within(sized, 60),
+            vec![vec![4], vec![1], vec![2, 3, 0]]
+        );
+        assert_eq!(groups_within(Vec::new(), 60), Vec::<Vec<usize>>::new());
+        // Equal sizes keep the labels' order.
+        assert_eq!(
+            groups_within(vec![(0, 10), (1, 10), (2, 10)], 1000),
+            vec![vec![0, 1, 2]]
+        );
+    }
+
+    /// A 24 × 20 × 18 map: label 5 a ball, label 2 a box touching it, label 9 one voxel.
+    fn three_label_map() -> Volume {
+        let grid = Grid::new([24, 20, 18], [1.0, 1.0, 1.5], [3.0, -2.0, 1.0]).unwrap();
+        let mut values = vec![0.0f32; grid.len()];
+        for k in 0..18 {
+            for j in 0..20 {
+                for i in 0..24 {
+                    let d = DVec3::new(i as f64 - 8.0, j as f64 - 9.0, 1.5 * (k as f64 - 8.0));
+                    values[grid.index(i, j, k)] = if d.length() <= 6.0 {
+                        5.0
+                    } else if (14..=20).contains(&i)
+                        && (4..=15).contains(&j)
+                        && (3..=12).contains(&k)
+                    {
+                        2.0
+                    } else if (i, j, k) == (21, 17, 15) {
+                        9.0
+                    } else {
+                        0.0
+                    };
+                }
+            }
+        }
+        Volume::from_vec(grid, values).unwrap()
+    }
+
+    #[test]
+    fn labels_meshed_in_parallel_are_the_ones_meshed_one_by_one_in_the_given_order() {
+        let map = three_label_map();
+        let mut labels = find_labels(&map).unwrap();
+        assert_eq!(
+            labels.iter().map(|l| l.value).collect::<Vec<_>>(),
+            vec![2, 5, 9]
+        );
+        labels.reverse(); // any order the caller gives is kept
+        let options = LabelOptions::with_levels(2);
+        let finished = std::sync::Mutex::new(Vec::new());
+        let meshed = mesh_labels(&map, &labels, &options, &|l| {
+            finished.lock().unwrap().push(l.value)
+        })
+        .unwrap();
+        assert_eq!(meshed.len(), 3);
+        let mut finished = finished.into_inner().unwrap();
+        finished.sort();
+        assert_eq!(finished, vec![2, 5, 9]);
+        for (label, levels) in labels.iter().zip(meshed) {
+            let levels = levels.unwrap();
+            let alone = label_levels(&map, label, &options).unwrap();
+            assert_eq!(levels.len(), 2);
+            // The one voxel of label 9 may filter away; the other two are surfaces.
+            assert!(label.value == 9 || !levels[0].mesh.is_empty());
+            for (a, b) in levels.iter().zip(&alone) {
+                assert_eq!(a.mesh.positions, b.mesh.positions, "label {}", label.value);
+                assert_eq!(a.mesh.triangles, b.mesh.triangles, "label {}", label.value);
+            }
+        }
+    }
+
+    #[test]
+    fn the_estimate_grows_with_the_box_and_covers_the_indicator() {
+        let map = three_label_map();
+        let labels = find_labels(&map).unwrap();
+        let options = LabelOptions::default();
+        let bytes: Vec<u64> = labels
+            .iter()
+            .map(|l| label_estimated_bytes(&map, l, &options))
+            .collect();
+        // Label 5's box (13 × 13 × 9 voxels, grown by one) is the largest, label 9's the least.
+        assert!(bytes[1] > bytes[0] && bytes[0] > bytes[2], "{bytes:?}");
+        for (label, &b) in labels.iter().zip(&bytes) {
+            let indicator = label_indicator(&map, label).unwrap();
+            assert!(b > memory::bytes_of::<f32>(indicator.grid.len()), "{b}");
+        }
     }
 }

@@ -364,3 +364,36 @@ fn labels_flags_choose_labels_levels_filter_and_the_envelope_step() {
     );
     assert_eq!(e["closed_manifold"], true);
 }
+
+#[test]
+fn labels_no_clean_keeps_plain_marching_cubes_and_labels_run_in_parallel_in_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = seg_nrrd(dir.path());
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args = vec!["labels", arg(&map), "-o", arg(&out), "--json"];
+        args.extend(extra);
+        json(&voxlod(&args))
+    };
+    let cleaned = run("cleaned", &[]);
+    let plain = run("plain", &["--no-clean"]);
+    let (cleaned, plain) = (
+        cleaned["labels"].as_array().unwrap(),
+        plain["labels"].as_array().unwrap(),
+    );
+    // The labels come back in increasing order, whichever finished first.
+    let values: Vec<i64> = plain.iter().map(|l| l["label"].as_i64().unwrap()).collect();
+    assert_eq!(values, vec![1, 2, 3]);
+    for (c, p) in cleaned.iter().zip(plain) {
+        let (c, p) = (&c["levels"][0], &p["levels"][0]);
+        // Cleaning collapses the short edges marching cubes leaves near samples: fewer
+        // triangles, the same solid.
+        assert!(
+            p["triangles"].as_u64().unwrap() > c["triangles"].as_u64().unwrap(),
+            "{p} vs {c}"
+        );
+        assert_eq!(p["closed_manifold"], true);
+        let (vp, vc) = (p["volume"].as_f64().unwrap(), c["volume"].as_f64().unwrap());
+        assert!((vp / vc - 1.0).abs() < 0.005, "{vp} vs {vc}");
+    }
+}

@@ -3,13 +3,14 @@
 //! each label thresholded at ½ and filtered as in paper §4, see `src/labels.rs` of the
 //! library). The map arrives as a C-ordered `(nz, ny, nx)` float32 array of integer values
 //! (the Python half converts integer maps; every value up to 2²⁴ is exact in float32). Cost: one
-//! pass to find the labels, then per label the pyramid's cost over its box; the GIL is released
-//! for each label and Ctrl-C is checked between labels.
+//! pass to find the labels, then per label the pyramid's cost over its box, labels in parallel
+//! (`mesh_labels`) a few per core at a time: the GIL is released for each group and Ctrl-C is
+//! checked between groups.
 
 use numpy::PyReadonlyArray3;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use voxlod::labels::{find_labels, label_levels, select_labels, voxel_volume, LabelError};
+use voxlod::labels::{find_labels, mesh_labels, select_labels, voxel_volume, LabelError};
 use voxlod::labels::{LabelInfo, LabelOptions};
 
 use crate::errors::{Failure, Kind};
@@ -64,19 +65,33 @@ pub fn labels<'py>(
         select_labels(all, options.labels.as_deref()).map_err(Failure::from)
     })?;
     let mut out = Vec::with_capacity(chosen.len());
-    for label in &chosen {
+    let group = 2 * rayon::current_num_threads().max(1);
+    for labels in chosen.chunks(group) {
         py.check_signals()?;
-        let levels = py.detach(|| label_levels(&map, label, &options).map_err(Failure::from))?;
-        let dict = PyDict::new(py);
-        dict.set_item("label", label.value)?;
-        dict.set_item("voxels", label.voxels)?;
-        dict.set_item("voxel_volume", voxel_volume(&map, label.voxels))?;
-        let levels = levels
-            .into_iter()
-            .map(|level| lod_level_dict(py, level))
-            .collect::<PyResult<Vec<_>>>()?;
-        dict.set_item("levels", levels)?;
-        out.push(dict);
+        let meshed =
+            py.detach(|| mesh_labels(&map, labels, &options, &|_| ()).map_err(Failure::from))?;
+        for (label, levels) in labels.iter().zip(meshed) {
+            out.push(label_dict(py, &map, label, levels.map_err(Failure::from)?)?);
+        }
     }
     Ok(out)
+}
+
+/// One label's dict: `label`, `voxels`, `voxel_volume` and its `levels`.
+fn label_dict<'py>(
+    py: Python<'py>,
+    map: &voxlod::core::Volume,
+    label: &LabelInfo,
+    levels: Vec<voxlod::lod::LodLevel>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    dict.set_item("label", label.value)?;
+    dict.set_item("voxels", label.voxels)?;
+    dict.set_item("voxel_volume", voxel_volume(map, label.voxels))?;
+    let levels = levels
+        .into_iter()
+        .map(|level| lod_level_dict(py, level))
+        .collect::<PyResult<Vec<_>>>()?;
+    dict.set_item("levels", levels)?;
+    Ok(dict)
 }

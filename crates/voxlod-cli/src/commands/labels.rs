@@ -9,8 +9,9 @@ use serde::Serialize;
 use voxlod::core::{TriangleMesh, Volume};
 use voxlod::io::{read_label_table, LabelName, OutputSet};
 use voxlod::labels::{
-    find_labels, label_levels, merge_labelled, select_labels, voxel_volume, LabelInfo, LabelOptions,
+    find_labels, merge_labelled, mesh_labels, select_labels, voxel_volume, LabelInfo, LabelOptions,
 };
+use voxlod::lod::LodLevel;
 use voxlod::sampling::Filter;
 use voxlod::{EnvelopeStep, LevelEpsilon, ThenEnvelope};
 
@@ -26,7 +27,8 @@ use super::world::{frame_report, FrameArg, FrameReport};
 /// Each label's inside function (its voxels, trilinearly thresholded at ½) is filtered and
 /// contoured like a thresholded scan (paper §2, §4), so --levels, --filter, --radius and
 /// --then-envelope mean what they mean for `voxlod lod`; level 0 samples at the map's finest
-/// spacing. Writes DIR/label-V.ply (or label-V-NAME.ply when the file names its segments,
+/// spacing. Levels are cleaned of slivers, needles and self-intersections as `voxlod lod` cleans
+/// them (--no-clean keeps plain marching cubes). Labels are meshed in parallel, largest first. Writes DIR/label-V.ply (or label-V-NAME.ply when the file names its segments,
 /// label-V-K.ply for level K of several), every label's level 0 together in DIR/labels.vtp
 /// (per-vertex `label`) and DIR/labels.glb (one node per label, per-vertex `_LABEL`), and
 /// DIR/report.json (per label: voxels, voxel volume, and per level triangles, mesh volume and
@@ -67,6 +69,9 @@ pub struct LabelsArgs {
     #[arg(long, value_name = "E", value_parser = parse_level_epsilon,
         allow_hyphen_values = true)]
     pub then_envelope: Option<LevelEpsilon>,
+    /// Keep plain marching cubes (no cleaning of slivers, needles and self-intersections)
+    #[arg(long)]
+    pub no_clean: bool,
     #[command(flatten)]
     pub frame: FrameArg,
     /// Print the report as JSON on standard output (no progress bar)
@@ -153,18 +158,16 @@ fn read_map(path: &Path) -> Result<Volume, CliError> {
     Ok(voxlod::io::read_volume(path, None)?)
 }
 
-/// One label: its levels, enveloped when asked, checked and staged for writing.
-fn mesh_label(
+/// One label's levels (made by `mesh_labels`): checked and staged for writing.
+fn write_label(
     args: &LabelsArgs,
     map: &Volume,
     label: &LabelInfo,
     name: Option<&LabelName>,
-    options: &LabelOptions,
+    levels: Vec<LodLevel>,
     out: &mut OutputSet,
 ) -> Result<(LabelReport, Option<TriangleMesh>), CliError> {
     let what = format!("{}: label {}", args.input.display(), label.value);
-    let levels =
-        label_levels(map, label, options).map_err(|e| CliError::msg(format!("{what}: {e}")))?;
     let mut reports = Vec::new();
     let mut first = None;
     let count = levels.len();
@@ -183,7 +186,7 @@ fn mesh_label(
         if let Some(f) = &file {
             out.mesh(&in_dir(&args.output, f), &mesh)?;
         }
-        let t = voxlod::core::mesh_topology(&mesh);
+        let t = level.topology;
         reports.push(LevelReport {
             level: k,
             resolution: level.plan.resolution,
@@ -211,6 +214,25 @@ fn mesh_label(
     Ok((report, first))
 }
 
+/// The one line a label gets on the terminal.
+fn print_label(report: &LabelReport) {
+    let l0 = &report.levels[0];
+    println!(
+        "label {}{}: {} voxels, {} triangles, volume {:.1} (voxels: {:.1}), area {:.1}",
+        report.label,
+        report
+            .name
+            .as_deref()
+            .map(|n| format!(" ({n})"))
+            .unwrap_or_default(),
+        report.voxels,
+        l0.triangles,
+        l0.volume,
+        report.voxel_volume,
+        l0.area
+    );
+}
+
 pub fn run(args: LabelsArgs) -> Result<(), CliError> {
     let start = Instant::now();
     if args.levels == 0 {
@@ -225,43 +247,36 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
     let mut options = LabelOptions::with_levels(args.levels);
     options.lod.pyramid.filter = args.filter;
     options.lod.pyramid.radius_voxels = args.radius;
+    options.lod.clean = options.lod.clean.filter(|_| !args.no_clean);
     args.frame.check(&map, &args.input)?;
     options.frame = args.frame.target();
     options.then_envelope = args.then_envelope.map(ThenEnvelope::new);
     let mut out = OutputSet::protecting([&args.input]);
     out.create_dir(&args.output)?;
     let bar = progress(chosen.len() as u64, "labels", args.json);
+    let meshed = mesh_labels(&map, &chosen, &options, &|_| bar.inc(1))
+        .map_err(|e| CliError::msg(format!("{}: {e}", args.input.display())))?;
+    bar.finish_and_clear();
     let mut reports = Vec::new();
     let mut firsts: Vec<(i64, TriangleMesh)> = Vec::new();
-    for label in &chosen {
+    for (label, levels) in chosen.iter().zip(meshed) {
+        let levels = levels.map_err(|e| {
+            CliError::msg(format!(
+                "{}: label {}: {e}",
+                args.input.display(),
+                label.value
+            ))
+        })?;
         let name = table.iter().find(|n| n.value == label.value);
-        let (report, first) = mesh_label(&args, &map, label, name, &options, &mut out)?;
+        let (report, first) = write_label(&args, &map, label, name, levels, &mut out)?;
         if !args.json {
-            bar.suspend(|| {
-                let l0 = &report.levels[0];
-                println!(
-                    "label {}{}: {} voxels, {} triangles, volume {:.1} (voxels: {:.1}), area {:.1}",
-                    report.label,
-                    report
-                        .name
-                        .as_deref()
-                        .map(|n| format!(" ({n})"))
-                        .unwrap_or_default(),
-                    report.voxels,
-                    l0.triangles,
-                    l0.volume,
-                    report.voxel_volume,
-                    l0.area
-                )
-            });
+            print_label(&report);
         }
         reports.push(report);
         if let Some(mesh) = first.filter(|m| !m.is_empty()) {
             firsts.push((label.value, mesh));
         }
-        bar.inc(1);
     }
-    bar.finish_and_clear();
     let all_labels = (!firsts.is_empty()).then(|| "labels.vtp".to_string());
     let all_labels_gltf = (!firsts.is_empty()).then(|| "labels.glb".to_string());
     if all_labels.is_some() {

@@ -54,6 +54,11 @@ def labels(
     """One closed mesh (or chain of ``levels`` levels) per label of a label map, as
     mesh-n-bone, igneous and zmesh make them.
 
+    The labels are meshed in parallel on every core, a few per core at a time (largest box
+    first, within the memory budget); Ctrl-C is honoured between those groups. Each level is
+    cleaned of slivers, needles and self-intersections (beyond the paper), as ``voxlod labels``
+    does by default.
+
     Parameters
     ----------
     volume : (nz, ny, nx) array of integer labels
