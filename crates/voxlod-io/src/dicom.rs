@@ -129,6 +129,8 @@ pub(crate) fn open(path: &Path, until_pixels: bool) -> Result<DefaultDicomObject
         return Err(IoError::new(path, IoErrorKind::Empty, "the file is empty"));
     }
     budget::check_bytes(path, "reading the DICOM file", len)?;
+    let bytes = std::fs::read(path).map_err(|e| IoError::access(path, "cannot read", &e))?;
+    crate::dicom_lengths::check_declared_lengths(path, &bytes)?;
     let parsed = guard::quietly(|| {
         let options = OpenFileOptions::new();
         let options = if until_pixels {
@@ -205,6 +207,12 @@ fn read_header(path: &Path) -> Result<SliceHeader, IoError> {
     let obj = open(path, true)?;
     let rows = dimension(&obj, path, tags::ROWS, "Rows")?;
     let columns = dimension(&obj, path, tags::COLUMNS, "Columns")?;
+    if obj.meta().media_storage_sop_class_uid() == crate::SEGMENTATION_STORAGE {
+        return Err(IoError::unsupported(
+            path,
+            "a DICOM Segmentation is a label map, not a scan: read it as labels (voxlod labels)",
+        ));
+    }
     let frames = text(&obj, tags::NUMBER_OF_FRAMES);
     if !frames.is_empty() && frames != "1" {
         return Err(IoError::unsupported(

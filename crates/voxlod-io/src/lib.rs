@@ -83,6 +83,7 @@ mod budget;
 mod detached;
 mod dicom;
 mod dicom_geometry;
+mod dicom_lengths;
 mod dicom_seg;
 pub mod ear_clipping;
 mod error;

@@ -247,6 +247,19 @@ fn broken_segs_are_refused_in_plain_words_naming_the_file() {
         IoErrorKind::Unsupported,
         "1-bit pixel data in a compressed transfer syntax (1.2.840.10008.1.2.4.50)",
     );
+    // A length that claims 4 GiB in a small file is refused before any parser makes room for
+    // it (dicom-parser would allocate it first).
+    let path = write(dir.path(), "huge.dcm", &good);
+    let mut all = std::fs::read(&path).unwrap();
+    let header = b"\xe0\x7f\x10\x00OB\x00\x00";
+    let at = all.windows(8).position(|w| w == header).unwrap() + 8;
+    all[at..at + 4].copy_from_slice(&0xFFFF_FFF0u32.to_le_bytes());
+    std::fs::write(&path, &all).unwrap();
+    refused(
+        &path,
+        IoErrorKind::Truncated,
+        "declares 4294967280 bytes but only",
+    );
     // A file cut short is a clean error too.
     let path = write(dir.path(), "cut.dcm", &good);
     let all = std::fs::read(&path).unwrap();
@@ -308,4 +321,45 @@ fn dicom_pixeldata_still_misreads_frames_that_do_not_end_on_a_byte() {
         differs,
         "dicom-pixeldata now unpacks packed 1-bit frames correctly"
     );
+}
+
+/// pydicom (an independent reader, which unpacks frames that straddle bytes since 3.0) sees
+/// the same bits in every frame of the written SEG as the reader paints: the packing convention
+/// (least significant bit first, no padding between frames) is not only ours.
+#[test]
+fn pydicom_reads_the_same_frames_from_the_written_seg() {
+    let dir = tempfile::tempdir().unwrap();
+    let seg = phantom_seg(Kind::Binary);
+    let path = write(dir.path(), "seg.dcm", &seg);
+    let script = "import sys, pydicom\n\
+        ds = pydicom.dcmread(sys.argv[1])\n\
+        a = ds.pixel_array\n\
+        for k, g in enumerate(ds.PerFrameFunctionalGroupsSequence):\n\
+        \x20   s = g.SegmentIdentificationSequence[0].ReferencedSegmentNumber\n\
+        \x20   print(s, int(a[k].sum()), int(a[k].ravel().nonzero()[0].sum()))\n";
+    let Some(out) = voxlod_testkit::peers::run_python(script, &[path.as_os_str()]) else {
+        return;
+    };
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), seg.frames.len());
+    for (line, frame) in lines.iter().zip(&seg.frames) {
+        let fields: Vec<&str> = line.split(' ').collect();
+        assert_eq!(fields[0], frame.segment.to_string());
+        let ones = frame.pixels.iter().filter(|&&v| v == 1).count();
+        assert_eq!(fields[1], ones.to_string());
+        // Where the ones are: the sum of their indices.
+        let ones_at: usize = (0..frame.pixels.len())
+            .filter(|&i| frame.pixels[i] == 1)
+            .sum();
+        assert_eq!(fields[2], ones_at.to_string());
+    }
+    // And the map the reader makes holds, per segment, those bits (the overlap aside).
+    let map = read_label_map(&path).unwrap();
+    let (_, n_box) = label_centroid(&map.volume, 2.0);
+    let box_ones: usize = lines
+        .iter()
+        .filter(|l| l.starts_with("2 "))
+        .map(|l| l.split(' ').nth(1).unwrap().parse::<usize>().unwrap())
+        .sum();
+    assert_eq!(n_box, box_ones);
 }
