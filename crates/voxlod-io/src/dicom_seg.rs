@@ -417,6 +417,9 @@ fn plane_geometry(
     positions.sort_by(|a, b| depth(*a).total_cmp(&depth(*b)));
     positions.dedup_by(|a, b| (*a - *b).length() < SAME_PLANE);
     let planes = fill_empty_planes(path, &positions, first.spacing_between, normal)?;
+    // `stack` refuses a slice whose orientation or pixel spacing differs from the first one's:
+    // the first frame that differs (if any) goes in front of the planes, for it to be refused
+    // by the same check and named.
     let mut slices: Vec<SliceGeometry> = frames
         .iter()
         .enumerate()
@@ -424,9 +427,12 @@ fn plane_geometry(
             f.orientation != first.orientation || f.pixel_spacing != first.pixel_spacing
         })
         .take(1)
-        .map(|(k, f)| slice_geometry(path, k, f, f.position))
+        .map(|(k, f)| slice_geometry(path, &format!("frame {}", k + 1), f, f.position))
         .collect();
-    slices.extend(planes.iter().map(|&p| slice_geometry(path, 0, first, p)));
+    slices.extend(
+        (planes.iter().enumerate())
+            .map(|(j, &p)| slice_geometry(path, &format!("plane {}", j + 1), first, p)),
+    );
     let world = stack(path, &mut slices, SPACING_TOLERANCE)?;
     if let (Some(given), true) = (first.spacing_between, planes.len() > 1) {
         let measured = world.spacing.z;
@@ -442,10 +448,10 @@ fn plane_geometry(
 }
 
 /// What `stack` needs of a plane: the frame's orientation, spacing and thickness at `position`
-/// (named by the frame, for its messages).
-fn slice_geometry(path: &Path, k: usize, frame: &Frame, position: DVec3) -> SliceGeometry {
+/// (named `what`, a frame or a plane, for its messages).
+fn slice_geometry(path: &Path, what: &str, frame: &Frame, position: DVec3) -> SliceGeometry {
     SliceGeometry {
-        path: PathBuf::from(format!("{} (frame {})", path.display(), k + 1)),
+        path: PathBuf::from(format!("{} ({what})", path.display())),
         position: Some(position),
         orientation: Some(frame.orientation),
         pixel_spacing: frame.pixel_spacing,

@@ -363,3 +363,69 @@ fn pydicom_reads_the_same_frames_from_the_written_seg() {
         .sum();
     assert_eq!(n_box, box_ones);
 }
+
+/// highdicom's Python (`VOXLOD_HIGHDICOM_PYTHON`, else `~/.cache/voxlod-highdicom/bin/python`:
+/// a virtual environment with `pip install highdicom`), or a recorded skip.
+fn highdicom_python() -> Option<PathBuf> {
+    let python = std::env::var_os("VOXLOD_HIGHDICOM_PYTHON")
+        .map(PathBuf::from)
+        .or_else(|| {
+            std::env::var_os("HOME")
+                .map(|h| PathBuf::from(h).join(".cache/voxlod-highdicom/bin/python"))
+        })
+        .filter(|p| p.is_file());
+    if python.is_none() {
+        voxlod_testkit::skips::skip(
+            "no highdicom: make a venv at ~/.cache/voxlod-highdicom with `pip install highdicom` (or set VOXLOD_HIGHDICOM_PYTHON)",
+        );
+    }
+    python
+}
+
+/// A SEG that highdicom (an independent writer) makes from a shuffled oblique CT series, BINARY
+/// (45x37 frames straddling bytes, empty frames left out) and FRACTIONAL: the reader finds every
+/// label's voxels and their world centroid as the script computes them from its masks.
+#[test]
+fn a_seg_written_by_highdicom_is_placed_voxel_for_voxel() {
+    let Some(python) = highdicom_python() else {
+        return;
+    };
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/highdicom_seg.py");
+    let dir = tempfile::tempdir().unwrap();
+    for (kind, bits) in [("binary", "1"), ("fractional", "8")] {
+        let path = dir.path().join(format!("{kind}.dcm"));
+        let out = std::process::Command::new(&python)
+            .arg(&script)
+            .arg(&path)
+            .arg(kind)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let out = String::from_utf8(out.stdout).unwrap();
+        let lines: Vec<Vec<&str>> = out.lines().map(|l| l.split(' ').collect()).collect();
+        assert_eq!(lines[3][2], bits, "{out}");
+        let map = read_label_map(&path).unwrap();
+        assert_eq!(map.volume.orientation.frame, Frame::Lps);
+        let names: Vec<&str> = map.table.iter().map(|l| l.name.as_str()).collect();
+        assert_eq!(names, ["ball", "box"]);
+        for (label, rgb) in map.table.iter().zip([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]) {
+            let c = label.color.unwrap();
+            assert!((0..3).all(|a| (c[a] - rgb[a]).abs() < 0.01), "{c:?}");
+        }
+        assert_eq!(overlap(&map).to_string(), lines[2][1], "{out}");
+        for line in &lines[..2] {
+            let (centre, n) = label_centroid(&map.volume, line[0].parse().unwrap());
+            assert_eq!(n.to_string(), line[1], "label {}", line[0]);
+            let expected: Vec<f64> = line[2..5].iter().map(|v| v.parse().unwrap()).collect();
+            let expected = DVec3::new(expected[0], expected[1], expected[2]);
+            assert!(
+                (centre - expected).length() < 1e-3,
+                "{centre} vs {expected}"
+            );
+        }
+    }
+}
