@@ -8,6 +8,8 @@
 #   ITERATIONS=20000 ROUNDS=100 scripts/mutation-sweep.sh
 #   FIRST_SEED=7 ROUNDS=1 scripts/mutation-sweep.sh   # one round again, to reproduce it
 #
+# The seeds are those of mutation_sweep.rs: every format, DICOM among them (a CT slice, c.dcm,
+# and a segmentation, s.seg.dcm, read as a label map).
 # The CI run (cargo test) uses 400 mutations per seed file and a fixed seed.
 set -euo pipefail
 cd "$(dirname "$0")/.."

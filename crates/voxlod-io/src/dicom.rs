@@ -15,7 +15,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use dicom_dictionary_std::tags;
-use dicom_object::{DefaultDicomObject, OpenFileOptions};
+use dicom_object::{DefaultDicomObject, InMemDicomObject, OpenFileOptions};
 use dicom_pixeldata::PixelDecoder;
 use glam::DVec3;
 use voxlod_core::{memory, Volume};
@@ -121,7 +121,7 @@ fn collect_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, IoError> {
 
 /// Parses a file with dicom-object inside the panic guard; `until_pixels` stops before the
 /// pixel data.
-fn open(path: &Path, until_pixels: bool) -> Result<DefaultDicomObject, IoError> {
+pub(crate) fn open(path: &Path, until_pixels: bool) -> Result<DefaultDicomObject, IoError> {
     let len = std::fs::metadata(path)
         .map_err(|e| IoError::access(path, "cannot open", &e))?
         .len();
@@ -129,6 +129,8 @@ fn open(path: &Path, until_pixels: bool) -> Result<DefaultDicomObject, IoError> 
         return Err(IoError::new(path, IoErrorKind::Empty, "the file is empty"));
     }
     budget::check_bytes(path, "reading the DICOM file", len)?;
+    let bytes = std::fs::read(path).map_err(|e| IoError::access(path, "cannot read", &e))?;
+    crate::dicom_lengths::check_declared_lengths(path, &bytes)?;
     let parsed = guard::quietly(|| {
         let options = OpenFileOptions::new();
         let options = if until_pixels {
@@ -152,7 +154,7 @@ fn open(path: &Path, until_pixels: bool) -> Result<DefaultDicomObject, IoError> 
 }
 
 /// A text attribute, trimmed; empty when absent.
-fn text(obj: &DefaultDicomObject, tag: dicom_object::Tag) -> String {
+pub(crate) fn text(obj: &InMemDicomObject, tag: dicom_object::Tag) -> String {
     obj.element_opt(tag)
         .ok()
         .flatten()
@@ -166,8 +168,8 @@ fn text(obj: &DefaultDicomObject, tag: dicom_object::Tag) -> String {
 
 /// A multi-valued decimal attribute with exactly `n` finite values, or `None` when absent;
 /// present but wrong is an error naming the attribute.
-fn decimals(
-    obj: &DefaultDicomObject,
+pub(crate) fn decimals(
+    obj: &InMemDicomObject,
     path: &Path,
     tag: dicom_object::Tag,
     name: &str,
@@ -186,8 +188,8 @@ fn decimals(
 }
 
 /// Rows or Columns: present, positive.
-fn dimension(
-    obj: &DefaultDicomObject,
+pub(crate) fn dimension(
+    obj: &InMemDicomObject,
     path: &Path,
     tag: dicom_object::Tag,
     name: &str,
@@ -205,6 +207,12 @@ fn read_header(path: &Path) -> Result<SliceHeader, IoError> {
     let obj = open(path, true)?;
     let rows = dimension(&obj, path, tags::ROWS, "Rows")?;
     let columns = dimension(&obj, path, tags::COLUMNS, "Columns")?;
+    if obj.meta().media_storage_sop_class_uid() == crate::SEGMENTATION_STORAGE {
+        return Err(IoError::unsupported(
+            path,
+            "a DICOM Segmentation is a label map, not a scan: read it as labels (voxlod labels)",
+        ));
+    }
     let frames = text(&obj, tags::NUMBER_OF_FRAMES);
     if !frames.is_empty() && frames != "1" {
         return Err(IoError::unsupported(

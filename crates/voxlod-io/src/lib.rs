@@ -14,6 +14,7 @@
 //! | `.nii`, `.nii.gz` | volume | NIfTI-1 | — | `nifti.rs` |
 //! | `.mha`, `.mhd` | volume | MetaImage, zlib or not, local or detached data | same | `metaimage.rs` |
 //! | `.dcm`, a folder | volume | DICOM series (one SeriesInstanceUID), in LPS | — | `dicom.rs`, `dicom_geometry.rs` |
+//! | `.dcm`, a folder | label map | DICOM Segmentation (BINARY, FRACTIONAL), in LPS ([`read_label_map`]) | — | `dicom_seg.rs` |
 //! | `.raw` (or any other, given a [`RawLayout`]) | volume | headerless samples | `f32` little-endian | `raw.rs` |
 //! | `.zarr` (a folder) | volume | Zarr v2/v3 arrays, OME-Zarr 0.4/0.5 images; whole or by region ([`open_zarr`]) | OME-Zarr 0.5 image (Zarr v3, zstd) | `zarr.rs`, `zarr_write.rs` |
 //!
@@ -82,6 +83,8 @@ mod budget;
 mod detached;
 mod dicom;
 mod dicom_geometry;
+mod dicom_lengths;
+mod dicom_seg;
 pub mod ear_clipping;
 mod error;
 mod guard;
@@ -115,8 +118,11 @@ use voxlod_core::validate::{find_defect, validate_mesh, Requirements};
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh, Volume};
 
 pub use dicom::{list_dicom_series, read_dicom_series, DicomOptions, SeriesSummary};
+pub use dicom_seg::{
+    cielab_to_srgb, find_dicom_seg, is_dicom_seg, read_dicom_seg, SEGMENTATION_STORAGE,
+};
 pub use error::{IoError, IoErrorKind};
-pub use label_table::{read_label_table, LabelName};
+pub use label_table::{read_label_map, read_label_table, LabelMap, LabelName};
 pub use outputs::{check_image_path, OutputSet, IMAGE_EXTENSIONS};
 pub use raw::{Endian, ParseNameError, RawLayout, RawType};
 pub use voxlod_core::weld::WeldReport;

@@ -172,6 +172,7 @@ fn volume_seeds() -> Vec<Seed> {
         single("n.nii.gz", gzip(&nii)),
         single("r.raw", (0..16u8).collect()),
         dicom_seed(),
+        dicom_seg_seed(),
         single("s.seg.nrrd", SEG_NRRD.to_vec()),
         seed_written("w.nii", |p| write_volume(p, &v).unwrap()),
         seed_written("z.nii.gz", |p| write_volume(p, &v).unwrap()),
@@ -187,6 +188,23 @@ fn dicom_seed() -> Seed {
     seed_written("c.dcm", |p| {
         voxlod_testkit::dicom::write_slice(p, &slices[0])
     })
+}
+
+/// A DICOM Segmentation written with dicom-object: 5x3 frames (15 bits, so frames straddle
+/// bytes), two segments, four frames on two planes of an oblique grid.
+fn dicom_seg_seed() -> Seed {
+    use voxlod_testkit::dicom_seg::{phantom_seg, write_seg, Frame, Kind};
+    let mut seg = phantom_seg(Kind::Binary);
+    (seg.rows, seg.columns) = (3, 5);
+    let normal = voxlod_testkit::dicom_seg::oblique_axes()[2];
+    seg.frames = (0..4u8)
+        .map(|k| Frame {
+            segment: 1 + u16::from(k % 2),
+            position: [0, 1, 2].map(|a| 10.0 + normal[a] * 1.5 * f64::from(k / 2)),
+            pixels: (0..15u8).map(|i| (i + k) % 3 / 2).collect(),
+        })
+        .collect();
+    seed_written("s.seg.dcm", |p| write_seg(p, &seg))
 }
 
 /// Interesting byte values: the ends of the ranges, digits and signs, separators.

@@ -9,6 +9,7 @@
 //! - [`fields`]: the sphereflake and gyroid fields of the peers' benchmark kit.
 //! - [`volumes`]: small volumes made in code.
 //! - [`dicom`]: DICOM slices and series of a ball phantom, written with dicom-object.
+//! - [`dicom_seg`]: DICOM Segmentation objects of a ball and a box, written with dicom-object.
 //! - [`intersections`]: an independent triangle–triangle intersection test of a mesh.
 //! - [`files`]: writing and listing files, gzip and zlib streams.
 //! - [`peers`]: the peers' Python (nibabel, pydicom, SimpleITK, zmesh), or a recorded skip.
@@ -20,6 +21,7 @@
 
 pub mod data;
 pub mod dicom;
+pub mod dicom_seg;
 pub mod fields;
 pub mod files;
 pub mod gltf_validator;

@@ -1,13 +1,13 @@
 //! `voxlod labels`: a label map (segmentation) in, one closed mesh per structure out, each with
 //! its levels of detail (`voxlod::labels`).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
 use voxlod::core::{TriangleMesh, Volume};
-use voxlod::io::{read_label_table, LabelName, OutputSet};
+use voxlod::io::{read_label_map, LabelName, OutputSet};
 use voxlod::labels::{
     find_labels, merge_labelled, mesh_labels, select_labels, voxel_volume, LabelInfo, LabelOptions,
 };
@@ -22,7 +22,8 @@ use super::labels_glb::{labels_glb, LabelMesh};
 use super::values::number;
 use super::world::{frame_report, FrameArg, FrameReport};
 
-/// Mesh a label map: one closed, outward mesh per label (NIfTI, NRRD, MetaImage, Slicer .seg.nrrd).
+/// Mesh a label map: one closed, outward mesh per label (NIfTI, NRRD, MetaImage, Slicer .seg.nrrd,
+/// DICOM Segmentation).
 ///
 /// Each label's inside function (its voxels, trilinearly thresholded at ½) is filtered and
 /// contoured like a thresholded scan (paper §2, §4), so --levels, --filter, --radius and
@@ -38,10 +39,12 @@ use super::world::{frame_report, FrameArg, FrameReport};
 ///   voxlod labels segmentation.nii.gz -o organs
 ///   voxlod labels Segmentation.seg.nrrd -o models --frame lps --labels 1,4,7
 ///   voxlod labels aseg.mha -o aseg --levels 3 --then-envelope 1vox
+///   voxlod labels SEG.dcm -o segments   # or a folder holding one DICOM SEG file
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct LabelsArgs {
-    /// The label map: integer samples, 0 is background (.nrrd .nhdr .nii .nii.gz .mha .mhd .vti)
+    /// The label map: integer samples, 0 is background (.nrrd .nhdr .nii .nii.gz .mha .mhd .vti),
+    /// or a DICOM Segmentation (a SEG .dcm, or a folder holding one): segment numbers are labels
     pub input: PathBuf,
     /// Folder for the meshes and report.json (created if missing)
     #[arg(short, long, value_name = "DIR")]
@@ -115,6 +118,8 @@ struct LabelsReport {
     /// The glTF with every label's level 0 (`_LABEL` per vertex).
     all_labels_gltf: Option<String>,
     labels: Vec<LabelReport>,
+    /// What reading the map warned of (overlapping DICOM segments).
+    warnings: Vec<String>,
     total_seconds: f64,
 }
 
@@ -152,10 +157,6 @@ fn file_name(
 /// The value parser of `--then-envelope` (the error without the flag's name).
 fn parse_level_epsilon(text: &str) -> Result<LevelEpsilon, String> {
     text.parse()
-}
-
-fn read_map(path: &Path) -> Result<Volume, CliError> {
-    Ok(voxlod::io::read_volume(path, None)?)
 }
 
 /// One label's levels (made by `mesh_labels`): checked and staged for writing.
@@ -238,8 +239,13 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
     if args.levels == 0 {
         return Err(CliError::usage("--levels must be at least 1"));
     }
-    let map = read_map(&args.input)?;
-    let table = read_label_table(&args.input)?;
+    let read = read_label_map(&args.input)?;
+    let (map, table) = (read.volume, read.table);
+    if !args.json {
+        for w in &read.warnings {
+            eprintln!("warning: {w}");
+        }
+    }
     let all =
         find_labels(&map).map_err(|e| CliError::msg(format!("{}: {e}", args.input.display())))?;
     let chosen = select_labels(all, args.labels.as_deref())
@@ -299,6 +305,7 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
         all_labels,
         all_labels_gltf,
         labels: reports,
+        warnings: read.warnings,
         total_seconds: start.elapsed().as_secs_f64(),
     };
     add_report(&mut out, &args.output, &report)?;

@@ -65,6 +65,8 @@ pub fn read_by_extension(path: &Path) -> Result<(), IoError> {
         || (name.ends_with(".vtk") && (name.starts_with("mesh") || name.starts_with("cube")));
     if mesh {
         voxlod_io::read_poly_mesh(path).map(|_| ())
+    } else if name.ends_with(".seg.dcm") {
+        voxlod_io::read_label_map(path).map(|_| ())
     } else if name.ends_with(".seg.nrrd") {
         voxlod_io::read_label_table(path)?;
         voxlod_io::read_volume(path, None).map(|_| ())
