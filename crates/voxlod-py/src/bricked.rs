@@ -27,7 +27,9 @@ use voxlod::core::{BrickVolume, Grid, Volume};
 use voxlod::io::{IoError, IoErrorKind};
 use voxlod::lod::LevelOptions;
 use voxlod::sampling::narrow_band::BandReport;
-use voxlod::sampling::{BlockBrick, BrickAssembly, BrickedError, BrickedThreshold, DensityReport};
+use voxlod::sampling::{
+    BlockBrick, BlockSamples, BrickAssembly, BrickedError, BrickedThreshold, DensityReport,
+};
 
 use crate::arrays::{column, volume_slice};
 use crate::errors::{usage, Failure};
@@ -288,7 +290,7 @@ pub fn fill_threshold_block<'py>(
             "the window of block {block:?} has {window_dims:?} samples (x, y, z), not {extent:?}"
         )));
     }
-    let answer = py.detach(|| -> Result<Result<f32, (Vec<BlockBrick>, u64)>, Failure> {
+    let answer = py.detach(|| -> Result<BlockSamples, Failure> {
         let s = &level.scan;
         let origin = [0, 1, 2].map(|a| s.origin[a] + start[a] as f64 * s.spacing[a]);
         let grid = Grid::new(extent, s.spacing, origin)?;
@@ -296,15 +298,11 @@ pub fn fill_threshold_block<'py>(
             grid,
             ..crate::contour::owned_volume(samples, extent)?
         };
-        let (low, high) = volume.range().unwrap_or((f32::NAN, f32::NAN));
-        Ok(match level.uniform_value(block, low, high) {
-            Some(value) => Ok(value),
-            None => Err(level.fill_block(block, &volume)),
-        })
+        Ok(level.sample_block(block, &volume))
     })?;
     let (bricks, crossings) = match answer {
-        Ok(value) => return Ok(value.into_pyobject(py)?.into_any()),
-        Err(filled) => filled,
+        BlockSamples::Uniform(value) => return Ok(value.into_pyobject(py)?.into_any()),
+        BlockSamples::Bricks(bricks, crossings) => (bricks, crossings),
     };
     let mut leaf_at = Vec::new();
     let mut leaves = Vec::new();

@@ -18,11 +18,16 @@
 //! iso value; `tests/bricked_threshold.rs` bounds the difference by 1e-12). On generated gyroids
 //! of 48³ and 256³ the meshes had the same triangle counts and bit-identical vertex sets.
 //!
+//! A block whose window holds no crossing of the threshold (all its samples below it, or all at
+//! or above it away from the scan's edge: [`BrickedThreshold::uniform_value`]) skips the
+//! density pass: its samples are exactly 0 or 1 there, as the pass would give them.
+//!
 //! Beyond the paper, which holds the whole volume. **Memory**: per block in flight, its window of
 //! the scan as `f32` and its lattice (a few MB for blocks of 64³ samples); then 8 bytes per brick
 //! of the level and `4 B³` per leaf brick (those the surface reaches), checked against the budget
 //! as they accumulate. **Cost**: each block reads its window (the halos are read twice) and
-//! integrates every sample of the block: O(N³) like the dense route, in memory O(surface).
+//! integrates every sample of the block that can see the surface: O(N³) at worst like the dense
+//! route, in memory O(surface).
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -185,6 +190,20 @@ impl BrickedThreshold {
         }
     }
 
+    /// Block `block` from `window` (the samples [`BrickedThreshold::scan_window`] names): its
+    /// one value when [`BrickedThreshold::uniform_value`] finds no surface in the window (one
+    /// pass for its range), else its bricks ([`BrickedThreshold::fill_block`]).
+    pub fn sample_block(&self, block: [usize; 3], window: &Volume) -> BlockSamples {
+        let (low, high) = window.range().unwrap_or((f32::NAN, f32::NAN));
+        match self.uniform_value(block, low, high) {
+            Some(value) => BlockSamples::Uniform(value),
+            None => {
+                let (bricks, crossings) = self.fill_block(block, window);
+                BlockSamples::Bricks(bricks, crossings)
+            }
+        }
+    }
+
     /// The bricks of `block`, every one of them the single value `value` (a block
     /// [`BrickedThreshold::uniform_value`] answered), in increasing brick index.
     pub fn uniform_block(&self, block: [usize; 3], value: f32) -> Vec<BlockBrick> {
@@ -266,6 +285,15 @@ impl BrickedThreshold {
         }
         out
     }
+}
+
+/// What [`BrickedThreshold::sample_block`] found for a block.
+#[derive(Clone, Debug)]
+pub enum BlockSamples {
+    /// Every sample of the block has this value (its window holds no surface).
+    Uniform(f32),
+    /// The block's bricks and the crossings found.
+    Bricks(Vec<BlockBrick>, u64),
 }
 
 /// One brick of a block: uniform, or a leaf.
@@ -400,7 +428,10 @@ where
             .map(|&block| {
                 let (start, extent) = level.scan_window(block);
                 let window = read(start, extent)?;
-                Ok(level.fill_block(block, &window))
+                Ok(match level.sample_block(block, &window) {
+                    BlockSamples::Uniform(value) => (level.uniform_block(block, value), 0),
+                    BlockSamples::Bricks(bricks, crossings) => (bricks, crossings),
+                })
             })
             .collect();
         let mut slab_bricks: Vec<BlockBrick> = Vec::new();

@@ -87,7 +87,8 @@ pub mod threshold;
 pub mod vanishing;
 
 pub use bricked_threshold::{
-    bricked_threshold_density, BlockBrick, BrickAssembly, BrickedError, BrickedThreshold,
+    bricked_threshold_density, BlockBrick, BlockSamples, BrickAssembly, BrickedError,
+    BrickedThreshold,
 };
 pub use csg::{CsgSolid, Shape};
 pub use density::{filtered_density, DensityOptions, DensityReport};
