@@ -4,8 +4,10 @@
 - voxlod.marching_cubes vs skimage.measure.marching_cubes on the peers' 256³ gyroid and
   512³ sphereflake fields (../shared/peers/peers.py; a local gyroid if that is absent);
 - voxlod.gaussian_filter vs scipy.ndimage.gaussian_filter at σ = 2 on 256³ float32;
-- voxlod.dask.marching_cubes on a chunked volume with a LocalCluster of 2 workers, against the
-  single-process voxlod.marching_cubes (``--dask N``, N³ samples; 0 skips).
+- voxlod.dask.lod_volume (threshold route) on an N³ Zarr volume with a LocalCluster of 2
+  workers, against the single-process bricked run of the same data, ``voxlod lod VOL.zarr
+  --threshold T --resolution N --levels 1`` (``--dask N``; 0 skips; the binary is
+  ``$VOXLOD_BIN`` or target/release/voxlod): wall times and whether the meshes are identical.
 
 Each figure is the best of ``--repeat`` runs (wall time). Run it in the package's virtual
 environment (scripts/test-python makes one): ``target/python-venv/bin/python
@@ -54,6 +56,68 @@ def gyroid(n):
     return (np.sin(x) * np.cos(y) + np.sin(y) * np.cos(z) + np.sin(z) * np.cos(x)).astype(np.float32)
 
 
+def ball_zarr(n, path):
+    """An N³ uint8 Zarr array (128³ chunks) holding a ball of radius 0.4 N (200 inside, 20
+    outside) with a tunnel of radius 0.08 N along axis 2: written chunk by chunk."""
+    import dask.array as da
+
+    def chunk(block_info=None):
+        (z0, z1), (y0, y1), (x0, x1) = block_info[None]["array-location"]
+        z, y, x = np.ogrid[z0:z1, y0:y1, x0:x1]
+        c = (n - 1) / 2.0
+        ball = (x - c) ** 2 + (y - c) ** 2 + (z - c) ** 2 < (0.4 * n) ** 2
+        tunnel = (y - c) ** 2 + (z - c) ** 2 < (0.08 * n) ** 2
+        return np.where(ball & ~tunnel, 200, 20).astype(np.uint8)
+
+    da.map_blocks(chunk, chunks=((128,) * (n // 128) + ((n % 128,) if n % 128 else ()),) * 3,
+                  dtype=np.uint8).to_zarr(str(path))
+
+
+def dask_lod_volume(n, folder):
+    """voxlod.dask.lod_volume against the single-process bricked run on an N³ Zarr ball."""
+    import shutil
+    import subprocess
+    import tempfile
+
+    from distributed import Client, LocalCluster
+
+    import voxlod
+    import voxlod.dask
+
+    folder = Path(folder) if folder else Path(tempfile.mkdtemp(prefix="voxlod-dask-"))
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"ball-{n}.zarr"
+    if not path.exists():
+        start = time.perf_counter()
+        ball_zarr(n, path)
+        print(f"wrote {path} in {time.perf_counter() - start:.1f} s", flush=True)
+    binary = os.environ.get("VOXLOD_BIN", str(REPO / "target" / "release" / "voxlod"))
+    out = folder / f"single-{n}"
+    command = [binary, "lod", str(path), "--threshold", "100", "--resolution", str(n),
+               "--levels", "1", "-o", str(out)]
+    start = time.perf_counter()
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
+    single = time.perf_counter() - start
+    vertices, faces = voxlod.read_mesh(out / "level-0.ply")
+    print(f"single process: {' '.join(command)}: {single:.1f} s", flush=True)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                      dashboard_address=None) as cluster, Client(cluster) as client:
+        start = time.perf_counter()
+        levels = voxlod.dask.lod_volume(path, client=client, threshold=100, resolution=n,
+                                        levels=1)
+        blockwise = time.perf_counter() - start
+    mine = levels[0]
+    a, b = np.unique(mine.vertices, axis=0), np.unique(vertices, axis=0)
+    same = (len(mine.faces) == len(faces) and a.shape == b.shape
+            and bool(np.allclose(a, b, rtol=0, atol=4 * np.finfo(np.float32).eps * n)))
+    print(f"| Dask lod_volume, ball {n}³ Zarr (128³ chunks), threshold, 1 level at {n}, "
+          f"LocalCluster of 2 processes | {blockwise:.1f} s | single-process bricked "
+          f"`voxlod lod` {single:.1f} s | overhead {blockwise / single:.2f}x | "
+          f"{len(mine.faces):,} vs {len(faces):,} triangles, identical mesh: {same} |", flush=True)
+    if not os.environ.get("VOXLOD_KEEP") and folder.name.startswith("voxlod-dask-"):
+        shutil.rmtree(folder)
+
+
 def row(name, ours, theirs, detail=""):
     print(f"| {name} | {ours:.3f} | {theirs:.3f} | {theirs / ours:.1f}x | {detail} |", flush=True)
 
@@ -63,6 +127,11 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--sphereflake", type=int, default=512, help="0 skips it")
     parser.add_argument("--dask", type=int, default=0, help="N for an N³ Dask run; 0 skips it")
+    parser.add_argument("--dask-dir", default=None,
+                        help="where the N³ Zarr volume is written once and kept (default: a "
+                             "temporary folder, removed)")
+    parser.add_argument("--skip-peers", action="store_true",
+                        help="only the Dask run (with --dask)")
     args = parser.parse_args()
 
     import scipy.ndimage
@@ -70,6 +139,10 @@ def main():
 
     import voxlod
 
+    if args.skip_peers:
+        if args.dask:
+            dask_lod_volume(args.dask, args.dask_dir)
+        return 0
     field = peers_field()
     print(f"voxlod {voxlod.__version__}, {os.cpu_count()} cores, "
           f"fields from {'../shared/peers' if field else 'a local gyroid'}\n")
@@ -91,21 +164,7 @@ def main():
     row("gaussian_filter σ=2, 256³ float32", ours, theirs, f"max |Δ| {np.abs(a - b).max():.1e}")
 
     if args.dask:
-        import dask.array as da
-        from distributed import Client, LocalCluster
-
-        import voxlod.dask
-
-        n = args.dask
-        volume = gyroid(n)
-        single, whole = best_of(1, lambda: voxlod.marching_cubes(volume, 0.0))
-        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                          dashboard_address=None) as cluster, Client(cluster) as client:
-            array = da.from_array(volume, chunks=256)
-            blockwise, parts = best_of(1, lambda: voxlod.dask.marching_cubes(array, 0.0, client=client))
-        same = np.array_equal(parts[1], whole[1]) and np.allclose(parts[0], whole[0], atol=1e-5)
-        print(f"| Dask marching cubes, gyroid {n}³, 2 workers | {blockwise:.3f} | {single:.3f} "
-              f"(single process) | overhead {blockwise / single:.2f}x | identical mesh: {same} |")
+        dask_lod_volume(args.dask, args.dask_dir)
     return 0
 
 

@@ -17,7 +17,7 @@ use voxlod_sampling::{
     SamplingError,
 };
 
-use crate::lod::LodError;
+use crate::lod::{plan, LevelOptions, LodError, LodSource};
 
 /// A scanned volume read window by window.
 pub trait ChunkedScan: Sync {
@@ -25,6 +25,18 @@ pub trait ChunkedScan: Sync {
     fn grid(&self) -> Grid;
     /// Samples `start .. start + extent` (x, y, z indices) as a volume.
     fn read_window(&self, start: [usize; 3], extent: [usize; 3]) -> Result<Volume, IoError>;
+
+    /// One level's samples as bricks: by default every block of `level` read
+    /// ([`ChunkedScan::read_window`]) and filled here ([`bricked_threshold_density`]). A scan
+    /// whose blocks are filled elsewhere (the Python package's Dask route runs
+    /// [`BrickedThreshold::fill_block`] on a cluster) gathers their bricks with
+    /// [`voxlod_sampling::BrickAssembly`] instead; the levels are then the same.
+    fn sample_level(
+        &self,
+        level: &BrickedThreshold,
+    ) -> Result<(BrickVolume, DensityReport, BandReport), BrickedError<IoError>> {
+        bricked_threshold_density(level, &|start, extent| self.read_window(start, extent))
+    }
 }
 
 impl ChunkedScan for ZarrVolume {
@@ -49,6 +61,17 @@ impl ChunkedThreshold<'_> {
     /// The box the levels cover: the scan's.
     pub fn bounds(&self) -> Bounds {
         self.scan.grid().bounds()
+    }
+
+    /// The blocks of every level [`crate::lod::plan`] plans for this scan with `options`, finest
+    /// first: what a caller that fills blocks elsewhere needs to know of each level.
+    pub fn level_blocks(&self, options: &LevelOptions) -> Result<Vec<BrickedThreshold>, LodError> {
+        let plans = plan(&LodSource::Chunked(self), options)?;
+        let blocks = plans
+            .iter()
+            .map(|p| self.blocks(&p.grid, &p.density_options(&options.pyramid)))
+            .collect::<Result<_, _>>()?;
+        Ok(blocks)
     }
 
     /// How one level of `grid` is cut into blocks.
@@ -82,8 +105,7 @@ impl ChunkedThreshold<'_> {
         options: &DensityOptions,
     ) -> Result<(BrickVolume, DensityReport, BandReport), LodError> {
         let blocks = self.blocks(grid, options)?;
-        let read = |start, extent| self.scan.read_window(start, extent);
-        bricked_threshold_density(&blocks, &read).map_err(|e| match e {
+        self.scan.sample_level(&blocks).map_err(|e| match e {
             BrickedError::Read(e) => LodError::Read(e),
             BrickedError::Sampling(e) => LodError::Sampling(e),
         })

@@ -181,7 +181,10 @@ pub enum LodError {
 pub fn plan(source: &LodSource, options: &LevelOptions) -> Result<Vec<LevelPlan>, LodError> {
     let estimate = |grid: &Grid, q: usize| {
         if let LodSource::Chunked(c) = source {
-            c.estimated_bytes(grid, q)
+            // A level small enough for the dense route is made dense for the genus step.
+            let dense = estimated_bytes(grid, q);
+            let dense = if dense > BAND_ABOVE_BYTES { 0 } else { dense };
+            c.estimated_bytes(grid, q).max(dense)
         } else if uses_band(source, grid, q) {
             lattice_estimated_bytes(grid, q, NarrowBandOptions::default().brick_size)
         } else {
@@ -316,17 +319,26 @@ impl SampledLevel {
     /// Adjusts the level's density so that its surface has no more handles than the chain's
     /// previous level ([`voxlod_sampling::monotone_topology`]), and returns what changed. A level
     /// sampled in the narrow band is left as it is (the rules need the dense volume, which is
-    /// what the band avoids) and starts the chain again: `None`.
+    /// what the band avoids) and starts the chain again: `None`. A level of a chunked scan small
+    /// enough for the dense route ([`BAND_ABOVE_BYTES`]) is made dense first, so that its chain
+    /// is the in-memory threshold route's.
     pub(crate) fn keep_monotone(
         &mut self,
         chain: &mut MonotoneChain,
         options: &LevelOptions,
     ) -> Result<Option<TopologyRecord>, LodError> {
+        let filter = self.plan.density_options(&options.pyramid);
+        let q = filter.lines_per_voxel(self.plan.voxel_size);
+        if let LevelVolume::Bricks(bricks) = &self.volume {
+            if estimated_bytes(&self.plan.grid, q) <= BAND_ABOVE_BYTES {
+                let dense = bricks.to_volume().map_err(SamplingError::from)?;
+                self.volume = LevelVolume::Dense(dense);
+            }
+        }
         let LevelVolume::Dense(volume) = &self.volume else {
             *chain = MonotoneChain::new(chain.options);
             return Ok(None);
         };
-        let filter = self.plan.density_options(&options.pyramid);
         let (adjusted, record) = chain.next(volume, options.iso, &filter)?;
         self.volume = LevelVolume::Dense(adjusted);
         Ok(Some(record))

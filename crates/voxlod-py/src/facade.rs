@@ -142,9 +142,9 @@ pub(crate) fn filter_named(name: &str) -> PyResult<Filter> {
 /// The options shared by `lod_mesh` and `lod_volume`: resolutions, filter, radius in voxels,
 /// isodensity, normals, and whether the resolutions were given (else a mesh's finest level is
 /// chosen from its triangle count, at most the first resolution: `voxlod::Finest`).
-type LevelArgs = (Vec<usize>, String, f64, Option<f32>, bool, bool);
+pub(crate) type LevelArgs = (Vec<usize>, String, f64, Option<f32>, bool, bool);
 
-fn lod_options(levels: LevelArgs) -> PyResult<voxlod::LodOptions> {
+pub(crate) fn lod_options(levels: LevelArgs) -> PyResult<voxlod::LodOptions> {
     let (resolutions, filter, radius, iso, normals, given) = levels;
     let pyramid = PyramidOptions {
         resolutions,
@@ -166,7 +166,7 @@ fn lod_options(levels: LevelArgs) -> PyResult<voxlod::LodOptions> {
 }
 
 /// Runs `lod_with` without the GIL and returns each level as a dict of arrays and figures.
-fn run_lod<'py>(
+pub(crate) fn run_lod<'py>(
     py: Python<'py>,
     source: &voxlod::Source<'_>,
     options: &voxlod::LodOptions,

@@ -8,6 +8,7 @@
 
 mod arrays;
 mod blocks;
+mod bricked;
 mod contour;
 mod errors;
 mod facade;
@@ -29,6 +30,8 @@ fn _voxlod(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(filter::gaussian_filter, m)?)?;
     m.add_function(wrap_pyfunction!(blocks::contour_block, m)?)?;
     m.add_function(wrap_pyfunction!(blocks::stitch, m)?)?;
+    m.add_function(wrap_pyfunction!(bricked::lod_threshold_blockwise, m)?)?;
+    m.add_function(wrap_pyfunction!(bricked::fill_threshold_block, m)?)?;
     m.add_function(wrap_pyfunction!(facade::lod_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(facade::lod_volume, m)?)?;
     m.add_function(wrap_pyfunction!(facade::read_mesh, m)?)?;

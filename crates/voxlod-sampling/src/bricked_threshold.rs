@@ -18,11 +18,16 @@
 //! iso value; `tests/bricked_threshold.rs` bounds the difference by 1e-12). On generated gyroids
 //! of 48³ and 256³ the meshes had the same triangle counts and bit-identical vertex sets.
 //!
+//! A block whose window holds no crossing of the threshold (all its samples below it, or all at
+//! or above it away from the scan's edge: [`BrickedThreshold::uniform_value`]) skips the
+//! density pass: its samples are exactly 0 or 1 there, as the pass would give them.
+//!
 //! Beyond the paper, which holds the whole volume. **Memory**: per block in flight, its window of
 //! the scan as `f32` and its lattice (a few MB for blocks of 64³ samples); then 8 bytes per brick
 //! of the level and `4 B³` per leaf brick (those the surface reaches), checked against the budget
 //! as they accumulate. **Cost**: each block reads its window (the halos are read twice) and
-//! integrates every sample of the block: O(N³) like the dense route, in memory O(surface).
+//! integrates every sample of the block that can see the surface: O(N³) at worst like the dense
+//! route, in memory O(surface).
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -135,7 +140,19 @@ impl BrickedThreshold {
     /// The scan samples a block reads: first sample and extent (x, y, z), reaching one sample
     /// beyond the block's lattice box on every side (cut to the scan).
     pub fn scan_window(&self, block: [usize; 3]) -> ([usize; 3], [usize; 3]) {
+        self.window_reach(block).0
+    }
+
+    /// [`BrickedThreshold::scan_window`], and whether it had to be cut to the scan or the
+    /// lattice box to the level's grid (then the filter of a sample of the block may reach
+    /// beyond the scan, where the solid is outside).
+    fn window_reach(&self, block: [usize; 3]) -> (([usize; 3], [usize; 3]), bool) {
         let (lo, hi) = self.lattice_box(block);
+        let (first_sample, extent) = self.block_box(block);
+        let mut cut = (0..3).any(|a| {
+            first_sample[a] < self.halo
+                || first_sample[a] + extent[a] - 1 + self.halo > self.grid.dims[a] - 1
+        });
         let mut start = [0; 3];
         let mut extent = [0; 3];
         for a in 0..3 {
@@ -145,13 +162,79 @@ impl BrickedThreshold {
                 (world - self.scan.origin[a]) / self.scan.spacing[a]
             };
             let last = n as f64 - 1.0;
-            let first = (index(lo[a]).floor() - 1.0).clamp(0.0, last) as usize;
-            let end = (index(hi[a]).ceil() + 1.0).clamp(0.0, last) as usize;
+            let (low, high) = (index(lo[a]).floor() - 1.0, index(hi[a]).ceil() + 1.0);
+            cut |= low < 0.0 || high > last;
+            let first = low.clamp(0.0, last) as usize;
+            let end = high.clamp(0.0, last) as usize;
             let first = first.min(end.saturating_sub(1));
             start[a] = first;
             extent[a] = end - first + 1;
         }
-        (start, extent)
+        ((start, extent), cut)
+    }
+
+    /// The value of every sample of `block` when its window (the samples
+    /// [`BrickedThreshold::scan_window`] names) runs from `low` to `high` and holds no crossing
+    /// of the threshold, so that the density pass can be skipped: 0 when every sample is below
+    /// the threshold; 1 when every sample is at or above it and the window lies inside the scan
+    /// with its whole margin (every lattice line the block's filter reaches is then inside from
+    /// end to end, and the line kernel is normalised to give exactly 1, as the narrow band
+    /// relies on). `None`: the block needs [`BrickedThreshold::fill_block`].
+    pub fn uniform_value(&self, block: [usize; 3], low: f32, high: f32) -> Option<f32> {
+        if high < self.threshold {
+            Some(0.0)
+        } else if low >= self.threshold && !self.window_reach(block).1 {
+            Some(1.0)
+        } else {
+            None
+        }
+    }
+
+    /// Block `block` from `window` (the samples [`BrickedThreshold::scan_window`] names): its
+    /// one value when [`BrickedThreshold::uniform_value`] finds no surface in the window (one
+    /// pass for its range), else its bricks ([`BrickedThreshold::fill_block`]).
+    pub fn sample_block(&self, block: [usize; 3], window: &Volume) -> BlockSamples {
+        let (low, high) = window.range().unwrap_or((f32::NAN, f32::NAN));
+        match self.uniform_value(block, low, high) {
+            Some(value) => BlockSamples::Uniform(value),
+            None => {
+                let (bricks, crossings) = self.fill_block(block, window);
+                BlockSamples::Bricks(bricks, crossings)
+            }
+        }
+    }
+
+    /// The bricks of `block`, every one of them the single value `value` (a block
+    /// [`BrickedThreshold::uniform_value`] answered), in increasing brick index.
+    pub fn uniform_block(&self, block: [usize; 3], value: f32) -> Vec<BlockBrick> {
+        self.bricks_of(block)
+            .into_iter()
+            .map(|(index, _)| BlockBrick {
+                index: index as u32,
+                value,
+                leaf: None,
+            })
+            .collect()
+    }
+
+    /// The bricks of `block`: index in the level's brick grid and brick coordinates, in
+    /// increasing index.
+    fn bricks_of(&self, block: [usize; 3]) -> Vec<(usize, [usize; 3])> {
+        let b = self.brick_size;
+        let brick_dims = self.grid.dims.map(|d| d.div_ceil(b));
+        let (first, extent) = self.block_box(block);
+        let bricks_in = [0, 1, 2].map(|a| extent[a].div_ceil(b));
+        let mut out = Vec::with_capacity(bricks_in.iter().product());
+        for bz in 0..bricks_in[2] {
+            for by in 0..bricks_in[1] {
+                for bx in 0..bricks_in[0] {
+                    let brick = [first[0] / b + bx, first[1] / b + by, first[2] / b + bz];
+                    let index = brick[0] + brick_dims[0] * (brick[1] + brick_dims[1] * brick[2]);
+                    out.push((index, brick));
+                }
+            }
+        }
+        out
     }
 
     /// The bricks of one block, from `window` (the samples [`BrickedThreshold::scan_window`]
@@ -183,33 +266,34 @@ impl BrickedThreshold {
     ) -> Vec<BlockBrick> {
         let b = self.brick_size;
         let brick_dims = self.grid.dims.map(|d| d.div_ceil(b));
-        let (first, extent) = self.block_box(block);
-        let bricks_in = [0, 1, 2].map(|a| extent[a].div_ceil(b));
         let mut scratch = BrickScratch::new(b);
         let mut leaf = vec![0.0f32; b * b * b];
-        let mut out = Vec::with_capacity(bricks_in.iter().product());
-        for bz in 0..bricks_in[2] {
-            for by in 0..bricks_in[1] {
-                for bx in 0..bricks_in[0] {
-                    let brick = [first[0] / b + bx, first[1] / b + by, first[2] / b + bz];
-                    let index = brick[0] + brick_dims[0] * (brick[1] + brick_dims[1] * brick[2]);
-                    let origin = brick_origin(brick_dims, b, index);
-                    leaf.fill(0.0);
-                    scratch.fill(
-                        crossings,
-                        &self.kernel,
-                        &self.grid,
-                        origin,
-                        first_line,
-                        &mut leaf,
-                    );
-                    out.push(BlockBrick::new(index as u32, &leaf, &self.grid, b, brick));
-                }
-            }
+        let bricks = self.bricks_of(block);
+        let mut out = Vec::with_capacity(bricks.len());
+        for (index, brick) in bricks {
+            let origin = brick_origin(brick_dims, b, index);
+            leaf.fill(0.0);
+            scratch.fill(
+                crossings,
+                &self.kernel,
+                &self.grid,
+                origin,
+                first_line,
+                &mut leaf,
+            );
+            out.push(BlockBrick::new(index as u32, &leaf, &self.grid, b, brick));
         }
-        out.sort_unstable_by_key(|brick| brick.index);
         out
     }
+}
+
+/// What [`BrickedThreshold::sample_block`] found for a block.
+#[derive(Clone, Debug)]
+pub enum BlockSamples {
+    /// Every sample of the block has this value (its window holds no surface).
+    Uniform(f32),
+    /// The block's bricks and the crossings found.
+    Bricks(Vec<BlockBrick>, u64),
 }
 
 /// One brick of a block: uniform, or a leaf.
@@ -239,6 +323,91 @@ impl BlockBrick {
     }
 }
 
+/// A level's bricks gathered from its blocks into one [`BrickVolume`], checked against the memory
+/// budget as they accumulate: what [`bricked_threshold_density`] does with the blocks it fills,
+/// and what a caller that fills the blocks elsewhere (on a cluster) does with their answers.
+pub struct BrickAssembly {
+    grid: Grid,
+    brick_size: usize,
+    lines_per_voxel: usize,
+    values: Vec<f32>,
+    leaf_bricks: Vec<u32>,
+    leaves: Vec<f32>,
+    crossings: u64,
+}
+
+impl BrickAssembly {
+    /// An empty level (every brick 0), after checking its brick index against the budget.
+    pub fn new(level: &BrickedThreshold) -> Result<BrickAssembly, SamplingError> {
+        let b = level.brick_size;
+        let bricks: usize = level.grid.dims.map(|d| d.div_ceil(b)).iter().product();
+        memory::check_allocation("the brick index", memory::bytes_of::<u64>(bricks))?;
+        Ok(BrickAssembly {
+            grid: level.grid,
+            brick_size: b,
+            lines_per_voxel: level.lines_per_voxel,
+            values: vec![0.0; bricks],
+            leaf_bricks: Vec::new(),
+            leaves: Vec::new(),
+            crossings: 0,
+        })
+    }
+
+    /// Adds the bricks of some blocks (in any order) and the crossings their filling found.
+    /// Every brick of a call must come after (in brick index) those of the calls before it,
+    /// as whole slabs of blocks along z do.
+    pub fn add(
+        &mut self,
+        mut bricks: Vec<BlockBrick>,
+        crossings: u64,
+    ) -> Result<(), SamplingError> {
+        let b = self.brick_size;
+        self.crossings += crossings;
+        bricks.sort_unstable_by_key(|brick| brick.index);
+        let new_leaves = bricks.iter().filter(|x| x.leaf.is_some()).count();
+        let total = self.leaf_bricks.len() + new_leaves;
+        memory::check_allocation(
+            &format!(
+                "the band of bricks ({total} of {} bricks of {b}³ samples so far)",
+                self.values.len()
+            ),
+            BrickVolume::estimated_bytes(&self.grid, b, total),
+        )?;
+        self.leaves.reserve_exact(new_leaves * b * b * b);
+        self.leaf_bricks.reserve_exact(new_leaves);
+        for brick in bricks {
+            self.values[brick.index as usize] = brick.value;
+            if let Some(leaf) = brick.leaf {
+                self.leaf_bricks.push(brick.index);
+                self.leaves.extend_from_slice(&leaf);
+            }
+        }
+        Ok(())
+    }
+
+    /// The level as bricks, with the sampling's figures and the band's.
+    pub fn finish(self) -> Result<(BrickVolume, DensityReport, BandReport), SamplingError> {
+        let (grid, b) = (self.grid, self.brick_size);
+        let bricks = self.values.len();
+        let band_bricks = self.leaf_bricks.len();
+        let volume = BrickVolume::from_parts(grid, b, self.values, self.leaf_bricks, self.leaves)?;
+        let q = self.lines_per_voxel;
+        let families = [Axis::X, Axis::Y, Axis::Z].map(|a| LineFamily::new(a, grid, q));
+        let report = DensityReport {
+            lines_per_voxel: q,
+            lattice_lines: families.iter().map(|f| f.line_count() as u64).sum(),
+            crossings: self.crossings,
+            majority: None,
+        };
+        let band = BandReport {
+            bricks,
+            band_bricks,
+            bytes: BrickVolume::estimated_bytes(&grid, b, band_bricks),
+        };
+        Ok((volume, report, band))
+    }
+}
+
 /// Samples a level of a thresholded scan block by block (see the module documentation):
 /// `read(start, extent)` reads a window of the scan (x, y, z sample indices) as a volume. Blocks
 /// go in slabs along z, each slab's blocks in parallel; the level is returned as bricks, with
@@ -250,15 +419,7 @@ pub fn bricked_threshold_density<E>(
 where
     E: std::error::Error + Send + 'static,
 {
-    let b = level.brick_size;
-    let brick_dims = level.grid.dims.map(|d| d.div_ceil(b));
-    let bricks: usize = brick_dims.iter().product();
-    memory::check_allocation("the brick index", memory::bytes_of::<u64>(bricks))
-        .map_err(SamplingError::from)?;
-    let mut values = vec![0.0f32; bricks];
-    let mut leaf_bricks: Vec<u32> = Vec::new();
-    let mut leaves: Vec<f32> = Vec::new();
-    let mut crossings = 0u64;
+    let mut assembly = BrickAssembly::new(level)?;
     let [bx, by, bz] = level.block_dims();
     for z in 0..bz {
         let slab: Vec<[usize; 3]> = (0..bx * by).map(|i| [i % bx, i / bx, z]).collect();
@@ -267,47 +428,19 @@ where
             .map(|&block| {
                 let (start, extent) = level.scan_window(block);
                 let window = read(start, extent)?;
-                Ok(level.fill_block(block, &window))
+                Ok(match level.sample_block(block, &window) {
+                    BlockSamples::Uniform(value) => (level.uniform_block(block, value), 0),
+                    BlockSamples::Bricks(bricks, crossings) => (bricks, crossings),
+                })
             })
             .collect();
         let mut slab_bricks: Vec<BlockBrick> = Vec::new();
+        let mut crossings = 0;
         for (block_bricks, found) in filled.map_err(BrickedError::Read)? {
             crossings += found;
             slab_bricks.extend(block_bricks);
         }
-        slab_bricks.sort_unstable_by_key(|brick| brick.index);
-        let new_leaves = slab_bricks.iter().filter(|x| x.leaf.is_some()).count();
-        let total = leaf_bricks.len() + new_leaves;
-        memory::check_allocation(
-            &format!("the band of bricks ({total} of {bricks} bricks of {b}³ samples so far)"),
-            BrickVolume::estimated_bytes(&level.grid, b, total),
-        )
-        .map_err(SamplingError::from)?;
-        leaves.reserve_exact(new_leaves * b * b * b);
-        leaf_bricks.reserve_exact(new_leaves);
-        for brick in slab_bricks {
-            values[brick.index as usize] = brick.value;
-            if let Some(leaf) = brick.leaf {
-                leaf_bricks.push(brick.index);
-                leaves.extend_from_slice(&leaf);
-            }
-        }
+        assembly.add(slab_bricks, crossings)?;
     }
-    let band_bricks = leaf_bricks.len();
-    let volume = BrickVolume::from_parts(level.grid, b, values, leaf_bricks, leaves)
-        .map_err(SamplingError::from)?;
-    let q = level.lines_per_voxel;
-    let families = [Axis::X, Axis::Y, Axis::Z].map(|a| LineFamily::new(a, level.grid, q));
-    let report = DensityReport {
-        lines_per_voxel: q,
-        lattice_lines: families.iter().map(|f| f.line_count() as u64).sum(),
-        crossings,
-        majority: None,
-    };
-    let band = BandReport {
-        bricks,
-        band_bricks,
-        bytes: BrickVolume::estimated_bytes(&level.grid, b, band_bricks),
-    };
-    Ok((volume, report, band))
+    Ok(assembly.finish()?)
 }

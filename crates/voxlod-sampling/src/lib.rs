@@ -87,7 +87,10 @@ pub mod sphereflake;
 pub mod threshold;
 pub mod vanishing;
 
-pub use bricked_threshold::{bricked_threshold_density, BrickedError, BrickedThreshold};
+pub use bricked_threshold::{
+    bricked_threshold_density, BlockBrick, BlockSamples, BrickAssembly, BrickedError,
+    BrickedThreshold,
+};
 pub use csg::{CsgSolid, Shape};
 pub use density::{filtered_density, DensityOptions, DensityReport};
 pub use digital_topology::{digital_topology, DigitalTopology};

@@ -135,3 +135,56 @@ fn far_from_the_surface_bricks_are_single_values() {
         "{leaves} leaves"
     );
 }
+
+#[test]
+fn blocks_answered_without_the_density_pass_hold_what_the_pass_gives() {
+    // Inside (200) for x below 24, outside (0) above: blocks far on either side have windows
+    // without a crossing.
+    let grid = Grid::new([48, 48, 48], [1.0; 3], [0.0; 3]).unwrap();
+    let values = (0..grid.len())
+        .map(|n| if n % 48 < 24 { 200.0 } else { 0.0 })
+        .collect();
+    let scan = Volume::from_vec(grid, values).unwrap();
+    let level_grid = level_grid(&scan.grid.bounds(), 48, 1.0).unwrap();
+    let options = DensityOptions::new(Filter::Hypercone, 1.0);
+    let band = NarrowBandOptions { brick_size: 8 };
+    let mut level = BrickedThreshold::new(scan.grid, 100.0, &level_grid, &options, &band).unwrap();
+    level.block_side = 8;
+    let [bx, by, bz] = level.block_dims();
+    let (mut answered, mut refused_inside, mut below_one) = ([0, 0], 0, 0);
+    for block in (0..bx * by * bz).map(|i| [i % bx, (i / bx) % by, i / (bx * by)]) {
+        let (start, extent) = level.scan_window(block);
+        let window = window(&scan, start, extent);
+        let (low, high) = window.range().unwrap();
+        let (filled, _) = level.fill_block(block, &window);
+        match level.uniform_value(block, low, high) {
+            Some(value) => {
+                assert_eq!(
+                    level
+                        .uniform_block(block, value)
+                        .iter()
+                        .map(|b| (b.index, b.value.to_bits()))
+                        .collect::<Vec<_>>(),
+                    filled
+                        .iter()
+                        .map(|b| (b.index, b.value.to_bits()))
+                        .collect::<Vec<_>>(),
+                    "block {block:?}"
+                );
+                assert!(filled.iter().all(|b| b.leaf.is_none()), "block {block:?}");
+                answered[(value == 1.0) as usize] += 1;
+            }
+            // A window inside everywhere but cut by the scan's edge: the filter may reach beyond
+            // the scan, where the solid is outside, and the pass find values below 1.
+            None if low >= 100.0 => {
+                refused_inside += 1;
+                below_one += filled.iter().any(|b| b.leaf.is_some() || b.value != 1.0) as usize;
+            }
+            None => assert!(low < 100.0 && high >= 100.0),
+        }
+    }
+    assert!(
+        answered[0] > 0 && answered[1] > 0 && below_one > 0,
+        "{answered:?} {refused_inside} {below_one}"
+    );
+}

@@ -33,6 +33,19 @@ Mesh = Tuple[F32, npt.NDArray[np.uint32]]
 LevelArgs = Tuple[List[int], str, float, Optional[float], bool, bool]
 Progress = Optional[Callable[[int, int, str], Optional[bool]]]
 
+ScanArgs = Tuple[Sequence[int], Sequence[float], Sequence[float], float, LevelArgs]
+BlockAnswer = Any  # float (the block's one value) or (crossings, indices u32, values f32, leaf positions u32, leaves f32)
+
+def lod_threshold_blockwise(
+    shape: Sequence[int],
+    spacing: Sequence[float],
+    origin: Sequence[float],
+    threshold: float,
+    levels: LevelArgs,
+    run_level: Callable[[int, List[Tuple[Tuple[int, int, int], Tuple[int, int, int], Tuple[int, int, int]]]], List[BlockAnswer]],
+    progress: Progress = ...,
+) -> Tuple[List[Dict[str, Any]], List[str]]: ...
+def fill_threshold_block(window: F32, scan: ScanArgs, level: int, block: Sequence[int]) -> BlockAnswer: ...
 def lod_mesh(mesh: Mesh, levels: LevelArgs, progress: Progress = ...) -> Tuple[List[Dict[str, Any]], List[str]]: ...
 def lod_volume(
     volume: F32,

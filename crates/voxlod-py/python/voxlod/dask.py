@@ -1,6 +1,15 @@
-"""Marching cubes block by block on a Dask cluster, stitched into the one mesh
+"""voxlod on a Dask cluster: :func:`lod_volume`, the levels of :func:`voxlod.lod_volume`
+(threshold route) with each level sampled block by block on the cluster; and
+:func:`marching_cubes`, marching cubes block by block, stitched into the one mesh
 :func:`voxlod.marching_cubes` gives for the whole volume.
 
+:func:`lod_volume`: the client plans the levels and, per level, sends one task per block of
+the level's grid; each task reads the block's window of the scan once, answers a window
+without a crossing of the threshold with one value, and otherwise returns the block's bricks
+of filtered density. The client gathers them and contours, cleans and places the level as
+:func:`voxlod.lod_volume` does.
+
+:func:`marching_cubes`:
 Each task reads one chunk of the volume and a one-sample halo around it (so that the gradient
 normals on the chunk's faces see the same neighbours as in one piece), skips it when no sample
 crosses the level, and otherwise contours the chunk's own cells in Rust, returning its piece of
@@ -14,6 +23,7 @@ Any ``dask.distributed`` cluster runs it unchanged, local or remote (see the pac
 >>> from dask.distributed import Client, LocalCluster            # doctest: +SKIP
 >>> client = Client(LocalCluster(n_workers=2, processes=True))  # doctest: +SKIP
 >>> verts, faces, normals = voxlod.dask.marching_cubes("ct.zarr", 500.0, client=client)  # doctest: +SKIP
+>>> levels = voxlod.dask.lod_volume("ct.zarr", client=client, threshold=500, levels=4)  # doctest: +SKIP
 
 Needs ``dask[array]`` and ``distributed`` (``pip install voxlod[dask]``), and ``zarr`` for
 Zarr paths.
@@ -26,7 +36,7 @@ from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from . import _voxlod
+from . import _facade, _voxlod
 from ._arrays import triple
 from .errors import NoSurfaceError, UsageError
 
@@ -121,11 +131,7 @@ def marching_cubes(
     for read_start, read_stop, own_start, own_stop in _blocks(array):
         region = array[tuple(slice(s, e) for s, e in zip(read_start, read_stop))]
         tasks.append(dask.delayed(_piece)(region, level, read_start, own_start, own_stop, shape))
-    if client is not None:
-        pieces = client.gather(client.compute(tasks))
-    else:
-        pieces = dask.compute(*tasks)
-    pieces = [p for p in pieces if p is not None and len(p[1])]
+    pieces = [p for p in _compute(tasks, client) if p is not None and len(p[1])]
     if not pieces:
         raise NoSurfaceError("No surface found at the given iso value.")
     verts, faces, normals = _voxlod.stitch(pieces)
@@ -134,6 +140,41 @@ def marching_cubes(
     if spacing != (1.0, 1.0, 1.0):
         verts = verts * np.asarray(spacing)
     return verts, faces, normals
+
+
+def _compute(tasks: List[Any], client: Any) -> List[Any]:
+    """The results of ``tasks`` (dask.delayed), on ``client`` or Dask's current scheduler, with
+    every array of a tuple result aligned: arrays that distributed deserializes from a
+    message's frames can start at any byte, which the Rust side cannot borrow."""
+    import dask
+
+    if client is not None:
+        results = client.gather(client.compute(tasks))
+    else:
+        results = dask.compute(*tasks)
+    return [tuple(np.require(a, requirements=["C", "A"]) if isinstance(a, np.ndarray) else a
+                  for a in r) if isinstance(r, tuple) else r
+            for r in results]
+
+
+def _read_zarr(path: str, start: Sequence[int], stop: Sequence[int]) -> np.ndarray:
+    """Samples ``start .. stop`` (array-axis order) of the Zarr array at ``path``, on a worker."""
+    import zarr
+
+    array = zarr.open(path, mode="r")
+    return np.asarray(array[tuple(slice(a, b) for a, b in zip(start, stop))])
+
+
+def _fill_block(window: Any, scan: Tuple[Any, ...], level: int, block: Tuple[int, int, int]) -> Any:
+    """One task of :func:`lod_volume`: a block's answer from its window of the scan (read once):
+    its one value when the window holds no surface, else its bricks."""
+    window = np.ascontiguousarray(window, dtype=np.float32)
+    return _voxlod.fill_threshold_block(window, scan, level, tuple(block))
+
+
+def _fill_zarr_block(path: str, start, stop, scan, level, block) -> Any:
+    """:func:`_fill_block` reading the window from a Zarr path on the worker."""
+    return _fill_block(_read_zarr(path, start, stop), scan, level, block)
 
 
 def lod_volume(
@@ -145,40 +186,63 @@ def lod_volume(
     iso: Optional[float] = None,
     spacing: Sequence[float] = (1.0, 1.0, 1.0),
     origin: Sequence[float] = (0.0, 0.0, 0.0),
-    **chain: Any,
-) -> List[Any]:
-    """Levels of detail of a volume too large for one machine: its full-resolution surface
-    contoured chunk by chunk on the cluster (:func:`marching_cubes`), then the chain of coarser
-    levels of that closed surface in this process (:func:`voxlod.lod`, the mesh route).
+    resolution: int = 256,
+    levels: int = 6,
+    filter: str = "hypercone",
+    resolutions: Optional[Sequence[int]] = None,
+    radius: float = 1.0,
+    normals: bool = True,
+    progress: Optional[_facade.Progress] = None,
+) -> List[_facade.Level]:
+    """:func:`voxlod.lod_volume` with ``threshold=T``, each level sampled block by block on a
+    Dask cluster: the same levels (same triangles, same vertices to ``float32`` rounding, same
+    genus step and cleaning) from a volume that need not fit in one process.
 
-    ``threshold=T`` takes the surface of the samples ``>= T``; ``direct=True`` the isosurface
-    at ``iso`` of the data itself. ``spacing`` and ``origin`` are in array-axis order; the
-    remaining keywords (``resolution``, ``levels``, ``filter``, ``resolutions``, ``radius``,
-    ``normals``, ``progress``) go to :func:`voxlod.lod`.
+    Per level, one task per block of the level's grid reads the block's window of the scan
+    (the block grown by the filter's reach), answers a window without a crossing of the
+    threshold with one value (no density pass), and otherwise returns the block's bricks of
+    filtered density. The client gathers the bricks and contours, cleans and places the level
+    as :func:`voxlod.lod_volume` does (see the package README for what runs where).
+
+    Parameters
+    ----------
+    source : Zarr path, dask array or array, shape (nz, ny, nx)
+        The scan. A Zarr path is read by the workers themselves, window by window.
+    client : dask.distributed.Client, optional
+        Where to run; default: the current client, else Dask's default scheduler.
+    threshold, iso, spacing, origin, resolution, levels, filter, resolutions, radius, normals, progress
+        As for :func:`voxlod.lod_volume`. ``progress`` is called after each level's sampling
+        and contouring.
+    direct : bool
+        Refused: filtering the data itself needs halos as wide as the coarsest filter; use
+        :func:`voxlod.lod_volume` with ``direct=True`` in one process.
 
     Returns
     -------
-    list of :class:`voxlod.Level`
-        First the full-resolution surface (its ``resolution`` the longest side in samples), in
-        world (x, y, z) coordinates, then the levels of :func:`voxlod.lod`, finest first.
-
-    This is not :func:`voxlod.lod_volume` run blockwise: the coarser levels filter the
-    contoured surface's solid rather than the scan; the full-resolution surface is the mesh
-    :func:`voxlod.marching_cubes` gives for the whole volume.
+    list of :class:`voxlod.Level`, finest first, as :func:`voxlod.lod_volume` returns them.
     """
-    from . import _facade
+    if direct:
+        raise UsageError("voxlod.dask.lod_volume runs the threshold route only; for direct=True "
+                         "use voxlod.lod_volume(volume, spacing, direct=True, iso=...) in one process")
+    if threshold is None:
+        raise UsageError("give threshold=T (the solid of the samples >= T)")
+    array = as_dask_array(source)
+    path = str(source) if isinstance(source, (str, bytes)) or hasattr(source, "__fspath__") else None
+    shape = tuple(int(n) for n in array.shape)
+    options = (_facade._resolutions(resolution, levels, resolutions), str(filter), float(radius),
+               iso, bool(normals), True)
+    scan = (shape, triple(spacing, "spacing"), triple(origin, "origin"), float(threshold), options)
 
-    if (threshold is None) == (not direct):
-        raise UsageError("give either threshold=T or direct=True with iso")
-    if direct and iso is None:
-        raise UsageError("direct=True needs iso, in the data's units")
-    # Inside is `>= threshold` in the library, `> level` in marching cubes: the level just below.
-    level = float(np.nextafter(np.float32(threshold), np.float32(-np.inf))) if threshold is not None else float(iso)
-    verts, faces, normals = marching_cubes(source, level, spacing=spacing, client=client)
-    # Array-axis order to world (x, y, z): reversing the axes also turns the winding outward.
-    vertices = (verts[:, ::-1] + np.asarray(triple(origin, "origin"))[::-1]).astype(np.float32)
-    report = _facade.inspect(vertices, faces, welded=False)
-    finest = _facade.Level(vertices=vertices, faces=faces, normals=normals[:, ::-1].copy(),
-                           resolution=int(max(as_dask_array(source).shape)),
-                           genus=report["genus"], topology=report)
-    return [finest] + _facade.lod(vertices, faces, **chain)
+    def run_level(level: int, blocks: List[Tuple[Any, Any, Any]]) -> List[Any]:
+        import dask
+
+        tasks = []
+        for block, start, stop in blocks:
+            if path is not None:
+                tasks.append(dask.delayed(_fill_zarr_block)(path, start, stop, scan, level, block))
+            else:
+                region = array[tuple(slice(a, b) for a, b in zip(start, stop))]
+                tasks.append(dask.delayed(_fill_block)(region, scan, level, block))
+        return _compute(tasks, client)
+
+    return _facade._levels(_voxlod.lod_threshold_blockwise(*scan, run_level, progress))
