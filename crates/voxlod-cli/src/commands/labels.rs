@@ -14,6 +14,7 @@ use voxlod::labels::{
 use voxlod::sampling::Filter;
 use voxlod::{EnvelopeStep, LevelEpsilon, ThenEnvelope};
 
+use super::common::say;
 use super::common::{
     add_report, check_computed_mesh, in_dir, print_json, progress, CliError, MeshExtension,
 };
@@ -239,7 +240,7 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
         if !args.json {
             bar.suspend(|| {
                 let l0 = &report.levels[0];
-                println!(
+                say(format_args!(
                     "label {}{}: {} voxels, {} triangles, volume {:.1} (voxels: {:.1}), area {:.1}",
                     report.label,
                     report
@@ -252,7 +253,7 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
                     l0.volume,
                     report.voxel_volume,
                     l0.area
-                )
+                ))
             });
         }
         reports.push(report);
@@ -291,12 +292,12 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
     if args.json {
         print_json(&report)?;
     } else {
-        println!(
+        say(format_args!(
             "{} labels written to {} in {:.2} s",
             report.labels.len(),
             args.output.display(),
             report.total_seconds
-        );
+        ));
     }
     Ok(())
 }

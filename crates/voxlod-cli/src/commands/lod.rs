@@ -13,6 +13,7 @@ use voxlod::{
     Control, EnvelopeStep, Event, Finest, LevelEpsilon, Lod, LodLevel, LodOptions, Progress,
 };
 
+use super::common::say;
 use super::common::{
     add_report, check_grid_range, check_grid_reach, count, describe_mesh, in_dir, in_file,
     print_json, progress, read_input, CliError, Input, MeshExtension,
@@ -378,12 +379,12 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }
-    println!(
+    say(format_args!(
         "{} in {:.2} s; report in {}",
         written_summary(&report.levels),
         report.total_seconds,
         in_dir(&args.output, "report.json").display()
-    );
+    ));
     Ok(())
 }
 
