@@ -203,6 +203,27 @@ fn absurd_shapes_go_through_the_memory_budget() {
 }
 
 #[test]
+fn absurd_chunk_shapes_are_refused_before_decoding() {
+    let dir = tempfile::tempdir().unwrap();
+    let v2 = raw_u16_v2(dir.path(), "chunks2.zarr", Value::Null);
+    let v3 = plain_u8_v3(dir.path(), "chunks3.zarr", 0);
+    let huge = [json!([2, u64::MAX, 2]), json!([1 << 21, 1 << 21, 1 << 21])];
+    for chunks in &huge {
+        edit_json(&v2.join(".zarray"), |j| j["chunks"] = chunks.clone());
+        edit_json(&v3.join("zarr.json"), |j| {
+            j["chunk_grid"]["configuration"]["chunk_shape"] = chunks.clone();
+        });
+        for store in [&v2, &v3] {
+            let err = assert_plain_error(read_volume(store, None), store, "chunk");
+            assert!(
+                matches!(err.kind, IoErrorKind::TooLarge | IoErrorKind::Malformed),
+                "{err}"
+            );
+        }
+    }
+}
+
+#[test]
 fn truncated_compressed_chunks_are_corrupt() {
     let dir = tempfile::tempdir().unwrap();
     let v3 = plain_u8_v3(dir.path(), "zstd.zarr", 0);
