@@ -8,7 +8,7 @@ use serde::Serialize;
 use voxlod::core::Topology;
 use voxlod::finest::FinestChoice;
 use voxlod::io::{OutputSet, VolumeFormat};
-use voxlod::sampling::{DensityReport, Filter, PyramidOptions, TopologyRecord};
+use voxlod::sampling::{BandReport, DensityReport, Filter, PyramidOptions, TopologyRecord};
 use voxlod::{
     Control, EnvelopeStep, Event, Finest, LevelEpsilon, Lod, LodLevel, LodOptions, Progress,
 };
@@ -177,6 +177,11 @@ struct LevelReport {
     contour_seconds: f64,
     write_seconds: f64,
     density: Option<DensityReport>,
+    /// The bricks of the narrow band, for a level sampled through it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    band: Option<BandReport>,
+    /// Bytes the plan expected the level to need at its peak (checked against the budget).
+    estimated_bytes: u64,
     #[serde(skip_serializing_if = "Option::is_none")]
     envelope: Option<EnvelopeStep>,
 }
@@ -553,6 +558,8 @@ fn write_level(
         contour_seconds: level.contour_seconds,
         write_seconds,
         density: level.density,
+        band: level.band,
+        estimated_bytes: plan.estimated_bytes,
         envelope: level.envelope.clone(),
     })
 }
