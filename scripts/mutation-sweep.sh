@@ -2,7 +2,9 @@
 # The long version of the readers' mutation sweep (crates/voxlod-io/tests/mutation_sweep.rs),
 # for a night: every seed file of every format mutated ITERATIONS times, for each of ROUNDS
 # random seeds, in release mode. A failure stops the run and prints the mutations and where
-# the failing file was kept (target/.../tmp/mutation-sweep-failures/).
+# the failing file was kept (target/.../tmp/mutation-sweep-failures/). The seeds are the
+# test's: files of every format, and Zarr stores (folders: a format-3 and a format-2 array and
+# an OME-Zarr 0.4 group, each with its zarr.json, .zarray or .zattrs, or one chunk, mutated).
 #
 #   scripts/mutation-sweep.sh                 # 20 rounds x 5000 mutations per seed file
 #   ITERATIONS=20000 ROUNDS=100 scripts/mutation-sweep.sh

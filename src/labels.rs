@@ -247,7 +247,8 @@ pub fn label_estimated_bytes(map: &Volume, label: &LabelInfo, options: &LabelOpt
         return u64::MAX;
     };
     let pyramid = label_pyramid(&grid, options);
-    let Ok(plans) = plan_levels_with(&grid.bounds(), &pyramid, &estimated_bytes) else {
+    let dense = |grid: &Grid, q: usize| estimated_bytes(grid, q).into();
+    let Ok(plans) = plan_levels_with(&grid.bounds(), &pyramid, &dense) else {
         return u64::MAX;
     };
     let sampling = plans

@@ -354,6 +354,20 @@ pub fn lod_with(
         if level.mesh.is_empty() {
             warnings.push(empty_level_warning(&p, iso));
         }
+        if chain.is_some() && level.band.is_some() && plans.len() > 1 {
+            warnings.push(band_level_warning(&p));
+        }
+        if level.clean_skipped {
+            warnings.push(format!(
+                "level {} (resolution {}): {} triangles from the narrow band, more than the {} \
+                 that are cleaned; kept as marching cubes made them (closed and oriented, \
+                 slivers and needles not removed) to stay within memory",
+                p.level,
+                p.resolution,
+                level.mesh.triangles.len(),
+                crate::lod::CLEAN_BAND_AT_MOST_TRIANGLES
+            ));
+        }
         tracker.ask(Event::LodLevel(&level))?;
         levels.push(level);
         k += 1;
@@ -453,6 +467,17 @@ fn one_level(
         tracker.step(plan.level, "simplified")?;
     }
     Ok(level)
+}
+
+/// The warning for a level sampled in the narrow band while the genus is kept from rising: the
+/// rule needs the dense volume, so the chain is not kept across that level.
+fn band_level_warning(plan: &LevelPlan) -> String {
+    format!(
+        "level {} (resolution {}) was sampled in the narrow band: the genus is not kept from \
+         rising across it (the rule needs a dense volume, which the band avoids), and the \
+         levels below start a new chain",
+        plan.level, plan.resolution
+    )
 }
 
 /// The warning for a level the filter removed.

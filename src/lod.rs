@@ -28,19 +28,29 @@ use voxlod_core::{
 };
 use voxlod_sampling::density::estimated_bytes;
 use voxlod_sampling::narrow_band::{
-    lattice_estimated_bytes, narrow_band_density, BandReport, NarrowBandOptions,
+    band_estimate, narrow_band_density, BandReport, NarrowBandOptions,
 };
 
 use crate::bricked::ChunkedThreshold;
 use crate::then_envelope::EnvelopeStep;
 use voxlod_sampling::{
-    direct_density, filtered_density, plan_levels_with, DensityReport, LevelPlan, MonotoneChain,
-    MonotoneError, PyramidOptions, SamplingError, Solid, TopologyRecord,
+    direct_density, filtered_density, plan_levels_with, DensityReport, LevelEstimate, LevelPlan,
+    MonotoneChain, MonotoneError, PyramidOptions, SamplingError, Solid, TopologyRecord,
 };
 
 /// Levels of solids whose dense sampling would need more bytes than this go through the narrow
 /// band and sparse marching cubes (the dense path stays for smaller grids, where it is as fast).
 pub const BAND_ABOVE_BYTES: u64 = 1 << 30;
+
+/// The largest mesh of a level through the narrow band that is cleaned
+/// ([`voxlod_contouring::clean_mesh()`]). Cleaning holds about 230 bytes per triangle at its peak
+/// (the sphereflake of the peers' kit: 2.3 GiB for 10 M triangles at resolution 1024, against
+/// 1.2 GiB for sampling it), far more than the band itself, so larger meshes are kept as marching
+/// cubes made them (closed and oriented still) and the level's report says so.
+pub const CLEAN_BAND_AT_MOST_TRIANGLES: usize = 4_000_000;
+
+/// Bytes cleaning holds per triangle at its peak, for the plan's estimate (measured, rounded up).
+const CLEAN_BYTES_PER_TRIANGLE: u64 = 256;
 
 /// Whether a level of `source` on `grid` with `lines_per_voxel` goes through the narrow band.
 fn uses_band(source: &LodSource, grid: &Grid, lines_per_voxel: usize) -> bool {
@@ -155,6 +165,9 @@ pub struct LodLevel {
     pub monotone: Option<TopologyRecord>,
     /// Wall time of keeping the genus from rising (zero when not asked).
     pub monotone_seconds: f64,
+    /// True when cleaning was asked but skipped: a level through the narrow band whose mesh
+    /// has more than [`CLEAN_BAND_AT_MOST_TRIANGLES`] triangles.
+    pub clean_skipped: bool,
 }
 
 /// Why a level could not be built.
@@ -179,16 +192,29 @@ pub enum LodError {
 
 /// Plans every level: grids, radii, and a memory check of the largest.
 pub fn plan(source: &LodSource, options: &LevelOptions) -> Result<Vec<LevelPlan>, LodError> {
-    let estimate = |grid: &Grid, q: usize| {
-        if let LodSource::Chunked(c) = source {
-            // A level small enough for the dense route is made dense for the genus step.
-            let dense = estimated_bytes(grid, q);
-            let dense = if dense > BAND_ABOVE_BYTES { 0 } else { dense };
-            c.estimated_bytes(grid, q).max(dense)
-        } else if uses_band(source, grid, q) {
-            lattice_estimated_bytes(grid, q, NarrowBandOptions::default().brick_size)
-        } else {
-            estimated_bytes(grid, q)
+    let estimate = |grid: &Grid, q: usize| -> LevelEstimate {
+        match source {
+            LodSource::Chunked(c) => {
+                // A level small enough for the dense route is made dense for the genus step.
+                let dense = estimated_bytes(grid, q);
+                let dense = if dense > BAND_ABOVE_BYTES { 0 } else { dense };
+                c.estimated_bytes(grid, q).max(dense).into()
+            }
+            LodSource::Solid(solid) if uses_band(source, grid, q) => {
+                let band = NarrowBandOptions::default();
+                let radius = options.pyramid.radius_voxels;
+                let mut need = band_estimate(*solid, grid, q, radius, &band);
+                // Cleaning runs below the limit: counted unless the mesh is expected well above
+                // it (the expectation is an upper bound, about 1.1 times the mesh on scans).
+                let limit = CLEAN_BAND_AT_MOST_TRIANGLES as u64;
+                if options.clean.is_some() && need.triangles <= limit * 3 / 2 {
+                    let cleaned = need.triangles.min(limit);
+                    let cleaning = CLEAN_BYTES_PER_TRIANGLE * cleaned;
+                    need.estimate.bytes = need.estimate.bytes.saturating_add(cleaning);
+                }
+                need.estimate
+            }
+            _ => estimated_bytes(grid, q).into(),
         }
     };
     Ok(plan_levels_with(
@@ -292,8 +318,11 @@ impl SampledLevel {
             LevelVolume::Dense(volume) => marching_cubes(volume, &contour)?,
             LevelVolume::Bricks(bricks) => sparse_marching_cubes(bricks, &contour)?,
         };
+        let band = matches!(self.volume, LevelVolume::Bricks(_));
         drop(self.volume);
-        if let Some(clean) = &options.clean {
+        let clean_skipped =
+            options.clean.is_some() && band && mesh.triangles.len() > CLEAN_BAND_AT_MOST_TRIANGLES;
+        if let Some(clean) = options.clean.as_ref().filter(|_| !clean_skipped) {
             mesh = clean_mesh(&mesh, self.plan.voxel_size, clean)?.0;
         }
         // The one place where levels leave grid space: an oblique or flipped scan's mesh moves
@@ -313,6 +342,7 @@ impl SampledLevel {
             envelope: None,
             monotone: None,
             monotone_seconds: 0.0,
+            clean_skipped,
         })
     }
 

@@ -92,7 +92,7 @@ pub fn open_zarr(path: &Path) -> Result<ZarrVolume, IoError> {
     };
     samples::check_geometry(path, spacing, origin)?;
     let grid = Grid::new(dims, spacing, origin).map_err(|e| IoError::from_core(path, e))?;
-    let chunk = chunk_shape(path, &array, spatial)?;
+    let chunk = chunk_shape(path, &array, spatial, sample)?;
     Ok(ZarrVolume {
         path: path.to_path_buf(),
         array,
@@ -412,11 +412,14 @@ fn spatial_axes(
     Ok(spatial)
 }
 
-/// Samples per chunk along x, y, z: the shape of the first chunk.
+/// Samples per chunk along x, y, z: the shape of the first chunk, whose decoded bytes are
+/// checked against the memory budget (zarrs decodes a chunk whole, and multiplies its shape
+/// without a check: a chunk shape from a broken file must not reach it).
 fn chunk_shape(
     path: &Path,
     array: &Array<FilesystemStore>,
     spatial: [usize; 3],
+    sample: SampleType,
 ) -> Result<[usize; 3], IoError> {
     let origin = vec![0u64; array.shape().len()];
     let shape = array.chunk_shape_usize(&origin).map_err(|_| {
@@ -425,6 +428,20 @@ fn chunk_shape(
             "the array's chunk grid gives no shape for its first chunk",
         )
     })?;
+    let shown: Vec<String> = shape.iter().map(usize::to_string).collect();
+    let what = format!("one decoded chunk of {} samples", shown.join("x"));
+    let bytes = shape
+        .iter()
+        .try_fold(sample.size() as u64, |acc, &n| acc.checked_mul(n as u64))
+        .filter(|&b| usize::try_from(b).is_ok());
+    let Some(bytes) = bytes else {
+        return Err(IoError::new(
+            path,
+            IoErrorKind::TooLarge,
+            format!("{what} has more bytes than memory can address"),
+        ));
+    };
+    crate::budget::check_bytes(path, &what, bytes)?;
     Ok(spatial.map(|d| shape[d]))
 }
 

@@ -80,6 +80,11 @@ fn codec(path: &Path, array: &str, e: &CodecError) -> IoError {
 
 fn storage(path: &Path, e: &StorageError) -> IoError {
     match e {
+        // A chunk file shorter than the byte range read from it (an uncompressed chunk cut
+        // short): the store is readable, the chunk is truncated.
+        StorageError::IOError(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            IoError::reading(path, "Zarr chunk", io)
+        }
         StorageError::IOError(io) => IoError::access(path, "cannot read the Zarr store", io),
         StorageError::InvalidMetadata(key, _) => {
             IoError::malformed(path, format!("the Zarr metadata {key} is not valid"))

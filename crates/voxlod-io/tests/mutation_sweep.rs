@@ -1,4 +1,5 @@
-//! A mutation sweep of every reader: small seed files of every format, mutated with a fixed
+//! A mutation sweep of every reader: small seed files of every format (and Zarr stores, whose
+//! metadata or one chunk file is mutated and whose folder is read), mutated with a fixed
 //! random seed (bit flips; bytes replaced by 0xFF, 0x00, '9', '-' and other interesting
 //! values; truncation; chunks duplicated or deleted; numbers in the text changed to huge,
 //! negative, zero or off-by-one values; binary integers overwritten), each read in-process on
@@ -11,6 +12,7 @@
 //! is printed.
 
 mod common;
+mod zarr_fixtures;
 
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
@@ -39,12 +41,13 @@ const DEBUG_SIGNS: [&str; 7] = [
     "Custom(",
 ];
 
-/// One seed: its files (a detached header has a data file), which of them is mutated, and
-/// which is read.
+/// One seed: its files (a detached header has a data file; a Zarr store's are paths inside its
+/// folder), which of them is mutated, and which is read (or, for a Zarr store, its folder).
 struct Seed {
     files: Vec<(String, Vec<u8>)>,
     mutate: usize,
     read: usize,
+    folder: Option<String>,
 }
 
 fn single(name: &str, bytes: Vec<u8>) -> Seed {
@@ -52,6 +55,7 @@ fn single(name: &str, bytes: Vec<u8>) -> Seed {
         files: vec![(name.to_string(), bytes)],
         mutate: 0,
         read: 0,
+        folder: None,
     }
 }
 
@@ -86,7 +90,63 @@ fn seed_written(name: &str, write: impl FnOnce(&Path)) -> Seed {
         files: written(name, write),
         mutate: 0,
         read: 0,
+        folder: None,
     }
+}
+
+/// A Zarr store written into the folder `name` by `write`, with its file `mutated` (a path in
+/// the folder) mutated and the folder read.
+fn zarr_seed(name: &str, mutated: &str, write: impl FnOnce(&Path)) -> Seed {
+    let dir = tempfile::tempdir().unwrap();
+    write(&dir.path().join(name));
+    let mut files = Vec::new();
+    let mut folders = vec![dir.path().join(name)];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+            } else {
+                let relative = path.strip_prefix(dir.path()).unwrap();
+                let relative = relative.to_string_lossy().into_owned();
+                files.push((relative, std::fs::read(&path).unwrap()));
+            }
+        }
+    }
+    let wanted = format!("{name}/{mutated}");
+    let mutate = files.iter().position(|(n, _)| *n == wanted).unwrap();
+    Seed {
+        files,
+        mutate,
+        read: 0,
+        folder: Some(name.to_string()),
+    }
+}
+
+/// Zarr stores: a format-3 array (zstd) written by zarrs, a format-2 array (gzip) written from
+/// the specification, and an OME-Zarr 0.4 group; each with its metadata or one chunk mutated.
+fn zarr_seeds() -> Vec<Seed> {
+    let u8_v3 = |p: &Path| {
+        let zstd = std::sync::Arc::new(zarrs::array::codec::ZstdCodec::new(3, false));
+        let values = zarr_fixtures::samples(|v| v as u8);
+        zarr_fixtures::v3_array(p, zarrs::array::DataType::UInt8, 0u8, &values, Some(zstd));
+    };
+    let u16_v2 = |p: &Path| {
+        let le = |v: f64| (v as u16).to_le_bytes().to_vec();
+        let compressor = serde_json::json!({"id": "gzip", "level": 1});
+        zarr_fixtures::v2_array(p, "<u2", compressor, serde_json::json!(0), le, gzip);
+    };
+    let ome = |p: &Path| {
+        zarr_fixtures::ome_04(p, [2.0, 1.0, 0.5], [1.0, 2.0, 3.0], "micrometer");
+    };
+    vec![
+        zarr_seed("m3.zarr", "zarr.json", u8_v3),
+        zarr_seed("c3.zarr", "c/1/0/1", u8_v3),
+        zarr_seed("m2.zarr", ".zarray", u16_v2),
+        zarr_seed("c2.zarr", "0.1.1", u16_v2),
+        zarr_seed("ome.zarr", ".zattrs", ome),
+        zarr_seed("ome-array.zarr", "0/.zarray", ome),
+    ]
 }
 
 fn poly() -> PolyMesh {
@@ -140,12 +200,14 @@ fn volume_seeds() -> Vec<Seed> {
         files: std::mem::take(&mut nhdr_data),
         mutate: 1,
         read: 0,
+        folder: None,
     };
     let mut mhd = written("d.mhd", |p| write_volume(p, &v).unwrap());
     let mhd_data = Seed {
         files: std::mem::take(&mut mhd),
         mutate: 1,
         read: 0,
+        folder: None,
     };
     vec![
         seed_written("w.nrrd", |p| write_volume(p, &v).unwrap()),
@@ -362,7 +424,11 @@ fn fail(path: &Path, what: &str, mutations: &[String]) -> ! {
 
 fn check_error(path: &Path, seed: &Seed, e: &IoError, mutations: &[String]) {
     let text = e.to_string();
-    let names_a_file = seed.files.iter().any(|(n, _)| text.contains(n.as_str()));
+    let names_a_file = seed.files.iter().any(|(n, _)| text.contains(n.as_str()))
+        || seed
+            .folder
+            .as_ref()
+            .is_some_and(|f| text.contains(f.as_str()));
     if !names_a_file || text.contains('\n') {
         fail(
             path,
@@ -389,14 +455,23 @@ fn mutated_files_never_panic_hang_or_leak_internals() {
     let worker = Worker::start();
     let started = Instant::now();
     let (mut files, mut refused) = (0usize, 0usize);
-    let seeds: Vec<Seed> = mesh_seeds().into_iter().chain(volume_seeds()).collect();
+    let seeds: Vec<Seed> = mesh_seeds()
+        .into_iter()
+        .chain(volume_seeds())
+        .chain(zarr_seeds())
+        .collect();
     for (s, seed) in seeds.iter().enumerate() {
         for (name, bytes) in &seed.files {
-            std::fs::write(dir.path().join(name), bytes).unwrap();
+            let path = dir.path().join(name);
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(path, bytes).unwrap();
         }
         let (target_name, original) = &seed.files[seed.mutate];
         let target = dir.path().join(target_name);
-        let read_path = dir.path().join(&seed.files[seed.read].0);
+        let read_path = match &seed.folder {
+            Some(folder) => dir.path().join(folder),
+            None => dir.path().join(&seed.files[seed.read].0),
+        };
         // The seed itself must read.
         match worker.read(&read_path) {
             Ok(Outcome::Read) => {}

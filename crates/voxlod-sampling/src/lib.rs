@@ -64,6 +64,7 @@
 
 #![warn(missing_docs)]
 
+pub mod band_cover;
 pub mod bricked_threshold;
 pub mod csg;
 pub mod density;
@@ -103,8 +104,12 @@ pub use monotone_topology::{
     monotone_level, LevelShape, MonotoneChain, MonotoneError, MonotoneLevel, MonotoneOptions,
     TopologyRecord,
 };
-pub use narrow_band::{narrow_band_density, BandReport, NarrowBandOptions};
-pub use pyramid::{level_grid, plan_levels, plan_levels_with, LevelPlan, PyramidOptions};
+pub use narrow_band::{
+    band_estimate, narrow_band_density, BandEstimate, BandReport, NarrowBandOptions,
+};
+pub use pyramid::{
+    level_grid, plan_levels, plan_levels_with, LevelEstimate, LevelPlan, PyramidOptions,
+};
 pub use solid::Solid;
 pub use sphereflake::{sphereflake, sphereflake_spheres};
 pub use threshold::ThresholdSolid;

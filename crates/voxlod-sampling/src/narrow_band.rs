@@ -21,7 +21,10 @@
 //! Beyond the paper (which samples a dense grid), and what makes a mesh at 2048³ fit: memory is
 //! the lattice (4 bytes per line and per crossing, which grows as N²), 8 bytes per brick, and
 //! `4 B³` bytes per band brick, which grows with the surface's area; the leaves are checked
-//! against the budget, in terms of the band, before they are allocated.
+//! against the budget, in terms of the band, before they are allocated. Before any of it, the
+//! plan states a level's peak with [`band_estimate`]: for a mesh, the band is bounded by the
+//! bricks its triangles' boxes reach ([`crate::band_cover`]), and the mesh marching cubes makes
+//! is counted per band brick.
 //!
 //! **Cost.** O(crossings) to find the band, then per band brick and family O(B² · lines in the
 //! kernel pattern + B³): the per-row overhead of the dense sampler is paid per brick row.
@@ -36,6 +39,7 @@ use voxlod_core::{memory, BrickVolume, Grid};
 use crate::density::{lattice_crossings, DensityOptions, DensityReport, Rows};
 use crate::lattice::LineCrossings;
 use crate::line_kernel::LineKernel;
+use crate::pyramid::LevelEstimate;
 use crate::solid::Solid;
 use crate::SamplingError;
 
@@ -85,6 +89,65 @@ pub fn lattice_estimated_bytes(grid: &Grid, lines_per_voxel: usize, brick_size: 
     lines
         .saturating_mul(8)
         .saturating_add(BrickVolume::estimated_bytes(grid, brick_size, 0))
+}
+
+/// Triangles marching cubes makes per band brick of 8³, at most: 9.97 M triangles from 125,330
+/// band bricks (79.5) on the sphereflake of the peers' kit at 1024, rounded up.
+const TRIANGLES_PER_BAND_BRICK: u64 = 80;
+
+/// Bytes per triangle of a mesh from sparse marching cubes while it is made (positions and
+/// normals of about half a vertex, the triangle, the vertex table of the brick faces), measured
+/// on the same sphereflake and rounded up.
+const MESH_BYTES_PER_TRIANGLE: u64 = 64;
+
+/// What the plan expects of a level through the narrow band ([`band_estimate`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BandEstimate {
+    /// Bytes at the peak of sampling and contouring, and what they are for.
+    pub estimate: LevelEstimate,
+    /// Triangles marching cubes is expected to make, at most (0 when the band is not bounded).
+    pub triangles: u64,
+}
+
+/// What a level of `solid` on `grid` needs through the narrow band, before the lattice is cast:
+/// the lattice and brick index ([`lattice_estimated_bytes`]), and, when the solid bounds its
+/// band ([`Solid::band_bricks_bound`], a mesh does), the band's leaves and the mesh marching
+/// cubes makes of them. `radius_samples` is the filter's support radius in samples.
+pub fn band_estimate(
+    solid: &dyn Solid,
+    grid: &Grid,
+    lines_per_voxel: usize,
+    radius_samples: f64,
+    band: &NarrowBandOptions,
+) -> BandEstimate {
+    let b = band.brick_size;
+    let lattice = lattice_estimated_bytes(grid, lines_per_voxel, b);
+    let margin = radius_samples + GRADIENT_MARGIN;
+    let Some(leaves) = solid.band_bricks_bound(grid, b, margin) else {
+        return BandEstimate {
+            estimate: lattice.into(),
+            triangles: 0,
+        };
+    };
+    let bricks: u64 = grid.dims.iter().map(|&d| d.div_ceil(b) as u64).product();
+    let leaves_bytes = (memory::bytes_of::<f32>(b.pow(3)) + 4).saturating_mul(leaves as u64);
+    // Bricks of 16³ hold eight of 8³: as many triangles per sample.
+    let triangles = TRIANGLES_PER_BAND_BRICK * (b as u64 / 8).max(1).pow(3) * leaves as u64;
+    let mesh = MESH_BYTES_PER_TRIANGLE.saturating_mul(triangles);
+    BandEstimate {
+        estimate: LevelEstimate {
+            // The lattice is freed before marching cubes: the peak is the larger of the two.
+            bytes: leaves_bytes
+                .saturating_add(lattice.max(mesh))
+                .saturating_add(solid.resident_bytes()),
+            what: Some(format!(
+                "the narrow band of ~{leaves} bricks of {b}³ samples ({:.1}% of the grid), its \
+                 lattice, its mesh of ~{triangles} triangles and the input",
+                100.0 * leaves as f64 / bricks.max(1) as f64
+            )),
+        },
+        triangles,
+    }
 }
 
 /// Samples `solid` filtered by `options.filter` on `grid`, densely only in the band of bricks the

@@ -85,6 +85,24 @@ pub struct LevelPlan {
     pub radius: f64,
     /// The padded grid the level is sampled on.
     pub grid: Grid,
+    /// Bytes the plan expects the level to need at its peak (checked against the budget).
+    pub estimated_bytes: u64,
+}
+
+/// What a level is expected to need: bytes, and what they are for when a refusal should say
+/// more than the level's resolution (the narrow band's bricks).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LevelEstimate {
+    /// Bytes at the level's peak.
+    pub bytes: u64,
+    /// What needs them, e.g. "the narrow band of ~120,000 bricks of 8³ samples …".
+    pub what: Option<String>,
+}
+
+impl From<u64> for LevelEstimate {
+    fn from(bytes: u64) -> Self {
+        LevelEstimate { bytes, what: None }
+    }
 }
 
 impl LevelPlan {
@@ -128,15 +146,15 @@ pub fn plan_levels(
     bounds: &Bounds,
     options: &PyramidOptions,
 ) -> Result<Vec<LevelPlan>, SamplingError> {
-    plan_levels_with(bounds, options, &estimated_bytes)
+    plan_levels_with(bounds, options, &|grid, q| estimated_bytes(grid, q).into())
 }
 
 /// As [`plan_levels`], with the bytes a level needs given by `estimate(grid, lines_per_voxel)`
-/// (the dense sampler's [`estimated_bytes`], or the narrow band's lattice).
+/// (the dense sampler's [`estimated_bytes`], or the narrow band's).
 pub fn plan_levels_with(
     bounds: &Bounds,
     options: &PyramidOptions,
-    estimate: &dyn Fn(&Grid, usize) -> u64,
+    estimate: &dyn Fn(&Grid, usize) -> LevelEstimate,
 ) -> Result<Vec<LevelPlan>, SamplingError> {
     if options.resolutions.is_empty() {
         return Err(SamplingError::InvalidOption("no levels requested".into()));
@@ -163,7 +181,7 @@ pub fn plan_levels_with(
             // Refuse absurd sizes before even forming the grid.
             let approx_side = resolution as f64 + 2.0 * options.radius_voxels + 6.0;
             let approx_bytes = match Grid::unit([approx_side as usize; 3]) {
-                Ok(cube) if approx_side < (1u64 << 40) as f64 => estimate(&cube, 1),
+                Ok(cube) if approx_side < (1u64 << 40) as f64 => estimate(&cube, 1).bytes,
                 _ => u64::MAX,
             };
             voxlod_core::memory::check_allocation(
@@ -171,18 +189,22 @@ pub fn plan_levels_with(
                 approx_bytes,
             )?;
             let grid = level_grid(bounds, resolution, radius)?;
-            let plan = LevelPlan {
+            let mut plan = LevelPlan {
                 level,
                 resolution,
                 voxel_size,
                 radius,
                 grid,
+                estimated_bytes: 0,
             };
             let q = plan.density_options(options).lines_per_voxel(voxel_size);
-            voxlod_core::memory::check_allocation(
-                &format!("level {level} at resolution {resolution}"),
-                estimate(&grid, q),
-            )?;
+            let need = estimate(&grid, q);
+            let what = match &need.what {
+                Some(what) => format!("level {level} at resolution {resolution}: {what}"),
+                None => format!("level {level} at resolution {resolution}"),
+            };
+            voxlod_core::memory::check_allocation(&what, need.bytes)?;
+            plan.estimated_bytes = need.bytes;
             Ok(plan)
         })
         .collect()

@@ -10,7 +10,7 @@
 //! module).
 
 use rayon::prelude::*;
-use voxlod_core::{Bounds, WorldTransform};
+use voxlod_core::{Bounds, Grid, WorldTransform};
 
 use crate::lattice::{LineCrossings, LineFamily, TILE};
 use crate::SamplingError;
@@ -34,6 +34,20 @@ pub trait Solid: Sync {
     /// default): grid space is the world.
     fn world(&self) -> Option<WorldTransform> {
         None
+    }
+
+    /// An upper bound on the bricks of side `brick_size` of `grid` that hold a sample within
+    /// `margin` samples of the solid's boundary (the narrow band, [`crate::narrow_band`]), when
+    /// the solid can tell without casting the lattice; `None` (the default) when it cannot.
+    fn band_bricks_bound(&self, grid: &Grid, brick_size: usize, margin: f64) -> Option<usize> {
+        let _ = (grid, brick_size, margin);
+        None
+    }
+
+    /// Bytes the process holds for this solid while a level is sampled (the solid, its search
+    /// structure, the input the caller keeps), for the plan's estimate; 0 when unknown.
+    fn resident_bytes(&self) -> u64 {
+        0
     }
 }
 

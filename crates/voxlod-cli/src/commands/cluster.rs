@@ -11,6 +11,7 @@ use voxlod::clustering::{
 };
 use voxlod_gltf::{chain_glb_bytes, ChainLevel, ChainOptions};
 
+use super::common::say;
 use super::common::{level_path, print_json, progress, read_mesh_input, thousands, CliError};
 use super::values::number;
 
@@ -187,7 +188,7 @@ fn cluster_levels(
 /// One line per level and a summary, without --json.
 fn print_levels(report: &ClusterReport, input_triangles: usize, total: f64) {
     for l in &report.levels {
-        println!(
+        say(format_args!(
             "level {}: {} cells of {:.4}: {} triangles, {} dangling edges, {} isolated points in {:.3} s -> {}",
             l.report.level,
             l.report.cells,
@@ -197,13 +198,13 @@ fn print_levels(report: &ClusterReport, input_triangles: usize, total: f64) {
             thousands(l.report.isolated_points),
             l.report.cluster_seconds,
             l.file
-        );
+        ));
     }
-    println!(
+    say(format_args!(
         "{} triangles in, {} levels in {total:.3} s",
         thousands(input_triangles),
         report.levels.len()
-    );
+    ));
 }
 
 /// Every level in one MSFT_lod chain (crate `voxlod-gltf`): triangles, the dangling edges with

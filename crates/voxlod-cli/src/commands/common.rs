@@ -77,11 +77,36 @@ impl CliError {
     }
 }
 
+/// Exit status of a run whose standard output was closed by its reader (`voxlod … | head`):
+/// 128 + SIGPIPE's number, as for a program that SIGPIPE ends.
+pub const EXIT_CLOSED_OUTPUT: u8 = 141;
+
+/// Writes `text` and a newline on standard output: the one way the subcommands print.
+///
+/// A reader that closes the pipe early (`voxlod lod … --json | head -c 10`) ends the run
+/// quietly, with [`EXIT_CLOSED_OUTPUT`] and nothing on standard error, where `println!` would
+/// panic; any other failure to write is one error line and [`EXIT_IO`]. Either way the files
+/// not yet committed are removed first (outputs are committed before their report is printed,
+/// so a committed set stays whole).
+pub fn say(text: impl std::fmt::Display) {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    let written = writeln!(stdout, "{text}").and_then(|()| stdout.flush());
+    if let Err(e) = written {
+        voxlod::io::atomic::remove_temporaries_for_exit();
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(i32::from(EXIT_CLOSED_OUTPUT));
+        }
+        eprintln!("voxlod: error: cannot write to standard output: {e}");
+        std::process::exit(i32::from(EXIT_IO));
+    }
+}
+
 /// Prints `report` as pretty JSON on standard output.
 pub fn print_json<T: Serialize>(report: &T) -> Result<(), CliError> {
     let text = serde_json::to_string_pretty(report)
         .map_err(|e| CliError::msg(format!("cannot encode the JSON report: {e}")))?;
-    println!("{text}");
+    say(text);
     Ok(())
 }
 

@@ -8,6 +8,7 @@ use serde::Serialize;
 use voxlod::core::TriangleMesh;
 use voxlod::metrics::{mesh_distance, DistanceOptions, DistanceReport, MetricsError};
 
+use super::common::say;
 use super::common::{print_json, read_mesh_input, thousands, CliError};
 use super::values::number;
 
@@ -87,14 +88,14 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }
-    println!(
+    say(format_args!(
         "{} ({} triangles) and {} ({} triangles):",
         report.a,
         thousands(report.a_triangles),
         report.b,
         thousands(report.b_triangles)
-    );
-    println!("{}", report.distance);
+    ));
+    say(format_args!("{}", report.distance));
     Ok(())
 }
 

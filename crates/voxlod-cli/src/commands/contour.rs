@@ -8,6 +8,7 @@ use serde::Serialize;
 use voxlod::contouring::{marching_cubes, ContourOptions};
 use voxlod::core::mesh_topology;
 
+use super::common::say;
 use super::common::{
     check_computed_mesh, check_grid_range, describe_mesh, print_json, read_input, CliError, Input,
     RawArgs,
@@ -138,7 +139,7 @@ pub fn run(args: ContourArgs) -> Result<(), CliError> {
         for w in &report.warnings {
             eprintln!("warning: {w}");
         }
-        println!(
+        say(format_args!(
             "{}: {} ({}) in {:.3} s -> {}",
             args.volume.display(),
             describe_mesh(&mesh),
@@ -149,7 +150,7 @@ pub fn run(args: ContourArgs) -> Result<(), CliError> {
             },
             contour_seconds,
             args.output.display()
-        );
+        ));
     }
     Ok(())
 }

@@ -8,6 +8,7 @@ use serde::Serialize;
 use voxlod::io::OutputSet;
 use voxlod::sampling::{sphereflake, CsgSolid};
 
+use super::common::say;
 use super::common::{add_report, in_dir, print_json, progress, thousands, CliError};
 use voxlod::lod::{build_level, plan, LodOptions, LodSource};
 use voxlod_eval::paper_tables::PAPER_TABLE1;
@@ -103,12 +104,14 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     if args.json {
         return print_json(&report);
     }
-    println!(
+    say(format_args!(
         "Table 1 of He, Hong, Kaufman, Varshney, Wang (1995): the {}-sphere sphereflake,",
         report.spheres
-    );
-    println!("Gaussian filter of radius one voxel per level, isodensity 0.5.\n");
-    println!(
+    ));
+    say(format_args!(
+        "Gaussian filter of radius one voxel per level, isodensity 0.5.\n"
+    ));
+    say(format_args!(
         "{:<6}{:>12}{:>8}{:>18}{:>18}{:>8}{:>7}{:>9}",
         "index",
         "resolution",
@@ -118,9 +121,9 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
         "ratio",
         "genus",
         "seconds"
-    );
+    ));
     for r in &report.table1 {
-        println!(
+        say(format_args!(
             "{:<6}{:>12}{:>8}{:>18}{:>18}{:>8.2}{:>7}{:>9.3}",
             r.index,
             format!("{0}x{0}x{0}", r.resolution),
@@ -130,15 +133,15 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
             r.triangles as f64 / r.paper_triangles as f64,
             r.genus.map_or("-".into(), |g| g.to_string()),
             r.seconds
-        );
+        ));
     }
-    println!(
+    say(format_args!(
         "\nAll {} levels are closed manifolds: {}. Meshes and report.json in {} ({:.2} s).",
         report.table1.len(),
         report.table1.iter().all(|r| r.closed_manifold),
         args.output.display(),
         report.total_seconds
-    );
-    println!("{antialias}");
+    ));
+    say(format_args!("{antialias}"));
     Ok(())
 }

@@ -13,6 +13,7 @@ use voxlod::envelope::{
 };
 use voxlod::io::OutputSet;
 
+use super::common::say;
 use super::common::{level_path, print_json, progress, read_mesh_input, thousands, CliError};
 use super::values::number;
 
@@ -267,7 +268,7 @@ fn print_report(report: &Report) {
                 d.hausdorff, d.hausdorff_over_epsilon
             )
         });
-        println!(
+        say(format_args!(
             "level {}: ε {:.4} ({:.2}% of the diagonal): {} triangles ({:.1}% fewer) in {:.2} s{distance} -> {}",
             r.level,
             r.epsilon,
@@ -276,14 +277,14 @@ fn print_report(report: &Report) {
             r.reduction_percent,
             r.seconds,
             l.file
-        );
+        ));
     }
-    println!(
+    say(format_args!(
         "{} triangles in, {} levels in {:.2} s",
         thousands(report.input_triangles),
         report.levels.len(),
         report.total_seconds
-    );
+    ));
 }
 
 #[cfg(test)]

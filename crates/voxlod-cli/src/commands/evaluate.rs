@@ -11,6 +11,7 @@ use voxlod::metrics::DistanceOptions;
 /// Side of each image of the preview strips, in pixels.
 const PREVIEW_SIZE: u32 = 200;
 
+use super::common::say;
 use super::common::{add_report, in_dir, print_json, progress, read_mesh_input, CliError};
 use super::values::number;
 use voxlod_eval::evaluate::images::preview_strip;
@@ -324,9 +325,9 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
 /// What was left out, and one line of totals, on standard output.
 fn print_summary(args: &EvaluateArgs, evaluation: &Evaluation) {
     for o in &evaluation.omitted {
-        println!("not evaluated: {}: {}", o.what, o.reason);
+        say(format_args!("not evaluated: {}: {}", o.what, o.reason));
     }
-    println!(
+    say(format_args!(
         "{} methods, {} levels in {:.1} s; report in {}",
         evaluation.curves.len(),
         evaluation
@@ -336,5 +337,5 @@ fn print_summary(args: &EvaluateArgs, evaluation: &Evaluation) {
             .sum::<usize>(),
         evaluation.seconds,
         in_dir(&args.output, "report.md").display()
-    );
+    ));
 }

@@ -10,6 +10,7 @@ use voxlod::layers::glb::GlbPart;
 use voxlod::layers::read_glb;
 use voxlod::metrics::{mesh_report, welded_mesh_report, MeshReport};
 
+use super::common::say;
 use super::common::{count, is_glb, print_json, read_mesh_input, CliError};
 
 /// Report a mesh's topology and health: counts, components, boundary loops, manifoldness,
@@ -229,7 +230,7 @@ fn no_area_note(report: &MeshReport, notes: &mut Vec<String>) {
 }
 
 fn print_text(output: &InspectReport) {
-    println!(
+    say(format_args!(
         "{} ({}): {} vertices and {} triangles in the file{}",
         output.input,
         output.format,
@@ -243,10 +244,10 @@ fn print_text(output: &InspectReport) {
         } else {
             String::new()
         }
-    );
+    ));
     for p in &output.parts {
         let t = &p.report.topology;
-        println!(
+        say(format_args!(
             "mesh {} '{}' (alpha {:.3}): {} vertices, {} triangles, {}, {}, {}, genus {}",
             p.index,
             p.name,
@@ -261,14 +262,14 @@ fn print_text(output: &InspectReport) {
                 "not a closed, consistently oriented manifold"
             },
             t.genus.map_or("undefined".to_string(), |g| g.to_string())
-        );
+        ));
     }
     // The report's own text, without its notes: ours follow, with the additions above.
     let text = output.report.to_string();
     for line in text.lines().filter(|l| !l.starts_with("note: ")) {
-        println!("{line}");
+        say(format_args!("{line}"));
     }
     for note in &output.notes {
-        println!("note: {note}");
+        say(format_args!("note: {note}"));
     }
 }

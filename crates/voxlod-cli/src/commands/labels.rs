@@ -15,6 +15,7 @@ use voxlod::lod::LodLevel;
 use voxlod::sampling::Filter;
 use voxlod::{EnvelopeStep, LevelEpsilon, ThenEnvelope};
 
+use super::common::say;
 use super::common::{
     add_report, check_computed_mesh, in_dir, print_json, progress, CliError, MeshExtension,
 };
@@ -218,7 +219,7 @@ fn write_label(
 /// The one line a label gets on the terminal.
 fn print_label(report: &LabelReport) {
     let l0 = &report.levels[0];
-    println!(
+    say(format_args!(
         "label {}{}: {} voxels, {} triangles, volume {:.1} (voxels: {:.1}), area {:.1}",
         report.label,
         report
@@ -231,7 +232,7 @@ fn print_label(report: &LabelReport) {
         l0.volume,
         report.voxel_volume,
         l0.area
-    );
+    ));
 }
 
 pub fn run(args: LabelsArgs) -> Result<(), CliError> {
@@ -313,12 +314,12 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
     if args.json {
         print_json(&report)?;
     } else {
-        println!(
+        say(format_args!(
             "{} labels written to {} in {:.2} s",
             report.labels.len(),
             args.output.display(),
             report.total_seconds
-        );
+        ));
     }
     Ok(())
 }

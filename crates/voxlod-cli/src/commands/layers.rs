@@ -15,6 +15,7 @@ use voxlod::render::{Camera, RenderOptions};
 use voxlod::sampling::Filter;
 
 use super::camera::{view_direction, CameraArgs, SURFACE_COLOR};
+use super::common::say;
 use super::common::{in_file, print_json, progress, thousands, CliError, Input};
 use super::layers_lod::{layered_chain, ChainReport, LodArgs};
 use super::source::{in_flag_words, VolumeRoute};
@@ -306,7 +307,7 @@ fn print_report(args: &LayersArgs, report: &LayersReport) {
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }
-    println!(
+    say(format_args!(
         "{}: {} layers (achieved error {:.5} ≤ {}), {} triangles -> {}",
         args.input.display(),
         report.layers.len(),
@@ -314,31 +315,31 @@ fn print_report(args: &LayersArgs, report: &LayersReport) {
         report.error_bound,
         thousands(report.triangles),
         args.output.display()
-    );
+    ));
     for l in &report.layers {
-        println!(
+        say(format_args!(
             "  layer {}: isodensity {:.4}, translucency {:.3}, alpha {:.3}, {} triangles",
             l.index,
             l.isodensity,
             l.translucency,
             l.alpha,
             thousands(l.triangles)
-        );
+        ));
     }
     if let Some(chain) = &report.lod {
         for l in &chain.levels {
-            println!(
+            say(format_args!(
                 "  chain level {}: resolution {}, filter radius {:.4}, {} layers, {} triangles",
                 l.level,
                 l.resolution,
                 l.radius,
                 l.layers,
                 thousands(l.triangles)
-            );
+            ));
         }
     }
     if let Some(p) = &report.preview {
-        println!("preview -> {p}");
+        say(format_args!("preview -> {p}"));
     }
 }
 

@@ -8,11 +8,12 @@ use serde::Serialize;
 use voxlod::core::Topology;
 use voxlod::finest::FinestChoice;
 use voxlod::io::{OutputSet, VolumeFormat};
-use voxlod::sampling::{DensityReport, Filter, PyramidOptions, TopologyRecord};
+use voxlod::sampling::{BandReport, DensityReport, Filter, PyramidOptions, TopologyRecord};
 use voxlod::{
     Control, EnvelopeStep, Event, Finest, LevelEpsilon, Lod, LodLevel, LodOptions, Progress,
 };
 
+use super::common::say;
 use super::common::{
     add_report, check_grid_range, check_grid_reach, count, describe_mesh, in_dir, in_file,
     print_json, progress, read_input, CliError, Input, MeshExtension,
@@ -176,6 +177,11 @@ struct LevelReport {
     contour_seconds: f64,
     write_seconds: f64,
     density: Option<DensityReport>,
+    /// The bricks of the narrow band, for a level sampled through it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    band: Option<BandReport>,
+    /// Bytes the plan expected the level to need at its peak (checked against the budget).
+    estimated_bytes: u64,
     #[serde(skip_serializing_if = "Option::is_none")]
     envelope: Option<EnvelopeStep>,
 }
@@ -378,12 +384,12 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }
-    println!(
+    say(format_args!(
         "{} in {:.2} s; report in {}",
         written_summary(&report.levels),
         report.total_seconds,
         in_dir(&args.output, "report.json").display()
-    );
+    ));
     Ok(())
 }
 
@@ -552,6 +558,8 @@ fn write_level(
         contour_seconds: level.contour_seconds,
         write_seconds,
         density: level.density,
+        band: level.band,
+        estimated_bytes: plan.estimated_bytes,
         envelope: level.envelope.clone(),
     })
 }

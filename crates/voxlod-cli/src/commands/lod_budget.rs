@@ -12,6 +12,7 @@ use voxlod::budget::BudgetLevel;
 use voxlod::io::OutputSet;
 use voxlod::{Lod, LodOptions, Source};
 
+use super::common::say;
 use super::common::{
     add_report, describe_mesh, in_dir, in_file, print_json, read_input, CliError, Input,
 };
@@ -92,14 +93,14 @@ pub fn run(args: &LodArgs) -> Result<(), CliError> {
         eprintln!("warning: {w}");
     }
     for (l, level) in report.levels.iter().zip(&lod.levels) {
-        println!("{}", describe_level(l, &level.mesh));
+        say(format_args!("{}", describe_level(l, &level.mesh)));
     }
-    println!(
+    say(format_args!(
         "{} levels in {:.2} s; report in {}",
         report.levels.len(),
         report.total_seconds,
         in_dir(&args.output, "report.json").display()
-    );
+    ));
     Ok(())
 }
 

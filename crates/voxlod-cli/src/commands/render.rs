@@ -11,6 +11,7 @@ use voxlod::layers::{read_glb, recover_cells, scene_order, CellTriangles, GlbSce
 use voxlod::render::{render, Camera, LineItem, MeshItem, PointItem, RenderOptions, Scene};
 
 use super::camera::{view_direction, CameraArgs, SURFACE_COLOR};
+use super::common::say;
 use super::common::{is_glb, print_json, thousands, CliError};
 use super::values::{number, numbers, ImageSize};
 
@@ -345,7 +346,7 @@ fn print_report(args: &RenderArgs, report: &RenderReport) {
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }
-    println!(
+    say(format_args!(
         "{} opaque and {} layered triangles at {}x{} ({}x{} samples per pixel) in {:.2} s -> {}",
         thousands(report.opaque_triangles),
         thousands(report.layered_triangles),
@@ -355,7 +356,7 @@ fn print_report(args: &RenderArgs, report: &RenderReport) {
         args.supersample,
         report.seconds,
         args.output.display()
-    );
+    ));
 }
 
 /// Refuses flags out of their range; returns warnings for flags that have no effect.

@@ -6,6 +6,7 @@ use clap::Args;
 use serde::Serialize;
 use voxlod::select::{pixel_size, select_level, SelectOptions, Selection};
 
+use super::common::say;
 use super::common::{print_json, CliError};
 use super::values::number;
 
@@ -125,7 +126,7 @@ pub fn run(args: SelectArgs) -> Result<(), CliError> {
         eprintln!("warning: {w}");
     }
     match level {
-        Some(i) => println!(
+        Some(i) => say(format_args!(
             "level {i} (cells of {:.5} for pixels of {pixel:.5}){}",
             sizes[i],
             report
@@ -133,8 +134,10 @@ pub fn run(args: SelectArgs) -> Result<(), CliError> {
                 .as_deref()
                 .map(|f| format!(": {f}"))
                 .unwrap_or_default()
-        ),
-        None => println!("the original model: no level's cells fit pixels of {pixel:.5}"),
+        )),
+        None => say(format_args!(
+            "the original model: no level's cells fit pixels of {pixel:.5}"
+        )),
     }
     Ok(())
 }

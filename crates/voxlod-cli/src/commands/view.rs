@@ -8,6 +8,7 @@ use serde::Serialize;
 use voxlod::io::OutputSet;
 use voxlod_view::{page_html, read_model, ViewError, ViewOptions};
 
+use super::common::say;
 use super::common::{print_json, CliError};
 
 /// Write one HTML page that shows .glb files with WebGL2, with nothing to fetch at view time.
@@ -85,12 +86,12 @@ pub fn run(args: ViewArgs) -> Result<(), CliError> {
     if args.json {
         print_json(&report)?;
     } else {
-        println!(
+        say(format_args!(
             "{} ({} bytes, {} models)",
             report.output,
             report.bytes,
             report.models.len()
-        );
+        ));
     }
     Ok(())
 }

@@ -9,6 +9,7 @@ use voxlod::io::{OutputSet, VolumeWriteOptions};
 use voxlod::sampling::Filter;
 use voxlod::VoxelizeOptions;
 
+use super::common::say;
 use super::common::{in_file, print_json, CliError};
 use super::source::{in_flag_words, VolumeRoute};
 use super::values::number;
@@ -142,7 +143,7 @@ fn print_report(args: &VoxelizeArgs, report: &VoxelizeReport) {
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }
-    println!(
+    say(format_args!(
         "{}: {}x{}x{} samples of spacing {:.5}, {} radius {:.5}, in {:.2} s -> {}",
         args.input.display(),
         report.dims[0],
@@ -153,5 +154,5 @@ fn print_report(args: &VoxelizeArgs, report: &VoxelizeReport) {
         report.radius,
         report.sample_seconds,
         args.output.display()
-    );
+    ));
 }
