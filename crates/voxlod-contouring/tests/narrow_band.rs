@@ -11,11 +11,12 @@ use voxlod_contouring::{marching_cubes, sparse_marching_cubes, ContourOptions};
 use voxlod_core::{mesh_topology, Axis, BrickVolume, TriangleMesh, Volume};
 use voxlod_sampling::{
     filtered_density, level_grid, narrow_band_density, CsgSolid, DensityOptions, Filter, MeshSolid,
-    NarrowBandOptions, Shape, Solid,
+    NarrowBandOptions, Shape, Solid, ThresholdSolid,
 };
 use voxlod_testkit::data::shared_data_or_skip;
 use voxlod_testkit::readers::read_obj;
 use voxlod_testkit::shapes::{holed_block, torus};
+use voxlod_testkit::volumes::shared_ct_head;
 
 /// Compares the two samplings of `solid` at `resolution` with a support of `radius_voxels`;
 /// returns the number of bricks and of band bricks.
@@ -127,6 +128,24 @@ fn scanned_bunny_matches_the_dense_sampler() {
     let solid = MeshSolid::new(&read_obj(&path)).unwrap();
     let (bricks, band) = compare(&solid, 96, 1.0, Filter::Hypercone, "bunny");
     assert!(band * 2 < bricks, "{band} of {bricks}");
+    // The size: the default chain's finest level of a scan.
+    let (bricks, band) = compare(&solid, 256, 1.0, Filter::Hypercone, "bunny at 256");
+    assert!(band * 4 < bricks, "{band} of {bricks}");
+}
+
+#[test]
+fn thresholded_ct_head_matches_the_dense_sampler() {
+    let Some(ct) = shared_ct_head("narrow band CT head") else {
+        return;
+    };
+    // Bone (many handles, thin skull) and skin: the threshold route's solids at the scan's
+    // full resolution.
+    for threshold in [1500.0, 500.0] {
+        let solid = ThresholdSolid::new(&ct, threshold).unwrap();
+        let what = format!("CT head at {threshold}");
+        let (bricks, band) = compare(&solid, 256, 1.0, Filter::Hypercone, &what);
+        assert!(band < bricks, "{what}: {band} of {bricks}");
+    }
 }
 
 #[test]

@@ -115,6 +115,32 @@ fn gyroid_and_sphereflake_fields_match_dense() {
     assert_closed_oriented(&assert_same_as_dense(&flake, 0.0, "flake"), "sphereflake");
 }
 
+/// The 512³ sphereflake field (about 2.4 M triangles), in bricks of 8 only: the same
+/// vertices, normals and triangles as the dense path.
+#[test]
+fn sphereflake_field_at_512_matches_dense() {
+    let flake = sphereflake_field(512).unwrap();
+    let dense = marching_cubes(&flake, &ContourOptions::at(0.0)).unwrap();
+    let bricks = BrickVolume::from_volume(&flake, 8).unwrap();
+    drop(flake);
+    let sparse = sparse_marching_cubes(&bricks, &ContourOptions::at(0.0)).unwrap();
+    drop(bricks);
+    assert!(
+        dense.triangles.len() > 2_000_000,
+        "{}",
+        dense.triangles.len()
+    );
+    let (dv, dt) = canonical(&dense);
+    let (sv, st) = canonical(&sparse);
+    assert_eq!(dv.len(), sv.len(), "vertex counts");
+    for ((dp, dn), (sp, sn)) in dv.iter().zip(&sv) {
+        assert_eq!(dp, sp, "vertex positions differ");
+        assert!((*dn - *sn).length() < 1e-5, "normals {dn} and {sn}");
+    }
+    assert!(dt == st, "triangles differ");
+    assert_closed_oriented(&sparse, "sphereflake at 512");
+}
+
 #[test]
 fn random_noise_with_every_case_matches_dense() {
     let mut rng = Pcg64Mcg::seed_from_u64(14);
