@@ -354,7 +354,8 @@ pub fn lod_with(
         if level.mesh.is_empty() {
             warnings.push(empty_level_warning(&p, iso));
         }
-        if chain.is_some() && level.band.is_some() && plans.len() > 1 {
+        // A band level too large to be made dense skips the rule (`keep_monotone` gives None).
+        if chain.is_some() && level.monotone.is_none() && plans.len() > 1 {
             warnings.push(band_level_warning(&p));
         }
         if level.clean_skipped {
