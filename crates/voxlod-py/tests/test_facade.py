@@ -62,6 +62,9 @@ def test_progress_callback_sees_every_step_and_can_stop(torus):
 
 
 def test_ctrl_c_stops_the_work(torus):
+    # Python's own Ctrl-C handler, whatever this process inherited (a shell's background job
+    # starts with SIGINT ignored, and Python then installs no handler).
+    inherited = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.05, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
     # Until the signal lands, however loaded the machine (a fixed count of calls finished
@@ -71,6 +74,7 @@ def test_ctrl_c_stops_the_work(torus):
         while time.monotonic() < deadline:
             voxlod.lod(*torus, resolution=96, levels=3)
     timer.cancel()
+    signal.signal(signal.SIGINT, inherited)
 
 
 def test_callback_errors_reach_the_caller(torus):
