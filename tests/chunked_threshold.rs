@@ -8,6 +8,7 @@ use voxlod::core::{Grid, Volume};
 use voxlod::io::IoError;
 use voxlod::sampling::Filter;
 use voxlod::{LodOptions, Source};
+use voxlod_testkit::volumes::window;
 
 /// A scan held in memory, read window by window.
 struct InMemory(Volume);
@@ -18,18 +19,7 @@ impl ChunkedScan for InMemory {
     }
 
     fn read_window(&self, start: [usize; 3], extent: [usize; 3]) -> Result<Volume, IoError> {
-        let s = &self.0.grid;
-        let origin = [0, 1, 2].map(|a| s.origin[a] + start[a] as f64 * s.spacing[a]);
-        let grid = Grid::new(extent, s.spacing, origin).unwrap();
-        let mut values = Vec::with_capacity(grid.len());
-        for k in 0..extent[2] {
-            for j in 0..extent[1] {
-                for i in 0..extent[0] {
-                    values.push(self.0.get(start[0] + i, start[1] + j, start[2] + k));
-                }
-            }
-        }
-        Ok(Volume::from_vec(grid, values).unwrap())
+        Ok(window(&self.0, start, extent))
     }
 }
 

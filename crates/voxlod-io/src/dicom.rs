@@ -138,7 +138,8 @@ pub(crate) fn open(path: &Path, until_pixels: bool) -> Result<DefaultDicomObject
         } else {
             options
         };
-        options.open_file(path)
+        // The bytes already read for the length check: the file is read once.
+        options.from_reader(bytes.as_slice())
     });
     match parsed {
         Some(Ok(object)) => Ok(object),

@@ -13,6 +13,7 @@ use voxlod_sampling::{
     bricked_threshold_density, filtered_density, level_grid, BrickedThreshold, DensityOptions,
     Filter, ThresholdSolid,
 };
+use voxlod_testkit::volumes::window;
 
 /// A gyroid of period `period` samples as u8-like values 48..208, on an `n`³ grid of spacing
 /// `spacing` (so that the level grids never align with the scan's samples).
@@ -26,21 +27,6 @@ fn gyroid_scan(n: usize, period: f64, spacing: f64) -> Volume {
                 let (x, y, z) = (x as f64 * k, y as f64 * k, z as f64 * k);
                 let g = x.sin() * y.cos() + y.sin() * z.cos() + z.sin() * x.cos();
                 values.push((128.0 + 80.0 * g).round() as f32);
-            }
-        }
-    }
-    Volume::from_vec(grid, values).unwrap()
-}
-
-fn window(scan: &Volume, start: [usize; 3], extent: [usize; 3]) -> Volume {
-    let s = &scan.grid;
-    let origin = [0, 1, 2].map(|a| s.origin[a] + start[a] as f64 * s.spacing[a]);
-    let grid = Grid::new(extent, s.spacing, origin).unwrap();
-    let mut values = Vec::with_capacity(grid.len());
-    for k in 0..extent[2] {
-        for j in 0..extent[1] {
-            for i in 0..extent[0] {
-                values.push(scan.get(start[0] + i, start[1] + j, start[2] + k));
             }
         }
     }

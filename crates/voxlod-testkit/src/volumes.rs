@@ -22,3 +22,19 @@ pub fn shared_ct_head(test: &str) -> Option<Volume> {
     let grid = voxlod_core::Grid::new([256, 256, 113], [1.0, 1.0, 2.0], [0.0; 3]).ok()?;
     Volume::from_vec(grid, values).ok()
 }
+
+/// The samples `start .. start + extent` (x, y, z indices) of `scan` as a volume of their own,
+/// placed where they sit in `scan`: what a chunked reader returns for that window.
+pub fn window(scan: &Volume, start: [usize; 3], extent: [usize; 3]) -> Volume {
+    let s = &scan.grid;
+    let origin = [0, 1, 2].map(|a| s.origin[a] + start[a] as f64 * s.spacing[a]);
+    let grid = Grid::new(extent, s.spacing, origin).unwrap();
+    let mut values = Vec::with_capacity(grid.len());
+    for k in 0..extent[2] {
+        for j in 0..extent[1] {
+            values
+                .extend((0..extent[0]).map(|i| scan.get(start[0] + i, start[1] + j, start[2] + k)));
+        }
+    }
+    Volume::from_vec(grid, values).unwrap()
+}
