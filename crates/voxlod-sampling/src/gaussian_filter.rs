@@ -617,13 +617,19 @@ mod tests {
         sum
     }
 
+    /// Samples in [0, 1) scrambled over the grid, in f64 and rounded to f32.
+    fn scrambled_samples(dims: [usize; 3]) -> (Vec<f64>, Vec<f32>) {
+        let input: Vec<f64> = (0..dims.iter().product::<usize>())
+            .map(|i| ((i * 7919) % 1013) as f64 / 1013.0)
+            .collect();
+        let input32 = input.iter().map(|&v| v as f32).collect();
+        (input, input32)
+    }
+
     #[test]
     fn every_mode_matches_a_naive_convolution() {
         let dims = [13, 6, 17];
-        let input: Vec<f64> = (0..13 * 6 * 17)
-            .map(|i| ((i * 7919) % 1013) as f64 / 1013.0)
-            .collect();
-        let input32: Vec<f32> = input.iter().map(|&v| v as f32).collect();
+        let (input, input32) = scrambled_samples(dims);
         for mode in [
             BoundaryMode::Reflect,
             BoundaryMode::Mirror,
@@ -659,10 +665,7 @@ mod tests {
     fn rows_wider_than_a_register_block_match_a_naive_convolution() {
         // x and y long enough for the 32-sample blocks of every pass, with tails; z short.
         let dims = [75, 41, 9];
-        let input: Vec<f64> = (0..75 * 41 * 9)
-            .map(|i| ((i * 7919) % 1013) as f64 / 1013.0)
-            .collect();
-        let input32: Vec<f32> = input.iter().map(|&v| v as f32).collect();
+        let (input, input32) = scrambled_samples(dims);
         for mode in [
             BoundaryMode::Reflect,
             BoundaryMode::Wrap,
