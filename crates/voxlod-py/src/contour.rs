@@ -69,15 +69,40 @@ impl Scan {
         hi: f32::NEG_INFINITY,
     };
 
-    /// The scan of `samples`, the chunk whose first sample has flat index `start`.
+    /// The scan of `samples`, the chunk whose first sample has flat index `start`: the range
+    /// in sixteen lanes that the compiler turns into vector minima and maxima (NaN never
+    /// compares below or above, so it leaves the range alone, as `f32::min` does), and a NaN
+    /// flag per lane; the NaN's position is looked for only when there is one.
     fn of(samples: &[f32], start: usize) -> Scan {
-        let first_nan = samples.iter().position(|v| v.is_nan()).map(|i| start + i);
-        let (lo, hi) = samples
-            .iter()
-            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
-                (lo.min(v), hi.max(v))
-            });
-        Scan { first_nan, lo, hi }
+        const LANES: usize = 16;
+        let mut lo = [f32::INFINITY; LANES];
+        let mut hi = [f32::NEG_INFINITY; LANES];
+        let mut nan = [false; LANES];
+        let mut take = |l: usize, v: f32| {
+            nan[l] |= v.is_nan();
+            lo[l] = if v < lo[l] { v } else { lo[l] };
+            hi[l] = if v > hi[l] { v } else { hi[l] };
+        };
+        let lanes = samples.chunks_exact(LANES);
+        let rest = lanes.remainder();
+        for chunk in lanes {
+            for (l, &v) in chunk.iter().enumerate() {
+                take(l, v);
+            }
+        }
+        for (l, &v) in rest.iter().enumerate() {
+            take(l, v);
+        }
+        let first_nan = if nan.contains(&true) {
+            samples.iter().position(|v| v.is_nan()).map(|i| start + i)
+        } else {
+            None
+        };
+        Scan {
+            first_nan,
+            lo: lo.into_iter().fold(f32::INFINITY, f32::min),
+            hi: hi.into_iter().fold(f32::NEG_INFINITY, f32::max),
+        }
     }
 
     fn merge(a: Scan, b: Scan) -> Scan {

@@ -144,6 +144,23 @@ def test_nan_is_refused_with_its_index():
         voxlod.marching_cubes(volume, 0.0)
 
 
+def test_the_first_nan_in_array_order_is_named():
+    # 70³ samples span several of the scan's parallel chunks; the two NaNs sit in different
+    # chunks and lanes, and the error names the one that comes first in array order.
+    volume = gyroid(70)
+    volume[60, 1, 2] = np.nan
+    volume[41, 7, 3] = np.nan
+    with pytest.raises(voxlod.InputError, match=r"NaN at index \(41, 7, 3\)"):
+        voxlod.marching_cubes(volume, 0.0)
+    # Exactly the data's extremes are within range; a hair beyond is not.
+    top = float(volume[~np.isnan(volume)].max())
+    volume[np.isnan(volume)] = 0.0
+    with pytest.raises(RuntimeError, match="No surface"):
+        voxlod.marching_cubes(volume, top)
+    with pytest.raises(ValueError, match="within volume data range"):
+        voxlod.marching_cubes(volume, float(np.nextafter(np.float32(top), np.float32(2))))
+
+
 def test_huge_arrays_are_refused_before_allocating():
     huge = np.broadcast_to(np.float64(0.0), (100_000, 100_000, 100_000))
     with pytest.raises(voxlod.TooLargeError) as info:
