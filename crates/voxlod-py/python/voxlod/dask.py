@@ -1,13 +1,19 @@
-"""voxlod on a Dask cluster: :func:`lod_volume`, the levels of :func:`voxlod.lod_volume`
-(threshold route) with each level sampled block by block on the cluster; and
-:func:`marching_cubes`, marching cubes block by block, stitched into the one mesh
-:func:`voxlod.marching_cubes` gives for the whole volume.
+"""voxlod on a Dask cluster: the levels of :func:`voxlod.lod_volume` (either route of the
+paper's §4) and the meshes of :func:`voxlod.labels`, each made block by block on the cluster
+and identical to the single-process result; and :func:`marching_cubes`, marching cubes block
+by block, stitched into the one mesh :func:`voxlod.marching_cubes` gives for the whole volume.
 
 :func:`lod_volume`: the client plans the levels and, per level, sends one task per block of
-the level's grid; each task reads the block's window of the scan once, answers a window
-without a crossing of the threshold with one value, and otherwise returns the block's bricks
-of filtered density. The client gathers them and contours, cleans and places the level as
+the level's grid; each task reads the block's window of the scan once (the block grown by the
+filter's reach). With ``threshold=T`` a window without a crossing of the threshold is
+answered with one value, and otherwise the task returns the block's bricks of filtered
+density; with ``direct=True`` the task returns the block's samples of the data filtered
+directly. The client gathers them and contours, cleans and places the level as
 :func:`voxlod.lod_volume` does.
+
+:func:`labels`: one task per chunk lists the chunk's labels and their boxes; then one task
+per label reads the label's box grown by one voxel, from the chunks that hold that label only,
+and meshes it as :func:`voxlod.labels` does.
 
 :func:`marching_cubes`:
 Each task reads one chunk of the volume and a one-sample halo around it (so that the gradient
@@ -24,6 +30,8 @@ Any ``dask.distributed`` cluster runs it unchanged, local or remote (see the pac
 >>> client = Client(LocalCluster(n_workers=2, processes=True))  # doctest: +SKIP
 >>> verts, faces, normals = voxlod.dask.marching_cubes("ct.zarr", 500.0, client=client)  # doctest: +SKIP
 >>> levels = voxlod.dask.lod_volume("ct.zarr", client=client, threshold=500, levels=4)  # doctest: +SKIP
+>>> levels = voxlod.dask.lod_volume("ct.zarr", client=client, direct=True, iso=500)  # doctest: +SKIP
+>>> meshes = voxlod.dask.labels("segmentation.zarr", client=client, levels=3)  # doctest: +SKIP
 
 Needs ``dask[array]`` and ``distributed`` (``pip install voxlod[dask]``), and ``zarr`` for
 Zarr paths.
@@ -38,9 +46,15 @@ import numpy as np
 
 from . import _facade, _voxlod
 from ._arrays import triple
-from .errors import NoSurfaceError, UsageError
+from ._labels import LabelMesh, check_label_dtype, label_mesh, label_options, label_samples
+from .errors import InputError, NoSurfaceError, UsageError
 
-__all__ = ["marching_cubes", "lod_volume", "as_dask_array"]
+__all__ = ["marching_cubes", "lod_volume", "labels", "as_dask_array"]
+
+WINDOW_SIDE = 256
+"""Scan samples per side that a task's window of the scan aims at on the direct route of
+:func:`lod_volume` (64 MiB of float32 per task in flight): smaller windows make more tasks and
+read more of the scan twice (the halos of the filter's reach)."""
 
 
 def as_dask_array(source: Any) -> Any:
@@ -143,17 +157,21 @@ def marching_cubes(
 
 
 def _compute(tasks: List[Any], client: Any) -> List[Any]:
-    """The results of ``tasks`` (dask.delayed), on ``client`` or Dask's current scheduler, with
-    every array of a tuple result aligned: arrays that distributed deserializes from a
-    message's frames can start at any byte, which the Rust side cannot borrow."""
+    """The results of ``tasks`` (dask.delayed or dask collections), on ``client`` or Dask's
+    current scheduler, with every array result (or array of a tuple result) aligned: arrays
+    that distributed deserializes from a message's frames can start at any byte, which the
+    Rust side cannot borrow."""
     import dask
 
     if client is not None:
         results = client.gather(client.compute(tasks))
     else:
         results = dask.compute(*tasks)
-    return [tuple(np.require(a, requirements=["C", "A"]) if isinstance(a, np.ndarray) else a
-                  for a in r) if isinstance(r, tuple) else r
+
+    def aligned(a: Any) -> Any:
+        return np.require(a, requirements=["C", "A"]) if isinstance(a, np.ndarray) else a
+
+    return [tuple(aligned(a) for a in r) if isinstance(r, tuple) else aligned(r)
             for r in results]
 
 
@@ -177,6 +195,31 @@ def _fill_zarr_block(path: str, start, stop, scan, level, block) -> Any:
     return _fill_block(_read_zarr(path, start, stop), scan, level, block)
 
 
+def _fill_direct_block(window: Any, scan: Tuple[Any, ...], level: int,
+                       block: Tuple[int, int, int]) -> np.ndarray:
+    """One task of :func:`lod_volume` with ``direct=True``: the block's filtered samples from
+    its window of the scan (read once)."""
+    window = np.ascontiguousarray(window, dtype=np.float32)
+    return _voxlod.fill_direct_block(window, scan, level, tuple(block))
+
+
+def _fill_direct_zarr_block(path: str, start, stop, scan, level, block) -> np.ndarray:
+    """:func:`_fill_direct_block` reading the window from a Zarr path on the worker."""
+    return _fill_direct_block(_read_zarr(path, start, stop), scan, level, block)
+
+
+def _finite_range(array: Any, client: Any) -> Tuple[float, float]:
+    """The smallest and largest finite sample of ``array`` as float32 (one reduction over the
+    scan, on the cluster); ``(inf, -inf)`` when there is none."""
+    import dask.array as da
+
+    samples = array.astype(np.float32)
+    finite = da.isfinite(samples)
+    low = da.where(finite, samples, np.float32(np.inf)).min()
+    high = da.where(finite, samples, np.float32(-np.inf)).max()
+    return tuple(float(np.float32(v)) for v in _compute([low, high], client))
+
+
 def lod_volume(
     source: Any,
     *,
@@ -194,15 +237,19 @@ def lod_volume(
     normals: bool = True,
     progress: Optional[_facade.Progress] = None,
 ) -> List[_facade.Level]:
-    """:func:`voxlod.lod_volume` with ``threshold=T``, each level sampled block by block on a
-    Dask cluster: the same levels (same triangles, same vertices to ``float32`` rounding, same
-    genus step and cleaning) from a volume that need not fit in one process.
+    """:func:`voxlod.lod_volume`, each level sampled block by block on a Dask cluster: the same
+    levels (same triangles, same vertices to ``float32`` rounding, same genus step and
+    cleaning) from a volume that need not fit in one process.
 
     Per level, one task per block of the level's grid reads the block's window of the scan
-    (the block grown by the filter's reach), answers a window without a crossing of the
-    threshold with one value (no density pass), and otherwise returns the block's bricks of
-    filtered density. The client gathers the bricks and contours, cleans and places the level
-    as :func:`voxlod.lod_volume` does (see the package README for what runs where).
+    once (the block grown by the filter's reach). With ``threshold=T`` a window without a
+    crossing of the threshold is answered with one value (no density pass), and otherwise the
+    task returns the block's bricks of filtered density. With ``direct=True`` the task filters
+    the data itself over the window (paper §2.3 and §4) and returns the block's samples, bit for
+    bit those of the single process; one reduction over the scan first finds its smallest and
+    largest finite sample (the value outside the scan, and the check of ``iso``). The client
+    gathers the answers and contours, cleans and places the level as :func:`voxlod.lod_volume`
+    does (see the package README for what runs where).
 
     Parameters
     ----------
@@ -210,28 +257,50 @@ def lod_volume(
         The scan. A Zarr path is read by the workers themselves, window by window.
     client : dask.distributed.Client, optional
         Where to run; default: the current client, else Dask's default scheduler.
-    threshold, iso, spacing, origin, resolution, levels, filter, resolutions, radius, normals, progress
-        As for :func:`voxlod.lod_volume`. ``progress`` is called after each level's sampling
-        and contouring.
-    direct : bool
-        Refused: filtering the data itself needs halos as wide as the coarsest filter; use
-        :func:`voxlod.lod_volume` with ``direct=True`` in one process.
+    threshold, direct, iso, spacing, origin, resolution, levels, filter, resolutions, radius, normals, progress
+        As for :func:`voxlod.lod_volume`: either ``threshold=T`` (``iso`` a density between 0
+        and 1, default 0.5) or ``direct=True`` with ``iso`` in the data's units. ``progress``
+        is called after each level's sampling and contouring.
 
     Returns
     -------
     list of :class:`voxlod.Level`, finest first, as :func:`voxlod.lod_volume` returns them.
+
+    Examples
+    --------
+    >>> import numpy as np, dask.array as da, voxlod, voxlod.dask
+    >>> z, y, x = np.mgrid[-12:13, -12:13, -12:13]
+    >>> ct = np.where(x**2 + y**2 + z**2 < 81, 1000, 0).astype(np.int16)
+    >>> chunked = da.from_array(ct, chunks=10)
+    >>> levels = voxlod.dask.lod_volume(chunked, direct=True, iso=500, resolution=20, levels=2)
+    >>> alone = voxlod.lod_volume(ct, direct=True, iso=500, resolution=20, levels=2)
+    >>> [len(l.faces) for l in levels] == [len(l.faces) for l in alone]
+    True
     """
-    if direct:
-        raise UsageError("voxlod.dask.lod_volume runs the threshold route only; for direct=True "
-                         "use voxlod.lod_volume(volume, spacing, direct=True, iso=...) in one process")
-    if threshold is None:
-        raise UsageError("give threshold=T (the solid of the samples >= T)")
+    if (threshold is None) == (not direct):
+        raise UsageError("give either threshold=T (the solid of the samples >= T) or direct=True "
+                         "(the data filtered itself, with iso in its units)")
     array = as_dask_array(source)
     path = str(source) if isinstance(source, (str, bytes)) or hasattr(source, "__fspath__") else None
     shape = tuple(int(n) for n in array.shape)
     options = (_facade._resolutions(resolution, levels, resolutions), str(filter), float(radius),
                iso, bool(normals), True)
-    scan = (shape, triple(spacing, "spacing"), triple(origin, "origin"), float(threshold), options)
+    where = (shape, triple(spacing, "spacing"), triple(origin, "origin"))
+    if direct:
+        scan = where + (_finite_range(array, client), int(WINDOW_SIDE), options)
+        run_level = _level_runner(array, path, scan, client, _fill_direct_block,
+                                  _fill_direct_zarr_block)
+        return _facade._levels(_voxlod.lod_direct_blockwise(*scan, run_level, progress))
+    scan = where + (float(threshold), options)
+    run_level = _level_runner(array, path, scan, client, _fill_block, _fill_zarr_block)
+    return _facade._levels(_voxlod.lod_threshold_blockwise(*scan, run_level, progress))
+
+
+def _level_runner(array: Any, path: Optional[str], scan: Tuple[Any, ...], client: Any,
+                  fill: Any, fill_zarr: Any) -> Any:
+    """``run_level(level, blocks)`` for the Rust side: one task per ``(block, window_start,
+    window_stop)``, ``fill(window, scan, level, block)`` on the window sliced from the dask
+    array, or ``fill_zarr(path, start, stop, scan, level, block)`` reading it on the worker."""
 
     def run_level(level: int, blocks: List[Tuple[Any, Any, Any]]) -> List[Any]:
         import dask
@@ -239,10 +308,145 @@ def lod_volume(
         tasks = []
         for block, start, stop in blocks:
             if path is not None:
-                tasks.append(dask.delayed(_fill_zarr_block)(path, start, stop, scan, level, block))
+                tasks.append(dask.delayed(fill_zarr)(path, start, stop, scan, level, block))
             else:
                 region = array[tuple(slice(a, b) for a, b in zip(start, stop))]
-                tasks.append(dask.delayed(_fill_block)(region, scan, level, block))
+                tasks.append(dask.delayed(fill)(region, scan, level, block))
         return _compute(tasks, client)
 
-    return _facade._levels(_voxlod.lod_threshold_blockwise(*scan, run_level, progress))
+    return run_level
+
+
+def _chunk_labels(chunk: Any, offset: Tuple[int, int, int]) -> Tuple[Any, ...]:
+    """One task of :func:`labels`' first pass: the chunk's labels, voxel counts and boxes (in
+    the whole map's indices, array-axis order)."""
+    return _voxlod.chunk_labels(label_samples(chunk, "the label map"), tuple(offset))
+
+
+def _chunk_bounds(array: Any) -> List[Tuple[Tuple[int, ...], Tuple[int, ...]]]:
+    """Each chunk's first sample and end (array-axis order), in ``array.blocks`` order."""
+    bounds = [np.cumsum((0,) + tuple(c)) for c in array.chunks]
+    return [(tuple(int(bounds[a][i]) for a, i in enumerate(index)),
+             tuple(int(bounds[a][i + 1]) for a, i in enumerate(index)))
+            for index in itertools.product(*(range(len(c)) for c in array.chunks))]
+
+
+def _find_labels(array: Any, client: Any) -> dict:
+    """Per label of the map: ``[voxels, first index, last index, chunks holding it]`` (indices
+    in array-axis order; chunks as positions in :func:`_chunk_bounds`), one task per chunk."""
+    import dask
+
+    chunks = _chunk_bounds(array)
+    blocks = itertools.product(*(range(len(c)) for c in array.chunks))
+    tasks = [dask.delayed(_chunk_labels)(array.blocks[index], start)
+             for index, (start, _) in zip(blocks, chunks)]
+    found: dict = {}
+    for n, (values, voxels, lows, highs) in enumerate(_compute(tasks, client)):
+        for value, count, low, high in zip(values, voxels, lows, highs):
+            entry = found.setdefault(value, [0, list(low), list(high), []])
+            entry[0] += count
+            entry[1] = [min(a, b) for a, b in zip(entry[1], low)]
+            entry[2] = [max(a, b) for a, b in zip(entry[2], high)]
+            entry[3].append(n)
+    return found
+
+
+def _chosen_labels(found: dict, wanted: Optional[Sequence[int]]) -> List[int]:
+    """The labels to mesh, as ``voxlod.labels`` chooses them (each asked for must exist)."""
+    if not found:
+        raise InputError("the map holds no label other than 0")
+    present = sorted(found)
+    if wanted is None:
+        return present
+    for value in (int(v) for v in wanted):
+        if value not in found:
+            raise UsageError(f"the map has no label {value} (it holds "
+                             f"{', '.join(str(v) for v in present)})")
+    return [int(v) for v in wanted]
+
+
+def _mesh_label(value: int, low: Sequence[int], shape: Sequence[int], parts: List[Any],
+                starts: List[Sequence[int]], spacing, origin, options) -> dict:
+    """One task of :func:`labels`' second pass: the label's meshes from its box (first sample
+    ``low``, ``shape`` samples), assembled from the parts of the chunks that hold it (each
+    starting at its ``starts``). Samples of other labels are 0 in the box: the label's
+    indicator is the same."""
+    box = np.zeros(tuple(shape), np.float32)
+    label = np.float32(value)
+    for part, start in zip(parts, starts):
+        part = label_samples(part, "the label map")
+        at = tuple(slice(s - l, s - l + n) for s, l, n in zip(start, low, part.shape))
+        box[at] = np.where(part == label, label, np.float32(0))
+    found = _voxlod.labels(box, spacing, origin, [int(value)], options)
+    return found[0]
+
+
+def labels(
+    source: Any,
+    *,
+    client: Any = None,
+    spacing: Sequence[float] = (1.0, 1.0, 1.0),
+    labels: Optional[Sequence[int]] = None,
+    levels: int = 1,
+    origin: Sequence[float] = (0.0, 0.0, 0.0),
+    filter: str = "hypercone",
+    radius: float = 1.0,
+    normals: bool = True,
+) -> List[LabelMesh]:
+    """:func:`voxlod.labels` on a Dask cluster: one closed mesh (or chain of ``levels``
+    levels) per label of a label map, the same meshes as in one process, from a map that need
+    not fit in one.
+
+    A first pass, one task per chunk, lists each chunk's labels with their voxel counts and
+    boxes. Then one task per label reads the label's box grown by one voxel (cut to the map),
+    from the chunks that hold that label only (elsewhere in the box the label's indicator is 0),
+    and meshes it as :func:`voxlod.labels` does. A chunk that holds no label is read once.
+
+    Parameters
+    ----------
+    source : Zarr path, dask array or array, shape (nz, ny, nx)
+        The label map (integers; 0 is background).
+    client : dask.distributed.Client, optional
+        Where to run; default: the current client, else Dask's default scheduler.
+    spacing, labels, levels, origin, filter, radius, normals
+        As for :func:`voxlod.labels`.
+
+    Returns
+    -------
+    list of :class:`voxlod.LabelMesh`, by increasing label (or in the order of ``labels``), as
+    :func:`voxlod.labels` returns them.
+
+    Examples
+    --------
+    >>> import numpy as np, dask.array as da, voxlod, voxlod.dask
+    >>> seg = np.zeros((12, 12, 20), np.uint8)
+    >>> seg[2:10, 2:10, 2:9] = 1
+    >>> seg[2:10, 2:10, 9:17] = 2
+    >>> found = voxlod.dask.labels(da.from_array(seg, chunks=6), levels=2)
+    >>> [(m.label, m.voxels, len(m.levels)) for m in found]
+    [(1, 448, 2), (2, 512, 2)]
+    """
+    import dask
+
+    options = label_options(levels, filter, radius, normals)
+    array = as_dask_array(source)
+    check_label_dtype(array.dtype, "the label map")
+    spacing, origin = triple(spacing, "spacing"), triple(origin, "origin")
+    found = _find_labels(array, client)
+    chunks = _chunk_bounds(array)
+    tasks = []
+    for value in _chosen_labels(found, labels):
+        _, first, last, holding = found[value]
+        low = [max(f - 1, 0) for f in first]
+        high = [min(l + 2, n) for l, n in zip(last, array.shape)]
+        shape = tuple(h - l for l, h in zip(low, high))
+        parts, starts = [], []
+        for n in holding:
+            start = [max(a, b) for a, b in zip(chunks[n][0], low)]
+            stop = [min(a, b) for a, b in zip(chunks[n][1], high)]
+            parts.append(array[tuple(slice(a, b) for a, b in zip(start, stop))])
+            starts.append(start)
+        box_origin = tuple(o + l * s for o, l, s in zip(origin, low, spacing))
+        tasks.append(dask.delayed(_mesh_label)(value, low, shape, parts, starts, spacing,
+                                               box_origin, options))
+    return [label_mesh(d) for d in _compute(tasks, client)]
