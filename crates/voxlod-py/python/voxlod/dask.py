@@ -5,9 +5,10 @@ by block, stitched into the one mesh :func:`voxlod.marching_cubes` gives for the
 
 :func:`lod_volume`: the client plans the levels and, per level, sends one task per block of
 the level's grid; each task reads the block's window of the scan once (the block grown by the
-filter's reach). With ``threshold=T`` a window without a crossing of the threshold is
-answered with one value, and otherwise the task returns the block's bricks of filtered
-density; with ``direct=True`` the task returns the block's samples of the data filtered
+filter's reach: from a Zarr path the worker reads it itself; from a dask array it is assembled
+from the chunks that overlap it, each chunk computed once per level). With ``threshold=T`` a
+window without a crossing of the threshold is answered with one value, and otherwise the task
+returns the block's bricks of filtered density; with ``direct=True`` the task returns the block's samples of the data filtered
 directly. The client gathers them and contours, cleans and places the level as
 :func:`voxlod.lod_volume` does.
 
@@ -16,13 +17,18 @@ per label reads the label's box grown by one voxel, from the chunks that hold th
 and meshes it as :func:`voxlod.labels` does.
 
 :func:`marching_cubes`:
-Each task reads one chunk of the volume and a one-sample halo around it (so that the gradient
-normals on the chunk's faces see the same neighbours as in one piece), skips it when no sample
+Each task reads one chunk of the volume and a one-sample halo around it, assembled from the
+chunks that overlap it (so that the gradient normals on the chunk's faces see the same
+neighbours as in one piece), skips it when no sample
 crosses the level, and otherwise contours the chunk's own cells in Rust, returning its piece of
 mesh with *global edge keys* on every vertex and global cell keys on every triangle. The client
 then stitches the pieces: one vertex per edge key, in key order, and the triangles in cell
 order. The result is :func:`voxlod.marching_cubes`'s mesh index for index, with the same
 vertices to ``float32`` rounding.
+
+Each call builds one task graph per pass (per level, per labels' pass), whose tasks name the
+chunks they need: a dask collection per task would cost tens of milliseconds of graph building
+each, which thousands of tasks turn into minutes.
 
 Any ``dask.distributed`` cluster runs it unchanged, local or remote (see the package README):
 
@@ -39,7 +45,9 @@ Zarr paths.
 
 from __future__ import annotations
 
+import functools
 import itertools
+import uuid
 from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -103,6 +111,13 @@ def _piece(block: np.ndarray, level: float, offset, own_start, own_stop, shape):
     return _voxlod.contour_block(block, level, offset, own_start, own_stop, shape)
 
 
+def _piece_from_chunks(parts, corners, read_start, read_stop, level, own_start, own_stop, shape):
+    """:func:`_piece` of the samples ``read_start .. read_stop`` assembled from the chunks that
+    overlap them."""
+    block = _assemble(parts, corners, read_start, read_stop, np.float32)
+    return _piece(block, level, read_start, own_start, own_stop, shape)
+
+
 def marching_cubes(
     source: Any,
     level: Optional[float] = None,
@@ -141,11 +156,14 @@ def marching_cubes(
     if gradient_direction not in ("descent", "ascent"):
         raise UsageError(f"gradient_direction must be 'descent' or 'ascent', not {gradient_direction!r}")
     shape = tuple(int(n) for n in array.shape)
+    keys, bounds = _chunk_keys(array)
     tasks = []
     for read_start, read_stop, own_start, own_stop in _blocks(array):
-        region = array[tuple(slice(s, e) for s, e in zip(read_start, read_stop))]
-        tasks.append(dask.delayed(_piece)(region, level, read_start, own_start, own_stop, shape))
-    pieces = [p for p in _compute(tasks, client) if p is not None and len(p[1])]
+        parts, corners = _window_chunks(keys, bounds, read_start, read_stop)
+        tasks.append((_piece_from_chunks, parts, corners, read_start, read_stop, level,
+                      own_start, own_stop, shape))
+    pieces = [p for p in _graph_results("voxlod-pieces", tasks, array, client)
+              if p is not None and len(p[1])]
     if not pieces:
         raise NoSurfaceError("No surface found at the given iso value.")
     verts, faces, normals = _voxlod.stitch(pieces)
@@ -156,23 +174,82 @@ def marching_cubes(
     return verts, faces, normals
 
 
-def _compute(tasks: List[Any], client: Any) -> List[Any]:
+def _compute(tasks: List[Any], client: Any, each: bool = False) -> List[Any]:
     """The results of ``tasks`` (dask.delayed or dask collections), on ``client`` or Dask's
     current scheduler, with every array result (or array of a tuple result) aligned: arrays
     that distributed deserializes from a message's frames can start at any byte, which the
-    Rust side cannot borrow."""
+    Rust side cannot borrow. With ``each``, ``tasks`` is one collection whose result is the
+    list of results."""
     import dask
 
     if client is not None:
         results = client.gather(client.compute(tasks))
     else:
         results = dask.compute(*tasks)
+    if each:
+        (results,) = results
 
-    def aligned(a: Any) -> Any:
-        return np.require(a, requirements=["C", "A"]) if isinstance(a, np.ndarray) else a
-
-    return [tuple(aligned(a) for a in r) if isinstance(r, tuple) else aligned(r)
+    return [tuple(_aligned(a) for a in r) if isinstance(r, tuple) else _aligned(r)
             for r in results]
+
+
+def _aligned(a: Any) -> Any:
+    """An array ``a`` C-ordered and aligned (copied only when it is not): a chunk that
+    distributed deserializes from a message's frames can start at any byte, which the Rust
+    side cannot borrow."""
+    return np.require(a, requirements=["C", "A"]) if isinstance(a, np.ndarray) else a
+
+
+def _chunk_keys(array: Any) -> Tuple[np.ndarray, List[np.ndarray]]:
+    """The graph keys of ``array``'s chunks (an object array indexed like ``array.blocks``)
+    and, per axis, the chunks' boundaries (``bounds[a][i]`` the first index of chunk ``i``)."""
+    keys = np.empty(array.numblocks, dtype=object)
+    for index in np.ndindex(*array.numblocks):
+        keys[index] = (array.name,) + index
+    return keys, [np.cumsum((0,) + tuple(c)) for c in array.chunks]
+
+
+def _window_chunks(keys: np.ndarray, bounds: List[np.ndarray], start: Sequence[int],
+                   stop: Sequence[int]) -> Tuple[List[Any], List[Tuple[int, ...]]]:
+    """The keys and first indices of the chunks that overlap samples ``start .. stop``."""
+    ranges = [range(int(np.searchsorted(b, s, side="right")) - 1,
+                    int(np.searchsorted(b, e, side="left")))
+              for b, s, e in zip(bounds, start, stop)]
+    chosen = list(itertools.product(*ranges))
+    return ([keys[i] for i in chosen],
+            [tuple(int(b[i]) for b, i in zip(bounds, index)) for index in chosen])
+
+
+def _assemble(parts: List[np.ndarray], corners: List[Sequence[int]], start: Sequence[int],
+              stop: Sequence[int], dtype: Any) -> np.ndarray:
+    """Samples ``start .. stop`` as one ``dtype`` array, from the chunks ``parts`` (each
+    starting at its ``corners``) that cover them; on a worker."""
+    window = np.empty(tuple(e - s for s, e in zip(start, stop)), dtype)
+    for part, corner in zip(parts, corners):
+        low = [max(s, c) for s, c in zip(start, corner)]
+        high = [min(e, c + n) for e, c, n in zip(stop, corner, part.shape)]
+        if all(a < b for a, b in zip(low, high)):
+            window[tuple(slice(a - s, b - s) for a, b, s in zip(low, high, start))] = \
+                part[tuple(slice(a - c, b - c) for a, b, c in zip(low, high, corner))]
+    return window
+
+
+def _graph_results(name: str, tasks: List[Tuple[Any, ...]], array: Any, client: Any) -> List[Any]:
+    """The results of ``tasks`` (graph tasks: a function and its arguments, in which chunk
+    keys of ``array`` stand for the chunks; arguments shared by every task are best bound in a
+    ``functools.partial``, which the graph does not search for keys), computed as one graph on
+    ``client`` or Dask's current scheduler. One graph for all the tasks, not one collection per task: a dask
+    collection per task costs tens of milliseconds of graph building each (dask.delayed over
+    a slice of an array), which thousands of tasks turn into minutes."""
+    from dask.delayed import Delayed
+    from dask.highlevelgraph import HighLevelGraph
+
+    name = f"{name}-{uuid.uuid4().hex}"
+    layer = {(name, n): task for n, task in enumerate(tasks)}
+    layer[name] = (list, list(layer))
+    dependencies = [array] if array is not None else []
+    graph = HighLevelGraph.from_collections(name, layer, dependencies=dependencies)
+    return _compute([Delayed(name, graph)], client, each=True)
 
 
 def _read_zarr(path: str, start: Sequence[int], stop: Sequence[int]) -> np.ndarray:
@@ -193,6 +270,20 @@ def _fill_block(window: Any, scan: Tuple[Any, ...], level: int, block: Tuple[int
 def _fill_zarr_block(path: str, start, stop, scan, level, block) -> Any:
     """:func:`_fill_block` reading the window from a Zarr path on the worker."""
     return _fill_block(_read_zarr(path, start, stop), scan, level, block)
+
+
+def _fill_from_chunks(fill: Any, scan: Tuple[Any, ...], level: int, parts: List[np.ndarray],
+                      corners: List[Sequence[int]], start: Sequence[int], stop: Sequence[int],
+                      block: Tuple[int, int, int]) -> Any:
+    """``fill(window, scan, level, block)`` on the window ``start .. stop`` assembled from the
+    chunks that overlap it; on a worker."""
+    return fill(_assemble(parts, corners, start, stop, np.float32), scan, level, block)
+
+
+def _fill_zarr_window(fill_zarr: Any, path: str, scan: Tuple[Any, ...], level: int,
+                      start: Sequence[int], stop: Sequence[int], block: Tuple[int, int, int]) -> Any:
+    """``fill_zarr(path, start, stop, scan, level, block)``, its shared arguments first."""
+    return fill_zarr(path, start, stop, scan, level, block)
 
 
 def _fill_direct_block(window: Any, scan: Tuple[Any, ...], level: int,
@@ -242,7 +333,8 @@ def lod_volume(
     cleaning) from a volume that need not fit in one process.
 
     Per level, one task per block of the level's grid reads the block's window of the scan
-    once (the block grown by the filter's reach). With ``threshold=T`` a window without a
+    once (the block grown by the filter's reach; from a dask array, assembled from the chunks
+    that overlap it, each computed once per level). With ``threshold=T`` a window without a
     crossing of the threshold is answered with one value (no density pass), and otherwise the
     task returns the block's bricks of filtered density. With ``direct=True`` the task filters
     the data itself over the window (paper §2.3 and §4) and returns the block's samples, bit for
@@ -299,20 +391,23 @@ def lod_volume(
 def _level_runner(array: Any, path: Optional[str], scan: Tuple[Any, ...], client: Any,
                   fill: Any, fill_zarr: Any) -> Any:
     """``run_level(level, blocks)`` for the Rust side: one task per ``(block, window_start,
-    window_stop)``, ``fill(window, scan, level, block)`` on the window sliced from the dask
-    array, or ``fill_zarr(path, start, stop, scan, level, block)`` reading it on the worker."""
+    window_stop)``, ``fill(window, scan, level, block)`` on the window assembled from the dask
+    array's chunks that overlap it (each chunk computed once per level), or ``fill_zarr(path,
+    start, stop, scan, level, block)`` reading the window on the worker; one graph per level."""
+
+    keys, bounds = _chunk_keys(array)
 
     def run_level(level: int, blocks: List[Tuple[Any, Any, Any]]) -> List[Any]:
-        import dask
-
         tasks = []
+        from_zarr = functools.partial(_fill_zarr_window, fill_zarr, path, scan, level)
+        from_chunks = functools.partial(_fill_from_chunks, fill, scan, level)
         for block, start, stop in blocks:
             if path is not None:
-                tasks.append(dask.delayed(fill_zarr)(path, start, stop, scan, level, block))
+                tasks.append((from_zarr, start, stop, block))
             else:
-                region = array[tuple(slice(a, b) for a, b in zip(start, stop))]
-                tasks.append(dask.delayed(fill)(region, scan, level, block))
-        return _compute(tasks, client)
+                parts, corners = _window_chunks(keys, bounds, start, stop)
+                tasks.append((from_chunks, parts, corners, start, stop, block))
+        return _graph_results("voxlod-level", tasks, None if path else array, client)
 
     return run_level
 
@@ -320,7 +415,8 @@ def _level_runner(array: Any, path: Optional[str], scan: Tuple[Any, ...], client
 def _chunk_labels(chunk: Any, offset: Tuple[int, int, int]) -> Tuple[Any, ...]:
     """One task of :func:`labels`' first pass: the chunk's labels, voxel counts and boxes (in
     the whole map's indices, array-axis order)."""
-    return _voxlod.chunk_labels(label_samples(chunk, "the label map"), tuple(offset))
+    chunk = label_samples(_aligned(chunk), "the label map")
+    return _voxlod.chunk_labels(chunk, tuple(offset))
 
 
 def _chunk_bounds(array: Any) -> List[Tuple[Tuple[int, ...], Tuple[int, ...]]]:
@@ -334,14 +430,12 @@ def _chunk_bounds(array: Any) -> List[Tuple[Tuple[int, ...], Tuple[int, ...]]]:
 def _find_labels(array: Any, client: Any) -> dict:
     """Per label of the map: ``[voxels, first index, last index, chunks holding it]`` (indices
     in array-axis order; chunks as positions in :func:`_chunk_bounds`), one task per chunk."""
-    import dask
-
-    chunks = _chunk_bounds(array)
-    blocks = itertools.product(*(range(len(c)) for c in array.chunks))
-    tasks = [dask.delayed(_chunk_labels)(array.blocks[index], start)
-             for index, (start, _) in zip(blocks, chunks)]
+    keys, _ = _chunk_keys(array)
+    tasks = [(_chunk_labels, key, start)
+             for key, (start, _) in zip(keys.ravel(), _chunk_bounds(array))]
     found: dict = {}
-    for n, (values, voxels, lows, highs) in enumerate(_compute(tasks, client)):
+    for n, (values, voxels, lows, highs) in enumerate(
+            _graph_results("voxlod-chunk-labels", tasks, array, client)):
         for value, count, low, high in zip(values, voxels, lows, highs):
             entry = found.setdefault(value, [0, list(low), list(high), []])
             entry[0] += count
@@ -365,18 +459,21 @@ def _chosen_labels(found: dict, wanted: Optional[Sequence[int]]) -> List[int]:
     return [int(v) for v in wanted]
 
 
-def _mesh_label(value: int, low: Sequence[int], shape: Sequence[int], parts: List[Any],
-                starts: List[Sequence[int]], spacing, origin, options) -> dict:
-    """One task of :func:`labels`' second pass: the label's meshes from its box (first sample
-    ``low``, ``shape`` samples), assembled from the parts of the chunks that hold it (each
-    starting at its ``starts``). Samples of other labels are 0 in the box: the label's
-    indicator is the same."""
-    box = np.zeros(tuple(shape), np.float32)
+def _mesh_label(value: int, low: Sequence[int], high: Sequence[int], chunks: List[Any],
+                corners: List[Sequence[int]], spacing, origin, options) -> dict:
+    """One task of :func:`labels`' second pass: the label's meshes from its box (samples
+    ``low .. high``), assembled from the chunks that hold the label (each starting at its
+    ``corners``). Samples of other labels are 0 in the box: the label's indicator is the
+    same."""
     label = np.float32(value)
-    for part, start in zip(parts, starts):
-        part = label_samples(part, "the label map")
-        at = tuple(slice(s - l, s - l + n) for s, l, n in zip(start, low, part.shape))
-        box[at] = np.where(part == label, label, np.float32(0))
+    box = np.zeros(tuple(h - l for l, h in zip(low, high)), np.float32)
+    for chunk, corner in zip(chunks, corners):
+        start = [max(l, c) for l, c in zip(low, corner)]
+        stop = [min(h, c + n) for h, c, n in zip(high, corner, chunk.shape)]
+        part = chunk[tuple(slice(a - c, b - c) for a, b, c in zip(start, stop, corner))]
+        part = label_samples(_aligned(part), "the label map")
+        box[tuple(slice(a - l, b - l) for a, b, l in zip(start, stop, low))] = \
+            np.where(part == label, label, np.float32(0))
     found = _voxlod.labels(box, spacing, origin, [int(value)], options)
     return found[0]
 
@@ -398,9 +495,10 @@ def labels(
     not fit in one.
 
     A first pass, one task per chunk, lists each chunk's labels with their voxel counts and
-    boxes. Then one task per label reads the label's box grown by one voxel (cut to the map),
-    from the chunks that hold that label only (elsewhere in the box the label's indicator is 0),
-    and meshes it as :func:`voxlod.labels` does. A chunk that holds no label is read once.
+    boxes. Then one task per label assembles the label's box grown by one voxel (cut to the
+    map) from the chunks that hold that label only (elsewhere in the box the label's indicator
+    is 0), and meshes it as :func:`voxlod.labels` does. A chunk that holds no label is read
+    once, one that holds some twice (once per pass, shared by its labels).
 
     Parameters
     ----------
@@ -426,27 +524,18 @@ def labels(
     >>> [(m.label, m.voxels, len(m.levels)) for m in found]
     [(1, 448, 2), (2, 512, 2)]
     """
-    import dask
-
     options = label_options(levels, filter, radius, normals)
     array = as_dask_array(source)
     check_label_dtype(array.dtype, "the label map")
     spacing, origin = triple(spacing, "spacing"), triple(origin, "origin")
     found = _find_labels(array, client)
-    chunks = _chunk_bounds(array)
+    keys, chunks = _chunk_keys(array)[0].ravel(), _chunk_bounds(array)
     tasks = []
     for value in _chosen_labels(found, labels):
         _, first, last, holding = found[value]
         low = [max(f - 1, 0) for f in first]
         high = [min(l + 2, n) for l, n in zip(last, array.shape)]
-        shape = tuple(h - l for l, h in zip(low, high))
-        parts, starts = [], []
-        for n in holding:
-            start = [max(a, b) for a, b in zip(chunks[n][0], low)]
-            stop = [min(a, b) for a, b in zip(chunks[n][1], high)]
-            parts.append(array[tuple(slice(a, b) for a, b in zip(start, stop))])
-            starts.append(start)
         box_origin = tuple(o + l * s for o, l, s in zip(origin, low, spacing))
-        tasks.append(dask.delayed(_mesh_label)(value, low, shape, parts, starts, spacing,
-                                               box_origin, options))
-    return [label_mesh(d) for d in _compute(tasks, client)]
+        tasks.append((_mesh_label, value, low, high, [keys[n] for n in holding],
+                      [chunks[n][0] for n in holding], spacing, box_origin, options))
+    return [label_mesh(d) for d in _graph_results("voxlod-label-meshes", tasks, array, client)]
