@@ -159,14 +159,14 @@ def dask_lod_direct(n, folder, resolution, levels):
                       dashboard_address=None) as cluster, Client(cluster) as client:
         load = " ".join(f"{v:.1f}" for v in os.getloadavg())
         start, cpu = time.perf_counter(), time.process_time()
-        levels = voxlod.dask.lod_volume(path, client=client, **keywords)
+        mine = voxlod.dask.lod_volume(path, client=client, **keywords)
         blockwise, client_cpu = time.perf_counter() - start, time.process_time() - cpu
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     workers_cpu = (after.ru_utime + after.ru_stime) - (children.ru_utime + children.ru_stime)
-    same = len(levels) == len(whole) and all(
+    same = len(mine) == len(whole) and all(
         np.array_equal(a.faces, b.faces) and np.array_equal(a.vertices, b.vertices)
-        for a, b in zip(levels, whole))
-    triangles = " + ".join(f"{len(level.faces):,}" for level in levels)
+        for a, b in zip(mine, whole))
+    triangles = " + ".join(f"{len(level.faces):,}" for level in mine)
     print(f"| Dask lod_volume direct, ball {n}³ uint8 Zarr (128³ chunks), iso 110, "
           f"resolution {resolution}, {levels} level(s), LocalCluster of 2 processes (load "
           f"{load}) | {blockwise:.1f} s (client CPU {client_cpu:.1f} s, workers' CPU "

@@ -8,23 +8,23 @@ the level's grid; each task reads the block's window of the scan once (the block
 filter's reach: from a Zarr path the worker reads it itself; from a dask array it is assembled
 from the chunks that overlap it, each chunk computed once per level). With ``threshold=T`` a
 window without a crossing of the threshold is answered with one value, and otherwise the task
-returns the block's bricks of filtered density; with ``direct=True`` the task returns the block's samples of the data filtered
-directly. The client gathers them and contours, cleans and places the level as
-:func:`voxlod.lod_volume` does.
+returns the block's bricks of filtered density; with ``direct=True`` the task returns the
+block's samples of the data filtered directly. The client gathers them and contours, cleans
+and places the level as :func:`voxlod.lod_volume` does.
 
 :func:`labels`: one task per chunk lists the chunk's labels and their boxes; then one task
-per label reads the label's box grown by one voxel, from the chunks that hold that label only,
-and meshes it as :func:`voxlod.labels` does.
+per label assembles the label's box grown by one voxel from the chunks that hold that label
+only, and meshes it as :func:`voxlod.labels` does.
 
 :func:`marching_cubes`:
 Each task reads one chunk of the volume and a one-sample halo around it, assembled from the
 chunks that overlap it (so that the gradient normals on the chunk's faces see the same
-neighbours as in one piece), skips it when no sample
-crosses the level, and otherwise contours the chunk's own cells in Rust, returning its piece of
-mesh with *global edge keys* on every vertex and global cell keys on every triangle. The client
-then stitches the pieces: one vertex per edge key, in key order, and the triangles in cell
-order. The result is :func:`voxlod.marching_cubes`'s mesh index for index, with the same
-vertices to ``float32`` rounding.
+neighbours as in one piece), skips it when no sample crosses the level, and otherwise contours
+the chunk's own cells in Rust, returning its piece of mesh with *global edge keys* on every
+vertex and global cell keys on every triangle. The client then stitches the pieces: one vertex
+per edge key, in key order, and the triangles in cell order. The result is
+:func:`voxlod.marching_cubes`'s mesh index for index, with the same vertices to ``float32``
+rounding.
 
 Each call builds one task graph per pass (per level, per labels' pass), whose tasks name the
 chunks they need: a dask collection per task would cost tens of milliseconds of graph building
@@ -238,9 +238,9 @@ def _graph_results(name: str, tasks: List[Tuple[Any, ...]], array: Any, client: 
     """The results of ``tasks`` (graph tasks: a function and its arguments, in which chunk
     keys of ``array`` stand for the chunks; arguments shared by every task are best bound in a
     ``functools.partial``, which the graph does not search for keys), computed as one graph on
-    ``client`` or Dask's current scheduler. One graph for all the tasks, not one collection per task: a dask
-    collection per task costs tens of milliseconds of graph building each (dask.delayed over
-    a slice of an array), which thousands of tasks turn into minutes."""
+    ``client`` or Dask's current scheduler. One graph for all the tasks, not one collection
+    per task: a dask collection per task costs tens of milliseconds of graph building each
+    (dask.delayed over a slice of an array), which thousands of tasks turn into minutes."""
     from dask.delayed import Delayed
     from dask.highlevelgraph import HighLevelGraph
 
@@ -281,7 +281,8 @@ def _fill_from_chunks(fill: Any, scan: Tuple[Any, ...], level: int, parts: List[
 
 
 def _fill_zarr_window(fill_zarr: Any, path: str, scan: Tuple[Any, ...], level: int,
-                      start: Sequence[int], stop: Sequence[int], block: Tuple[int, int, int]) -> Any:
+                      start: Sequence[int], stop: Sequence[int],
+                      block: Tuple[int, int, int]) -> Any:
     """``fill_zarr(path, start, stop, scan, level, block)``, its shared arguments first."""
     return fill_zarr(path, start, stop, scan, level, block)
 
