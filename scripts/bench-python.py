@@ -7,7 +7,10 @@
 - voxlod.dask.lod_volume (threshold route) on an N³ Zarr volume with a LocalCluster of 2
   workers, against the single-process bricked run of the same data, ``voxlod lod VOL.zarr
   --threshold T --resolution N --levels 1`` (``--dask N``; 0 skips; the binary is
-  ``$VOXLOD_BIN`` or target/release/voxlod): wall times and whether the meshes are identical.
+  ``$VOXLOD_BIN`` or target/release/voxlod): wall times and whether the meshes are identical;
+- the same with ``direct=True`` (``--dask-direct N``, iso 110, ``--direct-resolution``,
+  ``--direct-levels``) against ``voxlod.lod_volume(direct=True)`` in this process on the same
+  data read whole: wall and CPU times, and whether every level is identical bit for bit.
 
 Each figure is the best of ``--repeat`` runs (wall time). Run it in the package's virtual
 environment (scripts/test-python makes one): ``target/python-venv/bin/python
@@ -125,6 +128,53 @@ def dask_lod_volume(n, folder):
         shutil.rmtree(folder)
 
 
+def dask_lod_direct(n, folder, resolution, levels):
+    """voxlod.dask.lod_volume(direct=True) against voxlod.lod_volume(direct=True) in this
+    process, on the same N³ Zarr ball (read whole into memory for the single process): wall
+    and CPU times (the workers' CPU counted once the cluster has closed) and whether every
+    level is identical (faces and vertices bit for bit)."""
+    import resource
+    import tempfile
+
+    import zarr
+    from distributed import Client, LocalCluster
+
+    import voxlod
+    import voxlod.dask
+
+    folder = Path(folder) if folder else Path(tempfile.mkdtemp(prefix="voxlod-dask-"))
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"ball-{n}.zarr"
+    if not path.exists():
+        ball_zarr(n, path)
+    keywords = dict(direct=True, iso=110.0, resolution=resolution, levels=levels)
+    load = " ".join(f"{v:.1f}" for v in os.getloadavg())
+    start, cpu = time.perf_counter(), time.process_time()
+    whole = voxlod.lod_volume(np.asarray(zarr.open(str(path), mode="r")[...]), **keywords)
+    single, single_cpu = time.perf_counter() - start, time.process_time() - cpu
+    print(f"single process: voxlod.lod_volume(ball-{n}.zarr read whole, {keywords}): "
+          f"{single:.1f} s wall, {single_cpu:.1f} s CPU (load {load})", flush=True)
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                      dashboard_address=None) as cluster, Client(cluster) as client:
+        load = " ".join(f"{v:.1f}" for v in os.getloadavg())
+        start, cpu = time.perf_counter(), time.process_time()
+        mine = voxlod.dask.lod_volume(path, client=client, **keywords)
+        blockwise, client_cpu = time.perf_counter() - start, time.process_time() - cpu
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    workers_cpu = (after.ru_utime + after.ru_stime) - (children.ru_utime + children.ru_stime)
+    same = len(mine) == len(whole) and all(
+        np.array_equal(a.faces, b.faces) and np.array_equal(a.vertices, b.vertices)
+        for a, b in zip(mine, whole))
+    triangles = " + ".join(f"{len(level.faces):,}" for level in mine)
+    print(f"| Dask lod_volume direct, ball {n}³ uint8 Zarr (128³ chunks), iso 110, "
+          f"resolution {resolution}, {levels} level(s), LocalCluster of 2 processes (load "
+          f"{load}) | {blockwise:.1f} s (client CPU {client_cpu:.1f} s, workers' CPU "
+          f"{workers_cpu:.1f} s incl. start-up) | single process {single:.1f} s (CPU "
+          f"{single_cpu:.1f} s) | overhead {blockwise / single:.2f}x | {triangles} "
+          f"triangles, identical levels: {same} |", flush=True)
+
+
 def row(name, ours, theirs, detail=""):
     print(f"| {name} | {ours:.3f} | {theirs:.3f} | {theirs / ours:.1f}x | {detail} |", flush=True)
 
@@ -142,8 +192,14 @@ def main():
     parser.add_argument("--dask-dir", default=None,
                         help="where the N³ Zarr volume is written once and kept (default: a "
                              "temporary folder, removed)")
+    parser.add_argument("--dask-direct", type=int, default=0,
+                        help="N for an N³ Dask run of the direct route; 0 skips it")
+    parser.add_argument("--direct-resolution", type=int, default=512,
+                        help="the direct run's finest level (default 512)")
+    parser.add_argument("--direct-levels", type=int, default=1,
+                        help="the direct run's levels (default 1)")
     parser.add_argument("--skip-peers", action="store_true",
-                        help="only the Dask run (with --dask)")
+                        help="only the Dask runs (with --dask, --dask-direct)")
     args = parser.parse_args()
 
     import scipy.ndimage
@@ -154,6 +210,9 @@ def main():
     if args.skip_peers:
         if args.dask:
             dask_lod_volume(args.dask, args.dask_dir)
+        if args.dask_direct:
+            dask_lod_direct(args.dask_direct, args.dask_dir, args.direct_resolution,
+                            args.direct_levels)
         return 0
     field = peers_field()
     print(f"voxlod {voxlod.__version__}, {os.cpu_count()} cores, "
@@ -183,6 +242,9 @@ def main():
 
     if args.dask:
         dask_lod_volume(args.dask, args.dask_dir)
+    if args.dask_direct:
+        dask_lod_direct(args.dask_direct, args.dask_dir, args.direct_resolution,
+                        args.direct_levels)
     return 0
 
 

@@ -40,7 +40,7 @@ use crate::facade::{lod_options, run_lod, LevelArgs};
 type ScanArgs = ([usize; 3], [f64; 3], [f64; 3], f32, LevelArgs);
 
 /// The scan's grid (x = axis 2) from its NumPy shape, spacing and origin.
-fn scan_grid(shape: [usize; 3], spacing: [f64; 3], origin: [f64; 3]) -> PyResult<Grid> {
+pub(crate) fn scan_grid(shape: [usize; 3], spacing: [f64; 3], origin: [f64; 3]) -> PyResult<Grid> {
     let zyx = |v: [f64; 3]| [v[2], v[1], v[0]];
     let dims = [shape[2], shape[1], shape[0]];
     Ok(Grid::new(dims, zyx(spacing), zyx(origin)).map_err(Failure::from)?)
@@ -59,6 +59,23 @@ impl ChunkedScan for GridOnly {
             "a scan known by its grid only has no samples",
         ))
     }
+}
+
+/// A level's blocks as the Python half names them: per block (x, y, z), its window's first
+/// sample and end in array-axis order, from the windows' first sample and extent (x, y, z).
+pub(crate) type BlockWindows = Vec<([usize; 3], [usize; 3], [usize; 3])>;
+
+/// [`BlockWindows`] from `(block, (window start, window extent))` in voxlod's axis order.
+pub(crate) fn block_windows(
+    blocks: impl Iterator<Item = ([usize; 3], ([usize; 3], [usize; 3]))>,
+) -> BlockWindows {
+    let zyx = |v: [usize; 3]| [v[2], v[1], v[0]];
+    blocks
+        .map(|(block, (start, extent))| {
+            let stop = [0, 1, 2].map(|a| start[a] + extent[a]);
+            (block, zyx(start), zyx(stop))
+        })
+        .collect()
 }
 
 fn cluster_error(message: &str) -> IoError {
@@ -161,15 +178,10 @@ impl ClusterScan {
             .position(|l| l.grid == level.grid)
             .ok_or_else(|| usage("a level the plan does not have"))?;
         let [bx, by, bz] = level.block_dims();
-        let zyx = |v: [usize; 3]| [v[2], v[1], v[0]];
-        let blocks: Vec<([usize; 3], [usize; 3], [usize; 3])> = (0..bx * by * bz)
-            .map(|i| {
-                let block = [i % bx, (i / bx) % by, i / (bx * by)];
-                let (start, extent) = level.scan_window(block);
-                let stop = [0, 1, 2].map(|a| start[a] + extent[a]);
-                (block, zyx(start), zyx(stop))
-            })
-            .collect();
+        let blocks = block_windows((0..bx * by * bz).map(|i| {
+            let block = [i % bx, (i / bx) % by, i / (bx * by)];
+            (block, level.scan_window(block))
+        }));
         let mut assembly = BrickAssembly::new(level).map_err(Failure::from)?;
         Python::attach(|py| -> PyResult<()> {
             let answers = self.run_level.call1(py, (k, blocks.clone()))?;

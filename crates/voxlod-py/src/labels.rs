@@ -95,3 +95,34 @@ fn label_dict<'py>(
     dict.set_item("levels", levels)?;
     Ok(dict)
 }
+
+/// One chunk's labels: values, voxel counts, and first and last index of each (array-axis
+/// order, in the whole map).
+type ChunkLabels = (Vec<i64>, Vec<usize>, Vec<[usize; 3]>, Vec<[usize; 3]>);
+
+/// `chunk_labels(chunk, offset)`, for `voxlod.dask.labels` on a worker: the labels of one chunk
+/// of a map whose first sample is at `offset` (array-axis order), found as `voxlod.labels` finds
+/// them ([`find_labels`]), with their boxes in the whole map's indices. A sample that is not a
+/// label is named by its index in the whole map.
+#[pyfunction]
+pub fn chunk_labels(
+    py: Python<'_>,
+    chunk: PyReadonlyArray3<'_, f32>,
+    offset: [usize; 3],
+) -> PyResult<ChunkLabels> {
+    let chunk = volume_from(&chunk, [1.0; 3], [0.0; 3])?;
+    let found = py.detach(|| find_labels(&chunk));
+    let [oz, oy, ox] = offset;
+    let found = found.map_err(|e| match e {
+        LabelError::NotALabel(i, j, k, v) => LabelError::NotALabel(i + ox, j + oy, k + oz, v),
+        other => other,
+    });
+    let found = found.map_err(Failure::from)?;
+    let zyx = |at: [usize; 3]| [at[2] + oz, at[1] + oy, at[0] + ox];
+    Ok((
+        found.iter().map(|l| l.value).collect(),
+        found.iter().map(|l| l.voxels).collect(),
+        found.iter().map(|l| zyx(l.min)).collect(),
+        found.iter().map(|l| zyx(l.max)).collect(),
+    ))
+}

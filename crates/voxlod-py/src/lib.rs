@@ -10,6 +10,7 @@ mod arrays;
 mod blocks;
 mod bricked;
 mod contour;
+mod direct_blockwise;
 mod errors;
 mod facade;
 mod filter;
@@ -32,6 +33,8 @@ fn _voxlod(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(blocks::stitch, m)?)?;
     m.add_function(wrap_pyfunction!(bricked::lod_threshold_blockwise, m)?)?;
     m.add_function(wrap_pyfunction!(bricked::fill_threshold_block, m)?)?;
+    m.add_function(wrap_pyfunction!(direct_blockwise::lod_direct_blockwise, m)?)?;
+    m.add_function(wrap_pyfunction!(direct_blockwise::fill_direct_block, m)?)?;
     m.add_function(wrap_pyfunction!(facade::lod_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(facade::lod_volume, m)?)?;
     m.add_function(wrap_pyfunction!(facade::read_mesh, m)?)?;
@@ -44,6 +47,7 @@ fn _voxlod(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(facade::envelope, m)?)?;
     m.add_function(wrap_pyfunction!(facade::layers, m)?)?;
     m.add_function(wrap_pyfunction!(labels::labels, m)?)?;
+    m.add_function(wrap_pyfunction!(labels::chunk_labels, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -4,6 +4,11 @@ single-process voxlod.lod_volume levels."""
 
 from __future__ import annotations
 
+import collections
+import faulthandler
+import re
+import signal
+
 import numpy as np
 import pytest
 
@@ -14,6 +19,29 @@ import voxlod
 import voxlod.dask
 from conftest import gyroid
 from meshes import as_trimesh
+
+
+STALL_SECONDS = 90
+"""A test of this module that runs longer has stalled: it fails (with every thread's stack
+on stderr) instead of hanging the suite. Each takes a few seconds in a release build."""
+
+
+@pytest.fixture(autouse=True)
+def fail_on_stall():
+    """SIGALRM after STALL_SECONDS raises in the main thread, which a client waiting on its
+    futures (a lock wait, interruptible by signals) then reports as the test's failure."""
+
+    def stalled(signum, frame):
+        faulthandler.dump_traceback(all_threads=True)
+        raise TimeoutError(f"the test stalled for {STALL_SECONDS} s (stacks above)")
+
+    previous = signal.signal(signal.SIGALRM, stalled)
+    signal.alarm(STALL_SECONDS)
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
 
 
 @pytest.fixture(scope="module")
@@ -121,7 +149,18 @@ class CountingArray:
         return self.array[index]
 
 
-def test_lod_volume_reads_each_window_once_and_skips_blocks_without_surface(monkeypatch):
+def chunk_reads(source, chunk):
+    """How often each chunk of ``source`` was read, asserting that every read is a chunk
+    (dask's empty probe of the array's type aside)."""
+    counts = collections.Counter(r for r in source.reads if all(a < b for a, b in r))
+    for region in counts:
+        assert all(a % chunk == 0 and (b % chunk == 0 or b == n)
+                   for (a, b), n in zip(region, source.shape)), region
+    return counts
+
+
+def test_lod_volume_reads_each_chunk_once_per_level_and_skips_blocks_without_surface(
+        monkeypatch):
     import dask
 
     # A small ball in one corner of a large volume: most blocks hold no surface.
@@ -144,15 +183,182 @@ def test_lod_volume_reads_each_window_once_and_skips_blocks_without_surface(monk
     assert_same_levels(blockwise, voxlod.lod_volume(ct, **keywords))
     skipped = sum(isinstance(a, float) for a in answers)
     assert 0 < skipped < len(answers), (skipped, len(answers))
-    # Every window is read once, the blocks without surface included: the samples read (in
-    # pieces, one per chunk a window overlaps) are the windows' samples, once each; a pass of
-    # its own for the windows' min and max would double them.
-    read = sum(int(np.prod([b - a for a, b in region])) for region in source.reads)
-    assert read == sum(window_samples), (read, sum(window_samples))
+    # The windows overlap (halos), but each chunk is read once per level and shared by the
+    # windows that need it; a pass of its own for the windows' min and max would read it again.
+    reads = chunk_reads(source, 100)
+    assert len(reads) == 8 and max(reads.values()) == 2, reads
+    assert sum(window_samples) > 2 * ct.size  # the halos: windows add up to more than that
 
 
-def test_lod_volume_refuses_the_direct_route_naming_the_single_process_one():
-    with pytest.raises(ValueError, match=r"voxlod\.lod_volume\(.*direct=True"):
-        voxlod.dask.lod_volume(np.zeros((8, 8, 8), np.float32), direct=True, iso=0.5)
-    with pytest.raises(ValueError, match="threshold"):
+def test_lod_volume_asks_for_one_route():
+    with pytest.raises(ValueError, match=r"threshold=T .* or direct=True"):
         voxlod.dask.lod_volume(np.zeros((8, 8, 8), np.float32))
+    with pytest.raises(ValueError, match=r"threshold=T .* or direct=True"):
+        voxlod.dask.lod_volume(np.zeros((8, 8, 8), np.float32), threshold=0.5, direct=True)
+
+
+def assert_identical_levels(blockwise, whole):
+    """The same levels bit for bit: resolutions, faces, vertices, normals and genus."""
+    assert [l.resolution for l in blockwise] == [l.resolution for l in whole]
+    for mine, theirs in zip(blockwise, whole):
+        assert len(theirs.faces) > 0, theirs.resolution
+        np.testing.assert_array_equal(mine.faces, theirs.faces)
+        np.testing.assert_array_equal(mine.vertices, theirs.vertices)
+        np.testing.assert_array_equal(mine.normals, theirs.normals)
+        assert mine.genus == theirs.genus, mine.resolution
+
+
+@pytest.fixture
+def small_windows(monkeypatch):
+    """Windows of about 48 scan samples a side, so that small test scans have several blocks
+    per level, with halos, in every direction (coarse levels, whose halos exceed that, have
+    blocks of two samples or more: hundreds of tasks)."""
+    monkeypatch.setattr(voxlod.dask, "WINDOW_SIDE", 48)
+
+
+def test_direct_levels_are_the_single_process_levels(client, small_windows):
+    # A closed gyroid in the data's own units (a CT-like int16 scan), filtered directly.
+    ct = (gyroid(72, periods=2.0) * 1000).astype(np.int16)
+    keywords = dict(direct=True, iso=-200.0, spacing=(1.5, 1.0, 0.75), origin=(-3.0, 2.0, 10.0),
+                    resolutions=[40, 20, 10])
+    whole = voxlod.lod_volume(ct, **keywords)
+    array = da.from_array(ct, chunks=((20, 30, 22), (41, 31), (15, 15, 42)))
+    blockwise = voxlod.dask.lod_volume(array, client=client, **keywords)
+    assert_identical_levels(blockwise, whole)
+    assert_same_levels(blockwise, whole)  # closed, too
+
+
+def test_direct_reads_a_zarr_path_on_the_workers(client, tmp_path, small_windows):
+    zarr = pytest.importorskip("zarr")
+    z, y, x = np.mgrid[-30:31, -30:31, -30:31]
+    ct = np.where(x**2 + y**2 + (1.5 * z) ** 2 < 25**2, 1200, 40).astype(np.uint16)
+    ct[25:36, 25:36, :] = 40  # a tunnel through the ball along axis 2: genus 1
+    path = tmp_path / "ball.zarr"
+    store = zarr.open(str(path), mode="w", shape=ct.shape, chunks=(20, 25, 32), dtype=ct.dtype)
+    store[...] = ct
+    keywords = dict(direct=True, iso=600.0, spacing=(1.5, 1.0, 1.0), resolution=36, levels=3,
+                    filter="gaussian")
+    whole = voxlod.lod_volume(ct, **keywords)
+    blockwise = voxlod.dask.lod_volume(path, client=client, **keywords)
+    assert_identical_levels(blockwise, whole)
+    assert blockwise[0].genus == 1
+
+
+def test_direct_reads_each_chunk_once_per_level(monkeypatch, small_windows):
+    import dask
+
+    z, y, x = np.mgrid[0:50, 0:50, 0:50]
+    ct = np.where((x - 20) ** 2 + (y - 24) ** 2 + (z - 26) ** 2 < 15**2, 900.0, -100.0)
+    source = CountingArray(ct.astype(np.float32))
+    windows = []
+
+    def fill_block(window, scan, level, block):
+        windows.append(window.size)
+        return voxlod._voxlod.fill_direct_block(np.ascontiguousarray(window, np.float32), scan,
+                                                level, tuple(block))
+
+    monkeypatch.setattr(voxlod.dask, "_fill_direct_block", fill_block)
+    keywords = dict(direct=True, iso=400.0, resolutions=[30, 15])
+    with dask.config.set(scheduler="synchronous"):  # in this process, to count
+        blockwise = voxlod.dask.lod_volume(da.from_array(source, chunks=25, asarray=False),
+                                           **keywords)
+    assert_identical_levels(blockwise, voxlod.lod_volume(ct, **keywords))
+    assert len(windows) > 8  # several blocks per level
+    # One pass over the scan for its range, then each chunk once per level.
+    reads = chunk_reads(source, 25)
+    assert len(reads) == 8 and set(reads.values()) == {3}, reads
+    assert sum(windows) > 2 * ct.size  # the halos: windows add up to more than that
+
+
+def test_direct_bad_input_is_refused_with_the_single_process_errors():
+    ct = np.zeros((12, 12, 12), np.float32)
+    ct[3:9, 3:9, 3:9] = 10.0
+    with pytest.raises(voxlod.UsageError, match="iso"):
+        voxlod.dask.lod_volume(ct, direct=True, resolution=8, levels=1)
+    for iso in (0.0, 11.0):  # at or below every sample, above every sample
+        with pytest.raises(voxlod.InputError) as alone:
+            voxlod.lod_volume(ct, direct=True, iso=iso, resolution=8, levels=1)
+        with pytest.raises(voxlod.InputError, match=re.escape(str(alone.value))):
+            voxlod.dask.lod_volume(ct, direct=True, iso=iso, resolution=8, levels=1)
+    ct[5, 6, 7] = np.nan
+    with pytest.raises(voxlod.InputError, match=r"NaN at index \[5, 6, 7\]"):
+        voxlod.dask.lod_volume(da.from_array(ct, chunks=5), direct=True, iso=5.0, resolution=8,
+                               levels=1)
+    with pytest.raises(voxlod.InputError, match="no finite samples"):
+        voxlod.dask.lod_volume(np.full((4, 4, 4), np.nan, np.float32), direct=True, iso=1.0)
+
+
+@pytest.fixture(scope="module")
+def segmentation() -> np.ndarray:
+    """Four structures in a (40, 48, 64) map: balls 1 and 2 touch along a flat face, box 4
+    touches ball 2 from below, ball 3 stands apart."""
+    z, y, x = np.meshgrid(*(np.arange(n, dtype=float) for n in (40, 48, 64)), indexing="ij")
+    z = z * 1.5
+
+    def distance(cz, cy, cx):
+        return np.sqrt((z - cz) ** 2 + (y - cy) ** 2 + (x - cx) ** 2)
+
+    d1, d2, d3 = distance(30, 24, 18), distance(30, 24, 34), distance(27, 24, 53)
+    seg = np.zeros(z.shape, np.uint16)
+    seg[(d1 < 10) & (d1 <= d2)] = 1
+    seg[(d2 < 10) & (d2 < d1)] = 2
+    seg[d3 < 8] = 3
+    seg[4:15, 10:30, 25:45] = 4
+    return seg
+
+
+def assert_same_label_meshes(blockwise, whole):
+    assert [(m.label, m.voxels, m.voxel_volume, len(m.levels)) for m in blockwise] == \
+        [(m.label, m.voxels, m.voxel_volume, len(m.levels)) for m in whole]
+    for mine, theirs in zip(blockwise, whole):
+        assert_identical_levels(mine.levels, theirs.levels)
+
+
+def test_labels_are_the_single_process_meshes(client, segmentation):
+    keywords = dict(spacing=(1.5, 1.0, 1.0), origin=(2.0, -3.0, 0.5), levels=2)
+    whole = voxlod.labels(segmentation, **keywords)
+    assert [m.label for m in whole] == [1, 2, 3, 4]
+    # Chunks that cut every structure, unevenly.
+    array = da.from_array(segmentation, chunks=((16, 14, 10), (20, 28), (24, 24, 16)))
+    blockwise = voxlod.dask.labels(array, client=client, **keywords)
+    assert_same_label_meshes(blockwise, whole)
+    for mesh in blockwise:
+        assert as_trimesh(mesh.vertices, mesh.faces).is_watertight, mesh.label
+    chosen = voxlod.dask.labels(array, client=client, labels=[4, 2], filter="gaussian")
+    assert_same_label_meshes(chosen, voxlod.labels(segmentation, labels=[4, 2],
+                                                   filter="gaussian"))
+
+
+def test_labels_read_chunks_without_labels_once(segmentation):
+    import dask
+
+    source = CountingArray(segmentation)
+    chunks = (10, 12, 16)  # 4 x 4 x 4 chunks, many of them background only
+    with dask.config.set(scheduler="synchronous"):
+        blockwise = voxlod.dask.labels(da.from_array(source, chunks=chunks, asarray=False))
+    assert_same_label_meshes(blockwise, voxlod.labels(segmentation))
+    reads = np.zeros([n // c for n, c in zip(segmentation.shape, chunks)], int)
+    for region in source.reads:
+        reads[tuple(slice(a // c, (b - 1) // c + 1) for (a, b), c in zip(region, chunks))] += 1
+    holding = np.array([[[segmentation[i * 10:(i + 1) * 10, j * 12:(j + 1) * 12,
+                                       k * 16:(k + 1) * 16].any()
+                          for k in range(4)] for j in range(4)] for i in range(4)])
+    assert (~holding).sum() > 10
+    assert (reads[~holding] == 1).all(), reads
+    assert (reads[holding] >= 2).all(), reads
+
+
+def test_bad_label_maps_raise():
+    seg = np.zeros((20, 20, 20), np.float32)
+    with pytest.raises(voxlod.InputError, match="no label other than 0"):
+        voxlod.dask.labels(da.from_array(seg, chunks=10))
+    seg[2:5, 2:5, 2:5] = 1
+    with pytest.raises(voxlod.UsageError, match=r"no label 7 \(it holds 1\)"):
+        voxlod.dask.labels(da.from_array(seg, chunks=10), labels=[7])
+    seg[13, 14, 15] = 2.5
+    with pytest.raises(voxlod.InputError, match=r"sample \(15, 14, 13\) holds 2.5"):
+        voxlod.dask.labels(da.from_array(seg, chunks=10))
+    with pytest.raises(voxlod.UsageError, match="integers"):
+        voxlod.dask.labels(da.from_array(seg.astype(np.complex64), chunks=10))
+    with pytest.raises(voxlod.UsageError, match="levels"):
+        voxlod.dask.labels(da.from_array(seg, chunks=10), levels=0)

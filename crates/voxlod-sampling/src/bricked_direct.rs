@@ -19,10 +19,13 @@
 //! Beyond the paper, which filters the whole volume in memory. **Cost**: each block reads its
 //! window once and does the work of the dense route for its samples, O(samples × (2R/h)³); a
 //! level reads the scan about once plus the halos (blocks are sized so that a window spans about
-//! [`WINDOW_SIDE`] scan samples where the reach allows; at coarse levels, where R spans many
-//! scan samples, a block of a few samples reads a window of about 2R + its box). **Memory**: a
-//! window of the scan as `f32` per block in flight, and the level's dense grid where the blocks
-//! are gathered ([`BlockedDirect::place_block`]), as the dense route holds it.
+//! [`WINDOW_SIDE`] scan samples where the reach allows). At coarse levels, where the halos 2R
+//! span more than that, a block's own span is made at least 2R: a window then spans at most
+//! twice its block per axis, so a level reads the scan at most about 8 times (a block of one
+//! sample with a window of 2R would read it (2R/h)³ times over in tiny tasks). **Memory**: a
+//! window of the scan as `f32` per block in flight (at most about (4R/h)³ samples at coarse
+//! levels), and the level's dense grid where the blocks are gathered
+//! ([`BlockedDirect::place_block`]), as the dense route holds it.
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -58,7 +61,8 @@ impl BlockedDirect {
     /// The blocks of `grid` (a level of the scan with grid `scan`) filtered with `filter` of
     /// support `radius`, `background` outside the scan (its smallest finite sample). Blocks are
     /// sized so that a window spans about `window_side` scan samples ([`WINDOW_SIDE`] is a good
-    /// default), and at least one sample of the level.
+    /// default), a block's own span at least its two halos (so that coarse levels are not cut
+    /// into windows mostly of halo), and at least one sample of the level.
     pub fn new(
         scan: Grid,
         grid: &Grid,
@@ -78,9 +82,11 @@ impl BlockedDirect {
             .map(|r| r.max(0) as u64);
         let block_side = [0, 1, 2].map(|a| {
             // Scan samples per level sample along the axis, and what the window leaves for the
-            // block's own span once the halo on both sides is counted.
+            // block's own span once the halo on both sides is counted; at least the two halos
+            // themselves, so that a window reads at most twice its block's span per axis.
             let step = grid.spacing[a] / scan.spacing[a];
-            let own = window_side as f64 - 2.0 * (reach[a] as f64 + 1.0);
+            let halos = 2.0 * (reach[a] as f64 + 1.0);
+            let own = (window_side as f64 - halos).max(halos);
             ((own / step).floor().max(1.0) as usize).min(grid.dims[a])
         });
         Ok(BlockedDirect {
@@ -291,7 +297,7 @@ mod tests {
 
     #[test]
     fn blocks_give_the_dense_levels_bit_for_bit() {
-        let volume = scan([23, 19, 15], [1.0, 1.0, 1.5], [-3.0, 2.5, 10.0]);
+        let volume = scan([46, 38, 30], [1.0, 1.0, 1.5], [-3.0, 2.5, 10.0]);
         let bounds = volume.grid.bounds();
         for filter in [Filter::Hypercone, Filter::GAUSSIAN] {
             // A fine level (supports of a few samples), a coarse one reaching beyond the scan
@@ -340,6 +346,31 @@ mod tests {
             }
         }
         assert_eq!(covered, grid.len());
+    }
+
+    #[test]
+    fn coarse_levels_read_the_scan_a_bounded_number_of_times() {
+        // Level spacing 8, support radius 8: halos of 9 scan samples each side exceed the
+        // 16-sample window asked for, and blocks of one sample (windows of 19³) would read the
+        // scan 13 times over.
+        let scan = Grid::new([64; 3], [1.0; 3], [0.0; 3]).unwrap();
+        let grid = Grid::new([8; 3], [8.0; 3], [0.0; 3]).unwrap();
+        let level = BlockedDirect::new(scan, &grid, Filter::Hypercone, 8.0, 0.0, 16).unwrap();
+        assert_eq!(level.block_side, [2, 2, 2]);
+        let read: usize = (0..level.block_count())
+            .map(|n| {
+                level
+                    .scan_window(level.block_at(n))
+                    .1
+                    .iter()
+                    .product::<usize>()
+            })
+            .sum();
+        assert!(
+            read <= 8 * scan.len(),
+            "{read} samples read for {}",
+            scan.len()
+        );
     }
 
     #[test]

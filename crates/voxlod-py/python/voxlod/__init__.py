@@ -10,9 +10,10 @@ The library's own calls: :func:`lod` and :func:`lod_volume` (levels of detail of
 scan, paper §2 and §4), :func:`labels` (one mesh per structure of a label map),
 :func:`read_mesh`, :func:`write_mesh`, :func:`read_volume`, :func:`write_volume`,
 :func:`inspect`, :func:`compare`, :func:`layers` (translucent shells, §3), and the baselines
-:func:`cluster` and :func:`envelope`. Blockwise contouring on a Dask cluster is
-:mod:`voxlod.dask`. Every function releases the GIL
-while it works; every failure is a :class:`voxlod.Error` (see :mod:`voxlod.errors`).
+:func:`cluster` and :func:`envelope`. On a Dask cluster, block by block and with the same
+results, :mod:`voxlod.dask` has :func:`voxlod.dask.lod_volume` (either route of §4),
+:func:`voxlod.dask.labels` and :func:`voxlod.dask.marching_cubes`. Every function releases the
+GIL while it works; every failure is a :class:`voxlod.Error` (see :mod:`voxlod.errors`).
 
 >>> import numpy as np, voxlod
 >>> z, y, x = np.mgrid[-8:9, -8:9, -8:9]

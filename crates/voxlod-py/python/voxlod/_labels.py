@@ -86,22 +86,40 @@ def labels(
     >>> [(m.label, m.voxels, len(m.levels)) for m in voxlod.labels(seg, levels=2)]
     [(1, 448, 2), (2, 512, 2)]
     """
-    if int(levels) < 1:
-        raise UsageError(f"levels must be at least 1, not {levels}")
-    array = np.asarray(volume)
-    if array.dtype.kind not in "iuf" and array.dtype != np.bool_:
-        raise UsageError(f"volume: a label map holds integers, not {array.dtype}")
-    if array.dtype.kind in "iu" and array.size and (
-            int(array.max()) > 2**24 or int(array.min()) < -2**24):
-        raise UsageError("volume: labels beyond ±2**24 are not supported (they are not exact "
-                         "in float32)")
-    array = volume_array(array, np.float32, "volume")
+    options = label_options(levels, filter, radius, normals)
+    array = label_samples(volume, "volume")
     chosen = None if labels is None else [int(v) for v in labels]
-    options = (int(levels), str(filter), float(radius), bool(normals))
     found = _voxlod.labels(array, triple(spacing, "spacing"), triple(origin, "origin"), chosen,
                            options)
-    return [
-        LabelMesh(label=d["label"], voxels=d["voxels"], voxel_volume=d["voxel_volume"],
-                  levels=_levels((d["levels"], [])))
-        for d in found
-    ]
+    return [label_mesh(d) for d in found]
+
+
+def label_options(levels: int, filter: str, radius: float, normals: bool) -> tuple:
+    """The options of :func:`labels` as the Rust side takes them, checked."""
+    if int(levels) < 1:
+        raise UsageError(f"levels must be at least 1, not {levels}")
+    return (int(levels), str(filter), float(radius), bool(normals))
+
+
+def check_label_dtype(dtype: Any, name: str) -> None:
+    """Refuses a dtype that cannot hold labels."""
+    if np.dtype(dtype).kind not in "iuf" and np.dtype(dtype) != np.bool_:
+        raise UsageError(f"{name}: a label map holds integers, not {np.dtype(dtype)}")
+
+
+def label_samples(volume: Any, name: str) -> np.ndarray:
+    """A label map (or a piece of one) as the C-ordered float32 array the Rust side reads:
+    integers up to 2**24 in magnitude, exact in float32."""
+    array = np.asarray(volume)
+    check_label_dtype(array.dtype, name)
+    if array.dtype.kind in "iu" and array.size and (
+            int(array.max()) > 2**24 or int(array.min()) < -2**24):
+        raise UsageError(f"{name}: labels beyond ±2**24 are not supported (they are not exact "
+                         "in float32)")
+    return volume_array(array, np.float32, name)
+
+
+def label_mesh(found: dict) -> LabelMesh:
+    """One label's dict from the Rust side as a :class:`LabelMesh`."""
+    return LabelMesh(label=found["label"], voxels=found["voxels"],
+                     voxel_volume=found["voxel_volume"], levels=_levels((found["levels"], [])))

@@ -46,6 +46,21 @@ def lod_threshold_blockwise(
     progress: Progress = ...,
 ) -> Tuple[List[Dict[str, Any]], List[str]]: ...
 def fill_threshold_block(window: F32, scan: ScanArgs, level: int, block: Sequence[int]) -> BlockAnswer: ...
+
+# shape, spacing, origin, (smallest, largest finite sample), window side, levels
+DirectArgs = Tuple[Sequence[int], Sequence[float], Sequence[float], Tuple[float, float], int, LevelArgs]
+
+def lod_direct_blockwise(
+    shape: Sequence[int],
+    spacing: Sequence[float],
+    origin: Sequence[float],
+    range: Tuple[float, float],
+    window: int,
+    levels: LevelArgs,
+    run_level: Callable[[int, List[Tuple[Tuple[int, int, int], Tuple[int, int, int], Tuple[int, int, int]]]], List[F32]],
+    progress: Progress = ...,
+) -> Tuple[List[Dict[str, Any]], List[str]]: ...
+def fill_direct_block(window: F32, scan: DirectArgs, level: int, block: Sequence[int]) -> F32: ...
 def lod_mesh(mesh: Mesh, levels: LevelArgs, progress: Progress = ...) -> Tuple[List[Dict[str, Any]], List[str]]: ...
 def lod_volume(
     volume: F32,
@@ -75,3 +90,6 @@ def labels(
     labels: Optional[List[int]],
     options: Tuple[int, str, float, bool],
 ) -> List[Dict[str, Any]]: ...
+def chunk_labels(
+    chunk: F32, offset: Sequence[int]
+) -> Tuple[List[int], List[int], List[Tuple[int, int, int]], List[Tuple[int, int, int]]]: ...

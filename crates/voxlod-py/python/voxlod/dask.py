@@ -1,22 +1,34 @@
-"""voxlod on a Dask cluster: :func:`lod_volume`, the levels of :func:`voxlod.lod_volume`
-(threshold route) with each level sampled block by block on the cluster; and
-:func:`marching_cubes`, marching cubes block by block, stitched into the one mesh
-:func:`voxlod.marching_cubes` gives for the whole volume.
+"""voxlod on a Dask cluster: the levels of :func:`voxlod.lod_volume` (either route of the
+paper's §4) and the meshes of :func:`voxlod.labels`, each made block by block on the cluster
+and identical to the single-process result; and :func:`marching_cubes`, marching cubes block
+by block, stitched into the one mesh :func:`voxlod.marching_cubes` gives for the whole volume.
 
 :func:`lod_volume`: the client plans the levels and, per level, sends one task per block of
-the level's grid; each task reads the block's window of the scan once, answers a window
-without a crossing of the threshold with one value, and otherwise returns the block's bricks
-of filtered density. The client gathers them and contours, cleans and places the level as
-:func:`voxlod.lod_volume` does.
+the level's grid; each task reads the block's window of the scan once (the block grown by the
+filter's reach: from a Zarr path the worker reads it itself; from a dask array it is assembled
+from the chunks that overlap it, each chunk computed once per level). With ``threshold=T`` a
+window without a crossing of the threshold is answered with one value, and otherwise the task
+returns the block's bricks of filtered density; with ``direct=True`` the task returns the
+block's samples of the data filtered directly. The client gathers them and contours, cleans
+and places the level as :func:`voxlod.lod_volume` does.
+
+:func:`labels`: one task per chunk lists the chunk's labels and their boxes; then one task
+per label assembles the label's box grown by one voxel from the chunks that hold that label
+only, and meshes it as :func:`voxlod.labels` does.
 
 :func:`marching_cubes`:
-Each task reads one chunk of the volume and a one-sample halo around it (so that the gradient
-normals on the chunk's faces see the same neighbours as in one piece), skips it when no sample
-crosses the level, and otherwise contours the chunk's own cells in Rust, returning its piece of
-mesh with *global edge keys* on every vertex and global cell keys on every triangle. The client
-then stitches the pieces: one vertex per edge key, in key order, and the triangles in cell
-order. The result is :func:`voxlod.marching_cubes`'s mesh index for index, with the same
-vertices to ``float32`` rounding.
+Each task reads one chunk of the volume and a one-sample halo around it, assembled from the
+chunks that overlap it (so that the gradient normals on the chunk's faces see the same
+neighbours as in one piece), skips it when no sample crosses the level, and otherwise contours
+the chunk's own cells in Rust, returning its piece of mesh with *global edge keys* on every
+vertex and global cell keys on every triangle. The client then stitches the pieces: one vertex
+per edge key, in key order, and the triangles in cell order. The result is
+:func:`voxlod.marching_cubes`'s mesh index for index, with the same vertices to ``float32``
+rounding.
+
+Each call builds one task graph per pass (per level, per labels' pass), whose tasks name the
+chunks they need: a dask collection per task would cost tens of milliseconds of graph building
+each, which thousands of tasks turn into minutes.
 
 Any ``dask.distributed`` cluster runs it unchanged, local or remote (see the package README):
 
@@ -24,6 +36,8 @@ Any ``dask.distributed`` cluster runs it unchanged, local or remote (see the pac
 >>> client = Client(LocalCluster(n_workers=2, processes=True))  # doctest: +SKIP
 >>> verts, faces, normals = voxlod.dask.marching_cubes("ct.zarr", 500.0, client=client)  # doctest: +SKIP
 >>> levels = voxlod.dask.lod_volume("ct.zarr", client=client, threshold=500, levels=4)  # doctest: +SKIP
+>>> levels = voxlod.dask.lod_volume("ct.zarr", client=client, direct=True, iso=500)  # doctest: +SKIP
+>>> meshes = voxlod.dask.labels("segmentation.zarr", client=client, levels=3)  # doctest: +SKIP
 
 Needs ``dask[array]`` and ``distributed`` (``pip install voxlod[dask]``), and ``zarr`` for
 Zarr paths.
@@ -31,16 +45,24 @@ Zarr paths.
 
 from __future__ import annotations
 
+import functools
 import itertools
+import uuid
 from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from . import _facade, _voxlod
 from ._arrays import triple
-from .errors import NoSurfaceError, UsageError
+from ._labels import LabelMesh, check_label_dtype, label_mesh, label_options, label_samples
+from .errors import InputError, NoSurfaceError, UsageError
 
-__all__ = ["marching_cubes", "lod_volume", "as_dask_array"]
+__all__ = ["marching_cubes", "lod_volume", "labels", "as_dask_array"]
+
+WINDOW_SIDE = 256
+"""Scan samples per side that a task's window of the scan aims at on the direct route of
+:func:`lod_volume` (64 MiB of float32 per task in flight): smaller windows make more tasks and
+read more of the scan twice (the halos of the filter's reach)."""
 
 
 def as_dask_array(source: Any) -> Any:
@@ -89,6 +111,13 @@ def _piece(block: np.ndarray, level: float, offset, own_start, own_stop, shape):
     return _voxlod.contour_block(block, level, offset, own_start, own_stop, shape)
 
 
+def _piece_from_chunks(parts, corners, read_start, read_stop, level, own_start, own_stop, shape):
+    """:func:`_piece` of the samples ``read_start .. read_stop`` assembled from the chunks that
+    overlap them."""
+    block = _assemble(parts, corners, read_start, read_stop, np.float32)
+    return _piece(block, level, read_start, own_start, own_stop, shape)
+
+
 def marching_cubes(
     source: Any,
     level: Optional[float] = None,
@@ -127,11 +156,14 @@ def marching_cubes(
     if gradient_direction not in ("descent", "ascent"):
         raise UsageError(f"gradient_direction must be 'descent' or 'ascent', not {gradient_direction!r}")
     shape = tuple(int(n) for n in array.shape)
+    keys, bounds = _chunk_keys(array)
     tasks = []
     for read_start, read_stop, own_start, own_stop in _blocks(array):
-        region = array[tuple(slice(s, e) for s, e in zip(read_start, read_stop))]
-        tasks.append(dask.delayed(_piece)(region, level, read_start, own_start, own_stop, shape))
-    pieces = [p for p in _compute(tasks, client) if p is not None and len(p[1])]
+        parts, corners = _window_chunks(keys, bounds, read_start, read_stop)
+        tasks.append((_piece_from_chunks, parts, corners, read_start, read_stop, level,
+                      own_start, own_stop, shape))
+    pieces = [p for p in _graph_results("voxlod-pieces", tasks, array, client)
+              if p is not None and len(p[1])]
     if not pieces:
         raise NoSurfaceError("No surface found at the given iso value.")
     verts, faces, normals = _voxlod.stitch(pieces)
@@ -142,19 +174,82 @@ def marching_cubes(
     return verts, faces, normals
 
 
-def _compute(tasks: List[Any], client: Any) -> List[Any]:
-    """The results of ``tasks`` (dask.delayed), on ``client`` or Dask's current scheduler, with
-    every array of a tuple result aligned: arrays that distributed deserializes from a
-    message's frames can start at any byte, which the Rust side cannot borrow."""
+def _compute(tasks: List[Any], client: Any, each: bool = False) -> List[Any]:
+    """The results of ``tasks`` (dask.delayed or dask collections), on ``client`` or Dask's
+    current scheduler, with every array result (or array of a tuple result) aligned: arrays
+    that distributed deserializes from a message's frames can start at any byte, which the
+    Rust side cannot borrow. With ``each``, ``tasks`` is one collection whose result is the
+    list of results."""
     import dask
 
     if client is not None:
         results = client.gather(client.compute(tasks))
     else:
         results = dask.compute(*tasks)
-    return [tuple(np.require(a, requirements=["C", "A"]) if isinstance(a, np.ndarray) else a
-                  for a in r) if isinstance(r, tuple) else r
+    if each:
+        (results,) = results
+
+    return [tuple(_aligned(a) for a in r) if isinstance(r, tuple) else _aligned(r)
             for r in results]
+
+
+def _aligned(a: Any) -> Any:
+    """An array ``a`` C-ordered and aligned (copied only when it is not): a chunk that
+    distributed deserializes from a message's frames can start at any byte, which the Rust
+    side cannot borrow."""
+    return np.require(a, requirements=["C", "A"]) if isinstance(a, np.ndarray) else a
+
+
+def _chunk_keys(array: Any) -> Tuple[np.ndarray, List[np.ndarray]]:
+    """The graph keys of ``array``'s chunks (an object array indexed like ``array.blocks``)
+    and, per axis, the chunks' boundaries (``bounds[a][i]`` the first index of chunk ``i``)."""
+    keys = np.empty(array.numblocks, dtype=object)
+    for index in np.ndindex(*array.numblocks):
+        keys[index] = (array.name,) + index
+    return keys, [np.cumsum((0,) + tuple(c)) for c in array.chunks]
+
+
+def _window_chunks(keys: np.ndarray, bounds: List[np.ndarray], start: Sequence[int],
+                   stop: Sequence[int]) -> Tuple[List[Any], List[Tuple[int, ...]]]:
+    """The keys and first indices of the chunks that overlap samples ``start .. stop``."""
+    ranges = [range(int(np.searchsorted(b, s, side="right")) - 1,
+                    int(np.searchsorted(b, e, side="left")))
+              for b, s, e in zip(bounds, start, stop)]
+    chosen = list(itertools.product(*ranges))
+    return ([keys[i] for i in chosen],
+            [tuple(int(b[i]) for b, i in zip(bounds, index)) for index in chosen])
+
+
+def _assemble(parts: List[np.ndarray], corners: List[Sequence[int]], start: Sequence[int],
+              stop: Sequence[int], dtype: Any) -> np.ndarray:
+    """Samples ``start .. stop`` as one ``dtype`` array, from the chunks ``parts`` (each
+    starting at its ``corners``) that cover them; on a worker."""
+    window = np.empty(tuple(e - s for s, e in zip(start, stop)), dtype)
+    for part, corner in zip(parts, corners):
+        low = [max(s, c) for s, c in zip(start, corner)]
+        high = [min(e, c + n) for e, c, n in zip(stop, corner, part.shape)]
+        if all(a < b for a, b in zip(low, high)):
+            window[tuple(slice(a - s, b - s) for a, b, s in zip(low, high, start))] = \
+                part[tuple(slice(a - c, b - c) for a, b, c in zip(low, high, corner))]
+    return window
+
+
+def _graph_results(name: str, tasks: List[Tuple[Any, ...]], array: Any, client: Any) -> List[Any]:
+    """The results of ``tasks`` (graph tasks: a function and its arguments, in which chunk
+    keys of ``array`` stand for the chunks; arguments shared by every task are best bound in a
+    ``functools.partial``, which the graph does not search for keys), computed as one graph on
+    ``client`` or Dask's current scheduler. One graph for all the tasks, not one collection
+    per task: a dask collection per task costs tens of milliseconds of graph building each
+    (dask.delayed over a slice of an array), which thousands of tasks turn into minutes."""
+    from dask.delayed import Delayed
+    from dask.highlevelgraph import HighLevelGraph
+
+    name = f"{name}-{uuid.uuid4().hex}"
+    layer = {(name, n): task for n, task in enumerate(tasks)}
+    layer[name] = (list, list(layer))
+    dependencies = [array] if array is not None else []
+    graph = HighLevelGraph.from_collections(name, layer, dependencies=dependencies)
+    return _compute([Delayed(name, graph)], client, each=True)
 
 
 def _read_zarr(path: str, start: Sequence[int], stop: Sequence[int]) -> np.ndarray:
@@ -177,6 +272,46 @@ def _fill_zarr_block(path: str, start, stop, scan, level, block) -> Any:
     return _fill_block(_read_zarr(path, start, stop), scan, level, block)
 
 
+def _fill_from_chunks(fill: Any, scan: Tuple[Any, ...], level: int, parts: List[np.ndarray],
+                      corners: List[Sequence[int]], start: Sequence[int], stop: Sequence[int],
+                      block: Tuple[int, int, int]) -> Any:
+    """``fill(window, scan, level, block)`` on the window ``start .. stop`` assembled from the
+    chunks that overlap it; on a worker."""
+    return fill(_assemble(parts, corners, start, stop, np.float32), scan, level, block)
+
+
+def _fill_zarr_window(fill_zarr: Any, path: str, scan: Tuple[Any, ...], level: int,
+                      start: Sequence[int], stop: Sequence[int],
+                      block: Tuple[int, int, int]) -> Any:
+    """``fill_zarr(path, start, stop, scan, level, block)``, its shared arguments first."""
+    return fill_zarr(path, start, stop, scan, level, block)
+
+
+def _fill_direct_block(window: Any, scan: Tuple[Any, ...], level: int,
+                       block: Tuple[int, int, int]) -> np.ndarray:
+    """One task of :func:`lod_volume` with ``direct=True``: the block's filtered samples from
+    its window of the scan (read once)."""
+    window = np.ascontiguousarray(window, dtype=np.float32)
+    return _voxlod.fill_direct_block(window, scan, level, tuple(block))
+
+
+def _fill_direct_zarr_block(path: str, start, stop, scan, level, block) -> np.ndarray:
+    """:func:`_fill_direct_block` reading the window from a Zarr path on the worker."""
+    return _fill_direct_block(_read_zarr(path, start, stop), scan, level, block)
+
+
+def _finite_range(array: Any, client: Any) -> Tuple[float, float]:
+    """The smallest and largest finite sample of ``array`` as float32 (one reduction over the
+    scan, on the cluster); ``(inf, -inf)`` when there is none."""
+    import dask.array as da
+
+    samples = array.astype(np.float32)
+    finite = da.isfinite(samples)
+    low = da.where(finite, samples, np.float32(np.inf)).min()
+    high = da.where(finite, samples, np.float32(-np.inf)).max()
+    return tuple(float(np.float32(v)) for v in _compute([low, high], client))
+
+
 def lod_volume(
     source: Any,
     *,
@@ -194,15 +329,20 @@ def lod_volume(
     normals: bool = True,
     progress: Optional[_facade.Progress] = None,
 ) -> List[_facade.Level]:
-    """:func:`voxlod.lod_volume` with ``threshold=T``, each level sampled block by block on a
-    Dask cluster: the same levels (same triangles, same vertices to ``float32`` rounding, same
-    genus step and cleaning) from a volume that need not fit in one process.
+    """:func:`voxlod.lod_volume`, each level sampled block by block on a Dask cluster: the same
+    levels (same triangles, same vertices to ``float32`` rounding, same genus step and
+    cleaning) from a volume that need not fit in one process.
 
     Per level, one task per block of the level's grid reads the block's window of the scan
-    (the block grown by the filter's reach), answers a window without a crossing of the
-    threshold with one value (no density pass), and otherwise returns the block's bricks of
-    filtered density. The client gathers the bricks and contours, cleans and places the level
-    as :func:`voxlod.lod_volume` does (see the package README for what runs where).
+    once (the block grown by the filter's reach; from a dask array, assembled from the chunks
+    that overlap it, each computed once per level). With ``threshold=T`` a window without a
+    crossing of the threshold is answered with one value (no density pass), and otherwise the
+    task returns the block's bricks of filtered density. With ``direct=True`` the task filters
+    the data itself over the window (paper §2.3 and §4) and returns the block's samples, bit for
+    bit those of the single process; one reduction over the scan first finds its smallest and
+    largest finite sample (the value outside the scan, and the check of ``iso``). The client
+    gathers the answers and contours, cleans and places the level as :func:`voxlod.lod_volume`
+    does (see the package README for what runs where).
 
     Parameters
     ----------
@@ -210,39 +350,193 @@ def lod_volume(
         The scan. A Zarr path is read by the workers themselves, window by window.
     client : dask.distributed.Client, optional
         Where to run; default: the current client, else Dask's default scheduler.
-    threshold, iso, spacing, origin, resolution, levels, filter, resolutions, radius, normals, progress
-        As for :func:`voxlod.lod_volume`. ``progress`` is called after each level's sampling
-        and contouring.
-    direct : bool
-        Refused: filtering the data itself needs halos as wide as the coarsest filter; use
-        :func:`voxlod.lod_volume` with ``direct=True`` in one process.
+    threshold, direct, iso, spacing, origin, resolution, levels, filter, resolutions, radius, normals, progress
+        As for :func:`voxlod.lod_volume`: either ``threshold=T`` (``iso`` a density between 0
+        and 1, default 0.5) or ``direct=True`` with ``iso`` in the data's units. ``progress``
+        is called after each level's sampling and contouring.
 
     Returns
     -------
     list of :class:`voxlod.Level`, finest first, as :func:`voxlod.lod_volume` returns them.
+
+    Examples
+    --------
+    >>> import numpy as np, dask.array as da, voxlod, voxlod.dask
+    >>> z, y, x = np.mgrid[-12:13, -12:13, -12:13]
+    >>> ct = np.where(x**2 + y**2 + z**2 < 81, 1000, 0).astype(np.int16)
+    >>> chunked = da.from_array(ct, chunks=10)
+    >>> levels = voxlod.dask.lod_volume(chunked, direct=True, iso=500, resolution=20, levels=2)
+    >>> alone = voxlod.lod_volume(ct, direct=True, iso=500, resolution=20, levels=2)
+    >>> [len(l.faces) for l in levels] == [len(l.faces) for l in alone]
+    True
     """
-    if direct:
-        raise UsageError("voxlod.dask.lod_volume runs the threshold route only; for direct=True "
-                         "use voxlod.lod_volume(volume, spacing, direct=True, iso=...) in one process")
-    if threshold is None:
-        raise UsageError("give threshold=T (the solid of the samples >= T)")
+    if (threshold is None) == (not direct):
+        raise UsageError("give either threshold=T (the solid of the samples >= T) or direct=True "
+                         "(the data filtered itself, with iso in its units)")
     array = as_dask_array(source)
     path = str(source) if isinstance(source, (str, bytes)) or hasattr(source, "__fspath__") else None
     shape = tuple(int(n) for n in array.shape)
     options = (_facade._resolutions(resolution, levels, resolutions), str(filter), float(radius),
                iso, bool(normals), True)
-    scan = (shape, triple(spacing, "spacing"), triple(origin, "origin"), float(threshold), options)
+    where = (shape, triple(spacing, "spacing"), triple(origin, "origin"))
+    if direct:
+        scan = where + (_finite_range(array, client), int(WINDOW_SIDE), options)
+        run_level = _level_runner(array, path, scan, client, _fill_direct_block,
+                                  _fill_direct_zarr_block)
+        return _facade._levels(_voxlod.lod_direct_blockwise(*scan, run_level, progress))
+    scan = where + (float(threshold), options)
+    run_level = _level_runner(array, path, scan, client, _fill_block, _fill_zarr_block)
+    return _facade._levels(_voxlod.lod_threshold_blockwise(*scan, run_level, progress))
+
+
+def _level_runner(array: Any, path: Optional[str], scan: Tuple[Any, ...], client: Any,
+                  fill: Any, fill_zarr: Any) -> Any:
+    """``run_level(level, blocks)`` for the Rust side: one task per ``(block, window_start,
+    window_stop)``, ``fill(window, scan, level, block)`` on the window assembled from the dask
+    array's chunks that overlap it (each chunk computed once per level), or ``fill_zarr(path,
+    start, stop, scan, level, block)`` reading the window on the worker; one graph per level."""
+
+    keys, bounds = _chunk_keys(array)
 
     def run_level(level: int, blocks: List[Tuple[Any, Any, Any]]) -> List[Any]:
-        import dask
-
         tasks = []
+        from_zarr = functools.partial(_fill_zarr_window, fill_zarr, path, scan, level)
+        from_chunks = functools.partial(_fill_from_chunks, fill, scan, level)
         for block, start, stop in blocks:
             if path is not None:
-                tasks.append(dask.delayed(_fill_zarr_block)(path, start, stop, scan, level, block))
+                tasks.append((from_zarr, start, stop, block))
             else:
-                region = array[tuple(slice(a, b) for a, b in zip(start, stop))]
-                tasks.append(dask.delayed(_fill_block)(region, scan, level, block))
-        return _compute(tasks, client)
+                parts, corners = _window_chunks(keys, bounds, start, stop)
+                tasks.append((from_chunks, parts, corners, start, stop, block))
+        return _graph_results("voxlod-level", tasks, None if path else array, client)
 
-    return _facade._levels(_voxlod.lod_threshold_blockwise(*scan, run_level, progress))
+    return run_level
+
+
+def _chunk_labels(chunk: Any, offset: Tuple[int, int, int]) -> Tuple[Any, ...]:
+    """One task of :func:`labels`' first pass: the chunk's labels, voxel counts and boxes (in
+    the whole map's indices, array-axis order)."""
+    chunk = label_samples(_aligned(chunk), "the label map")
+    return _voxlod.chunk_labels(chunk, tuple(offset))
+
+
+def _chunk_bounds(array: Any) -> List[Tuple[Tuple[int, ...], Tuple[int, ...]]]:
+    """Each chunk's first sample and end (array-axis order), in ``array.blocks`` order."""
+    bounds = [np.cumsum((0,) + tuple(c)) for c in array.chunks]
+    return [(tuple(int(bounds[a][i]) for a, i in enumerate(index)),
+             tuple(int(bounds[a][i + 1]) for a, i in enumerate(index)))
+            for index in itertools.product(*(range(len(c)) for c in array.chunks))]
+
+
+def _find_labels(array: Any, client: Any) -> dict:
+    """Per label of the map: ``[voxels, first index, last index, chunks holding it]`` (indices
+    in array-axis order; chunks as positions in :func:`_chunk_bounds`), one task per chunk."""
+    keys, _ = _chunk_keys(array)
+    tasks = [(_chunk_labels, key, start)
+             for key, (start, _) in zip(keys.ravel(), _chunk_bounds(array))]
+    found: dict = {}
+    for n, (values, voxels, lows, highs) in enumerate(
+            _graph_results("voxlod-chunk-labels", tasks, array, client)):
+        for value, count, low, high in zip(values, voxels, lows, highs):
+            entry = found.setdefault(value, [0, list(low), list(high), []])
+            entry[0] += count
+            entry[1] = [min(a, b) for a, b in zip(entry[1], low)]
+            entry[2] = [max(a, b) for a, b in zip(entry[2], high)]
+            entry[3].append(n)
+    return found
+
+
+def _chosen_labels(found: dict, wanted: Optional[Sequence[int]]) -> List[int]:
+    """The labels to mesh, as ``voxlod.labels`` chooses them (each asked for must exist)."""
+    if not found:
+        raise InputError("the map holds no label other than 0")
+    present = sorted(found)
+    if wanted is None:
+        return present
+    for value in (int(v) for v in wanted):
+        if value not in found:
+            raise UsageError(f"the map has no label {value} (it holds "
+                             f"{', '.join(str(v) for v in present)})")
+    return [int(v) for v in wanted]
+
+
+def _mesh_label(value: int, low: Sequence[int], high: Sequence[int], chunks: List[Any],
+                corners: List[Sequence[int]], spacing, origin, options) -> dict:
+    """One task of :func:`labels`' second pass: the label's meshes from its box (samples
+    ``low .. high``), assembled from the chunks that hold the label (each starting at its
+    ``corners``). Samples of other labels are 0 in the box: the label's indicator is the
+    same."""
+    label = np.float32(value)
+    box = np.zeros(tuple(h - l for l, h in zip(low, high)), np.float32)
+    for chunk, corner in zip(chunks, corners):
+        start = [max(l, c) for l, c in zip(low, corner)]
+        stop = [min(h, c + n) for h, c, n in zip(high, corner, chunk.shape)]
+        part = chunk[tuple(slice(a - c, b - c) for a, b, c in zip(start, stop, corner))]
+        part = label_samples(_aligned(part), "the label map")
+        box[tuple(slice(a - l, b - l) for a, b, l in zip(start, stop, low))] = \
+            np.where(part == label, label, np.float32(0))
+    found = _voxlod.labels(box, spacing, origin, [int(value)], options)
+    return found[0]
+
+
+def labels(
+    source: Any,
+    *,
+    client: Any = None,
+    spacing: Sequence[float] = (1.0, 1.0, 1.0),
+    labels: Optional[Sequence[int]] = None,
+    levels: int = 1,
+    origin: Sequence[float] = (0.0, 0.0, 0.0),
+    filter: str = "hypercone",
+    radius: float = 1.0,
+    normals: bool = True,
+) -> List[LabelMesh]:
+    """:func:`voxlod.labels` on a Dask cluster: one closed mesh (or chain of ``levels``
+    levels) per label of a label map, the same meshes as in one process, from a map that need
+    not fit in one.
+
+    A first pass, one task per chunk, lists each chunk's labels with their voxel counts and
+    boxes. Then one task per label assembles the label's box grown by one voxel (cut to the
+    map) from the chunks that hold that label only (elsewhere in the box the label's indicator
+    is 0), and meshes it as :func:`voxlod.labels` does. A chunk that holds no label is read
+    once, one that holds some twice (once per pass, shared by its labels).
+
+    Parameters
+    ----------
+    source : Zarr path, dask array or array, shape (nz, ny, nx)
+        The label map (integers; 0 is background).
+    client : dask.distributed.Client, optional
+        Where to run; default: the current client, else Dask's default scheduler.
+    spacing, labels, levels, origin, filter, radius, normals
+        As for :func:`voxlod.labels`.
+
+    Returns
+    -------
+    list of :class:`voxlod.LabelMesh`, by increasing label (or in the order of ``labels``), as
+    :func:`voxlod.labels` returns them.
+
+    Examples
+    --------
+    >>> import numpy as np, dask.array as da, voxlod, voxlod.dask
+    >>> seg = np.zeros((12, 12, 20), np.uint8)
+    >>> seg[2:10, 2:10, 2:9] = 1
+    >>> seg[2:10, 2:10, 9:17] = 2
+    >>> found = voxlod.dask.labels(da.from_array(seg, chunks=6), levels=2)
+    >>> [(m.label, m.voxels, len(m.levels)) for m in found]
+    [(1, 448, 2), (2, 512, 2)]
+    """
+    options = label_options(levels, filter, radius, normals)
+    array = as_dask_array(source)
+    check_label_dtype(array.dtype, "the label map")
+    spacing, origin = triple(spacing, "spacing"), triple(origin, "origin")
+    found = _find_labels(array, client)
+    keys, chunks = _chunk_keys(array)[0].ravel(), _chunk_bounds(array)
+    tasks = []
+    for value in _chosen_labels(found, labels):
+        _, first, last, holding = found[value]
+        low = [max(f - 1, 0) for f in first]
+        high = [min(l + 2, n) for l, n in zip(last, array.shape)]
+        box_origin = tuple(o + l * s for o, l, s in zip(origin, low, spacing))
+        tasks.append((_mesh_label, value, low, high, [keys[n] for n in holding],
+                      [chunks[n][0] for n in holding], spacing, box_origin, options))
+    return [label_mesh(d) for d in _graph_results("voxlod-label-meshes", tasks, array, client)]
