@@ -21,7 +21,7 @@ pub fn volume_slice<'a, T: Element>(
     let shape = array.as_array().shape().to_vec();
     let slice = array
         .as_slice()
-        .map_err(|_| usage(format!("`{name}` must be a C-contiguous array")))?;
+        .map_err(|_| usage(format!("`{name}` must be a C-contiguous, aligned array")))?;
     Ok((slice, [shape[2], shape[1], shape[0]]))
 }
 
