@@ -158,9 +158,9 @@ fn label_parts(mesh: &TriangleMesh) -> (Vec<u32>, Vec<Part>) {
         for v in [a, b, c] {
             labels[v as usize] = l;
             let p = mesh.positions[v as usize].to_array();
-            for k in 0..3 {
-                entry.0[k] = entry.0[k].min(p[k]);
-                entry.1[k] = entry.1[k].max(p[k]);
+            for (k, &x) in p.iter().enumerate() {
+                entry.0[k] = entry.0[k].min(x);
+                entry.1[k] = entry.1[k].max(x);
             }
         }
     }
