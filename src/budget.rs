@@ -19,21 +19,37 @@
 //!    the input mesh (32 for a volume), each try scales the resolution by `√(wanted / got)`
 //!    (marching cubes' count grows as the resolution squared), until the count is within 25 %,
 //!    at most five tries. A level that vanished (a sheet thinner than a voxel) sends the search
-//!    to twice the resolution, with a warning.
+//!    to twice the resolution, with a warning. **Dilated levels** (our addition to §4, which
+//!    contours at 0.5): with a mesh input and the default isodensity, the same search runs on
+//!    levels contoured at 0.25 and 0.15 ([`DILATED_ISO_FRACTIONS`] of 0.5), each finding its
+//!    own resolution, where a part thinner than the filter still leaves a surface: the thin
+//!    skull of a CT bone surface, which 0.5 erases at the coarse resolutions a small budget
+//!    affords, closes up into a thicker shell instead of vanishing (a slab of thickness `t`
+//!    under the hyper-cone of radius `R` peaks at a density of about `t / R`, so 0.25 keeps
+//!    slabs half as thick as 0.5 does, 0.15 slabs a third as thick). The price is one-sided: a
+//!    flat surface moves outwards by 0.27 `R` at 0.25 and 0.40 `R` at 0.15 (where the density
+//!    of a half-space under the hyper-cone falls that low), which the measured distances of
+//!    step 4 weigh against what the 0.5 level lost: the candidates of all three compete there.
 //! 2. **Openings.** An open mesh input keeps its openings: the caps that sampling put over its
 //!    holes are cut away from the level ([`crate::caps`]), unless
 //!    [`crate::LodOptions::closed`] asks for watertight levels.
 //! 3. **Geometric stage** ([`Then`]): meshoptimizer's quadric collapse with the topology kept
-//!    (voxlod-quadric), or simplification envelopes (voxlod-envelope, `tight` preset, ε searched
+//!    (voxlod-quadric); where it stalls more than 10 % above the budget because the level has
+//!    more components than the budget can carry, the smallest components (by bounding-box
+//!    diagonal) are dropped until it fits ([`voxlod_quadric::simplify_dropping_parts`], reported
+//!    as [`BudgetLevel::parts_dropped`]): the paper's point that the voxel method may drop small
+//!    parts, carried into the geometric stage (our addition), so that a finer level that still
+//!    holds the large parts' shape can compete with a coarser one that filtered everything; or simplification envelopes (voxlod-envelope, `tight` preset, ε searched
 //!    for the count), or none. [`Then::Auto`] runs the quadric stage, and the envelopes only on
 //!    a level where the quadric stage stalls above the budget: measured on the bunny's chain,
 //!    the envelopes cost 10 to 300 times the quadric stage's time and were closer to the input
 //!    only once, at the largest budget, where the input's own collapse (step 0) is closer
 //!    still.
-//! 4. **Search.** Within [`crate::LodOptions::time_cap`] seconds per budget, the neighbouring
-//!    resolutions (about `8 B` and `2 B` triangles) are tried too, and the candidate within
-//!    10 % of the budget with the smallest measured two-sided Hausdorff distance to the input
-//!    is kept (without a mesh input, the first within 10 %). Distances are sampled (10 000
+//! 4. **Search.** Within [`crate::LodOptions::time_cap`] seconds per budget and isodensity
+//!    (counted after the probes for its first resolution), the neighbouring resolutions (about
+//!    `8 B` and `2 B` triangles) are tried too, and the candidate within 10 % of the budget
+//!    with the smallest measured two-sided Hausdorff distance to the input is kept (without a
+//!    mesh input, the first within 10 %). Distances are sampled (10 000
 //!    points a side) against the input's closest-point structure, built once per run.
 //!
 //! **Independence.** A budget's level depends on that budget and the options alone, never on
@@ -47,10 +63,11 @@
 //! error bounds every geometric stage.
 //!
 //! Every level is within 10 % of its budget or its report says why not
-//! ([`BudgetLevel::note`]). Cost: per budget, one to five samplings (the finest dominates,
-//! O(N³)), marching cubes, one to four geometric stages and a distance measurement each; when
-//! the budget affords the input's topology, one small sampling and one collapse of the input,
-//! O(F log F).
+//! ([`BudgetLevel::note`]). Cost: per budget and isodensity (three with the dilated levels),
+//! one to five samplings (the finest dominates, O(N³)), marching cubes, one to four geometric
+//! stages (each up to four quadric runs when parts are dropped) and a distance measurement
+//! each; when the budget affords the input's topology, one small sampling and one collapse of
+//! the input, O(F log F).
 
 use std::collections::HashMap;
 use std::fmt;
@@ -66,7 +83,7 @@ use voxlod_envelope::{simplify_envelope, EnvelopeOptions, Epsilon};
 use voxlod_metrics::{
     one_sided_distance, DistanceOptions, MeshDistance, SamplingOptions, SurfaceSampler,
 };
-use voxlod_quadric::{simplify_to_budget, QuadricOptions};
+use voxlod_quadric::{simplify_dropping_parts, simplify_to_budget, PartsOptions, QuadricOptions};
 use voxlod_sampling::PyramidOptions;
 
 use crate::caps::{cut_caps, InputBorder};
@@ -85,6 +102,9 @@ const FINEST: usize = 512;
 const COARSEST: usize = 4;
 /// The resolution search stops once a level's count is within this fraction of the wanted one.
 const PROBE_TOLERANCE: f64 = 0.25;
+/// With a mesh input and the solid's default isodensity, the search also runs on levels
+/// contoured at these fractions of it (0.25 and 0.15 for 0.5): module docs, step 1.
+const DILATED_ISO_FRACTIONS: [f32; 2] = [0.5, 0.3];
 /// Samples per side of the distances measured during the search.
 const SEARCH_SAMPLES: usize = 10_000;
 
@@ -223,6 +243,12 @@ pub struct BudgetLevel {
     /// Handles of the input that the level no longer has (input genus − level genus), when
     /// both are known.
     pub handles_removed: Option<i64>,
+    /// Components of the voxel level that the quadric stage dropped, the smallest first,
+    /// because the budget could not carry them all (module docs, step 3).
+    pub parts_dropped: usize,
+    /// The isodensity of the voxel level (0.5 follows a solid's surface; the dilated levels'
+    /// lower one keeps thin parts that 0.5 erases, module docs step 1).
+    pub iso: f32,
     /// Candidates (resolution and stage) built and measured.
     pub candidates: usize,
     /// Why the level misses its budget by more than 10 %, or what else to know.
@@ -244,8 +270,11 @@ pub(crate) struct BudgetContext<'a> {
     pub(crate) then: Then,
     pub(crate) time_cap: f64,
     pub(crate) diagonal: f64,
-    /// Levels by resolution, with the seconds they took to build.
-    levels: Mutex<HashMap<usize, (LodLevel, f64)>>,
+    /// Whether the dilated levels are searched too (module docs, step 1): with a mesh input and
+    /// the solid's default isodensity.
+    pub(crate) dilated: bool,
+    /// Levels by resolution and isodensity (its bits), with the seconds they took to build.
+    levels: Mutex<HashMap<(usize, u32), (LodLevel, f64)>>,
 }
 
 /// One candidate for a budget: the level and its report.
@@ -254,6 +283,10 @@ struct Candidate {
     stage: Stage,
     error_bound: f64,
     distance: Option<Measured>,
+    /// Components of the voxel level that the quadric stage dropped.
+    parts_dropped: usize,
+    /// The isodensity of the voxel level it came from.
+    iso: f32,
 }
 
 /// A sampled two-sided distance.
@@ -329,13 +362,31 @@ impl<'a> BudgetContext<'a> {
             then,
             time_cap,
             diagonal: source.bounds().diagonal(),
+            dilated: false,
             levels: Mutex::new(HashMap::new()),
         })
     }
 
-    /// The marching-cubes level at `resolution` and the seconds it took (built once).
+    /// The isodensities each resolution is contoured at: the surface's, then the dilated one.
+    fn isos(&self) -> Vec<f32> {
+        let surface = self.level_options.iso;
+        let dilated = DILATED_ISO_FRACTIONS.map(|f| f * surface);
+        std::iter::once(surface)
+            .chain(dilated.into_iter().filter(|_| self.dilated))
+            .collect()
+    }
+
+    /// The marching-cubes level at `resolution` and the seconds it took (built once), at the
+    /// surface's isodensity.
     fn level(&self, resolution: usize) -> Result<(LodLevel, f64), Error> {
-        if let Some(found) = self.levels.lock().expect("not poisoned").get(&resolution) {
+        self.level_at(resolution, self.level_options.iso)
+    }
+
+    /// The marching-cubes level at `resolution` and isodensity `iso`, and the seconds it took
+    /// (built once).
+    fn level_at(&self, resolution: usize, iso: f32) -> Result<(LodLevel, f64), Error> {
+        let key = (resolution, iso.to_bits());
+        if let Some(found) = self.levels.lock().expect("not poisoned").get(&key) {
             return Ok(found.clone());
         }
         let start = Instant::now();
@@ -344,6 +395,7 @@ impl<'a> BudgetContext<'a> {
                 resolutions: vec![resolution],
                 ..self.level_options.pyramid.clone()
             },
+            iso,
             ..self.level_options.clone()
         };
         let plans = plan(self.source, &options)?;
@@ -352,13 +404,18 @@ impl<'a> BudgetContext<'a> {
         self.levels
             .lock()
             .expect("not poisoned")
-            .insert(resolution, built.clone());
+            .insert(key, built.clone());
         Ok(built)
     }
 
     /// The resolution whose level has about `wanted` triangles (module docs, step 1), the
     /// seconds charged for the probes, and warnings for levels that vanished.
     fn resolution_for(&self, wanted: f64) -> Result<(usize, f64, Vec<String>), Error> {
+        self.resolution_for_at(wanted, self.level_options.iso)
+    }
+
+    /// [`BudgetContext::resolution_for`] at isodensity `iso`.
+    fn resolution_for_at(&self, wanted: f64, iso: f32) -> Result<(usize, f64, Vec<String>), Error> {
         let start = self
             .input
             .and_then(|mesh| resolution_for_triangles(mesh, wanted.round() as usize))
@@ -366,7 +423,7 @@ impl<'a> BudgetContext<'a> {
             .clamp(COARSEST, FINEST);
         let (mut resolution, mut charged, mut warnings) = (start, 0.0, Vec::new());
         for _ in 0..5 {
-            let (level, seconds) = self.level(resolution)?;
+            let (level, seconds) = self.level_at(resolution, iso)?;
             charged += seconds;
             let got = level.mesh.triangle_count();
             let next = if got == 0 {
@@ -390,9 +447,15 @@ impl<'a> BudgetContext<'a> {
         Ok((resolution, charged, warnings))
     }
 
-    /// The level at `resolution` with the caps over the input's holes cut (unless closed).
+    /// The level at `resolution` and the surface's isodensity with the caps over the input's
+    /// holes cut (unless closed).
     fn uncapped(&self, resolution: usize) -> Result<(LodLevel, usize, f64), Error> {
-        let (mut level, seconds) = self.level(resolution)?;
+        self.uncapped_at(resolution, self.level_options.iso)
+    }
+
+    /// [`BudgetContext::uncapped`] at isodensity `iso`.
+    fn uncapped_at(&self, resolution: usize, iso: f32) -> Result<(LodLevel, usize, f64), Error> {
+        let (mut level, seconds) = self.level_at(resolution, iso)?;
         let mut cut = 0;
         if let Some(border) = &self.border {
             let (mesh, n) = cut_caps(&level.mesh, border, 0.5 * level.plan.voxel_size);
@@ -441,6 +504,8 @@ impl<'a> BudgetContext<'a> {
             mesh: done.mesh,
             stage: Stage::InputQuadric,
             error_bound: done.error_bound,
+            parts_dropped: 0,
+            iso: self.level_options.iso,
         };
         Ok(Some((candidate, level, charged)))
     }
@@ -489,50 +554,64 @@ pub(crate) fn budget_level(
     } else {
         HEADROOM
     };
-    let (first, mut charged, mut warnings) = ctx.resolution_for(headroom * budget as f64)?;
-    let mut resolutions = vec![first];
-    if ctx.then != Then::None {
-        // Finer and coarser neighbours (about 8 B and 2 B triangles), then, only while nothing
-        // fits the budget, coarser levels still (about B and B / 2), with less to keep.
-        let step = |f: f64| ((first as f64 * f).round() as usize).clamp(COARSEST, FINEST);
-        for r in [2f64, 0.5, 0.25, 0.125].map(|f| step(f.sqrt())) {
-            if !resolutions.contains(&r) {
-                resolutions.push(r);
-            }
-        }
-    }
+    let (first, _, mut warnings) = ctx.resolution_for(headroom * budget as f64)?;
+    let tries = search_plan(ctx, first, headroom * budget as f64)?;
+    // Seconds charged to each isodensity's search (by its bits) against the time cap: its
+    // neighbouring levels and the geometric stages, not the probes for its first resolution.
+    let mut charged: HashMap<u32, f64> = HashMap::new();
     let mut tried = usize::from(best.is_some());
     // Per resolution tried, the count of its best candidate (for the bisection below).
     let mut counts: Vec<(usize, usize)> = Vec::new();
-    for (i, &resolution) in resolutions.iter().enumerate() {
-        let fitted = best.as_ref().is_some_and(|b| fits(&b.0, budget));
-        let over_time = i > 0 && charged >= ctx.time_cap;
-        if i > 0 && fitted && (over_time || resolution < step_down(first)) {
-            break;
+    // Isodensities (their bits) with a candidate within 10 % of the budget: each isodensity's
+    // coarser levels are tried while it has none, whatever the time.
+    let mut fitted_isos: Vec<u32> = Vec::new();
+    for &Try {
+        resolution,
+        iso,
+        base,
+    } in &tries
+    {
+        let is_first = resolution == base;
+        let fitted = fitted_isos.contains(&iso.to_bits())
+            || best
+                .as_ref()
+                .is_some_and(|b| b.0.stage == Stage::InputQuadric && fits(&b.0, budget));
+        let over_time = !is_first
+            && charged
+                .get(&iso.to_bits())
+                .is_some_and(|&c| c >= ctx.time_cap);
+        if !is_first && fitted && (over_time || resolution < step_down(base)) {
+            continue;
         }
-        if over_time && resolution > first {
+        if over_time && resolution > base {
             continue;
         }
         let stage_start = Instant::now();
-        let (level, cut, seconds) = ctx.uncapped(resolution)?;
+        let (level, cut, seconds) = ctx.uncapped_at(resolution, iso)?;
         if level.mesh.is_empty() {
             continue;
         }
-        for candidate in stages(ctx, &level, budget, error) {
+        for candidate in stages(ctx, &level, iso, budget, error) {
             tried += 1;
-            counts.push((resolution, candidate.mesh.triangle_count()));
+            if iso == ctx.level_options.iso {
+                counts.push((resolution, candidate.mesh.triangle_count()));
+            }
+            if fits(&candidate, budget) {
+                fitted_isos.push(iso.to_bits());
+            }
             if better(&candidate, best.as_ref().map(|b| &b.0), budget) {
                 best = Some((candidate, level.clone(), cut));
             }
         }
-        charged += if i > 0 { seconds } else { 0.0 } + stage_start.elapsed().as_secs_f64();
+        let built = if is_first { 0.0 } else { seconds };
+        *charged.entry(iso.to_bits()).or_default() += built + stage_start.elapsed().as_secs_f64();
     }
     tried += bisect(ctx, &mut best, &mut counts, budget, error)?;
     if let Some((stalled, level, cut)) = best.as_ref().filter(|b| !fits(&b.0, budget)) {
         // Then::Auto's envelopes, where the quadric stage stalled on every level (step 3).
         if ctx.then == Then::Auto && ctx.input.is_some() {
-            let level = level.clone();
-            if let Some(candidate) = envelope_candidate(ctx, &level, budget, error) {
+            let (level, iso) = (level.clone(), stalled.iso);
+            if let Some(candidate) = envelope_candidate(ctx, &level, iso, budget, error) {
                 tried += 1;
                 if better(&candidate, Some(stalled), budget) {
                     best = Some((candidate, level, *cut));
@@ -603,6 +682,8 @@ fn finish(
     report.error_bound = chosen.error_bound;
     report.hausdorff = chosen.distance.as_ref().map(|d| d.hausdorff);
     report.mean_distance = chosen.distance.as_ref().map(|d| d.mean);
+    report.parts_dropped = chosen.parts_dropped;
+    report.iso = chosen.iso;
     report.note = miss_note(&level.topology, budget);
     if let Some(note) = &report.note {
         warnings.push(format!("budget {budget}: {note}"));
@@ -636,6 +717,8 @@ fn report(
         components: t.components,
         boundary_loops: t.boundary_loops,
         handles_removed: ctx.input_genus.zip(t.genus).map(|(a, b)| a - b),
+        parts_dropped: 0,
+        iso: ctx.level_options.iso,
         candidates,
         note: None,
         seconds: start.elapsed().as_secs_f64(),
@@ -709,7 +792,8 @@ fn bisect(
         let resolution = (low + high) / 2;
         let (level, cut, _) = ctx.uncapped(resolution)?;
         counts.push((resolution, level.mesh.triangle_count()));
-        for candidate in stages(ctx, &level, budget, error) {
+        let iso = ctx.level_options.iso;
+        for candidate in stages(ctx, &level, iso, budget, error) {
             tried += 1;
             counts.push((resolution, candidate.mesh.triangle_count()));
             if better(&candidate, best.as_ref().map(|b| &b.0), budget) {
@@ -718,6 +802,54 @@ fn bisect(
         }
     }
     Ok(tried)
+}
+
+/// One level of a budget's search: its resolution and isodensity, and the first resolution of
+/// that isodensity's search (module docs, steps 1 and 4).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Try {
+    resolution: usize,
+    iso: f32,
+    base: usize,
+}
+
+/// The levels a budget's search tries, in order: each isodensity's first resolution (about
+/// `wanted` triangles at that isodensity; `first` for the surface's), then their finer and
+/// coarser neighbours (about twice and half `wanted`), then, only while nothing fits the
+/// budget, coarser levels still (about a quarter and an eighth), with less to keep.
+fn search_plan(ctx: &BudgetContext, first: usize, wanted: f64) -> Result<Vec<Try>, Error> {
+    let mut bases = vec![(ctx.level_options.iso, first)];
+    for iso in ctx.isos().into_iter().skip(1) {
+        bases.push((iso, ctx.resolution_for_at(wanted, iso)?.0));
+    }
+    let mut tries: Vec<Try> = bases
+        .iter()
+        .map(|&(iso, base)| Try {
+            resolution: base,
+            iso,
+            base,
+        })
+        .collect();
+    if ctx.then == Then::None {
+        return Ok(tries);
+    }
+    for f in [2f64, 0.5, 0.25, 0.125] {
+        for &(iso, base) in &bases {
+            let resolution = ((base as f64 * f.sqrt()).round() as usize).clamp(COARSEST, FINEST);
+            let next = Try {
+                resolution,
+                iso,
+                base,
+            };
+            if !tries
+                .iter()
+                .any(|t| t.resolution == resolution && t.iso == iso)
+            {
+                tries.push(next);
+            }
+        }
+    }
+    Ok(tries)
 }
 
 /// The coarsest resolution of the search's regular neighbours (about `2 B` triangles, for a
@@ -740,6 +872,7 @@ fn fits(candidate: &Candidate, budget: usize) -> bool {
 fn stages(
     ctx: &BudgetContext,
     level: &LodLevel,
+    iso: f32,
     budget: usize,
     error: Option<f64>,
 ) -> Vec<Candidate> {
@@ -751,21 +884,28 @@ fn stages(
             stage: Stage::Voxel,
             error_bound: 0.5 * level.plan.voxel_size,
             distance: ctx.measure(&level.mesh),
+            parts_dropped: 0,
+            iso,
         });
     }
     if want_quadric {
-        let options = QuadricOptions::budget(error.unwrap_or(f64::INFINITY));
-        if let Ok(done) = simplify_to_budget(&level.mesh, budget, &options) {
+        let options = PartsOptions {
+            quadric: QuadricOptions::budget(error.unwrap_or(f64::INFINITY)),
+            ..PartsOptions::default()
+        };
+        if let Ok(done) = simplify_dropping_parts(&level.mesh, budget, &options) {
             out.push(Candidate {
-                distance: ctx.measure(&done.mesh),
-                mesh: done.mesh,
+                distance: ctx.measure(&done.simplified.mesh),
+                mesh: done.simplified.mesh,
                 stage: Stage::Quadric,
-                error_bound: done.error_bound,
+                error_bound: done.simplified.error_bound,
+                parts_dropped: done.dropped_parts,
+                iso,
             });
         }
     }
     if ctx.then == Then::Envelope {
-        out.extend(envelope_candidate(ctx, level, budget, error));
+        out.extend(envelope_candidate(ctx, level, iso, budget, error));
     }
     out
 }
@@ -774,6 +914,7 @@ fn stages(
 fn envelope_candidate(
     ctx: &BudgetContext,
     level: &LodLevel,
+    iso: f32,
     budget: usize,
     error: Option<f64>,
 ) -> Option<Candidate> {
@@ -783,6 +924,8 @@ fn envelope_candidate(
         mesh,
         stage: Stage::Envelope,
         error_bound: epsilon,
+        parts_dropped: 0,
+        iso,
     })
 }
 
@@ -880,7 +1023,7 @@ pub(crate) fn lod_by_budget(
         Source::Mesh(mesh) => Some(*mesh),
         _ => None,
     };
-    let ctx = BudgetContext::new(
+    let mut ctx = BudgetContext::new(
         &lod_source,
         level_options,
         input,
@@ -888,6 +1031,7 @@ pub(crate) fn lod_by_budget(
         options.closed,
         options.time_cap,
     )?;
+    ctx.dilated = input.is_some() && options.iso.is_none() && options.then != Then::None;
     let error = options.error.map(|e| e.distance(ctx.diagonal));
     let budgets = options.triangles.clone().unwrap_or_default();
     let mut tracker = Tracker::start(progress, budgets.len().max(1))?;

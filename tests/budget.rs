@@ -68,6 +68,8 @@ fn the_genus_is_never_above_the_voxel_levels() {
                         resolutions: vec![report.resolution],
                         ..LodOptions::default().pyramid
                     },
+                    // The level's own isodensity: 0.5 or a dilated level's lower one.
+                    iso: Some(report.iso),
                     ..LodOptions::default()
                 },
             )

@@ -43,6 +43,10 @@
 
 use std::collections::{HashMap, HashSet};
 
+mod drop_parts;
+
+pub use drop_parts::{simplify_dropping_parts, PartsOptions, PartsSimplified};
+
 use meshopt::{SimplifyOptions, VertexDataAdapter};
 use serde::Serialize;
 use thiserror::Error;
