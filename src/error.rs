@@ -317,7 +317,7 @@ fn layers_class(e: &LayersError) -> ErrorClass {
 fn contour_class(e: &ContourError) -> ErrorClass {
     match e {
         ContourError::Memory(e) => core_class(e),
-        ContourError::NonFiniteIso(_) => ErrorClass::Usage,
+        ContourError::NonFiniteIso(_) | ContourError::SampleCount { .. } => ErrorClass::Usage,
         ContourError::TooManyVertices(_) | ContourError::TooManyCells(_) => ErrorClass::TooLarge,
     }
 }

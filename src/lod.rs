@@ -43,14 +43,18 @@ use voxlod_sampling::{
 pub const BAND_ABOVE_BYTES: u64 = 1 << 30;
 
 /// The largest mesh of a level through the narrow band that is cleaned
-/// ([`voxlod_contouring::clean_mesh()`]). Cleaning holds about 230 bytes per triangle at its peak
-/// (the sphereflake of the peers' kit: 2.3 GiB for 10 M triangles at resolution 1024, against
-/// 1.2 GiB for sampling it), far more than the band itself, so larger meshes are kept as marching
-/// cubes made them (closed and oriented still) and the level's report says so.
+/// ([`voxlod_contouring::clean_mesh()`]). Cleaning holds about 130 bytes per triangle at its
+/// peak beyond the mesh itself (measured on a 326 k-triangle sphereflake level; about 240 before
+/// issue 12's lean lists and buckets). Larger meshes are kept as marching cubes made them
+/// (closed and oriented still) and the level's report says so. The limit stays where the
+/// issue 14 memory targets were measured (the 1024³ Zarr ball's 7.3 M-triangle level peaks at
+/// 667 MiB uncleaned; cleaned it would need about 1 GB more): raise it only with those runs
+/// measured again.
 pub const CLEAN_BAND_AT_MOST_TRIANGLES: usize = 4_000_000;
 
-/// Bytes cleaning holds per triangle at its peak, for the plan's estimate (measured, rounded up).
-const CLEAN_BYTES_PER_TRIANGLE: u64 = 256;
+/// Bytes cleaning holds per triangle at its peak, for the plan's estimate (measured with the
+/// peak resident size: 130 to 131 beyond the mesh; rounded up).
+const CLEAN_BYTES_PER_TRIANGLE: u64 = 144;
 
 /// Whether a level of `source` on `grid` with `lines_per_voxel` goes through the narrow band.
 fn uses_band(source: &LodSource, grid: &Grid, lines_per_voxel: usize) -> bool {

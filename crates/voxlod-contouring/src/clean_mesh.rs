@@ -38,18 +38,31 @@
 //! Normals: a merged vertex takes the normalised mean of the two.
 //!
 //! Cost: O(F log F) per pass for sorting the candidate edges, O(1) per collapse or flip on a
-//! marching-cubes mesh (valences are small).
+//! marching-cubes mesh (valences are small). The steps' decisions, most of the time, are made on
+//! all threads and applied in order, with the result of the one-at-a-time run (see
+//! `clean_mesh/passes.rs`). Memory: about 130 bytes per triangle of the input at the peak,
+//! besides the input itself (240 before these lists) (positions in `f64`, the triangles, each vertex's triangles in one
+//! packed array, the guard's buckets with `f32` boxes); the lists and buckets are dropped
+//! before the output is gathered.
 
-use glam::{DVec3, Vec3};
 use serde::Serialize;
 use thiserror::Error;
 use voxlod_core::{memory, CoreError, TriangleMesh};
 
-use crate::local_crossings::{triangles_meet, Buckets};
+mod fans;
+mod passes;
+mod restore;
+mod steps;
+mod work;
 
-/// A component whose enclosed volume cleaning shrank below this fraction of the raw one (or
-/// turned over) is given back its raw triangles (see `restore_flattened`).
-const MIN_VOLUME_KEPT: f64 = 0.25;
+use passes::{collapse_short_edges, fix_small_triangles, Schedule};
+use restore::{compact, restore_flattened};
+use work::Work;
+
+/// Bytes cleaning holds per triangle of the input at its peak, besides the input, for the
+/// memory check (130 to 131 measured by the ignored test `memory_per_triangle` on a 326 k
+/// triangle marching-cubes level; rounded up).
+pub const CLEAN_BYTES_PER_TRIANGLE: u64 = 144;
 
 /// How [`clean_mesh`] cleans.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -116,118 +129,6 @@ pub enum CleanError {
     Mesh(#[from] CoreError),
 }
 
-/// The mesh being cleaned: triangles with a live flag, and each vertex's triangles (lazily
-/// pruned of dead ones).
-struct Work {
-    positions: Vec<DVec3>,
-    normals: Vec<Vec3>,
-    triangles: Vec<[u32; 3]>,
-    alive: Vec<bool>,
-    around: Vec<Vec<u32>>,
-    /// Moved or merged in this pass.
-    touched: Vec<bool>,
-    buckets: Buckets,
-}
-
-impl Work {
-    fn new(mesh: &TriangleMesh, cell: f64) -> Work {
-        let mut around = vec![Vec::new(); mesh.positions.len()];
-        for (t, tri) in mesh.triangles.iter().enumerate() {
-            for &v in tri {
-                around[v as usize].push(t as u32);
-            }
-        }
-        let corners = (0..mesh.triangles.len()).map(|t| mesh.corners(t));
-        Work {
-            buckets: Buckets::new(cell, corners),
-            positions: mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
-            normals: mesh.normals.clone(),
-            triangles: mesh.triangles.clone(),
-            alive: vec![true; mesh.triangles.len()],
-            around,
-            touched: vec![false; mesh.positions.len()],
-        }
-    }
-
-    /// Live triangles around `v`.
-    fn fan(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
-        self.around[v as usize]
-            .iter()
-            .copied()
-            .filter(|&t| self.alive[t as usize])
-    }
-
-    /// Neighbours of `v` (sorted, unique).
-    fn neighbours(&self, v: u32) -> Vec<u32> {
-        let mut n: Vec<u32> = self
-            .fan(v)
-            .flat_map(|t| self.triangles[t as usize])
-            .filter(|&w| w != v)
-            .collect();
-        n.sort_unstable();
-        n.dedup();
-        n
-    }
-
-    /// Twice the area vector of triangle `t`, with vertex `moved` (if any) at `to`.
-    fn normal(&self, t: u32, moved: &[u32], to: DVec3) -> DVec3 {
-        let p = self.triangles[t as usize].map(|v| {
-            if moved.contains(&v) {
-                to
-            } else {
-                self.positions[v as usize]
-            }
-        });
-        (p[1] - p[0]).cross(p[2] - p[0])
-    }
-
-    fn area(&self, t: u32) -> f64 {
-        0.5 * self.normal(t, &[], DVec3::ZERO).length()
-    }
-
-    /// Triangle `t` with the vertices in `from` renamed `into`, placed at `to`.
-    fn moved(&self, t: u32, from: &[u32], into: u32, to: DVec3) -> ([u32; 3], [DVec3; 3]) {
-        let ids = self.triangles[t as usize].map(|v| if from.contains(&v) { into } else { v });
-        let at = ids.map(|v| {
-            if v == into {
-                to
-            } else {
-                self.positions[v as usize]
-            }
-        });
-        (ids, at)
-    }
-
-    /// Some proposed triangle meets another, or a live triangle nearby other than those in
-    /// `changing`.
-    fn crosses(&self, proposed: &[([u32; 3], [DVec3; 3])], changing: &[u32]) -> bool {
-        let margin = self.buckets.margin();
-        let among = proposed.iter().enumerate().any(|(k, &(ids, at))| {
-            (proposed[k + 1..].iter())
-                .any(|&(other, there)| triangles_meet(at, ids, there, other, margin))
-        });
-        let corners: Vec<[DVec3; 3]> = proposed.iter().map(|&(_, at)| at).collect();
-        among
-            || self.buckets.any_near(&corners, |k, u| {
-                if !self.alive[u as usize] || changing.contains(&u) {
-                    return false;
-                }
-                let other = self.triangles[u as usize];
-                let there = other.map(|v| self.positions[v as usize]);
-                triangles_meet(proposed[k].1, proposed[k].0, there, other, margin)
-            })
-    }
-
-    /// Re-buckets the triangles around `v`, and updates their boxes.
-    fn rebucket(&mut self, v: u32) {
-        let fan: Vec<u32> = self.fan(v).collect();
-        for t in fan {
-            let c = self.triangles[t as usize].map(|w| self.positions[w as usize]);
-            self.buckets.update(t, c);
-        }
-    }
-}
-
 /// The mesh with short edges collapsed and small triangles flipped away. See the module
 /// documentation. `cell` is the grid spacing the mesh was contoured at.
 pub fn clean_mesh(
@@ -235,13 +136,23 @@ pub fn clean_mesh(
     cell: f64,
     options: &CleanOptions,
 ) -> Result<(TriangleMesh, CleanReport), CleanError> {
+    clean_mesh_with(mesh, cell, options, Schedule::for_threads())
+}
+
+fn clean_mesh_with(
+    mesh: &TriangleMesh,
+    cell: f64,
+    options: &CleanOptions,
+    schedule: Schedule,
+) -> Result<(TriangleMesh, CleanReport), CleanError> {
     if !(cell.is_finite() && cell > 0.0) {
         return Err(CleanError::BadCell(cell));
     }
     mesh.validate()?;
+    let triangles = mesh.triangles.len().max(mesh.positions.len()) as u64;
     memory::check_allocation(
         "cleaning a level",
-        memory::bytes_of::<[u64; 8]>(mesh.positions.len() + mesh.triangles.len()),
+        CLEAN_BYTES_PER_TRIANGLE.saturating_mul(triangles),
     )?;
     let mut work = Work::new(mesh, cell);
     let mut report = CleanReport::default();
@@ -249,8 +160,9 @@ pub fn clean_mesh(
     for _ in 0..options.max_passes {
         report.passes += 1;
         work.touched.iter_mut().for_each(|t| *t = false);
-        let collapsed = collapse_short_edges(&mut work, min_edge);
-        let [flipped, collapsed_small, relaxed] = fix_small_triangles(&mut work, min_area);
+        let collapsed = collapse_short_edges(&mut work, min_edge, schedule);
+        let [flipped, collapsed_small, relaxed] =
+            fix_small_triangles(&mut work, min_area, schedule);
         report.collapsed_edges += collapsed + collapsed_small;
         report.flipped_edges += flipped;
         report.relaxed_vertices += relaxed;
@@ -258,374 +170,23 @@ pub fn clean_mesh(
             break;
         }
     }
-    report.restored_components = restore_flattened(&mut work, mesh);
-    report.small_triangles_left = (0..work.triangles.len() as u32)
-        .filter(|&t| work.alive[t as usize] && work.area(t) < min_area)
+    // Only the surface is needed from here on.
+    let mut surface = work.surface;
+    report.restored_components = restore_flattened(&mut surface, mesh);
+    report.small_triangles_left = (0..surface.triangles.len() as u32)
+        .filter(|&t| surface.alive[t as usize] && surface.area(t) < min_area)
         .count();
-    let cleaned = compact(&work);
+    let cleaned = compact(&surface);
+    drop(surface);
     report.removed_triangles = mesh.triangles.len() - cleaned.triangles.len();
     report.removed_vertices = mesh.positions.len() - cleaned.positions.len();
     Ok((cleaned, report))
 }
 
-/// Edges shorter than `limit`, shortest first.
-fn short_edges(work: &Work, limit: f64) -> Vec<(f64, u32, u32)> {
-    let mut edges: Vec<(f64, u32, u32)> = Vec::new();
-    for (t, tri) in work.triangles.iter().enumerate() {
-        if !work.alive[t] {
-            continue;
-        }
-        for k in 0..3 {
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            let length = work.positions[a as usize].distance(work.positions[b as usize]);
-            if a < b && length < limit {
-                edges.push((length, a, b));
-            }
-        }
-    }
-    edges.sort_by(|x, y| x.0.total_cmp(&y.0));
-    edges
-}
-
-/// One pass of short-edge collapses; returns how many.
-fn collapse_short_edges(work: &mut Work, limit: f64) -> usize {
-    short_edges(work, limit)
-        .into_iter()
-        .filter(|&(_, a, b)| try_collapse(work, a, b))
-        .count()
-}
-
-/// Collapses edge `ab` at its midpoint, or else at one of its ends, if neither end moved in this pass and the collapse is
-/// allowed (see the module documentation).
-fn try_collapse(work: &mut Work, a: u32, b: u32) -> bool {
-    if work.touched[a as usize] || work.touched[b as usize] {
-        return false;
-    }
-    let shared: Vec<u32> = work
-        .fan(a)
-        .filter(|&t| work.triangles[t as usize].contains(&b))
-        .collect();
-    if shared.len() != 2 {
-        return false;
-    }
-    if !link_condition(work, a, b, &shared) {
-        return false;
-    }
-    let (pa, pb) = (work.positions[a as usize], work.positions[b as usize]);
-    let mut ring: Vec<u32> = work.fan(a).chain(work.fan(b)).collect();
-    ring.sort_unstable();
-    ring.dedup();
-    let allowed = |to: DVec3| {
-        let proposed: Vec<_> = (ring.iter())
-            .filter(|t| !shared.contains(t))
-            .map(|&t| work.moved(t, &[a, b], a, to))
-            .collect();
-        !turns_over(work, &[a, b], to, &shared) && !work.crosses(&proposed, &ring)
-    };
-    let Some(to) = [0.5 * (pa + pb), pa, pb]
-        .into_iter()
-        .find(|&to| allowed(to))
-    else {
-        return false;
-    };
-    merge(work, a, b, to, &shared);
-    work.rebucket(a);
-    true
-}
-
-/// The common neighbours of `a` and `b` are exactly the corners opposite edge `ab`, and there
-/// is more around them than a tetrahedron.
-fn link_condition(work: &Work, a: u32, b: u32, shared: &[u32]) -> bool {
-    let (na, nb) = (work.neighbours(a), work.neighbours(b));
-    let common = na.iter().filter(|v| nb.binary_search(v).is_ok()).count();
-    let mut opposite: Vec<u32> = shared
-        .iter()
-        .flat_map(|&t| work.triangles[t as usize])
-        .filter(|&v| v != a && v != b)
-        .collect();
-    opposite.sort_unstable();
-    opposite.dedup();
-    common == 2 && opposite.len() == 2 && na.len() + nb.len() > 6
-}
-
-/// Some triangle around `moved` (other than `skip`) would turn against the neighbourhood's
-/// normal, or collapse to nothing, with `moved` at `to`.
-fn turns_over(work: &Work, moved: &[u32], to: DVec3, skip: &[u32]) -> bool {
-    let mut ring: Vec<u32> = moved.iter().flat_map(|&v| work.fan(v)).collect();
-    ring.sort_unstable();
-    ring.dedup();
-    let average: DVec3 = ring.iter().map(|&t| work.normal(t, &[], to)).sum();
-    ring.iter().filter(|t| !skip.contains(t)).any(|&t| {
-        let after = work.normal(t, moved, to);
-        after.dot(average) <= 0.0 || after.length_squared() == 0.0
-    })
-}
-
-/// Merges `b` into `a` at `to`; the triangles in `shared` die.
-fn merge(work: &mut Work, a: u32, b: u32, to: DVec3, shared: &[u32]) {
-    for &t in shared {
-        work.alive[t as usize] = false;
-    }
-    let moved: Vec<u32> = work.fan(b).collect();
-    for t in moved {
-        for v in work.triangles[t as usize].iter_mut() {
-            if *v == b {
-                *v = a;
-            }
-        }
-        work.around[a as usize].push(t);
-    }
-    work.around[b as usize].clear();
-    work.positions[a as usize] = to;
-    if !work.normals.is_empty() {
-        let n = work.normals[a as usize] + work.normals[b as usize];
-        work.normals[a as usize] = n.normalize_or(work.normals[a as usize]);
-    }
-    work.touched[a as usize] = true;
-    work.touched[b as usize] = true;
-}
-
-/// 4√3 · area / Σ edge² (1 for equilateral, 0 for degenerate).
-fn quality(p: [DVec3; 3]) -> f64 {
-    let area2 = (p[1] - p[0]).cross(p[2] - p[0]).length();
-    let sum =
-        p[0].distance_squared(p[1]) + p[1].distance_squared(p[2]) + p[2].distance_squared(p[0]);
-    if sum > 0.0 {
-        2.0 * 3f64.sqrt() * area2 / sum
-    } else {
-        0.0
-    }
-}
-
-/// How a small triangle was fixed.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Fix {
-    Flip,
-    Collapse,
-    Relax,
-}
-
-/// One pass over the triangles below `limit` area; returns how many were fixed in each way
-/// (flips, collapses, relaxed corners).
-fn fix_small_triangles(work: &mut Work, limit: f64) -> [usize; 3] {
-    let mut counts = [0usize; 3];
-    for t in 0..work.triangles.len() as u32 {
-        if work.alive[t as usize] && work.area(t) < limit {
-            match fix_small(work, t) {
-                Some(Fix::Flip) => counts[0] += 1,
-                Some(Fix::Collapse) => counts[1] += 1,
-                Some(Fix::Relax) => counts[2] += 1,
-                None => {}
-            }
-        }
-    }
-    counts
-}
-
-/// Flips triangle `t`'s longest edge, or else collapses its shortest edge that may be, or else
-/// relaxes one of its corners.
-fn fix_small(work: &mut Work, t: u32) -> Option<Fix> {
-    if flip_longest(work, t) {
-        return Some(Fix::Flip);
-    }
-    let tri = work.triangles[t as usize];
-    let length = |k: usize| {
-        let (a, b) = (tri[k], tri[(k + 1) % 3]);
-        work.positions[a as usize].distance(work.positions[b as usize])
-    };
-    let mut order = [0, 1, 2];
-    order.sort_by(|&i, &j| length(i).total_cmp(&length(j)));
-    if order
-        .into_iter()
-        .any(|k| try_collapse(work, tri[k], tri[(k + 1) % 3]))
-    {
-        return Some(Fix::Collapse);
-    }
-    tri.into_iter()
-        .any(|v| try_relax(work, v, t))
-        .then_some(Fix::Relax)
-}
-
-/// Moves vertex `v` to the centroid of its neighbours if no triangle around it turns over and
-/// triangle `t` grows.
-fn try_relax(work: &mut Work, v: u32, t: u32) -> bool {
-    if work.touched[v as usize] {
-        return false;
-    }
-    let ring = work.neighbours(v);
-    let to = ring
-        .iter()
-        .map(|&w| work.positions[w as usize])
-        .sum::<DVec3>()
-        / ring.len() as f64;
-    let grows = work.normal(t, &[v], to).length() > 2.0 * work.area(t);
-    if !grows || turns_over(work, &[v], to, &[]) {
-        return false;
-    }
-    let fan: Vec<u32> = work.fan(v).collect();
-    let proposed: Vec<_> = fan.iter().map(|&u| work.moved(u, &[v], v, to)).collect();
-    if work.crosses(&proposed, &fan) {
-        return false;
-    }
-    work.positions[v as usize] = to;
-    work.touched[v as usize] = true;
-    work.rebucket(v);
-    true
-}
-
-/// Flips the longest edge of triangle `t` if allowed (see the module documentation).
-fn flip_longest(work: &mut Work, t: u32) -> bool {
-    let tri = work.triangles[t as usize];
-    let p = tri.map(|v| work.positions[v as usize]);
-    let k = (0..3)
-        .max_by(|&i, &j| {
-            let li = p[i].distance_squared(p[(i + 1) % 3]);
-            li.total_cmp(&p[j].distance_squared(p[(j + 1) % 3]))
-        })
-        .unwrap_or(0);
-    let (a, b, c) = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]);
-    // The other triangle on edge ab runs b -> a -> d.
-    let Some((u, d)) = work.fan(a).find_map(|u| {
-        let o = work.triangles[u as usize];
-        (0..3)
-            .find(|&i| o[i] == b && o[(i + 1) % 3] == a)
-            .map(|i| (u, o[(i + 2) % 3]))
-    }) else {
-        return false;
-    };
-    if d == c || work.neighbours(c).binary_search(&d).is_ok() {
-        return false;
-    }
-    let at = |v: u32| work.positions[v as usize];
-    let (new_t, new_u) = ([c, a, d], [c, d, b]);
-    let before = work.normal(t, &[], DVec3::ZERO) + work.normal(u, &[], DVec3::ZERO);
-    let n1 = (at(a) - at(c)).cross(at(d) - at(c));
-    let n2 = (at(d) - at(c)).cross(at(b) - at(c));
-    let old_quality = quality(p).min(quality([at(b), at(a), at(d)]));
-    let new_quality = quality([at(c), at(a), at(d)]).min(quality([at(c), at(d), at(b)]));
-    if n1.dot(before) <= 0.0 || n2.dot(before) <= 0.0 || new_quality <= old_quality {
-        return false;
-    }
-    let proposed = [(new_t, new_t.map(at)), (new_u, new_u.map(at))];
-    if work.crosses(&proposed, &[t, u]) {
-        return false;
-    }
-    work.triangles[t as usize] = new_t;
-    work.triangles[u as usize] = new_u;
-    work.around[d as usize].push(t);
-    work.around[c as usize].push(u);
-    // a loses u and b loses t: prune them from the lists.
-    work.around[a as usize].retain(|&x| x != u);
-    work.around[b as usize].retain(|&x| x != t);
-    work.rebucket(c);
-    work.rebucket(d);
-    true
-}
-
-/// The component of every vertex of `mesh` (through shared triangles); unused vertices get
-/// their own.
-fn vertex_components(mesh: &TriangleMesh) -> Vec<u32> {
-    let n = mesh.positions.len();
-    let mut around = vec![Vec::new(); n];
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        for &v in tri {
-            around[v as usize].push(t);
-        }
-    }
-    let mut label = vec![u32::MAX; n];
-    let mut stack = Vec::new();
-    for seed in 0..n {
-        if label[seed] != u32::MAX {
-            continue;
-        }
-        label[seed] = seed as u32;
-        stack.push(seed);
-        while let Some(v) = stack.pop() {
-            for &t in &around[v] {
-                for w in mesh.triangles[t] {
-                    if label[w as usize] == u32::MAX {
-                        label[w as usize] = seed as u32;
-                        stack.push(w as usize);
-                    }
-                }
-            }
-        }
-    }
-    label
-}
-
-/// Six times the signed volume enclosed by triangle `p` with the point `origin`.
-fn signed_volume6(p: [DVec3; 3], origin: DVec3) -> f64 {
-    (p[0] - origin).dot((p[1] - origin).cross(p[2] - origin))
-}
-
-/// Gives every component that cleaning flattened or turned over its raw triangles back (see
-/// the module documentation); returns how many. Collapses only merge neighbours and flips keep
-/// a triangle's slot, so every vertex and triangle slot stays in its raw component.
-fn restore_flattened(work: &mut Work, raw: &TriangleMesh) -> usize {
-    let label = vertex_components(raw);
-    let origin = |l: u32| raw.positions[l as usize].as_dvec3();
-    let mut volumes: std::collections::HashMap<u32, (f64, f64)> = Default::default();
-    for (t, tri) in raw.triangles.iter().enumerate() {
-        let l = label[tri[0] as usize];
-        let before = signed_volume6(raw.corners(t), origin(l));
-        volumes.entry(l).or_default().0 += before;
-        if work.alive[t] {
-            let p = work.triangles[t].map(|v| work.positions[v as usize]);
-            volumes.entry(l).or_default().1 += signed_volume6(p, origin(l));
-        }
-    }
-    let flattened: std::collections::HashSet<u32> = (volumes.iter())
-        .filter(|(_, &(before, after))| after * before.signum() < MIN_VOLUME_KEPT * before.abs())
-        .map(|(&l, _)| l)
-        .collect();
-    for (t, tri) in raw.triangles.iter().enumerate() {
-        if !flattened.contains(&label[tri[0] as usize]) {
-            continue;
-        }
-        work.triangles[t] = *tri;
-        work.alive[t] = true;
-        for &v in tri {
-            work.positions[v as usize] = raw.positions[v as usize].as_dvec3();
-            if !work.normals.is_empty() {
-                work.normals[v as usize] = raw.normals[v as usize];
-            }
-        }
-    }
-    flattened.len()
-}
-
-/// The live triangles and the vertices they use, numbered in order of first use.
-fn compact(work: &Work) -> TriangleMesh {
-    let mut index = vec![u32::MAX; work.positions.len()];
-    let mut positions = Vec::new();
-    let mut normals = Vec::new();
-    let mut triangles = Vec::new();
-    for (t, tri) in work.triangles.iter().enumerate() {
-        if !work.alive[t] {
-            continue;
-        }
-        triangles.push(tri.map(|v| {
-            if index[v as usize] == u32::MAX {
-                index[v as usize] = positions.len() as u32;
-                positions.push(work.positions[v as usize].as_vec3());
-                if !work.normals.is_empty() {
-                    normals.push(work.normals[v as usize]);
-                }
-            }
-            index[v as usize]
-        }));
-    }
-    TriangleMesh {
-        positions,
-        normals,
-        triangles,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     /// A regular tetrahedron with one vertex split in two, 1e-4 apart: the short edge sits in
     /// a component that would collapse to a flat pair of triangles, so it stays.
@@ -691,5 +252,50 @@ mod tests {
         let after = voxlod_core::mesh_topology(&clean);
         assert!(after.is_closed_manifold() && after.is_consistently_oriented());
         assert!((clean.signed_volume() - 4.0 / 3.0).abs() < 1e-3);
+    }
+
+    /// The cleaned mesh and report of every schedule: one at a time, and speculative batches
+    /// of 1, 16 and 4096 candidates and of the automatic size. Large batches put many steps
+    /// within reach of each other, so that decisions must be made again.
+    fn every_schedule(mesh: &TriangleMesh, cell: f64) -> Vec<(TriangleMesh, CleanReport)> {
+        let schedules = [
+            Schedule::OneAtATime,
+            Schedule::Speculative(1),
+            Schedule::Speculative(16),
+            Schedule::Speculative(4096),
+            Schedule::Speculative(0),
+        ];
+        (schedules.into_iter())
+            .map(|s| clean_mesh_with(mesh, cell, &CleanOptions::default(), s).unwrap())
+            .collect()
+    }
+
+    #[test]
+    fn speculative_batches_clean_as_one_at_a_time() {
+        use crate::{marching_cubes, ContourOptions};
+        use voxlod_testkit::fields::{gyroid_field, sphereflake_field};
+        for (name, volume) in [
+            ("sphereflake-64", sphereflake_field(64).unwrap()),
+            ("sphereflake-96", sphereflake_field(96).unwrap()),
+            ("gyroid-64", gyroid_field(64).unwrap()),
+        ] {
+            let mesh = marching_cubes(&volume, &ContourOptions::at(0.0)).unwrap();
+            let cell = volume.grid.spacing[0];
+            let runs = every_schedule(&mesh, cell);
+            let (reference, report) = &runs[0];
+            assert!(report.collapsed_edges > 100, "{name}: {report:?}");
+            assert!(report.flipped_edges > 0, "{name}: {report:?}");
+            for (k, (clean, other)) in runs.iter().enumerate().skip(1) {
+                assert_eq!(other, report, "{name}, schedule {k}");
+                // Bit for bit: positions compared as bits, not as floats.
+                assert_eq!(clean.triangles, reference.triangles, "{name}, schedule {k}");
+                let bits = |m: &TriangleMesh| -> Vec<[u32; 6]> {
+                    (m.positions.iter().zip(&m.normals))
+                        .map(|(p, n)| [p.x, p.y, p.z, n.x, n.y, n.z].map(f32::to_bits))
+                        .collect()
+                };
+                assert_eq!(bits(clean), bits(reference), "{name}, schedule {k}");
+            }
+        }
     }
 }

@@ -6,7 +6,11 @@
 //! Interpolation parameters are clamped to `[1e-4, 1 - 1e-4]` along their edge so that a sample
 //! exactly at the iso value does not collapse triangles to zero area.
 //!
-//! Cost: two sample reads for the position, twelve more for the normal.
+//! [`VertexPlacer::corner_range`] gives scikit-image's per-vertex `values`: the largest range of
+//! the samples of a cell around the vertex's edge.
+//!
+//! Cost: two sample reads for the position, twelve more for the normal, eighteen for the
+//! corner range.
 
 use glam::{DVec3, Vec3};
 use voxlod_core::{BrickVolume, Grid, TriangleMesh};
@@ -106,6 +110,53 @@ impl<'a, S: Samples> VertexPlacer<'a, S> {
             Vec3::ZERO
         };
         (position, normal)
+    }
+}
+
+impl<S: Samples> VertexPlacer<'_, S> {
+    /// The largest corner range (max − min of its eight samples) of the cells of the grid
+    /// around the edge from sample `p` along `axis`: up to four cells, those at `p` and one
+    /// below it along each of the other two axes. The 3 × 3 columns of two samples along
+    /// `axis` around the edge are reduced once, then each cell takes its 2 × 2 of them.
+    pub fn corner_range(&self, p: [usize; 3], axis: usize) -> f32 {
+        let (b, c) = ((axis + 1) % 3, (axis + 2) % 3);
+        // Columns at offsets -1, 0, 1 along b and c (those inside the grid).
+        let mut columns = [[None::<(f32, f32)>; 3]; 3];
+        for (db, row) in columns.iter_mut().enumerate() {
+            for (dc, column) in row.iter_mut().enumerate() {
+                let (Some(qb), Some(qc)) = ((p[b] + db).checked_sub(1), (p[c] + dc).checked_sub(1))
+                else {
+                    continue;
+                };
+                if qb >= self.dims[b] || qc >= self.dims[c] {
+                    continue;
+                }
+                let mut q = p;
+                (q[b], q[c]) = (qb, qc);
+                let low = self.at(q);
+                q[axis] += 1;
+                let high = self.at(q);
+                *column = Some((low.min(high), low.max(high)));
+            }
+        }
+        let mut largest = f32::NEG_INFINITY;
+        for ob in 0..2 {
+            for oc in 0..2 {
+                let corners = [
+                    columns[ob][oc],
+                    columns[ob + 1][oc],
+                    columns[ob][oc + 1],
+                    columns[ob + 1][oc + 1],
+                ];
+                // A cell exists when all four of its columns are inside the grid.
+                if let [Some(a), Some(b), Some(c), Some(d)] = corners {
+                    let lo = a.0.min(b.0).min(c.0).min(d.0);
+                    let hi = a.1.max(b.1).max(c.1).max(d.1);
+                    largest = largest.max(hi - lo);
+                }
+            }
+        }
+        largest
     }
 }
 

@@ -11,23 +11,51 @@
 //! a millionth of a cell, far above the determinants' rounding) are ruled out first, which is
 //! most pairs in the 27 buckets. Cost: O(1) per test on a marching-cubes mesh.
 
+use glam::DVec3;
 use rustc_hash::FxHashMap;
 
-use glam::DVec3;
-
-/// A bucketed triangle and its bounding box.
+/// A bucketed triangle and its bounding box, rounded outwards to `f32`: a box that holds the
+/// exact one, so that boxes apart here are apart exactly.
 #[derive(Clone, Copy)]
-pub(crate) struct Entry {
-    /// The triangle.
-    pub(crate) triangle: u32,
-    lo: DVec3,
-    hi: DVec3,
+struct Entry {
+    triangle: u32,
+    lo: [f32; 3],
+    hi: [f32; 3],
 }
 
 impl Entry {
     fn new(triangle: u32, corners: [DVec3; 3]) -> Entry {
         let (lo, hi) = bounds(corners);
-        Entry { triangle, lo, hi }
+        Entry {
+            triangle,
+            lo: lo.to_array().map(f32_at_most),
+            hi: hi.to_array().map(f32_at_least),
+        }
+    }
+
+    fn bounds(&self) -> (DVec3, DVec3) {
+        let widen = |a: [f32; 3]| DVec3::from_array(a.map(f64::from));
+        (widen(self.lo), widen(self.hi))
+    }
+}
+
+/// The largest `f32` not above `x`.
+fn f32_at_most(x: f64) -> f32 {
+    let y = x as f32;
+    if f64::from(y) > x {
+        y.next_down()
+    } else {
+        y
+    }
+}
+
+/// The smallest `f32` not below `x`.
+fn f32_at_least(x: f64) -> f32 {
+    let y = x as f32;
+    if f64::from(y) < x {
+        y.next_up()
+    } else {
+        y
     }
 }
 
@@ -35,31 +63,53 @@ fn bounds(p: [DVec3; 3]) -> (DVec3, DVec3) {
     (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]))
 }
 
-/// Triangles bucketed by centroid, with their boxes.
+/// Triangles bucketed by centroid, with their boxes: 28 bytes per triangle in the lists and 4
+/// for its bucket's number, plus a few dozen per bucket.
 pub(crate) struct Buckets {
     size: f64,
-    map: FxHashMap<[i64; 3], Vec<Entry>>,
-    key_of: Vec<[i64; 3]>,
+    /// The number of every bucket that ever held a triangle.
+    number: FxHashMap<[i64; 3], u32>,
+    /// The key of each bucket, by number.
+    keys: Vec<[i64; 3]>,
+    lists: Vec<Vec<Entry>>,
+    /// The bucket of each triangle.
+    bucket_of: Vec<u32>,
 }
 
 impl Buckets {
-    /// Buckets of two cells holding triangles `0..corners.len()`, given by their corners.
-    pub(crate) fn new(cell: f64, corners: impl Iterator<Item = [DVec3; 3]>) -> Buckets {
-        let mut buckets = Buckets {
-            size: 2.0 * cell,
-            map: FxHashMap::default(),
-            key_of: Vec::new(),
-        };
-        for (t, c) in corners.enumerate() {
-            let key = buckets.key(centroid(c));
-            buckets
-                .map
-                .entry(key)
-                .or_default()
-                .push(Entry::new(t as u32, c));
-            buckets.key_of.push(key);
+    /// Buckets of two cells holding triangles `0..count`, whose corners are `corners(t)`; each
+    /// list holds its triangles in ascending order and is allocated to size.
+    pub(crate) fn new(cell: f64, count: usize, corners: impl Fn(usize) -> [DVec3; 3]) -> Buckets {
+        let size = 2.0 * cell;
+        let mut number: FxHashMap<[i64; 3], u32> = FxHashMap::default();
+        let mut sizes: Vec<u32> = Vec::new();
+        let mut keys: Vec<[i64; 3]> = Vec::new();
+        let bucket_of: Vec<u32> = (0..count)
+            .map(|t| {
+                let fresh = number.len() as u32;
+                let key = key_of(size, centroid(corners(t)));
+                let b = *number.entry(key).or_insert(fresh);
+                if b == fresh {
+                    sizes.push(0);
+                    keys.push(key);
+                }
+                sizes[b as usize] += 1;
+                b
+            })
+            .collect();
+        let mut lists: Vec<Vec<Entry>> = (sizes.iter())
+            .map(|&n| Vec::with_capacity(n as usize))
+            .collect();
+        for (t, &b) in bucket_of.iter().enumerate() {
+            lists[b as usize].push(Entry::new(t as u32, corners(t)));
         }
-        buckets
+        Buckets {
+            size,
+            number,
+            keys,
+            lists,
+            bucket_of,
+        }
     }
 
     /// The distance below which two triangles' boxes count as touching for
@@ -68,63 +118,108 @@ impl Buckets {
         self.size * 0.5e-6
     }
 
-    fn key(&self, p: DVec3) -> [i64; 3] {
-        (p / self.size).floor().as_i64vec3().to_array()
+    /// How many buckets there are.
+    pub(crate) fn count(&self) -> usize {
+        self.lists.len()
+    }
+
+    /// The key of the bucket around `p`.
+    pub(crate) fn key(&self, p: DVec3) -> [i64; 3] {
+        key_of(self.size, p)
+    }
+
+    /// The key of the bucket that holds triangle `t`.
+    pub(crate) fn key_of_triangle(&self, t: u32) -> [i64; 3] {
+        self.keys[self.bucket_of[t as usize] as usize]
     }
 
     /// Triangle `t` now has `corners`: its box is updated, and it moves to the bucket of its
     /// new centroid.
     pub(crate) fn update(&mut self, t: u32, corners: [DVec3; 3]) {
+        let fresh = self.number.len() as u32;
         let key = self.key(centroid(corners));
-        let old = self.key_of[t as usize];
-        let entry = Entry::new(t, corners);
-        if let Some(list) = self.map.get_mut(&old) {
-            if key == old {
-                if let Some(slot) = list.iter_mut().find(|e| e.triangle == t) {
-                    *slot = entry;
-                }
-                return;
-            }
-            list.retain(|e| e.triangle != t);
+        let b = *self.number.entry(key).or_insert(fresh);
+        if b == fresh {
+            self.lists.push(Vec::new());
+            self.keys.push(key);
         }
-        self.map.entry(key).or_default().push(entry);
-        self.key_of[t as usize] = key;
+        let old = self.bucket_of[t as usize];
+        let entry = Entry::new(t, corners);
+        let list = &mut self.lists[old as usize];
+        if b == old {
+            if let Some(slot) = list.iter_mut().find(|e| e.triangle == t) {
+                *slot = entry;
+            }
+            return;
+        }
+        list.retain(|e| e.triangle != t);
+        self.lists[b as usize].push(entry);
+        self.bucket_of[t as usize] = b;
     }
 
     /// Whether `meets(k, triangle)` holds for some triangle `k` of `proposed` and some bucketed
     /// triangle in the 27 buckets around the centroid of `k` whose box is not apart from
     /// `k`'s (by [`Buckets::margin`]). These are the pairs of a search bucket by bucket around
     /// each proposed triangle, but each bucket is read once for all the proposed triangles
-    /// around it.
+    /// around it: the buckets of the block that spans their neighbourhoods are visited in
+    /// turn. `visit(key)` is told every bucket read.
     pub(crate) fn any_near(
         &self,
         proposed: &[[DVec3; 3]],
+        mut visit: impl FnMut([i64; 3]),
         mut meets: impl FnMut(usize, u32) -> bool,
     ) -> bool {
+        (proposed.chunks(BLOCK).enumerate())
+            .any(|(c, block)| self.any_near_block(block, BLOCK * c, &mut visit, &mut meets))
+    }
+
+    /// [`Buckets::any_near`] for at most [`BLOCK`] proposed triangles, numbered from `first`.
+    fn any_near_block(
+        &self,
+        proposed: &[[DVec3; 3]],
+        first: usize,
+        visit: &mut impl FnMut([i64; 3]),
+        meets: &mut impl FnMut(usize, u32) -> bool,
+    ) -> bool {
         let margin = self.margin();
-        let keys: Vec<[i64; 3]> = proposed.iter().map(|&p| self.key(centroid(p))).collect();
-        let boxes: Vec<(DVec3, DVec3)> = proposed.iter().map(|&p| bounds(p)).collect();
-        let mut seen: Vec<[i64; 3]> = Vec::with_capacity(64);
-        let mut around: Vec<usize> = Vec::with_capacity(proposed.len());
-        for k in &keys {
-            for n in 0..27 {
-                let key = [k[0] + n % 3 - 1, k[1] + (n / 3) % 3 - 1, k[2] + n / 9 - 1];
-                if seen.contains(&key) {
-                    continue;
-                }
-                seen.push(key);
-                let Some(list) = self.map.get(&key) else {
-                    continue;
-                };
-                around.clear();
-                around.extend(
-                    (0..keys.len()).filter(|&j| (0..3).all(|a| (keys[j][a] - key[a]).abs() <= 1)),
-                );
-                for entry in list {
-                    for &j in &around {
-                        let apart = boxes_apart((entry.lo, entry.hi), boxes[j], margin);
-                        if !apart && meets(j, entry.triangle) {
-                            return true;
+        let mut keys = [[0i64; 3]; BLOCK];
+        let mut boxes = [(DVec3::ZERO, DVec3::ZERO); BLOCK];
+        let (mut lo, mut hi) = ([i64::MAX; 3], [i64::MIN; 3]);
+        for (j, &p) in proposed.iter().enumerate() {
+            keys[j] = self.key(centroid(p));
+            boxes[j] = bounds(p);
+            for a in 0..3 {
+                lo[a] = lo[a].min(keys[j][a] - 1);
+                hi[a] = hi[a].max(keys[j][a] + 1);
+            }
+        }
+        let keys = &keys[..proposed.len()];
+        let mut around = [0usize; BLOCK];
+        for z in lo[2]..=hi[2] {
+            for y in lo[1]..=hi[1] {
+                for x in lo[0]..=hi[0] {
+                    let key = [x, y, z];
+                    let mut n = 0;
+                    for (j, k) in keys.iter().enumerate() {
+                        if (0..3).all(|a| (k[a] - key[a]).abs() <= 1) {
+                            around[n] = j;
+                            n += 1;
+                        }
+                    }
+                    if n == 0 {
+                        continue;
+                    }
+                    visit(key);
+                    let Some(&b) = self.number.get(&key) else {
+                        continue;
+                    };
+                    for entry in &self.lists[b as usize] {
+                        let there = entry.bounds();
+                        for &j in &around[..n] {
+                            let apart = boxes_apart(there, boxes[j], margin);
+                            if !apart && meets(first + j, entry.triangle) {
+                                return true;
+                            }
                         }
                     }
                 }
@@ -132,6 +227,13 @@ impl Buckets {
         }
         false
     }
+}
+
+/// Proposed triangles searched around at once by [`Buckets::any_near`].
+const BLOCK: usize = 32;
+
+fn key_of(size: f64, p: DVec3) -> [i64; 3] {
+    (p / size).floor().as_i64vec3().to_array()
 }
 
 /// The centroid of a triangle.

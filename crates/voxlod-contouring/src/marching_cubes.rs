@@ -37,7 +37,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 use thiserror::Error;
-use voxlod_core::{memory, CoreError, TriangleMesh, Volume};
+use voxlod_core::{memory, CoreError, Grid, TriangleMesh, Volume};
 
 use crate::edge_vertex::{repair_zero_normals, DenseSamples, VertexPlacer};
 use crate::tables::{tables, Tables};
@@ -91,6 +91,14 @@ pub enum ContourError {
     /// The grid has this many cells, too many for the `u32` cell indices of [`CellMesh`].
     #[error("the grid has {0} cells, more than 32-bit cell indices can address")]
     TooManyCells(u64),
+    /// The samples given do not fill the grid.
+    #[error("{given} samples given for a {}x{}x{} grid", dims[0], dims[1], dims[2])]
+    SampleCount {
+        /// How many samples were given.
+        given: usize,
+        /// The grid's samples along x, y, z.
+        dims: [usize; 3],
+    },
     /// The classification bits or the mesh would not fit in the memory budget.
     #[error(transparent)]
     Memory(#[from] CoreError),
@@ -238,10 +246,15 @@ pub fn marching_cubes(
     options: &ContourOptions,
 ) -> Result<TriangleMesh, ContourError> {
     let iso = check_iso(options.iso)?;
-    let Some(bits) = classify(volume, &[iso])?.pop() else {
+    let samples = volume.as_slice();
+    let Some(bits) = classify(samples, volume.grid.dims, &[iso])?.pop() else {
         return Ok(TriangleMesh::default());
     };
-    Ok(extract(volume, &bits, iso, options.normals, false)?.0)
+    let wanted = Wanted {
+        normals: options.normals,
+        ..Wanted::default()
+    };
+    Ok(extract(samples, &volume.grid, &bits, iso, wanted)?.mesh)
 }
 
 /// A surface with, for every triangle, the cell it came from.
@@ -309,22 +322,102 @@ pub fn marching_cubes_multi(
     for &iso in isos {
         check_iso(iso)?;
     }
-    let [nx, ny, nz] = volume.grid.dims;
+    check_cell_count(volume.grid.dims)?;
+    let samples = volume.as_slice();
+    let bits = classify(samples, volume.grid.dims, isos)?;
+    if bits.is_empty() {
+        return Ok(vec![CellMesh::default(); isos.len()]);
+    }
+    let wanted = Wanted {
+        normals,
+        cells: true,
+        corner_ranges: false,
+    };
+    bits.par_iter()
+        .zip(isos)
+        .map(|(b, &iso)| {
+            let surface = extract(samples, &volume.grid, b, iso, wanted)?;
+            Ok(CellMesh {
+                mesh: surface.mesh,
+                cells: surface.cells,
+            })
+        })
+        .collect()
+}
+
+/// Refuses grids with more cells than `u32` cell indices address.
+fn check_cell_count([nx, ny, nz]: [usize; 3]) -> Result<(), ContourError> {
     let cells = (nx.max(1) - 1) as u64 * (ny.max(1) - 1) as u64 * (nz.max(1) - 1) as u64;
     if cells > u32::MAX as u64 {
         return Err(ContourError::TooManyCells(cells));
     }
-    let bits = classify(volume, isos)?;
-    if bits.is_empty() {
-        return Ok(vec![CellMesh::default(); isos.len()]);
+    Ok(())
+}
+
+/// What [`marching_cubes_of_samples`] computes besides the triangles and positions.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Wanted {
+    /// Per-vertex normals from the density gradient, as [`ContourOptions::normals`].
+    pub normals: bool,
+    /// The cell of each triangle, as [`CellMesh::cells`].
+    pub cells: bool,
+    /// Per vertex, the largest corner range (max − min of its eight samples) of the cells
+    /// around the vertex's grid edge: scikit-image's `values`. Every crossed edge of a cell is
+    /// used by that cell's triangles (the tables' test checks it), so this is also the largest
+    /// range of the cells whose triangles use the vertex. Computed while the vertex is placed.
+    pub corner_ranges: bool,
+}
+
+/// A surface and what [`Wanted`] asked for (empty vectors for what it did not).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SampleSurface {
+    /// The surface, exactly as [`marching_cubes`] gives it (normals if asked for).
+    pub mesh: TriangleMesh,
+    /// The cell of each triangle, as [`CellMesh::cells`].
+    pub cells: Vec<u32>,
+    /// Per vertex, its corner range (see [`Wanted::corner_ranges`]).
+    pub corner_ranges: Vec<f32>,
+}
+
+/// The isosurface of samples borrowed in place (x fastest, as [`Volume`] holds them) on
+/// `grid`, samples `>= iso` inside: the same mesh as [`marching_cubes`] on a volume of these
+/// samples, without the volume (the Python package hands NumPy's memory straight here), and
+/// what `wanted` asks for besides, computed in the same passes.
+///
+/// ```
+/// use voxlod_contouring::marching_cubes::{marching_cubes_of_samples, Wanted};
+/// use voxlod_contouring::{marching_cubes, ContourOptions};
+/// use voxlod_core::{Grid, Volume};
+///
+/// let mut values = vec![0.0f32; 27];
+/// values[13] = 1.0; // the octahedron of [`marching_cubes`]
+/// let grid = Grid::unit([3, 3, 3])?;
+/// let wanted = Wanted { normals: true, cells: true, corner_ranges: true };
+/// let surface = marching_cubes_of_samples(&values, &grid, 0.5, wanted)?;
+/// let volume = Volume::from_vec(grid, values)?;
+/// assert_eq!(surface.mesh, marching_cubes(&volume, &ContourOptions::at(0.5))?);
+/// assert_eq!(surface.cells, (0..8).collect::<Vec<u32>>());
+/// assert_eq!(surface.corner_ranges, vec![1.0; 6]); // every cell spans 0 to 1
+/// # Ok::<(), voxlod_contouring::ContourError>(())
+/// ```
+pub fn marching_cubes_of_samples(
+    samples: &[f32],
+    grid: &Grid,
+    iso: f32,
+    wanted: Wanted,
+) -> Result<SampleSurface, ContourError> {
+    let iso = check_iso(iso)?;
+    if samples.len() != grid.len() {
+        return Err(ContourError::SampleCount {
+            given: samples.len(),
+            dims: grid.dims,
+        });
     }
-    bits.par_iter()
-        .zip(isos)
-        .map(|(b, &iso)| {
-            let (mesh, cells) = extract(volume, b, iso, normals, true)?;
-            Ok(CellMesh { mesh, cells })
-        })
-        .collect()
+    check_cell_count(grid.dims)?;
+    let Some(bits) = classify(samples, grid.dims, &[iso])?.pop() else {
+        return Ok(SampleSurface::default());
+    };
+    extract(samples, grid, &bits, iso, wanted)
 }
 
 fn check_iso(iso: f32) -> Result<f32, ContourError> {
@@ -337,12 +430,11 @@ fn check_iso(iso: f32) -> Result<f32, ContourError> {
 
 /// Pass 1: one bit per sample and iso value (`value >= iso`), from one read of the volume.
 /// Empty when the grid has no cells along some axis.
-fn classify(volume: &Volume, isos: &[f32]) -> Result<Vec<BitVolume>, ContourError> {
-    let [nx, ny, nz] = volume.grid.dims;
+fn classify(data: &[f32], dims: [usize; 3], isos: &[f32]) -> Result<Vec<BitVolume>, ContourError> {
+    let [nx, ny, nz] = dims;
     if nx < 2 || ny < 2 || nz < 2 {
         return Ok(Vec::new());
     }
-    let data = volume.as_slice();
     let words = nx.div_ceil(64);
     let rows = ny * nz;
     memory::check_allocation(
@@ -417,45 +509,44 @@ fn classify_word(chunk: &[f32], iso: f32) -> u64 {
         .fold(0u64, |bits, (b, &v)| bits | ((v >= iso) as u64) << b)
 }
 
-/// Passes 2 and 3 on the bits of one iso value; the cells of the triangles when `with_cells`.
+/// Passes 2 and 3 on the bits of one iso value, with what `wanted` asks for.
 fn extract(
-    volume: &Volume,
+    data: &[f32],
+    grid: &Grid,
     bits: &BitVolume,
     iso: f32,
-    with_normals: bool,
-    with_cells: bool,
-) -> Result<(TriangleMesh, Vec<u32>), ContourError> {
-    let dims = volume.grid.dims;
+    wanted: Wanted,
+) -> Result<SampleSurface, ContourError> {
+    let dims = grid.dims;
     debug_assert_eq!(bits.bits.len(), dims[1] * dims[2] * bits.words);
     let table = tables();
     let counts = count_rows(bits, dims, table);
-    let layout = OutputLayout::new(&counts, dims[1], with_normals, with_cells)?;
+    let layout = OutputLayout::new(&counts, dims[1], wanted)?;
 
-    let mut positions = vec![Vec3::ZERO; layout.vertices];
-    let mut normals = if with_normals {
-        vec![Vec3::ZERO; layout.vertices]
-    } else {
-        Vec::new()
-    };
-    let mut triangles = vec![[0u32; 3]; layout.triangles];
-    let mut cells = if with_cells {
-        vec![0u32; layout.triangles]
-    } else {
-        Vec::new()
-    };
-    let parts = layout.split_per_slice(&mut positions, &mut normals, &mut triangles, &mut cells);
-    let samples = DenseSamples {
-        data: volume.as_slice(),
-        dims,
-    };
+    // Fresh zero pages that the parallel writers touch first (huge ones where the kernel
+    // allows): no serial fill of the outputs before the pass that writes them.
+    let optional = |on: bool, len: usize| if on { len } else { 0 };
+    let mut positions = zeroed_points(layout.vertices);
+    let mut normals = zeroed_points(optional(wanted.normals, layout.vertices));
+    let mut triangles: Vec<[u32; 3]> = memory::zeroed_vec(layout.triangles);
+    let mut cells: Vec<u32> = memory::zeroed_vec(optional(wanted.cells, layout.triangles));
+    let mut ranges: Vec<f32> = memory::zeroed_vec(optional(wanted.corner_ranges, layout.vertices));
+    let parts = layout.split_per_slice(OutputSlices {
+        k: 0,
+        positions: &mut positions,
+        normals: &mut normals,
+        ranges: &mut ranges,
+        triangles: &mut triangles,
+        cells: &mut cells,
+    });
+    let samples = DenseSamples { data, dims };
     let writer = SliceWriter {
         bits,
         dims,
         table,
         row_vertex_base: &layout.row_vertex_base,
-        field: VertexPlacer::new(&samples, &volume.grid, iso),
-        with_normals,
-        with_cells,
+        field: VertexPlacer::new(&samples, grid, iso),
+        wanted,
     };
     parts
         .into_par_iter()
@@ -466,10 +557,35 @@ fn extract(
         normals,
         triangles,
     };
-    if with_normals {
+    if wanted.normals {
         repair_zero_normals(&mut mesh);
     }
-    Ok((mesh, cells))
+    Ok(SampleSurface {
+        mesh,
+        cells,
+        corner_ranges: ranges,
+    })
+}
+
+/// `len` zero points in fresh zero pages from the allocator, advised to be huge, not written
+/// here: `vec![Vec3::ZERO; len]` would fill them serially, page fault by page fault.
+fn zeroed_points(len: usize) -> Vec<Vec3> {
+    if len == 0 {
+        return Vec::new();
+    }
+    let layout = std::alloc::Layout::array::<Vec3>(len).expect("a mesh within the memory budget");
+    // SAFETY: the layout has a non-zero size; all-zero bytes are a valid `Vec3` (three 0.0);
+    // the buffer comes from the global allocator with the layout of `len` `Vec3`s, as
+    // `Vec::from_raw_parts` requires, and all `len` of them are initialised.
+    let points = unsafe {
+        let ptr = std::alloc::alloc_zeroed(layout).cast::<Vec3>();
+        if ptr.is_null() {
+            std::alloc::handle_alloc_error(layout);
+        }
+        Vec::from_raw_parts(ptr, len, len)
+    };
+    memory::advise_huge_pages(&points);
+    points
 }
 
 /// Pass 2: for every row (j, k), in z-then-y order, the vertices on the edges the vertex row
@@ -503,27 +619,25 @@ struct OutputLayout {
     /// Vertices and triangles of each z-slice.
     slice_vertices: Vec<usize>,
     slice_triangles: Vec<usize>,
-    with_normals: bool,
-    with_cells: bool,
 }
 
 impl OutputLayout {
     /// The layout of the counts of [`count_rows`], once the mesh is known to be addressable
     /// with 32-bit indices and to fit in memory.
-    fn new(
-        counts: &[(u32, u32)],
-        ny: usize,
-        with_normals: bool,
-        with_cells: bool,
-    ) -> Result<OutputLayout, ContourError> {
+    fn new(counts: &[(u32, u32)], ny: usize, wanted: Wanted) -> Result<OutputLayout, ContourError> {
         let total_vertices: u64 = counts.iter().map(|c| c.0 as u64).sum();
         let total_triangles: u64 = counts.iter().map(|c| c.1 as u64).sum();
         if total_vertices >= u32::MAX as u64 {
             return Err(ContourError::TooManyVertices(total_vertices));
         }
-        let vertex_bytes =
-            memory::bytes_of::<Vec3>(total_vertices as usize) * if with_normals { 2 } else { 1 };
-        let cell_bytes = if with_cells {
+        let vertex_bytes = memory::bytes_of::<Vec3>(total_vertices as usize)
+            * if wanted.normals { 2 } else { 1 }
+            + if wanted.corner_ranges {
+                memory::bytes_of::<f32>(total_vertices as usize)
+            } else {
+                0
+            };
+        let cell_bytes = if wanted.cells {
             memory::bytes_of::<u32>(total_triangles as usize)
         } else {
             0
@@ -550,52 +664,64 @@ impl OutputLayout {
             row_vertex_base,
             slice_vertices: per_slice(|c| c.0),
             slice_triangles: per_slice(|c| c.1),
-            with_normals,
-            with_cells,
         })
     }
 
-    /// The output arrays cut into one part per z-slice (normals and cells empty when not asked
+    /// The output arrays cut into one part per z-slice (the optional ones empty when not asked
     /// for).
-    fn split_per_slice<'a>(
-        &self,
-        positions: &'a mut [Vec3],
-        normals: &'a mut [Vec3],
-        triangles: &'a mut [[u32; 3]],
-        cells: &'a mut [u32],
-    ) -> Vec<SliceOutput<'a>> {
+    fn split_per_slice<'a>(&self, whole: OutputSlices<'a>) -> Vec<OutputSlices<'a>> {
         let nz = self.slice_vertices.len();
         let mut parts = Vec::with_capacity(nz);
-        let (mut p_rest, mut n_rest, mut t_rest, mut c_rest) =
-            (positions, normals, triangles, cells);
+        let mut rest = whole;
         for k in 0..nz {
-            let vertices = self.slice_vertices[k];
-            let triangles = self.slice_triangles[k];
-            let (p, pr) = p_rest.split_at_mut(vertices);
-            let (n, nr) = n_rest.split_at_mut(if self.with_normals { vertices } else { 0 });
-            let (t, tr) = t_rest.split_at_mut(triangles);
-            let (c, cr) = c_rest.split_at_mut(if self.with_cells { triangles } else { 0 });
-            parts.push(SliceOutput {
-                k,
-                positions: p,
-                normals: n,
-                triangles: t,
-                cells: c,
-            });
-            (p_rest, n_rest, t_rest, c_rest) = (pr, nr, tr, cr);
+            let (part, others) = rest.split(k, self.slice_vertices[k], self.slice_triangles[k]);
+            parts.push(part);
+            rest = others;
         }
         parts
     }
 }
 
-/// One z-slice's part of the output: the vertices its vertex rows own, the triangles of its
-/// cells.
-struct SliceOutput<'a> {
+/// The output arrays, or one z-slice's part of them: the vertices its vertex rows own, the
+/// triangles of its cells. Normals, ranges and cells are empty when not asked for.
+struct OutputSlices<'a> {
     k: usize,
     positions: &'a mut [Vec3],
     normals: &'a mut [Vec3],
+    ranges: &'a mut [f32],
     triangles: &'a mut [[u32; 3]],
     cells: &'a mut [u32],
+}
+
+impl<'a> OutputSlices<'a> {
+    /// The first `vertices` and `triangles` as slice `k`'s part, and the rest.
+    fn split(self, k: usize, vertices: usize, triangles: usize) -> (Self, Self) {
+        fn cut<T>(s: &mut [T], n: usize) -> (&mut [T], &mut [T]) {
+            s.split_at_mut(if s.is_empty() { 0 } else { n })
+        }
+        let (p, pr) = self.positions.split_at_mut(vertices);
+        let (n, nr) = cut(self.normals, vertices);
+        let (v, vr) = cut(self.ranges, vertices);
+        let (t, tr) = self.triangles.split_at_mut(triangles);
+        let (c, cr) = cut(self.cells, triangles);
+        let part = OutputSlices {
+            k,
+            positions: p,
+            normals: n,
+            ranges: v,
+            triangles: t,
+            cells: c,
+        };
+        let rest = OutputSlices {
+            k: k + 1,
+            positions: pr,
+            normals: nr,
+            ranges: vr,
+            triangles: tr,
+            cells: cr,
+        };
+        (part, rest)
+    }
 }
 
 /// Pass 3: what every z-slice reads to write its part of the mesh.
@@ -606,8 +732,7 @@ struct SliceWriter<'a> {
     /// See [`OutputLayout::row_vertex_base`].
     row_vertex_base: &'a [u32],
     field: VertexPlacer<'a, DenseSamples<'a>>,
-    with_normals: bool,
-    with_cells: bool,
+    wanted: Wanted,
 }
 
 impl SliceWriter<'_> {
@@ -620,7 +745,7 @@ impl SliceWriter<'_> {
 
     /// Writes the vertices of slice k's vertex rows and the triangles of its cell rows, row
     /// by row, keeping the four vertex rows around the current cell row.
-    fn write_slice(&self, mut out: SliceOutput<'_>) {
+    fn write_slice(&self, mut out: OutputSlices<'_>) {
         let [_, ny, nz] = self.dims;
         let k = out.k;
         let words = self.bits.words;
@@ -657,7 +782,7 @@ impl SliceWriter<'_> {
         own: &RowEdges,
         [j, k]: [usize; 2],
         slice_base: u32,
-        out: &mut SliceOutput<'_>,
+        out: &mut OutputSlices<'_>,
         written: &mut usize,
     ) {
         for w in 0..self.bits.words {
@@ -670,10 +795,13 @@ impl SliceWriter<'_> {
                 for (axis, mask) in [own.x[w], own.y[w], own.z[w]].into_iter().enumerate() {
                     if mask & bit != 0 {
                         debug_assert_eq!(own.vertex(axis, x) - slice_base, *written as u32);
-                        let (p, n) = self.field.edge_vertex([x, j, k], axis, self.with_normals);
+                        let (p, n) = self.field.edge_vertex([x, j, k], axis, self.wanted.normals);
                         out.positions[*written] = p;
-                        if self.with_normals {
+                        if self.wanted.normals {
                             out.normals[*written] = n;
+                        }
+                        if self.wanted.corner_ranges {
+                            out.ranges[*written] = self.field.corner_range([x, j, k], axis);
                         }
                         *written += 1;
                     }
@@ -689,7 +817,7 @@ impl SliceWriter<'_> {
         &self,
         rows: &[&RowEdges; 4],
         [j, k]: [usize; 2],
-        out: &mut SliceOutput<'_>,
+        out: &mut OutputSlices<'_>,
         tri_written: &mut usize,
     ) {
         let [nx, ny, _] = self.dims;
@@ -698,7 +826,7 @@ impl SliceWriter<'_> {
             let n = self.table.triangle_count[case as usize] as usize;
             for t in &self.table.triangles[case as usize][..n] {
                 out.triangles[*tri_written] = t.map(|e| cell_edge_vertex(rows, e, x));
-                if self.with_cells {
+                if self.wanted.cells {
                     out.cells[*tri_written] = row_cell + x as u32;
                 }
                 *tri_written += 1;

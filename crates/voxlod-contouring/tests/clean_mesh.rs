@@ -169,3 +169,40 @@ fn a_lone_sample_is_never_turned_inside_out() {
     }
     assert_eq!(inverted, 0, "cleaning turned lone samples inside out");
 }
+
+/// Peak memory of cleaning, in bytes per input triangle beyond what was resident before (the
+/// input mesh included there): the sphereflake field at 192³. Linux only (reads
+/// `/proc/self/status` after resetting its peak through `/proc/self/clear_refs`). Prints, asserts
+/// nothing about time; ignored because it measures rather than checks:
+/// `cargo test -p voxlod-contouring --test clean_mesh --release -- --ignored --nocapture memory`.
+#[test]
+#[ignore = "a measurement: peak memory of cleaning per triangle"]
+fn memory_per_triangle() {
+    let status = |field: &str| -> Option<u64> {
+        let text = std::fs::read_to_string("/proc/self/status").ok()?;
+        let line = text.lines().find(|l| l.starts_with(field))?;
+        line.split_whitespace().nth(1)?.parse::<u64>().ok()
+    };
+    let volume = sphereflake_field(192).unwrap();
+    let mesh = marching_cubes(&volume, &ContourOptions::at(0.0)).unwrap();
+    let cell = volume.grid.spacing[0];
+    drop(volume);
+    if std::fs::write("/proc/self/clear_refs", "5").is_err() {
+        eprintln!("skipping: cannot reset the peak resident size");
+        return;
+    }
+    let (Some(before), Some(_)) = (status("VmRSS:"), status("VmHWM:")) else {
+        eprintln!("skipping: no /proc/self/status");
+        return;
+    };
+    let (clean, _) = clean_mesh(&mesh, cell, &CleanOptions::default()).unwrap();
+    let peak = status("VmHWM:").unwrap();
+    eprintln!(
+        "{} triangles -> {}: peak {} KiB over {} KiB resident, {:.0} bytes per triangle",
+        mesh.triangles.len(),
+        clean.triangles.len(),
+        peak,
+        before,
+        (peak - before) as f64 * 1024.0 / mesh.triangles.len() as f64
+    );
+}

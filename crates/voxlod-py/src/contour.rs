@@ -13,14 +13,21 @@
 //! - `mask`: a cell is contoured when the mask is true at its corner of highest indices, as in
 //!   scikit-image.
 //!
-//! The volume is copied once into voxlod's volume (which owns its samples), in parallel and in
-//! the same pass that looks for NaN and the range; the results go to NumPy without a copy. Cost: that of the extraction, plus one pass over the triangles.
+//! NumPy's samples are read in place, never copied: one parallel pass looks for NaN and the
+//! range (scikit-image refuses a level outside it), then
+//! [`voxlod_contouring::marching_cubes::marching_cubes_of_samples`] extracts the surface with its
+//! normals and `values` in the same passes; the arrays go to NumPy without a copy. Cost: one read
+//! of the volume more than the extraction (the range check scikit-image's signature requires),
+//! plus an in-place pass over the vertices to put them in array-axis order. With a `mask`, the
+//! cells of the triangles are kept instead, the masked ones dropped, and `values` found per
+//! triangle.
 
 use numpy::{PyArray1, PyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 use rayon::prelude::*;
 use voxlod_contouring::block_marching_cubes::retain_cells;
-use voxlod_contouring::{marching_cubes_with_cells, CellMesh, ContourOptions};
+use voxlod_contouring::marching_cubes::{marching_cubes_of_samples, SampleSurface, Wanted};
+use voxlod_contouring::CellMesh;
 use voxlod_core::{memory, Grid, TriangleMesh, Volume};
 
 use crate::arrays::{column, faces_i32, points_zyx, rows, volume_slice};
@@ -111,6 +118,16 @@ impl Scan {
     }
 }
 
+/// The [`Scan`] of `samples`, in parallel chunks.
+pub fn scan(samples: &[f32]) -> Scan {
+    const CHUNK: usize = 1 << 16;
+    samples
+        .par_chunks(CHUNK)
+        .enumerate()
+        .map(|(c, chunk)| Scan::of(chunk, c * CHUNK))
+        .reduce(|| Scan::EMPTY, Scan::merge)
+}
+
 /// A voxlod volume (unit spacing, origin 0) holding a copy of the samples, and their [`Scan`]:
 /// the copy runs in parallel chunks that also look for NaN and the range, so the input is read
 /// once (it was read three times: NaN, range, copy).
@@ -148,11 +165,24 @@ pub fn nan_error(what: &str, [a, b, c]: [usize; 3]) -> Failure {
     )
 }
 
+/// The (i, j, k) of linear cell index `cell` in a grid of `nx × ny × nz` samples.
+fn cell_indices(cell: u32, nx: usize, ny: usize) -> (usize, usize, usize) {
+    let c = cell as usize;
+    (
+        c % (nx - 1),
+        (c / (nx - 1)) % (ny - 1),
+        c / ((nx - 1) * (ny - 1)),
+    )
+}
+
 /// Per vertex, the largest corner range of the cells of the triangles that use it: the
 /// ranges per triangle in parallel, then one pass to spread them to the vertices.
-fn corner_ranges(volume: &Volume, surface: &TriangleMesh, cells: &[u32]) -> Vec<f32> {
-    let [nx, ny, _] = volume.grid.dims;
-    let data = volume.as_slice();
+fn corner_ranges(
+    data: &[f32],
+    [nx, ny, _]: [usize; 3],
+    surface: &TriangleMesh,
+    cells: &[u32],
+) -> Vec<f32> {
     let corners = [
         0,
         1,
@@ -164,12 +194,7 @@ fn corner_ranges(volume: &Volume, surface: &TriangleMesh, cells: &[u32]) -> Vec<
         nx * ny + nx + 1,
     ];
     let range_of = |cell: u32| {
-        let c = cell as usize;
-        let (i, j, k) = (
-            c % (nx - 1),
-            (c / (nx - 1)) % (ny - 1),
-            c / ((nx - 1) * (ny - 1)),
-        );
+        let (i, j, k) = cell_indices(cell, nx, ny);
         let base = i + nx * (j + ny * k);
         let (lo, hi) = corners
             .iter()
@@ -188,37 +213,40 @@ fn corner_ranges(volume: &Volume, surface: &TriangleMesh, cells: &[u32]) -> Vec<
     values
 }
 
-/// The surface with scikit-image's conventions, computed without the GIL.
+/// The surface with scikit-image's conventions, computed without the GIL: the mesh and the
+/// per-vertex `values`.
 fn extract(
     samples: &[f32],
     dims: [usize; 3],
     level: Option<f32>,
     mask: Option<&[bool]>,
 ) -> Result<(TriangleMesh, Vec<f32>), Failure> {
-    let (volume, scan) = scanned_copy(samples, dims)?;
+    let grid = Grid::unit(dims)?;
+    let scan = scan(samples);
     if let Some(at) = scan.first_nan(dims) {
         return Err(nan_error("the volume", at));
     }
-    let level = scan.checked_level(level)?;
-    let surface = marching_cubes_with_cells(&volume, &ContourOptions::at(next_above(level)))?;
-    let CellMesh { mesh, cells } = match mask {
-        None => surface,
-        Some(mask) => {
-            let [nx, ny, _] = dims;
-            let upper_corner = |cell: u32| {
-                let c = cell as usize;
-                let (i, j, k) = (
-                    c % (nx - 1),
-                    (c / (nx - 1)) % (ny - 1),
-                    c / ((nx - 1) * (ny - 1)),
-                );
-                mask[(i + 1) + nx * ((j + 1) + ny * (k + 1))]
-            };
-            let (mesh, cells, _) = retain_cells(surface, upper_corner);
-            CellMesh { mesh, cells }
-        }
+    let iso = next_above(scan.checked_level(level)?);
+    let wanted = Wanted {
+        normals: true,
+        cells: mask.is_some(),
+        corner_ranges: mask.is_none(),
     };
-    let values = corner_ranges(&volume, &mesh, &cells);
+    let SampleSurface {
+        mesh,
+        cells,
+        corner_ranges: values,
+    } = marching_cubes_of_samples(samples, &grid, iso, wanted)?;
+    let Some(mask) = mask else {
+        return Ok((mesh, values));
+    };
+    let [nx, ny, _] = dims;
+    let upper_corner = |cell: u32| {
+        let (i, j, k) = cell_indices(cell, nx, ny);
+        mask[(i + 1) + nx * ((j + 1) + ny * (k + 1))]
+    };
+    let (mesh, cells, _) = retain_cells(CellMesh { mesh, cells }, upper_corner);
+    let values = corner_ranges(samples, dims, &mesh, &cells);
     Ok((mesh, values))
 }
 

@@ -224,9 +224,10 @@ impl Rows {
         weight.fill(0.0);
         diff.fill(0.0);
         let (lo, hi) = (range.start as f64, (range.end - 1) as f64);
+        let lines = crossings.lookup();
         let mut touched = false;
         for line in &kernel.lines {
-            let ts = crossings.line(m0 + line.du as isize, n0 + line.dv as isize);
+            let ts = lines.line(m0 + line.du as isize, n0 + line.dv as isize);
             if ts.is_empty() {
                 continue;
             }
@@ -256,7 +257,10 @@ impl Rows {
                 if f_lo <= f_hi {
                     diff[f_lo as usize - range.start] += full;
                     diff[f_hi as usize - range.start + 1] -= full;
-                    for i in (i_lo..f_lo as usize).chain(f_hi as usize + 1..=i_hi) {
+                    for i in i_lo..f_lo as usize {
+                        density[i - range.start] += partial(i);
+                    }
+                    for i in f_hi as usize + 1..=i_hi {
                         density[i - range.start] += partial(i);
                     }
                 } else {
@@ -301,10 +305,11 @@ impl ActiveLines {
         let (lu, lv) = crossings.family.line_counts();
         let width = lu + 1;
         let mut sums = vec![0u32; width * (lv + 1)];
+        let lines = crossings.lookup();
         for n in 0..lv {
             let mut row = 0u32;
             for m in 0..lu {
-                row += !crossings.line(m as isize, n as isize).is_empty() as u32;
+                row += !lines.line(m as isize, n as isize).is_empty() as u32;
                 sums[(n + 1) * width + m + 1] = sums[n * width + m + 1] + row;
             }
         }

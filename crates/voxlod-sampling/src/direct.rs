@@ -44,14 +44,11 @@ pub fn direct_density(
     filter: Filter,
     radius: f64,
 ) -> Result<Volume, SamplingError> {
-    if !(radius.is_finite() && radius > 0.0) {
-        return Err(SamplingError::InvalidOption(format!(
-            "the support radius must be positive, got {radius}"
-        )));
-    }
+    check_radius(radius)?;
     let (background, _) = volume.range().ok_or(SamplingError::EmptyBounds)?;
     memory::check_allocation("the filtered volume", memory::bytes_of::<f32>(grid.len()))?;
     let support = Support::new(filter, radius, volume.grid.spacing);
+    let data = DataView::whole(volume);
     let [nx, ny, _] = grid.dims;
     let mut out: Vec<f32> = memory::zeroed_vec(grid.len());
     out.par_chunks_mut(nx * ny)
@@ -59,28 +56,71 @@ pub fn direct_density(
         .for_each(|(k, slice)| {
             for j in 0..ny {
                 for i in 0..nx {
-                    let p = grid.position(i as f64, j as f64, k as f64);
-                    let data = &volume.grid;
-                    // Position in data index units.
-                    let f = [0, 1, 2].map(|a| (p[a] - data.origin[a]) / data.spacing[a]);
-                    slice[j * nx + i] = support.filtered_value(volume, background, f);
+                    slice[j * nx + i] = support.level_sample(&data, background, grid, [i, j, k]);
                 }
             }
         });
     Ok(Volume::from_vec(*grid, out)?)
 }
 
+/// Refuses a support radius that is not a positive number.
+pub(crate) fn check_radius(radius: f64) -> Result<(), SamplingError> {
+    if radius.is_finite() && radius > 0.0 {
+        return Ok(());
+    }
+    Err(SamplingError::InvalidOption(format!(
+        "the support radius must be positive, got {radius}"
+    )))
+}
+
+/// Samples of a scan: all of them, or a window of them, indexed by the whole scan's indices.
+pub(crate) struct DataView<'a> {
+    /// The samples held: the whole scan, or the window starting at `start`.
+    pub(crate) samples: &'a Volume,
+    /// Index (x, y, z) in the scan of the first sample held.
+    pub(crate) start: [usize; 3],
+    /// The whole scan's grid.
+    pub(crate) scan: Grid,
+}
+
+impl DataView<'_> {
+    /// The whole of `volume`.
+    pub(crate) fn whole(volume: &Volume) -> DataView<'_> {
+        DataView {
+            samples: volume,
+            start: [0; 3],
+            scan: volume.grid,
+        }
+    }
+
+    /// The sample at scan index (a, b, c), which must be held.
+    #[inline]
+    fn get(&self, a: usize, b: usize, c: usize) -> f32 {
+        let s = self.start;
+        self.samples.get(a - s[0], b - s[1], c - s[2])
+    }
+
+    /// Trilinear interpolation at `f` (scan index units, inside the scan). A window holding
+    /// the two samples on either side of `f` along each axis gives the whole scan's value: the
+    /// shift by a whole `start` is exact, and so is the fraction.
+    fn trilinear(&self, f: [f64; 3]) -> f32 {
+        let s = self.start.map(|v| v as f64);
+        self.samples
+            .sample_trilinear(f[0] - s[0], f[1] - s[1], f[2] - s[2])
+    }
+}
+
 /// The filter's support on the data lattice.
-struct Support {
+pub(crate) struct Support {
     filter: Filter,
     radius: f64,
     spacing: [f64; 3],
     /// Data samples the support reaches along each axis (saturated for absurd ratios).
-    reach: [i64; 3],
+    pub(crate) reach: [i64; 3],
 }
 
 impl Support {
-    fn new(filter: Filter, radius: f64, spacing: [f64; 3]) -> Support {
+    pub(crate) fn new(filter: Filter, radius: f64, spacing: [f64; 3]) -> Support {
         let reach = [0, 1, 2].map(|a| (radius / spacing[a]).ceil().min(i64::MAX as f64) as i64);
         Support {
             filter,
@@ -94,20 +134,36 @@ impl Support {
         self.reach[axis] > EXACT_REACH
     }
 
+    /// The filtered value of sample `[i, j, k]` of `grid` (a level's grid) from `data`.
+    #[inline]
+    pub(crate) fn level_sample(
+        &self,
+        data: &DataView,
+        background: f32,
+        grid: &Grid,
+        [i, j, k]: [usize; 3],
+    ) -> f32 {
+        let p = grid.position(i as f64, j as f64, k as f64);
+        let scan = &data.scan;
+        // Position in data index units.
+        let f = [0, 1, 2].map(|a| (p[a] - scan.origin[a]) / scan.spacing[a]);
+        self.filtered_value(data, background, f)
+    }
+
     /// The filtered value at `f` (data index units): the weighted mean of the data within the
     /// support, with the background outside the scan.
-    fn filtered_value(&self, volume: &Volume, background: f32, f: [f64; 3]) -> f32 {
-        let dims = volume.grid.dims;
+    fn filtered_value(&self, data: &DataView, background: f32, f: [f64; 3]) -> f32 {
+        let dims = data.scan.dims;
         // Lattice bounds of the support, saturating (far outside, or an absurd reach).
         let lo = [0, 1, 2].map(|a| (f[a] - self.reach[a] as f64).ceil() as i64);
         let hi = [0, 1, 2].map(|a| (f[a] + self.reach[a] as f64).floor() as i64);
         let within = (0..3).all(|a| lo[a] >= 0 && hi[a] < dims[a] as i64);
         let (sum, weight) = if within || !(0..3).any(|a| self.dense(a)) {
-            self.lattice_sum(volume, background, f, lo, hi)
+            self.lattice_sum(data, background, f, lo, hi)
         } else {
             let clo = [0, 1, 2].map(|a| lo[a].max(0));
             let chi = [0, 1, 2].map(|a| hi[a].min(dims[a] as i64 - 1));
-            let (inside_sum, inside_weight) = self.lattice_sum(volume, background, f, clo, chi);
+            let (inside_sum, inside_weight) = self.lattice_sum(data, background, f, clo, chi);
             let total = self.total_weight(f).max(inside_weight);
             if !total.is_finite() {
                 // The outside's weight overflows (a support of 10¹⁶⁰ samples): the scan's share
@@ -127,7 +183,7 @@ impl Support {
         if outside {
             background
         } else {
-            volume.sample_trilinear(f[0], f[1], f[2])
+            data.trilinear(f)
         }
     }
 
@@ -135,13 +191,13 @@ impl Support {
     /// those outside the scan taken as `background`.
     fn lattice_sum(
         &self,
-        volume: &Volume,
+        data: &DataView,
         background: f32,
         f: [f64; 3],
         lo: [i64; 3],
         hi: [i64; 3],
     ) -> (f64, f64) {
-        let [dx, dy, dz] = volume.grid.dims.map(|d| d as i64);
+        let [dx, dy, dz] = data.scan.dims.map(|d| d as i64);
         let h = self.spacing;
         let (mut sum, mut weight) = (0.0f64, 0.0f64);
         for c in lo[2]..=hi[2] {
@@ -159,7 +215,7 @@ impl Support {
                     let inside =
                         (0..dx).contains(&a) && (0..dy).contains(&b) && (0..dz).contains(&c);
                     let v = if inside {
-                        volume.get(a as usize, b as usize, c as usize)
+                        data.get(a as usize, b as usize, c as usize)
                     } else {
                         background
                     };

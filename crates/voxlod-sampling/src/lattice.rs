@@ -135,12 +135,20 @@ impl LineCrossings {
     /// Crossings of line (m, n); lines outside the lattice have none.
     #[inline]
     pub fn line(&self, m: isize, n: isize) -> &[f32] {
+        self.lookup().line(m, n)
+    }
+
+    /// The family's line counts and tiling worked out once, for many [`LineLookup::line`]
+    /// calls in a loop.
+    #[inline]
+    pub fn lookup(&self) -> LineLookup<'_> {
         let (lu, lv) = self.family.line_counts();
-        if m < 0 || n < 0 || m as usize >= lu || n as usize >= lv {
-            return &[];
+        LineLookup {
+            counts: (lu, lv),
+            tiles_u: lu.div_ceil(TILE),
+            offsets: &self.offsets,
+            t: &self.t,
         }
-        let slot = self.family.slot(m as usize, n as usize);
-        &self.t[self.offsets[slot] as usize..self.offsets[slot + 1] as usize]
     }
 
     /// Assembles the crossings from one sorted list per tile, each holding its lines in
@@ -201,6 +209,30 @@ impl LineCrossings {
     }
 }
 
+/// [`LineCrossings::line`] with the family's sizes computed once ([`LineCrossings::lookup`]).
+#[derive(Clone, Copy, Debug)]
+pub struct LineLookup<'c> {
+    counts: (usize, usize),
+    tiles_u: usize,
+    offsets: &'c [u32],
+    t: &'c [f32],
+}
+
+impl<'c> LineLookup<'c> {
+    /// Crossings of line (m, n); lines outside the lattice have none.
+    #[inline]
+    pub fn line(&self, m: isize, n: isize) -> &'c [f32] {
+        let (lu, lv) = self.counts;
+        if m < 0 || n < 0 || m as usize >= lu || n as usize >= lv {
+            return &[];
+        }
+        let (m, n) = (m as usize, n as usize);
+        let tile = (n / TILE) * self.tiles_u + m / TILE;
+        let slot = tile * TILE * TILE + (n % TILE) * TILE + m % TILE;
+        &self.t[self.offsets[slot] as usize..self.offsets[slot + 1] as usize]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -221,6 +253,43 @@ mod tests {
         for n in 0..9 {
             for m in 0..13 {
                 assert!(seen.insert(f.slot(m, n)));
+            }
+        }
+    }
+
+    #[test]
+    fn the_lookup_finds_each_line_at_its_slot() {
+        // 40 x 20 lines: three tiles across u, two across v, partial tiles at both ends.
+        let g = Grid::new([11, 6, 3], [1.0; 3], [0.0; 3]).unwrap();
+        let f = LineFamily::new(Axis::Z, g, 4);
+        let (lu, lv) = f.line_counts();
+        assert_eq!((lu, lv), (41, 21));
+        // Line (m, n) gets m + 1000 n crossings' worth of identity: one crossing, its number.
+        let (tu, tv) = f.tile_counts();
+        let tiles = (0..tu * tv)
+            .map(|id| {
+                let (ms, ns) = f.tile_lines(id % tu, id / tu);
+                let mut list = Vec::new();
+                for (row, n) in ns.enumerate() {
+                    for (col, m) in ms.clone().enumerate() {
+                        list.push(((row * TILE + col) as u16, (m + 1000 * n) as f32));
+                    }
+                }
+                list
+            })
+            .collect();
+        let crossings = LineCrossings::from_tiles(f, tiles);
+        let lookup = crossings.lookup();
+        for n in -1..=lv as isize {
+            for m in -1..=lu as isize {
+                let outside = m < 0 || n < 0 || m >= lu as isize || n >= lv as isize;
+                let expected: &[f32] = if outside {
+                    &[]
+                } else {
+                    &[(m + 1000 * n) as f32]
+                };
+                assert_eq!(lookup.line(m, n), expected, "line ({m}, {n})");
+                assert_eq!(crossings.line(m, n), expected);
             }
         }
     }

@@ -18,7 +18,8 @@
 //!   [`digital_topology()`] of the samples marching cubes will contour.
 //! - Levels that vanish (a sheet thinner than the filter): [`level_is_empty`] and
 //!   [`find_surface_resolution`], the coarsest finer resolution that still has a surface.
-//! - Scanned volumes filtered directly, without thresholding: [`direct_density`]; and the
+//! - Scanned volumes filtered directly, without thresholding: [`direct_density`], or block by
+//!   block from windows of the scan, [`blocked_direct_density`]; and the
 //!   separable [`gaussian::gaussian_blur`] of a whole volume, and
 //!   [`gaussian_filter::gaussian_filter`] with SciPy's border modes.
 //!
@@ -65,6 +66,7 @@
 #![warn(missing_docs)]
 
 pub mod band_cover;
+pub mod bricked_direct;
 pub mod bricked_threshold;
 pub mod csg;
 pub mod density;
@@ -88,6 +90,7 @@ pub mod sphereflake;
 pub mod threshold;
 pub mod vanishing;
 
+pub use bricked_direct::{blocked_direct_density, BlockedDirect};
 pub use bricked_threshold::{
     bricked_threshold_density, BlockBrick, BlockSamples, BrickAssembly, BrickedError,
     BrickedThreshold,

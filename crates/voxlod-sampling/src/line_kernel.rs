@@ -19,15 +19,19 @@ use crate::Filter;
 
 const INTERVALS: usize = 512;
 
+/// A profile's table: its values at the ends of the intervals. A fixed size lets the lookup's
+/// index, clamped below `INTERVALS`, go unchecked.
+type Table = [f64; INTERVALS + 1];
+
 /// One distinct line distance ρ: the antiderivative table and the line's reach L.
 #[derive(Clone, Debug)]
 pub struct LineProfile {
     /// Half-length of the chord of the support ball along the line.
     pub reach: f64,
     /// `integral[i] = G(-L + i Δ)`, normalised by the pattern's total weight.
-    integral: Vec<f64>,
+    integral: Box<Table>,
     /// `weight[i] = g(-L + i Δ)`, normalised likewise (used to weigh crossings).
-    weight: Vec<f64>,
+    weight: Box<Table>,
     inv_step: f64,
 }
 
@@ -52,7 +56,7 @@ impl LineProfile {
 }
 
 #[inline]
-fn lookup(table: &[f64], reach: f64, inv_step: f64, tau: f64, cumulative: bool) -> f64 {
+fn lookup(table: &Table, reach: f64, inv_step: f64, tau: f64, cumulative: bool) -> f64 {
     if tau <= -reach {
         return 0.0;
     }
@@ -157,10 +161,12 @@ fn tabulate(filter: Filter, radius: f64, rho: f64) -> LineProfile {
         integral.push(acc);
         weight.push(g(b));
     }
+    let table =
+        |values: Vec<f64>| -> Box<Table> { values.try_into().expect("INTERVALS + 1 values") };
     LineProfile {
         reach,
-        integral,
-        weight,
+        integral: table(integral),
+        weight: table(weight),
         inv_step: if step > 0.0 { 1.0 / step } else { 0.0 },
     }
 }

@@ -162,24 +162,61 @@ fn every_edge_even(triangles: &[[u32; 3]]) -> bool {
 
 /// Edge function of the edge (a, b) at q with the endpoints in canonical order, and whether the
 /// order was swapped. Zero is replaced by the sign of the (δ, δ²) perturbation of q.
-#[inline]
+#[cfg(test)]
 fn canonical_edge(a: [f64; 2], b: [f64; 2], q: [f64; 2]) -> (f64, f64) {
-    let swapped = (b[0], b[1]) < (a[0], a[1]);
-    let (a, b) = if swapped { (b, a) } else { (a, b) };
-    let (du, dv) = (b[0] - a[0], b[1] - a[1]);
-    let e = du * (q[1] - a[1]) - dv * (q[0] - a[0]);
-    // Raw value (for barycentrics) and decided sign (never zero for a non-degenerate edge).
-    let decided = if e != 0.0 {
-        e
-    } else if dv != 0.0 {
-        -dv
-    } else {
-        du
-    };
-    if swapped {
-        (-e, -decided)
-    } else {
-        (e, decided)
+    let edge = CanonicalEdge::new(a, b);
+    edge.at(edge.row(q[1]), q[0])
+}
+
+/// One edge of a projected triangle with its endpoints in canonical (lexicographic) order, set
+/// up once per triangle so that a line's test costs a multiply and a subtraction per edge: the
+/// term of the edge function that depends on the row alone ([`CanonicalEdge::row`]) is shared
+/// by the row's lines. The values are those of evaluating `du (q_v - a_v) - dv (q_u - a_u)` in
+/// full for each line, bit for bit.
+#[derive(Clone, Copy, Debug)]
+struct CanonicalEdge {
+    a: [f64; 2],
+    du: f64,
+    dv: f64,
+    /// The decided sign's value where the edge function is zero (the (δ, δ²) perturbation).
+    tie: f64,
+    swapped: bool,
+}
+
+impl CanonicalEdge {
+    #[inline]
+    fn new(a: [f64; 2], b: [f64; 2]) -> CanonicalEdge {
+        let swapped = (b[0], b[1]) < (a[0], a[1]);
+        let (a, b) = if swapped { (b, a) } else { (a, b) };
+        let (du, dv) = (b[0] - a[0], b[1] - a[1]);
+        let tie = if dv != 0.0 { -dv } else { du };
+        CanonicalEdge {
+            a,
+            du,
+            dv,
+            tie,
+            swapped,
+        }
+    }
+
+    /// The part of the edge function shared by the lines of row `qv`.
+    #[inline]
+    fn row(&self, qv: f64) -> f64 {
+        self.du * (qv - self.a[1])
+    }
+
+    /// The edge function at `(qu, qv)` given `row = self.row(qv)`: its raw value (for
+    /// barycentrics) and its decided sign (never zero for a non-degenerate edge), both as for
+    /// the edge in the caller's order.
+    #[inline]
+    fn at(&self, row: f64, qu: f64) -> (f64, f64) {
+        let e = row - self.dv * (qu - self.a[0]);
+        let decided = if e != 0.0 { e } else { self.tie };
+        if self.swapped {
+            (-e, -decided)
+        } else {
+            (e, decided)
+        }
     }
 }
 
@@ -300,13 +337,19 @@ impl MeshSolid {
             return;
         }
         let orientation = area2.signum();
+        let edges = [
+            CanonicalEdge::new(uv[1], uv[2]), // opposite vertex 0
+            CanonicalEdge::new(uv[2], uv[0]), // opposite vertex 1
+            CanonicalEdge::new(uv[0], uv[1]), // opposite vertex 2
+        ];
         for n in n_lo..=n_hi as usize {
             let qv = origin[1] + n as f64 * step[1];
+            let rows = edges.map(|e| e.row(qv));
             for m in m_lo..=m_hi as usize {
-                let qp = [origin[0] + m as f64 * step[0], qv];
-                let (e0, s0) = canonical_edge(uv[1], uv[2], qp); // opposite vertex 0
-                let (e1, s1) = canonical_edge(uv[2], uv[0], qp); // opposite vertex 1
-                let (e2, s2) = canonical_edge(uv[0], uv[1], qp); // opposite vertex 2
+                let qu = origin[0] + m as f64 * step[0];
+                let (e0, s0) = edges[0].at(rows[0], qu);
+                let (e1, s1) = edges[1].at(rows[1], qu);
+                let (e2, s2) = edges[2].at(rows[2], qu);
                 if s0 * orientation > 0.0 && s1 * orientation > 0.0 && s2 * orientation > 0.0 {
                     let sum = e0 + e1 + e2;
                     let w = if sum != 0.0 {
@@ -344,5 +387,51 @@ mod tests {
     fn even_edge_check() {
         assert!(every_edge_even(&[[0, 1, 2], [0, 2, 1]]));
         assert!(!every_edge_even(&[[0, 1, 2]]));
+    }
+    /// The edge function as it was evaluated before [`CanonicalEdge`]: in full for every line.
+    fn reference_edge(a: [f64; 2], b: [f64; 2], q: [f64; 2]) -> (f64, f64) {
+        let swapped = (b[0], b[1]) < (a[0], a[1]);
+        let (a, b) = if swapped { (b, a) } else { (a, b) };
+        let (du, dv) = (b[0] - a[0], b[1] - a[1]);
+        let e = du * (q[1] - a[1]) - dv * (q[0] - a[0]);
+        let decided = if e != 0.0 {
+            e
+        } else if dv != 0.0 {
+            -dv
+        } else {
+            du
+        };
+        if swapped {
+            (-e, -decided)
+        } else {
+            (e, decided)
+        }
+    }
+
+    #[test]
+    fn canonical_edges_give_the_full_evaluation_bit_for_bit() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(14);
+        let mut ties = 0;
+        for _ in 0..20_000 {
+            // Coordinates on a coarse lattice make exact zeros (lines through edges) common.
+            let mut point = || -> [f64; 2] {
+                if rng.random_bool(0.5) {
+                    [
+                        rng.random_range(-4..=4) as f64 * 0.25,
+                        rng.random_range(-4..=4) as f64 * 0.25,
+                    ]
+                } else {
+                    [rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)]
+                }
+            };
+            let (a, b, q) = (point(), point(), point());
+            let edge = CanonicalEdge::new(a, b);
+            let (e, s) = edge.at(edge.row(q[1]), q[0]);
+            let (re, rs) = reference_edge(a, b, q);
+            assert_eq!((e.to_bits(), s.to_bits()), (re.to_bits(), rs.to_bits()));
+            ties += (re == 0.0) as usize;
+        }
+        assert!(ties > 100, "only {ties} lines through an edge");
     }
 }

@@ -73,8 +73,9 @@ impl<'a> ThresholdSolid<'a> {
         }
     }
 
-    /// Sample `i` along `axis` and `(a, b)` across it, in the whole scan's indices.
-    #[inline]
+    /// Sample `i` along `axis` and `(a, b)` across it, in the whole scan's indices (the
+    /// reference that [`HeldRows`] reads the same samples as, faster).
+    #[cfg(test)]
     fn value(&self, axis: Axis, i: usize, a: usize, b: usize) -> f32 {
         let (ua, va) = axis.others();
         let mut p = [0usize; 3];
@@ -83,6 +84,28 @@ impl<'a> ThresholdSolid<'a> {
         p[va.index()] = b;
         let s = self.start;
         self.volume.get(p[0] - s[0], p[1] - s[1], p[2] - s[2])
+    }
+
+    /// The held data rows along `axis` through `corners` (whole-scan indices across the axis).
+    #[inline]
+    fn rows<const N: usize>(&self, axis: Axis, corners: [(usize, usize); N]) -> HeldRows<'_, N> {
+        let (ua, va) = axis.others();
+        let dims = self.volume.grid.dims;
+        let strides = [1, dims[0], dims[0] * dims[1]];
+        let s = self.start;
+        debug_assert!(corners.iter().all(|&(a, b)| {
+            (s[ua.index()]..s[ua.index()] + dims[ua.index()]).contains(&a)
+                && (s[va.index()]..s[va.index()] + dims[va.index()]).contains(&b)
+        }));
+        HeldRows {
+            samples: self.volume.as_slice(),
+            base: corners.map(|(a, b)| {
+                (a - s[ua.index()]) * strides[ua.index()]
+                    + (b - s[va.index()]) * strides[va.index()]
+            }),
+            first: s[axis.index()],
+            stride: strides[axis.index()],
+        }
     }
 
     /// The held cells along `axis` (whole-scan indices of their lower samples) and the number
@@ -108,12 +131,8 @@ impl<'a> ThresholdSolid<'a> {
         let (nu, nv) = (g.dims[ua.index()], g.dims[va.index()]);
         let (a1, b1) = ((a0 + 1).min(nu - 1), (b0 + 1).min(nv - 1));
         // Inside count of the four samples of each cross-section.
-        let section = |i: usize| {
-            [(a0, b0), (a1, b0), (a0, b1), (a1, b1)]
-                .iter()
-                .filter(|&&(a, b)| self.value(axis, i, a, b) >= self.threshold)
-                .count()
-        };
+        let rows = self.rows(axis, [(a0, b0), (a1, b0), (a0, b1), (a1, b1)]);
+        let section = |i: usize| rows.at(i).iter().filter(|&&v| v >= self.threshold).count();
         let (cells, _, _) = self.held_cells(axis);
         let mut runs: Vec<CellRun> = Vec::new();
         let mut prev = section(cells.start);
@@ -135,6 +154,38 @@ impl<'a> ThresholdSolid<'a> {
             prev = next;
         }
         runs
+    }
+}
+
+/// `N` data rows along one axis of the held window, read by flat index: sample `i` (whole-scan
+/// index along the axis) of row `r` is `samples[base[r] + (i - first) * stride]`: the sample
+/// that the volume's three-index lookup gives (a test checks it), without its index arithmetic
+/// per sample. Used by the column classification and by every lattice line's walk.
+struct HeldRows<'s, const N: usize> {
+    samples: &'s [f32],
+    base: [usize; N],
+    first: usize,
+    stride: usize,
+}
+
+impl<const N: usize> HeldRows<'_, N> {
+    /// Sample `i` of every row.
+    #[inline]
+    fn at(&self, i: usize) -> [f32; N] {
+        let along = (i - self.first) * self.stride;
+        self.base.map(|b| self.samples[b + along])
+    }
+
+    /// The rows blended with `weights` at sample `i`, a weight of zero skipping its row (so a
+    /// non-finite sample there does not spoil the sum), summed in row order.
+    #[inline]
+    fn bilinear(&self, i: usize, weights: &[f32; N]) -> f32 {
+        let values = self.at(i);
+        weights
+            .iter()
+            .zip(values)
+            .map(|(&w, v)| if w > 0.0 { w * v } else { 0.0 })
+            .sum()
     }
 }
 
@@ -249,23 +300,13 @@ impl ThresholdSolid<'_> {
         }
         let (wu, wv) = ((fu - a0 as f64) as f32, (fv - b0 as f64) as f32);
         let weights = [
-            (a0, b0, (1.0 - wu) * (1.0 - wv)),
-            (a1, b0, wu * (1.0 - wv)),
-            (a0, b1, (1.0 - wu) * wv),
-            (a1, b1, wu * wv),
+            (1.0 - wu) * (1.0 - wv),
+            wu * (1.0 - wv),
+            (1.0 - wu) * wv,
+            wu * wv,
         ];
-        let sample = |i: usize| -> f32 {
-            weights
-                .iter()
-                .map(|&(a, b, w)| {
-                    if w > 0.0 {
-                        w * self.value(axis, i, a, b)
-                    } else {
-                        0.0
-                    }
-                })
-                .sum()
-        };
+        let rows = self.rows(axis, [(a0, b0), (a1, b0), (a0, b1), (a1, b1)]);
+        let sample = |i: usize| -> f32 { rows.bilinear(i, &weights) };
         let runs = &columns[cb * wcu + ca];
         if na == 1 || runs.iter().all(|r| r.state == CellState::Outside) {
             if na == 1 && sample(0) >= t {
@@ -338,5 +379,71 @@ fn walk_column(
     }
     if inside {
         out.push(to_world(cells.end as f64));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A window of a small scan with values that are not a simple function of position, and a
+    /// NaN where a zero weight must keep it out of the sum.
+    fn scan() -> Volume {
+        let grid = Grid::new([7, 6, 5], [1.0, 0.5, 2.0], [-1.0, 0.25, 3.0]).unwrap();
+        let values = (0..grid.len())
+            .map(|n| ((n * 37 % 101) as f32 - 40.0) * 0.75)
+            .collect();
+        Volume::from_vec(grid, values).unwrap()
+    }
+
+    #[test]
+    fn held_rows_read_the_samples_of_the_three_index_lookup() {
+        let whole = scan();
+        let start = [1, 2, 1];
+        let dims = [5, 3, 4];
+        let held: Vec<f32> = (0..dims[2])
+            .flat_map(|k| (0..dims[1]).flat_map(move |j| (0..dims[0]).map(move |i| (i, j, k))))
+            .map(|(i, j, k)| whole.get(i + start[0], j + start[1], k + start[2]))
+            .collect();
+        let window_grid = Grid::new(dims, whole.grid.spacing, [0.0; 3]).unwrap();
+        let window = Volume::from_vec(window_grid, held).unwrap();
+        for (volume, start) in [(&whole, [0; 3]), (&window, start)] {
+            let solid = ThresholdSolid::window(volume, whole.grid, start, 1.0);
+            let held = volume.grid.dims;
+            for axis in [Axis::X, Axis::Y, Axis::Z] {
+                let (ua, va) = axis.others();
+                let (s, n) = (start[axis.index()], held[axis.index()]);
+                for a in start[ua.index()]..start[ua.index()] + held[ua.index()] - 1 {
+                    for b in start[va.index()]..start[va.index()] + held[va.index()] - 1 {
+                        let corners = [(a, b), (a + 1, b), (a, b + 1), (a + 1, b + 1)];
+                        let rows = solid.rows(axis, corners);
+                        let weights = [0.3f32, 0.0, 0.2, 0.5];
+                        for i in s..s + n {
+                            let expected = corners.map(|(a, b)| solid.value(axis, i, a, b));
+                            assert_eq!(rows.at(i), expected, "{axis:?} {a} {b} {i}");
+                            let sum: f32 = weights
+                                .iter()
+                                .zip(expected)
+                                .map(|(&w, v)| if w > 0.0 { w * v } else { 0.0 })
+                                .sum();
+                            assert_eq!(rows.bilinear(i, &weights).to_bits(), sum.to_bits());
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_zero_weight_keeps_a_non_finite_sample_out() {
+        let grid = Grid::new([2, 2, 2], [1.0; 3], [0.0; 3]).unwrap();
+        let mut values = vec![1.0f32; 8];
+        values[1] = f32::NAN; // (1, 0, 0)
+        let volume = Volume::from_vec(grid, values).unwrap();
+        let solid = ThresholdSolid::new(&volume, 0.5).unwrap();
+        let rows = solid.rows(Axis::Z, [(0, 0), (1, 0), (0, 1), (1, 1)]);
+        assert!(rows.at(0)[1].is_nan());
+        assert_eq!(rows.bilinear(0, &[0.5, 0.0, 0.5, 0.0]), 1.0);
+        assert!(rows.bilinear(0, &[0.5, 0.5, 0.0, 0.0]).is_nan());
     }
 }
