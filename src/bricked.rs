@@ -1,16 +1,18 @@
 //! Scans read window by window for the threshold route (paper §4, first route; issue "Scale",
-//! item 3): a [`ChunkedScan`] is a volume that is never read whole (a Zarr array), and
-//! [`crate::Source::ChunkedThreshold`] samples each level from it block by block
-//! ([`voxlod_sampling::bricked_threshold`]) into bricks for sparse marching cubes. The levels
-//! are those of [`crate::Source::Threshold`] on the same data (same triangles, same vertices);
-//! peak memory is a few windows of the scan, the band of bricks the surface reaches, and the
-//! mesh.
+//! item 3): a [`ChunkedScan`] is a volume that is never read whole (a Zarr array, or a raw, NRRD
+//! or MetaImage file with uncompressed samples, [`voxlod_io::SlabVolume`], read slab by slab with
+//! positioned reads), and [`crate::Source::ChunkedThreshold`] samples each level from it block
+//! by block ([`voxlod_sampling::bricked_threshold`]) into bricks for sparse marching cubes. The
+//! levels are those of [`crate::Source::Threshold`] on the same data (same triangles, same
+//! vertices, placed in the same world: the scan's [`ChunkedScan::orientation`] moves the meshes
+//! as a volume's own does); peak memory is a few windows of the scan, the band of bricks the
+//! surface reaches, and the mesh.
 //!
 //! Beyond the paper (which holds the whole volume). Cost per level: each window is read once
 //! (the halos twice), every sample of the level is integrated as the dense route does.
 
-use voxlod_core::{Bounds, BrickVolume, Grid, Volume};
-use voxlod_io::{IoError, ZarrVolume};
+use voxlod_core::{Bounds, BrickVolume, Grid, Orientation, Volume, WorldTransform};
+use voxlod_io::{IoError, SlabVolume, ZarrVolume};
 use voxlod_sampling::narrow_band::{BandReport, NarrowBandOptions};
 use voxlod_sampling::{
     bricked_threshold_density, BrickedError, BrickedThreshold, DensityOptions, DensityReport,
@@ -23,6 +25,12 @@ use crate::lod::{plan, LevelOptions, LodError, LodSource};
 pub trait ChunkedScan: Sync {
     /// The whole scan's grid.
     fn grid(&self) -> Grid;
+    /// The direction cosines and anatomical frame of the scan's index axes, through which its
+    /// meshes leave grid space as those of a volume held whole do (`voxlod_core::world`). By
+    /// default axis-aligned in an unknown frame: a Zarr array has spacing and origin only.
+    fn orientation(&self) -> Orientation {
+        Orientation::default()
+    }
     /// Samples `start .. start + extent` (x, y, z indices) as a volume.
     fn read_window(&self, start: [usize; 3], extent: [usize; 3]) -> Result<Volume, IoError>;
 
@@ -49,6 +57,20 @@ impl ChunkedScan for ZarrVolume {
     }
 }
 
+impl ChunkedScan for SlabVolume {
+    fn grid(&self) -> Grid {
+        SlabVolume::grid(self)
+    }
+
+    fn orientation(&self) -> Orientation {
+        SlabVolume::orientation(self)
+    }
+
+    fn read_window(&self, start: [usize; 3], extent: [usize; 3]) -> Result<Volume, IoError> {
+        SlabVolume::read_window(self, start, extent)
+    }
+}
+
 /// A chunked scan and its threshold, as [`crate::lod::LodSource::Chunked`] samples it.
 pub struct ChunkedThreshold<'a> {
     /// The scan.
@@ -61,6 +83,11 @@ impl ChunkedThreshold<'_> {
     /// The box the levels cover: the scan's.
     pub fn bounds(&self) -> Bounds {
         self.scan.grid().bounds()
+    }
+
+    /// The scan's index-to-world transform: its grid's spacing and origin, its orientation.
+    pub fn world(&self) -> WorldTransform {
+        WorldTransform::of(&self.scan.grid(), &self.scan.orientation())
     }
 
     /// The blocks of every level [`crate::lod::plan`] plans for this scan with `options`, finest

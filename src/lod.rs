@@ -81,8 +81,8 @@ impl LodSource<'_> {
         let world = match self {
             LodSource::Solid(s) => s.world(),
             LodSource::Direct(v) => Some(v.world()),
-            // A Zarr scan has spacing and origin only: its grid space is its world.
-            LodSource::Chunked(_) => None,
+            // The scan's own transform (the identity for a Zarr array's spacing and origin).
+            LodSource::Chunked(c) => Some(c.world()),
         };
         world.map_or(Placement::IDENTITY, |w| Placement::of(&w, None))
     }

@@ -12,7 +12,7 @@
 use std::fmt;
 
 use serde::Serialize;
-use voxlod_core::{Bounds, Volume};
+use voxlod_core::{Bounds, Grid, Volume};
 use voxlod_sampling::{MeshPreparation, MeshSolid, SamplingError, Solid, ThresholdSolid};
 
 use crate::bricked::{ChunkedScan, ChunkedThreshold};
@@ -147,6 +147,7 @@ impl<'a> Source<'a> {
                     ))
                     .into());
                 }
+                check_grid_reach(&scan.grid())?;
                 let chunked = ChunkedThreshold { scan, threshold };
                 (Inner::Chunked(Box::new(chunked)), None)
             }
@@ -284,7 +285,11 @@ const LARGEST_COORDINATE: f64 = f32::MAX as f64;
 /// Refuses a volume whose samples lie beyond the 32-bit range of mesh coordinates, before any
 /// work: its surfaces would have infinite vertices.
 pub(crate) fn check_grid_range(volume: &Volume) -> Result<(), Error> {
-    let g = &volume.grid;
+    check_grid_reach(&volume.grid)
+}
+
+/// [`check_grid_range`] for a scan known by its grid (one read window by window).
+fn check_grid_reach(g: &Grid) -> Result<(), Error> {
     for (axis, name) in ['x', 'y', 'z'].into_iter().enumerate() {
         let far = g.origin[axis] + g.spacing[axis] * (g.dims[axis].max(1) - 1) as f64;
         let reach = if g.origin[axis].abs() > far.abs() {

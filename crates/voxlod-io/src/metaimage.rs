@@ -37,6 +37,7 @@ use voxlod_core::{Frame, Orientation, Volume, WorldTransform};
 
 use crate::atomic::{stage, TempFile};
 use crate::samples::{self, SampleType};
+use crate::slab_reader::{DataStart, SlabVolume, StoredSamples};
 use crate::{Endian, IoError};
 
 const MAX_HEADER_BYTES: u64 = 1 << 20;
@@ -293,6 +294,40 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
     drop(bytes);
     samples::make_volume(path, header.dims, header.spacing, header.origin, values)
         .map(|v| v.oriented(header.orientation))
+}
+
+/// The samples of a MetaImage without `CompressedData`, after its header or in its data file,
+/// for reading window by window ([`SlabVolume`]); `None` for compressed data, which has no
+/// random access and is read whole ([`read`]).
+pub(crate) fn open_slabs(path: &Path) -> Result<Option<SlabVolume>, IoError> {
+    let file = File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
+    let mut reader = BufReader::new(file);
+    let header = read_header(path, &mut reader)?;
+    if header.compressed {
+        return Ok(None);
+    }
+    let (data_path, start) = match &header.data_file {
+        None => {
+            let at = reader
+                .stream_position()
+                .map_err(|e| IoError::access(path, "cannot read", &e))?;
+            (path.to_path_buf(), DataStart::At(at))
+        }
+        Some(other) if header.header_size == -1 => (other.clone(), DataStart::AtEnd),
+        Some(other) => (
+            other.clone(),
+            DataStart::At(header.header_size.max(0) as u64),
+        ),
+    };
+    let stored = StoredSamples {
+        dims: header.dims,
+        sample: header.sample,
+        endian: header.endian,
+        spacing: header.spacing,
+        origin: header.origin,
+        orientation: header.orientation,
+    };
+    SlabVolume::open(path, &data_path, start, &stored).map(Some)
 }
 
 /// ITK's three-letter code of a direction in LPS: for each index axis, the side it runs

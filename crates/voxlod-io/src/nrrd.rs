@@ -37,6 +37,7 @@ use voxlod_core::{Frame, Orientation, Volume, WorldTransform};
 
 use crate::atomic::{stage, TempFile};
 use crate::samples::{self, millimetres_per, SampleType};
+use crate::slab_reader::{DataStart, SlabVolume, StoredSamples};
 use crate::{Endian, IoError, IoErrorKind};
 
 /// The longest header we accept: real ones are a few hundred bytes.
@@ -408,21 +409,7 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
         }
     };
     let data_path = data_path.as_path();
-    for line in 0..header.line_skip {
-        let mut skipped = Vec::new();
-        let n = data
-            .read_until(b'\n', &mut skipped)
-            .map_err(|e| IoError::access(data_path, "cannot read", &e))?;
-        if n == 0 {
-            return Err(IoError::truncated(
-                data_path,
-                format!(
-                    "the file ends after {line} of the {} lines to skip",
-                    header.line_skip
-                ),
-            ));
-        }
-    }
+    skip_lines(data_path, &mut data, header.line_skip)?;
 
     let values = match header.encoding {
         Encoding::Raw => {
@@ -464,6 +451,60 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
     };
     samples::make_volume(path, header.dims, header.spacing, header.origin, values)
         .map(|v| v.oriented(header.orientation))
+}
+
+/// The samples of a NRRD with `encoding: raw`, attached or in its data file, for reading
+/// window by window ([`SlabVolume`]); `None` for gzip and ascii data, which have no random
+/// access and are read whole ([`read`]).
+pub(crate) fn open_slabs(path: &Path) -> Result<Option<SlabVolume>, IoError> {
+    let file = File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
+    let mut reader = BufReader::new(file);
+    let header = read_header(path, &mut reader)?;
+    if header.encoding != Encoding::Raw {
+        return Ok(None);
+    }
+    let (data_path, mut data) = match &header.data_file {
+        None => (path.to_path_buf(), reader),
+        Some(other) => (
+            other.clone(),
+            BufReader::new(samples::open_data_file(path, other)?),
+        ),
+    };
+    skip_lines(&data_path, &mut data, header.line_skip)?;
+    let start = if header.byte_skip == -1 {
+        DataStart::AtEnd
+    } else {
+        let at = data
+            .stream_position()
+            .map_err(|e| IoError::access(&data_path, "cannot read", &e))?;
+        DataStart::At(at.saturating_add(header.byte_skip as u64))
+    };
+    let stored = StoredSamples {
+        dims: header.dims,
+        sample: header.sample,
+        endian: header.endian,
+        spacing: header.spacing,
+        origin: header.origin,
+        orientation: header.orientation,
+    };
+    SlabVolume::open(path, &data_path, start, &stored).map(Some)
+}
+
+/// Skips the `lines` lines of `line skip` at the start of the data.
+fn skip_lines(path: &Path, data: &mut impl BufRead, lines: usize) -> Result<(), IoError> {
+    for line in 0..lines {
+        let mut skipped = Vec::new();
+        let n = data
+            .read_until(b'\n', &mut skipped)
+            .map_err(|e| IoError::access(path, "cannot read", &e))?;
+        if n == 0 {
+            return Err(IoError::truncated(
+                path,
+                format!("the file ends after {line} of the {lines} lines to skip"),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn skip(path: &Path, reader: &mut impl Read, bytes: u64) -> Result<(), IoError> {

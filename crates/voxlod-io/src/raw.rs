@@ -16,10 +16,11 @@ use std::io::{BufReader, Read, Seek, SeekFrom, Write};
 use std::path::Path;
 use std::str::FromStr;
 
-use voxlod_core::Volume;
+use voxlod_core::{Orientation, Volume};
 
 use crate::atomic::{stage, TempFile};
 use crate::samples::{self, SampleType};
+use crate::slab_reader::{DataStart, SlabVolume, StoredSamples};
 use crate::{IoError, IoErrorKind};
 
 /// Sample type of a headerless raw volume.
@@ -197,6 +198,32 @@ pub(crate) fn read(path: &Path, layout: &RawLayout) -> Result<Volume, IoError> {
     let values = samples::decode(&bytes, ty, layout.endian);
     drop(bytes);
     samples::make_volume(path, layout.dims, layout.spacing, layout.origin, values)
+}
+
+/// A headerless raw volume laid out as `layout` says, for reading window by window
+/// ([`SlabVolume`]): the file's size is checked as [`read`] checks it, nothing more is read.
+pub(crate) fn open_slabs(path: &Path, layout: &RawLayout) -> Result<SlabVolume, IoError> {
+    let ty = layout.dtype.sample_type();
+    let len = std::fs::metadata(path)
+        .map_err(|e| IoError::access(path, "cannot open", &e))?
+        .len();
+    let data_bytes = layout
+        .dims
+        .iter()
+        .try_fold(ty.size() as u64, |acc, &d| acc.checked_mul(d as u64));
+    let expected = data_bytes.map(|b| b.saturating_add(layout.header_bytes));
+    if let Some(expected) = expected.filter(|&e| e != len) {
+        return Err(size_mismatch(path, layout, len, expected));
+    }
+    let stored = StoredSamples {
+        dims: layout.dims,
+        sample: ty,
+        endian: layout.endian,
+        spacing: layout.spacing,
+        origin: layout.origin,
+        orientation: Orientation::default(),
+    };
+    SlabVolume::open(path, path, DataStart::At(layout.header_bytes), &stored)
 }
 
 /// The size mismatch error, with the layouts that would fit when some are obvious.

@@ -5,9 +5,12 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
 use serde::Serialize;
-use voxlod::core::Topology;
+use voxlod::bricked::ChunkedScan;
+use voxlod::core::{memory, Grid, Topology, Volume};
 use voxlod::finest::FinestChoice;
+use voxlod::io::SlabVolume;
 use voxlod::io::{OutputSet, VolumeFormat};
+use voxlod::lod::BAND_ABOVE_BYTES;
 use voxlod::sampling::{BandReport, DensityReport, Filter, PyramidOptions, TopologyRecord};
 use voxlod::{
     Control, EnvelopeStep, Event, Finest, LevelEpsilon, Lod, LodLevel, LodOptions, Progress,
@@ -144,6 +147,12 @@ pub struct LodArgs {
     pub time_cap: f64,
     #[command(flatten)]
     pub route: VolumeRoute,
+    /// Volumes with --threshold: read the scan slab by slab instead of whole (raw files, NRRD
+    /// with raw encoding, MetaImage with uncompressed data; a Zarr array always is). Chosen by
+    /// itself when the volume as 32-bit floats would take more than 1 GiB or not fit in memory;
+    /// the levels are the same
+    #[arg(long, help_heading = "Volumes")]
+    pub bricked: bool,
     #[command(flatten)]
     pub frame: FrameArg,
 }
@@ -272,9 +281,25 @@ fn lod_options(args: &LodArgs) -> Result<LodOptions, CliError> {
 enum Loaded {
     Mesh(voxlod::io::LoadedMesh),
     Volume(voxlod::core::Volume),
-    /// A Zarr scan with --threshold: never read whole, sampled window by window (the same
-    /// levels as a volume read whole).
-    Chunked(Box<voxlod::io::ZarrVolume>),
+    /// A scan with --threshold never read whole, sampled window by window (the same levels as
+    /// a volume read whole): a Zarr array, or a raw, NRRD or MetaImage file too large to hold or
+    /// with --bricked. `world` stands for the scan's placement in the frame checks and the
+    /// report: one sample with its spacing, origin and orientation (none for a Zarr array).
+    Chunked {
+        scan: Box<dyn ChunkedScan>,
+        world: Option<Volume>,
+    },
+}
+
+impl Loaded {
+    /// The volume whose frame and transform the meshes are in (none for a mesh or a Zarr array).
+    fn volume_world(&self) -> Option<&Volume> {
+        match self {
+            Loaded::Volume(v) => Some(v),
+            Loaded::Chunked { world, .. } => world.as_ref(),
+            Loaded::Mesh(_) => None,
+        }
+    }
 }
 
 /// Reads the input, refusing a volume without a route.
@@ -283,7 +308,18 @@ fn load(args: &LodArgs) -> Result<Loaded, CliError> {
     if zarr && args.route.threshold.is_some() {
         let scan = voxlod::io::open_zarr(&args.input)?;
         check_grid_reach(&scan.grid(), &args.input, args.route.raw.spacing_source())?;
-        return Ok(Loaded::Chunked(Box::new(scan)));
+        return Ok(Loaded::Chunked {
+            scan: Box::new(scan),
+            world: None,
+        });
+    }
+    if let Some(scan) = slab_scan(args)? {
+        check_grid_reach(&scan.grid(), &args.input, args.route.raw.spacing_source())?;
+        let world = world_of(&scan).map_err(|e| in_file(&args.input, e))?;
+        return Ok(Loaded::Chunked {
+            scan: Box::new(scan),
+            world: Some(world),
+        });
     }
     match read_input(&args.input, &args.route.raw)? {
         Input::Mesh(mesh) => Ok(Loaded::Mesh(mesh)),
@@ -301,6 +337,53 @@ fn load(args: &LodArgs) -> Result<Loaded, CliError> {
     }
 }
 
+/// The input as a scan to read slab by slab: with --bricked (which refuses what cannot be read
+/// so), or when it is a raw, NRRD or MetaImage file with uncompressed samples too large to hold
+/// ([`too_large_to_hold`]). Otherwise `None`, and the input is read whole (whose errors about a
+/// broken file are then the ones every route gives).
+fn slab_scan(args: &LodArgs) -> Result<Option<SlabVolume>, CliError> {
+    if args.route.threshold.is_none() {
+        if args.bricked {
+            return Err(CliError::usage(format!(
+                "{}: --bricked reads a scan window by window for --threshold; --direct filters \
+                 the volume held whole",
+                args.input.display()
+            )));
+        }
+        return Ok(None);
+    }
+    let layout = args.route.raw.layout()?;
+    match voxlod::io::open_volume_slabs(&args.input, layout.as_ref()) {
+        Ok(Some(scan)) if args.bricked || too_large_to_hold(&scan) => Ok(Some(scan)),
+        Ok(None) if args.bricked => Err(CliError::usage(format!(
+            "{}: --bricked reads raw files, NRRD with raw encoding and MetaImage with \
+             uncompressed data window by window (and Zarr arrays); this file's samples have no \
+             random access (compressed, ascii, another format or not a volume): drop --bricked \
+             to read it whole",
+            args.input.display()
+        ))),
+        Err(e) if args.bricked => Err(e.into()),
+        _ => Ok(None),
+    }
+}
+
+/// Whether a scan is better read slab by slab: as 32-bit floats it would take more than the
+/// narrow band's [`BAND_ABOVE_BYTES`], or, with its stored bytes, more than the memory budget.
+fn too_large_to_hold(scan: &SlabVolume) -> bool {
+    let count = scan.grid().len() as u64;
+    let dense = count.saturating_mul(4);
+    let read = dense.saturating_add(count.saturating_mul(scan.sample_bytes() as u64));
+    dense > BAND_ABOVE_BYTES || memory::check_allocation("the volume", read).is_err()
+}
+
+/// One sample with the scan's spacing, origin and orientation: where its meshes are, for the
+/// frame checks and the report.
+fn world_of(scan: &SlabVolume) -> Result<Volume, voxlod::core::CoreError> {
+    let g = scan.grid();
+    let grid = Grid::new([1; 3], g.spacing, g.origin)?;
+    Ok(Volume::filled(grid, 0.0, "the scan's placement")?.oriented(scan.orientation()))
+}
+
 /// The library's source for what was read.
 fn source<'a>(loaded: &'a Loaded, route: &VolumeRoute) -> voxlod::Source<'a> {
     match (loaded, route.threshold) {
@@ -309,7 +392,7 @@ fn source<'a>(loaded: &'a Loaded, route: &VolumeRoute) -> voxlod::Source<'a> {
             voxlod::Source::Threshold { volume, threshold }
         }
         (Loaded::Volume(volume), None) => voxlod::Source::Direct(volume),
-        (Loaded::Chunked(scan), threshold) => voxlod::Source::ChunkedThreshold {
+        (Loaded::Chunked { scan, .. }, threshold) => voxlod::Source::ChunkedThreshold {
             scan: scan.as_ref(),
             threshold: threshold.unwrap_or(f32::NAN),
         },
@@ -323,16 +406,16 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     args.glb.check(args.format)?;
     let options = lod_options(&args)?;
     let loaded = load(&args)?;
-    match &loaded {
-        Loaded::Volume(v) => args.frame.check(v, &args.input)?,
-        Loaded::Mesh(_) | Loaded::Chunked(_) if args.frame.target().is_some() => {
+    match loaded.volume_world() {
+        Some(v) => args.frame.check(v, &args.input)?,
+        None if args.frame.target().is_some() => {
             return Err(CliError::usage(format!(
                 "{}: --frame applies to volumes with an anatomical frame (NRRD, NIfTI, \
                  MetaImage, VTI, DICOM); a mesh or a Zarr array has none",
                 args.input.display()
             )))
         }
-        Loaded::Mesh(_) | Loaded::Chunked(_) => {}
+        None => {}
     }
     // Everything is written at the end, as one set; refuse now what it would refuse then.
     let mut out = OutputSet::protecting([&args.input]);
@@ -352,7 +435,7 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     let mut lod = voxlod::lod_with(&source(&loaded, &args.route), &options, &show)
         .map_err(|e| lod_error(&args, e))?;
     bar.finish_and_clear();
-    if let Loaded::Volume(v) = &loaded {
+    if let Some(v) = loaded.volume_world() {
         for level in &mut lod.levels {
             args.frame.convert(v, &mut level.mesh);
         }
@@ -586,10 +669,9 @@ fn lod_report(
     };
     let mut warnings = lod.warnings.clone();
     warnings.extend(written_warnings.iter().cloned());
-    let frame = match loaded {
-        Loaded::Volume(v) => Some(frame_report(v, args.frame.target())),
-        Loaded::Mesh(_) | Loaded::Chunked(_) => None,
-    };
+    let frame = loaded
+        .volume_world()
+        .map(|v| frame_report(v, args.frame.target()));
     LodReport {
         frame: frame.as_ref().map(|f| f.frame),
         transform: frame.map(|f| f.transform),
