@@ -1,0 +1,119 @@
+//! What the budgets of a run share ([`BudgetContext`]): the source, the input mesh welded with
+//! its topology and border, and the marching-cubes levels built so far, by resolution and
+//! isodensity, each built once (module docs of [`crate::budget`], "Independence").
+
+use std::collections::HashMap;
+use std::sync::Mutex;
+use std::time::Instant;
+
+use voxlod_core::weld::weld_vertices;
+use voxlod_core::{mesh_topology, Topology, TriangleMesh};
+use voxlod_sampling::PyramidOptions;
+
+use super::measure::InputMeasure;
+use super::{Then, DILATED_ISO_FRACTIONS};
+use crate::caps::InputBorder;
+use crate::error::Error;
+use crate::lod::{build_level, plan, LevelOptions, LodLevel, LodSource};
+
+/// What the budgets share: the source, the input mesh and its border, levels built so far.
+pub(crate) struct BudgetContext<'a> {
+    pub(crate) source: &'a LodSource<'a>,
+    pub(crate) level_options: LevelOptions,
+    pub(crate) input: Option<&'a TriangleMesh>,
+    pub(crate) border: Option<InputBorder>,
+    /// The input mesh welded, its topology, and its distance measure (with a mesh input).
+    pub(super) welded: Option<(TriangleMesh, Topology)>,
+    pub(super) measure: Option<InputMeasure<'a>>,
+    pub(crate) input_genus: Option<i64>,
+    pub(crate) then: Then,
+    pub(crate) time_cap: f64,
+    pub(crate) diagonal: f64,
+    /// Whether the dilated levels are searched too (module docs, step 1): with a mesh input and
+    /// the solid's default isodensity.
+    pub(crate) dilated: bool,
+    /// Levels by resolution and isodensity (its bits), with the seconds they took to build.
+    levels: Mutex<HashMap<(usize, u32), (LodLevel, f64)>>,
+}
+
+impl<'a> BudgetContext<'a> {
+    /// The context of a run; `closed` keeps the caps over an open input's holes.
+    pub(crate) fn new(
+        source: &'a LodSource<'a>,
+        level_options: LevelOptions,
+        input: Option<&'a TriangleMesh>,
+        then: Then,
+        closed: bool,
+        time_cap: f64,
+    ) -> Result<Self, Error> {
+        let border = match (input, closed) {
+            (Some(mesh), false) => InputBorder::new(mesh)?,
+            _ => None,
+        };
+        let welded = input.map(|m| {
+            let mut mesh = m.clone();
+            weld_vertices(&mut mesh);
+            mesh.remove_unreferenced_vertices();
+            let topology = mesh_topology(&mesh);
+            (mesh, topology)
+        });
+        let input_genus = welded.as_ref().and_then(|w| w.1.genus);
+        Ok(BudgetContext {
+            source,
+            level_options,
+            input,
+            border,
+            welded,
+            measure: input.and_then(InputMeasure::new),
+            input_genus,
+            then,
+            time_cap,
+            diagonal: source.bounds().diagonal(),
+            dilated: false,
+            levels: Mutex::new(HashMap::new()),
+        })
+    }
+}
+
+impl BudgetContext<'_> {
+    /// The isodensities each resolution is contoured at: the surface's, then the dilated one.
+    pub(super) fn isos(&self) -> Vec<f32> {
+        let surface = self.level_options.iso;
+        let dilated = DILATED_ISO_FRACTIONS.map(|f| f * surface);
+        std::iter::once(surface)
+            .chain(dilated.into_iter().filter(|_| self.dilated))
+            .collect()
+    }
+
+    /// The marching-cubes level at `resolution` and the seconds it took (built once), at the
+    /// surface's isodensity.
+    pub(super) fn level(&self, resolution: usize) -> Result<(LodLevel, f64), Error> {
+        self.level_at(resolution, self.level_options.iso)
+    }
+
+    /// The marching-cubes level at `resolution` and isodensity `iso`, and the seconds it took
+    /// (built once).
+    pub(super) fn level_at(&self, resolution: usize, iso: f32) -> Result<(LodLevel, f64), Error> {
+        let key = (resolution, iso.to_bits());
+        if let Some(found) = self.levels.lock().expect("not poisoned").get(&key) {
+            return Ok(found.clone());
+        }
+        let start = Instant::now();
+        let options = LevelOptions {
+            pyramid: PyramidOptions {
+                resolutions: vec![resolution],
+                ..self.level_options.pyramid.clone()
+            },
+            iso,
+            ..self.level_options.clone()
+        };
+        let plans = plan(self.source, &options)?;
+        let level = build_level(self.source, &plans[0], &options)?;
+        let built = (level, start.elapsed().as_secs_f64());
+        self.levels
+            .lock()
+            .expect("not poisoned")
+            .insert(key, built.clone());
+        Ok(built)
+    }
+}

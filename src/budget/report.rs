@@ -1,0 +1,101 @@
+//! The report of a budget's level ([`super::BudgetLevel`]) and the note of a missed budget.
+
+use std::time::Instant;
+
+use voxlod_core::{mesh_topology, Topology};
+
+use super::candidate::Candidate;
+use super::context::BudgetContext;
+use super::{BudgetLevel, Stage, BUDGET_TOLERANCE, FINEST};
+use crate::lod::LodLevel;
+
+/// The level and report of the chosen candidate (on the level it came from, with the caps cut
+/// from that level), and the warnings with the note of a missed budget.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn finish(
+    ctx: &BudgetContext,
+    (chosen, mut level, cut): (Candidate, LodLevel, usize),
+    voxel_triangles: usize,
+    budget: usize,
+    error: Option<f64>,
+    tried: usize,
+    start: Instant,
+    mut warnings: Vec<String>,
+) -> (LodLevel, BudgetLevel, Vec<String>) {
+    level.mesh = chosen.mesh;
+    level.topology = mesh_topology(&level.mesh);
+    let cut = if chosen.stage == Stage::InputQuadric {
+        0
+    } else {
+        cut
+    };
+    let mut report = report(ctx, &level, Some(budget), error, cut, tried, start);
+    report.voxel_triangles = voxel_triangles;
+    report.stage = chosen.stage;
+    report.error_bound = chosen.error_bound;
+    report.hausdorff = chosen.distance.as_ref().map(|d| d.hausdorff);
+    report.mean_distance = chosen.distance.as_ref().map(|d| d.mean);
+    report.parts_dropped = chosen.parts_dropped;
+    report.iso = chosen.iso;
+    report.note = miss_note(&level.topology, budget);
+    if let Some(note) = &report.note {
+        warnings.push(format!("budget {budget}: {note}"));
+    }
+    (level, report, warnings)
+}
+
+/// The report of `level` before its stage is known: the voxel level's figures.
+pub(super) fn report(
+    ctx: &BudgetContext,
+    level: &LodLevel,
+    budget: Option<usize>,
+    error: Option<f64>,
+    caps_cut: usize,
+    candidates: usize,
+    start: Instant,
+) -> BudgetLevel {
+    let t = &level.topology;
+    BudgetLevel {
+        budget,
+        error_target: error,
+        resolution: level.resolution,
+        voxel_triangles: level.mesh.triangle_count(),
+        caps_cut,
+        stage: Stage::Voxel,
+        error_bound: 0.5 * level.plan.voxel_size,
+        hausdorff: None,
+        mean_distance: None,
+        triangles: level.mesh.triangle_count(),
+        genus: t.genus,
+        components: t.components,
+        boundary_loops: t.boundary_loops,
+        handles_removed: ctx.input_genus.zip(t.genus).map(|(a, b)| a - b),
+        parts_dropped: 0,
+        iso: ctx.level_options.iso,
+        candidates,
+        note: None,
+        seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+/// Why a level misses its budget by more than 10 %, if it does.
+fn miss_note(topology: &Topology, budget: usize) -> Option<String> {
+    let got = topology.triangles;
+    if (got as f64 / budget as f64 - 1.0).abs() <= BUDGET_TOLERANCE {
+        return None;
+    }
+    Some(if got > budget {
+        format!(
+            "{got} triangles, more than 10 % over the budget: the level's topology (genus {}, \
+             {} components, {} boundary loops) or the error bound stopped the simplification",
+            topology.genus.map_or("?".to_string(), |g| g.to_string()),
+            topology.components,
+            topology.boundary_loops
+        )
+    } else {
+        format!(
+            "{got} triangles, more than 10 % under the budget: no voxel resolution up to {FINEST} \
+             gives more"
+        )
+    })
+}

@@ -1,0 +1,266 @@
+//! A budget's search (steps 0 to 4 of [`crate::budget`]): the input's own collapse when the
+//! budget affords its topology, then the levels of the search plan (each isodensity's first
+//! resolution, its neighbours, coarser ones while nothing fits) under the time cap, a bisection
+//! while nothing fits, and [`super::Then::Auto`]'s envelopes where the quadric stage stalled.
+
+use std::collections::HashMap;
+use std::time::Instant;
+
+use super::candidate::{better, fits, Candidate};
+use super::context::BudgetContext;
+use super::geometric::{envelope_candidate, stages};
+use super::input::closer_than_voxels;
+use super::report::{finish, report};
+use super::resolution::step_down;
+use super::{BudgetLevel, Stage, Then, COARSEST, FINEST, HEADROOM};
+use crate::error::Error;
+use crate::lod::LodLevel;
+
+/// What a budget's search has found so far.
+struct Search {
+    /// The best candidate, the voxel level it came from, and the caps cut from that level.
+    best: Option<(Candidate, LodLevel, usize)>,
+    /// Seconds charged to each isodensity's search (by its bits) against the time cap: its
+    /// neighbouring levels and the geometric stages, not the probes for its first resolution.
+    charged: HashMap<u32, f64>,
+    /// Candidates built and measured.
+    tried: usize,
+    /// Per resolution tried, the count of its best candidate (for the bisection).
+    counts: Vec<(usize, usize)>,
+    /// Isodensities (their bits) with a candidate within 10 % of the budget: each isodensity's
+    /// coarser levels are tried while it has none, whatever the time.
+    fitted_isos: Vec<u32>,
+}
+
+/// The level for `budget` (see the module documentation), with an optional error bound for the
+/// geometric stage, and the warnings of its search.
+pub(crate) fn budget_level(
+    ctx: &BudgetContext,
+    budget: usize,
+    error: Option<f64>,
+) -> Result<(LodLevel, BudgetLevel, Vec<String>), Error> {
+    let start = Instant::now();
+    let mut best: Option<(Candidate, LodLevel, usize)> = None;
+    if let Some((candidate, level, _)) = ctx.input_candidate(budget, error)? {
+        if fits(&candidate, budget) && closer_than_voxels(ctx, &candidate, budget) {
+            let voxel_triangles = level.mesh.triangle_count();
+            return Ok(finish(
+                ctx,
+                (candidate, level, 0),
+                voxel_triangles,
+                budget,
+                error,
+                1,
+                start,
+                Vec::new(),
+            ));
+        }
+        best = Some((candidate, level, 0));
+    }
+    let headroom = if ctx.then == Then::None {
+        1.0
+    } else {
+        HEADROOM
+    };
+    let (first, _, mut warnings) = ctx.resolution_for(headroom * budget as f64)?;
+    let tries = search_plan(ctx, first, headroom * budget as f64)?;
+    let mut search = Search {
+        tried: usize::from(best.is_some()),
+        best,
+        charged: HashMap::new(),
+        counts: Vec::new(),
+        fitted_isos: Vec::new(),
+    };
+    for one in &tries {
+        try_level(ctx, one, budget, error, &mut search)?;
+    }
+    search.tried += bisect(ctx, &mut search.best, &mut search.counts, budget, error)?;
+    search.tried += envelopes_where_stalled(ctx, &mut search.best, budget, error);
+    let tried = search.tried;
+    let Some(chosen) = search.best else {
+        warnings.push(format!(
+            "budget {budget}: every resolution tried vanished; the level is empty"
+        ));
+        let (level, _) = ctx.level(first)?;
+        let report = report(ctx, &level, Some(budget), error, 0, tried, start);
+        return Ok((level, report, warnings));
+    };
+    let voxel_triangles = chosen.1.mesh.triangle_count();
+    Ok(finish(
+        ctx,
+        chosen,
+        voxel_triangles,
+        budget,
+        error,
+        tried,
+        start,
+        warnings,
+    ))
+}
+
+/// One level of the search plan, unless the time cap or a fitting candidate skips it: its
+/// geometric stages' candidates compete with `search.best`, and its time is charged to its
+/// isodensity (not the building of an isodensity's first resolution, charged to the probes).
+fn try_level(
+    ctx: &BudgetContext,
+    &Try {
+        resolution,
+        iso,
+        base,
+    }: &Try,
+    budget: usize,
+    error: Option<f64>,
+    search: &mut Search,
+) -> Result<(), Error> {
+    let is_first = resolution == base;
+    let fitted = search.fitted_isos.contains(&iso.to_bits())
+        || search
+            .best
+            .as_ref()
+            .is_some_and(|b| b.0.stage == Stage::InputQuadric && fits(&b.0, budget));
+    let over_time = !is_first
+        && search
+            .charged
+            .get(&iso.to_bits())
+            .is_some_and(|&c| c >= ctx.time_cap);
+    if !is_first && fitted && (over_time || resolution < step_down(base)) {
+        return Ok(());
+    }
+    if over_time && resolution > base {
+        return Ok(());
+    }
+    let stage_start = Instant::now();
+    let (level, cut, seconds) = ctx.uncapped_at(resolution, iso)?;
+    if level.mesh.is_empty() {
+        return Ok(());
+    }
+    for candidate in stages(ctx, &level, iso, budget, error) {
+        search.tried += 1;
+        if iso == ctx.level_options.iso {
+            search
+                .counts
+                .push((resolution, candidate.mesh.triangle_count()));
+        }
+        if fits(&candidate, budget) {
+            search.fitted_isos.push(iso.to_bits());
+        }
+        if better(&candidate, search.best.as_ref().map(|b| &b.0), budget) {
+            search.best = Some((candidate, level.clone(), cut));
+        }
+    }
+    let built = if is_first { 0.0 } else { seconds };
+    *search.charged.entry(iso.to_bits()).or_default() +=
+        built + stage_start.elapsed().as_secs_f64();
+    Ok(())
+}
+
+/// [`Then::Auto`]'s envelopes, where the quadric stage stalled above the budget on every level
+/// (module docs, step 3): the envelope stage on the best candidate's level, kept if better. The
+/// candidates built (zero or one).
+fn envelopes_where_stalled(
+    ctx: &BudgetContext,
+    best: &mut Option<(Candidate, LodLevel, usize)>,
+    budget: usize,
+    error: Option<f64>,
+) -> usize {
+    let mut tried = 0;
+    if let Some((stalled, level, cut)) = best.as_ref().filter(|b| !fits(&b.0, budget)) {
+        if ctx.then == Then::Auto && ctx.input.is_some() {
+            let (level, iso) = (level.clone(), stalled.iso);
+            if let Some(candidate) = envelope_candidate(ctx, &level, iso, budget, error) {
+                tried += 1;
+                if better(&candidate, Some(stalled), budget) {
+                    *best = Some((candidate, level, *cut));
+                }
+            }
+        }
+    }
+    tried
+}
+
+/// One level of a budget's search: its resolution and isodensity, and the first resolution of
+/// that isodensity's search (module docs, steps 1 and 4).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Try {
+    resolution: usize,
+    iso: f32,
+    base: usize,
+}
+
+/// The levels a budget's search tries, in order: each isodensity's first resolution (about
+/// `wanted` triangles at that isodensity; `first` for the surface's), then their finer and
+/// coarser neighbours (about twice and half `wanted`), then, only while nothing fits the
+/// budget, coarser levels still (about a quarter and an eighth), with less to keep.
+fn search_plan(ctx: &BudgetContext, first: usize, wanted: f64) -> Result<Vec<Try>, Error> {
+    let mut bases = vec![(ctx.level_options.iso, first)];
+    for iso in ctx.isos().into_iter().skip(1) {
+        bases.push((iso, ctx.resolution_for_at(wanted, iso)?.0));
+    }
+    let mut tries: Vec<Try> = bases
+        .iter()
+        .map(|&(iso, base)| Try {
+            resolution: base,
+            iso,
+            base,
+        })
+        .collect();
+    if ctx.then == Then::None {
+        return Ok(tries);
+    }
+    for f in [2f64, 0.5, 0.25, 0.125] {
+        for &(iso, base) in &bases {
+            let resolution = ((base as f64 * f.sqrt()).round() as usize).clamp(COARSEST, FINEST);
+            let next = Try {
+                resolution,
+                iso,
+                base,
+            };
+            if !tries
+                .iter()
+                .any(|t| t.resolution == resolution && t.iso == iso)
+            {
+                tries.push(next);
+            }
+        }
+    }
+    Ok(tries)
+}
+
+/// While nothing fits the budget: bisects between the finest resolution whose candidate stayed
+/// under the budget and the coarsest whose candidate stalled over it (at most four tries: a
+/// level's topology, and so where the quadric stage stalls, can change quickly with the
+/// resolution). The candidates built.
+fn bisect(
+    ctx: &BudgetContext,
+    best: &mut Option<(Candidate, LodLevel, usize)>,
+    counts: &mut Vec<(usize, usize)>,
+    budget: usize,
+    error: Option<f64>,
+) -> Result<usize, Error> {
+    let mut tried = 0;
+    for _ in 0..4 {
+        if best.as_ref().is_none_or(|b| fits(&b.0, budget)) {
+            break;
+        }
+        let under = counts.iter().filter(|c| c.1 < budget).map(|c| c.0).max();
+        let over = counts.iter().filter(|c| c.1 > budget).map(|c| c.0).min();
+        let (Some(low), Some(high)) = (under, over) else {
+            break;
+        };
+        if high <= low + 1 {
+            break;
+        }
+        let resolution = (low + high) / 2;
+        let (level, cut, _) = ctx.uncapped(resolution)?;
+        counts.push((resolution, level.mesh.triangle_count()));
+        let iso = ctx.level_options.iso;
+        for candidate in stages(ctx, &level, iso, budget, error) {
+            tried += 1;
+            counts.push((resolution, candidate.mesh.triangle_count()));
+            if better(&candidate, best.as_ref().map(|b| &b.0), budget) {
+                *best = Some((candidate, level.clone(), cut));
+            }
+        }
+    }
+    Ok(tried)
+}
