@@ -79,14 +79,8 @@ pub(crate) fn decode(bytes: &[u8], ty: SampleType, endian: Endian) -> Vec<f32> {
     }
 }
 
-/// The number of samples of a grid of `dims`, and the bytes they take on disk, after checking
-/// that both the stored bytes and the `f32` copy fit in memory. An absurd header (sizes of
-/// 100000³) ends here with [`IoErrorKind::TooLarge`] and the byte count, before any allocation.
-pub(crate) fn check_volume_size(
-    path: &Path,
-    dims: [usize; 3],
-    ty: SampleType,
-) -> Result<(usize, usize), IoError> {
+/// A grid with no samples along some axis, refused as malformed, naming the file.
+pub(crate) fn refuse_zero_dims(path: &Path, dims: [usize; 3]) -> Result<(), IoError> {
     if dims.contains(&0) {
         return Err(IoError::malformed(
             path,
@@ -96,6 +90,18 @@ pub(crate) fn check_volume_size(
             ),
         ));
     }
+    Ok(())
+}
+
+/// The number of samples of a grid of `dims`, and the bytes they take on disk, after checking
+/// that both the stored bytes and the `f32` copy fit in memory. An absurd header (sizes of
+/// 100000³) ends here with [`IoErrorKind::TooLarge`] and the byte count, before any allocation.
+pub(crate) fn check_volume_size(
+    path: &Path,
+    dims: [usize; 3],
+    ty: SampleType,
+) -> Result<(usize, usize), IoError> {
+    refuse_zero_dims(path, dims)?;
     let what = format!("a {}x{}x{} {} volume", dims[0], dims[1], dims[2], ty.name());
     let count = dims
         .iter()

@@ -261,15 +261,7 @@ impl SlabVolume {
 
 /// Bytes the samples of `dims` take on disk, refusing a count no file can hold.
 fn stored_bytes(path: &Path, dims: [usize; 3], sample: SampleType) -> Result<u64, IoError> {
-    if dims.contains(&0) {
-        return Err(IoError::malformed(
-            path,
-            format!(
-                "dimensions {}x{}x{} include a zero",
-                dims[0], dims[1], dims[2]
-            ),
-        ));
-    }
+    samples::refuse_zero_dims(path, dims)?;
     dims.iter()
         .try_fold(sample.size() as u64, |acc, &d| acc.checked_mul(d as u64))
         .ok_or_else(|| {
