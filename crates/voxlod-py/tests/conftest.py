@@ -46,3 +46,21 @@ def ct_head() -> np.ndarray:
                     "(set VOXLOD_SHARED_DATA)")
     volume = np.fromfile(path, dtype=">u2").reshape(113, 256, 256).astype(np.float32)
     return np.pad(volume, 1)
+
+
+def touching_balls(step0: float) -> np.ndarray:
+    """A (40, 48, 64) uint16 label map, axis 0 in ``step0``-unit steps: balls 1 and 2 (radius 10
+    units) overlap and the overlap goes to the nearer centre, so they touch along a flat face;
+    ball 3 (radius 8) stands apart."""
+    z, y, x = np.meshgrid(*(np.arange(n, dtype=float) for n in (40, 48, 64)), indexing="ij")
+    z = z * step0
+
+    def distance(cz, cy, cx):
+        return np.sqrt((z - cz) ** 2 + (y - cy) ** 2 + (x - cx) ** 2)
+
+    d1, d2, d3 = distance(30, 24, 18), distance(30, 24, 34), distance(27, 24, 53)
+    seg = np.zeros(z.shape, np.uint16)
+    seg[(d1 < 10) & (d1 <= d2)] = 1
+    seg[(d2 < 10) & (d2 < d1)] = 2
+    seg[d3 < 8] = 3
+    return seg

@@ -17,7 +17,7 @@ distributed = pytest.importorskip("distributed")
 
 import voxlod
 import voxlod.dask
-from conftest import gyroid
+from conftest import gyroid, touching_balls
 from meshes import as_trimesh
 
 
@@ -292,17 +292,7 @@ def test_direct_bad_input_is_refused_with_the_single_process_errors():
 def segmentation() -> np.ndarray:
     """Four structures in a (40, 48, 64) map: balls 1 and 2 touch along a flat face, box 4
     touches ball 2 from below, ball 3 stands apart."""
-    z, y, x = np.meshgrid(*(np.arange(n, dtype=float) for n in (40, 48, 64)), indexing="ij")
-    z = z * 1.5
-
-    def distance(cz, cy, cx):
-        return np.sqrt((z - cz) ** 2 + (y - cy) ** 2 + (x - cx) ** 2)
-
-    d1, d2, d3 = distance(30, 24, 18), distance(30, 24, 34), distance(27, 24, 53)
-    seg = np.zeros(z.shape, np.uint16)
-    seg[(d1 < 10) & (d1 <= d2)] = 1
-    seg[(d2 < 10) & (d2 < d1)] = 2
-    seg[d3 < 8] = 3
+    seg = touching_balls(1.5)
     seg[4:15, 10:30, 25:45] = 4
     return seg
 

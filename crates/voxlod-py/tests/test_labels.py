@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import voxlod
+from conftest import touching_balls
 from meshes import as_trimesh, nearest
 
 SPACING = (1.5, 1.0, 1.0)  # axis 0 in 1.5-unit steps
@@ -16,18 +17,7 @@ SPACING = (1.5, 1.0, 1.0)  # axis 0 in 1.5-unit steps
 def segmentation() -> np.ndarray:
     """Three structures in a (40, 48, 64) map: balls 1 and 2 (radius 10 units) overlap, and the
     overlap goes to the nearer centre, so they touch along a flat face; ball 3 stands apart."""
-    z, y, x = np.meshgrid(*(np.arange(n, dtype=float) for n in (40, 48, 64)), indexing="ij")
-    z = z * SPACING[0]
-
-    def distance(cz, cy, cx):
-        return np.sqrt((z - cz) ** 2 + (y - cy) ** 2 + (x - cx) ** 2)
-
-    d1, d2, d3 = distance(30, 24, 18), distance(30, 24, 34), distance(27, 24, 53)
-    seg = np.zeros(z.shape, np.uint16)
-    seg[(d1 < 10) & (d1 <= d2)] = 1
-    seg[(d2 < 10) & (d2 < d1)] = 2
-    seg[d3 < 8] = 3
-    return seg
+    return touching_balls(SPACING[0])
 
 
 def test_three_structures_give_three_closed_meshes_of_their_voxel_volume(segmentation):
