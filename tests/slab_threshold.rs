@@ -7,23 +7,14 @@
 
 use std::path::Path;
 
-use voxlod::core::{Grid, TriangleMesh, Volume};
+use voxlod::core::{Grid, Volume};
 use voxlod::io::{open_volume_slabs, read_volume, Endian, RawLayout, RawType};
 use voxlod::sampling::Filter;
 use voxlod::{Lod, LodOptions, Source};
+use voxlod_testkit::compare::sorted_vertex_bits;
 use voxlod_testkit::data::shared_data_or_skip;
 
 /// Sorted bit patterns of a mesh's positions.
-fn vertex_bits(mesh: &TriangleMesh) -> Vec<[u32; 3]> {
-    let mut bits: Vec<[u32; 3]> = mesh
-        .positions
-        .iter()
-        .map(|p| p.to_array().map(f32::to_bits))
-        .collect();
-    bits.sort_unstable();
-    bits
-}
-
 /// The levels of `path` read whole and read slab by slab, compared level by level.
 fn same_levels(path: &Path, raw: Option<&RawLayout>, threshold: f32, options: &LodOptions) -> Lod {
     let volume = read_volume(path, raw).unwrap();
@@ -51,7 +42,11 @@ fn same_levels(path: &Path, raw: Option<&RawLayout>, threshold: f32, options: &L
         assert_eq!(a.topology.genus, b.topology.genus, "{r}");
         assert_eq!(a.topology.components, b.topology.components, "{r}");
         assert!(b.topology.is_closed_manifold(), "{r}");
-        assert_eq!(vertex_bits(&a.mesh), vertex_bits(&b.mesh), "{r}");
+        assert_eq!(
+            sorted_vertex_bits(&a.mesh),
+            sorted_vertex_bits(&b.mesh),
+            "{r}"
+        );
         assert!(b.band.is_some(), "the slab route samples bricks");
     }
     slabs

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use common::{arg, assert_clean_failure, json, voxlod};
 use voxlod::core::{mesh_topology, TriangleMesh};
+use voxlod_testkit::compare::sorted_vertex_bits;
 
 /// A ball and a bar as int16 values (inside above 0) on a 37 × 33 × 29 grid, as little-endian
 /// bytes.
@@ -62,21 +63,15 @@ fn level_meshes(out: &Path) -> Vec<TriangleMesh> {
         .collect()
 }
 
-fn vertex_bits(mesh: &TriangleMesh) -> Vec<[u32; 3]> {
-    let mut bits: Vec<[u32; 3]> = mesh
-        .positions
-        .iter()
-        .map(|p| p.to_array().map(f32::to_bits))
-        .collect();
-    bits.sort_unstable();
-    bits
-}
-
 fn assert_same_levels(a: &[TriangleMesh], b: &[TriangleMesh], what: &str) {
     for (k, (x, y)) in a.iter().zip(b).enumerate() {
         assert!(x.triangle_count() > 100, "{what} level {k}");
         assert_eq!(x.triangle_count(), y.triangle_count(), "{what} level {k}");
-        assert_eq!(vertex_bits(x), vertex_bits(y), "{what} level {k}");
+        assert_eq!(
+            sorted_vertex_bits(x),
+            sorted_vertex_bits(y),
+            "{what} level {k}"
+        );
         assert!(mesh_topology(y).is_closed_manifold(), "{what} level {k}");
     }
 }
@@ -112,7 +107,10 @@ fn bricked_nrrd_and_raw_give_the_files_of_the_scan_read_whole() {
         &[&ras[..], &["--bricked"]].concat(),
     );
     assert_same_levels(&whole_ras, &bricked_ras, "ras");
-    assert_ne!(vertex_bits(&whole_ras[0]), vertex_bits(&whole[0]));
+    assert_ne!(
+        sorted_vertex_bits(&whole_ras[0]),
+        sorted_vertex_bits(&whole[0])
+    );
     // The same samples as a headerless raw file.
     let raw = dir.path().join("scan.raw");
     std::fs::write(&raw, scan_bytes()).unwrap();

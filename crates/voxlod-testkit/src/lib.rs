@@ -12,6 +12,7 @@
 //! - [`dicom_seg`]: DICOM Segmentation objects of a ball and a box, written with dicom-object.
 //! - [`intersections`]: an independent triangle–triangle intersection test of a mesh.
 //! - [`files`]: writing and listing files, gzip and zlib streams.
+//! - [`compare`]: meshes compared bit for bit.
 //! - [`peers`]: the peers' Python (nibabel, pydicom, SimpleITK, zmesh), or a recorded skip.
 //! - [`readers`]: minimal OBJ and ASCII STL readers independent of `voxlod-io`.
 //!
@@ -19,6 +20,7 @@
 //! other crate can use it without a dependency loop. Those two keep small private helpers in
 //! their unit tests, and tests that need more run from the workspace root's `tests/`.
 
+pub mod compare;
 pub mod data;
 pub mod dicom;
 pub mod dicom_seg;
