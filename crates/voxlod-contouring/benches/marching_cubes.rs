@@ -1,10 +1,13 @@
 //! Marching cubes on the peers' test fields (`../shared/peers/peers.py mc`): the 512³
 //! sphereflake field and the 256³ gyroid, with and without normals. VTK's vtkFlyingEdges3D runs
-//! with normals off; compare `geometry` with it.
+//! with normals off; compare `geometry` with it. `skimage-outputs` adds what the Python
+//! package's `voxlod.marching_cubes` returns besides normals: each vertex's corner range
+//! (scikit-image's `values`).
 //!
 //!     cargo bench -p voxlod-contouring --bench marching_cubes
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use voxlod_contouring::marching_cubes::{marching_cubes_of_samples, Wanted};
 use voxlod_contouring::{marching_cubes, ContourOptions};
 use voxlod_testkit::fields::{gyroid_field, sphereflake_field};
 
@@ -26,6 +29,14 @@ fn bench(c: &mut Criterion) {
         });
         group.bench_function(format!("{name}/with-normals"), |b| {
             b.iter(|| marching_cubes(&volume, &ContourOptions::at(0.0)).unwrap())
+        });
+        let wanted = Wanted {
+            normals: true,
+            cells: false,
+            corner_ranges: true,
+        };
+        group.bench_function(format!("{name}/skimage-outputs"), |b| {
+            b.iter(|| marching_cubes_of_samples(volume.as_slice(), &volume.grid, 0.0, wanted))
         });
     }
     group.finish();

@@ -18,6 +18,10 @@
 //! 3. prefix sums give every row its first vertex and first triangle; then each z-slice writes
 //!    its vertices (interpolated positions, gradient normals) and triangles into its own part of
 //!    the output, finding a vertex's index by counting the crossed edges before it in its row.
+//!    A vertex's gradient and corner range read the samples one row and one slice around its
+//!    edge, sparsely along x; the sample rows two rows ahead are prefetched into the cache, since
+//!    the hardware prefetcher does not follow such reads (on the 256³ gyroid with normals and
+//!    corner ranges: 0.135–0.140 s → 0.107–0.119 s, best of 30, 2 cores).
 //!
 //! The output is deterministic (independent of the number of threads): vertices are ordered by
 //! z, y, x and then edge axis, triangles by cell.
@@ -165,7 +169,7 @@ impl RowEdges {
     }
 
     /// Mesh index of the vertex on this row's edge along `axis` (0, 1, 2) from sample `x`.
-    #[inline]
+    #[inline(always)]
     fn vertex(&self, axis: usize, x: usize) -> u32 {
         let (w, b) = (x / 64, x % 64);
         let below = (1u64 << b) - 1;
@@ -541,6 +545,7 @@ fn extract(
     });
     let samples = DenseSamples { data, dims };
     let writer = SliceWriter {
+        data,
         bits,
         dims,
         table,
@@ -726,6 +731,8 @@ impl<'a> OutputSlices<'a> {
 
 /// Pass 3: what every z-slice reads to write its part of the mesh.
 struct SliceWriter<'a> {
+    /// The samples, x fastest (those that `field` reads).
+    data: &'a [f32],
     bits: &'a BitVolume,
     dims: [usize; 3],
     table: &'a Tables,
@@ -759,6 +766,7 @@ impl SliceWriter<'_> {
         let mut written = 0usize;
         let mut tri_written = 0usize;
         for j in 0..ny {
+            self.prefetch_samples(j + 2, k);
             self.write_row_vertices(&lower[0], [j, k], slice_base, &mut out, &mut written);
             if j + 1 < ny {
                 self.load_row(&mut upper[0], j + 1, k);
@@ -772,6 +780,32 @@ impl SliceWriter<'_> {
         }
         debug_assert_eq!(written, out.positions.len());
         debug_assert_eq!(tri_written, out.triangles.len());
+    }
+
+    /// Asks the cache for the sample rows (j, k - 1 ..= k + 2) that the vertices of vertex row
+    /// j - 2 will read (gradients and corner ranges reach one row and slice around an edge):
+    /// their reads are sparse along x, which the hardware prefetcher does not follow.
+    #[inline]
+    fn prefetch_samples(&self, j: usize, k: usize) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            let [nx, ny, nz] = self.dims;
+            if j >= ny {
+                return;
+            }
+            let data = self.data;
+            for kk in k.saturating_sub(1)..(k + 3).min(nz) {
+                let row = &data[(kk * ny + j) * nx..][..nx];
+                for chunk in row.chunks(16) {
+                    // SAFETY: a prefetch of a valid address has no effect on memory.
+                    unsafe {
+                        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+                            chunk.as_ptr().cast(),
+                        )
+                    };
+                }
+            }
+        }
     }
 
     /// The vertices owned by vertex row `own` = (j, k), in the order [`RowEdges::vertex`]
@@ -825,7 +859,12 @@ impl SliceWriter<'_> {
         for_each_mixed_cell(self.bits, self.dims, j, k, |x, case| {
             let n = self.table.triangle_count[case as usize] as usize;
             for t in &self.table.triangles[case as usize][..n] {
-                out.triangles[*tri_written] = t.map(|e| cell_edge_vertex(rows, e, x));
+                // Three plain calls: `[u8; 3]::map` here was left as an out-of-line closure.
+                out.triangles[*tri_written] = [
+                    cell_edge_vertex(rows, t[0], x),
+                    cell_edge_vertex(rows, t[1], x),
+                    cell_edge_vertex(rows, t[2], x),
+                ];
                 if self.wanted.cells {
                     out.cells[*tri_written] = row_cell + x as u32;
                 }
@@ -878,7 +917,7 @@ fn for_each_mixed_cell(
 }
 
 /// Mesh index of cube edge `e` of the cell at `x`, given the rows (j,k), (j+1,k), (j,k+1), (j+1,k+1).
-#[inline]
+#[inline(always)]
 fn cell_edge_vertex(rows: &[&RowEdges; 4], e: u8, x: usize) -> u32 {
     match e {
         0..=3 => rows[e as usize].vertex(0, x),
