@@ -91,31 +91,13 @@ fn every_numeric_flag_takes_a_negative_value_as_written() {
             // still a flag; or refused by the flag's own parser (a count cannot be negative),
             // never taken for an unknown flag.
             let negative = shaped_like(value_name, "-1");
-            match parsed(&with(&negative, true), id, delimiter) {
-                (Some(raw), json) if raw == negative => {
-                    assert!(
-                        json,
-                        "{name} {flag} {negative}: the --json after it was lost"
-                    );
-                }
-                _ => {
-                    let e = Cli::command()
-                        .try_get_matches_from(with(&negative, true))
-                        .expect_err("refused");
-                    let text = e.to_string();
-                    assert_eq!(
-                        e.kind(),
-                        clap::error::ErrorKind::ValueValidation,
-                        "{name} {flag} {negative}: {text}"
-                    );
-                    // The value (or, in a list, its first element) is named as the flag's.
-                    assert!(
-                        text.contains("invalid value '-1")
-                            && text.contains(&format!("for '{flag} ")),
-                        "{name} {flag} {negative}: {text}"
-                    );
-                }
-            }
+            negative_kept_or_refused(
+                &format!("{name} {flag}"),
+                &negative,
+                with(&negative, true),
+                id,
+                delimiter,
+            );
             // A value left out: the flag after it is not swallowed as the value.
             let (raw, _) = parsed(&with("--json", false), id, delimiter);
             assert_ne!(
@@ -789,5 +771,39 @@ fn every_error_is_one_line_naming_the_flag_or_file() {
         assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
         assert!(err.starts_with("voxlod: error: "), "{args:?}: {err}");
         assert!(!err.contains("Usage:"), "{args:?}: {err}");
+    }
+}
+
+/// A negative value `negative` of a flag (`label`: subcommand and flag; `args`: the command line
+/// with `--json` after the value) is either stored as written with the `--json` after it still
+/// a flag, or refused by the flag's own parser, naming the value: never taken for an unknown flag.
+fn negative_kept_or_refused(
+    label: &str,
+    negative: &str,
+    args: Vec<String>,
+    id: &str,
+    delimiter: Option<char>,
+) {
+    match parsed(&args, id, delimiter) {
+        (Some(raw), json) if raw == negative => {
+            assert!(json, "{label} {negative}: the --json after it was lost");
+        }
+        _ => {
+            let e = Cli::command()
+                .try_get_matches_from(args)
+                .expect_err("refused");
+            let text = e.to_string();
+            assert_eq!(
+                e.kind(),
+                clap::error::ErrorKind::ValueValidation,
+                "{label} {negative}: {text}"
+            );
+            // The value (or, in a list, its first element) is named as the flag's.
+            let flag = label.split(' ').nth(1).unwrap_or_default();
+            assert!(
+                text.contains("invalid value '-1") && text.contains(&format!("for '{flag} ")),
+                "{label} {negative}: {text}"
+            );
+        }
     }
 }

@@ -386,48 +386,7 @@ fn check_evaluation(out: &Path, methods: &[&str]) -> serde_json::Value {
         let points = c["points"].as_array().unwrap();
         assert!(!points.is_empty(), "{method} has no measured level");
         for p in points {
-            let (t, b) = (
-                p["triangles"].as_f64().unwrap(),
-                p["budget"].as_f64().unwrap(),
-            );
-            // Near the budget: within the tolerance where the parameter's integer steps allow,
-            // and never off by more than a factor of 1.5.
-            assert!(
-                (t / b).ln().abs() <= 1.5f64.ln().max((1.0 + tolerance).ln()),
-                "{method}: {t} triangles for budget {b}"
-            );
-            let h = p["hausdorff_fraction"].as_f64().unwrap();
-            let m = p["mean_fraction"].as_f64().unwrap();
-            assert!(h > 0.0 && m > 0.0 && m <= h, "{method}: {p}");
-            let sides = p["input_to_level_fraction"]
-                .as_f64()
-                .unwrap()
-                .max(p["level_to_input_fraction"].as_f64().unwrap());
-            assert!(close(sides, h, 1e-12));
-            if method.starts_with("voxel") {
-                assert_eq!(p["closed_manifold"], true, "{method}: {p}");
-            }
-            if method == "envelope" {
-                // The envelope's guarantees: within ε (the parameter, in percent of the
-                // diagonal) both ways, the input's topology kept.
-                let epsilon = p["parameter"].as_f64().unwrap() / 100.0;
-                assert!(h <= epsilon * (1.0 + 1e-6), "{method}: {p}");
-                assert_eq!(p["genus"], report["input"]["genus"], "{p}");
-                assert_eq!(p["components"], report["input"]["components"], "{p}");
-                assert_eq!(
-                    p["boundary_loops"], report["input"]["boundary_loops"],
-                    "{p}"
-                );
-            }
-            if views > 0 {
-                let d = &p["image_difference"];
-                let f = d["fraction"].as_f64().unwrap();
-                assert!((0.0..=1.0).contains(&f), "{method}: {d}");
-                assert_eq!(d["views"], views);
-                assert!(d["differing_pixels"].as_u64() <= d["covered_pixels"].as_u64());
-            } else {
-                assert!(p["image_difference"].is_null());
-            }
+            check_point(method, p, &report, tolerance, views);
         }
         // Fewer triangles, more error: the coarsest level is further from the input than the
         // finest (mean distance, which sampling measures stably).
@@ -453,6 +412,58 @@ fn check_evaluation(out: &Path, methods: &[&str]) -> serde_json::Value {
     // The inputs here are manifolds: nothing is left out.
     assert_eq!(report["omitted"], serde_json::json!([]));
     report
+}
+
+/// The checks of one measured level `p` of `method` in an `evaluate` report.
+fn check_point(
+    method: &str,
+    p: &serde_json::Value,
+    report: &serde_json::Value,
+    tolerance: f64,
+    views: u64,
+) {
+    let (t, b) = (
+        p["triangles"].as_f64().unwrap(),
+        p["budget"].as_f64().unwrap(),
+    );
+    // Near the budget: within the tolerance where the parameter's integer steps allow,
+    // and never off by more than a factor of 1.5.
+    assert!(
+        (t / b).ln().abs() <= 1.5f64.ln().max((1.0 + tolerance).ln()),
+        "{method}: {t} triangles for budget {b}"
+    );
+    let h = p["hausdorff_fraction"].as_f64().unwrap();
+    let m = p["mean_fraction"].as_f64().unwrap();
+    assert!(h > 0.0 && m > 0.0 && m <= h, "{method}: {p}");
+    let sides = p["input_to_level_fraction"]
+        .as_f64()
+        .unwrap()
+        .max(p["level_to_input_fraction"].as_f64().unwrap());
+    assert!(close(sides, h, 1e-12));
+    if method.starts_with("voxel") {
+        assert_eq!(p["closed_manifold"], true, "{method}: {p}");
+    }
+    if method == "envelope" {
+        // The envelope's guarantees: within ε (the parameter, in percent of the
+        // diagonal) both ways, the input's topology kept.
+        let epsilon = p["parameter"].as_f64().unwrap() / 100.0;
+        assert!(h <= epsilon * (1.0 + 1e-6), "{method}: {p}");
+        assert_eq!(p["genus"], report["input"]["genus"], "{p}");
+        assert_eq!(p["components"], report["input"]["components"], "{p}");
+        assert_eq!(
+            p["boundary_loops"], report["input"]["boundary_loops"],
+            "{p}"
+        );
+    }
+    if views > 0 {
+        let d = &p["image_difference"];
+        let f = d["fraction"].as_f64().unwrap();
+        assert!((0.0..=1.0).contains(&f), "{method}: {d}");
+        assert_eq!(d["views"], views);
+        assert!(d["differing_pixels"].as_u64() <= d["covered_pixels"].as_u64());
+    } else {
+        assert!(p["image_difference"].is_null());
+    }
 }
 
 #[test]
