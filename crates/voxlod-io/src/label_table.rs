@@ -1,7 +1,7 @@
 //! The names and colours of a label map's structures, from 3D Slicer's `.seg.nrrd` segment
 //! fields (`Segment0_Name:=liver`, `Segment0_LabelValue:=1`, `Segment0_Color:=0.8 0.2 0.1`,
 //! `Segment0_Layer:=0`, NRRD key/value pairs), or from a DICOM Segmentation's Segment Sequence
-//! (`dicom_seg.rs`, through [`read_label_map`]). Other formats, and NRRDs without segments, give
+//! (`dicom_seg.rs`; [`crate::read_label_map`] chooses). Other formats, and NRRDs without segments, give
 //! an empty table. Only the header is read (at most 1 MiB of it); a table whose fields do not parse
 //! is an error naming the field. Cost: one pass over the header.
 
@@ -22,20 +22,6 @@ pub struct LabelMap {
     pub table: Vec<LabelName>,
     /// Warnings, each a line naming the file (overlapping DICOM segments).
     pub warnings: Vec<String>,
-}
-
-/// Reads a label map: a DICOM Segmentation (a SEG file, or a folder holding one) by
-/// `dicom_seg.rs`, any other volume by [`read_volume`](crate::read_volume) with the table of
-/// [`read_label_table`].
-pub fn read_label_map(path: &Path) -> Result<LabelMap, IoError> {
-    if crate::dicom_seg::find_dicom_seg(path)?.is_some() {
-        return crate::dicom_seg::read_dicom_seg(path);
-    }
-    Ok(LabelMap {
-        volume: crate::read_volume(path, None)?,
-        table: read_label_table(path)?,
-        warnings: Vec::new(),
-    })
 }
 
 /// One named structure of a label map.

@@ -123,7 +123,7 @@ pub use dicom_seg::{
     cielab_to_srgb, find_dicom_seg, is_dicom_seg, read_dicom_seg, SEGMENTATION_STORAGE,
 };
 pub use error::{IoError, IoErrorKind};
-pub use label_table::{read_label_map, read_label_table, LabelMap, LabelName};
+pub use label_table::{read_label_table, LabelMap, LabelName};
 pub use outputs::{check_image_path, OutputSet, IMAGE_EXTENSIONS};
 pub use raw::{Endian, ParseNameError, RawLayout, RawType};
 pub use slab_reader::SlabVolume;
@@ -557,6 +557,20 @@ pub struct VolumeWriteOptions {
     /// costs far more time than writing it (vtkio's compressor is the slowest, several seconds
     /// for a 256³ volume; NRRD with gzip is the quick way to a small file).
     pub compress: bool,
+}
+
+/// Reads a label map: a DICOM Segmentation (a SEG file, or a folder holding one) by
+/// `dicom_seg.rs`, any other volume by [`read_volume`] with the table of
+/// [`read_label_table`].
+pub fn read_label_map(path: &Path) -> Result<LabelMap, IoError> {
+    if find_dicom_seg(path)?.is_some() {
+        return read_dicom_seg(path);
+    }
+    Ok(LabelMap {
+        volume: read_volume(path, None)?,
+        table: read_label_table(path)?,
+        warnings: Vec::new(),
+    })
 }
 
 /// Reads a volume by extension. Headerless raw files (`.raw`, or any extension that is not a

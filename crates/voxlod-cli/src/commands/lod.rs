@@ -399,10 +399,9 @@ fn source<'a>(loaded: &'a Loaded, route: &VolumeRoute) -> voxlod::Source<'a> {
     }
 }
 
+/// The levels by resolution; `lod_budget.rs` makes them by budget or error
+/// (`--triangles`, `--error`).
 pub fn run(args: LodArgs) -> Result<(), CliError> {
-    if args.triangles.is_some() || args.error.is_some() {
-        return super::lod_budget::run(&args);
-    }
     args.glb.check(args.format)?;
     let options = lod_options(&args)?;
     let loaded = load(&args)?;

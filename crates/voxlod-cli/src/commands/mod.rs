@@ -61,6 +61,9 @@ pub enum Command {
 /// Runs the chosen subcommand.
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
+        Command::Lod(args) if args.triangles.is_some() || args.error.is_some() => {
+            lod_budget::run(&args)
+        }
         Command::Lod(args) => lod::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Voxelize(args) => voxelize::run(args),
