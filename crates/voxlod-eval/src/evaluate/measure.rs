@@ -14,8 +14,10 @@ use std::time::Instant;
 use voxlod::core::{mesh_topology, TriangleMesh};
 use voxlod::metrics::{mesh_distance, welded_mesh_report, DistanceOptions, MetricsError};
 
-use super::search::Trial;
-use super::{CurvePoint, EvaluateError, InputSummary, SilhouetteReference};
+use super::error::EvaluateError;
+use super::images::SilhouetteReference;
+use super::results::{CurvePoint, InputSummary};
+use super::trial::Trial;
 use crate::methods::Method;
 
 /// The input's figures, after welding coincident vertices. Fails on a mesh that cannot be

@@ -20,7 +20,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
-use super::{Evaluation, Method};
+use super::results::Evaluation;
+use crate::methods::Method;
 
 /// Width of one panel in pixels: the chart is as many panels wide as it has.
 pub const PANEL_WIDTH: u32 = 700;

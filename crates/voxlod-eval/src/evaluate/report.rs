@@ -4,8 +4,10 @@
 
 use std::fmt::Write;
 
+use super::error::parameter_text;
 use super::plot::method_colour;
-use super::{Curve, CurvePoint, Evaluation, Method};
+use super::results::{Curve, CurvePoint, Evaluation};
+use crate::methods::Method;
 
 /// What the report says besides the evaluation itself.
 #[derive(Clone, Debug, Default)]
@@ -216,7 +218,7 @@ fn row(out: &mut String, p: &CurvePoint) {
         out,
         "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3} |",
         p.budget,
-        super::parameter_text(p.parameter),
+        parameter_text(p.parameter),
         p.triangles,
         p.vertices,
         percent(p.hausdorff_fraction),

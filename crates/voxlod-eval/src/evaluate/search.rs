@@ -25,54 +25,14 @@
 
 use std::time::Instant;
 
-use voxlod::core::PolyMesh;
 use voxlod::metrics::MetricsError;
 
+use super::error::{parameter_text, EvaluateError};
 use super::measure::Measurer;
-use super::{parameter_text, Curve, CurvePoint, EvaluateError, EvaluateOptions};
+use super::options::EvaluateOptions;
+use super::results::{Curve, CurvePoint};
+use super::trial::{run_trial, Trial};
 use crate::methods::{Method, MethodInput, SearchSpace};
-
-/// One run of a method.
-pub(super) struct Trial {
-    /// The parameter's step on its grid, and its value.
-    pub step: i64,
-    pub parameter: f64,
-    /// Triangles, and for clustering the dangling edges and isolated points.
-    pub level: PolyMesh,
-    /// Time of the run.
-    pub seconds: f64,
-}
-
-impl Trial {
-    pub fn triangles(&self) -> usize {
-        self.level.mesh.triangles.len()
-    }
-}
-
-/// Runs `method` at `step`'s value.
-fn run_trial(
-    method: Method,
-    input: &MethodInput,
-    step: i64,
-    parameter: f64,
-) -> Result<Trial, EvaluateError> {
-    let start = Instant::now();
-    let level = method
-        .simplifier()
-        .run(input, parameter)
-        .map_err(|source| EvaluateError::Run {
-            method,
-            parameter: method.parameter_name(),
-            value: parameter,
-            source,
-        })?;
-    Ok(Trial {
-        step,
-        parameter,
-        level,
-        seconds: start.elapsed().as_secs_f64(),
-    })
-}
 
 /// The runs of one method so far (a cache by step), and the steps the current budget's search
 /// has seen.
@@ -191,7 +151,7 @@ pub(super) fn method_curve(
     on_point: &mut impl FnMut(Method, &CurvePoint),
 ) -> Result<Curve, EvaluateError> {
     let start = Instant::now();
-    let space = method.simplifier().search_space(options);
+    let space = method.simplifier().search_space(&options.search_limits());
     let mut trials = Trials {
         list: Vec::new(),
         seen: Vec::new(),

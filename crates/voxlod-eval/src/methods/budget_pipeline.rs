@@ -11,8 +11,8 @@
 use voxlod::core::PolyMesh;
 use voxlod::{LodOptions, Source};
 
+use super::SearchLimits;
 use super::{target_count_space, MethodInput, RunFailure, SearchSpace, Simplifier};
-use crate::evaluate::EvaluateOptions;
 
 /// The budget pipeline on the input (`budget`).
 #[derive(Clone, Copy, Debug, Default)]
@@ -31,7 +31,7 @@ impl Simplifier for BudgetPipeline {
         "target-triangles"
     }
 
-    fn search_space(&self, _options: &EvaluateOptions) -> SearchSpace {
+    fn search_space(&self, _limits: &SearchLimits) -> SearchSpace {
         target_count_space()
     }
 

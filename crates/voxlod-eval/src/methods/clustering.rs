@@ -4,15 +4,15 @@
 use voxlod::clustering::Level;
 use voxlod::core::PolyMesh;
 
+use super::SearchLimits;
 use super::{ParameterGrid, SearchSpace};
-use crate::evaluate::EvaluateOptions;
 
-/// Cells across the longest side from 1 to [`EvaluateOptions::max_cells`], starting at 64;
+/// Cells across the longest side from 1 to [`SearchLimits::max_cells`], starting at 64;
 /// triangle counts grow about as the square of the cells.
-pub(super) fn cells_space(options: &EvaluateOptions) -> SearchSpace {
+pub(super) fn cells_space(limits: &SearchLimits) -> SearchSpace {
     SearchSpace {
         lowest: 1.0,
-        highest: options.max_cells as f64,
+        highest: limits.max_cells as f64,
         first: 64.0,
         exponent: 2.0,
         grid: ParameterGrid::Integers,

@@ -10,8 +10,8 @@
 use voxlod::core::{PolyMesh, TriangleMesh};
 use voxlod::envelope::{simplify_envelope, EnvelopeOptions, Epsilon};
 
+use super::SearchLimits;
 use super::{MethodInput, Needs, ParameterGrid, RunFailure, SearchSpace, Simplifier};
-use crate::evaluate::EvaluateOptions;
 
 /// Simplification envelopes on the input (`envelope`).
 #[derive(Clone, Copy, Debug, Default)]
@@ -31,7 +31,7 @@ impl Simplifier for Envelope {
     }
 
     /// ε from 0.005 % to 25 % of the diagonal, starting at 1 %.
-    fn search_space(&self, _options: &EvaluateOptions) -> SearchSpace {
+    fn search_space(&self, _limits: &SearchLimits) -> SearchSpace {
         SearchSpace {
             lowest: 0.005,
             highest: 25.0,

@@ -9,8 +9,8 @@ use voxlod::clustering::{low_tan, FloatingCellOptions};
 use voxlod::core::PolyMesh;
 
 use super::clustering::{cells_space, first_level};
+use super::SearchLimits;
 use super::{MethodInput, RunFailure, SearchSpace, Simplifier};
-use crate::evaluate::EvaluateOptions;
 
 /// Low–Tan floating-cell clustering (`low-tan`).
 #[derive(Clone, Copy, Debug, Default)]
@@ -29,8 +29,8 @@ impl Simplifier for LowTan {
         "cells"
     }
 
-    fn search_space(&self, options: &EvaluateOptions) -> SearchSpace {
-        cells_space(options)
+    fn search_space(&self, limits: &SearchLimits) -> SearchSpace {
+        cells_space(limits)
     }
 
     fn run(&self, input: &MethodInput, cells: f64) -> Result<PolyMesh, RunFailure> {

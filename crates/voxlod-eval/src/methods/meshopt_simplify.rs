@@ -9,8 +9,8 @@
 use voxlod::core::PolyMesh;
 use voxlod_quadric::simplify_unchecked;
 
+use super::SearchLimits;
 use super::{target_count_space, MethodInput, RunFailure, SearchSpace, Simplifier};
-use crate::evaluate::EvaluateOptions;
 
 /// meshoptimizer `simplify` on the input (`meshopt-simplify`).
 #[derive(Clone, Copy, Debug, Default)]
@@ -29,7 +29,7 @@ impl Simplifier for MeshoptSimplify {
         "target-triangles"
     }
 
-    fn search_space(&self, _options: &EvaluateOptions) -> SearchSpace {
+    fn search_space(&self, _limits: &SearchLimits) -> SearchSpace {
         target_count_space()
     }
 

@@ -7,8 +7,8 @@
 use voxlod::core::PolyMesh;
 use voxlod_quadric::simplify_sloppy;
 
+use super::SearchLimits;
 use super::{target_count_space, MethodInput, RunFailure, SearchSpace, Simplifier};
-use crate::evaluate::EvaluateOptions;
 
 /// meshoptimizer `simplifySloppy` on the input (`meshopt-sloppy`).
 #[derive(Clone, Copy, Debug, Default)]
@@ -27,7 +27,7 @@ impl Simplifier for MeshoptSloppy {
         "target-triangles"
     }
 
-    fn search_space(&self, _options: &EvaluateOptions) -> SearchSpace {
+    fn search_space(&self, _limits: &SearchLimits) -> SearchSpace {
         target_count_space()
     }
 

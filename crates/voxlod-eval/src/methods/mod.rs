@@ -54,8 +54,6 @@ use voxlod::envelope::EnvelopeError;
 use voxlod::lod::LodError;
 use voxlod_quadric::QuadricError;
 
-use crate::evaluate::EvaluateOptions;
-
 /// A simplification method controlled by one number: the evaluation searches that number for
 /// each triangle budget ([`crate::evaluate`]) and measures what [`Simplifier::run`] makes.
 ///
@@ -67,7 +65,9 @@ use crate::evaluate::EvaluateOptions;
 /// ```
 /// use voxlod::core::{PolyMesh, TriangleMesh};
 /// use voxlod_eval::evaluate::{evaluate, Budgets, EvaluateOptions, ImageOptions, Method};
-/// use voxlod_eval::methods::{MethodInput, ParameterGrid, RunFailure, SearchSpace, Simplifier};
+/// use voxlod_eval::methods::{
+///     MethodInput, ParameterGrid, RunFailure, SearchLimits, SearchSpace, Simplifier,
+/// };
 /// use voxlod::metrics::DistanceOptions;
 ///
 /// struct EveryNth;
@@ -76,7 +76,7 @@ use crate::evaluate::EvaluateOptions;
 ///     fn name(&self) -> &'static str { "every-nth" }
 ///     fn description(&self) -> &'static str { "every n-th triangle of the input" }
 ///     fn parameter_name(&self) -> &'static str { "n" }
-///     fn search_space(&self, _: &EvaluateOptions) -> SearchSpace {
+///     fn search_space(&self, _: &SearchLimits) -> SearchSpace {
 ///         SearchSpace { lowest: 1.0, highest: 1000.0, first: 4.0, exponent: -1.0,
 ///                       grid: ParameterGrid::Integers }
 ///     }
@@ -114,8 +114,9 @@ pub trait Simplifier: Sync {
     /// What the parameter is (`resolution`, `cells`, `epsilon-percent`): a report's column.
     fn parameter_name(&self) -> &'static str;
 
-    /// The values the budget search may try, and how triangle counts follow them.
-    fn search_space(&self, options: &EvaluateOptions) -> SearchSpace;
+    /// The values the budget search may try within `limits`, and how triangle counts follow
+    /// them.
+    fn search_space(&self, limits: &SearchLimits) -> SearchSpace;
 
     /// What the method needs made from the input before its first run (nothing by default).
     fn needs(&self) -> Needs {
@@ -125,6 +126,16 @@ pub trait Simplifier: Sync {
     /// The method's level at `parameter` (a value of its [`Simplifier::search_space`]): its
     /// triangles and, for clustering, the dangling edges and isolated points it left.
     fn run(&self, input: &MethodInput, parameter: f64) -> Result<PolyMesh, RunFailure>;
+}
+
+/// The bounds an evaluation sets on every method's search (from its options,
+/// `EvaluateOptions::search_limits`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SearchLimits {
+    /// Highest voxel resolution tried.
+    pub max_resolution: usize,
+    /// Most clustering cells tried along the longest side.
+    pub max_cells: u32,
 }
 
 /// The range of a method's parameter, the values the search steps through, and how triangle

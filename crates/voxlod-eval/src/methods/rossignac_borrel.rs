@@ -8,8 +8,8 @@ use voxlod::clustering::{rossignac_borrel, ClusterOptions};
 use voxlod::core::PolyMesh;
 
 use super::clustering::{cells_space, first_level};
+use super::SearchLimits;
 use super::{MethodInput, RunFailure, SearchSpace, Simplifier};
-use crate::evaluate::EvaluateOptions;
 
 /// Rossignac–Borrel vertex clustering (`rossignac-borrel`).
 #[derive(Clone, Copy, Debug, Default)]
@@ -28,8 +28,8 @@ impl Simplifier for RossignacBorrel {
         "cells"
     }
 
-    fn search_space(&self, options: &EvaluateOptions) -> SearchSpace {
-        cells_space(options)
+    fn search_space(&self, limits: &SearchLimits) -> SearchSpace {
+        cells_space(limits)
     }
 
     fn run(&self, input: &MethodInput, cells: f64) -> Result<PolyMesh, RunFailure> {

@@ -8,8 +8,8 @@ use voxlod::core::TriangleMesh;
 use voxlod::lod::{build_level, plan, LodOptions, LodSource};
 use voxlod::sampling::{Filter, PyramidOptions};
 
+use super::SearchLimits;
 use super::{MethodInput, ParameterGrid, RunFailure, SearchSpace};
-use crate::evaluate::EvaluateOptions;
 
 /// The voxel pipeline's level of the input's solid at `resolution` samples across the longest
 /// side, with `filter` of one voxel's radius and isodensity 0.5, without normals; and the
@@ -35,12 +35,12 @@ pub(super) fn voxel_level(
     Ok((level, plans[0].voxel_size))
 }
 
-/// Resolutions from 2 to [`EvaluateOptions::max_resolution`], starting at 64; triangle counts
+/// Resolutions from 2 to [`SearchLimits::max_resolution`], starting at 64; triangle counts
 /// grow about as the square of the resolution.
-pub(super) fn resolution_space(options: &EvaluateOptions) -> SearchSpace {
+pub(super) fn resolution_space(limits: &SearchLimits) -> SearchSpace {
     SearchSpace {
         lowest: 2.0,
-        highest: options.max_resolution as f64,
+        highest: limits.max_resolution as f64,
         first: 64.0,
         exponent: 2.0,
         grid: ParameterGrid::Integers,

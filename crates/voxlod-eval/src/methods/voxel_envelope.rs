@@ -13,8 +13,8 @@ use voxlod::sampling::Filter;
 
 use super::envelope::envelope_level;
 use super::voxel::voxel_level;
+use super::SearchLimits;
 use super::{MethodInput, Needs, ParameterGrid, RunFailure, SearchSpace, Simplifier};
-use crate::evaluate::EvaluateOptions;
 
 /// The voxel pipeline, then envelopes within one voxel (`voxel-envelope`).
 #[derive(Clone, Copy, Debug, Default)]
@@ -34,12 +34,12 @@ impl Simplifier for VoxelEnvelope {
         "resolution"
     }
 
-    /// Resolutions from 4 to [`EvaluateOptions::max_resolution`] or 256, whichever is lower,
+    /// Resolutions from 4 to [`SearchLimits::max_resolution`] or 256, whichever is lower,
     /// starting at 128.
-    fn search_space(&self, options: &EvaluateOptions) -> SearchSpace {
+    fn search_space(&self, limits: &SearchLimits) -> SearchSpace {
         SearchSpace {
             lowest: 4.0,
-            highest: options.max_resolution.min(256) as f64,
+            highest: limits.max_resolution.min(256) as f64,
             first: 128.0,
             exponent: 2.0,
             grid: ParameterGrid::Integers,

@@ -8,8 +8,8 @@ use voxlod::core::PolyMesh;
 use voxlod::sampling::Filter;
 
 use super::voxel::{resolution_space, voxel_level};
+use super::SearchLimits;
 use super::{MethodInput, Needs, RunFailure, SearchSpace, Simplifier};
-use crate::evaluate::EvaluateOptions;
 
 /// The voxel pipeline with one filter: the two methods differ only in it.
 #[derive(Clone, Copy, Debug)]
@@ -46,8 +46,8 @@ impl Simplifier for VoxelFilter {
         "resolution"
     }
 
-    fn search_space(&self, options: &EvaluateOptions) -> SearchSpace {
-        resolution_space(options)
+    fn search_space(&self, limits: &SearchLimits) -> SearchSpace {
+        resolution_space(limits)
     }
 
     fn needs(&self) -> Needs {
