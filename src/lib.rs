@@ -64,6 +64,7 @@ mod inspect;
 pub mod labels;
 mod levels;
 pub mod lod;
+mod lod_options;
 mod progress;
 pub mod select;
 mod shells;
@@ -81,8 +82,9 @@ pub use finest::Finest;
 pub use inspect::{
     inspect, inspect_scene, InspectOptions, Inspection, PartInspection, SceneInspection,
 };
-pub use levels::{lod, lod_with, Lod, LodOptions};
+pub use levels::{lod, lod_with};
 pub use lod::LodLevel;
+pub use lod_options::{Lod, LodOptions};
 pub use progress::{run_to_end, Control, Event, Progress, ProgressFn};
 pub use select::{select, SelectOptions, Selection};
 pub use shells::{

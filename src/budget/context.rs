@@ -10,7 +10,7 @@ use voxlod_core::weld::weld_vertices;
 use voxlod_core::{mesh_topology, Topology, TriangleMesh};
 use voxlod_sampling::PyramidOptions;
 
-use super::measure::InputMeasure;
+use super::measure::{InputMeasure, Measured};
 use super::{Then, DILATED_ISO_FRACTIONS};
 use crate::caps::InputBorder;
 use crate::error::Error;
@@ -76,6 +76,11 @@ impl<'a> BudgetContext<'a> {
 }
 
 impl BudgetContext<'_> {
+    /// Two-sided distance from the input to `mesh`, when there is an input mesh.
+    pub(super) fn measure(&self, mesh: &TriangleMesh) -> Option<Measured> {
+        self.measure.as_ref()?.measure(mesh)
+    }
+
     /// The isodensities each resolution is contoured at: the surface's, then the dilated one.
     pub(super) fn isos(&self) -> Vec<f32> {
         let surface = self.level_options.iso;

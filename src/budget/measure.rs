@@ -7,7 +7,6 @@ use voxlod_metrics::{
     one_sided_distance, DistanceOptions, MeshDistance, SamplingOptions, SurfaceSampler,
 };
 
-use super::context::BudgetContext;
 use super::SEARCH_SAMPLES;
 
 /// A sampled two-sided distance.
@@ -33,7 +32,7 @@ impl<'a> InputMeasure<'a> {
     }
 
     /// Two-sided distance between the input and `mesh`, [`SEARCH_SAMPLES`] a side.
-    fn measure(&self, mesh: &TriangleMesh) -> Option<Measured> {
+    pub(super) fn measure(&self, mesh: &TriangleMesh) -> Option<Measured> {
         let options = DistanceOptions::with_samples(SEARCH_SAMPLES);
         let sampling = |side: u64| SamplingOptions {
             seed: options.seed.wrapping_add(side),
@@ -47,12 +46,5 @@ impl<'a> InputMeasure<'a> {
             hausdorff: there.max.max(back.max),
             mean: 0.5 * (there.mean + back.mean),
         })
-    }
-}
-
-impl BudgetContext<'_> {
-    /// Two-sided distance from the input to `mesh`, when there is an input mesh.
-    pub(super) fn measure(&self, mesh: &TriangleMesh) -> Option<Measured> {
-        self.measure.as_ref()?.measure(mesh)
     }
 }
