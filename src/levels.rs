@@ -362,6 +362,10 @@ fn lod_levels(
             &mut tracker,
             overlap,
         );
+        // The callback said stop: nothing more is reported.
+        if let Some(Err(Error::Cancelled)) = made.last() {
+            return Err(Error::Cancelled);
+        }
         for (level, p) in made.into_iter().zip(&plans) {
             let level = level.map_err(|e| e.context(format!("level {}", p.level)))?;
             tracker.step(p.level, "contoured")?;
