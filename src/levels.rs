@@ -11,6 +11,14 @@
 //! [`crate::lod::plan`] and [`crate::lod::build_level`]. Cost: per level, the sampling (O(N³)
 //! samples) and marching cubes (O(N³)); the finest level dominates.
 //!
+//! **Levels side by side** (same levels, less waiting): the levels are sampled and their genus
+//! settled in turn, but while a dense level is settled the next is already sampled on another
+//! task, and once settled the level is contoured, cleaned and checked on a task of its own
+//! while the coarser levels go on ([`crate::lod::sample_ahead`] says when: dense levels, the
+//! next at most 256 MiB, both within the memory budget). The finest level's cleaning, partly
+//! sequential, then overlaps the rest of the chain. Its progress (contoured, simplified, the
+//! finished level) is reported in level order once the levels are made.
+//!
 //! **Beyond the paper, by default** (each can be turned off in [`LodOptions`]):
 //!
 //! - *The genus never rises* from a level to the next ([`LodOptions::monotone`]). The paper
@@ -37,12 +45,14 @@ use std::time::Instant;
 
 use voxlod_core::mesh_topology;
 use voxlod_core::validate::{find_defect, Requirements};
-use voxlod_sampling::{LevelPlan, MonotoneChain};
+use voxlod_sampling::{LevelPlan, MonotoneChain, TopologyRecord};
 
 use crate::budget::lod_by_budget;
 use crate::error::Error;
 use crate::finest::{choose_finest, scaled, surface_resolution, Finest, FinestChoice};
-use crate::lod::{plan, sample_level, LevelOptions, LodLevel, LodSource};
+use crate::lod::{
+    plan, sample_ahead, sample_level, LevelOptions, LodError, LodLevel, LodSource, SampledLevel,
+};
 use crate::lod_options::{Lod, LodOptions};
 use crate::progress::{run_to_end, Event, ProgressFn, Tracker};
 use crate::source::Source;
@@ -71,7 +81,7 @@ pub fn lod(source: &Source, options: &LodOptions) -> Result<Lod, Error> {
 }
 
 /// [`lod`], reporting progress to `progress` after each step (a level's sampling, contouring
-/// and envelope step) and stopping with [`Error::Cancelled`] when it answers
+/// and envelope step; levels made side by side report their contouring once made) and stopping with [`Error::Cancelled`] when it answers
 /// [`crate::Control::Stop`]; a level's failure names the level.
 ///
 /// ```
@@ -100,6 +110,18 @@ pub fn lod_with(
     options: &LodOptions,
     progress: &ProgressFn,
 ) -> Result<Lod, Error> {
+    lod_levels(source, options, progress, true)
+}
+
+/// [`lod_with`]. With `overlap`, the next level is sampled on another task while this one is
+/// finished, when [`sample_ahead`] allows it; without, one level at a time. The levels are the
+/// same either way (the tests compare them bit for bit).
+fn lod_levels(
+    source: &Source,
+    options: &LodOptions,
+    progress: &ProgressFn,
+    overlap: bool,
+) -> Result<Lod, Error> {
     let start = Instant::now();
     options.check()?;
     if options.triangles.is_some() || options.error.is_some() {
@@ -126,52 +148,44 @@ pub fn lod_with(
     };
     let mut tracker = Tracker::start(progress, plans.len() * steps)?;
     let mut warnings = prepared.warnings().to_vec();
-    let mut chain = monotone_chain(options, &lod_source);
+    let chained = options.monotone.is_some();
+    let source = &lod_source;
     let mut levels = Vec::with_capacity(plans.len());
-    let mut k = 0;
-    while k < plans.len() {
-        let p = plans[k];
-        let level = one_level(
-            &lod_source,
-            &p,
+    // Made again from a finer start when level 0 came out empty (`finer_start`).
+    'chain: loop {
+        let made = chain_levels(
+            source,
+            &plans,
             &level_options,
             options,
-            &mut chain,
             &mut tracker,
-        )
-        .map_err(|e| e.context(format!("level {}", p.level)))?;
-        if k == 0 && level.mesh.is_empty() {
-            if let Some(choice) = finest.as_mut() {
-                if let Some(finer) = finer_start(&lod_source, &level_options, choice, iso)? {
-                    warnings.push(finer);
-                    level_options.pyramid = scaled(&options.pyramid, choice.resolution);
-                    plans = plan(&lod_source, &level_options)?;
-                    chain = monotone_chain(options, &lod_source);
-                    continue;
+            overlap,
+        );
+        // The callback said stop: nothing more is reported.
+        if let Some(Err(Error::Cancelled)) = made.last() {
+            return Err(Error::Cancelled);
+        }
+        for (level, p) in made.into_iter().zip(&plans) {
+            let level = level.map_err(|e| e.context(format!("level {}", p.level)))?;
+            tracker.step(p.level, "contoured")?;
+            if options.then_envelope.is_some() {
+                tracker.step(p.level, "simplified")?;
+            }
+            if levels.is_empty() && level.mesh.is_empty() {
+                if let Some(choice) = finest.as_mut() {
+                    if let Some(finer) = finer_start(source, &level_options, choice, iso)? {
+                        warnings.push(finer);
+                        level_options.pyramid = scaled(&options.pyramid, choice.resolution);
+                        plans = plan(source, &level_options)?;
+                        continue 'chain;
+                    }
                 }
             }
+            warnings.extend(level_warnings(&level, iso, chained && plans.len() > 1));
+            tracker.ask(Event::LodLevel(&level))?;
+            levels.push(level);
         }
-        if level.mesh.is_empty() {
-            warnings.push(empty_level_warning(&p, iso));
-        }
-        // A band level too large to be made dense skips the rule (`keep_monotone` gives None).
-        if chain.is_some() && level.monotone.is_none() && plans.len() > 1 {
-            warnings.push(band_level_warning(&p));
-        }
-        if level.clean_skipped {
-            warnings.push(format!(
-                "level {} (resolution {}): {} triangles from the narrow band, more than the {} \
-                 that are cleaned; kept as marching cubes made them (closed and oriented, \
-                 slivers and needles not removed) to stay within memory",
-                p.level,
-                p.resolution,
-                level.mesh.triangles.len(),
-                crate::lod::CLEAN_BAND_AT_MOST_TRIANGLES
-            ));
-        }
-        tracker.ask(Event::LodLevel(&level))?;
-        levels.push(level);
-        k += 1;
+        break;
     }
     if levels.iter().all(|l| l.mesh.is_empty()) {
         return Err(Error::NoSurface {
@@ -230,44 +244,144 @@ fn finer_start(
     )))
 }
 
-/// Samples, keeps the genus from rising (when asked), contours and (when asked) simplifies one
-/// level, checking that its vertices stayed
-/// within 32-bit coordinates.
-fn one_level(
+/// The next level, sampled on another task while the level above it was settled, or why its
+/// sampling failed (reported in its turn, as if it had been sampled then).
+type Ahead = Option<Result<SampledLevel, LodError>>;
+
+/// A level whose density is settled (kept from gaining handles, when asked): what is left is
+/// independent of the other levels.
+struct Settled {
+    sampled: SampledLevel,
+    monotone: Option<TopologyRecord>,
+    monotone_seconds: f64,
+}
+
+/// Every level of `plans`, in order, each `Ok` or why it failed; the list ends at the first
+/// level whose sampling or genus step failed (its error last). The levels are sampled and
+/// settled in turn on this thread, the genus step being a chain from each level to the next.
+/// With `overlap`, where [`sample_ahead`] allows it for a level and the next, the next level
+/// is sampled on another task while this one is settled, and this one is contoured, cleaned
+/// and checked on a task of its own while the coarser levels go on, so that the finest
+/// level's cleaning (most of the chain's time, and partly sequential) overlaps the rest.
+/// Every level is the one made one at a time.
+fn chain_levels(
     source: &LodSource,
-    plan: &LevelPlan,
+    plans: &[LevelPlan],
     level_options: &LevelOptions,
     options: &LodOptions,
+    tracker: &mut Tracker,
+    overlap: bool,
+) -> Vec<Result<LodLevel, Error>> {
+    let mut chain = monotone_chain(options, source);
+    let mut slots: Vec<Option<Result<LodLevel, Error>>> = plans.iter().map(|_| None).collect();
+    let mut failed = None;
+    rayon::in_place_scope(|scope| {
+        let mut ahead: Ahead = None;
+        for (k, slot) in slots.iter_mut().enumerate() {
+            let p = &plans[k];
+            let next = (plans.get(k + 1))
+                .filter(|next| overlap && sample_ahead(source, p, next, &level_options.pyramid));
+            let sampled = match ahead.take() {
+                Some(sampled) => sampled,
+                None => sample_level(source, p, level_options),
+            };
+            let settled = sampled.map_err(Error::from).and_then(|sampled| {
+                rayon::in_place_scope(|inner| {
+                    if let Some(next) = next {
+                        inner.spawn(|_| ahead = Some(sample_level(source, next, level_options)));
+                    }
+                    settle_level(sampled, level_options, &mut chain, tracker)
+                })
+            });
+            match settled {
+                Ok(settled) if next.is_some() => scope
+                    .spawn(move |_| *slot = Some(finish_level(settled, level_options, options))),
+                Ok(settled) => *slot = Some(finish_level(settled, level_options, options)),
+                Err(e) => {
+                    failed = Some(e);
+                    break;
+                }
+            }
+        }
+    });
+    let mut made: Vec<_> = slots.into_iter().map_while(|s| s).collect();
+    made.extend(failed.map(Err));
+    made
+}
+
+/// Keeps the genus of a sampled level from rising (when asked) and reports it sampled.
+fn settle_level(
+    sampled: SampledLevel,
+    level_options: &LevelOptions,
     chain: &mut Option<MonotoneChain>,
     tracker: &mut Tracker,
-) -> Result<LodLevel, Error> {
-    let mut sampled = sample_level(source, plan, level_options)?;
+) -> Result<Settled, Error> {
+    let level = sampled.plan.level;
     let monotone_start = Instant::now();
-    let monotone = match chain {
+    let (sampled, monotone) = match chain {
         Some(chain) => sampled.keep_monotone(chain, level_options)?,
-        None => None,
+        None => (sampled, None),
     };
     let monotone_seconds = monotone_start.elapsed().as_secs_f64();
-    tracker.step(plan.level, "sampled")?;
-    let mut level = sampled.contour(level_options)?;
-    level.monotone = monotone;
-    level.monotone_seconds = monotone_seconds;
+    tracker.step(level, "sampled")?;
+    Ok(Settled {
+        sampled,
+        monotone,
+        monotone_seconds,
+    })
+}
+
+/// Contours, cleans and (when asked) simplifies one settled level, checking that its vertices
+/// stayed within 32-bit coordinates.
+fn finish_level(
+    settled: Settled,
+    level_options: &LevelOptions,
+    options: &LodOptions,
+) -> Result<LodLevel, Error> {
+    let plan = settled.sampled.plan;
+    let mut level = settled.sampled.contour(level_options)?;
+    level.monotone = settled.monotone;
+    level.monotone_seconds = settled.monotone_seconds;
     if let Some(defect) = find_defect(&level.mesh, &Requirements::computed()) {
         return Err(Error::ComputedBeyondRange {
             defect,
             cause: "the object's extent or position is too large for 32-bit coordinates",
         });
     }
-    tracker.step(plan.level, "contoured")?;
     if let Some(step) = &options.then_envelope {
         let (mesh, report) = simplify_level(&level.mesh, step, plan.voxel_size)
             .map_err(|e| Error::from(e).context("`then_envelope`"))?;
         level.mesh = mesh;
         level.envelope = report;
         level.topology = mesh_topology(&level.mesh);
-        tracker.step(plan.level, "simplified")?;
     }
     Ok(level)
+}
+
+/// The warnings of one finished level: empty, sampled in the band while the genus is kept from
+/// rising along a `chained` pyramid, or left uncleaned.
+fn level_warnings(level: &LodLevel, iso: f32, chained: bool) -> Vec<String> {
+    let p = &level.plan;
+    let mut warnings = Vec::new();
+    if level.mesh.is_empty() {
+        warnings.push(empty_level_warning(p, iso));
+    }
+    // A band level too large to be made dense skips the rule (`keep_monotone` gives None).
+    if chained && level.monotone.is_none() {
+        warnings.push(band_level_warning(p));
+    }
+    if level.clean_skipped {
+        warnings.push(format!(
+            "level {} (resolution {}): {} triangles from the narrow band, more than the {} \
+             that are cleaned; kept as marching cubes made them (closed and oriented, \
+             slivers and needles not removed) to stay within memory",
+            p.level,
+            p.resolution,
+            level.mesh.triangles.len(),
+            crate::lod::CLEAN_BAND_AT_MOST_TRIANGLES
+        ));
+    }
+    warnings
 }
 
 /// The warning for a level sampled in the narrow band while the genus is kept from rising: the
@@ -289,4 +403,56 @@ fn empty_level_warning(plan: &LevelPlan, iso: f32) -> String {
          voxel",
         plan.level, plan.radius
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use voxlod_core::glam::DVec3;
+    use voxlod_core::TriangleMesh;
+    use voxlod_sampling::{CsgSolid, Filter, Shape};
+
+    /// Every bit of a mesh: positions and normals, then triangles.
+    fn bits(mesh: &TriangleMesh) -> Vec<[u32; 3]> {
+        let vectors = mesh.positions.iter().chain(&mesh.normals);
+        let vectors = vectors.map(|p| p.to_array().map(f32::to_bits));
+        vectors.chain(mesh.triangles.iter().copied()).collect()
+    }
+
+    /// A thin hollow sphere (the genus step fills its cavity and guards its perforations) by
+    /// the default chain, with the next level sampled on another task and one level at a time:
+    /// the same meshes bit for bit, the same topology records and warnings, and levels were in
+    /// fact sampled ahead.
+    #[test]
+    fn overlapping_levels_give_the_chain_made_one_at_a_time() {
+        let shell = Shape::sphere(DVec3::ZERO, 1.0).minus(Shape::sphere(DVec3::ZERO, 0.93));
+        let solid = CsgSolid::new(shell).unwrap();
+        let source = Source::Solid(&solid);
+        let options = LodOptions::halving(96, 5, Filter::Hypercone);
+        let lod_source = LodSource::Solid(&solid);
+        let level_options = LevelOptions {
+            pyramid: options.pyramid.clone(),
+            ..Default::default()
+        };
+        let plans = plan(&lod_source, &level_options).unwrap();
+        let ahead = (plans.windows(2))
+            .filter(|w| sample_ahead(&lod_source, &w[0], &w[1], &options.pyramid))
+            .count();
+        assert_eq!(ahead, plans.len() - 1);
+        let together = lod_levels(&source, &options, &run_to_end, true).unwrap();
+        let apart = lod_levels(&source, &options, &run_to_end, false).unwrap();
+        assert_eq!(together.levels.len(), 5);
+        assert_eq!(together.warnings, apart.warnings);
+        let mut acted = 0;
+        for (a, b) in together.levels.iter().zip(&apart.levels) {
+            assert!(bits(&a.mesh) == bits(&b.mesh), "level {}", a.plan.level);
+            assert!(!a.mesh.is_empty(), "level {}", a.plan.level);
+            assert_eq!(a.plan, b.plan);
+            assert_eq!(a.monotone, b.monotone);
+            assert_eq!(a.topology, b.topology);
+            let record = a.monotone.expect("a record per level");
+            acted += record.samples_filled + record.samples_kept_inside;
+        }
+        assert!(acted > 0, "the genus step changed nothing");
+    }
 }

@@ -56,6 +56,35 @@ pub const CLEAN_BAND_AT_MOST_TRIANGLES: usize = 4_000_000;
 /// peak resident size: 130 to 131 beyond the mesh; rounded up).
 const CLEAN_BYTES_PER_TRIANGLE: u64 = 144;
 
+/// The largest dense level (by the plan's estimate) that is sampled on another task while the
+/// level above it is finished ([`sample_ahead`]).
+pub const SAMPLE_AHEAD_AT_MOST_BYTES: u64 = 256 << 20;
+
+/// Whether level `next` may be sampled on another task while `current` (the level above it)
+/// is kept monotone, contoured, cleaned and handed over: both are dense levels of a solid or of
+/// a scan filtered directly (not a chunked scan, not through the narrow band), `next` is
+/// expected to need at most [`SAMPLE_AHEAD_AT_MOST_BYTES`], and both together fit the memory
+/// budget. Sampling reads only the source, so the level is the one sampled in its turn.
+pub(crate) fn sample_ahead(
+    source: &LodSource,
+    current: &LevelPlan,
+    next: &LevelPlan,
+    pyramid: &PyramidOptions,
+) -> bool {
+    let dense = |plan: &LevelPlan| {
+        let q = plan
+            .density_options(pyramid)
+            .lines_per_voxel(plan.voxel_size);
+        !uses_band(source, &plan.grid, q)
+    };
+    let both = current.estimated_bytes.saturating_add(next.estimated_bytes);
+    matches!(source, LodSource::Solid(_) | LodSource::Direct(_))
+        && next.estimated_bytes <= SAMPLE_AHEAD_AT_MOST_BYTES
+        && dense(current)
+        && dense(next)
+        && voxlod_core::memory::available_bytes().is_ok_and(|budget| both <= budget)
+}
+
 /// Whether a level of `source` on `grid` with `lines_per_voxel` goes through the narrow band.
 fn uses_band(source: &LodSource, grid: &Grid, lines_per_voxel: usize) -> bool {
     matches!(source, LodSource::Solid(_))
@@ -356,11 +385,12 @@ impl SampledLevel {
     /// what the band avoids) and starts the chain again: `None`. A level of a chunked scan small
     /// enough for the dense route ([`BAND_ABOVE_BYTES`]) is made dense first, so that its chain
     /// is the in-memory threshold route's.
+    /// The level's density goes through the chain by value (no copy of the dense volume).
     pub(crate) fn keep_monotone(
-        &mut self,
+        mut self,
         chain: &mut MonotoneChain,
         options: &LevelOptions,
-    ) -> Result<Option<TopologyRecord>, LodError> {
+    ) -> Result<(SampledLevel, Option<TopologyRecord>), LodError> {
         let filter = self.plan.density_options(&options.pyramid);
         let q = filter.lines_per_voxel(self.plan.voxel_size);
         if let LevelVolume::Bricks(bricks) = &self.volume {
@@ -369,24 +399,43 @@ impl SampledLevel {
                 self.volume = LevelVolume::Dense(dense);
             }
         }
-        let LevelVolume::Dense(volume) = &self.volume else {
-            *chain = MonotoneChain::new(chain.options);
-            return Ok(None);
+        let volume = match self.volume {
+            LevelVolume::Dense(volume) => volume,
+            bricks => {
+                *chain = MonotoneChain::new(chain.options);
+                self.volume = bricks;
+                return Ok((self, None));
+            }
         };
-        let (adjusted, record) = chain.next(volume, options.iso, &filter)?;
+        let (adjusted, record) = chain.next_owned(volume, options.iso, &filter)?;
         self.volume = LevelVolume::Dense(adjusted);
-        Ok(Some(record))
+        Ok((self, Some(record)))
     }
 }
 
-/// Builds every level, handing each to `each` as soon as it is made.
+/// Builds every level, handing each to `each` as soon as it is made. The next level is
+/// sampled on another task while this one is contoured and handed over, when
+/// [`sample_ahead`] allows it (the levels are the same either way).
 pub fn build_lod(
     source: &LodSource,
     options: &LevelOptions,
     mut each: impl FnMut(LodLevel) -> Result<(), LodError>,
 ) -> Result<(), LodError> {
-    for level in plan(source, options)? {
-        each(build_level(source, &level, options)?)?;
+    let plans = plan(source, options)?;
+    let mut ahead = None;
+    for (k, current) in plans.iter().enumerate() {
+        let sampled = match ahead.take() {
+            Some(sampled) => sampled,
+            None => sample_level(source, current, options),
+        }?;
+        let next =
+            (plans.get(k + 1)).filter(|next| sample_ahead(source, current, next, &options.pyramid));
+        rayon::in_place_scope(|scope| {
+            if let Some(next) = next {
+                scope.spawn(|_| ahead = Some(sample_level(source, next, options)));
+            }
+            each(sampled.contour(options)?)
+        })?;
     }
     Ok(())
 }

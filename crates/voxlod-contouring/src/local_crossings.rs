@@ -194,6 +194,13 @@ impl Buckets {
             }
         }
         let keys = &keys[..proposed.len()];
+        // The box around every proposed triangle: a bucketed triangle apart from it is apart
+        // from each of them, so its pairs are ruled out at once (the pairs left, and the order
+        // in which `meets` sees them, are those of the test against each box).
+        let block_box = (boxes[..proposed.len()].iter())
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), b| {
+                (lo.min(b.0), hi.max(b.1))
+            });
         let mut around = [0usize; BLOCK];
         for z in lo[2]..=hi[2] {
             for y in lo[1]..=hi[1] {
@@ -215,6 +222,9 @@ impl Buckets {
                     };
                     for entry in &self.lists[b as usize] {
                         let there = entry.bounds();
+                        if boxes_apart(there, block_box, margin) {
+                            continue;
+                        }
                         for &j in &around[..n] {
                             let apart = boxes_apart(there, boxes[j], margin);
                             if !apart && meets(first + j, entry.triangle) {

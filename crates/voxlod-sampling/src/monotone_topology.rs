@@ -208,6 +208,18 @@ pub fn monotone_level(
     previous: Option<&LevelShape>,
     options: &MonotoneOptions,
 ) -> Result<MonotoneLevel, MonotoneError> {
+    monotone_cow(Cow::Borrowed(volume), iso, filter, previous, options)
+}
+
+/// [`monotone_level`] on a borrowed or owned density: an owned one becomes the returned volume
+/// without a copy.
+fn monotone_cow(
+    volume: Cow<Volume>,
+    iso: f32,
+    filter: &DensityOptions,
+    previous: Option<&LevelShape>,
+    options: &MonotoneOptions,
+) -> Result<MonotoneLevel, MonotoneError> {
     if !iso.is_finite() {
         return Err(MonotoneError::NonFiniteIso(iso));
     }
@@ -217,19 +229,12 @@ pub fn monotone_level(
         memory::bytes_of::<u64>(3 * n),
     )?;
     let dims = volume.grid.dims;
-    let raw = inside_samples(volume, iso)?;
+    let raw = inside_samples(&volume, iso)?;
     let (raw_topology, raw_outside) = topology_and_outside(dims, &raw)?;
     let Some(previous) = previous else {
         let decided = Decided::new(raw.clone(), vec![false; n], MonotoneStage::Unchanged);
         let checked = (raw_topology, raw_outside);
-        return finish(
-            Cow::Borrowed(volume),
-            iso,
-            None,
-            (&raw, raw_topology),
-            decided,
-            checked,
-        );
+        return finish(volume, iso, None, (&raw, raw_topology), decided, checked);
     };
     // Rule 1 changes nothing when the finer levels kept nothing filled.
     let fills = options.fill_cavities && previous.kept_filled.par_iter().any(|&k| k);
@@ -238,7 +243,7 @@ pub fn monotone_level(
         let filled = fill_density(volume, previous, filter, options.fill_density)?;
         (locked, Cow::Owned(filled))
     } else {
-        (vec![false; n], Cow::Borrowed(volume))
+        (vec![false; n], volume)
     };
     let values = volume.as_slice();
     let filled: Vec<bool> = (values.par_iter().zip(&locked))
@@ -316,7 +321,27 @@ impl MonotoneChain {
         iso: f32,
         filter: &DensityOptions,
     ) -> Result<(Volume, TopologyRecord), MonotoneError> {
-        let level = monotone_level(volume, iso, filter, self.previous.as_ref(), &self.options)?;
+        self.next_cow(Cow::Borrowed(volume), iso, filter)
+    }
+
+    /// [`MonotoneChain::next`] taking the level's density by value: it becomes the returned
+    /// volume without a copy (the same values as `next` gives).
+    pub fn next_owned(
+        &mut self,
+        volume: Volume,
+        iso: f32,
+        filter: &DensityOptions,
+    ) -> Result<(Volume, TopologyRecord), MonotoneError> {
+        self.next_cow(Cow::Owned(volume), iso, filter)
+    }
+
+    fn next_cow(
+        &mut self,
+        volume: Cow<Volume>,
+        iso: f32,
+        filter: &DensityOptions,
+    ) -> Result<(Volume, TopologyRecord), MonotoneError> {
+        let level = monotone_cow(volume, iso, filter, self.previous.as_ref(), &self.options)?;
         self.previous = Some(level.shape);
         Ok((level.volume, level.record))
     }
@@ -372,26 +397,13 @@ fn finish(
     decided: Decided,
     (result, outside): (DigitalTopology, RunComponents),
 ) -> Result<MonotoneLevel, MonotoneError> {
-    let (low, high) = volume.range().unwrap_or((iso, iso));
     let mut adjusted = volume.into_owned();
-    let counts = adjusted
-        .as_slice_mut()
-        .par_iter_mut()
-        .enumerate()
-        .map(|(i, value)| {
-            let (now, above) = (decided.inside[i], *value >= iso);
-            let filled = now && !raw[i] && (above || decided.locked[i]);
-            let (mut kept_inside, mut kept_outside) = (false, false);
-            if now && !above {
-                kept_inside = !decided.locked[i];
-                *value = mirrored_inside(*value, iso, high);
-            } else if !now && above {
-                kept_outside = true;
-                *value = mirrored_outside(*value, iso, low);
-            }
-            [filled as usize, kept_inside as usize, kept_outside as usize]
-        })
-        .reduce(|| [0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
+    // The first level keeps its plain threshold (`decided.inside` is `raw`, nothing locked):
+    // no value changes and nothing is counted, so the pass is skipped.
+    let counts = match previous {
+        Some(_) => adjust(&mut adjusted, iso, raw, &decided),
+        None => [0; 3],
+    };
     let record = TopologyRecord {
         stage: decided.stage,
         raw: raw_topology,
@@ -422,6 +434,30 @@ fn finish(
     })
 }
 
+/// Mirrors about `iso` the values of `volume` whose side `decided.inside` changed, and counts
+/// the samples filled, kept inside and kept outside since the plain threshold `raw`.
+fn adjust(volume: &mut Volume, iso: f32, raw: &[bool], decided: &Decided) -> [usize; 3] {
+    let (low, high) = volume.range().unwrap_or((iso, iso));
+    volume
+        .as_slice_mut()
+        .par_iter_mut()
+        .enumerate()
+        .map(|(i, value)| {
+            let (now, above) = (decided.inside[i], *value >= iso);
+            let filled = now && !raw[i] && (above || decided.locked[i]);
+            let (mut kept_inside, mut kept_outside) = (false, false);
+            if now && !above {
+                kept_inside = !decided.locked[i];
+                *value = mirrored_inside(*value, iso, high);
+            } else if !now && above {
+                kept_outside = true;
+                *value = mirrored_outside(*value, iso, low);
+            }
+            [filled as usize, kept_inside as usize, kept_outside as usize]
+        })
+        .reduce(|| [0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]])
+}
+
 /// A value below `iso` (or NaN) mirrored to inside, within the volume's range.
 fn mirrored_inside(value: f32, iso: f32, high: f32) -> f32 {
     if !value.is_finite() {
@@ -447,12 +483,13 @@ fn mirrored_outside(value: f32, iso: f32, low: f32) -> f32 {
 /// samples gains `material` (the normalised weights sum to exactly 1 there), both known from a
 /// table of counts; only the supports across the kept set's boundary are summed.
 fn fill_density(
-    volume: &Volume,
+    volume: Cow<Volume>,
     previous: &LevelShape,
     filter: &DensityOptions,
     material: f32,
 ) -> Result<Volume, MonotoneError> {
-    let mut out = volume.clone();
+    let grid = volume.grid;
+    let mut out = volume.into_owned();
     let from = &previous.grid;
     let Some((lo, hi)) = set_box(&previous.kept_filled, from) else {
         return Ok(out);
@@ -469,7 +506,7 @@ fn fill_density(
         .par_iter_mut()
         .enumerate()
         .for_each(|(i, value)| {
-            let f = coordinates_in(&volume.grid, i, from);
+            let f = coordinates_in(&grid, i, from);
             let ranges = [reach(f[0], 0), reach(f[1], 1), reach(f[2], 2)];
             if ranges.iter().any(|&(a, b)| a > b || b == usize::MAX) {
                 return;

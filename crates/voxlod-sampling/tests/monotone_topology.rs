@@ -11,8 +11,8 @@ use voxlod_core::{mesh_topology, Axis, Grid, Volume};
 use voxlod_sampling::digital_topology::{digital_topology, local_numbers};
 use voxlod_sampling::monotone_topology::MonotoneStage;
 use voxlod_sampling::{
-    filtered_density, monotone_level, plan_levels, CsgSolid, Filter, LevelShape, MonotoneOptions,
-    PyramidOptions, Shape, TopologyRecord,
+    filtered_density, monotone_level, plan_levels, CsgSolid, Filter, LevelShape, MonotoneChain,
+    MonotoneOptions, PyramidOptions, Shape, TopologyRecord,
 };
 
 /// Marching cubes' genus, components and closedness of `volume` at `iso`.
@@ -252,4 +252,40 @@ fn the_first_level_is_untouched_and_bad_input_is_refused() {
     assert_eq!(level.record.result.components, 1);
     let err = monotone_level(&volume, f32::NAN, &filter, None, &options).unwrap_err();
     assert!(err.to_string().contains("isodensity NaN"), "{err}");
+}
+
+/// The pyramids of a thin hollow sphere (its cavity filled) and of a plate with a thin spot
+/// (its perforation guarded) through two chains each, one given each level's density by
+/// reference (`next`), one by value (`next_owned`, no copy): the same volumes bit for bit and
+/// the same records at every level, and both rules acted.
+#[test]
+fn a_chain_of_owned_levels_is_the_chain_of_borrowed_ones() {
+    let shell = Shape::sphere(DVec3::ZERO, 1.0).minus(Shape::sphere(DVec3::ZERO, 0.93));
+    let plate = Shape::cuboid(DVec3::new(-1.0, -1.0, -0.06), DVec3::new(1.0, 1.0, 0.06));
+    let dimpled = plate.minus(Shape::sphere(DVec3::new(0.0, 0.0, 0.39), 0.42));
+    let (mut filled, mut kept) = (0, 0);
+    for (shape, resolutions) in [
+        (shell, vec![96, 72, 56, 44, 36, 28, 20, 14, 10]),
+        (dimpled, vec![128, 96, 72, 56, 44, 36, 28]),
+    ] {
+        let solid = CsgSolid::new(shape).unwrap();
+        let pyramid = PyramidOptions::with_resolutions(resolutions, Filter::Hypercone);
+        let plans = plan_levels(&voxlod_sampling::Solid::bounds(&solid), &pyramid).unwrap();
+        let mut borrowed = MonotoneChain::new(MonotoneOptions::default());
+        let mut owned = MonotoneChain::new(MonotoneOptions::default());
+        for plan in &plans {
+            let filter = plan.density_options(&pyramid);
+            let (density, _) = filtered_density(&solid, &plan.grid, &filter).unwrap();
+            let (by_ref, record) = borrowed.next(&density, 0.5, &filter).unwrap();
+            let (by_value, owned_record) = owned.next_owned(density, 0.5, &filter).unwrap();
+            assert_eq!(owned_record, record, "level {}", plan.level);
+            assert_eq!(by_value.grid, by_ref.grid);
+            let bits =
+                |v: &Volume| -> Vec<u32> { v.as_slice().iter().map(|x| x.to_bits()).collect() };
+            assert!(bits(&by_value) == bits(&by_ref), "level {}", plan.level);
+            filled += record.samples_filled;
+            kept += record.samples_kept_inside + record.samples_kept_outside;
+        }
+    }
+    assert!(filled > 0 && kept > 0, "filled {filled}, kept {kept}");
 }
