@@ -85,7 +85,11 @@ where
             let (m, n) = family.tile_lines(id % tiles_u, id / tiles_u);
             let mut out = Vec::new();
             tile(m, n, &mut out);
-            out.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+            let order = |a: &(u16, f32), b: &(u16, f32)| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1));
+            // A solid that walks its lines in order (a thresholded scan) gives them sorted.
+            if !out.is_sorted_by(|a, b| order(a, b).is_le()) {
+                out.sort_unstable_by(order);
+            }
             out
         })
         .collect();
