@@ -68,16 +68,51 @@ impl ColumnRuns {
     }
 }
 
-/// Extends a column's runs by the cell at `index` (whole-scan index along the column's axis).
-#[inline]
-fn push(runs: &mut Vec<CellRun>, index: u32, state: CellState) {
-    match runs.last_mut() {
-        Some(run) if run.state == state && run.end == index => run.end = index + 1,
-        _ => runs.push(CellRun {
-            start: index,
-            end: index + 1,
-            state,
-        }),
+/// The runs of many columns made at once, one cell of each per step: each column's open run
+/// (its start and state) sits in a flat array, and a run is stored only when its column's
+/// state changes.
+struct OpenRuns {
+    start: Vec<u32>,
+    state: Vec<CellState>,
+    columns: Vec<Vec<CellRun>>,
+}
+
+impl OpenRuns {
+    /// Columns whose first cells (at whole-scan index `index` along them) are `row`.
+    fn new(index: u32, row: &[CellState]) -> OpenRuns {
+        OpenRuns {
+            start: vec![index; row.len()],
+            state: row.to_vec(),
+            columns: vec![Vec::new(); row.len()],
+        }
+    }
+
+    /// The columns' cells at `index`, the one after the last step's.
+    #[inline]
+    fn step(&mut self, index: u32, row: &[CellState]) {
+        for (c, &state) in row.iter().enumerate() {
+            if state != self.state[c] {
+                self.columns[c].push(CellRun {
+                    start: self.start[c],
+                    end: index,
+                    state: self.state[c],
+                });
+                self.start[c] = index;
+                self.state[c] = state;
+            }
+        }
+    }
+
+    /// The runs of every column, whose last cells end at `end`.
+    fn finish(mut self, end: u32) -> Vec<Vec<CellRun>> {
+        for (c, runs) in self.columns.iter_mut().enumerate() {
+            runs.push(CellRun {
+                start: self.start[c],
+                end,
+                state: self.state[c],
+            });
+        }
+        self.columns
     }
 }
 
@@ -153,11 +188,20 @@ fn runs_along(flags: &Flags, axis: Axis) -> ColumnRuns {
             let columns: Vec<Vec<CellRun>> = (0..cy * cz)
                 .into_par_iter()
                 .map_init(scratch, |(counts, row), c| {
+                    if nx < 2 {
+                        return Vec::new();
+                    }
+                    flags.cell_row(c % cy, c / cy, counts, row);
                     let mut runs = Vec::new();
-                    if nx > 1 {
-                        flags.cell_row(c % cy, c / cy, counts, row);
-                        for (x, &state) in row.iter().enumerate() {
-                            push(&mut runs, first + x as u32, state);
+                    let mut start = 0;
+                    for x in 1..=row.len() {
+                        if x == row.len() || row[x] != row[start] {
+                            runs.push(CellRun {
+                                start: first + start as u32,
+                                end: first + x as u32,
+                                state: row[start],
+                            });
+                            start = x;
                         }
                     }
                     runs
@@ -192,15 +236,19 @@ fn sweep(flags: &Flags, axis: Axis) -> Vec<Vec<Vec<CellRun>>> {
         .map_init(
             || (vec![0u8; flags.dims[0]], vec![CellState::Mixed; cx]),
             |(counts, row), c| {
-                let mut columns = vec![Vec::new(); cx];
+                let mut open: Option<OpenRuns> = None;
                 for w in 0..along {
                     let (y, z) = if axis == Axis::Y { (w, c) } else { (c, w) };
                     flags.cell_row(y, z, counts, row);
-                    for (runs, &state) in columns.iter_mut().zip(row.iter()) {
-                        push(runs, first + w as u32, state);
+                    match open.as_mut() {
+                        Some(open) => open.step(first + w as u32, row),
+                        None => open = Some(OpenRuns::new(first, row)),
                     }
                 }
-                columns
+                match open {
+                    Some(open) => open.finish(first + along as u32),
+                    None => vec![Vec::new(); cx],
+                }
             },
         )
         .collect()
