@@ -43,8 +43,10 @@ impl<'a> ThresholdSolid<'a> {
                 "the threshold {threshold} is not a finite number"
             )));
         }
-        let (lo, hi) = volume.range().ok_or(SamplingError::EmptyBounds)?;
-        if hi < threshold {
+        // The first sample that reaches the threshold settles it; the range only for the error.
+        let reached = |v: &f32| v.is_finite() && *v >= threshold;
+        if !volume.as_slice().iter().any(reached) {
+            let (lo, hi) = volume.range().ok_or(SamplingError::EmptyBounds)?;
             return Err(SamplingError::InvalidOption(format!(
                 "the threshold {threshold} is above every value of the volume (range {lo} to {hi})"
             )));
