@@ -9,13 +9,14 @@
 //! the trilinear interpolation; the lattice lines of the grown box get their crossings from
 //! [`ThresholdSolid::window`] on that window, with the whole scan's coordinates, so every
 //! crossing a sample of the block can reach is the dense route's, bit for bit; the line ends the
-//! window adds lie beyond the filter's reach. Each brick is then integrated exactly as the
-//! narrow band integrates its bricks (the same blend and rounding as the dense sampler,
-//! [`crate::narrow_band`]), and a brick whose samples are all equal (far from the surface: all 0
-//! or all 1) is kept as one value. So the level's samples are those of the dense route, but for
-//! one f64 residue: a row's running sum starts at the brick, so spans that ended before it leave
-//! no `full - full` rounding (values of 0 in one route can be ~1e-16 in the other, far from any
-//! iso value; `tests/bricked_threshold.rs` bounds the difference by 1e-12). On generated gyroids
+//! window adds lie beyond the filter's reach. The block is then integrated as one box, each
+//! lattice row once over the block's span of it (the same blend and rounding as the dense
+//! sampler, the narrow band's [`crate::narrow_band`] box routine), and cut into bricks; a brick
+//! whose samples are all equal (far from the surface: all 0 or all 1) is kept as one value. So
+//! the level's samples are those of the dense route, but for one f64 residue: a row's running
+//! sum starts at the block, so spans that ended before it leave no `full - full` rounding
+//! (values of 0 in one route can be ~1e-16 in the other, far from any iso value;
+//! `tests/bricked_threshold.rs` bounds the difference by 1e-12). On generated gyroids
 //! of 48³ and 256³ the meshes had the same triangle counts and bit-identical vertex sets.
 //!
 //! A block whose window holds no crossing of the threshold (all its samples below it, or all at
@@ -31,13 +32,14 @@
 
 use rayon::prelude::*;
 use serde::Serialize;
-use voxlod_core::bricks::{brick_origin, brick_samples, local_index};
+use voxlod_core::bricks::{brick_samples, local_index};
 use voxlod_core::{memory, Axis, BrickVolume, Grid, Volume};
 
 use crate::density::{check_options, DensityOptions, DensityReport};
 use crate::lattice::{LineCrossings, LineFamily};
 use crate::line_kernel::LineKernel;
-use crate::narrow_band::{BandReport, BrickScratch, NarrowBandOptions};
+use crate::narrow_band::{BandReport, BoxLattice, BrickScratch, NarrowBandOptions};
+use crate::solid::Solid;
 use crate::threshold::ThresholdSolid;
 use crate::SamplingError;
 
@@ -72,6 +74,9 @@ pub struct BrickedThreshold {
     pub lines_per_voxel: usize,
     /// Halo of the level's samples around a block: ⌈R⌉ + 1.
     pub halo: usize,
+    /// When the blocks' windows together hold more than this many times the scan's samples, the
+    /// scan is read once, whole, if the budget allows ([`bricked_threshold_density`]); 1.5.
+    pub whole_scan_above: f64,
     #[serde(skip)]
     kernel: LineKernel,
 }
@@ -111,6 +116,7 @@ impl BrickedThreshold {
             block_side: side,
             lines_per_voxel: q,
             halo: kernel.radius.ceil() as usize + 1,
+            whole_scan_above: 1.5,
             kernel,
         })
     }
@@ -194,13 +200,34 @@ impl BrickedThreshold {
     /// one value when [`BrickedThreshold::uniform_value`] finds no surface in the window (one
     /// pass for its range), else its bricks ([`BrickedThreshold::fill_block`]).
     pub fn sample_block(&self, block: [usize; 3], window: &Volume) -> BlockSamples {
-        let (low, high) = window.range().unwrap_or((f32::NAN, f32::NAN));
-        match self.uniform_value(block, low, high) {
+        match self.uniform_window(block, window) {
             Some(value) => BlockSamples::Uniform(value),
             None => {
                 let (bricks, crossings) = self.fill_block(block, window);
                 BlockSamples::Bricks(bricks, crossings)
             }
+        }
+    }
+
+    /// [`BrickedThreshold::uniform_value`] of `window`'s range, found without the range: the
+    /// finite samples are compared with the threshold until one on each side turns up (a block
+    /// with surface in its window stops at the first such pair, not at the window's end).
+    fn uniform_window(&self, block: [usize; 3], window: &Volume) -> Option<f32> {
+        let t = self.threshold;
+        let (mut below, mut above) = (false, false);
+        for chunk in window.as_slice().chunks(4096) {
+            for &v in chunk.iter().filter(|v| v.is_finite()) {
+                below |= v < t;
+                above |= v >= t;
+            }
+            if below && above {
+                return None;
+            }
+        }
+        match (below, above) {
+            (true, false) => Some(0.0),
+            (false, true) => self.uniform_value(block, t, t),
+            _ => None,
         }
     }
 
@@ -257,7 +284,8 @@ impl BrickedThreshold {
         (self.integrate_block(block, &crossings, lo), found)
     }
 
-    /// Integrates every brick of `block` from the block's lattice window.
+    /// Integrates `block` from the block's lattice window as one box (each row once over the
+    /// block's span of it, rather than once per brick), then cuts it into bricks.
     fn integrate_block(
         &self,
         block: [usize; 3],
@@ -265,22 +293,29 @@ impl BrickedThreshold {
         first_line: [usize; 3],
     ) -> Vec<BlockBrick> {
         let b = self.brick_size;
-        let brick_dims = self.grid.dims.map(|d| d.div_ceil(b));
-        let mut scratch = BrickScratch::new(b);
+        let (first, extent) = self.block_box(block);
+        let mut samples = vec![0.0f32; extent.iter().product()];
+        let lattice = BoxLattice {
+            crossings,
+            kernel: &self.kernel,
+            first_line,
+        };
+        BrickScratch::new(b).fill_box(&lattice, first, extent, extent, &mut samples);
         let mut leaf = vec![0.0f32; b * b * b];
         let bricks = self.bricks_of(block);
         let mut out = Vec::with_capacity(bricks.len());
         for (index, brick) in bricks {
-            let origin = brick_origin(brick_dims, b, index);
+            // The brick's samples within the grid, from the block's; zero beyond.
             leaf.fill(0.0);
-            scratch.fill(
-                crossings,
-                &self.kernel,
-                &self.grid,
-                origin,
-                first_line,
-                &mut leaf,
-            );
+            let local = [0, 1, 2].map(|a| brick[a] * b - first[a]);
+            let ext = [0, 1, 2].map(|a| (extent[a] - local[a]).min(b));
+            for k in 0..ext[2] {
+                for j in 0..ext[1] {
+                    let from = local[0] + extent[0] * (local[1] + j + extent[1] * (local[2] + k));
+                    let to = b * (j + b * k);
+                    leaf[to..to + ext[0]].copy_from_slice(&samples[from..from + ext[0]]);
+                }
+            }
             out.push(BlockBrick::new(index as u32, &leaf, &self.grid, b, brick));
         }
         out
@@ -412,6 +447,13 @@ impl BrickAssembly {
 /// `read(start, extent)` reads a window of the scan (x, y, z sample indices) as a volume. Blocks
 /// go in slabs along z, each slab's blocks in parallel; the level is returned as bricks, with
 /// the sampling's figures and the band's.
+///
+/// A coarse level's blocks are few samples wide and their halos long, in the scan's samples:
+/// their windows overlap, and together hold the scan several times over. When they would hold it
+/// more than one and a half times and the scan as `f32` (plus a byte per sample) fits the
+/// budget, the scan is read once, whole, and the level's lattice cast on it as the dense route
+/// casts it; each block is then integrated from that lattice. The crossings a block's rows reach
+/// are those of its window, bit for bit, so the bricks are the same.
 pub fn bricked_threshold_density<E>(
     level: &BrickedThreshold,
     read: &(dyn Fn([usize; 3], [usize; 3]) -> Result<Volume, E> + Sync),
@@ -419,6 +461,10 @@ pub fn bricked_threshold_density<E>(
 where
     E: std::error::Error + Send + 'static,
 {
+    if level.reads_scan_over() {
+        let scan = read([0; 3], level.scan.dims).map_err(BrickedError::Read)?;
+        return Ok(level.sample_from_whole_scan(&scan)?);
+    }
     let mut assembly = BrickAssembly::new(level)?;
     let [bx, by, bz] = level.block_dims();
     for z in 0..bz {
@@ -443,4 +489,92 @@ where
         assembly.add(slab_bricks, crossings)?;
     }
     Ok(assembly.finish()?)
+}
+
+impl BrickedThreshold {
+    /// True when the blocks' windows together hold the scan more than `whole_scan_above` times
+    /// over and the whole scan (as `f32`, and a byte per sample for its classification) fits
+    /// the memory budget.
+    fn reads_scan_over(&self) -> bool {
+        let [bx, by, bz] = self.block_dims();
+        let windows: u64 = (0..bx * by * bz)
+            .map(|n| {
+                let (_, extent) = self.scan_window([n % bx, (n / bx) % by, n / (bx * by)]);
+                extent.iter().map(|&e| e as u64).product::<u64>()
+            })
+            .sum();
+        let scan: u64 = self.scan.dims.iter().map(|&d| d as u64).product();
+        windows as f64 > self.whole_scan_above * scan as f64
+            && memory::check_allocation("the whole scan", scan.saturating_mul(5)).is_ok()
+    }
+
+    /// The level from the whole scan `scan` held in memory: its lattice cast once, then every
+    /// block integrated from it (see [`bricked_threshold_density`]).
+    pub fn sample_from_whole_scan(
+        &self,
+        scan: &Volume,
+    ) -> Result<(BrickVolume, DensityReport, BandReport), SamplingError> {
+        let solid = ThresholdSolid::window(scan, self.scan, [0; 3], self.threshold);
+        let q = self.lines_per_voxel;
+        let crossings: [LineCrossings; 3] = [Axis::X, Axis::Y, Axis::Z]
+            .map(|axis| solid.crossings(&LineFamily::new(axis, self.grid, q)))
+            .into_iter()
+            .collect::<Result<Vec<_>, _>>()?
+            .try_into()
+            .expect("three families");
+        let found = crossings.iter().map(|c| c.len() as u64).sum();
+        let mut assembly = BrickAssembly::new(self)?;
+        let [bx, by, bz] = self.block_dims();
+        for z in 0..bz {
+            let slab: Vec<BlockBrick> = (0..bx * by)
+                .into_par_iter()
+                .flat_map_iter(|i| self.integrate_block([i % bx, i / bx, z], &crossings, [0; 3]))
+                .collect();
+            assembly.add(slab, if z == 0 { found } else { 0 })?;
+        }
+        assembly.finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{level_grid, Filter};
+
+    #[test]
+    fn the_early_stopping_test_answers_as_the_range_does() {
+        let scan = Grid::new([40, 40, 40], [1.0; 3], [0.0; 3]).unwrap();
+        let grid = level_grid(&scan.bounds(), 12, 3.25).unwrap();
+        let options = DensityOptions::new(Filter::Hypercone, 3.25);
+        let band = NarrowBandOptions::default();
+        let mut level = BrickedThreshold::new(scan, 10.0, &grid, &options, &band).unwrap();
+        // Block (2, 2, 2) has its window inside the scan, block (0, 0, 0) is cut by its edge.
+        level.block_side = 4;
+        assert!(!level.window_reach([2, 2, 2]).1 && level.window_reach([0, 0, 0]).1);
+        let n = scan.len();
+        let windows: [Vec<f32>; 6] = [
+            vec![3.0; n],
+            vec![12.0; n],
+            (0..n)
+                .map(|i| if i == n - 1 { 10.0 } else { 2.0 })
+                .collect(),
+            (0..n)
+                .map(|i| if i % 2 == 0 { f32::NAN } else { 11.0 })
+                .collect(),
+            (0..n)
+                .map(|i| if i < 5 { f32::INFINITY } else { 1.0 })
+                .collect(),
+            vec![f32::NAN; n],
+        ];
+        for values in windows {
+            let window = Volume::from_vec(scan, values).unwrap();
+            let (low, high) = window.range().unwrap_or((f32::NAN, f32::NAN));
+            for block in [[0, 0, 0], [2, 2, 2]] {
+                assert_eq!(
+                    level.uniform_window(block, &window),
+                    level.uniform_value(block, low, high)
+                );
+            }
+        }
+    }
 }

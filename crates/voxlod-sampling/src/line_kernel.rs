@@ -19,19 +19,23 @@ use crate::Filter;
 
 const INTERVALS: usize = 512;
 
-/// A profile's table: its values at the ends of the intervals. A fixed size lets the lookup's
-/// index, clamped below `INTERVALS`, go unchecked.
-type Table = [f64; INTERVALS + 1];
+/// A profile's table: at the ends of the intervals, `[G, g]` side by side (a crossing reads
+/// both, from one cache line). A fixed size lets the lookup's index, clamped below `INTERVALS`,
+/// go unchecked.
+type Table = [[f64; 2]; INTERVALS + 1];
+
+/// Which column of a [`Table`].
+const INTEGRAL: usize = 0;
+const WEIGHT: usize = 1;
 
 /// One distinct line distance ρ: the antiderivative table and the line's reach L.
 #[derive(Clone, Debug)]
 pub struct LineProfile {
     /// Half-length of the chord of the support ball along the line.
     pub reach: f64,
-    /// `integral[i] = G(-L + i Δ)`, normalised by the pattern's total weight.
-    integral: Box<Table>,
-    /// `weight[i] = g(-L + i Δ)`, normalised likewise (used to weigh crossings).
-    weight: Box<Table>,
+    /// `table[i] = [G(-L + i Δ), g(-L + i Δ)]`, normalised by the pattern's total weight (`g`
+    /// weighs crossings).
+    table: Box<Table>,
     inv_step: f64,
 }
 
@@ -39,34 +43,38 @@ impl LineProfile {
     /// `G(τ)`: the (normalised) integral of the filter along the line up to `τ`.
     #[inline]
     pub fn integral_to(&self, tau: f64) -> f64 {
-        lookup(&self.integral, self.reach, self.inv_step, tau, true)
+        lookup::<INTEGRAL>(&self.table, self.reach, self.inv_step, tau)
     }
 
     /// The line's full (normalised) integral.
     #[inline]
     pub fn total(&self) -> f64 {
-        self.integral[INTERVALS]
+        self.table[INTERVALS][INTEGRAL]
     }
 
     /// `g(τ)`: the (normalised) filter along the line at `τ`.
     #[inline]
     pub fn weight_at(&self, tau: f64) -> f64 {
-        lookup(&self.weight, self.reach, self.inv_step, tau, false)
+        lookup::<WEIGHT>(&self.table, self.reach, self.inv_step, tau)
     }
 }
 
 #[inline]
-fn lookup(table: &Table, reach: f64, inv_step: f64, tau: f64, cumulative: bool) -> f64 {
+fn lookup<const C: usize>(table: &Table, reach: f64, inv_step: f64, tau: f64) -> f64 {
     if tau <= -reach {
         return 0.0;
     }
     if tau >= reach {
-        return if cumulative { table[INTERVALS] } else { 0.0 };
+        return if C == INTEGRAL {
+            table[INTERVALS][C]
+        } else {
+            0.0
+        };
     }
     let x = (tau + reach) * inv_step;
     let i = (x as usize).min(INTERVALS - 1);
     let f = x - i as f64;
-    table[i] + (table[i + 1] - table[i]) * f
+    table[i][C] + (table[i + 1][C] - table[i][C]) * f
 }
 
 /// A lattice line of the pattern: its offset from the sample's own line, in lattice steps, and
@@ -134,8 +142,7 @@ impl LineKernel {
             .map(|l| profiles[l.profile as usize].total())
             .sum();
         for p in &mut profiles {
-            p.integral.iter_mut().for_each(|v| *v /= total);
-            p.weight.iter_mut().for_each(|v| *v /= total);
+            p.table.iter_mut().flatten().for_each(|v| *v /= total);
         }
         LineKernel {
             lines,
@@ -161,12 +168,14 @@ fn tabulate(filter: Filter, radius: f64, rho: f64) -> LineProfile {
         integral.push(acc);
         weight.push(g(b));
     }
-    let table =
-        |values: Vec<f64>| -> Box<Table> { values.try_into().expect("INTERVALS + 1 values") };
+    let table: Vec<[f64; 2]> = integral
+        .into_iter()
+        .zip(weight)
+        .map(|(big, small)| [big, small])
+        .collect();
     LineProfile {
         reach,
-        integral: table(integral),
-        weight: table(weight),
+        table: table.try_into().expect("INTERVALS + 1 values"),
         inv_step: if step > 0.0 { 1.0 / step } else { 0.0 },
     }
 }

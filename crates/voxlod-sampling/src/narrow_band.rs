@@ -272,7 +272,7 @@ fn outside_values(x_lines: &LineCrossings, grid: &Grid, b: usize, mask: &[bool])
         .collect()
 }
 
-/// One thread's buffers for filling band bricks (also the bricked threshold route's).
+/// One thread's buffers for filling band bricks (also the bricked threshold route's blocks).
 pub(crate) struct BrickScratch {
     b: usize,
     rows: Rows,
@@ -290,10 +290,8 @@ impl BrickScratch {
         }
     }
 
-    /// The filtered density of the brick at `origin` into `leaf`, as the dense sampler blends
-    /// it: x rows set the weighted sums, y rows add to them in f32, z rows finish in f64.
-    /// `crossings` may hold a window of the lattice: its line (0, 0) is the one through sample
-    /// `first_line` (per axis) of `grid`.
+    /// The filtered density of the brick at `origin` into `leaf` (`B³` samples, x fastest; the
+    /// samples beyond the grid are left as they are): [`BrickScratch::fill_box`] of the brick.
     pub(crate) fn fill(
         &mut self,
         crossings: &[LineCrossings; 3],
@@ -304,10 +302,40 @@ impl BrickScratch {
         leaf: &mut [f32],
     ) {
         let b = self.b;
-        let q = crossings[0].family.lines_per_voxel;
         let ext = [0, 1, 2].map(|a| (grid.dims[a] - origin[a]).min(b));
-        let at = |i: usize, j: usize, k: usize| i + b * (j + b * k);
-        let line = |a: usize, c: usize| ((origin[a] + c - first_line[a]) * q) as isize;
+        let lattice = BoxLattice {
+            crossings,
+            kernel,
+            first_line,
+        };
+        self.fill_box(&lattice, origin, ext, [b; 3], leaf);
+    }
+
+    /// The filtered density of the `ext` samples from `origin` into `out` (an array of `size`
+    /// samples, x fastest, `ext` within it), as the dense sampler blends it: x rows set the
+    /// weighted sums, y rows add to them in f32, z rows finish in f64. Each row is integrated
+    /// over the box's span of it.
+    pub(crate) fn fill_box(
+        &mut self,
+        lattice: &BoxLattice,
+        origin: [usize; 3],
+        ext: [usize; 3],
+        size: [usize; 3],
+        out: &mut [f32],
+    ) {
+        let (crossings, kernel) = (lattice.crossings, lattice.kernel);
+        let q = crossings[0].family.lines_per_voxel;
+        let longest = ext.into_iter().max().unwrap_or(0);
+        if self.rows.density.len() < longest {
+            self.rows = Rows::new(longest);
+        }
+        let samples = size.iter().product();
+        if self.num.len() < samples {
+            self.num.resize(samples, 0.0);
+            self.den.resize(samples, 0.0);
+        }
+        let at = |i: usize, j: usize, k: usize| i + size[0] * (j + size[1] * k);
+        let line = |a: usize, c: usize| ((origin[a] + c - lattice.first_line[a]) * q) as isize;
         let span = |a: usize| origin[a]..origin[a] + ext[a];
         let rows = &mut self.rows;
         for k in 0..ext[2] {
@@ -351,9 +379,18 @@ impl BrickScratch {
                     } else {
                         f
                     };
-                    leaf[at(i, j, k)] = value as f32;
+                    out[at(i, j, k)] = value as f32;
                 }
             }
         }
     }
+}
+
+/// The lattice a box is integrated from: the crossings of the three families (a window of the
+/// level's lattice whose line (0, 0) is the one through sample `first_line`, per axis, of the
+/// level's grid) and the line kernel.
+pub(crate) struct BoxLattice<'a> {
+    pub(crate) crossings: &'a [LineCrossings; 3],
+    pub(crate) kernel: &'a LineKernel,
+    pub(crate) first_line: [usize; 3],
 }

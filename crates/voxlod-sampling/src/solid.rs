@@ -94,8 +94,12 @@ where
 /// A tile's crossings sorted by line, then along the line (`f32::total_cmp`): counted into
 /// their lines (at most `TILE²`), then each line's few crossings sorted. Crossings equal in
 /// this order are equal bit for bit, so the result is the one any sort by the same order gives.
-/// Cost: O(k + TILE²) for k crossings, plus a small sort per line.
+/// Cost: O(k + TILE²) for k crossings, plus a small sort per line; O(k) for a solid that walks
+/// its lines in order (a thresholded scan), whose crossings come sorted.
 fn sorted_by_line(out: Vec<(u16, f32)>) -> Vec<(u16, f32)> {
+    if out.is_sorted_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).is_le()) {
+        return out;
+    }
     let mut start = vec![0u32; TILE * TILE + 1];
     for &(line, _) in &out {
         start[line as usize + 1] += 1;

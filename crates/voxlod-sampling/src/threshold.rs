@@ -8,15 +8,15 @@
 //! rows, linear between samples, so the crossings are found exactly, cell by cell. Outside the
 //! data's box everything is outside, so the solid is bounded and a surface touching the edge of
 //! the scan is closed there. Each column of cells between four data rows is classified once,
-//! run-length encoded as all-outside, all-inside or mixed (the eight corners disagree); a line
-//! through the column only evaluates its mixed cells. Cost: one pass over the data per axis,
-//! then O(runs + mixed cells) per lattice line.
+//! run-length encoded as all-outside, all-inside or mixed (the eight corners disagree,
+//! [`crate::cell_columns`]); a line through the column only evaluates its mixed cells. Cost: one
+//! pass over the data for the three axes' runs, then O(runs + mixed cells) per lattice line.
 
 use std::sync::OnceLock;
 
-use rayon::prelude::*;
 use voxlod_core::{Axis, Bounds, Grid, Volume, WorldTransform};
 
+use crate::cell_columns::{classify, CellRun, CellState, ColumnRuns};
 use crate::lattice::{LineCrossings, LineFamily, TILE};
 use crate::solid::{crossings_per_line, crossings_per_tile, Solid};
 use crate::SamplingError;
@@ -32,7 +32,7 @@ pub struct ThresholdSolid<'a> {
     threshold: f32,
     bounds: Bounds,
     /// Per axis, the run-length encoded cell columns, built on first use and kept for all levels.
-    columns: [OnceLock<Vec<Vec<CellRun>>>; 3],
+    columns: OnceLock<[ColumnRuns; 3]>,
 }
 
 impl<'a> ThresholdSolid<'a> {
@@ -43,8 +43,10 @@ impl<'a> ThresholdSolid<'a> {
                 "the threshold {threshold} is not a finite number"
             )));
         }
-        let (lo, hi) = volume.range().ok_or(SamplingError::EmptyBounds)?;
-        if hi < threshold {
+        // The first sample that reaches the threshold settles it; the range only for the error.
+        let reached = |v: &f32| v.is_finite() && *v >= threshold;
+        if !volume.as_slice().iter().any(reached) {
+            let (lo, hi) = volume.range().ok_or(SamplingError::EmptyBounds)?;
             return Err(SamplingError::InvalidOption(format!(
                 "the threshold {threshold} is above every value of the volume (range {lo} to {hi})"
             )));
@@ -124,7 +126,8 @@ impl<'a> ThresholdSolid<'a> {
 
     /// The cells of one column along `axis` (the cells between data rows `a0..=a0+1` and
     /// `b0..=b0+1` of the cross axes, whole-scan indices), run-length encoded as all-outside,
-    /// all-inside or mixed.
+    /// all-inside or mixed, sample by sample: the reference that [`classify`] must match.
+    #[cfg(test)]
     fn column_runs(&self, axis: Axis, a0: usize, b0: usize) -> Vec<CellRun> {
         let g = &self.grid;
         let (ua, va) = axis.others();
@@ -144,10 +147,10 @@ impl<'a> ThresholdSolid<'a> {
                 _ => CellState::Mixed,
             };
             match runs.last_mut() {
-                Some(run) if run.state == state => run.end = i + 1,
+                Some(run) if run.state == state => run.end = i as u32 + 1,
                 _ => runs.push(CellRun {
-                    start: i,
-                    end: i + 1,
+                    start: i as u32,
+                    end: i as u32 + 1,
                     state,
                 }),
             }
@@ -189,21 +192,6 @@ impl<const N: usize> HeldRows<'_, N> {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum CellState {
-    Outside,
-    Inside,
-    Mixed,
-}
-
-/// Cells `start..end` of a column share a state.
-#[derive(Clone, Copy, Debug)]
-struct CellRun {
-    start: usize,
-    end: usize,
-    state: CellState,
-}
-
 impl Solid for ThresholdSolid<'_> {
     fn bounds(&self) -> Bounds {
         self.bounds
@@ -226,17 +214,14 @@ impl Solid for ThresholdSolid<'_> {
 }
 
 impl ThresholdSolid<'_> {
-    /// The cell columns along `axis`, indexed `[b * cu + a]` from the held window's first.
-    fn columns_along(&self, axis: Axis) -> &Vec<Vec<CellRun>> {
-        let (ua, va) = axis.others();
-        let (_, cu, cv) = self.held_cells(axis);
-        let (su, sv) = (self.start[ua.index()], self.start[va.index()]);
-        self.columns[axis.index()].get_or_init(|| {
-            (0..cu * cv)
-                .into_par_iter()
-                .map(|c| self.column_runs(axis, su + c % cu, sv + c / cu))
-                .collect()
-        })
+    /// The cell columns along `axis`, indexed `[b * cu + a]` from the held window's first
+    /// (those of the three axes are made together, on first use).
+    fn columns_along(&self, axis: Axis) -> &ColumnRuns {
+        let columns = self.columns.get_or_init(|| {
+            let held = &self.volume;
+            classify(held.as_slice(), held.grid.dims, self.start, self.threshold)
+        });
+        &columns[axis.index()]
     }
 
     /// The crossings of `family`'s lines `lines` (ranges of m and n), as a [`LineCrossings`] of
@@ -265,14 +250,7 @@ impl ThresholdSolid<'_> {
 
     /// The world coordinates of the crossings of the line along `axis` at `(u, v)` (see the
     /// module documentation); for a window, within the window (see [`ThresholdSolid::window`]).
-    fn line_crossings(
-        &self,
-        axis: Axis,
-        columns: &[Vec<CellRun>],
-        u: f64,
-        v: f64,
-        out: &mut Vec<f64>,
-    ) {
+    fn line_crossings(&self, axis: Axis, columns: &ColumnRuns, u: f64, v: f64, out: &mut Vec<f64>) {
         let g = self.grid;
         let (ua, va) = axis.others();
         let (na, nu, nv) = (g.dims[axis.index()], g.dims[ua.index()], g.dims[va.index()]);
@@ -307,7 +285,7 @@ impl ThresholdSolid<'_> {
         ];
         let rows = self.rows(axis, [(a0, b0), (a1, b0), (a0, b1), (a1, b1)]);
         let sample = |i: usize| -> f32 { rows.bilinear(i, &weights) };
-        let runs = &columns[cb * wcu + ca];
+        let runs = columns.column(cb * wcu + ca);
         if na == 1 || runs.iter().all(|r| r.state == CellState::Outside) {
             if na == 1 && sample(0) >= t {
                 out.push(to_world(0.0));
@@ -347,8 +325,9 @@ fn walk_column(
         out.push(to_world(first as f64));
     }
     for run in runs {
-        let start = run.start.max(first);
-        if start >= run.end {
+        let (start, end) = (run.start as usize, run.end as usize);
+        let start = start.max(first);
+        if start >= end {
             continue;
         }
         match run.state {
@@ -359,7 +338,7 @@ fn walk_column(
             }
             CellState::Mixed => {
                 let mut prev = sample(start);
-                for i in start + 1..=run.end {
+                for i in start + 1..=end {
                     let cur = sample(i);
                     let now = cur >= t;
                     if now != inside {
@@ -428,6 +407,46 @@ mod tests {
                                 .sum();
                             assert_eq!(rows.bilinear(i, &weights).to_bits(), sum.to_bits());
                         }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn cell_runs_are_those_of_the_sample_by_sample_reference() {
+        // The scan, a window of it, a scan with a degenerate axis, and a NaN sample.
+        let whole = scan();
+        let mut with_nan = whole.clone();
+        with_nan.as_slice_mut()[3 + 7 * (2 + 6)] = f32::NAN;
+        let flat = Volume::from_vec(
+            Grid::new([6, 1, 4], [1.0; 3], [0.0; 3]).unwrap(),
+            (0..24).map(|n| (n * 7 % 11) as f32).collect(),
+        )
+        .unwrap();
+        let (start, dims) = ([1, 2, 1], [5, 3, 4]);
+        let held: Vec<f32> = (0..dims[2])
+            .flat_map(|k| (0..dims[1]).flat_map(move |j| (0..dims[0]).map(move |i| (i, j, k))))
+            .map(|(i, j, k)| whole.get(i + start[0], j + start[1], k + start[2]))
+            .collect();
+        let window = Volume::from_vec(Grid::new(dims, [1.0; 3], [0.0; 3]).unwrap(), held).unwrap();
+        let cases = [
+            (&whole, whole.grid, [0; 3]),
+            (&with_nan, whole.grid, [0; 3]),
+            (&window, whole.grid, start),
+            (&flat, flat.grid, [0; 3]),
+        ];
+        for (volume, grid, start) in cases {
+            for threshold in [-10.0, 1.0, 20.5] {
+                let solid = ThresholdSolid::window(volume, grid, start, threshold);
+                for axis in [Axis::X, Axis::Y, Axis::Z] {
+                    let (ua, va) = axis.others();
+                    let (_, cu, cv) = solid.held_cells(axis);
+                    let runs = solid.columns_along(axis);
+                    for c in 0..cu * cv {
+                        let (a, b) = (start[ua.index()] + c % cu, start[va.index()] + c / cu);
+                        let reference = solid.column_runs(axis, a, b);
+                        assert_eq!(runs.column(c), reference, "{axis:?} column {c}");
                     }
                 }
             }

@@ -57,7 +57,23 @@ fn compare(
     let mut level = BrickedThreshold::new(scan.grid, threshold, &grid, &options, &band).unwrap();
     level.block_side = block;
     let read = |start, extent| Ok::<_, Infallible>(window(scan, start, extent));
+    // Block by block from windows, and from the whole scan read once: the same bits.
+    level.whole_scan_above = f64::INFINITY;
     let (bricks, report, band) = bricked_threshold_density(&level, &read).unwrap();
+    level.whole_scan_above = 0.0;
+    let (whole, whole_report, whole_band) = bricked_threshold_density(&level, &read).unwrap();
+    assert_eq!(whole_band, band);
+    assert!(whole_report.crossings > 0);
+    assert_eq!(whole.to_volume().unwrap().as_slice().len(), grid.len());
+    for (x, y) in whole
+        .to_volume()
+        .unwrap()
+        .as_slice()
+        .iter()
+        .zip(bricks.to_volume().unwrap().as_slice())
+    {
+        assert_eq!(x.to_bits(), y.to_bits(), "whole scan against windows");
+    }
     let blocks: usize = level.block_dims().iter().product();
     assert!(
         blocks >= 8,
@@ -77,8 +93,8 @@ fn compare(
             }
         }
     }
-    // Per brick, the difference array of a row starts at the brick's first sample rather than
-    // the grid's, so a span that ended before the brick leaves no f64 residue (`full - full`
+    // Per block, the difference array of a row starts at the block's first sample rather than
+    // the grid's, so a span that ended before the block leaves no f64 residue (`full - full`
     // interleaved with other lines' terms) as it does in the dense row: values that are 0 in
     // one route can be ~1e-16 in the other. Nothing else may differ.
     assert!(
