@@ -19,8 +19,6 @@ use voxlod_sampling::{
     SamplingError,
 };
 
-use crate::lod::{plan, LevelOptions, LodError, LodSource};
-
 /// A scanned volume read window by window.
 pub trait ChunkedScan: Sync {
     /// The whole scan's grid.
@@ -90,19 +88,9 @@ impl ChunkedThreshold<'_> {
         WorldTransform::of(&self.scan.grid(), &self.scan.orientation())
     }
 
-    /// The blocks of every level [`crate::lod::plan`] plans for this scan with `options`, finest
-    /// first: what a caller that fills blocks elsewhere needs to know of each level.
-    pub fn level_blocks(&self, options: &LevelOptions) -> Result<Vec<BrickedThreshold>, LodError> {
-        let plans = plan(&LodSource::Chunked(self), options)?;
-        let blocks = plans
-            .iter()
-            .map(|p| self.blocks(&p.grid, &p.density_options(&options.pyramid)))
-            .collect::<Result<_, _>>()?;
-        Ok(blocks)
-    }
-
-    /// How one level of `grid` is cut into blocks.
-    fn blocks(
+    /// How one level of `grid` is cut into blocks (every level's:
+    /// [`ChunkedThreshold::level_blocks`]).
+    pub fn blocks(
         &self,
         grid: &Grid,
         options: &DensityOptions,
@@ -130,11 +118,8 @@ impl ChunkedThreshold<'_> {
         &self,
         grid: &Grid,
         options: &DensityOptions,
-    ) -> Result<(BrickVolume, DensityReport, BandReport), LodError> {
-        let blocks = self.blocks(grid, options)?;
-        self.scan.sample_level(&blocks).map_err(|e| match e {
-            BrickedError::Read(e) => LodError::Read(e),
-            BrickedError::Sampling(e) => LodError::Sampling(e),
-        })
+    ) -> Result<(BrickVolume, DensityReport, BandReport), BrickedError<IoError>> {
+        let blocks = self.blocks(grid, options).map_err(BrickedError::Sampling)?;
+        self.scan.sample_level(&blocks)
     }
 }

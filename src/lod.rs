@@ -34,8 +34,9 @@ use voxlod_sampling::narrow_band::{
 use crate::bricked::ChunkedThreshold;
 use crate::then_envelope::EnvelopeStep;
 use voxlod_sampling::{
-    direct_density, filtered_density, plan_levels_with, DensityReport, LevelEstimate, LevelPlan,
-    MonotoneChain, MonotoneError, PyramidOptions, SamplingError, Solid, TopologyRecord,
+    direct_density, filtered_density, plan_levels_with, BrickedError, BrickedThreshold,
+    DensityReport, LevelEstimate, LevelPlan, MonotoneChain, MonotoneError, PyramidOptions,
+    SamplingError, Solid, TopologyRecord,
 };
 
 /// Levels of solids whose dense sampling would need more bytes than this go through the narrow
@@ -221,6 +222,28 @@ pub enum LodError {
     /// Reading a window of a chunked scan failed.
     #[error(transparent)]
     Read(voxlod_io::IoError),
+}
+
+impl From<BrickedError<voxlod_io::IoError>> for LodError {
+    fn from(e: BrickedError<voxlod_io::IoError>) -> Self {
+        match e {
+            BrickedError::Read(e) => LodError::Read(e),
+            BrickedError::Sampling(e) => LodError::Sampling(e),
+        }
+    }
+}
+
+impl ChunkedThreshold<'_> {
+    /// The blocks of every level [`crate::lod::plan`] plans for this scan with `options`, finest
+    /// first: what a caller that fills blocks elsewhere needs to know of each level.
+    pub fn level_blocks(&self, options: &LevelOptions) -> Result<Vec<BrickedThreshold>, LodError> {
+        let plans = plan(&LodSource::Chunked(self), options)?;
+        let blocks = plans
+            .iter()
+            .map(|p| self.blocks(&p.grid, &p.density_options(&options.pyramid)))
+            .collect::<Result<_, _>>()?;
+        Ok(blocks)
+    }
 }
 
 /// Plans every level: grids, radii, and a memory check of the largest.
