@@ -41,6 +41,7 @@
 #![warn(missing_docs)]
 
 pub mod block_marching_cubes;
+mod bucket_index;
 pub mod clean_mesh;
 mod edge_vertex;
 mod local_crossings;

@@ -12,7 +12,8 @@
 //! most pairs in the 27 buckets. Cost: O(1) per test on a marching-cubes mesh.
 
 use glam::DVec3;
-use rustc_hash::FxHashMap;
+
+use crate::bucket_index::BucketIndex;
 
 /// A bucketed triangle and its bounding box, rounded outwards to `f32`: a box that holds the
 /// exact one, so that boxes apart here are apart exactly.
@@ -64,11 +65,12 @@ fn bounds(p: [DVec3; 3]) -> (DVec3, DVec3) {
 }
 
 /// Triangles bucketed by centroid, with their boxes: 28 bytes per triangle in the lists and 4
-/// for its bucket's number, plus a few dozen per bucket.
+/// for its bucket's number, plus a few dozen per bucket and the index's few per block
+/// (`bucket_index.rs`).
 pub(crate) struct Buckets {
     size: f64,
     /// The number of every bucket that ever held a triangle.
-    number: FxHashMap<[i64; 3], u32>,
+    number: BucketIndex,
     /// The key of each bucket, by number.
     keys: Vec<[i64; 3]>,
     lists: Vec<Vec<Entry>>,
@@ -81,14 +83,20 @@ impl Buckets {
     /// list holds its triangles in ascending order and is allocated to size.
     pub(crate) fn new(cell: f64, count: usize, corners: impl Fn(usize) -> [DVec3; 3]) -> Buckets {
         let size = 2.0 * cell;
-        let mut number: FxHashMap<[i64; 3], u32> = FxHashMap::default();
+        let (mut lo, mut hi) = ([i64::MAX; 3], [i64::MIN; 3]);
+        for t in 0..count {
+            let key = key_of(size, centroid(corners(t)));
+            lo = [0, 1, 2].map(|a| lo[a].min(key[a]));
+            hi = [0, 1, 2].map(|a| hi[a].max(key[a]));
+        }
+        let mut number = BucketIndex::new(lo, hi);
         let mut sizes: Vec<u32> = Vec::new();
         let mut keys: Vec<[i64; 3]> = Vec::new();
         let bucket_of: Vec<u32> = (0..count)
             .map(|t| {
-                let fresh = number.len() as u32;
+                let fresh = keys.len() as u32;
                 let key = key_of(size, centroid(corners(t)));
-                let b = *number.entry(key).or_insert(fresh);
+                let b = number.get_or_insert(key, fresh);
                 if b == fresh {
                     sizes.push(0);
                     keys.push(key);
@@ -136,9 +144,9 @@ impl Buckets {
     /// Triangle `t` now has `corners`: its box is updated, and it moves to the bucket of its
     /// new centroid.
     pub(crate) fn update(&mut self, t: u32, corners: [DVec3; 3]) {
-        let fresh = self.number.len() as u32;
+        let fresh = self.keys.len() as u32;
         let key = self.key(centroid(corners));
-        let b = *self.number.entry(key).or_insert(fresh);
+        let b = self.number.get_or_insert(key, fresh);
         if b == fresh {
             self.lists.push(Vec::new());
             self.keys.push(key);
@@ -217,7 +225,7 @@ impl Buckets {
                         continue;
                     }
                     visit(key);
-                    let Some(&b) = self.number.get(&key) else {
+                    let Some(b) = self.number.get(key) else {
                         continue;
                     };
                     for entry in &self.lists[b as usize] {
