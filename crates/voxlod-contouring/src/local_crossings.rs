@@ -9,7 +9,9 @@
 //! decided by the signs of `f64` orientation determinants, a zero counting as meeting (the
 //! guard refuses what it cannot rule out). Pairs whose bounding boxes lie apart (by more than
 //! a millionth of a cell, far above the determinants' rounding) are ruled out first, which is
-//! most pairs in the 27 buckets. Cost: O(1) per test on a marching-cubes mesh.
+//! most pairs in the 27 buckets. Bucket numbers come from a dense two-level table
+//! (`bucket_index.rs`), and the lists of a search are gathered before they are scanned, so that
+//! their cache misses overlap. Cost: O(1) per test on a marching-cubes mesh.
 
 use glam::DVec3;
 
@@ -209,42 +211,66 @@ impl Buckets {
             .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), b| {
                 (lo.min(b.0), hi.max(b.1))
             });
-        let mut around = [0usize; BLOCK];
+        // The buckets are gathered [`NEAR`] at a time, their lists' first entries loaded
+        // together (so that their cache misses overlap), then scanned in the same order.
+        let boxes = &boxes[..proposed.len()];
+        let mut scan = |near: &[([i64; 3], u32, &[Entry])]| {
+            near.iter().any(|&(key, around, list)| {
+                visit(key);
+                list.iter().any(|entry| {
+                    let there = entry.bounds();
+                    !boxes_apart(there, block_box, margin)
+                        && (boxes.iter().enumerate()).any(|(j, &b)| {
+                            around & (1 << j) != 0
+                                && !boxes_apart(there, b, margin)
+                                && meets(first + j, entry.triangle)
+                        })
+                })
+            })
+        };
+        let mut near = [([0i64; 3], 0u32, &[] as &[Entry]); NEAR];
+        let mut count = 0;
         for z in lo[2]..=hi[2] {
             for y in lo[1]..=hi[1] {
                 for x in lo[0]..=hi[0] {
                     let key = [x, y, z];
-                    let mut n = 0;
-                    for (j, k) in keys.iter().enumerate() {
-                        if (0..3).all(|a| (k[a] - key[a]).abs() <= 1) {
-                            around[n] = j;
-                            n += 1;
-                        }
-                    }
-                    if n == 0 {
+                    // The proposed triangles (bit j for the j-th) whose 27 buckets hold `key`.
+                    let around = (keys.iter().enumerate()).fold(0u32, |m, (j, k)| {
+                        m | ((0..3).all(|a| (k[a] - key[a]).abs() <= 1) as u32) << j
+                    });
+                    if around == 0 {
                         continue;
                     }
-                    visit(key);
-                    let Some(b) = self.number.get(key) else {
-                        continue;
-                    };
-                    for entry in &self.lists[b as usize] {
-                        let there = entry.bounds();
-                        if boxes_apart(there, block_box, margin) {
-                            continue;
+                    if count == NEAR {
+                        if warm_and_scan(&near, &mut scan) {
+                            return true;
                         }
-                        for &j in &around[..n] {
-                            let apart = boxes_apart(there, boxes[j], margin);
-                            if !apart && meets(first + j, entry.triangle) {
-                                return true;
-                            }
-                        }
+                        count = 0;
                     }
+                    let list = (self.number.get(key)).map_or(&[][..], |b| &self.lists[b as usize]);
+                    near[count] = (key, around, list);
+                    count += 1;
                 }
             }
         }
-        false
+        warm_and_scan(&near[..count], &mut scan)
     }
+}
+
+/// Buckets whose lists [`Buckets::any_near`] loads together.
+const NEAR: usize = 64;
+
+/// Loads the first entry of each list in `near` (independent loads, whose misses overlap),
+/// then `scan(near)`.
+fn warm_and_scan<'a>(
+    near: &[([i64; 3], u32, &'a [Entry])],
+    scan: &mut impl FnMut(&[([i64; 3], u32, &'a [Entry])]) -> bool,
+) -> bool {
+    let firsts = (near.iter()).fold(0u32, |sum, n| {
+        sum.wrapping_add(n.2.first().map_or(0, |e| e.triangle))
+    });
+    std::hint::black_box(firsts);
+    scan(near)
 }
 
 /// Proposed triangles searched around at once by [`Buckets::any_near`].
