@@ -40,7 +40,7 @@
 //! Cost: O(F log F) per pass for sorting the candidate edges, O(1) per collapse or flip on a
 //! marching-cubes mesh (valences are small). The steps' decisions, most of the time, are made on
 //! all threads and applied in order, with the result of the one-at-a-time run (see
-//! `clean_mesh/passes.rs`). Memory: about 130 bytes per triangle of the input at the peak,
+//! `clean_mesh/passes.rs`). Memory: about 125 bytes per triangle of the input at the peak,
 //! besides the input itself (240 before these lists) (positions in `f64`, the triangles, each vertex's triangles in one
 //! packed array, the guard's buckets with `f32` boxes); the lists and buckets are dropped
 //! before the output is gathered.
@@ -60,8 +60,8 @@ use restore::{compact, restore_flattened};
 use work::Work;
 
 /// Bytes cleaning holds per triangle of the input at its peak, besides the input, for the
-/// memory check (130 to 131 measured by the ignored test `memory_per_triangle` on a 326 k
-/// triangle marching-cubes level; rounded up).
+/// memory check (123 to 124 measured by the ignored test `memory_per_triangle` on a 326 k
+/// triangle marching-cubes level, 130 to 131 before the guard's dense bucket index; rounded up).
 pub const CLEAN_BYTES_PER_TRIANGLE: u64 = 144;
 
 /// How [`clean_mesh`] cleans.
