@@ -59,27 +59,22 @@ impl LineProfile {
     }
 }
 
-/// The table read at `tau`: 0 up to `-L`, the last entry (the full integral, or 0 for the
-/// weight) from `L` on, linear interpolation between. The interpolation is computed for every
-/// `tau` (its index clamped into the table, so any `tau` reads within it) and the ends are
-/// chosen after, without branches: crossings fall on either side of `±L` unpredictably.
 #[inline]
 fn lookup<const C: usize>(table: &Table, reach: f64, inv_step: f64, tau: f64) -> f64 {
+    if tau <= -reach {
+        return 0.0;
+    }
+    if tau >= reach {
+        return if C == INTEGRAL {
+            table[INTERVALS][C]
+        } else {
+            0.0
+        };
+    }
     let x = (tau + reach) * inv_step;
     let i = (x as usize).min(INTERVALS - 1);
     let f = x - i as f64;
-    let inner = table[i][C] + (table[i + 1][C] - table[i][C]) * f;
-    let last = if C == INTEGRAL {
-        table[INTERVALS][C]
-    } else {
-        0.0
-    };
-    let value = if tau >= reach { last } else { inner };
-    if tau <= -reach {
-        0.0
-    } else {
-        value
-    }
+    table[i][C] + (table[i + 1][C] - table[i][C]) * f
 }
 
 /// A lattice line of the pattern: its offset from the sample's own line, in lattice steps, and
