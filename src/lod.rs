@@ -19,6 +19,7 @@
 use std::time::Instant;
 
 use serde::Serialize;
+use voxlod_contouring::clean_mesh::CLEAN_BYTES_PER_TRIANGLE;
 use voxlod_contouring::{
     clean_mesh, marching_cubes, sparse_marching_cubes, CleanError, CleanOptions, ContourError,
     ContourOptions,
@@ -52,10 +53,6 @@ pub const BAND_ABOVE_BYTES: u64 = 1 << 30;
 /// 667 MiB uncleaned; cleaned it would need about 1 GB more): raise it only with those runs
 /// measured again.
 pub const CLEAN_BAND_AT_MOST_TRIANGLES: usize = 4_000_000;
-
-/// Bytes cleaning holds per triangle at its peak, for the plan's estimate (measured with the
-/// peak resident size: 130 to 131 beyond the mesh; rounded up).
-const CLEAN_BYTES_PER_TRIANGLE: u64 = 144;
 
 /// The largest dense level (by the plan's estimate) that is sampled on another task while the
 /// level above it is finished ([`sample_ahead`]).
@@ -407,8 +404,8 @@ impl SampledLevel {
     /// sampled in the narrow band is left as it is (the rules need the dense volume, which is
     /// what the band avoids) and starts the chain again: `None`. A level of a chunked scan small
     /// enough for the dense route ([`BAND_ABOVE_BYTES`]) is made dense first, so that its chain
-    /// is the in-memory threshold route's.
-    /// The level's density goes through the chain by value (no copy of the dense volume).
+    /// is the in-memory threshold route's. The level's density goes through the chain by value
+    /// (no copy of the dense volume).
     pub(crate) fn keep_monotone(
         mut self,
         chain: &mut MonotoneChain,
