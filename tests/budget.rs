@@ -70,6 +70,8 @@ fn the_genus_is_never_above_the_voxel_levels() {
                     },
                     // The level's own isodensity: 0.5 or a dilated level's lower one.
                     iso: Some(report.iso),
+                    // The report's resolution as it is, even above the input's count.
+                    finest: voxlod::Finest::Given,
                     ..LodOptions::default()
                 },
             )

@@ -3,7 +3,7 @@
 //! isodensity, each built once (module docs of [`crate::budget`], "Independence").
 
 use std::collections::HashMap;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use voxlod_core::weld::weld_vertices;
@@ -21,10 +21,14 @@ pub(crate) struct BudgetContext<'a> {
     pub(crate) source: &'a LodSource<'a>,
     pub(crate) level_options: LevelOptions,
     pub(crate) input: Option<&'a TriangleMesh>,
-    pub(crate) border: Option<InputBorder>,
-    /// The input mesh welded, its topology, and its distance measure (with a mesh input).
+    /// The mesh the levels are sampled from (the input, or the input with its cavities filled),
+    /// whose area predicts the resolution for a count.
+    pub(super) sampled: Option<&'a TriangleMesh>,
+    pub(crate) border: Option<Arc<InputBorder>>,
+    /// The input mesh welded and its topology (with a mesh input; not in the context of the
+    /// filled input, which leaves step 0 to the input's).
     pub(super) welded: Option<(TriangleMesh, Topology)>,
-    pub(super) measure: Option<InputMeasure<'a>>,
+    pub(super) measure: Option<Arc<InputMeasure<'a>>>,
     pub(crate) input_genus: Option<i64>,
     pub(crate) then: Then,
     pub(crate) time_cap: f64,
@@ -62,9 +66,10 @@ impl<'a> BudgetContext<'a> {
             source,
             level_options,
             input,
-            border,
+            sampled: input,
+            border: border.map(Arc::new),
             welded,
-            measure: input.and_then(InputMeasure::new),
+            measure: input.and_then(InputMeasure::new).map(Arc::new),
             input_genus,
             then,
             time_cap,
@@ -75,7 +80,36 @@ impl<'a> BudgetContext<'a> {
     }
 }
 
-impl BudgetContext<'_> {
+impl<'a> BudgetContext<'a> {
+    /// The context of the same run over `sampled`, the input with its cavities filled, sampled
+    /// as `source` ([`super::filled`]): the same options, border and distance measure against
+    /// the input as given, its own levels, and no step 0 (the input's own collapse belongs to
+    /// the input's context).
+    pub(super) fn filled<'b>(
+        &'b self,
+        source: &'b LodSource<'b>,
+        sampled: &'b TriangleMesh,
+    ) -> BudgetContext<'b>
+    where
+        'a: 'b,
+    {
+        BudgetContext {
+            source,
+            level_options: self.level_options.clone(),
+            input: self.input,
+            sampled: Some(sampled),
+            border: self.border.clone(),
+            welded: None,
+            measure: self.measure.clone(),
+            input_genus: self.input_genus,
+            then: self.then,
+            time_cap: self.time_cap,
+            diagonal: self.diagonal,
+            dilated: self.dilated,
+            levels: Mutex::new(HashMap::new()),
+        }
+    }
+
     /// Two-sided distance from the input to `mesh`, when there is an input mesh.
     pub(super) fn measure(&self, mesh: &TriangleMesh) -> Option<Measured> {
         self.measure.as_ref()?.measure(mesh)

@@ -72,6 +72,7 @@ pub(super) fn report(
         handles_removed: ctx.input_genus.zip(t.genus).map(|(a, b)| a - b),
         parts_dropped: 0,
         iso: ctx.level_options.iso,
+        cavities_filled: 0,
         candidates,
         note: None,
         seconds: start.elapsed().as_secs_f64(),

@@ -23,7 +23,7 @@ impl BudgetContext<'_> {
         iso: f32,
     ) -> Result<(usize, f64, Vec<String>), Error> {
         let start = self
-            .input
+            .sampled
             .and_then(|mesh| resolution_for_triangles(mesh, wanted.round() as usize))
             .unwrap_or(32)
             .clamp(COARSEST, FINEST);

@@ -4,6 +4,7 @@
 //! while nothing fits, and [`super::Then::Auto`]'s envelopes where the quadric stage stalled.
 
 use std::collections::HashMap;
+use std::f64::consts::SQRT_2;
 use std::time::Instant;
 
 use super::candidate::{better, fits, Candidate};
@@ -190,7 +191,14 @@ struct Try {
 /// The levels a budget's search tries, in order: each isodensity's first resolution (about
 /// `wanted` triangles at that isodensity; `first` for the surface's), then their finer and
 /// coarser neighbours (about twice and half `wanted`), then, only while nothing fits the
-/// budget, coarser levels still (about a quarter and an eighth), with less to keep.
+/// budget, coarser levels still (about a quarter and an eighth), with less to keep; then, while
+/// the time cap allows and the geometric stage is the quadric collapse, finer levels between
+/// and beyond (about 1.4, 2.8 and 4 times `wanted`).
+/// A thin part survives filtering only in windows of resolution that depend on how it meets
+/// the lattice (a ring of tori 0.1 thick, at isodensity 0.15, keeps its shape at 19, 20, 22
+/// to 30, and breaks up or vanishes at 18, 21 and 25), so the finer steps are closer together
+/// than a factor of two in the count: the finest level whose topology the budget affords is
+/// usually the closest to the input.
 fn search_plan(ctx: &BudgetContext, first: usize, wanted: f64) -> Result<Vec<Try>, Error> {
     let mut bases = vec![(ctx.level_options.iso, first)];
     for iso in ctx.isos().into_iter().skip(1) {
@@ -207,7 +215,13 @@ fn search_plan(ctx: &BudgetContext, first: usize, wanted: f64) -> Result<Vec<Try
     if ctx.then == Then::None {
         return Ok(tries);
     }
-    for f in [2f64, 0.5, 0.25, 0.125] {
+    // The finer steps only where the geometric stage is the quadric collapse: simplification
+    // envelopes cost 10 to 300 times as much per level (module docs, step 3).
+    let finer: &[f64] = match ctx.then {
+        Then::Envelope => &[],
+        _ => &[SQRT_2, 2.0 * SQRT_2, 4.0],
+    };
+    for &f in [2f64, 0.5, 0.25, 0.125].iter().chain(finer) {
         for &(iso, base) in &bases {
             let resolution = ((base as f64 * f.sqrt()).round() as usize).clamp(COARSEST, FINEST);
             let next = Try {

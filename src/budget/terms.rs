@@ -152,6 +152,10 @@ pub struct BudgetLevel {
     /// The isodensity of the voxel level (0.5 follows a solid's surface; the dilated levels'
     /// lower one keeps thin parts that 0.5 erases, module docs step 1).
     pub iso: f32,
+    /// Cavities of the input (closed shells bounding voids in its material) filled before
+    /// sampling, when the filled input gave the closer level (module docs of `budget/filled`);
+    /// 0 when the input was sampled as given.
+    pub cavities_filled: usize,
     /// Candidates (resolution and stage) built and measured.
     pub candidates: usize,
     /// Why the level misses its budget by more than 10 %, or what else to know.

@@ -9,6 +9,7 @@
 //! - [`BrickVolume`]: the same samples stored sparsely, dense leaf bricks near the surface and
 //!   one value per brick elsewhere.
 //! - [`topology`]: edge-based manifold checks, Euler characteristic and genus.
+//! - [`cavities`]: a solid as seen from outside, its enclosed voids filled.
 //! - [`weld`]: merging coincident vertices, as STL triangle soups need.
 //! - [`memory`]: refusing allocations that cannot fit, with the size they would need.
 //! - [`repair`]: dropping degenerate and duplicate triangles, closing holes for the inside test.
@@ -43,6 +44,7 @@
 
 pub mod bounds;
 pub mod bricks;
+pub mod cavities;
 pub mod disjoint;
 pub mod error;
 pub mod grid;

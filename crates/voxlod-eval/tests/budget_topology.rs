@@ -37,7 +37,10 @@ fn many_handles(count: usize) -> TriangleMesh {
     mesh
 }
 
-/// A hollow sphere: radius 1 outside, 0.97 inside (the inner sphere turned inwards).
+/// A hollow sphere: radius 1 outside, 0.97 inside (the inner sphere turned inwards). The
+/// budget level is the sphere filled (its cavity closed, `budget/filled`), whose distance is
+/// mostly the wall's 0.03 (0.0087 of the diagonal): measured 0.0111 against Low–Tan's 0.0113
+/// (at 358 triangles, 19 % over the budget) and meshoptimizer `simplify`'s 0.0255.
 fn thin_shell() -> TriangleMesh {
     let mut mesh = icosphere_at(5, 1.0, Vec3::ZERO);
     let mut inner = icosphere_at(5, 0.97, Vec3::ZERO);
@@ -86,6 +89,7 @@ fn budget_level_wins(name: &str, mesh: &TriangleMesh, slack: f64) {
         })
         .collect();
     let summary = format!("{name}:\n{}", summary.join("\n"));
+    eprintln!("{summary}");
     let ours = &levels
         .iter()
         .find(|(m, _)| m == "budget")
@@ -118,15 +122,11 @@ fn many_spheres_budget_level_is_closest() {
 }
 
 #[test]
-#[ignore = "not met yet (issue 12 item 3): at 300 the budget level measured 0.109 / silhouette \
-            0.317 against meshopt simplify's 0.044 / 0.215 and Low-Tan's 0.038 / 0.137"]
 fn many_handles_budget_level_is_closest() {
     budget_level_wins("many handles", &many_handles(30), 0.0);
 }
 
 #[test]
-#[ignore = "not met yet (issue 12 item 3): at 300 the budget level measured 0.138 / silhouette \
-            0.927 (most of the shell lost) against meshopt simplify's 0.026 / 0.047"]
 fn thin_shell_budget_level_is_closest() {
     budget_level_wins("thin shell", &thin_shell(), 0.0);
 }
