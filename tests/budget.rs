@@ -1,11 +1,12 @@
 //! The budget pipeline: counts within 10 %, closed manifolds from closed inputs, genus never
-//! above the voxel level's, openings kept, budgets independent of each other, bad budgets
-//! refused.
+//! above the voxel level's, openings kept, budgets independent of each other, cavities filled
+//! and detached parts restored where that is closer, bad budgets refused.
 
 use voxlod::budget::{ErrorTarget, Stage, Then};
+use voxlod::core::glam::Vec3;
 use voxlod::core::{mesh_topology, TriangleMesh};
 use voxlod::{lod, LodOptions, Source};
-use voxlod_testkit::shapes::{icosphere, torus};
+use voxlod_testkit::shapes::{append, icosphere, icosphere_at, torus};
 
 fn options(budgets: &[usize]) -> LodOptions {
     LodOptions {
@@ -84,6 +85,52 @@ fn the_genus_is_never_above_the_voxel_levels() {
             );
         }
     }
+}
+
+#[test]
+fn a_detached_small_part_comes_back_beside_the_level() {
+    // A sphere of radius 0.01, 2 away from a unit sphere: far below the voxel size a budget of
+    // 200 affords (about 0.2), so the filter erases it, and it comes back as a tetrahedron.
+    let mut mesh = icosphere(3);
+    let centre = Vec3::new(3.0, 0.0, 0.0);
+    append(&mut mesh, &icosphere_at(2, 0.01, centre));
+    let out = lod(&Source::Mesh(&mesh), &options(&[200])).unwrap();
+    let (level, report) = (&out.levels[0], &out.budgets[0]);
+    assert_eq!(report.parts_restored, 1, "{report:?}");
+    let topology = mesh_topology(&level.mesh);
+    assert!(topology.is_closed_manifold() && topology.is_consistently_oriented());
+    assert_eq!((topology.components, topology.genus), (2, Some(0)));
+    assert!(within(topology.triangles, 200), "{}", topology.triangles);
+    // Its vertices lie on the small sphere's surface or inside it.
+    let near = level
+        .mesh
+        .positions
+        .iter()
+        .filter(|p| p.distance(centre) <= 0.0101);
+    assert_eq!(near.count(), 4);
+    // Without it, the distance would be the part's own 2 units from the sphere.
+    assert!(report.hausdorff.unwrap() < 0.5, "{report:?}");
+}
+
+#[test]
+fn a_hollow_part_turns_solid_when_that_is_closer() {
+    // A wall 0.05 thick: at 300 triangles, its two sides cost more than its depth.
+    let mut mesh = icosphere(3);
+    let mut inner = icosphere_at(3, 0.95, Vec3::ZERO);
+    inner.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+    append(&mut mesh, &inner);
+    let out = lod(&Source::Mesh(&mesh), &options(&[300])).unwrap();
+    let (level, report) = (&out.levels[0], &out.budgets[0]);
+    assert_eq!(report.cavities_filled, 1, "{report:?}");
+    let topology = mesh_topology(&level.mesh);
+    assert!(topology.is_closed_manifold());
+    assert_eq!((topology.components, topology.genus), (1, Some(0)));
+    assert!(
+        level.mesh.signed_volume() > 3.5,
+        "{}",
+        level.mesh.signed_volume()
+    );
+    assert!(within(topology.triangles, 300), "{}", topology.triangles);
 }
 
 #[test]

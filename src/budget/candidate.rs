@@ -14,6 +14,8 @@ pub(super) struct Candidate {
     pub(super) distance: Option<Measured>,
     /// Components of the voxel level that the quadric stage dropped.
     pub(super) parts_dropped: usize,
+    /// Detached parts of the input restored beside the level (module `detached`).
+    pub(super) parts_restored: usize,
     /// The isodensity of the voxel level it came from.
     pub(super) iso: f32,
 }

@@ -10,6 +10,7 @@ use voxlod_core::weld::weld_vertices;
 use voxlod_core::{mesh_topology, Topology, TriangleMesh};
 use voxlod_sampling::PyramidOptions;
 
+use super::detached::InputParts;
 use super::measure::{InputMeasure, Measured};
 use super::{Then, DILATED_ISO_FRACTIONS};
 use crate::caps::InputBorder;
@@ -36,6 +37,8 @@ pub(crate) struct BudgetContext<'a> {
     /// Whether the dilated levels are searched too (module docs, step 1): with a mesh input and
     /// the solid's default isodensity.
     pub(crate) dilated: bool,
+    /// The input's connected components, split on first use (module `detached`).
+    pub(super) parts: InputParts,
     /// Levels by resolution and isodensity (its bits), with the seconds they took to build.
     levels: Mutex<HashMap<(usize, u32), (LodLevel, f64)>>,
 }
@@ -75,6 +78,7 @@ impl<'a> BudgetContext<'a> {
             time_cap,
             diagonal: source.bounds().diagonal(),
             dilated: false,
+            parts: InputParts::new(),
             levels: Mutex::new(HashMap::new()),
         })
     }
@@ -106,6 +110,7 @@ impl<'a> BudgetContext<'a> {
             time_cap: self.time_cap,
             diagonal: self.diagonal,
             dilated: self.dilated,
+            parts: InputParts::new(),
             levels: Mutex::new(HashMap::new()),
         }
     }

@@ -32,6 +32,7 @@ pub(super) fn stages(
             error_bound: 0.5 * level.plan.voxel_size,
             distance: ctx.measure(&level.mesh),
             parts_dropped: 0,
+            parts_restored: 0,
             iso,
         });
     }
@@ -47,6 +48,7 @@ pub(super) fn stages(
                 stage: Stage::Quadric,
                 error_bound: done.simplified.error_bound,
                 parts_dropped: done.dropped_parts,
+                parts_restored: 0,
                 iso,
             });
         }
@@ -72,6 +74,7 @@ pub(super) fn envelope_candidate(
         stage: Stage::Envelope,
         error_bound: epsilon,
         parts_dropped: 0,
+        parts_restored: 0,
         iso,
     })
 }

@@ -47,6 +47,7 @@ impl BudgetContext<'_> {
             stage: Stage::InputQuadric,
             error_bound: done.error_bound,
             parts_dropped: 0,
+            parts_restored: 0,
             iso: self.level_options.iso,
         };
         Ok(Some((candidate, level, charged)))

@@ -59,6 +59,10 @@
 //!    shells bounding voids inside its material, steps 1 to 4 run again on the input with
 //!    those cavities filled ([`voxlod_core::cavities`]), and the closer level is kept: a hollow
 //!    part whose wall the budget cannot afford then turns solid instead of perforating.
+//! 6. **Detached parts restored** (our addition, module `detached`): input parts that lie apart
+//!    from the best level (closed, genus 0, their box meeting neither the level's) come back
+//!    beside it as their own collapse to a few triangles, within a quarter of the budget; the
+//!    level with them is kept where it measures closer.
 //!
 //! **Independence.** A budget's level depends on that budget and the options alone, never on
 //! the other budgets of the run: each search starts from nothing, and levels built for one
@@ -81,11 +85,12 @@
 //! `context` (what the budgets share, the levels built once), `resolution` (step 1's probes),
 //! `openings` (step 2), `input` (step 0), `geometric` (step 3), `candidate` and `measure`
 //! (step 4's comparison and distances), `search` (a budget's search, the time cap, the
-//! bisection), `filled` (step 5), `error_target` (the error target alone, without step 5) and
+//! bisection), `filled` (step 5), `detached` (step 6), `error_target` (the error target alone, without step 5) and
 //! `report`.
 
 mod candidate;
 mod context;
+mod detached;
 mod error_target;
 mod filled;
 mod geometric;

@@ -36,6 +36,7 @@ pub(super) fn finish(
     report.hausdorff = chosen.distance.as_ref().map(|d| d.hausdorff);
     report.mean_distance = chosen.distance.as_ref().map(|d| d.mean);
     report.parts_dropped = chosen.parts_dropped;
+    report.parts_restored = chosen.parts_restored;
     report.iso = chosen.iso;
     report.note = miss_note(&level.topology, budget);
     if let Some(note) = &report.note {
@@ -73,6 +74,7 @@ pub(super) fn report(
         parts_dropped: 0,
         iso: ctx.level_options.iso,
         cavities_filled: 0,
+        parts_restored: 0,
         candidates,
         note: None,
         seconds: start.elapsed().as_secs_f64(),

@@ -156,6 +156,9 @@ pub struct BudgetLevel {
     /// sampling, when the filled input gave the closer level (module docs of `budget/filled`);
     /// 0 when the input was sampled as given.
     pub cavities_filled: usize,
+    /// Detached parts of the input (closed, genus 0, apart from the level) restored beside the
+    /// level as their own collapse (module docs of `budget/detached`).
+    pub parts_restored: usize,
     /// Candidates (resolution and stage) built and measured.
     pub candidates: usize,
     /// Why the level misses its budget by more than 10 %, or what else to know.

@@ -25,10 +25,10 @@
 //! Cost: O(F log F) for the shells (a sort of the half-edges), then per cavity candidate one ray
 //! against each material shell whose box holds it, O(F) in the worst case per candidate.
 
-use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::topology::UnionFind;
+use crate::components::triangle_components;
+use crate::parity::point_inside;
 use crate::{Bounds, TriangleMesh};
 
 /// [`fill_cavities`]'s result: the mesh without its cavities, and what was taken away.
@@ -127,49 +127,44 @@ pub fn fill_cavities(mesh: &TriangleMesh) -> Option<FilledCavities> {
 /// The mesh's connected components, each with whether it is a closed, consistently oriented
 /// shell, its signed volume and its box.
 fn components(mesh: &TriangleMesh) -> Vec<Component> {
-    let mut links = UnionFind::new(mesh.positions.len());
-    for &[a, b, c] in &mesh.triangles {
-        links.union(a, b);
-        links.union(b, c);
-    }
-    let mut index_of = std::collections::HashMap::new();
-    let mut out: Vec<Component> = Vec::new();
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        let root = links.find(tri[0]);
-        let i = *index_of.entry(root).or_insert_with(|| {
-            out.push(Component {
-                triangles: Vec::new(),
+    let parts = triangle_components(mesh);
+    let mut component_of = vec![0u32; mesh.positions.len()];
+    let mut out: Vec<Component> = parts
+        .into_iter()
+        .enumerate()
+        .map(|(i, triangles)| {
+            let mut c = Component {
+                triangles,
                 closed: true,
                 volume: 0.0,
                 bounds: Bounds::EMPTY,
-            });
-            out.len() - 1
-        });
-        let c = &mut out[i];
-        c.triangles.push(t as u32);
-        let [a, b, d] = mesh.corners(t);
-        c.volume += a.dot(b.cross(d)) / 6.0;
-        [a, b, d].into_iter().for_each(|p| c.bounds.grow(p));
-    }
-    for i in open_components(mesh, &mut links, &index_of) {
+            };
+            for &t in &c.triangles {
+                let [a, b, d] = mesh.corners(t as usize);
+                c.volume += a.dot(b.cross(d)) / 6.0;
+                [a, b, d].into_iter().for_each(|p| c.bounds.grow(p));
+                mesh.triangles[t as usize]
+                    .iter()
+                    .for_each(|&v| component_of[v as usize] = i as u32);
+            }
+            c
+        })
+        .collect();
+    for i in open_components(mesh, &component_of) {
         out[i].closed = false;
     }
     out
 }
 
-/// The components (by their index in `index_of`, keyed by union-find root) with an edge not
-/// used exactly twice in opposite directions, or a degenerate triangle.
-fn open_components(
-    mesh: &TriangleMesh,
-    links: &mut UnionFind,
-    index_of: &std::collections::HashMap<u32, usize>,
-) -> Vec<usize> {
+/// The components (by `component_of` each vertex) with an edge not used exactly twice in
+/// opposite directions, or a degenerate triangle.
+fn open_components(mesh: &TriangleMesh, component_of: &[u32]) -> Vec<usize> {
     // Half-edges as (smaller, larger, forward): a closed oriented edge is one of each direction.
     let mut half_edges: Vec<(u32, u32, bool)> = Vec::with_capacity(3 * mesh.triangles.len());
     let mut open = Vec::new();
     for &[a, b, c] in &mesh.triangles {
         if a == b || b == c || c == a {
-            open.push(index_of[&links.find(a)]);
+            open.push(component_of[a as usize] as usize);
             continue;
         }
         for (p, q) in [(a, b), (b, c), (c, a)] {
@@ -179,7 +174,7 @@ fn open_components(
     half_edges.par_sort_unstable();
     for group in half_edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
         if group.len() != 2 || group[0].2 == group[1].2 {
-            open.push(index_of[&links.find(group[0].0)]);
+            open.push(component_of[group[0].0 as usize] as usize);
         }
     }
     open
@@ -190,41 +185,12 @@ fn holds(outer: &Bounds, inner: &Bounds) -> bool {
     outer.min.cmple(inner.min).all() && inner.max.cmple(outer.max).all()
 }
 
-/// Whether the first vertex of `inner` lies inside the closed shell `outer`: the parity of the
-/// crossings of a ray in a fixed direction that no axis-aligned or diagonal feature of a
-/// typical model contains (a ray through an edge or vertex exactly is not handled specially).
+/// Whether the first vertex of `inner` lies inside the closed shell `outer` (by parity,
+/// [`crate::parity::point_inside`]).
 fn encloses(mesh: &TriangleMesh, outer: &Component, inner: &Component) -> bool {
     let first = mesh.triangles[inner.triangles[0] as usize][0];
-    let origin = mesh.positions[first as usize].as_dvec3();
-    let direction = DVec3::new(0.8017, 0.4479, 0.3959).normalize();
-    let crossings = outer
-        .triangles
-        .iter()
-        .filter(|&&t| ray_crosses(origin, direction, mesh.corners(t as usize)))
-        .count();
-    crossings % 2 == 1
-}
-
-/// Whether the ray from `origin` along `direction` crosses triangle `[a, b, c]` (Möller and
-/// Trumbore's test, 1997), at a positive distance.
-fn ray_crosses(origin: DVec3, direction: DVec3, [a, b, c]: [DVec3; 3]) -> bool {
-    let (e1, e2) = (b - a, c - a);
-    let p = direction.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-300 {
-        return false;
-    }
-    let s = origin - a;
-    let u = s.dot(p) / det;
-    if !(0.0..=1.0).contains(&u) {
-        return false;
-    }
-    let q = s.cross(e1);
-    let v = direction.dot(q) / det;
-    if v < 0.0 || u + v > 1.0 {
-        return false;
-    }
-    e2.dot(q) / det > 0.0
+    let point = mesh.positions[first as usize].as_dvec3();
+    point_inside(mesh, outer.triangles.iter().map(|&t| t as usize), point)
 }
 
 #[cfg(test)]

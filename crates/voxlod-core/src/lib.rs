@@ -9,7 +9,8 @@
 //! - [`BrickVolume`]: the same samples stored sparsely, dense leaf bricks near the surface and
 //!   one value per brick elsewhere.
 //! - [`topology`]: edge-based manifold checks, Euler characteristic and genus.
-//! - [`cavities`]: a solid as seen from outside, its enclosed voids filled.
+//! - [`cavities`]: a solid as seen from outside, its enclosed voids filled; [`components`]:
+//!   a mesh's connected parts; [`parity`]: inside a closed surface or not.
 //! - [`weld`]: merging coincident vertices, as STL triangle soups need.
 //! - [`memory`]: refusing allocations that cannot fit, with the size they would need.
 //! - [`repair`]: dropping degenerate and duplicate triangles, closing holes for the inside test.
@@ -45,11 +46,13 @@
 pub mod bounds;
 pub mod bricks;
 pub mod cavities;
+pub mod components;
 pub mod disjoint;
 pub mod error;
 pub mod grid;
 pub mod memory;
 pub mod mesh;
+pub mod parity;
 pub mod repair;
 #[cfg(test)]
 mod test_shapes;
