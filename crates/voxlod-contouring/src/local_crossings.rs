@@ -9,7 +9,9 @@
 //! decided by the signs of `f64` orientation determinants, a zero counting as meeting (the
 //! guard refuses what it cannot rule out). Pairs whose bounding boxes lie apart (by more than
 //! a millionth of a cell, far above the determinants' rounding) are ruled out first, which is
-//! most pairs in the 27 buckets. Bucket numbers come from a dense two-level table
+//! most pairs in the 27 buckets; a bucket whose triangles' boxes cannot reach the proposed
+//! ones (the buckets keep how far any box they listed reached beyond its bucket's cell) is not
+//! read at all. Bucket numbers come from a dense two-level table
 //! (`bucket_index.rs`), and the lists of a search are gathered before they are scanned, so that
 //! their cache misses overlap. Cost: O(1) per test on a marching-cubes mesh.
 
@@ -39,6 +41,16 @@ impl Entry {
     fn bounds(&self) -> (DVec3, DVec3) {
         let widen = |a: [f32; 3]| DVec3::from_array(a.map(f64::from));
         (widen(self.lo), widen(self.hi))
+    }
+
+    /// How far the box reaches beyond the cell of bucket `key` (buckets of `size`), along the
+    /// axis where it reaches farthest; 0 when it lies inside.
+    fn beyond(&self, size: f64, key: [i64; 3]) -> f64 {
+        let (lo, hi) = self.bounds();
+        (0..3).fold(0.0, |far: f64, a| {
+            let cell = key[a] as f64 * size;
+            far.max(cell - lo[a]).max(hi[a] - (cell + size))
+        })
     }
 }
 
@@ -78,6 +90,8 @@ pub(crate) struct Buckets {
     lists: Vec<Vec<Entry>>,
     /// The bucket of each triangle.
     bucket_of: Vec<u32>,
+    /// How far any box listed ever reached beyond its bucket, along any axis (never lowered).
+    reach: f64,
 }
 
 impl Buckets {
@@ -110,8 +124,11 @@ impl Buckets {
         let mut lists: Vec<Vec<Entry>> = (sizes.iter())
             .map(|&n| Vec::with_capacity(n as usize))
             .collect();
+        let mut reach = 0.0f64;
         for (t, &b) in bucket_of.iter().enumerate() {
-            lists[b as usize].push(Entry::new(t as u32, corners(t)));
+            let entry = Entry::new(t as u32, corners(t));
+            reach = reach.max(entry.beyond(size, keys[b as usize]));
+            lists[b as usize].push(entry);
         }
         Buckets {
             size,
@@ -119,6 +136,7 @@ impl Buckets {
             keys,
             lists,
             bucket_of,
+            reach,
         }
     }
 
@@ -155,6 +173,7 @@ impl Buckets {
         }
         let old = self.bucket_of[t as usize];
         let entry = Entry::new(t, corners);
+        self.reach = self.reach.max(entry.beyond(self.size, key));
         let list = &mut self.lists[old as usize];
         if b == old {
             if let Some(slot) = list.iter_mut().find(|e| e.triangle == t) {
@@ -172,7 +191,11 @@ impl Buckets {
     /// `k`'s (by [`Buckets::margin`]). These are the pairs of a search bucket by bucket around
     /// each proposed triangle, but each bucket is read once for all the proposed triangles
     /// around it: the buckets of the block that spans their neighbourhoods are visited in
-    /// turn. `visit(key)` is told every bucket read.
+    /// turn, leaving out those whose boxes cannot reach the proposed triangles' (the
+    /// neighbourhood's reach is two cells beyond a centroid's bucket, a box's about one).
+    /// `visit(key)` is told two opposite corners of the block of keys searched, so that the
+    /// box of the keys it is told holds every bucket of the 27 around each proposed triangle
+    /// that was searched.
     pub(crate) fn any_near(
         &self,
         proposed: &[[DVec3; 3]],
@@ -204,6 +227,8 @@ impl Buckets {
             }
         }
         let keys = &keys[..proposed.len()];
+        visit(lo);
+        visit(hi);
         // The box around every proposed triangle: a bucketed triangle apart from it is apart
         // from each of them, so its pairs are ruled out at once (the pairs left, and the order
         // in which `meets` sees them, are those of the test against each box).
@@ -211,12 +236,16 @@ impl Buckets {
             .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), b| {
                 (lo.min(b.0), hi.max(b.1))
             });
+        // Only the buckets whose triangles can reach the block's box: the others hold boxes
+        // apart from it, whose pairs would be ruled out one by one.
+        let Some((lo, hi)) = self.reaching(lo, hi, block_box, margin) else {
+            return false;
+        };
         // The buckets are gathered [`NEAR`] at a time, their lists' first entries loaded
         // together (so that their cache misses overlap), then scanned in the same order.
         let boxes = &boxes[..proposed.len()];
         let mut scan = |near: &[([i64; 3], u32, &[Entry])]| {
-            near.iter().any(|&(key, around, list)| {
-                visit(key);
+            near.iter().any(|&(_, around, list)| {
                 list.iter().any(|entry| {
                     let there = entry.bounds();
                     !boxes_apart(there, block_box, margin)
@@ -255,6 +284,30 @@ impl Buckets {
         }
         warm_and_scan(&near[..count], &mut scan)
     }
+
+    /// The keys from `lo` to `hi` (inclusive) of the buckets whose listed boxes may come within
+    /// `margin` of `block` (not farther than [`Buckets::reach`] beyond their cells, with a
+    /// slack far above the rounding of these sums), or `None` when there are none.
+    fn reaching(
+        &self,
+        lo: [i64; 3],
+        hi: [i64; 3],
+        (block_lo, block_hi): (DVec3, DVec3),
+        margin: f64,
+    ) -> Option<([i64; 3], [i64; 3])> {
+        let reach = self.reach + margin;
+        let near = |a: usize, k: i64| {
+            let cell = k as f64 * self.size;
+            let slack = 1e-6 * self.size + 1e-12 * cell.abs();
+            cell + self.size + reach + slack >= block_lo[a] && cell - reach - slack <= block_hi[a]
+        };
+        let (mut from, mut to) = (lo, hi);
+        for a in 0..3 {
+            from[a] = (lo[a]..=hi[a]).find(|&k| near(a, k))?;
+            to[a] = (from[a]..=hi[a]).rev().find(|&k| near(a, k))?;
+        }
+        Some((from, to))
+    }
 }
 
 /// Buckets whose lists [`Buckets::any_near`] loads together.
@@ -285,9 +338,8 @@ pub(crate) fn centroid(p: [DVec3; 3]) -> DVec3 {
     (p[0] + p[1] + p[2]) / 3.0
 }
 
-/// Sign of the volume of the tetrahedron `a b c d` (+1, -1 or 0).
-fn side(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
-    let volume = (b - a).cross(c - a).dot(d - a);
+/// The sign of `volume`: +1, -1 or 0 (0 for NaN).
+fn sign(volume: f64) -> f64 {
     if volume > 0.0 {
         1.0
     } else if volume < 0.0 {
@@ -297,9 +349,14 @@ fn side(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
     }
 }
 
-/// Segment `p q` meets triangle `t` (touching counts).
-fn segment_meets(p: DVec3, q: DVec3, t: [DVec3; 3]) -> bool {
-    let (sp, sq) = (side(t[0], t[1], t[2], p), side(t[0], t[1], t[2], q));
+/// Sign of the volume of the tetrahedron `a b c d` (+1, -1 or 0).
+fn side(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
+    sign((b - a).cross(c - a).dot(d - a))
+}
+
+/// Segment `p q`, whose ends lie on sides `sp` and `sq` of triangle `t`'s plane (`side(t[0],
+/// t[1], t[2], ·)`), meets `t` (touching counts).
+fn segment_meets(p: DVec3, q: DVec3, (sp, sq): (f64, f64), t: [DVec3; 3]) -> bool {
     if sp * sq > 0.0 {
         return false;
     }
@@ -313,6 +370,32 @@ fn segment_meets(p: DVec3, q: DVec3, t: [DVec3; 3]) -> bool {
         side(p, q, t[2], t[0]),
     ];
     !(e.iter().any(|&s| s > 0.0) && e.iter().any(|&s| s < 0.0))
+}
+
+/// An edge of triangle `p` (vertex ids `ip`) not incident to a vertex of `t` (ids `it`) meets
+/// triangle `t`. Triangles sharing an edge have no such edge, and nothing is computed; else the
+/// sides of `p`'s unshared corners are the determinants [`side`] computes, the plane's normal
+/// found once for them.
+fn edges_meet(p: [DVec3; 3], ip: [u32; 3], t: [DVec3; 3], it: [u32; 3]) -> bool {
+    let (f0, f1, f2) = (
+        !it.contains(&ip[0]),
+        !it.contains(&ip[1]),
+        !it.contains(&ip[2]),
+    );
+    let (e0, e1, e2) = (f0 && f1, f1 && f2, f2 && f0);
+    if !(e0 || e1 || e2) {
+        return false;
+    }
+    let normal = (t[1] - t[0]).cross(t[2] - t[0]);
+    // A shared corner's side is never read: no tested edge ends there.
+    let side_of = |free: bool, x: DVec3| match free {
+        true => sign(normal.dot(x - t[0])),
+        false => 0.0,
+    };
+    let (s0, s1, s2) = (side_of(f0, p[0]), side_of(f1, p[1]), side_of(f2, p[2]));
+    (e0 && segment_meets(p[0], p[1], (s0, s1), t))
+        || (e1 && segment_meets(p[1], p[2], (s1, s2), t))
+        || (e2 && segment_meets(p[2], p[0], (s2, s0), t))
 }
 
 /// Two boxes lie apart along some axis by more than `margin`.
@@ -335,12 +418,147 @@ pub(crate) fn triangles_meet(
     if boxes_apart(bounds(a), bounds(b), margin) {
         return false;
     }
-    let edges_of = |p: [DVec3; 3], ip: [u32; 3], other: [u32; 3]| {
-        (0..3).filter_map(move |k| {
-            let (u, v) = (ip[k], ip[(k + 1) % 3]);
-            (!other.contains(&u) && !other.contains(&v)).then_some((p[k], p[(k + 1) % 3]))
-        })
-    };
-    edges_of(a, ia, ib).any(|(p, q)| segment_meets(p, q, b))
-        || edges_of(b, ib, ia).any(|(p, q)| segment_meets(p, q, a))
+    edges_meet(a, ia, b, ib) || edges_meet(b, ib, a, ia)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_pcg::Pcg64;
+
+    /// A triangle of about `size` around `centre`.
+    fn triangle(rng: &mut Pcg64, centre: DVec3, size: f64) -> [DVec3; 3] {
+        let mut corner = || {
+            let d = DVec3::new(rng.random(), rng.random(), rng.random()) - DVec3::splat(0.5);
+            centre + d * size
+        };
+        [corner(), corner(), corner()]
+    }
+
+    /// The test as it was written first: each edge's two plane sides and three edge sides by
+    /// [`side`], one edge at a time.
+    fn meet_edge_by_edge(a: [DVec3; 3], ia: [u32; 3], b: [DVec3; 3], ib: [u32; 3]) -> bool {
+        let edge_meets = |p: DVec3, q: DVec3, t: [DVec3; 3]| {
+            let (sp, sq) = (side(t[0], t[1], t[2], p), side(t[0], t[1], t[2], q));
+            if sp * sq > 0.0 || (sp == 0.0 && sq == 0.0) {
+                return false;
+            }
+            let e = [
+                side(p, q, t[0], t[1]),
+                side(p, q, t[1], t[2]),
+                side(p, q, t[2], t[0]),
+            ];
+            !(e.iter().any(|&s| s > 0.0) && e.iter().any(|&s| s < 0.0))
+        };
+        let edges = |p: [DVec3; 3], ip: [u32; 3], t: [DVec3; 3], it: [u32; 3]| {
+            (0..3).any(|k| {
+                let l = (k + 1) % 3;
+                !it.contains(&ip[k]) && !it.contains(&ip[l]) && edge_meets(p[k], p[l], t)
+            })
+        };
+        edges(a, ia, b, ib) || edges(b, ib, a, ia)
+    }
+
+    /// Pairs of triangles over a few shared points (on a half-unit lattice, so that corners
+    /// often lie exactly in the other's plane or on its edges, or are shared): the plane sides
+    /// found once per triangle decide as the edge-by-edge test, and both answers occur.
+    #[test]
+    fn shared_plane_sides_decide_as_the_edge_by_edge_test() {
+        let mut rng = Pcg64::seed_from_u64(14);
+        let mut met = [0usize; 2];
+        for _ in 0..20_000 {
+            let points: Vec<DVec3> = (0..6)
+                .map(|_| {
+                    let c = [0, 1, 2].map(|_| rng.random_range(0..3) as f64 * 0.5);
+                    DVec3::from_array(c) + DVec3::splat(rng.random_range(0..2) as f64 * 1e-3)
+                })
+                .collect();
+            let mut ids = || [0, 1, 2].map(|_| rng.random_range(0..points.len() as u32));
+            let (ia, ib) = (ids(), ids());
+            let at = |i: [u32; 3]| i.map(|v| points[v as usize]);
+            let meets = triangles_meet(at(ia), ia, at(ib), ib, 1e-9);
+            let apart = boxes_apart(bounds(at(ia)), bounds(at(ib)), 1e-9);
+            assert_eq!(meets, !apart && meet_edge_by_edge(at(ia), ia, at(ib), ib));
+            met[meets as usize] += 1;
+        }
+        assert!(met[0] > 1000 && met[1] > 1000, "{met:?}");
+    }
+
+    /// Triangles of a cell or less scattered over twelve cells, a tenth of them moved by up to
+    /// two cells after bucketing (as cleaning moves them, and farther): every search of up to
+    /// 40 proposed triangles tests exactly the pairs of the search bucket by bucket (every
+    /// listed triangle in the 27 buckets around a proposed triangle whose box is not apart from
+    /// the block's and its own), and the keys it is told span those 27 buckets.
+    #[test]
+    fn a_search_tests_the_pairs_of_its_27_buckets() {
+        let mut rng = Pcg64::seed_from_u64(7);
+        let cell = 0.5;
+        let mut corners: Vec<[DVec3; 3]> = (0..4000)
+            .map(|_| {
+                let c = DVec3::new(rng.random(), rng.random(), rng.random()) * 6.0;
+                triangle(&mut rng, c, cell)
+            })
+            .collect();
+        let mut buckets = Buckets::new(cell, corners.len(), |t| corners[t]);
+        for (t, at) in corners.iter_mut().enumerate().take(400) {
+            let shift = (DVec3::new(rng.random(), rng.random(), rng.random()) - 0.5) * 4.0 * cell;
+            *at = triangle(&mut rng, centroid(*at) + shift, 1.5 * cell);
+            buckets.update(t as u32, *at);
+        }
+        let margin = buckets.margin();
+        let mut pairs = 0;
+        for _ in 0..400 {
+            let centre = DVec3::new(rng.random(), rng.random(), rng.random()) * 6.0;
+            let count = rng.random_range(1..40);
+            let proposed: Vec<[DVec3; 3]> = (0..count)
+                .map(|_| triangle(&mut rng, centre, 2.0 * cell))
+                .collect();
+            let (mut lo, mut hi) = ([i64::MAX; 3], [i64::MIN; 3]);
+            let mut seen = Vec::new();
+            let visit = |key: [i64; 3]| {
+                lo = [0, 1, 2].map(|a| lo[a].min(key[a]));
+                hi = [0, 1, 2].map(|a| hi[a].max(key[a]));
+            };
+            let found = buckets.any_near(&proposed, visit, |k, t| {
+                seen.push((k, t));
+                false
+            });
+            assert!(!found);
+            let mut expected = Vec::new();
+            for (c, block) in proposed.chunks(BLOCK).enumerate() {
+                let block_box = (block.iter().map(|&p| bounds(p)))
+                    .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), b| {
+                        (l.min(b.0), h.max(b.1))
+                    });
+                for (j, &p) in block.iter().enumerate() {
+                    let key = buckets.key(centroid(p));
+                    assert!((0..3).all(|a| lo[a] < key[a] && key[a] < hi[a]));
+                    for d in 0..27i64 {
+                        let near = [
+                            key[0] + d % 3 - 1,
+                            key[1] + d / 3 % 3 - 1,
+                            key[2] + d / 9 - 1,
+                        ];
+                        let Some(b) = buckets.number.get(near) else {
+                            continue;
+                        };
+                        for e in &buckets.lists[b as usize] {
+                            let there = e.bounds();
+                            if !boxes_apart(there, block_box, margin)
+                                && !boxes_apart(there, bounds(p), margin)
+                            {
+                                expected.push((BLOCK * c + j, e.triangle));
+                            }
+                        }
+                    }
+                }
+            }
+            seen.sort_unstable();
+            expected.sort_unstable();
+            assert_eq!(seen, expected);
+            pairs += seen.len();
+        }
+        assert!(pairs > 10_000, "{pairs}");
+    }
 }

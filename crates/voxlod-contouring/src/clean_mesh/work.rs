@@ -154,7 +154,7 @@ impl Work {
                 &corners,
                 |key| reads.add(key),
                 |k, u| {
-                    if !self.surface.alive[u as usize] || changing.contains(&u) {
+                    if changing.contains(&u) || !self.surface.alive[u as usize] {
                         return false;
                     }
                     let other = self.surface.triangles[u as usize];
