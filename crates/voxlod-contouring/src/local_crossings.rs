@@ -436,20 +436,12 @@ mod tests {
         [corner(), corner(), corner()]
     }
 
-    /// The test as it was written first: each edge's two plane sides and three edge sides by
-    /// [`side`], one edge at a time.
+    /// The test as it was written first: each edge's two plane sides by [`side`], one edge
+    /// at a time.
     fn meet_edge_by_edge(a: [DVec3; 3], ia: [u32; 3], b: [DVec3; 3], ib: [u32; 3]) -> bool {
         let edge_meets = |p: DVec3, q: DVec3, t: [DVec3; 3]| {
-            let (sp, sq) = (side(t[0], t[1], t[2], p), side(t[0], t[1], t[2], q));
-            if sp * sq > 0.0 || (sp == 0.0 && sq == 0.0) {
-                return false;
-            }
-            let e = [
-                side(p, q, t[0], t[1]),
-                side(p, q, t[1], t[2]),
-                side(p, q, t[2], t[0]),
-            ];
-            !(e.iter().any(|&s| s > 0.0) && e.iter().any(|&s| s < 0.0))
+            let sides = (side(t[0], t[1], t[2], p), side(t[0], t[1], t[2], q));
+            segment_meets(p, q, sides, t)
         };
         let edges = |p: [DVec3; 3], ip: [u32; 3], t: [DVec3; 3], it: [u32; 3]| {
             (0..3).any(|k| {
