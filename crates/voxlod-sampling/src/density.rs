@@ -142,9 +142,12 @@ pub(crate) fn lattice_crossings(
         ),
         estimate(q),
     )?;
-    let mut families = [Axis::X, Axis::Y, Axis::Z].map(|a| LineFamily::new(a, *grid, q));
-    let crossings: Result<Vec<LineCrossings>, SamplingError> =
-        families.iter_mut().map(|f| solid.crossings(f)).collect();
+    let families = [Axis::X, Axis::Y, Axis::Z].map(|a| LineFamily::new(a, *grid, q));
+    // The three families side by side, so that one's sequential gathering of its tiles
+    // overlaps another's tiles; the first failure in family order is the one reported.
+    let crossings: Vec<Result<LineCrossings, SamplingError>> =
+        families.par_iter().map(|f| solid.crossings(f)).collect();
+    let crossings: Result<Vec<LineCrossings>, SamplingError> = crossings.into_iter().collect();
     let mut crossings: [LineCrossings; 3] = crossings?.try_into().expect("three families");
     let majority = (!solid.is_exact()).then(|| majority_vote(&mut crossings));
     let kernel = LineKernel::new(options.filter, options.radius / h, q);
@@ -348,7 +351,9 @@ fn integrate_families(
     let q = families[0].family.lines_per_voxel;
     let slice = nx * ny;
     let reach = (kernel.radius * q as f64).ceil() as usize;
-    let active = [0, 1, 2].map(|f| ActiveLines::new(&families[f], reach));
+    let active: Vec<ActiveLines> = (families.par_iter())
+        .map(|f| ActiveLines::new(f, reach))
+        .collect();
     memory::check_allocation(
         "the filtered density",
         memory::bytes_of::<f32>(2 * grid.len()),
