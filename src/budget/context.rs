@@ -65,6 +65,9 @@ impl<'a> BudgetContext<'a> {
             (mesh, topology)
         });
         let input_genus = welded.as_ref().and_then(|w| w.1.genus);
+        let measure = input
+            .zip(welded.as_ref())
+            .and_then(|(input, (welded, _))| InputMeasure::new(input, welded));
         Ok(BudgetContext {
             source,
             level_options,
@@ -72,13 +75,13 @@ impl<'a> BudgetContext<'a> {
             sampled: input,
             border: border.map(Arc::new),
             welded,
-            measure: input.and_then(InputMeasure::new).map(Arc::new),
+            measure: measure.map(Arc::new),
             input_genus,
             then,
             time_cap,
             diagonal: source.bounds().diagonal(),
             dilated: false,
-            parts: InputParts::new(),
+            parts: InputParts::default(),
             levels: Mutex::new(HashMap::new()),
         })
     }
@@ -110,7 +113,10 @@ impl<'a> BudgetContext<'a> {
             time_cap: self.time_cap,
             diagonal: self.diagonal,
             dilated: self.dilated,
-            parts: InputParts::new(),
+            parts: {
+                self.input_parts();
+                self.parts.clone()
+            },
             levels: Mutex::new(HashMap::new()),
         }
     }

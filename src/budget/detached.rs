@@ -13,20 +13,23 @@
 //! level with a box that meets no box of its triangles, and, collapsed, the same of the level
 //! re-simplified with their triangles taken out (so they can neither cross nor nest in it).
 //! Farthest from the level first, while they use at most a quarter of the budget. Each collapses to four triangles if its shape
-//! allows ([`voxlod_quadric::simplify_to_budget`], topology kept). The level with them is a
-//! candidate like any other (step 4): kept only where it measures closer.
+//! allows ([`voxlod_quadric::simplify_to_budget`], topology kept). Every quadric candidate of
+//! the search with parts apart gets such a twin, which competes like any other (step 4): kept
+//! only where it measures closer (the measure gives every input part a point of its own, so a
+//! tiny lost part counts).
 //!
-//! Cost: the input's components once per run (a union-find, O(F)); per budget, the topology and
-//! collapse of each part apart (small), one quadric stage and one distance measurement.
+//! Cost: the input's components once per run (a union-find, O(F)); per quadric candidate with
+//! parts apart, their topology and collapse (small parts), one more quadric stage and one more
+//! distance measurement.
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use voxlod_core::components::{submesh, triangle_components};
 use voxlod_core::parity::point_inside;
 use voxlod_core::{mesh_topology, Bounds, TriangleMesh};
 use voxlod_quadric::{simplify_dropping_parts, simplify_to_budget, PartsOptions, QuadricOptions};
 
-use super::candidate::{better, Candidate};
+use super::candidate::Candidate;
 use super::context::BudgetContext;
 use super::Stage;
 use crate::lod::LodLevel;
@@ -44,11 +47,12 @@ pub(crate) struct InputPart {
 
 /// The input's components (welded), split once per run; empty without a mesh input or with a
 /// single component.
-pub(crate) type InputParts = OnceLock<Vec<InputPart>>;
+pub(crate) type InputParts = Arc<OnceLock<Vec<InputPart>>>;
 
 impl BudgetContext<'_> {
-    /// The input's parts (module docs), split on first use.
-    fn input_parts(&self) -> &[InputPart] {
+    /// The input's parts (module docs), split on first use (shared with the context of the
+    /// filled input, which has no welded input of its own).
+    pub(super) fn input_parts(&self) -> &[InputPart] {
         self.parts.get_or_init(|| {
             let Some((mesh, topology)) = &self.welded else {
                 return Vec::new();
@@ -70,37 +74,33 @@ impl BudgetContext<'_> {
     }
 }
 
-/// The best candidate with the input's detached parts restored (module docs), if it measures
-/// closer; the candidates built (zero or one).
-pub(super) fn restore_detached(
+/// `chosen` (a quadric candidate from `level`) with the input's detached parts restored beside
+/// it (module docs), the level re-simplified to make room; `None` where no part is apart.
+pub(super) fn with_detached_parts(
     ctx: &BudgetContext,
-    best: &mut Option<(Candidate, LodLevel, usize)>,
+    level: &LodLevel,
+    chosen: &Candidate,
     budget: usize,
     error: Option<f64>,
-) -> usize {
-    let Some((chosen, level, cut)) = best.as_ref().filter(|b| b.0.stage == Stage::Quadric) else {
-        return 0;
-    };
-    if mesh_topology(&chosen.mesh).boundary_edges > 0 {
-        return 0;
+) -> Option<Candidate> {
+    if chosen.stage != Stage::Quadric || mesh_topology(&chosen.mesh).boundary_edges > 0 {
+        return None;
     }
     let stand_ins = stand_ins(ctx.input_parts(), &Obstacle::new(&chosen.mesh), budget);
     if stand_ins.is_empty() {
-        return 0;
+        return None;
     }
     let reserved: usize = stand_ins.iter().map(TriangleMesh::triangle_count).sum();
     let options = PartsOptions {
         quadric: QuadricOptions::budget(error.unwrap_or(f64::INFINITY)),
         ..PartsOptions::default()
     };
-    let Ok(done) = simplify_dropping_parts(&level.mesh, budget - reserved, &options) else {
-        return 0;
-    };
+    let done = simplify_dropping_parts(&level.mesh, budget - reserved, &options).ok()?;
     let mut mesh = done.simplified.mesh;
     let kept = Obstacle::new(&mesh);
     let clear: Vec<&TriangleMesh> = stand_ins.iter().filter(|s| kept.clear_of(s)).collect();
     clear.iter().for_each(|s| append(&mut mesh, s));
-    let candidate = Candidate {
+    Some(Candidate {
         distance: ctx.measure(&mesh),
         mesh,
         stage: Stage::Quadric,
@@ -108,12 +108,7 @@ pub(super) fn restore_detached(
         parts_dropped: done.dropped_parts,
         parts_restored: clear.len(),
         iso: chosen.iso,
-    };
-    if better(&candidate, Some(chosen), budget) {
-        let (level, cut) = (level.clone(), *cut);
-        *best = Some((candidate, level, cut));
-    }
-    1
+    })
 }
 
 /// A closed level as an obstacle for the parts put beside it: its triangles' boxes, and the

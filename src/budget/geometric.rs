@@ -1,6 +1,7 @@
 //! The geometric stage (step 3 of [`crate::budget`], He et al. 1995 §5): meshoptimizer's
 //! quadric collapse with the topology kept, dropping the smallest parts where it stalls above
-//! the budget (our addition), or simplification envelopes with ε searched for the count. Cost:
+//! the budget (our addition), with a twin that restores the input's detached parts (step 6),
+//! or simplification envelopes with ε searched for the count. Cost:
 //! per level, up to four quadric runs, or up to four envelope runs, and one distance measurement
 //! per candidate.
 
@@ -10,6 +11,7 @@ use voxlod_quadric::{simplify_dropping_parts, PartsOptions, QuadricOptions};
 
 use super::candidate::Candidate;
 use super::context::BudgetContext;
+use super::detached::with_detached_parts;
 use super::{Stage, Then, BUDGET_TOLERANCE};
 use crate::lod::LodLevel;
 
@@ -42,7 +44,7 @@ pub(super) fn stages(
             ..PartsOptions::default()
         };
         if let Ok(done) = simplify_dropping_parts(&level.mesh, budget, &options) {
-            out.push(Candidate {
+            let quadric = Candidate {
                 distance: ctx.measure(&done.simplified.mesh),
                 mesh: done.simplified.mesh,
                 stage: Stage::Quadric,
@@ -50,7 +52,10 @@ pub(super) fn stages(
                 parts_dropped: done.dropped_parts,
                 parts_restored: 0,
                 iso,
-            });
+            };
+            let restored = with_detached_parts(ctx, level, &quadric, budget, error);
+            out.push(quadric);
+            out.extend(restored);
         }
     }
     if ctx.then == Then::Envelope {

@@ -1,7 +1,12 @@
 //! The sampled two-sided Hausdorff and mean distance between a candidate and the input mesh
 //! (step 4 of [`crate::budget`]): the input's samples and closest-point structure are built once
-//! per run; each candidate costs its own structure and 2 × [`SEARCH_SAMPLES`] queries.
+//! per run; each candidate costs its own structure and 2 × [`SEARCH_SAMPLES`] queries, plus one
+//! per connected part of the input (at most [`PART_POINTS`]): samples spread by area can miss
+//! a tiny part altogether, and a tiny part lost far from the rest sets the Hausdorff distance
+//! (module `detached`).
 
+use voxlod_core::components::triangle_components;
+use voxlod_core::glam::DVec3;
 use voxlod_core::TriangleMesh;
 use voxlod_metrics::{
     one_sided_distance, DistanceOptions, MeshDistance, SamplingOptions, SurfaceSampler,
@@ -21,13 +26,27 @@ pub(super) struct Measured {
 pub(super) struct InputMeasure<'a> {
     sampler: SurfaceSampler<'a>,
     closest: MeshDistance,
+    /// A vertex of each connected part of the input (of every `k`-th part beyond
+    /// [`PART_POINTS`]).
+    part_points: Vec<DVec3>,
 }
 
+/// The most parts given a point of their own in the distance from the input.
+const PART_POINTS: usize = 10_000;
+
 impl<'a> InputMeasure<'a> {
-    pub(super) fn new(input: &'a TriangleMesh) -> Option<Self> {
+    /// The measure against `input`, with its parts found on `welded` (the input with coincident
+    /// vertices merged, so that a triangle soup's parts are its pieces, not its triangles).
+    pub(super) fn new(input: &'a TriangleMesh, welded: &TriangleMesh) -> Option<Self> {
+        let parts = triangle_components(welded);
+        let step = parts.len().div_ceil(PART_POINTS).max(1);
+        let part_points = (parts.iter().step_by(step))
+            .map(|p| welded.positions[welded.triangles[p[0] as usize][0] as usize].as_dvec3())
+            .collect();
         Some(InputMeasure {
             sampler: SurfaceSampler::new(input).ok()?,
             closest: MeshDistance::new(input).ok()?,
+            part_points,
         })
     }
 
@@ -42,8 +61,9 @@ impl<'a> InputMeasure<'a> {
         let closest = MeshDistance::new(mesh).ok()?;
         let there = one_sided_distance(&self.sampler, &closest, &sampling(0));
         let back = one_sided_distance(&sampler, &self.closest, &sampling(1));
+        let parts = closest.distances(&self.part_points).into_iter();
         Some(Measured {
-            hausdorff: there.max.max(back.max),
+            hausdorff: there.max.max(back.max).max(parts.fold(0.0, f64::max)),
             mean: 0.5 * (there.mean + back.mean),
         })
     }

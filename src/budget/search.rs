@@ -9,7 +9,6 @@ use std::time::Instant;
 
 use super::candidate::{better, fits, Candidate};
 use super::context::BudgetContext;
-use super::detached::restore_detached;
 use super::geometric::{envelope_candidate, stages};
 use super::input::closer_than_voxels;
 use super::report::{finish, report};
@@ -78,7 +77,6 @@ pub(crate) fn budget_level(
     }
     search.tried += bisect(ctx, &mut search.best, &mut search.counts, budget, error)?;
     search.tried += envelopes_where_stalled(ctx, &mut search.best, budget, error);
-    search.tried += restore_detached(ctx, &mut search.best, budget, error);
     let tried = search.tried;
     let Some(chosen) = search.best else {
         warnings.push(format!(
