@@ -18,9 +18,10 @@
 //! only where it measures closer (the measure gives every input part a point of its own, so a
 //! tiny lost part counts).
 //!
-//! Cost: the input's components once per run (a union-find, O(F)); per quadric candidate with
-//! parts apart, their topology and collapse (small parts), one more quadric stage and one more
-//! distance measurement.
+//! Cost: the input's components once per run (a union-find, O(F)); per quadric candidate, a box
+//! test of every part against its triangles (O(P T); inputs of more than [`MAX_PARTS`] parts are
+//! left as they are), and for the parts apart, their topology and collapse (small parts), one
+//! more quadric stage and one more distance measurement.
 
 use std::sync::{Arc, OnceLock};
 
@@ -38,6 +39,9 @@ use crate::lod::LodLevel;
 const STAND_IN_TRIANGLES: usize = 4;
 /// The share of the budget that restored parts may use at most.
 const SHARE: f64 = 0.25;
+/// Inputs with more parts than this get none restored: each candidate tests every part against
+/// its triangles, and a budget affords a few dozen tetrahedra at most.
+const MAX_PARTS: usize = 10_000;
 
 /// One connected component of the input, and its box.
 pub(crate) struct InputPart {
@@ -57,7 +61,7 @@ impl BudgetContext<'_> {
             let Some((mesh, topology)) = &self.welded else {
                 return Vec::new();
             };
-            if topology.components < 2 {
+            if !(2..=MAX_PARTS).contains(&topology.components) {
                 return Vec::new();
             }
             triangle_components(mesh)
