@@ -11,23 +11,27 @@
 //! Which parts: the input's connected components that are closed manifolds of genus 0 (so no
 //! handle is added: the level keeps the genus of its voxel level), lying outside the (closed)
 //! level with a box that meets no box of its triangles, and, collapsed, the same of the level
-//! re-simplified with their triangles taken out (so they can neither cross nor nest in it).
-//! Farthest from the level first, while they use at most a quarter of the budget. Each collapses to four triangles if its shape
-//! allows ([`voxlod_quadric::simplify_to_budget`], topology kept). Every quadric candidate of
-//! the search with parts apart gets such a twin, which competes like any other (step 4): kept
-//! only where it measures closer (the measure gives every input part a point of its own, so a
-//! tiny lost part counts).
+//! re-simplified with their triangles taken out (so they can neither cross nor nest in it);
+//! farthest first, while they use at most a quarter of the budget, each collapsed to four
+//! triangles if its shape allows ([`voxlod_quadric::simplify_to_budget`], topology kept).
+//! Every quadric candidate of the search with parts apart gets two twins: one restores only
+//! the parts farther from the level than the level's own shape is from the input (the
+//! Hausdorff distance of the area samples: nearer parts would not move the distance, and their
+//! triangles may serve the level better), one every part that fits. They compete like any
+//! other candidate (step 4), kept only where they measure closer (the measure gives every input
+//! part a point of its own, so a tiny lost part counts).
 //!
 //! Cost: the input's components once per run (a union-find, O(F)); per quadric candidate, a box
 //! test of every part against its triangles (O(P T); inputs of more than [`MAX_PARTS`] parts are
-//! left as they are), and for the parts apart, their topology and collapse (small parts), one
-//! more quadric stage and one more distance measurement.
+//! left as they are), and for the parts apart, their topology and collapse (small parts), up to
+//! two more quadric stages and distance measurements.
 
 use std::sync::{Arc, OnceLock};
 
 use voxlod_core::components::{submesh, triangle_components};
 use voxlod_core::parity::point_inside;
 use voxlod_core::{mesh_topology, Bounds, TriangleMesh};
+use voxlod_metrics::MeshDistance;
 use voxlod_quadric::{simplify_dropping_parts, simplify_to_budget, PartsOptions, QuadricOptions};
 
 use super::candidate::Candidate;
@@ -43,20 +47,14 @@ const SHARE: f64 = 0.25;
 /// its triangles, and a budget affords a few dozen tetrahedra at most.
 const MAX_PARTS: usize = 10_000;
 
-/// One connected component of the input, and its box.
-pub(crate) struct InputPart {
-    mesh: TriangleMesh,
-    bounds: Bounds,
-}
-
 /// The input's components (welded), split once per run; empty without a mesh input or with a
 /// single component.
-pub(crate) type InputParts = Arc<OnceLock<Vec<InputPart>>>;
+pub(crate) type InputParts = Arc<OnceLock<Vec<TriangleMesh>>>;
 
 impl BudgetContext<'_> {
     /// The input's parts (module docs), split on first use (shared with the context of the
     /// filled input, which has no welded input of its own).
-    pub(super) fn input_parts(&self) -> &[InputPart] {
+    pub(super) fn input_parts(&self) -> &[TriangleMesh] {
         self.parts.get_or_init(|| {
             let Some((mesh, topology)) = &self.welded else {
                 return Vec::new();
@@ -66,35 +64,53 @@ impl BudgetContext<'_> {
             }
             triangle_components(mesh)
                 .iter()
-                .map(|triangles| {
-                    let part = submesh(mesh, triangles);
-                    InputPart {
-                        bounds: part.bounds(),
-                        mesh: part,
-                    }
-                })
+                .map(|triangles| submesh(mesh, triangles))
                 .collect()
         })
     }
 }
 
 /// `chosen` (a quadric candidate from `level`) with the input's detached parts restored beside
-/// it (module docs), the level re-simplified to make room; `None` where no part is apart.
+/// it (module docs), the level re-simplified to make room: one twin with the parts farther from
+/// the level than its own shape is off, one with every part apart that fits the share (when
+/// there are more); none where no part is apart.
 pub(super) fn with_detached_parts(
     ctx: &BudgetContext,
     level: &LodLevel,
     chosen: &Candidate,
     budget: usize,
     error: Option<f64>,
-) -> Option<Candidate> {
+) -> Vec<Candidate> {
     if chosen.stage != Stage::Quadric || mesh_topology(&chosen.mesh).boundary_edges > 0 {
-        return None;
+        return Vec::new();
     }
-    let stand_ins = stand_ins(ctx.input_parts(), &Obstacle::new(&chosen.mesh), budget);
-    if stand_ins.is_empty() {
-        return None;
+    let Ok(nearest) = MeshDistance::new(&chosen.mesh) else {
+        return Vec::new();
+    };
+    let obstacle = Obstacle::new(&chosen.mesh);
+    let shape = chosen.distance.map_or(0.0, |d| d.shape);
+    let far = stand_ins(ctx.input_parts(), &obstacle, &nearest, shape, budget);
+    let all = stand_ins(ctx.input_parts(), &obstacle, &nearest, 0.0, budget);
+    let mut twins: Vec<Candidate> = Vec::new();
+    for parts in [far, all] {
+        if !parts.is_empty() && twins.last().is_none_or(|t| t.parts_restored < parts.len()) {
+            twins.extend(twin(ctx, level, chosen, &parts, budget, error));
+        }
     }
-    let reserved: usize = stand_ins.iter().map(TriangleMesh::triangle_count).sum();
+    twins
+}
+
+/// The candidate of `level` re-simplified to `budget` less the triangles of `parts`, with the
+/// parts still clear of it beside it.
+fn twin(
+    ctx: &BudgetContext,
+    level: &LodLevel,
+    chosen: &Candidate,
+    parts: &[TriangleMesh],
+    budget: usize,
+    error: Option<f64>,
+) -> Option<Candidate> {
+    let reserved: usize = parts.iter().map(TriangleMesh::triangle_count).sum();
     let options = PartsOptions {
         quadric: QuadricOptions::budget(error.unwrap_or(f64::INFINITY)),
         ..PartsOptions::default()
@@ -102,7 +118,7 @@ pub(super) fn with_detached_parts(
     let done = simplify_dropping_parts(&level.mesh, budget - reserved, &options).ok()?;
     let mut mesh = done.simplified.mesh;
     let kept = Obstacle::new(&mesh);
-    let clear: Vec<&TriangleMesh> = stand_ins.iter().filter(|s| kept.clear_of(s)).collect();
+    let clear: Vec<&TriangleMesh> = parts.iter().filter(|s| kept.clear_of(s)).collect();
     clear.iter().for_each(|s| append(&mut mesh, s));
     Some(Candidate {
         distance: ctx.measure(&mesh),
@@ -142,22 +158,22 @@ impl<'m> Obstacle<'m> {
         !self.boxes.iter().any(|t| t.intersects(&b))
             && !point_inside(self.level, 0..self.level.triangle_count(), point)
     }
-
-    /// The distance from `b`'s centre to the level's nearest vertex.
-    fn distance(&self, b: &Bounds) -> f64 {
-        let centre = b.center();
-        (self.level.positions.iter())
-            .map(|p| p.as_dvec3().distance(centre))
-            .fold(f64::INFINITY, f64::min)
-    }
 }
 
-/// The collapsed parts clear of the level, farthest first, within the budget's share.
-fn stand_ins(parts: &[InputPart], level: &Obstacle, budget: usize) -> Vec<TriangleMesh> {
-    let mut apart: Vec<(f64, &InputPart)> = parts
+/// The collapsed parts clear of the level and farther from it than `farther_than` (a first
+/// vertex's distance, by `nearest`), farthest first, within the budget's share.
+fn stand_ins(
+    parts: &[TriangleMesh],
+    level: &Obstacle,
+    nearest: &MeshDistance,
+    farther_than: f64,
+    budget: usize,
+) -> Vec<TriangleMesh> {
+    let first = |m: &TriangleMesh| m.positions[m.triangles[0][0] as usize].as_dvec3();
+    let mut apart: Vec<(f64, &TriangleMesh)> = parts
         .iter()
-        .filter(|p| level.clear_of(&p.mesh))
-        .map(|p| (level.distance(&p.bounds), p))
+        .map(|p| (nearest.distance(first(p)), p))
+        .filter(|(d, p)| *d > farther_than && level.clear_of(p))
         .collect();
     apart.sort_by(|a, b| b.0.total_cmp(&a.0));
     let share = (SHARE * budget as f64) as usize;
@@ -167,12 +183,12 @@ fn stand_ins(parts: &[InputPart], level: &Obstacle, budget: usize) -> Vec<Triang
         if used + STAND_IN_TRIANGLES > share {
             break;
         }
-        let topology = mesh_topology(&part.mesh);
+        let topology = mesh_topology(part);
         if !topology.is_closed_manifold() || topology.genus != Some(0) {
             continue;
         }
         let options = QuadricOptions::budget(f64::INFINITY);
-        let Ok(done) = simplify_to_budget(&part.mesh, STAND_IN_TRIANGLES, &options) else {
+        let Ok(done) = simplify_to_budget(part, STAND_IN_TRIANGLES, &options) else {
             continue;
         };
         let count = done.mesh.triangle_count();

@@ -53,9 +53,9 @@ pub(super) fn stages(
                 parts_restored: 0,
                 iso,
             };
-            let restored = with_detached_parts(ctx, level, &quadric, budget, error);
+            let twins = with_detached_parts(ctx, level, &quadric, budget, error);
             out.push(quadric);
-            out.extend(restored);
+            out.extend(twins);
         }
     }
     if ctx.then == Then::Envelope {

@@ -18,6 +18,9 @@ use super::SEARCH_SAMPLES;
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Measured {
     pub(super) hausdorff: f64,
+    /// The Hausdorff distance of the area samples alone, without the parts' own points: how
+    /// far the candidate's shape is off, apart from parts it lost.
+    pub(super) shape: f64,
     pub(super) mean: f64,
 }
 
@@ -62,8 +65,10 @@ impl<'a> InputMeasure<'a> {
         let there = one_sided_distance(&self.sampler, &closest, &sampling(0));
         let back = one_sided_distance(&sampler, &self.closest, &sampling(1));
         let parts = closest.distances(&self.part_points).into_iter();
+        let shape = there.max.max(back.max);
         Some(Measured {
-            hausdorff: there.max.max(back.max).max(parts.fold(0.0, f64::max)),
+            hausdorff: shape.max(parts.fold(0.0, f64::max)),
+            shape,
             mean: 0.5 * (there.mean + back.mean),
         })
     }

@@ -85,8 +85,8 @@
 //! `context` (what the budgets share, the levels built once), `resolution` (step 1's probes),
 //! `openings` (step 2), `input` (step 0), `geometric` (step 3), `candidate` and `measure`
 //! (step 4's comparison and distances), `search` (a budget's search, the time cap, the
-//! bisection), `filled` (step 5), `detached` (step 6), `error_target` (the error target alone, without step 5) and
-//! `report`.
+//! bisection), `filled` (step 5), `detached` (step 6), `error_target` (the error target
+//! alone, without step 5) and `report`.
 
 mod candidate;
 mod context;
