@@ -108,17 +108,19 @@ fn try_level(
         resolution,
         iso,
         base,
+        finer,
     }: &Try,
     budget: usize,
     error: Option<f64>,
     search: &mut Search,
 ) -> Result<(), Error> {
     let is_first = resolution == base;
-    let fitted = search.fitted_isos.contains(&iso.to_bits())
-        || search
-            .best
-            .as_ref()
-            .is_some_and(|b| b.0.stage == Stage::InputQuadric && fits(&b.0, budget));
+    let input_fits = (search.best.as_ref())
+        .is_some_and(|b| b.0.stage == Stage::InputQuadric && fits(&b.0, budget));
+    let fitted = search.fitted_isos.contains(&iso.to_bits()) || input_fits;
+    if finer && input_fits {
+        return Ok(());
+    }
     let over_time = !is_first
         && search
             .charged
@@ -186,14 +188,17 @@ struct Try {
     resolution: usize,
     iso: f32,
     base: usize,
+    /// One of the finer steps, tried only while the input's own collapse does not fit.
+    finer: bool,
 }
 
 /// The levels a budget's search tries, in order: each isodensity's first resolution (about
 /// `wanted` triangles at that isodensity; `first` for the surface's), then their finer and
 /// coarser neighbours (about twice and half `wanted`), then, only while nothing fits the
 /// budget, coarser levels still (about a quarter and an eighth), with less to keep; then, while
-/// the time cap allows and the geometric stage is the quadric collapse, finer levels between
-/// and beyond (about 1.4, 2.8 and 4 times `wanted`).
+/// the time cap allows, the geometric stage is the quadric collapse and the input's own
+/// collapse (step 0) does not fit, finer levels between and beyond (about 1.4, 2.8 and 4 times
+/// `wanted`).
 /// A thin part survives filtering only in windows of resolution that depend on how it meets
 /// the lattice (a ring of tori 0.1 thick, at isodensity 0.15, keeps its shape at 19, 20, 22
 /// to 30, and breaks up or vanishes at 18, 21 and 25), so the finer steps are closer together
@@ -210,6 +215,7 @@ fn search_plan(ctx: &BudgetContext, first: usize, wanted: f64) -> Result<Vec<Try
             resolution: base,
             iso,
             base,
+            finer: false,
         })
         .collect();
     if ctx.then == Then::None {
@@ -221,13 +227,15 @@ fn search_plan(ctx: &BudgetContext, first: usize, wanted: f64) -> Result<Vec<Try
         Then::Envelope => &[],
         _ => &[SQRT_2, 2.0 * SQRT_2, 4.0],
     };
-    for &f in [2f64, 0.5, 0.25, 0.125].iter().chain(finer) {
+    let regular = [2f64, 0.5, 0.25, 0.125].map(|f| (f, false));
+    for (f, finer) in regular.into_iter().chain(finer.iter().map(|&f| (f, true))) {
         for &(iso, base) in &bases {
             let resolution = ((base as f64 * f.sqrt()).round() as usize).clamp(COARSEST, FINEST);
             let next = Try {
                 resolution,
                 iso,
                 base,
+                finer,
             };
             if !tries
                 .iter()
