@@ -153,8 +153,11 @@ impl<'m> Obstacle<'m> {
     /// Whether `part` cannot meet the level (its box meets no triangle's box) and lies outside
     /// it (its first vertex, by parity).
     fn clear_of(&self, part: &TriangleMesh) -> bool {
+        let Some(&[first, _, _]) = part.triangles.first() else {
+            return false;
+        };
         let b = part.bounds();
-        let point = part.positions[part.triangles[0][0] as usize].as_dvec3();
+        let point = part.positions[first as usize].as_dvec3();
         !self.boxes.iter().any(|t| t.intersects(&b))
             && !point_inside(self.level, 0..self.level.triangle_count(), point)
     }
