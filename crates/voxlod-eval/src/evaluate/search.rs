@@ -2,7 +2,8 @@
 //! nearest it.
 //!
 //! Triangle counts grow about as a power of the parameter ([`SearchSpace::exponent`]), so the
-//! search works in log–log space: with nothing known it tries [`SearchSpace::first`]; with trials
+//! search works in log–log space: with nothing known it tries [`SearchSpace::first`] (the budget
+//! itself where the parameter is the count, [`SearchSpace::first_at_budget`]); with trials
 //! on one side of the budget only it extrapolates along the power law; with trials on both sides
 //! it interpolates between the nearest below and above. A guess already tried moves one step of
 //! the parameter's grid towards the budget, never across a tried step on the far side. The search
@@ -114,6 +115,7 @@ fn guess_value(
     let target = (budget as f64).ln();
     let count = |t: &Trial| t.triangles();
     match (below, above) {
+        (None, None) if space.first_at_budget => budget as f64,
         (None, None) => space.first,
         (Some(b), Some(a)) if count(b) > 0 => {
             let (xb, xa) = (b.parameter.ln(), a.parameter.ln());

@@ -14,6 +14,7 @@ pub(super) fn cells_space(limits: &SearchLimits) -> SearchSpace {
         lowest: 1.0,
         highest: limits.max_cells as f64,
         first: 64.0,
+        first_at_budget: false,
         exponent: 2.0,
         grid: ParameterGrid::Integers,
     }

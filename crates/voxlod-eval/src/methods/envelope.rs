@@ -36,6 +36,7 @@ impl Simplifier for Envelope {
             lowest: 0.005,
             highest: 25.0,
             first: 1.0,
+            first_at_budget: false,
             exponent: -1.0,
             grid: ParameterGrid::Geometric {
                 ratio: 2f64.powf(0.25),

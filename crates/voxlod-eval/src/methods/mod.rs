@@ -77,8 +77,8 @@ use voxlod_quadric::QuadricError;
 ///     fn description(&self) -> &'static str { "every n-th triangle of the input" }
 ///     fn parameter_name(&self) -> &'static str { "n" }
 ///     fn search_space(&self, _: &SearchLimits) -> SearchSpace {
-///         SearchSpace { lowest: 1.0, highest: 1000.0, first: 4.0, exponent: -1.0,
-///                       grid: ParameterGrid::Integers }
+///         SearchSpace { lowest: 1.0, highest: 1000.0, first: 4.0, first_at_budget: false,
+///                       exponent: -1.0, grid: ParameterGrid::Integers }
 ///     }
 ///     fn run(&self, input: &MethodInput, n: f64) -> Result<PolyMesh, RunFailure> {
 ///         let mesh = input.mesh();
@@ -149,6 +149,10 @@ pub struct SearchSpace {
     pub highest: f64,
     /// The first value tried when nothing is known yet.
     pub first: f64,
+    /// The parameter is the triangle count asked for (meshoptimizer's target, the budget
+    /// pipeline's budget): a budget's search tries the budget itself first, so that its level
+    /// is the one the method gives for that budget when it lands within the tolerance.
+    pub first_at_budget: bool,
     /// Triangle counts grow about as `parameter^exponent` (negative: they fall as it grows).
     pub exponent: f64,
     /// Whole numbers or a geometric grid.
@@ -199,6 +203,7 @@ fn target_count_space() -> SearchSpace {
         lowest: 1.0,
         highest: 1e8,
         first: 1000.0,
+        first_at_budget: true,
         exponent: 1.0,
         grid: ParameterGrid::Integers,
     }

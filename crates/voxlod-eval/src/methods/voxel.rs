@@ -42,6 +42,7 @@ pub(super) fn resolution_space(limits: &SearchLimits) -> SearchSpace {
         lowest: 2.0,
         highest: limits.max_resolution as f64,
         first: 64.0,
+        first_at_budget: false,
         exponent: 2.0,
         grid: ParameterGrid::Integers,
     }

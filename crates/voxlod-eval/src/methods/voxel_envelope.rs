@@ -41,6 +41,7 @@ impl Simplifier for VoxelEnvelope {
             lowest: 4.0,
             highest: limits.max_resolution.min(256) as f64,
             first: 128.0,
+            first_at_budget: false,
             exponent: 2.0,
             grid: ParameterGrid::Integers,
         }
