@@ -23,8 +23,8 @@
 //!
 //! Cost: the input's components once per run (a union-find, O(F)); per quadric candidate, a box
 //! test of every part against its triangles (O(P T); inputs of more than [`MAX_PARTS`] parts are
-//! left as they are), and for the parts apart, their topology and collapse (small parts), up to
-//! two more quadric stages and distance measurements.
+//! left as they are), and for the parts apart, up to two more quadric stages and distance
+//! measurements; each part's topology and collapse once per run, when it is first apart.
 
 use std::sync::{Arc, OnceLock};
 
@@ -49,12 +49,35 @@ const MAX_PARTS: usize = 10_000;
 
 /// The input's components (welded), split once per run; empty without a mesh input or with a
 /// single component.
-pub(crate) type InputParts = Arc<OnceLock<Vec<TriangleMesh>>>;
+pub(crate) type InputParts = Arc<OnceLock<Vec<InputPart>>>;
+
+/// One connected component of the input, and its stand-in, collapsed on first use.
+pub(crate) struct InputPart {
+    mesh: TriangleMesh,
+    stand_in: OnceLock<Option<TriangleMesh>>,
+}
+
+impl InputPart {
+    /// The part collapsed towards [`STAND_IN_TRIANGLES`], topology kept; `None` unless the part
+    /// is a closed manifold of genus 0 whose collapse succeeds (computed once per run).
+    fn stand_in(&self) -> Option<&TriangleMesh> {
+        let collapse = || {
+            let topology = mesh_topology(&self.mesh);
+            if !topology.is_closed_manifold() || topology.genus != Some(0) {
+                return None;
+            }
+            let options = QuadricOptions::budget(f64::INFINITY);
+            let done = simplify_to_budget(&self.mesh, STAND_IN_TRIANGLES, &options).ok()?;
+            Some(done.mesh).filter(|m| !m.is_empty())
+        };
+        self.stand_in.get_or_init(collapse).as_ref()
+    }
+}
 
 impl BudgetContext<'_> {
     /// The input's parts (module docs), split on first use (shared with the context of the
     /// filled input, which has no welded input of its own).
-    pub(super) fn input_parts(&self) -> &[TriangleMesh] {
+    pub(super) fn input_parts(&self) -> &[InputPart] {
         self.parts.get_or_init(|| {
             let Some((mesh, topology)) = &self.welded else {
                 return Vec::new();
@@ -64,7 +87,10 @@ impl BudgetContext<'_> {
             }
             triangle_components(mesh)
                 .iter()
-                .map(|triangles| submesh(mesh, triangles))
+                .map(|triangles| InputPart {
+                    mesh: submesh(mesh, triangles),
+                    stand_in: OnceLock::new(),
+                })
                 .collect()
         })
     }
@@ -106,11 +132,11 @@ fn twin(
     ctx: &BudgetContext,
     level: &LodLevel,
     chosen: &Candidate,
-    parts: &[TriangleMesh],
+    parts: &[&TriangleMesh],
     budget: usize,
     error: Option<f64>,
 ) -> Option<Candidate> {
-    let reserved: usize = parts.iter().map(TriangleMesh::triangle_count).sum();
+    let reserved: usize = parts.iter().map(|p| p.triangle_count()).sum();
     let options = PartsOptions {
         quadric: QuadricOptions::budget(error.unwrap_or(f64::INFINITY)),
         ..PartsOptions::default()
@@ -118,7 +144,7 @@ fn twin(
     let done = simplify_dropping_parts(&level.mesh, budget - reserved, &options).ok()?;
     let mut mesh = done.simplified.mesh;
     let kept = Obstacle::new(&mesh);
-    let clear: Vec<&TriangleMesh> = parts.iter().filter(|s| kept.clear_of(s)).collect();
+    let clear: Vec<&TriangleMesh> = parts.iter().copied().filter(|s| kept.clear_of(s)).collect();
     clear.iter().for_each(|s| append(&mut mesh, s));
     Some(Candidate {
         distance: ctx.measure(&mesh),
@@ -163,20 +189,20 @@ impl<'m> Obstacle<'m> {
     }
 }
 
-/// The collapsed parts clear of the level and farther from it than `farther_than` (a first
-/// vertex's distance, by `nearest`), farthest first, within the budget's share.
-fn stand_ins(
-    parts: &[TriangleMesh],
+/// The stand-ins of the parts clear of the level and farther from it than `farther_than` (a
+/// first vertex's distance, by `nearest`), farthest first, within the budget's share.
+fn stand_ins<'p>(
+    parts: &'p [InputPart],
     level: &Obstacle,
     nearest: &MeshDistance,
     farther_than: f64,
     budget: usize,
-) -> Vec<TriangleMesh> {
+) -> Vec<&'p TriangleMesh> {
     let first = |m: &TriangleMesh| m.positions[m.triangles[0][0] as usize].as_dvec3();
-    let mut apart: Vec<(f64, &TriangleMesh)> = parts
+    let mut apart: Vec<(f64, &InputPart)> = parts
         .iter()
-        .map(|p| (nearest.distance(first(p)), p))
-        .filter(|(d, p)| *d > farther_than && level.clear_of(p))
+        .map(|p| (nearest.distance(first(&p.mesh)), p))
+        .filter(|(d, p)| *d > farther_than && level.clear_of(&p.mesh))
         .collect();
     apart.sort_by(|a, b| b.0.total_cmp(&a.0));
     let share = (SHARE * budget as f64) as usize;
@@ -186,18 +212,13 @@ fn stand_ins(
         if used + STAND_IN_TRIANGLES > share {
             break;
         }
-        let topology = mesh_topology(part);
-        if !topology.is_closed_manifold() || topology.genus != Some(0) {
-            continue;
-        }
-        let options = QuadricOptions::budget(f64::INFINITY);
-        let Ok(done) = simplify_to_budget(part, STAND_IN_TRIANGLES, &options) else {
+        let Some(stand_in) = part.stand_in() else {
             continue;
         };
-        let count = done.mesh.triangle_count();
-        if used + count <= share && level.clear_of(&done.mesh) {
+        let count = stand_in.triangle_count();
+        if used + count <= share && level.clear_of(stand_in) {
             used += count;
-            out.push(done.mesh);
+            out.push(stand_in);
         }
     }
     out
