@@ -6,6 +6,7 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
+use voxlod_core::components::triangle_components;
 use voxlod_core::weld::weld_vertices;
 use voxlod_core::{mesh_topology, Topology, TriangleMesh};
 use voxlod_sampling::PyramidOptions;
@@ -37,7 +38,10 @@ pub(crate) struct BudgetContext<'a> {
     /// Whether the dilated levels are searched too (module docs, step 1): with a mesh input and
     /// the solid's default isodensity.
     pub(crate) dilated: bool,
-    /// The input's connected components, split on first use (module `detached`).
+    /// The triangles of each connected component of the welded input (found once, for the
+    /// distance measure and the detached parts).
+    pub(super) part_triangles: Vec<Vec<u32>>,
+    /// The input's connected components as meshes, made on first use (module `detached`).
     pub(super) parts: InputParts,
     /// Levels by resolution and isodensity (its bits), with the seconds they took to build.
     levels: Mutex<HashMap<(usize, u32), (LodLevel, f64)>>,
@@ -65,9 +69,12 @@ impl<'a> BudgetContext<'a> {
             (mesh, topology)
         });
         let input_genus = welded.as_ref().and_then(|w| w.1.genus);
+        let part_triangles = (welded.as_ref())
+            .map(|(mesh, _)| triangle_components(mesh))
+            .unwrap_or_default();
         let measure = input
             .zip(welded.as_ref())
-            .and_then(|(input, (welded, _))| InputMeasure::new(input, welded));
+            .and_then(|(input, (welded, _))| InputMeasure::new(input, welded, &part_triangles));
         Ok(BudgetContext {
             source,
             level_options,
@@ -81,6 +88,7 @@ impl<'a> BudgetContext<'a> {
             time_cap,
             diagonal: source.bounds().diagonal(),
             dilated: false,
+            part_triangles,
             parts: InputParts::default(),
             levels: Mutex::new(HashMap::new()),
         })
@@ -113,6 +121,7 @@ impl<'a> BudgetContext<'a> {
             time_cap: self.time_cap,
             diagonal: self.diagonal,
             dilated: self.dilated,
+            part_triangles: Vec::new(),
             parts: {
                 self.input_parts();
                 self.parts.clone()

@@ -28,7 +28,7 @@
 
 use std::sync::{Arc, OnceLock};
 
-use voxlod_core::components::{submesh, triangle_components};
+use voxlod_core::components::submesh;
 use voxlod_core::parity::point_inside;
 use voxlod_core::{mesh_topology, Bounds, TriangleMesh};
 use voxlod_metrics::MeshDistance;
@@ -79,14 +79,13 @@ impl BudgetContext<'_> {
     /// filled input, which has no welded input of its own).
     pub(super) fn input_parts(&self) -> &[InputPart] {
         self.parts.get_or_init(|| {
-            let Some((mesh, topology)) = &self.welded else {
+            let Some((mesh, _)) = &self.welded else {
                 return Vec::new();
             };
-            if !(2..=MAX_PARTS).contains(&topology.components) {
+            if !(2..=MAX_PARTS).contains(&self.part_triangles.len()) {
                 return Vec::new();
             }
-            triangle_components(mesh)
-                .iter()
+            (self.part_triangles.iter())
                 .map(|triangles| InputPart {
                     mesh: submesh(mesh, triangles),
                     stand_in: OnceLock::new(),

@@ -1,9 +1,8 @@
 //! The geometric stage (step 3 of [`crate::budget`], He et al. 1995 §5): meshoptimizer's
 //! quadric collapse with the topology kept, dropping the smallest parts where it stalls above
-//! the budget (our addition), with a twin that restores the input's detached parts (step 6),
-//! or simplification envelopes with ε searched for the count. Cost:
-//! per level, up to four quadric runs, or up to four envelope runs, and one distance measurement
-//! per candidate.
+//! the budget (our addition), with twins that restore the input's detached parts (step 6), or
+//! simplification envelopes with ε searched for the count. Cost: per level, up to four quadric
+//! runs, or up to four envelope runs, and one distance measurement per candidate.
 
 use voxlod_core::TriangleMesh;
 use voxlod_envelope::{simplify_envelope, EnvelopeOptions, Epsilon};

@@ -5,7 +5,6 @@
 //! a tiny part altogether, and a tiny part lost far from the rest sets the Hausdorff distance
 //! (module `detached`).
 
-use voxlod_core::components::triangle_components;
 use voxlod_core::glam::DVec3;
 use voxlod_core::TriangleMesh;
 use voxlod_metrics::{
@@ -38,10 +37,14 @@ pub(super) struct InputMeasure<'a> {
 const PART_POINTS: usize = 10_000;
 
 impl<'a> InputMeasure<'a> {
-    /// The measure against `input`, with its parts found on `welded` (the input with coincident
-    /// vertices merged, so that a triangle soup's parts are its pieces, not its triangles).
-    pub(super) fn new(input: &'a TriangleMesh, welded: &TriangleMesh) -> Option<Self> {
-        let parts = triangle_components(welded);
+    /// The measure against `input`, with its parts `parts` (the triangles of each component of
+    /// `welded`, the input with coincident vertices merged, so that a triangle soup's parts are
+    /// its pieces, not its triangles).
+    pub(super) fn new(
+        input: &'a TriangleMesh,
+        welded: &TriangleMesh,
+        parts: &[Vec<u32>],
+    ) -> Option<Self> {
         let step = parts.len().div_ceil(PART_POINTS).max(1);
         let part_points = (parts.iter().step_by(step))
             .map(|p| welded.positions[welded.triangles[p[0] as usize][0] as usize].as_dvec3())

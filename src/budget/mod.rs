@@ -49,8 +49,8 @@
 //! 4. **Search.** Within [`crate::LodOptions::time_cap`] seconds per budget and isodensity
 //!    (counted after the probes for its first resolution), the neighbouring resolutions (about
 //!    `8 B` and `2 B` triangles) are tried too, then finer ones while the time allows (about
-//!    `5.7 B`, `11 B` and `16 B`: a thin part survives only in narrow windows of resolution),
-//!    and the candidate within 10 % of the budget
+//!    `5.7 B`, `11 B` and `16 B`: a thin part survives only in narrow windows of resolution;
+//!    not once the input's own collapse fits), and the candidate within 10 % of the budget
 //!    with the smallest measured two-sided Hausdorff distance to the input is kept (without a
 //!    mesh input, the first within 10 %). Distances are sampled (10 000
 //!    points a side) against the input's closest-point structure, built once per run.
@@ -59,10 +59,11 @@
 //!    shells bounding voids inside its material, steps 1 to 4 run again on the input with
 //!    those cavities filled ([`voxlod_core::cavities`]), and the closer level is kept: a hollow
 //!    part whose wall the budget cannot afford then turns solid instead of perforating.
-//! 6. **Detached parts restored** (our addition, module `detached`): input parts that lie apart
-//!    from the best level (closed, genus 0, their box meeting neither the level's) come back
-//!    beside it as their own collapse to a few triangles, within a quarter of the budget; the
-//!    level with them is kept where it measures closer.
+//! 6. **Detached parts restored** (our addition, module `detached`): input parts (closed,
+//!    genus 0) that lie outside a quadric candidate, clear of its triangles' boxes, come back
+//!    beside it as their own collapse to a few triangles, within a quarter of the budget, in
+//!    twin candidates of step 3 that compete like the others (step 4); distances give every
+//!    input part a point of its own, so that a tiny lost part counts.
 //!
 //! **Independence.** A budget's level depends on that budget and the options alone, never on
 //! the other budgets of the run: each search starts from nothing, and levels built for one
