@@ -1,10 +1,11 @@
 //! A budget's candidates and how they compete (step 4 of [`crate::budget`]): within 10 % of the
-//! budget beats outside it, then the smaller measured Hausdorff distance to the input.
+//! budget (and, in a chain of budgets, within the genus cap of module `genus_cap`) beats outside
+//! it, then the smaller measured Hausdorff distance to the input.
 
-use voxlod_core::TriangleMesh;
+use voxlod_core::{mesh_topology, TriangleMesh};
 
 use super::measure::Measured;
-use super::{Stage, BUDGET_TOLERANCE};
+use super::{BudgetLevel, Stage, BUDGET_TOLERANCE};
 
 /// One candidate for a budget: the level and its report.
 pub(super) struct Candidate {
@@ -25,6 +26,16 @@ pub(super) fn fits(candidate: &Candidate, budget: usize) -> bool {
     count_fits(candidate.mesh.triangle_count(), budget)
 }
 
+/// Whether `candidate` is within 10 % of `budget` and has no more handles than `genus_cap`.
+pub(super) fn fits_capped(candidate: &Candidate, budget: usize, genus_cap: Option<i64>) -> bool {
+    fits(candidate, budget) && within_cap(&candidate.mesh, genus_cap)
+}
+
+/// Whether `mesh` has no more handles than `genus_cap` (always without a cap or a genus).
+pub(super) fn within_cap(mesh: &TriangleMesh, genus_cap: Option<i64>) -> bool {
+    genus_cap.is_none_or(|cap| mesh_topology(mesh).genus.is_none_or(|g| g <= cap))
+}
+
 /// Whether `count` triangles are within 10 % of `budget` (as a ratio).
 fn count_fits(count: usize, budget: usize) -> bool {
     miss(count, budget) <= (1.0 + BUDGET_TOLERANCE).ln()
@@ -35,26 +46,63 @@ fn miss(count: usize, budget: usize) -> f64 {
     (count as f64 / budget as f64).ln().abs()
 }
 
-/// Whether `candidate` beats `best` for `budget` (see [`beats`]).
-pub(super) fn better(candidate: &Candidate, best: Option<&Candidate>, budget: usize) -> bool {
+/// How a level stands for a budget: its count, its measured Hausdorff distance to the input,
+/// and whether its genus is within the chain's cap.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Standing {
+    pub(super) triangles: usize,
+    pub(super) hausdorff: Option<f64>,
+    pub(super) within_cap: bool,
+}
+
+impl Standing {
+    /// How a finished level stands under `genus_cap`, from its report.
+    pub(super) fn of(level: &BudgetLevel, genus_cap: Option<i64>) -> Standing {
+        Standing {
+            triangles: level.triangles,
+            hausdorff: level.hausdorff,
+            within_cap: genus_cap.is_none_or(|cap| level.genus.is_none_or(|g| g <= cap)),
+        }
+    }
+}
+
+/// Whether `candidate` beats `best` for `budget` under `genus_cap` (see [`beats`]).
+pub(super) fn better(
+    candidate: &Candidate,
+    best: Option<&Candidate>,
+    budget: usize,
+    genus_cap: Option<i64>,
+) -> bool {
     let Some(best) = best else {
         return true;
     };
-    let standing = |c: &Candidate| (c.mesh.triangle_count(), c.distance.map(|d| d.hausdorff));
+    let standing = |c: &Candidate| Standing {
+        triangles: c.mesh.triangle_count(),
+        hausdorff: c.distance.map(|d| d.hausdorff),
+        within_cap: within_cap(&c.mesh, genus_cap),
+    };
     beats(standing(candidate), standing(best), budget)
 }
 
-/// Whether a level of `a.0` triangles at measured Hausdorff distance `a.1` beats one at `b`
-/// for `budget`: within 10 % beats outside; then the smaller measured distance (an unmeasured
+/// Whether level `a` beats level `b` for `budget`: within 10 % and within the genus cap beats
+/// the rest; then within 10 % beats outside; then the smaller measured distance (an unmeasured
 /// level does not win); between two outside, the count nearer the budget.
-pub(super) fn beats(a: (usize, Option<f64>), b: (usize, Option<f64>), budget: usize) -> bool {
-    match (count_fits(a.0, budget), count_fits(b.0, budget)) {
+pub(super) fn beats(a: Standing, b: Standing, budget: usize) -> bool {
+    let fit = |s: &Standing| count_fits(s.triangles, budget);
+    let closer = || match (a.hausdorff, b.hausdorff) {
+        (Some(x), Some(y)) => x < y,
+        _ => false,
+    };
+    match (fit(&a) && a.within_cap, fit(&b) && b.within_cap) {
+        (true, false) => return true,
+        (false, true) => return false,
+        (true, true) => return closer(),
+        (false, false) => {}
+    }
+    match (fit(&a), fit(&b)) {
         (true, false) => true,
         (false, true) => false,
-        (false, false) => miss(a.0, budget) < miss(b.0, budget),
-        (true, true) => match (a.1, b.1) {
-            (Some(x), Some(y)) => x < y,
-            _ => false,
-        },
+        (false, false) => miss(a.triangles, budget) < miss(b.triangles, budget),
+        (true, true) => closer(),
     }
 }

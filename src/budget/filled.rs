@@ -16,7 +16,7 @@
 
 use voxlod_core::cavities::{fill_cavities, FilledCavities};
 
-use super::candidate::beats;
+use super::candidate::{beats, Standing};
 use super::context::BudgetContext;
 use super::search::budget_level;
 use super::{BudgetLevel, Stage};
@@ -32,20 +32,22 @@ pub(super) fn filled_input(ctx: &BudgetContext) -> Option<FilledCavities> {
 
 /// The level for `budget` from the input as given (`given`) or, when `filled` (the context of
 /// the filled input) gives a closer one, from the filled input; its report counts the cavities
-/// filled and the candidates of both searches.
+/// filled and the candidates of both searches. Both searches, and the choice between them,
+/// hold the levels to `genus_cap` (module `genus_cap`).
 pub(super) fn budget_level_either(
     given: &BudgetContext,
     filled: Option<(&BudgetContext, &FilledCavities)>,
     budget: usize,
     error: Option<f64>,
+    genus_cap: Option<i64>,
 ) -> Result<(LodLevel, BudgetLevel, Vec<String>), Error> {
-    let first = budget_level(given, budget, error)?;
+    let first = budget_level(given, budget, error, genus_cap)?;
     let Some((ctx, cavities)) = filled.filter(|_| first.1.stage != Stage::InputQuadric) else {
         return Ok(first);
     };
-    let second = budget_level(ctx, budget, error)?;
+    let second = budget_level(ctx, budget, error, genus_cap)?;
     let candidates = first.1.candidates + second.1.candidates;
-    let (level, mut report, warnings) = if closer(&second.1, &first.1, budget) {
+    let (level, mut report, warnings) = if closer(&second.1, &first.1, budget, genus_cap) {
         let mut second = second;
         second.1.cavities_filled = cavities.cavities;
         second
@@ -57,10 +59,10 @@ pub(super) fn budget_level_either(
 }
 
 /// Whether level `a` beats level `b` for `budget`, by the rule of the search's candidates.
-fn closer(a: &BudgetLevel, b: &BudgetLevel, budget: usize) -> bool {
+fn closer(a: &BudgetLevel, b: &BudgetLevel, budget: usize, genus_cap: Option<i64>) -> bool {
     beats(
-        (a.triangles, a.hausdorff),
-        (b.triangles, b.hausdorff),
+        Standing::of(a, genus_cap),
+        Standing::of(b, genus_cap),
         budget,
     )
 }

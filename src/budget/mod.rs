@@ -71,6 +71,11 @@
 //! The time cap charges a reused level its original building time, so it stops a search at the
 //! same candidate whatever ran before (up to the machine's timing noise).
 //!
+//! **Genus along a chain** (module `genus_cap`, our addition): with
+//! [`crate::LodOptions::monotone`] on, several budgets are searched from the largest down and
+//! no level may have more handles than the level above it; a level whose own search would add
+//! handles is the one exception to independence.
+//!
 //! **Error target.** With [`crate::LodOptions::error`] and no budgets, one level: the resolution
 //! whose voxel is the error, then the quadric stage within the error; with budgets too, the
 //! error bounds every geometric stage.
@@ -86,14 +91,15 @@
 //! `context` (what the budgets share, the levels built once), `resolution` (step 1's probes),
 //! `openings` (step 2), `input` (step 0), `geometric` (step 3), `candidate` and `measure`
 //! (step 4's comparison and distances), `search` (a budget's search, the time cap, the
-//! bisection), `filled` (step 5), `detached` (step 6), `error_target` (the error target
-//! alone, without step 5) and `report`.
+//! bisection), `filled` (step 5), `detached` (step 6), `genus_cap` (the genus along a chain
+//! of budgets), `error_target` (the error target alone, without step 5) and `report`.
 
 mod candidate;
 mod context;
 mod detached;
 mod error_target;
 mod filled;
+mod genus_cap;
 mod geometric;
 mod input;
 mod measure;
@@ -106,7 +112,7 @@ pub(crate) mod terms;
 use std::time::Instant;
 
 use crate::error::Error;
-use crate::lod::{LevelOptions, LodLevel};
+use crate::lod::LevelOptions;
 use crate::lod_options::{Lod, LodOptions};
 use crate::progress::{Event, ProgressFn, Tracker};
 use crate::source::Source;
@@ -173,31 +179,25 @@ pub(crate) fn lod_by_budget(
     let budgets = options.triangles.clone().unwrap_or_default();
     let mut tracker = Tracker::start(progress, budgets.len().max(1))?;
     let mut warnings = prepared.warnings().to_vec();
-    let (mut levels, mut reports) = (Vec::new(), Vec::new());
-    let mut done = |level: LodLevel, report, more: Vec<String>, tracker: &mut Tracker| {
-        warnings.extend(more);
-        tracker.step(levels.len(), "budget level")?;
-        tracker.ask(Event::LodLevel(&level))?;
-        levels.push(level);
-        reports.push(report);
-        Ok::<(), Error>(())
-    };
-    if budgets.is_empty() {
+    let (levels, budgets) = if budgets.is_empty() {
         let (level, report, more) = error_level(&ctx, error.unwrap_or(f64::INFINITY))?;
-        done(level, report, more, &mut tracker)?;
-    }
-    for (i, &budget) in budgets.iter().enumerate() {
-        let (level, report, more) = filled::budget_level_either(&ctx, filled, budget, error)
-            .map_err(|e| e.context(format!("budget {budget} (level {i})")))?;
-        done(level, report, more, &mut tracker)?;
-    }
+        tracker.step(0, "budget level")?;
+        tracker.ask(Event::LodLevel(&level))?;
+        warnings.extend(more);
+        (vec![level], vec![report])
+    } else {
+        let capped = options.monotone.is_some();
+        let chain = genus_cap::budget_chain(&ctx, filled, &budgets, error, capped, &mut tracker)?;
+        warnings.extend(chain.warnings);
+        (chain.levels, chain.reports)
+    };
     Ok(Lod {
         levels,
         route: prepared.route(),
         preparation: prepared.preparation().copied(),
         iso,
         warnings,
-        budgets: reports,
+        budgets,
         finest: None,
         seconds: start.elapsed().as_secs_f64(),
     })

@@ -75,6 +75,7 @@ pub(super) fn report(
         iso: ctx.level_options.iso,
         cavities_filled: 0,
         parts_restored: 0,
+        simplified_from: None,
         candidates,
         note: None,
         seconds: start.elapsed().as_secs_f64(),

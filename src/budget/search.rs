@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use std::f64::consts::SQRT_2;
 use std::time::Instant;
 
-use super::candidate::{better, fits, Candidate};
+use super::candidate::{better, fits, fits_capped, Candidate};
 use super::context::BudgetContext;
 use super::geometric::{envelope_candidate, stages};
 use super::input::closer_than_voxels;
@@ -31,19 +31,24 @@ struct Search {
     /// Isodensities (their bits) with a candidate within 10 % of the budget: each isodensity's
     /// coarser levels are tried while it has none, whatever the time.
     fitted_isos: Vec<u32>,
+    /// At most this genus, in a chain of budgets (module `genus_cap`).
+    genus_cap: Option<i64>,
 }
 
 /// The level for `budget` (see the module documentation), with an optional error bound for the
-/// geometric stage, and the warnings of its search.
+/// geometric stage, and the warnings of its search; candidates with more handles than
+/// `genus_cap` lose to those within it (module `genus_cap`).
 pub(crate) fn budget_level(
     ctx: &BudgetContext,
     budget: usize,
     error: Option<f64>,
+    genus_cap: Option<i64>,
 ) -> Result<(LodLevel, BudgetLevel, Vec<String>), Error> {
     let start = Instant::now();
     let mut best: Option<(Candidate, LodLevel, usize)> = None;
     if let Some((candidate, level, _)) = ctx.input_candidate(budget, error)? {
-        if fits(&candidate, budget) && closer_than_voxels(ctx, &candidate, budget) {
+        if fits_capped(&candidate, budget, genus_cap) && closer_than_voxels(ctx, &candidate, budget)
+        {
             let voxel_triangles = level.mesh.triangle_count();
             return Ok(finish(
                 ctx,
@@ -71,12 +76,13 @@ pub(crate) fn budget_level(
         charged: HashMap::new(),
         counts: Vec::new(),
         fitted_isos: Vec::new(),
+        genus_cap,
     };
     for one in &tries {
         try_level(ctx, one, budget, error, &mut search)?;
     }
-    search.tried += bisect(ctx, &mut search.best, &mut search.counts, budget, error)?;
-    search.tried += envelopes_where_stalled(ctx, &mut search.best, budget, error);
+    search.tried += bisect(ctx, &mut search, budget, error)?;
+    search.tried += envelopes_where_stalled(ctx, &mut search.best, budget, error, genus_cap);
     let tried = search.tried;
     let Some(chosen) = search.best else {
         warnings.push(format!(
@@ -115,8 +121,9 @@ fn try_level(
     search: &mut Search,
 ) -> Result<(), Error> {
     let is_first = resolution == base;
-    let input_fits = (search.best.as_ref())
-        .is_some_and(|b| b.0.stage == Stage::InputQuadric && fits(&b.0, budget));
+    let input_fits = (search.best.as_ref()).is_some_and(|b| {
+        b.0.stage == Stage::InputQuadric && fits_capped(&b.0, budget, search.genus_cap)
+    });
     let fitted = search.fitted_isos.contains(&iso.to_bits()) || input_fits;
     if finer && input_fits {
         return Ok(());
@@ -144,10 +151,11 @@ fn try_level(
                 .counts
                 .push((resolution, candidate.mesh.triangle_count()));
         }
-        if fits(&candidate, budget) {
+        if fits_capped(&candidate, budget, search.genus_cap) {
             search.fitted_isos.push(iso.to_bits());
         }
-        if better(&candidate, search.best.as_ref().map(|b| &b.0), budget) {
+        let best = search.best.as_ref().map(|b| &b.0);
+        if better(&candidate, best, budget, search.genus_cap) {
             search.best = Some((candidate, level.clone(), cut));
         }
     }
@@ -165,6 +173,7 @@ fn envelopes_where_stalled(
     best: &mut Option<(Candidate, LodLevel, usize)>,
     budget: usize,
     error: Option<f64>,
+    genus_cap: Option<i64>,
 ) -> usize {
     let mut tried = 0;
     if let Some((stalled, level, cut)) = best.as_ref().filter(|b| !fits(&b.0, budget)) {
@@ -172,7 +181,7 @@ fn envelopes_where_stalled(
             let (level, iso) = (level.clone(), stalled.iso);
             if let Some(candidate) = envelope_candidate(ctx, &level, iso, budget, error) {
                 tried += 1;
-                if better(&candidate, Some(stalled), budget) {
+                if better(&candidate, Some(stalled), budget, genus_cap) {
                     *best = Some((candidate, level, *cut));
                 }
             }
@@ -254,11 +263,11 @@ fn search_plan(ctx: &BudgetContext, first: usize, wanted: f64) -> Result<Vec<Try
 /// resolution). The candidates built.
 fn bisect(
     ctx: &BudgetContext,
-    best: &mut Option<(Candidate, LodLevel, usize)>,
-    counts: &mut Vec<(usize, usize)>,
+    search: &mut Search,
     budget: usize,
     error: Option<f64>,
 ) -> Result<usize, Error> {
+    let (best, counts) = (&mut search.best, &mut search.counts);
     let mut tried = 0;
     for _ in 0..4 {
         if best.as_ref().is_none_or(|b| fits(&b.0, budget)) {
@@ -279,7 +288,12 @@ fn bisect(
         for candidate in stages(ctx, &level, iso, budget, error) {
             tried += 1;
             counts.push((resolution, candidate.mesh.triangle_count()));
-            if better(&candidate, best.as_ref().map(|b| &b.0), budget) {
+            if better(
+                &candidate,
+                best.as_ref().map(|b| &b.0),
+                budget,
+                search.genus_cap,
+            ) {
                 *best = Some((candidate, level.clone(), cut));
             }
         }

@@ -159,6 +159,10 @@ pub struct BudgetLevel {
     /// Detached parts of the input (closed, genus 0, apart from the level) restored beside the
     /// level as their own collapse (module docs of `budget/detached`).
     pub parts_restored: usize,
+    /// In a chain of budgets, the larger budget whose level this one was simplified from
+    /// (quadric, topology kept), because its own search found no level within 10 % of the
+    /// budget with no more handles than that level (module docs of `budget/genus_cap`).
+    pub simplified_from: Option<usize>,
     /// Candidates (resolution and stage) built and measured.
     pub candidates: usize,
     /// Why the level misses its budget by more than 10 %, or what else to know.

@@ -100,7 +100,9 @@ pub struct LodArgs {
     /// Print the report as JSON on standard output (no progress bar)
     #[arg(long)]
     pub json: bool,
-    /// Let the genus rise between levels as plain filtering makes it (the paper's pyramid)
+    /// Let the genus rise between levels as plain filtering makes it (the paper's pyramid);
+    /// with --triangles, search every budget on its own instead of holding each level to the
+    /// genus of the larger budget's level
     #[arg(long)]
     pub no_monotone: bool,
     /// Keep plain marching cubes (no cleaning of slivers, needles and self-intersections)
