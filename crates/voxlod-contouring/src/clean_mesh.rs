@@ -49,12 +49,14 @@ use serde::Serialize;
 use thiserror::Error;
 use voxlod_core::{memory, CoreError, TriangleMesh};
 
+mod defects;
 mod fans;
 mod passes;
 mod restore;
 mod steps;
 mod work;
 
+use defects::{Defects, Scan};
 use passes::{collapse_short_edges, fix_small_triangles, Schedule};
 use restore::{compact, restore_flattened};
 use work::Work;
@@ -136,14 +138,17 @@ pub fn clean_mesh(
     cell: f64,
     options: &CleanOptions,
 ) -> Result<(TriangleMesh, CleanReport), CleanError> {
-    clean_mesh_with(mesh, cell, options, Schedule::for_threads())
+    clean_mesh_with(mesh, cell, options, Schedule::for_threads(), Scan::Changed)
 }
 
+/// [`clean_mesh`] run on `schedule`, its candidates found by `scan`; one at a time over whole
+/// scans is the reference that the others must equal bit for bit.
 fn clean_mesh_with(
     mesh: &TriangleMesh,
     cell: f64,
     options: &CleanOptions,
     schedule: Schedule,
+    scan: Scan,
 ) -> Result<(TriangleMesh, CleanReport), CleanError> {
     if !(cell.is_finite() && cell > 0.0) {
         return Err(CleanError::BadCell(cell));
@@ -157,12 +162,17 @@ fn clean_mesh_with(
     let mut work = Work::new(mesh, cell);
     let mut report = CleanReport::default();
     let (min_edge, min_area) = (options.min_edge * cell, options.min_area * cell * cell);
+    let mut defects = Defects::new(&work, min_edge, min_area, scan);
+    let reference = (schedule, scan) == (Schedule::OneAtATime, Scan::Whole);
     for _ in 0..options.max_passes {
         report.passes += 1;
         work.touched.iter_mut().for_each(|t| *t = false);
-        let collapsed = collapse_short_edges(&mut work, min_edge, schedule);
+        let edges = defects.short_edges(&mut work, min_edge);
+        let collapsed = collapse_short_edges(&mut work, &edges, schedule);
+        drop(edges);
+        let small = (!reference).then(|| defects.small_triangles(&mut work, min_area));
         let [flipped, collapsed_small, relaxed] =
-            fix_small_triangles(&mut work, min_area, schedule);
+            fix_small_triangles(&mut work, min_area, schedule, small);
         report.collapsed_edges += collapsed + collapsed_small;
         report.flipped_edges += flipped;
         report.relaxed_vertices += relaxed;
@@ -254,19 +264,24 @@ mod tests {
         assert!((clean.signed_volume() - 4.0 / 3.0).abs() < 1e-3);
     }
 
-    /// The cleaned mesh and report of every schedule: one at a time, and speculative batches
-    /// of 1, 16 and 4096 candidates and of the automatic size. Large batches put many steps
-    /// within reach of each other, so that decisions must be made again.
+    /// The cleaned mesh and report of every schedule and scan: the reference first (one at a
+    /// time over whole scans), then one at a time over the changed triangles' scans, and
+    /// speculative batches of 1, 16 and 4096 candidates and of the automatic size over either
+    /// scan. Large batches put many steps within reach of each other, so that decisions must be
+    /// made again.
     fn every_schedule(mesh: &TriangleMesh, cell: f64) -> Vec<(TriangleMesh, CleanReport)> {
-        let schedules = [
-            Schedule::OneAtATime,
-            Schedule::Speculative(1),
-            Schedule::Speculative(16),
-            Schedule::Speculative(4096),
-            Schedule::Speculative(0),
+        let runs = [
+            (Schedule::OneAtATime, Scan::Whole),
+            (Schedule::OneAtATime, Scan::Changed),
+            (Schedule::Speculative(1), Scan::Changed),
+            (Schedule::Speculative(16), Scan::Whole),
+            (Schedule::Speculative(4096), Scan::Changed),
+            (Schedule::Speculative(0), Scan::Whole),
+            (Schedule::Speculative(0), Scan::Changed),
         ];
-        (schedules.into_iter())
-            .map(|s| clean_mesh_with(mesh, cell, &CleanOptions::default(), s).unwrap())
+        (runs.into_iter())
+            .map(|(s, scan)| clean_mesh_with(mesh, cell, &CleanOptions::default(), s, scan))
+            .map(Result::unwrap)
             .collect()
     }
 
