@@ -180,12 +180,21 @@ fn clean_mesh_with(
             break;
         }
     }
+    // The small triangles left, unless a component gets its raw triangles back below.
+    let left = (!reference).then(|| defects.small_triangles(&mut work, min_area).len());
     // Only the surface is needed from here on.
     let mut surface = work.surface;
-    report.restored_components = restore_flattened(&mut surface, mesh);
-    report.small_triangles_left = (0..surface.triangles.len() as u32)
-        .filter(|&t| surface.alive[t as usize] && surface.area(t) < min_area)
-        .count();
+    // A mesh that no step changed has every component's raw volume: none is restored.
+    let steps = report.collapsed_edges + report.flipped_edges + report.relaxed_vertices;
+    if steps > 0 {
+        report.restored_components = restore_flattened(&mut surface, mesh);
+    }
+    report.small_triangles_left = match left {
+        Some(left) if report.restored_components == 0 => left,
+        _ => (0..surface.triangles.len() as u32)
+            .filter(|&t| surface.alive[t as usize] && surface.area(t) < min_area)
+            .count(),
+    };
     let cleaned = compact(&surface);
     drop(surface);
     report.removed_triangles = mesh.triangles.len() - cleaned.triangles.len();
