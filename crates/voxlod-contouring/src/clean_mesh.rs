@@ -294,6 +294,26 @@ mod tests {
             .collect()
     }
 
+    /// Every schedule and scan of [`every_schedule`] gives the reference's mesh, bit for bit,
+    /// and its report; returns the reference's report.
+    fn assert_every_schedule_equal(name: &str, mesh: &TriangleMesh, cell: f64) -> CleanReport {
+        let runs = every_schedule(mesh, cell);
+        let (reference, report) = &runs[0];
+        // Bit for bit: positions and normals compared as bits, not as floats.
+        let bits = |v: &[Vec3]| -> Vec<[u32; 3]> {
+            v.iter().map(|p| p.to_array().map(f32::to_bits)).collect()
+        };
+        for (k, (clean, other)) in runs.iter().enumerate().skip(1) {
+            assert_eq!(other, report, "{name}, run {k}");
+            assert_eq!(clean.triangles, reference.triangles, "{name}, run {k}");
+            let (p, q) = (&clean.positions, &reference.positions);
+            assert_eq!(bits(p), bits(q), "{name}, run {k}");
+            let (n, m) = (&clean.normals, &reference.normals);
+            assert_eq!(bits(n), bits(m), "{name}, run {k}");
+        }
+        *report
+    }
+
     #[test]
     fn speculative_batches_clean_as_one_at_a_time() {
         use crate::{marching_cubes, ContourOptions};
@@ -304,22 +324,79 @@ mod tests {
             ("gyroid-64", gyroid_field(64).unwrap()),
         ] {
             let mesh = marching_cubes(&volume, &ContourOptions::at(0.0)).unwrap();
-            let cell = volume.grid.spacing[0];
-            let runs = every_schedule(&mesh, cell);
-            let (reference, report) = &runs[0];
+            let report = assert_every_schedule_equal(name, &mesh, volume.grid.spacing[0]);
             assert!(report.collapsed_edges > 100, "{name}: {report:?}");
             assert!(report.flipped_edges > 0, "{name}: {report:?}");
-            for (k, (clean, other)) in runs.iter().enumerate().skip(1) {
-                assert_eq!(other, report, "{name}, schedule {k}");
-                // Bit for bit: positions compared as bits, not as floats.
-                assert_eq!(clean.triangles, reference.triangles, "{name}, schedule {k}");
-                let bits = |m: &TriangleMesh| -> Vec<[u32; 6]> {
-                    (m.positions.iter().zip(&m.normals))
-                        .map(|(p, n)| [p.x, p.y, p.z, n.x, n.y, n.z].map(f32::to_bits))
-                        .collect()
-                };
-                assert_eq!(bits(clean), bits(reference), "{name}, schedule {k}");
-            }
         }
+    }
+
+    /// A ball of radius √50 cells (many samples exactly on its surface) over 30³ samples, its
+    /// density ramping over one cell; with `jitter`, a third of the samples within a fifth of
+    /// a cell of the surface move to within 1e-3 of the isodensity (defects next to each
+    /// other); and `lone` samples barely above it, outside the ball, among samples below it
+    /// (tiny components, some one or two cells from the ball and from each other).
+    fn ball_field(seed: u64, jitter: bool, lone: usize) -> voxlod_core::Volume {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
+        let n = 30;
+        let grid = voxlod_core::Grid::new([n; 3], [1.0; 3], [0.0; 3]).unwrap();
+        let centre = glam::DVec3::splat(14.0);
+        let mut values = vec![0.0f32; n * n * n];
+        for (i, j, k) in
+            (0..n).flat_map(|k| (0..n).flat_map(move |j| (0..n).map(move |i| (i, j, k))))
+        {
+            let p = glam::DVec3::new(i as f64, j as f64, k as f64);
+            let d = 50f64.sqrt() - p.distance(centre);
+            let mut v = 0.5 + 0.5 * d.clamp(-1.0, 1.0);
+            if jitter && d.abs() < 0.2 && rng.random_range(0..3) == 0 {
+                v = 0.5 + rng.random_range(-1e-3..1e-3);
+            }
+            values[grid.index(i, j, k)] = v as f32;
+        }
+        for _ in 0..lone {
+            let at = [0, 1, 2].map(|_| rng.random_range(2..n - 2));
+            let p = glam::DVec3::from_array(at.map(|c| c as f64));
+            if p.distance(centre) < 50f64.sqrt() + 1.5 {
+                continue;
+            }
+            for d in 0..27 {
+                let q = [at[0] + d % 3 - 1, at[1] + d / 3 % 3 - 1, at[2] + d / 9 - 1];
+                let v = &mut values[grid.index(q[0], q[1], q[2])];
+                if *v == 0.0 {
+                    *v = rng.random_range(0.0..0.45);
+                }
+            }
+            values[grid.index(at[0], at[1], at[2])] = 0.5 + rng.random_range(0.002..0.04);
+        }
+        voxlod_core::Volume::from_vec(grid, values).unwrap()
+    }
+
+    /// The candidates found among the last ones and the changed triangles clean as whole scans,
+    /// bit for bit: on a mesh with no defect (a step-free run, one scan), with defects next to
+    /// each other, and with tiny components next to the ball and to each other (some of which
+    /// cleaning flattens and gives back their raw triangles).
+    #[test]
+    fn changed_scans_clean_as_whole_scans() {
+        use crate::{marching_cubes, ContourOptions};
+        let mut restored = 0;
+        for seed in 0..4 {
+            // Samples 0 or 1 only: every vertex halfway along its edge, no defect.
+            let mut binary = ball_field(seed, false, 0);
+            binary.values.mapv_inplace(f32::round);
+            let raw = marching_cubes(&binary, &ContourOptions::at(0.5)).unwrap();
+            let report = assert_every_schedule_equal("binary", &raw, 1.0);
+            assert_eq!((report.collapsed_edges, report.flipped_edges), (0, 0));
+            assert_eq!((report.relaxed_vertices, report.removed_triangles), (0, 0));
+            let near = ball_field(seed, true, 0);
+            let raw = marching_cubes(&near, &ContourOptions::at(0.5)).unwrap();
+            let report = assert_every_schedule_equal("near", &raw, 1.0);
+            assert!(report.collapsed_edges > 50, "{seed}: {report:?}");
+            let parts = ball_field(seed, true, 60);
+            let raw = marching_cubes(&parts, &ContourOptions::at(0.5)).unwrap();
+            let report = assert_every_schedule_equal("components", &raw, 1.0);
+            eprintln!("{seed}: {report:?}");
+            restored += report.restored_components;
+        }
+        assert!(restored > 0);
     }
 }
