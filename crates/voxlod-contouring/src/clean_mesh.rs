@@ -37,10 +37,14 @@
 //! vertex inside oriented triangles, flips replace two oriented triangles by two oriented ones.
 //! Normals: a merged vertex takes the normalised mean of the two.
 //!
-//! Cost: O(F log F) per pass for sorting the candidate edges, O(1) per collapse or flip on a
-//! marching-cubes mesh (valences are small). The steps' decisions, most of the time, are made on
-//! all threads and applied in order, with the result of the one-at-a-time run (see
-//! `clean_mesh/passes.rs`). Memory: about 125 bytes per triangle of the input at the peak,
+//! Cost: O(F) once to set up (the guard's buckets and each vertex's triangles, on all threads
+//! where they can be) and to find the short edges and small triangles; after that, a pass
+//! costs O(K log K) for its K candidates and the triangles changed since the last pass (see
+//! `clean_mesh/defects.rs`), and O(1) per collapse or flip on a marching-cubes mesh (valences
+//! are small); the component-volume check is skipped when no step was taken. The steps'
+//! decisions, most of the time, are made on all threads and applied in order, with the result
+//! of the one-at-a-time run (see `clean_mesh/passes.rs`), and the guard's searches around
+//! them are most of the time. Memory: about 120 bytes per triangle of the input at the peak,
 //! besides the input itself (240 before these lists) (positions in `f64`, the triangles, each vertex's triangles in one
 //! packed array, the guard's buckets with `f32` boxes); the lists and buckets are dropped
 //! before the output is gathered.
@@ -62,8 +66,9 @@ use restore::{compact, restore_flattened};
 use work::Work;
 
 /// Bytes cleaning holds per triangle of the input at its peak, besides the input, for the
-/// memory check (123 to 124 measured by the ignored test `memory_per_triangle` on a 326 k
-/// triangle marching-cubes level, 130 to 131 before the guard's dense bucket index; rounded up).
+/// memory check (119 measured by the ignored test `memory_per_triangle` on a 326 k triangle
+/// marching-cubes level, 123 to 124 before the candidates were found among the changed
+/// triangles, 130 to 131 before the guard's dense bucket index; rounded up).
 pub const CLEAN_BYTES_PER_TRIANGLE: u64 = 144;
 
 /// How [`clean_mesh`] cleans.
