@@ -37,10 +37,14 @@
 //! vertex inside oriented triangles, flips replace two oriented triangles by two oriented ones.
 //! Normals: a merged vertex takes the normalised mean of the two.
 //!
-//! Cost: O(F log F) per pass for sorting the candidate edges, O(1) per collapse or flip on a
-//! marching-cubes mesh (valences are small). The steps' decisions, most of the time, are made on
-//! all threads and applied in order, with the result of the one-at-a-time run (see
-//! `clean_mesh/passes.rs`). Memory: about 125 bytes per triangle of the input at the peak,
+//! Cost: O(F) once to set up (the guard's buckets and each vertex's triangles, on all threads
+//! where they can be) and to find the short edges and small triangles; after that, a pass
+//! costs O(K log K) for its K candidates and the triangles changed since the last pass (see
+//! `clean_mesh/defects.rs`), and O(1) per collapse or flip on a marching-cubes mesh (valences
+//! are small); the component-volume check is skipped when no step was taken. The steps'
+//! decisions, most of the time, are made on all threads and applied in order, with the result
+//! of the one-at-a-time run (see `clean_mesh/passes.rs`), and the guard's searches around
+//! them are most of the time. Memory: about 120 bytes per triangle of the input at the peak,
 //! besides the input itself (240 before these lists) (positions in `f64`, the triangles, each vertex's triangles in one
 //! packed array, the guard's buckets with `f32` boxes); the lists and buckets are dropped
 //! before the output is gathered.
@@ -49,19 +53,22 @@ use serde::Serialize;
 use thiserror::Error;
 use voxlod_core::{memory, CoreError, TriangleMesh};
 
+mod defects;
 mod fans;
 mod passes;
 mod restore;
 mod steps;
 mod work;
 
+use defects::{Defects, Scan};
 use passes::{collapse_short_edges, fix_small_triangles, Schedule};
 use restore::{compact, restore_flattened};
 use work::Work;
 
 /// Bytes cleaning holds per triangle of the input at its peak, besides the input, for the
-/// memory check (123 to 124 measured by the ignored test `memory_per_triangle` on a 326 k
-/// triangle marching-cubes level, 130 to 131 before the guard's dense bucket index; rounded up).
+/// memory check (119 measured by the ignored test `memory_per_triangle` on a 326 k triangle
+/// marching-cubes level, 123 to 124 before the candidates were found among the changed
+/// triangles, 130 to 131 before the guard's dense bucket index; rounded up).
 pub const CLEAN_BYTES_PER_TRIANGLE: u64 = 144;
 
 /// How [`clean_mesh`] cleans.
@@ -136,14 +143,17 @@ pub fn clean_mesh(
     cell: f64,
     options: &CleanOptions,
 ) -> Result<(TriangleMesh, CleanReport), CleanError> {
-    clean_mesh_with(mesh, cell, options, Schedule::for_threads())
+    clean_mesh_with(mesh, cell, options, Schedule::for_threads(), Scan::Changed)
 }
 
+/// [`clean_mesh`] run on `schedule`, its candidates found by `scan`; one at a time over whole
+/// scans is the reference that the others must equal bit for bit.
 fn clean_mesh_with(
     mesh: &TriangleMesh,
     cell: f64,
     options: &CleanOptions,
     schedule: Schedule,
+    scan: Scan,
 ) -> Result<(TriangleMesh, CleanReport), CleanError> {
     if !(cell.is_finite() && cell > 0.0) {
         return Err(CleanError::BadCell(cell));
@@ -157,12 +167,17 @@ fn clean_mesh_with(
     let mut work = Work::new(mesh, cell);
     let mut report = CleanReport::default();
     let (min_edge, min_area) = (options.min_edge * cell, options.min_area * cell * cell);
+    let mut defects = Defects::new(&work, min_edge, min_area, scan);
+    let reference = (schedule, scan) == (Schedule::OneAtATime, Scan::Whole);
     for _ in 0..options.max_passes {
         report.passes += 1;
         work.touched.iter_mut().for_each(|t| *t = false);
-        let collapsed = collapse_short_edges(&mut work, min_edge, schedule);
+        let edges = defects.short_edges(&mut work, min_edge);
+        let collapsed = collapse_short_edges(&mut work, &edges, schedule);
+        drop(edges);
+        let small = (!reference).then(|| defects.small_triangles(&mut work, min_area));
         let [flipped, collapsed_small, relaxed] =
-            fix_small_triangles(&mut work, min_area, schedule);
+            fix_small_triangles(&mut work, min_area, schedule, small);
         report.collapsed_edges += collapsed + collapsed_small;
         report.flipped_edges += flipped;
         report.relaxed_vertices += relaxed;
@@ -170,12 +185,21 @@ fn clean_mesh_with(
             break;
         }
     }
+    // The small triangles left, unless a component gets its raw triangles back below.
+    let left = (!reference).then(|| defects.small_triangles(&mut work, min_area).len());
     // Only the surface is needed from here on.
     let mut surface = work.surface;
-    report.restored_components = restore_flattened(&mut surface, mesh);
-    report.small_triangles_left = (0..surface.triangles.len() as u32)
-        .filter(|&t| surface.alive[t as usize] && surface.area(t) < min_area)
-        .count();
+    // A mesh that no step changed has every component's raw volume: none is restored.
+    let steps = report.collapsed_edges + report.flipped_edges + report.relaxed_vertices;
+    if steps > 0 {
+        report.restored_components = restore_flattened(&mut surface, mesh);
+    }
+    report.small_triangles_left = match left {
+        Some(left) if report.restored_components == 0 => left,
+        _ => (0..surface.triangles.len() as u32)
+            .filter(|&t| surface.alive[t as usize] && surface.area(t) < min_area)
+            .count(),
+    };
     let cleaned = compact(&surface);
     drop(surface);
     report.removed_triangles = mesh.triangles.len() - cleaned.triangles.len();
@@ -254,20 +278,45 @@ mod tests {
         assert!((clean.signed_volume() - 4.0 / 3.0).abs() < 1e-3);
     }
 
-    /// The cleaned mesh and report of every schedule: one at a time, and speculative batches
-    /// of 1, 16 and 4096 candidates and of the automatic size. Large batches put many steps
-    /// within reach of each other, so that decisions must be made again.
+    /// The cleaned mesh and report of every schedule and scan: the reference first (one at a
+    /// time over whole scans), then one at a time over the changed triangles' scans, and
+    /// speculative batches of 1, 16 and 4096 candidates and of the automatic size over either
+    /// scan. Large batches put many steps within reach of each other, so that decisions must be
+    /// made again.
     fn every_schedule(mesh: &TriangleMesh, cell: f64) -> Vec<(TriangleMesh, CleanReport)> {
-        let schedules = [
-            Schedule::OneAtATime,
-            Schedule::Speculative(1),
-            Schedule::Speculative(16),
-            Schedule::Speculative(4096),
-            Schedule::Speculative(0),
+        let runs = [
+            (Schedule::OneAtATime, Scan::Whole),
+            (Schedule::OneAtATime, Scan::Changed),
+            (Schedule::Speculative(1), Scan::Changed),
+            (Schedule::Speculative(16), Scan::Whole),
+            (Schedule::Speculative(4096), Scan::Changed),
+            (Schedule::Speculative(0), Scan::Whole),
+            (Schedule::Speculative(0), Scan::Changed),
         ];
-        (schedules.into_iter())
-            .map(|s| clean_mesh_with(mesh, cell, &CleanOptions::default(), s).unwrap())
+        (runs.into_iter())
+            .map(|(s, scan)| clean_mesh_with(mesh, cell, &CleanOptions::default(), s, scan))
+            .map(Result::unwrap)
             .collect()
+    }
+
+    /// Every schedule and scan of [`every_schedule`] gives the reference's mesh, bit for bit,
+    /// and its report; returns the reference's report.
+    fn assert_every_schedule_equal(name: &str, mesh: &TriangleMesh, cell: f64) -> CleanReport {
+        let runs = every_schedule(mesh, cell);
+        let (reference, report) = &runs[0];
+        // Bit for bit: positions and normals compared as bits, not as floats.
+        let bits = |v: &[Vec3]| -> Vec<[u32; 3]> {
+            v.iter().map(|p| p.to_array().map(f32::to_bits)).collect()
+        };
+        for (k, (clean, other)) in runs.iter().enumerate().skip(1) {
+            assert_eq!(other, report, "{name}, run {k}");
+            assert_eq!(clean.triangles, reference.triangles, "{name}, run {k}");
+            let (p, q) = (&clean.positions, &reference.positions);
+            assert_eq!(bits(p), bits(q), "{name}, run {k}");
+            let (n, m) = (&clean.normals, &reference.normals);
+            assert_eq!(bits(n), bits(m), "{name}, run {k}");
+        }
+        *report
     }
 
     #[test]
@@ -280,22 +329,79 @@ mod tests {
             ("gyroid-64", gyroid_field(64).unwrap()),
         ] {
             let mesh = marching_cubes(&volume, &ContourOptions::at(0.0)).unwrap();
-            let cell = volume.grid.spacing[0];
-            let runs = every_schedule(&mesh, cell);
-            let (reference, report) = &runs[0];
+            let report = assert_every_schedule_equal(name, &mesh, volume.grid.spacing[0]);
             assert!(report.collapsed_edges > 100, "{name}: {report:?}");
             assert!(report.flipped_edges > 0, "{name}: {report:?}");
-            for (k, (clean, other)) in runs.iter().enumerate().skip(1) {
-                assert_eq!(other, report, "{name}, schedule {k}");
-                // Bit for bit: positions compared as bits, not as floats.
-                assert_eq!(clean.triangles, reference.triangles, "{name}, schedule {k}");
-                let bits = |m: &TriangleMesh| -> Vec<[u32; 6]> {
-                    (m.positions.iter().zip(&m.normals))
-                        .map(|(p, n)| [p.x, p.y, p.z, n.x, n.y, n.z].map(f32::to_bits))
-                        .collect()
-                };
-                assert_eq!(bits(clean), bits(reference), "{name}, schedule {k}");
-            }
         }
+    }
+
+    /// A ball of radius √50 cells (many samples exactly on its surface) over 30³ samples, its
+    /// density ramping over one cell; with `jitter`, a third of the samples within a fifth of
+    /// a cell of the surface move to within 1e-3 of the isodensity (defects next to each
+    /// other); and `lone` samples barely above it, outside the ball, among samples below it
+    /// (tiny components, some one or two cells from the ball and from each other).
+    fn ball_field(seed: u64, jitter: bool, lone: usize) -> voxlod_core::Volume {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
+        let n = 30;
+        let grid = voxlod_core::Grid::new([n; 3], [1.0; 3], [0.0; 3]).unwrap();
+        let centre = glam::DVec3::splat(14.0);
+        let mut values = vec![0.0f32; n * n * n];
+        for (i, j, k) in
+            (0..n).flat_map(|k| (0..n).flat_map(move |j| (0..n).map(move |i| (i, j, k))))
+        {
+            let p = glam::DVec3::new(i as f64, j as f64, k as f64);
+            let d = 50f64.sqrt() - p.distance(centre);
+            let mut v = 0.5 + 0.5 * d.clamp(-1.0, 1.0);
+            if jitter && d.abs() < 0.2 && rng.random_range(0..3) == 0 {
+                v = 0.5 + rng.random_range(-1e-3..1e-3);
+            }
+            values[grid.index(i, j, k)] = v as f32;
+        }
+        for _ in 0..lone {
+            let at = [0, 1, 2].map(|_| rng.random_range(2..n - 2));
+            let p = glam::DVec3::from_array(at.map(|c| c as f64));
+            if p.distance(centre) < 50f64.sqrt() + 1.5 {
+                continue;
+            }
+            for d in 0..27 {
+                let q = [at[0] + d % 3 - 1, at[1] + d / 3 % 3 - 1, at[2] + d / 9 - 1];
+                let v = &mut values[grid.index(q[0], q[1], q[2])];
+                if *v == 0.0 {
+                    *v = rng.random_range(0.0..0.45);
+                }
+            }
+            values[grid.index(at[0], at[1], at[2])] = 0.5 + rng.random_range(0.002..0.04);
+        }
+        voxlod_core::Volume::from_vec(grid, values).unwrap()
+    }
+
+    /// The candidates found among the last ones and the changed triangles clean as whole scans,
+    /// bit for bit: on a mesh with no defect (a step-free run, one scan), with defects next to
+    /// each other, and with tiny components next to the ball and to each other (some of which
+    /// cleaning flattens and gives back their raw triangles).
+    #[test]
+    fn changed_scans_clean_as_whole_scans() {
+        use crate::{marching_cubes, ContourOptions};
+        let mut restored = 0;
+        for seed in 0..4 {
+            // Samples 0 or 1 only: every vertex halfway along its edge, no defect.
+            let mut binary = ball_field(seed, false, 0);
+            binary.values.mapv_inplace(f32::round);
+            let raw = marching_cubes(&binary, &ContourOptions::at(0.5)).unwrap();
+            let report = assert_every_schedule_equal("binary", &raw, 1.0);
+            assert_eq!((report.collapsed_edges, report.flipped_edges), (0, 0));
+            assert_eq!((report.relaxed_vertices, report.removed_triangles), (0, 0));
+            let near = ball_field(seed, true, 0);
+            let raw = marching_cubes(&near, &ContourOptions::at(0.5)).unwrap();
+            let report = assert_every_schedule_equal("near", &raw, 1.0);
+            assert!(report.collapsed_edges > 50, "{seed}: {report:?}");
+            let parts = ball_field(seed, true, 60);
+            let raw = marching_cubes(&parts, &ContourOptions::at(0.5)).unwrap();
+            let report = assert_every_schedule_equal("components", &raw, 1.0);
+            eprintln!("{seed}: {report:?}");
+            restored += report.restored_components;
+        }
+        assert!(restored > 0);
     }
 }

@@ -13,9 +13,11 @@
 //! ones (the buckets keep how far any box they listed reached beyond its bucket's cell) is not
 //! read at all. Bucket numbers come from a dense two-level table
 //! (`bucket_index.rs`), and the lists of a search are gathered before they are scanned, so that
-//! their cache misses overlap. Cost: O(1) per test on a marching-cubes mesh.
+//! their cache misses overlap. Cost: O(1) per test on a marching-cubes mesh; the buckets are
+//! made in O(F) on all threads (keys, then each bucket's list; only the numbering is serial).
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use crate::bucket_index::BucketIndex;
 
@@ -96,44 +98,40 @@ pub(crate) struct Buckets {
 
 impl Buckets {
     /// Buckets of two cells holding triangles `0..count`, whose corners are `corners(t)`; each
-    /// list holds its triangles in ascending order and is allocated to size.
-    pub(crate) fn new(cell: f64, count: usize, corners: impl Fn(usize) -> [DVec3; 3]) -> Buckets {
+    /// list holds its triangles in ascending order and is allocated to size. The keys and the
+    /// lists are made on all threads; the buckets are numbered in order of first use.
+    pub(crate) fn new(
+        cell: f64,
+        count: usize,
+        corners: impl Fn(usize) -> [DVec3; 3] + Sync,
+    ) -> Buckets {
         let size = 2.0 * cell;
-        let (mut lo, mut hi) = ([i64::MAX; 3], [i64::MIN; 3]);
-        for t in 0..count {
-            let key = key_of(size, centroid(corners(t)));
-            lo = [0, 1, 2].map(|a| lo[a].min(key[a]));
-            hi = [0, 1, 2].map(|a| hi[a].max(key[a]));
-        }
+        let keys: Vec<[i64; 3]> = (0..count)
+            .into_par_iter()
+            .map(|t| key_of(size, centroid(corners(t))))
+            .collect();
+        let (lo, hi) = span(&keys);
         let mut number = BucketIndex::new(lo, hi);
         let mut sizes: Vec<u32> = Vec::new();
-        let mut keys: Vec<[i64; 3]> = Vec::new();
-        let bucket_of: Vec<u32> = (0..count)
-            .map(|t| {
-                let fresh = keys.len() as u32;
-                let key = key_of(size, centroid(corners(t)));
+        let mut bucket_keys: Vec<[i64; 3]> = Vec::new();
+        let bucket_of: Vec<u32> = (keys.iter())
+            .map(|&key| {
+                let fresh = bucket_keys.len() as u32;
                 let b = number.get_or_insert(key, fresh);
                 if b == fresh {
                     sizes.push(0);
-                    keys.push(key);
+                    bucket_keys.push(key);
                 }
                 sizes[b as usize] += 1;
                 b
             })
             .collect();
-        let mut lists: Vec<Vec<Entry>> = (sizes.iter())
-            .map(|&n| Vec::with_capacity(n as usize))
-            .collect();
-        let mut reach = 0.0f64;
-        for (t, &b) in bucket_of.iter().enumerate() {
-            let entry = Entry::new(t as u32, corners(t));
-            reach = reach.max(entry.beyond(size, keys[b as usize]));
-            lists[b as usize].push(entry);
-        }
+        drop(keys);
+        let (lists, reach) = fill_lists(size, &bucket_keys, &sizes, &bucket_of, corners);
         Buckets {
             size,
             number,
-            keys,
+            keys: bucket_keys,
             lists,
             bucket_of,
             reach,
@@ -308,6 +306,55 @@ impl Buckets {
         }
         Some((from, to))
     }
+}
+
+/// The smallest and the largest of `keys` along each axis.
+fn span(keys: &[[i64; 3]]) -> ([i64; 3], [i64; 3]) {
+    let empty = || ([i64::MAX; 3], [i64::MIN; 3]);
+    let join = |(lo, hi): ([i64; 3], [i64; 3]), (l, h): ([i64; 3], [i64; 3])| {
+        let lo = [0, 1, 2].map(|a| lo[a].min(l[a]));
+        (lo, [0, 1, 2].map(|a| hi[a].max(h[a])))
+    };
+    (keys.par_iter())
+        .fold(empty, |span, &key| join(span, (key, key)))
+        .reduce(empty, join)
+}
+
+/// The lists of the buckets numbered `0..sizes.len()` (keys `keys`, `sizes[b]` triangles
+/// each), every triangle `t` in bucket `bucket_of[t]` in ascending order, and how far their
+/// boxes reach beyond their buckets' cells (buckets of `size`): the triangles sorted by bucket
+/// by a counting sort, then each list made on its own, on all threads.
+fn fill_lists(
+    size: f64,
+    keys: &[[i64; 3]],
+    sizes: &[u32],
+    bucket_of: &[u32],
+    corners: impl Fn(usize) -> [DVec3; 3] + Sync,
+) -> (Vec<Vec<Entry>>, f64) {
+    let mut start = Vec::with_capacity(sizes.len() + 1);
+    start.push(0usize);
+    for &n in sizes {
+        start.push(start[start.len() - 1] + n as usize);
+    }
+    let mut next = start[..sizes.len()].to_vec();
+    let mut order = vec![0u32; bucket_of.len()];
+    for (t, &b) in bucket_of.iter().enumerate() {
+        order[next[b as usize]] = t as u32;
+        next[b as usize] += 1;
+    }
+    drop(next);
+    let filled: Vec<(Vec<Entry>, f64)> = (0..sizes.len())
+        .into_par_iter()
+        .map(|b| {
+            let list: Vec<Entry> = (order[start[b]..start[b + 1]].iter())
+                .map(|&t| Entry::new(t, corners(t as usize)))
+                .collect();
+            let reach = (list.iter()).fold(0.0f64, |far, e| far.max(e.beyond(size, keys[b])));
+            (list, reach)
+        })
+        .collect();
+    let reach = filled.iter().fold(0.0f64, |far, f| far.max(f.1));
+    (filled.into_iter().map(|f| f.0).collect(), reach)
 }
 
 /// Buckets whose lists [`Buckets::any_near`] loads together.

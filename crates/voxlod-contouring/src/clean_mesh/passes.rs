@@ -54,25 +54,6 @@ fn batch_size(work: &Work, schedule: Schedule) -> usize {
     }
 }
 
-/// Edges shorter than `limit`, shortest first (ties in order of first appearance).
-fn short_edges(work: &Work, limit: f64) -> Vec<(f64, u32, u32)> {
-    let surface = &work.surface;
-    let mut edges: Vec<(f64, u32, u32)> = (0..surface.triangles.len())
-        .into_par_iter()
-        .filter(|&t| surface.alive[t])
-        .flat_map_iter(|t| {
-            let tri = surface.triangles[t];
-            (0..3).filter_map(move |k| {
-                let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                let length = surface.positions[a as usize].distance(surface.positions[b as usize]);
-                (a < b && length < limit).then_some((length, a, b))
-            })
-        })
-        .collect();
-    edges.par_sort_by(|x, y| x.0.total_cmp(&y.0));
-    edges
-}
-
 /// Buckets changed by the steps applied in the current batch.
 #[derive(Default)]
 struct Marks {
@@ -99,15 +80,19 @@ impl Marks {
     }
 }
 
-/// One pass of short-edge collapses; returns how many.
-pub(super) fn collapse_short_edges(work: &mut Work, limit: f64, schedule: Schedule) -> usize {
-    let edges = short_edges(work, limit);
+/// One pass of short-edge collapses over `edges` (`(length, a, b)`, shortest first, from
+/// `defects.rs`); returns how many.
+pub(super) fn collapse_short_edges(
+    work: &mut Work,
+    edges: &[(f64, u32, u32)],
+    schedule: Schedule,
+) -> usize {
     let decide = |work: &Work, a: u32, b: u32, reads: &mut KeyBox| {
         decide_collapse(work, a, b, reads).map(|to| Step::Collapse { a, b, to })
     };
     let mut count = 0;
     if schedule == Schedule::OneAtATime {
-        for &(_, a, b) in &edges {
+        for &(_, a, b) in edges {
             if let Some(step) = decide(work, a, b, &mut KeyBox::default()) {
                 apply(work, step);
                 count += 1;
@@ -159,11 +144,18 @@ fn count(counts: &mut FixCounts, step: &Step) {
 }
 
 /// One pass over the triangles below `limit` area, in order (a triangle that an earlier step
-/// of the pass made small is fixed in its turn too).
-pub(super) fn fix_small_triangles(work: &mut Work, limit: f64, schedule: Schedule) -> FixCounts {
+/// of the pass made small is fixed in its turn too). `candidates` are those below `limit` when
+/// the pass starts, ascending (from `defects.rs`); with none given, one at a time looks at
+/// every triangle in its turn (the reference).
+pub(super) fn fix_small_triangles(
+    work: &mut Work,
+    limit: f64,
+    schedule: Schedule,
+    candidates: Option<Vec<u32>>,
+) -> FixCounts {
     let mut counts = [0usize; 3];
     let small = |work: &Work, t: u32| work.surface.alive[t as usize] && work.area(t) < limit;
-    if schedule == Schedule::OneAtATime {
+    let Some(candidates) = candidates else {
         for t in 0..work.surface.triangles.len() as u32 {
             if small(work, t) {
                 if let Some(step) = decide_fix(work, t, &mut KeyBox::default()) {
@@ -173,11 +165,7 @@ pub(super) fn fix_small_triangles(work: &mut Work, limit: f64, schedule: Schedul
             }
         }
         return counts;
-    }
-    let candidates: Vec<u32> = (0..work.surface.triangles.len() as u32)
-        .into_par_iter()
-        .filter(|&t| small(work, t))
-        .collect();
+    };
     // Triangles changed in this pass after their turn came, or before it: the latter must be
     // looked at again in their turn.
     let mut changed: std::collections::BTreeSet<u32> = Default::default();

@@ -6,6 +6,7 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use voxlod_core::TriangleMesh;
 
+use super::defects::Changes;
 use super::fans::Fans;
 use crate::local_crossings::{triangles_meet, Buckets};
 
@@ -25,6 +26,8 @@ pub(super) struct Work {
     /// Moved or merged in this pass.
     pub(super) touched: Vec<bool>,
     pub(super) buckets: Buckets,
+    /// The triangles re-bucketed since the candidates were last looked for.
+    pub(super) changes: Changes,
 }
 
 /// The bucket keys a decision read: the smallest box of keys around them.
@@ -71,6 +74,7 @@ impl Work {
             fans: Fans::new(&triangles, positions.len()),
             touched: vec![false; positions.len()],
             buckets,
+            changes: Changes::new(triangles.len()),
             surface: Surface {
                 alive: vec![true; triangles.len()],
                 normals: mesh.normals.clone(),
@@ -171,12 +175,14 @@ impl Work {
         }
     }
 
-    /// Re-buckets the triangles around `v`, and updates their boxes.
+    /// Re-buckets the triangles around `v`, updates their boxes, and notes them as changed
+    /// (every step calls this for every live triangle whose corners it renamed or moved).
     pub(super) fn rebucket(&mut self, v: u32) {
         let fan: Vec<u32> = self.fan(v).collect();
         for t in fan {
             let c = self.corners(t);
             self.buckets.update(t, c);
+            self.changes.note(t);
         }
     }
 }
