@@ -38,10 +38,10 @@ fn mesh_arrays(py: Python<'_>, mesh: TriangleMesh) -> MeshArrays<'_> {
 }
 
 /// A mesh from Python: `(n, 3)` float32 vertices and `(m, 3)` uint32 faces.
-type MeshIn<'py> = (PyReadonlyArray2<'py, f32>, PyReadonlyArray2<'py, u32>);
+pub(crate) type MeshIn<'py> = (PyReadonlyArray2<'py, f32>, PyReadonlyArray2<'py, u32>);
 
 /// The mesh of `(vertices, faces)` (checked by the library).
-fn mesh_from(mesh: &MeshIn<'_>) -> PyResult<TriangleMesh> {
+pub(crate) fn mesh_from(mesh: &MeshIn<'_>) -> PyResult<TriangleMesh> {
     let (v, f) = (mesh.0.as_array(), mesh.1.as_array());
     if v.ncols() != 3 || f.ncols() != 3 {
         return Err(usage("vertices and faces must have 3 columns"));
@@ -109,7 +109,7 @@ impl Watch {
 }
 
 /// Runs `work` without the GIL, with `progress` and Ctrl-C as its progress-and-cancel callback.
-fn watched<T: Send>(
+pub(crate) fn watched<T: Send>(
     py: Python<'_>,
     progress: Option<Py<PyAny>>,
     work: impl FnOnce(&voxlod::ProgressFn) -> Result<T, voxlod::Error> + Send,

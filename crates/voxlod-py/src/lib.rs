@@ -9,6 +9,7 @@
 mod arrays;
 mod blocks;
 mod bricked;
+mod budgets;
 mod contour;
 mod direct_blockwise;
 mod errors;
@@ -36,6 +37,7 @@ fn _voxlod(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(direct_blockwise::lod_direct_blockwise, m)?)?;
     m.add_function(wrap_pyfunction!(direct_blockwise::fill_direct_block, m)?)?;
     m.add_function(wrap_pyfunction!(facade::lod_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(budgets::lod_budgets, m)?)?;
     m.add_function(wrap_pyfunction!(facade::lod_volume, m)?)?;
     m.add_function(wrap_pyfunction!(facade::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(facade::write_mesh, m)?)?;

@@ -173,3 +173,39 @@ def test_cluster_and_envelope_simplify(torus):
     assert simplified.is_watertight and len(level["faces"]) < len(torus[1]) / 2
     # Within ε of the input: every simplified vertex is an input vertex.
     assert len(np.setdiff1d(level["vertices"].view("V12"), torus[0].view("V12"))) == 0
+
+
+def test_lod_by_triangle_budgets_lands_each_level_near_its_budget(torus):
+    budgets = [2000, 500, 120]
+    levels = voxlod.lod(*torus, triangles=budgets, time_cap=float("inf"))
+    assert [level.budget["budget"] for level in levels] == budgets
+    for level, budget in zip(levels, budgets):
+        assert abs(len(level.faces) / budget - 1) <= 0.10, (budget, len(level.faces))
+        mesh = as_trimesh(level.vertices, level.faces)
+        assert mesh.is_watertight and mesh.is_winding_consistent and mesh.volume > 0
+        assert level.budget["triangles"] == len(level.faces)
+        assert level.budget["genus"] == level.genus
+        # The report's distance is measured against the input: a torus of tube radius 0.35
+        # kept by every level, so well under the tube's radius, and above zero.
+        assert 0 < level.budget["hausdorff"] < 0.35
+    genera = [level.genus for level in levels]
+    assert all(b <= a for a, b in zip(genera, genera[1:])), genera
+    # The same budgets as the command line's --triangles, and an error target alone.
+    near = voxlod.lod(*torus, error="1%")
+    assert len(near) == 1 and near[0].budget["error_target"] > 0
+    assert near[0].budget["hausdorff"] <= 3 * near[0].budget["error_target"]
+
+
+def test_lod_by_budget_refuses_bad_arguments(torus):
+    for kwargs, match in [
+        ({"triangles": [1000], "resolution": 64}, "resolution"),
+        ({"triangles": [2.5]}, "whole number"),
+        ({"triangles": [0]}, "whole number"),
+        ({"triangles": [3]}, "tetrahedron"),
+        ({"triangles": []}, "at least one"),
+        ({"error": "-1%"}, "error"),
+        ({"triangles": [100], "then": "magic"}, "then"),
+        ({"triangles": [100], "time_cap": float("nan")}, "time_cap"),
+    ]:
+        with pytest.raises(voxlod.UsageError, match=match):
+            voxlod.lod(*torus, **kwargs)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
-from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -40,6 +40,11 @@ class Level:
     """Vertices, triangles, edges, components, boundary loops, Euler characteristic, …"""
     seconds: float = 0.0
     """Sampling and contouring time."""
+    budget: Optional[Dict[str, Any]] = None
+    """With ``triangles`` or ``error``: the budget pipeline's report of the level (the budget,
+    the chosen resolution and isodensity, the final stage and its error bound, the measured
+    two-sided Hausdorff and mean distance to the input, genus, components, handles removed,
+    ``simplified_from``, …), as ``voxlod lod --triangles … --json`` gives it."""
 
 
 def _levels(result: Tuple[List[dict], List[str]]) -> List[Level]:
@@ -51,7 +56,8 @@ def _levels(result: Tuple[List[dict], List[str]]) -> List[Level]:
     return [
         Level(vertices=d["vertices"], faces=d["faces"], normals=d["normals"],
               resolution=d["resolution"], genus=d["genus"], plan=d["plan"],
-              topology=d["topology"], seconds=d["sample_seconds"] + d["contour_seconds"])
+              topology=d["topology"], seconds=d["sample_seconds"] + d["contour_seconds"],
+              budget=d.get("budget"))
         for d in levels
     ]
 
@@ -91,11 +97,19 @@ def lod(
     radius: float = 1.0,
     iso: Optional[float] = None,
     normals: bool = True,
+    triangles: Optional[Sequence[int]] = None,
+    error: Union[None, float, str] = None,
+    then: str = "auto",
+    closed: bool = False,
+    time_cap: float = 1.0,
     progress: Optional[Progress] = None,
 ) -> List[Level]:
     """Levels of detail of a triangle mesh (He et al. 1995, §2): the mesh's solid is sampled,
     filtered with the hyper-cone (equation 3) or the Gaussian, and contoured, each level from
-    the original with a filter of one voxel of its own grid.
+    the original with a filter of one voxel of its own grid. With ``triangles`` (or
+    ``error``), one level per budget instead, by the budget pipeline of ``voxlod lod
+    --triangles`` (§5: the voxel level that filters away what the budget cannot afford, then a
+    geometric simplifier).
 
     Parameters
     ----------
@@ -113,6 +127,23 @@ def lod(
         Filter support radius in voxels of each level.
     iso : float, optional
         The isodensity, strictly between 0 and 1 (default 0.5).
+    triangles : sequence of int, optional
+        Triangle budgets, one level each, in the order given, each within 10 % (or its
+        ``budget["note"]`` says why not); the genus never rises from a larger budget's level to
+        a smaller one's. Excludes ``resolution``, ``levels`` and ``resolutions``.
+    error : float or str, optional
+        An error target: a distance (``0.02``) or a percentage of the bounding box's diagonal
+        (``"0.5%"``); alone, one level within it; with ``triangles``, the bound of every level's
+        geometric stage.
+    then : {'auto', 'quadric', 'envelope', 'none'}
+        The geometric stage after the voxel level (``auto``: the quadric collapse, and the
+        simplification envelopes where it stalls above the budget).
+    closed : bool
+        Keep the caps that sampling puts over an open mesh's holes (watertight levels); by
+        default the openings are kept.
+    time_cap : float
+        Seconds each budget's search may spend trying neighbouring resolutions
+        (``float('inf')``: all of them).
     progress : callable(done, total, what) -> bool or None, optional
         Called after each step; return False to stop (raises :class:`voxlod.Cancelled`).
         Ctrl-C stops the work too (``KeyboardInterrupt``).
@@ -132,9 +163,25 @@ def lod(
     """
     v, f = _mesh(vertices, faces)
     given = resolution is not None or resolutions is not None
-    options = (_resolutions(256 if resolution is None else resolution, levels, resolutions),
-               str(filter), float(radius), iso, bool(normals), given)
-    return _levels(_voxlod.lod_mesh((v, f), options, progress))
+    if triangles is None and error is None:
+        options = (_resolutions(256 if resolution is None else resolution, levels, resolutions),
+                   str(filter), float(radius), iso, bool(normals), given)
+        return _levels(_voxlod.lod_mesh((v, f), options, progress))
+    if given:
+        raise UsageError("triangles and error choose each level's resolution: give neither "
+                         "resolution nor resolutions with them")
+    budgets = None if triangles is None else [_budget(t) for t in triangles]
+    options = ([256], str(filter), float(radius), iso, bool(normals), False)
+    asked = (budgets, None if error is None else str(error), str(then), bool(closed),
+             float(time_cap))
+    return _levels(_voxlod.lod_budgets((v, f), options, asked, progress))
+
+
+def _budget(count: Any) -> int:
+    """A triangle budget as a positive int (a bool or a fraction is refused)."""
+    if isinstance(count, bool) or not float(count).is_integer() or int(count) < 1:
+        raise UsageError(f"triangles: {count!r} is not a positive whole number of triangles")
+    return int(count)
 
 
 def lod_volume(
