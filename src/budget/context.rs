@@ -11,8 +11,8 @@ use voxlod_core::weld::weld_vertices;
 use voxlod_core::{mesh_topology, Topology, TriangleMesh};
 use voxlod_sampling::PyramidOptions;
 
-use super::detached::InputParts;
 use super::measure::{InputMeasure, Measured};
+use super::parts::InputParts;
 use super::{Then, DILATED_ISO_FRACTIONS};
 use crate::caps::InputBorder;
 use crate::error::Error;

@@ -26,53 +26,23 @@
 //! left as they are), and for the parts apart, up to two more quadric stages and distance
 //! measurements; each part's topology and collapse once per run, when it is first apart.
 
-use std::sync::{Arc, OnceLock};
-
 use voxlod_core::components::submesh;
 use voxlod_core::parity::point_inside;
 use voxlod_core::{mesh_topology, Bounds, TriangleMesh};
 use voxlod_metrics::MeshDistance;
-use voxlod_quadric::{simplify_dropping_parts, simplify_to_budget, PartsOptions, QuadricOptions};
+use voxlod_quadric::{simplify_dropping_parts, PartsOptions, QuadricOptions};
 
 use super::candidate::Candidate;
 use super::context::BudgetContext;
+use super::parts::{InputPart, STAND_IN_TRIANGLES};
 use super::Stage;
 use crate::lod::LodLevel;
 
-/// The fewest triangles a closed genus-0 part collapses to: a tetrahedron.
-const STAND_IN_TRIANGLES: usize = 4;
 /// The share of the budget that restored parts may use at most.
 const SHARE: f64 = 0.25;
 /// Inputs with more parts than this get none restored: each candidate tests every part against
 /// its triangles, and a budget affords a few dozen tetrahedra at most.
 const MAX_PARTS: usize = 10_000;
-
-/// The input's components (welded), split once per run; empty without a mesh input or with a
-/// single component.
-pub(crate) type InputParts = Arc<OnceLock<Vec<InputPart>>>;
-
-/// One connected component of the input, and its stand-in, collapsed on first use.
-pub(crate) struct InputPart {
-    mesh: TriangleMesh,
-    stand_in: OnceLock<Option<TriangleMesh>>,
-}
-
-impl InputPart {
-    /// The part collapsed towards [`STAND_IN_TRIANGLES`], topology kept; `None` unless the part
-    /// is a closed manifold of genus 0 whose collapse succeeds (computed once per run).
-    fn stand_in(&self) -> Option<&TriangleMesh> {
-        let collapse = || {
-            let topology = mesh_topology(&self.mesh);
-            if !topology.is_closed_manifold() || topology.genus != Some(0) {
-                return None;
-            }
-            let options = QuadricOptions::budget(f64::INFINITY);
-            let done = simplify_to_budget(&self.mesh, STAND_IN_TRIANGLES, &options).ok()?;
-            Some(done.mesh).filter(|m| !m.is_empty())
-        };
-        self.stand_in.get_or_init(collapse).as_ref()
-    }
-}
 
 impl BudgetContext<'_> {
     /// The input's parts (module docs), split on first use (shared with the context of the
@@ -86,10 +56,7 @@ impl BudgetContext<'_> {
                 return Vec::new();
             }
             (self.part_triangles.iter())
-                .map(|triangles| InputPart {
-                    mesh: submesh(mesh, triangles),
-                    stand_in: OnceLock::new(),
-                })
+                .map(|triangles| InputPart::new(submesh(mesh, triangles)))
                 .collect()
         })
     }

@@ -91,8 +91,9 @@
 //! `context` (what the budgets share, the levels built once), `resolution` (step 1's probes),
 //! `openings` (step 2), `input` (step 0), `geometric` (step 3), `candidate` and `measure`
 //! (step 4's comparison and distances), `search` (a budget's search, the time cap, the
-//! bisection), `filled` (step 5), `detached` (step 6), `genus_cap` (the genus along a chain
-//! of budgets), `error_target` (the error target alone, without step 5) and `report`.
+//! bisection), `filled` (step 5), `detached` and `parts` (step 6), `genus_cap` (the genus
+//! along a chain of budgets), `error_target` (the error target alone, without step 5) and
+//! `report`.
 
 mod candidate;
 mod context;
@@ -104,6 +105,7 @@ mod geometric;
 mod input;
 mod measure;
 mod openings;
+mod parts;
 mod report;
 mod resolution;
 mod search;

@@ -53,6 +53,7 @@ use serde::Serialize;
 use thiserror::Error;
 use voxlod_core::{memory, CoreError, TriangleMesh};
 
+mod changes;
 mod defects;
 mod fans;
 mod passes;

@@ -5,17 +5,18 @@
 //!
 //! Beyond the paper. A triangle's edges and area change only when a step renames one of its
 //! corners or moves one (a collapse, a flip, a relaxed corner), and every such step re-buckets
-//! the triangle for the crossing guard: [`super::work::Work::rebucket`] notes it here. A
-//! triangle never comes back to life during the passes. So an edge or triangle that is a
-//! candidate now either was one at the last scan or belongs to a triangle noted since, and
-//! re-testing those two sets gives exactly the whole scan's list, in the same order: edges by
-//! length, ties by the slot (3 · triangle + corner) where the whole scan meets them first;
+//! the triangle for the crossing guard: [`super::work::Work::rebucket`] notes it (module
+//! `changes`). A triangle never comes back to life during the passes. So an edge or triangle
+//! that is a candidate now either was one at the last scan or belongs to a triangle noted
+//! since, and re-testing those two sets gives exactly the whole scan's list, in the same order:
+//! edges by length, ties by the slot (3 · triangle + corner) where the whole scan meets them first;
 //! triangles in ascending order. The whole scans are kept as the reference (`Scan::Whole`).
 //! Cost: O(F) once, then O(K log K) per pass for K candidates and changed triangles. Memory:
 //! one byte per triangle for the notes, four per changed triangle and eight per candidate.
 
 use rayon::prelude::*;
 
+use super::changes::{FOR_EDGES, FOR_SMALL};
 use super::work::{Surface, Work};
 
 /// How the candidates of each pass are found.
@@ -25,50 +26,6 @@ pub(super) enum Scan {
     Whole,
     /// The last candidates and the triangles changed since (see the module documentation).
     Changed,
-}
-
-/// A note that a triangle changed since the last scan of short edges.
-const FOR_EDGES: u8 = 1;
-/// A note that a triangle changed since the last scan of small triangles.
-const FOR_SMALL: u8 = 2;
-
-/// The triangles changed since each kind of scan last ran.
-pub(super) struct Changes {
-    /// Per triangle: which scans have not seen its change yet.
-    notes: Vec<u8>,
-    /// The triangles with a note, each once.
-    noted: Vec<u32>,
-}
-
-impl Changes {
-    pub(super) fn new(triangles: usize) -> Changes {
-        Changes {
-            notes: vec![0; triangles],
-            noted: Vec::new(),
-        }
-    }
-
-    /// Triangle `t` changed (its corners were renamed or moved).
-    pub(super) fn note(&mut self, t: u32) {
-        let note = &mut self.notes[t as usize];
-        if *note == 0 {
-            self.noted.push(t);
-        }
-        *note = FOR_EDGES | FOR_SMALL;
-    }
-
-    /// The triangles changed since the last `take` of `kind`, whose notes of `kind` are cleared.
-    fn take(&mut self, kind: u8) -> Vec<u32> {
-        let notes = &mut self.notes;
-        let taken: Vec<u32> = (self.noted.iter().copied())
-            .filter(|&t| notes[t as usize] & kind != 0)
-            .collect();
-        for &t in &taken {
-            notes[t as usize] &= !kind;
-        }
-        self.noted.retain(|&t| notes[t as usize] != 0);
-        taken
-    }
 }
 
 /// A short edge: its length, and its slot `3 · triangle + corner` (the edge runs from that

@@ -6,7 +6,7 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use voxlod_core::TriangleMesh;
 
-use super::defects::Changes;
+use super::changes::Changes;
 use super::fans::Fans;
 use crate::local_crossings::{triangles_meet, Buckets};
 
