@@ -5,9 +5,9 @@
 # resolutions and genus sequence are printed), and the same meshes by budget (--triangles
 # 20000,5000,1000,250: each level within 10 %, the genus never rising). With them, the
 # moderate-resolution tests, among them the orientation check of the shared CT head, NIfTI
-# (Colin27), MetaImage (lung CT) and NRRD (tooth): the centroid of each mesh, in LPS, against the world centroid of the
-# thresholded voxels as nibabel's affine or SimpleITK places them (skipped, saying why, without
-# the peers' Python). Takes a few minutes; CI runs the moderate-resolution tests only.
+# (Colin27), MetaImage (lung CT) and NRRD (tooth): the centroid of each mesh, in LPS, against
+# the world centroid of the thresholded voxels as nibabel's affine or SimpleITK places them
+# (skipped, saying why, without the peers' Python). Takes a few minutes; CI runs the moderate-resolution tests only.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo test --release -p voxlod-cli --test real_data -- --include-ignored --nocapture "$@"
