@@ -201,6 +201,8 @@ def test_lod_by_budget_refuses_bad_arguments(torus):
         ({"triangles": [1000], "resolution": 64}, "resolution"),
         ({"triangles": [2.5]}, "whole number"),
         ({"triangles": [0]}, "whole number"),
+        ({"triangles": [2**70]}, "whole number"),
+        ({"triangles": ["1000"]}, "whole number"),
         ({"triangles": [3]}, "tetrahedron"),
         ({"triangles": []}, "at least one"),
         ({"error": "-1%"}, "error"),

@@ -178,9 +178,16 @@ def lod(
 
 
 def _budget(count: Any) -> int:
-    """A triangle budget as a positive int (a bool or a fraction is refused)."""
-    if isinstance(count, bool) or not float(count).is_integer() or int(count) < 1:
-        raise UsageError(f"triangles: {count!r} is not a positive whole number of triangles")
+    """A triangle budget as a positive int below 2⁶³ (a bool, a fraction, a string refused)."""
+    problem = UsageError(f"triangles: {count!r} is not a positive whole number of triangles")
+    if isinstance(count, (bool, str, bytes)):
+        raise problem
+    try:
+        whole = float(count).is_integer() and 1 <= int(count) < 2**63
+    except (TypeError, ValueError, OverflowError):
+        raise problem from None
+    if not whole:
+        raise problem
     return int(count)
 
 
