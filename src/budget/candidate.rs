@@ -1,6 +1,9 @@
 //! A budget's candidates and how they compete (step 4 of [`crate::budget`]): within 10 % of the
-//! budget (and, in a chain of budgets, within the genus cap of module `genus_cap`) beats outside
-//! it, then the smaller measured Hausdorff distance to the input.
+//! budget (and, in a chain of budgets, within the genus cap of module `genus_cap`), without
+//! crossing triangles, beats the rest, then the smaller measured Hausdorff distance to the
+//! input.
+
+use std::sync::OnceLock;
 
 use voxlod_core::{mesh_topology, TriangleMesh};
 
@@ -19,6 +22,15 @@ pub(super) struct Candidate {
     pub(super) parts_restored: usize,
     /// The isodensity of the voxel level it came from.
     pub(super) iso: f32,
+    /// Its crossing pairs of triangles, counted on first use.
+    pub(super) crossings: OnceLock<usize>,
+}
+
+impl Candidate {
+    /// Pairs of its triangles that cross ([`voxlod_contouring::crossing_pairs`]), counted once.
+    pub(super) fn crossings(&self) -> usize {
+        *(self.crossings).get_or_init(|| voxlod_contouring::crossing_pairs(&self.mesh).len())
+    }
 }
 
 /// Whether `candidate` is within 10 % of `budget` (as a ratio, the same above and below).
@@ -26,9 +38,10 @@ pub(super) fn fits(candidate: &Candidate, budget: usize) -> bool {
     count_fits(candidate.mesh.triangle_count(), budget)
 }
 
-/// Whether `candidate` is within 10 % of `budget` and has no more handles than `genus_cap`.
+/// Whether `candidate` is within 10 % of `budget`, has no more handles than `genus_cap` and no
+/// crossing triangles: what the search looks for.
 pub(super) fn fits_capped(candidate: &Candidate, budget: usize, genus_cap: Option<i64>) -> bool {
-    fits(candidate, budget) && within_cap(&candidate.mesh, genus_cap)
+    fits(candidate, budget) && within_cap(&candidate.mesh, genus_cap) && candidate.crossings() == 0
 }
 
 /// Whether `mesh` has no more handles than `genus_cap` (always without a cap or a genus).
@@ -47,12 +60,13 @@ fn miss(count: usize, budget: usize) -> f64 {
 }
 
 /// How a level stands for a budget: its count, its measured Hausdorff distance to the input,
-/// and whether its genus is within the chain's cap.
+/// whether its genus is within the chain's cap, and whether no two of its triangles cross.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Standing {
     pub(super) triangles: usize,
     pub(super) hausdorff: Option<f64>,
     pub(super) within_cap: bool,
+    pub(super) clean: bool,
 }
 
 impl Standing {
@@ -62,6 +76,7 @@ impl Standing {
             triangles: level.triangles,
             hausdorff: level.hausdorff,
             within_cap: genus_cap.is_none_or(|cap| level.genus.is_none_or(|g| g <= cap)),
+            clean: level.self_intersections == 0,
         }
     }
 }
@@ -80,24 +95,31 @@ pub(super) fn better(
         triangles: c.mesh.triangle_count(),
         hausdorff: c.distance.map(|d| d.hausdorff),
         within_cap: within_cap(&c.mesh, genus_cap),
+        clean: c.crossings() == 0,
     };
     beats(standing(candidate), standing(best), budget)
 }
 
-/// Whether level `a` beats level `b` for `budget`: within 10 % and within the genus cap beats
-/// the rest; then within 10 % beats outside; then the smaller measured distance (an unmeasured
-/// level does not win); between two outside, the count nearer the budget.
+/// Whether level `a` beats level `b` for `budget`: within 10 %, within the genus cap and
+/// without crossing triangles beats the rest; then within 10 % and within the cap; then within
+/// 10 % beats outside; then the smaller measured distance (an unmeasured level does not win);
+/// between two outside, the count nearer the budget.
 pub(super) fn beats(a: Standing, b: Standing, budget: usize) -> bool {
     let fit = |s: &Standing| count_fits(s.triangles, budget);
     let closer = || match (a.hausdorff, b.hausdorff) {
         (Some(x), Some(y)) => x < y,
         _ => false,
     };
-    match (fit(&a) && a.within_cap, fit(&b) && b.within_cap) {
-        (true, false) => return true,
-        (false, true) => return false,
-        (true, true) => return closer(),
-        (false, false) => {}
+    let tiers: [&dyn Fn(&Standing) -> bool; 2] = [&|s| fit(s) && s.within_cap && s.clean, &|s| {
+        fit(s) && s.within_cap
+    }];
+    for tier in tiers {
+        match (tier(&a), tier(&b)) {
+            (true, false) => return true,
+            (false, true) => return false,
+            (true, true) => return closer(),
+            (false, false) => {}
+        }
     }
     match (fit(&a), fit(&b)) {
         (true, false) => true,

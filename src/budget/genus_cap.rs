@@ -118,6 +118,7 @@ pub(super) fn budget_level_below(
             triangles: s.mesh.triangle_count(),
             hausdorff: s.distance.map(|d| d.hausdorff),
             within_cap: true,
+            clean: s.crossings() == 0,
         };
         beats(theirs, Standing::of(&report, cap), budget)
     }) {
@@ -171,6 +172,7 @@ fn simplified_above(
         parts_dropped: 0,
         parts_restored: above_report.parts_restored,
         iso: above_report.iso,
+        crossings: Default::default(),
     };
     fits(&candidate, budget).then_some(candidate)
 }

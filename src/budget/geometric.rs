@@ -35,6 +35,7 @@ pub(super) fn stages(
             parts_dropped: 0,
             parts_restored: 0,
             iso,
+            crossings: Default::default(),
         });
     }
     if want_quadric {
@@ -51,6 +52,7 @@ pub(super) fn stages(
                 parts_dropped: done.dropped_parts,
                 parts_restored: 0,
                 iso,
+                crossings: Default::default(),
             };
             let twins = with_detached_parts(ctx, level, &quadric, budget, error);
             out.push(quadric);
@@ -80,6 +82,7 @@ pub(super) fn envelope_candidate(
         parts_dropped: 0,
         parts_restored: 0,
         iso,
+        crossings: Default::default(),
     })
 }
 

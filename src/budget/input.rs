@@ -49,6 +49,7 @@ impl BudgetContext<'_> {
             parts_dropped: 0,
             parts_restored: 0,
             iso: self.level_options.iso,
+            crossings: Default::default(),
         };
         Ok(Some((candidate, level, charged)))
     }

@@ -42,6 +42,13 @@ pub(super) fn finish(
     if let Some(note) = &report.note {
         warnings.push(format!("budget {budget}: {note}"));
     }
+    if report.self_intersections > 0 {
+        warnings.push(format!(
+            "budget {budget}: {} pairs of triangles cross (the geometric stage folded one \
+             sheet through another)",
+            report.self_intersections
+        ));
+    }
     (level, report, warnings)
 }
 
@@ -76,6 +83,7 @@ pub(super) fn report(
         cavities_filled: 0,
         parts_restored: 0,
         simplified_from: None,
+        self_intersections: voxlod_contouring::crossing_pairs(&level.mesh).len(),
         candidates,
         note: None,
         seconds: start.elapsed().as_secs_f64(),

@@ -43,6 +43,7 @@
 pub mod block_marching_cubes;
 mod bucket_index;
 pub mod clean_mesh;
+mod crossing_pairs;
 mod edge_vertex;
 mod local_crossings;
 pub mod marching_cubes;
@@ -54,6 +55,7 @@ pub use block_marching_cubes::{
     block_marching_cubes, stitch_blocks, Block, BlockError, BlockPiece,
 };
 pub use clean_mesh::{clean_mesh, CleanError, CleanOptions, CleanReport};
+pub use crossing_pairs::crossing_pairs;
 pub use marching_cubes::{
     marching_cubes, marching_cubes_multi, marching_cubes_with_cells, CellMesh, ContourError,
     ContourOptions,
