@@ -19,8 +19,9 @@
 //! one above (no candidate within 10 % had fewer), it stands and a warning says so.
 //!
 //! The simplified level above is often the closer one, not only where the cap binds: measured
-//! on the eleven shared meshes at 20 000, 5 000, 1 000 and 250 triangles, it won 18 of the 33
-//! smaller budgets, and no level measured farther than the same budget searched alone (at 250
+//! on the eleven shared meshes at 20 000, 5 000, 1 000 and 250 triangles (before crossing
+//! triangles lost to clean ones, step 4 of [`crate::budget`]), it won 18 of the 33 smaller
+//! budgets, and no level measured farther than the same budget searched alone (at 250
 //! on a printed part, Thingi10K 138207, 0.17 against 0.89 mesh units). A level simplified in
 //! steps from a fine voxel level keeps planes and sharp edges that a collapse from a coarse
 //! voxel level of about `4 B` triangles has lost in marching cubes' staircase. The cap has a
