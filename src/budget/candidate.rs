@@ -22,14 +22,33 @@ pub(super) struct Candidate {
     pub(super) parts_restored: usize,
     /// The isodensity of the voxel level it came from.
     pub(super) iso: f32,
-    /// Its crossing pairs of triangles, counted on first use.
-    pub(super) crossings: OnceLock<usize>,
+    /// Its genus and crossing pairs, found on first use.
+    pub(super) facts: Facts,
+}
+
+/// What the competition asks of a candidate's mesh beyond its count, each found once.
+#[derive(Default)]
+pub(super) struct Facts {
+    genus: OnceLock<Option<i64>>,
+    crossings: OnceLock<usize>,
 }
 
 impl Candidate {
     /// Pairs of its triangles that cross ([`voxlod_contouring::crossing_pairs`]), counted once.
     pub(super) fn crossings(&self) -> usize {
-        *(self.crossings).get_or_init(|| voxlod_contouring::crossing_pairs(&self.mesh).len())
+        *(self.facts.crossings).get_or_init(|| voxlod_contouring::crossing_pairs(&self.mesh).len())
+    }
+
+    /// Whether it has no more handles than `genus_cap` (always without a cap or a genus); its
+    /// genus is found once.
+    pub(super) fn within_cap(&self, genus_cap: Option<i64>) -> bool {
+        genus_cap.is_none_or(|cap| {
+            let genus = self
+                .facts
+                .genus
+                .get_or_init(|| mesh_topology(&self.mesh).genus);
+            genus.is_none_or(|g| g <= cap)
+        })
     }
 }
 
@@ -41,12 +60,7 @@ pub(super) fn fits(candidate: &Candidate, budget: usize) -> bool {
 /// Whether `candidate` is within 10 % of `budget`, has no more handles than `genus_cap` and no
 /// crossing triangles: what the search looks for.
 pub(super) fn fits_capped(candidate: &Candidate, budget: usize, genus_cap: Option<i64>) -> bool {
-    fits(candidate, budget) && within_cap(&candidate.mesh, genus_cap) && candidate.crossings() == 0
-}
-
-/// Whether `mesh` has no more handles than `genus_cap` (always without a cap or a genus).
-pub(super) fn within_cap(mesh: &TriangleMesh, genus_cap: Option<i64>) -> bool {
-    genus_cap.is_none_or(|cap| mesh_topology(mesh).genus.is_none_or(|g| g <= cap))
+    fits(candidate, budget) && candidate.within_cap(genus_cap) && candidate.crossings() == 0
 }
 
 /// Whether `count` triangles are within 10 % of `budget` (as a ratio).
@@ -94,7 +108,7 @@ pub(super) fn better(
     let standing = |c: &Candidate| Standing {
         triangles: c.mesh.triangle_count(),
         hausdorff: c.distance.map(|d| d.hausdorff),
-        within_cap: within_cap(&c.mesh, genus_cap),
+        within_cap: c.within_cap(genus_cap),
         clean: c.crossings() == 0,
     };
     beats(standing(candidate), standing(best), budget)

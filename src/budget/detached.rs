@@ -120,7 +120,7 @@ fn twin(
         parts_dropped: done.dropped_parts,
         parts_restored: clear.len(),
         iso: chosen.iso,
-        crossings: Default::default(),
+        facts: Default::default(),
     })
 }
 

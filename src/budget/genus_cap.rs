@@ -173,7 +173,7 @@ fn simplified_above(
         parts_dropped: 0,
         parts_restored: above_report.parts_restored,
         iso: above_report.iso,
-        crossings: Default::default(),
+        facts: Default::default(),
     };
     fits(&candidate, budget).then_some(candidate)
 }

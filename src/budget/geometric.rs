@@ -35,7 +35,7 @@ pub(super) fn stages(
             parts_dropped: 0,
             parts_restored: 0,
             iso,
-            crossings: Default::default(),
+            facts: Default::default(),
         });
     }
     if want_quadric {
@@ -52,7 +52,7 @@ pub(super) fn stages(
                 parts_dropped: done.dropped_parts,
                 parts_restored: 0,
                 iso,
-                crossings: Default::default(),
+                facts: Default::default(),
             };
             let twins = with_detached_parts(ctx, level, &quadric, budget, error);
             out.push(quadric);
@@ -82,7 +82,7 @@ pub(super) fn envelope_candidate(
         parts_dropped: 0,
         parts_restored: 0,
         iso,
-        crossings: Default::default(),
+        facts: Default::default(),
     })
 }
 

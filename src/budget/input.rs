@@ -49,7 +49,7 @@ impl BudgetContext<'_> {
             parts_dropped: 0,
             parts_restored: 0,
             iso: self.level_options.iso,
-            crossings: Default::default(),
+            facts: Default::default(),
         };
         Ok(Some((candidate, level, charged)))
     }
