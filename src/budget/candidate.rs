@@ -105,11 +105,16 @@ pub(super) fn better(
     let Some(best) = best else {
         return true;
     };
-    let standing = |c: &Candidate| Standing {
-        triangles: c.mesh.triangle_count(),
-        hausdorff: c.distance.map(|d| d.hausdorff),
-        within_cap: c.within_cap(genus_cap),
-        clean: c.crossings() == 0,
+    // The genus and the crossings decide only between levels within 10 % of the budget: a
+    // level outside is not examined (a stalled one can be large).
+    let standing = |c: &Candidate| {
+        let fit = fits(c, budget);
+        Standing {
+            triangles: c.mesh.triangle_count(),
+            hausdorff: c.distance.map(|d| d.hausdorff),
+            within_cap: !fit || c.within_cap(genus_cap),
+            clean: !fit || c.crossings() == 0,
+        }
     };
     beats(standing(candidate), standing(best), budget)
 }

@@ -258,15 +258,17 @@ fn budget_chains_never_gain_handles() {
         };
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("out");
-        let report = json(&voxlod(&[
+        let list = budgets.map(|b| b.to_string()).join(",");
+        let args = [
             "lod",
             arg(&path),
             "-o",
             arg(&out),
             "--triangles",
-            "20000,5000,1000,250",
+            &list,
             "--json",
-        ]));
+        ];
+        let report = json(&voxlod(&args));
         let levels = report["levels"].as_array().unwrap();
         let genus: Vec<i64> = (levels.iter())
             .map(|l| l["genus"].as_i64().unwrap())
