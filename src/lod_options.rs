@@ -38,8 +38,10 @@ pub struct LodOptions {
     /// Budget levels of an open mesh keep the caps that sampling puts over its holes
     /// (watertight levels); by default the caps are cut away and the openings kept.
     pub closed: bool,
-    /// Seconds each budget's search may spend on neighbouring resolutions after its first
-    /// candidate (`f64::INFINITY`: all of them, `0`: the first only).
+    /// CPU seconds (all threads; [`voxlod_core::cpu_clock`]) each budget's search may spend per
+    /// isodensity on neighbouring resolutions after its first candidate (`f64::INFINITY`: all
+    /// of them, `0`: the first only). Counted in CPU time, not wall time, so that the same
+    /// input and options give the same levels on a busy machine as on a quiet one.
     pub time_cap: f64,
     /// How the finest resolution is chosen: by default, for a mesh, from the input's triangle
     /// count (at most `pyramid`'s finest, [`crate::finest`]); [`Finest::Given`] takes `pyramid`

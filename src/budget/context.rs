@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
-use std::time::Instant;
+use voxlod_core::cpu_clock::CpuTimer;
 
 use voxlod_core::components::triangle_components;
 use voxlod_core::weld::weld_vertices;
@@ -150,14 +150,14 @@ impl<'a> BudgetContext<'a> {
         self.level_at(resolution, self.level_options.iso)
     }
 
-    /// The marching-cubes level at `resolution` and isodensity `iso`, and the seconds it took
-    /// (built once).
+    /// The marching-cubes level at `resolution` and isodensity `iso`, and the CPU seconds it
+    /// took (built once).
     pub(super) fn level_at(&self, resolution: usize, iso: f32) -> Result<(LodLevel, f64), Error> {
         let key = (resolution, iso.to_bits());
         if let Some(found) = self.levels.lock().expect("not poisoned").get(&key) {
             return Ok(found.clone());
         }
-        let start = Instant::now();
+        let timer = CpuTimer::start();
         let options = LevelOptions {
             pyramid: PyramidOptions {
                 resolutions: vec![resolution],
@@ -168,7 +168,7 @@ impl<'a> BudgetContext<'a> {
         };
         let plans = plan(self.source, &options)?;
         let level = build_level(self.source, &plans[0], &options)?;
-        let built = (level, start.elapsed().as_secs_f64());
+        let built = (level, timer.seconds());
         self.levels
             .lock()
             .expect("not poisoned")

@@ -46,11 +46,15 @@
 //!    the envelopes cost 10 to 300 times the quadric stage's time and were closer to the input
 //!    only once, at the largest budget, where the input's own collapse (step 0) is closer
 //!    still.
-//! 4. **Search.** Within [`crate::LodOptions::time_cap`] seconds per budget and isodensity
-//!    (counted after the probes for its first resolution), the neighbouring resolutions (about
-//!    `8 B` and `2 B` triangles) are tried too, then finer ones while the time allows (about
-//!    `5.7 B`, `11 B` and `16 B`: a thin part survives only in narrow windows of resolution;
-//!    not once the input's own collapse fits), and the candidate within 10 % of the budget
+//! 4. **Search.** Within [`crate::LodOptions::time_cap`] CPU seconds per budget and
+//!    isodensity (counted after the probes for its first resolution, on the process's CPU
+//!    clock, [`voxlod_core::cpu_clock`], so that other programs' load does not cut the search
+//!    short and change the level), the finer neighbour (about `8 B`
+//!    triangles) is tried too, then finer ones while the time allows (about `11 B`, `16 B` and
+//!    `5.7 B`, finest first: the finest level whose topology the budget affords is usually the
+//!    closest, and a thin part survives only in narrow windows of resolution; not once the
+//!    input's own collapse fits, nor for an isodensity whose first level stalled above the
+//!    budget), then the coarser neighbour (about `2 B`), and the candidate within 10 % of the budget
 //!    with the smallest measured two-sided Hausdorff distance to the input is kept (without a
 //!    mesh input, the first within 10 %). A candidate none of whose triangles cross
 //!    ([`voxlod_contouring::crossing_pairs`]: the quadric collapse can fold one sheet through
@@ -73,7 +77,8 @@
 //! the other budgets of the run: each search starts from nothing, and levels built for one
 //! budget are reused by another only because building them again would give the same level.
 //! The time cap charges a reused level its original building time, so it stops a search at the
-//! same candidate whatever ran before (up to the machine's timing noise).
+//! same candidate whatever ran before (up to the timing noise of the CPU clock, a few per cent,
+//! which decides only where a search ends near the cap).
 //!
 //! **Genus along a chain** (module `genus_cap`, our addition): with
 //! [`crate::LodOptions::monotone`] on, several budgets are searched from the largest down and

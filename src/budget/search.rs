@@ -7,6 +7,8 @@ use std::collections::HashMap;
 use std::f64::consts::SQRT_2;
 use std::time::Instant;
 
+use voxlod_core::cpu_clock::CpuTimer;
+
 use super::candidate::{better, fits, fits_capped, Candidate};
 use super::context::BudgetContext;
 use super::geometric::{envelope_candidate, stages};
@@ -33,6 +35,9 @@ struct Search {
     fitted_isos: Vec<u32>,
     /// At most this genus, in a chain of budgets (module `genus_cap`).
     genus_cap: Option<i64>,
+    /// Isodensities (their bits) whose first resolution's candidates all stalled above the
+    /// budget: their finer levels, with at least as much to keep, are not tried.
+    stalled_isos: Vec<u32>,
 }
 
 /// The level for `budget` (see the module documentation), with an optional error bound for the
@@ -77,6 +82,7 @@ pub(crate) fn budget_level(
         counts: Vec::new(),
         fitted_isos: Vec::new(),
         genus_cap,
+        stalled_isos: Vec::new(),
     };
     for one in &tries {
         try_level(ctx, one, budget, error, &mut search)?;
@@ -136,16 +142,22 @@ fn try_level(
     if !is_first && fitted && (over_time || resolution < step_down(base)) {
         return Ok(());
     }
-    if over_time && resolution > base {
+    let stalled = search.stalled_isos.contains(&iso.to_bits());
+    if (over_time || stalled) && resolution > base {
         return Ok(());
     }
-    let stage_start = Instant::now();
     let (level, cut, seconds) = ctx.uncapped_at(resolution, iso)?;
+    // Timed after the level is at hand: its building is charged once, below, as `seconds` (the
+    // time it first took, also when it was built for another budget).
+    let stage_timer = CpuTimer::start();
     if level.mesh.is_empty() {
         return Ok(());
     }
+    let (mut built_any, mut all_over) = (false, true);
     for candidate in stages(ctx, &level, iso, budget, error) {
         search.tried += 1;
+        built_any = true;
+        all_over &= candidate.mesh.triangle_count() > budget && !fits(&candidate, budget);
         if iso == ctx.level_options.iso {
             search
                 .counts
@@ -159,9 +171,11 @@ fn try_level(
             search.best = Some((candidate, level.clone(), cut));
         }
     }
+    if is_first && built_any && all_over {
+        search.stalled_isos.push(iso.to_bits());
+    }
     let built = if is_first { 0.0 } else { seconds };
-    *search.charged.entry(iso.to_bits()).or_default() +=
-        built + stage_start.elapsed().as_secs_f64();
+    *search.charged.entry(iso.to_bits()).or_default() += built + stage_timer.seconds();
     Ok(())
 }
 
@@ -202,12 +216,13 @@ struct Try {
 }
 
 /// The levels a budget's search tries, in order: each isodensity's first resolution (about
-/// `wanted` triangles at that isodensity; `first` for the surface's), then their finer and
-/// coarser neighbours (about twice and half `wanted`), then, only while nothing fits the
-/// budget, coarser levels still (about a quarter and an eighth), with less to keep; then, while
-/// the time cap allows, the geometric stage is the quadric collapse and the input's own
-/// collapse (step 0) does not fit, finer levels between and beyond (about 1.4, 2.8 and 4 times
-/// `wanted`).
+/// `wanted` triangles at that isodensity; `first` for the surface's), then their finer
+/// neighbours (about twice `wanted`); then, while the time cap allows, the geometric stage is
+/// the quadric collapse and the input's own collapse (step 0) does not fit, finer levels beyond
+/// and between (about 2.8, 4 and 1.4 times `wanted`: finest first, since the finest level whose
+/// topology the budget affords is usually the closest, and the time cap may stop the rest);
+/// then the coarser neighbours (about half `wanted`) and, only while nothing fits the budget,
+/// coarser levels still (about a quarter and an eighth), with less to keep.
 /// A thin part survives filtering only in windows of resolution that depend on how it meets
 /// the lattice (a ring of tori 0.1 thick, at isodensity 0.15, keeps its shape at 19, 20, 22
 /// to 30, and breaks up or vanishes at 18, 21 and 25), so the finer steps are closer together
@@ -234,10 +249,11 @@ fn search_plan(ctx: &BudgetContext, first: usize, wanted: f64) -> Result<Vec<Try
     // envelopes cost 10 to 300 times as much per level (module docs, step 3).
     let finer: &[f64] = match ctx.then {
         Then::Envelope => &[],
-        _ => &[SQRT_2, 2.0 * SQRT_2, 4.0],
+        _ => &[2.0 * SQRT_2, 4.0, SQRT_2],
     };
-    let regular = [2f64, 0.5, 0.25, 0.125].map(|f| (f, false));
-    for (f, finer) in regular.into_iter().chain(finer.iter().map(|&f| (f, true))) {
+    let finer_steps = std::iter::once((2f64, false)).chain(finer.iter().map(|&f| (f, true)));
+    let coarser_steps = [0.5, 0.25, 0.125].map(|f| (f, false));
+    for (f, finer) in finer_steps.chain(coarser_steps) {
         for &(iso, base) in &bases {
             let resolution = ((base as f64 * f.sqrt()).round() as usize).clamp(COARSEST, FINEST);
             let next = Try {

@@ -47,6 +47,7 @@ pub mod bounds;
 pub mod bricks;
 pub mod cavities;
 pub mod components;
+pub mod cpu_clock;
 pub mod disjoint;
 pub mod error;
 pub mod grid;

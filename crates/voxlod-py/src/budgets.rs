@@ -14,7 +14,7 @@ use crate::facade::{as_dict, lod_level_dict, lod_options, mesh_from, watched, Le
 
 /// What the budget pipeline is asked besides the levels' filter: the budgets, the error target
 /// (`"0.5"` in mesh units or `"0.5%"` of the diagonal), the geometric stage, closed levels, and
-/// the search's time cap in seconds.
+/// the search's time cap in CPU seconds.
 pub(crate) type BudgetArgs = (Option<Vec<usize>>, Option<String>, String, bool, f64);
 
 /// `lod_budgets((vertices, faces), levels, (triangles, error, then, closed, time_cap),

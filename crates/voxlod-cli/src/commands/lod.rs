@@ -143,7 +143,8 @@ pub struct LodArgs {
     /// default they are cut away and the holes stay open
     #[arg(long, help_heading = "Budgets")]
     pub closed: bool,
-    /// Seconds each budget may spend trying neighbouring resolutions for a smaller distance
+    /// CPU seconds (all threads) each budget may spend per isodensity trying neighbouring
+    /// resolutions for a smaller distance; CPU time, so that a busy machine gives the same levels
     #[arg(long, value_name = "SECONDS", default_value_t = 1.0, help_heading = "Budgets",
         value_parser = number::<f64>, allow_hyphen_values = true)]
     pub time_cap: f64,

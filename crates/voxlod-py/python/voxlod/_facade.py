@@ -142,8 +142,9 @@ def lod(
         Keep the caps that sampling puts over an open mesh's holes (watertight levels); by
         default the openings are kept.
     time_cap : float
-        Seconds each budget's search may spend trying neighbouring resolutions
-        (``float('inf')``: all of them).
+        CPU seconds (all threads) each budget's search may spend per isodensity trying
+        neighbouring resolutions (``float('inf')``: all of them); CPU time, so that a busy
+        machine gives the same levels as a quiet one.
     progress : callable(done, total, what) -> bool or None, optional
         Called after each step; return False to stop (raises :class:`voxlod.Cancelled`).
         Ctrl-C stops the work too (``KeyboardInterrupt``).
