@@ -125,7 +125,11 @@ fn a_hollow_part_turns_solid_when_that_is_closer() {
     append(&mut mesh, &inner);
     let out = lod(&Source::Mesh(&mesh), &options(&[300])).unwrap();
     let (level, report) = (&out.levels[0], &out.budgets[0]);
-    assert_eq!(report.cavities_filled + report.parts_dropped, 1, "{report:?}");
+    assert_eq!(
+        report.cavities_filled + report.parts_dropped,
+        1,
+        "{report:?}"
+    );
     let topology = mesh_topology(&level.mesh);
     assert!(topology.is_closed_manifold());
     assert_eq!((topology.components, topology.genus), (1, Some(0)));
