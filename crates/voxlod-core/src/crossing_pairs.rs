@@ -17,7 +17,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::crossings::{bounds, near_reach, triangles_cross};
+use crate::crossings::{bounds, triangles_cross};
 use crate::TriangleMesh;
 
 /// Every pair `(s, t)`, `s < t`, of `mesh`'s triangles that cross (module docs), ascending.
@@ -47,17 +47,10 @@ pub fn crossing_pairs(mesh: &TriangleMesh) -> Vec<(u32, u32)> {
     let boxes: Vec<(DVec3, DVec3)> = corners.par_iter().map(|c| bounds(*c)).collect();
     let cell = cell_size(&boxes, mesh.bounds().diagonal());
     let margin = cell * 0.5e-6;
-    // Each box grown by the margin and by how far a nearly coplanar overlap reaches.
-    let boxes: Vec<(DVec3, DVec3)> = (boxes.par_iter())
-        .map(|&b| {
-            let grow = DVec3::splat(margin + near_reach(b));
-            (b.0 - grow, b.1 + grow)
-        })
-        .collect();
-    // Every cell a grown box reaches, sorted by cell.
+    // Every cell a triangle's box (grown by the margin) reaches, sorted by cell.
     let mut entries: Vec<([i64; 3], u32)> = (boxes.par_iter().enumerate())
         .flat_map_iter(|(t, &(lo, hi))| {
-            let (a, b) = (key(lo, cell), key(hi, cell));
+            let (a, b) = (key(lo - margin, cell), key(hi + margin, cell));
             (a[2]..=b[2]).flat_map(move |z| {
                 (a[1]..=b[1]).flat_map(move |y| (a[0]..=b[0]).map(move |x| ([x, y, z], t as u32)))
             })
@@ -67,10 +60,9 @@ pub fn crossing_pairs(mesh: &TriangleMesh) -> Vec<(u32, u32)> {
     let lists: Vec<&[([i64; 3], u32)]> = (entries.chunk_by(|x, y| x.0 == y.0))
         .filter(|l| l.len() > 1)
         .collect();
-    // A pair is tested in one cell only, the one holding the low corner of its grown boxes'
-    // overlap: it lies in both boxes' cells when they meet, as they do for a pair that
-    // crosses.
-    let home = |a: usize, b: usize| key(boxes[a].0.max(boxes[b].0), cell);
+    // A pair is tested in one cell only, the one holding the low corner of its boxes'
+    // overlap: it lies in both boxes' cells when the boxes are not apart.
+    let home = |a: usize, b: usize| key(boxes[a].0.max(boxes[b].0) - margin, cell);
     let mut pairs: Vec<(u32, u32)> = lists
         .par_iter()
         .flat_map_iter(|list| {

@@ -16,11 +16,10 @@
 //!   error bound of the determinant, so that it is the exact sign for the `f64` corners;
 //!   touching is not crossing); or they lie in one plane and overlap with positive area
 //!   ([`coplanar_overlap`]: a flat region folded onto itself, as a collapse can leave on a CAD
-//!   part's faces, whose corners may stray a thousandth of a side from one plane, which still
-//!   counts as one): in the plane's two dominant axes, a shared edge with both third corners on
+//!   part's faces): in the plane's two dominant axes, a shared edge with both third corners on
 //!   one side, overlapping wedges at a shared corner, or else a proper edge crossing or a
 //!   corner strictly inside the other. Coplanarity allows the rounding of the `f64`
-//!   determinant, and a thousandth of a side.
+//!   determinant.
 //!
 //! Cost: O(1) per pair, a few dozen flops; pairs whose boxes lie apart by more than a margin
 //! (far above the determinants' rounding) are ruled out first.
@@ -30,7 +29,7 @@ use glam::DVec3;
 /// Triangles `a` (vertex ids `ia`) and `b` (ids `ib`) cross: an edge of either, not incident
 /// to a vertex they share, properly crosses the other, or they overlap in one plane
 /// ([`coplanar_overlap`]); module docs. Triangles whose boxes lie apart by more than `margin`
-/// do not cross, but for a nearly coplanar overlap, whose boxes may lie [`near_reach`] apart.
+/// do not cross.
 ///
 /// ```
 /// use voxlod_core::crossings::triangles_cross;
@@ -52,23 +51,10 @@ pub fn triangles_cross(
     ib: [u32; 3],
     margin: f64,
 ) -> bool {
-    let (box_a, box_b) = (bounds(a), bounds(b));
-    if boxes_apart(
-        box_a,
-        box_b,
-        margin + near_reach(box_a).max(near_reach(box_b)),
-    ) {
+    if boxes_apart(bounds(a), bounds(b), margin) {
         return false;
     }
-    let near = !boxes_apart(box_a, box_b, margin);
-    (near && (edges_cross(a, ia, b, ib) || edges_cross(b, ib, a, ia)))
-        || coplanar_overlap(a, ia, b, ib)
-}
-
-/// How far beyond a triangle's box (`lo`, `hi`) a triangle it overlaps nearly in its plane
-/// may lie: [`NEAR_PLANE`] of its longest extent.
-pub fn near_reach((lo, hi): (DVec3, DVec3)) -> f64 {
-    NEAR_PLANE * (hi - lo).max_element()
+    edges_cross(a, ia, b, ib) || edges_cross(b, ib, a, ia) || coplanar_overlap(a, ia, b, ib)
 }
 
 /// An edge of triangle `p` (vertex ids `ip`) not incident to a vertex of `t` (ids `it`)
@@ -225,14 +211,11 @@ pub fn triangles_meet(
     edges_meet(a, ia, b, ib) || edges_meet(b, ib, a, ia)
 }
 
-/// Triangles `a` and `b` (vertex ids `ia`, `ib`) lie in one plane, or nearly
-/// ([`near_plane`], both ways), and overlap with positive area (module docs).
+/// Triangles `a` and `b` (vertex ids `ia`, `ib`) lie in one plane and overlap with positive
+/// area (module docs).
 pub fn coplanar_overlap(a: [DVec3; 3], ia: [u32; 3], b: [DVec3; 3], ib: [u32; 3]) -> bool {
     let normal = (a[1] - a[0]).cross(a[2] - a[0]);
-    if normal == DVec3::ZERO
-        || !b.iter().all(|&p| near_plane(a, p))
-        || !a.iter().all(|&p| near_plane(b, p))
-    {
+    if normal == DVec3::ZERO || !b.iter().all(|&p| in_plane(a, p)) {
         return false;
     }
     let axis = normal.abs().max_position();
@@ -260,28 +243,6 @@ pub fn coplanar_overlap(a: [DVec3; 3], ia: [u32; 3], b: [DVec3; 3], ib: [u32; 3]
         _ => true,
     }
 }
-
-/// Point `p` lies in the plane of `t`, within the rounding of the orientation determinant or
-/// within [`NEAR_PLANE`] of `t`'s longest side.
-fn near_plane(t: [DVec3; 3], p: DVec3) -> bool {
-    if in_plane(t, p) {
-        return true;
-    }
-    let (u, v, w) = (t[1] - t[0], t[2] - t[0], p - t[0]);
-    let normal = u.cross(v);
-    let longest = u
-        .length_squared()
-        .max(v.length_squared())
-        .max((v - u).length_squared());
-    let det = normal.dot(w);
-    det * det <= NEAR_PLANE * NEAR_PLANE * normal.length_squared() * longest
-}
-
-/// How far from a triangle's plane, in its longest sides, a point still counts as in it: the
-/// corners of a CAD part's flat face stray about 1e-4 of a side after `f32` rounding and
-/// collapses, and two triangles folded over each other there (a fold within the face,
-/// flipped, a hair apart) overlap. Sheets of a level lie a voxel or more apart.
-const NEAR_PLANE: f64 = 1e-3;
 
 /// Point `p` lies in the plane of `t`, within the rounding of the orientation determinant.
 fn in_plane(t: [DVec3; 3], p: DVec3) -> bool {
