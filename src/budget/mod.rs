@@ -57,11 +57,12 @@
 //!    budget), then the coarser neighbour (about `2 B`), and the candidate within 10 % of the budget
 //!    with the smallest measured two-sided Hausdorff distance to the input is kept (without a
 //!    mesh input, the first within 10 %). A candidate none of whose triangles cross
-//!    ([`voxlod_contouring::crossing_pairs`]: the quadric collapse can fold one sheet through
-//!    another where two lie close) beats one with crossings, and an isodensity's coarser
-//!    resolutions are tried while it has no such candidate (issue 12 item 6, our addition);
-//!    where every candidate has some, the report counts them and a warning says so. Distances are sampled (10 000
-//!    points a side) against the input's closest-point structure, built once per run.
+//!    ([`voxlod_contouring::crossing_pairs`]) beats one with crossings (the quadric stage
+//!    itself refuses a pass that folds one sheet through another, so its candidates cross
+//!    only where their input did), and an isodensity's coarser resolutions are tried while it
+//!    has no such candidate (issue 12 item 6, our addition); where every candidate has some,
+//!    the report counts them and a warning says so. Distances are sampled (10 000 points a
+//!    side) against the input's closest-point structure, built once per run.
 //!
 //! 5. **Cavities filled** (our addition, module `filled`): when the input mesh has closed
 //!    shells bounding voids inside its material, steps 1 to 4 run again on the input with

@@ -44,8 +44,8 @@ pub(super) fn finish(
     }
     if report.self_intersections > 0 {
         warnings.push(format!(
-            "budget {budget}: {} pairs of triangles cross (the geometric stage folded one \
-             sheet through another)",
+            "budget {budget}: {} pairs of triangles cross (where the input crossed itself, or \
+             a stage other than the quadric collapse, which refuses folds, made them)",
             report.self_intersections
         ));
     }

@@ -164,9 +164,10 @@ pub struct BudgetLevel {
     /// budget with no more handles than that level (module docs of `budget/genus_cap`).
     pub simplified_from: Option<usize>,
     /// Pairs of the level's triangles that cross ([`voxlod_contouring::crossing_pairs`]): the
-    /// quadric collapse can fold one sheet through another where two lie close. Issue 12 item
-    /// 6 asks for none: the search prefers candidates without (module docs, step 4), and where
-    /// every candidate had some, a warning names them.
+    /// quadric collapse refuses to fold one sheet through another, but an input that crosses
+    /// itself, or another stage, can leave some. Issue 12 item 6 asks for none: the search
+    /// prefers candidates without (module docs, step 4), and where every candidate had some, a
+    /// warning names them.
     pub self_intersections: usize,
     /// Candidates (resolution and stage) built and measured.
     pub candidates: usize,

@@ -43,7 +43,6 @@
 pub mod block_marching_cubes;
 mod bucket_index;
 pub mod clean_mesh;
-mod crossing_pairs;
 mod edge_vertex;
 mod local_crossings;
 pub mod marching_cubes;
@@ -55,9 +54,11 @@ pub use block_marching_cubes::{
     block_marching_cubes, stitch_blocks, Block, BlockError, BlockPiece,
 };
 pub use clean_mesh::{clean_mesh, CleanError, CleanOptions, CleanReport};
-pub use crossing_pairs::crossing_pairs;
 pub use marching_cubes::{
     marching_cubes, marching_cubes_multi, marching_cubes_with_cells, CellMesh, ContourError,
     ContourOptions,
 };
 pub use sparse_marching_cubes::sparse_marching_cubes;
+/// The whole-mesh count of crossing triangles, whose pair test the cleaning's guard shares; it
+/// lives in voxlod-core so that the quadric stage can refuse folds with it too.
+pub use voxlod_core::crossing_pairs;

@@ -7,7 +7,9 @@
 //! and a proposed triangle is tested against the triangles of the 27 buckets around its own:
 //! an edge of one that is not incident to a vertex the two share must not meet the other,
 //! decided by the signs of `f64` orientation determinants, a zero counting as meeting (the
-//! guard refuses what it cannot rule out). Pairs whose bounding boxes lie apart (by more than
+//! guard refuses what it cannot rule out; the pair test is
+//! [`voxlod_core::crossings::triangles_meet`], shared with the whole-mesh count and the quadric
+//! stage). Pairs whose bounding boxes lie apart (by more than
 //! a millionth of a cell, far above the determinants' rounding) are ruled out first, which is
 //! most pairs in the 27 buckets; a bucket whose triangles' boxes cannot reach the proposed
 //! ones (the buckets keep how far any box they listed reached beyond its bucket's cell) is not
@@ -18,6 +20,8 @@
 
 use glam::DVec3;
 use rayon::prelude::*;
+
+use voxlod_core::crossings::{bounds, boxes_apart};
 
 use crate::bucket_index::BucketIndex;
 
@@ -74,10 +78,6 @@ fn f32_at_least(x: f64) -> f32 {
     } else {
         y
     }
-}
-
-fn bounds(p: [DVec3; 3]) -> (DVec3, DVec3) {
-    (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]))
 }
 
 /// Triangles bucketed by centroid, with their boxes: 28 bytes per triangle in the lists and 4
@@ -139,7 +139,7 @@ impl Buckets {
     }
 
     /// The distance below which two triangles' boxes count as touching for
-    /// [`triangles_meet`]: a millionth of a cell.
+    /// [`voxlod_core::crossings::triangles_meet`]: a millionth of a cell.
     pub(crate) fn margin(&self) -> f64 {
         self.size * 0.5e-6
     }
@@ -385,89 +385,6 @@ pub(crate) fn centroid(p: [DVec3; 3]) -> DVec3 {
     (p[0] + p[1] + p[2]) / 3.0
 }
 
-/// The sign of `volume`: +1, -1 or 0 (0 for NaN).
-fn sign(volume: f64) -> f64 {
-    if volume > 0.0 {
-        1.0
-    } else if volume < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
-}
-
-/// Sign of the volume of the tetrahedron `a b c d` (+1, -1 or 0).
-fn side(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
-    sign((b - a).cross(c - a).dot(d - a))
-}
-
-/// Segment `p q`, whose ends lie on sides `sp` and `sq` of triangle `t`'s plane (`side(t[0],
-/// t[1], t[2], ·)`), meets `t` (touching counts).
-fn segment_meets(p: DVec3, q: DVec3, (sp, sq): (f64, f64), t: [DVec3; 3]) -> bool {
-    if sp * sq > 0.0 {
-        return false;
-    }
-    if sp == 0.0 && sq == 0.0 {
-        // Coplanar: leave it to the turn-over test around the change.
-        return false;
-    }
-    let e = [
-        side(p, q, t[0], t[1]),
-        side(p, q, t[1], t[2]),
-        side(p, q, t[2], t[0]),
-    ];
-    !(e.iter().any(|&s| s > 0.0) && e.iter().any(|&s| s < 0.0))
-}
-
-/// An edge of triangle `p` (vertex ids `ip`) not incident to a vertex of `t` (ids `it`) meets
-/// triangle `t`. Triangles sharing an edge have no such edge, and nothing is computed; else the
-/// sides of `p`'s unshared corners are the determinants [`side`] computes, the plane's normal
-/// found once for them.
-fn edges_meet(p: [DVec3; 3], ip: [u32; 3], t: [DVec3; 3], it: [u32; 3]) -> bool {
-    let (f0, f1, f2) = (
-        !it.contains(&ip[0]),
-        !it.contains(&ip[1]),
-        !it.contains(&ip[2]),
-    );
-    let (e0, e1, e2) = (f0 && f1, f1 && f2, f2 && f0);
-    if !(e0 || e1 || e2) {
-        return false;
-    }
-    let normal = (t[1] - t[0]).cross(t[2] - t[0]);
-    // A shared corner's side is never read: no tested edge ends there.
-    let side_of = |free: bool, x: DVec3| match free {
-        true => sign(normal.dot(x - t[0])),
-        false => 0.0,
-    };
-    let (s0, s1, s2) = (side_of(f0, p[0]), side_of(f1, p[1]), side_of(f2, p[2]));
-    (e0 && segment_meets(p[0], p[1], (s0, s1), t))
-        || (e1 && segment_meets(p[1], p[2], (s1, s2), t))
-        || (e2 && segment_meets(p[2], p[0], (s2, s0), t))
-}
-
-/// Two boxes lie apart along some axis by more than `margin`.
-fn boxes_apart((a_lo, a_hi): (DVec3, DVec3), (b_lo, b_hi): (DVec3, DVec3), margin: f64) -> bool {
-    (a_hi + margin).cmplt(b_lo).any() || (b_hi + margin).cmplt(a_lo).any()
-}
-
-/// Triangle `a` (vertex ids `ia`) and triangle `b` (ids `ib`) meet other than at what they
-/// share: an edge of either, not incident to a shared vertex, meets the other. Triangles whose
-/// boxes lie apart by more than `margin` cannot meet, and are not tested further: the margin
-/// (a millionth of a cell, from [`Buckets::margin`]) is far above the rounding of the
-/// orientation determinants, so the answer is the full test's.
-pub(crate) fn triangles_meet(
-    a: [DVec3; 3],
-    ia: [u32; 3],
-    b: [DVec3; 3],
-    ib: [u32; 3],
-    margin: f64,
-) -> bool {
-    if boxes_apart(bounds(a), bounds(b), margin) {
-        return false;
-    }
-    edges_meet(a, ia, b, ib) || edges_meet(b, ib, a, ia)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -481,47 +398,6 @@ mod tests {
             centre + d * size
         };
         [corner(), corner(), corner()]
-    }
-
-    /// The test as it was written first: each edge's two plane sides by [`side`], one edge
-    /// at a time.
-    fn meet_edge_by_edge(a: [DVec3; 3], ia: [u32; 3], b: [DVec3; 3], ib: [u32; 3]) -> bool {
-        let edge_meets = |p: DVec3, q: DVec3, t: [DVec3; 3]| {
-            let sides = (side(t[0], t[1], t[2], p), side(t[0], t[1], t[2], q));
-            segment_meets(p, q, sides, t)
-        };
-        let edges = |p: [DVec3; 3], ip: [u32; 3], t: [DVec3; 3], it: [u32; 3]| {
-            (0..3).any(|k| {
-                let l = (k + 1) % 3;
-                !it.contains(&ip[k]) && !it.contains(&ip[l]) && edge_meets(p[k], p[l], t)
-            })
-        };
-        edges(a, ia, b, ib) || edges(b, ib, a, ia)
-    }
-
-    /// Pairs of triangles over a few shared points (on a half-unit lattice, so that corners
-    /// often lie exactly in the other's plane or on its edges, or are shared): the plane sides
-    /// found once per triangle decide as the edge-by-edge test, and both answers occur.
-    #[test]
-    fn shared_plane_sides_decide_as_the_edge_by_edge_test() {
-        let mut rng = Pcg64::seed_from_u64(14);
-        let mut met = [0usize; 2];
-        for _ in 0..20_000 {
-            let points: Vec<DVec3> = (0..6)
-                .map(|_| {
-                    let c = [0, 1, 2].map(|_| rng.random_range(0..3) as f64 * 0.5);
-                    DVec3::from_array(c) + DVec3::splat(rng.random_range(0..2) as f64 * 1e-3)
-                })
-                .collect();
-            let mut ids = || [0, 1, 2].map(|_| rng.random_range(0..points.len() as u32));
-            let (ia, ib) = (ids(), ids());
-            let at = |i: [u32; 3]| i.map(|v| points[v as usize]);
-            let meets = triangles_meet(at(ia), ia, at(ib), ib, 1e-9);
-            let apart = boxes_apart(bounds(at(ia)), bounds(at(ib)), 1e-9);
-            assert_eq!(meets, !apart && meet_edge_by_edge(at(ia), ia, at(ib), ib));
-            met[meets as usize] += 1;
-        }
-        assert!(met[0] > 1000 && met[1] > 1000, "{met:?}");
     }
 
     /// Triangles of a cell or less scattered over twelve cells, a tenth of them moved by up to

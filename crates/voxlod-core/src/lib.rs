@@ -11,6 +11,8 @@
 //! - [`topology`]: edge-based manifold checks, Euler characteristic and genus.
 //! - [`cavities`]: a solid as seen from outside, its enclosed voids filled; [`components`]:
 //!   a mesh's connected parts; [`parity`]: inside a closed surface or not.
+//! - [`crossings`]: whether two triangles cross (exact orientation signs), and
+//!   [`crossing_pairs`]: every pair of a mesh's triangles that does.
 //! - [`weld`]: merging coincident vertices, as STL triangle soups need.
 //! - [`memory`]: refusing allocations that cannot fit, with the size they would need.
 //! - [`repair`]: dropping degenerate and duplicate triangles, closing holes for the inside test.
@@ -48,6 +50,8 @@ pub mod bricks;
 pub mod cavities;
 pub mod components;
 pub mod cpu_clock;
+pub mod crossing_pairs;
+pub mod crossings;
 pub mod disjoint;
 pub mod error;
 pub mod grid;
@@ -65,6 +69,7 @@ pub mod world;
 
 pub use bounds::Bounds;
 pub use bricks::{Brick, BrickVolume};
+pub use crossing_pairs::crossing_pairs;
 pub use error::CoreError;
 pub use grid::{Axis, Grid};
 pub use mesh::{Attribute, PolyMesh, TriangleMesh};

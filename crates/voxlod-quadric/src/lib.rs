@@ -13,10 +13,13 @@
 //! or duplicate triangle, no inconsistently oriented edge (where the input had none), and the same
 //! components, boundary loops and genus. So a closed manifold level stays closed, manifold and of
 //! the same genus, and an open one keeps its openings (its border vertices are also locked in
-//! place, [`QuadricOptions::lock_border`]).
+//! place, [`QuadricOptions::lock_border`]). And no two of its triangles cross
+//! ([`voxlod_core::crossing_pairs`]) beyond as many pairs as the input has: a level without
+//! self-intersections stays without (issue 12, item 6).
 //!
 //! **How it is enforced.** Every result of meshoptimizer is checked with [`mesh_topology`] and
-//! rejected if it breaks any of the above. After a rejection the next attempt asks for less,
+//! for crossing triangles (module `folds`), and rejected if it breaks any of the above. After
+//! a rejection the next attempt asks for less,
 //! halfway between the asked count and the last accepted mesh's, and starts from that accepted
 //! mesh; after an accepted step that fell short of the budget the next attempt starts from it
 //! and asks for the budget again. A rejection in which some components lost their shape
@@ -25,7 +28,9 @@
 //! (meshoptimizer's `vertex_lock`) and asks again: they stay as they are, and the rest of the
 //! mesh can still reach the budget. A component lost its shape when its Euler characteristic
 //! changed or fewer than four of its triangles are left (fewer than a closed surface needs).
-//! In a large component only the ring around each pinch is locked. When the run with locks
+//! In a large component only the ring around each pinch is locked. A rejection for crossing
+//! triangles (a collapse folded one sheet through another close to it) locks the vertices
+//! around the new crossing triangles the same way (module `folds`). When the run with locks
 //! still stops above the budget, a run without them (the request halved after each rejection)
 //! is tried as well, and the smaller result kept. So the simplification ratchets down through accepted meshes
 //! only, until the budget is reached, the distance limit stops the collapses, or the attempts
@@ -38,12 +43,14 @@
 //! only what the steps before left of [`QuadricOptions::max_error`]. Measure the distance to the
 //! input (voxlod-metrics) where it matters.
 //!
-//! Cost: each attempt is one meshoptimizer pass, O(F log F), and one topology check, O(F log F);
-//! at most [`QuadricOptions::max_attempts`] of each. Memory O(V + F).
+//! Cost: each attempt is one meshoptimizer pass, O(F log F), one topology check, O(F log F), and
+//! one count of crossing pairs, O(F) on all threads; at most [`QuadricOptions::max_attempts`]
+//! of each. Memory O(V + F).
 
 use std::collections::{HashMap, HashSet};
 
 mod drop_parts;
+mod folds;
 
 pub use drop_parts::{simplify_dropping_parts, PartsOptions, PartsSimplified};
 
@@ -135,6 +142,9 @@ pub enum Stop {
     DistanceLimit,
     /// Every further attempt broke the topology (or the attempts ran out) above the budget.
     Topology,
+    /// As [`Stop::Topology`], the last attempt rejected because it made triangles cross (it
+    /// kept the topology, but folded one sheet through another: module docs).
+    Crossings,
 }
 
 /// The result of [`simplify_to_budget`].
@@ -148,7 +158,8 @@ pub struct Simplified {
     pub error_bound: f64,
     /// meshoptimizer passes run.
     pub attempts: usize,
-    /// Of those, the ones whose result broke the topology and was thrown away.
+    /// Of those, the ones whose result broke the topology or made triangles cross and was thrown
+    /// away.
     pub rejected: usize,
     /// Why it stopped.
     pub stop: Stop,
@@ -184,7 +195,7 @@ pub fn simplify_to_budget(
 }
 
 /// The ratchet of the module docs from `current` (unused vertices dropped), with the locks of
-/// components that lost their shape when `locking`.
+/// components that lost their shape and around folds when `locking`.
 fn ratchet(
     current: TriangleMesh,
     reference: &Topology,
@@ -204,6 +215,9 @@ fn ratchet(
     // Every step keeps the vertex buffer (meshoptimizer only drops vertices), so that the locks
     // stay valid; unused vertices are dropped at the end.
     let mut locked = vec![false; result.mesh.positions.len()];
+    // Whether the last rejection was a fold (module `folds`) rather than a topology change.
+    let mut folded = false;
+    let mut folds = folds::Folds::default();
     while result.mesh.triangle_count() > budget && result.attempts < options.max_attempts {
         let room = (options.max_error - result.error_bound).max(0.0);
         result.attempts += 1;
@@ -213,28 +227,57 @@ fn ratchet(
             break;
         }
         let topology = mesh_topology(&candidate);
-        if keeps_topology(reference, &topology) {
+        let verdict = match keeps_topology(reference, &topology) {
+            false => Verdict::Topology,
+            true => match folds.check(&result.mesh, &candidate) {
+                Ok(()) => Verdict::Accepted,
+                Err(crossing) => Verdict::Crossing(crossing),
+            },
+        };
+        if let Verdict::Accepted = verdict {
             result.mesh = candidate;
             result.topology = topology;
             result.error_bound += error;
             ask = budget;
-        } else {
-            result.rejected += 1;
-            if locking && lock_changed_components(&result.mesh, &candidate, &mut locked) {
-                continue;
-            }
-            let have = result.mesh.triangle_count();
-            ask = ask + (have - ask) / 2;
-            if ask + 1 >= have {
-                break;
-            }
+            folded = false;
+            continue;
         }
+        result.rejected += 1;
+        folded = matches!(verdict, Verdict::Crossing(_));
+        let locks = locking
+            && match &verdict {
+                Verdict::Crossing(triangles) => {
+                    folds::lock_around(&result.mesh, &candidate, triangles, &mut locked)
+                }
+                _ => lock_changed_components(&result.mesh, &candidate, &mut locked),
+            };
+        if locks {
+            continue;
+        }
+        let have = result.mesh.triangle_count();
+        ask = ask + (have - ask) / 2;
+        if ask + 1 >= have {
+            break;
+        }
+    }
+    if folded && result.stop == Stop::Topology {
+        result.stop = Stop::Crossings;
     }
     if result.mesh.triangle_count() <= budget {
         result.stop = Stop::Budget;
     }
     result.mesh.remove_unreferenced_vertices();
     result
+}
+
+/// What the ratchet makes of a meshoptimizer pass.
+enum Verdict {
+    /// The topology kept and no crossing pair added: the pass is the new accepted mesh.
+    Accepted,
+    /// The topology broken (module docs).
+    Topology,
+    /// Crossing pairs added; the triangles of the result blamed for them (module `folds`).
+    Crossing(Vec<u32>),
 }
 
 /// Validates the arguments and returns the input's topology.

@@ -4,11 +4,12 @@
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
+use voxlod_core::crossings::triangles_meet;
 use voxlod_core::TriangleMesh;
 
 use super::changes::Changes;
 use super::fans::Fans;
-use crate::local_crossings::{triangles_meet, Buckets};
+use crate::local_crossings::Buckets;
 
 /// The surface being cleaned: what is left of the mesh once cleaning's helpers are dropped.
 pub(super) struct Surface {
