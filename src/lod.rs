@@ -22,7 +22,7 @@ use serde::Serialize;
 use voxlod_contouring::clean_mesh::CLEAN_BYTES_PER_TRIANGLE;
 use voxlod_contouring::{
     clean_mesh, marching_cubes, sparse_marching_cubes, CleanError, CleanOptions, ContourError,
-    ContourOptions,
+    ContourOptions, PLAIN_CLAMP,
 };
 use voxlod_core::{
     mesh_topology, Bounds, BrickVolume, Grid, Placement, Topology, TriangleMesh, Volume,
@@ -135,7 +135,9 @@ pub struct LevelOptions {
     /// Gradient normals on the output meshes.
     pub normals: bool,
     /// Clean each level (no sliver, needle or zero-area triangle, no self-intersection; beyond
-    /// the paper, see [`voxlod_contouring::clean_mesh()`]); `None` keeps raw marching cubes.
+    /// the paper, see [`voxlod_contouring::clean_mesh()`]), contoured with the clamp that
+    /// leaves cleaning nothing to fix ([`CleanOptions::contour_clamp`]); `None` keeps raw
+    /// marching cubes.
     pub clean: Option<CleanOptions>,
 }
 
@@ -363,9 +365,13 @@ impl SampledLevel {
     /// Marching cubes at the options' iso value (the second half of [`build_level`]).
     pub(crate) fn contour(self, options: &LevelOptions) -> Result<LodLevel, LodError> {
         let start = Instant::now();
+        // Levels that are cleaned are contoured with vertices snapped away from the samples,
+        // so that cleaning finds (next to) nothing to do.
+        let clamp = options.clean.map_or(PLAIN_CLAMP, |c| c.contour_clamp());
         let contour = ContourOptions {
             iso: options.iso,
             normals: options.normals,
+            clamp,
         };
         let mut mesh = match &self.volume {
             LevelVolume::Dense(volume) => marching_cubes(volume, &contour)?,

@@ -58,6 +58,6 @@ pub use clean_mesh::{clean_mesh, CleanError, CleanOptions, CleanReport};
 pub use crossing_pairs::crossing_pairs;
 pub use marching_cubes::{
     marching_cubes, marching_cubes_multi, marching_cubes_with_cells, CellMesh, ContourError,
-    ContourOptions,
+    ContourOptions, PLAIN_CLAMP,
 };
 pub use sparse_marching_cubes::sparse_marching_cubes;
