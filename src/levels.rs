@@ -142,6 +142,7 @@ fn lod_levels(
         iso,
         normals: options.normals,
         clean: options.clean,
+        snap: true,
     };
     let lod_source = prepared.lod_source();
     let mut plans = plan(&lod_source, &level_options)?;

@@ -159,6 +159,15 @@ pub fn clean_mesh(
     clean_mesh_with(mesh, cell, options, Schedule::for_threads(), Scan::Changed)
 }
 
+/// Whether [`clean_mesh`] with `options` would find an edge or a triangle of `mesh` to fix
+/// (its first scan; `cell` is the grid spacing). A mesh contoured with
+/// [`CleanOptions::contour_clamp`] has none, up to rounding. Cost: one parallel read of the
+/// triangles, stopping at the first defect; no memory.
+pub fn has_defects(mesh: &TriangleMesh, cell: f64, options: &CleanOptions) -> bool {
+    let (min_edge, min_area) = (options.min_edge * cell, options.min_area * cell * cell);
+    any_defect(mesh, min_edge, min_area)
+}
+
 /// [`clean_mesh`] run on `schedule`, its candidates found by `scan`; one at a time over whole
 /// scans is the reference that the others must equal bit for bit.
 fn clean_mesh_with(

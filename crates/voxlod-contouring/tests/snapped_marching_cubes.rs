@@ -9,6 +9,7 @@
 use glam::DVec3;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
+use voxlod_contouring::clean_mesh::has_defects;
 use voxlod_contouring::marching_cubes::snap_clamp;
 use voxlod_contouring::{
     clean_mesh, marching_cubes, sparse_marching_cubes, CleanOptions, ContourError, ContourOptions,
@@ -165,7 +166,10 @@ fn assert_snapped(volume: &Volume, iso: f32, what: &str) -> TriangleMesh {
         assert_eq!(a, b, "{what}, bricks of {brick}: vertex positions");
         assert_eq!(sparse.triangles.len(), snapped.triangles.len(), "{what}");
     }
-    let (clean, report) = clean_mesh(&snapped, 1.0, &CleanOptions::default()).unwrap();
+    let defaults = CleanOptions::default();
+    assert!(has_defects(&plain, 1.0, &defaults), "{what}");
+    assert!(!has_defects(&snapped, 1.0, &defaults), "{what}");
+    let (clean, report) = clean_mesh(&snapped, 1.0, &defaults).unwrap();
     assert_eq!(report.collapsed_edges + report.flipped_edges, 0, "{what}");
     assert_eq!(
         (report.relaxed_vertices, report.small_triangles_left),
