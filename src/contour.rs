@@ -116,6 +116,7 @@ pub fn contour(volume: &Volume, options: &ContourOptions) -> Result<Contour, Err
     let contour = voxlod_contouring::ContourOptions {
         iso: options.iso,
         normals: options.normals,
+        ..Default::default()
     };
     let mut mesh = marching_cubes(volume, &contour)?;
     // An oblique or flipped scan's mesh goes to its world (`voxlod_core::world`).

@@ -317,7 +317,9 @@ fn layers_class(e: &LayersError) -> ErrorClass {
 fn contour_class(e: &ContourError) -> ErrorClass {
     match e {
         ContourError::Memory(e) => core_class(e),
-        ContourError::NonFiniteIso(_) | ContourError::SampleCount { .. } => ErrorClass::Usage,
+        ContourError::NonFiniteIso(_)
+        | ContourError::BadClamp(_)
+        | ContourError::SampleCount { .. } => ErrorClass::Usage,
         ContourError::TooManyVertices(_) | ContourError::TooManyCells(_) => ErrorClass::TooLarge,
     }
 }

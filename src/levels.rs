@@ -36,7 +36,11 @@
 //!   dense volume: a level sampled in the narrow band (resolutions around 1000 and above) is
 //!   not constrained, and the chain starts again below it.
 //! - *Clean levels* ([`LodOptions::clean`], [`voxlod_contouring::clean_mesh()`]): no sliver,
-//!   needle or zero-area triangle and no self-intersection, closed and manifold kept.
+//!   needle or zero-area triangle and no self-intersection, closed and manifold kept. Such
+//!   levels are contoured with vertices kept 0.072 cell from the samples
+//!   ([`voxlod_contouring::CleanOptions::contour_clamp`]; plain marching cubes' triangles,
+//!   vertices moved along their edges), which leaves no edge or triangle for cleaning to fix:
+//!   it then costs one scan of the triangles.
 //! - *A start at or below the input* ([`LodOptions::finest`], [`crate::finest`]): for a mesh,
 //!   the pyramid is scaled down so that the finest level's estimated triangle count is at most
 //!   the input's (at most the pyramid's own resolution, at least 16 samples).
@@ -138,6 +142,7 @@ fn lod_levels(
         iso,
         normals: options.normals,
         clean: options.clean,
+        snap: true,
     };
     let lod_source = prepared.lod_source();
     let mut plans = plan(&lod_source, &level_options)?;

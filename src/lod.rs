@@ -19,10 +19,11 @@
 use std::time::Instant;
 
 use serde::Serialize;
+use voxlod_contouring::clean_mesh::has_defects;
 use voxlod_contouring::clean_mesh::CLEAN_BYTES_PER_TRIANGLE;
 use voxlod_contouring::{
     clean_mesh, marching_cubes, sparse_marching_cubes, CleanError, CleanOptions, ContourError,
-    ContourOptions,
+    ContourOptions, PLAIN_CLAMP,
 };
 use voxlod_core::{
     mesh_topology, Bounds, BrickVolume, Grid, Placement, Topology, TriangleMesh, Volume,
@@ -48,7 +49,8 @@ pub const BAND_ABOVE_BYTES: u64 = 1 << 30;
 /// ([`voxlod_contouring::clean_mesh()`]). Cleaning holds about 130 bytes per triangle at its
 /// peak beyond the mesh itself (measured on a 326 k-triangle sphereflake level; about 240 before
 /// issue 12's lean lists and buckets). Larger meshes are kept as marching cubes made them
-/// (closed and oriented still) and the level's report says so. The limit stays where the
+/// (closed and oriented still, contoured for cleaning so without its defects but by rounding),
+/// and the level's report says so if cleaning's scan finds any. The limit stays where the
 /// issue 14 memory targets were measured (the 1024³ Zarr ball's 7.3 M-triangle level peaks at
 /// 667 MiB uncleaned; cleaned it would need about 1 GB more): raise it only with those runs
 /// measured again.
@@ -137,6 +139,12 @@ pub struct LevelOptions {
     /// Clean each level (no sliver, needle or zero-area triangle, no self-intersection; beyond
     /// the paper, see [`voxlod_contouring::clean_mesh()`]); `None` keeps raw marching cubes.
     pub clean: Option<CleanOptions>,
+    /// Levels that are cleaned are contoured with the clamp that leaves cleaning nothing to
+    /// fix ([`CleanOptions::contour_clamp`]: vertices kept 0.072 cell from the samples, fast,
+    /// the mean distance to the input about 1 % larger on the bunny); `false` contours them
+    /// plainly and lets cleaning collapse the slivers (the budget pipeline, whose search
+    /// weighs distances and whose levels are simplified again).
+    pub snap: bool,
 }
 
 /// The former name of [`LevelOptions`], kept while `voxlod-eval` still uses it. Not to be
@@ -152,6 +160,7 @@ impl Default for LevelOptions {
             iso: 0.5,
             normals: true,
             clean: Some(CleanOptions::default()),
+            snap: true,
         }
     }
 }
@@ -197,7 +206,8 @@ pub struct LodLevel {
     /// Wall time of keeping the genus from rising (zero when not asked).
     pub monotone_seconds: f64,
     /// True when cleaning was asked but skipped: a level through the narrow band whose mesh
-    /// has more than [`CLEAN_BAND_AT_MOST_TRIANGLES`] triangles.
+    /// has more than [`CLEAN_BAND_AT_MOST_TRIANGLES`] triangles and an edge or triangle that
+    /// cleaning would fix (contoured for cleaning, it has none but by rounding).
     pub clean_skipped: bool,
 }
 
@@ -363,9 +373,15 @@ impl SampledLevel {
     /// Marching cubes at the options' iso value (the second half of [`build_level`]).
     pub(crate) fn contour(self, options: &LevelOptions) -> Result<LodLevel, LodError> {
         let start = Instant::now();
+        // Levels that are cleaned are contoured with vertices snapped away from the samples,
+        // so that cleaning finds (next to) nothing to do.
+        let clamp = (options.clean)
+            .filter(|_| options.snap)
+            .map_or(PLAIN_CLAMP, |c| c.contour_clamp());
         let contour = ContourOptions {
             iso: options.iso,
             normals: options.normals,
+            clamp,
         };
         let mut mesh = match &self.volume {
             LevelVolume::Dense(volume) => marching_cubes(volume, &contour)?,
@@ -373,9 +389,13 @@ impl SampledLevel {
         };
         let band = matches!(self.volume, LevelVolume::Bricks(_));
         drop(self.volume);
+        // A band level too large for cleaning's memory is left as it is; skipped only if
+        // cleaning would have found something to fix.
+        let too_large = band && mesh.triangles.len() > CLEAN_BAND_AT_MOST_TRIANGLES;
+        let cell = self.plan.voxel_size;
         let clean_skipped =
-            options.clean.is_some() && band && mesh.triangles.len() > CLEAN_BAND_AT_MOST_TRIANGLES;
-        if let Some(clean) = options.clean.as_ref().filter(|_| !clean_skipped) {
+            too_large && options.clean.is_some_and(|c| has_defects(&mesh, cell, &c));
+        if let Some(clean) = options.clean.as_ref().filter(|_| !too_large) {
             mesh = clean_mesh(&mesh, self.plan.voxel_size, clean)?.0;
         }
         // The one place where levels leave grid space: an oblique or flipped scan's mesh moves

@@ -109,6 +109,7 @@ pub fn voxelize(source: &Source, options: &VoxelizeOptions) -> Result<Voxelized,
         iso: 0.5,
         normals: false,
         clean: None,
+        snap: false,
     };
     let lod_source = prepared.lod_source();
     let level_plan = plan(&lod_source, &level_options)?[0];

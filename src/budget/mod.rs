@@ -160,6 +160,9 @@ pub(crate) fn lod_by_budget(
         iso,
         normals: options.normals,
         clean: Some(voxlod_contouring::CleanOptions::default()),
+        // Plain marching cubes, cleaned: the search weighs distances, and snapping the
+        // vertices cost the thin shell's level 3 % of its Hausdorff distance.
+        snap: false,
     };
     let lod_source = prepared.lod_source();
     let input = match source {

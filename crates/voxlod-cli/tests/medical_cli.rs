@@ -386,14 +386,14 @@ fn labels_no_clean_keeps_plain_marching_cubes_and_labels_run_in_parallel_in_orde
     assert_eq!(values, vec![1, 2, 3]);
     for (c, p) in cleaned.iter().zip(plain) {
         let (c, p) = (&c["levels"][0], &p["levels"][0]);
-        // Cleaning collapses the short edges marching cubes leaves near samples: fewer
-        // triangles, the same solid.
-        assert!(
-            p["triangles"].as_u64().unwrap() > c["triangles"].as_u64().unwrap(),
-            "{p} vs {c}"
-        );
+        // A cleaned level is contoured with its vertices kept 0.072 cell from the samples (no
+        // short edge for cleaning to collapse): marching cubes' triangles, moved vertices, the
+        // same solid; --no-clean keeps the plain vertices. Where many samples of a label's
+        // filtered density sit exactly at the iso value (on the faces of the heart's box), the
+        // kept distance moves its surface outward: 3093 → 3121 mm³, nearer the voxels' 3133.
+        assert_eq!(p["triangles"], c["triangles"], "{p} vs {c}");
         assert_eq!(p["closed_manifold"], true);
         let (vp, vc) = (p["volume"].as_f64().unwrap(), c["volume"].as_f64().unwrap());
-        assert!((vp / vc - 1.0).abs() < 0.005, "{vp} vs {vc}");
+        assert!(vp != vc && (vp / vc - 1.0).abs() < 0.01, "{vp} vs {vc}");
     }
 }

@@ -48,7 +48,11 @@ fn main() {
     let runs: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(5);
     let (volume, iso) = level(args.get(1).map(String::as_str), resolution);
     // With normals, as `voxlod lod` contours its levels (a merge averages them).
-    let contour = ContourOptions { iso, normals: true };
+    let contour = ContourOptions {
+        iso,
+        normals: true,
+        ..Default::default()
+    };
     let mesh = marching_cubes(&volume, &contour).expect("marching cubes");
     let cell = volume.grid.spacing[0];
     let mut times = Vec::with_capacity(runs);

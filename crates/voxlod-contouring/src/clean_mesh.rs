@@ -37,6 +37,11 @@
 //! vertex inside oriented triangles, flips replace two oriented triangles by two oriented ones.
 //! Normals: a merged vertex takes the normalised mean of the two.
 //!
+//! Contouring with [`CleanOptions::contour_clamp`] (what `voxlod lod` does) makes no edge and
+//! no triangle that these steps would fix, so cleaning first scans the mesh (one parallel read
+//! of the triangles, stopping at the first defect) and, finding nothing, only gathers the
+//! triangles' vertices in order of first use, as a cleaning that took no step does.
+//!
 //! Cost: O(F) once to set up (the guard's buckets and each vertex's triangles, on all threads
 //! where they can be) and to find the short edges and small triangles; after that, a pass
 //! costs O(K log K) for its K candidates and the triangles changed since the last pass (see
@@ -61,9 +66,9 @@ mod restore;
 mod steps;
 mod work;
 
-use defects::{Defects, Scan};
+use defects::{any_defect, Defects, Scan};
 use passes::{collapse_short_edges, fix_small_triangles, Schedule};
-use restore::{compact, restore_flattened};
+use restore::{compact, compact_mesh, restore_flattened};
 use work::Work;
 
 /// Bytes cleaning holds per triangle of the input at its peak, besides the input, for the
@@ -95,6 +100,13 @@ impl Default for CleanOptions {
 }
 
 impl CleanOptions {
+    /// The interpolation clamp ([`crate::ContourOptions::clamp`]) for which marching cubes
+    /// makes no edge and no triangle that these options would fix: contour with it and
+    /// cleaning finds nothing to do ([`crate::marching_cubes::snap_clamp`]).
+    pub fn contour_clamp(&self) -> f32 {
+        crate::marching_cubes::snap_clamp(self.min_edge, self.min_area)
+    }
+
     /// Only the degenerate: edges under a thousandth of a cell, areas under 1e-6 cells².
     pub fn degenerate_only() -> Self {
         CleanOptions {
@@ -147,6 +159,15 @@ pub fn clean_mesh(
     clean_mesh_with(mesh, cell, options, Schedule::for_threads(), Scan::Changed)
 }
 
+/// Whether [`clean_mesh`] with `options` would find an edge or a triangle of `mesh` to fix
+/// (its first scan; `cell` is the grid spacing). A mesh contoured with
+/// [`CleanOptions::contour_clamp`] has none, up to rounding. Cost: one parallel read of the
+/// triangles, stopping at the first defect; no memory.
+pub fn has_defects(mesh: &TriangleMesh, cell: f64, options: &CleanOptions) -> bool {
+    let (min_edge, min_area) = (options.min_edge * cell, options.min_area * cell * cell);
+    any_defect(mesh, min_edge, min_area)
+}
+
 /// [`clean_mesh`] run on `schedule`, its candidates found by `scan`; one at a time over whole
 /// scans is the reference that the others must equal bit for bit.
 fn clean_mesh_with(
@@ -160,6 +181,12 @@ fn clean_mesh_with(
         return Err(CleanError::BadCell(cell));
     }
     mesh.validate()?;
+    let (min_edge, min_area) = (options.min_edge * cell, options.min_area * cell * cell);
+    if scan == Scan::Changed && options.max_passes > 0 && !any_defect(mesh, min_edge, min_area) {
+        // Nothing to do (a level contoured with `CleanOptions::contour_clamp`): what the passes
+        // give without setting them up, one pass that finds nothing.
+        return Ok(nothing_to_clean(mesh));
+    }
     let triangles = mesh.triangles.len().max(mesh.positions.len()) as u64;
     memory::check_allocation(
         "cleaning a level",
@@ -167,7 +194,6 @@ fn clean_mesh_with(
     )?;
     let mut work = Work::new(mesh, cell);
     let mut report = CleanReport::default();
-    let (min_edge, min_area) = (options.min_edge * cell, options.min_area * cell * cell);
     let mut defects = Defects::new(&work, min_edge, min_area, scan);
     let reference = (schedule, scan) == (Schedule::OneAtATime, Scan::Whole);
     for _ in 0..options.max_passes {
@@ -206,6 +232,18 @@ fn clean_mesh_with(
     report.removed_triangles = mesh.triangles.len() - cleaned.triangles.len();
     report.removed_vertices = mesh.positions.len() - cleaned.positions.len();
     Ok((cleaned, report))
+}
+
+/// The output and report of cleaning `mesh` when its first scan finds nothing: one pass, no
+/// step, the triangles and the vertices they use gathered as after any cleaning.
+fn nothing_to_clean(mesh: &TriangleMesh) -> (TriangleMesh, CleanReport) {
+    let cleaned = compact_mesh(mesh);
+    let report = CleanReport {
+        passes: 1,
+        removed_vertices: mesh.positions.len() - cleaned.positions.len(),
+        ..CleanReport::default()
+    };
+    (cleaned, report)
 }
 
 #[cfg(test)]
@@ -397,6 +435,18 @@ mod tests {
             let raw = marching_cubes(&near, &ContourOptions::at(0.5)).unwrap();
             let report = assert_every_schedule_equal("near", &raw, 1.0);
             assert!(report.collapsed_edges > 50, "{seed}: {report:?}");
+            // The same samples contoured with the clamp for these options: no defect, so the
+            // first scan finds nothing and the passes are not set up (the changed scans), with
+            // the whole scans' result.
+            let clamp = CleanOptions::default().contour_clamp();
+            let snapped = ContourOptions::at(0.5).with_clamp(clamp);
+            let raw = marching_cubes(&near, &snapped).unwrap();
+            let report = assert_every_schedule_equal("near, snapped", &raw, 1.0);
+            let nothing = CleanReport {
+                passes: 1,
+                ..CleanReport::default()
+            };
+            assert_eq!(report, nothing, "{seed}");
             let parts = ball_field(seed, true, 60);
             let raw = marching_cubes(&parts, &ContourOptions::at(0.5)).unwrap();
             let report = assert_every_schedule_equal("components", &raw, 1.0);

@@ -3,8 +3,21 @@
 //! the voxel paper's §2 uses it) and the density gradient by central differences, one formula
 //! for the dense and the sparse (brick) extraction so that both give bit-identical vertices.
 //!
-//! Interpolation parameters are clamped to `[1e-4, 1 - 1e-4]` along their edge so that a sample
-//! exactly at the iso value does not collapse triangles to zero area.
+//! Interpolation parameters are clamped to `[c, 1 - c]` along their edge
+//! ([`crate::ContourOptions::clamp`]). Plain marching cubes takes `c` = 1e-4, so that a sample
+//! exactly at the iso value does not collapse triangles to zero area; triangles of area 1e-12
+//! to 1e-6 cell² remain where the surface passes near a sample. The snapping clamp `c` =
+//! 0.075 leaves none. Every edge of a triangle joins vertices on two edges of one cell; if
+//! those share a corner, the vertices lie at least `c` from it along perpendicular axes, so at
+//! least `√2 · c` = 0.106 cell apart; if not, they are a whole cell apart along some axis.
+//! Three points inside three distinct edges of a cube are never collinear (a line meets a
+//! convex solid's boundary in two points unless it lies in a face, and a line in a face meets
+//! the interiors of at most two of its edges), so a triangle's area has a positive minimum
+//! over the box of allowed parameters: `(√3 / 2) · c²` (4.9e-3 cell² for 0.075), reached by
+//! the triangle that cuts a corner with its three vertices `c` from it (a search over all 220
+//! triples of cube edges finds no smaller one; the tests check every cell case). Clamping
+//! moves a vertex along its edge only, and never past a sample, so every sample's side and
+//! every triangle of the mesh stay those of plain marching cubes.
 //!
 //! [`VertexPlacer::corner_range`] gives scikit-image's per-vertex `values`: the largest range of
 //! the samples of a cell around the vertex's edge.
@@ -16,8 +29,6 @@
 
 use glam::{DVec3, Vec3};
 use voxlod_core::{BrickVolume, Grid, TriangleMesh};
-
-const CLAMP: f32 = 1e-4;
 
 /// Read access to the samples of a grid, dense or bricked.
 pub(crate) trait Samples: Sync {
@@ -65,10 +76,12 @@ pub(crate) struct VertexPlacer<'a, S: Samples> {
     spacing: DVec3,
     origin: DVec3,
     iso: f32,
+    /// Interpolation parameters are clamped to `[clamp, 1 - clamp]`.
+    clamp: f32,
 }
 
 impl<'a, S: Samples> VertexPlacer<'a, S> {
-    pub fn new(samples: &'a S, grid: &Grid, iso: f32) -> Self {
+    pub fn new(samples: &'a S, grid: &Grid, iso: f32, clamp: f32) -> Self {
         VertexPlacer {
             samples,
             dims: grid.dims,
@@ -76,6 +89,7 @@ impl<'a, S: Samples> VertexPlacer<'a, S> {
             spacing: grid.spacing_vec(),
             origin: grid.origin_vec(),
             iso,
+            clamp,
         }
     }
 
@@ -135,7 +149,7 @@ impl<'a, S: Samples> VertexPlacer<'a, S> {
         let (a, b) = (self.at(p), self.at(q));
         let t = (self.iso - a) / (b - a);
         let t = if t.is_finite() {
-            t.clamp(CLAMP, 1.0 - CLAMP)
+            t.clamp(self.clamp, 1.0 - self.clamp)
         } else {
             0.5
         };
@@ -290,8 +304,8 @@ mod tests {
         let grid = Grid::new(dims, [0.5, 1.0, 2.0], [1.0, -2.0, 0.25]).unwrap();
         let dense = DenseSamples { data: &data, dims };
         let indexed = IndexedOnly(DenseSamples { data: &data, dims });
-        let fast = VertexPlacer::new(&dense, &grid, 0.1);
-        let slow = VertexPlacer::new(&indexed, &grid, 0.1);
+        let fast = VertexPlacer::new(&dense, &grid, 0.1, 1e-4);
+        let slow = VertexPlacer::new(&indexed, &grid, 0.1, 1e-4);
         let mut interior = 0;
         for k in 0..dims[2] {
             for j in 0..dims[1] {

@@ -56,7 +56,7 @@ pub use block_marching_cubes::{
 pub use clean_mesh::{clean_mesh, CleanError, CleanOptions, CleanReport};
 pub use marching_cubes::{
     marching_cubes, marching_cubes_multi, marching_cubes_with_cells, CellMesh, ContourError,
-    ContourOptions,
+    ContourOptions, PLAIN_CLAMP,
 };
 pub use sparse_marching_cubes::sparse_marching_cubes;
 /// The whole-mesh count of crossing triangles, whose pair test the cleaning's guard shares; it

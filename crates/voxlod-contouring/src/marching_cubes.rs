@@ -35,8 +35,13 @@
 //! **Cost.** One streaming read of the volume (pass 1), then O(N³/64) word operations, then work
 //! proportional to the surface: O(N³/64 + V + T) beyond the first read, and `N³/8` bytes of bits.
 //!
-//! Vertex interpolation parameters are clamped to `[1e-4, 1 - 1e-4]` along their edge so that a
-//! sample exactly at the iso value does not collapse triangles to zero area.
+//! Vertex interpolation parameters are clamped to `[c, 1 - c]` along their edge,
+//! [`ContourOptions::clamp`]: by default `c` = [`PLAIN_CLAMP`] = 1e-4, so that a sample exactly
+//! at the iso value does not collapse triangles to zero area (what scikit-image and VTK do, up to
+//! that clamp); with [`snap_clamp`]`(0.1, 1e-3)` (the lod pipeline's levels that are cleaned)
+//! no edge is shorter than a tenth of a cell and no triangle smaller than 4.5e-3 cell² (see
+//! `edge_vertex.rs`), while every sample's side, hence the triangles, stay those of plain
+//! marching cubes.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -53,6 +58,42 @@ pub struct ContourOptions {
     pub iso: f32,
     /// Compute per-vertex normals from the density gradient (central differences).
     pub normals: bool,
+    /// Each vertex's interpolation parameter along its grid edge is clamped to
+    /// `[clamp, 1 - clamp]`, a number in `[0, 0.5]`: [`PLAIN_CLAMP`] (the default) for plain
+    /// marching cubes, a [`snap_clamp`] for a surface with no sliver, needle or tiny triangle.
+    pub clamp: f32,
+}
+
+/// The interpolation clamp of plain marching cubes: a sample at the iso value does not make a
+/// zero-area triangle, and vertices match scikit-image's and VTK's to about 1e-4 cell.
+pub const PLAIN_CLAMP: f32 = 1e-4;
+
+/// Room for rounding in [`snap_clamp`]: 2 % beyond the exact bound, 2e-3 cell for a tenth of a
+/// cell, far above the `f32` rounding of positions within 10⁴ cells of the origin.
+const SNAP_ROOM: f64 = 1.02;
+
+/// The interpolation clamp for which marching cubes makes no edge shorter than `min_edge` cells
+/// and no triangle smaller than `min_area` cells² (at most 0.5, which cannot promise more than
+/// edges of 0.707 cell and triangles of 0.217 cell²): the larger of `min_edge / √2` and
+/// `√(2 · min_area / √3)`, with 2 % to spare (see `edge_vertex.rs` for why). Vertices near a
+/// sample snap to that distance from it along their edge; none moves farther. For cleaning's
+/// defaults (0.1 cell, 1e-3 cell²) it is 0.0721: edges of 0.102 cell and triangles of 4.5e-3
+/// cell² at the least.
+///
+/// ```
+/// use voxlod_contouring::marching_cubes::snap_clamp;
+///
+/// assert!((snap_clamp(0.1, 1e-3) - 0.1 / 2f32.sqrt() * 1.02).abs() < 1e-6);
+/// assert_eq!(snap_clamp(0.0, 0.0), voxlod_contouring::PLAIN_CLAMP);
+/// ```
+pub fn snap_clamp(min_edge: f64, min_area: f64) -> f32 {
+    let edge = min_edge / std::f64::consts::SQRT_2;
+    let area = (2.0 * min_area / 3f64.sqrt()).sqrt();
+    let clamp = (edge.max(area) * SNAP_ROOM) as f32;
+    if clamp.is_nan() {
+        return PLAIN_CLAMP;
+    }
+    clamp.clamp(PLAIN_CLAMP, 0.5)
 }
 
 impl Default for ContourOptions {
@@ -61,6 +102,7 @@ impl Default for ContourOptions {
         ContourOptions {
             iso: 0.5,
             normals: true,
+            clamp: PLAIN_CLAMP,
         }
     }
 }
@@ -79,7 +121,14 @@ impl ContourOptions {
         ContourOptions {
             iso,
             normals: false,
+            ..Default::default()
         }
+    }
+
+    /// The same surface with interpolation parameters clamped to `[clamp, 1 - clamp]`
+    /// (see [`snap_clamp`]).
+    pub fn with_clamp(self, clamp: f32) -> Self {
+        ContourOptions { clamp, ..self }
     }
 }
 
@@ -89,6 +138,9 @@ pub enum ContourError {
     /// The iso value is NaN or infinite.
     #[error("the iso value {0} is not a finite number")]
     NonFiniteIso(f32),
+    /// The interpolation clamp is not in `[0, 0.5]`.
+    #[error("the interpolation clamp {0} is not between 0 and 0.5")]
+    BadClamp(f32),
     /// The surface would have this many vertices, too many for `u32` triangle indices.
     #[error("the surface has {0} vertices, more than 32-bit indices can address")]
     TooManyVertices(u64),
@@ -250,6 +302,7 @@ pub fn marching_cubes(
     options: &ContourOptions,
 ) -> Result<TriangleMesh, ContourError> {
     let iso = check_iso(options.iso)?;
+    let clamp = check_clamp(options.clamp)?;
     let samples = volume.as_slice();
     let Some(bits) = classify(samples, volume.grid.dims, &[iso])?.pop() else {
         return Ok(TriangleMesh::default());
@@ -258,7 +311,8 @@ pub fn marching_cubes(
         normals: options.normals,
         ..Wanted::default()
     };
-    Ok(extract(samples, &volume.grid, &bits, iso, wanted)?.mesh)
+    let level = Level { iso, clamp };
+    Ok(extract(samples, &volume.grid, &bits, level, wanted)?.mesh)
 }
 
 /// A surface with, for every triangle, the cell it came from.
@@ -291,8 +345,9 @@ pub fn marching_cubes_with_cells(
     volume: &Volume,
     options: &ContourOptions,
 ) -> Result<CellMesh, ContourError> {
+    let clamp = check_clamp(options.clamp)?;
     Ok(
-        marching_cubes_multi(volume, &[options.iso], options.normals)?
+        multi_with_clamp(volume, &[options.iso], options.normals, clamp)?
             .pop()
             .unwrap_or_default(),
     )
@@ -323,6 +378,16 @@ pub fn marching_cubes_multi(
     isos: &[f32],
     normals: bool,
 ) -> Result<Vec<CellMesh>, ContourError> {
+    multi_with_clamp(volume, isos, normals, PLAIN_CLAMP)
+}
+
+/// [`marching_cubes_multi`] with the interpolation clamp `clamp`.
+fn multi_with_clamp(
+    volume: &Volume,
+    isos: &[f32],
+    normals: bool,
+    clamp: f32,
+) -> Result<Vec<CellMesh>, ContourError> {
     for &iso in isos {
         check_iso(iso)?;
     }
@@ -340,7 +405,7 @@ pub fn marching_cubes_multi(
     bits.par_iter()
         .zip(isos)
         .map(|(b, &iso)| {
-            let surface = extract(samples, &volume.grid, b, iso, wanted)?;
+            let surface = extract(samples, &volume.grid, b, Level { iso, clamp }, wanted)?;
             Ok(CellMesh {
                 mesh: surface.mesh,
                 cells: surface.cells,
@@ -421,7 +486,27 @@ pub fn marching_cubes_of_samples(
     let Some(bits) = classify(samples, grid.dims, &[iso])?.pop() else {
         return Ok(SampleSurface::default());
     };
-    extract(samples, grid, &bits, iso, wanted)
+    let level = Level {
+        iso,
+        clamp: PLAIN_CLAMP,
+    };
+    extract(samples, grid, &bits, level, wanted)
+}
+
+/// Refuses a clamp outside `[0, 0.5]` (or NaN).
+pub(crate) fn check_clamp(clamp: f32) -> Result<f32, ContourError> {
+    if (0.0..=0.5).contains(&clamp) {
+        Ok(clamp)
+    } else {
+        Err(ContourError::BadClamp(clamp))
+    }
+}
+
+/// The surface's iso value and its vertices' interpolation clamp.
+#[derive(Clone, Copy, Debug)]
+struct Level {
+    iso: f32,
+    clamp: f32,
 }
 
 fn check_iso(iso: f32) -> Result<f32, ContourError> {
@@ -518,7 +603,7 @@ fn extract(
     data: &[f32],
     grid: &Grid,
     bits: &BitVolume,
-    iso: f32,
+    level: Level,
     wanted: Wanted,
 ) -> Result<SampleSurface, ContourError> {
     let dims = grid.dims;
@@ -550,7 +635,7 @@ fn extract(
         dims,
         table,
         row_vertex_base: &layout.row_vertex_base,
-        field: VertexPlacer::new(&samples, grid, iso),
+        field: VertexPlacer::new(&samples, grid, level.iso, level.clamp),
         wanted,
     };
     parts

@@ -31,7 +31,7 @@ use voxlod_core::bricks::brick_origin;
 use voxlod_core::{memory, Brick, BrickVolume, TriangleMesh};
 
 use crate::edge_vertex::{repair_zero_normals, VertexPlacer};
-use crate::marching_cubes::{ContourError, ContourOptions};
+use crate::marching_cubes::{check_clamp, ContourError, ContourOptions};
 use crate::tables::{tables, EDGE_AXIS, EDGE_CORNERS};
 
 const OUTSIDE: u8 = 0;
@@ -49,6 +49,7 @@ pub fn sparse_marching_cubes(
     if !iso.is_finite() {
         return Err(ContourError::NonFiniteIso(iso));
     }
+    let clamp = check_clamp(options.clamp)?;
     if volume.grid.dims.iter().any(|&d| d < 2) {
         return Ok(TriangleMesh::default());
     }
@@ -104,7 +105,7 @@ pub fn sparse_marching_cubes(
         ],
         triangles: vec![[0; 3]; total_triangles],
     };
-    let placer = VertexPlacer::new(volume, &volume.grid, iso);
+    let placer = VertexPlacer::new(volume, &volume.grid, iso, clamp);
     let positions = split_by(&mut mesh.positions, &vertex_counts);
     let normals = if options.normals {
         split_by(&mut mesh.normals, &vertex_counts)

@@ -224,6 +224,7 @@ pub fn reproduce(
         normals: true,
         // The paper's counts are of plain marching cubes.
         clean: None,
+        snap: false,
     };
     let plans = plan(source, &options)?;
     let size = source.bounds().size();

@@ -202,6 +202,7 @@ pub fn extract_layers(
                     &ContourOptions {
                         iso,
                         normals: options.normals,
+                        ..ContourOptions::default()
                     },
                 )
             })

@@ -92,6 +92,7 @@ fn level_blocks(args: &ScanArgs) -> PyResult<Vec<BrickedThreshold>> {
         iso: options.iso.unwrap_or(0.5),
         normals: options.normals,
         clean: None,
+        snap: false,
     };
     let chunked = ChunkedThreshold {
         scan: &scan,

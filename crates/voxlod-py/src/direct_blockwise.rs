@@ -25,7 +25,7 @@ use std::time::Instant;
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use voxlod::contouring::{clean_mesh, marching_cubes, ContourOptions};
+use voxlod::contouring::{clean_mesh, marching_cubes, ContourOptions, PLAIN_CLAMP};
 use voxlod::core::validate::{find_defect, Requirements};
 use voxlod::core::{mesh_topology, Grid, Orientation, Placement, Volume, WorldTransform};
 use voxlod::lod::{LodError, LodLevel};
@@ -144,6 +144,7 @@ fn finish_level(
     let contour = ContourOptions {
         iso: plan.iso,
         normals: options.normals,
+        clamp: (options.clean).map_or(PLAIN_CLAMP, |c| c.contour_clamp()),
     };
     let mut mesh = marching_cubes(&density, &contour).map_err(LodError::from)?;
     drop(density);

@@ -104,6 +104,7 @@ pub fn run(args: ContourArgs) -> Result<(), CliError> {
     let options = ContourOptions {
         iso: args.iso,
         normals: !args.no_normals,
+        ..ContourOptions::default()
     };
     let mesh = marching_cubes(&volume, &options)
         .map_err(|e| CliError::msg(format!("{}: {e}", args.volume.display())))?;

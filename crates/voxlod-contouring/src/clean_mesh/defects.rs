@@ -15,6 +15,7 @@
 //! one byte per triangle for the notes, four per changed triangle and eight per candidate.
 
 use rayon::prelude::*;
+use voxlod_core::TriangleMesh;
 
 use super::changes::{FOR_EDGES, FOR_SMALL};
 use super::work::{Surface, Work};
@@ -135,6 +136,18 @@ impl Defects {
         }
         found
     }
+}
+
+/// Whether `mesh`, as given, has an edge shorter than `min_edge` or a triangle smaller than
+/// `min_area`: whether [`Defects::new`] would find anything on it (the same `f64` arithmetic on
+/// the same positions), without setting up the cleaning's lists. One parallel read of the
+/// triangles, stopping at the first defect.
+pub(super) fn any_defect(mesh: &TriangleMesh, min_edge: f64, min_area: f64) -> bool {
+    (0..mesh.triangles.len()).into_par_iter().any(|t| {
+        let p = mesh.corners(t);
+        let short = (0..3).any(|k| p[k].distance(p[(k + 1) % 3]) < min_edge);
+        short || 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length() < min_area
+    })
 }
 
 fn slot(t: u32, k: usize) -> u64 {

@@ -1,7 +1,7 @@
 //! The end of [`super::clean_mesh`]: components that cleaning flattened get their raw triangles
 //! back, and the live triangles are gathered into the output mesh.
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use voxlod_core::TriangleMesh;
 
 use super::work::Surface;
@@ -77,23 +77,54 @@ pub(super) fn restore_flattened(surface: &mut Surface, raw: &TriangleMesh) -> us
     flattened.iter().filter(|&&f| f).count()
 }
 
-/// The live triangles and the vertices they use, numbered in order of first use.
+/// The live triangles of `surface` and the vertices they use, renumbered in the order the
+/// triangles first use them.
 pub(super) fn compact(surface: &Surface) -> TriangleMesh {
-    let mut index = vec![u32::MAX; surface.positions.len()];
+    gather(
+        &surface.triangles,
+        surface.positions.len(),
+        |t| surface.alive[t],
+        |v| surface.positions[v].as_vec3(),
+        &surface.normals,
+    )
+}
+
+/// What [`compact`] gives for `mesh` untouched (every triangle live, positions as they are):
+/// the output of a cleaning that found nothing to do.
+pub(super) fn compact_mesh(mesh: &TriangleMesh) -> TriangleMesh {
+    gather(
+        &mesh.triangles,
+        mesh.positions.len(),
+        |_| true,
+        |v| mesh.positions[v],
+        &mesh.normals,
+    )
+}
+
+/// The triangles for which `alive` holds, their vertices renumbered in order of first use,
+/// with their `position` and (when there are normals) their normal.
+fn gather(
+    all: &[[u32; 3]],
+    vertices: usize,
+    alive: impl Fn(usize) -> bool,
+    position: impl Fn(usize) -> Vec3,
+    all_normals: &[Vec3],
+) -> TriangleMesh {
+    let mut index = vec![u32::MAX; vertices];
     let mut positions = Vec::new();
     let mut normals = Vec::new();
-    let live = surface.alive.iter().filter(|&&a| a).count();
+    let live = (0..all.len()).filter(|&t| alive(t)).count();
     let mut triangles = Vec::with_capacity(live);
-    for (t, tri) in surface.triangles.iter().enumerate() {
-        if !surface.alive[t] {
+    for (t, tri) in all.iter().enumerate() {
+        if !alive(t) {
             continue;
         }
         triangles.push(tri.map(|v| {
             if index[v as usize] == u32::MAX {
                 index[v as usize] = positions.len() as u32;
-                positions.push(surface.positions[v as usize].as_vec3());
-                if !surface.normals.is_empty() {
-                    normals.push(surface.normals[v as usize]);
+                positions.push(position(v as usize));
+                if !all_normals.is_empty() {
+                    normals.push(all_normals[v as usize]);
                 }
             }
             index[v as usize]
@@ -109,7 +140,6 @@ pub(super) fn compact(surface: &Surface) -> TriangleMesh {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec3;
 
     #[test]
     fn components_are_named_by_their_smallest_vertex() {

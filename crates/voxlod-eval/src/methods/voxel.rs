@@ -28,6 +28,7 @@ pub(super) fn voxel_level(
         // The paper's levels are plain marching cubes; cleaning (beyond the paper) is measured
         // through the budget pipeline, which cleans its own levels.
         clean: None,
+        snap: false,
     };
     let source = LodSource::Solid(input.solid()?);
     let plans = plan(&source, &lod)?;
