@@ -470,7 +470,10 @@ mod tests {
         assert!(prepared.columns.get().is_some());
         for axis in [Axis::X, Axis::Y, Axis::Z] {
             let family = LineFamily::new(axis, volume.grid, 3);
-            let (a, b) = (lazy.crossings(&family).unwrap(), prepared.crossings(&family).unwrap());
+            let (a, b) = (
+                lazy.crossings(&family).unwrap(),
+                prepared.crossings(&family).unwrap(),
+            );
             assert!(!a.is_empty(), "{axis:?}");
             assert_eq!(a.offsets, b.offsets, "{axis:?}");
             let bits = |c: &LineCrossings| c.t.iter().map(|t| t.to_bits()).collect::<Vec<_>>();
