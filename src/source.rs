@@ -270,6 +270,12 @@ pub fn iso_outside_data(iso: f32, volume: &Volume) -> Result<Option<Error>, Erro
 /// A warning when `threshold` is at or below every sample: all of the volume is inside, and
 /// the surfaces are those of its box.
 fn threshold_warning(volume: &Volume, threshold: f32) -> Option<String> {
+    // A finite sample below the threshold (a scan's first, usually) rules the warning out
+    // without a pass over the whole scan; the range is found only for the message.
+    let below = |v: &f32| v.is_finite() && *v < threshold;
+    if volume.as_slice().iter().any(below) {
+        return None;
+    }
     let (lo, hi) = volume.range()?;
     (threshold <= lo).then(|| {
         format!(
@@ -307,4 +313,28 @@ fn check_grid_reach(g: &Grid) -> Result<(), Error> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use voxlod_core::Grid;
+
+    /// The warning is given exactly when the smallest finite sample reaches the threshold (the
+    /// definition by the range), NaNs and infinities left out, and names the range.
+    #[test]
+    fn the_threshold_warning_follows_the_smallest_finite_sample() {
+        let values = vec![f32::NAN, 7.0, f32::NEG_INFINITY, 5.0, 9.0, f32::INFINITY];
+        let volume = Volume::from_vec(Grid::unit([6, 1, 1]).unwrap(), values).unwrap();
+        for threshold in [-1.0, 4.0, 5.0, 5.5, 9.0, 10.0] {
+            let by_range = volume.range().is_some_and(|(lo, _)| threshold <= lo);
+            let warning = threshold_warning(&volume, threshold);
+            assert_eq!(warning.is_some(), by_range, "{threshold}");
+            if let Some(text) = warning {
+                assert!(text.contains("runs from 5 to 9"), "{text}");
+            }
+        }
+        let nothing = Volume::from_vec(Grid::unit([2, 1, 1]).unwrap(), vec![f32::NAN; 2]).unwrap();
+        assert_eq!(threshold_warning(&nothing, 0.0), None);
+    }
 }

@@ -143,6 +143,8 @@ pub(crate) fn lattice_crossings(
         estimate(q),
     )?;
     let families = [Axis::X, Axis::Y, Axis::Z].map(|a| LineFamily::new(a, *grid, q));
+    // On all threads, before the families wait on it.
+    solid.prepare();
     // The three families side by side, so that one's sequential gathering of its tiles
     // overlaps another's tiles; the first failure in family order is the one reported.
     let crossings: Vec<Result<LineCrossings, SamplingError>> =

@@ -24,6 +24,11 @@ pub trait Solid: Sync {
     /// along the family's axis; inside is where an odd number of crossings lie before.
     fn crossings(&self, family: &LineFamily) -> Result<LineCrossings, SamplingError>;
 
+    /// Work that the three families' [`Solid::crossings`] share, done before they are cast side
+    /// by side: made lazily by the first of them instead, it would run on one thread while the
+    /// others wait for it (a thresholded scan's cell classification). The default does nothing.
+    fn prepare(&self) {}
+
     /// True when the crossings are exact (a closed mesh, an implicit solid, a thresholded
     /// volume). When false, the sampler corrects them by a majority vote of the three axis
     /// families ([`crate::majority`]).

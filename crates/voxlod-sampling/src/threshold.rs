@@ -205,6 +205,11 @@ impl Solid for ThresholdSolid<'_> {
         Some(self.volume.world())
     }
 
+    /// The cell columns of the three axes, classified on all threads.
+    fn prepare(&self) {
+        self.columns_along(Axis::X);
+    }
+
     fn crossings(&self, family: &LineFamily) -> Result<LineCrossings, SamplingError> {
         let columns = self.columns_along(family.axis);
         Ok(crossings_per_line(family, |u, v, out| {
@@ -450,6 +455,29 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// `prepare` classifies the cells once, for all three families, and the crossings it
+    /// leads to are those of a solid that classifies on first use.
+    #[test]
+    fn prepared_crossings_are_those_made_on_first_use() {
+        let volume = scan();
+        let lazy = ThresholdSolid::new(&volume, 1.0).unwrap();
+        let prepared = ThresholdSolid::new(&volume, 1.0).unwrap();
+        assert!(prepared.columns.get().is_none());
+        prepared.prepare();
+        assert!(prepared.columns.get().is_some());
+        for axis in [Axis::X, Axis::Y, Axis::Z] {
+            let family = LineFamily::new(axis, volume.grid, 3);
+            let (a, b) = (
+                lazy.crossings(&family).unwrap(),
+                prepared.crossings(&family).unwrap(),
+            );
+            assert!(!a.is_empty(), "{axis:?}");
+            assert_eq!(a.offsets, b.offsets, "{axis:?}");
+            let bits = |c: &LineCrossings| c.t.iter().map(|t| t.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&a), bits(&b), "{axis:?}");
         }
     }
 
