@@ -310,20 +310,31 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_pcg::Pcg64;
 
-    /// The test as it was written first: each edge's two plane sides by [`side`], one edge
-    /// at a time.
-    fn meet_edge_by_edge(a: [DVec3; 3], ia: [u32; 3], b: [DVec3; 3], ib: [u32; 3]) -> bool {
-        let edge_meets = |p: DVec3, q: DVec3, t: [DVec3; 3]| {
-            let sides = (side(t[0], t[1], t[2], p), side(t[0], t[1], t[2], q));
-            segment_meets(p, q, sides, t)
-        };
+    /// Whether an edge of either triangle, sharing no corner with the other, passes `edge_test`
+    /// against it (segment, triangle): the pair tests below, one edge at a time.
+    fn any_edge(
+        a: [DVec3; 3],
+        ia: [u32; 3],
+        b: [DVec3; 3],
+        ib: [u32; 3],
+        edge_test: impl Fn(DVec3, DVec3, [DVec3; 3]) -> bool,
+    ) -> bool {
         let edges = |p: [DVec3; 3], ip: [u32; 3], t: [DVec3; 3], it: [u32; 3]| {
             (0..3).any(|k| {
                 let l = (k + 1) % 3;
-                !it.contains(&ip[k]) && !it.contains(&ip[l]) && edge_meets(p[k], p[l], t)
+                !it.contains(&ip[k]) && !it.contains(&ip[l]) && edge_test(p[k], p[l], t)
             })
         };
         edges(a, ia, b, ib) || edges(b, ib, a, ia)
+    }
+
+    /// The test as it was written first: each edge's two plane sides by [`side`], one edge
+    /// at a time.
+    fn meet_edge_by_edge(a: [DVec3; 3], ia: [u32; 3], b: [DVec3; 3], ib: [u32; 3]) -> bool {
+        any_edge(a, ia, b, ib, |p, q, t| {
+            let sides = (side(t[0], t[1], t[2], p), side(t[0], t[1], t[2], q));
+            segment_meets(p, q, sides, t)
+        })
     }
 
     /// Pairs of triangles over a few shared points (on a half-unit lattice, so that corners
@@ -353,20 +364,13 @@ mod tests {
 
     /// Segment `p q` crosses `t` by [`certain_side`] alone, edge by edge.
     fn cross_edge_by_edge(a: [DVec3; 3], ia: [u32; 3], b: [DVec3; 3], ib: [u32; 3]) -> bool {
-        let crosses = |p: DVec3, q: DVec3, t: [DVec3; 3]| {
+        any_edge(a, ia, b, ib, |p, q, t| {
             let (sp, sq) = (
                 certain_side(t[0], t[1], t[2], p),
                 certain_side(t[0], t[1], t[2], q),
             );
             sp != 0 && sq != 0 && sp != sq && line_through(p, q, t)
-        };
-        let edges = |p: [DVec3; 3], ip: [u32; 3], t: [DVec3; 3], it: [u32; 3]| {
-            (0..3).any(|k| {
-                let l = (k + 1) % 3;
-                !it.contains(&ip[k]) && !it.contains(&ip[l]) && crosses(p[k], p[l], t)
-            })
-        };
-        edges(a, ia, b, ib) || edges(b, ib, a, ia)
+        })
     }
 
     /// The same lattice pairs, and the same pairs with their corners moved by a few units in
