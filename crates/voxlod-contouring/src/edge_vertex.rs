@@ -6,14 +6,14 @@
 //! Interpolation parameters are clamped to `[c, 1 - c]` along their edge
 //! ([`crate::ContourOptions::clamp`]). Plain marching cubes takes `c` = 1e-4, so that a sample
 //! exactly at the iso value does not collapse triangles to zero area; triangles of area 1e-12
-//! to 1e-6 cell² remain where the surface passes near a sample. The snapping clamp `c` =
-//! 0.075 leaves none. Every edge of a triangle joins vertices on two edges of one cell; if
+//! to 1e-6 cell² remain where the surface passes near a sample. The snapping clamp
+//! ([`crate::marching_cubes::snap_clamp`]; `c` = 0.0721 for cleaning's defaults) leaves none. Every edge of a triangle joins vertices on two edges of one cell; if
 //! those share a corner, the vertices lie at least `c` from it along perpendicular axes, so at
-//! least `√2 · c` = 0.106 cell apart; if not, they are a whole cell apart along some axis.
+//! least `√2 · c` = 0.102 cell apart; if not, they are a whole cell apart along some axis.
 //! Three points inside three distinct edges of a cube are never collinear (a line meets a
 //! convex solid's boundary in two points unless it lies in a face, and a line in a face meets
 //! the interiors of at most two of its edges), so a triangle's area has a positive minimum
-//! over the box of allowed parameters: `(√3 / 2) · c²` (4.9e-3 cell² for 0.075), reached by
+//! over the box of allowed parameters: `(√3 / 2) · c²` (4.5e-3 cell² for 0.0721), reached by
 //! the triangle that cuts a corner with its three vertices `c` from it (a search over all 220
 //! triples of cube edges finds no smaller one; the tests check every cell case). Clamping
 //! moves a vertex along its edge only, and never past a sample, so every sample's side and

@@ -36,6 +36,13 @@ fn shortest_and_smallest(mesh: &TriangleMesh, cell: f64) -> (f64, f64) {
     (edge, area)
 }
 
+/// `volume`'s surface at `iso` by plain marching cubes and with the snapping clamp.
+fn plain_and_snapped(volume: &Volume, iso: f32) -> (TriangleMesh, TriangleMesh) {
+    let plain = marching_cubes(volume, &ContourOptions::at(iso)).unwrap();
+    let snapped = marching_cubes(volume, &ContourOptions::at(iso).with_clamp(clamp())).unwrap();
+    (plain, snapped)
+}
+
 /// `snapped` has `plain`'s triangles and vertex count, and each vertex lies on the same grid
 /// edge (both differ along at most one axis), within `clamp` cell of the plain one.
 fn assert_same_surface(plain: &TriangleMesh, snapped: &TriangleMesh, cell: f64, what: &str) {
@@ -89,8 +96,7 @@ fn every_case_at_the_clamp_limits_keeps_edges_and_areas() {
         }
     });
     assert!(cases.iter().all(|&c| c > 200), "{cases:?}");
-    let plain = marching_cubes(&volume, &ContourOptions::at(iso)).unwrap();
-    let snapped = marching_cubes(&volume, &ContourOptions::at(iso).with_clamp(clamp())).unwrap();
+    let (plain, snapped) = plain_and_snapped(&volume, iso);
     assert_same_surface(&plain, &snapped, cell, "limits");
     let (edge, area) = shortest_and_smallest(&snapped, cell);
     assert!(edge >= 0.1 && area >= 1e-3, "{edge} {area}");
@@ -114,8 +120,7 @@ fn random_samples_of_every_case_keep_edges_and_areas() {
         }
     });
     assert!(cases.iter().all(|&c| c > 200), "{cases:?}");
-    let plain = marching_cubes(&volume, &ContourOptions::at(iso)).unwrap();
-    let snapped = marching_cubes(&volume, &ContourOptions::at(iso).with_clamp(clamp())).unwrap();
+    let (plain, snapped) = plain_and_snapped(&volume, iso);
     assert_same_surface(&plain, &snapped, cell, "random");
     let (edge, area) = shortest_and_smallest(&snapped, cell);
     assert!(edge >= 0.1 && area >= 1e-3, "{edge} {area}");
@@ -143,9 +148,7 @@ fn field(dims: [usize; 3], f: impl Fn(DVec3) -> f32) -> Volume {
 /// under 1e-3 cell², with plain's triangles; the sparse extraction gives the snapped mesh bit
 /// for bit; cleaning it does nothing. Returns the snapped mesh.
 fn assert_snapped(volume: &Volume, iso: f32, what: &str) -> TriangleMesh {
-    let plain = marching_cubes(volume, &ContourOptions::at(iso)).unwrap();
-    let options = ContourOptions::at(iso).with_clamp(clamp());
-    let snapped = marching_cubes(volume, &options).unwrap();
+    let (plain, snapped) = plain_and_snapped(volume, iso);
     assert!(!plain.triangles.is_empty(), "{what}: no surface");
     assert_same_surface(&plain, &snapped, 1.0, what);
     let (edge, area) = shortest_and_smallest(&plain, 1.0);
@@ -154,6 +157,7 @@ fn assert_snapped(volume: &Volume, iso: f32, what: &str) -> TriangleMesh {
     assert!(edge >= 0.1 && area >= 1e-3, "{what}: snapped {edge} {area}");
     for brick in BrickVolume::BRICK_SIZES {
         let bricks = BrickVolume::from_volume(volume, brick).unwrap();
+        let options = ContourOptions::at(iso).with_clamp(clamp());
         let sparse = sparse_marching_cubes(&bricks, &options).unwrap();
         let mut a: Vec<[u32; 3]> = (sparse.positions.iter())
             .map(|p| p.to_array().map(f32::to_bits))

@@ -4,7 +4,7 @@
 
 use voxlod_core::glam::Vec3;
 use voxlod_core::{crossing_pairs, mesh_topology, TriangleMesh};
-use voxlod_quadric::{simplify_to_budget, simplify_unchecked, QuadricOptions, Stop};
+use voxlod_quadric::{simplify_to_budget, simplify_unchecked, QuadricOptions, Simplified, Stop};
 use voxlod_testkit::intersections::self_intersections;
 use voxlod_testkit::shapes::{append, icosphere_at};
 
@@ -33,18 +33,24 @@ fn assert_clean(mesh: &TriangleMesh, what: &str) {
     assert_eq!(crossing_pairs(mesh), vec![], "{what}");
 }
 
+/// The quadric stage on `mesh` at `budget`, after checking that plain meshoptimizer folds
+/// the mesh there (so the stage has a fold to refuse).
+fn plain_folds_then_stage(mesh: &TriangleMesh, budget: usize) -> Simplified {
+    let (plain, _) = simplify_unchecked(mesh, budget, false).unwrap();
+    assert!(
+        !self_intersections(&plain).is_empty(),
+        "plain does not fold at {budget}"
+    );
+    simplify_to_budget(mesh, budget, &QuadricOptions::budget(f64::INFINITY)).unwrap()
+}
+
 /// At 1000 triangles plain meshoptimizer folds the hollow ball's wall; the quadric stage
 /// reaches the budget without a crossing.
 #[test]
 fn a_thin_wall_reaches_the_budget_without_folding() {
     let mesh = hollow_ball();
     assert_clean(&mesh, "input");
-    let (plain, _) = simplify_unchecked(&mesh, 1000, false).unwrap();
-    assert!(
-        !self_intersections(&plain).is_empty(),
-        "plain does not fold"
-    );
-    let out = simplify_to_budget(&mesh, 1000, &QuadricOptions::budget(f64::INFINITY)).unwrap();
+    let out = plain_folds_then_stage(&mesh, 1000);
     assert_clean(&out.mesh, "1000");
     assert_eq!(out.stop, Stop::Budget);
     assert!(out.rejected > 0, "nothing was refused");
@@ -56,12 +62,7 @@ fn a_thin_wall_reaches_the_budget_without_folding() {
 #[test]
 fn below_what_a_thin_wall_affords_the_stop_says_crossings() {
     let mesh = hollow_ball();
-    let (plain, _) = simplify_unchecked(&mesh, 200, false).unwrap();
-    assert!(
-        !self_intersections(&plain).is_empty(),
-        "plain does not fold"
-    );
-    let out = simplify_to_budget(&mesh, 200, &QuadricOptions::budget(f64::INFINITY)).unwrap();
+    let out = plain_folds_then_stage(&mesh, 200);
     assert_clean(&out.mesh, "200");
     assert_eq!(out.stop, Stop::Crossings);
     let count = out.mesh.triangle_count();
