@@ -63,6 +63,20 @@ pub(super) fn fits_capped(candidate: &Candidate, budget: usize, genus_cap: Optio
     fits(candidate, budget) && candidate.within_cap(genus_cap) && candidate.crossings() == 0
 }
 
+/// The most triangles within 10 % of `budget`, as [`fits`] and the report count it: the room a
+/// level that stalled above its share leaves for the parts restored beside it (module
+/// `detached`).
+pub(super) fn most_fitting(budget: usize) -> usize {
+    let within = |n: usize| {
+        count_fits(n, budget) && (n as f64 / budget as f64 - 1.0).abs() <= BUDGET_TOLERANCE
+    };
+    let mut most = (budget as f64 * (1.0 + BUDGET_TOLERANCE)).ceil() as usize;
+    while most > budget && !within(most) {
+        most -= 1;
+    }
+    most
+}
+
 /// Whether `count` triangles are within 10 % of `budget` (as a ratio).
 fn count_fits(count: usize, budget: usize) -> bool {
     miss(count, budget) <= (1.0 + BUDGET_TOLERANCE).ln()
@@ -145,5 +159,29 @@ pub(super) fn beats(a: Standing, b: Standing, budget: usize) -> bool {
         (false, true) => false,
         (false, false) => miss(a.triangles, budget) < miss(b.triangles, budget),
         (true, true) => closer(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{count_fits, most_fitting};
+
+    #[test]
+    fn the_most_fitting_count_fits_and_one_more_does_not() {
+        for budget in (1..3000).chain([10_000, 20_000, 65_536, 1_000_003]) {
+            let most = most_fitting(budget);
+            let report_fits = |n: usize| (n as f64 / budget as f64 - 1.0).abs() <= 0.10;
+            assert!(
+                count_fits(most, budget) && report_fits(most),
+                "{budget}: {most}"
+            );
+            assert!(
+                !(count_fits(most + 1, budget) && report_fits(most + 1)),
+                "{budget}: {most}"
+            );
+            assert!(most >= budget);
+        }
+        // 1 100 / 1 000 - 1 rounds to just above 0.1 in floating point.
+        assert_eq!(most_fitting(1000), 1099);
     }
 }

@@ -70,8 +70,9 @@
 //!    part whose wall the budget cannot afford then turns solid instead of perforating.
 //! 6. **Detached parts restored** (our addition, module `detached`): input parts (closed,
 //!    genus 0) that lie outside a quadric candidate, clear of its triangles' boxes, come back
-//!    beside it as their own collapse to a few triangles, within a quarter of the budget, in
-//!    twin candidates of step 3 that compete like the others (step 4); distances give every
+//!    beside it as their own collapse to a few triangles, within a quarter of the budget (the
+//!    nearest giving way where the level, re-simplified to make room, stalls above its share),
+//!    in twin candidates of step 3 that compete like the others (step 4); distances give every
 //!    input part a point of its own, so that a tiny lost part counts.
 //!
 //! **Independence.** A budget's level depends on that budget and the options alone, never on
