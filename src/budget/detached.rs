@@ -69,7 +69,8 @@ impl BudgetContext<'_> {
 
 /// `chosen` (a quadric candidate from `level`) with the input's detached parts restored beside
 /// it (module docs), the level re-simplified to make room: one twin with the parts farther from
-/// the level than its own shape is off, one with every part apart that fits the share (when
+/// the level than its own shape is off, one with the parts farther than that twin's shape where
+/// a part left out still sets its distance, one with every part apart that fits the share (when
 /// there are more); none where no part is apart.
 pub(super) fn with_detached_parts(
     ctx: &BudgetContext,
@@ -86,13 +87,25 @@ pub(super) fn with_detached_parts(
     };
     let obstacle = Obstacle::new(&chosen.mesh);
     let shape = chosen.distance.map_or(0.0, |d| d.shape);
-    let far = stand_ins(ctx.input_parts(), &obstacle, &nearest, shape, budget);
-    let all = stand_ins(ctx.input_parts(), &obstacle, &nearest, 0.0, budget);
+    let apart =
+        |farther_than| stand_ins(ctx.input_parts(), &obstacle, &nearest, farther_than, budget);
+    let (far, all) = (apart(shape), apart(0.0));
     let mut twins: Vec<Candidate> = Vec::new();
-    for parts in [far, all] {
-        if !parts.is_empty() && twins.last().is_none_or(|t| t.parts_restored < parts.len()) {
-            twins.extend(twin(ctx, level, chosen, &parts, budget, error));
+    if !far.is_empty() {
+        twins.extend(twin(ctx, level, chosen, &far, budget, error));
+    }
+    // Where a part left out still sets the far twin's distance (its Hausdorff above its own
+    // shape, which the lost parts' area samples had inflated in `chosen`'s), a third twin
+    // restores the parts farther than that shape.
+    let still_off = (twins.last().and_then(|t| t.distance)).filter(|d| d.hausdorff > d.shape);
+    if let Some(off) = still_off {
+        let nearer = apart(off.shape);
+        if nearer.len() > far.len() && nearer.len() < all.len() {
+            twins.extend(twin(ctx, level, chosen, &nearer, budget, error));
         }
+    }
+    if !all.is_empty() && twins.last().is_none_or(|t| t.parts_restored < all.len()) {
+        twins.extend(twin(ctx, level, chosen, &all, budget, error));
     }
     twins
 }
