@@ -19,16 +19,18 @@
 //! 10 % of the budget come back: on the CT bone surface at 1 000 triangles, the level at
 //! resolution 24 stalls at 1 044 when asked for 812, and its twin with all 47 parts (1 232)
 //! lost to one with the two farthest alone, which left the wire's long piece 49 mm away.
-//! Every quadric candidate of the search with parts apart gets two twins: one restores only
-//! the parts farther from the level than the level's own shape is from the input (the
-//! Hausdorff distance of the area samples: nearer parts would not move the distance, and their
-//! triangles may serve the level better), one every part that fits. They compete like any
+//! Every quadric candidate of the search with parts apart gets two or three twins: one
+//! restores only the parts farther from the level than the level's own shape is from the input
+//! (the Hausdorff distance of the area samples: nearer parts would not move the distance, and
+//! their triangles may serve the level better); where a part left out still sets that twin's
+//! distance (the lost parts' own area samples inflate the level's shape), one the parts
+//! farther than the twin's shape; one every part that fits. They compete like any
 //! other candidate (step 4), kept only where they measure closer (the measure gives every input
 //! part a point of its own, so a tiny lost part counts).
 //!
 //! Cost: the input's components once per run (a union-find, O(F)); per quadric candidate, a box
 //! test of every part against its triangles (O(P T); inputs of more than [`MAX_PARTS`] parts are
-//! left as they are), and for the parts apart, up to two more quadric stages and distance
+//! left as they are), and for the parts apart, up to three more quadric stages and distance
 //! measurements; each part's topology and collapse once per run, when it is first apart.
 
 use voxlod_core::components::submesh;
