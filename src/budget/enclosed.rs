@@ -36,6 +36,7 @@
 
 use voxlod_contouring::{marching_cubes, ContourOptions};
 use voxlod_core::cavities::FilledCavities;
+use voxlod_core::grid::FACE_OFFSETS as FACES;
 use voxlod_core::{TriangleMesh, Volume};
 
 use crate::error::Error;
@@ -194,16 +195,6 @@ fn regions(samples: &[usize], dims: [usize; 3]) -> usize {
     }
     count
 }
-
-/// The 6 face neighbours' offsets.
-const FACES: [[i64; 3]; 6] = [
-    [1, 0, 0],
-    [-1, 0, 0],
-    [0, 1, 0],
-    [0, -1, 0],
-    [0, 0, 1],
-    [0, 0, -1],
-];
 
 /// The 26 offsets of the full neighbourhood.
 fn all_neighbours() -> Vec<[i64; 3]> {
