@@ -189,8 +189,14 @@ pub(crate) fn lod_by_budget(
     ctx.dilated = input.is_some() && options.iso.is_none() && options.then != Then::None;
     // The input with its cavities filled (module `filled`), and with its nearly enclosed
     // cavities filled (module `enclosed`), each with the context of its search.
+    // An optional search: where its grid does not fit (the memory budget), the run goes on
+    // without it and says so.
+    let mut skipped = None;
     let enclosed = match (&ctx.welded, ctx.dilated) {
-        (Some((welded, _)), true) => enclosed::enclosed_filled(welded)?,
+        (Some((welded, _)), true) => enclosed::enclosed_filled(welded).unwrap_or_else(|e| {
+            skipped = Some(format!("nearly enclosed cavities not searched: {e}"));
+            None
+        }),
         _ => None,
     };
     let fills: Vec<FilledCavities> = filled::filled_input(&ctx)
@@ -209,6 +215,15 @@ pub(crate) fn lod_by_budget(
     let budgets = options.triangles.clone().unwrap_or_default();
     let mut tracker = Tracker::start(progress, budgets.len().max(1))?;
     let mut warnings = prepared.warnings().to_vec();
+    warnings.extend(skipped);
+    if input.is_some() && ctx.measure.is_none() {
+        warnings.push(
+            "distances to the input not measured (its samples or closest-point structure could not be \
+             built: the memory budget, or a mesh without area): each budget's first level within \
+             10 % is kept"
+                .to_string(),
+        );
+    }
     let (levels, budgets) = if budgets.is_empty() {
         let (level, report, more) = error_level(&ctx, error.unwrap_or(f64::INFINITY))?;
         tracker.step(0, "budget level")?;
