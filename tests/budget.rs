@@ -142,6 +142,54 @@ fn a_hollow_part_turns_solid_when_that_is_closer() {
     assert!(within(topology.triangles, 300), "{}", topology.triangles);
 }
 
+/// A ball's wall from radius 0.92 to 1 with a round mouth of radius 0.08 through it at
+/// +x, contoured from samples 1/30 apart: one closed surface of genus 0 whose cavity is open
+/// to the outside, so module `filled` (closed cavities) has nothing to fill.
+fn hollow_ball_with_a_mouth() -> TriangleMesh {
+    let n = 73;
+    let h = 2.4 / (n - 1) as f64;
+    let grid = voxlod::core::Grid::new([n; 3], [h; 3], [-1.2; 3]).unwrap();
+    let mut values = Vec::with_capacity(n * n * n);
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let p = grid.position(i as f64, j as f64, k as f64);
+                let r = p.length();
+                let mouth = p.x > 0.0 && p.y.hypot(p.z) < 0.08;
+                values.push(if (0.92..=1.0).contains(&r) && !mouth {
+                    1.0
+                } else {
+                    0.0
+                });
+            }
+        }
+    }
+    let volume = voxlod::core::Volume::from_vec(grid, values).unwrap();
+    let options = voxlod::contouring::ContourOptions::geometry_only(0.5);
+    voxlod::contouring::marching_cubes(&volume, &options).unwrap()
+}
+
+#[test]
+fn a_hollow_part_with_a_narrow_mouth_turns_solid_at_a_small_budget() {
+    let mesh = hollow_ball_with_a_mouth();
+    let topology = mesh_topology(&mesh);
+    assert!(topology.is_closed_manifold());
+    assert_eq!((topology.components, topology.genus), (1, Some(0)));
+    let out = lod(&Source::Mesh(&mesh), &options(&[300])).unwrap();
+    let (level, report) = (&out.levels[0], &out.budgets[0]);
+    // The wall, 0.08 thick, costs two sides at a voxel of about 0.15: the closing fills the
+    // cavity behind the mouth instead.
+    assert!(report.cavities_filled >= 1, "{report:?}");
+    let topology = mesh_topology(&level.mesh);
+    assert!(topology.is_closed_manifold() && topology.is_consistently_oriented());
+    assert_eq!((topology.components, topology.genus), (1, Some(0)));
+    assert!(within(topology.triangles, 300), "{}", topology.triangles);
+    // The ball's volume (4.19), not the wall's (0.92); within the wall's thickness of the input.
+    let volume = level.mesh.signed_volume();
+    assert!(volume > 3.6 && volume < 4.5, "{volume}");
+    assert!(report.hausdorff.unwrap() < 0.15, "{report:?}");
+}
+
 #[test]
 fn without_the_genus_cap_a_budget_gets_the_same_level_whatever_other_budgets_run() {
     let mesh = torus(96, 48, 2.0, 0.7);

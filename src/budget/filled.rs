@@ -30,32 +30,33 @@ pub(super) fn filled_input(ctx: &BudgetContext) -> Option<FilledCavities> {
         .and_then(|(mesh, _)| fill_cavities(mesh))
 }
 
-/// The level for `budget` from the input as given (`given`) or, when `filled` (the context of
-/// the filled input) gives a closer one, from the filled input; its report counts the cavities
-/// filled and the candidates of both searches. Both searches, and the choice between them,
-/// hold the levels to `genus_cap` (module `genus_cap`).
+/// The level for `budget` from the input as given (`given`) or, when one of `filled` (the
+/// contexts of the input with its cavities filled, by this module or by module `enclosed`)
+/// gives a closer one, from that; its report counts the cavities filled and the candidates of
+/// all the searches. The searches, and the choice between them, hold the levels to
+/// `genus_cap` (module `genus_cap`).
 pub(super) fn budget_level_either(
     given: &BudgetContext,
-    filled: Option<(&BudgetContext, &FilledCavities)>,
+    filled: &[(&BudgetContext, &FilledCavities)],
     budget: usize,
     error: Option<f64>,
     genus_cap: Option<i64>,
 ) -> Result<(LodLevel, BudgetLevel, Vec<String>), Error> {
-    let first = budget_level(given, budget, error, genus_cap)?;
-    let Some((ctx, cavities)) = filled.filter(|_| first.1.stage != Stage::InputQuadric) else {
-        return Ok(first);
-    };
-    let second = budget_level(ctx, budget, error, genus_cap)?;
-    let candidates = first.1.candidates + second.1.candidates;
-    let (level, mut report, warnings) = if closer(&second.1, &first.1, budget, genus_cap) {
-        let mut second = second;
-        second.1.cavities_filled = cavities.cavities;
-        second
-    } else {
-        first
-    };
-    report.candidates = candidates;
-    Ok((level, report, warnings))
+    let mut best = budget_level(given, budget, error, genus_cap)?;
+    if best.1.stage == Stage::InputQuadric {
+        return Ok(best);
+    }
+    let mut candidates = best.1.candidates;
+    for (ctx, cavities) in filled {
+        let mut other = budget_level(ctx, budget, error, genus_cap)?;
+        candidates += other.1.candidates;
+        if closer(&other.1, &best.1, budget, genus_cap) {
+            other.1.cavities_filled = cavities.cavities;
+            best = other;
+        }
+    }
+    best.1.candidates = candidates;
+    Ok(best)
 }
 
 /// Whether level `a` beats level `b` for `budget`, by the rule of the search's candidates.

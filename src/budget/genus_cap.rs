@@ -66,7 +66,7 @@ pub(super) struct Chain {
 /// warnings.
 pub(super) fn budget_chain(
     given: &BudgetContext,
-    filled: Option<(&BudgetContext, &FilledCavities)>,
+    filled: &[(&BudgetContext, &FilledCavities)],
     budgets: &[usize],
     error: Option<f64>,
     capped: bool,
@@ -102,7 +102,7 @@ pub(super) fn budget_chain(
 /// next larger budget of the run and its report) when given: module docs.
 pub(super) fn budget_level_below(
     given: &BudgetContext,
-    filled: Option<(&BudgetContext, &FilledCavities)>,
+    filled: &[(&BudgetContext, &FilledCavities)],
     budget: usize,
     error: Option<f64>,
     above: Option<(&LodLevel, &BudgetLevel)>,

@@ -146,6 +146,16 @@ impl Grid {
     }
 }
 
+/// The offsets of a sample's six face neighbours on a grid, `[di, dj, dk]`.
+pub const FACE_OFFSETS: [[i64; 3]; 6] = [
+    [1, 0, 0],
+    [-1, 0, 0],
+    [0, 1, 0],
+    [0, -1, 0],
+    [0, 0, 1],
+    [0, 0, -1],
+];
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -63,6 +63,7 @@ use std::collections::BinaryHeap;
 use rayon::prelude::*;
 use serde::Serialize;
 use thiserror::Error;
+use voxlod_core::grid::FACE_OFFSETS as FACES;
 use voxlod_core::{memory, CoreError, Grid, Volume};
 
 use crate::digital_topology::{
@@ -696,15 +697,6 @@ fn dilate(dims: [usize; 3], set: &[bool]) -> Vec<bool> {
         })
         .collect()
 }
-
-const FACES: [[i64; 3]; 6] = [
-    [1, 0, 0],
-    [-1, 0, 0],
-    [0, 1, 0],
-    [0, -1, 0],
-    [0, 0, 1],
-    [0, 0, -1],
-];
 
 /// Every sample but the grid's border, and the locked ones: a genus-0 start.
 fn hull(dims: [usize; 3], locked: &[bool]) -> Vec<bool> {
