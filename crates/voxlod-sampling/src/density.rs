@@ -27,7 +27,7 @@ use voxlod_core::disjoint::DisjointSlice;
 use voxlod_core::{memory, Axis, Grid, Volume};
 
 use crate::lattice::{LineCrossings, LineFamily};
-use crate::line_kernel::LineKernel;
+use crate::line_kernel::{LineKernel, LineProfile};
 use crate::majority::{majority_vote, MajorityReport};
 use crate::solid::Solid;
 use crate::{Filter, SamplingError};
@@ -238,51 +238,21 @@ impl Rows {
             }
             touched = true;
             let profile = &kernel.profiles[line.profile as usize];
-            let reach = profile.reach;
-            let full = profile.total();
             for pair in ts.chunks(2) {
                 let a = pair[0] as f64;
-                let b = if pair.len() == 2 {
-                    pair[1] as f64
-                } else {
-                    f64::INFINITY
-                };
-                if b + reach < lo || a - reach > hi {
+                let b = pair.get(1).map_or(f64::INFINITY, |&b| b as f64);
+                if b + profile.reach < lo || a - profile.reach > hi {
                     continue;
                 }
-                // Samples whose window lies inside the span get the full weight at once.
-                let f_lo = (a + reach).ceil().max(lo);
-                let f_hi = (b - reach).floor().min(hi);
-                let i_lo = (a - reach).ceil().max(lo) as usize;
-                let i_hi = (b + reach).floor().min(hi) as usize;
-                let partial = |i: usize| {
-                    let x = i as f64;
-                    profile.integral_to(b - x) - profile.integral_to(a - x)
-                };
-                if f_lo <= f_hi {
-                    diff[f_lo as usize - range.start] += full;
-                    diff[f_hi as usize - range.start + 1] -= full;
-                    for i in i_lo..f_lo as usize {
-                        density[i - range.start] += partial(i);
-                    }
-                    for i in f_hi as usize + 1..=i_hi {
-                        density[i - range.start] += partial(i);
-                    }
-                } else {
-                    for i in i_lo..=i_hi {
-                        density[i - range.start] += partial(i);
-                    }
-                }
-                for c in [a, b].into_iter().filter(|c| c.is_finite()) {
-                    let w_lo = (c - reach).ceil().max(lo);
-                    let w_hi = (c + reach).floor().min(hi);
-                    if w_hi < w_lo {
-                        continue;
-                    }
-                    for i in w_lo as usize..=w_hi as usize {
-                        weight[i - range.start] += profile.weight_at(c - i as f64);
-                    }
-                }
+                add_span(
+                    profile,
+                    (a, b),
+                    (lo, hi),
+                    range.start,
+                    density,
+                    weight,
+                    diff,
+                );
             }
         }
         if touched {
@@ -293,6 +263,79 @@ impl Rows {
             }
         }
         touched
+    }
+}
+
+/// Adds one inside span `[a, b]` (`b` infinite for a line that ends inside) of a line with
+/// `profile` to the samples `lo..=hi` of a row whose buffers start at sample `start`: partial
+/// integrals near the ends into `density`, the full weight over the middle into `diff`, the
+/// crossings' weights into `weight`. [`Rows::run`]'s inner step.
+#[inline]
+fn add_span(
+    profile: &LineProfile,
+    (a, b): (f64, f64),
+    (lo, hi): (f64, f64),
+    start: usize,
+    density: &mut [f64],
+    weight: &mut [f64],
+    diff: &mut [f64],
+) {
+    let reach = profile.reach;
+    let full = profile.total();
+    // Samples whose window lies inside the span get the full weight at once.
+    let f_lo = (a + reach).ceil().max(lo);
+    let f_hi = (b - reach).floor().min(hi);
+    let i_lo = (a - reach).ceil().max(lo) as usize;
+    let i_hi = (b + reach).floor().min(hi) as usize;
+    let partial = |i: usize| {
+        let x = i as f64;
+        profile.integral_to(b - x) - profile.integral_to(a - x)
+    };
+    if f_lo <= f_hi {
+        diff[f_lo as usize - start] += full;
+        diff[f_hi as usize - start + 1] -= full;
+        // A long span: near `a` no window reaches `b` (G(b - x) is the full weight), near `b`
+        // none reaches back to `a` (G(a - x) is 0), so each end's samples read G and g from
+        // one interpolation. The weights' windows (closed) can hold one more sample each,
+        // where `a + reach` or `b - reach` is a whole number: that sample gets its weight alone.
+        for i in i_lo..f_lo as usize {
+            let (big, small) = profile.integral_and_weight(a - i as f64);
+            density[i - start] += full - big;
+            weight[i - start] += small;
+        }
+        let w_hi = (a + reach).floor().min(hi);
+        if w_hi >= f_lo {
+            for i in f_lo as usize..=w_hi as usize {
+                weight[i - start] += profile.weight_at(a - i as f64);
+            }
+        }
+        if b.is_finite() {
+            let w_lo = (b - reach).ceil().max(lo);
+            if w_lo <= f_hi {
+                for i in w_lo as usize..=f_hi as usize {
+                    weight[i - start] += profile.weight_at(b - i as f64);
+                }
+            }
+            for i in f_hi as usize + 1..=i_hi {
+                let (big, small) = profile.integral_and_weight(b - i as f64);
+                density[i - start] += big;
+                weight[i - start] += small;
+            }
+        }
+        return;
+    }
+    for i in i_lo..=i_hi {
+        density[i - start] += partial(i);
+    }
+    for c in [a, b].into_iter().filter(|c| c.is_finite()) {
+        let w_lo = (c - reach).ceil().max(lo);
+        let w_hi = (c + reach).floor().min(hi);
+        if w_hi < w_lo {
+            continue;
+        }
+        for i in w_lo as usize..=w_hi as usize {
+            weight[i - start] += profile.weight_at(c - i as f64);
+        }
     }
 }
 
@@ -512,6 +555,11 @@ mod tests {
     fn compare_rows(solid: &dyn Solid, grid: &Grid, filter: Filter, radius: f64) -> usize {
         let options = DensityOptions::new(filter, radius);
         let (crossings, kernel, _) = lattice_crossings(solid, grid, &options, &|_| 0).unwrap();
+        compare_family_rows(&crossings, &kernel, grid)
+    }
+
+    /// [`compare_rows`] for given crossings (the X, Y, Z families, or fewer) and kernel.
+    fn compare_family_rows(crossings: &[LineCrossings], kernel: &LineKernel, grid: &Grid) -> usize {
         let q = crossings[0].family.lines_per_voxel;
         let mut rows = Rows::new(grid.dims.into_iter().max().unwrap());
         let mut touched_rows = 0;
@@ -524,8 +572,8 @@ mod tests {
                 for n in 0..grid.dims[va.index()] {
                     let line = ((m * q) as isize, (n * q) as isize);
                     for range in ranges.clone() {
-                        let touched = rows.run(family, &kernel, line.0, line.1, range.clone());
-                        let (d, w, t) = reference_run(family, &kernel, line, range.clone());
+                        let touched = rows.run(family, kernel, line.0, line.1, range.clone());
+                        let (d, w, t) = reference_run(family, kernel, line, range.clone());
                         assert_eq!(touched, t);
                         touched_rows += t as usize;
                         let k = range.len();
@@ -537,6 +585,48 @@ mod tests {
             }
         }
         touched_rows
+    }
+
+    /// Crossings on half and quarter samples, where `a + reach` and `b - reach` are whole
+    /// numbers for the lines whose reach is (the sample's own line at radii 1.5 and 2, and
+    /// others): the long spans' weight windows hold one more sample than their partials'.
+    #[test]
+    fn rows_match_the_reference_where_window_ends_are_whole() {
+        let grid = Grid::new([16, 5, 4], [1.0; 3], [0.0; 3]).unwrap();
+        for (filter, radius) in [
+            (Filter::GAUSSIAN, 1.5),
+            (Filter::Hypercone, 1.5),
+            (Filter::GAUSSIAN, 2.0),
+            (Filter::Hypercone, 1.25),
+        ] {
+            let options = DensityOptions::new(filter, radius);
+            let q = options.lines_per_voxel(1.0);
+            let family = LineFamily::new(Axis::X, grid, q);
+            let (tu, tv) = family.tile_counts();
+            let tiles = (0..tu * tv)
+                .map(|id| {
+                    let (ms, ns) = family.tile_lines(id % tu, id / tu);
+                    let mut list = Vec::new();
+                    for (row, n) in ns.enumerate() {
+                        for (col, m) in ms.clone().enumerate() {
+                            let local = (row * crate::lattice::TILE + col) as u16;
+                            // Spans of 3.5 to 7.25 samples, starting on a half or a quarter,
+                            // and an odd count (open at the end) on every fifth line.
+                            let start = ((m + 3 * n) % 7) as f32 * 0.25 - 0.5;
+                            let mut t = vec![start, start + 3.5 + (m % 4) as f32, start + 9.5];
+                            if (m + n) % 5 != 0 {
+                                t.push(start + 12.75);
+                            }
+                            list.extend(t.into_iter().map(|t| (local, t)));
+                        }
+                    }
+                    list
+                })
+                .collect();
+            let crossings = [LineCrossings::from_tiles(family, tiles)];
+            let kernel = LineKernel::new(filter, radius, q);
+            assert!(compare_family_rows(&crossings, &kernel, &grid) > 20);
+        }
     }
 
     #[test]
