@@ -6,8 +6,10 @@
 //! consistently oriented manifold.
 //!
 //! Everything here is decided from the vertex indices alone (weld coincident vertices first,
-//! see [`crate::weld`], to judge a triangle soup). Cost: one sort of the 3F half-edges,
-//! O(F log F), plus near-linear union-find passes.
+//! see [`crate::weld`], to judge a triangle soup). Cost: O(F) to list each vertex's triangles,
+//! then one pass over the vertices in parallel, each sorting the few edges, triangles and link
+//! ends of its own star (edges, duplicates and fans are counted at their smallest vertex), plus
+//! near-linear union-find passes.
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -93,11 +95,6 @@ impl UnionFind {
     }
 }
 
-#[inline]
-fn edge_key(a: u32, b: u32) -> u64 {
-    ((a.min(b) as u64) << 32) | a.max(b) as u64
-}
-
 /// Computes the [`Topology`] of `mesh` from its indices.
 ///
 /// ```
@@ -124,14 +121,16 @@ fn edge_key(a: u32, b: u32) -> u64 {
 pub fn mesh_topology(mesh: &TriangleMesh) -> Topology {
     let nv = mesh.positions.len();
     let tris = &mesh.triangles;
-    let used = used_vertices(mesh);
+    let incidence = Incidence::new(tris, nv);
+    let used: Vec<bool> = (0..nv).map(|v| !incidence.around(v).is_empty()).collect();
     let vertices = used.iter().filter(|&&u| u).count();
     let degenerate_triangles = tris.iter().filter(|t| is_degenerate(t)).count();
-    let duplicate_triangles = count_duplicate_triangles(tris);
-    let edges = count_edges(tris);
+    let stars = star_counts(tris, &incidence);
+    let (duplicate_triangles, non_manifold_vertices) =
+        (stars.duplicate_triangles, stars.non_manifold_vertices);
+    let edges = stars.edges;
     let boundary_loops = count_boundary_loops(&edges.odd_edges, nv);
     let components = count_components(tris, &used);
-    let non_manifold_vertices = count_non_manifold_vertices(mesh, &used);
 
     let euler_characteristic = vertices as i64 - edges.edges as i64 + tris.len() as i64;
     let oriented_manifold = edges.non_manifold_edges == 0
@@ -169,32 +168,6 @@ fn is_degenerate(&[a, b, c]: &[u32; 3]) -> bool {
     a == b || b == c || a == c
 }
 
-/// For each vertex, whether a triangle uses it.
-fn used_vertices(mesh: &TriangleMesh) -> Vec<bool> {
-    let mut used = vec![false; mesh.positions.len()];
-    for t in &mesh.triangles {
-        for &v in t {
-            used[v as usize] = true;
-        }
-    }
-    used
-}
-
-/// Triangles with the same three vertices as an earlier one, in any order: one parallel sort of
-/// the sorted vertex triples.
-fn count_duplicate_triangles(tris: &[[u32; 3]]) -> usize {
-    let mut sorted_tris: Vec<[u32; 3]> = tris
-        .par_iter()
-        .map(|t| {
-            let mut s = *t;
-            s.sort_unstable();
-            s
-        })
-        .collect();
-    sorted_tris.par_sort_unstable();
-    sorted_tris.windows(2).filter(|w| w[0] == w[1]).count()
-}
-
 /// The undirected edges of the non-degenerate triangles, by how many triangles use each.
 struct EdgeCounts {
     edges: usize,
@@ -204,55 +177,6 @@ struct EdgeCounts {
     /// Edges used an odd number of times, `(a, b, used_once)`: the boundary, and the
     /// non-manifold edges it runs on (the input of [`count_boundary_loops`]).
     odd_edges: Vec<(u32, u32, bool)>,
-}
-
-/// Counts the edges from one sort of the 3F half-edges.
-fn count_edges(tris: &[[u32; 3]]) -> EdgeCounts {
-    // Half-edges: (undirected key, forward?) for each side of each non-degenerate triangle.
-    let mut half: Vec<(u64, bool)> = tris
-        .par_iter()
-        .filter(|t| !is_degenerate(t))
-        .flat_map_iter(|&[a, b, c]| {
-            [(a, b), (b, c), (c, a)]
-                .into_iter()
-                .map(|(u, v)| (edge_key(u, v), u < v))
-        })
-        .collect();
-    half.par_sort_unstable_by_key(|h| h.0);
-
-    let mut counts = EdgeCounts {
-        edges: 0,
-        boundary_edges: 0,
-        non_manifold_edges: 0,
-        inconsistent_edges: 0,
-        odd_edges: Vec::new(),
-    };
-    for uses in half.chunk_by(|p, q| p.0 == q.0) {
-        let key = uses[0].0;
-        counts.edges += 1;
-        match uses.len() {
-            1 => {
-                counts.boundary_edges += 1;
-                counts
-                    .odd_edges
-                    .push(((key >> 32) as u32, key as u32, true));
-            }
-            2 => {
-                if uses[0].1 == uses[1].1 {
-                    counts.inconsistent_edges += 1;
-                }
-            }
-            n => {
-                counts.non_manifold_edges += 1;
-                if n % 2 == 1 {
-                    counts
-                        .odd_edges
-                        .push(((key >> 32) as u32, key as u32, false));
-                }
-            }
-        }
-    }
-    counts
 }
 
 /// Connected components over shared vertices, counting only used vertices.
@@ -307,62 +231,202 @@ pub fn count_boundary_loops(odd_edges: &[(u32, u32, bool)], vertex_count: usize)
         .sum()
 }
 
-/// A vertex is manifold when the triangles around it are connected through the edges that
-/// contain it (one fan). Counted with a union-find over each vertex's incident triangles.
-fn count_non_manifold_vertices(mesh: &TriangleMesh, used: &[bool]) -> usize {
-    let nv = mesh.positions.len();
-    // CSR of vertex -> incident triangles.
-    let mut offsets = vec![0u32; nv + 1];
-    for t in &mesh.triangles {
-        for &v in t {
-            offsets[v as usize + 1] += 1;
+/// Each vertex's triangles (CSR): a triangle once per corner, degenerate ones included, in
+/// triangle order, so a triangle that repeats a vertex lies twice in a row in its list.
+struct Incidence {
+    offsets: Vec<u32>,
+    incident: Vec<u32>,
+}
+
+impl Incidence {
+    fn new(tris: &[[u32; 3]], nv: usize) -> Incidence {
+        let mut offsets = vec![0u32; nv + 1];
+        for t in tris {
+            for &v in t {
+                offsets[v as usize + 1] += 1;
+            }
         }
-    }
-    for i in 0..nv {
-        offsets[i + 1] += offsets[i];
-    }
-    let mut fill = offsets.clone();
-    let mut incident = vec![0u32; *offsets.last().unwrap_or(&0) as usize];
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        for &v in tri {
-            incident[fill[v as usize] as usize] = t as u32;
-            fill[v as usize] += 1;
+        for i in 0..nv {
+            offsets[i + 1] += offsets[i];
         }
+        let mut fill = offsets.clone();
+        let mut incident = vec![0u32; *offsets.last().unwrap_or(&0) as usize];
+        for (t, tri) in tris.iter().enumerate() {
+            for &v in tri {
+                incident[fill[v as usize] as usize] = t as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        Incidence { offsets, incident }
     }
+
+    /// The triangles at vertex `v`.
+    #[inline]
+    fn around(&self, v: usize) -> &[u32] {
+        &self.incident[self.offsets[v] as usize..self.offsets[v + 1] as usize]
+    }
+}
+
+/// What the vertices' stars hold, summed over the vertices.
+struct StarCounts {
+    edges: EdgeCounts,
+    duplicate_triangles: usize,
+    non_manifold_vertices: usize,
+}
+
+/// One thread's scratch lists, reused from vertex to vertex.
+#[derive(Default)]
+struct StarScratch {
+    /// The edges of the star to larger vertices: (other end, used from this vertex out).
+    ends: Vec<(u32, bool)>,
+    /// The sorted vertex triples of the star's triangles whose smallest vertex this is.
+    triples: Vec<[u32; 3]>,
+    /// The link: each non-degenerate triangle's edge opposite the vertex.
+    link: Vec<(u32, u32)>,
+    ids: Vec<u32>,
+    parent: Vec<u32>,
+}
+
+/// Edges, duplicate triangles and non-manifold vertices from each vertex's star, in parallel
+/// over the vertices: an undirected edge is counted at its smaller vertex (its uses there are
+/// the half-edges of its key), a triangle among the duplicates at its smallest vertex, and a
+/// vertex is a single fan when its link is connected. The counts of one global sort of the
+/// half-edges and of the triangles (tests compare the two).
+fn star_counts(tris: &[[u32; 3]], incidence: &Incidence) -> StarCounts {
+    let nv = incidence.offsets.len() - 1;
     (0..nv)
         .into_par_iter()
-        .filter(|&v| used[v])
-        .filter(|&v| {
-            let around = &incident[offsets[v] as usize..offsets[v + 1] as usize];
-            // Each incident triangle contributes the two other vertices (its "link" edge);
-            // the fan is connected when the link edges form one connected graph. A degenerate
-            // triangle (a repeated index) spans no fan: it is counted as degenerate instead, and
-            // a vertex that only degenerate triangles use (a triangle collapsed to a point or to
-            // an edge) has an empty link and is no pinch.
-            let link: Vec<(u32, u32)> = around
-                .iter()
-                .map(|&t| mesh.triangles[t as usize])
-                .filter(|&[a, b, c]| a != b && b != c && a != c)
-                .map(|tri| {
-                    let at = tri.iter().position(|&w| w == v as u32).unwrap_or(0);
-                    (tri[(at + 1) % 3], tri[(at + 2) % 3])
-                })
-                .collect();
-            if link.len() <= 1 {
-                return false;
+        .fold(
+            || (StarScratch::default(), StarCounts::new()),
+            |(mut scratch, mut counts), v| {
+                counts.add_star(v as u32, tris, incidence.around(v), &mut scratch);
+                (scratch, counts)
+            },
+        )
+        .map(|(_, counts)| counts)
+        .reduce(StarCounts::new, StarCounts::merge)
+}
+
+impl StarCounts {
+    fn new() -> StarCounts {
+        StarCounts {
+            edges: EdgeCounts {
+                edges: 0,
+                boundary_edges: 0,
+                non_manifold_edges: 0,
+                inconsistent_edges: 0,
+                odd_edges: Vec::new(),
+            },
+            duplicate_triangles: 0,
+            non_manifold_vertices: 0,
+        }
+    }
+
+    fn merge(mut self, other: StarCounts) -> StarCounts {
+        let (e, o) = (&mut self.edges, other.edges);
+        e.edges += o.edges;
+        e.boundary_edges += o.boundary_edges;
+        e.non_manifold_edges += o.non_manifold_edges;
+        e.inconsistent_edges += o.inconsistent_edges;
+        e.odd_edges.extend(o.odd_edges);
+        self.duplicate_triangles += other.duplicate_triangles;
+        self.non_manifold_vertices += other.non_manifold_vertices;
+        self
+    }
+
+    /// Adds the star of vertex `v`, whose triangles are `around`.
+    fn add_star(&mut self, v: u32, tris: &[[u32; 3]], around: &[u32], s: &mut StarScratch) {
+        s.ends.clear();
+        s.triples.clear();
+        s.link.clear();
+        for (k, &t) in around.iter().enumerate() {
+            let tri = tris[t as usize];
+            let mut sorted = tri;
+            sorted.sort_unstable();
+            if sorted[0] == v && (k == 0 || around[k - 1] != t) {
+                s.triples.push(sorted);
             }
-            let mut ids: Vec<u32> = link.iter().flat_map(|&(a, b)| [a, b]).collect();
-            ids.sort_unstable();
-            ids.dedup();
-            let local = |x: u32| ids.binary_search(&x).unwrap() as u32;
-            let mut uf = UnionFind::new(ids.len());
-            for &(a, b) in &link {
-                uf.union(local(a), local(b));
+            if is_degenerate(&tri) {
+                continue;
             }
-            let root = uf.find(0);
-            (1..ids.len() as u32).any(|i| uf.find(i) != root)
-        })
-        .count()
+            let at = tri.iter().position(|&w| w == v).unwrap_or(0);
+            let (next, prev) = (tri[(at + 1) % 3], tri[(at + 2) % 3]);
+            s.link.push((next, prev));
+            if next > v {
+                s.ends.push((next, true));
+            }
+            if prev > v {
+                s.ends.push((prev, false));
+            }
+        }
+        if s.triples.len() > 1 {
+            s.triples.sort_unstable();
+            self.duplicate_triangles += s.triples.windows(2).filter(|w| w[0] == w[1]).count();
+        }
+        s.ends.sort_unstable_by_key(|e| e.0);
+        for uses in s.ends.chunk_by(|p, q| p.0 == q.0) {
+            self.edges.add_edge(v, uses);
+        }
+        if s.link.len() > 1 && !link_is_connected(s) {
+            self.non_manifold_vertices += 1;
+        }
+    }
+}
+
+impl EdgeCounts {
+    /// One undirected edge (v, w), w > v, with its uses `(w, used from v out)`.
+    fn add_edge(&mut self, v: u32, uses: &[(u32, bool)]) {
+        let w = uses[0].0;
+        self.edges += 1;
+        match uses.len() {
+            1 => {
+                self.boundary_edges += 1;
+                self.odd_edges.push((v, w, true));
+            }
+            2 => {
+                if uses[0].1 == uses[1].1 {
+                    self.inconsistent_edges += 1;
+                }
+            }
+            n => {
+                self.non_manifold_edges += 1;
+                if n % 2 == 1 {
+                    self.odd_edges.push((v, w, false));
+                }
+            }
+        }
+    }
+}
+
+/// A vertex is manifold when the triangles around it are connected through the edges that
+/// contain it (one fan): when its link's edges (`s.link`, at least two) form one connected
+/// graph. A degenerate triangle (a repeated index) spans no fan and is not in the link, so a
+/// vertex that only degenerate triangles use has an empty link and is no pinch. A union-find
+/// over the link's ends, numbered by their sorted order.
+fn link_is_connected(s: &mut StarScratch) -> bool {
+    s.ids.clear();
+    s.ids.extend(s.link.iter().flat_map(|&(a, b)| [a, b]));
+    s.ids.sort_unstable();
+    s.ids.dedup();
+    s.parent.clear();
+    s.parent.extend(0..s.ids.len() as u32);
+    fn find(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            let p = parent[x as usize];
+            parent[x as usize] = parent[p as usize];
+            x = p;
+        }
+        x
+    }
+    for &(a, b) in &s.link {
+        let local = |x: u32| s.ids.binary_search(&x).unwrap() as u32;
+        let (ra, rb) = (find(&mut s.parent, local(a)), find(&mut s.parent, local(b)));
+        if ra != rb {
+            s.parent[ra.max(rb) as usize] = ra.min(rb);
+        }
+    }
+    let root = find(&mut s.parent, 0);
+    (1..s.ids.len() as u32).all(|i| find(&mut s.parent, i) == root)
 }
 
 #[cfg(test)]
@@ -370,6 +434,226 @@ mod tests {
     use super::*;
     use crate::test_shapes::unit_cube;
     use glam::Vec3;
+
+    // The sort-based counts that `star_counts` replaced: the reference it is checked against.
+
+    fn edge_key(a: u32, b: u32) -> u64 {
+        ((a.min(b) as u64) << 32) | a.max(b) as u64
+    }
+
+    /// For each vertex, whether a triangle uses it.
+    fn used_vertices(mesh: &TriangleMesh) -> Vec<bool> {
+        let mut used = vec![false; mesh.positions.len()];
+        for t in &mesh.triangles {
+            for &v in t {
+                used[v as usize] = true;
+            }
+        }
+        used
+    }
+
+    /// Triangles with the same three vertices as an earlier one, in any order: one parallel sort of
+    /// the sorted vertex triples.
+    fn count_duplicate_triangles(tris: &[[u32; 3]]) -> usize {
+        let mut sorted_tris: Vec<[u32; 3]> = tris
+            .par_iter()
+            .map(|t| {
+                let mut s = *t;
+                s.sort_unstable();
+                s
+            })
+            .collect();
+        sorted_tris.par_sort_unstable();
+        sorted_tris.windows(2).filter(|w| w[0] == w[1]).count()
+    }
+
+    /// Counts the edges from one sort of the 3F half-edges.
+    fn count_edges(tris: &[[u32; 3]]) -> EdgeCounts {
+        // Half-edges: (undirected key, forward?) for each side of each non-degenerate triangle.
+        let mut half: Vec<(u64, bool)> = tris
+            .par_iter()
+            .filter(|t| !is_degenerate(t))
+            .flat_map_iter(|&[a, b, c]| {
+                [(a, b), (b, c), (c, a)]
+                    .into_iter()
+                    .map(|(u, v)| (edge_key(u, v), u < v))
+            })
+            .collect();
+        half.par_sort_unstable_by_key(|h| h.0);
+
+        let mut counts = EdgeCounts {
+            edges: 0,
+            boundary_edges: 0,
+            non_manifold_edges: 0,
+            inconsistent_edges: 0,
+            odd_edges: Vec::new(),
+        };
+        for uses in half.chunk_by(|p, q| p.0 == q.0) {
+            let key = uses[0].0;
+            counts.edges += 1;
+            match uses.len() {
+                1 => {
+                    counts.boundary_edges += 1;
+                    counts
+                        .odd_edges
+                        .push(((key >> 32) as u32, key as u32, true));
+                }
+                2 => {
+                    if uses[0].1 == uses[1].1 {
+                        counts.inconsistent_edges += 1;
+                    }
+                }
+                n => {
+                    counts.non_manifold_edges += 1;
+                    if n % 2 == 1 {
+                        counts
+                            .odd_edges
+                            .push(((key >> 32) as u32, key as u32, false));
+                    }
+                }
+            }
+        }
+        counts
+    }
+
+    /// A vertex is manifold when the triangles around it are connected through the edges that
+    /// contain it (one fan). Counted with a union-find over each vertex's incident triangles.
+    fn count_non_manifold_vertices(mesh: &TriangleMesh, used: &[bool]) -> usize {
+        let nv = mesh.positions.len();
+        // CSR of vertex -> incident triangles.
+        let mut offsets = vec![0u32; nv + 1];
+        for t in &mesh.triangles {
+            for &v in t {
+                offsets[v as usize + 1] += 1;
+            }
+        }
+        for i in 0..nv {
+            offsets[i + 1] += offsets[i];
+        }
+        let mut fill = offsets.clone();
+        let mut incident = vec![0u32; *offsets.last().unwrap_or(&0) as usize];
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            for &v in tri {
+                incident[fill[v as usize] as usize] = t as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        (0..nv)
+            .into_par_iter()
+            .filter(|&v| used[v])
+            .filter(|&v| {
+                let around = &incident[offsets[v] as usize..offsets[v + 1] as usize];
+                // Each incident triangle contributes the two other vertices (its "link" edge);
+                // the fan is connected when the link edges form one connected graph. A degenerate
+                // triangle (a repeated index) spans no fan: it is counted as degenerate instead, and
+                // a vertex that only degenerate triangles use (a triangle collapsed to a point or to
+                // an edge) has an empty link and is no pinch.
+                let link: Vec<(u32, u32)> = around
+                    .iter()
+                    .map(|&t| mesh.triangles[t as usize])
+                    .filter(|&[a, b, c]| a != b && b != c && a != c)
+                    .map(|tri| {
+                        let at = tri.iter().position(|&w| w == v as u32).unwrap_or(0);
+                        (tri[(at + 1) % 3], tri[(at + 2) % 3])
+                    })
+                    .collect();
+                if link.len() <= 1 {
+                    return false;
+                }
+                let mut ids: Vec<u32> = link.iter().flat_map(|&(a, b)| [a, b]).collect();
+                ids.sort_unstable();
+                ids.dedup();
+                let local = |x: u32| ids.binary_search(&x).unwrap() as u32;
+                let mut uf = UnionFind::new(ids.len());
+                for &(a, b) in &link {
+                    uf.union(local(a), local(b));
+                }
+                let root = uf.find(0);
+                (1..ids.len() as u32).any(|i| uf.find(i) != root)
+            })
+            .count()
+    }
+
+    /// Random meshes (closed cubes welded together, random extra triangles: degenerate ones,
+    /// duplicates in any order, pages on shared edges, flipped ones, pinches, unused vertices)
+    /// counted from the stars and from the global sorts: every count equal.
+    #[test]
+    fn star_counts_are_those_of_the_global_sorts() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(14);
+        // Rounds that had each kind of defect: the meshes must exercise every count.
+        let mut seen = [0usize; 5];
+        for round in 0..60 {
+            let nv = rng.random_range(1..40u32);
+            let mut tris: Vec<[u32; 3]> = Vec::new();
+            let cube = unit_cube();
+            if nv >= 8 {
+                let shift = rng.random_range(0..=nv - 8);
+                tris.extend(cube.triangles.iter().map(|t| t.map(|v| v + shift)));
+            }
+            for _ in 0..rng.random_range(0..3 * nv as usize + 2) {
+                let t = if !tris.is_empty() && rng.random_range(0..4) == 0 {
+                    // A copy of an earlier triangle, rotated or flipped.
+                    let mut t = tris[rng.random_range(0..tris.len())];
+                    t.rotate_left(rng.random_range(0..3));
+                    if rng.random_range(0..2) == 0 {
+                        t.swap(0, 1);
+                    }
+                    t
+                } else {
+                    // Few distinct vertices at times: degenerate triangles and shared edges.
+                    let span = if rng.random_range(0..3) == 0 {
+                        3.min(nv)
+                    } else {
+                        nv
+                    };
+                    [0; 3].map(|_| rng.random_range(0..span))
+                };
+                tris.push(t);
+            }
+            let positions = vec![Vec3::ZERO; nv as usize + rng.random_range(0..3)];
+            let mesh = TriangleMesh::new(positions, tris.clone());
+            let incidence = Incidence::new(&tris, mesh.positions.len());
+            let stars = star_counts(&tris, &incidence);
+            let reference = count_edges(&tris);
+            let e = &stars.edges;
+            assert_eq!(
+                (
+                    e.edges,
+                    e.boundary_edges,
+                    e.non_manifold_edges,
+                    e.inconsistent_edges
+                ),
+                (
+                    reference.edges,
+                    reference.boundary_edges,
+                    reference.non_manifold_edges,
+                    reference.inconsistent_edges
+                ),
+                "round {round}"
+            );
+            let sorted = |mut odd: Vec<(u32, u32, bool)>| {
+                odd.sort_unstable();
+                odd
+            };
+            assert_eq!(sorted(e.odd_edges.clone()), sorted(reference.odd_edges));
+            assert_eq!(stars.duplicate_triangles, count_duplicate_triangles(&tris));
+            let used = used_vertices(&mesh);
+            let pinches = count_non_manifold_vertices(&mesh, &used);
+            assert_eq!(stars.non_manifold_vertices, pinches, "round {round}");
+            let kinds = [
+                e.boundary_edges,
+                e.non_manifold_edges,
+                e.inconsistent_edges,
+                stars.duplicate_triangles,
+                pinches,
+            ];
+            for (s, k) in seen.iter_mut().zip(kinds) {
+                *s += (k > 0) as usize;
+            }
+        }
+        assert!(seen.iter().all(|&s| s >= 5), "{seen:?}");
+    }
 
     #[test]
     fn cube_is_a_closed_sphere() {

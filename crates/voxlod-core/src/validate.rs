@@ -132,12 +132,22 @@ pub fn validate_mesh(mesh: &TriangleMesh, required: &Requirements) -> Result<(),
     find_defect(mesh, required).map_or(Ok(()), |d| Err(CoreError::Mesh(d)))
 }
 
+/// Elements per block of the whole-mesh checks.
+const BLOCK: usize = 1 << 14;
+
 /// The first defect of `mesh` against `required`, if any.
 pub fn find_defect(mesh: &TriangleMesh, required: &Requirements) -> Option<MeshDefect> {
     if required.triangles && mesh.triangles.is_empty() {
         return Some(MeshDefect::NoTriangles);
     }
-    if let Some(vertex) = mesh.positions.par_iter().position_first(|p| !p.is_finite()) {
+    // Each check first asks, in blocks that vectorise, whether any element fails, and looks
+    // for the first one only then (a per-element search is several times the cost).
+    let any_non_finite = mesh
+        .positions
+        .par_chunks(BLOCK)
+        .any(|b| b.iter().fold(false, |bad, p| bad | !p.is_finite()));
+    let first_non_finite = || mesh.positions.par_iter().position_first(|p| !p.is_finite());
+    if let Some(vertex) = any_non_finite.then(first_non_finite).flatten() {
         let p = mesh.positions[vertex];
         return Some(MeshDefect::NonFiniteCoordinate {
             vertex,
@@ -148,7 +158,12 @@ pub fn find_defect(mesh: &TriangleMesh, required: &Requirements) -> Option<MeshD
     }
     let vertices = mesh.positions.len();
     let out_of_range = |t: &[u32; 3]| t.iter().any(|&v| v as usize >= vertices);
-    if let Some(triangle) = mesh.triangles.par_iter().position_first(out_of_range) {
+    let any_out_of_range = mesh.triangles.par_chunks(BLOCK).any(|b| {
+        let largest = b.iter().flatten().fold(0u32, |m, &v| m.max(v));
+        largest as usize >= vertices
+    });
+    let first_out_of_range = || mesh.triangles.par_iter().position_first(out_of_range);
+    if let Some(triangle) = any_out_of_range.then(first_out_of_range).flatten() {
         let t = mesh.triangles[triangle];
         let vertex = *t.iter().find(|&&v| v as usize >= vertices)?;
         return Some(MeshDefect::IndexOutOfRange {
@@ -164,10 +179,82 @@ pub fn find_defect(mesh: &TriangleMesh, required: &Requirements) -> Option<MeshD
         });
     }
     if required.finite_normals {
-        let bad = mesh.normals.par_iter().position_first(|n| !n.is_finite());
+        let any_bad = (mesh.normals.par_chunks(BLOCK))
+            .any(|b| b.iter().fold(false, |bad, n| bad | !n.is_finite()));
+        let first_bad = || mesh.normals.par_iter().position_first(|n| !n.is_finite());
+        let bad = any_bad.then(first_bad).flatten();
         if let Some(vertex) = bad {
             return Some(MeshDefect::NonFiniteNormal { vertex });
         }
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// The defect found element by element, in order: what the blocked checks must give.
+    fn first_defect_in_order(mesh: &TriangleMesh) -> Option<MeshDefect> {
+        let n = mesh.positions.len();
+        if let Some(vertex) = mesh.positions.iter().position(|p| !p.is_finite()) {
+            let p = mesh.positions[vertex];
+            let (x, y, z) = (p.x, p.y, p.z);
+            return Some(MeshDefect::NonFiniteCoordinate { vertex, x, y, z });
+        }
+        let bad = |t: &[u32; 3]| t.iter().find(|&&v| v as usize >= n).copied();
+        if let Some(triangle) = mesh.triangles.iter().position(|t| bad(t).is_some()) {
+            let vertex = bad(&mesh.triangles[triangle]).unwrap();
+            return Some(MeshDefect::IndexOutOfRange {
+                triangle,
+                vertex,
+                vertices: n,
+            });
+        }
+        let vertex = mesh.normals.iter().position(|m| !m.is_finite())?;
+        Some(MeshDefect::NonFiniteNormal { vertex })
+    }
+
+    /// Meshes of several blocks with defects planted in the first, a middle and the last
+    /// block (two at once: the first is named), and none.
+    #[test]
+    fn blocked_checks_name_the_first_defect() {
+        let n = 3 * BLOCK + 17;
+        let clean = TriangleMesh {
+            positions: (0..n).map(|i| Vec3::splat(i as f32)).collect(),
+            normals: vec![Vec3::Z; n],
+            triangles: (0..n as u32).map(|i| [i, (i + 1) % n as u32, 0]).collect(),
+        };
+        let required = Requirements {
+            triangles: true,
+            finite_normals: true,
+        };
+        assert_eq!(find_defect(&clean, &required), None);
+        let places = [[5, n - 1], [BLOCK + 3, 2 * BLOCK], [n - 2, n - 1], [0, 1]];
+        for [a, b] in places {
+            let mut m = clean.clone();
+            m.positions[b] = Vec3::new(1.0, f32::NAN, 0.0);
+            m.positions[a] = Vec3::new(f32::INFINITY, 2.0, 3.0);
+            let found = find_defect(&m, &required);
+            assert!(
+                matches!(found, Some(MeshDefect::NonFiniteCoordinate { vertex, .. }) if vertex == a)
+            );
+            let mut m = clean.clone();
+            m.triangles[b][2] = n as u32 + 9;
+            m.triangles[a][1] = n as u32;
+            assert_eq!(find_defect(&m, &required), first_defect_in_order(&m));
+            assert!(
+                matches!(find_defect(&m, &required), Some(MeshDefect::IndexOutOfRange { triangle, vertex, .. }) if triangle == a && vertex == n as u32)
+            );
+            let mut m = clean.clone();
+            m.normals[b] = Vec3::NAN;
+            m.normals[a] = Vec3::NEG_INFINITY;
+            assert_eq!(
+                find_defect(&m, &required),
+                Some(MeshDefect::NonFiniteNormal { vertex: a })
+            );
+            assert_eq!(find_defect(&m, &required), first_defect_in_order(&m));
+        }
+    }
 }

@@ -57,6 +57,26 @@ impl LineProfile {
     pub fn weight_at(&self, tau: f64) -> f64 {
         lookup::<WEIGHT>(&self.table, self.reach, self.inv_step, tau)
     }
+
+    /// `(G(τ), g(τ))` from one interpolation: bit for bit [`LineProfile::integral_to`] and
+    /// [`LineProfile::weight_at`], for a crossing that needs both.
+    #[inline]
+    pub fn integral_and_weight(&self, tau: f64) -> (f64, f64) {
+        if tau <= -self.reach {
+            return (0.0, 0.0);
+        }
+        if tau >= self.reach {
+            return (self.total(), 0.0);
+        }
+        let x = (tau + self.reach) * self.inv_step;
+        let i = (x as usize).min(INTERVALS - 1);
+        let f = x - i as f64;
+        let (lo, hi) = (self.table[i], self.table[i + 1]);
+        (
+            lo[INTEGRAL] + (hi[INTEGRAL] - lo[INTEGRAL]) * f,
+            lo[WEIGHT] + (hi[WEIGHT] - lo[WEIGHT]) * f,
+        )
+    }
 }
 
 #[inline]
@@ -200,6 +220,23 @@ mod tests {
             for p in &k.profiles {
                 let err = (p.integral_to(0.0) - p.total() / 2.0).abs();
                 assert!(err < 1e-6, "{err} of {}", p.total());
+            }
+        }
+    }
+
+    #[test]
+    fn the_fused_lookup_is_both_lookups_bit_for_bit() {
+        let k = LineKernel::new(Filter::GAUSSIAN, 1.3, 4);
+        for p in &k.profiles {
+            let r = p.reach;
+            let mut taus = vec![-r, r, -r - 1e-12, r + 1e-12, 0.0, -0.0, 2.5 * r, -2.5 * r];
+            taus.extend(
+                (0..2000).map(|i| -1.2 * r + 2.4 * r * i as f64 / 1999.0 + 1e-7 * i as f64),
+            );
+            for tau in taus {
+                let (big, small) = p.integral_and_weight(tau);
+                assert_eq!(big.to_bits(), p.integral_to(tau).to_bits(), "{tau}");
+                assert_eq!(small.to_bits(), p.weight_at(tau).to_bits(), "{tau}");
             }
         }
     }
