@@ -22,7 +22,9 @@
 //! [`crate::voxelize`], inside where it is at least 0.5):
 //! 1. the inside is dilated by `r` = [`CLOSING_FRACTION`] of the longest side (a ball of
 //!    the grid's 6-neighbour steps and 26-neighbour steps in turn);
-//! 2. what the outside of the grid cannot reach through the dilated solid is enclosed;
+//! 2. what the outside of the grid cannot reach through the dilated solid (6-adjacent steps,
+//!    components labelled by runs: [`voxlod_sampling::digital_topology::label_components`])
+//!    is enclosed;
 //! 3. the enclosed set is eroded by `r` again (the closing), and the part of it outside the
 //!    solid is the filled cavity;
 //! 4. the density is raised to 1 over the filled cavity (or its lining: the samples of step
@@ -46,6 +48,9 @@ use voxlod_contouring::{marching_cubes, ContourOptions};
 use voxlod_core::cavities::FilledCavities;
 use voxlod_core::grid::FACE_OFFSETS as FACES;
 use voxlod_core::{TriangleMesh, Volume};
+use voxlod_sampling::digital_topology::label_components;
+use voxlod_sampling::run_components::RunComponents;
+use voxlod_sampling::SamplingError;
 
 use crate::error::Error;
 use crate::source::Source;
@@ -73,7 +78,7 @@ pub(super) fn enclosed_filled(input: &TriangleMesh) -> Result<Vec<FilledCavities
     let Some((volume, closing)) = closed_grid(input, RESOLUTION, LEAST_FILLED)? else {
         return Ok(Vec::new());
     };
-    let cavities = regions(&closing.filled, volume.grid.dims);
+    let cavities = regions(&closing.filled, volume.grid.dims)? as usize;
     let mut fills = Vec::new();
     for samples in [&closing.filled, &closing.lining] {
         let mut raised = volume.clone();
@@ -103,7 +108,7 @@ fn closed_grid(
     let volume = voxelize(&Source::Mesh(input), &VoxelizeOptions::at(resolution))?.volume;
     let inside: Vec<bool> = volume.as_slice().iter().map(|&d| d >= 0.5).collect();
     let radius = (CLOSING_FRACTION * resolution as f64).round() as usize;
-    let closing = closing_fill(&inside, volume.grid.dims, radius);
+    let closing = closing_fill(&inside, volume.grid.dims, radius)?;
     let solid = inside.iter().filter(|&&b| b).count();
     let enough = solid > 0 && closing.filled.len() as f64 >= least * solid as f64;
     Ok(enough.then_some((volume, closing)))
@@ -121,7 +126,11 @@ pub(super) struct Closing {
 /// The samples outside `inside` (a grid of `dims` samples, x fastest) that its closing by
 /// `radius` steps encloses (steps 1 to 3 of the module docs, on a grid padded by `radius`), and
 /// the lining among them.
-pub(super) fn closing_fill(inside: &[bool], dims: [usize; 3], radius: usize) -> Closing {
+pub(super) fn closing_fill(
+    inside: &[bool],
+    dims: [usize; 3],
+    radius: usize,
+) -> Result<Closing, SamplingError> {
     let pad = radius + 1;
     let padded = dims.map(|n| n + 2 * pad);
     let at = |i: usize| index(padded, shift(coords(dims, i), pad));
@@ -132,14 +141,17 @@ pub(super) fn closing_fill(inside: &[bool], dims: [usize; 3], radius: usize) -> 
         }
     }
     let dilated = dilate(mask, padded, radius);
-    // The outside: reached from the padded grid's corner without crossing the dilated solid.
-    let outside = flood(&dilated, padded, 0);
+    // The outside: the component of the padded grid's corner among the samples the dilated
+    // solid leaves open, 6-connected.
+    let open: Vec<bool> = dilated.iter().map(|&solid| !solid).collect();
+    let (labels, _) = label_components(padded, &open, true)?;
+    let outside = labels.iter().map(|&l| l == labels[0]).collect();
     let closed = dilate(outside, padded, radius);
     let filled: Vec<usize> = (0..inside.len())
         .filter(|&i| !inside[i] && !closed[at(i)])
         .collect();
     let lining = filled.iter().copied().filter(|&i| dilated[at(i)]).collect();
-    Closing { filled, lining }
+    Ok(Closing { filled, lining })
 }
 
 /// `mask` grown by `steps` steps, alternating 6- and 26-neighbour steps (a rounder ball than
@@ -180,50 +192,11 @@ fn dilate(mut mask: Vec<bool>, dims: [usize; 3], steps: usize) -> Vec<bool> {
     mask
 }
 
-/// The samples 6-connected to `seed` among those not in `wall`.
-fn flood(wall: &[bool], dims: [usize; 3], seed: usize) -> Vec<bool> {
-    let mut reached = vec![false; wall.len()];
-    flood_into(wall, dims, seed, &mut reached);
-    reached
-}
-
-/// Marks in `reached` the samples 6-connected to `seed` among those neither in `wall` nor
-/// reached already.
-fn flood_into(wall: &[bool], dims: [usize; 3], seed: usize, reached: &mut [bool]) {
-    if wall[seed] || reached[seed] {
-        return;
-    }
-    reached[seed] = true;
-    let mut stack = vec![seed];
-    while let Some(i) = stack.pop() {
-        let [x, y, z] = coords(dims, i);
-        for [dx, dy, dz] in FACES {
-            let (nx, ny, nz) = (x as i64 + dx, y as i64 + dy, z as i64 + dz);
-            if let Some(j) = checked_index(dims, nx, ny, nz) {
-                if !wall[j] && !reached[j] {
-                    reached[j] = true;
-                    stack.push(j);
-                }
-            }
-        }
-    }
-}
-
 /// The 6-connected regions among `samples` (indices into a grid of `dims`).
-fn regions(samples: &[usize], dims: [usize; 3]) -> usize {
-    let mut wall = vec![true; dims.iter().product()];
-    for &i in samples {
-        wall[i] = false;
-    }
-    let mut reached = vec![false; wall.len()];
-    let mut count = 0;
-    for &i in samples {
-        if !reached[i] {
-            count += 1;
-            flood_into(&wall, dims, i, &mut reached);
-        }
-    }
-    count
+fn regions(samples: &[usize], dims: [usize; 3]) -> Result<u64, SamplingError> {
+    let mut mask = vec![false; dims.iter().product()];
+    samples.iter().for_each(|&i| mask[i] = true);
+    Ok(RunComponents::new(dims, &mask, true)?.count())
 }
 
 /// The 26 offsets of the full neighbourhood.
@@ -256,12 +229,6 @@ fn shift([x, y, z]: [usize; 3], by: usize) -> [usize; 3] {
 
 fn index(dims: [usize; 3], [x, y, z]: [usize; 3]) -> usize {
     x + dims[0] * (y + dims[1] * z)
-}
-
-fn checked_index(dims: [usize; 3], x: i64, y: i64, z: i64) -> Option<usize> {
-    let inside = |v: i64, n: usize| v >= 0 && (v as usize) < n;
-    (inside(x, dims[0]) && inside(y, dims[1]) && inside(z, dims[2]))
-        .then(|| index(dims, [x as usize, y as usize, z as usize]))
 }
 
 #[cfg(test)]
@@ -298,19 +265,19 @@ mod tests {
 
     #[test]
     fn a_box_wall_with_a_narrow_hole_is_filled_inside_and_nowhere_else() {
-        let filled = closing_fill(&boxed_shell(2), [N; 3], 2).filled;
+        let filled = closing_fill(&boxed_shell(2), [N; 3], 2).unwrap().filled;
         // The 12³ samples inside, and the hole's 4: nothing outside the box.
         assert_eq!(
             filled.iter().filter(|&&i| is_interior(i)).count(),
             12 * 12 * 12
         );
         assert_eq!(filled.len(), 12 * 12 * 12 + 4);
-        assert_eq!(regions(&filled, [N; 3]), 1);
+        assert_eq!(regions(&filled, [N; 3]).unwrap(), 1);
     }
 
     #[test]
     fn the_lining_is_the_fill_within_the_radius_of_the_wall() {
-        let closing = closing_fill(&boxed_shell(2), [N; 3], 2);
+        let closing = closing_fill(&boxed_shell(2), [N; 3], 2).unwrap();
         // Every filled sample within 2 steps of a wall plane (coordinates 6, 7, 16, 17), and
         // the hole's: all but the core of 8³ samples from 8 to 15.
         let core = |i: usize| coords([N; 3], i).iter().all(|&c| (8..=15).contains(&c));
@@ -322,11 +289,11 @@ mod tests {
     fn a_hole_wider_than_the_closing_leaves_the_inside_open() {
         // The outside flows in through a hole of 8: only the inner corners and edges that the
         // closing rounds are filled, far fewer than the inside's samples.
-        let filled = closing_fill(&boxed_shell(8), [N; 3], 2).filled;
+        let filled = closing_fill(&boxed_shell(8), [N; 3], 2).unwrap().filled;
         assert!(filled.len() < 12 * 12 * 12 / 10, "{}", filled.len());
         // A closing of 4 spans it: the inside is filled but for a dent behind the hole, where
         // the closing's erosion reaches in from outside.
-        let closed = closing_fill(&boxed_shell(8), [N; 3], 4).filled;
+        let closed = closing_fill(&boxed_shell(8), [N; 3], 4).unwrap().filled;
         let inside = closed.iter().filter(|&&i| is_interior(i)).count();
         assert!(inside > 12 * 12 * 12 * 9 / 10, "{inside}");
     }
@@ -334,12 +301,12 @@ mod tests {
     #[test]
     fn a_convex_solid_has_nothing_to_fill() {
         let solid = grid(|x, y, z| [x, y, z].iter().all(|&c| (4..=19).contains(&c)));
-        assert!(closing_fill(&solid, [N; 3], 3).filled.is_empty());
+        assert!(closing_fill(&solid, [N; 3], 3).unwrap().filled.is_empty());
         let ball = grid(|x, y, z| {
             let d = |c: usize| (c as f64 - 11.5).powi(2);
             d(x) + d(y) + d(z) < 64.0
         });
-        assert!(closing_fill(&ball, [N; 3], 3).filled.is_empty());
+        assert!(closing_fill(&ball, [N; 3], 3).unwrap().filled.is_empty());
     }
 
     #[test]
