@@ -231,15 +231,17 @@ pub fn count_boundary_loops(odd_edges: &[(u32, u32, bool)], vertex_count: usize)
         .sum()
 }
 
-/// Each vertex's triangles (CSR): a triangle once per corner, degenerate ones included, in
-/// triangle order, so a triangle that repeats a vertex lies twice in a row in its list.
-struct Incidence {
+/// Each vertex's triangles (CSR, by a counting sort): a triangle once per corner, degenerate
+/// ones included, in triangle order, so a triangle that repeats a vertex lies twice in a row in
+/// its list.
+pub struct Incidence {
     offsets: Vec<u32>,
     incident: Vec<u32>,
 }
 
 impl Incidence {
-    fn new(tris: &[[u32; 3]], nv: usize) -> Incidence {
+    /// The lists of `tris` over `nv` vertices.
+    pub fn new(tris: &[[u32; 3]], nv: usize) -> Incidence {
         let mut offsets = vec![0u32; nv + 1];
         for t in tris {
             for &v in t {
@@ -262,8 +264,14 @@ impl Incidence {
 
     /// The triangles at vertex `v`.
     #[inline]
-    fn around(&self, v: usize) -> &[u32] {
+    pub fn around(&self, v: usize) -> &[u32] {
         &self.incident[self.offsets[v] as usize..self.offsets[v + 1] as usize]
+    }
+
+    /// Where each vertex's list starts (one more entry than vertices), and the lists one after
+    /// another.
+    pub fn into_parts(self) -> (Vec<u32>, Vec<u32>) {
+        (self.offsets, self.incident)
     }
 }
 
@@ -520,29 +528,12 @@ mod tests {
     /// contain it (one fan). Counted with a union-find over each vertex's incident triangles.
     fn count_non_manifold_vertices(mesh: &TriangleMesh, used: &[bool]) -> usize {
         let nv = mesh.positions.len();
-        // CSR of vertex -> incident triangles.
-        let mut offsets = vec![0u32; nv + 1];
-        for t in &mesh.triangles {
-            for &v in t {
-                offsets[v as usize + 1] += 1;
-            }
-        }
-        for i in 0..nv {
-            offsets[i + 1] += offsets[i];
-        }
-        let mut fill = offsets.clone();
-        let mut incident = vec![0u32; *offsets.last().unwrap_or(&0) as usize];
-        for (t, tri) in mesh.triangles.iter().enumerate() {
-            for &v in tri {
-                incident[fill[v as usize] as usize] = t as u32;
-                fill[v as usize] += 1;
-            }
-        }
+        let incidence = Incidence::new(&mesh.triangles, nv);
         (0..nv)
             .into_par_iter()
             .filter(|&v| used[v])
             .filter(|&v| {
-                let around = &incident[offsets[v] as usize..offsets[v + 1] as usize];
+                let around = incidence.around(v);
                 // Each incident triangle contributes the two other vertices (its "link" edge);
                 // the fan is connected when the link edges form one connected graph. A degenerate
                 // triangle (a repeated index) spans no fan: it is counted as degenerate instead, and

@@ -5,6 +5,7 @@
 //! caller. About 14 bytes per triangle, against 28 for a vector per vertex.
 
 use rustc_hash::FxHashMap;
+use voxlod_core::topology::Incidence;
 
 /// A crossed-out entry.
 const GONE: u32 = u32::MAX;
@@ -22,23 +23,7 @@ pub(super) struct Fans {
 impl Fans {
     /// The lists of `triangles` over `vertices` vertices, by a counting sort.
     pub(super) fn new(triangles: &[[u32; 3]], vertices: usize) -> Fans {
-        let mut start = vec![0u32; vertices + 1];
-        for tri in triangles {
-            for &v in tri {
-                start[v as usize + 1] += 1;
-            }
-        }
-        for v in 0..vertices {
-            start[v + 1] += start[v];
-        }
-        let mut next: Vec<u32> = start[..vertices].to_vec();
-        let mut raw = vec![GONE; 3 * triangles.len()];
-        for (t, tri) in triangles.iter().enumerate() {
-            for &v in tri {
-                raw[next[v as usize] as usize] = t as u32;
-                next[v as usize] += 1;
-            }
-        }
+        let (start, raw) = Incidence::new(triangles, vertices).into_parts();
         Fans {
             start,
             raw,
