@@ -708,17 +708,24 @@ mod tests {
         num
     }
 
+    /// A scan of unit spacing whose values jump from sample to sample (-30 to 45): thresholded
+    /// at 1, many short spans.
+    fn noisy_scan(dims: [usize; 3]) -> Volume {
+        let grid = Grid::new(dims, [1.0; 3], [0.0; 3]).unwrap();
+        let values = (0..grid.len())
+            .map(|n| ((n * 37 % 101) as f32 - 40.0) * 0.75)
+            .collect();
+        Volume::from_vec(grid, values).unwrap()
+    }
+
     /// Grids whose x is not a whole number of z blocks, a ball and a noisy scan: the blended
     /// density bit for bit the one-row-at-a-time reference's.
     #[test]
     fn the_blocked_blend_is_the_row_by_row_blend() {
         let ball = CsgSolid::new(Shape::sphere(DVec3::new(0.4, 0.3, -0.2), 5.3)).unwrap();
         let grid = Grid::new([37, 15, 13], [1.0; 3], [-18.0, -7.0, -6.0]).unwrap();
-        let scan_grid = Grid::new([21, 9, 10], [1.0; 3], [0.0; 3]).unwrap();
-        let values = (0..scan_grid.len())
-            .map(|n| ((n * 37 % 101) as f32 - 40.0) * 0.75)
-            .collect();
-        let scan = Volume::from_vec(scan_grid, values).unwrap();
+        let scan = noisy_scan([21, 9, 10]);
+        let scan_grid = scan.grid;
         let noisy = ThresholdSolid::new(&scan, 1.0).unwrap();
         let cases: [(&dyn Solid, Grid, Filter, f64); 3] = [
             (&ball, grid, Filter::Hypercone, 1.0),
@@ -750,11 +757,8 @@ mod tests {
             assert!(compare_rows(&balls, &grid, filter, radius) > 100);
         }
         // A noisy thresholded scan: many short spans, windows narrower than the filter.
-        let scan_grid = Grid::new([11, 9, 10], [1.0; 3], [0.0; 3]).unwrap();
-        let values = (0..scan_grid.len())
-            .map(|n| ((n * 37 % 101) as f32 - 40.0) * 0.75)
-            .collect();
-        let scan = Volume::from_vec(scan_grid, values).unwrap();
+        let scan = noisy_scan([11, 9, 10]);
+        let scan_grid = scan.grid;
         let solid = ThresholdSolid::new(&scan, 1.0).unwrap();
         for radius in [0.7, 1.5] {
             assert!(compare_rows(&solid, &scan_grid, Filter::Hypercone, radius) > 100);
