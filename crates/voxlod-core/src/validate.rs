@@ -142,12 +142,7 @@ pub fn find_defect(mesh: &TriangleMesh, required: &Requirements) -> Option<MeshD
     }
     // Each check first asks, in blocks that vectorise, whether any element fails, and looks
     // for the first one only then (a per-element search is several times the cost).
-    let any_non_finite = mesh
-        .positions
-        .par_chunks(BLOCK)
-        .any(|b| b.iter().fold(false, |bad, p| bad | !p.is_finite()));
-    let first_non_finite = || mesh.positions.par_iter().position_first(|p| !p.is_finite());
-    if let Some(vertex) = any_non_finite.then(first_non_finite).flatten() {
+    if let Some(vertex) = first_non_finite(&mesh.positions) {
         let p = mesh.positions[vertex];
         return Some(MeshDefect::NonFiniteCoordinate {
             vertex,
@@ -179,15 +174,20 @@ pub fn find_defect(mesh: &TriangleMesh, required: &Requirements) -> Option<MeshD
         });
     }
     if required.finite_normals {
-        let any_bad = (mesh.normals.par_chunks(BLOCK))
-            .any(|b| b.iter().fold(false, |bad, n| bad | !n.is_finite()));
-        let first_bad = || mesh.normals.par_iter().position_first(|n| !n.is_finite());
-        let bad = any_bad.then(first_bad).flatten();
-        if let Some(vertex) = bad {
+        if let Some(vertex) = first_non_finite(&mesh.normals) {
             return Some(MeshDefect::NonFiniteNormal { vertex });
         }
     }
     None
+}
+
+/// The first vector with a NaN or infinite coordinate: blocks that vectorise ask whether there
+/// is one, and the search runs only then.
+fn first_non_finite(vectors: &[glam::Vec3]) -> Option<usize> {
+    let any =
+        (vectors.par_chunks(BLOCK)).any(|b| b.iter().fold(false, |bad, v| bad | !v.is_finite()));
+    any.then(|| vectors.par_iter().position_first(|v| !v.is_finite()))
+        .flatten()
 }
 
 #[cfg(test)]
