@@ -188,6 +188,16 @@ fn a_hollow_part_with_a_narrow_mouth_turns_solid_at_a_small_budget() {
     let volume = level.mesh.signed_volume();
     assert!(volume > 3.6 && volume < 4.5, "{volume}");
     assert!(report.hausdorff.unwrap() < 0.15, "{report:?}");
+    // The filled and lined levels competed with the given one by silhouette too: the report's
+    // difference is that of the level returned, rendered again here.
+    let reference = voxlod::render::SilhouetteReference::new(&mesh, 14, 256).unwrap();
+    let again = reference.mesh_difference(&level.mesh).unwrap();
+    assert_eq!(
+        report.silhouette_difference,
+        Some(again.fraction),
+        "{report:?}"
+    );
+    assert!(again.fraction < 0.05, "{again:?}");
 }
 
 #[test]

@@ -3,6 +3,7 @@
 //! crossing triangles, beats the rest, then the smaller measured Hausdorff distance to the
 //! input.
 
+use std::cmp::Ordering;
 use std::sync::OnceLock;
 
 use voxlod_core::{mesh_topology, TriangleMesh};
@@ -133,32 +134,29 @@ pub(super) fn better(
     beats(standing(candidate), standing(best), budget)
 }
 
-/// Whether level `a` beats level `b` for `budget`: within 10 %, within the genus cap and
-/// without crossing triangles beats the rest; then within 10 % and within the cap; then within
-/// 10 % beats outside; then the smaller measured distance (an unmeasured level does not win);
-/// between two outside, the count nearer the budget.
-pub(super) fn beats(a: Standing, b: Standing, budget: usize) -> bool {
-    let fit = |s: &Standing| count_fits(s.triangles, budget);
-    let closer = || match (a.hausdorff, b.hausdorff) {
-        (Some(x), Some(y)) => x < y,
-        _ => false,
-    };
-    let tiers: [&dyn Fn(&Standing) -> bool; 2] = [&|s| fit(s) && s.within_cap && s.clean, &|s| {
-        fit(s) && s.within_cap
-    }];
-    for tier in tiers {
-        match (tier(&a), tier(&b)) {
-            (true, false) => return true,
-            (false, true) => return false,
-            (true, true) => return closer(),
-            (false, false) => {}
-        }
+/// Where level `s` stands for `budget`, best first: 0 within 10 %, within the genus cap and
+/// without crossing triangles; 1 within 10 % and within the cap; 2 within 10 %; 3 outside.
+pub(super) fn tier(s: &Standing, budget: usize) -> u8 {
+    match (count_fits(s.triangles, budget), s.within_cap, s.clean) {
+        (true, true, true) => 0,
+        (true, true, false) => 1,
+        (true, false, _) => 2,
+        (false, _, _) => 3,
     }
-    match (fit(&a), fit(&b)) {
-        (true, false) => true,
-        (false, true) => false,
-        (false, false) => miss(a.triangles, budget) < miss(b.triangles, budget),
-        (true, true) => closer(),
+}
+
+/// Whether level `a` beats level `b` for `budget`: the better [`tier`]; within one tier inside
+/// 10 %, the smaller measured distance (an unmeasured level does not win); between two
+/// outside, the count nearer the budget.
+pub(super) fn beats(a: Standing, b: Standing, budget: usize) -> bool {
+    match tier(&a, budget).cmp(&tier(&b, budget)) {
+        Ordering::Less => true,
+        Ordering::Greater => false,
+        Ordering::Equal if count_fits(a.triangles, budget) => match (a.hausdorff, b.hausdorff) {
+            (Some(x), Some(y)) => x < y,
+            _ => false,
+        },
+        Ordering::Equal => miss(a.triangles, budget) < miss(b.triangles, budget),
     }
 }
 

@@ -3,16 +3,18 @@
 //! isodensity, each built once (module docs of [`crate::budget`], "Independence").
 
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 use voxlod_core::cpu_clock::CpuTimer;
 
 use voxlod_core::components::triangle_components;
 use voxlod_core::weld::weld_vertices;
 use voxlod_core::{mesh_topology, Topology, TriangleMesh};
+use voxlod_render::SilhouetteReference;
 use voxlod_sampling::PyramidOptions;
 
 use super::measure::{InputMeasure, Measured};
 use super::parts::InputParts;
+use super::silhouettes::input_silhouettes;
 use super::{Then, DILATED_ISO_FRACTIONS};
 use crate::caps::InputBorder;
 use crate::error::Error;
@@ -45,6 +47,8 @@ pub(crate) struct BudgetContext<'a> {
     pub(super) parts: InputParts,
     /// Levels by resolution and isodensity (its bits), with the seconds they took to build.
     levels: Mutex<HashMap<(usize, u32), (LodLevel, f64)>>,
+    /// The input's silhouettes, rendered on first use (module `silhouettes`).
+    silhouettes: Arc<OnceLock<Result<SilhouetteReference, String>>>,
 }
 
 impl<'a> BudgetContext<'a> {
@@ -91,6 +95,7 @@ impl<'a> BudgetContext<'a> {
             part_triangles,
             parts: InputParts::default(),
             levels: Mutex::new(HashMap::new()),
+            silhouettes: Arc::default(),
         })
     }
 }
@@ -127,7 +132,15 @@ impl<'a> BudgetContext<'a> {
                 self.parts.clone()
             },
             levels: Mutex::new(HashMap::new()),
+            silhouettes: self.silhouettes.clone(),
         }
+    }
+
+    /// The input's silhouettes (module `silhouettes`), rendered once per run; `None` without an
+    /// input mesh.
+    pub(super) fn silhouettes(&self) -> Option<&Result<SilhouetteReference, String>> {
+        let input = self.input?;
+        Some(self.silhouettes.get_or_init(|| input_silhouettes(input)))
     }
 
     /// Two-sided distance from the input to `mesh`, when there is an input mesh.

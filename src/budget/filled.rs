@@ -1,7 +1,8 @@
 //! Cavities filled (our addition; issue 12, items 3 and 4): when the input mesh has closed
 //! shells that bound voids inside its material ([`voxlod_core::cavities`]: a hollow part's
 //! inner wall, the marrow spaces of a CT bone surface), each budget's search runs a second time
-//! on the input with those cavities filled, and the closer of the two levels is kept.
+//! on the input with those cavities filled, and the better of the two levels is kept (by the
+//! search's rule, and between levels that tie on its tiers by module `silhouettes`).
 //!
 //! Why: a budget that cannot afford a thin wall's two sides makes the voxel levels lose the
 //! wall, and the part perforates or vanishes, since a wall thinner than the filter's radius
@@ -16,12 +17,13 @@
 
 use voxlod_core::cavities::{fill_cavities, FilledCavities};
 
-use super::candidate::{beats, Standing};
+use super::candidate::{beats, tier, Standing};
 use super::context::BudgetContext;
+use super::genus_cap::Found;
 use super::search::budget_level;
-use super::{BudgetLevel, Stage};
+use super::silhouettes::balanced_choice;
+use super::Stage;
 use crate::error::Error;
-use crate::lod::LodLevel;
 
 /// The input mesh with its cavities filled, when it has any.
 pub(super) fn filled_input(ctx: &BudgetContext) -> Option<FilledCavities> {
@@ -32,38 +34,75 @@ pub(super) fn filled_input(ctx: &BudgetContext) -> Option<FilledCavities> {
 
 /// The level for `budget` from the input as given (`given`) or, when one of `filled` (the
 /// contexts of the input with its cavities filled, by this module or by module `enclosed`)
-/// gives a closer one, from that; its report counts the cavities filled and the candidates of
-/// all the searches. The searches, and the choice between them, hold the levels to
-/// `genus_cap` (module `genus_cap`).
+/// gives a better one, from that; its report counts the cavities filled and the candidates of
+/// all the searches. Better: the search's rule (module `candidate`), and between levels that
+/// tie on its tiers, the balance of distance and silhouette of module `silhouettes`. The
+/// searches, and the choice between them, hold the levels to `genus_cap` (module `genus_cap`).
 pub(super) fn budget_level_either(
     given: &BudgetContext,
     filled: &[(&BudgetContext, &FilledCavities)],
     budget: usize,
     error: Option<f64>,
     genus_cap: Option<i64>,
-) -> Result<(LodLevel, BudgetLevel, Vec<String>), Error> {
-    let mut best = budget_level(given, budget, error, genus_cap)?;
-    if best.1.stage == Stage::InputQuadric {
-        return Ok(best);
+) -> Result<Found, Error> {
+    let first = budget_level(given, budget, error, genus_cap)?;
+    if first.1.stage == Stage::InputQuadric || filled.is_empty() {
+        return Ok(first);
     }
-    let mut candidates = best.1.candidates;
+    let mut levels = vec![first];
     for (ctx, cavities) in filled {
         let mut other = budget_level(ctx, budget, error, genus_cap)?;
-        candidates += other.1.candidates;
-        if closer(&other.1, &best.1, budget, genus_cap) {
-            other.1.cavities_filled = cavities.cavities;
-            best = other;
-        }
+        other.1.cavities_filled = cavities.cavities;
+        levels.push(other);
     }
+    let candidates = levels.iter().map(|l| l.1.candidates).sum();
+    let mut best = choose(given, levels, budget, genus_cap);
     best.1.candidates = candidates;
     Ok(best)
 }
 
-/// Whether level `a` beats level `b` for `budget`, by the rule of the search's candidates.
-fn closer(a: &BudgetLevel, b: &BudgetLevel, budget: usize, genus_cap: Option<i64>) -> bool {
-    beats(
-        Standing::of(a, genus_cap),
-        Standing::of(b, genus_cap),
-        budget,
-    )
+/// The best of the solids' levels (see [`budget_level_either`]).
+fn choose(
+    given: &BudgetContext,
+    mut levels: Vec<Found>,
+    budget: usize,
+    genus_cap: Option<i64>,
+) -> Found {
+    let standing = |l: &Found| Standing::of(&l.1, genus_cap);
+    let mut leader = 0;
+    for (i, level) in levels.iter().enumerate().skip(1) {
+        if beats(standing(level), standing(&levels[leader]), budget) {
+            leader = i;
+        }
+    }
+    let top = tier(&standing(&levels[leader]), budget);
+    let contenders: Vec<usize> = (0..levels.len())
+        .filter(|&i| tier(&standing(&levels[i]), budget) == top && levels[i].1.hausdorff.is_some())
+        .collect();
+    if top == 3 || contenders.len() < 2 {
+        return levels.swap_remove(leader);
+    }
+    let reference = match given.silhouettes() {
+        Some(Ok(reference)) => reference,
+        Some(Err(why)) => {
+            let mut best = levels.swap_remove(leader);
+            best.2.push(format!(
+                "{why}: the levels of the filled input were compared by distance alone"
+            ));
+            return best;
+        }
+        None => return levels.swap_remove(leader),
+    };
+    let mut errors = Vec::with_capacity(contenders.len());
+    for &i in &contenders {
+        match reference.mesh_difference(&levels[i].0.mesh) {
+            Ok(d) => {
+                levels[i].1.silhouette_difference = Some(d.fraction);
+                errors.push((levels[i].1.hausdorff.unwrap_or(f64::INFINITY), d.fraction));
+            }
+            Err(_) => errors.push((f64::INFINITY, f64::INFINITY)),
+        }
+    }
+    let chosen = balanced_choice(&errors).map_or(leader, |k| contenders[k]);
+    levels.swap_remove(chosen)
 }

@@ -72,6 +72,7 @@ pub(super) fn report(
         stage: Stage::Voxel,
         error_bound: 0.5 * level.plan.voxel_size,
         hausdorff: None,
+        silhouette_difference: None,
         mean_distance: None,
         triangles: level.mesh.triangle_count(),
         genus: t.genus,

@@ -135,6 +135,10 @@ pub struct BudgetLevel {
     pub hausdorff: Option<f64>,
     /// See [`BudgetLevel::hausdorff`].
     pub mean_distance: Option<f64>,
+    /// The silhouette difference from the input over 14 views (share of the covered pixels
+    /// covered by one of the two alone), measured where levels of the input as given and with
+    /// its cavities filled competed (module docs of `budget/silhouettes`); `None` elsewhere.
+    pub silhouette_difference: Option<f64>,
     /// Triangles of the level.
     pub triangles: usize,
     /// Genus, components and boundary loops of the level.

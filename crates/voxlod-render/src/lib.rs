@@ -7,6 +7,7 @@
 //! - [`raster`]: exact integer rasterization of one triangle into a tile of samples.
 //! - [`mod@render`]: the scene, binning into tiles, parallel drawing, the box filter.
 //! - [`image`]: the image, PNG, side-by-side montage; [`metrics`]: RMS and silhouette masks.
+//! - [`silhouette`]: the silhouette difference between a mesh and a simplified copy.
 //!
 //! Cost: O(V + T) to project and bin, plus O(covered samples) to fill; memory is the image and
 //! one tile of samples per thread, whatever the supersampling.
@@ -49,9 +50,11 @@ pub mod image;
 pub mod metrics;
 pub mod raster;
 pub mod render;
+pub mod silhouette;
 
 pub use camera::{Camera, Projection};
 pub use error::RenderError;
 pub use image::Image;
 pub use metrics::{rms_difference, silhouette_mask};
 pub use render::{render, LineItem, MeshItem, PointItem, RenderOptions, Scene};
+pub use silhouette::{view_directions, SilhouetteDifference, SilhouetteReference};

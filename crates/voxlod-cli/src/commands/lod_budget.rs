@@ -163,7 +163,10 @@ fn describe_level(l: &BudgetLevelReport, mesh: &voxlod::core::TriangleMesh) -> S
     let distance = b
         .hausdorff
         .map(|h| format!(", Hausdorff {h:.4}"))
-        .unwrap_or_default();
+        .unwrap_or_default()
+        + &b.silhouette_difference
+            .map(|s| format!(", silhouette difference {s:.3}"))
+            .unwrap_or_default();
     format!(
         "level {}: {aim}: resolution {}, then {:?}: {}{distance} -> {}",
         l.level,

@@ -1,13 +1,9 @@
 //! Image-space measurements and previews of simplified levels, drawn with voxlod-render.
 //!
-//! **Silhouette difference.** The input and a level are rendered from the same orthographic
-//! cameras ([`view_directions`]: the eight octant diagonals first, then the six axes), each
-//! framing the input's box, one sample per pixel. A pixel is covered when at least half of it
-//! is drawn. The difference is the share of pixels covered in exactly one of the two images
-//! among those covered in either, pooled over all views: 0 for identical silhouettes, 1 for
-//! disjoint ones. It sees what a viewer sees of shape (holes closing, ears shrinking, dangling
-//! edges drawn one pixel wide) and nothing of shading. The input's coverage is rendered once
-//! ([`SilhouetteReference`]) and reused for every level.
+//! **Silhouette difference** (voxlod-render's [`voxlod::render::silhouette`]): the share of
+//! pixels covered in exactly one of the input's and a level's images among those covered in
+//! either, over up to 14 orthographic views framing the input's box. The input's coverage is
+//! rendered once ([`SilhouetteReference`]) and reused for every level.
 //!
 //! **Previews.** [`preview_strip`] draws the input and a method's levels side by side from one
 //! three-quarter view, 2 × 2 supersampled, for the report.
@@ -16,11 +12,11 @@
 //! tens of milliseconds per level of tens of thousands of triangles.
 
 use glam::DVec3;
-use serde::Serialize;
 use voxlod::core::{Bounds, PolyMesh, TriangleMesh};
-use voxlod::render::{
-    render, Camera, Image, LineItem, MeshItem, PointItem, RenderError, RenderOptions, Scene,
+pub use voxlod::render::silhouette::{
+    level_scene, view_directions, SilhouetteDifference, SilhouetteReference,
 };
+use voxlod::render::{render, Camera, Image, RenderError, RenderOptions};
 
 /// How the image-space measurements are made.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,122 +56,15 @@ impl ImageOptions {
     }
 }
 
-/// The silhouette difference of one level (see the module documentation).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct ImageDifference {
-    /// Pixels covered in exactly one image over pixels covered in either, over all views.
-    pub fraction: f64,
-    /// Pixels covered in exactly one of the two images, over all views.
-    pub differing_pixels: u64,
-    /// Pixels covered in either image, over all views.
-    pub covered_pixels: u64,
-    /// Views rendered.
-    pub views: usize,
-}
+/// The silhouette difference of one level (voxlod-render's [`SilhouetteDifference`]).
+pub type ImageDifference = SilhouetteDifference;
 
-/// The first `count` (at most 14) view directions: octant diagonals, then the axes.
-pub fn view_directions(count: usize) -> Vec<DVec3> {
-    let mut all = Vec::with_capacity(14);
-    for z in [-1.0, 1.0] {
-        for y in [-1.0, 1.0] {
-            for x in [-1.0, 1.0] {
-                all.push(DVec3::new(x, y, z));
-            }
-        }
-    }
-    for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
-        all.push(axis);
-        all.push(-axis);
-    }
-    all.truncate(count);
-    all
-}
-
-/// Flat light grey for surfaces, and the colour of dangling edges and points.
-const SURFACE: [f32; 3] = [0.8, 0.8, 0.78];
-const WIRE: [f32; 3] = [0.95, 0.55, 0.2];
-
-fn scene(level: &PolyMesh) -> Scene<'_> {
-    let positions = &level.mesh.positions;
-    Scene {
-        meshes: vec![MeshItem::opaque(&level.mesh, SURFACE)],
-        lines: if level.lines.is_empty() {
-            Vec::new()
-        } else {
-            vec![LineItem {
-                positions,
-                lines: &level.lines,
-                color: WIRE,
-                width: 1.0,
-            }]
-        },
-        points: if level.points.is_empty() {
-            Vec::new()
-        } else {
-            vec![PointItem {
-                positions,
-                points: &level.points,
-                color: WIRE,
-                size: 1.5,
-            }]
-        },
-    }
-}
-
-fn covered(image: &Image) -> Vec<bool> {
-    image.coverage.iter().map(|&c| c >= 0.5).collect()
-}
-
-/// The input's silhouettes, rendered once, against which levels are compared.
-pub struct SilhouetteReference {
-    cameras: Vec<Camera>,
-    coverage: Vec<Vec<bool>>,
-}
-
-impl SilhouetteReference {
-    /// Renders `input` from `options.views` views framing its box.
-    pub fn new(
-        input: &TriangleMesh,
-        options: &ImageOptions,
-    ) -> Result<SilhouetteReference, RenderError> {
-        let bounds = input.bounds();
-        let cameras = view_directions(options.views)
-            .into_iter()
-            .map(|d| Camera::fit(d, &bounds, options.size, options.size, None))
-            .collect::<Result<Vec<_>, _>>()?;
-        let level = PolyMesh::from(input.clone());
-        let coverage = cameras
-            .iter()
-            .map(|c| Ok(covered(&render(&scene(&level), c, &plain())?)))
-            .collect::<Result<Vec<_>, RenderError>>()?;
-        Ok(SilhouetteReference { cameras, coverage })
-    }
-
-    /// The silhouette difference between the input and `level`.
-    pub fn difference(&self, level: &PolyMesh) -> Result<ImageDifference, RenderError> {
-        let (mut differing, mut union) = (0u64, 0u64);
-        for (camera, reference) in self.cameras.iter().zip(&self.coverage) {
-            let image = render(&scene(level), camera, &plain())?;
-            for (&a, &b) in reference.iter().zip(&covered(&image)) {
-                differing += (a != b) as u64;
-                union += (a || b) as u64;
-            }
-        }
-        Ok(ImageDifference {
-            fraction: if union > 0 {
-                differing as f64 / union as f64
-            } else {
-                0.0
-            },
-            differing_pixels: differing,
-            covered_pixels: union,
-            views: self.cameras.len(),
-        })
-    }
-}
-
-fn plain() -> RenderOptions {
-    RenderOptions::default()
+/// The input's silhouettes under `options`, rendered once, against which levels are compared.
+pub fn silhouette_reference(
+    input: &TriangleMesh,
+    options: &ImageOptions,
+) -> Result<SilhouetteReference, RenderError> {
+    SilhouetteReference::new(input, options.views, options.size)
 }
 
 /// The three-quarter view of the previews: from the front right, a little above.
@@ -202,9 +91,9 @@ pub fn preview_strip(
         mesh
     };
     let input = flat(&PolyMesh::from(input.clone()));
-    let mut images = vec![render(&scene(&input), &camera, &options)?];
+    let mut images = vec![render(&level_scene(&input), &camera, &options)?];
     for level in levels {
-        images.push(render(&scene(&flat(level)), &camera, &options)?);
+        images.push(render(&level_scene(&flat(level)), &camera, &options)?);
     }
     let refs: Vec<&Image> = images.iter().collect();
     Ok(Image::side_by_side(&refs, 4, options.background))

@@ -113,7 +113,10 @@ pub fn evaluate(
         MethodInput::prepare(mesh, Needs::of(&options.methods), options.lines_per_radius)
             .map_err(EvaluateError::Solid)?;
     let silhouettes = if options.images.views > 0 {
-        Some(SilhouetteReference::new(mesh, &options.images).map_err(EvaluateError::InputRender)?)
+        Some(
+            images::silhouette_reference(mesh, &options.images)
+                .map_err(EvaluateError::InputRender)?,
+        )
     } else {
         None
     };
