@@ -45,6 +45,7 @@ use voxlod_quadric::{simplify_to_budget, QuadricOptions};
 use super::candidate::{beats, fits, Candidate, Standing};
 use super::context::BudgetContext;
 use super::filled::budget_level_either;
+use super::geometric::without_caps;
 use super::report::finish;
 use super::{BudgetLevel, Stage, Then};
 use crate::error::Error;
@@ -165,9 +166,10 @@ fn simplified_above(
     }
     let options = QuadricOptions::budget(error.unwrap_or(f64::INFINITY));
     let done = simplify_to_budget(&above.mesh, budget, &options).ok()?;
+    let mesh = without_caps(done.mesh, above.plan.voxel_size);
     let candidate = Candidate {
-        distance: ctx.measure(&done.mesh),
-        mesh: done.mesh,
+        distance: ctx.measure(&mesh),
+        mesh,
         stage: Stage::Quadric,
         error_bound: done.error_bound + above_report.error_bound,
         parts_dropped: 0,

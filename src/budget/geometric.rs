@@ -4,6 +4,8 @@
 //! simplification envelopes with ε searched for the count. Cost: per level, up to four quadric
 //! runs, or up to four envelope runs, and one distance measurement per candidate.
 
+use voxlod_contouring::clean_mesh::has_defects;
+use voxlod_contouring::{clean_mesh, CleanOptions};
 use voxlod_core::TriangleMesh;
 use voxlod_envelope::{simplify_envelope, EnvelopeOptions, Epsilon};
 use voxlod_quadric::{simplify_dropping_parts, PartsOptions, QuadricOptions};
@@ -44,9 +46,10 @@ pub(super) fn stages(
             ..PartsOptions::default()
         };
         if let Ok(done) = simplify_dropping_parts(&level.mesh, budget, &options) {
+            let mesh = without_caps(done.simplified.mesh, level.plan.voxel_size);
             let quadric = Candidate {
-                distance: ctx.measure(&done.simplified.mesh),
-                mesh: done.simplified.mesh,
+                distance: ctx.measure(&mesh),
+                mesh,
                 stage: Stage::Quadric,
                 error_bound: done.simplified.error_bound,
                 parts_dropped: done.dropped_parts,
@@ -63,6 +66,30 @@ pub(super) fn stages(
         out.extend(envelope_candidate(ctx, level, iso, budget, error));
     }
     out
+}
+
+/// `mesh` with its zero-area triangles fixed (issue 12 item 6): on a flat region every collapse
+/// costs the quadric nothing, and meshoptimizer can leave a corner on the opposite edge, a
+/// triangle of zero area whose neighbours touch a triangle they share no vertex with (an
+/// independent self-intersection test, Open3D's, counts those pairs). voxlod-contouring's
+/// cleaning, with thresholds that only the degenerate meet (an edge under a thousandth of a
+/// voxel, an area under 1e-5 voxel²: a corner within 2e-6 voxel of an opposite edge ten voxels
+/// long; the caps found on the shared meshes' levels were within 1e-6 voxel), flips such a
+/// triangle's longest edge or collapses its shortest, keeping the mesh closed, manifold and
+/// oriented; a mesh without any is returned as it is. Cost: one parallel scan of the
+/// triangles, and a cleaning where it finds one.
+pub(super) fn without_caps(mesh: TriangleMesh, voxel: f64) -> TriangleMesh {
+    let options = CleanOptions {
+        min_area: 1e-5,
+        ..CleanOptions::degenerate_only()
+    };
+    if !has_defects(&mesh, voxel, &options) {
+        return mesh;
+    }
+    match clean_mesh(&mesh, voxel, &options) {
+        Ok((cleaned, _)) => cleaned,
+        Err(_) => mesh,
+    }
 }
 
 /// The envelope stage on `level` for `budget`, measured.
@@ -119,4 +146,58 @@ fn envelope_to_count(
         epsilon = next;
     }
     best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::without_caps;
+    use voxlod_core::glam::Vec3;
+    use voxlod_core::{mesh_topology, TriangleMesh};
+    use voxlod_metrics::health::count_zero_area_triangles;
+
+    /// An octahedron whose top vertex is moved onto the middle of the edge from +x to +y: the
+    /// top's four triangles lie flat in the equator's plane, one of them with zero area, and the
+    /// bottom triangle under that edge touches the moved vertex without sharing it.
+    fn octahedron_with_a_cap() -> TriangleMesh {
+        let positions = vec![
+            Vec3::X,
+            Vec3::Y,
+            -Vec3::X,
+            -Vec3::Y,
+            Vec3::new(0.5, 0.5, 0.0),
+            -Vec3::Z,
+        ];
+        let triangles = vec![
+            [0, 1, 4],
+            [1, 2, 4],
+            [2, 3, 4],
+            [3, 0, 4],
+            [1, 0, 5],
+            [2, 1, 5],
+            [3, 2, 5],
+            [0, 3, 5],
+        ];
+        TriangleMesh::new(positions, triangles)
+    }
+
+    #[test]
+    fn a_zero_area_triangle_is_flipped_away_and_nothing_else_changes() {
+        let mesh = octahedron_with_a_cap();
+        let before = mesh_topology(&mesh);
+        assert!(before.is_closed_manifold() && before.is_consistently_oriented());
+        assert_eq!(count_zero_area_triangles(&mesh), 1);
+        let volume = mesh.signed_volume();
+        // The lower pyramid alone: base area 2, height 1.
+        assert!((volume - 2.0 / 3.0).abs() < 1e-6, "{volume}");
+        let fixed = without_caps(mesh.clone(), 1.0);
+        assert_eq!(count_zero_area_triangles(&fixed), 0);
+        let after = mesh_topology(&fixed);
+        assert!(after.is_closed_manifold() && after.is_consistently_oriented());
+        // A flip: the cap and the bottom triangle under its long edge become two triangles
+        // that tile that bottom triangle, so the count and the volume stay.
+        assert_eq!(fixed.triangle_count(), 8);
+        assert!((fixed.signed_volume() - volume).abs() < 1e-6);
+        // A mesh without a cap comes back as it was, vertex order included.
+        assert_eq!(without_caps(fixed.clone(), 1.0), fixed);
+    }
 }
