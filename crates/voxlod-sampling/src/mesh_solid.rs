@@ -25,7 +25,7 @@
 //! first (two copies of a face would cancel each other's crossing).
 //!
 //! Cost: building the BVH, O(F log F), once per mesh; per family, one box query per tile of
-//! 16×16 lines plus O(1) per (candidate triangle, covered line) pair. Where the lines lie
+//! 64×64 lines plus O(1) per (candidate triangle, covered line) pair. Where the lines lie
 //! farther apart than twice the mean triangle (a coarse level of a fine mesh), one query per
 //! row of a tile's lines instead, so that a triangle between the rows is never visited: the
 //! sphereflake's 1.4 M triangles at resolution 25 went from 0.57 s to 0.35 s of sampling.
