@@ -297,6 +297,9 @@ fn budget_chains_never_gain_handles() {
             // Where the report finds none, neither does the independent test (the report also
             // counts pairs that only touch, so its count may be the larger).
             assert!(reported > 0 || independent == 0, "{name} {budget}");
+            // No zero-area triangle (issue 12 item 6): the quadric stage's are flipped away.
+            let zero_area = voxlod::metrics::health::count_zero_area_triangles(&mesh);
+            assert_eq!(zero_area, 0, "{name} {budget}: zero-area triangles");
         }
     }
 }
