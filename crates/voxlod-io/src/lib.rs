@@ -79,6 +79,7 @@
 #![warn(missing_docs)]
 
 pub mod atomic;
+mod block_read;
 mod budget;
 mod detached;
 mod dicom;
