@@ -173,7 +173,13 @@ pub(crate) fn classify(
         first,
         inside,
     };
-    [Axis::X, Axis::Y, Axis::Z].map(|axis| runs_along(&flags, axis))
+    // The three axes side by side: one axis's gathering (sequential) overlaps the others' work.
+    let flags = &flags;
+    let (x, (y, z)) = rayon::join(
+        || runs_along(flags, Axis::X),
+        || rayon::join(|| runs_along(flags, Axis::Y), || runs_along(flags, Axis::Z)),
+    );
+    [x, y, z]
 }
 
 /// The runs of every column along `axis`.
