@@ -99,6 +99,7 @@ mod obj;
 mod off;
 mod outputs;
 mod ply;
+mod ply_body;
 mod ply_header;
 mod raw;
 mod samples;
