@@ -79,6 +79,7 @@
 #![warn(missing_docs)]
 
 pub mod atomic;
+mod block_read;
 mod budget;
 mod detached;
 mod dicom;
@@ -98,6 +99,7 @@ mod obj;
 mod off;
 mod outputs;
 mod ply;
+mod ply_body;
 mod ply_header;
 mod raw;
 mod samples;

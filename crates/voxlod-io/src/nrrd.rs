@@ -36,6 +36,7 @@ use voxlod_core::glam::{DMat3, DVec3};
 use voxlod_core::{Frame, Orientation, Volume, WorldTransform};
 
 use crate::atomic::{stage, TempFile};
+use crate::block_read;
 use crate::samples::{self, millimetres_per, SampleType};
 use crate::slab_reader::{DataStart, SlabVolume, StoredSamples};
 use crate::{Endian, IoError, IoErrorKind};
@@ -431,8 +432,10 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
             } else {
                 skip(data_path, &mut data, header.byte_skip as u64)?;
             }
-            let bytes = samples::read_data(data_path, &mut data, data_bytes, "raw data")?;
-            samples::decode(&bytes, header.sample, header.endian)
+            let offset = (data.stream_position())
+                .map_err(|e| IoError::access(data_path, "cannot read", &e))?;
+            let stored = (header.sample, header.endian);
+            block_read::read_decoded(data_path, data.get_ref(), offset, count, stored, "raw data")?
         }
         Encoding::Gzip => {
             if header.byte_skip == -1 {

@@ -12,8 +12,9 @@
 //! Writing: `vertex` (x, y, z as float, nx, ny, nz when the mesh has normals, then one float
 //! property per vertex attribute), `face` (`list uchar int vertex_indices`), then `edge`
 //! (`int vertex1`, `int vertex2`, one float per line attribute) and `point`
-//! (`int vertex_index`) when there are lines or points. Elements are streamed one at a time
-//! through ply-rs-bw's writer, so no second copy of the mesh is built.
+//! (`int vertex_index`) when there are lines or points. Vertices and faces are encoded directly
+//! a block at a time ([`crate::ply_body`]), edges and points streamed one at a time through
+//! ply-rs-bw's writer, so no second copy of the mesh is built.
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Write};
@@ -29,7 +30,7 @@ use ply_rs_bw::writer::Writer;
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh};
 
 use crate::atomic::{stage, TempFile};
-use crate::{budget, ear_clipping, guard, ply_header, IoError, PolyView};
+use crate::{budget, ear_clipping, guard, ply_body, ply_header, IoError, PolyView};
 
 /// What the PLY reader found, before the common checks.
 pub(crate) struct PlyContent {
@@ -477,13 +478,16 @@ fn collect_attributes<'a>(
 // ---------------------------------------------------------------------------------------------
 // Writing: views over the mesh that the writer queries property by property.
 
-/// Vertex `index` of a mesh, as the writer sees it.
+/// Vertex `index` of a mesh, as ply-rs-bw's writer sees it (the reference for
+/// [`crate::ply_body`]'s bytes).
+#[cfg(test)]
 #[derive(Default)]
 struct VertexOut<'a> {
     mesh: Option<PolyView<'a>>,
     index: usize,
 }
 
+#[cfg(test)]
 impl PropertyAccess for VertexOut<'_> {
     fn new() -> Self {
         VertexOut::default()
@@ -632,6 +636,32 @@ fn element_definitions(view: PolyView<'_>) -> Elements {
     }
 }
 
+/// The vertex and face elements of `view` as ply-rs-bw's writer encodes them, element by
+/// element: the reference for [`crate::ply_body`].
+#[cfg(test)]
+pub(crate) fn reference_body(view: PolyView<'_>) -> Vec<u8> {
+    let defs = element_definitions(view);
+    let mut out = Vec::new();
+    let vertex_writer = Writer::<VertexOut>::new();
+    for index in 0..view.mesh.positions.len() {
+        let vertex = VertexOut {
+            mesh: Some(view),
+            index,
+        };
+        (vertex_writer.write_little_endian_element(&mut out, &vertex, &defs.vertex)).unwrap();
+    }
+    let cell_writer = Writer::<CellOut>::new();
+    for t in &view.mesh.triangles {
+        let cell = CellOut {
+            corners: t.map(|v| v as i32),
+            mesh: Some(view),
+            index: 0,
+        };
+        (cell_writer.write_little_endian_element(&mut out, &cell, &defs.face)).unwrap();
+    }
+    out
+}
+
 pub(crate) fn write(path: &Path, view: PolyView<'_>) -> Result<TempFile, IoError> {
     let m = view.mesh;
     check_names(
@@ -670,25 +700,14 @@ pub(crate) fn write(path: &Path, view: PolyView<'_>) -> Result<TempFile, IoError
 
     stage(path, |w| {
         Writer::<Skipped>::new().write_header(w, &header)?;
-        let vertex_writer = Writer::<VertexOut>::new();
-        let mut vertex = VertexOut {
-            mesh: Some(view),
-            index: 0,
-        };
-        for i in 0..m.positions.len() {
-            vertex.index = i;
-            vertex_writer.write_little_endian_element(w, &vertex, &vertex_def)?;
-        }
+        ply_body::write_vertices(w, view)?;
+        ply_body::write_faces(w, view)?;
         let cell_writer = Writer::<CellOut>::new();
         let mut cell = CellOut {
             corners: [0; 3],
             mesh: Some(view),
             index: 0,
         };
-        for t in &m.triangles {
-            cell.corners = t.map(|v| v as i32);
-            cell_writer.write_little_endian_element(w, &cell, &face_def)?;
-        }
         for (i, [a, b]) in view.lines.iter().enumerate() {
             cell.corners = [*a as i32, *b as i32, 0];
             cell.index = i;

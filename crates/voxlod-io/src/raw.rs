@@ -12,13 +12,14 @@
 //! (`samples::check_volume_size`).
 
 use std::fmt;
-use std::io::{BufReader, Read, Seek, SeekFrom, Write};
+use std::io::Write;
 use std::path::Path;
 use std::str::FromStr;
 
 use voxlod_core::{Orientation, Volume};
 
 use crate::atomic::{stage, TempFile};
+use crate::block_read;
 use crate::samples::{self, SampleType};
 use crate::slab_reader::{DataStart, SlabVolume, StoredSamples};
 use crate::{IoError, IoErrorKind};
@@ -190,13 +191,10 @@ pub(crate) fn read(path: &Path, layout: &RawLayout) -> Result<Volume, IoError> {
     if file_len != expected {
         return Err(size_mismatch(path, layout, file_len, expected));
     }
-    let mut reader = BufReader::with_capacity(1 << 20, file);
-    reader
-        .seek(SeekFrom::Start(layout.header_bytes))
-        .map_err(|e| IoError::access(path, "cannot read", &e))?;
-    let bytes = samples::read_data(path, reader.by_ref(), data_bytes, "raw sample data")?;
-    let values = samples::decode(&bytes, ty, layout.endian);
-    drop(bytes);
+    let count = data_bytes / ty.size();
+    let stored = (ty, layout.endian);
+    let what = "raw sample data";
+    let values = block_read::read_decoded(path, &file, layout.header_bytes, count, stored, what)?;
     samples::make_volume(path, layout.dims, layout.spacing, layout.origin, values)
 }
 

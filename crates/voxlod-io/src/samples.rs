@@ -53,23 +53,27 @@ impl SampleType {
 /// Converts stored samples to `f32`. `bytes.len()` must be a multiple of the sample size.
 pub(crate) fn decode(bytes: &[u8], ty: SampleType, endian: Endian) -> Vec<f32> {
     debug_assert_eq!(bytes.len() % ty.size(), 0);
+    let mut out = vec![0.0; bytes.len() / ty.size()];
+    decode_into(bytes, ty, endian, &mut out);
+    out
+}
+
+/// [`decode`] into `out`, one value per stored sample of `bytes` (as many as both hold).
+pub(crate) fn decode_into(bytes: &[u8], ty: SampleType, endian: Endian, out: &mut [f32]) {
     macro_rules! convert {
         ($t:ty, $n:literal) => {
-            bytes
-                .chunks_exact($n)
-                .map(|c| {
-                    let raw: [u8; $n] = c.try_into().expect("chunks_exact gives whole samples");
-                    (match endian {
-                        Endian::Little => <$t>::from_le_bytes(raw),
-                        Endian::Big => <$t>::from_be_bytes(raw),
-                    }) as f32
-                })
-                .collect()
+            for (value, c) in out.iter_mut().zip(bytes.chunks_exact($n)) {
+                let raw: [u8; $n] = c.try_into().expect("chunks_exact gives whole samples");
+                *value = (match endian {
+                    Endian::Little => <$t>::from_le_bytes(raw),
+                    Endian::Big => <$t>::from_be_bytes(raw),
+                }) as f32;
+            }
         };
     }
     match ty {
-        SampleType::U8 => bytes.iter().map(|&b| b as f32).collect(),
-        SampleType::I8 => bytes.iter().map(|&b| b as i8 as f32).collect(),
+        SampleType::U8 => (out.iter_mut().zip(bytes)).for_each(|(v, &b)| *v = b as f32),
+        SampleType::I8 => (out.iter_mut().zip(bytes)).for_each(|(v, &b)| *v = b as i8 as f32),
         SampleType::U16 => convert!(u16, 2),
         SampleType::I16 => convert!(i16, 2),
         SampleType::U32 => convert!(u32, 4),

@@ -151,12 +151,15 @@ impl Flags {
 }
 
 /// The column runs along x, y and z of the samples `samples` (x fastest, `dims`, the first at
-/// index `first` of the whole scan) thresholded at `threshold` (inside: `v >= threshold`).
+/// index `first` of the whole scan) thresholded at `threshold` (inside: `v >= threshold`);
+/// with `side_by_side`, the three axes at once (faster, more memory held at once), else one
+/// after another.
 pub(crate) fn classify(
     samples: &[f32],
     dims: [usize; 3],
     first: [usize; 3],
     threshold: f32,
+    side_by_side: bool,
 ) -> [ColumnRuns; 3] {
     debug_assert_eq!(samples.len(), dims.iter().product::<usize>());
     let mut inside = vec![0u8; samples.len()];
@@ -173,7 +176,16 @@ pub(crate) fn classify(
         first,
         inside,
     };
-    [Axis::X, Axis::Y, Axis::Z].map(|axis| runs_along(&flags, axis))
+    if !side_by_side {
+        return [Axis::X, Axis::Y, Axis::Z].map(|axis| runs_along(&flags, axis));
+    }
+    // The three axes side by side: one axis's gathering (sequential) overlaps the others' work.
+    let flags = &flags;
+    let (x, (y, z)) = rayon::join(
+        || runs_along(flags, Axis::X),
+        || rayon::join(|| runs_along(flags, Axis::Y), || runs_along(flags, Axis::Z)),
+    );
+    [x, y, z]
 }
 
 /// The runs of every column along `axis`.

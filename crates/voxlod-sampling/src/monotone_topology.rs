@@ -610,19 +610,23 @@ impl BoxCounts {
     }
 }
 
-/// The index box of the samples in `set`, or `None` when it is empty.
+/// The index box of the samples in `set`, or `None` when it is empty. Row by row along x on
+/// all threads: a row's first and last set samples bound x, and a row with any gives its y and
+/// z (one pass over the flags, no per-sample index arithmetic).
 fn set_box(set: &[bool], grid: &Grid) -> Option<([usize; 3], [usize; 3])> {
+    let dims = grid.dims;
     let widen = |a: ([usize; 3], [usize; 3]), b: ([usize; 3], [usize; 3])| {
         (
             [0, 1, 2].map(|k| a.0[k].min(b.0[k])),
             [0, 1, 2].map(|k| a.1[k].max(b.1[k])),
         )
     };
-    let (lo, hi) = (set.par_iter().enumerate())
-        .filter(|(_, &s)| s)
-        .map(|(i, _)| {
-            let p = coordinates(grid.dims, i);
-            (p, p)
+    let (lo, hi) = (set.par_chunks(dims[0]).enumerate())
+        .filter_map(|(r, row)| {
+            let first = row.iter().position(|&s| s)?;
+            let last = row.iter().rposition(|&s| s)?;
+            let (y, z) = (r % dims[1], r / dims[1]);
+            Some(([first, y, z], [last, y, z]))
         })
         .reduce(|| ([usize::MAX; 3], [0; 3]), widen);
     (lo[0] != usize::MAX).then_some((lo, hi))
@@ -786,3 +790,46 @@ const NEIGHBOURS_26: [[i64; 3]; 26] = {
     }
     out
 };
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The box of every set sample, sample by sample: the reference for [`set_box`].
+    fn set_box_per_sample(set: &[bool], dims: [usize; 3]) -> Option<([usize; 3], [usize; 3])> {
+        let mut found: Option<([usize; 3], [usize; 3])> = None;
+        for (i, _) in set.iter().enumerate().filter(|(_, &s)| s) {
+            let p = coordinates(dims, i);
+            let (lo, hi) = found.get_or_insert((p, p));
+            *lo = [0, 1, 2].map(|k| lo[k].min(p[k]));
+            *hi = [0, 1, 2].map(|k| hi[k].max(p[k]));
+        }
+        found
+    }
+
+    #[test]
+    fn the_set_box_by_rows_is_the_box_of_every_sample() {
+        let dims = [7, 5, 6];
+        let grid = Grid::new(dims, [1.0, 0.5, 2.0], [0.0; 3]).unwrap();
+        let n = dims.iter().product::<usize>();
+        assert_eq!(set_box(&vec![false; n], &grid), None);
+        let mut seed = 12345u64;
+        for round in 0..200 {
+            let mut set = vec![false; n];
+            // From one sample (an edge or a corner of the grid) to a scattered tenth of them.
+            for _ in 0..=(round % 9) * (round % 4) {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                set[(seed >> 33) as usize % n] = true;
+            }
+            set[[0, n - 1, dims[0] - 1, n - dims[0]][round % 4]] |= round % 3 == 0;
+            assert_eq!(
+                set_box(&set, &grid),
+                set_box_per_sample(&set, dims),
+                "{round}"
+            );
+            assert!(set_box(&set, &grid).is_some());
+        }
+    }
+}

@@ -33,6 +33,10 @@ pub struct ThresholdSolid<'a> {
     bounds: Bounds,
     /// Per axis, the run-length encoded cell columns, built on first use and kept for all levels.
     columns: OnceLock<[ColumnRuns; 3]>,
+    /// Whether the three axes' columns are classified side by side (a whole scan, classified
+    /// once on all threads) or one axis after another (a window of the bricked route, whose
+    /// windows are already classified side by side, and whose memory stays that of one axis).
+    axes_side_by_side: bool,
 }
 
 impl<'a> ThresholdSolid<'a> {
@@ -51,7 +55,9 @@ impl<'a> ThresholdSolid<'a> {
                 "the threshold {threshold} is above every value of the volume (range {lo} to {hi})"
             )));
         }
-        Ok(Self::window(volume, volume.grid, [0; 3], threshold))
+        let mut solid = Self::window(volume, volume.grid, [0; 3], threshold);
+        solid.axes_side_by_side = true;
+        Ok(solid)
     }
 
     /// The solid of a scan with grid `grid`, of which only `window` is held: the samples from
@@ -72,6 +78,7 @@ impl<'a> ThresholdSolid<'a> {
             threshold,
             bounds: grid.bounds(),
             columns: Default::default(),
+            axes_side_by_side: false,
         }
     }
 
@@ -224,7 +231,14 @@ impl ThresholdSolid<'_> {
     fn columns_along(&self, axis: Axis) -> &ColumnRuns {
         let columns = self.columns.get_or_init(|| {
             let held = &self.volume;
-            classify(held.as_slice(), held.grid.dims, self.start, self.threshold)
+            let side_by_side = self.axes_side_by_side;
+            classify(
+                held.as_slice(),
+                held.grid.dims,
+                self.start,
+                self.threshold,
+                side_by_side,
+            )
         });
         &columns[axis.index()]
     }
@@ -442,8 +456,11 @@ mod tests {
             (&flat, flat.grid, [0; 3]),
         ];
         for (volume, grid, start) in cases {
-            for threshold in [-10.0, 1.0, 20.5] {
-                let solid = ThresholdSolid::window(volume, grid, start, threshold);
+            for (threshold, side_by_side) in
+                [(-10.0, false), (1.0, false), (1.0, true), (20.5, true)]
+            {
+                let mut solid = ThresholdSolid::window(volume, grid, start, threshold);
+                solid.axes_side_by_side = side_by_side;
                 for axis in [Axis::X, Axis::Y, Axis::Z] {
                     let (ua, va) = axis.others();
                     let (_, cu, cv) = solid.held_cells(axis);
