@@ -37,10 +37,10 @@ use voxlod_core::components::submesh;
 use voxlod_core::parity::point_inside;
 use voxlod_core::{mesh_topology, Bounds, TriangleMesh};
 use voxlod_metrics::MeshDistance;
-use voxlod_quadric::{simplify_dropping_parts, PartsOptions, QuadricOptions};
 
 use super::candidate::{most_fitting, Candidate};
 use super::context::BudgetContext;
+use super::geometric::collapse;
 use super::parts::{InputPart, STAND_IN_TRIANGLES};
 use super::Stage;
 use crate::lod::LodLevel;
@@ -123,11 +123,7 @@ fn twin(
     error: Option<f64>,
 ) -> Option<Candidate> {
     let reserved: usize = parts.iter().map(|p| p.triangle_count()).sum();
-    let options = PartsOptions {
-        quadric: QuadricOptions::budget(error.unwrap_or(f64::INFINITY)),
-        ..PartsOptions::default()
-    };
-    let done = simplify_dropping_parts(&level.mesh, budget - reserved, &options).ok()?;
+    let done = collapse(level, budget - reserved, error)?;
     let mut mesh = done.simplified.mesh;
     let kept = Obstacle::new(&mesh);
     let room = most_fitting(budget).saturating_sub(mesh.triangle_count());

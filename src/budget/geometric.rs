@@ -8,7 +8,7 @@ use voxlod_contouring::clean_mesh::has_defects;
 use voxlod_contouring::{clean_mesh, CleanOptions};
 use voxlod_core::TriangleMesh;
 use voxlod_envelope::{simplify_envelope, EnvelopeOptions, Epsilon};
-use voxlod_quadric::{simplify_dropping_parts, PartsOptions, QuadricOptions};
+use voxlod_quadric::{simplify_dropping_parts, PartsOptions, PartsSimplified, QuadricOptions};
 
 use super::candidate::Candidate;
 use super::context::BudgetContext;
@@ -41,12 +41,8 @@ pub(super) fn stages(
         });
     }
     if want_quadric {
-        let options = PartsOptions {
-            quadric: QuadricOptions::budget(error.unwrap_or(f64::INFINITY)),
-            ..PartsOptions::default()
-        };
-        if let Ok(done) = simplify_dropping_parts(&level.mesh, budget, &options) {
-            let mesh = without_caps(done.simplified.mesh, level.plan.voxel_size);
+        if let Some(done) = collapse(level, budget, error) {
+            let mesh = done.simplified.mesh;
             let quadric = Candidate {
                 distance: ctx.measure(&mesh),
                 mesh,
@@ -66,6 +62,24 @@ pub(super) fn stages(
         out.extend(envelope_candidate(ctx, level, iso, budget, error));
     }
     out
+}
+
+/// The quadric stage on `level`'s mesh for `target` triangles within `error`: meshoptimizer's
+/// collapse with the topology kept, the smallest parts dropped where it stalls above the
+/// target, and no zero-area triangle left ([`without_caps`]). `None` where it fails.
+pub(super) fn collapse(
+    level: &LodLevel,
+    target: usize,
+    error: Option<f64>,
+) -> Option<PartsSimplified> {
+    let options = PartsOptions {
+        quadric: QuadricOptions::budget(error.unwrap_or(f64::INFINITY)),
+        ..PartsOptions::default()
+    };
+    let mut done = simplify_dropping_parts(&level.mesh, target, &options).ok()?;
+    let simplified = std::mem::take(&mut done.simplified.mesh);
+    done.simplified.mesh = without_caps(simplified, level.plan.voxel_size);
+    Some(done)
 }
 
 /// `mesh` with its zero-area triangles fixed (issue 12 item 6): on a flat region every collapse

@@ -689,8 +689,8 @@ pub(crate) fn write(path: &Path, view: PolyView<'_>) -> Result<TempFile, IoError
     let mut header = Header::new();
     header.encoding = Encoding::BinaryLittleEndian;
     header.comments.push("written by voxlod".to_string());
-    header.elements.add(vertex_def.clone());
-    header.elements.add(face_def.clone());
+    header.elements.add(vertex_def);
+    header.elements.add(face_def);
     if !view.lines.is_empty() {
         header.elements.add(edge_def.clone());
     }

@@ -323,19 +323,21 @@ fn add_span(
             density[i - start] += full - big;
             weight[i - start] += small;
         }
-        let w_hi = (a + reach).floor().min(hi);
-        if w_hi >= f_lo {
-            for i in f_lo as usize..=w_hi as usize {
-                weight[i - start] += profile.weight_at(a - i as f64);
-            }
-        }
+        add_weights(
+            profile,
+            a,
+            (f_lo, (a + reach).floor().min(hi)),
+            start,
+            weight,
+        );
         if b.is_finite() {
-            let w_lo = (b - reach).ceil().max(lo);
-            if w_lo <= f_hi {
-                for i in w_lo as usize..=f_hi as usize {
-                    weight[i - start] += profile.weight_at(b - i as f64);
-                }
-            }
+            add_weights(
+                profile,
+                b,
+                ((b - reach).ceil().max(lo), f_hi),
+                start,
+                weight,
+            );
             for i in f_hi as usize + 1..=i_hi {
                 let (big, small) = profile.integral_and_weight(b - i as f64);
                 density[i - start] += big;
@@ -348,14 +350,26 @@ fn add_span(
         density[i - start] += partial(i);
     }
     for c in [a, b].into_iter().filter(|c| c.is_finite()) {
-        let w_lo = (c - reach).ceil().max(lo);
-        let w_hi = (c + reach).floor().min(hi);
-        if w_hi < w_lo {
-            continue;
-        }
-        for i in w_lo as usize..=w_hi as usize {
-            weight[i - start] += profile.weight_at(c - i as f64);
-        }
+        let window = ((c - reach).ceil().max(lo), (c + reach).floor().min(hi));
+        add_weights(profile, c, window, start, weight);
+    }
+}
+
+/// Adds the weight `g(c - i)` of the crossing at `c` to `weight[i - start]` for the samples
+/// `i` from `window.0` to `window.1` (whole numbers; none when the window is empty).
+#[inline]
+fn add_weights(
+    profile: &LineProfile,
+    c: f64,
+    (from, to): (f64, f64),
+    start: usize,
+    weight: &mut [f64],
+) {
+    if to < from {
+        return;
+    }
+    for i in from as usize..=to as usize {
+        weight[i - start] += profile.weight_at(c - i as f64);
     }
 }
 

@@ -62,39 +62,51 @@ impl LineProfile {
     /// [`LineProfile::weight_at`], for a crossing that needs both.
     #[inline]
     pub fn integral_and_weight(&self, tau: f64) -> (f64, f64) {
-        if tau <= -self.reach {
-            return (0.0, 0.0);
+        match interval(self.reach, self.inv_step, tau) {
+            Interval::Before => (0.0, 0.0),
+            Interval::After => (self.total(), 0.0),
+            Interval::At(i, f) => {
+                let (lo, hi) = (self.table[i], self.table[i + 1]);
+                (
+                    lo[INTEGRAL] + (hi[INTEGRAL] - lo[INTEGRAL]) * f,
+                    lo[WEIGHT] + (hi[WEIGHT] - lo[WEIGHT]) * f,
+                )
+            }
         }
-        if tau >= self.reach {
-            return (self.total(), 0.0);
-        }
-        let x = (tau + self.reach) * self.inv_step;
-        let i = (x as usize).min(INTERVALS - 1);
-        let f = x - i as f64;
-        let (lo, hi) = (self.table[i], self.table[i + 1]);
-        (
-            lo[INTEGRAL] + (hi[INTEGRAL] - lo[INTEGRAL]) * f,
-            lo[WEIGHT] + (hi[WEIGHT] - lo[WEIGHT]) * f,
-        )
     }
+}
+
+/// Where `tau` lies along a line of reach `reach` whose table has steps of `1 / inv_step`.
+enum Interval {
+    /// At or before the line's start: nothing integrated yet.
+    Before,
+    /// At or after its end: the whole line integrated.
+    After,
+    /// In table interval `i`, at fraction `f` of it.
+    At(usize, f64),
+}
+
+#[inline]
+fn interval(reach: f64, inv_step: f64, tau: f64) -> Interval {
+    if tau <= -reach {
+        return Interval::Before;
+    }
+    if tau >= reach {
+        return Interval::After;
+    }
+    let x = (tau + reach) * inv_step;
+    let i = (x as usize).min(INTERVALS - 1);
+    Interval::At(i, x - i as f64)
 }
 
 #[inline]
 fn lookup<const C: usize>(table: &Table, reach: f64, inv_step: f64, tau: f64) -> f64 {
-    if tau <= -reach {
-        return 0.0;
+    match interval(reach, inv_step, tau) {
+        Interval::Before => 0.0,
+        Interval::After if C == INTEGRAL => table[INTERVALS][C],
+        Interval::After => 0.0,
+        Interval::At(i, f) => table[i][C] + (table[i + 1][C] - table[i][C]) * f,
     }
-    if tau >= reach {
-        return if C == INTEGRAL {
-            table[INTERVALS][C]
-        } else {
-            0.0
-        };
-    }
-    let x = (tau + reach) * inv_step;
-    let i = (x as usize).min(INTERVALS - 1);
-    let f = x - i as f64;
-    table[i][C] + (table[i + 1][C] - table[i][C]) * f
 }
 
 /// A lattice line of the pattern: its offset from the sample's own line, in lattice steps, and
