@@ -94,12 +94,14 @@ pub use shells::{
 pub use source::{iso_outside_data, Prepared, Route, Source};
 pub use then_envelope::{EnvelopeStep, LevelEpsilon, ThenEnvelope};
 pub use voxelize::{voxelize, VoxelizeOptions, Voxelized};
+pub use voxlod_fit::FitOptions;
 pub use voxlod_layers::LayersOptions;
 
 pub use voxlod_clustering as clustering;
 pub use voxlod_contouring as contouring;
 pub use voxlod_core as core;
 pub use voxlod_envelope as envelope;
+pub use voxlod_fit as fit;
 pub use voxlod_io as io;
 pub use voxlod_layers as layers;
 pub use voxlod_metrics as metrics;

@@ -4,6 +4,7 @@
 
 use serde::Serialize;
 use voxlod_contouring::CleanOptions;
+use voxlod_fit::FitOptions;
 use voxlod_sampling::{Filter, MeshPreparation, MonotoneOptions, PyramidOptions};
 
 use crate::budget::terms::{check_budgets, BudgetLevel, ErrorTarget, Then};
@@ -38,6 +39,10 @@ pub struct LodOptions {
     /// Budget levels of an open mesh keep the caps that sampling puts over its holes
     /// (watertight levels); by default the caps are cut away and the openings kept.
     pub closed: bool,
+    /// Budget levels have their vertices fitted to the input mesh, kept only where that
+    /// measures closer (beyond the paper, step 7 of [`crate::budget`]). `None` leaves each
+    /// level as its geometric stage made it.
+    pub fit: Option<FitOptions>,
     /// CPU seconds (all threads; [`voxlod_core::cpu_clock`]) each budget's search may spend per
     /// isodensity on neighbouring resolutions after its first candidate (`f64::INFINITY`: all
     /// of them, `0`: the first only). Counted in CPU time, not wall time, so that the same
@@ -72,6 +77,7 @@ impl Default for LodOptions {
             error: None,
             then: Then::Auto,
             closed: false,
+            fit: Some(FitOptions::default()),
             time_cap: 1.0,
             finest: Finest::InputTriangles,
             monotone: Some(MonotoneOptions::default()),

@@ -412,3 +412,33 @@ fn impossible_budgets_are_refused() {
         assert!(e.to_string().contains("triangles"), "{e}");
     }
 }
+
+#[test]
+fn fitting_to_the_input_brings_levels_closer_and_keeps_them_clean() {
+    // Two spheres that overlap: the filter fills the crease where they meet, which only a
+    // look at the input again (step 7) can take back.
+    let mut mesh = icosphere_at(4, 1.0, Vec3::ZERO);
+    append(&mut mesh, &icosphere_at(4, 0.8, Vec3::new(1.3, 0.0, 0.0)));
+    let fitted = lod(&Source::Mesh(&mesh), &options(&[600, 150])).unwrap();
+    let unfitted = LodOptions {
+        fit: None,
+        ..options(&[600, 150])
+    };
+    let unfitted = lod(&Source::Mesh(&mesh), &unfitted).unwrap();
+    for (f, u) in fitted.budgets.iter().zip(&unfitted.budgets) {
+        assert!(!u.fitted_to_input);
+        assert!(f.fitted_to_input, "{:?}: not fitted", f.budget);
+        assert!(f.hausdorff < u.hausdorff, "{f:?}\n{u:?}");
+        assert!(f.mean_distance < u.mean_distance, "{f:?}\n{u:?}");
+        assert_eq!((f.triangles, f.genus), (u.triangles, u.genus));
+        assert_eq!(f.self_intersections, 0);
+    }
+    for level in &fitted.levels {
+        let t = mesh_topology(&level.mesh);
+        assert!(
+            t.is_closed_manifold() && t.is_consistently_oriented(),
+            "{t:?}"
+        );
+        assert!(voxlod::core::crossing_pairs(&level.mesh).is_empty());
+    }
+}

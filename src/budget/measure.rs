@@ -7,6 +7,7 @@
 
 use voxlod_core::glam::DVec3;
 use voxlod_core::TriangleMesh;
+use voxlod_fit::{fit_with, FitOptions, Fitted};
 use voxlod_metrics::{
     one_sided_distance, DistanceOptions, MeshDistance, SamplingOptions, SurfaceSampler,
 };
@@ -74,5 +75,18 @@ impl<'a> InputMeasure<'a> {
             shape,
             mean: 0.5 * (there.mean + back.mean),
         })
+    }
+
+    /// `mesh` fitted to the input (step 7, module `fit`), with the fit's own samples of the
+    /// input (its seed, not the distances'), against the input's closest-point structure.
+    pub(super) fn fit(&self, mesh: &TriangleMesh, options: &FitOptions) -> Option<Fitted> {
+        let sampling = SamplingOptions {
+            seed: options.seed,
+            ..SamplingOptions::with_samples(options.samples)
+        };
+        let samples: Vec<DVec3> = (self.sampler.samples(&sampling).ok()?.into_iter())
+            .map(|s| s.point)
+            .collect();
+        fit_with(mesh, &self.closest, &samples, options).ok()
     }
 }

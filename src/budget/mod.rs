@@ -87,6 +87,15 @@
 //!    nearest giving way where the level, re-simplified to make room, stalls above its share),
 //!    in twin candidates of step 3 that compete like the others (step 4); distances give every
 //!    input part a point of its own, so that a tiny lost part counts.
+//! 7. **Fitted to the input** (our addition, module `fit`; the inner problem of Hoppe et al.
+//!    1993's mesh optimization, §4.1, in [`voxlod_fit`]): once every budget's level is chosen,
+//!    its vertices are moved by least squares towards points sampled on the input and onto
+//!    it, its triangles kept, and the result is kept only where its measured distances are no
+//!    larger, no new triangle pairs cross and its topology (and silhouette difference, where
+//!    measured) is unchanged or better: the filter's smoothing, which no collapse of the voxel
+//!    level can undo, is then taken back where the input shows it (the sphereflake at 1 000
+//!    triangles: 3.11 % → 2.84 % of the diagonal, `evaluate`'s samples).
+//!    [`crate::LodOptions::fit`] `None` leaves the levels as step 3 made them.
 //!
 //! **Independence.** A budget's level depends on that budget and the options alone, never on
 //! the other budgets of the run: each search starts from nothing, and levels built for one
@@ -116,8 +125,8 @@
 //! `openings` (step 2), `input` (step 0), `geometric` (step 3), `candidate` and `measure`
 //! (step 4's comparison and distances), `search` (a budget's search, the time cap, the
 //! bisection), `filled`, `enclosed` and `silhouettes` (step 5), `detached` and `parts`
-//! (step 6), `genus_cap` (the genus along a chain of budgets), `error_target` (the error target
-//! alone, without step 5) and `report`.
+//! (step 6), `fit` (step 7), `genus_cap` (the genus along a chain of budgets), `error_target`
+//! (the error target alone, without step 5) and `report`.
 
 mod candidate;
 mod context;
@@ -125,6 +134,7 @@ mod detached;
 mod enclosed;
 mod error_target;
 mod filled;
+mod fit;
 mod genus_cap;
 mod geometric;
 mod input;
@@ -244,6 +254,10 @@ pub(crate) fn lod_by_budget(
         warnings.extend(chain.warnings);
         (chain.levels, chain.reports)
     };
+    let (mut levels, mut budgets) = (levels, budgets);
+    if let Some(fit_options) = &options.fit {
+        fit::fit_levels(&ctx, fit_options, &mut levels, &mut budgets);
+    }
     Ok(Lod {
         levels,
         route: prepared.route(),

@@ -167,6 +167,9 @@ pub struct BudgetLevel {
     /// (quadric, topology kept), because its own search found no level within 10 % of the
     /// budget with no more handles than that level (module docs of `budget/genus_cap`).
     pub simplified_from: Option<usize>,
+    /// Whether the level's vertices were fitted to the input surface (step 7 of
+    /// [`crate::budget`], module docs of `budget/fit`): only where that measured closer.
+    pub fitted_to_input: bool,
     /// Pairs of the level's triangles that cross ([`voxlod_contouring::crossing_pairs`]): the
     /// quadric collapse refuses to fold one sheet through another, but an input that crosses
     /// itself, or another stage, can leave some. Issue 12 item 6 asks for none: the search

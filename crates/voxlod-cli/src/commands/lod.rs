@@ -143,6 +143,10 @@ pub struct LodArgs {
     /// default they are cut away and the holes stay open
     #[arg(long, help_heading = "Budgets")]
     pub closed: bool,
+    /// Leave each budget level as its geometric stage made it; by default its vertices are
+    /// then fitted to the input mesh (triangles kept), where that measures closer
+    #[arg(long, help_heading = "Budgets")]
+    pub no_fit: bool,
     /// CPU seconds (all threads) each budget may spend per isodensity trying neighbouring
     /// resolutions for a smaller distance; CPU time, so that a busy machine gives the same levels
     #[arg(long, value_name = "SECONDS", default_value_t = 1.0, help_heading = "Budgets",

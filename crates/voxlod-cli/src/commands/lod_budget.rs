@@ -111,6 +111,7 @@ fn options(args: &LodArgs) -> Result<LodOptions, CliError> {
         error: args.error,
         then: args.then,
         closed: args.closed,
+        fit: (!args.no_fit).then(voxlod::FitOptions::default),
         time_cap: args.time_cap,
         iso: args.iso,
         ..LodOptions::default()

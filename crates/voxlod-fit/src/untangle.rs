@@ -1,0 +1,76 @@
+//! Crossings that a fit made, undone: the corners of every pair of triangles that cross are
+//! put back where they were before the fit, and the test is repeated, since a corner put back
+//! can make its neighbours cross in turn. The step check of the fit ([`crate::fit_with`]) sees
+//! folds of a triangle against its own first normal, not two sheets of the level moving
+//! through each other where they lie close (two spheres of the sphereflake that meet at a
+//! crease); this does.
+//!
+//! Cost: one crossing test ([`voxlod_core::crossing_pairs`], a BVH of the triangles) per round,
+//! at most [`ROUNDS`] rounds.
+
+use voxlod_core::crossing_pairs;
+use voxlod_core::TriangleMesh;
+
+/// Rounds of putting corners back before giving up.
+const ROUNDS: usize = 6;
+
+/// `fitted` with the corners of its crossing triangles moved back to their positions in
+/// `level` (the same triangles), until no pair crosses that did not cross in `level`, or
+/// [`ROUNDS`] rounds. Returns the mesh and the vertices moved back.
+pub(crate) fn untangled(level: &TriangleMesh, mut fitted: TriangleMesh) -> (TriangleMesh, usize) {
+    let mut before = crossing_pairs(level);
+    before.sort_unstable();
+    let mut restored = vec![false; fitted.positions.len()];
+    for _ in 0..ROUNDS {
+        let new: Vec<(u32, u32)> = (crossing_pairs(&fitted).into_iter())
+            .filter(|pair| before.binary_search(pair).is_err())
+            .collect();
+        if new.is_empty() {
+            break;
+        }
+        for (a, b) in new {
+            for t in [a, b] {
+                for v in fitted.triangles[t as usize] {
+                    fitted.positions[v as usize] = level.positions[v as usize];
+                    restored[v as usize] = true;
+                }
+            }
+        }
+    }
+    if restored.iter().any(|&r| r) && !fitted.normals.is_empty() {
+        fitted.compute_vertex_normals();
+    }
+    (fitted, restored.iter().filter(|&&r| r).count())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use voxlod_core::glam::Vec3;
+
+    #[test]
+    fn a_corner_pushed_through_another_sheet_goes_back() {
+        // Two parallel triangles 0.1 apart; the fit lifts a corner of the lower one through
+        // the upper one.
+        let level = TriangleMesh::new(
+            vec![
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(2.0, 0.0, 0.0),
+                Vec3::new(0.0, 2.0, 0.0),
+                Vec3::new(0.0, 0.0, 0.1),
+                Vec3::new(2.0, 0.0, 0.1),
+                Vec3::new(0.0, 2.0, 0.1),
+            ],
+            vec![[0, 1, 2], [3, 4, 5]],
+        );
+        assert!(crossing_pairs(&level).is_empty());
+        let mut fitted = level.clone();
+        fitted.positions[2] = Vec3::new(0.0, 2.0, 0.5);
+        fitted.positions[3] = Vec3::new(0.01, 0.0, 0.1);
+        assert_eq!(crossing_pairs(&fitted), vec![(0, 1)]);
+        let (done, restored) = untangled(&level, fitted);
+        assert!(crossing_pairs(&done).is_empty());
+        assert_eq!(restored, 6);
+        assert_eq!(done.positions, level.positions);
+    }
+}
