@@ -438,7 +438,9 @@ fn component_shapes(mesh: &TriangleMesh, parent: &mut [u32]) -> HashMap<u32, (i6
 
 /// One meshoptimizer pass towards `target` triangles within `max_error` (mesh units), with
 /// the `locked` vertices kept: the result over the same vertices and meshoptimizer's error
-/// estimate in mesh units.
+/// estimate in mesh units. A `target` at or above the mesh's triangle count returns the mesh
+/// as it is with error 0, without calling meshoptimizer (which aborts the process when asked
+/// for more indices than it is given).
 fn collapse(
     mesh: &TriangleMesh,
     target: usize,
@@ -446,6 +448,9 @@ fn collapse(
     lock_border: bool,
     locked: &[bool],
 ) -> (TriangleMesh, f64) {
+    if target >= mesh.triangle_count() {
+        return (mesh.clone(), 0.0);
+    }
     let positions = positions_of(mesh);
     let vertices = adapter(&positions);
     let mut flags = SimplifyOptions::ErrorAbsolute;
@@ -515,9 +520,14 @@ fn error_limit(max_error: f64) -> f32 {
 
 /// meshoptimizer's `simplifySloppy` (vertex clustering on a grid it searches for the count):
 /// reaches any count, keeps neither topology nor manifoldness. A reference method for
-/// `evaluate`, not a stage of the pipeline. The result's unused vertices are dropped.
+/// `evaluate`, not a stage of the pipeline. The result's unused vertices are dropped. A budget
+/// at or above the mesh's triangle count returns its triangles unchanged (meshoptimizer is not
+/// called: it aborts the process when asked for more indices than it is given).
 pub fn simplify_sloppy(mesh: &TriangleMesh, budget: usize) -> Result<TriangleMesh, QuadricError> {
     check_basic(mesh, budget)?;
+    if budget >= mesh.triangle_count() {
+        return Ok(compact(mesh, mesh.triangles.as_flattened()));
+    }
     let positions = positions_of(mesh);
     let vertices = adapter(&positions);
     let indices = meshopt::simplify_sloppy(
@@ -532,7 +542,8 @@ pub fn simplify_sloppy(mesh: &TriangleMesh, budget: usize) -> Result<TriangleMes
 
 /// meshoptimizer's `simplify` alone, as a reference method for `evaluate`: no topology check, no
 /// distance limit, border locked only if asked. Returns the mesh and meshoptimizer's error
-/// estimate in mesh units.
+/// estimate in mesh units; a budget at or above the mesh's triangle count returns its triangles
+/// unchanged with error 0.
 pub fn simplify_unchecked(
     mesh: &TriangleMesh,
     budget: usize,
@@ -542,4 +553,36 @@ pub fn simplify_unchecked(
     let (mut out, error) = collapse(mesh, budget, f64::INFINITY, lock_border, &[]);
     out.remove_unreferenced_vertices();
     Ok((out, error))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use voxlod_testkit::shapes::{icosphere, torus};
+
+    /// Budgets at, just above and far above the input's count: each returns every triangle.
+    #[test]
+    fn a_budget_above_the_input_returns_the_whole_mesh() {
+        let sphere = icosphere(3);
+        let ring = torus(24, 12, 1.0, 0.3);
+        for (mesh, count) in [(&sphere, 1280), (&ring, 576)] {
+            assert_eq!(mesh.triangle_count(), count);
+            for budget in [count, count + 1, 10 * count] {
+                let sloppy = simplify_sloppy(mesh, budget).unwrap();
+                assert_eq!(sloppy.triangles, mesh.triangles, "sloppy {budget}");
+                let (collapsed, error) = simplify_unchecked(mesh, budget, false).unwrap();
+                assert_eq!(collapsed.triangles, mesh.triangles, "unchecked {budget}");
+                assert_eq!(error, 0.0);
+            }
+        }
+    }
+
+    /// Below the input's count meshoptimizer still runs and reduces.
+    #[test]
+    fn a_budget_below_the_input_still_simplifies() {
+        let mesh = icosphere(3);
+        assert!(simplify_sloppy(&mesh, 1000).unwrap().triangle_count() <= 1000);
+        let (collapsed, _) = simplify_unchecked(&mesh, 1000, false).unwrap();
+        assert!(collapsed.triangle_count() <= 1000);
+    }
 }

@@ -6,6 +6,8 @@
 //! - [`skips`]: every skip (no shared data, a missing tool) recorded, for the count and reasons
 //!   that `scripts/test` prints at the end.
 //! - [`shapes`]: closed meshes made in code (cubes, icospheres, tori, a holed block, prisms).
+//! - [`corpus`]: hard meshes made in code (open sheets, many parts, overlapping shells, CAD
+//!   plates, a holed scan, an inside-out surface, a soup, high genus, thin tubes), by name.
 //! - [`fields`]: the sphereflake and gyroid fields of the peers' benchmark kit.
 //! - [`volumes`]: small volumes made in code.
 //! - [`dicom`]: DICOM slices and series of a ball phantom, written with dicom-object.
@@ -21,6 +23,7 @@
 //! their unit tests, and tests that need more run from the workspace root's `tests/`.
 
 pub mod compare;
+pub mod corpus;
 pub mod data;
 pub mod dicom;
 pub mod dicom_seg;
