@@ -55,6 +55,7 @@ pub mod crossings;
 pub mod disjoint;
 pub mod error;
 pub mod grid;
+pub mod manifold;
 pub mod memory;
 pub mod mesh;
 pub mod parity;

@@ -1,4 +1,4 @@
-//! The unit cube for this crate's unit tests: `voxlod-testkit`, which has it too, depends on
+//! The unit cube and the octahedron for this crate's unit tests: `voxlod-testkit`, which has it too, depends on
 //! this crate and so cannot serve its unit tests.
 
 use glam::Vec3;
@@ -25,4 +25,20 @@ pub fn unit_cube() -> TriangleMesh {
         [3, 7, 5],
     ];
     TriangleMesh::new(positions, triangles)
+}
+
+/// The octahedron with vertices at ±1 on each axis: 6 vertices, 8 outward triangles.
+pub fn octahedron() -> TriangleMesh {
+    let p = vec![Vec3::X, Vec3::Y, -Vec3::X, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    let t = vec![
+        [0, 1, 4],
+        [1, 2, 4],
+        [2, 3, 4],
+        [3, 0, 4],
+        [1, 0, 5],
+        [2, 1, 5],
+        [3, 2, 5],
+        [0, 3, 5],
+    ];
+    TriangleMesh::new(p, t)
 }

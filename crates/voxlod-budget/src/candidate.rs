@@ -1,0 +1,140 @@
+//! A [`Candidate`] level for one budget: a mesh, the method that made it, its topology, and
+//! what measuring and checking it found, filled in as the portfolio ([`crate::select`]) needs.
+//!
+//! Every candidate is made an oriented manifold as it is made ([`make_manifold`]): a thin part
+//! that a collapse flattened into two triangles on the same three vertices is dropped, sheets
+//! that a collapse pinched together along an edge are taken apart again as closed surfaces,
+//! and what cannot be paired (edges of three or more triangles that an input had) is cut, the
+//! copies of a vertex keeping its place. Where a cut opens a level that had to be closed, the
+//! promise of closedness rules it out.
+
+use serde::Serialize;
+use voxlod_core::manifold::make_manifold;
+use voxlod_core::{mesh_topology, Topology, TriangleMesh};
+
+use crate::measure::Distance;
+
+/// The method that made a candidate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// The input's own quadric collapse, as gltfpack makes it (meshoptimizer `simplify`, border
+    /// free, no error limit): Garland and Heckbert's edge collapse, of the input with its
+    /// coincident vertices merged.
+    Collapse,
+    /// The same collapse of the input exactly as given, where merging its coincident vertices
+    /// changed it (seams a collapse treats as borders: sometimes closer, sometimes not).
+    CollapseAsGiven,
+    /// The input's quadric collapse with its topology kept and no new crossing triangles
+    /// (voxlod-quadric's checked collapse), where the plain collapse broke a promise.
+    CollapseKept,
+    /// meshoptimizer `simplifySloppy`: vertex clustering on a grid sized for the count. Kept
+    /// only where its result happens to keep every promise.
+    Sloppy,
+    /// The input's solid low-pass filtered and contoured (He et al. 1995 §2–4), then collapsed
+    /// to the budget with its topology kept (§5).
+    Voxel,
+    /// A thin shell around the input's surface contoured, then collapsed to the budget: the
+    /// voxel level of a surface with no inside (an open sheet, open parts, a soup).
+    Shell,
+    /// The level of the next larger budget, collapsed to this one with its topology kept.
+    Above,
+}
+
+impl Method {
+    /// The method's name in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Collapse => "collapse",
+            Method::CollapseAsGiven => "collapse-as-given",
+            Method::CollapseKept => "collapse-kept",
+            Method::Sloppy => "sloppy",
+            Method::Voxel => "voxel",
+            Method::Shell => "shell",
+            Method::Above => "above",
+        }
+    }
+
+    /// Whether the method keeps the vertices where the input surface is (a collapse of the
+    /// input) rather than where a filtered volume put them (the fit applies to the latter).
+    pub fn is_voxel(self) -> bool {
+        matches!(self, Method::Voxel | Method::Shell)
+    }
+}
+
+/// One candidate level.
+#[derive(Clone, Debug)]
+pub struct Candidate {
+    /// The method.
+    pub method: Method,
+    /// The level.
+    pub mesh: TriangleMesh,
+    /// Its topology.
+    pub topology: Topology,
+    /// The voxel resolution (samples across the longest side) of a voxel or shell candidate.
+    pub resolution: Option<usize>,
+    /// The isodensity it was contoured at.
+    pub iso: Option<f32>,
+    /// Parts the quadric stage dropped because the budget could not carry them all.
+    pub parts_dropped: usize,
+    /// Whether its vertices were fitted to the input.
+    pub fitted: bool,
+    /// Vertices split to make it a manifold (module docs).
+    pub cut_vertices: usize,
+    /// The quick distance, once measured (`None` also when rejected early).
+    pub quick: Option<Distance>,
+    /// The careful distance, once measured.
+    pub careful: Option<Distance>,
+    /// Crossing triangle pairs, once counted.
+    pub crossings: Option<usize>,
+}
+
+impl Candidate {
+    /// A candidate made by `method`, cut into an oriented manifold where it is not one (module
+    /// docs), its topology found here (O(F log F)).
+    pub fn new(method: Method, mut mesh: TriangleMesh) -> Candidate {
+        mesh.remove_unreferenced_vertices();
+        let cut = make_manifold(&mut mesh);
+        mesh.remove_unreferenced_vertices();
+        Candidate {
+            cut_vertices: cut.split_vertices,
+            method,
+            topology: mesh_topology(&mesh),
+            mesh,
+            resolution: None,
+            iso: None,
+            parts_dropped: 0,
+            fitted: false,
+            quick: None,
+            careful: None,
+            crossings: None,
+        }
+    }
+
+    /// The same candidate from a voxel level of `resolution` contoured at `iso`.
+    pub fn at(self, resolution: usize, iso: f32) -> Candidate {
+        Candidate {
+            resolution: Some(resolution),
+            iso: Some(iso),
+            ..self
+        }
+    }
+
+    /// Triangles.
+    pub fn triangles(&self) -> usize {
+        self.mesh.triangle_count()
+    }
+
+    /// The candidate's name in reports: its method, and for a voxel level its resolution and
+    /// isodensity.
+    pub fn label(&self) -> String {
+        let mut label = self.method.name().to_string();
+        if let (Some(r), Some(iso)) = (self.resolution, self.iso) {
+            label += &format!(" {r}@{iso}");
+        }
+        if self.fitted {
+            label += " fitted";
+        }
+        label
+    }
+}

@@ -1,0 +1,322 @@
+//! The run of budgets (crate docs): candidates for every budget made at once, on all cores,
+//! then the levels chosen from the largest budget down, each with the level above as one more
+//! candidate and its handles as the next level's cap.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+use voxlod_core::TriangleMesh;
+use voxlod_sampling::MeshSolid;
+
+use crate::candidate::{Candidate, Method};
+use crate::collapse;
+use crate::input::Input;
+use crate::measure::{Care, Measure};
+use crate::promises::Promises;
+use crate::report::{BudgetLevel, InputReport};
+use crate::select::{choose, Chosen};
+use crate::shell::shell_candidates;
+use crate::voxel::{voxel_candidates, COARSEST, FINEST, HEADROOM};
+use crate::{BudgetError, BudgetOptions, Budgeted, Level, Timings};
+use voxlod_contouring::triangle_estimate::resolution_for_triangles;
+
+/// The input's collapse is kept without a voxel search where it is measured closer than this
+/// fraction of the voxel that the budget affords: a voxel level places its surface no closer
+/// than about that, before its own collapse adds to it.
+pub const VOXEL_WORTH: f64 = 0.5;
+
+/// Called with (steps done, steps in all) after each step; `false` stops the run.
+pub type ProgressFn<'f> = dyn Fn(usize, usize) -> bool + Sync + 'f;
+
+/// [`crate::levels`] with a progress callback.
+pub fn levels_with(
+    mesh: &TriangleMesh,
+    options: &BudgetOptions,
+    progress: &ProgressFn,
+) -> Result<Budgeted, BudgetError> {
+    let start = Instant::now();
+    let mut timings = Timings::default();
+    let mut phase = Instant::now();
+    let mut lap = |slot: &mut f64| {
+        *slot = phase.elapsed().as_secs_f64();
+        phase = Instant::now();
+    };
+    options.check()?;
+    let input = Input::prepare(mesh)?;
+    let given = input.changed_by_preparation().then_some(mesh);
+    let measure = Measure::new(&input, options.quick_samples, options.careful_samples)?;
+    lap(&mut timings.prepare);
+    let mut budgets = options.triangles.clone();
+    budgets.sort_unstable_by(|a, b| b.cmp(a));
+    budgets.dedup();
+    let total = 2 * budgets.len() + 1;
+    let step = |done: usize| {
+        if progress(done, total) {
+            Ok(())
+        } else {
+            Err(BudgetError::Cancelled)
+        }
+    };
+    step(0)?;
+    let searched: Vec<Searched> = budgets
+        .par_iter()
+        .map(|&b| search(&input, given, &measure, options, b))
+        .collect::<Result<_, _>>()?;
+    lap(&mut timings.collapses);
+    step(budgets.len())?;
+    let solid = if searched.iter().any(|s| s.needs_voxels) {
+        Some(MeshSolid::new(&input.mesh)?)
+    } else {
+        None
+    };
+    let mut searched = searched;
+    add_kept(&mut searched, &input, options);
+    searched
+        .par_iter_mut()
+        .filter(|s| s.needs_voxels)
+        .map(|s| add_voxels(s, &input, &measure, solid.as_ref(), options))
+        .collect::<Result<Vec<()>, BudgetError>>()?;
+    lap(&mut timings.voxels);
+    step(2 * budgets.len())?;
+    let (chosen, mut warnings) = choose_down(searched, &input, &measure, options)?;
+    lap(&mut timings.choice);
+    step(total)?;
+    let levels = options
+        .triangles
+        .iter()
+        .map(|b| chosen.iter().find(|l| l.report.budget == *b).cloned())
+        .collect::<Option<Vec<Level>>>()
+        .ok_or_else(|| BudgetError::NoLevel {
+            budget: 0,
+            why: "a budget was lost between search and choice".into(),
+        })?;
+    if input.preparation.turned_right_side_out {
+        warnings
+            .push("the input was inside out (negative volume): its levels face outwards".into());
+    }
+    Ok(Budgeted {
+        levels,
+        input: InputReport::of(&input),
+        warnings,
+        timings,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// One budget's candidates before the choice.
+struct Searched {
+    budget: usize,
+    candidates: Vec<Candidate>,
+    needs_voxels: bool,
+    /// The plain collapse broke a promise.
+    plain_broke: bool,
+    seconds: f64,
+    notes: Vec<String>,
+}
+
+/// The input's collapses for `budget`, and whether a voxel search can do better (the plain
+/// collapse breaks a promise, misses the budget, or is farther than [`VOXEL_WORTH`] voxels).
+fn search(
+    input: &Input,
+    given: Option<&TriangleMesh>,
+    measure: &Measure,
+    options: &BudgetOptions,
+    budget: usize,
+) -> Result<Searched, BudgetError> {
+    let start = Instant::now();
+    let promises = first_promises(input, options, budget);
+    let mut candidates = Vec::new();
+    let (mut close_enough, mut plain_broke) = (false, false);
+    if let Some(mut plain) = collapse::plain(input, budget, options.max_error) {
+        let keeps = promises.broken_cheap(&plain).is_empty() && crosses_no_more(input, &mut plain);
+        if keeps {
+            plain.quick = measure.distance(&plain.mesh, Care::Quick, f64::INFINITY);
+            let voxel = voxel_at(input, budget);
+            close_enough = plain.quick.is_some_and(|d| d.shape <= VOXEL_WORTH * voxel);
+        }
+        plain_broke = !keeps;
+        candidates.push(plain);
+    }
+    if let Some(given) = given {
+        candidates.extend(collapse::as_given(given, budget, input));
+    }
+    candidates.extend(collapse::sloppy(input, budget));
+    Ok(Searched {
+        budget,
+        candidates,
+        needs_voxels: !close_enough,
+        plain_broke,
+        seconds: start.elapsed().as_secs_f64(),
+        notes: Vec::new(),
+    })
+}
+
+/// The input's checked collapse ([`collapse::kept`]) for the largest budget whose plain
+/// collapse broke a promise; the smaller budgets get it through the level above, collapsed
+/// further, which costs a fraction of a collapse of the whole input.
+fn add_kept(searched: &mut [Searched], input: &Input, options: &BudgetOptions) {
+    if !input.topology.is_manifold() {
+        return;
+    }
+    if let Some(s) = searched.iter_mut().find(|s| s.plain_broke) {
+        let start = Instant::now();
+        s.candidates
+            .extend(collapse::kept(input, s.budget, options.max_error));
+        s.seconds += start.elapsed().as_secs_f64();
+    }
+}
+
+/// The voxel (and, for a surface that is not closed, shell) candidates of `searched`'s budget.
+fn add_voxels(
+    searched: &mut Searched,
+    input: &Input,
+    measure: &Measure,
+    solid: Option<&MeshSolid>,
+    options: &BudgetOptions,
+) -> Result<(), BudgetError> {
+    let start = Instant::now();
+    let budget = searched.budget;
+    if let Some(solid) = solid {
+        let found = voxel_candidates(
+            input,
+            measure,
+            solid,
+            options.filter,
+            budget,
+            options.max_error,
+        )?;
+        if found.vanished {
+            searched.notes.push(format!(
+                "the voxel level at resolution {} vanished (parts thinner than a voxel)",
+                found.resolution
+            ));
+        }
+        searched.candidates.extend(found.candidates);
+    }
+    if !input.is_closed()
+        || searched
+            .candidates
+            .iter()
+            .all(|c| c.method != Method::Voxel)
+    {
+        let shell = shell_candidates(input, measure.input_closest(), budget, options.max_error)?;
+        searched.candidates.extend(shell);
+    }
+    searched.seconds += start.elapsed().as_secs_f64();
+    Ok(())
+}
+
+/// The levels chosen from the largest budget down (module docs).
+fn choose_down(
+    searched: Vec<Searched>,
+    input: &Input,
+    measure: &Measure,
+    options: &BudgetOptions,
+) -> Result<(Vec<Level>, Vec<String>), BudgetError> {
+    let mut levels: Vec<Level> = Vec::new();
+    let mut warnings = Vec::new();
+    for mut s in searched {
+        let start = Instant::now();
+        let mut promises = first_promises(input, options, s.budget);
+        if let (true, Some(above)) = (options.monotone, levels.last()) {
+            promises.max_handles = above.report.genus.or(promises.max_handles);
+            let cell = input.cell();
+            let mesh = above.mesh.clone();
+            let mut c =
+                crate::voxel::collapsed(Method::Above, mesh, s.budget, cell, options.max_error);
+            for c in c.iter_mut() {
+                c.resolution = above.report.resolution;
+                c.iso = above.report.iso;
+                c.fitted = above.report.fitted_to_input;
+            }
+            s.candidates.extend(c);
+        }
+        let chosen = choose(
+            s.candidates,
+            &promises,
+            input,
+            measure,
+            options.fit.as_ref(),
+        )
+        .ok_or_else(|| BudgetError::NoLevel {
+            budget: s.budget,
+            why: s.notes.join("; "),
+        })?;
+        let from = levels.last().map(|l| l.report.budget);
+        let seconds = s.seconds + start.elapsed().as_secs_f64();
+        let level = level_of(chosen, input, s.budget, from, seconds, &mut warnings);
+        levels.push(level);
+    }
+    Ok((levels, warnings))
+}
+
+/// Whether `candidate` has no more crossing pairs than the input (none, where it has none).
+pub fn crosses_no_more(input: &Input, candidate: &mut Candidate) -> bool {
+    let own = Promises::crossings(candidate);
+    own == 0 || own <= input.crossings()
+}
+
+/// The promises of `budget` before the chain adds the level above's cap.
+fn first_promises(input: &Input, options: &BudgetOptions, budget: usize) -> Promises {
+    Promises {
+        budget,
+        closed: options.closed || input.is_closed(),
+        max_handles: input.topology.genus,
+    }
+}
+
+/// The voxel the budget affords: the longest side over the resolution whose marching-cubes
+/// level would have [`HEADROOM`] times its triangles.
+fn voxel_at(input: &Input, budget: usize) -> f64 {
+    let want = (HEADROOM * budget as f64) as usize;
+    let resolution = resolution_for_triangles(&input.mesh, want).unwrap_or(COARSEST);
+    input.bounds.longest_extent() / resolution.clamp(COARSEST, FINEST) as f64
+}
+
+/// The level and its report.
+fn level_of(
+    chosen: Chosen,
+    input: &Input,
+    budget: usize,
+    above: Option<usize>,
+    seconds: f64,
+    warnings: &mut Vec<String>,
+) -> Level {
+    let c = chosen.level;
+    let careful = c.careful.unwrap_or(crate::measure::Distance {
+        hausdorff: f64::NAN,
+        shape: f64::NAN,
+        mean: f64::NAN,
+    });
+    let t = &c.topology;
+    if let Some(w) = &chosen.warning {
+        warnings.push(format!("{budget} triangles: {w}"));
+    }
+    let report = BudgetLevel {
+        budget,
+        triangles: c.triangles(),
+        method: c.method,
+        resolution: c.resolution,
+        iso: c.iso,
+        fitted_to_input: c.fitted,
+        parts_dropped: c.parts_dropped,
+        hausdorff: careful.hausdorff,
+        mean_distance: careful.mean,
+        hausdorff_fraction: careful.hausdorff / input.diagonal,
+        shape_distance: careful.shape,
+        genus: t.genus,
+        components: t.components,
+        boundary_loops: t.boundary_loops,
+        handles_removed: input.topology.genus.zip(t.genus).map(|(i, l)| i - l),
+        self_intersections: c.crossings.unwrap_or(0),
+        simplified_from: (c.method == Method::Above).then_some(above).flatten(),
+        candidates: chosen.candidates,
+        ruled_out: chosen.ruled_out,
+        note: chosen.warning,
+        seconds,
+    };
+    Level {
+        mesh: c.mesh,
+        report,
+    }
+}

@@ -1,0 +1,104 @@
+//! The input's own collapses, the portfolio's first members: meshoptimizer's `simplify` as
+//! gltfpack runs it (Garland–Heckbert quadric edge collapse with the border free and no error
+//! limit), its checked form that keeps the topology where the plain one broke a promise, and
+//! `simplifySloppy`'s grid clustering. Cost: O(F log F) each (sloppy O(F)), on one thread.
+
+use voxlod_quadric::{simplify_sloppy, simplify_to_budget, simplify_unchecked, QuadricOptions};
+
+use voxlod_core::TriangleMesh;
+
+use crate::candidate::{Candidate, Method};
+use crate::degenerate::without_degenerate;
+use crate::input::Input;
+use crate::promises::within_budget;
+
+/// meshoptimizer passes the checked collapse may make (each also checks the topology and the
+/// crossings of its result): enough for the locks around a few pinches.
+pub const KEPT_ATTEMPTS: usize = 4;
+
+/// The input collapsed towards `budget` by meshoptimizer's `simplify`, border free, within
+/// `max_error` (mesh units) of its own estimate. A budget at or above the input's triangles
+/// gives the input itself. `None` where meshoptimizer refuses the mesh.
+pub fn plain(input: &Input, budget: usize, max_error: Option<f64>) -> Option<Candidate> {
+    if budget >= input.mesh.triangle_count() {
+        return Some(Candidate::new(Method::Collapse, input.mesh.clone()));
+    }
+    let make = |target: usize| plain_to(input, target, max_error);
+    refilled(make, budget)
+}
+
+/// Where making a candidate dropped flattened pockets and fell below the budget's tolerance,
+/// `make` again for the budget plus what was dropped (once).
+fn refilled(make: impl Fn(usize) -> Option<Candidate>, budget: usize) -> Option<Candidate> {
+    let first = make(budget)?;
+    let short = budget.saturating_sub(first.triangles());
+    if within_budget(first.triangles(), budget) || short == 0 {
+        return Some(first);
+    }
+    match make(budget + short) {
+        Some(again) if within_budget(again.triangles(), budget) => Some(again),
+        _ => Some(first),
+    }
+}
+
+/// [`plain`] aiming at `target` triangles.
+fn plain_to(input: &Input, target: usize, max_error: Option<f64>) -> Option<Candidate> {
+    let budget = target.min(input.mesh.triangle_count());
+    let mesh = match max_error {
+        None => simplify_unchecked(&input.mesh, budget, false).ok()?.0,
+        Some(e) => {
+            let options = QuadricOptions {
+                max_attempts: 1,
+                ..QuadricOptions::budget(e)
+            };
+            // One unchecked pass within the limit: the checked form is `kept`.
+            simplify_to_budget(&input.mesh, budget, &options).ok()?.mesh
+        }
+    };
+    Some(Candidate::new(
+        Method::Collapse,
+        without_degenerate(mesh, input.cell()),
+    ))
+}
+
+/// The input exactly as given (`given`, before its vertices were merged) collapsed towards
+/// `budget` as [`plain`] collapses the prepared input, turned right side out with it.
+pub fn as_given(given: &TriangleMesh, budget: usize, input: &Input) -> Option<Candidate> {
+    if budget >= given.triangle_count() {
+        return None;
+    }
+    let make = |target: usize| {
+        let mut mesh = simplify_unchecked(given, target, false).ok()?.0;
+        if input.preparation.turned_right_side_out {
+            mesh.flip_orientation();
+        }
+        let mesh = without_degenerate(mesh, input.cell());
+        Some(Candidate::new(Method::CollapseAsGiven, mesh))
+    };
+    refilled(make, budget)
+}
+
+/// The input collapsed towards `budget` with its topology kept and no crossing triangles
+/// added (voxlod-quadric: each meshoptimizer pass checked, rejected passes retried with locks).
+/// `None` where the input is not a manifold to begin with.
+pub fn kept(input: &Input, budget: usize, max_error: Option<f64>) -> Option<Candidate> {
+    if budget >= input.mesh.triangle_count() {
+        return None;
+    }
+    let options = QuadricOptions {
+        max_attempts: KEPT_ATTEMPTS,
+        ..QuadricOptions::budget(max_error.unwrap_or(f64::INFINITY))
+    };
+    let done = simplify_to_budget(&input.mesh, budget, &options).ok()?;
+    let mesh = without_degenerate(done.mesh, input.cell());
+    Some(Candidate::new(Method::CollapseKept, mesh))
+}
+
+/// The input clustered to about `budget` triangles by meshoptimizer's `simplifySloppy`.
+pub fn sloppy(input: &Input, budget: usize) -> Option<Candidate> {
+    if budget >= input.mesh.triangle_count() {
+        return None;
+    }
+    let mesh = simplify_sloppy(&input.mesh, budget).ok()?;
+    (!mesh.triangles.is_empty()).then(|| Candidate::new(Method::Sloppy, mesh))
+}

@@ -1,0 +1,119 @@
+//! The input as every method sees it ([`Input`]): checked, coincident vertices merged,
+//! degenerate and duplicate triangles dropped, each piece oriented as most of its triangles are
+//! ([`orient_consistently`]), turned right side out where the whole of it is inside out, with
+//! its topology and connected parts. No vertex moves. Edges of three or more triangles stay:
+//! cut before a collapse, they would become borders the collapse cannot cross; the levels are
+//! cut instead (module `candidate`). Cost: O(F log F) (the weld's hash, the repair's sort, the
+//! edge sort).
+
+use std::sync::OnceLock;
+
+use serde::Serialize;
+use voxlod_core::components::triangle_components;
+use voxlod_core::manifold::orient_consistently;
+use voxlod_core::repair::remove_degenerate_and_duplicate_triangles;
+use voxlod_core::validate::validate_mesh;
+use voxlod_core::weld::weld_vertices;
+use voxlod_core::{crossing_pairs, mesh_topology, Bounds, Topology, TriangleMesh};
+
+use crate::BudgetError;
+
+/// The prepared input.
+pub struct Input {
+    /// The mesh every candidate is made from and measured against.
+    pub mesh: TriangleMesh,
+    /// Its topology.
+    pub topology: Topology,
+    /// The triangles of each connected part.
+    pub parts: Vec<Vec<u32>>,
+    /// Its box, and the box's diagonal (the unit of the reports' fractions).
+    pub bounds: Bounds,
+    /// See [`Input::bounds`].
+    pub diagonal: f64,
+    /// What preparing it changed.
+    pub preparation: Preparation,
+    /// Its crossing triangle pairs, counted on first use.
+    crossings: OnceLock<usize>,
+}
+
+/// What [`Input::prepare`] changed, for the report.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Preparation {
+    /// Vertices merged into another at the same coordinates.
+    pub welded_vertices: usize,
+    /// Triangles dropped for a repeated vertex or zero area.
+    pub degenerate_triangles: usize,
+    /// Triangles dropped as copies of another.
+    pub duplicate_triangles: usize,
+    /// Triangles turned to agree with the orientation of their piece.
+    pub flipped_triangles: usize,
+    /// Whether the whole mesh was inside out (closed, negative volume) and was turned right
+    /// side out.
+    pub turned_right_side_out: bool,
+}
+
+impl Input {
+    /// Prepares `mesh` (module docs). Fails on non-finite coordinates, indices out of range, and
+    /// a mesh left without triangles.
+    pub fn prepare(mesh: &TriangleMesh) -> Result<Input, BudgetError> {
+        validate_mesh(mesh, &Default::default())?;
+        let mut clean = TriangleMesh::new(mesh.positions.clone(), mesh.triangles.clone());
+        let weld = weld_vertices(&mut clean);
+        let repair = remove_degenerate_and_duplicate_triangles(&mut clean);
+        clean.remove_unreferenced_vertices();
+        if clean.triangles.is_empty() {
+            return Err(BudgetError::EmptyMesh {
+                triangles: mesh.triangles.len(),
+            });
+        }
+        let flipped_triangles = orient_consistently(&mut clean);
+        let topology = mesh_topology(&clean);
+        let inside_out = topology.is_closed_manifold() && clean.signed_volume() < 0.0;
+        if inside_out {
+            clean.flip_orientation();
+        }
+        let bounds = clean.bounds();
+        Ok(Input {
+            parts: triangle_components(&clean),
+            topology,
+            diagonal: bounds.diagonal(),
+            bounds,
+            preparation: Preparation {
+                welded_vertices: weld.vertices_before - weld.vertices_after,
+                degenerate_triangles: repair.degenerate_triangles,
+                duplicate_triangles: repair.duplicate_triangles,
+                flipped_triangles,
+                turned_right_side_out: inside_out,
+            },
+            mesh: clean,
+            crossings: OnceLock::new(),
+        })
+    }
+
+    /// The length that judges a degenerate triangle of a collapse of the input: a thousandth of
+    /// its diagonal, the voxel of a 1000-sample grid.
+    pub fn cell(&self) -> f64 {
+        self.diagonal * 1e-3
+    }
+
+    /// Whether preparing the input changed what a collapse sees: vertices merged, triangles
+    /// dropped or turned (unreferenced vertices do not count).
+    pub fn changed_by_preparation(&self) -> bool {
+        let p = &self.preparation;
+        p.welded_vertices + p.degenerate_triangles + p.duplicate_triangles + p.flipped_triangles > 0
+            || p.turned_right_side_out
+    }
+
+    /// Pairs of the input's triangles that cross (parts passing through each other), counted
+    /// on the first call: O(F log F) on all threads.
+    pub fn crossings(&self) -> usize {
+        *self
+            .crossings
+            .get_or_init(|| crossing_pairs(&self.mesh).len())
+    }
+
+    /// Whether the input is a closed, consistently oriented manifold: its levels must be too.
+    pub fn is_closed(&self) -> bool {
+        self.topology.is_closed_manifold() && self.topology.is_consistently_oriented()
+    }
+}

@@ -1,0 +1,124 @@
+//! Levels of detail by triangle budget that hold on any input: for each budget, a portfolio of
+//! candidate levels made by different methods, and the one measured closest to the input that
+//! keeps every promise of the chain.
+//!
+//! He, Hong, Kaufman, Varshney and Wang (1995, §5) propose the voxel method as a first step
+//! that removes what a budget cannot afford (small parts, thin walls, handles), followed by a
+//! geometric simplification that spends the triangles. Where the budget does afford the
+//! input's topology, the input's own quadric collapse is usually closer than any filtered
+//! level; where the input has no inside (an open sheet), the solid's filter erases it. So no
+//! single method answers every budget of every input. This crate makes several and measures
+//! them (our addition to the paper):
+//!
+//! - **the input's collapse** ([`Method::Collapse`]): meshoptimizer `simplify` as gltfpack runs
+//!   it, with its checked form ([`Method::CollapseKept`]) where it broke a promise, and
+//!   `simplifySloppy` ([`Method::Sloppy`]), which competes where its result keeps the promises;
+//! - **voxel levels** ([`Method::Voxel`], module `voxel`): the input's solid filtered (§2–3),
+//!   contoured (§4) at three isodensities and collapsed to the budget (§5), the closest fitted
+//!   back to the input's surface (crate `voxlod-fit`); for a surface that is not closed, a
+//!   **shell** around it ([`Method::Shell`], module `shell`), which follows sheets the solid's
+//!   filter would erase;
+//! - **the level above** ([`Method::Above`]): the next larger budget's level collapsed further.
+//!
+//! **Promises** ([`Promise`]): every level is a manifold, consistently oriented, closed where the
+//! input is, with no more handles than the level above it (the genus never rises along the
+//! chain), no crossing triangles, and its budget's triangles within 10 %. The choice
+//! ([`select`]) keeps the candidate with the smallest measured two-sided Hausdorff distance
+//! among those that keep them; its mean distance must also stay within 1.25 times the input's
+//! collapse's. Where a promise ruled out a closer candidate, the report says which and what it
+//! cost ([`RuledOut`]). A budget always gets a level: where no candidate keeps every promise,
+//! the one giving up the least is kept, with a warning.
+//!
+//! **Fast by design.** Every budget's candidates are made at once, on all cores; a budget whose
+//! plain collapse keeps every promise and is closer than half the voxel it affords
+//! ([`VOXEL_WORTH`]) is not searched with voxels at all; candidates are ranked by a quick
+//! measurement that stops as soon as one is clearly farther, and only the closest few are
+//! measured carefully.
+//!
+//! ```
+//! use voxlod_budget::{levels, BudgetOptions, Method};
+//!
+//! let torus = voxlod_testkit::shapes::torus(96, 48, 1.0, 0.3);
+//! let run = levels(&torus, &BudgetOptions::for_triangles(&[2000, 300]))?;
+//! for level in &run.levels {
+//!     let r = &level.report;
+//!     assert!((r.triangles as f64 - r.budget as f64).abs() <= 0.1 * r.budget as f64);
+//!     assert_eq!((r.genus, r.boundary_loops), (Some(1), 0));
+//! }
+//! // A smooth torus at a budget it affords: its own collapse is the closest.
+//! assert_eq!(run.levels[0].report.method, Method::Collapse);
+//! # Ok::<(), voxlod_budget::BudgetError>(())
+//! ```
+
+#![warn(missing_docs)]
+
+mod candidate;
+mod chain;
+mod collapse;
+mod degenerate;
+mod error;
+mod input;
+mod measure;
+mod options;
+mod promises;
+mod report;
+pub mod select;
+mod shell;
+mod voxel;
+
+pub use candidate::Method;
+pub use chain::{levels_with, ProgressFn, VOXEL_WORTH};
+pub use error::BudgetError;
+pub use input::Preparation;
+pub use measure::Distance;
+pub use options::{BudgetOptions, BUDGET_TOLERANCE};
+pub use promises::{Promise, MEAN_SLACK};
+pub use report::{BudgetLevel, CandidateReport, InputReport, RuledOut};
+pub use voxlod_fit::FitOptions;
+
+use voxlod_core::TriangleMesh;
+
+/// One budget's level: the mesh and its report.
+#[derive(Clone, Debug)]
+pub struct Level {
+    /// The level.
+    pub mesh: TriangleMesh,
+    /// What made it and how close it is.
+    pub report: BudgetLevel,
+}
+
+/// A run of budgets.
+#[derive(Clone, Debug)]
+pub struct Budgeted {
+    /// One level per budget, in the order the budgets were given (a budget given twice gets
+    /// the same level twice).
+    pub levels: Vec<Level>,
+    /// The input as the run saw it.
+    pub input: InputReport,
+    /// Warnings for the user: what a level gave up, what the input needed.
+    pub warnings: Vec<String>,
+    /// Wall seconds of each phase.
+    pub timings: Timings,
+    /// Wall seconds of the whole run.
+    pub seconds: f64,
+}
+
+/// Wall seconds of a run's phases.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Timings {
+    /// Preparing the input and its side of the measure.
+    pub prepare: f64,
+    /// The input's collapses for every budget, and deciding where voxels can do better.
+    pub collapses: f64,
+    /// The voxel and shell candidates.
+    pub voxels: f64,
+    /// Measuring, fitting and choosing, from the largest budget down.
+    pub choice: f64,
+}
+
+/// One level per budget of `options.triangles` from `mesh` (crate docs). Fails on a mesh
+/// without triangles or with bad coordinates, on budgets under 4, on work beyond the memory
+/// budget, and where no method gave a level at all.
+pub fn levels(mesh: &TriangleMesh, options: &BudgetOptions) -> Result<Budgeted, BudgetError> {
+    levels_with(mesh, options, &|_, _| true)
+}

@@ -1,0 +1,217 @@
+//! Two-sided distances between a candidate and the input ([`Measure`]), as the portfolio
+//! weighs them: sampled Hausdorff distance (the largest distance found from points of either
+//! surface to the other) and mean distance (over the area samples of both).
+//!
+//! The input's side is built once per run: its closest-point structure, and two sets of points
+//! on it, a quick set and a careful set, each stratified by area plus one vertex of every
+//! connected part (area samples can miss a tiny part altogether, and a tiny part lost far from
+//! the rest sets the Hausdorff distance). A candidate's side is its own closest-point
+//! structure, its area samples and its vertices (a vertex moved off the surface is where its
+//! side's largest distance lies; at most as many as area samples, every k-th beyond). Points and vertices count in the Hausdorff distances only.
+//!
+//! **Shape and parts.** The largest distance over the area samples and the candidate's
+//! vertices is the candidate's *shape* distance; with the input's part points too, its
+//! Hausdorff distance. The choice ranks by shape: where every candidate loses the same speck
+//! far from the rest (a CT surface's stray voxels), the Hausdorff distances all equal the
+//! speck's and say nothing about the shapes.
+//!
+//! **Early rejection.** A quick measurement is given a limit, the shape distance that already
+//! rules the candidate out; it stops as soon as one point is farther, so a candidate far from
+//! the input costs a fraction of its queries.
+//!
+//! Cost per candidate: its BVH (O(F log F) for its F triangles) and `2 × samples + V`
+//! closest-point queries, O(log) each, on all threads.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use rayon::prelude::*;
+use serde::Serialize;
+use voxlod_core::glam::DVec3;
+use voxlod_core::TriangleMesh;
+use voxlod_metrics::spatial_order::z_order;
+use voxlod_metrics::{MeshDistance, QueryHint, SamplingOptions, SurfaceSampler};
+
+use crate::input::Input;
+use crate::BudgetError;
+
+/// A sampled two-sided distance, in mesh units.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Distance {
+    /// The largest distance found, either way, the input's part points included.
+    pub hausdorff: f64,
+    /// The largest distance over the area samples and the candidate's vertices (module docs).
+    pub shape: f64,
+    /// The mean over the area samples of both sides.
+    pub mean: f64,
+}
+
+/// How densely a measurement samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Care {
+    /// The quick set: ranks every candidate.
+    Quick,
+    /// The careful set: decides between the closest and is reported.
+    Careful,
+}
+
+/// The input's side of every measurement (module docs).
+pub struct Measure {
+    closest: MeshDistance,
+    quick: Points,
+    careful: Points,
+}
+
+/// Points on one surface: area samples (mean, shape and Hausdorff), extra points (shape and
+/// Hausdorff: a candidate's vertices) and part points (Hausdorff only: the input's parts),
+/// each list in Z-order for coherent queries.
+struct Points {
+    area: Vec<DVec3>,
+    extra: Vec<DVec3>,
+    parts: Vec<DVec3>,
+}
+
+/// The most parts given a point of their own.
+const PART_POINTS: usize = 10_000;
+
+/// Seeds of the input's and the candidates' samples (apart from the fit's own).
+const INPUT_SEED: u64 = 0x6275_6467_6574; // "budget"
+const CANDIDATE_SEED: u64 = INPUT_SEED + 1;
+
+impl Measure {
+    /// The input's side, with `quick` and `careful` area samples. Fails only on the memory
+    /// budget (the input is prepared, so it has area).
+    pub fn new(input: &Input, quick: usize, careful: usize) -> Result<Measure, BudgetError> {
+        let sampler = SurfaceSampler::new(&input.mesh)?;
+        let step = input.parts.len().div_ceil(PART_POINTS).max(1);
+        let mesh = &input.mesh;
+        let part_points: Vec<DVec3> = (input.parts.iter().step_by(step))
+            .map(|p| mesh.positions[mesh.triangles[p[0] as usize][0] as usize].as_dvec3())
+            .collect();
+        let points = |n: usize| -> Result<Points, BudgetError> {
+            let options = SamplingOptions {
+                seed: INPUT_SEED,
+                ..SamplingOptions::with_samples(n)
+            };
+            let area = sampler.samples(&options)?.into_iter().map(|s| s.point);
+            Ok(Points::ordered(
+                area.collect(),
+                Vec::new(),
+                part_points.clone(),
+            ))
+        };
+        Ok(Measure {
+            closest: MeshDistance::new(&input.mesh)?,
+            quick: points(quick)?,
+            careful: points(careful)?,
+        })
+    }
+
+    /// The input's closest-point structure (for the fit).
+    pub fn input_closest(&self) -> &MeshDistance {
+        &self.closest
+    }
+
+    /// The careful set's area samples of the input (for the fit).
+    pub fn input_samples(&self) -> &[DVec3] {
+        &self.careful.area
+    }
+
+    /// The two-sided distance between `mesh` and the input, or `None` when some point is
+    /// farther than `limit` (early rejection; `f64::INFINITY` measures everything) or `mesh`
+    /// has no area to sample.
+    pub fn distance(&self, mesh: &TriangleMesh, care: Care, limit: f64) -> Option<Distance> {
+        let input_points = match care {
+            Care::Quick => &self.quick,
+            Care::Careful => &self.careful,
+        };
+        let sampler = SurfaceSampler::new(mesh).ok()?;
+        let closest = MeshDistance::new(mesh).ok()?;
+        let options = SamplingOptions {
+            seed: CANDIDATE_SEED,
+            ..SamplingOptions::with_samples(input_points.area.len())
+        };
+        let area = sampler.samples(&options).ok()?.into_iter().map(|s| s.point);
+        // At most as many vertices as area samples, spread over the vertex list.
+        let step = mesh
+            .positions
+            .len()
+            .div_ceil(input_points.area.len().max(1))
+            .max(1);
+        let vertices = mesh
+            .positions
+            .iter()
+            .step_by(step)
+            .map(|p| p.as_dvec3())
+            .collect();
+        let own = Points::ordered(area.collect(), vertices, Vec::new());
+        let there = one_side(input_points, &closest, limit)?;
+        let back = one_side(&own, &self.closest, limit)?;
+        let shape = there.shape.max(back.shape);
+        Some(Distance {
+            hausdorff: shape.max(there.parts),
+            shape,
+            mean: 0.5 * (there.mean + back.mean),
+        })
+    }
+}
+
+impl Points {
+    fn ordered(area: Vec<DVec3>, extra: Vec<DVec3>, parts: Vec<DVec3>) -> Points {
+        let order =
+            |p: Vec<DVec3>| -> Vec<DVec3> { z_order(&p).iter().map(|&i| p[i as usize]).collect() };
+        Points {
+            area: order(area),
+            extra: order(extra),
+            parts: order(parts),
+        }
+    }
+}
+
+/// The shape distance, the parts' largest distance and the mean, from `points` to `to`.
+struct Side {
+    shape: f64,
+    parts: f64,
+    mean: f64,
+}
+
+/// Points queried per task, each run starting from the previous answer.
+const CHUNK: usize = 512;
+
+/// `points` against `to`; `None` as soon as an area or extra point is farther than `limit`.
+fn one_side(points: &Points, to: &MeshDistance, limit: f64) -> Option<Side> {
+    let stop = AtomicBool::new(false);
+    let run = |list: &[DVec3], limit: f64| -> Vec<(f64, f64)> {
+        list.par_chunks(CHUNK)
+            .map(|chunk| {
+                let (mut max, mut sum) = (0.0f64, 0.0f64);
+                let mut hint = QueryHint::default();
+                for &p in chunk {
+                    if stop.load(Ordering::Relaxed) {
+                        break;
+                    }
+                    let d = to.closest_with_hint(p, &mut hint).distance;
+                    if d > limit {
+                        stop.store(true, Ordering::Relaxed);
+                        break;
+                    }
+                    max = max.max(d);
+                    sum += d;
+                }
+                (max, sum)
+            })
+            .collect()
+    };
+    let area = run(&points.area, limit);
+    let extra = run(&points.extra, limit);
+    if stop.load(Ordering::Relaxed) {
+        return None;
+    }
+    let parts = run(&points.parts, f64::INFINITY);
+    let largest = |l: &[(f64, f64)]| l.iter().fold(0.0f64, |m, c| m.max(c.0));
+    let sum: f64 = area.iter().map(|c| c.1).sum();
+    Some(Side {
+        shape: largest(&area).max(largest(&extra)),
+        parts: largest(&parts),
+        mean: sum / points.area.len().max(1) as f64,
+    })
+}

@@ -1,0 +1,95 @@
+//! [`BudgetOptions`]: what a run of budgets is asked.
+
+use serde::Serialize;
+use voxlod_fit::FitOptions;
+use voxlod_sampling::Filter;
+
+use crate::BudgetError;
+
+/// A level may miss its budget by this fraction of it.
+pub const BUDGET_TOLERANCE: f64 = 0.10;
+
+/// How [`crate::levels`] runs.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BudgetOptions {
+    /// The triangle budgets, in any order; one level each.
+    pub triangles: Vec<usize>,
+    /// The low-pass filter of the voxel candidates (He et al. 1995 §3).
+    pub filter: Filter,
+    /// No level has more handles than the level of the next larger budget (the genus never
+    /// rises along the chain). Off, each budget is answered on its own.
+    pub monotone: bool,
+    /// Every level closed, even where the input is open (its holes capped): the collapse of an
+    /// open input then competes only if it is closed. Off (the default), a level is closed
+    /// where the input is closed.
+    pub closed: bool,
+    /// The largest distance, in mesh units, that a level may be from the input, as its
+    /// geometric stages estimate it (`None`: the budget alone decides).
+    pub max_error: Option<f64>,
+    /// Voxel candidates' vertices fitted to the input (crate `voxlod-fit`), kept only where
+    /// that measures closer; `None` leaves them as the quadric stage made them.
+    pub fit: Option<FitOptions>,
+    /// Samples a side of the quick distance that ranks every candidate.
+    pub quick_samples: usize,
+    /// Samples a side of the careful distance that decides between the closest candidates
+    /// and is reported.
+    pub careful_samples: usize,
+}
+
+impl Default for BudgetOptions {
+    /// No budget yet (see [`BudgetOptions::for_triangles`]), the hyper-cone, monotone, open
+    /// where the input is open, no error limit, the quick fit, 4 000 quick and 20 000 careful
+    /// samples a side.
+    fn default() -> Self {
+        BudgetOptions {
+            triangles: Vec::new(),
+            filter: Filter::Hypercone,
+            monotone: true,
+            closed: false,
+            max_error: None,
+            fit: Some(FitOptions::quick()),
+            quick_samples: 4_000,
+            careful_samples: 20_000,
+        }
+    }
+}
+
+impl BudgetOptions {
+    /// The default options for `budgets`.
+    pub fn for_triangles(budgets: &[usize]) -> Self {
+        BudgetOptions {
+            triangles: budgets.to_vec(),
+            ..BudgetOptions::default()
+        }
+    }
+
+    /// Refuses what no run can honour: no budget, a budget under 4 (a closed surface needs a
+    /// tetrahedron), sample counts of zero, a negative or NaN error limit.
+    pub fn check(&self) -> Result<(), BudgetError> {
+        if self.triangles.is_empty() {
+            return Err(BudgetError::InvalidBudgets(
+                "give at least one budget".into(),
+            ));
+        }
+        if let Some(b) = self.triangles.iter().find(|&&b| b < 4) {
+            return Err(BudgetError::InvalidBudgets(format!(
+                "{b}: a closed surface needs at least 4 triangles (a tetrahedron); ask for 4 or more"
+            )));
+        }
+        if self.quick_samples == 0 || self.careful_samples == 0 {
+            return Err(BudgetError::InvalidOption {
+                name: "samples",
+                problem: "distances need at least one sample a side".into(),
+            });
+        }
+        if let Some(e) = self.max_error {
+            if e.is_nan() || e < 0.0 {
+                return Err(BudgetError::InvalidOption {
+                    name: "max_error",
+                    problem: format!("{e}: a distance limit must be zero or positive"),
+                });
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,130 @@
+//! What every level promises ([`Promises`]), and which of them a candidate breaks.
+//!
+//! A level is a manifold (every edge shared by at most two triangles, every vertex one fan)
+//! and consistently oriented (the input is made one first, by cutting it where it is not:
+//! module `input`), closed where the input is closed (or where every level was asked to be), has no more handles than the level above it (the input, for the largest budget: the
+//! genus never rises along the chain), has no crossing triangles where the input has none (no
+//! more crossing pairs than the input otherwise: parts that pass through each other in the
+//! input may in its levels), and has its budget's triangles within
+//! [`crate::BUDGET_TOLERANCE`] (or one triangle, for a budget so small that a closed surface's
+//! even count cannot come within 10 %). The checks run cheapest first; the crossing
+//! count (O(F log F) on all threads) only where the others hold.
+
+use serde::Serialize;
+use voxlod_core::crossing_pairs;
+
+use crate::candidate::Candidate;
+use crate::BUDGET_TOLERANCE;
+
+/// One promise.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Promise {
+    /// Within 10 % of the budget.
+    Budget,
+    /// A manifold.
+    Manifold,
+    /// Consistently oriented.
+    Oriented,
+    /// Closed where it must be.
+    Closed,
+    /// No more handles than the level above.
+    Genus,
+    /// No crossing triangles.
+    NoCrossings,
+    /// A mean distance to the input at most [`MEAN_SLACK`] times that of the input's own
+    /// collapse, where that collapse keeps the other promises: the portfolio's rule, so that a
+    /// level closer by Hausdorff distance does not bury much of the surface (a voxel level
+    /// closing a skull's inner surfaces) where the collapse follows all of it.
+    MeanDistance,
+}
+
+/// See [`Promise::MeanDistance`].
+pub const MEAN_SLACK: f64 = 1.25;
+
+impl Promise {
+    /// The promise's name in reports and warnings.
+    pub fn name(self) -> &'static str {
+        match self {
+            Promise::Budget => "budget",
+            Promise::Manifold => "manifold",
+            Promise::Oriented => "oriented",
+            Promise::Closed => "closed",
+            Promise::Genus => "genus",
+            Promise::NoCrossings => "no-crossings",
+            Promise::MeanDistance => "mean-distance",
+        }
+    }
+
+    /// How much breaking it costs a level that must break some: the least severe is given up
+    /// first where no candidate keeps them all (crossings first, a manifold last).
+    pub fn severity(self) -> u8 {
+        match self {
+            Promise::MeanDistance => 0,
+            Promise::NoCrossings => 1,
+            Promise::Genus => 2,
+            Promise::Budget => 3,
+            Promise::Closed => 4,
+            Promise::Oriented => 5,
+            Promise::Manifold => 6,
+        }
+    }
+}
+
+/// What one budget's level must keep.
+#[derive(Clone, Copy, Debug)]
+pub struct Promises {
+    /// The budget.
+    pub budget: usize,
+    /// The level must be closed.
+    pub closed: bool,
+    /// The most handles it may have (`None`: no cap, where the level above has no genus).
+    pub max_handles: Option<i64>,
+}
+
+/// Whether `count` triangles are within the tolerance of `budget` (module docs).
+pub fn within_budget(count: usize, budget: usize) -> bool {
+    let slack = (BUDGET_TOLERANCE * budget as f64).max(1.0);
+    (count as f64 - budget as f64).abs() <= slack
+}
+
+impl Promises {
+    /// Whether `count` triangles are within the tolerance of the budget.
+    pub fn within_budget(&self, count: usize) -> bool {
+        within_budget(count, self.budget)
+    }
+
+    /// The promises `candidate` breaks, apart from the crossings (see [`Promises::crossings`]).
+    pub fn broken_cheap(&self, candidate: &Candidate) -> Vec<Promise> {
+        let t = &candidate.topology;
+        let mut broken = Vec::new();
+        if !self.within_budget(candidate.triangles()) {
+            broken.push(Promise::Budget);
+        }
+        if !t.is_manifold() || t.degenerate_triangles > 0 || t.duplicate_triangles > 0 {
+            broken.push(Promise::Manifold);
+        }
+        if !t.is_consistently_oriented() {
+            broken.push(Promise::Oriented);
+        }
+        if self.closed && t.boundary_edges > 0 {
+            broken.push(Promise::Closed);
+        }
+        let over_cap = match (self.max_handles, t.genus) {
+            (Some(cap), Some(genus)) => genus > cap,
+            (Some(_), None) => true,
+            (None, _) => false,
+        };
+        if over_cap {
+            broken.push(Promise::Genus);
+        }
+        broken
+    }
+
+    /// How many of `candidate`'s triangle pairs cross, counted once (kept in the candidate).
+    pub fn crossings(candidate: &mut Candidate) -> usize {
+        *candidate
+            .crossings
+            .get_or_insert_with(|| crossing_pairs(&candidate.mesh).len())
+    }
+}

@@ -1,0 +1,286 @@
+//! One budget's choice among its candidates: the portfolio, never worse than its best member.
+//!
+//! 1. Every candidate is checked against the promises that cost nothing to check (count,
+//!    manifold, orientation, closedness, handles; [`crate::promises`]).
+//! 2. Those that keep them are measured quickly ([`Care::Quick`]), each rejected early once it
+//!    is three times farther than the closest so far (by shape distance, module `measure`); the best voxel candidate is fitted to
+//!    the input ([`voxlod_fit`], beyond the paper) and competes beside its unfitted self.
+//! 3. The closest few ([`FINALISTS`]) have their crossing triangles counted and are measured
+//!    carefully ([`Care::Careful`]); the input's own collapse, where it keeps every promise, is
+//!    always among them, and a finalist whose mean distance exceeds [`MEAN_SLACK`] times the
+//!    collapse's is ruled out ([`Promise::MeanDistance`]). The finalist with the smallest
+//!    careful Hausdorff distance is the level, the smallest shape distance among equals (where
+//!    every finalist lost the same far speck).
+//! 4. Candidates that broke a promise are measured too, with the level's distance as the early
+//!    rejection limit: those that would have been closer are reported with the promise that
+//!    ruled them out and what it cost (the level's distance over theirs).
+//! 5. Where no candidate keeps every promise, the one whose most severe broken promise is the
+//!    least severe ([`Promise::severity`]) is kept, the nearest among equals, with a warning.
+//!
+//! Cost: per candidate, one quick measurement (often cut short); per finalist, a crossing count
+//! and a careful measurement; one fit.
+
+use voxlod_fit::{fit_with, FitOptions};
+
+use crate::candidate::{Candidate, Method};
+use crate::chain::crosses_no_more;
+use crate::input::Input;
+use crate::measure::{Care, Distance, Measure};
+use crate::promises::{Promise, Promises, MEAN_SLACK};
+use crate::report::{CandidateReport, RuledOut};
+
+/// Candidates measured carefully at most (the input's collapse comes in addition).
+pub const FINALISTS: usize = 3;
+
+/// The quick measurement rejects a candidate this many times farther than the closest so far.
+const REJECT_FACTOR: f64 = 3.0;
+
+/// A budget's choice.
+pub struct Chosen {
+    /// The level.
+    pub level: Candidate,
+    /// Every candidate, as measured and checked.
+    pub candidates: Vec<CandidateReport>,
+    /// Candidates closer than the level that a promise ruled out.
+    pub ruled_out: Vec<RuledOut>,
+    /// What the level had to give up, where no candidate kept every promise.
+    pub warning: Option<String>,
+}
+
+/// The portfolio's choice for `promises` among `candidates` (module docs).
+pub fn choose(
+    mut candidates: Vec<Candidate>,
+    promises: &Promises,
+    input: &Input,
+    measure: &Measure,
+    fit: Option<&FitOptions>,
+) -> Option<Chosen> {
+    if candidates.is_empty() {
+        return None;
+    }
+    let mut broken: Vec<Vec<Promise>> = candidates
+        .iter()
+        .map(|c| promises.broken_cheap(c))
+        .collect();
+    measure_quickly(&mut candidates, &broken, measure);
+    if let Some(fitted) = fitted_best(&candidates, &broken, measure, fit) {
+        broken.push(promises.broken_cheap(&fitted));
+        candidates.push(fitted);
+    }
+    let mut winner = finalists(&mut candidates, &mut broken, input, measure);
+    if winner.is_none() {
+        // The closest broke a promise late (crossings, mean): those rejected early against
+        // them may hold the level.
+        let rejected =
+            (candidates.iter_mut().zip(&broken)).filter(|(c, b)| b.is_empty() && c.quick.is_none());
+        let mut any = false;
+        for (c, _) in rejected {
+            c.quick = measure.distance(&c.mesh, Care::Quick, f64::INFINITY);
+            any = true;
+        }
+        if any {
+            winner = finalists(&mut candidates, &mut broken, input, measure);
+        }
+    }
+    let (index, warning) = match winner {
+        Some(i) => (i, None),
+        None => relaxed(&mut candidates, &broken, measure)?,
+    };
+    let chosen_h = careful(&mut candidates[index], measure).map_or(f64::INFINITY, |d| d.shape);
+    let ruled_out = closer_but_broken(&mut candidates, &broken, index, chosen_h, measure);
+    let reports = candidates
+        .iter()
+        .zip(&broken)
+        .map(|(c, b)| CandidateReport::of(c, b))
+        .collect();
+    Some(Chosen {
+        level: candidates.swap_remove(index),
+        candidates: reports,
+        ruled_out,
+        warning,
+    })
+}
+
+/// Step 2's quick measurements of the candidates that keep the cheap promises.
+fn measure_quickly(candidates: &mut [Candidate], broken: &[Vec<Promise>], measure: &Measure) {
+    let mut best = f64::INFINITY;
+    for (c, b) in candidates.iter_mut().zip(broken) {
+        if b.is_empty() {
+            if c.quick.is_none() {
+                c.quick = measure.distance(&c.mesh, Care::Quick, REJECT_FACTOR * best);
+            }
+            best = best.min(quick_h(c));
+        }
+    }
+}
+
+/// The closest voxel candidate keeping the cheap promises, fitted to the input, where the fit
+/// measures closer.
+fn fitted_best(
+    candidates: &[Candidate],
+    broken: &[Vec<Promise>],
+    measure: &Measure,
+    fit: Option<&FitOptions>,
+) -> Option<Candidate> {
+    let options = fit?;
+    let (source, h) = candidates
+        .iter()
+        .zip(broken)
+        .filter(|(c, b)| b.is_empty() && c.method == Method::Voxel)
+        .filter_map(|(c, _)| Some((c, c.quick?.shape)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))?;
+    let done = fit_with(
+        &source.mesh,
+        measure.input_closest(),
+        measure.input_samples(),
+        options,
+    )
+    .ok()?;
+    if done.iterations == 0 {
+        return None;
+    }
+    let mut fitted = Candidate::new(source.method, done.mesh);
+    fitted.resolution = source.resolution;
+    fitted.iso = source.iso;
+    fitted.parts_dropped = source.parts_dropped;
+    fitted.fitted = true;
+    fitted.cut_vertices = source.cut_vertices;
+    fitted.quick = measure.distance(&fitted.mesh, Care::Quick, h);
+    fitted.quick.is_some().then_some(fitted)
+}
+
+/// Step 3: the winner among the finalists, by careful Hausdorff distance; `None` where no
+/// candidate keeps every promise.
+fn finalists(
+    candidates: &mut [Candidate],
+    broken: &mut [Vec<Promise>],
+    input: &Input,
+    measure: &Measure,
+) -> Option<usize> {
+    let mut order: Vec<usize> = (0..candidates.len())
+        .filter(|&i| broken[i].is_empty() && candidates[i].quick.is_some())
+        .collect();
+    order.sort_by(|&a, &b| quick_h(&candidates[a]).total_cmp(&quick_h(&candidates[b])));
+    let collapse = order
+        .iter()
+        .position(|&i| candidates[i].method == Method::Collapse);
+    let mut chosen: Vec<usize> = Vec::new();
+    for (rank, &i) in order.iter().enumerate() {
+        if chosen.len() >= FINALISTS && Some(rank) != collapse {
+            continue;
+        }
+        if !crosses_no_more(input, &mut candidates[i]) {
+            broken[i].push(Promise::NoCrossings);
+            continue;
+        }
+        if careful(&mut candidates[i], measure).is_some() {
+            chosen.push(i);
+        }
+    }
+    let reference = chosen
+        .iter()
+        .find(|&&i| candidates[i].method == Method::Collapse)
+        .and_then(|&i| candidates[i].careful)
+        .map(|d| d.mean);
+    if let Some(mean) = reference {
+        for &i in &chosen {
+            if careful_d(&candidates[i]).mean > MEAN_SLACK * mean {
+                broken[i].push(Promise::MeanDistance);
+            }
+        }
+    }
+    let key = |i: usize| {
+        let d = careful_d(&candidates[i]);
+        (d.hausdorff, d.shape)
+    };
+    chosen
+        .into_iter()
+        .filter(|&i| broken[i].is_empty())
+        .min_by(|&a, &b| {
+            let (ha, sa) = key(a);
+            let (hb, sb) = key(b);
+            // Hausdorff distances within 1 % are a tie that the shapes break.
+            if (ha - hb).abs() <= 0.01 * ha.max(hb) {
+                sa.total_cmp(&sb)
+            } else {
+                ha.total_cmp(&hb)
+            }
+        })
+}
+
+/// Step 5: the candidate giving up the least, with the warning that says what.
+fn relaxed(
+    candidates: &mut [Candidate],
+    broken: &[Vec<Promise>],
+    measure: &Measure,
+) -> Option<(usize, Option<String>)> {
+    let worst = |b: &[Promise]| b.iter().map(|p| p.severity()).max().unwrap_or(0);
+    for c in candidates.iter_mut().filter(|c| c.quick.is_none()) {
+        c.quick = measure.distance(&c.mesh, Care::Quick, f64::INFINITY);
+    }
+    let index = (0..candidates.len()).min_by(|&a, &b| {
+        (worst(&broken[a]), broken[a].len())
+            .cmp(&(worst(&broken[b]), broken[b].len()))
+            .then(quick_h(&candidates[a]).total_cmp(&quick_h(&candidates[b])))
+    })?;
+    let names: Vec<&str> = broken[index].iter().map(|p| p.name()).collect();
+    let warning = format!(
+        "no candidate kept every promise; the level ({}) breaks: {}",
+        candidates[index].label(),
+        names.join(", ")
+    );
+    Some((index, Some(warning)))
+}
+
+/// Step 4: candidates that broke a promise but measure closer than the level's `chosen_h`.
+fn closer_but_broken(
+    candidates: &mut [Candidate],
+    broken: &[Vec<Promise>],
+    chosen: usize,
+    chosen_h: f64,
+    measure: &Measure,
+) -> Vec<RuledOut> {
+    let mut out = Vec::new();
+    for (i, c) in candidates.iter_mut().enumerate() {
+        if i == chosen || broken[i].is_empty() || broken[i].contains(&Promise::Budget) {
+            continue;
+        }
+        if c.quick.is_none() {
+            c.quick = measure.distance(&c.mesh, Care::Quick, chosen_h);
+        }
+        let Some(d) = c.quick else { continue };
+        if d.shape < chosen_h {
+            out.push(RuledOut {
+                candidate: c.label(),
+                broken: broken[i].clone(),
+                shape: d.shape,
+                cost: if d.shape > 0.0 {
+                    chosen_h / d.shape
+                } else {
+                    f64::INFINITY
+                },
+            });
+        }
+    }
+    out
+}
+
+fn careful(candidate: &mut Candidate, measure: &Measure) -> Option<Distance> {
+    if candidate.careful.is_none() {
+        candidate.careful = measure.distance(&candidate.mesh, Care::Careful, f64::INFINITY);
+    }
+    candidate.careful
+}
+
+/// The quick shape distance: what ranks candidates (module docs).
+fn quick_h(c: &Candidate) -> f64 {
+    c.quick.map_or(f64::INFINITY, |d| d.shape)
+}
+
+fn careful_d(c: &Candidate) -> Distance {
+    c.careful.unwrap_or(Distance {
+        hausdorff: f64::INFINITY,
+        shape: f64::INFINITY,
+        mean: f64::INFINITY,
+    })
+}

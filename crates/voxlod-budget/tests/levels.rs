@@ -1,0 +1,164 @@
+//! `voxlod_budget::levels` on generated inputs: the promises hold on every level, budgets are
+//! met, the chain's genus never rises, bad requests are refused, and where a promise rules out
+//! a closer candidate the report says so.
+
+use voxlod_budget::{levels, BudgetError, BudgetOptions, Method, Promise};
+use voxlod_core::glam::Vec3;
+use voxlod_core::{mesh_topology, TriangleMesh};
+use voxlod_testkit::corpus;
+
+fn within(triangles: usize, budget: usize) -> bool {
+    (triangles as f64 - budget as f64).abs() <= (0.1 * budget as f64).max(1.0)
+}
+
+/// Every level of `mesh` at `budgets`: within its budget, an oriented manifold, closed when
+/// `closed`, no more handles than the level above (the input's genus first, when it has one).
+fn check_chain(mesh: &TriangleMesh, budgets: &[usize], closed: bool) -> voxlod_budget::Budgeted {
+    let run = levels(mesh, &BudgetOptions::for_triangles(budgets)).unwrap();
+    let mut cap = run.input.genus;
+    for (level, &b) in run.levels.iter().zip(budgets) {
+        let r = &level.report;
+        assert_eq!(r.budget, b);
+        assert!(
+            within(level.mesh.triangle_count(), b),
+            "{b}: {}",
+            level.mesh.triangle_count()
+        );
+        let t = mesh_topology(&level.mesh);
+        assert!(
+            t.is_manifold() && t.is_consistently_oriented(),
+            "{b}: {t:?}"
+        );
+        assert_eq!(t.degenerate_triangles + t.duplicate_triangles, 0, "{b}");
+        if closed {
+            assert!(t.is_closed_manifold(), "{b}: {t:?}");
+        }
+        if let (Some(cap), Some(g)) = (cap, t.genus) {
+            assert!(g <= cap, "{b}: genus {g} above {cap}");
+        }
+        assert_eq!((r.genus, r.boundary_loops), (t.genus, t.boundary_loops));
+        cap = t.genus.or(cap);
+    }
+    run
+}
+
+#[test]
+fn an_open_sheet_gets_every_level_and_keeps_its_border() {
+    let sheet = corpus::sheet();
+    let run = check_chain(&sheet, &[2500, 600, 150, 40], false);
+    for level in &run.levels {
+        assert!(
+            level.report.hausdorff_fraction < 0.02,
+            "{:?}",
+            level.report.hausdorff_fraction
+        );
+        assert_eq!(level.report.boundary_loops, 1);
+    }
+}
+
+#[test]
+fn a_closed_part_with_handles_keeps_closed_levels_whose_genus_never_rises() {
+    let run = check_chain(&corpus::cad_handles(), &[1000, 300, 100, 30], true);
+    assert_eq!(run.input.genus, Some(4));
+    // The budget affords the handles at 1000: the input's own collapse (or its chain) keeps
+    // all four.
+    assert_eq!(run.levels[0].report.genus, Some(4));
+}
+
+#[test]
+fn a_surface_with_hundreds_of_handles_gets_closed_levels_at_small_budgets() {
+    let run = check_chain(&corpus::genus_rich(), &[1000, 300], true);
+    assert!(run.input.genus.unwrap() >= 100);
+    for level in &run.levels {
+        assert!(level.report.handles_removed.unwrap() > 0);
+    }
+}
+
+#[test]
+fn an_inside_out_shell_gives_outward_levels_and_says_so() {
+    let run = check_chain(&corpus::inside_out(), &[1500, 200], true);
+    assert!(run.input.preparation.turned_right_side_out);
+    assert!(run.warnings.iter().any(|w| w.contains("inside out")));
+    for level in &run.levels {
+        assert!(level.mesh.signed_volume() > 0.0);
+    }
+}
+
+#[test]
+fn a_triangle_soup_gets_manifold_oriented_levels() {
+    let soup = corpus::soup();
+    let mut welded = soup.clone();
+    voxlod_core::weld::weld_vertices(&mut welded);
+    assert!(mesh_topology(&welded).non_manifold_edges > 0);
+    check_chain(&soup, &[400, 100, 25], false);
+}
+
+#[test]
+fn asked_for_closed_levels_of_a_sheet_the_report_says_what_closedness_cost() {
+    let options = BudgetOptions {
+        closed: true,
+        ..BudgetOptions::for_triangles(&[600])
+    };
+    let run = levels(&corpus::sheet(), &options).unwrap();
+    let level = &run.levels[0];
+    assert!(mesh_topology(&level.mesh).is_closed_manifold());
+    assert_ne!(level.report.method, Method::Collapse);
+    // The sheet's own collapse is far closer, and open: ruled out by closedness, at a cost.
+    let collapse = level
+        .report
+        .ruled_out
+        .iter()
+        .find(|r| r.candidate == "collapse")
+        .expect("the collapse is reported as ruled out");
+    assert!(collapse.broken.contains(&Promise::Closed));
+    assert!(collapse.cost > 1.0, "{}", collapse.cost);
+}
+
+#[test]
+fn the_level_of_each_budget_is_the_closest_candidate_that_keeps_the_promises() {
+    let run = levels(
+        &corpus::two_spheres(),
+        &BudgetOptions::for_triangles(&[800, 120]),
+    )
+    .unwrap();
+    for level in &run.levels {
+        let r = &level.report;
+        let kept: Vec<f64> = (r.candidates.iter())
+            .filter(|c| c.broken.is_empty())
+            .filter_map(|c| c.careful_hausdorff)
+            .collect();
+        assert!(!kept.is_empty());
+        let best = kept.iter().cloned().fold(f64::INFINITY, f64::min);
+        assert!(
+            r.hausdorff <= best * 1.01 + 1e-12,
+            "{} > {best}",
+            r.hausdorff
+        );
+    }
+}
+
+#[test]
+fn bad_requests_are_refused_with_what_is_wrong() {
+    let cube = voxlod_testkit::shapes::unit_cube();
+    for budgets in [vec![], vec![100, 3]] {
+        let e = levels(&cube, &BudgetOptions::for_triangles(&budgets)).unwrap_err();
+        assert!(matches!(e, BudgetError::InvalidBudgets(_)), "{e}");
+    }
+    let flat = TriangleMesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::X * 2.0], vec![[0, 1, 2]]);
+    let e = levels(&flat, &BudgetOptions::for_triangles(&[10])).unwrap_err();
+    assert!(matches!(e, BudgetError::EmptyMesh { triangles: 1 }), "{e}");
+    let nan = TriangleMesh::new(vec![Vec3::NAN, Vec3::X, Vec3::Y], vec![[0, 1, 2]]);
+    assert!(levels(&nan, &BudgetOptions::for_triangles(&[10])).is_err());
+}
+
+#[test]
+fn stopping_from_the_progress_callback_ends_the_run() {
+    let stop = |done: usize, _: usize| done == 0;
+    let e = voxlod_budget::levels_with(
+        &corpus::sphere_fine(),
+        &BudgetOptions::for_triangles(&[1000]),
+        &stop,
+    )
+    .unwrap_err();
+    assert!(matches!(e, BudgetError::Cancelled));
+}
