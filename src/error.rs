@@ -11,6 +11,7 @@ use std::fmt;
 use std::path::Path;
 
 use serde::Serialize;
+use voxlod_budget::BudgetError;
 use voxlod_clustering::ClusteringError;
 use voxlod_contouring::{CleanError, ContourError};
 use voxlod_core::validate::MeshDefect;
@@ -97,6 +98,9 @@ pub enum Error {
     /// Distances and mesh health.
     #[error(transparent)]
     Metrics(#[from] MetricsError),
+    /// Levels by triangle budget.
+    #[error(transparent)]
+    Budget(#[from] BudgetError),
     /// The software rasterizer.
     #[error(transparent)]
     Render(#[from] RenderError),
@@ -261,6 +265,7 @@ impl Error {
             Error::Clustering(e) => clustering_class(e),
             Error::Envelope(e) => envelope_class(e),
             Error::Metrics(e) => metrics_class(e),
+            Error::Budget(e) => budget_class(e),
             Error::Render(e) => render_class(e),
             Error::InvalidOption(_) | Error::IsoRequired | Error::NeedsSolid => Usage,
             Error::Cancelled => Cancelled,
@@ -271,6 +276,17 @@ impl Error {
             | Error::GridBeyondCoordinates { .. }
             | Error::ComputedBeyondRange { .. } => BadInput,
         }
+    }
+}
+
+fn budget_class(e: &BudgetError) -> ErrorClass {
+    match e {
+        BudgetError::Core(e) => core_class(e),
+        BudgetError::Sampling(e) => sampling_class(e),
+        BudgetError::Metrics(e) => metrics_class(e),
+        BudgetError::InvalidBudgets(_) | BudgetError::InvalidOption { .. } => ErrorClass::Usage,
+        BudgetError::Cancelled => ErrorClass::Cancelled,
+        BudgetError::EmptyMesh { .. } | BudgetError::NoLevel { .. } => ErrorClass::BadInput,
     }
 }
 

@@ -128,6 +128,9 @@ fn lod_levels(
 ) -> Result<Lod, Error> {
     let start = Instant::now();
     options.check()?;
+    if let (Source::Mesh(mesh), true) = (source, crate::by_budget::answers(options)) {
+        return crate::by_budget::portfolio_lod(mesh, options, progress);
+    }
     if options.triangles.is_some() || options.error.is_some() {
         return lod_by_budget(source, options, progress);
     }

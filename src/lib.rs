@@ -52,6 +52,7 @@
 
 pub mod bricked;
 pub mod budget;
+mod by_budget;
 mod caps;
 mod cluster;
 mod compare;
@@ -97,6 +98,7 @@ pub use voxelize::{voxelize, VoxelizeOptions, Voxelized};
 pub use voxlod_fit::FitOptions;
 pub use voxlod_layers::LayersOptions;
 
+pub use voxlod_budget as portfolio;
 pub use voxlod_clustering as clustering;
 pub use voxlod_contouring as contouring;
 pub use voxlod_core as core;

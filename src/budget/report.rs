@@ -87,6 +87,10 @@ pub(super) fn report(
         fitted_to_input: false,
         self_intersections: voxlod_contouring::crossing_pairs(&level.mesh).len(),
         candidates,
+        method: None,
+        shape_distance: None,
+        ruled_out: Vec::new(),
+        portfolio: Vec::new(),
         note: None,
         seconds: start.elapsed().as_secs_f64(),
     }

@@ -178,6 +178,17 @@ pub struct BudgetLevel {
     pub self_intersections: usize,
     /// Candidates (resolution and stage) built and measured.
     pub candidates: usize,
+    /// For a mesh input, the portfolio's method that made the level (crate voxlod-budget);
+    /// `None` for a volume's levels.
+    pub method: Option<voxlod_budget::Method>,
+    /// The largest distance without the input's part points: how far the shape is off apart
+    /// from specks it lost (mesh inputs).
+    pub shape_distance: Option<f64>,
+    /// Candidates measured closer than the level that a promise ruled out, and what keeping
+    /// the promise cost (mesh inputs).
+    pub ruled_out: Vec<voxlod_budget::RuledOut>,
+    /// Every candidate of the portfolio, measured and checked (mesh inputs).
+    pub portfolio: Vec<voxlod_budget::CandidateReport>,
     /// Why the level misses its budget by more than 10 %, or what else to know.
     pub note: Option<String>,
     /// Time of this budget's search.

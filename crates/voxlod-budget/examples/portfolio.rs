@@ -106,6 +106,12 @@ fn sphereflake(n: usize) -> TriangleMesh {
 
 /// The budgets of the targets for an input of `f` triangles.
 fn budgets(f: usize) -> Vec<usize> {
+    if let Ok(list) = std::env::var("BUDGETS") {
+        return list
+            .split(',')
+            .map(|b| b.parse().expect("BUDGETS=a,b,c"))
+            .collect();
+    }
     let mut b = vec![f / 8, f / 32, f / 128];
     for fixed in [1000, 300] {
         if fixed < f / 8 && !b.contains(&fixed) {

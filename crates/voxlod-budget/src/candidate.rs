@@ -81,6 +81,10 @@ pub struct Candidate {
     pub fitted: bool,
     /// Vertices split to make it a manifold (module docs).
     pub cut_vertices: usize,
+    /// Whether it was made from the input with its cavities filled (module `voxel`).
+    pub filled: bool,
+    /// The input's lost parts put back beside it (module `restore`).
+    pub parts_restored: usize,
     /// The quick distance, once measured (`None` also when rejected early).
     pub quick: Option<Distance>,
     /// The careful distance, once measured.
@@ -98,6 +102,8 @@ impl Candidate {
         mesh.remove_unreferenced_vertices();
         Candidate {
             cut_vertices: cut.split_vertices,
+            filled: false,
+            parts_restored: 0,
             method,
             topology: mesh_topology(&mesh),
             mesh,
@@ -132,8 +138,14 @@ impl Candidate {
         if let (Some(r), Some(iso)) = (self.resolution, self.iso) {
             label += &format!(" {r}@{iso}");
         }
+        if self.filled {
+            label += " filled";
+        }
         if self.fitted {
             label += " fitted";
+        }
+        if self.parts_restored > 0 {
+            label += &format!(" +{} parts", self.parts_restored);
         }
         label
     }

@@ -5,6 +5,7 @@
 use std::time::Instant;
 
 use rayon::prelude::*;
+use voxlod_core::cavities::fill_cavities;
 use voxlod_core::TriangleMesh;
 use voxlod_sampling::MeshSolid;
 
@@ -14,6 +15,7 @@ use crate::input::Input;
 use crate::measure::{Care, Measure};
 use crate::promises::Promises;
 use crate::report::{BudgetLevel, InputReport};
+use crate::restore::StandIns;
 use crate::select::{choose, Chosen};
 use crate::shell::shell_candidates;
 use crate::voxel::{voxel_candidates, COARSEST, FINEST, HEADROOM};
@@ -64,21 +66,36 @@ pub fn levels_with(
         .collect::<Result<_, _>>()?;
     lap(&mut timings.collapses);
     step(budgets.len())?;
-    let solid = if searched.iter().any(|s| s.needs_voxels) {
+    let voxels = searched.iter().any(|s| s.needs_voxels);
+    let solid = if voxels {
         Some(MeshSolid::new(&input.mesh)?)
     } else {
         None
+    };
+    // Closed shells bounding voids in the input's material: a second solid with them filled,
+    // so that a hollow part whose wall the budget cannot afford turns solid instead of
+    // perforating.
+    let filled = match voxels {
+        true => fill_cavities(&input.mesh)
+            .map(|f| MeshSolid::new(&f.mesh))
+            .transpose()?,
+        false => None,
+    };
+    let solids = Solids {
+        given: solid.as_ref(),
+        filled: filled.as_ref(),
     };
     let mut searched = searched;
     add_kept(&mut searched, &input, options);
     searched
         .par_iter_mut()
         .filter(|s| s.needs_voxels)
-        .map(|s| add_voxels(s, &input, &measure, solid.as_ref(), options))
+        .map(|s| add_voxels(s, &input, &measure, &solids, options))
         .collect::<Result<Vec<()>, BudgetError>>()?;
     lap(&mut timings.voxels);
     step(2 * budgets.len())?;
-    let (chosen, mut warnings) = choose_down(searched, &input, &measure, options)?;
+    let stand_ins = StandIns::default();
+    let (chosen, mut warnings) = choose_down(searched, &input, &measure, options, &stand_ins)?;
     lap(&mut timings.choice);
     step(total)?;
     let levels = options
@@ -101,6 +118,13 @@ pub fn levels_with(
         timings,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// The input as solids for the voxel candidates: as given, and with its cavities filled where
+/// it has any.
+struct Solids<'a> {
+    given: Option<&'a MeshSolid>,
+    filled: Option<&'a MeshSolid>,
 }
 
 /// One budget's candidates before the choice.
@@ -171,20 +195,14 @@ fn add_voxels(
     searched: &mut Searched,
     input: &Input,
     measure: &Measure,
-    solid: Option<&MeshSolid>,
+    solids: &Solids,
     options: &BudgetOptions,
 ) -> Result<(), BudgetError> {
     let start = Instant::now();
     let budget = searched.budget;
-    if let Some(solid) = solid {
-        let found = voxel_candidates(
-            input,
-            measure,
-            solid,
-            options.filter,
-            budget,
-            options.max_error,
-        )?;
+    let (filter, max_error) = (options.filter, options.max_error);
+    if let Some(solid) = solids.given {
+        let found = voxel_candidates(input, measure, solid, filter, budget, max_error)?;
         if found.vanished {
             searched.notes.push(format!(
                 "the voxel level at resolution {} vanished (parts thinner than a voxel)",
@@ -192,6 +210,13 @@ fn add_voxels(
             ));
         }
         searched.candidates.extend(found.candidates);
+    }
+    if let Some(solid) = solids.filled {
+        let found = voxel_candidates(input, measure, solid, filter, budget, max_error)?;
+        for mut c in found.candidates {
+            c.filled = true;
+            searched.candidates.push(c);
+        }
     }
     if !input.is_closed()
         || searched
@@ -212,6 +237,7 @@ fn choose_down(
     input: &Input,
     measure: &Measure,
     options: &BudgetOptions,
+    stand_ins: &StandIns,
 ) -> Result<(Vec<Level>, Vec<String>), BudgetError> {
     let mut levels: Vec<Level> = Vec::new();
     let mut warnings = Vec::new();
@@ -231,17 +257,14 @@ fn choose_down(
             }
             s.candidates.extend(c);
         }
-        let chosen = choose(
-            s.candidates,
-            &promises,
-            input,
-            measure,
-            options.fit.as_ref(),
-        )
-        .ok_or_else(|| BudgetError::NoLevel {
-            budget: s.budget,
-            why: s.notes.join("; "),
-        })?;
+        let fit = options.fit.as_ref();
+        let chosen =
+            choose(s.candidates, &promises, input, measure, fit, stand_ins).ok_or_else(|| {
+                BudgetError::NoLevel {
+                    budget: s.budget,
+                    why: s.notes.join("; "),
+                }
+            })?;
         let from = levels.last().map(|l| l.report.budget);
         let seconds = s.seconds + start.elapsed().as_secs_f64();
         let level = level_of(chosen, input, s.budget, from, seconds, &mut warnings);
@@ -300,6 +323,8 @@ fn level_of(
         iso: c.iso,
         fitted_to_input: c.fitted,
         parts_dropped: c.parts_dropped,
+        parts_restored: c.parts_restored,
+        cavities_filled: c.filled,
         hausdorff: careful.hausdorff,
         mean_distance: careful.mean,
         hausdorff_fraction: careful.hausdorff / input.diagonal,

@@ -62,6 +62,7 @@ mod measure;
 mod options;
 mod promises;
 mod report;
+mod restore;
 pub mod select;
 mod shell;
 mod voxel;

@@ -25,6 +25,10 @@ pub struct BudgetLevel {
     pub fitted_to_input: bool,
     /// Parts of the voxel level that the quadric stage dropped for the budget.
     pub parts_dropped: usize,
+    /// Lost parts of the input put back beside the level (module `restore`).
+    pub parts_restored: usize,
+    /// Whether the level was sampled from the input with its cavities filled.
+    pub cavities_filled: bool,
     /// Two-sided Hausdorff distance to the input (careful samples), mesh units.
     pub hausdorff: f64,
     /// Two-sided mean distance to the input, mesh units.

@@ -5,6 +5,8 @@
 //! 2. Those that keep them are measured quickly ([`Care::Quick`]), each rejected early once it
 //!    is three times farther than the closest so far (by shape distance, module `measure`); the best voxel candidate is fitted to
 //!    the input ([`voxlod_fit`], beyond the paper) and competes beside its unfitted self.
+//!    The closest few that lost input parts get twins with the parts put back beside them
+//!    (module `restore`), which compete too.
 //! 3. The closest few ([`FINALISTS`]) have their crossing triangles counted and are measured
 //!    carefully ([`Care::Careful`]); the input's own collapse, where it keeps every promise, is
 //!    always among them, and a finalist whose mean distance exceeds [`MEAN_SLACK`] times the
@@ -28,6 +30,7 @@ use crate::input::Input;
 use crate::measure::{Care, Distance, Measure};
 use crate::promises::{Promise, Promises, MEAN_SLACK};
 use crate::report::{CandidateReport, RuledOut};
+use crate::restore::{stood_in, with_parts_restored, StandIns, LOST};
 
 /// Candidates measured carefully at most (the input's collapse comes in addition).
 pub const FINALISTS: usize = 3;
@@ -54,6 +57,7 @@ pub fn choose(
     input: &Input,
     measure: &Measure,
     fit: Option<&FitOptions>,
+    stand_ins: &StandIns,
 ) -> Option<Chosen> {
     if candidates.is_empty() {
         return None;
@@ -66,6 +70,20 @@ pub fn choose(
     if let Some(fitted) = fitted_best(&candidates, &broken, measure, fit) {
         broken.push(promises.broken_cheap(&fitted));
         candidates.push(fitted);
+    }
+    let stood: Vec<Candidate> = [1, 2]
+        .into_iter()
+        .filter_map(|keep| stood_in(input, stand_ins, promises.budget, keep))
+        .collect();
+    let twins = restored_twins(&candidates, &broken, input, stand_ins, promises.budget);
+    for twin in twins.into_iter().chain(stood) {
+        let mut twin = twin;
+        let b = promises.broken_cheap(&twin);
+        if b.is_empty() {
+            twin.quick = measure.distance(&twin.mesh, Care::Quick, f64::INFINITY);
+        }
+        broken.push(b);
+        candidates.push(twin);
     }
     let mut winner = finalists(&mut candidates, &mut broken, input, measure);
     if winner.is_none() {
@@ -147,6 +165,31 @@ fn fitted_best(
     fitted.cut_vertices = source.cut_vertices;
     fitted.quick = measure.distance(&fitted.mesh, Care::Quick, h);
     fitted.quick.is_some().then_some(fitted)
+}
+
+/// Twins of the closest candidates that lost input parts (their Hausdorff distance, which
+/// counts every part, well above their shape distance), with the parts put back.
+fn restored_twins(
+    candidates: &[Candidate],
+    broken: &[Vec<Promise>],
+    input: &Input,
+    stand_ins: &StandIns,
+    budget: usize,
+) -> Vec<Candidate> {
+    let mut order: Vec<usize> = (0..candidates.len())
+        .filter(|&i| broken[i].is_empty())
+        .filter(|&i| {
+            candidates[i]
+                .quick
+                .is_some_and(|d| d.hausdorff > LOST * d.shape)
+        })
+        .collect();
+    order.sort_by(|&a, &b| quick_h(&candidates[a]).total_cmp(&quick_h(&candidates[b])));
+    order
+        .into_iter()
+        .take(FINALISTS)
+        .filter_map(|i| with_parts_restored(&candidates[i], input, stand_ins, budget))
+        .collect()
 }
 
 /// Step 3: the winner among the finalists, by careful Hausdorff distance; `None` where no

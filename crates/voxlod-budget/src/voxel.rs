@@ -91,12 +91,19 @@ pub fn voxel_candidates(
         coarsened += 1;
         resolution = ((resolution as f64 * COARSER) as usize).max(COARSEST);
     }
-    // Coarse grids are cheap, and the collapse of a small marching-cubes level can stall:
-    // one finer neighbour too.
+    // Coarse grids are cheap, and which resolution's level collapses closest is hard to
+    // foretell (a finer one keeps more shape, a coarser one has fewer handles to stall on):
+    // the neighbours on both sides too.
     if found.resolution <= SMALL && !found.vanished && coarsened == 0 {
-        let finer = ((found.resolution as f64 * FINER) as usize).min(FINEST);
-        let levels = contoured(input, solid, filter, finer)?;
-        add_collapsed(&mut found, input, levels, finer, budget, max_error);
+        let at = found.resolution as f64;
+        let finer = ((at * FINER) as usize).min(FINEST);
+        let coarser = ((at * COARSER) as usize).max(COARSEST);
+        for r in [finer, coarser] {
+            if r != found.resolution {
+                let levels = contoured(input, solid, filter, r)?;
+                add_collapsed(&mut found, input, levels, r, budget, max_error);
+            }
+        }
     }
     Ok(found)
 }
@@ -134,7 +141,8 @@ fn closest_if_large(
     levels
 }
 
-/// Grids up to this resolution get a finer neighbour too ([`FINER`] times finer).
+/// Grids up to this resolution get a finer neighbour ([`FINER`] times finer) and a coarser one
+/// ([`COARSER`]) too.
 pub const SMALL: usize = 48;
 /// See [`SMALL`]: about twice the triangles.
 pub const FINER: f64 = std::f64::consts::SQRT_2;

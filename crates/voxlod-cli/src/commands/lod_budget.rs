@@ -168,11 +168,14 @@ fn describe_level(l: &BudgetLevelReport, mesh: &voxlod::core::TriangleMesh) -> S
         + &b.silhouette_difference
             .map(|s| format!(", silhouette difference {s:.3}"))
             .unwrap_or_default();
+    let how = match b.method {
+        Some(m) if b.resolution > 0 => format!("{} at resolution {}", m.name(), b.resolution),
+        Some(m) => m.name().to_string(),
+        None => format!("resolution {}, then {:?}", b.resolution, b.stage),
+    };
     format!(
-        "level {}: {aim}: resolution {}, then {:?}: {}{distance} -> {}",
+        "level {}: {aim}: {how}: {}{distance} -> {}",
         l.level,
-        b.resolution,
-        b.stage,
         describe_mesh(mesh),
         l.file.as_deref().unwrap_or("(empty, not written)")
     )
