@@ -13,7 +13,7 @@ use crate::candidate::{Candidate, Method};
 use crate::collapse;
 use crate::input::Input;
 use crate::measure::{Care, Measure};
-use crate::promises::Promises;
+use crate::promises::{Promise, Promises};
 use crate::report::{BudgetLevel, InputReport};
 use crate::restore::StandIns;
 use crate::select::{choose, Chosen};
@@ -26,6 +26,11 @@ use voxlod_contouring::triangle_estimate::resolution_for_triangles;
 /// fraction of the voxel that the budget affords: a voxel level places its surface no closer
 /// than about that, before its own collapse adds to it.
 pub const VOXEL_WORTH: f64 = 0.5;
+
+/// Budgets whose voxel level would have more triangles than this ([`HEADROOM`] times the
+/// budget) are not searched with voxels where the input's collapse only came out cut open:
+/// the collapse, at the budget, is the level, with a warning.
+pub const LARGE_VOXEL: usize = 150_000;
 
 /// Called with (steps done, steps in all) after each step; `false` stops the run.
 pub type ProgressFn<'f> = dyn Fn(usize, usize) -> bool + Sync + 'f;
@@ -76,9 +81,7 @@ pub fn levels_with(
     // so that a hollow part whose wall the budget cannot afford turns solid instead of
     // perforating.
     let filled = match voxels {
-        true => fill_cavities(&input.mesh)
-            .map(|f| MeshSolid::new(&f.mesh))
-            .transpose()?,
+        true => filled_solid(&input)?,
         false => None,
     };
     let solids = Solids {
@@ -120,6 +123,22 @@ pub fn levels_with(
     })
 }
 
+/// The cavities of the input hold at least this fraction of its volume for the filled solid to
+/// be sampled too: a tiny void (a scan's bubble) changes no voxel level a budget affords.
+pub const CAVITY_SHARE: f64 = 0.01;
+
+/// The input with its cavities filled, as a solid, where they are worth it ([`CAVITY_SHARE`]).
+fn filled_solid(input: &Input) -> Result<Option<MeshSolid>, BudgetError> {
+    let Some(filled) = fill_cavities(&input.mesh) else {
+        return Ok(None);
+    };
+    let (before, after) = (input.mesh.signed_volume(), filled.mesh.signed_volume());
+    if after - before < CAVITY_SHARE * after.abs() {
+        return Ok(None);
+    }
+    Ok(Some(MeshSolid::new(&filled.mesh)?))
+}
+
 /// The input as solids for the voxel candidates: as given, and with its cavities filled where
 /// it has any.
 struct Solids<'a> {
@@ -150,9 +169,14 @@ fn search(
     let start = Instant::now();
     let promises = first_promises(input, options, budget);
     let mut candidates = Vec::new();
-    let (mut close_enough, mut plain_broke) = (false, false);
+    let (mut close_enough, mut plain_broke, mut large_and_opened) = (false, false, false);
     if let Some(mut plain) = collapse::plain(input, budget, options.max_error) {
-        let keeps = promises.broken_cheap(&plain).is_empty() && crosses_no_more(input, &mut plain);
+        let broken = promises.broken_cheap(&plain);
+        let keeps = broken.is_empty() && crosses_no_more(input, &mut plain);
+        // A large budget whose collapse only came out cut open (or with more handles): its
+        // voxel level would cost seconds and rarely keep the promises at this size either.
+        let only_opened = broken.iter().all(|p| matches!(p, Promise::Closed | Promise::Genus));
+        large_and_opened = !keeps && only_opened && HEADROOM * budget as f64 > LARGE_VOXEL as f64;
         if keeps {
             plain.quick = measure.distance(&plain.mesh, Care::Quick, f64::INFINITY);
             let voxel = voxel_at(input, budget);
@@ -168,21 +192,28 @@ fn search(
     Ok(Searched {
         budget,
         candidates,
-        needs_voxels: !close_enough,
+        needs_voxels: !close_enough && !large_and_opened,
         plain_broke,
         seconds: start.elapsed().as_secs_f64(),
         notes: Vec::new(),
     })
 }
 
-/// The input's checked collapse ([`collapse::kept`]) for the largest budget whose plain
-/// collapse broke a promise; the smaller budgets get it through the level above, collapsed
-/// further, which costs a fraction of a collapse of the whole input.
+/// The largest input whose checked collapse is tried: each of its passes also checks the
+/// topology and the crossings of the whole result, and on large inputs whose plain collapse
+/// pinched (a CT surface's hundreds of thin walls) every pass is refused, seconds for nothing.
+pub const KEPT_AT_MOST: usize = 250_000;
+
+/// The input's checked collapse ([`collapse::kept`]) for the largest budget, where its plain
+/// collapse broke a promise and the input has at most [`KEPT_AT_MOST`] triangles; the smaller
+/// budgets get it through the level above, collapsed further, which costs a fraction of a
+/// collapse of the whole input.
 fn add_kept(searched: &mut [Searched], input: &Input, options: &BudgetOptions) {
-    if !input.topology.is_manifold() {
+    if !input.topology.is_manifold() || input.mesh.triangle_count() > KEPT_AT_MOST {
         return;
     }
-    if let Some(s) = searched.iter_mut().find(|s| s.plain_broke) {
+    // Only the largest budget: the smaller ones collapse the level above, a fraction of the cost.
+    if let Some(s) = searched.first_mut().filter(|s| s.plain_broke) {
         let start = Instant::now();
         s.candidates
             .extend(collapse::kept(input, s.budget, options.max_error));

@@ -57,14 +57,15 @@ impl Promise {
     }
 
     /// How much breaking it costs a level that must break some: the least severe is given up
-    /// first where no candidate keeps them all (crossings first, a manifold last).
+    /// first where no candidate keeps them all (crossings first, then the genus, closedness
+    /// (a level cut open along a few pinches), the budget, and a manifold last).
     pub fn severity(self) -> u8 {
         match self {
             Promise::MeanDistance => 0,
             Promise::NoCrossings => 1,
             Promise::Genus => 2,
-            Promise::Budget => 3,
-            Promise::Closed => 4,
+            Promise::Closed => 3,
+            Promise::Budget => 4,
             Promise::Oriented => 5,
             Promise::Manifold => 6,
         }

@@ -71,10 +71,11 @@ pub fn choose(
         broken.push(promises.broken_cheap(&fitted));
         candidates.push(fitted);
     }
-    let stood: Vec<Candidate> = [1, 2]
-        .into_iter()
-        .filter_map(|keep| stood_in(input, stand_ins, promises.budget, keep))
-        .collect();
+    // The small parts stood in for, where no collapse of the input keeps the promises or the
+    // closest candidate lost parts.
+    let stood = needs_stand_ins(&candidates, &broken)
+        .then(|| stood_in(input, stand_ins, promises.budget, 1))
+        .flatten();
     let twins = restored_twins(&candidates, &broken, input, stand_ins, promises.budget);
     for twin in twins.into_iter().chain(stood) {
         let mut twin = twin;
@@ -165,6 +166,16 @@ fn fitted_best(
     fitted.cut_vertices = source.cut_vertices;
     fitted.quick = measure.distance(&fitted.mesh, Care::Quick, h);
     fitted.quick.is_some().then_some(fitted)
+}
+
+/// Whether the input's small parts should be stood in for (module `restore`): no collapse of
+/// the input keeps the cheap promises, or the closest candidate that does lost parts (its
+/// Hausdorff distance, which counts every part, well above its shape distance).
+fn needs_stand_ins(candidates: &[Candidate], broken: &[Vec<Promise>]) -> bool {
+    let keeping = || (candidates.iter().zip(broken)).filter(|(_, b)| b.is_empty());
+    let collapse_keeps = keeping().any(|(c, _)| c.method == Method::Collapse);
+    let closest = keeping().filter_map(|(c, _)| c.quick).min_by(|a, b| a.shape.total_cmp(&b.shape));
+    !collapse_keeps || closest.is_some_and(|d| d.hausdorff > LOST * d.shape)
 }
 
 /// Twins of the closest candidates that lost input parts (their Hausdorff distance, which

@@ -192,7 +192,7 @@ fn contoured(
 
 /// meshoptimizer passes of a level's checked collapse (each also checks the result's topology
 /// and crossings): a level that needs more is better answered by a coarser one.
-pub const ATTEMPTS: usize = 8;
+pub const ATTEMPTS: usize = 4;
 
 /// `mesh` collapsed to `budget` with its topology kept (the smallest parts dropped where it
 /// stalls above), without zero-area triangles judged against `cell`, as candidates of

@@ -1,12 +1,15 @@
 //! A triangle mesh made an oriented manifold by cutting it where it is not one
 //! ([`make_manifold`]): each connected piece oriented consistently, and vertices split so that
 //! every edge has at most two triangles, which traverse it in opposite directions, and every
-//! vertex is one fan. No triangle moves and none is added; the split copies of a vertex keep
-//! its position.
+//! vertex is one fan. No vertex moves; the split copies of a vertex keep its position, and
+//! triangles are added only where a flattened part is inflated (step 0).
 //!
 //! 0. **Pockets.** Two triangles on the same three vertices wound opposite ways (a flattened
 //!    pocket a collapse leaves where a thin part was) enclose nothing: both are dropped, which
-//!    keeps a closed surface closed. Exact copies (wound the same way) keep one.
+//!    keeps a closed surface closed; where the two are a whole part on their own (a small part
+//!    a collapse flattened), they become a tetrahedron instead, the one vertex it adds a tenth
+//!    of an edge below their centre, so the part keeps its place. Exact copies (wound the same
+//!    way) keep one.
 //! 1. **Orientation.** Across every edge shared by exactly two triangles, a walk over the mesh
 //!    flips triangles so that neighbours agree; each piece keeps the orientation most of its
 //!    triangles had. Where the walk meets itself with a disagreement (a Möbius strip), that
@@ -35,6 +38,8 @@ use crate::TriangleMesh;
 pub struct ManifoldReport {
     /// Triangles dropped as flattened pockets or copies (step 0).
     pub dropped_triangles: usize,
+    /// Flattened parts made tetrahedra (step 0).
+    pub inflated_parts: usize,
     /// Triangles whose orientation was reversed to agree with their piece.
     pub flipped_triangles: usize,
     /// Vertices added as copies where the mesh was cut.
@@ -82,7 +87,7 @@ fn apply_flips(mesh: &mut TriangleMesh, flips: &[bool]) -> usize {
 /// assert_eq!(report.split_vertices, 2);
 /// ```
 pub fn make_manifold(mesh: &mut TriangleMesh) -> ManifoldReport {
-    let dropped_triangles = drop_pockets(mesh);
+    let (dropped_triangles, inflated_parts) = drop_pockets(mesh);
     let flipped_triangles = orient_consistently(mesh);
     let mut split_vertices = split_corners(mesh, &sorted_edges(&mesh.triangles));
     let detached = detach_still_shared(mesh);
@@ -92,6 +97,7 @@ pub fn make_manifold(mesh: &mut TriangleMesh) -> ManifoldReport {
     }
     ManifoldReport {
         dropped_triangles,
+        inflated_parts,
         flipped_triangles,
         split_vertices,
     }
@@ -99,7 +105,7 @@ pub fn make_manifold(mesh: &mut TriangleMesh) -> ManifoldReport {
 
 /// Drops both triangles of each pair on the same vertices wound opposite ways, and all but one
 /// of exact copies (module docs, step 0); returns how many were dropped.
-fn drop_pockets(mesh: &mut TriangleMesh) -> usize {
+fn drop_pockets(mesh: &mut TriangleMesh) -> (usize, usize) {
     // The sorted vertices, and whether the triangle winds them in that order's rotation.
     let key = |t: &[u32; 3]| {
         let mut s = *t;
@@ -107,14 +113,28 @@ fn drop_pockets(mesh: &mut TriangleMesh) -> usize {
         let even = [[t[0], t[1], t[2]], [t[1], t[2], t[0]], [t[2], t[0], t[1]]].contains(&s);
         (s, even)
     };
+    let uses = sorted_edges(&mesh.triangles);
+    let edge_uses = |a: u32, b: u32| {
+        let e = (a.min(b), a.max(b));
+        let lo = uses.partition_point(|u| u.edge < e);
+        uses[lo..].iter().take_while(|u| u.edge == e).count()
+    };
     let mut order: Vec<usize> = (0..mesh.triangles.len()).collect();
     order.sort_unstable_by_key(|&i| key(&mesh.triangles[i]));
     let mut keep = vec![false; mesh.triangles.len()];
+    let mut inflate = Vec::new();
     for run in order.chunk_by(|&a, &b| key(&mesh.triangles[a]).0 == key(&mesh.triangles[b]).0) {
         // Opposite windings cancel in pairs; of what is left, one triangle stays.
         let even = run.iter().filter(|&&i| key(&mesh.triangles[i]).1).count();
         let odd = run.len() - even;
-        if even != odd {
+        let [a, b, c] = key(&mesh.triangles[run[0]]).0;
+        let isolated = [(a, b), (b, c), (c, a)]
+            .iter()
+            .all(|&(x, y)| edge_uses(x, y) == 2);
+        if run.len() == 2 && even == 1 && isolated {
+            // A whole part flattened into two faces: a tetrahedron keeps its place.
+            inflate.push(run[0]);
+        } else if even != odd {
             let winding = even > odd;
             if let Some(&i) = run.iter().find(|&&i| key(&mesh.triangles[i]).1 == winding) {
                 keep[i] = true;
@@ -122,9 +142,31 @@ fn drop_pockets(mesh: &mut TriangleMesh) -> usize {
         }
     }
     let before = mesh.triangles.len();
+    let inflated: Vec<[u32; 3]> = inflate.iter().map(|&i| mesh.triangles[i]).collect();
     let mut next = keep.iter();
     mesh.triangles.retain(|_| *next.next().unwrap_or(&true));
-    before - mesh.triangles.len()
+    let dropped = before - mesh.triangles.len();
+    for t in &inflated {
+        add_tetrahedron(mesh, *t);
+    }
+    (dropped - 2 * inflated.len(), inflated.len())
+}
+
+/// Adds the tetrahedron on the corners of `t` and a point below its centre (a tenth of its
+/// mean edge along its normal), wound outwards.
+fn add_tetrahedron(mesh: &mut TriangleMesh, [a, b, c]: [u32; 3]) {
+    let p = |v: u32| mesh.positions[v as usize];
+    let (pa, pb, pc) = (p(a), p(b), p(c));
+    let normal = (pb - pa).cross(pc - pa).normalize_or_zero();
+    let mean_edge = (pa.distance(pb) + pb.distance(pc) + pc.distance(pa)) / 3.0;
+    let apex = (pa + pb + pc) / 3.0 - normal * (0.1 * mean_edge);
+    let d = mesh.positions.len() as u32;
+    mesh.positions.push(apex);
+    if !mesh.normals.is_empty() {
+        mesh.normals.push(normal);
+    }
+    mesh.triangles
+        .extend([[a, b, c], [b, a, d], [c, b, d], [a, c, d]]);
 }
 
 /// One triangle's use of an undirected edge: the edge (smaller vertex first), the triangle,
@@ -366,6 +408,7 @@ mod tests {
             report,
             ManifoldReport {
                 dropped_triangles: 0,
+                inflated_parts: 0,
                 flipped_triangles: 0,
                 split_vertices: 1
             }
@@ -430,6 +473,38 @@ mod tests {
         let t = mesh_topology(&mesh);
         assert!(t.is_manifold() && t.is_consistently_oriented());
         assert_eq!(t.boundary_loops, 1); // the face lost with its pocket
+    }
+
+    #[test]
+    fn a_part_flattened_to_two_faces_becomes_a_tetrahedron() {
+        let mut mesh = octahedron();
+        let n = mesh.positions.len() as u32;
+        mesh.positions.extend([
+            Vec3::new(5.0, 0.0, 0.0),
+            Vec3::new(6.0, 0.0, 0.0),
+            Vec3::new(5.0, 1.0, 0.0),
+        ]);
+        mesh.triangles.push([n, n + 1, n + 2]);
+        mesh.triangles.push([n, n + 2, n + 1]);
+        let report = make_manifold(&mut mesh);
+        assert_eq!((report.dropped_triangles, report.inflated_parts), (0, 1));
+        assert_eq!(mesh.triangles.len(), 12);
+        let t = mesh_topology(&mesh);
+        assert!(
+            t.is_closed_manifold() && t.is_consistently_oriented(),
+            "{t:?}"
+        );
+        assert_eq!(
+            (t.components, t.genus, t.duplicate_triangles),
+            (2, Some(0), 0)
+        );
+        // Both pieces wound outwards: the octahedron's 4/3 plus the small tetrahedron's.
+        let tetra = 0.5 / 3.0 * 0.1 * (2.0 + 2f64.sqrt()) / 3.0;
+        assert!(
+            (mesh.signed_volume() - (4.0 / 3.0 + tetra)).abs() < 1e-5,
+            "{}",
+            mesh.signed_volume()
+        );
     }
 
     #[test]
