@@ -7,7 +7,10 @@
 # moderate-resolution tests, among them the orientation check of the shared CT head, NIfTI
 # (Colin27), MetaImage (lung CT) and NRRD (tooth): the centroid of each mesh, in LPS, against
 # the world centroid of the thresholded voxels as nibabel's affine or SimpleITK places them
-# (skipped, saying why, without the peers' Python). Takes a few minutes; CI runs the moderate-resolution tests only.
+# (skipped, saying why, without the peers' Python). Then the budget targets on every shared mesh
+# and generated case, beside meshoptimizer (voxlod-budget's ignored `targets` test).
+# Takes a few minutes; CI runs the moderate-resolution tests only.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo test --release -p voxlod-cli --test real_data -- --include-ignored --nocapture "$@"
+cargo test --release -p voxlod-budget --test targets -- --include-ignored --nocapture

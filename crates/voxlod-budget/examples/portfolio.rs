@@ -14,12 +14,12 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use voxlod_budget::{levels, BudgetOptions};
-use voxlod_core::{mesh_topology, TriangleMesh};
-use voxlod_metrics::{mesh_distance, DistanceOptions};
-use voxlod_quadric::{simplify_sloppy, simplify_unchecked};
 
-/// Samples a side of the independent measure.
-const SAMPLES: usize = 50_000;
+#[path = "../tests/targets_common/mod.rs"]
+mod targets_common;
+use targets_common::{measured, target_budgets, verdict, Measured};
+use voxlod_core::TriangleMesh;
+use voxlod_quadric::{simplify_sloppy, simplify_unchecked};
 
 fn main() {
     let mut inputs: Vec<(String, TriangleMesh)> = Vec::new();
@@ -62,7 +62,9 @@ fn main() {
         rows.extend(run(name, mesh, &mut tally));
     }
     println!(
-        "\nsummary: hausdorff target met {}/{} (eligible), mean {}/{}, in budget {}/{}, time {}/{}",
+        "\nsummary: levels meeting every target {}/{}; hausdorff target met {}/{} (eligible), mean {}/{}, in budget {}/{}, time {}/{}",
+        tally.met,
+        tally.levels,
         tally.h_ok,
         tally.h_n,
         tally.mean_ok,
@@ -79,6 +81,7 @@ fn main() {
 
 #[derive(Default)]
 struct Tally {
+    met: usize,
     h_ok: usize,
     h_n: usize,
     mean_ok: usize,
@@ -104,46 +107,14 @@ fn sphereflake(n: usize) -> TriangleMesh {
     .expect("contour")
 }
 
-/// The budgets of the targets for an input of `f` triangles.
+/// The targets' budgets, or those of the environment's `BUDGETS=a,b,c`.
 fn budgets(f: usize) -> Vec<usize> {
-    if let Ok(list) = std::env::var("BUDGETS") {
-        return list
-            .split(',')
+    match std::env::var("BUDGETS") {
+        Ok(list) => (list.split(','))
             .map(|b| b.parse().expect("BUDGETS=a,b,c"))
-            .collect();
+            .collect(),
+        Err(_) => target_budgets(f),
     }
-    let mut b = vec![f / 8, f / 32, f / 128];
-    for fixed in [1000, 300] {
-        if fixed < f / 8 && !b.contains(&fixed) {
-            b.push(fixed);
-        }
-    }
-    b.retain(|&x| x >= 4);
-    b.sort_unstable_by(|a, b| b.cmp(a));
-    b.dedup();
-    b
-}
-
-/// A method's level measured.
-#[derive(serde::Serialize, Clone, Copy)]
-struct Measured {
-    triangles: usize,
-    hausdorff: f64,
-    mean: f64,
-    manifold: bool,
-}
-
-fn measured(input: &TriangleMesh, mesh: &TriangleMesh, diagonal: f64) -> Option<Measured> {
-    let d = mesh_distance(input, mesh, &DistanceOptions::with_samples(SAMPLES)).ok()?;
-    let mut m = mesh.clone();
-    m.remove_unreferenced_vertices();
-    let t = mesh_topology(&m);
-    Some(Measured {
-        triangles: mesh.triangle_count(),
-        hausdorff: d.hausdorff / diagonal,
-        mean: d.mean / diagonal,
-        manifold: t.is_manifold() && t.degenerate_triangles == 0,
-    })
 }
 
 #[derive(serde::Serialize)]
@@ -200,39 +171,33 @@ fn run(name: &str, mesh: &TriangleMesh, tally: &mut Tally) -> Vec<Row> {
     }
     let mut rows = Vec::new();
     for ((&b, level), (s, sl)) in budgets.iter().zip(&ours.levels).zip(peers) {
-        let o = measured(mesh, &level.mesh, diagonal);
-        let s = s.and_then(|m| measured(mesh, &m, diagonal));
-        let sl = sl.and_then(|m| measured(mesh, &m, diagonal));
-        let within =
-            |m: &Measured| (m.triangles as f64 - b as f64).abs() <= (0.1 * b as f64).max(1.0);
-        let eligible = |m: &Option<Measured>| m.filter(|m| within(m) && m.manifold);
-        let best_peer = [eligible(&s), eligible(&sl)]
-            .into_iter()
-            .flatten()
-            .map(|m| m.hausdorff)
-            .fold(f64::INFINITY, f64::min);
+        let o = measured(mesh, &level.mesh);
+        let s = s.and_then(|m| measured(mesh, &m));
+        let sl = sl.and_then(|m| measured(mesh, &m));
         tally.levels += 1;
         let mut flags = String::new();
         if let Some(o) = &o {
-            if within(o) {
+            let v = verdict(b, o, s.as_ref(), sl.as_ref());
+            tally.met += usize::from(v.met());
+            if v.within_budget {
                 tally.budget_ok += 1;
             } else {
                 flags += " OFF-BUDGET";
             }
-            if best_peer.is_finite() {
+            if let Some(r) = v.hausdorff_ratio {
                 tally.h_n += 1;
-                if o.hausdorff <= 1.1 * best_peer {
+                if r <= 1.1 {
                     tally.h_ok += 1;
                 } else {
-                    flags += &format!(" H×{:.2}", o.hausdorff / best_peer);
+                    flags += &format!(" H×{r:.2}");
                 }
             }
-            if let Some(s) = eligible(&s) {
+            if let Some(r) = v.mean_ratio {
                 tally.mean_n += 1;
-                if o.mean <= 1.25 * s.mean {
+                if r <= 1.25 {
                     tally.mean_ok += 1;
                 } else {
-                    flags += &format!(" MEAN×{:.2}", o.mean / s.mean);
+                    flags += &format!(" MEAN×{r:.2}");
                 }
             }
         }

@@ -175,7 +175,9 @@ fn search(
         let keeps = broken.is_empty() && crosses_no_more(input, &mut plain);
         // A large budget whose collapse only came out cut open (or with more handles): its
         // voxel level would cost seconds and rarely keep the promises at this size either.
-        let only_opened = broken.iter().all(|p| matches!(p, Promise::Closed | Promise::Genus));
+        let only_opened = broken
+            .iter()
+            .all(|p| matches!(p, Promise::Closed | Promise::Genus));
         large_and_opened = !keeps && only_opened && HEADROOM * budget as f64 > LARGE_VOXEL as f64;
         if keeps {
             plain.quick = measure.distance(&plain.mesh, Care::Quick, f64::INFINITY);

@@ -181,7 +181,10 @@ pub fn stood_in(
     // Ranked by size, largest first: the first `keep` (and any without a stand-in) are kept.
     let is_kept = |rank: usize, i: usize| rank < keep || parts[i].is_none();
     let ranked = || order.iter().enumerate().map(|(rank, &(_, i))| (rank, i));
-    let kept: Vec<usize> = ranked().filter(|&(r, i)| is_kept(r, i)).map(|(_, i)| i).collect();
+    let kept: Vec<usize> = ranked()
+        .filter(|&(r, i)| is_kept(r, i))
+        .map(|(_, i)| i)
+        .collect();
     let small: Vec<&StandIn> = ranked()
         .filter(|&(r, i)| !is_kept(r, i))
         .filter_map(|(_, i)| parts[i].as_ref())

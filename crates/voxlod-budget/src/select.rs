@@ -12,7 +12,8 @@
 //!    always among them, and a finalist whose mean distance exceeds [`MEAN_SLACK`] times the
 //!    collapse's is ruled out ([`Promise::MeanDistance`]). The finalist with the smallest
 //!    careful Hausdorff distance is the level, the smallest shape distance among equals (where
-//!    every finalist lost the same far speck).
+//!    every finalist lost the same far speck); finalists within [`TIE`] of it are measured again
+//!    with five times the samples ([`Care::Precise`]) to settle the choice.
 //! 4. Candidates that broke a promise are measured too, with the level's distance as the early
 //!    rejection limit: those that would have been closer are reported with the promise that
 //!    ruled them out and what it cost (the level's distance over theirs).
@@ -174,7 +175,9 @@ fn fitted_best(
 fn needs_stand_ins(candidates: &[Candidate], broken: &[Vec<Promise>]) -> bool {
     let keeping = || (candidates.iter().zip(broken)).filter(|(_, b)| b.is_empty());
     let collapse_keeps = keeping().any(|(c, _)| c.method == Method::Collapse);
-    let closest = keeping().filter_map(|(c, _)| c.quick).min_by(|a, b| a.shape.total_cmp(&b.shape));
+    let closest = keeping()
+        .filter_map(|(c, _)| c.quick)
+        .min_by(|a, b| a.shape.total_cmp(&b.shape));
     !collapse_keeps || closest.is_some_and(|d| d.hausdorff > LOST * d.shape)
 }
 
@@ -243,23 +246,49 @@ fn finalists(
             }
         }
     }
-    let key = |i: usize| {
-        let d = careful_d(&candidates[i]);
-        (d.hausdorff, d.shape)
-    };
-    chosen
+    let passing: Vec<usize> = chosen
         .into_iter()
         .filter(|&i| broken[i].is_empty())
-        .min_by(|&a, &b| {
-            let (ha, sa) = key(a);
-            let (hb, sb) = key(b);
-            // Hausdorff distances within 1 % are a tie that the shapes break.
-            if (ha - hb).abs() <= 0.01 * ha.max(hb) {
-                sa.total_cmp(&sb)
-            } else {
-                ha.total_cmp(&hb)
-            }
+        .collect();
+    let best = closest_of(&passing, |i| careful_d(&candidates[i]))?;
+    // A near tie between the closest two is settled with the precise set.
+    let tied: Vec<usize> = (passing.iter().copied())
+        .filter(|&i| {
+            careful_d(&candidates[i]).hausdorff
+                <= (1.0 + TIE) * careful_d(&candidates[best]).hausdorff
         })
+        .collect();
+    if tied.len() < 2 {
+        return Some(best);
+    }
+    let precise: Vec<Option<Distance>> = (tied.iter())
+        .map(|&i| measure.distance(&candidates[i].mesh, Care::Precise, f64::INFINITY))
+        .collect();
+    let by_precise = |i: usize| {
+        let k = tied.iter().position(|&t| t == i).unwrap_or(0);
+        precise[k].unwrap_or(careful_d(&candidates[i]))
+    };
+    closest_of(&tied, by_precise)
+}
+
+/// Careful Hausdorff distances within this fraction of the closest are a near tie.
+pub const TIE: f64 = 0.05;
+
+/// The index among `indices` whose distance (`distance(index)`) is smallest: by Hausdorff
+/// distance, and where two are within 1 % of each other, by shape distance (every candidate
+/// lost the same far speck), then by mean.
+fn closest_of(indices: &[usize], distance: impl Fn(usize) -> Distance) -> Option<usize> {
+    indices.iter().copied().min_by(|&a, &b| {
+        let (da, db) = (distance(a), distance(b));
+        let near = |x: f64, y: f64| (x - y).abs() <= 0.01 * x.max(y);
+        if !near(da.hausdorff, db.hausdorff) {
+            da.hausdorff.total_cmp(&db.hausdorff)
+        } else if !near(da.shape, db.shape) {
+            da.shape.total_cmp(&db.shape)
+        } else {
+            da.mean.total_cmp(&db.mean)
+        }
+    })
 }
 
 /// Step 5: the candidate giving up the least, with the warning that says what.
