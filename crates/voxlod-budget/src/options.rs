@@ -38,7 +38,7 @@ pub struct BudgetOptions {
 
 impl Default for BudgetOptions {
     /// No budget yet (see [`BudgetOptions::for_triangles`]), the hyper-cone, monotone, open
-    /// where the input is open, no error limit, the quick fit, 2 000 quick and 20 000 careful
+    /// where the input is open, no error limit, the quick fit, 2 000 quick and 10 000 careful
     /// samples a side.
     fn default() -> Self {
         BudgetOptions {
@@ -49,7 +49,7 @@ impl Default for BudgetOptions {
             max_error: None,
             fit: Some(FitOptions::quick()),
             quick_samples: 2_000,
-            careful_samples: 20_000,
+            careful_samples: 10_000,
         }
     }
 }
