@@ -60,7 +60,7 @@
 //!    ([`voxlod_contouring::crossing_pairs`]) beats one with crossings (the quadric stage
 //!    itself refuses a pass that folds one sheet through another, so its candidates cross
 //!    only where their input did), and an isodensity's coarser resolutions are tried while it
-//!    has no such candidate (issue 12 item 6, our addition); where every candidate has some,
+//!    has no such candidate (our addition); where every candidate has some,
 //!    the report counts them and a warning says so. Distances are sampled (10 000 points a
 //!    side) against the input's closest-point structure, built once per run.
 //!

@@ -172,9 +172,9 @@ pub struct BudgetLevel {
     pub fitted_to_input: bool,
     /// Pairs of the level's triangles that cross ([`voxlod_contouring::crossing_pairs`]): the
     /// quadric collapse refuses to fold one sheet through another, but an input that crosses
-    /// itself, or another stage, can leave some. Issue 12 item 6 asks for none: the search
-    /// prefers candidates without (module docs, step 4), and where every candidate had some, a
-    /// warning names them.
+    /// itself, or another stage, can leave some. The search prefers candidates without (module
+    /// docs, step 4), and where every candidate had some, a warning names them; a mesh's
+    /// portfolio keeps no more than its input has.
     pub self_intersections: usize,
     /// Candidates (resolution and stage) built and measured.
     pub candidates: usize,

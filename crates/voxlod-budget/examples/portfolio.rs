@@ -129,6 +129,64 @@ struct Row {
     simplify_seconds: f64,
 }
 
+impl Tally {
+    /// Counts one level's verdict; the flags to print beside it.
+    fn count(
+        &mut self,
+        budget: usize,
+        ours: Option<&Measured>,
+        simplify: Option<&Measured>,
+        sloppy: Option<&Measured>,
+    ) -> String {
+        self.levels += 1;
+        let mut flags = String::new();
+        let Some(o) = ours else {
+            return flags;
+        };
+        let v = verdict(budget, o, simplify, sloppy);
+        self.met += usize::from(v.met());
+        if v.within_budget {
+            self.budget_ok += 1;
+        } else {
+            flags += " OFF-BUDGET";
+        }
+        if let Some(r) = v.hausdorff_ratio {
+            self.h_n += 1;
+            if r <= 1.1 {
+                self.h_ok += 1;
+            } else {
+                flags += &format!(" H×{r:.2}");
+            }
+        }
+        if let Some(r) = v.mean_ratio {
+            self.mean_n += 1;
+            if r <= 1.25 {
+                self.mean_ok += 1;
+            } else {
+                flags += &format!(" MEAN×{r:.2}");
+            }
+        }
+        flags
+    }
+}
+
+/// Every candidate of a level, with its distances in % of `diagonal`.
+fn print_candidates(report: &voxlod_budget::BudgetLevel, diagonal: f64) {
+    println!("           ({:.2} s)", report.seconds);
+    let percent =
+        |h: Option<f64>| h.map_or("-".into(), |h| format!("{:.3}%", 100.0 * h / diagonal));
+    for c in &report.candidates {
+        println!(
+            "           {:28} {:7} quick {:>10} careful {:>10} broken {:?}",
+            c.candidate,
+            c.triangles,
+            percent(c.shape),
+            percent(c.careful_hausdorff),
+            c.broken
+        );
+    }
+}
+
 fn run(name: &str, mesh: &TriangleMesh, tally: &mut Tally) -> Vec<Row> {
     let budgets = budgets(mesh.triangle_count());
     let diagonal = mesh.bounds().diagonal();
@@ -174,33 +232,7 @@ fn run(name: &str, mesh: &TriangleMesh, tally: &mut Tally) -> Vec<Row> {
         let o = measured(mesh, &level.mesh);
         let s = s.and_then(|m| measured(mesh, &m));
         let sl = sl.and_then(|m| measured(mesh, &m));
-        tally.levels += 1;
-        let mut flags = String::new();
-        if let Some(o) = &o {
-            let v = verdict(b, o, s.as_ref(), sl.as_ref());
-            tally.met += usize::from(v.met());
-            if v.within_budget {
-                tally.budget_ok += 1;
-            } else {
-                flags += " OFF-BUDGET";
-            }
-            if let Some(r) = v.hausdorff_ratio {
-                tally.h_n += 1;
-                if r <= 1.1 {
-                    tally.h_ok += 1;
-                } else {
-                    flags += &format!(" H×{r:.2}");
-                }
-            }
-            if let Some(r) = v.mean_ratio {
-                tally.mean_n += 1;
-                if r <= 1.25 {
-                    tally.mean_ok += 1;
-                } else {
-                    flags += &format!(" MEAN×{r:.2}");
-                }
-            }
-        }
+        let flags = tally.count(b, o.as_ref(), s.as_ref(), sl.as_ref());
         let cell = |m: &Option<Measured>| match m {
             Some(m) => format!(
                 "{:7.3}%/{:6.3}% ({:6}{})",
@@ -229,19 +261,7 @@ fn run(name: &str, mesh: &TriangleMesh, tally: &mut Tally) -> Vec<Row> {
             cell(&sl)
         );
         if std::env::var_os("VERBOSE").is_some() {
-            println!("           ({:.2} s)", level.report.seconds);
-            for c in &level.report.candidates {
-                println!(
-                    "           {:28} {:7} quick {:>10} careful {:>10} broken {:?}",
-                    c.candidate,
-                    c.triangles,
-                    c.shape
-                        .map_or("-".into(), |h| format!("{:.3}%", 100.0 * h / diagonal)),
-                    c.careful_hausdorff
-                        .map_or("-".into(), |h| format!("{:.3}%", 100.0 * h / diagonal)),
-                    c.broken
-                );
-            }
+            print_candidates(&level.report, diagonal);
         }
         rows.push(Row {
             input: name.to_string(),

@@ -15,7 +15,7 @@
 //! the same genus, and an open one keeps its openings (its border vertices are also locked in
 //! place, [`QuadricOptions::lock_border`]). And no two of its triangles cross
 //! ([`voxlod_core::crossing_pairs`]) beyond as many pairs as the input has: a level without
-//! self-intersections stays without (issue 12, item 6).
+//! self-intersections stays without.
 //!
 //! **How it is enforced.** Every result of meshoptimizer is checked with [`mesh_topology`] and
 //! for crossing triangles (module `folds`), and rejected if it breaks any of the above. After

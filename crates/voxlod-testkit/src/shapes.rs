@@ -38,7 +38,7 @@ pub fn unit_cube() -> TriangleMesh {
 /// 20·4^levels triangles.
 pub fn icosphere(levels: u32) -> TriangleMesh {
     let phi = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut points: Vec<DVec3> = [
+    let points: Vec<DVec3> = [
         (-1.0, phi, 0.0),
         (1.0, phi, 0.0),
         (-1.0, -phi, 0.0),
@@ -55,7 +55,7 @@ pub fn icosphere(levels: u32) -> TriangleMesh {
     .iter()
     .map(|&(x, y, z)| DVec3::new(x, y, z).normalize())
     .collect();
-    let mut triangles: Vec<[u32; 3]> = vec![
+    let triangles: Vec<[u32; 3]> = vec![
         [0, 11, 5],
         [0, 5, 1],
         [0, 1, 7],
@@ -77,11 +77,24 @@ pub fn icosphere(levels: u32) -> TriangleMesh {
         [8, 6, 7],
         [9, 8, 1],
     ];
+    subdivided(points, triangles, levels, DVec3::normalize)
+}
+
+/// The mesh of `points` and `triangles` with every triangle split into four at its edges'
+/// midpoints, `levels` times, each midpoint moved by `project` (the identity keeps it on its
+/// triangle's plane; `normalize` puts it on the unit sphere), an edge's midpoint shared by its
+/// two triangles: 4^levels times the triangles.
+pub fn subdivided(
+    mut points: Vec<DVec3>,
+    mut triangles: Vec<[u32; 3]>,
+    levels: u32,
+    project: impl Fn(DVec3) -> DVec3,
+) -> TriangleMesh {
     for _ in 0..levels {
         let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
         let mut midpoint = |a: u32, b: u32, points: &mut Vec<DVec3>| -> u32 {
             *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                points.push(((points[a as usize] + points[b as usize]) * 0.5).normalize());
+                points.push(project((points[a as usize] + points[b as usize]) * 0.5));
                 points.len() as u32 - 1
             })
         };

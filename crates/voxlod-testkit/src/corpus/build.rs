@@ -2,8 +2,6 @@
 //! planar subdivision, placement, tubes along curves, and a small deterministic random source.
 //! Everything is computed in f64 and stored as f32; the same inputs give the same bits.
 
-use std::collections::HashMap;
-
 use glam::{DQuat, DVec3};
 
 use voxlod_core::TriangleMesh;
@@ -142,26 +140,8 @@ pub(super) fn sphere_direction(i: u32, j: u32, nu: u32, nv: u32) -> DVec3 {
 /// on the triangles' planes, and an edge's midpoint is shared by its two triangles): 4^levels
 /// times the triangles.
 pub(super) fn subdivide(mesh: &TriangleMesh, levels: u32) -> TriangleMesh {
-    let mut points: Vec<DVec3> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
-    let mut triangles = mesh.triangles.clone();
-    for _ in 0..levels {
-        let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
-        let mut midpoint = |a: u32, b: u32, points: &mut Vec<DVec3>| -> u32 {
-            *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                points.push((points[a as usize] + points[b as usize]) * 0.5);
-                points.len() as u32 - 1
-            })
-        };
-        let mut finer = Vec::with_capacity(triangles.len() * 4);
-        for &[a, b, c] in &triangles {
-            let ab = midpoint(a, b, &mut points);
-            let bc = midpoint(b, c, &mut points);
-            let ca = midpoint(c, a, &mut points);
-            finer.extend_from_slice(&[[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-        }
-        triangles = finer;
-    }
-    TriangleMesh::new(points.iter().map(|p| p.as_vec3()).collect(), triangles)
+    let points = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
+    crate::shapes::subdivided(points, mesh.triangles.clone(), levels, |p| p)
 }
 
 /// `mesh` scaled per axis by `scale` (all positive, so the winding keeps its sense), then
