@@ -7,7 +7,7 @@
 use std::time::Instant;
 
 use voxlod_budget::{levels_with, BudgetOptions, Method};
-use voxlod_core::{mesh_topology, TriangleMesh};
+use voxlod_core::TriangleMesh;
 use voxlod_sampling::{level_grid, LevelPlan, MeshPreparation, PyramidOptions};
 
 use crate::budget::{BudgetLevel, Stage, Then};
@@ -64,7 +64,7 @@ pub(crate) fn portfolio_lod(
                 grid,
                 estimated_bytes: 0,
             },
-            topology: mesh_topology(&level.mesh),
+            topology: level.topology,
             mesh: level.mesh,
             density: None,
             sample_seconds: 0.0,

@@ -4,8 +4,7 @@
 //! simplification envelopes with ε searched for the count. Cost: per level, up to four quadric
 //! runs, or up to four envelope runs, and one distance measurement per candidate.
 
-use voxlod_contouring::clean_mesh::has_defects;
-use voxlod_contouring::{clean_mesh, CleanOptions};
+use voxlod_contouring::clean_mesh::without_zero_area;
 use voxlod_core::TriangleMesh;
 use voxlod_envelope::{simplify_envelope, EnvelopeOptions, Epsilon};
 use voxlod_quadric::{simplify_dropping_parts, PartsOptions, PartsSimplified, QuadricOptions};
@@ -82,28 +81,10 @@ pub(super) fn collapse(
     Some(done)
 }
 
-/// `mesh` with its zero-area triangles fixed (issue 12 item 6): on a flat region every collapse
-/// costs the quadric nothing, and meshoptimizer can leave a corner on the opposite edge, a
-/// triangle of zero area whose neighbours touch a triangle they share no vertex with (an
-/// independent self-intersection test, Open3D's, counts those pairs). voxlod-contouring's
-/// cleaning, with thresholds that only the degenerate meet (an edge under a thousandth of a
-/// voxel, an area under 1e-5 voxel²: a corner within 2e-6 voxel of an opposite edge ten voxels
-/// long; the caps found on the shared meshes' levels were within 1e-6 voxel), flips such a
-/// triangle's longest edge or collapses its shortest, keeping the mesh closed, manifold and
-/// oriented; a mesh without any is returned as it is. Cost: one parallel scan of the
-/// triangles, and a cleaning where it finds one.
+/// `mesh` with its zero-area triangles fixed, judged against a voxel of `voxel`
+/// ([`voxlod_contouring::clean_mesh::without_zero_area`]).
 pub(super) fn without_caps(mesh: TriangleMesh, voxel: f64) -> TriangleMesh {
-    let options = CleanOptions {
-        min_area: 1e-5,
-        ..CleanOptions::degenerate_only()
-    };
-    if !has_defects(&mesh, voxel, &options) {
-        return mesh;
-    }
-    match clean_mesh(&mesh, voxel, &options) {
-        Ok((cleaned, _)) => cleaned,
-        Err(_) => mesh,
-    }
+    without_zero_area(mesh, voxel)
 }
 
 /// The envelope stage on `level` for `budget`, measured.

@@ -375,6 +375,7 @@ fn level_of(
     };
     Level {
         mesh: c.mesh,
+        topology: c.topology,
         report,
     }
 }

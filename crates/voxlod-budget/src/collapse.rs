@@ -8,9 +8,9 @@ use voxlod_quadric::{simplify_sloppy, simplify_to_budget, simplify_unchecked, Qu
 use voxlod_core::TriangleMesh;
 
 use crate::candidate::{Candidate, Method};
-use crate::degenerate::without_degenerate;
 use crate::input::Input;
 use crate::promises::within_budget;
+use voxlod_contouring::clean_mesh::without_zero_area;
 
 /// meshoptimizer passes the checked collapse may make (each also checks the topology and the
 /// crossings of its result): enough for the locks around a few pinches.
@@ -57,7 +57,7 @@ fn plain_to(input: &Input, target: usize, max_error: Option<f64>) -> Option<Cand
     };
     Some(Candidate::new(
         Method::Collapse,
-        without_degenerate(mesh, input.cell()),
+        without_zero_area(mesh, input.cell()),
     ))
 }
 
@@ -72,7 +72,7 @@ pub fn as_given(given: &TriangleMesh, budget: usize, input: &Input) -> Option<Ca
         if input.preparation.turned_right_side_out {
             mesh.flip_orientation();
         }
-        let mesh = without_degenerate(mesh, input.cell());
+        let mesh = without_zero_area(mesh, input.cell());
         Some(Candidate::new(Method::CollapseAsGiven, mesh))
     };
     refilled(make, budget)
@@ -90,7 +90,7 @@ pub fn kept(input: &Input, budget: usize, max_error: Option<f64>) -> Option<Cand
         ..QuadricOptions::budget(max_error.unwrap_or(f64::INFINITY))
     };
     let done = simplify_to_budget(&input.mesh, budget, &options).ok()?;
-    let mesh = without_degenerate(done.mesh, input.cell());
+    let mesh = without_zero_area(done.mesh, input.cell());
     Some(Candidate::new(Method::CollapseKept, mesh))
 }
 

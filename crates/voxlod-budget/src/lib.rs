@@ -65,7 +65,6 @@
 mod candidate;
 mod chain;
 mod collapse;
-mod degenerate;
 mod error;
 mod input;
 mod measure;
@@ -87,13 +86,15 @@ pub use promises::{Promise, MEAN_SLACK};
 pub use report::{BudgetLevel, CandidateReport, InputReport, RuledOut};
 pub use voxlod_fit::FitOptions;
 
-use voxlod_core::TriangleMesh;
+use voxlod_core::{Topology, TriangleMesh};
 
 /// One budget's level: the mesh and its report.
 #[derive(Clone, Debug)]
 pub struct Level {
     /// The level.
     pub mesh: TriangleMesh,
+    /// Its topology.
+    pub topology: Topology,
     /// What made it and how close it is.
     pub report: BudgetLevel,
 }

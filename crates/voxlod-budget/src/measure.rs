@@ -61,16 +61,16 @@ pub enum Care {
 pub const PRECISE_FACTOR: usize = 5;
 
 /// The input's side of every measurement (module docs).
-pub struct Measure {
+pub struct Measure<'a> {
     closest: MeshDistance,
     quick: Points,
     careful: Points,
-    /// The precise set, drawn on first use.
+    /// The precise set, drawn on first use from `sampler` with `precise_samples` area samples
+    /// and the part points.
     precise: std::sync::OnceLock<Points>,
-    /// The input's area sampler's sample count for the precise set, and its part points.
+    sampler: SurfaceSampler<'a>,
     precise_samples: usize,
     part_points: Vec<DVec3>,
-    input: TriangleMesh,
 }
 
 /// Points on one surface: area samples (mean, shape and Hausdorff), extra points (shape and
@@ -89,10 +89,10 @@ const PART_POINTS: usize = 10_000;
 const INPUT_SEED: u64 = 0x6275_6467_6574; // "budget"
 const CANDIDATE_SEED: u64 = INPUT_SEED + 1;
 
-impl Measure {
+impl<'a> Measure<'a> {
     /// The input's side, with `quick` and `careful` area samples. Fails only on the memory
     /// budget (the input is prepared, so it has area).
-    pub fn new(input: &Input, quick: usize, careful: usize) -> Result<Measure, BudgetError> {
+    pub fn new(input: &'a Input, quick: usize, careful: usize) -> Result<Measure<'a>, BudgetError> {
         let sampler = SurfaceSampler::new(&input.mesh)?;
         let step = input.parts.len().div_ceil(PART_POINTS).max(1);
         let mesh = &input.mesh;
@@ -116,9 +116,9 @@ impl Measure {
             quick: points(quick)?,
             careful: points(careful)?,
             precise: std::sync::OnceLock::new(),
+            sampler,
             precise_samples: PRECISE_FACTOR * careful,
             part_points,
-            input: input.mesh.clone(),
         })
     }
 
@@ -129,8 +129,7 @@ impl Measure {
             seed: INPUT_SEED,
             ..SamplingOptions::with_samples(self.precise_samples)
         };
-        let area = SurfaceSampler::new(&self.input)
-            .and_then(|s| s.samples(&options))
+        let area = (self.sampler.samples(&options))
             .map(|v| v.into_iter().map(|s| s.point).collect())
             .unwrap_or_default();
         Points::ordered(area, Vec::new(), self.part_points.clone())

@@ -21,6 +21,7 @@ use std::sync::OnceLock;
 
 use voxlod_core::components::submesh;
 use voxlod_core::glam::DVec3;
+use voxlod_core::Bounds;
 use voxlod_core::{mesh_topology, TriangleMesh};
 use voxlod_metrics::MeshDistance;
 
@@ -39,9 +40,17 @@ pub const STOOD_SHARE: f64 = 0.5;
 pub const MAX_PARTS: usize = 10_000;
 
 /// The input's parts as restorable stand-ins, made on first use: each closed part's point and
-/// its tetrahedron (`None` for a part that cannot be restored).
+/// its tetrahedron (`None` for a part that cannot be restored), and the parts ranked by the
+/// diagonal of their boxes, largest first.
 #[derive(Default)]
-pub struct StandIns(OnceLock<Vec<Option<StandIn>>>);
+pub struct StandIns(OnceLock<Parts>);
+
+/// What [`StandIns`] holds once made.
+#[derive(Default)]
+struct Parts {
+    stand_ins: Vec<Option<StandIn>>,
+    by_size: Vec<usize>,
+}
 
 /// One part's stand-in.
 pub struct StandIn {
@@ -50,12 +59,25 @@ pub struct StandIn {
 }
 
 impl StandIns {
-    fn get(&self, input: &Input) -> &[Option<StandIn>] {
+    fn get(&self, input: &Input) -> &Parts {
         self.0.get_or_init(|| {
             if input.parts.len() < 2 || input.parts.len() > MAX_PARTS {
-                return Vec::new();
+                return Parts::default();
             }
-            input.parts.iter().map(|p| stand_in(input, p)).collect()
+            let diagonal = |triangles: &[u32]| {
+                let corners = triangles
+                    .iter()
+                    .flat_map(|&t| input.mesh.triangles[t as usize]);
+                let points = corners.map(|v| &input.mesh.positions[v as usize]);
+                Bounds::from_points(points).diagonal()
+            };
+            let sizes: Vec<f64> = input.parts.iter().map(|p| diagonal(p)).collect();
+            let mut by_size: Vec<usize> = (0..sizes.len()).collect();
+            by_size.sort_by(|&a, &b| sizes[b].total_cmp(&sizes[a]));
+            Parts {
+                stand_ins: input.parts.iter().map(|p| stand_in(input, p)).collect(),
+                by_size,
+            }
         })
     }
 }
@@ -103,7 +125,7 @@ pub fn with_parts_restored(
     budget: usize,
 ) -> Option<Candidate> {
     let shape = candidate.quick?.shape;
-    let parts = stand_ins.get(input);
+    let parts = &stand_ins.get(input).stand_ins;
     if parts.is_empty() {
         return None;
     }
@@ -169,18 +191,16 @@ pub fn stood_in(
     budget: usize,
     keep: usize,
 ) -> Option<Candidate> {
-    let parts = stand_ins.get(input);
+    let Parts {
+        stand_ins: parts,
+        by_size,
+    } = stand_ins.get(input);
     if parts.len() < 2 {
         return None;
     }
-    let diagonal = |p: &[u32]| submesh(&input.mesh, p).bounds().diagonal();
-    let mut order: Vec<(f64, usize)> = (input.parts.iter().enumerate())
-        .map(|(i, p)| (diagonal(p), i))
-        .collect();
-    order.sort_by(|a, b| b.0.total_cmp(&a.0));
     // Ranked by size, largest first: the first `keep` (and any without a stand-in) are kept.
     let is_kept = |rank: usize, i: usize| rank < keep || parts[i].is_none();
-    let ranked = || order.iter().enumerate().map(|(rank, &(_, i))| (rank, i));
+    let ranked = || by_size.iter().copied().enumerate();
     let kept: Vec<usize> = ranked()
         .filter(|&(r, i)| is_kept(r, i))
         .map(|(_, i)| i)

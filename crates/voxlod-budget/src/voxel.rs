@@ -25,11 +25,11 @@ use voxlod_quadric::{simplify_dropping_parts, simplify_unchecked, PartsOptions, 
 use voxlod_sampling::{filtered_density, level_grid, DensityOptions, Filter, MeshSolid};
 
 use crate::candidate::{Candidate, Method};
-use crate::degenerate::without_degenerate;
 use crate::input::Input;
 use crate::measure::{Care, Measure};
 use crate::promises::within_budget;
 use crate::BudgetError;
+use voxlod_contouring::clean_mesh::without_zero_area;
 
 /// The marching-cubes level aimed at has this many times the budget's triangles: room for the
 /// quadric stage to choose where the triangles go.
@@ -221,14 +221,14 @@ pub fn collapsed(
     };
     let mut out = Vec::new();
     if let Ok(done) = simplify_dropping_parts(&mesh, budget, &options) {
-        let mut c = Candidate::new(method, without_degenerate(done.simplified.mesh, cell));
+        let mut c = Candidate::new(method, without_zero_area(done.simplified.mesh, cell));
         c.parts_dropped = done.dropped_parts;
         out.push(c);
     }
     let stalled = out.iter().all(|c| !within_budget(c.triangles(), budget));
     if stalled && max_error.is_none() {
         if let Ok((plain, _)) = simplify_unchecked(&mesh, budget, false) {
-            out.push(Candidate::new(method, without_degenerate(plain, cell)));
+            out.push(Candidate::new(method, without_zero_area(plain, cell)));
         }
     }
     out

@@ -159,6 +159,29 @@ pub fn clean_mesh(
     clean_mesh_with(mesh, cell, options, Schedule::for_threads(), Scan::Changed)
 }
 
+/// `mesh` without zero-area triangles, judged against `cell` (a voxel; for a collapse of an
+/// input mesh, a length such as a thousandth of its diagonal). On a flat region every collapse
+/// costs the quadric nothing, and meshoptimizer can leave a corner on the opposite edge: a
+/// triangle of zero area whose neighbours touch a triangle they share no vertex with. The
+/// cleaning with thresholds only the degenerate meet (an edge under 1e-3 of a cell, an area
+/// under 1e-5 of its square) flips such a triangle's longest edge or collapses its shortest,
+/// keeping the mesh closed, manifold and oriented. The mesh itself comes back where it has
+/// none or cleaning fails. Cost: one parallel scan of the triangles; a cleaning only where it
+/// finds one.
+pub fn without_zero_area(mesh: TriangleMesh, cell: f64) -> TriangleMesh {
+    let options = CleanOptions {
+        min_area: 1e-5,
+        ..CleanOptions::degenerate_only()
+    };
+    if mesh.triangles.is_empty() || !has_defects(&mesh, cell, &options) {
+        return mesh;
+    }
+    match clean_mesh(&mesh, cell, &options) {
+        Ok((cleaned, _)) => cleaned,
+        Err(_) => mesh,
+    }
+}
+
 /// Whether [`clean_mesh`] with `options` would find an edge or a triangle of `mesh` to fix
 /// (its first scan; `cell` is the grid spacing). A mesh contoured with
 /// [`CleanOptions::contour_clamp`] has none, up to rounding. Cost: one parallel read of the
