@@ -253,6 +253,12 @@ fn run(name: &str, mesh: &TriangleMesh, tally: &mut Tally) -> Vec<Row> {
                 "f"
             } else {
                 ""
+            }
+            + match level.report.fill {
+                voxlod_budget::Fill::None => "",
+                voxlod_budget::Fill::Cavities => " cavities",
+                voxlod_budget::Fill::Hollows => " hollows",
+                voxlod_budget::Fill::HollowLining => " lined",
             };
         println!(
             "  {b:7}  ours {} {label:14} simplify {}  sloppy {} {flags}",

@@ -62,6 +62,33 @@ impl Method {
     }
 }
 
+/// What of the input's inside a voxel candidate's solid filled (module `chain`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Fill {
+    /// Nothing: the input as given.
+    #[default]
+    None,
+    /// Its closed cavities (voids inside its material).
+    Cavities,
+    /// The hollows its material nearly encloses (module `enclosed`).
+    Hollows,
+    /// Only the lining of those hollows, within the closing's radius of the material.
+    HollowLining,
+}
+
+impl Fill {
+    /// The name in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Fill::None => "none",
+            Fill::Cavities => "cavities filled",
+            Fill::Hollows => "hollows filled",
+            Fill::HollowLining => "hollows lined",
+        }
+    }
+}
+
 /// One candidate level.
 #[derive(Clone, Debug)]
 pub struct Candidate {
@@ -81,8 +108,8 @@ pub struct Candidate {
     pub fitted: bool,
     /// Vertices split to make it a manifold (module docs).
     pub cut_vertices: usize,
-    /// Whether it was made from the input with its cavities filled (module `voxel`).
-    pub filled: bool,
+    /// What of the input's inside was filled before sampling a voxel candidate.
+    pub fill: Fill,
     /// The input's lost parts put back beside it (module `restore`).
     pub parts_restored: usize,
     /// The quick distance, once measured (`None` also when rejected early).
@@ -102,7 +129,7 @@ impl Candidate {
         mesh.remove_unreferenced_vertices();
         Candidate {
             cut_vertices: cut.split_vertices,
-            filled: false,
+            fill: Fill::None,
             parts_restored: 0,
             method,
             topology: mesh_topology(&mesh),
@@ -138,8 +165,8 @@ impl Candidate {
         if let (Some(r), Some(iso)) = (self.resolution, self.iso) {
             label += &format!(" {r}@{iso}");
         }
-        if self.filled {
-            label += " filled";
+        if self.fill != Fill::None {
+            label += &format!(" {}", self.fill.name());
         }
         if self.fitted {
             label += " fitted";

@@ -9,8 +9,9 @@ use voxlod_core::cavities::fill_cavities;
 use voxlod_core::TriangleMesh;
 use voxlod_sampling::MeshSolid;
 
-use crate::candidate::{Candidate, Method};
+use crate::candidate::{Candidate, Fill, Method};
 use crate::collapse;
+use crate::enclosed::hollow_solids;
 use crate::input::Input;
 use crate::measure::{Care, Measure};
 use crate::promises::{Promise, Promises};
@@ -72,21 +73,9 @@ pub fn levels_with(
     lap(&mut timings.collapses);
     step(budgets.len())?;
     let voxels = searched.iter().any(|s| s.needs_voxels);
-    let solid = if voxels {
-        Some(MeshSolid::new(&input.mesh)?)
-    } else {
-        None
-    };
-    // Closed shells bounding voids in the input's material: a second solid with them filled,
-    // so that a hollow part whose wall the budget cannot afford turns solid instead of
-    // perforating.
-    let filled = match voxels {
-        true => filled_solid(&input)?,
-        false => None,
-    };
-    let solids = Solids {
-        given: solid.as_ref(),
-        filled: filled.as_ref(),
+    let solids = match voxels {
+        true => solids(&input)?,
+        false => Vec::new(),
     };
     let mut searched = searched;
     add_kept(&mut searched, &input, options);
@@ -127,23 +116,21 @@ pub fn levels_with(
 /// be sampled too: a tiny void (a scan's bubble) changes no voxel level a budget affords.
 pub const CAVITY_SHARE: f64 = 0.01;
 
-/// The input with its cavities filled, as a solid, where they are worth it ([`CAVITY_SHARE`]).
-fn filled_solid(input: &Input) -> Result<Option<MeshSolid>, BudgetError> {
-    let Some(filled) = fill_cavities(&input.mesh) else {
-        return Ok(None);
-    };
-    let (before, after) = (input.mesh.signed_volume(), filled.mesh.signed_volume());
-    if after - before < CAVITY_SHARE * after.abs() {
-        return Ok(None);
+/// The input as solids for the voxel candidates: as given; with its closed cavities filled,
+/// where they hold at least [`CAVITY_SHARE`] of its volume, so that a hollow part whose wall
+/// the budget cannot afford turns solid instead of perforating; and with the hollows it nearly
+/// encloses filled and lined (module `enclosed`).
+fn solids(input: &Input) -> Result<Vec<(Fill, MeshSolid)>, BudgetError> {
+    let given = MeshSolid::new(&input.mesh)?;
+    let mut solids = hollow_solids(input, &given)?;
+    if let Some(filled) = fill_cavities(&input.mesh) {
+        let (before, after) = (input.mesh.signed_volume(), filled.mesh.signed_volume());
+        if after - before >= CAVITY_SHARE * after.abs() {
+            solids.insert(0, (Fill::Cavities, MeshSolid::new(&filled.mesh)?));
+        }
     }
-    Ok(Some(MeshSolid::new(&filled.mesh)?))
-}
-
-/// The input as solids for the voxel candidates: as given, and with its cavities filled where
-/// it has any.
-struct Solids<'a> {
-    given: Option<&'a MeshSolid>,
-    filled: Option<&'a MeshSolid>,
+    solids.insert(0, (Fill::None, given));
+    Ok(solids)
 }
 
 /// One budget's candidates before the choice.
@@ -228,28 +215,22 @@ fn add_voxels(
     searched: &mut Searched,
     input: &Input,
     measure: &Measure,
-    solids: &Solids,
+    solids: &[(Fill, MeshSolid)],
     options: &BudgetOptions,
 ) -> Result<(), BudgetError> {
     let start = Instant::now();
     let budget = searched.budget;
     let (filter, max_error) = (options.filter, options.max_error);
-    if let Some(solid) = solids.given {
-        let found = voxel_candidates(input, measure, solid, filter, budget, max_error)?;
-        if found.vanished {
+    for (fill, solid) in solids {
+        let sampled = (*fill, solid);
+        let found = voxel_candidates(input, measure, sampled, filter, budget, max_error)?;
+        if found.vanished && *fill == Fill::None {
             searched.notes.push(format!(
                 "the voxel level at resolution {} vanished (parts thinner than a voxel)",
                 found.resolution
             ));
         }
         searched.candidates.extend(found.candidates);
-    }
-    if let Some(solid) = solids.filled {
-        let found = voxel_candidates(input, measure, solid, filter, budget, max_error)?;
-        for mut c in found.candidates {
-            c.filled = true;
-            searched.candidates.push(c);
-        }
     }
     if !input.is_closed()
         || searched
@@ -357,7 +338,7 @@ fn level_of(
         fitted_to_input: c.fitted,
         parts_dropped: c.parts_dropped,
         parts_restored: c.parts_restored,
-        cavities_filled: c.filled,
+        fill: c.fill,
         hausdorff: careful.hausdorff,
         mean_distance: careful.mean,
         hausdorff_fraction: careful.hausdorff / input.diagonal,

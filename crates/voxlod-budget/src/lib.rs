@@ -65,6 +65,7 @@
 mod candidate;
 mod chain;
 mod collapse;
+mod enclosed;
 mod error;
 mod input;
 mod measure;
@@ -76,7 +77,7 @@ pub mod select;
 mod shell;
 mod voxel;
 
-pub use candidate::Method;
+pub use candidate::{Fill, Method};
 pub use chain::{levels_with, ProgressFn, KEPT_AT_MOST, LARGE_VOXEL, VOXEL_WORTH};
 pub use error::BudgetError;
 pub use input::Preparation;

@@ -4,7 +4,7 @@
 
 use serde::Serialize;
 
-use crate::candidate::{Candidate, Method};
+use crate::candidate::{Candidate, Fill, Method};
 use crate::input::{Input, Preparation};
 use crate::promises::Promise;
 
@@ -27,8 +27,8 @@ pub struct BudgetLevel {
     pub parts_dropped: usize,
     /// Lost parts of the input put back beside the level (module `restore`).
     pub parts_restored: usize,
-    /// Whether the level was sampled from the input with its cavities filled.
-    pub cavities_filled: bool,
+    /// What of the input's inside was filled before sampling the level.
+    pub fill: Fill,
     /// Two-sided Hausdorff distance to the input (careful samples), mesh units.
     pub hausdorff: f64,
     /// Two-sided mean distance to the input, mesh units.

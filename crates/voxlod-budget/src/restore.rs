@@ -6,8 +6,8 @@
 //! four triangles carry it back.
 //!
 //! Which parts: the input's connected parts that are closed manifolds and whose point lies
-//! farther from the candidate than [`LOST`] times the candidate's own shape distance (module
-//! `measure`), farthest first, while they use at most [`SHARE`] of the budget. Each comes back
+//! farther from the candidate than the candidate's own shape distance (module `measure`: such
+//! a part sets the Hausdorff distance), farthest first, while they use at most [`SHARE`] of the budget. Each comes back
 //! as a tetrahedron on four of its own vertices spread as far apart as a greedy choice finds
 //! (the farthest from its centre, the farthest from that, the farthest from their line, the
 //! farthest from their plane): genus 0, so no handle is added. The candidate is collapsed
@@ -29,8 +29,8 @@ use crate::candidate::Candidate;
 use crate::input::Input;
 use crate::voxel::collapsed;
 
-/// A part is lost where it lies farther from a candidate than this many times the candidate's
-/// shape distance.
+/// A candidate has lost parts worth restoring where its Hausdorff distance is more than this
+/// many times its shape distance.
 pub const LOST: f64 = 2.0;
 /// The share of the budget restored parts may use at most.
 pub const SHARE: f64 = 0.25;
@@ -134,7 +134,7 @@ pub fn with_parts_restored(
         .iter()
         .flatten()
         .map(|s| (closest.distance(s.point), s))
-        .filter(|(d, _)| *d > LOST * shape)
+        .filter(|(d, _)| *d > shape)
         .collect();
     lost.sort_by(|a, b| b.0.total_cmp(&a.0));
     let share = (SHARE * budget as f64) as usize;
@@ -172,7 +172,7 @@ pub fn with_parts_restored(
     twin.resolution = candidate.resolution;
     twin.iso = candidate.iso;
     twin.fitted = candidate.fitted;
-    twin.filled = candidate.filled;
+    twin.fill = candidate.fill;
     twin.parts_dropped = candidate.parts_dropped;
     twin.parts_restored = restored.len();
     Some(twin)

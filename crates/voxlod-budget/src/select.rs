@@ -164,6 +164,7 @@ fn fitted_best(
     fitted.iso = source.iso;
     fitted.parts_dropped = source.parts_dropped;
     fitted.fitted = true;
+    fitted.fill = source.fill;
     fitted.cut_vertices = source.cut_vertices;
     fitted.quick = measure.distance(&fitted.mesh, Care::Quick, h);
     fitted.quick.is_some().then_some(fitted)

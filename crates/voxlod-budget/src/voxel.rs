@@ -24,7 +24,7 @@ use voxlod_contouring::triangle_estimate::resolution_for_triangles;
 use voxlod_quadric::{simplify_dropping_parts, simplify_unchecked, PartsOptions, QuadricOptions};
 use voxlod_sampling::{filtered_density, level_grid, DensityOptions, Filter, MeshSolid};
 
-use crate::candidate::{Candidate, Method};
+use crate::candidate::{Candidate, Fill, Method};
 use crate::input::Input;
 use crate::measure::{Care, Measure};
 use crate::promises::within_budget;
@@ -54,11 +54,23 @@ pub struct VoxelFound {
     pub vanished: bool,
 }
 
-/// The voxel candidates of `budget` from `solid` (the input as a solid), filtered by `filter`.
+/// The isodensities a solid is contoured at: all of [`ISOS`] for the input as given and with
+/// its closed cavities filled; only 0.5 where its hollows are filled or lined (module
+/// `enclosed`), whose walls are thick by construction.
+pub fn isos_of(fill: Fill) -> &'static [f32] {
+    match fill {
+        Fill::None | Fill::Cavities => &ISOS,
+        Fill::Hollows | Fill::HollowLining => &ISOS[..1],
+    }
+}
+
+/// The voxel candidates of `budget` from `solid` (the input as a solid, with `fill` filled),
+/// filtered by `filter`. Solids with hollows filled get no neighbouring resolutions: they are
+/// an extra answer for thin shells, and their search is kept to one grid where it can.
 pub fn voxel_candidates(
     input: &Input,
     measure: &Measure,
-    solid: &MeshSolid,
+    (fill, solid): (Fill, &MeshSolid),
     filter: Filter,
     budget: usize,
     max_error: Option<f64>,
@@ -69,7 +81,7 @@ pub fn voxel_candidates(
     let mut found = VoxelFound::default();
     let (mut refined, mut coarsened) = (false, 0);
     loop {
-        let levels = contoured(input, solid, filter, resolution)?;
+        let levels = contoured(input, solid, filter, resolution, isos_of(fill))?;
         let most = levels.iter().map(|m| m.triangle_count()).max().unwrap_or(0);
         found.resolution = resolution;
         found.vanished = most == 0;
@@ -81,7 +93,8 @@ pub fn voxel_candidates(
             continue;
         }
         let levels = closest_if_large(levels, measure);
-        let reached = add_collapsed(&mut found, input, levels, resolution, budget, max_error);
+        let at = (resolution, fill);
+        let reached = add_collapsed(&mut found, input, levels, at, budget, max_error);
         // A level with more handles than the budget can carry stalls the collapse: coarser
         // grids filter more of them away (where they are cheap).
         let large = most > LARGE_LEVEL;
@@ -94,14 +107,15 @@ pub fn voxel_candidates(
     // Coarse grids are cheap, and which resolution's level collapses closest is hard to
     // foretell (a finer one keeps more shape, a coarser one has fewer handles to stall on):
     // the neighbours on both sides too.
-    if found.resolution <= SMALL && !found.vanished && coarsened == 0 {
+    let neighbours = isos_of(fill).len() == ISOS.len();
+    if neighbours && found.resolution <= SMALL && !found.vanished && coarsened == 0 {
         let at = found.resolution as f64;
         let finer = ((at * FINER) as usize).min(FINEST);
         let coarser = ((at * COARSER) as usize).max(COARSEST);
         for r in [finer, coarser] {
             if r != found.resolution {
-                let levels = contoured(input, solid, filter, r)?;
-                add_collapsed(&mut found, input, levels, r, budget, max_error);
+                let levels = contoured(input, solid, filter, r, isos_of(fill))?;
+                add_collapsed(&mut found, input, levels, (r, fill), budget, max_error);
             }
         }
     }
@@ -147,46 +161,49 @@ pub const SMALL: usize = 48;
 /// See [`SMALL`]: about twice the triangles.
 pub const FINER: f64 = std::f64::consts::SQRT_2;
 
-/// Each of `levels` (contoured at [`ISOS`] on a grid of `resolution`) collapsed to `budget`;
-/// whether a collapse that kept the topology reached it.
+/// Each of `levels` (contoured at [`isos_of`] `fill` on a grid of `resolution`) collapsed to
+/// `budget`; whether a collapse that kept the topology reached it.
 fn add_collapsed(
     found: &mut VoxelFound,
     input: &Input,
     levels: Vec<voxlod_core::TriangleMesh>,
-    resolution: usize,
+    (resolution, fill): (usize, Fill),
     budget: usize,
     max_error: Option<f64>,
 ) -> bool {
     let voxel = input.bounds.longest_extent() / resolution as f64;
     let mut reached = false;
-    for (mesh, iso) in levels.into_iter().zip(ISOS) {
+    for (mesh, &iso) in levels.into_iter().zip(isos_of(fill)) {
         let collapsed = collapsed(Method::Voxel, mesh, budget, voxel, max_error);
         reached |= collapsed
             .first()
             .is_some_and(|c| c.cut_vertices == 0 && within_budget(c.triangles(), budget));
         found
             .candidates
-            .extend(collapsed.into_iter().map(|c| c.at(resolution, iso)));
+            .extend(collapsed.into_iter().map(|c| Candidate {
+                fill,
+                ..c.at(resolution, iso)
+            }));
     }
     reached
 }
 
 /// The input's solid filtered at `resolution` (radius one voxel, as the paper's pyramid) and
-/// contoured at each of [`ISOS`].
+/// contoured at each of `isos`.
 fn contoured(
     input: &Input,
     solid: &MeshSolid,
     filter: Filter,
     resolution: usize,
+    isos: &[f32],
 ) -> Result<Vec<voxlod_core::TriangleMesh>, BudgetError> {
     let radius = input.bounds.longest_extent() / resolution as f64;
     let grid = level_grid(&input.bounds, resolution, radius)?;
     let (density, _) = filtered_density(solid, &grid, &DensityOptions::new(filter, radius))?;
-    let levels =
-        marching_cubes_multi(&density, &ISOS, false).map_err(|e| BudgetError::NoLevel {
-            budget: 0,
-            why: format!("marching cubes: {e}"),
-        })?;
+    let levels = marching_cubes_multi(&density, isos, false).map_err(|e| BudgetError::NoLevel {
+        budget: 0,
+        why: format!("marching cubes: {e}"),
+    })?;
     Ok(levels.into_iter().map(|l| l.mesh).collect())
 }
 

@@ -69,6 +69,7 @@ pub mod band_cover;
 pub mod bricked_direct;
 pub mod bricked_threshold;
 mod cell_columns;
+pub mod closing;
 pub mod csg;
 pub mod density;
 pub mod digital_topology;
