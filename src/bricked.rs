@@ -1,5 +1,4 @@
-//! Scans read window by window for the threshold route (paper §4, first route; issue "Scale",
-//! item 3): a [`ChunkedScan`] is a volume that is never read whole (a Zarr array, or a raw, NRRD
+//! Scans read window by window for the threshold route (paper §4, first route): a [`ChunkedScan`] is a volume that is never read whole (a Zarr array, or a raw, NRRD
 //! or MetaImage file with uncompressed samples, [`voxlod_io::SlabVolume`], read slab by slab with
 //! positioned reads), and [`crate::Source::ChunkedThreshold`] samples each level from it block
 //! by block ([`voxlod_sampling::bricked_threshold`]) into bricks for sparse marching cubes. The

@@ -1,7 +1,7 @@
 //! The finest level of a mesh's default chain, from the input's triangle count: the pyramid is
 //! scaled down (never up) so that marching cubes' estimated triangle count at its finest level
 //! is at most the input's, and a chain of levels of detail starts at or below its input instead
-//! of above it (the Stanford bunny's 69 451 triangles gave 455 000 at the former fixed 256).
+//! of above it (at a fixed 256, the Stanford bunny's 69 451 triangles would give 455 000).
 //!
 //! Beyond the paper (He et al. 1995 choose the resolutions by hand, §2 and Tables 1–3). The
 //! estimate is `voxlod_contouring::triangle_estimate` (the surface's projected area over the

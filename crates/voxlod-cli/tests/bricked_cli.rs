@@ -163,7 +163,7 @@ fn what_cannot_be_read_in_slabs_is_refused_before_writing() {
         assert_clean_failure(&o, words);
         assert!(!out.exists(), "output left behind for {}", input.display());
     }
-    // Without --bricked the small gzip file is read whole, as before.
+    // Without --bricked the small gzip file is read whole.
     let o = voxlod(&[
         "lod",
         arg(&gz),

@@ -1,4 +1,4 @@
-//! The command line's flags, behaviour and messages (issue 10): negative numbers are values,
+//! The command line's flags, behaviour and messages: negative numbers are values,
 //! flags are range-checked, reports say what was written, every error is one line.
 
 mod common;

@@ -179,7 +179,7 @@ fn lod_then_envelope_keeps_the_genus_of_each_level() {
     assert_clean_failure(&o, "--then-envelope");
 }
 
-/// The check after marching cubes: a 128³ level of the bunny loses at least half its
+/// Envelopes after marching cubes: a 128³ level of the bunny loses at least half its
 /// triangles with ε of one voxel, and keeps the genus the filter gave it.
 #[test]
 fn bunny_at_128_halves_with_one_voxel() {

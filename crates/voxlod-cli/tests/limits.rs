@@ -1,9 +1,9 @@
 //! Limits end to end: no panic on triangles collapsed to a point in any mesh format, a clean
 //! refusal (not an abort) under an address-space limit and for sizes stated in files, no hang
-//! on extreme spacing or sample counts. Each test feeds the input that used to panic, abort or
-//! run forever (issue 10).
+//! on extreme spacing or sample counts. Each test feeds an input that could make a careless
+//! reader panic, abort or run forever.
 //!
-//! Runs that used to hang are watched: a run still going after [`WATCHDOG`] is killed and the
+//! Runs that could hang are watched: a run still going after [`WATCHDOG`] is killed and the
 //! test fails. That is a hang detector with a generous margin, not a speed test.
 
 mod common;
@@ -401,7 +401,7 @@ fn an_address_space_limit_is_a_clean_refusal_not_an_abort() {
         voxlod_under_ulimit_v(2_000_000, &args)
     };
     // Resolution 1000 takes a 4 GB volume: within the memory of many machines, beyond 2 GB of
-    // address space, where it used to abort allocating. The narrow band fits; the dense volume
+    // address space, where allocating it would abort. The narrow band fits; the dense volume
     // that voxelize writes (1.9 GiB) does not, and is refused before allocating.
     let o = voxelize("1000");
     // Exit status 3: would not fit in memory.
@@ -477,7 +477,7 @@ fn layered_glb_with_grid(dir: &Path, dims: [u64; 3]) -> PathBuf {
 #[test]
 fn render_of_a_glb_stating_a_huge_grid_does_not_abort() {
     let dir = tempfile::tempdir().unwrap();
-    // 3.6 billion rows of cells: the order used to allocate 14 GB for them and abort.
+    // 3.6 billion rows of cells: the order must not allocate 14 GB for them.
     let rows = layered_glb_with_grid(dir.path(), [2, 60_000, 60_000]);
     let png = dir.path().join("rows.png");
     let o = voxlod_watched(&["render", arg(&rows), "-o", arg(&png), "--perspective"]);
@@ -492,7 +492,7 @@ fn render_of_a_glb_stating_a_huge_grid_does_not_abort() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Work that used to run forever.
+// Work that must not run forever.
 
 /// A 16³ u8 volume: a ball of 200 (radius 5 samples) in 10.
 fn ball_volume(dir: &Path) -> PathBuf {

@@ -39,7 +39,7 @@ fn raw_ball(path: &Path) -> Vec<u8> {
 // ----------------------------------------------------------------------------------------
 // Inputs are never overwritten.
 
-/// `voxelize head.raw … -o head.nhdr` used to write its data to head.raw: the input.
+/// `voxelize head.raw … -o head.nhdr` must not write its data to head.raw: the input.
 #[test]
 fn a_detached_volume_never_overwrites_the_input_volume() {
     let dir = tempfile::tempdir().unwrap();
@@ -333,7 +333,7 @@ fn kill_9_leaves_nothing_visible() {
 // ----------------------------------------------------------------------------------------
 // A command's outputs are one set.
 
-/// `layers` used to keep the .glb when its preview could not be written.
+/// `layers` keeps no .glb when its preview cannot be written.
 #[test]
 fn layers_writes_neither_file_when_the_preview_fails() {
     let dir = tempfile::tempdir().unwrap();
@@ -430,8 +430,8 @@ fn lod_without_any_surface_fails_and_writes_nothing() {
 // ----------------------------------------------------------------------------------------
 // Images.
 
-/// PNG bytes under a .jpg name were written silently: now the name is refused, before any
-/// work, naming the format we write.
+/// A name whose extension is not PNG (we would write PNG bytes under it) is refused before
+/// any work, naming the format we write.
 #[test]
 fn an_image_name_we_do_not_write_is_refused() {
     let dir = tempfile::tempdir().unwrap();

@@ -2,7 +2,7 @@
 //! non-manifold STL soups, CT and MRI volumes. Every level must come out a closed manifold.
 //! Skips, saying why, when ../shared/data is absent (a user's fresh clone).
 //!
-//! Along every chain the genus never rises from a level to the next (issue 12, item 4), nor
+//! Along every chain the genus never rises from a level to the next, nor
 //! along a chain of budgets (`--triangles`).
 //!
 //! The default test runs at moderate resolutions; `full_resolution_real_data` (ignored by
@@ -246,7 +246,7 @@ fn full_resolution_real_data() {
     }
 }
 
-/// Budget chains on every shared mesh (issue 12, items 1 and 4): each level within 10 % of its
+/// Budget chains on every shared mesh: each level within 10 % of its
 /// budget, and no level with more handles than the level of the next larger budget.
 #[test]
 #[ignore = "a minute or more: run by scripts/real-data.sh"]
@@ -297,7 +297,7 @@ fn budget_chains_never_gain_handles() {
             // Where the report finds none, neither does the independent test (the report also
             // counts pairs that only touch, so its count may be the larger).
             assert!(reported > 0 || independent == 0, "{name} {budget}");
-            // No zero-area triangle (issue 12 item 6): the quadric stage's are flipped away.
+            // No zero-area triangle: the quadric stage's are flipped away.
             let zero_area = voxlod::metrics::health::count_zero_area_triangles(&mesh);
             assert_eq!(zero_area, 0, "{name} {budget}: zero-area triangles");
         }

@@ -1,5 +1,5 @@
 //! Clustering baselines on a mesh of about a million triangles at 64 cells per axis, the
-//! configuration of issue 4's speed requirement.
+//! configuration of the clustering speed target (BENCHMARKS.md).
 //!
 //! The mesh is, in order of preference: the file named by `VOXLOD_BENCH_MESH`; the peers'
 //! sphereflake `/tmp/sf1M.ply` (make it with

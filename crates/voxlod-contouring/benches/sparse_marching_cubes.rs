@@ -1,4 +1,4 @@
-//! Sparse against dense marching cubes on the same samples (issue "Scale"): the 512³ sphereflake
+//! Sparse against dense marching cubes on the same samples: the 512³ sphereflake
 //! field of the peers' kit (most of it one value far from the spheres, so most bricks are
 //! uniform) and the 256³ gyroid (a surface everywhere), geometry only. The conversion to bricks
 //! is not timed.

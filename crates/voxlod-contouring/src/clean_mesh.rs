@@ -72,9 +72,8 @@ use restore::{compact, compact_mesh, restore_flattened};
 use work::Work;
 
 /// Bytes cleaning holds per triangle of the input at its peak, besides the input, for the
-/// memory check (119 measured by the ignored test `memory_per_triangle` on a 326 k triangle
-/// marching-cubes level, 123 to 124 before the candidates were found among the changed
-/// triangles, 130 to 131 before the guard's dense bucket index; rounded up).
+/// memory check: the ignored test `memory_per_triangle` measures it on a 326 k triangle
+/// marching-cubes level (BENCHMARKS.md), rounded up here with room to spare.
 pub const CLEAN_BYTES_PER_TRIANGLE: u64 = 144;
 
 /// How [`clean_mesh`] cleans.

@@ -3,8 +3,8 @@
 //! vertices and triangles differs), visiting only the bricks the surface can touch.
 //!
 //! Paper §2 contours each filtered volume with marching cubes; far from the surface the filtered
-//! density is exactly 0 or 1, so a sparse volume stores one value per brick there (issue
-//! "Scale"). This extraction is beyond the paper and follows the dense one's rules exactly:
+//! density is exactly 0 or 1, so a sparse volume stores one value per brick there. This
+//! extraction is beyond the paper and follows the dense one's rules exactly:
 //!
 //! - **One classification.** A sample is inside when `value >= iso`, the cells' triangles come
 //!   from [`crate::tables`], so every cell gets the case and triangles it gets in the dense path.

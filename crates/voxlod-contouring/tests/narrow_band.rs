@@ -128,7 +128,7 @@ fn scanned_bunny_matches_the_dense_sampler() {
     let solid = MeshSolid::new(&read_obj(&path)).unwrap();
     let (bricks, band) = compare(&solid, 96, 1.0, Filter::Hypercone, "bunny");
     assert!(band * 2 < bricks, "{band} of {bricks}");
-    // The size: the default chain's finest level of a scan.
+    // The default chain's finest level of a scan.
     let (bricks, band) = compare(&solid, 256, 1.0, Filter::Hypercone, "bunny at 256");
     assert!(band * 4 < bricks, "{band} of {bricks}");
 }

@@ -115,7 +115,7 @@ fn gyroid_and_sphereflake_fields_match_dense() {
     assert_closed_oriented(&assert_same_as_dense(&flake, 0.0, "flake"), "sphereflake");
 }
 
-/// The 512³ sphereflake field (about 2.4 M triangles), in bricks of 8 only: the same
+/// The peers' 512³ sphereflake field (about 2.4 M triangles), in bricks of 8 only: the same
 /// vertices, normals and triangles as the dense path.
 #[test]
 fn sphereflake_field_at_512_matches_dense() {

@@ -2,7 +2,7 @@
 //! of `B³` samples (B = 8 or 16), and each brick is either **uniform** (one value for all its
 //! samples) or a **leaf** (its `B³` values stored densely, x fastest).
 //!
-//! This is the type between narrow-band sampling and sparse marching cubes (issue "Scale"):
+//! This is the type between narrow-band sampling and sparse marching cubes:
 //! far from the surface the filtered density of paper §2 is exactly 0 or 1, so those bricks
 //! cost one value each, and only the band of bricks the surface reaches stores samples. The
 //! paper itself samples a dense grid; the bricks are beyond it and give the same samples.

@@ -6,7 +6,7 @@
 //! Why: a wall thinner than the filter's radius cannot survive filtering (He et al. 1995, §2:
 //! a slab of thickness `t` under the hyper-cone of radius `R` peaks at a density of about
 //! `t / R`), so a coarse level of a hollow part loses its wall and perforates, where a user
-//! expects it to close up and turn solid, as seen from outside (issue 12, item 4). A cavity is
+//! expects it to close up and turn solid, as seen from outside. A cavity is
 //! never visible from outside, so filling it changes no silhouette. This goes beyond the paper,
 //! which filters the solid as given; the budget pipeline offers it as a candidate beside the
 //! solid as given and keeps whichever measures closer to the input.

@@ -1,6 +1,6 @@
 //! The pairs of a mesh's triangles that cross each other: a whole-mesh count of what the
-//! cleaning's guard refuses to make and what the quadric stage refuses to accept (issue 12,
-//! item 6: levels without self-intersections).
+//! cleaning's guard refuses to make and what the quadric stage refuses to accept (so that
+//! no level crosses itself).
 //!
 //! Beyond the paper. The pair test is [`crate::crossings::triangles_cross`]: a proper crossing
 //! by certain signs, or a coplanar overlap; touching, and the rounding of near-coplanar

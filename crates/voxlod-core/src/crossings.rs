@@ -1,7 +1,7 @@
 //! Whether two triangles of a mesh cross each other: the predicates behind the cleaning's
 //! guard (voxlod-contouring), the whole-mesh count [`crate::crossing_pairs`] and the quadric
 //! stage's refusal of folds (voxlod-quadric), kept here so that each of them, one stage or
-//! another, asks the same question (issue 12, item 6: levels without self-intersections).
+//! another, asks the same question (so that no level crosses itself).
 //!
 //! Beyond the paper. Two questions, by the signs of `f64` orientation determinants:
 //!
@@ -328,7 +328,7 @@ mod tests {
         edges(a, ia, b, ib) || edges(b, ib, a, ia)
     }
 
-    /// The test as it was written first: each edge's two plane sides by [`side`], one edge
+    /// The reference for [`triangles_meet`]: each edge's two plane sides by [`side`], one edge
     /// at a time.
     fn meet_edge_by_edge(a: [DVec3; 3], ia: [u32; 3], b: [DVec3; 3], ib: [u32; 3]) -> bool {
         any_edge(a, ia, b, ib, |p, q, t| {

@@ -1,5 +1,5 @@
-//! The antialiasing of a layered chain at the distances `voxlod view` draws it (issue 16, item
-//! 6): levels at resolutions 256 and 128 (hyper-cone of one voxel, five layers), each drawn at
+//! The antialiasing of a layered chain at the distances `voxlod view` draws it: levels
+//! at resolutions 256 and 128 (hyper-cone of one voxel, five layers), each drawn at
 //! the image sizes where its filter radius spans 0.3, 0.45, 0.6 and 0.9 px. The viewer's rule
 //! draws a level only up to 0.45 px and switches to the finer level beyond (level 0 at 0.45 px
 //! is level 1 at 0.9 px: the same distance); the pixel-size rule of `voxlod select` on the cell

@@ -1,4 +1,4 @@
-//! The two speed targets as criterion benches (2 cores):
+//! The layered shells' two speed targets (BENCHMARKS.md) as criterion benches (2 cores):
 //! - `layers/bunny-128`: planning, extracting and ordering (all eight octants) five layers of
 //!   the bunny filtered at 128³ (target < 1 s; the filtering itself is `layers/filter-bunny-128`);
 //! - `render/layered-1M-1024`: drawing a layered mesh of about a million triangles (the bolt at

@@ -1,4 +1,4 @@
-//! Timing of the two speed targets, stage by stage (medians of several runs):
+//! Timing of the layered shells' two speed targets, stage by stage (medians of several runs):
 //! layering and ordering the bunny at 128³ with five layers (target < 1 s on 2 cores), and
 //! rendering a layered mesh of about a million triangles at 1024×1024 (target < 2 s).
 //!

@@ -1,4 +1,4 @@
-//! Levels by triangle budget or error target from Python (issue 12, item 1): `voxlod.lod(v, f,
+//! Levels by triangle budget or error target from Python: `voxlod.lod(v, f,
 //! triangles=[20000, 5000], error="0.5%")` runs the library's budget pipeline
 //! ([`voxlod::budget`]: the voxel level that filters away what a budget cannot afford, then a
 //! geometric stage, He et al. 1995 §5) and returns each level with its budget report. Cost: the

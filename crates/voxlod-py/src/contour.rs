@@ -155,7 +155,7 @@ pub fn scan(samples: &[f32]) -> Scan {
 
 /// A voxlod volume (unit spacing, origin 0) holding a copy of the samples, and their [`Scan`]:
 /// the copy runs in parallel chunks that also look for NaN and the range, so the input is read
-/// once (it was read three times: NaN, range, copy).
+/// once, not once for each.
 pub fn scanned_copy(samples: &[f32], dims: [usize; 3]) -> Result<(Volume, Scan), Failure> {
     const CHUNK: usize = 1 << 16;
     let grid = Grid::unit(dims)?;

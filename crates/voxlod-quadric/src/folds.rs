@@ -1,5 +1,5 @@
-//! Refusing folds: a meshoptimizer pass must not make two triangles cross (issue 12, item 6:
-//! levels without self-intersections). Where two sheets lie closer than the collapses reach,
+//! Refusing folds: a meshoptimizer pass must not make two triangles cross (no level
+//! crosses itself). Where two sheets lie closer than the collapses reach,
 //! meshoptimizer's quadric collapse can pull a vertex of one sheet through the other; its
 //! error estimate sees only the planes of the vertex's own neighbourhood. Our addition,
 //! neither the paper's (He et al. 1995, §5 leaves the geometric stage open) nor meshoptimizer's.

@@ -1,4 +1,4 @@
-//! The plain pyramid's sampling, part by part (issue 14's speed targets):
+//! The plain pyramid's sampling, part by part (the speed targets of BENCHMARKS.md):
 //!
 //! - `crossings/*`: the lattice crossings of the three line families ([`Solid::crossings`]):
 //!   a thresholded scan (the trilinear walk of `threshold.rs`) and a triangle mesh (the BVH

@@ -1,4 +1,4 @@
-//! The threshold route of paper §4 for scans that need not fit in memory (issue "Scale", item 3):
+//! The threshold route of paper §4 for scans that need not fit in memory:
 //! a level's filtered density computed block by block from windows of the scan read one at a
 //! time (Zarr chunks, slabs of a raw file), into a [`BrickVolume`].
 //!

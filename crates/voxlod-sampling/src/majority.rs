@@ -1,8 +1,8 @@
 //! Majority vote of the three axis directions: a robust inside function for meshes with holes.
 //!
 //! A ray through a hole or crack of a scanned mesh misses one crossing and its parity is wrong
-//! from there to the end of the row: filled spans "flood" the row. As the issue and the
-//! OpenVDB experience (its issue 1205) warn, one direction cannot be trusted. Every lattice point
+//! from there to the end of the row: filled spans "flood" the row. As OpenVDB's experience
+//! shows (its report #1205), one direction cannot be trusted. Every lattice point
 //! lies on three lattice lines, one per axis; we take the inside state that at least two of
 //! them agree on, and then repair each line so that its crossings agree with the vote:
 //!

@@ -1,5 +1,5 @@
 //! The filtered density of paper §2, equation 1, computed only in a narrow band of bricks
-//! around the surface and stored as a [`BrickVolume`] (issue "Scale", item 1).
+//! around the surface and stored as a [`BrickVolume`].
 //!
 //! A sample farther than the support radius R from every crossing of the surface with the
 //! quadrature lattice sees only inside or only outside: its filtered density is exactly 1 or 0
