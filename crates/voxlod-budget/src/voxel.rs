@@ -65,8 +65,7 @@ pub fn isos_of(fill: Fill) -> &'static [f32] {
 }
 
 /// The voxel candidates of `budget` from `solid` (the input as a solid, with `fill` filled),
-/// filtered by `filter`. Solids with hollows filled get no neighbouring resolutions: they are
-/// an extra answer for thin shells, and their search is kept to one grid where it can.
+/// filtered by `filter`.
 pub fn voxel_candidates(
     input: &Input,
     measure: &Measure,
@@ -107,8 +106,7 @@ pub fn voxel_candidates(
     // Coarse grids are cheap, and which resolution's level collapses closest is hard to
     // foretell (a finer one keeps more shape, a coarser one has fewer handles to stall on):
     // the neighbours on both sides too.
-    let neighbours = isos_of(fill).len() == ISOS.len();
-    if neighbours && found.resolution <= SMALL && !found.vanished && coarsened == 0 {
+    if found.resolution <= SMALL && !found.vanished && coarsened == 0 {
         let at = found.resolution as f64;
         let finer = ((at * FINER) as usize).min(FINEST);
         let coarser = ((at * COARSER) as usize).max(COARSEST);
