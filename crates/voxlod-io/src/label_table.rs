@@ -1,7 +1,7 @@
 //! The names and colours of a label map's structures, from 3D Slicer's `.seg.nrrd` segment
 //! fields (`Segment0_Name:=liver`, `Segment0_LabelValue:=1`, `Segment0_Color:=0.8 0.2 0.1`,
 //! `Segment0_Layer:=0`, NRRD key/value pairs), or from a DICOM Segmentation's Segment Sequence
-//! (`dicom_seg.rs`; [`crate::read_label_map`] chooses). Other formats, and NRRDs without segments, give
+//! (`dicom/seg.rs`; [`crate::read_label_map`] chooses). Other formats, and NRRDs without segments, give
 //! an empty table. Only the header is read (at most 1 MiB of it); a table whose fields do not parse
 //! is an error naming the field. Cost: one pass over the header.
 

@@ -5,18 +5,18 @@
 //! | extension | kind | read | write | module |
 //! |---|---|---|---|---|
 //! | `.obj` | mesh | polygons (ear-clipped), normals, lines, points | triangles, normals, lines, points | `obj.rs` |
-//! | `.ply` | mesh | ASCII and binary; normals, attributes, edges, points | binary little-endian, same | `ply.rs` |
+//! | `.ply` | mesh | ASCII and binary; normals, attributes, edges, points | binary little-endian, same | `ply/` |
 //! | `.stl` | mesh | ASCII and binary, welded on load | binary | `stl.rs` |
 //! | `.off` | mesh | OFF/COFF/NOFF, polygons | OFF/NOFF | `off.rs` |
-//! | `.vtp`, `.vtk` | mesh | VTK PolyData (XML in every encoding VTK writes, legacy) | same, with attributes | `vtk_mesh.rs`, `vtk_xml.rs` |
+//! | `.vtp`, `.vtk` | mesh | VTK PolyData (XML in every encoding VTK writes, legacy) | same, with attributes | `vtk/mesh.rs`, `vtk/xml.rs` |
 //! | `.nrrd`, `.nhdr` | volume | raw, gzip, ascii; attached or detached data | raw or gzip | `nrrd.rs` |
-//! | `.vti`, `.vtk` | volume | VTK image data (XML in every encoding VTK writes, legacy) | same | `vtk_image.rs`, `vtk_xml.rs` |
-//! | `.nii`, `.nii.gz` | volume | NIfTI-1 | — | `nifti.rs` |
+//! | `.vti`, `.vtk` | volume | VTK image data (XML in every encoding VTK writes, legacy) | same | `vtk/image.rs`, `vtk/xml.rs` |
+//! | `.nii`, `.nii.gz` | volume | NIfTI-1 | NIfTI-1 | `nifti/` |
 //! | `.mha`, `.mhd` | volume | MetaImage, zlib or not, local or detached data | same | `metaimage.rs` |
-//! | `.dcm`, a folder | volume | DICOM series (one SeriesInstanceUID), in LPS | — | `dicom.rs`, `dicom_geometry.rs` |
-//! | `.dcm`, a folder | label map | DICOM Segmentation (BINARY, FRACTIONAL), in LPS ([`read_label_map`]) | — | `dicom_seg.rs` |
+//! | `.dcm`, a folder | volume | DICOM series (one SeriesInstanceUID), in LPS | — | `dicom/mod.rs`, `dicom/geometry.rs` |
+//! | `.dcm`, a folder | label map | DICOM Segmentation (BINARY, FRACTIONAL), in LPS ([`read_label_map`]) | — | `dicom/seg.rs` |
 //! | `.raw` (or any other, given a [`RawLayout`]) | volume | headerless samples | `f32` little-endian | `raw.rs` |
-//! | `.zarr` (a folder) | volume | Zarr v2/v3 arrays, OME-Zarr 0.4/0.5 images; whole or by region ([`open_zarr`]) | OME-Zarr 0.5 image (Zarr v3, zstd) | `zarr.rs`, `zarr_write.rs` |
+//! | `.zarr` (a folder) | volume | Zarr v2/v3 arrays, OME-Zarr 0.4/0.5 images; whole or by region ([`open_zarr`]) | OME-Zarr 0.5 image (Zarr v3, zstd) | `zarr/` |
 //!
 //! A `.vtk` file may hold either kind: [`file_kind`] looks inside to tell.
 //!
@@ -83,35 +83,23 @@ mod block_read;
 mod budget;
 mod detached;
 mod dicom;
-mod dicom_geometry;
-mod dicom_lengths;
-mod dicom_seg;
 pub mod ear_clipping;
 mod error;
 mod guard;
 mod label_table;
 mod metaimage;
 mod nifti;
-mod nifti_affine;
-mod nifti_write;
 mod nrrd;
 mod obj;
 mod off;
 mod outputs;
 mod ply;
-mod ply_body;
-mod ply_header;
 mod raw;
 mod samples;
 mod slab_reader;
 mod stl;
 mod vtk;
-mod vtk_image;
-mod vtk_mesh;
-mod vtk_xml;
 mod zarr;
-mod zarr_errors;
-mod zarr_write;
 
 use std::fmt;
 use std::io::Read;
@@ -120,10 +108,10 @@ use std::path::Path;
 use voxlod_core::validate::{find_defect, validate_mesh, Requirements};
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh, Volume};
 
-pub use dicom::{list_dicom_series, read_dicom_series, DicomOptions, SeriesSummary};
-pub use dicom_seg::{
+pub use dicom::seg::{
     cielab_to_srgb, find_dicom_seg, is_dicom_seg, read_dicom_seg, SEGMENTATION_STORAGE,
 };
+pub use dicom::{list_dicom_series, read_dicom_series, DicomOptions, SeriesSummary};
 pub use error::{IoError, IoErrorKind};
 pub use label_table::{read_label_table, LabelMap, LabelName};
 pub use outputs::{check_image_path, OutputSet, IMAGE_EXTENSIONS};
@@ -450,7 +438,7 @@ fn read_any(path: &Path) -> Result<(PolyMesh, MeshFormat, Option<WeldReport>, us
             } else {
                 Flavor::Legacy
             };
-            let c = vtk_mesh::read(path, flavor)?;
+            let c = vtk::mesh::read(path, flavor)?;
             (c.mesh, None, c.polygons_triangulated)
         }
     };
@@ -510,8 +498,8 @@ pub(crate) fn stage_view(path: &Path, view: PolyView<'_>) -> Result<TempFile, Io
     match mesh_format_of(path)? {
         MeshFormat::Ply => ply::write(path, view),
         MeshFormat::Obj => obj::write(path, view),
-        MeshFormat::Vtp => vtk_mesh::write(path, view, Flavor::Xml),
-        MeshFormat::Vtk => vtk_mesh::write(path, view, Flavor::Legacy),
+        MeshFormat::Vtp => vtk::mesh::write(path, view, Flavor::Xml),
+        MeshFormat::Vtk => vtk::mesh::write(path, view, Flavor::Legacy),
         format @ (MeshFormat::Stl | MeshFormat::Off) => {
             if !plain {
                 return Err(IoError::unsupported(
@@ -562,7 +550,7 @@ pub struct VolumeWriteOptions {
 }
 
 /// Reads a label map: a DICOM Segmentation (a SEG file, or a folder holding one) by
-/// `dicom_seg.rs`, any other volume by [`read_volume`] with the table of
+/// `dicom/seg.rs`, any other volume by [`read_volume`] with the table of
 /// [`read_label_table`].
 pub fn read_label_map(path: &Path) -> Result<LabelMap, IoError> {
     if find_dicom_seg(path)?.is_some() {
@@ -611,8 +599,8 @@ pub fn read_volume(path: &Path, raw: Option<&RawLayout>) -> Result<Volume, IoErr
         VolumeFormat::Dicom => read_dicom_series(&[path.to_path_buf()], &DicomOptions::default()),
         VolumeFormat::Zarr => open_zarr(path)?.read_all(),
         VolumeFormat::Nrrd | VolumeFormat::Nhdr => nrrd::read(path),
-        VolumeFormat::Vti => vtk_image::read(path, Flavor::Xml),
-        VolumeFormat::Vtk => vtk_image::read(path, Flavor::Legacy),
+        VolumeFormat::Vti => vtk::image::read(path, Flavor::Xml),
+        VolumeFormat::Vtk => vtk::image::read(path, Flavor::Legacy),
         VolumeFormat::Nifti => crate::nifti::read(path),
         VolumeFormat::Mha | VolumeFormat::Mhd => metaimage::read(path),
         VolumeFormat::Raw => match raw {
@@ -670,7 +658,7 @@ pub fn write_volume(path: &Path, volume: &Volume) -> Result<(), IoError> {
 /// Writes a volume by extension, samples as `f32`: `.nrrd`, `.nhdr` (+ `<name>.raw` beside
 /// it), `.vti`, `.vtk` (legacy), `.mha`, `.mhd` (+ `<name>.raw`), `.raw` (headerless,
 /// little-endian; spacing and origin are not stored), `.nii` and `.nii.gz` (NIfTI-1, gzip by
-/// the name alone; sform and qform, `nifti_write.rs`). Every format with a header keeps the
+/// the name alone; sform and qform, `nifti/write.rs`). Every format with a header keeps the
 /// index-to-world transform: NRRD and MetaImage in full (frame included), NIfTI in RAS, VTK XML
 /// as its `Direction` (VTK has no anatomical frame); legacy VTK refuses an oblique volume. DICOM
 /// is read-only. The data file of a
@@ -753,14 +741,14 @@ pub(crate) fn stage_volume(
     Ok(match format {
         VolumeFormat::Nrrd => vec![nrrd::write(path, volume, compress)?],
         VolumeFormat::Nhdr => nrrd::write_detached(path, detached()?, volume, compress)?.into(),
-        VolumeFormat::Vti => vec![vtk_image::write(path, volume, Flavor::Xml, compress)?],
-        VolumeFormat::Vtk => vec![vtk_image::write(path, volume, Flavor::Legacy, false)?],
+        VolumeFormat::Vti => vec![vtk::image::write(path, volume, Flavor::Xml, compress)?],
+        VolumeFormat::Vtk => vec![vtk::image::write(path, volume, Flavor::Legacy, false)?],
         VolumeFormat::Mha => vec![metaimage::write(path, volume, compress)?],
         VolumeFormat::Mhd => metaimage::write_detached(path, detached()?, volume, compress)?.into(),
         VolumeFormat::Raw => vec![raw::write(path, volume)?],
         VolumeFormat::Nifti => {
             let gzip = lower_name(path).ends_with(".gz");
-            vec![nifti_write::write(path, volume, gzip)?]
+            vec![nifti::write::write(path, volume, gzip)?]
         }
         VolumeFormat::Dicom => {
             return Err(IoError::unsupported(

@@ -303,7 +303,7 @@ impl OutputSet {
                     format!("refusing to write over {}", input.describe()),
                 ));
             }
-            return crate::zarr_write::stage(self, path, volume);
+            return crate::zarr::write::stage(self, path, volume);
         }
         self.check(path)?;
         let format = crate::check_volume_for_writing(path, volume)?;

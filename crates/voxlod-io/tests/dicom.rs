@@ -127,7 +127,7 @@ fn corrupt_truncated_and_hostile_files_are_clean_errors() {
 
     let truncated = dir.path().join("truncated.dcm");
     std::fs::write(&truncated, &bytes[..bytes.len() - 100]).unwrap();
-    // The pixel data's declared length runs past the end (`dicom_lengths.rs`).
+    // The pixel data's declared length runs past the end (`src/dicom/lengths.rs`).
     assert_error(
         read_volume(&truncated, None),
         IoErrorKind::Truncated,

@@ -303,7 +303,7 @@ fn write_too_long(dir: &Path, seg: &Seg) {
 }
 
 /// The reason the reader unpacks 1-bit frames itself: dicom-pixeldata 0.10 takes every frame to
-/// start on a byte. When this test fails, the crate has been fixed and `dicom_seg.rs` may use
+/// start on a byte. When this test fails, the crate has been fixed and `src/dicom/seg.rs` may use
 /// it for 1-bit data again.
 #[test]
 fn dicom_pixeldata_still_misreads_frames_that_do_not_end_on_a_byte() {

@@ -1,6 +1,6 @@
 //! DICOM series in: a folder (or a list of files) of CT or MR slices becomes one volume in
 //! Hounsfield units (or the modality's units), placed in LPS by the series geometry
-//! (`dicom_geometry.rs`).
+//! (`geometry.rs`).
 //!
 //! Files are parsed by dicom-object and decoded by dicom-pixeldata (uncompressed, deflate,
 //! RLE and the JPEG transfer syntaxes its pure-Rust decoders handle). The headers of every file
@@ -11,6 +11,10 @@
 //! and every file is parsed inside the panic guard. Beyond the paper (which takes a volume as
 //! given, §4); the cost is one header parse per file and one decode per slice.
 
+pub(crate) mod geometry;
+mod lengths;
+pub(crate) mod seg;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -20,7 +24,7 @@ use dicom_pixeldata::PixelDecoder;
 use glam::DVec3;
 use voxlod_core::{memory, Volume};
 
-use crate::dicom_geometry::{stack, SliceGeometry, SpacingTolerance};
+use crate::dicom::geometry::{stack, SliceGeometry, SpacingTolerance};
 use crate::{budget, guard, IoError, IoErrorKind};
 
 /// How a DICOM series is read.
@@ -130,7 +134,7 @@ pub(crate) fn open(path: &Path, until_pixels: bool) -> Result<DefaultDicomObject
     }
     budget::check_bytes(path, "reading the DICOM file", len)?;
     let bytes = std::fs::read(path).map_err(|e| IoError::access(path, "cannot read", &e))?;
-    crate::dicom_lengths::check_declared_lengths(path, &bytes)?;
+    crate::dicom::lengths::check_declared_lengths(path, &bytes)?;
     let parsed = guard::quietly(|| {
         let options = OpenFileOptions::new();
         let options = if until_pixels {

@@ -16,7 +16,7 @@
 //!
 //! The distinct frame positions are the slices of the volume: they are sorted along the normal
 //! and turned into the index-to-world transform (LPS) by the DICOM series code
-//! (`dicom_geometry.rs`), so a SEG is refused where a series would be (sheared, uneven or
+//! (`geometry.rs`), so a SEG is refused where a series would be (sheared, uneven or
 //! missing planes), with one allowance: writers leave out empty frames, so when
 //! SpacingBetweenSlices is given, a gap of a whole number of those steps holds empty planes.
 //! Each frame's segment is painted into its plane in increasing segment number, so where
@@ -41,8 +41,8 @@ use glam::DVec3;
 use palette::{FromColor, Lab, Srgb};
 use voxlod_core::{memory, Volume};
 
+use crate::dicom::geometry::{stack, SliceGeometry, SpacingTolerance};
 use crate::dicom::{decimals, dimension, looks_like_dicom, open, text};
-use crate::dicom_geometry::{stack, SliceGeometry, SpacingTolerance};
 use crate::label_table::{LabelMap, LabelName};
 use crate::{budget, guard, IoError};
 

@@ -10,13 +10,16 @@
 //! - Types: 8-, 16- and 32-bit integers, `float32`, `float64`; `scl_slope`/`scl_inter` are
 //!   applied when the slope is non-zero. RGB, complex and 64-bit integer data are refused.
 //! - Geometry: the full index-to-world transform in RAS and millimetres, chosen as nibabel
-//!   chooses it (sform, else qform, else the `pixdim` base affine; `nifti_affine.rs`).
+//!   chooses it (sform, else qform, else the `pixdim` base affine; `affine.rs`).
 //! - Only 3-D data: a 4-D series with more than one volume is refused rather than cut short.
 //! - Header/image pairs (`.hdr`/`.img`, magic `ni1`) and NIfTI-2 are not supported.
 //!
 //! Cost: O(1) for the header, then one streaming read of the N samples (decompressed on the fly
 //! when gzipped), O(N); memory the stored samples plus the `f32` volume, checked against the
 //! budget from the header's dimensions before reading.
+
+mod affine;
+pub(crate) mod write;
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read};
@@ -169,8 +172,8 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
         }
     }
 
-    // Geometry in millimetres and RAS, as nibabel chooses it (`nifti_affine.rs`).
-    let world = crate::nifti_affine::world_of(path, &header, dims)?;
+    // Geometry in millimetres and RAS, as nibabel chooses it (`affine.rs`).
+    let world = affine::world_of(path, &header, dims)?;
     let (grid, orientation) = world
         .split(dims)
         .map_err(|e| IoError::malformed(path, e.to_string()))?;

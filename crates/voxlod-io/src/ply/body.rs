@@ -1,6 +1,6 @@
 //! The `vertex` and `face` elements of a binary little-endian PLY, encoded directly: each
 //! vertex's floats and each triangle's `uchar 3, int, int, int` in the order of the element
-//! definitions `ply.rs` writes in the header, a block of elements at a time into one buffer
+//! definitions `ply/mod.rs` writes in the header, a block of elements at a time into one buffer
 //! that is then written out (no second copy of the mesh, no lookup of properties by name per
 //! value as ply-rs-bw's writer does). The bytes are those ply-rs-bw's writer gives for the same
 //! definitions (a test compares them). Cost: O(V + T), one pass; a level of 470 k vertices and

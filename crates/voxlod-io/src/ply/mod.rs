@@ -13,8 +13,11 @@
 //! property per vertex attribute), `face` (`list uchar int vertex_indices`), then `edge`
 //! (`int vertex1`, `int vertex2`, one float per line attribute) and `point`
 //! (`int vertex_index`) when there are lines or points. Vertices and faces are encoded directly
-//! a block at a time ([`crate::ply_body`]), edges and points streamed one at a time through
+//! a block at a time ([`body`]), edges and points streamed one at a time through
 //! ply-rs-bw's writer, so no second copy of the mesh is built.
+
+mod body;
+mod header;
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Write};
@@ -30,7 +33,7 @@ use ply_rs_bw::writer::Writer;
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh};
 
 use crate::atomic::{stage, TempFile};
-use crate::{budget, ear_clipping, guard, ply_body, ply_header, IoError, PolyView};
+use crate::{budget, ear_clipping, guard, IoError, PolyView};
 
 /// What the PLY reader found, before the common checks.
 pub(crate) struct PlyContent {
@@ -266,7 +269,7 @@ fn open_header(path: &Path) -> Result<(Reader<BufReader<File>>, Header), IoError
     let start = reader
         .fill_buf()
         .map_err(|e| IoError::access(path, "cannot read", &e))?;
-    ply_header::check(path, start)?;
+    header::check(path, start)?;
     let mut reader = Reader::new(reader);
     let header = guard::quietly(|| Parser::<Skipped>::new().read_header(&mut reader))
         .ok_or_else(|| IoError::malformed(path, "the header is not valid PLY"))?
@@ -479,7 +482,7 @@ fn collect_attributes<'a>(
 // Writing: views over the mesh that the writer queries property by property.
 
 /// Vertex `index` of a mesh, as ply-rs-bw's writer sees it (the reference for
-/// [`crate::ply_body`]'s bytes).
+/// [`body`]'s bytes).
 #[cfg(test)]
 #[derive(Default)]
 struct VertexOut<'a> {
@@ -637,7 +640,7 @@ fn element_definitions(view: PolyView<'_>) -> Elements {
 }
 
 /// The vertex and face elements of `view` as ply-rs-bw's writer encodes them, element by
-/// element: the reference for [`crate::ply_body`].
+/// element: the reference for [`body`].
 #[cfg(test)]
 pub(crate) fn reference_body(view: PolyView<'_>) -> Vec<u8> {
     let defs = element_definitions(view);
@@ -700,8 +703,8 @@ pub(crate) fn write(path: &Path, view: PolyView<'_>) -> Result<TempFile, IoError
 
     stage(path, |w| {
         Writer::<Skipped>::new().write_header(w, &header)?;
-        ply_body::write_vertices(w, view)?;
-        ply_body::write_faces(w, view)?;
+        body::write_vertices(w, view)?;
+        body::write_faces(w, view)?;
         let cell_writer = Writer::<CellOut>::new();
         let mut cell = CellOut {
             corners: [0; 3],

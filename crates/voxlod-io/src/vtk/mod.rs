@@ -3,7 +3,7 @@
 //!
 //! vtkio chooses legacy or XML by the (lower-case) extension and writes straight to the path;
 //! we choose ourselves (extensions are case-insensitive here) and give it the file's bytes or
-//! the temporary file's writer instead. XML files first go through [`vtk_xml`], which decodes
+//! the temporary file's writer instead. XML files first go through [`xml`], which decodes
 //! the binary data vtkio 0.7.0-rc2 cannot (raw appended data, compressed empty arrays) and
 //! checks the rest; legacy files get their header lines checked, since vtkio cannot say where
 //! a parse failed. vtkio's parsers are third-party code fed arbitrary bytes, so a panic inside
@@ -15,13 +15,17 @@
 //! Cost: vtkio parses the whole file into its own model before we convert it: O(file size)
 //! time, and about twice the data's memory at the peak.
 
+pub(crate) mod image;
+pub(crate) mod mesh;
+mod xml;
+
 use std::path::Path;
 
 use vtkio::model::{IOBuffer, Vtk};
 use vtkio::xml::Compressor;
 
 use crate::atomic::{stage, TempFile};
-use crate::{budget, guard, vtk_xml, IoError};
+use crate::{budget, guard, IoError};
 
 /// Which of the two VTK encodings a file uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,7 +37,7 @@ pub(crate) enum Flavor {
 }
 
 /// Loads a VTK file of either flavour: the whole file in memory (after the budget check), XML
-/// binary data decoded by [`vtk_xml`], then vtkio under [`guard::quietly`].
+/// binary data decoded by [`xml`], then vtkio under [`guard::quietly`].
 pub(crate) fn load(path: &Path, flavor: Flavor) -> Result<Vtk, IoError> {
     let bytes = crate::read_file(path)?;
     let parsed = match flavor {
@@ -49,7 +53,7 @@ pub(crate) fn load(path: &Path, flavor: Flavor) -> Result<Vtk, IoError> {
             guard::quietly(|| Vtk::parse_legacy_be(&bytes[..]))
         }
         Flavor::Xml => {
-            let rewritten = vtk_xml::rewrite(path, &bytes)?;
+            let rewritten = xml::rewrite(path, &bytes)?;
             let document = rewritten.as_deref().unwrap_or(&bytes);
             budget::check_bytes(
                 path,

@@ -26,6 +26,9 @@
 //! zarrs decodes a compressed chunk entirely), O(chunk bytes); memory is the region's stored
 //! samples plus its `f32` copy, checked against the budget first.
 
+mod errors;
+pub(crate) mod write;
+
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -80,7 +83,7 @@ pub fn open_zarr(path: &Path) -> Result<ZarrVolume, IoError> {
         )
     })?;
     let array = Array::open(Arc::new(store), &array_path)
-        .map_err(|e| crate::zarr_errors::opening(path, &array_path, e))?;
+        .map_err(|e| crate::zarr::errors::opening(path, &array_path, e))?;
     let sample = sample_type(path, array.data_type())?;
     let names = axis_names(&array, ome.as_ref());
     let shape: Vec<u64> = array.shape().to_vec();
@@ -196,7 +199,7 @@ impl ZarrVolume {
             SampleType::F32 => self.array.retrieve_array_subset_elements::<f32>(subset),
             SampleType::F64 => elements!(f64),
         };
-        result.map_err(|e| crate::zarr_errors::reading(&self.path, &self.array_path, e))
+        result.map_err(|e| crate::zarr::errors::reading(&self.path, &self.array_path, e))
     }
 }
 
