@@ -11,6 +11,7 @@
 use std::time::Instant;
 
 use voxlod_contouring::marching_cubes;
+use voxlod_core::glam::DVec3;
 use voxlod_core::validate::{find_defect, Requirements};
 use voxlod_core::{mesh_topology, Grid, Placement, Topology, TriangleMesh, Volume};
 
@@ -136,15 +137,18 @@ pub fn contour(volume: &Volume, options: &ContourOptions) -> Result<Contour, Err
     })
 }
 
-/// The volume with one more sample on every side, all below `iso`.
+/// The volume with one more sample on every side, all below `iso`, in the same place: it keeps
+/// the orientation, and its index 0 lies where the original's index (-1, -1, -1) does, so a
+/// closed contour of an oblique or flipped scan lands where the open one does. Cost: one copy
+/// of the samples.
 fn pad_below(volume: &Volume, iso: f32) -> Result<Volume, Error> {
     let g = volume.grid;
     let dims = g.dims.map(|d| d + 2);
-    let origin = [0, 1, 2].map(|a| g.origin[a] - g.spacing[a]);
-    let grid = Grid::new(dims, g.spacing, origin)?;
+    let origin = volume.world().index_to_world(DVec3::splat(-1.0));
+    let grid = Grid::new(dims, g.spacing, origin.to_array())?;
     let (lo, _) = volume.range().unwrap_or((iso, iso));
     let below = lo.min(iso) - 1.0;
-    let mut padded = Volume::filled(grid, below, "the padded volume")?;
+    let mut padded = Volume::filled(grid, below, "the padded volume")?.oriented(volume.orientation);
     for k in 0..g.dims[2] {
         for j in 0..g.dims[1] {
             for i in 0..g.dims[0] {
@@ -153,4 +157,65 @@ fn pad_below(volume: &Volume, iso: f32) -> Result<Volume, Error> {
         }
     }
     Ok(padded)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use voxlod_core::glam::DMat3;
+    use voxlod_core::{Frame, Orientation};
+
+    /// A ball of radius 3 (in the grid's units) around index (6, 5, 4) of a 12 × 11 × 10 grid
+    /// with unequal spacing, rotated and flipped.
+    fn oblique_ball() -> Volume {
+        let grid = Grid::new([12, 11, 10], [0.8, 1.1, 1.5], [-20.0, 13.0, -7.0]).unwrap();
+        let centre = DVec3::new(6.0, 5.0, 4.0) * grid.spacing_vec();
+        let mut values = Vec::with_capacity(grid.len());
+        for k in 0..10 {
+            for j in 0..11 {
+                for i in 0..12 {
+                    let p = DVec3::new(i as f64, j as f64, k as f64) * grid.spacing_vec();
+                    values.push((3.0 - (p - centre).length()) as f32);
+                }
+            }
+        }
+        let direction = DMat3::from_rotation_z(0.5)
+            * DMat3::from_rotation_x(0.2)
+            * DMat3::from_diagonal(DVec3::new(1.0, -1.0, 1.0));
+        Volume::from_vec(grid, values)
+            .unwrap()
+            .oriented(Orientation {
+                direction,
+                frame: Frame::Lps,
+            })
+    }
+
+    fn sorted_positions(mesh: &TriangleMesh) -> Vec<[i64; 3]> {
+        let mut p: Vec<[i64; 3]> = mesh
+            .positions
+            .iter()
+            .map(|v| v.to_array().map(|x| (f64::from(x) * 1e3).round() as i64))
+            .collect();
+        p.sort_unstable();
+        p
+    }
+
+    #[test]
+    fn closing_keeps_an_oblique_flipped_scan_in_place() {
+        let volume = oblique_ball();
+        let open = contour(&volume, &ContourOptions::at(0.0)).unwrap();
+        let closed = contour(&volume, &ContourOptions::closed(0.0)).unwrap();
+        assert!(open.topology.is_closed_manifold());
+        assert_eq!(closed.dims, [14, 13, 12]);
+        assert_eq!(sorted_positions(&closed.mesh), sorted_positions(&open.mesh));
+        // And both lie around the ball's centre in the world.
+        let centre = volume.world().index_to_world(DVec3::new(6.0, 5.0, 4.0));
+        let n = open.mesh.positions.len() as f64;
+        let mean = open
+            .mesh
+            .positions
+            .iter()
+            .fold(DVec3::ZERO, |s, p| s + p.as_dvec3() / n);
+        assert!((mean - centre).length() < 0.1, "{mean} {centre}");
+    }
 }
