@@ -27,6 +27,7 @@ use voxlod_contouring::{
 };
 use voxlod_core::{
     mesh_topology, Bounds, BrickVolume, Grid, Placement, Topology, TriangleMesh, Volume,
+    WorldTransform,
 };
 use voxlod_sampling::density::estimated_bytes;
 use voxlod_sampling::narrow_band::{
@@ -107,13 +108,19 @@ impl LodSource<'_> {
     /// The map of finished meshes from grid space to the source's world: the scan's own
     /// transform for a thresholded or directly filtered volume, the identity otherwise.
     pub fn placement(&self) -> Placement {
-        let world = match self {
+        self.world()
+            .map_or(Placement::IDENTITY, |w| Placement::of(&w, None))
+    }
+
+    /// The index-to-world transform of the scan the source comes from (`None` for a mesh or a
+    /// solid whose grid space is the world).
+    pub fn world(&self) -> Option<WorldTransform> {
+        match self {
             LodSource::Solid(s) => s.world(),
             LodSource::Direct(v) => Some(v.world()),
             // The scan's own transform (the identity for a Zarr array's spacing and origin).
             LodSource::Chunked(c) => Some(c.world()),
-        };
-        world.map_or(Placement::IDENTITY, |w| Placement::of(&w, None))
+        }
     }
 
     /// The box the levels cover.

@@ -7,7 +7,7 @@
 
 use std::time::Instant;
 
-use voxlod_core::Volume;
+use voxlod_core::{Grid, Orientation, Volume, WorldTransform};
 use voxlod_sampling::{DensityReport, Filter, LevelPlan, PyramidOptions};
 
 use crate::error::{Error, InvalidOption};
@@ -70,8 +70,10 @@ impl VoxelizeOptions {
 #[derive(Clone, Debug)]
 pub struct Voxelized {
     /// The density: 0 outside to 1 inside for solids; the data's units when filtered directly.
+    /// A scan's density keeps the scan's orientation and lies where the scan does, so that
+    /// contouring it gives the surfaces [`crate::lod()`] gives.
     pub volume: Volume,
-    /// Grid, voxel size and radius in world units.
+    /// Grid (in the source's axis-aligned grid space), voxel size and radius in world units.
     pub plan: LevelPlan,
     /// The sampling's figures (solids).
     pub density: Option<DensityReport>,
@@ -115,7 +117,7 @@ pub fn voxelize(source: &Source, options: &VoxelizeOptions) -> Result<Voxelized,
     let level_plan = plan(&lod_source, &level_options)?[0];
     let start = Instant::now();
     let sampled = sample_level(&lod_source, &level_plan, &level_options)?;
-    let volume = sampled.volume.into_dense()?;
+    let volume = in_world(sampled.volume.into_dense()?, lod_source.world())?;
     let seconds = start.elapsed().as_secs_f64();
     let mut warnings = prepared.warnings().to_vec();
     let solid = prepared.solid().is_some();
@@ -134,4 +136,66 @@ pub fn voxelize(source: &Source, options: &VoxelizeOptions) -> Result<Voxelized,
         warnings,
         seconds,
     })
+}
+
+/// A density sampled in the source's axis-aligned grid space, placed in the world of the scan
+/// it came from (`world`; `None` leaves it as it is): the scan's direction and frame, and a
+/// grid whose first sample is where the scan's transform puts that point. Cost: none beyond
+/// moving the volume.
+fn in_world(volume: Volume, world: Option<WorldTransform>) -> Result<Volume, Error> {
+    let Some(world) = world else {
+        return Ok(volume);
+    };
+    let g = volume.grid;
+    let to_world = world.placement(world.origin);
+    let origin = to_world.linear * g.origin_vec() + to_world.translation;
+    let grid = Grid::new(g.dims, g.spacing, origin.to_array())?;
+    let orientation = Orientation {
+        direction: world.direction,
+        frame: world.frame,
+    };
+    Ok(Volume { grid, ..volume }.oriented(orientation))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use voxlod_core::glam::{DMat3, DVec3};
+    use voxlod_core::Frame;
+
+    #[test]
+    fn a_scan_density_lies_where_the_scan_does() {
+        // A ball of radius 4 around index (8, 7, 6) of a rotated, flipped 16 × 14 × 12 scan.
+        let grid = Grid::new([16, 14, 12], [0.8, 1.1, 1.5], [-20.0, 13.0, -7.0]).unwrap();
+        let centre = DVec3::new(8.0, 7.0, 6.0);
+        let mut values = Vec::with_capacity(grid.len());
+        for k in 0..12 {
+            for j in 0..14 {
+                for i in 0..16 {
+                    let d =
+                        (DVec3::new(i as f64, j as f64, k as f64) - centre) * grid.spacing_vec();
+                    values.push((4.0 - d.length()) as f32);
+                }
+            }
+        }
+        let orientation = Orientation {
+            direction: DMat3::from_rotation_z(0.5)
+                * DMat3::from_diagonal(DVec3::new(1.0, 1.0, -1.0)),
+            frame: Frame::Ras,
+        };
+        let scan = Volume::from_vec(grid, values)
+            .unwrap()
+            .oriented(orientation);
+        let source = Source::Threshold {
+            volume: &scan,
+            threshold: 0.0,
+        };
+        let density = voxelize(&source, &VoxelizeOptions::at(24)).unwrap().volume;
+        assert_eq!(density.orientation, orientation);
+        let surface = crate::contour(&density, &crate::ContourOptions::at(0.5)).unwrap();
+        let n = surface.mesh.positions.len() as f64;
+        let mean = (surface.mesh.positions.iter()).fold(DVec3::ZERO, |s, p| s + p.as_dvec3() / n);
+        let expected = scan.world().index_to_world(centre);
+        assert!((mean - expected).length() < 0.2, "{mean} {expected}");
+    }
 }
