@@ -108,10 +108,8 @@ use voxlod_metrics::{mesh_distance, DistanceOptions};
 
 pub use checks::self_intersections;
 pub use epsilon::{Epsilon, RegionEpsilon};
-pub use error::EnvelopeError;
-pub use manifold::{
-    check_manifold, manifold_problems, repair_for_envelope, ManifoldProblems, ManifoldRepair,
-};
+pub use error::{EnvelopeError, ManifoldProblems};
+pub use manifold::{check_manifold, manifold_problems, repair_for_envelope, ManifoldRepair};
 pub use offsets::{OffsetReport, OffsetRule};
 pub use removal::{RemovalOrder, RemovalReport, MAX_VALENCE};
 

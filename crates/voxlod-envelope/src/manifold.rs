@@ -22,65 +22,10 @@ use rayon::prelude::*;
 use serde::Serialize;
 use voxlod_core::TriangleMesh;
 
-use super::EnvelopeError;
+use super::{EnvelopeError, ManifoldProblems};
 
 /// At most this many offending items are named in an error message.
 const NAMED: usize = 6;
-
-/// Why a mesh is not a consistently oriented 2-manifold, with examples.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
-pub struct ManifoldProblems {
-    /// Triangles with a repeated vertex index.
-    pub degenerate_triangles: usize,
-    /// Edges used by three or more triangles.
-    pub non_manifold_edges: usize,
-    /// Edges used twice in the same direction (neighbours disagree about the outside).
-    pub inconsistent_edges: usize,
-    /// Vertices whose triangles form more than one fan.
-    pub non_manifold_vertices: usize,
-    /// Up to a few named examples, e.g. "edge 12–40 (3 triangles)".
-    pub examples: Vec<String>,
-}
-
-impl ManifoldProblems {
-    /// Whether nothing is wrong.
-    pub fn is_empty(&self) -> bool {
-        self.degenerate_triangles == 0
-            && self.non_manifold_edges == 0
-            && self.inconsistent_edges == 0
-            && self.non_manifold_vertices == 0
-    }
-}
-
-impl fmt::Display for ManifoldProblems {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let mut parts = Vec::new();
-        for (n, what) in [
-            (
-                self.non_manifold_edges,
-                "edges used by more than two triangles",
-            ),
-            (
-                self.inconsistent_edges,
-                "edges used twice in the same direction",
-            ),
-            (
-                self.non_manifold_vertices,
-                "vertices where separate fans meet",
-            ),
-            (self.degenerate_triangles, "triangles that repeat a vertex"),
-        ] {
-            if n > 0 {
-                parts.push(format!("{n} {what}"));
-            }
-        }
-        write!(f, "{}", parts.join(", "))?;
-        if !self.examples.is_empty() {
-            write!(f, " ({})", self.examples.join("; "))?;
-        }
-        Ok(())
-    }
-}
 
 /// Checks that `mesh` is a consistently oriented 2-manifold (with or without border); the error
 /// names the first offending edges, vertices and triangles.
