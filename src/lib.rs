@@ -32,9 +32,9 @@
 //! Every call returns [`Error`], whose [`Error::class`] says what kind of failure it is. The
 //! long calls take a progress callback that can stop them ([`ProgressFn`], [`Control`]).
 //!
-//! The stage crates are re-exported for the general forms, and their dependencies point one
-//! way (`core ← io`, `core ← sampling`, `core ← contouring`, `core ← metrics ← envelope`,
-//! `core ← clustering`, `core ← render ← layers`, layers also on io, sampling and contouring).
+//! The stage crates are re-exported for the general forms; their dependencies point one way,
+//! layer by layer, as ARCHITECTURE.md draws them (`scripts/crate-diagram` makes the drawing,
+//! `tests/architecture.rs` checks it).
 //! The `voxlod` command line (crate `voxlod-cli`) and the measurements (crate `voxlod-eval`) are
 //! built on this crate; it depends on neither.
 //!
