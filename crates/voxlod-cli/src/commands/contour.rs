@@ -1,27 +1,30 @@
-//! `voxlod contour`: marching cubes on any volume file.
+//! `voxlod contour`: marching cubes on any volume file, through the library's
+//! [`voxlod::contour`]: the flags in, the volume read, the surface written in the scan's world
+//! (its spacing, origin and orientation, as `lod` places its levels) and reported.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod::contouring::{marching_cubes, ContourOptions};
-use voxlod::core::mesh_topology;
+use voxlod::core::Volume;
+use voxlod::io::OutputSet;
+use voxlod::ContourOptions;
 
 use super::common::say;
 use super::common::{
-    check_computed_mesh, check_grid_range, describe_mesh, print_json, read_input, CliError, Input,
-    RawArgs,
+    check_grid_range, describe_mesh, in_file, print_json, read_input, CliError, Input, RawArgs,
 };
-use super::source::iso_without_surface;
 use super::values::number;
+use super::world::{frame_report, FrameArg, FrameReport};
 
 /// Extract the isosurface of a volume with marching cubes.
 ///
 /// A sample is inside when its value is >= ISO, everywhere, once; every grid edge carries at most
 /// one vertex, shared by all its triangles; normals come from the data's gradient. A surface
 /// that does not touch the volume's boundary comes out closed and consistently oriented (use
-/// --close to make it so even when it does).
+/// --close to make it so even when it does). The mesh is in the scan's world, in millimetres
+/// for a CT, oblique and flipped scans included, in the file's own frame (--frame converts).
 ///
 /// Examples:
 ///   voxlod contour level.nrrd -o surface.ply --iso 0.5
@@ -49,14 +52,20 @@ pub struct ContourArgs {
     pub json: bool,
     #[command(flatten)]
     pub raw: RawArgs,
+    #[command(flatten)]
+    pub frame: FrameArg,
 }
 
 #[derive(Serialize)]
 struct ContourReport {
     input: String,
     output: String,
+    /// Samples contoured (the padded volume's with --close).
     dims: [usize; 3],
     iso: f32,
+    /// The frame of the mesh (lps, ras, unknown) and the input's index-to-world matrix in it.
+    #[serde(flatten)]
+    frame: FrameReport,
     vertices: usize,
     triangles: usize,
     euler_characteristic: i64,
@@ -65,13 +74,68 @@ struct ContourReport {
     read_seconds: f64,
     contour_seconds: f64,
     write_seconds: f64,
+    /// Every warning printed without --json: an iso value at or below every sample with --close.
     warnings: Vec<String>,
 }
 
 pub fn run(args: ContourArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    let mut out = voxlod::io::OutputSet::protecting([&args.volume]);
+    let mut out = OutputSet::protecting([&args.volume]);
     out.check(&args.output)?;
+    let volume = read_volume(&args)?;
+    let read_seconds = start.elapsed().as_secs_f64();
+    let options = ContourOptions {
+        iso: args.iso,
+        normals: !args.no_normals,
+        close: args.close,
+    };
+    let mut surface = voxlod::contour(&volume, &options).map_err(|e| contour_error(&args, e))?;
+    args.frame.convert(&volume, &mut surface.mesh);
+    let start = Instant::now();
+    out.mesh(&args.output, &surface.mesh)?;
+    out.commit()?;
+    let write_seconds = start.elapsed().as_secs_f64();
+    let topology = &surface.topology;
+    let report = ContourReport {
+        input: args.volume.display().to_string(),
+        output: args.output.display().to_string(),
+        dims: surface.dims,
+        iso: args.iso,
+        frame: frame_report(&volume, args.frame.target()),
+        vertices: surface.mesh.positions.len(),
+        triangles: surface.mesh.triangles.len(),
+        euler_characteristic: topology.euler_characteristic,
+        genus: topology.genus,
+        closed_manifold: topology.is_closed_manifold() && topology.is_consistently_oriented(),
+        read_seconds,
+        contour_seconds: surface.seconds,
+        write_seconds,
+        warnings: surface.warnings.iter().map(|w| in_flag_words(w)).collect(),
+    };
+    if args.json {
+        return print_json(&report);
+    }
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
+    say(format_args!(
+        "{}: {} ({}) in {:.3} s -> {}",
+        args.volume.display(),
+        describe_mesh(&surface.mesh),
+        if report.closed_manifold {
+            "closed"
+        } else {
+            "open at the volume's boundary"
+        },
+        report.contour_seconds,
+        args.output.display()
+    ));
+    Ok(())
+}
+
+/// Reads the input volume, refusing a mesh, samples beyond 32-bit mesh coordinates (blaming the
+/// header or the raw flags) and a --frame the file cannot be converted to.
+fn read_volume(args: &ContourArgs) -> Result<Volume, CliError> {
     let volume = match read_input(&args.volume, &args.raw)? {
         Input::Volume(v) => v,
         Input::Mesh(_) => {
@@ -81,96 +145,26 @@ pub fn run(args: ContourArgs) -> Result<(), CliError> {
             )))
         }
     };
-    let mut warnings = Vec::new();
     check_grid_range(&volume, &args.volume, args.raw.spacing_source())?;
-    match iso_without_surface(args.iso, &volume, &args.volume)? {
-        // With --close, an iso at or below every sample is the volume's box: say so.
-        Some(_) if args.close && volume.range().is_some_and(|(lo, _)| args.iso <= lo) => warnings
-            .push(format!(
-                "--iso {} is at or below every sample: all of the volume is inside, so the \
-                 surface is the box --close puts around it",
-                args.iso
-            )),
-        Some(why) => return Err(CliError::msg(why)),
-        None => {}
-    }
-    let volume = if args.close {
-        pad_below(&volume, args.iso)?
-    } else {
-        volume
-    };
-    let read_seconds = start.elapsed().as_secs_f64();
-    let start = Instant::now();
-    let options = ContourOptions {
-        iso: args.iso,
-        normals: !args.no_normals,
-        ..ContourOptions::default()
-    };
-    let mesh = marching_cubes(&volume, &options)
-        .map_err(|e| CliError::msg(format!("{}: {e}", args.volume.display())))?;
-    let contour_seconds = start.elapsed().as_secs_f64();
-    check_computed_mesh(
-        &mesh,
-        &args.volume.display().to_string(),
-        "the volume's spacing or origin is too large",
-    )?;
-    let start = Instant::now();
-    out.mesh(&args.output, &mesh)?;
-    out.commit()?;
-    let write_seconds = start.elapsed().as_secs_f64();
-    let topology = mesh_topology(&mesh);
-    let report = ContourReport {
-        input: args.volume.display().to_string(),
-        output: args.output.display().to_string(),
-        dims: volume.grid.dims,
-        iso: args.iso,
-        vertices: mesh.positions.len(),
-        triangles: mesh.triangles.len(),
-        euler_characteristic: topology.euler_characteristic,
-        genus: topology.genus,
-        closed_manifold: topology.is_closed_manifold() && topology.is_consistently_oriented(),
-        read_seconds,
-        contour_seconds,
-        write_seconds,
-        warnings,
-    };
-    if args.json {
-        print_json(&report)?;
-    } else {
-        for w in &report.warnings {
-            eprintln!("warning: {w}");
-        }
-        say(format_args!(
-            "{}: {} ({}) in {:.3} s -> {}",
-            args.volume.display(),
-            describe_mesh(&mesh),
-            if report.closed_manifold {
-                "closed"
-            } else {
-                "open at the volume's boundary"
-            },
-            contour_seconds,
-            args.output.display()
-        ));
-    }
-    Ok(())
+    args.frame.check(&volume, &args.volume)?;
+    Ok(volume)
 }
 
-/// The volume with one more sample on every side, all below `iso`.
-fn pad_below(volume: &voxlod::core::Volume, iso: f32) -> Result<voxlod::core::Volume, CliError> {
-    let g = volume.grid;
-    let dims = g.dims.map(|d| d + 2);
-    let origin = [0, 1, 2].map(|a| g.origin[a] - g.spacing[a]);
-    let grid = voxlod::core::Grid::new(dims, g.spacing, origin)?;
-    let (lo, _) = volume.range().unwrap_or((iso, iso));
-    let below = lo.min(iso) - 1.0;
-    let mut padded = voxlod::core::Volume::filled(grid, below, "the padded volume")?;
-    for k in 0..g.dims[2] {
-        for j in 0..g.dims[1] {
-            for i in 0..g.dims[0] {
-                padded.values[[k + 1, j + 1, i + 1]] = volume.get(i, j, k);
-            }
-        }
+/// A library failure about the input, with its options named as the flags (`--iso`,
+/// `--close`), keeping its class and so its exit status.
+fn contour_error(args: &ContourArgs, e: voxlod::Error) -> CliError {
+    match e {
+        voxlod::Error::IsoOutsideData { .. } => CliError::msg(format!(
+            "{}: {}",
+            args.volume.display(),
+            in_flag_words(&e.to_string())
+        )),
+        e => in_file(&args.volume, e),
     }
-    Ok(padded)
+}
+
+/// A library message in the command line's words: the options of [`ContourOptions`] named as
+/// the flags.
+fn in_flag_words(text: &str) -> String {
+    text.replace("`iso`", "--iso").replace("`close`", "--close")
 }

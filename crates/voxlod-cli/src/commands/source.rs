@@ -1,12 +1,11 @@
 //! The flags that say how a scanned volume enters the pipeline, reading the input into the
-//! library's [`voxlod::Source`], the mesh summary of reports, and the contour command's iso
-//! check. Shared by `lod`, `voxelize`, `layers` and `contour`.
+//! library's [`voxlod::Source`], and the mesh summary of reports. Shared by `lod`, `voxelize`
+//! and `layers`.
 
 use std::path::Path;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod::core::Volume;
 use voxlod::sampling::MeshPreparation;
 
 use super::common::{check_grid_range, read_input, CliError, Input, RawArgs};
@@ -72,34 +71,4 @@ pub struct MeshSummary {
     pub triangles: usize,
     pub polygons_triangulated: usize,
     pub preparation: MeshPreparation,
-}
-
-/// Why no sample of `volume` is on either side of `iso` (every sample inside, or none), or
-/// `None` when a surface can exist. Fails when the volume has no finite sample.
-pub fn iso_without_surface(
-    iso: f32,
-    volume: &Volume,
-    path: &Path,
-) -> Result<Option<String>, CliError> {
-    let name = path.display();
-    let (lo, hi) = volume
-        .range()
-        .ok_or_else(|| CliError::msg(format!("{name}: the volume has no finite samples")))?;
-    let what = if iso <= lo {
-        format!(
-            "--iso {iso} is at or below the data's minimum: every sample is inside (a sample is \
-             inside when its value is >= the iso value), so there is no surface"
-        )
-    } else if iso > hi {
-        format!(
-            "--iso {iso} is above the data's maximum: no sample reaches it, so nothing is inside \
-             and there is no surface"
-        )
-    } else {
-        return Ok(None);
-    };
-    Ok(Some(format!(
-        "{name}: {what}. The data runs from {lo} to {hi}: choose a value above {lo} and at \
-         most {hi}"
-    )))
 }
