@@ -6,8 +6,8 @@
 //! O(V log V) weld.
 
 use voxlod_core::TriangleMesh;
-use voxlod_layers::glb::GlbPart;
-use voxlod_layers::{GlbScene, LayersError};
+use voxlod_gltf::{GlbPart, GlbScene};
+use voxlod_layers::LayersError;
 use voxlod_metrics::{mesh_report, welded_mesh_report, MeshReport};
 
 use crate::error::Error;

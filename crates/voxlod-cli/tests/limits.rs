@@ -326,7 +326,7 @@ fn collapsed_triangles_in_the_glb_that_render_reads() {
     for (soup, label, components) in [(lone_point(), "point", 1), (cube_and_point(), "cube", 2)] {
         let path = dir.path().join(format!("{label}.glb"));
         std::fs::write(&path, glb(&soup)).unwrap();
-        let scene = voxlod::layers::read_glb(&path).unwrap();
+        let scene = voxlod_gltf::read_glb(&path).unwrap();
         let t = welded_topology(scene.mesh);
         assert_eq!(t.degenerate_triangles, 1, "{label}");
         assert_eq!(t.components, components, "{label}");

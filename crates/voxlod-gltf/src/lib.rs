@@ -6,7 +6,9 @@
 //! ([`coverage`]), so an engine switches where the paper's selection would. Optionally the
 //! geometry is quantized (`KHR_mesh_quantization`) and encoded with meshoptimizer
 //! (`EXT_meshopt_compression`), as gltfpack does ([`streams`], [`encode`]); [`decode`] undoes
-//! the encoding for readers without a decoder.
+//! the encoding for readers without a decoder. [`read`] takes any binary glTF file back as one
+//! triangle mesh with its parts (the finest level of a chain; the layers and stored orders of a
+//! layered file).
 //!
 //! Beyond the paper: the paper stops at the meshes; the file format and the switching rule are
 //! ours. The JSON is built with `gltf-json`; extensions it has no types for are added to the
@@ -17,6 +19,7 @@ pub mod coverage;
 pub mod decode;
 pub mod encode;
 pub mod error;
+pub mod read;
 pub mod streams;
 
 pub use chain::{
@@ -26,3 +29,4 @@ pub use chain::{
 pub use coverage::{fitting_coverage, pixel_size_at, screen_coverages, CoverageOptions};
 pub use decode::decompress_glb;
 pub use error::GltfError;
+pub use read::{parse_glb, read_glb, GlbPart, GlbScene, ORDER_NAMES};

@@ -22,9 +22,8 @@
 //!   accessors are consecutive slices of one buffer view, that concatenation is exactly the
 //!   positions buffer view.
 //!
-//! The reader ([`read_glb`]) takes any glTF 2.0 binary file whose triangle primitives use float
-//! positions, and returns the orders when present. It checks every offset against the buffer
-//! (no panic on a broken file). Node transforms are ignored. Cost: linear in the file.
+//! [`voxlod_gltf::read_glb`] reads such a file back: the layers as its parts, the orders and the
+//! grid. Cost: linear in the layers' size.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -33,10 +32,9 @@ use glam::Vec3;
 use gltf::json;
 use gltf::json::validation::{Checked, USize64};
 use serde::Serialize;
-use voxlod_core::TriangleMesh;
 
 use crate::extract::{Layer, LayeredMesh};
-use crate::order::{Octant, ORDER_NAMES};
+use crate::order::ORDER_NAMES;
 use crate::LayersError;
 
 /// How the file looks.
@@ -70,7 +68,29 @@ impl Default for GlbOptions {
 pub const RADIUS_LIMIT_PIXELS: f64 = 0.45;
 
 /// The bytes of a `.glb` for `layered` and its eight orders (global triangle indices into the
-/// layers concatenated, by [`Octant::index`]).
+/// layers concatenated, by [`Octant::index`](crate::Octant::index)).
+///
+/// # Example
+///
+/// Layered shells read back (with [`voxlod_gltf::parse_glb`]) as one part per layer, with the
+/// layer's alpha and blending, all eight orders and the grid.
+///
+/// ```
+/// use voxlod_layers::{glb_bytes, layer_solid, GlbOptions, LayersOptions};
+/// use voxlod_sampling::{CsgSolid, Shape};
+///
+/// let solid = CsgSolid::new(Shape::sphere(glam::DVec3::ZERO, 1.0))?;
+/// let layered = layer_solid(&solid, &LayersOptions { resolution: 12, ..Default::default() })?;
+/// let bytes = glb_bytes(&layered.mesh, &layered.orders, &GlbOptions::default())?;
+/// let scene = voxlod_gltf::parse_glb(&bytes)?;
+/// assert!(scene.is_layered());
+/// assert_eq!(scene.parts.len(), layered.mesh.layers.len());
+/// assert_eq!(scene.mesh.triangles.len(), layered.mesh.triangle_count());
+/// assert!(scene.parts.iter().all(|p| p.blend));
+/// assert_eq!(scene.parts[0].color[3], 1.0);
+/// assert_eq!(scene.grid, Some(layered.mesh.grid));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn glb_bytes(
     layered: &LayeredMesh,
     orders: &[Vec<u32>],
@@ -207,7 +227,7 @@ pub(crate) fn layer_extras(i: usize, l: &Layer) -> serde_json::Value {
 pub(crate) struct LevelParts {
     /// (layer, its primitive), innermost first.
     pub primitives: Vec<(usize, json::mesh::Primitive)>,
-    /// The order accessors by [`Octant::index`].
+    /// The order accessors by [`Octant::index`](crate::Octant::index).
     pub orders: Vec<json::Index<json::Accessor>>,
 }
 
@@ -485,391 +505,4 @@ fn min_max(points: &[Vec3]) -> ([f32; 3], [f32; 3]) {
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
     (lo.to_array(), hi.to_array())
-}
-
-// -------------------------------------------------------------------------------------------
-// Reading.
-
-/// One mesh primitive of a glTF file.
-#[derive(Clone, Debug, PartialEq)]
-pub struct GlbPart {
-    /// The mesh's name, or `mesh M` for an unnamed one.
-    pub name: String,
-    /// Its vertices are `first_vertex..first_vertex + vertex_count` of [`GlbScene::mesh`].
-    pub first_vertex: u32,
-    /// How many vertices it has.
-    pub vertex_count: u32,
-    /// Its triangles are `first_triangle..` of [`GlbScene::mesh`], `triangle_count` of them.
-    pub first_triangle: u32,
-    /// How many triangles it has.
-    pub triangle_count: u32,
-    /// Base colour factor (RGBA); alpha is the opacity.
-    pub color: [f32; 4],
-    /// Whether the material blends.
-    pub blend: bool,
-}
-
-/// What [`read_glb`] found: every triangle primitive concatenated, and the stored orders.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct GlbScene {
-    /// All primitives' vertices and triangles, in mesh then primitive order (global indices).
-    pub mesh: TriangleMesh,
-    /// Where each primitive lies in `mesh`, and its material.
-    pub parts: Vec<GlbPart>,
-    /// The `order±x±y±z` accessors by [`Octant::index`], as triangles of global vertex indices.
-    pub orders: Vec<Option<Vec<[u32; 3]>>>,
-    /// The volume grid the layers were cut from (scene extras of a voxlod file).
-    pub grid: Option<voxlod_core::Grid>,
-}
-
-impl GlbScene {
-    /// Whether all eight orders are present: a layered file.
-    pub fn is_layered(&self) -> bool {
-        self.orders.len() == 8 && self.orders.iter().all(|o| o.is_some())
-    }
-
-    /// The part a vertex belongs to.
-    pub fn part_of_vertex(&self, v: u32) -> Option<&GlbPart> {
-        let i = self
-            .parts
-            .partition_point(|p| p.first_vertex + p.vertex_count <= v);
-        self.parts.get(i).filter(|p| v >= p.first_vertex)
-    }
-
-    /// The part of each triangle.
-    pub fn triangle_parts(&self) -> Vec<u16> {
-        let mut out = vec![0u16; self.mesh.triangles.len()];
-        for (i, p) in self.parts.iter().enumerate() {
-            let range = p.first_triangle as usize..(p.first_triangle + p.triangle_count) as usize;
-            out[range].fill(i.min(u16::MAX as usize) as u16);
-        }
-        out
-    }
-
-    /// The stored order for a view direction.
-    pub fn order_for(&self, direction: glam::DVec3) -> Result<Option<&[[u32; 3]]>, LayersError> {
-        let o = Octant::of(direction)?;
-        Ok(self.orders.get(o.index()).and_then(|x| x.as_deref()))
-    }
-}
-
-/// Reads a `.glb` (see the module documentation).
-pub fn read_glb(path: &Path) -> Result<GlbScene, LayersError> {
-    let len = std::fs::metadata(path)
-        .map_err(|e| LayersError::Gltf(format!("{}: cannot read: {e}", path.display())))?
-        .len();
-    voxlod_core::memory::check_allocation(&format!("reading {}", path.display()), len)?;
-    let bytes = std::fs::read(path)
-        .map_err(|e| LayersError::Gltf(format!("{}: cannot read: {e}", path.display())))?;
-    parse_glb(&bytes).map_err(|e| match e {
-        LayersError::Gltf(m) => LayersError::Gltf(format!("{}: {m}", path.display())),
-        other => other,
-    })
-}
-
-/// Parses the bytes of a `.glb`.
-///
-/// # Example
-///
-/// Layered shells written with [`glb_bytes`] read back as one part per layer, with the
-/// layer's alpha and blending, and all eight orders.
-///
-/// ```
-/// use voxlod_layers::{glb_bytes, layer_solid, parse_glb, GlbOptions, LayersOptions};
-/// use voxlod_sampling::{CsgSolid, Shape};
-///
-/// let solid = CsgSolid::new(Shape::sphere(glam::DVec3::ZERO, 1.0))?;
-/// let layered = layer_solid(&solid, &LayersOptions { resolution: 12, ..Default::default() })?;
-/// let bytes = glb_bytes(&layered.mesh, &layered.orders, &GlbOptions::default())?;
-/// let scene = parse_glb(&bytes)?;
-/// assert!(scene.is_layered());
-/// assert_eq!(scene.parts.len(), layered.mesh.layers.len());
-/// assert_eq!(scene.mesh.triangles.len(), layered.mesh.triangle_count());
-/// assert!(scene.parts.iter().all(|p| p.blend));
-/// assert_eq!(scene.parts[0].color[3], 1.0);
-/// assert_eq!(scene.grid, Some(layered.mesh.grid));
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-pub fn parse_glb(bytes: &[u8]) -> Result<GlbScene, LayersError> {
-    let bad = |m: String| LayersError::Gltf(m);
-    let glb =
-        gltf::binary::Glb::from_slice(bytes).map_err(|e| bad(format!("not a GLB file: {e}")))?;
-    let root: json::Root = json::deserialize::from_slice(&glb.json)
-        .map_err(|e| bad(format!("bad JSON chunk: {e}")))?;
-    let bin: &[u8] = glb.bin.as_deref().unwrap_or(&[]);
-    let reader = Reader { root: &root, bin };
-    let mut scene = GlbScene {
-        orders: vec![None; 8],
-        ..Default::default()
-    };
-    let chain = finest_of_chain(&root, &glb.json);
-    for (m, mesh) in root.meshes.iter().enumerate() {
-        if chain.is_some_and(|finest| finest != m) {
-            continue;
-        }
-        for (p, prim) in mesh.primitives.iter().enumerate() {
-            read_primitive(&reader, (m, mesh), (p, prim), &mut scene)?;
-        }
-    }
-    let prefix = if chain.is_some() { "level 0 " } else { "" };
-    read_orders(&reader, &mut scene, prefix)?;
-    if scene.mesh.triangles.is_empty() {
-        return Err(bad("no triangle primitives".into()));
-    }
-    scene.grid = stored_grid(&root);
-    Ok(scene)
-}
-
-/// Appends primitive `p` of mesh `m` to `scene` as a part, when it draws triangles with
-/// positions (others are skipped). Normals are kept while every primitive so far has them.
-fn read_primitive(
-    reader: &Reader,
-    (m, mesh): (usize, &json::Mesh),
-    (p, prim): (usize, &json::mesh::Primitive),
-    scene: &mut GlbScene,
-) -> Result<(), LayersError> {
-    let bad = |m: String| LayersError::Gltf(m);
-    match prim.mode {
-        Checked::Valid(json::mesh::Mode::Triangles) => {}
-        _ => return Ok(()),
-    }
-    let Some(pos) = prim
-        .attributes
-        .get(&Checked::Valid(json::mesh::Semantic::Positions))
-    else {
-        return Ok(());
-    };
-    let positions = reader.vec3(pos.value())?;
-    let normals = match prim
-        .attributes
-        .get(&Checked::Valid(json::mesh::Semantic::Normals))
-    {
-        Some(n) => Some(reader.vec3(n.value())?),
-        None => None,
-    };
-    let n = positions.len() as u32;
-    let indices = match prim.indices {
-        Some(i) => reader.indices(i.value())?,
-        None => (0..n).collect(),
-    };
-    if indices.len() % 3 != 0 {
-        return Err(bad(format!(
-            "mesh {m} primitive {p}: {} indices is not a whole number of triangles",
-            indices.len()
-        )));
-    }
-    if let Some(&v) = indices.iter().find(|&&v| v >= n) {
-        return Err(bad(format!(
-            "mesh {m} primitive {p}: index {v} beyond its {n} vertices"
-        )));
-    }
-    let base = scene.mesh.positions.len() as u32;
-    let first_triangle = scene.mesh.triangles.len() as u32;
-    let had_normals = !scene.mesh.normals.is_empty() || scene.mesh.positions.is_empty();
-    match (normals, had_normals) {
-        (Some(nr), true) if nr.len() == positions.len() => {
-            scene.mesh.normals.extend_from_slice(&nr)
-        }
-        _ => scene.mesh.normals.clear(),
-    }
-    scene.mesh.positions.extend_from_slice(&positions);
-    scene.mesh.triangles.extend(
-        indices
-            .chunks_exact(3)
-            .map(|c| [c[0] + base, c[1] + base, c[2] + base]),
-    );
-    let (color, blend) = match prim.material {
-        Some(mi) => {
-            let mat = reader
-                .root
-                .materials
-                .get(mi.value())
-                .ok_or_else(|| bad(format!("mesh {m}: material {} missing", mi.value())))?;
-            (
-                mat.pbr_metallic_roughness.base_color_factor.0,
-                matches!(
-                    mat.alpha_mode,
-                    Checked::Valid(json::material::AlphaMode::Blend)
-                ),
-            )
-        }
-        None => ([1.0; 4], false),
-    };
-    scene.parts.push(GlbPart {
-        name: mesh.name.clone().unwrap_or_else(|| format!("mesh {m}")),
-        first_vertex: base,
-        vertex_count: n,
-        first_triangle,
-        triangle_count: (indices.len() / 3) as u32,
-        color,
-        blend,
-    });
-    Ok(())
-}
-
-/// The mesh of the finest level when the file is an `MSFT_lod` chain (the scene's first node
-/// carries the extension): what the scene shows to a reader without the extension, and all
-/// that is read of a chain.
-fn finest_of_chain(root: &json::Root, json_chunk: &[u8]) -> Option<usize> {
-    let scene = root.scene.map_or(0, |s| s.value());
-    let node = root.scenes.get(scene)?.nodes.first()?.value();
-    // gltf-json drops extensions it has no type for, so the node is looked up in the JSON.
-    let doc: serde_json::Value = serde_json::from_slice(json_chunk).ok()?;
-    doc["nodes"][node]["extensions"].get("MSFT_lod")?;
-    Some(root.nodes.get(node)?.mesh?.value())
-}
-
-/// Reads the accessors named `PREFIXorder±x±y±z` into `scene.orders`; each must be a triangle
-/// list over the vertices read.
-fn read_orders(reader: &Reader, scene: &mut GlbScene, prefix: &str) -> Result<(), LayersError> {
-    let total = scene.mesh.positions.len() as u32;
-    for (a, acc) in reader.root.accessors.iter().enumerate() {
-        let name = acc.name.as_deref().and_then(|n| n.strip_prefix(prefix));
-        let Some(o) = name.and_then(Octant::from_name) else {
-            continue;
-        };
-        let idx = reader.indices(a)?;
-        if idx.len() % 3 != 0 || idx.iter().any(|&v| v >= total) {
-            return Err(LayersError::Gltf(format!(
-                "accessor {}: not a triangle list over the {total} vertices",
-                o.name()
-            )));
-        }
-        scene.orders[o.index()] = Some(idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect());
-    }
-    Ok(())
-}
-
-/// The volume grid of a voxlod file, from the extras of its scene (or its first scene);
-/// `None` when absent or not a valid grid.
-fn stored_grid(root: &json::Root) -> Option<voxlod_core::Grid> {
-    root.scene
-        .and_then(|i| root.scenes.get(i.value()))
-        .or(root.scenes.first())
-        .and_then(|sc| sc.extras.as_ref())
-        .and_then(|raw| serde_json::from_str::<serde_json::Value>(raw.get()).ok())
-        .and_then(|v| {
-            let g = &v["voxlod"]["grid"];
-            let triple = |x: &serde_json::Value| -> Option<[f64; 3]> {
-                let a = x.as_array()?;
-                Some([
-                    a.first()?.as_f64()?,
-                    a.get(1)?.as_f64()?,
-                    a.get(2)?.as_f64()?,
-                ])
-            };
-            let dims = triple(&g["dims"])?.map(|d| d as usize);
-            voxlod_core::Grid::new(dims, triple(&g["spacing"])?, triple(&g["origin"])?).ok()
-        })
-}
-
-/// Bounds-checked accessor reading.
-struct Reader<'a> {
-    root: &'a json::Root,
-    bin: &'a [u8],
-}
-
-impl Reader<'_> {
-    /// The bytes of accessor `a`: (data from the first element, element stride, count,
-    /// component type).
-    fn layout(
-        &self,
-        a: usize,
-        elem_size: usize,
-    ) -> Result<(&[u8], usize, usize, json::accessor::ComponentType), LayersError> {
-        let bad = |m: String| LayersError::Gltf(format!("accessor {a}: {m}"));
-        let acc = self
-            .root
-            .accessors
-            .get(a)
-            .ok_or_else(|| bad("missing".into()))?;
-        let Checked::Valid(json::accessor::GenericComponentType(ct)) = acc.component_type else {
-            return Err(bad("invalid component type".into()));
-        };
-        let view_index = acc
-            .buffer_view
-            .ok_or_else(|| bad("has no buffer view (sparse accessors are not read)".into()))?;
-        let view = self
-            .root
-            .buffer_views
-            .get(view_index.value())
-            .ok_or_else(|| bad("its buffer view is missing".into()))?;
-        if view.buffer.value() != 0 {
-            return Err(bad("data outside the GLB's own buffer".into()));
-        }
-        let count = acc.count.0 as usize;
-        let stride = view.byte_stride.map_or(elem_size, |s| s.0);
-        let start = view.byte_offset.map_or(0, |o| o.0 as usize);
-        let view_len = view.byte_length.0 as usize;
-        let offset = acc.byte_offset.map_or(0, |o| o.0 as usize);
-        let needed = if count == 0 {
-            0
-        } else {
-            offset
-                .checked_add((count - 1).saturating_mul(stride))
-                .and_then(|x| x.checked_add(elem_size))
-                .ok_or_else(|| bad("size overflows".into()))?
-        };
-        if stride < elem_size
-            || needed > view_len
-            || start
-                .checked_add(view_len)
-                .is_none_or(|end| end > self.bin.len())
-        {
-            return Err(bad("reaches beyond its buffer".into()));
-        }
-        Ok((
-            &self.bin[start + offset..start + view_len],
-            stride,
-            count,
-            ct,
-        ))
-    }
-
-    fn vec3(&self, a: usize) -> Result<Vec<Vec3>, LayersError> {
-        let (data, stride, count, ct) = self.layout(a, 12)?;
-        if ct != json::accessor::ComponentType::F32 {
-            return Err(LayersError::Gltf(format!(
-                "accessor {a}: positions and normals must be floats"
-            )));
-        }
-        let f = |b: &[u8]| f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
-        let out: Vec<Vec3> = (0..count)
-            .map(|i| {
-                let e = &data[i * stride..i * stride + 12];
-                Vec3::new(f(&e[0..4]), f(&e[4..8]), f(&e[8..12]))
-            })
-            .collect();
-        if let Some(i) = out.iter().position(|p| !p.is_finite()) {
-            return Err(LayersError::Gltf(format!(
-                "accessor {a}: element {i} is not finite"
-            )));
-        }
-        Ok(out)
-    }
-
-    fn indices(&self, a: usize) -> Result<Vec<u32>, LayersError> {
-        use json::accessor::ComponentType as C;
-        let size = match self.root.accessors.get(a).map(|x| x.component_type) {
-            Some(Checked::Valid(json::accessor::GenericComponentType(C::U8))) => 1,
-            Some(Checked::Valid(json::accessor::GenericComponentType(C::U16))) => 2,
-            Some(Checked::Valid(json::accessor::GenericComponentType(C::U32))) => 4,
-            _ => {
-                return Err(LayersError::Gltf(format!(
-                    "accessor {a}: indices must be unsigned integers"
-                )))
-            }
-        };
-        let (data, stride, count, _) = self.layout(a, size)?;
-        Ok((0..count)
-            .map(|i| {
-                let e = &data[i * stride..];
-                match size {
-                    1 => e[0] as u32,
-                    2 => u16::from_le_bytes([e[0], e[1]]) as u32,
-                    _ => u32::from_le_bytes([e[0], e[1], e[2], e[3]]),
-                }
-            })
-            .collect())
-    }
 }

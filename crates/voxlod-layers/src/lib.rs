@@ -70,9 +70,7 @@ pub use bolt::bolt;
 pub use error::LayersError;
 pub use export::{to_poly_mesh, write_layered_mesh};
 pub use extract::{extract_layers, Concatenated, ExtractOptions, Layer, LayeredMesh};
-pub use glb::{
-    glb_bytes, parse_glb, read_glb, write_glb, GlbOptions, GlbScene, RADIUS_LIMIT_PIXELS,
-};
+pub use glb::{glb_bytes, write_glb, GlbOptions, RADIUS_LIMIT_PIXELS};
 pub use glb_chain::{
     layered_chain_bytes, layered_chain_document, layered_coverage_options, LayeredLevel,
 };

@@ -34,17 +34,8 @@ use crate::geometry::{behind_fast, second_is_behind, Projected, Projector};
 use crate::LayersError;
 
 /// Names of the eight stored orders, by [`Octant::index`]: the signs of the view direction (eye
-/// to scene) along x, y and z.
-pub const ORDER_NAMES: [&str; 8] = [
-    "order+x+y+z",
-    "order+x+y-z",
-    "order+x-y+z",
-    "order+x-y-z",
-    "order-x+y+z",
-    "order-x+y-z",
-    "order-x-y+z",
-    "order-x-y-z",
-];
+/// to scene) along x, y and z (the accessor names of a layered `.glb`).
+pub use voxlod_gltf::ORDER_NAMES;
 
 /// The most triangles in one cell that are sorted exactly (pair tests, O(k²)); a fuller cell is
 /// sorted by centroid depth. Marching cubes puts at most 5 triangles per layer in a cell, so

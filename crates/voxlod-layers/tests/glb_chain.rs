@@ -5,8 +5,8 @@
 use glam::DVec3;
 use serde_json::Value;
 use voxlod_layers::{
-    layer_solid, layered_chain_bytes, parse_glb, GlbOptions, Layered, LayeredLevel, LayersOptions,
-    Octant, ORDER_NAMES, RADIUS_LIMIT_PIXELS,
+    layer_solid, layered_chain_bytes, GlbOptions, Layered, LayeredLevel, LayersOptions, Octant,
+    ORDER_NAMES, RADIUS_LIMIT_PIXELS,
 };
 use voxlod_sampling::{CsgSolid, Shape};
 
@@ -103,7 +103,7 @@ fn a_layered_chain_has_a_mesh_per_level_and_a_primitive_per_layer() {
 fn a_layered_chain_reads_back_as_its_finest_level() {
     let levels = ball_levels();
     let bytes = layered_chain_bytes(&chain(&levels), &GlbOptions::default()).unwrap();
-    let scene = parse_glb(&bytes).unwrap();
+    let scene = voxlod_gltf::parse_glb(&bytes).unwrap();
     let finest = &levels[0];
     let cat = finest.mesh.concatenated();
     assert!(scene.is_layered());

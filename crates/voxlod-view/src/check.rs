@@ -10,7 +10,7 @@
 use gltf::json;
 use gltf::json::validation::Checked;
 
-use voxlod_layers::ORDER_NAMES;
+use voxlod_gltf::ORDER_NAMES;
 
 /// Required extensions the page handles (quantized attributes are plain WebGL attributes).
 const READ_EXTENSIONS: &[&str] = &["KHR_mesh_quantization"];

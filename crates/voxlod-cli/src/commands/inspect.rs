@@ -6,9 +6,8 @@ use std::time::Instant;
 use clap::Args;
 use serde::Serialize;
 use voxlod::core::TriangleMesh;
-use voxlod::layers::glb::GlbPart;
-use voxlod::layers::read_glb;
 use voxlod::metrics::{mesh_report, welded_mesh_report, MeshReport};
+use voxlod_gltf::{read_glb, GlbPart};
 
 use super::common::say;
 use super::common::{count, is_glb, print_json, read_mesh_input, CliError};

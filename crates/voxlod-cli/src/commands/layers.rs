@@ -454,7 +454,7 @@ mod tests {
             "--json",
         ])
         .unwrap();
-        let scene = voxlod::layers::read_glb(&dir.path().join("bolt.glb")).unwrap();
+        let scene = voxlod_gltf::read_glb(&dir.path().join("bolt.glb")).unwrap();
         assert!(scene.is_layered());
         // ε = 0.05: three hyper-cone layers (0.0559 > 0.05 ≥ 0.0361).
         assert_eq!(scene.parts.len(), 3);

@@ -7,8 +7,9 @@ use clap::Args;
 use glam::DVec3;
 use serde::Serialize;
 use voxlod::core::{Bounds, PolyMesh, TriangleMesh};
-use voxlod::layers::{read_glb, recover_cells, scene_order, CellTriangles, GlbScene, Octant, View};
+use voxlod::layers::{recover_cells, scene_order, CellTriangles, Octant, View};
 use voxlod::render::{render, Camera, LineItem, MeshItem, PointItem, RenderOptions, Scene};
+use voxlod_gltf::{read_glb, GlbScene};
 
 use super::camera::{view_direction, CameraArgs, SURFACE_COLOR};
 use super::common::say;

@@ -4,8 +4,8 @@ use std::path::Path;
 
 use serde_json::json;
 use voxlod_core::TriangleMesh;
+use voxlod_gltf::ORDER_NAMES;
 use voxlod_gltf::{write_chain_glb, ChainLevel, ChainOptions};
-use voxlod_layers::ORDER_NAMES;
 
 /// Cell sizes of the three icosphere levels of [`write_sphere_chain`].
 pub const SPHERE_CELLS: [f64; 3] = [0.005, 0.01, 0.02];
