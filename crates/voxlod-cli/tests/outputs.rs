@@ -195,27 +195,23 @@ fn an_output_that_is_an_input_is_refused_naming_both() {
 }
 
 // ----------------------------------------------------------------------------------------
-// Interrupted and killed runs leave nothing.
+// Interrupted and killed runs leave nothing. (The clean-up of named temporaries, where a file
+// system has no unnamed ones, is tested in voxlod-io: tests/named_temporaries.rs.)
 
 /// A `lod` run that stages level 0 at once, then works for seconds on level 1.
-fn spawn_slow_lod(input: &Path, out: &Path, named_temporaries: bool) -> Child {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_voxlod"));
-    command
+fn spawn_slow_lod(input: &Path, out: &Path) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_voxlod"))
         .args(["lod", arg(input), "-o", arg(out), "--resolutions", "16,300"])
         .stdout(Stdio::null())
-        .stderr(Stdio::piped());
-    if named_temporaries {
-        command.env("VOXLOD_NAMED_TEMPORARIES", "1");
-    } else {
-        command.env_remove("VOXLOD_NAMED_TEMPORARIES");
-    }
-    command.spawn().expect("the voxlod binary runs")
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the voxlod binary runs")
 }
 
 /// How a run was seen writing.
 #[derive(Debug, PartialEq)]
 enum Writing {
-    /// A new name in the folder: a named temporary (or, before the fix, a finished file).
+    /// A new name in the folder: a named temporary (or a file put in place too early).
     Named,
     /// An open file in the folder that has no name there: an unnamed temporary (O_TMPFILE).
     Unnamed,
@@ -253,11 +249,7 @@ fn wait_until_writing(child: &mut Child, dir: &Path) -> Writing {
 /// Runs a slow `lod` into `out` (made beforehand, holding `notes.txt`, when `existing`), sends
 /// `signal` once it writes, and checks that `out` is as it was. Returns how it ended, or `None`
 /// for `kill -9` where the file system has no unnamed temporaries (nothing can clean up then).
-fn interrupt(
-    signal: &str,
-    named_temporaries: bool,
-    existing: bool,
-) -> Option<(ExitStatus, String)> {
+fn interrupt(signal: &str, existing: bool) -> Option<(ExitStatus, String)> {
     let dir = tempfile::tempdir().unwrap();
     let input = write_mesh(dir.path(), "block.ply", &holed_block());
     let out = dir.path().join("out");
@@ -265,7 +257,7 @@ fn interrupt(
         std::fs::create_dir(&out).unwrap();
         std::fs::write(out.join("notes.txt"), "mine").unwrap();
     }
-    let mut child = spawn_slow_lod(&input, &out, named_temporaries);
+    let mut child = spawn_slow_lod(&input, &out);
     let writing = wait_until_writing(&mut child, &out);
     if signal == "KILL" {
         child.kill().unwrap();
@@ -279,7 +271,6 @@ fn interrupt(
     let o = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&o.stderr).into_owned();
     if signal == "KILL"
-        && !named_temporaries
         && writing == Writing::Named
         && names(&out).iter().any(|n| n.contains(".tmp-"))
     {
@@ -301,7 +292,7 @@ fn interrupt(
 #[test]
 fn sigint_leaves_nothing_and_exits_130() {
     for existing in [true, false] {
-        let (status, err) = interrupt("INT", false, existing).unwrap();
+        let (status, err) = interrupt("INT", existing).unwrap();
         assert_eq!(status.code(), Some(130), "{err}");
         assert!(err.contains("stopped") && err.contains("SIGINT"), "{err}");
     }
@@ -309,23 +300,14 @@ fn sigint_leaves_nothing_and_exits_130() {
 
 #[test]
 fn sigterm_leaves_nothing_and_exits_143() {
-    let (status, err) = interrupt("TERM", false, true).unwrap();
+    let (status, err) = interrupt("TERM", true).unwrap();
     assert_eq!(status.code(), Some(143), "{err}");
-}
-
-/// Named temporaries (file systems without O_TMPFILE) are removed by the signal clean-up.
-#[test]
-fn named_temporaries_are_removed_on_sigint_and_sigterm() {
-    for (signal, code) in [("INT", 130), ("TERM", 143)] {
-        let (status, err) = interrupt(signal, true, true).unwrap();
-        assert_eq!(status.code(), Some(code), "{err}");
-    }
 }
 
 /// Nothing can clean up after `kill -9`: the file being written has no name until it is done.
 #[test]
 fn kill_9_leaves_nothing_visible() {
-    if let Some((status, _)) = interrupt("KILL", false, true) {
+    if let Some((status, _)) = interrupt("KILL", true) {
         assert_eq!(status.signal(), Some(9));
     }
 }

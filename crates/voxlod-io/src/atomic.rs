@@ -10,9 +10,8 @@
 //!   commit it is linked in under the target's name (`linkat` through `/proc/self/fd`); when the
 //!   target exists, under a temporary name that is then renamed over the target, so that a reader
 //!   sees the old file or the new one, never a mix.
-//! - Elsewhere, on file systems without `O_TMPFILE`, or with the environment variable
-//!   `VOXLOD_NAMED_TEMPORARIES` set (for tests), it is a named sibling `.NAME.tmp-PID-N`, renamed
-//!   over the target at commit. These names are kept in a process-wide registry:
+//! - Elsewhere, on file systems without `O_TMPFILE`, or once [`use_named_temporaries`] is
+//!   called, it is a named sibling `.NAME.tmp-PID-N`, renamed over the target at commit. These names are kept in a process-wide registry:
 //!   [`remove_temporaries_on_signals`] removes them on SIGINT, SIGTERM and SIGHUP. Only a
 //!   `kill -9` can leave one behind.
 //!
@@ -26,7 +25,7 @@
 use std::fs::{File, OpenOptions};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use crate::IoError;
@@ -330,10 +329,20 @@ impl Drop for TempFile {
     }
 }
 
-/// Whether temporaries must be named (`VOXLOD_NAMED_TEMPORARIES` is set).
+static NAMED_TEMPORARIES: AtomicBool = AtomicBool::new(false);
+
+/// Makes every temporary file this process creates from now on a named one, as on systems
+/// without unnamed temporary files (see the module documentation): a write in progress shows in
+/// its folder as `.NAME.tmp-PID-N`, a failed write and [`remove_temporaries_on_signals`]
+/// remove it, and only a `kill -9` leaves it behind. Unnamed temporaries, where the system has
+/// them, are the default; this cannot be undone within the process.
+pub fn use_named_temporaries() {
+    NAMED_TEMPORARIES.store(true, Ordering::Relaxed);
+}
+
+/// Whether [`use_named_temporaries`] was called.
 fn named_temporaries_asked() -> bool {
-    static ASKED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *ASKED.get_or_init(|| std::env::var_os("VOXLOD_NAMED_TEMPORARIES").is_some())
+    NAMED_TEMPORARIES.load(Ordering::Relaxed)
 }
 
 /// Unnamed temporary files: Linux's `O_TMPFILE`, linked in through `/proc/self/fd`.
