@@ -9,7 +9,9 @@
 use std::path::Path;
 
 use voxlod_core::{TriangleMesh, Volume};
+use voxlod_gltf::{GlbScene, GltfError};
 use voxlod_io::RawLayout;
+use voxlod_layers::LayersError;
 
 use crate::error::Error;
 
@@ -98,4 +100,29 @@ pub fn read_volume(
 /// ```
 pub fn write_volume(path: impl AsRef<Path>, volume: &Volume) -> Result<(), Error> {
     Ok(voxlod_io::write_volume(path.as_ref(), volume)?)
+}
+
+/// Reads a binary glTF file (`.glb`): every mesh's triangles in one mesh, each mesh's range
+/// and material as a part, and, for the layered shells of [`crate::layers()`], the volume grid
+/// and the eight back-to-front orders. Errors name the file.
+pub fn read_glb(path: impl AsRef<Path>) -> Result<GlbScene, Error> {
+    voxlod_gltf::read_glb(path.as_ref()).map_err(gltf_error)
+}
+
+/// Whether `path` names a binary glTF file (extension `.glb`, any case).
+pub(crate) fn is_glb(path: impl AsRef<Path>) -> bool {
+    path.as_ref()
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb"))
+}
+
+/// A glTF reader's or encoder's failure as the facade's error: the memory budget and file
+/// errors as themselves, the rest as an invalid glTF file (class bad input).
+pub(crate) fn gltf_error(e: GltfError) -> Error {
+    match e {
+        GltfError::Core(e) => Error::Core(e),
+        GltfError::Io(e) => Error::Io(e),
+        GltfError::Invalid(problem) => Error::Layers(LayersError::Gltf(problem)),
+        other => Error::Layers(LayersError::Gltf(other.to_string())),
+    }
 }

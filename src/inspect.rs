@@ -5,12 +5,16 @@
 //! for each mesh of a glTF scene (the layers of a layered file). Cost: O(V + T) after an
 //! O(V log V) weld.
 
+use std::path::Path;
+
 use voxlod_core::TriangleMesh;
 use voxlod_gltf::{GlbPart, GlbScene};
+use voxlod_io::{FileKind, IoError, IoErrorKind};
 use voxlod_layers::LayersError;
 use voxlod_metrics::{mesh_report, welded_mesh_report, MeshReport};
 
 use crate::error::Error;
+use crate::files::{is_glb, read_glb};
 
 /// Options of [`inspect`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -88,7 +92,11 @@ pub struct SceneInspection {
 /// # }
 /// ```
 pub fn inspect(mesh: &TriangleMesh, options: &InspectOptions) -> Result<Inspection, Error> {
-    let report = measure(mesh, options)?;
+    Ok(with_notes(measure(mesh, options)?))
+}
+
+/// `report` with its notes, and one more for a mesh without area.
+fn with_notes(report: MeshReport) -> Inspection {
     let mut notes = report.notes();
     if report.area <= 0.0 {
         notes.push(
@@ -97,7 +105,7 @@ pub fn inspect(mesh: &TriangleMesh, options: &InspectOptions) -> Result<Inspecti
                 .into(),
         );
     }
-    Ok(Inspection { report, notes })
+    Inspection { report, notes }
 }
 
 fn measure(mesh: &TriangleMesh, options: &InspectOptions) -> Result<MeshReport, Error> {
@@ -142,6 +150,109 @@ pub fn inspect_scene(scene: &GlbScene, options: &InspectOptions) -> Result<Scene
         whole,
         parts,
         layered,
+    })
+}
+
+/// A mesh file's inspection: what the file holds as read, and the figures.
+#[derive(Clone, Debug)]
+pub struct FileInspection {
+    /// The format in words (`OBJ`, `binary PLY`, `glTF binary, layered`, …).
+    pub format: String,
+    /// Vertices as the file holds them (an STL's corners, before the reader welds them).
+    pub file_vertices: usize,
+    /// Triangles as read.
+    pub file_triangles: usize,
+    /// Polygons the reader split into triangles (by ear clipping).
+    pub polygons_triangulated: usize,
+    /// All meshes of the file together, with the notes (first, how the file was counted).
+    pub whole: Inspection,
+    /// Each mesh of a glTF file on its own, in file order; empty for other formats.
+    pub parts: Vec<PartInspection>,
+}
+
+/// The report of the mesh file at `path`, by its extension: a `.glb` mesh by mesh and as a
+/// whole ([`inspect_scene`]), any other mesh format as one mesh ([`inspect`]), an STL's
+/// welding counted from the soup's corners. A volume is refused. Errors name the file.
+///
+/// ```
+/// # fn main() -> Result<(), voxlod::Error> {
+/// let dir = std::env::temp_dir().join(format!("voxlod-doc-inspect-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir).unwrap();
+/// let path = dir.join("square.obj");
+/// std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();
+/// let i = voxlod::inspect_file(&path, &voxlod::InspectOptions::default())?;
+/// assert_eq!((i.file_vertices, i.file_triangles, i.polygons_triangulated), (4, 2, 1));
+/// assert_eq!(i.whole.report.topology.boundary_loops, 1);
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// # Ok(())
+/// # }
+/// ```
+pub fn inspect_file(
+    path: impl AsRef<Path>,
+    options: &InspectOptions,
+) -> Result<FileInspection, Error> {
+    let path = path.as_ref();
+    let inspection = if is_glb(path) {
+        inspect_glb_file(path, options)
+    } else {
+        inspect_mesh_file(path, options)
+    };
+    inspection.map_err(|e| e.in_file(path))
+}
+
+/// [`inspect_file`] of a mesh format the readers know.
+fn inspect_mesh_file(path: &Path, options: &InspectOptions) -> Result<FileInspection, Error> {
+    if let FileKind::Volume(_) = voxlod_io::file_kind(path)? {
+        let problem = "this is a volume; inspecting takes a mesh";
+        return Err(IoError::new(path, IoErrorKind::Unsupported, problem).into());
+    }
+    let loaded = voxlod_io::read_mesh(path)?;
+    let mut report = measure(&loaded.mesh, options)?;
+    // The STL reader welds the soup: count from its corners.
+    if let (Some(read_weld), Some(weld)) = (loaded.welded, report.welding.as_mut()) {
+        weld.vertices_before = read_weld.vertices_before;
+    }
+    let mut whole = with_notes(report);
+    if !options.welded {
+        let note = match loaded.welded {
+            Some(w) => format!(
+                "counted as read: the STL reader welds a soup's {} corners into {} vertices",
+                w.vertices_before, w.vertices_after
+            ),
+            None => {
+                "counted as the file indexes its vertices (coincident vertices not welded)".into()
+            }
+        };
+        whole.notes.insert(0, note);
+    }
+    Ok(FileInspection {
+        format: loaded.format.to_string(),
+        file_vertices: loaded
+            .welded
+            .map_or(loaded.mesh.positions.len(), |w| w.vertices_before),
+        file_triangles: loaded.mesh.triangles.len(),
+        polygons_triangulated: loaded.polygons_triangulated,
+        whole,
+        parts: Vec::new(),
+    })
+}
+
+/// [`inspect_file`] of a binary glTF file.
+fn inspect_glb_file(path: &Path, options: &InspectOptions) -> Result<FileInspection, Error> {
+    let scene = read_glb(path)?;
+    let inspection = inspect_scene(&scene, options)?;
+    let format = if inspection.layered {
+        "glTF binary, layered"
+    } else {
+        "glTF binary"
+    };
+    Ok(FileInspection {
+        format: format.into(),
+        file_vertices: scene.mesh.positions.len(),
+        file_triangles: scene.mesh.triangles.len(),
+        polygons_triangulated: 0,
+        whole: inspection.whole,
+        parts: inspection.parts,
     })
 }
 

@@ -17,7 +17,7 @@
 //!
 //! | job | call | options |
 //! |---|---|---|
-//! | files | [`read_mesh`], [`write_mesh`], [`read_volume`], [`write_volume`] | |
+//! | files | [`read_mesh`], [`write_mesh`], [`read_volume`], [`write_volume`], [`read_glb`] | |
 //! | levels of detail (§2, §4) | [`lod()`], [`lod_with`]; one level at a time: [`lod::plan`], [`lod::build_level`] | [`LodOptions`] |
 //! | levels by triangle budget or error (§5) | [`lod()`] with [`LodOptions::budgets`] | [`budget`] |
 //! | one filtered volume | [`voxelize`] | [`VoxelizeOptions`] |
@@ -25,7 +25,7 @@
 //! | layered translucent shells (§3) | [`layers()`], [`layers_with`]; a chain of levels: [`layers_levels`] | [`LayersOptions`] |
 //! | vertex clustering baselines | [`cluster`] | [`ClusteringOptions`] |
 //! | simplification envelopes | [`envelope()`], [`envelope_with`] | [`EnvelopeSeriesOptions`] |
-//! | topology and health | [`inspect`], [`inspect_scene`] | [`InspectOptions`] |
+//! | topology and health | [`inspect`], [`inspect_scene`], [`inspect_file`] | [`InspectOptions`] |
 //! | distance between surfaces | [`compare`] | [`CompareOptions`] |
 //! | which level for a pixel | [`select()`] | [`SelectOptions`] |
 //!
@@ -78,10 +78,11 @@ pub use compare::{compare, CompareOptions, Comparison};
 pub use contour::{contour, Contour, ContourOptions};
 pub use envelope_series::{envelope, envelope_with, EnvelopeSeries, EnvelopeSeriesOptions};
 pub use error::{Error, ErrorClass, InvalidOption};
-pub use files::{read_mesh, read_volume, write_mesh, write_volume};
+pub use files::{read_glb, read_mesh, read_volume, write_mesh, write_volume};
 pub use finest::Finest;
 pub use inspect::{
-    inspect, inspect_scene, InspectOptions, Inspection, PartInspection, SceneInspection,
+    inspect, inspect_file, inspect_scene, FileInspection, InspectOptions, Inspection,
+    PartInspection, SceneInspection,
 };
 pub use levels::{lod, lod_with};
 pub use lod::LodLevel;

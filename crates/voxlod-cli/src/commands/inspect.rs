@@ -5,12 +5,11 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod::core::TriangleMesh;
-use voxlod::metrics::{mesh_report, welded_mesh_report, MeshReport};
-use voxlod_gltf::{read_glb, GlbPart};
+use voxlod::metrics::MeshReport;
+use voxlod::InspectOptions;
 
 use super::common::say;
-use super::common::{count, is_glb, print_json, read_mesh_input, CliError};
+use super::common::{count, print_json, CliError};
 
 /// Report a mesh's topology and health: counts, components, boundary loops, manifoldness,
 /// orientation, duplicate and zero-area triangles, Euler characteristic, genus, area, volume.
@@ -76,156 +75,41 @@ struct PartReport {
     report: MeshReport,
 }
 
-/// The report of `mesh`, welded unless `as_indexed`; errors name the file.
-fn measure(mesh: &TriangleMesh, as_indexed: bool, name: &str) -> Result<MeshReport, CliError> {
-    let measured = if as_indexed {
-        mesh_report(mesh)
-    } else {
-        welded_mesh_report(mesh)
-    };
-    measured.map_err(|e| CliError::msg(format!("{name}: {e}")))
-}
-
 pub fn run(args: InspectArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    let output = if is_glb(&args.mesh) {
-        inspect_glb(&args)?
+    let options = if args.as_indexed {
+        InspectOptions::as_indexed()
     } else {
-        inspect_mesh(&args)?
+        InspectOptions::welded()
     };
+    let file = voxlod::inspect_file(&args.mesh, &options)?;
     let output = InspectReport {
+        input: args.mesh.display().to_string(),
+        format: file.format,
+        file_vertices: file.file_vertices,
+        file_triangles: file.file_triangles,
+        polygons_triangulated: file.polygons_triangulated,
+        welded: options.welded,
+        report: file.whole.report,
+        parts: file
+            .parts
+            .into_iter()
+            .map(|p| PartReport {
+                index: p.index,
+                name: p.name,
+                alpha: p.alpha,
+                report: p.report,
+            })
+            .collect(),
+        notes: file.whole.notes,
         seconds: start.elapsed().as_secs_f64(),
-        ..output
+        warnings: Vec::new(),
     };
     if args.json {
         return print_json(&output);
     }
     print_text(&output);
     Ok(())
-}
-
-/// A mesh file of any format the readers know.
-fn inspect_mesh(args: &InspectArgs) -> Result<InspectReport, CliError> {
-    let loaded = read_mesh_input(&args.mesh)?;
-    let name = args.mesh.display().to_string();
-    let mut report = measure(&loaded.mesh, args.as_indexed, &name)?;
-    // STL files are welded by the reader: count from the soup's corners.
-    if let (Some(read_weld), Some(weld)) = (loaded.welded, report.welding.as_mut()) {
-        weld.vertices_before = read_weld.vertices_before;
-    }
-    let mut notes = report.notes();
-    if args.as_indexed {
-        notes.insert(
-            0,
-            match loaded.welded {
-                Some(w) => format!(
-                    "counted as read: the STL reader welds a soup's {} corners into {} vertices",
-                    w.vertices_before, w.vertices_after
-                ),
-                None => "counted as the file indexes its vertices (coincident vertices not welded)"
-                    .into(),
-            },
-        );
-    }
-    no_area_note(&report, &mut notes);
-    let file_vertices = loaded
-        .welded
-        .map_or(loaded.mesh.positions.len(), |w| w.vertices_before);
-    Ok(InspectReport {
-        input: name,
-        format: loaded.format.to_string(),
-        file_vertices,
-        file_triangles: loaded.mesh.triangles.len(),
-        polygons_triangulated: loaded.polygons_triangulated,
-        welded: !args.as_indexed,
-        report,
-        parts: Vec::new(),
-        notes,
-        seconds: 0.0,
-        warnings: Vec::new(),
-    })
-}
-
-/// A binary glTF file, as `voxlod render` reads it: every mesh on its own (the shells of a
-/// layered file), and all together.
-fn inspect_glb(args: &InspectArgs) -> Result<InspectReport, CliError> {
-    let name = args.mesh.display().to_string();
-    let scene = read_glb(&args.mesh).map_err(|e| CliError::msg(e.to_string()))?;
-    let mut parts = Vec::new();
-    for (index, p) in scene.parts.iter().enumerate() {
-        let what = format!("{name}: mesh {index} ('{}')", p.name);
-        let mesh = part_mesh(&scene.mesh, p).ok_or_else(|| {
-            CliError::msg(format!("{what}: a triangle uses a vertex of another mesh"))
-        })?;
-        parts.push(PartReport {
-            index,
-            name: p.name.clone(),
-            alpha: p.color[3],
-            report: measure(&mesh, args.as_indexed, &what)?,
-        });
-    }
-    let report = measure(&scene.mesh, args.as_indexed, &name)?;
-    let mut notes = report.notes();
-    let layered = scene.is_layered();
-    if layered {
-        notes.insert(
-            0,
-            format!(
-                "a layered file of {}: each layer is reported on its own, innermost first, and \
-                 the counts above are of all layers together",
-                count(parts.len(), "layer", "layers")
-            ),
-        );
-    }
-    no_area_note(&report, &mut notes);
-    Ok(InspectReport {
-        input: name,
-        format: if layered {
-            "glTF binary, layered".into()
-        } else {
-            "glTF binary".into()
-        },
-        file_vertices: scene.mesh.positions.len(),
-        file_triangles: scene.mesh.triangles.len(),
-        polygons_triangulated: 0,
-        welded: !args.as_indexed,
-        report,
-        parts,
-        notes,
-        seconds: 0.0,
-        warnings: Vec::new(),
-    })
-}
-
-/// One part of a glTF scene as a mesh of its own vertices, or `None` when a triangle of the
-/// part names a vertex outside it.
-fn part_mesh(all: &TriangleMesh, part: &GlbPart) -> Option<TriangleMesh> {
-    let (v0, nv) = (part.first_vertex as usize, part.vertex_count as usize);
-    let (t0, nt) = (part.first_triangle as usize, part.triangle_count as usize);
-    let positions = all.positions.get(v0..v0 + nv)?.to_vec();
-    let triangles = all
-        .triangles
-        .get(t0..t0 + nt)?
-        .iter()
-        .map(|t| {
-            let local = t.map(|v| (v as usize).checked_sub(v0).filter(|&l| l < nv));
-            match local {
-                [Some(a), Some(b), Some(c)] => Some([a as u32, b as u32, c as u32]),
-                _ => None,
-            }
-        })
-        .collect::<Option<Vec<_>>>()?;
-    Some(TriangleMesh::new(positions, triangles))
-}
-
-fn no_area_note(report: &MeshReport, notes: &mut Vec<String>) {
-    if report.area <= 0.0 {
-        notes.push(
-            "the mesh has no area: every triangle is degenerate, so it cannot be compared, \
-             sampled or simplified"
-                .into(),
-        );
-    }
 }
 
 fn print_text(output: &InspectReport) {
