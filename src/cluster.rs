@@ -5,11 +5,14 @@
 //! levels keep. Cost: O(V + T) per level after an O(V log V) sort.
 
 use voxlod_clustering::{
-    low_tan, rossignac_borrel, ClusterOptions, FloatingCellOptions, Level, Method, Synthesis,
+    low_tan, rossignac_borrel, thick_edges, ClusterOptions, FloatingCellOptions, Level, Method,
+    Synthesis,
 };
 use voxlod_core::TriangleMesh;
+use voxlod_gltf::{chain_glb_bytes, ChainLevel, ChainOptions};
 
 use crate::error::Error;
+use crate::files::gltf_error;
 
 /// Options of [`cluster`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -96,4 +99,48 @@ pub fn cluster(mesh: &TriangleMesh, options: &ClusteringOptions) -> Result<Vec<L
             },
         )?,
     })
+}
+
+/// The levels of [`cluster`] in one binary glTF file: a mesh per level with a `TRIANGLES`, a
+/// `LINES` (the dangling edges, their thick-edge widths as a `_WIDTH` attribute) and a `POINTS`
+/// primitive, chained with `MSFT_lod` finest first and switched by the pixel-size rule of
+/// [`crate::select()`] on the levels' cell sizes (`MSFT_screencoverage`). Cost: linear in the
+/// levels' size.
+///
+/// ```
+/// # fn main() -> Result<(), voxlod::Error> {
+/// use voxlod::core::glam::Vec3;
+/// let p = vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y];
+/// let square = voxlod::core::TriangleMesh::new(p, vec![[0, 1, 2], [0, 2, 3]]);
+/// let levels = voxlod::cluster(&square, &voxlod::ClusteringOptions::low_tan(4).with_levels(2))?;
+/// let bytes = voxlod::cluster_glb(&levels)?;
+/// assert_eq!(&bytes[..4], b"glTF");
+/// # Ok(())
+/// # }
+/// ```
+pub fn cluster_glb(levels: &[Level]) -> Result<Vec<u8>, Error> {
+    let widths: Vec<&[f32]> = levels
+        .iter()
+        .map(|l| {
+            l.mesh
+                .line_attributes
+                .iter()
+                .find(|a| a.name == thick_edges::WIDTH)
+                .map_or(&[][..], |a| &a.values[..])
+        })
+        .collect();
+    let chain: Vec<ChainLevel> = levels
+        .iter()
+        .zip(&widths)
+        .map(|(l, w)| {
+            ChainLevel::new(l.report.level, &l.mesh.mesh, l.report.cell_size)
+                .with_lines(&l.mesh.lines, w)
+                .with_points(&l.mesh.points)
+        })
+        .collect();
+    let options = ChainOptions {
+        name: "voxlod clustering".into(),
+        ..Default::default()
+    };
+    chain_glb_bytes(&chain, &options).map_err(gltf_error)
 }

@@ -23,7 +23,7 @@
 //! | one filtered volume | [`voxelize`] | [`VoxelizeOptions`] |
 //! | marching cubes on any volume | [`contour`] | [`ContourOptions`] |
 //! | layered translucent shells (§3) | [`layers()`], [`layers_with`]; a chain of levels: [`layers_levels`] | [`LayersOptions`] |
-//! | vertex clustering baselines | [`cluster`] | [`ClusteringOptions`] |
+//! | vertex clustering baselines | [`cluster`]; one `.glb` chain: [`cluster_glb`] | [`ClusteringOptions`] |
 //! | simplification envelopes | [`envelope()`], [`envelope_with`] | [`EnvelopeSeriesOptions`] |
 //! | topology and health | [`inspect`], [`inspect_scene`], [`inspect_file`] | [`InspectOptions`] |
 //! | distance between surfaces | [`compare`] | [`CompareOptions`] |
@@ -73,7 +73,7 @@ mod source;
 mod then_envelope;
 mod voxelize;
 
-pub use cluster::{cluster, ClusteringOptions};
+pub use cluster::{cluster, cluster_glb, ClusteringOptions};
 pub use compare::{compare, CompareOptions, Comparison};
 pub use contour::{contour, Contour, ContourOptions};
 pub use envelope_series::{envelope, envelope_with, EnvelopeSeries, EnvelopeSeriesOptions};

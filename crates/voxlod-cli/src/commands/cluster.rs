@@ -1,18 +1,17 @@
 //! `voxlod cluster`: the vertex-clustering baselines, Rossignac–Borrel and Low–Tan.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod::clustering::{
-    low_tan, rossignac_borrel, thick_edges, ClusterOptions, FloatingCellOptions, Level,
-    LevelReport, Method, Synthesis,
-};
-use voxlod_gltf::{chain_glb_bytes, ChainLevel, ChainOptions};
+use voxlod::clustering::{LevelReport, Method, Synthesis};
+use voxlod::ClusteringOptions;
 
 use super::common::say;
-use super::common::{level_path, print_json, progress, read_mesh_input, thousands, CliError};
+use super::common::{
+    in_file, level_path, print_json, progress, read_mesh_input, thousands, CliError,
+};
 use super::values::number;
 
 /// Simplify a mesh by vertex clustering: the baselines voxlod is compared with.
@@ -112,12 +111,16 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
     }
     let loaded = read_mesh_input(&args.input)?;
     let mesh = &loaded.mesh;
-    let in_file = |e: voxlod::clustering::ClusteringError| {
-        CliError::msg(format!("{}: {e}", args.input.display()))
+    let options = ClusteringOptions {
+        method: args.method,
+        cells: args.cells,
+        levels: args.levels,
+        synthesis: args.synthesis,
+        thick_edges: args.thick_edges,
     };
     let bar = progress(1, "clustering", args.json);
     let start = Instant::now();
-    let levels = cluster_levels(&args, mesh).map_err(in_file)?;
+    let levels = voxlod::cluster(mesh, &options).map_err(|e| in_file(&args.input, e))?;
     let total = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     let mut report = ClusterReport {
@@ -129,7 +132,8 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
     };
     if glb {
         let start = Instant::now();
-        out.bytes(&args.output, &cluster_glb(&args.output, &levels)?)?;
+        let bytes = voxlod::cluster_glb(&levels).map_err(|e| in_file(&args.output, e))?;
+        out.bytes(&args.output, &bytes)?;
         let seconds = start.elapsed().as_secs_f64();
         for level in &levels {
             report.levels.push(ClusterLevel {
@@ -157,34 +161,6 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The chosen method's levels, with the flags' options.
-fn cluster_levels(
-    args: &ClusterArgs,
-    mesh: &voxlod::core::TriangleMesh,
-) -> Result<Vec<Level>, voxlod::clustering::ClusteringError> {
-    match args.method {
-        Method::RossignacBorrel => rossignac_borrel(
-            mesh,
-            &ClusterOptions {
-                cells: args.cells,
-                levels: args.levels,
-                synthesis: args.synthesis,
-                thick_edges: args.thick_edges.unwrap_or(false),
-                ..Default::default()
-            },
-        ),
-        Method::LowTan => low_tan(
-            mesh,
-            &FloatingCellOptions {
-                cells: args.cells,
-                levels: args.levels,
-                thick_edges: args.thick_edges.unwrap_or(true),
-                ..Default::default()
-            },
-        ),
-    }
-}
-
 /// One line per level and a summary, without --json.
 fn print_levels(report: &ClusterReport, input_triangles: usize, total: f64) {
     for l in &report.levels {
@@ -205,34 +181,4 @@ fn print_levels(report: &ClusterReport, input_triangles: usize, total: f64) {
         thousands(input_triangles),
         report.levels.len()
     ));
-}
-
-/// Every level in one MSFT_lod chain (crate `voxlod-gltf`): triangles, the dangling edges with
-/// their widths, the isolated points; coverages from each level's cell size.
-fn cluster_glb(output: &Path, levels: &[Level]) -> Result<Vec<u8>, CliError> {
-    let widths: Vec<&[f32]> = levels
-        .iter()
-        .map(|l| {
-            l.mesh
-                .line_attributes
-                .iter()
-                .find(|a| a.name == thick_edges::WIDTH)
-                .map_or(&[][..], |a| &a.values[..])
-        })
-        .collect();
-    let chain: Vec<ChainLevel> = levels
-        .iter()
-        .zip(&widths)
-        .map(|(l, w)| {
-            ChainLevel::new(l.report.level, &l.mesh.mesh, l.report.cell_size)
-                .with_lines(&l.mesh.lines, w)
-                .with_points(&l.mesh.points)
-        })
-        .collect();
-    let options = ChainOptions {
-        name: "voxlod clustering".into(),
-        ..Default::default()
-    };
-    chain_glb_bytes(&chain, &options)
-        .map_err(|e| CliError::msg(format!("{}: {e}", output.display())))
 }
