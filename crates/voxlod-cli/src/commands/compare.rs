@@ -5,12 +5,12 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod::core::TriangleMesh;
-use voxlod::metrics::{mesh_distance, DistanceOptions, DistanceReport, MetricsError};
+use voxlod::metrics::{DistanceReport, MetricsError};
+use voxlod::CompareOptions;
 
 use super::common::say;
 use super::common::{print_json, read_mesh_input, thousands, CliError};
-use super::values::number;
+use super::values::{in_flags, number};
 
 /// Measure the two-sided distance between the surfaces of two meshes.
 ///
@@ -60,27 +60,24 @@ struct CompareReport {
 
 pub fn run(args: CompareArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    if args.samples == 0 {
-        return Err(CliError::usage("--samples must be at least 1"));
-    }
     let (a, b) = rayon::join(|| read_mesh_input(&args.a), || read_mesh_input(&args.b));
     let (a, b) = (a?.mesh, b?.mesh);
     let read_seconds = start.elapsed().as_secs_f64();
-    let mut options = DistanceOptions::with_samples(args.samples);
+    let mut options = CompareOptions::with_samples(args.samples);
     if let Some(seed) = args.seed {
-        options.seed = seed;
+        options.distance.seed = seed;
     }
-    let distance =
-        mesh_distance(&a, &b, &options).map_err(|e| naming_the_file(e, &args.a, &args.b))?;
+    let comparison =
+        voxlod::compare(&a, &b, &options).map_err(|e| naming_the_file(e, &args.a, &args.b))?;
     let report = CompareReport {
         a: args.a.display().to_string(),
         b: args.b.display().to_string(),
         a_triangles: a.triangles.len(),
         b_triangles: b.triangles.len(),
-        distance,
+        distance: comparison.distance,
         read_seconds,
         total_seconds: start.elapsed().as_secs_f64(),
-        warnings: frame_warnings(&a, &b),
+        warnings: comparison.warnings,
     };
     if args.json {
         return print_json(&report);
@@ -99,34 +96,14 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The metrics' "first mesh: …" errors, with the file's name instead.
-fn naming_the_file(error: MetricsError, a: &Path, b: &Path) -> CliError {
+/// The library's failure with the file's name in place of the metrics' "first mesh" or
+/// "second mesh", and `--samples` for its option.
+fn naming_the_file(error: voxlod::Error, a: &Path, b: &Path) -> CliError {
     match error {
-        MetricsError::InMesh { which, source } => {
+        voxlod::Error::Metrics(MetricsError::InMesh { which, source }) => {
             let path = if which == "first" { a } else { b };
-            CliError::msg(format!("{}: {source}", path.display()))
+            CliError::Library(voxlod::Error::Metrics(*source).in_file(path))
         }
-        other => CliError::msg(other.to_string()),
+        other => in_flags(other, &[("samples_per_side", "--samples")]),
     }
-}
-
-/// Signs that the two meshes are not in the same frame or units.
-fn frame_warnings(a: &TriangleMesh, b: &TriangleMesh) -> Vec<String> {
-    let (ba, bb) = (a.bounds(), b.bounds());
-    let mut warnings = Vec::new();
-    let disjoint = (0..3).any(|k| ba.max[k] < bb.min[k] || bb.max[k] < ba.min[k]);
-    if disjoint {
-        warnings.push(
-            "the two meshes' bounding boxes do not overlap: are they in the same frame?".into(),
-        );
-    }
-    let (da, db) = (ba.diagonal(), bb.diagonal());
-    if da > 0.0 && db > 0.0 && (da / db).max(db / da) > 10.0 {
-        warnings.push(format!(
-            "the two meshes differ in size by a factor of {:.0} (diagonals {da:.4e} and \
-             {db:.4e}): are they in the same units?",
-            (da / db).max(db / da)
-        ));
-    }
-    warnings
 }

@@ -107,9 +107,59 @@ pub fn image_size(text: &str) -> Result<ImageSize, String> {
     })
 }
 
+/// A library failure in the command line's words, keeping the exit status of its class: an
+/// option of a facade call out of range becomes `--FLAG VALUE: problem`, and an option named in
+/// backticks in any other usage or input message becomes `--FLAG`. `flags` pairs an option's
+/// field name with its flag where they differ (`("radius_voxels", "--radius")`); any other
+/// option is its field name with `--` in front and hyphens for underscores. Other failures
+/// stay as the library words them.
+pub fn in_flags(e: voxlod::Error, flags: &[(&str, &str)]) -> super::CliError {
+    use super::CliError;
+    let flag = |option: &str| match flags.iter().find(|(o, _)| *o == option) {
+        Some((_, flag)) => flag.to_string(),
+        None => format!("--{}", option.replace('_', "-")),
+    };
+    if let voxlod::Error::InvalidOption(o) = e.root() {
+        return CliError::usage(format!("{} {}: {}", flag(o.option), o.value, o.problem));
+    }
+    let text = e.to_string();
+    let class = e.class();
+    if !text.contains('`') {
+        return CliError::Library(e);
+    }
+    let mut words = String::new();
+    for (i, piece) in text.split('`').enumerate() {
+        let option = i % 2 == 1 && piece.chars().all(|c| c.is_ascii_lowercase() || c == '_');
+        match (i % 2 == 1, option) {
+            (true, true) => words.push_str(&flag(piece)),
+            (true, false) => words.extend(['`'].into_iter().chain(piece.chars()).chain(['`'])),
+            (false, _) => words.push_str(piece),
+        }
+    }
+    match class {
+        voxlod::ErrorClass::Usage => CliError::usage(words),
+        voxlod::ErrorClass::BadInput => CliError::msg(words),
+        _ => CliError::Library(e),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn library_options_are_named_as_flags() {
+        let e = voxlod::InvalidOption::new("radius_voxels", 0, "must be positive");
+        let e = voxlod::Error::from(e).context("bunny.obj");
+        let text = in_flags(e, &[("radius_voxels", "--radius")]).to_string();
+        assert_eq!(text, "--radius 0: must be positive");
+        let e = in_flags(voxlod::Error::NeedsSolid, &[]);
+        assert!(
+            e.to_string().ends_with("a volume with a --threshold"),
+            "{e}"
+        );
+        assert_eq!(e.exit_code(), 2);
+    }
 
     #[test]
     fn negative_and_list_values_parse_as_written() {
