@@ -76,6 +76,18 @@ pub struct EnvelopeSeries {
     pub warnings: Vec<String>,
 }
 
+/// Refuses a sharp-edge angle outside 0 to 180 degrees. Cheap; call it to refuse bad options
+/// before reading any input ([`envelope`] calls it too).
+pub fn check_envelope_options(options: &EnvelopeSeriesOptions) -> Result<(), Error> {
+    if let Some(deg) = options.options.keep_sharp {
+        if !(0.0..=180.0).contains(&deg) {
+            let problem = "a dihedral angle is between 0 and 180 degrees";
+            return Err(InvalidOption::new("keep_sharp", deg, problem).into());
+        }
+    }
+    Ok(())
+}
+
 /// A series of envelope levels of `mesh`.
 ///
 /// ```
@@ -108,12 +120,7 @@ pub fn envelope_with(
     options: &EnvelopeSeriesOptions,
     progress: &ProgressFn,
 ) -> Result<EnvelopeSeries, Error> {
-    if let Some(deg) = options.options.keep_sharp {
-        if !(0.0..=180.0).contains(&deg) {
-            let problem = "a dihedral angle is between 0 and 180 degrees";
-            return Err(InvalidOption::new("keep_sharp", deg, problem).into());
-        }
-    }
+    check_envelope_options(options)?;
     let mut warnings = Vec::new();
     let repaired;
     let (input, repair) = if options.repair {

@@ -76,7 +76,9 @@ mod voxelize;
 pub use cluster::{cluster, cluster_glb, ClusteringOptions};
 pub use compare::{compare, CompareOptions, Comparison};
 pub use contour::{contour, Contour, ContourOptions};
-pub use envelope_series::{envelope, envelope_with, EnvelopeSeries, EnvelopeSeriesOptions};
+pub use envelope_series::{
+    check_envelope_options, envelope, envelope_with, EnvelopeSeries, EnvelopeSeriesOptions,
+};
 pub use error::{Error, ErrorClass, InvalidOption};
 pub use files::{read_glb, read_mesh, read_volume, write_mesh, write_volume};
 pub use finest::Finest;

@@ -2,20 +2,22 @@
 //! ε-bounded, topology-preserving levels of detail; and the `--then-envelope` step of `voxlod lod`.
 
 use std::path::PathBuf;
+use std::sync::Mutex;
 use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
 use voxlod::core::TriangleMesh;
 use voxlod::envelope::{
-    envelope_series_with, repair_for_envelope, EnvelopeOptions, EnvelopeReport, Epsilon,
-    ManifoldRepair, OffsetRule, RegionEpsilon, RemovalOrder,
+    EnvelopeLevel, EnvelopeOptions, EnvelopeReport, Epsilon, ManifoldRepair, OffsetRule,
+    RegionEpsilon, RemovalOrder,
 };
 use voxlod::io::OutputSet;
+use voxlod::{Control, EnvelopeSeries, EnvelopeSeriesOptions, Event, Progress};
 
 use super::common::say;
 use super::common::{level_path, print_json, progress, read_mesh_input, thousands, CliError};
-use super::values::number;
+use super::values::{in_flags, number};
 
 /// Simplify a mesh within ε by simplification envelopes, keeping its topology.
 ///
@@ -113,11 +115,6 @@ struct Report {
     warnings: Vec<String>,
 }
 
-/// Parses a distance or percentage, naming the flag in the error.
-pub fn parse_epsilon(text: &str, flag: &str) -> Result<Epsilon, CliError> {
-    epsilon_value(text).map_err(|e| CliError::msg(format!("{flag} {e}")))
-}
-
 /// The value parser of ε flags: a distance or a percentage (the error without the flag).
 pub fn epsilon_value(text: &str) -> Result<Epsilon, String> {
     text.parse::<Epsilon>().map_err(|_| {
@@ -128,20 +125,13 @@ pub fn epsilon_value(text: &str) -> Result<Epsilon, String> {
     })
 }
 
-/// The ε of each level and the envelope options, from the flags.
-fn envelope_options(args: &EnvelopeArgs) -> Result<(Vec<Epsilon>, EnvelopeOptions), CliError> {
+/// The library's options from the flags, refused before any work when out of range.
+fn envelope_options(args: &EnvelopeArgs) -> Result<EnvelopeSeriesOptions, CliError> {
     let epsilons: Vec<Epsilon> = match (args.epsilon, &args.levels) {
         (Some(e), _) => vec![e],
         (None, Some(list)) => list.clone(),
-        (None, None) => return Err(CliError::msg("give --epsilon E or --levels E,E,...")),
+        (None, None) => return Err(CliError::usage("give --epsilon E or --levels E,E,...")),
     };
-    if let Some(deg) = args.keep_sharp {
-        if !(0.0..=180.0).contains(&deg) {
-            return Err(CliError::usage(format!(
-                "--keep-sharp {deg}: a dihedral angle is between 0 and 180 degrees"
-            )));
-        }
-    }
     let mut options = match args.preset.as_str() {
         "tight" => EnvelopeOptions::tight(),
         _ => EnvelopeOptions::paper(),
@@ -164,95 +154,105 @@ fn envelope_options(args: &EnvelopeArgs) -> Result<(Vec<Epsilon>, EnvelopeOption
     options.keep_sharp = args.keep_sharp;
     options.regions = args.region.clone();
     options.measure_samples = args.samples;
-    Ok((epsilons, options))
+    let options = EnvelopeSeriesOptions {
+        epsilons,
+        options,
+        repair: args.repair,
+    };
+    voxlod::check_envelope_options(&options).map_err(|e| in_flags(e, &[]))?;
+    Ok(options)
 }
 
-/// The mesh to simplify: the input, or with --repair the input cut into a manifold (what that
-/// changed is a warning, printed at once without --json).
-fn repaired(
-    args: &EnvelopeArgs,
-    mesh: TriangleMesh,
-    warnings: &mut Vec<String>,
-) -> (TriangleMesh, Option<ManifoldRepair>) {
-    if !args.repair {
-        return (mesh, None);
-    }
-    let (m, r) = repair_for_envelope(&mesh);
-    if r.changed_anything() {
-        warnings.push(format!(
-            "{}: cut into a manifold for the envelope: {r}",
-            args.input.display()
-        ));
-        if !args.json {
-            eprintln!("warning: {}", warnings[0]);
-        }
-    }
-    (m, Some(r))
-}
-
-/// The series, each level added to the output set as soon as it is made.
+/// The series, each level added to the output set as soon as it is made; the first failure
+/// to add one stops the series and is returned.
 fn simplify(
     args: &EnvelopeArgs,
     out: &mut OutputSet,
     mesh: &TriangleMesh,
-    epsilons: &[Epsilon],
-    options: &EnvelopeOptions,
-) -> Result<Vec<LevelOut>, CliError> {
-    let bar = progress(epsilons.len() as u64, "levels", args.json);
-    let mut levels = Vec::new();
-    let mut write_error = None;
-    envelope_series_with(mesh, epsilons, options, |level| {
-        if write_error.is_some() {
-            return;
+    options: &EnvelopeSeriesOptions,
+) -> Result<(EnvelopeSeries, Vec<LevelOut>), CliError> {
+    let count = options.epsilons.len();
+    let bar = progress(count as u64, "levels", args.json);
+    let written = Mutex::new((out, Vec::new(), None));
+    let on_progress = |p: Progress| {
+        let Event::EnvelopeLevel(level) = p.event else {
+            return Control::Continue;
+        };
+        let mut guard = written.lock().unwrap_or_else(|e| e.into_inner());
+        let (out, levels, failure) = &mut *guard;
+        match write_level(&args.output, count, out, level) {
+            Ok(l) => {
+                bar.inc(1);
+                levels.push(l);
+                Control::Continue
+            }
+            Err(e) => {
+                *failure = Some(e);
+                Control::Stop
+            }
         }
-        let path = level_path(&args.output, level.report.level, epsilons.len());
-        let t = Instant::now();
-        if let Err(e) = out.mesh(&path, &level.mesh) {
-            write_error = Some(e);
-            return;
-        }
-        bar.inc(1);
-        levels.push(LevelOut {
-            epsilon_percent: level.report.epsilon_fraction * 100.0,
-            report: level.report,
-            file: path.display().to_string(),
-            write_seconds: t.elapsed().as_secs_f64(),
-        });
-    })
-    .map_err(|e| CliError::msg(format!("{}: {e}", args.input.display())))?;
+    };
+    let series = voxlod::envelope_with(mesh, options, &on_progress);
     bar.finish_and_clear();
-    match write_error {
-        Some(e) => Err(e.into()),
-        None => Ok(levels),
+    let (_, levels, failure) = written.into_inner().unwrap_or_else(|e| e.into_inner());
+    if let Some(e) = failure {
+        return Err(e.into());
     }
+    let series = series.map_err(|e| in_flags(e.in_file(&args.input), &[]))?;
+    Ok((series, levels))
+}
+
+/// Adds one level to the output set.
+fn write_level(
+    output: &std::path::Path,
+    count: usize,
+    out: &mut OutputSet,
+    level: &EnvelopeLevel,
+) -> Result<LevelOut, voxlod::io::IoError> {
+    let path = level_path(output, level.report.level, count);
+    let t = Instant::now();
+    out.mesh(&path, &level.mesh)?;
+    Ok(LevelOut {
+        epsilon_percent: level.report.epsilon_fraction * 100.0,
+        report: level.report.clone(),
+        file: path.display().to_string(),
+        write_seconds: t.elapsed().as_secs_f64(),
+    })
 }
 
 pub fn run(args: EnvelopeArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    let (epsilons, options) = envelope_options(&args)?;
+    let options = envelope_options(&args)?;
+    let count = options.epsilons.len();
     // Refuse an output format we cannot write before any work.
     voxlod::io::mesh_format_of(&args.output)?;
     let mut out = OutputSet::protecting([&args.input]);
-    for level in 0..epsilons.len() {
-        out.check(&level_path(&args.output, level, epsilons.len()))?;
+    for level in 0..count {
+        out.check(&level_path(&args.output, level, count))?;
     }
-    let loaded = read_mesh_input(&args.input)?;
-    let mut warnings = Vec::new();
-    let (mesh, repair) = repaired(&args, loaded.mesh, &mut warnings);
-    let levels = simplify(&args, &mut out, &mesh, &epsilons, &options)?;
+    let mesh = read_mesh_input(&args.input)?.mesh;
+    let (series, levels) = simplify(&args, &mut out, &mesh, &options)?;
     out.commit()?;
+    let input = args.input.display();
     let report = Report {
-        input: args.input.display().to_string(),
-        input_vertices: mesh.positions.len(),
-        input_triangles: mesh.triangles.len(),
-        repair,
-        options,
+        input: input.to_string(),
+        input_vertices: series.input_vertices,
+        input_triangles: series.input_triangles,
+        repair: series.repair,
+        options: options.options,
         levels,
         total_seconds: start.elapsed().as_secs_f64(),
-        warnings,
+        warnings: series
+            .warnings
+            .iter()
+            .map(|w| format!("{input}: {w}"))
+            .collect(),
     };
     if args.json {
         return print_json(&report);
+    }
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
     }
     print_report(&report);
     Ok(())
@@ -302,10 +302,10 @@ mod tests {
             level_path(Path::new("out.ply"), 0, 1),
             PathBuf::from("out.ply")
         );
-        assert!(parse_epsilon("0", "--epsilon").is_err());
-        assert!(parse_epsilon("-1%", "--epsilon").is_err());
+        assert!(epsilon_value("0").is_err());
+        assert!(epsilon_value("-1%").is_err());
         assert_eq!(
-            parse_epsilon("2%", "--epsilon").unwrap(),
+            epsilon_value("2%").unwrap(),
             Epsilon::DiagonalFraction(0.02)
         );
     }
