@@ -27,7 +27,7 @@
 //! | simplification envelopes | [`envelope()`], [`envelope_with`] | [`EnvelopeSeriesOptions`] |
 //! | topology and health | [`inspect`], [`inspect_scene`], [`inspect_file`] | [`InspectOptions`] |
 //! | distance between surfaces | [`compare`] | [`CompareOptions`] |
-//! | which level for a pixel | [`select()`] | [`SelectOptions`] |
+//! | which level for a pixel | [`select()`], [`select_drawn`] | [`SelectOptions`] |
 //!
 //! Every call returns [`Error`], whose [`Error::class`] says what kind of failure it is. The
 //! long calls take a progress callback that can stop them ([`ProgressFn`], [`Control`]).
@@ -90,7 +90,7 @@ pub use levels::{lod, lod_with};
 pub use lod::LodLevel;
 pub use lod_options::{Lod, LodOptions};
 pub use progress::{run_to_end, Control, Event, Progress, ProgressFn};
-pub use select::{select, SelectOptions, Selection};
+pub use select::{select, select_drawn, DrawnSelection, SelectOptions, Selection};
 pub use shells::{
     check_layers_options, layered_poly_mesh, layered_preview, layers, layers_levels, layers_radius,
     layers_with, Layers, SURFACE_COLOR,

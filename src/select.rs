@@ -9,7 +9,7 @@
 //! values above 1 trade fidelity for speed.
 //!
 //! It serves both kinds of levels: a clustering series (cell size) and the voxel pyramid of
-//! [`crate::lod`] (a level's cell is its voxel).
+//! [`crate::lod()`] (a level's cell is its voxel).
 //!
 //! Cost: O(levels).
 
@@ -138,4 +138,99 @@ pub fn select(
     options: &SelectOptions,
 ) -> Result<Selection, crate::Error> {
     Ok(select_level(cell_sizes, pixel_size, options)?)
+}
+
+/// A choice among levels of which some have no mesh, and what was passed over.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct DrawnSelection {
+    /// The coarsest level with a mesh that fits, or the original model.
+    pub selection: Selection,
+    /// A level without a mesh that would have fitted, or no level with a mesh at all.
+    pub warnings: Vec<String>,
+}
+
+/// [`select()`] among the levels that have a mesh (`with_mesh`, one flag per cell size: a level
+/// the filter removed has none and cannot be drawn), with a warning when a level without one
+/// would have been chosen, or when no level has one.
+///
+/// ```
+/// # fn main() -> Result<(), voxlod::Error> {
+/// use voxlod::select::{select_drawn, SelectOptions, Selection};
+/// // Cells of 1, 2, 4 and 8; the coarsest level has no mesh.
+/// let with_mesh = [true, true, true, false];
+/// let s = select_drawn(&[1.0, 2.0, 4.0, 8.0], &with_mesh, 10.0, &SelectOptions::side())?;
+/// assert_eq!(s.selection, Selection::Level(2));
+/// assert!(s.warnings[0].starts_with("level 3 fits but has no mesh"));
+/// # Ok(())
+/// # }
+/// ```
+pub fn select_drawn(
+    cell_sizes: &[f64],
+    with_mesh: &[bool],
+    pixel_size: f64,
+    options: &SelectOptions,
+) -> Result<DrawnSelection, crate::Error> {
+    if with_mesh.len() != cell_sizes.len() {
+        let problem = format!("one flag per level: {} levels", cell_sizes.len());
+        return Err(crate::InvalidOption::new("with_mesh", with_mesh.len(), problem).into());
+    }
+    let drawable: Vec<usize> = (0..cell_sizes.len()).filter(|&i| with_mesh[i]).collect();
+    let drawable_sizes: Vec<f64> = drawable.iter().map(|&i| cell_sizes[i]).collect();
+    let selection = match select_level(&drawable_sizes, pixel_size, options)? {
+        Selection::Level(j) => Selection::Level(drawable[j]),
+        Selection::Original => Selection::Original,
+    };
+    let mut warnings = Vec::new();
+    if drawable.is_empty() && !cell_sizes.is_empty() {
+        warnings.push(
+            "no level has a mesh (the filter removed the object at every level): the original \
+             model is chosen"
+                .to_string(),
+        );
+    } else if let Selection::Level(k) = select_level(cell_sizes, pixel_size, options)? {
+        if !with_mesh[k] {
+            let instead = match selection {
+                Selection::Level(i) => format!("level {i}, the coarsest with a mesh that fits,"),
+                Selection::Original => "the original model".to_string(),
+            };
+            warnings.push(format!(
+                "level {k} fits but has no mesh (the filter removed the whole object there): \
+                 {instead} is chosen instead"
+            ));
+        }
+    }
+    Ok(DrawnSelection {
+        selection,
+        warnings,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn levels_without_a_mesh_are_passed_over() {
+        // Cells of 1, 2, 4, 8; level 3 (the coarsest) has no mesh.
+        let sizes = [1.0, 2.0, 4.0, 8.0];
+        let options = SelectOptions::pixels(1.0);
+        let with_mesh = [true, true, true, false];
+        let s = select_drawn(&sizes, &with_mesh, 10.0, &options).unwrap();
+        assert_eq!(s.selection, Selection::Level(2));
+        assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
+        assert!(s.warnings[0].starts_with("level 3 fits but has no mesh"));
+        // A pixel of 3 fits levels 0 and 1 only: no warning.
+        let s = select_drawn(&sizes, &with_mesh, 3.0, &options).unwrap();
+        assert_eq!((s.selection, s.warnings.len()), (Selection::Level(1), 0));
+        // Nothing drawable: the original, with the reason.
+        let s = select_drawn(&sizes, &[false; 4], 10.0, &options).unwrap();
+        assert_eq!(s.selection, Selection::Original);
+        assert!(
+            s.warnings[0].contains("no level has a mesh"),
+            "{:?}",
+            s.warnings
+        );
+        // A flag missing: refused.
+        assert!(select_drawn(&sizes, &[true; 3], 10.0, &options).is_err());
+    }
 }

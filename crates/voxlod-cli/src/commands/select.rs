@@ -1,10 +1,11 @@
 //! `voxlod select`: which level to draw for the object-space size of a pixel.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 use serde::Serialize;
-use voxlod::select::{pixel_size, select_level, SelectOptions, Selection};
+use voxlod::io::{IoError, IoErrorKind};
+use voxlod::select::{pixel_size, SelectOptions, Selection};
 
 use super::common::say;
 use super::common::{print_json, CliError};
@@ -63,33 +64,19 @@ struct SelectReport {
 
 pub fn run(args: SelectArgs) -> Result<(), CliError> {
     check_select_args(&args)?;
-    let text = std::fs::read_to_string(&args.report)
-        .map_err(|e| CliError::msg(format!("{}: cannot read: {e}", args.report.display())))?;
-    let json: serde_json::Value = serde_json::from_str(&text)
-        .map_err(|e| CliError::msg(format!("{}: not a JSON report: {e}", args.report.display())))?;
-    let levels = json["levels"].as_array().ok_or_else(|| {
-        CliError::msg(format!(
-            "{}: no \"levels\" list: give the report of `voxlod lod` or `voxlod cluster --json`",
-            args.report.display()
-        ))
-    })?;
+    let levels = read_levels(&args.report)?;
     let sizes: Vec<f64> = levels
         .iter()
         .map(|l| l["cell_size"].as_f64().or_else(|| l["voxel_size"].as_f64()))
         .collect::<Option<_>>()
-        .ok_or_else(|| {
-            CliError::msg(format!(
-                "{}: a level has neither cell_size nor voxel_size",
-                args.report.display()
-            ))
-        })?;
+        .ok_or_else(|| malformed(&args.report, "a level has neither cell_size nor voxel_size"))?;
     let pixel = match (args.pixel_size, args.distance, args.fov, args.viewport) {
         (Some(s), ..) => s,
         (None, Some(d), Some(fov), Some(h)) => {
-            pixel_size(d, fov.to_radians(), h).map_err(|e| CliError::msg(e.to_string()))?
+            pixel_size(d, fov.to_radians(), h).map_err(voxlod::Error::from)?
         }
         _ => {
-            return Err(CliError::msg(
+            return Err(CliError::usage(
                 "give --pixel-size, or --distance with --fov and --viewport",
             ))
         }
@@ -100,8 +87,9 @@ pub fn run(args: SelectArgs) -> Result<(), CliError> {
         .map(|l| !l.get("file").is_some_and(serde_json::Value::is_null))
         .collect();
     let options = SelectOptions::pixels(args.tolerance);
-    let (selection, warnings) = select_with_mesh(&sizes, &with_mesh, pixel, &options)
-        .map_err(|e| CliError::msg(format!("{}: {e}", args.report.display())))?;
+    let chosen = voxlod::select_drawn(&sizes, &with_mesh, pixel, &options)
+        .map_err(|e| e.in_file(&args.report))?;
+    let (selection, warnings) = (chosen.selection, chosen.warnings);
     let level = match selection {
         Selection::Level(i) => Some(i),
         Selection::Original => None,
@@ -152,7 +140,7 @@ fn check_select_args(args: &SelectArgs) -> Result<(), CliError> {
     ];
     for (flag, value) in positive {
         if let Some(v) = value.filter(|v| *v <= 0.0) {
-            return Err(CliError::msg(format!("{flag} {v}: must be more than 0")));
+            return Err(CliError::usage(format!("{flag} {v}: must be more than 0")));
         }
     }
     if let Some(fov) = args.fov.filter(|f| !(*f > 0.0 && *f < 180.0)) {
@@ -161,69 +149,30 @@ fn check_select_args(args: &SelectArgs) -> Result<(), CliError> {
         )));
     }
     if args.viewport == Some(0) {
-        return Err(CliError::msg(
+        return Err(CliError::usage(
             "--viewport 0: the viewport must be at least 1 pixel high",
         ));
     }
     Ok(())
 }
 
-/// The selection among the levels that have a mesh (`with_mesh`), and a warning when a level
-/// without one would have been chosen, or when no level has one.
-fn select_with_mesh(
-    sizes: &[f64],
-    with_mesh: &[bool],
-    pixel: f64,
-    options: &SelectOptions,
-) -> Result<(Selection, Vec<String>), voxlod::clustering::ClusteringError> {
-    let drawable: Vec<usize> = (0..sizes.len()).filter(|&i| with_mesh[i]).collect();
-    let drawable_sizes: Vec<f64> = drawable.iter().map(|&i| sizes[i]).collect();
-    let selection = match select_level(&drawable_sizes, pixel, options)? {
-        Selection::Level(j) => Selection::Level(drawable[j]),
-        Selection::Original => Selection::Original,
-    };
-    let mut warnings = Vec::new();
-    if drawable.is_empty() && !sizes.is_empty() {
-        warnings.push(
-            "no level has a mesh (the filter removed the object at every level): the original \
-             model is chosen"
-                .to_string(),
-        );
-    } else if let Selection::Level(k) = select_level(sizes, pixel, options)? {
-        if !with_mesh[k] {
-            let instead = match selection {
-                Selection::Level(i) => format!("level {i}, the coarsest with a mesh that fits,"),
-                Selection::Original => "the original model".to_string(),
-            };
-            warnings.push(format!(
-                "level {k} fits but has no mesh (the filter removed the whole object there): \
-                 {instead} is chosen instead"
-            ));
-        }
+/// The levels of a report: the `levels` list of `voxlod lod`'s report.json or of `voxlod
+/// cluster --json`.
+fn read_levels(path: &Path) -> Result<Vec<serde_json::Value>, CliError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| IoError::new(path, IoErrorKind::Access, format!("cannot read: {e}")))?;
+    let mut json: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| malformed(path, format!("not a JSON report: {e}")))?;
+    match json.get_mut("levels").map(serde_json::Value::take) {
+        Some(serde_json::Value::Array(levels)) => Ok(levels),
+        _ => Err(malformed(
+            path,
+            "no \"levels\" list: give the report of `voxlod lod` or `voxlod cluster --json`",
+        )),
     }
-    Ok((selection, warnings))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn levels_without_a_mesh_are_passed_over() {
-        // Cells of 1, 2, 4, 8; level 3 (the coarsest) has no mesh.
-        let sizes = [1.0, 2.0, 4.0, 8.0];
-        let options = SelectOptions::pixels(1.0);
-        let with_mesh = [true, true, true, false];
-        let (s, w) = select_with_mesh(&sizes, &with_mesh, 10.0, &options).unwrap();
-        assert_eq!(s, Selection::Level(2));
-        assert_eq!(w.len(), 1, "{w:?}");
-        assert!(w[0].starts_with("level 3 fits but has no mesh"), "{w:?}");
-        // A pixel of 3 fits levels 0 and 1 only: no warning.
-        let (s, w) = select_with_mesh(&sizes, &with_mesh, 3.0, &options).unwrap();
-        assert_eq!((s, w.len()), (Selection::Level(1), 0));
-        // Nothing drawable: the original, with the reason.
-        let (s, w) = select_with_mesh(&sizes, &[false; 4], 10.0, &options).unwrap();
-        assert_eq!(s, Selection::Original);
-        assert!(w[0].contains("no level has a mesh"), "{w:?}");
-    }
+/// A report that is not what `select` reads.
+fn malformed(path: &Path, problem: impl Into<String>) -> CliError {
+    IoError::new(path, IoErrorKind::Malformed, problem).into()
 }
