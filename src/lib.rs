@@ -22,12 +22,13 @@
 //! | levels by triangle budget or error (§5) | [`lod()`] with [`LodOptions::budgets`] | [`budget`] |
 //! | one filtered volume | [`voxelize`] | [`VoxelizeOptions`] |
 //! | marching cubes on any volume | [`contour`] | [`ContourOptions`] |
-//! | layered translucent shells (§3) | [`layers()`], [`layers_with`]; a chain of levels: [`layers_levels`] | [`LayersOptions`] |
+//! | layered translucent shells (§3) | [`layers()`], [`layers_with`]; a chain of levels: [`layers_levels`], [`layers_chain`]; files: [`layered_glb`], [`layered_poly_mesh`], [`layered_preview`] | [`LayersOptions`] |
 //! | vertex clustering baselines | [`cluster`]; one `.glb` chain: [`cluster_glb`] | [`ClusteringOptions`] |
 //! | simplification envelopes | [`envelope()`], [`envelope_with`] | [`EnvelopeSeriesOptions`] |
 //! | topology and health | [`inspect`], [`inspect_scene`], [`inspect_file`] | [`InspectOptions`] |
 //! | distance between surfaces | [`compare`] | [`CompareOptions`] |
 //! | which level for a pixel | [`select()`], [`select_drawn`] | [`SelectOptions`] |
+//! | a picture of meshes and shells | [`draw`], [`read_drawable`] | [`DrawOptions`] |
 //!
 //! Every call returns [`Error`], whose [`Error::class`] says what kind of failure it is. The
 //! long calls take a progress callback that can stop them ([`ProgressFn`], [`Control`]).
@@ -44,8 +45,8 @@
 //! | files | [`io`] | OBJ, PLY, STL, OFF, VTK meshes; NRRD, VTI, NIfTI, MetaImage, raw volumes |
 //! | sampling | [`sampling`] | inside tests, hyper-cone and Gaussian filters, the pyramid |
 //! | contouring | [`contouring`] | table-driven marching cubes |
-//! | layers | [`layers`], [`render`] | multi-layer translucent shells (§3), the software rasterizer |
-//! | baselines | [`clustering`], [`envelope`] | vertex clustering; simplification envelopes |
+//! | layers | [`layers`](mod@layers), [`render`](mod@render) | multi-layer translucent shells (§3), the software rasterizer |
+//! | baselines | [`clustering`], [`envelope`](mod@envelope) | vertex clustering; simplification envelopes |
 //! | measurement | [`metrics`] | distances and mesh health |
 
 #![warn(missing_docs)]
@@ -66,6 +67,7 @@ pub mod labels;
 mod levels;
 pub mod lod;
 mod lod_options;
+mod picture;
 mod progress;
 pub mod select;
 mod shells;
@@ -89,11 +91,15 @@ pub use inspect::{
 pub use levels::{lod, lod_with};
 pub use lod::LodLevel;
 pub use lod_options::{Lod, LodOptions};
+pub use picture::{
+    check_draw_options, draw, read_drawable, view_direction, DrawOptions, Drawable, Drawing,
+    SURFACE_COLOR,
+};
 pub use progress::{run_to_end, Control, Event, Progress, ProgressFn};
 pub use select::{select, select_drawn, DrawnSelection, SelectOptions, Selection};
 pub use shells::{
-    check_layers_options, layered_poly_mesh, layered_preview, layers, layers_levels, layers_radius,
-    layers_with, Layers, SURFACE_COLOR,
+    check_layers_levels, check_layers_options, layered_glb, layered_poly_mesh, layered_preview,
+    layers, layers_chain, layers_levels, layers_radius, layers_with, Layers, LayersChain,
 };
 pub use source::{iso_outside_data, Prepared, Route, Source};
 pub use then_envelope::{EnvelopeStep, LevelEpsilon, ThenEnvelope};

@@ -1,8 +1,8 @@
 //! Multi-layer translucent shells in one call (paper §3): the source filtered into one volume,
 //! the fewest layers whose piecewise constant profile is within the error bound of the
 //! filter's density profile (equations 4–6), each layer an isosurface of the volume, all
-//! triangles in the eight back-to-front orders. Also a layered file's preview picture and its
-//! triangles in one view's order, as the command line writes them. Cost: the filtering
+//! triangles in the eight back-to-front orders. Also what is made of them: a layered `.glb`,
+//! a chain of levels in one `.glb`, the triangles in one view's order, a preview picture. Cost: the filtering
 //! (O(N³) samples), extraction (O(N³)) and ordering (O(T log T)).
 
 use std::time::Instant;
@@ -10,12 +10,14 @@ use std::time::Instant;
 use voxlod_core::glam::DVec3;
 use voxlod_core::PolyMesh;
 use voxlod_layers::{
-    filter_solid, layer_volume, plan_layers, render_layered, to_poly_mesh, LayerPlan, Layered,
-    LayersOptions, Octant,
+    filter_solid, glb_bytes, layer_volume, layered_chain_document, plan_layers, render_layered,
+    to_poly_mesh, GlbOptions, LayerPlan, Layered, LayeredLevel, LayersOptions, Octant,
 };
 use voxlod_render::{Camera, Image, RenderOptions};
 
 use crate::error::{Error, InvalidOption};
+use crate::files::gltf_error;
+use crate::picture::{view_direction, SURFACE_COLOR};
 use crate::progress::{run_to_end, ProgressFn, Tracker};
 use crate::source::Source;
 
@@ -112,18 +114,11 @@ pub fn layers_levels(
     options: &LayersOptions,
     resolutions: &[usize],
 ) -> Result<Vec<Layers>, Error> {
-    if resolutions.is_empty() || resolutions.windows(2).any(|w| w[1] >= w[0]) {
-        let list = format!("{resolutions:?}");
-        let problem = "the levels' resolutions must decrease strictly from the finest";
-        return Err(InvalidOption::new("resolutions", list, problem).into());
-    }
+    check_layers_levels(options, resolutions)?;
     let per_level = |resolution| LayersOptions {
         resolution,
         ..*options
     };
-    for &r in resolutions {
-        check_layers_options(&per_level(r))?;
-    }
     let prepared = source.prepare()?;
     let solid = prepared.solid().ok_or(Error::NeedsSolid)?;
     let mut out = Vec::with_capacity(resolutions.len());
@@ -144,6 +139,85 @@ pub fn layers_levels(
     Ok(out)
 }
 
+/// [`check_layers_options`] for the levels of [`layers_levels`]: also refuses resolutions that
+/// do not decrease strictly from the finest. Cheap; call it before reading any input.
+pub fn check_layers_levels(options: &LayersOptions, resolutions: &[usize]) -> Result<(), Error> {
+    if resolutions.is_empty() || resolutions.windows(2).any(|w| w[1] >= w[0]) {
+        let list = format!("{resolutions:?}");
+        let problem = "the levels' resolutions must decrease strictly from the finest";
+        return Err(InvalidOption::new("resolutions", list, problem).into());
+    }
+    for &resolution in resolutions {
+        check_layers_options(&LayersOptions {
+            resolution,
+            ..*options
+        })?;
+    }
+    Ok(())
+}
+
+/// Layered shells at several resolutions and the bytes of their `MSFT_lod` chain.
+#[derive(Clone, Debug)]
+pub struct LayersChain {
+    /// One per resolution, finest first.
+    pub levels: Vec<Layers>,
+    /// Each level's filter support radius in the input's units ([`layers_radius`]).
+    pub radii: Vec<f64>,
+    /// Each level's `MSFT_screencoverage`: the coverage down to which it is drawn.
+    pub screen_coverage: Vec<f64>,
+    /// The `.glb` file.
+    pub bytes: Vec<u8>,
+}
+
+/// The layered shells of [`layers_levels`] as one binary glTF `MSFT_lod` chain
+/// (`voxlod_layers::glb_chain`): a mesh per level with a primitive per layer and the level's
+/// eight orders, switched where each level's filter radius spans at most
+/// [`voxlod_layers::RADIUS_LIMIT_PIXELS`] on screen. Cost: the levels', then linear in their
+/// size.
+pub fn layers_chain(
+    source: &Source,
+    options: &LayersOptions,
+    resolutions: &[usize],
+) -> Result<LayersChain, Error> {
+    let levels = layers_levels(source, options, resolutions)?;
+    let radii: Vec<f64> = levels
+        .iter()
+        .map(|l| layers_radius(&l.layered, options.radius_voxels))
+        .collect();
+    let chain: Vec<LayeredLevel> = levels
+        .iter()
+        .zip(&radii)
+        .map(|(l, &radius)| LayeredLevel {
+            mesh: &l.layered.mesh,
+            orders: &l.layered.orders,
+            radius,
+        })
+        .collect();
+    let (doc, bin) = layered_chain_document(&chain, &GlbOptions::default())?;
+    let bytes = voxlod_gltf::to_glb(&doc, bin).map_err(gltf_error)?;
+    let screen_coverage = doc["nodes"][0]["extras"]["MSFT_screencoverage"]
+        .as_array()
+        .map(|c| c.iter().filter_map(|v| v.as_f64()).collect())
+        .unwrap_or_default();
+    Ok(LayersChain {
+        levels,
+        radii,
+        screen_coverage,
+        bytes,
+    })
+}
+
+/// The bytes of a layered `.glb` of one level: a mesh per layer (innermost first) with its
+/// blended material, the eight orders as index accessors, the volume grid and the filter
+/// radius of `radius_voxels` voxels in the scene's extras.
+pub fn layered_glb(layered: &Layered, radius_voxels: f64) -> Result<Vec<u8>, Error> {
+    let options = GlbOptions {
+        radius: Some(layers_radius(layered, radius_voxels)),
+        ..Default::default()
+    };
+    Ok(glb_bytes(&layered.mesh, &layered.orders, &options)?)
+}
+
 /// The filter's support radius of layered shells in the input's units: `radius_voxels` voxels
 /// of their grid (its largest spacing).
 pub fn layers_radius(layered: &Layered, radius_voxels: f64) -> f64 {
@@ -157,15 +231,9 @@ pub fn layers_radius(layered: &Layered, radius_voxels: f64) -> f64 {
             .fold(0.0, f64::max)
 }
 
-/// The colour of an opaque surface in previews (light grey-blue; the command line's too).
-pub const SURFACE_COLOR: [f32; 3] = [0.85, 0.86, 0.9];
-
 /// The octant of a view direction, naming the option `view` when it has none.
 fn octant(view: DVec3) -> Result<Octant, Error> {
-    Octant::of(view).map_err(|e| {
-        let value = format!("{},{},{}", view.x, view.y, view.z);
-        InvalidOption::new("view", value, e.to_string()).into()
-    })
+    Ok(Octant::of(view_direction(view)?)?)
 }
 
 /// All layers in one mesh with per-vertex `opacity` and `layer`, triangles back to front for
@@ -185,7 +253,13 @@ pub fn layered_preview(
 ) -> Result<Image, Error> {
     let cat = layered.mesh.concatenated();
     let octant = octant(view)?;
-    let camera = Camera::fit(view, &cat.mesh.bounds(), width, height, None)?;
+    let camera = Camera::fit(
+        view_direction(view)?,
+        &cat.mesh.bounds(),
+        width,
+        height,
+        None,
+    )?;
     let alphas: Vec<f32> = layered.mesh.layers.iter().map(|l| l.alpha).collect();
     Ok(render_layered(
         &cat.mesh,

@@ -7,19 +7,18 @@ use clap::Args;
 use glam::DVec3;
 use serde::Serialize;
 use voxlod::io::OutputSet;
-use voxlod::layers::{
-    glb_bytes, Blending, GlbOptions, Layered, LayersError, LayersOptions, Octant, PlanOptions,
-    ORDER_NAMES,
-};
-use voxlod::render::{Camera, RenderOptions};
+use voxlod::layers::{Blending, Layered, LayersOptions, PlanOptions, ORDER_NAMES};
 use voxlod::sampling::Filter;
 
-use super::camera::{view_direction, CameraArgs, SURFACE_COLOR};
+use super::camera::CameraArgs;
 use super::common::say;
-use super::common::{in_file, print_json, progress, thousands, CliError, Input};
-use super::layers_lod::{layered_chain, ChainReport, LodArgs};
+use super::common::{print_json, progress, thousands, CliError};
+use super::layers_lod::{ChainReport, LodArgs};
 use super::source::{in_flag_words, VolumeRoute};
-use super::values::number;
+use super::values::{in_flags, number};
+
+/// The library's options whose flags are not their names with hyphens.
+const FLAGS: &[(&str, &str)] = &[("radius_voxels", "--radius")];
 
 /// Build multi-layer translucent shells for antialiased rendering (He et al. 1995, §3).
 ///
@@ -130,10 +129,6 @@ struct LayersReport {
     warnings: Vec<String>,
 }
 
-fn layers_error(path: &Path, e: LayersError) -> CliError {
-    CliError::msg(format!("{}: {e}", path.display()))
-}
-
 /// The kind of output, by extension.
 enum OutKind {
     Glb,
@@ -178,46 +173,33 @@ fn check_outputs(args: &LayersArgs, out: &mut OutputSet) -> Result<OutKind, CliE
     Ok(kind)
 }
 
-/// The library's options from the flags.
-fn layers_options(args: &LayersArgs) -> Result<LayersOptions, CliError> {
-    let plan = PlanOptions {
-        blending: args.blending,
-        ..PlanOptions::new(args.filter, args.error)
-    };
-    voxlod::layers::plan_layers(&plan)
-        .map_err(|e| CliError::msg(format!("--error {}: {e}", args.error)))?;
-    if args.resolution < 2 {
-        return Err(CliError::usage("--resolution must be at least 2"));
-    }
-    if !(args.radius.is_finite() && args.radius > 0.0) {
-        return Err(CliError::usage(format!(
-            "--radius {}: the filter radius must be a positive number of voxels",
-            args.radius
-        )));
-    }
-    if args.lines_per_radius == 0 {
-        return Err(CliError::usage("--lines-per-radius must be at least 1"));
-    }
-    Ok(LayersOptions {
+/// The library's options from the flags, refused before any work when out of range (with
+/// --lod, at every level's resolution).
+fn layers_options(
+    args: &LayersArgs,
+    resolutions: Option<&[usize]>,
+) -> Result<LayersOptions, CliError> {
+    let options = LayersOptions {
         resolution: args.resolution,
         radius_voxels: args.radius,
-        plan,
+        plan: PlanOptions {
+            blending: args.blending,
+            ..PlanOptions::new(args.filter, args.error)
+        },
         lines_per_radius: args.lines_per_radius,
         extract: Default::default(),
-    })
+    };
+    match resolutions {
+        Some(list) => voxlod::check_layers_levels(&options, list),
+        None => voxlod::check_layers_options(&options).map(|_| ()),
+    }
+    .map_err(|e| in_flags(e, FLAGS))?;
+    Ok(options)
 }
 
-/// Reads the input, refusing a volume filtered directly: layers need a solid.
-fn read(args: &LayersArgs) -> Result<Input, CliError> {
-    let input = args.route.read(&args.input)?;
-    if matches!(input, Input::Volume(_)) && args.route.threshold.is_none() {
-        return Err(CliError::msg(format!(
-            "{}: layers need a solid (density 1 inside, 0 outside): give a mesh, or a volume \
-             with --threshold T",
-            args.input.display()
-        )));
-    }
-    Ok(input)
+/// The library's failure to make `path`, in the flags' words.
+fn failed_on(path: &Path) -> impl Fn(voxlod::Error) -> CliError + '_ {
+    move |e| in_flags(e.in_file(path), FLAGS)
 }
 
 /// Adds the shells (or the chain's bytes, with --lod) and the preview to the output set, all
@@ -229,31 +211,28 @@ fn write_outputs(
     view: DVec3,
     layered: &Layered,
 ) -> Result<(), CliError> {
-    let size = (args.camera.size.width, args.camera.size.height);
-    let octant = Octant::of(view).map_err(|e| CliError::msg(format!("--view: {e}")))?;
-    let glb = GlbOptions {
-        radius: Some(voxlod::layers_radius(layered, args.radius)),
-        ..Default::default()
-    };
     let bytes = match (kind, chain) {
         (_, Some(chain)) => Some(chain),
-        (OutKind::Glb, None) => Some(
-            glb_bytes(&layered.mesh, &layered.orders, &glb)
-                .map_err(|e| layers_error(&args.output, e))?,
-        ),
+        (OutKind::Glb, None) => {
+            Some(voxlod::layered_glb(layered, args.radius).map_err(failed_on(&args.output))?)
+        }
         (OutKind::Mesh, None) => None,
     };
     let preview = match &args.preview {
-        Some(path) => Some((path, preview_png(layered, view, size)?)),
+        Some(path) => {
+            let size = args.camera.size;
+            let png = voxlod::layered_preview(layered, view, size.width, size.height)
+                .and_then(|image| Ok(image.to_png()?))
+                .map_err(failed_on(path))?;
+            Some((path, png))
+        }
         None => None,
     };
     // The shells and the preview appear together or not at all.
     match bytes {
         Some(b) => out.bytes(&args.output, &b)?,
         None => {
-            let order = Some(&layered.orders[octant.index()][..]);
-            let poly = voxlod::layers::to_poly_mesh(&layered.mesh, order)
-                .map_err(|e| layers_error(&args.output, e))?;
+            let poly = voxlod::layered_poly_mesh(layered, view).map_err(failed_on(&args.output))?;
             out.poly_mesh(&args.output, &poly)?
         }
     }
@@ -268,22 +247,27 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
     // Everything that can be refused is refused before any work.
     let mut out = OutputSet::protecting([&args.input]);
     let kind = check_outputs(&args, &mut out)?;
-    let view = view_direction(args.camera.view)?;
+    let view = DVec3::from(args.camera.view);
+    voxlod::view_direction(view).map_err(|e| in_flags(e, FLAGS))?;
     let resolutions = args.chain.resolutions(args.resolution)?;
-    let mut options = layers_options(&args)?;
-    let input = read(&args)?;
+    let mut options = layers_options(&args, resolutions.as_deref())?;
+    let input = args.route.read(&args.input)?;
     let bar = progress(3, "layers", args.json);
     let source = args.route.source(&input);
+    let failed = |e: voxlod::Error| in_flags(e.in_file(&args.input), FLAGS);
     let (shells, chain, lod) = match &resolutions {
         Some(list) => {
-            let (mut levels, bytes, report) = layered_chain(&args.input, &source, &options, list)?;
+            let mut chain = voxlod::layers_chain(&source, &options, list).map_err(failed)?;
+            let report = ChainReport::of(&chain, list);
             options.resolution = list[0];
-            (levels.swap_remove(0), Some(bytes), Some(report))
+            let bytes = std::mem::take(&mut chain.bytes);
+            (chain.levels.swap_remove(0), Some(bytes), Some(report))
         }
-        None => {
-            let shells = voxlod::layers(&source, &options).map_err(|e| in_file(&args.input, e))?;
-            (shells, None, None)
-        }
+        None => (
+            voxlod::layers(&source, &options).map_err(failed)?,
+            None,
+            None,
+        ),
     };
     bar.inc(2);
     write_outputs(&args, &mut out, (kind, chain), view, &shells.layered)?;
@@ -341,27 +325,6 @@ fn print_report(args: &LayersArgs, report: &LayersReport) {
     if let Some(p) = &report.preview {
         say(format_args!("preview -> {p}"));
     }
-}
-
-fn preview_png(layered: &Layered, view: DVec3, (w, h): (u32, u32)) -> Result<Vec<u8>, CliError> {
-    let cat = layered.mesh.concatenated();
-    let camera = Camera::fit(view, &cat.mesh.bounds(), w, h, None)
-        .map_err(|e| CliError::msg(format!("--preview: {e}")))?;
-    let octant = Octant::of(view).map_err(|e| CliError::msg(format!("--view: {e}")))?;
-    let alphas: Vec<f32> = layered.mesh.layers.iter().map(|l| l.alpha).collect();
-    let image = voxlod::layers::render_layered(
-        &cat.mesh,
-        &cat.triangle_layer,
-        &alphas,
-        &layered.orders[octant.index()],
-        SURFACE_COLOR,
-        &camera,
-        &RenderOptions::default(),
-    )
-    .map_err(|e| CliError::msg(format!("--preview: {e}")))?;
-    image
-        .to_png()
-        .map_err(|e| CliError::msg(format!("--preview: {e}")))
 }
 
 fn report(args: &LayersArgs, layered: &Layered, total_seconds: f64) -> LayersReport {

@@ -4,10 +4,8 @@
 
 use clap::Args;
 use serde::Serialize;
-use voxlod::layers::{layered_chain_document, GlbOptions, LayeredLevel};
-use voxlod::{LayersOptions, Source};
 
-use super::common::{in_file, CliError};
+use super::common::CliError;
 use super::values::number;
 
 /// The flags of the chain.
@@ -30,7 +28,8 @@ pub struct LodArgs {
 
 impl LodArgs {
     /// The levels' resolutions, finest first; `None` without --lod. Refuses the chain's flags
-    /// without --lod, and levels that would fall below 2 samples.
+    /// without --lod, and levels that would fall below 2 samples (the library refuses the
+    /// rest: [`voxlod::check_layers_levels`]).
     pub fn resolutions(&self, finest: usize) -> Result<Option<Vec<usize>>, CliError> {
         if !self.lod {
             if self.resolutions.is_some() {
@@ -53,11 +52,6 @@ impl LodArgs {
             return Err(CliError::usage(format!(
                 "--lod: a level of resolution {r}: every level needs at least 2 samples \
                  (fewer --levels, or a larger --resolution)"
-            )));
-        }
-        if list.windows(2).any(|w| w[1] >= w[0]) {
-            return Err(CliError::usage(format!(
-                "--resolutions {list:?}: they must decrease strictly from the finest"
             )));
         }
         Ok(Some(list))
@@ -86,54 +80,26 @@ pub struct ChainReport {
     pub bytes: usize,
 }
 
-/// The layered levels of `source` and the bytes of their chain; the first level is the finest.
-pub fn layered_chain(
-    input: &std::path::Path,
-    source: &Source,
-    options: &LayersOptions,
-    resolutions: &[usize],
-) -> Result<(Vec<voxlod::Layers>, Vec<u8>, ChainReport), CliError> {
-    let levels =
-        voxlod::layers_levels(source, options, resolutions).map_err(|e| in_file(input, e))?;
-    let radii: Vec<f64> = levels
-        .iter()
-        .map(|l| voxlod::layers_radius(&l.layered, options.radius_voxels))
-        .collect();
-    let chain: Vec<LayeredLevel> = levels
-        .iter()
-        .zip(&radii)
-        .map(|(l, &radius)| LayeredLevel {
-            mesh: &l.layered.mesh,
-            orders: &l.layered.orders,
-            radius,
-        })
-        .collect();
-    let fail = |e| in_file(input, voxlod::Error::from(e));
-    let (doc, bin) = layered_chain_document(&chain, &GlbOptions::default()).map_err(fail)?;
-    let bytes = voxlod_gltf::to_glb(&doc, bin)
-        .map_err(|e| CliError::msg(format!("{}: {e}", input.display())))?;
-    let report = ChainReport {
-        levels: levels
-            .iter()
-            .zip(resolutions)
-            .zip(&radii)
-            .enumerate()
-            .map(|(level, ((l, &resolution), &radius))| ChainLevelReport {
-                level,
-                resolution,
-                grid: l.layered.mesh.grid.dims,
-                radius,
-                layers: l.layered.mesh.layers.len(),
-                triangles: l.layered.mesh.triangle_count(),
-                seconds: l.seconds,
-            })
-            .collect(),
-        screen_coverage: serde_json::from_value(
-            doc["nodes"][0]["extras"]["MSFT_screencoverage"].clone(),
-        )
-        .unwrap_or_default(),
-        radius_limit_pixels: voxlod::layers::RADIUS_LIMIT_PIXELS,
-        bytes: bytes.len(),
-    };
-    Ok((levels, bytes, report))
+impl ChainReport {
+    /// What the report says about `chain`, made at `resolutions`.
+    pub fn of(chain: &voxlod::LayersChain, resolutions: &[usize]) -> ChainReport {
+        let levels = chain.levels.iter().zip(resolutions).zip(&chain.radii);
+        ChainReport {
+            levels: levels
+                .enumerate()
+                .map(|(level, ((l, &resolution), &radius))| ChainLevelReport {
+                    level,
+                    resolution,
+                    grid: l.layered.mesh.grid.dims,
+                    radius,
+                    layers: l.layered.mesh.layers.len(),
+                    triangles: l.layered.mesh.triangle_count(),
+                    seconds: l.seconds,
+                })
+                .collect(),
+            screen_coverage: chain.screen_coverage.clone(),
+            radius_limit_pixels: voxlod::layers::RADIUS_LIMIT_PIXELS,
+            bytes: chain.bytes.len(),
+        }
+    }
 }
