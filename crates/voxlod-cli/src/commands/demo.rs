@@ -7,10 +7,10 @@ use clap::Args;
 use serde::Serialize;
 use voxlod::io::OutputSet;
 use voxlod::sampling::{sphereflake, CsgSolid};
+use voxlod::{Control, Event, LodOptions, Progress, Source};
 
 use super::common::say;
 use super::common::{add_report, in_dir, print_json, progress, thousands, CliError};
-use voxlod::lod::{build_level, plan, LodOptions, LodSource};
 use voxlod_eval::paper_tables::PAPER_TABLE1;
 
 /// Run the paper's Table 1 on a generated 820-sphere sphereflake (no input needed).
@@ -57,19 +57,25 @@ struct DemoReport {
 
 pub fn run(args: DemoArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    let solid = CsgSolid::new(sphereflake(3)).map_err(|e| CliError::msg(e.to_string()))?;
-    let source = LodSource::Solid(&solid);
+    let solid = CsgSolid::new(sphereflake(3)).map_err(voxlod::Error::from)?;
     let options = LodOptions::paper_table1();
-    let plans = plan(&source, &options).map_err(|e| CliError::msg(e.to_string()))?;
+    let bar = progress(PAPER_TABLE1.len() as u64, "table 1", args.json);
+    let level_made = |p: Progress| {
+        if let Event::LodLevel(_) = p.event {
+            bar.inc(1);
+        }
+        Control::Continue
+    };
+    let lod = voxlod::lod_with(&Source::Solid(&solid), &options, &level_made)?;
+    bar.finish_and_clear();
     let mut out = OutputSet::new();
     out.create_dir(&args.output)?;
-    let bar = progress(plans.len() as u64, "table 1", args.json);
     let mut rows = Vec::new();
-    for (p, &(index, resolution, paper_radius, paper_triangles)) in plans.iter().zip(&PAPER_TABLE1)
+    for (level, &(index, resolution, paper_radius, paper_triangles)) in
+        lod.levels.iter().zip(&PAPER_TABLE1)
     {
-        debug_assert_eq!(p.resolution, resolution);
-        let level = build_level(&source, p, &options).map_err(|e| CliError::msg(e.to_string()))?;
-        let file = format!("level-{}.ply", p.level);
+        debug_assert_eq!(level.resolution, resolution);
+        let file = format!("level-{}.ply", level.plan.level);
         out.mesh(&in_dir(&args.output, &file), &level.mesh)?;
         let t = &level.topology;
         rows.push(Row {
@@ -84,14 +90,12 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
             seconds: level.sample_seconds + level.contour_seconds,
             file,
         });
-        bar.inc(1);
     }
-    bar.finish_and_clear();
     let report = DemoReport {
         object: "sphereflake (He et al. 1995, Table 1)",
         spheres: voxlod::sampling::sphereflake_spheres(3).len(),
         filter: "gaussian, sigma = R/3",
-        iso: options.iso,
+        iso: lod.iso,
         table1: rows,
         total_seconds: start.elapsed().as_secs_f64(),
         warnings: Vec::new(),
@@ -99,7 +103,7 @@ pub fn run(args: DemoArgs) -> Result<(), CliError> {
     add_report(&mut out, &args.output, &report)?;
     // Paper §3, Figure 7: single surface, layered shells and the 16x16 reference, side by side.
     let antialias = voxlod_eval::antialias::demo_comparison(&mut out, &args.output)
-        .map_err(|e| CliError::msg(e.to_string()))?;
+        .map_err(voxlod::Error::from)?;
     out.commit()?;
     if args.json {
         return print_json(&report);

@@ -224,8 +224,8 @@ fn preview_strips(
         let strip = preview_strip(mesh, &levels, PREVIEW_SIZE)
             .and_then(|image| image.to_png())
             .map_err(|e| {
-                let name = args.input.display();
-                CliError::msg(format!("{name}: preview of {}: {e}", curve.method))
+                let e = voxlod::Error::from(e).context(format!("preview of {}", curve.method));
+                e.context(args.input.display().to_string())
             })?;
         strips.push((
             curve.method,
