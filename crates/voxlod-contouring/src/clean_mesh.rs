@@ -72,8 +72,8 @@ use restore::{compact, compact_mesh, restore_flattened};
 use work::Work;
 
 /// Bytes cleaning holds per triangle of the input at its peak, besides the input, for the
-/// memory check: the ignored test `memory_per_triangle` measures it on a 326 k triangle
-/// marching-cubes level (BENCHMARKS.md), rounded up here with room to spare.
+/// memory check: the example `clean_memory` measures it on a 326 k triangle marching-cubes
+/// level (BENCHMARKS.md), rounded up here with room to spare.
 pub const CLEAN_BYTES_PER_TRIANGLE: u64 = 144;
 
 /// How [`clean_mesh`] cleans.
