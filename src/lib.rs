@@ -113,6 +113,7 @@ pub use voxlod_contouring as contouring;
 pub use voxlod_core as core;
 pub use voxlod_envelope as envelope;
 pub use voxlod_fit as fit;
+pub use voxlod_gltf as gltf;
 pub use voxlod_io as io;
 pub use voxlod_layers as layers;
 pub use voxlod_metrics as metrics;
