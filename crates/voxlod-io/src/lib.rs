@@ -115,7 +115,8 @@ pub use dicom::{list_dicom_series, read_dicom_series, DicomOptions, SeriesSummar
 pub use error::{IoError, IoErrorKind};
 pub use label_table::{read_label_table, LabelMap, LabelName};
 pub use outputs::{check_image_path, OutputSet, IMAGE_EXTENSIONS};
-pub use raw::{Endian, ParseNameError, RawLayout, RawType};
+pub use raw::{RawLayout, RawType};
+pub use samples::{Endian, ParseNameError};
 pub use slab_reader::SlabVolume;
 pub use voxlod_core::weld::WeldReport;
 pub use zarr::{open_zarr, ZarrVolume};

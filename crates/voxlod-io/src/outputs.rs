@@ -303,7 +303,17 @@ impl OutputSet {
                     format!("refusing to write over {}", input.describe()),
                 ));
             }
-            return crate::zarr::write::stage(self, path, volume);
+            let store = crate::zarr::write::store_files(path, volume)?;
+            for folder in &store.folders {
+                self.create_dir(folder)?;
+            }
+            for (file, bytes) in &store.files {
+                self.bytes(file, bytes)?;
+            }
+            for folder in &store.folders {
+                self.remove_stale(folder, crate::zarr::write::is_store_file);
+            }
+            return Ok(());
         }
         self.check(path)?;
         let format = crate::check_volume_for_writing(path, volume)?;

@@ -20,7 +20,7 @@ use voxlod_core::{Orientation, Volume};
 
 use crate::atomic::{stage, TempFile};
 use crate::block_read;
-use crate::samples::{self, SampleType};
+use crate::samples::{self, Endian, ParseNameError, SampleType};
 use crate::slab_reader::{DataStart, SlabVolume, StoredSamples};
 use crate::{IoError, IoErrorKind};
 
@@ -37,24 +37,6 @@ pub enum RawType {
     I32,
     /// 32-bit IEEE floats.
     F32,
-}
-
-/// Byte order of multi-byte samples.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Endian {
-    /// Least significant byte first (x86, ARM, most files today).
-    Little,
-    /// Most significant byte first (older scanners and workstations).
-    Big,
-}
-
-/// A name that is not one of the accepted spellings of a [`RawType`] or [`Endian`].
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown {what} '{given}': expected one of {expected}")]
-pub struct ParseNameError {
-    what: &'static str,
-    given: String,
-    expected: &'static str,
 }
 
 impl RawType {
@@ -112,37 +94,11 @@ impl FromStr for RawType {
             "u16" | "uint16" => Ok(RawType::U16),
             "i32" | "int32" => Ok(RawType::I32),
             "f32" | "float32" | "float" => Ok(RawType::F32),
-            _ => Err(ParseNameError {
-                what: "sample type",
-                given: s.to_string(),
-                expected: "u8, i16, u16, i32, f32",
-            }),
-        }
-    }
-}
-
-impl fmt::Display for Endian {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Endian::Little => "little",
-            Endian::Big => "big",
-        })
-    }
-}
-
-impl FromStr for Endian {
-    type Err = ParseNameError;
-
-    /// `little` or `big`, case-insensitive (`le` and `be` too).
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "little" | "le" => Ok(Endian::Little),
-            "big" | "be" => Ok(Endian::Big),
-            _ => Err(ParseNameError {
-                what: "byte order",
-                given: s.to_string(),
-                expected: "little, big",
-            }),
+            _ => Err(ParseNameError::new(
+                "sample type",
+                s,
+                "u8, i16, u16, i32, f32",
+            )),
         }
     }
 }

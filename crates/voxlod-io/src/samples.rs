@@ -1,16 +1,70 @@
-//! What the volume readers share: sample types and their conversion to `f32`, reading exactly
-//! the number of bytes a header promises (plain or compressed), the memory check before any
-//! large allocation, and the final checks on grid geometry.
+//! What the volume readers share: sample types and byte orders ([`Endian`]) and their
+//! conversion to `f32`, reading exactly the number of bytes a header promises (plain or
+//! compressed), the memory check before any large allocation, and the final checks on grid
+//! geometry.
 //!
 //! Cost: O(N) per conversion of N samples; the checks are O(1).
 
+use std::fmt;
 use std::fs::File;
 use std::io::Read;
 use std::path::{Path, PathBuf};
+use std::str::FromStr;
 
 use voxlod_core::{memory, Grid, Volume};
 
-use crate::{budget, Endian, IoError, IoErrorKind};
+use crate::{budget, IoError, IoErrorKind};
+
+/// Byte order of multi-byte samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Endian {
+    /// Least significant byte first (x86, ARM, most files today).
+    Little,
+    /// Most significant byte first (older scanners and workstations).
+    Big,
+}
+
+impl fmt::Display for Endian {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Endian::Little => "little",
+            Endian::Big => "big",
+        })
+    }
+}
+
+impl FromStr for Endian {
+    type Err = ParseNameError;
+
+    /// `little` or `big`, case-insensitive (`le` and `be` too).
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "little" | "le" => Ok(Endian::Little),
+            "big" | "be" => Ok(Endian::Big),
+            _ => Err(ParseNameError::new("byte order", s, "little, big")),
+        }
+    }
+}
+
+/// A name that is not one of the accepted spellings of a [`RawType`](crate::RawType) or [`Endian`].
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown {what} '{given}': expected one of {expected}")]
+pub struct ParseNameError {
+    what: &'static str,
+    given: String,
+    expected: &'static str,
+}
+
+impl ParseNameError {
+    /// `given` is not a `what` (a sample type, a byte order); `expected` lists the names.
+    pub(crate) fn new(what: &'static str, given: &str, expected: &'static str) -> Self {
+        ParseNameError {
+            what,
+            given: given.to_string(),
+            expected,
+        }
+    }
+}
 
 /// A stored sample type. Everything is converted to `f32` in memory; 32-bit integers and `f64`
 /// lose precision beyond 24 bits of mantissa, which no scanner comes near.

@@ -7,14 +7,14 @@
 //! radius, paper §2); the coarser levels of `lod` are filtered from the original object with
 //! wider filters, not downsampled from this one, so they are not a multiscale pyramid of it.
 //!
-//! The store is encoded in memory by zarrs and its files staged in the [`OutputSet`], so it
-//! appears whole at commit or not at all, like every other output; chunk files an earlier
-//! write left in the same folders (chunks that are all fill value are not written) are removed
-//! at commit. The axes carry no unit: a volume does not record one.
+//! The store is encoded in memory by zarrs ([`store_files`]); the output set stages its files,
+//! so that it appears whole at commit or not at all, like every other output, and removes the
+//! chunk files an earlier write left in the same folders ([`is_store_file`]; chunks that are all
+//! fill value are not written). The axes carry no unit: a volume does not record one.
 //!
 //! Cost: O(N) to encode N samples; memory: the compressed store besides the volume.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use serde_json::json;
@@ -24,17 +24,26 @@ use zarrs::array::{ArrayBuilder, DataType};
 use zarrs::array_subset::ArraySubset;
 use zarrs::group::GroupBuilder;
 use zarrs::storage::store::MemoryStore;
-use zarrs::storage::{ListableStorageTraits, ReadableStorageTraits};
+use zarrs::storage::{Bytes, ListableStorageTraits, ReadableStorageTraits};
 
-use crate::{IoError, IoErrorKind, OutputSet};
+use crate::{IoError, IoErrorKind};
 
 /// The largest chunk side written.
 const CHUNK_SIDE: usize = 64;
 /// zstd's level: its default, fast with a good ratio on filtered densities.
 const ZSTD_LEVEL: i32 = 3;
 
-/// Stages the files of an OME-Zarr image of `volume` at `path` (a folder) in `set`.
-pub(crate) fn stage(set: &mut OutputSet, path: &Path, volume: &Volume) -> Result<(), IoError> {
+/// The files of an OME-Zarr image of a volume, to be written below its folder.
+pub(crate) struct StoreFiles {
+    /// The folders that hold them.
+    pub folders: Vec<PathBuf>,
+    /// Each file's path and bytes (shared with the encoded store, not copied).
+    pub files: Vec<(PathBuf, Bytes)>,
+}
+
+/// The files of an OME-Zarr image of `volume` at `path` (a folder, empty, missing or a Zarr
+/// store, whose files may be replaced; anything else in the way is a conflict).
+pub(crate) fn store_files(path: &Path, volume: &Volume) -> Result<StoreFiles, IoError> {
     if path.is_file() || (path.is_dir() && !is_zarr_store(path)) {
         return Err(IoError::new(
             path,
@@ -44,7 +53,10 @@ pub(crate) fn stage(set: &mut OutputSet, path: &Path, volume: &Volume) -> Result
     }
     let store = encode(path, volume)?;
     let keys = store.list().map_err(|_| failed(path))?;
-    let mut folders = Vec::new();
+    let mut out = StoreFiles {
+        folders: Vec::new(),
+        files: Vec::with_capacity(keys.len()),
+    };
     for key in keys {
         let bytes = store
             .get(&key)
@@ -52,18 +64,17 @@ pub(crate) fn stage(set: &mut OutputSet, path: &Path, volume: &Volume) -> Result
             .unwrap_or_default();
         let file = path.join(key.as_str());
         let folder = file.parent().unwrap_or(path).to_path_buf();
-        if !folders.contains(&folder) {
-            set.create_dir(&folder)?;
-            folders.push(folder);
+        if !out.folders.contains(&folder) {
+            out.folders.push(folder);
         }
-        set.bytes(&file, &bytes)?;
+        out.files.push((file, bytes));
     }
-    for folder in folders {
-        set.remove_stale(&folder, |name| {
-            name == "zarr.json" || name.bytes().all(|b| b.is_ascii_digit())
-        });
-    }
-    Ok(())
+    Ok(out)
+}
+
+/// Whether a file name in a store's folder is one a store writes: metadata or a chunk.
+pub(crate) fn is_store_file(name: &str) -> bool {
+    name == "zarr.json" || name.bytes().all(|b| b.is_ascii_digit())
 }
 
 /// Whether `path` holds a Zarr store (so that writing may replace its files).
