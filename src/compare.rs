@@ -9,7 +9,8 @@ use serde::Serialize;
 use voxlod_core::TriangleMesh;
 use voxlod_metrics::{mesh_distance, DistanceOptions, DistanceReport};
 
-use crate::error::{Error, InvalidOption};
+use crate::error::Error;
+use voxlod_pyramid::InvalidOption;
 
 /// Options of [`compare`]: how densely to sample the two surfaces.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -16,7 +16,8 @@ use voxlod_core::validate::{find_defect, Requirements};
 use voxlod_core::{mesh_topology, Grid, Placement, Topology, TriangleMesh, Volume};
 
 use crate::error::Error;
-use crate::source::{check_grid_range, iso_outside_data};
+use voxlod_pyramid::source::{check_grid_range, iso_outside_data};
+use voxlod_pyramid::PyramidError;
 
 /// Options of [`contour`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -99,7 +100,7 @@ pub fn contour(volume: &Volume, options: &ContourOptions) -> Result<Contour, Err
         // Closed, an iso value at or below every sample is the volume's box: say so.
         let all_inside = volume.range().is_some_and(|(lo, _)| options.iso <= lo);
         if !(options.close && all_inside) {
-            return Err(problem);
+            return Err(problem.into());
         }
         warnings.push(format!(
             "`iso` {} is at or below every sample: all of the volume is inside, so the surface \
@@ -123,10 +124,11 @@ pub fn contour(volume: &Volume, options: &ContourOptions) -> Result<Contour, Err
     // An oblique or flipped scan's mesh goes to its world (`voxlod_core::world`).
     Placement::of(&volume.world(), None).apply(&mut mesh);
     if let Some(defect) = find_defect(&mesh, &Requirements::computed()) {
-        return Err(Error::ComputedBeyondRange {
+        return Err(PyramidError::ComputedBeyondRange {
             defect,
             cause: "the volume's spacing or origin is too large",
-        });
+        }
+        .into());
     }
     Ok(Contour {
         topology: mesh_topology(&mesh),

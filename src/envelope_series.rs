@@ -12,8 +12,9 @@ use voxlod_envelope::{
     ManifoldRepair,
 };
 
-use crate::error::{Error, InvalidOption};
-use crate::progress::{run_to_end, Event, ProgressFn, Tracker};
+use crate::error::Error;
+use voxlod_pyramid::progress::{run_to_end, Event, ProgressFn, Tracker};
+use voxlod_pyramid::InvalidOption;
 
 /// Options of [`envelope`].
 #[derive(Clone, Debug, PartialEq)]
@@ -149,7 +150,7 @@ pub fn envelope_with(
         }
     })?;
     if let Some(e) = stopped {
-        return Err(e);
+        return Err(e.into());
     }
     Ok(EnvelopeSeries {
         levels,

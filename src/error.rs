@@ -1,75 +1,30 @@
-//! The one error of the facade: every stage crate's error, wrapped with `#[from]`, plus the
-//! facade's own (an invalid option, a volume without a surface at the requested iso value, a
-//! computed surface beyond 32-bit coordinates, cancellation), and [`Error::class`], the kind
-//! of failure that decides what a caller does next (the command line's exit status).
+//! The one error of the facade: every stage crate's error, wrapped with `#[from]` (the
+//! pyramid's own failures as [`Error::Pyramid`], what it passes on from the stages as the
+//! stages' variants), an invalid option, a cancellation, and [`Error::class`], the kind of
+//! failure that decides what a caller does next (the command line's exit status).
 //!
 //! Messages are one line. Where a message names an option of a facade call it writes the
 //! option's field name in backticks (`` `iso` 1.5: … ``), so that a front end can show its own
 //! spelling (the command line shows `--iso 1.5: …`).
 
-use std::fmt;
 use std::path::Path;
 
-use serde::Serialize;
 use voxlod_budget::BudgetError;
 use voxlod_clustering::ClusteringError;
-use voxlod_contouring::{CleanError, ContourError};
-use voxlod_core::validate::MeshDefect;
+use voxlod_contouring::ContourError;
 use voxlod_core::CoreError;
 use voxlod_envelope::EnvelopeError;
-use voxlod_io::{IoError, IoErrorKind};
+use voxlod_io::IoError;
 use voxlod_layers::LayersError;
 use voxlod_metrics::MetricsError;
+use voxlod_pyramid::error::{
+    budget_class, contour_class, core_class, envelope_class, io_class, metrics_class,
+    sampling_class,
+};
+use voxlod_pyramid::lod::LodError;
+use voxlod_pyramid::{ErrorClass, InvalidOption, PyramidError};
 use voxlod_render::RenderError;
-use voxlod_sampling::{MonotoneError, SamplingError};
-
-use crate::lod::LodError;
-
-/// The kind of a failure, for exit codes and for deciding whether to retry.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ErrorClass {
-    /// The call is wrong: an option out of range, an output that would replace an input.
-    Usage,
-    /// The input cannot be processed as asked: a malformed file, a broken mesh, data that has
-    /// no surface at the requested iso value.
-    BadInput,
-    /// The work would not fit in the memory voxlod allows itself (`VOXLOD_MAX_MEMORY`), or in
-    /// the 32-bit indices of a mesh.
-    TooLarge,
-    /// A file could not be opened, read, written or renamed.
-    Io,
-    /// The caller stopped the work through the progress callback.
-    Cancelled,
-}
-
-/// An option of a facade call that is out of its range: the option (a field name), the value
-/// given and what is wrong with it.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("`{option}` {value}: {problem}")]
-pub struct InvalidOption {
-    /// The option's field name, e.g. `iso`, `resolution`, `keep_sharp`.
-    pub option: &'static str,
-    /// The value given, as written.
-    pub value: String,
-    /// What is wrong with it, and what would be right.
-    pub problem: String,
-}
-
-impl InvalidOption {
-    /// `option` with `value` is wrong because of `problem`.
-    pub fn new(
-        option: &'static str,
-        value: impl fmt::Display,
-        problem: impl Into<String>,
-    ) -> InvalidOption {
-        InvalidOption {
-            option,
-            value: value.to_string(),
-            problem: problem.into(),
-        }
-    }
-}
+use voxlod_sampling::SamplingError;
 
 /// Any failure of a facade call.
 #[derive(Debug, thiserror::Error)]
@@ -107,82 +62,10 @@ pub enum Error {
     /// An option out of its range.
     #[error(transparent)]
     InvalidOption(#[from] InvalidOption),
-    /// A volume filtered directly has no surface at `iso`: every sample is inside (`iso` at or
-    /// below the data's minimum) or none is (above its maximum).
-    #[error(
-        "`iso` {iso} {}. The data runs from {min} to {max}: choose a value above {min} and at \
-         most {max}",
-        if .iso <= .min {
-            "is at or below the data's minimum: every sample is inside (a sample is inside when \
-             its value is >= the iso value), so there is no surface"
-        } else {
-            "is above the data's maximum: no sample reaches it, so nothing is inside and there \
-             is no surface"
-        }
-    )]
-    IsoOutsideData {
-        /// The iso value asked for.
-        iso: f32,
-        /// The smallest finite sample.
-        min: f32,
-        /// The largest finite sample.
-        max: f32,
-    },
-    /// A volume with no finite sample (all NaN or infinite).
-    #[error("the volume has no finite samples")]
-    NoFiniteSamples,
-    /// Filtering the data directly needs the iso value in the data's units.
-    #[error("direct filtering needs `iso` in the data's units")]
-    IsoRequired,
-    /// Layered shells need a solid (density 1 inside, 0 outside), not a volume filtered
-    /// directly.
-    #[error(
-        "layers need a solid (density 1 inside, 0 outside): give a mesh, or a volume with a \
-         `threshold`"
-    )]
-    NeedsSolid,
-    /// Every level came out empty: the object is thinner than the filter, or encloses nothing.
-    #[error(
-        "no level has a surface: at every level the filtered density stays below the \
-         isodensity {iso}. The object is thinner than the filter (level 0: voxel {voxel_size:.4}, \
-         radius {radius:.4}) or encloses no volume; use a higher `resolution`, a smaller \
-         `radius_voxels` or a lower `iso`"
-    )]
-    NoSurface {
-        /// The isodensity used.
-        iso: f32,
-        /// Voxel size of the finest level.
-        voxel_size: f64,
-        /// Filter radius of the finest level, in world units.
-        radius: f64,
-    },
-    /// A volume's samples reach beyond the range of the 32-bit coordinates of mesh vertices.
-    #[error(
-        "the samples reach {axis} = {reach:.3e} (origin {}, spacing {}), beyond the ±{:.1e} of \
-         32-bit mesh coordinates",
-        short_number(*.origin),
-        short_number(*.spacing),
-        f32::MAX
-    )]
-    GridBeyondCoordinates {
-        /// `x`, `y` or `z`.
-        axis: char,
-        /// The farthest sample coordinate along it.
-        reach: f64,
-        /// The grid's origin along it.
-        origin: f64,
-        /// The grid's spacing along it.
-        spacing: f64,
-    },
-    /// A computed surface has a non-finite vertex or normal: the computation left the range of
-    /// 32-bit floats (`cause` says what led there).
-    #[error("the computed surface {}; {cause}", computed_defect(.defect))]
-    ComputedBeyondRange {
-        /// The first non-finite vertex or normal.
-        defect: MeshDefect,
-        /// What makes the numbers so large.
-        cause: &'static str,
-    },
+    /// The pyramid driver's own failures: no surface at the iso value, no finite sample, a
+    /// grid or surface beyond 32-bit coordinates, a volume where a solid is needed.
+    #[error(transparent)]
+    Pyramid(PyramidError),
     /// The caller's progress callback asked to stop.
     #[error("stopped by the caller")]
     Cancelled,
@@ -197,30 +80,32 @@ pub enum Error {
     },
 }
 
+impl From<PyramidError> for Error {
+    /// The stage errors, options, cancellations and contexts the pyramid passes on become the
+    /// facade's own variants; its own failures stay [`Error::Pyramid`].
+    fn from(e: PyramidError) -> Error {
+        match e {
+            PyramidError::Core(e) => Error::Core(e),
+            PyramidError::Io(e) => Error::Io(e),
+            PyramidError::Sampling(e) => Error::Sampling(e),
+            PyramidError::Contour(e) => Error::Contour(e),
+            PyramidError::Envelope(e) => Error::Envelope(e),
+            PyramidError::Metrics(e) => Error::Metrics(e),
+            PyramidError::Budget(e) => Error::Budget(e),
+            PyramidError::InvalidOption(e) => Error::InvalidOption(e),
+            PyramidError::Cancelled => Error::Cancelled,
+            PyramidError::In { context, source } => Error::In {
+                context,
+                source: Box::new(Error::from(*source)),
+            },
+            own => Error::Pyramid(own),
+        }
+    }
+}
+
 impl From<LodError> for Error {
     fn from(e: LodError) -> Error {
-        match e {
-            LodError::Sampling(e) => Error::Sampling(e),
-            LodError::Contour(e) => Error::Contour(e),
-            LodError::Read(e) => Error::Io(e),
-            LodError::Clean(CleanError::Mesh(e)) => Error::Core(e),
-            LodError::Clean(CleanError::BadCell(cell)) => Error::InvalidOption(InvalidOption {
-                option: "resolution",
-                value: cell.to_string(),
-                problem: "gives a level whose cell size is not a positive number".into(),
-            }),
-            LodError::Monotone(MonotoneError::Sampling(e)) => Error::Sampling(e),
-            LodError::Monotone(MonotoneError::Core(e)) => Error::Core(e),
-            LodError::Monotone(MonotoneError::NonFiniteIso(iso)) => {
-                Error::InvalidOption(InvalidOption::new("iso", iso, "must be a finite number"))
-            }
-            LodError::Monotone(e @ MonotoneError::Unresolved { .. }) => {
-                Error::Sampling(SamplingError::InvalidOption(format!(
-                    "keeping the genus from rising failed ({e}); set `monotone` to None for the \
-                     plain pyramid"
-                )))
-            }
-        }
+        Error::from(PyramidError::from(e))
     }
 }
 
@@ -267,51 +152,11 @@ impl Error {
             Error::Metrics(e) => metrics_class(e),
             Error::Budget(e) => budget_class(e),
             Error::Render(e) => render_class(e),
-            Error::InvalidOption(_) | Error::IsoRequired | Error::NeedsSolid => Usage,
+            Error::InvalidOption(_) => Usage,
+            Error::Pyramid(e) => e.class(),
             Error::Cancelled => Cancelled,
             Error::In { source, .. } => source.class(),
-            Error::IsoOutsideData { .. }
-            | Error::NoFiniteSamples
-            | Error::NoSurface { .. }
-            | Error::GridBeyondCoordinates { .. }
-            | Error::ComputedBeyondRange { .. } => BadInput,
         }
-    }
-}
-
-fn budget_class(e: &BudgetError) -> ErrorClass {
-    match e {
-        BudgetError::Core(e) => core_class(e),
-        BudgetError::Sampling(e) => sampling_class(e),
-        BudgetError::Metrics(e) => metrics_class(e),
-        BudgetError::InvalidBudgets(_) | BudgetError::InvalidOption { .. } => ErrorClass::Usage,
-        BudgetError::Cancelled => ErrorClass::Cancelled,
-        BudgetError::EmptyMesh { .. } | BudgetError::NoLevel { .. } => ErrorClass::BadInput,
-    }
-}
-
-fn core_class(e: &CoreError) -> ErrorClass {
-    match e {
-        CoreError::OutOfMemory { .. } => ErrorClass::TooLarge,
-        CoreError::BadMemoryLimit { .. } => ErrorClass::Usage,
-        _ => ErrorClass::BadInput,
-    }
-}
-
-fn io_class(e: &IoError) -> ErrorClass {
-    match e.kind {
-        IoErrorKind::Access => ErrorClass::Io,
-        IoErrorKind::TooLarge => ErrorClass::TooLarge,
-        IoErrorKind::Conflict => ErrorClass::Usage,
-        _ => ErrorClass::BadInput,
-    }
-}
-
-fn sampling_class(e: &SamplingError) -> ErrorClass {
-    match e {
-        SamplingError::Core(e) => core_class(e),
-        SamplingError::InvalidOption(_) => ErrorClass::Usage,
-        _ => ErrorClass::BadInput,
     }
 }
 
@@ -330,16 +175,6 @@ fn layers_class(e: &LayersError) -> ErrorClass {
     }
 }
 
-fn contour_class(e: &ContourError) -> ErrorClass {
-    match e {
-        ContourError::Memory(e) => core_class(e),
-        ContourError::NonFiniteIso(_)
-        | ContourError::BadClamp(_)
-        | ContourError::SampleCount { .. } => ErrorClass::Usage,
-        ContourError::TooManyVertices(_) | ContourError::TooManyCells(_) => ErrorClass::TooLarge,
-    }
-}
-
 fn clustering_class(e: &ClusteringError) -> ErrorClass {
     match e {
         ClusteringError::Core(e) => core_class(e),
@@ -353,27 +188,6 @@ fn clustering_class(e: &ClusteringError) -> ErrorClass {
     }
 }
 
-fn envelope_class(e: &EnvelopeError) -> ErrorClass {
-    match e {
-        EnvelopeError::Core(e) => core_class(e),
-        EnvelopeError::Metrics(e) => metrics_class(e),
-        EnvelopeError::TooLarge(_) => ErrorClass::TooLarge,
-        EnvelopeError::InvalidEpsilon(_)
-        | EnvelopeError::EpsilonNotGrowing { .. }
-        | EnvelopeError::InvalidOption { .. } => ErrorClass::Usage,
-        _ => ErrorClass::BadInput,
-    }
-}
-
-fn metrics_class(e: &MetricsError) -> ErrorClass {
-    match e {
-        MetricsError::Core(e) => core_class(e),
-        MetricsError::InMesh { source, .. } => metrics_class(source),
-        MetricsError::NoSamples | MetricsError::TooManySamples { .. } => ErrorClass::Usage,
-        _ => ErrorClass::BadInput,
-    }
-}
-
 fn render_class(e: &RenderError) -> ErrorClass {
     match e {
         RenderError::Core(e) => core_class(e),
@@ -382,25 +196,5 @@ fn render_class(e: &RenderError) -> ErrorClass {
         | RenderError::BadSize(..)
         | RenderError::BadSupersample(_) => ErrorClass::Usage,
         _ => ErrorClass::BadInput,
-    }
-}
-
-/// "has a vertex at (x, y, z), beyond the range of 32-bit coordinates", or the normal's words.
-fn computed_defect(defect: &MeshDefect) -> String {
-    match defect {
-        MeshDefect::NonFiniteCoordinate { x, y, z, .. } => {
-            format!("has a vertex at ({x}, {y}, {z}), beyond the range of 32-bit coordinates")
-        }
-        MeshDefect::NonFiniteNormal { .. } => "has a non-finite normal".to_string(),
-        other => format!("is broken: {other}"),
-    }
-}
-
-/// A number as people write it: plain, or in scientific notation when very large or small.
-fn short_number(x: f64) -> String {
-    if x != 0.0 && !(1e-4..1e6).contains(&x.abs()) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
     }
 }

@@ -51,29 +51,17 @@
 
 #![warn(missing_docs)]
 
-pub mod bricked;
-pub mod budget;
-mod by_budget;
-mod caps;
 mod cluster;
 mod compare;
 mod contour;
 mod envelope_series;
 mod error;
 mod files;
-pub mod finest;
 mod inspect;
-pub mod labels;
 mod levels;
-pub mod lod;
-mod lod_options;
 mod picture;
-mod progress;
 pub mod select;
 mod shells;
-mod source;
-mod then_envelope;
-mod voxelize;
 
 pub use cluster::{cluster, cluster_glb, ClusteringOptions};
 pub use compare::{compare, CompareOptions, Comparison};
@@ -81,29 +69,33 @@ pub use contour::{contour, Contour, ContourOptions};
 pub use envelope_series::{
     check_envelope_options, envelope, envelope_with, EnvelopeSeries, EnvelopeSeriesOptions,
 };
-pub use error::{Error, ErrorClass, InvalidOption};
+pub use error::Error;
 pub use files::{read_glb, read_mesh, read_volume, write_mesh, write_volume};
-pub use finest::Finest;
 pub use inspect::{
     inspect, inspect_file, inspect_scene, FileInspection, InspectOptions, Inspection,
     PartInspection, SceneInspection,
 };
-pub use levels::{lod, lod_with};
-pub use lod::LodLevel;
-pub use lod_options::{Lod, LodOptions};
+pub use levels::{lod, lod_with, voxelize};
 pub use picture::{
     check_draw_options, draw, read_drawable, view_direction, DrawOptions, Drawable, Drawing,
     SURFACE_COLOR,
 };
-pub use progress::{run_to_end, Control, Event, Progress, ProgressFn};
 pub use select::{select, select_drawn, DrawnSelection, SelectOptions, Selection};
 pub use shells::{
     check_layers_levels, check_layers_options, layered_glb, layered_poly_mesh, layered_preview,
     layers, layers_chain, layers_levels, layers_radius, layers_with, Layers, LayersChain,
 };
-pub use source::{iso_outside_data, Prepared, Route, Source};
-pub use then_envelope::{EnvelopeStep, LevelEpsilon, ThenEnvelope};
-pub use voxelize::{voxelize, VoxelizeOptions, Voxelized};
+pub use voxlod_pyramid::{bricked, budget, finest, labels};
+pub use voxlod_pyramid::{
+    iso_outside_data, run_to_end, Control, EnvelopeStep, ErrorClass, Event, Finest, InvalidOption,
+    LevelEpsilon, Lod, LodLevel, LodOptions, Prepared, Progress, ProgressFn, PyramidError, Route,
+    Source, ThenEnvelope, VoxelizeOptions, Voxelized,
+};
+
+/// Levels one at a time: [`voxlod_pyramid::lod`].
+pub mod lod {
+    pub use voxlod_pyramid::lod::*;
+}
 pub use voxlod_fit::FitOptions;
 pub use voxlod_layers::LayersOptions;
 
@@ -117,6 +109,7 @@ pub use voxlod_gltf as gltf;
 pub use voxlod_io as io;
 pub use voxlod_layers as layers;
 pub use voxlod_metrics as metrics;
+pub use voxlod_pyramid as pyramid;
 pub use voxlod_quadric as quadric;
 pub use voxlod_render as render;
 pub use voxlod_sampling as sampling;

@@ -15,11 +15,11 @@ use voxlod_layers::{
 };
 use voxlod_render::{Camera, Image, RenderOptions};
 
-use crate::error::{Error, InvalidOption};
+use crate::error::Error;
 use crate::files::gltf_error;
 use crate::picture::{view_direction, SURFACE_COLOR};
-use crate::progress::{run_to_end, ProgressFn, Tracker};
-use crate::source::Source;
+use voxlod_pyramid::progress::{run_to_end, ProgressFn, Tracker};
+use voxlod_pyramid::{InvalidOption, PyramidError, Source};
 
 /// Layered shells and what to know about them.
 #[derive(Clone, Debug)]
@@ -89,7 +89,7 @@ pub fn layers_with(
     let start = Instant::now();
     check_layers_options(options)?;
     let prepared = source.prepare()?;
-    let solid = prepared.solid().ok_or(Error::NeedsSolid)?;
+    let solid = prepared.solid().ok_or(PyramidError::NeedsSolid)?;
     let mut tracker = Tracker::start(progress, 2)?;
     let (volume, density) = filter_solid(solid, options)?;
     let sample_seconds = start.elapsed().as_secs_f64();
@@ -120,7 +120,7 @@ pub fn layers_levels(
         ..*options
     };
     let prepared = source.prepare()?;
-    let solid = prepared.solid().ok_or(Error::NeedsSolid)?;
+    let solid = prepared.solid().ok_or(PyramidError::NeedsSolid)?;
     let mut out = Vec::with_capacity(resolutions.len());
     for &r in resolutions {
         let start = Instant::now();

@@ -70,7 +70,13 @@ fn a_plate_too_thin_for_the_chosen_start_starts_finer() {
     // A resolution one coarser than the start has no surface (the search's bisection).
     let coarser = LodOptions::halving(finest.resolution - 1, 1, Filter::Hypercone);
     let e = voxlod::lod(&Source::Mesh(&plate), &coarser).unwrap_err();
-    assert!(matches!(e, voxlod::Error::NoSurface { .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            voxlod::Error::Pyramid(voxlod::PyramidError::NoSurface { .. })
+        ),
+        "{e}"
+    );
 }
 
 #[test]

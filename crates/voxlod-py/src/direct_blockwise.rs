@@ -21,6 +21,7 @@
 //! the monotone chain's previous level, and the mesh.
 
 use std::time::Instant;
+use voxlod::PyramidError;
 
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray3};
 use pyo3::prelude::*;
@@ -61,16 +62,16 @@ fn direct_plan(args: &DirectArgs) -> PyResult<DirectPlan> {
     let (shape, spacing, origin, (low, high), window, levels) = args.clone();
     let scan = scan_grid(shape, spacing, origin)?;
     let options = lod_options(levels)?;
-    let refuse = |e: voxlod::Error| -> PyErr { Failure::from(e).into() };
+    let refuse = |e: PyramidError| -> PyErr { Failure::from(voxlod::Error::from(e)).into() };
     if low.is_nan() || high.is_nan() || low > high {
-        return Err(refuse(voxlod::Error::NoFiniteSamples));
+        return Err(refuse(PyramidError::NoFiniteSamples));
     }
     let iso = options
         .iso
-        .ok_or_else(|| refuse(voxlod::Error::IsoRequired))?;
+        .ok_or_else(|| refuse(PyramidError::IsoRequired))?;
     if !iso.is_finite() || iso <= low || iso > high {
         let (min, max) = (low, high);
-        return Err(refuse(voxlod::Error::IsoOutsideData { iso, min, max }));
+        return Err(refuse(PyramidError::IsoOutsideData { iso, min, max }));
     }
     let pyramid = &options.pyramid;
     let dense = |grid: &Grid, q: usize| estimated_bytes(grid, q).into();
@@ -156,10 +157,11 @@ fn finish_level(
     plan.placement.apply(&mut mesh);
     let contour_seconds = start.elapsed().as_secs_f64();
     if let Some(defect) = find_defect(&mesh, &Requirements::computed()) {
-        return Err(voxlod::Error::ComputedBeyondRange {
+        return Err(PyramidError::ComputedBeyondRange {
             defect,
             cause: "the object's extent or position is too large for 32-bit coordinates",
-        });
+        }
+        .into());
     }
     let topology = mesh_topology(&mesh);
     Ok(LodLevel {
@@ -259,11 +261,11 @@ pub fn lod_direct_blockwise<'py>(
     if empty == plan.plans.len() {
         let (iso, first) = (plan.iso, &plan.plans[0]);
         let (voxel_size, radius) = (first.voxel_size, first.radius);
-        return Err(Failure::from(voxlod::Error::NoSurface {
+        return Err(Failure::from(voxlod::Error::from(PyramidError::NoSurface {
             iso,
             voxel_size,
             radius,
-        })
+        }))
         .into());
     }
     Ok((out, warnings))

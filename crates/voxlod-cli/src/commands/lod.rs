@@ -558,11 +558,11 @@ fn print_repairs(args: &LodArgs, p: &voxlod::sampling::MeshPreparation) {
 /// The library's failure about the input; "no surface" in the flags' words.
 fn lod_error(args: &LodArgs, e: voxlod::Error) -> CliError {
     match e {
-        voxlod::Error::NoSurface {
+        voxlod::Error::Pyramid(voxlod::PyramidError::NoSurface {
             iso,
             voxel_size,
             radius,
-        } => CliError::msg(format!(
+        }) => CliError::msg(format!(
             "{}: no level has a surface, so nothing was written: at every level the filtered \
              density stays below the isodensity {iso}. The object is thinner than the filter \
              (level 0: voxel {voxel_size:.4}, radius {radius:.4}) or encloses no volume; use a \
@@ -575,7 +575,7 @@ fn lod_error(args: &LodArgs, e: voxlod::Error) -> CliError {
             o.value,
             o.problem
         )),
-        voxlod::Error::IsoRequired => CliError::usage(format!(
+        voxlod::Error::Pyramid(voxlod::PyramidError::IsoRequired) => CliError::usage(format!(
             "{}: --direct needs --iso V in the data's units",
             args.input.display()
         )),

@@ -7,12 +7,15 @@ use voxlod_contouring::triangle_estimate::resolution_for_triangles;
 
 use super::context::BudgetContext;
 use super::{COARSEST, FINEST, PROBE_TOLERANCE};
-use crate::error::Error;
+use crate::error::PyramidError;
 
 impl BudgetContext<'_> {
     /// The resolution whose level has about `wanted` triangles (module docs, step 1), the
     /// seconds charged for the probes, and warnings for levels that vanished.
-    pub(super) fn resolution_for(&self, wanted: f64) -> Result<(usize, f64, Vec<String>), Error> {
+    pub(super) fn resolution_for(
+        &self,
+        wanted: f64,
+    ) -> Result<(usize, f64, Vec<String>), PyramidError> {
         self.resolution_for_at(wanted, self.level_options.iso)
     }
 
@@ -21,7 +24,7 @@ impl BudgetContext<'_> {
         &self,
         wanted: f64,
         iso: f32,
-    ) -> Result<(usize, f64, Vec<String>), Error> {
+    ) -> Result<(usize, f64, Vec<String>), PyramidError> {
         let start = self
             .sampled
             .and_then(|mesh| resolution_for_triangles(mesh, wanted.round() as usize))

@@ -9,7 +9,7 @@ use voxlod_quadric::{simplify_to_budget, QuadricOptions};
 use super::candidate::Candidate;
 use super::context::BudgetContext;
 use super::{Stage, Then, COARSEST, FINEST, HEADROOM};
-use crate::error::Error;
+use crate::error::PyramidError;
 use crate::lod::LodLevel;
 
 impl BudgetContext<'_> {
@@ -19,7 +19,7 @@ impl BudgetContext<'_> {
         &self,
         budget: usize,
         error: Option<f64>,
-    ) -> Result<Option<(Candidate, LodLevel, f64)>, Error> {
+    ) -> Result<Option<(Candidate, LodLevel, f64)>, PyramidError> {
         let Some((input, topology)) = &self.welded else {
             return Ok(None);
         };

@@ -1,14 +1,14 @@
-//! Progress and cancellation of the long calls ([`crate::lod_with`], [`crate::layers_with`],
-//! [`crate::envelope_with`]).
+//! Progress and cancellation of the long calls ([`crate::lod_with`], and the facade's
+//! `layers_with` and `envelope_with`).
 //!
 //! A call counts its steps up front (a level's sampling, its contouring, its envelope step;
 //! the layers' filtering, extraction and ordering), and after each one hands a [`Progress`] to
 //! the caller's callback. The callback answers [`Control::Continue`] or [`Control::Stop`]; a
-//! stop ends the call with [`Error::Cancelled`] before the next step starts, so the work stops
+//! stop ends the call with [`PyramidError::Cancelled`] before the next step starts, so the work stops
 //! within one step (a level of a pyramid, at most). The callback may be called from any thread
 //! (it is `Sync`); it should return quickly.
 
-use crate::error::Error;
+use crate::error::PyramidError;
 use crate::lod::LodLevel;
 use voxlod_envelope::EnvelopeLevel;
 
@@ -17,7 +17,7 @@ use voxlod_envelope::EnvelopeLevel;
 pub enum Control {
     /// Go on.
     Continue,
-    /// Stop: the call returns [`Error::Cancelled`].
+    /// Stop: the call returns [`PyramidError::Cancelled`].
     Stop,
 }
 
@@ -47,7 +47,7 @@ pub enum Event<'a> {
     },
     /// A level of [`crate::lod_with`], complete.
     LodLevel(&'a LodLevel),
-    /// A level of [`crate::envelope_with`], complete.
+    /// A level of `voxlod::envelope_with`, complete.
     EnvelopeLevel(&'a EnvelopeLevel),
 }
 
@@ -60,7 +60,7 @@ pub fn run_to_end(_: Progress<'_>) -> Control {
 }
 
 /// Counts the steps of one call and asks the callback after each.
-pub(crate) struct Tracker<'f> {
+pub struct Tracker<'f> {
     callback: &'f ProgressFn<'f>,
     done: usize,
     total: usize,
@@ -68,7 +68,7 @@ pub(crate) struct Tracker<'f> {
 
 impl<'f> Tracker<'f> {
     /// Reports the start of `total` steps.
-    pub(crate) fn start(callback: &'f ProgressFn<'f>, total: usize) -> Result<Self, Error> {
+    pub fn start(callback: &'f ProgressFn<'f>, total: usize) -> Result<Self, PyramidError> {
         let tracker = Tracker {
             callback,
             done: 0,
@@ -79,13 +79,13 @@ impl<'f> Tracker<'f> {
     }
 
     /// One step done.
-    pub(crate) fn step(&mut self, level: usize, what: &'static str) -> Result<(), Error> {
+    pub fn step(&mut self, level: usize, what: &'static str) -> Result<(), PyramidError> {
         self.done += 1;
         self.ask(Event::Step { level, what })
     }
 
     /// Reports `event` without counting a step (a level complete).
-    pub(crate) fn ask(&self, event: Event<'_>) -> Result<(), Error> {
+    pub fn ask(&self, event: Event<'_>) -> Result<(), PyramidError> {
         let progress = Progress {
             done: self.done.min(self.total),
             total: self.total,
@@ -93,7 +93,7 @@ impl<'f> Tracker<'f> {
         };
         match (self.callback)(progress) {
             Control::Continue => Ok(()),
-            Control::Stop => Err(Error::Cancelled),
+            Control::Stop => Err(PyramidError::Cancelled),
         }
     }
 }

@@ -10,7 +10,7 @@ use std::time::Instant;
 use voxlod_core::{Grid, Orientation, Volume, WorldTransform};
 use voxlod_sampling::{DensityReport, Filter, LevelPlan, PyramidOptions};
 
-use crate::error::{Error, InvalidOption};
+use crate::error::{InvalidOption, PyramidError};
 use crate::lod::{plan, sample_level, LevelOptions};
 use crate::source::Source;
 
@@ -54,7 +54,7 @@ impl VoxelizeOptions {
         }
     }
 
-    fn check(&self) -> Result<(), Error> {
+    fn check(&self) -> Result<(), PyramidError> {
         if self.resolution == 0 {
             return Err(InvalidOption::new("resolution", 0, "must be at least 1").into());
         }
@@ -98,7 +98,7 @@ pub struct Voxelized {
 /// # Ok(())
 /// # }
 /// ```
-pub fn voxelize(source: &Source, options: &VoxelizeOptions) -> Result<Voxelized, Error> {
+pub fn voxelize(source: &Source, options: &VoxelizeOptions) -> Result<Voxelized, PyramidError> {
     options.check()?;
     let prepared = source.prepare()?;
     let level_options = LevelOptions {

@@ -8,7 +8,7 @@ use voxlod_fit::FitOptions;
 use voxlod_sampling::{Filter, MeshPreparation, MonotoneOptions, PyramidOptions};
 
 use crate::budget::terms::{check_budgets, BudgetLevel, ErrorTarget, Then};
-use crate::error::{Error, InvalidOption};
+use crate::error::{InvalidOption, PyramidError};
 use crate::finest::{Finest, FinestChoice};
 use crate::lod::LodLevel;
 use crate::source::Route;
@@ -152,7 +152,7 @@ impl LodOptions {
     }
 
     /// Refuses options out of their range before any work.
-    pub(crate) fn check(&self) -> Result<(), Error> {
+    pub(crate) fn check(&self) -> Result<(), PyramidError> {
         let p = &self.pyramid;
         if p.resolutions.is_empty() {
             return Err(InvalidOption::new("resolutions", "[]", "give at least one level").into());

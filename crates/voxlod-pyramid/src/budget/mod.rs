@@ -109,7 +109,7 @@
 //! no level may have more handles than the level above it; a level whose own search would add
 //! handles is the one exception to independence.
 //!
-//! **Error target.** With [`crate::LodOptions::error`] and no budgets, one level: the resolution
+//! **PyramidError target.** With [`crate::LodOptions::error`] and no budgets, one level: the resolution
 //! whose voxel is the error, then the quadric stage within the error; with budgets too, the
 //! error bounds every geometric stage.
 //!
@@ -150,7 +150,7 @@ pub(crate) mod terms;
 use std::time::Instant;
 use voxlod_core::cavities::FilledCavities;
 
-use crate::error::Error;
+use crate::error::PyramidError;
 use crate::lod::LevelOptions;
 use crate::lod_options::{Lod, LodOptions};
 use crate::progress::{Event, ProgressFn, Tracker};
@@ -178,7 +178,7 @@ pub(crate) fn lod_by_budget(
     source: &Source,
     options: &LodOptions,
     progress: &ProgressFn,
-) -> Result<Lod, Error> {
+) -> Result<Lod, PyramidError> {
     let start = Instant::now();
     let prepared = source.prepare()?;
     let iso = prepared.iso(options.iso)?;

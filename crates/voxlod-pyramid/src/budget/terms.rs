@@ -6,7 +6,7 @@ use std::str::FromStr;
 
 use serde::Serialize;
 
-use crate::error::{Error, InvalidOption};
+use crate::error::{InvalidOption, PyramidError};
 
 /// A budget's level may miss it by this fraction.
 pub const BUDGET_TOLERANCE: f64 = 0.10;
@@ -196,7 +196,7 @@ pub struct BudgetLevel {
 }
 
 /// Refuses budgets no closed surface can meet.
-pub(crate) fn check_budgets(budgets: &[usize]) -> Result<(), Error> {
+pub(crate) fn check_budgets(budgets: &[usize]) -> Result<(), PyramidError> {
     if budgets.is_empty() {
         return Err(InvalidOption::new("triangles", "[]", "give at least one budget").into());
     }

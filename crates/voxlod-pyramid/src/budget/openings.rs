@@ -6,13 +6,16 @@ use voxlod_core::mesh_topology;
 
 use super::context::BudgetContext;
 use crate::caps::cut_caps;
-use crate::error::Error;
+use crate::error::PyramidError;
 use crate::lod::LodLevel;
 
 impl BudgetContext<'_> {
     /// The level at `resolution` and the surface's isodensity with the caps over the input's
     /// holes cut (unless closed).
-    pub(super) fn uncapped(&self, resolution: usize) -> Result<(LodLevel, usize, f64), Error> {
+    pub(super) fn uncapped(
+        &self,
+        resolution: usize,
+    ) -> Result<(LodLevel, usize, f64), PyramidError> {
         self.uncapped_at(resolution, self.level_options.iso)
     }
 
@@ -21,7 +24,7 @@ impl BudgetContext<'_> {
         &self,
         resolution: usize,
         iso: f32,
-    ) -> Result<(LodLevel, usize, f64), Error> {
+    ) -> Result<(LodLevel, usize, f64), PyramidError> {
         let (mut level, seconds) = self.level_at(resolution, iso)?;
         let mut cut = 0;
         if let Some(border) = &self.border {

@@ -17,7 +17,7 @@ use voxlod_sampling::{MeshPreparation, MeshSolid, SamplingError, Solid, Threshol
 
 use crate::bricked::{ChunkedScan, ChunkedThreshold};
 
-use crate::error::{Error, InvalidOption};
+use crate::error::{InvalidOption, PyramidError};
 use crate::lod::LodSource;
 use voxlod_core::TriangleMesh;
 
@@ -119,7 +119,7 @@ impl<'a> Source<'a> {
     /// # Ok(())
     /// # }
     /// ```
-    pub fn prepare(&self) -> Result<Prepared<'a>, Error> {
+    pub fn prepare(&self) -> Result<Prepared<'a>, PyramidError> {
         let mut warnings = Vec::new();
         let (inner, preparation) = match *self {
             Source::Mesh(mesh) => {
@@ -220,10 +220,10 @@ impl Prepared<'_> {
     /// The iso value to contour at: `given`, checked, or the default 0.5 of solids. A solid's
     /// density runs from 0 to 1, so its iso value must lie strictly between; a volume filtered
     /// directly needs one in its units at which some samples are inside and some are not.
-    pub fn iso(&self, given: Option<f32>) -> Result<f32, Error> {
+    pub fn iso(&self, given: Option<f32>) -> Result<f32, PyramidError> {
         match &self.inner {
             Inner::Direct(volume) => {
-                let iso = given.ok_or(Error::IsoRequired)?;
+                let iso = given.ok_or(PyramidError::IsoRequired)?;
                 match iso_outside_data(iso, volume)? {
                     Some(e) => Err(e),
                     None => Ok(iso),
@@ -235,7 +235,7 @@ impl Prepared<'_> {
 }
 
 /// The isodensity of a solid's filtered density: `given` or 0.5, strictly between 0 and 1.
-pub(crate) fn solid_iso(given: Option<f32>) -> Result<f32, Error> {
+pub(crate) fn solid_iso(given: Option<f32>) -> Result<f32, PyramidError> {
     let iso = given.unwrap_or(0.5);
     let why = if !iso.is_finite() {
         "it is not a finite number"
@@ -259,12 +259,12 @@ pub(crate) fn solid_iso(given: Option<f32>) -> Result<f32, Error> {
     .into())
 }
 
-/// [`Error::IsoOutsideData`] when no sample of `volume` is on one side of `iso` (a sample is
+/// [`PyramidError::IsoOutsideData`] when no sample of `volume` is on one side of `iso` (a sample is
 /// inside when its value is `>= iso`), `None` when a surface can exist; fails when the volume
 /// has no finite sample.
-pub fn iso_outside_data(iso: f32, volume: &Volume) -> Result<Option<Error>, Error> {
-    let (min, max) = volume.range().ok_or(Error::NoFiniteSamples)?;
-    Ok((iso <= min || iso > max).then_some(Error::IsoOutsideData { iso, min, max }))
+pub fn iso_outside_data(iso: f32, volume: &Volume) -> Result<Option<PyramidError>, PyramidError> {
+    let (min, max) = volume.range().ok_or(PyramidError::NoFiniteSamples)?;
+    Ok((iso <= min || iso > max).then_some(PyramidError::IsoOutsideData { iso, min, max }))
 }
 
 /// A warning when `threshold` is at or below every sample: all of the volume is inside, and
@@ -290,12 +290,12 @@ const LARGEST_COORDINATE: f64 = f32::MAX as f64;
 
 /// Refuses a volume whose samples lie beyond the 32-bit range of mesh coordinates, before any
 /// work: its surfaces would have infinite vertices.
-pub(crate) fn check_grid_range(volume: &Volume) -> Result<(), Error> {
+pub fn check_grid_range(volume: &Volume) -> Result<(), PyramidError> {
     check_grid_reach(&volume.grid)
 }
 
 /// [`check_grid_range`] for a scan known by its grid (one read window by window).
-fn check_grid_reach(g: &Grid) -> Result<(), Error> {
+fn check_grid_reach(g: &Grid) -> Result<(), PyramidError> {
     for (axis, name) in ['x', 'y', 'z'].into_iter().enumerate() {
         let far = g.origin[axis] + g.spacing[axis] * (g.dims[axis].max(1) - 1) as f64;
         let reach = if g.origin[axis].abs() > far.abs() {
@@ -304,7 +304,7 @@ fn check_grid_reach(g: &Grid) -> Result<(), Error> {
             far
         };
         if reach.is_nan() || reach.abs() > LARGEST_COORDINATE {
-            return Err(Error::GridBeyondCoordinates {
+            return Err(PyramidError::GridBeyondCoordinates {
                 axis: name,
                 reach,
                 origin: g.origin[axis],

@@ -1,4 +1,4 @@
-//! The level for an error target alone (module docs of [`crate::budget`], "Error target"): the
+//! The level for an error target alone (module docs of [`crate::budget`], "PyramidError target"): the
 //! resolution whose voxel is the error, then the quadric stage bounded by half of it. Cost: one
 //! sampling and marching cubes, one quadric collapse, one distance measurement.
 
@@ -9,7 +9,7 @@ use voxlod_quadric::{simplify_to_budget, QuadricOptions};
 use super::context::BudgetContext;
 use super::report::report;
 use super::{BudgetLevel, Stage, Then, COARSEST, FINEST};
-use crate::error::Error;
+use crate::error::PyramidError;
 use crate::lod::LodLevel;
 
 /// The level for an error target alone: the resolution whose voxel is `error`, then the
@@ -17,7 +17,7 @@ use crate::lod::LodLevel;
 pub(crate) fn error_level(
     ctx: &BudgetContext,
     error: f64,
-) -> Result<(LodLevel, BudgetLevel, Vec<String>), Error> {
+) -> Result<(LodLevel, BudgetLevel, Vec<String>), PyramidError> {
     let start = Instant::now();
     let longest = ctx.source.bounds().longest_extent();
     let resolution = ((longest / error).ceil() as usize).clamp(COARSEST, FINEST);

@@ -11,7 +11,7 @@ use voxlod_core::TriangleMesh;
 use voxlod_sampling::{level_grid, LevelPlan, MeshPreparation, PyramidOptions};
 
 use crate::budget::{BudgetLevel, Stage, Then};
-use crate::error::Error;
+use crate::error::PyramidError;
 use crate::lod::LodLevel;
 use crate::lod_options::{Lod, LodOptions};
 use crate::progress::{Control, Event, Progress, ProgressFn};
@@ -28,7 +28,7 @@ pub(crate) fn portfolio_lod(
     mesh: &TriangleMesh,
     options: &LodOptions,
     progress: &ProgressFn,
-) -> Result<Lod, Error> {
+) -> Result<Lod, PyramidError> {
     let start = Instant::now();
     let (budget_options, mut warnings) = budget_options(mesh, options);
     let ask = |done: usize, total: usize| {

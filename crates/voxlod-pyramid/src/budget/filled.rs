@@ -23,7 +23,7 @@ use super::genus_cap::Found;
 use super::search::budget_level;
 use super::silhouettes::balanced_choice;
 use super::Stage;
-use crate::error::Error;
+use crate::error::PyramidError;
 
 /// The input mesh with its cavities filled, when it has any.
 pub(super) fn filled_input(ctx: &BudgetContext) -> Option<FilledCavities> {
@@ -44,7 +44,7 @@ pub(super) fn budget_level_either(
     budget: usize,
     error: Option<f64>,
     genus_cap: Option<i64>,
-) -> Result<Found, Error> {
+) -> Result<Found, PyramidError> {
     let first = budget_level(given, budget, error, genus_cap)?;
     if first.1.stage == Stage::InputQuadric || filled.is_empty() {
         return Ok(first);

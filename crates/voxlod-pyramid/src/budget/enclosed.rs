@@ -49,7 +49,7 @@ use voxlod_core::cavities::FilledCavities;
 use voxlod_core::{TriangleMesh, Volume};
 use voxlod_sampling::closing::{closing_fill, regions, Closing};
 
-use crate::error::Error;
+use crate::error::PyramidError;
 use crate::source::Source;
 use crate::voxelize::{voxelize, VoxelizeOptions};
 
@@ -68,7 +68,7 @@ pub(super) const LEAST_FILLED: f64 = 1.0;
 
 /// The input mesh (welded) with its nearly enclosed cavities filled, when it has any: filled
 /// whole, and lined (only the fill within the closing's radius of the material).
-pub(super) fn enclosed_filled(input: &TriangleMesh) -> Result<Vec<FilledCavities>, Error> {
+pub(super) fn enclosed_filled(input: &TriangleMesh) -> Result<Vec<FilledCavities>, PyramidError> {
     if closed_grid(input, FIRST_LOOK_RESOLUTION, 0.5 * LEAST_FILLED)?.is_none() {
         return Ok(Vec::new());
     }
@@ -101,7 +101,7 @@ fn closed_grid(
     input: &TriangleMesh,
     resolution: usize,
     least: f64,
-) -> Result<Option<(Volume, Closing)>, Error> {
+) -> Result<Option<(Volume, Closing)>, PyramidError> {
     let volume = voxelize(&Source::Mesh(input), &VoxelizeOptions::at(resolution))?.volume;
     let inside: Vec<bool> = volume.as_slice().iter().map(|&d| d >= 0.5).collect();
     let radius = (CLOSING_FRACTION * resolution as f64).round() as usize;

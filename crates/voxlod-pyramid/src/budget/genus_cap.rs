@@ -48,7 +48,7 @@ use super::filled::budget_level_either;
 use super::geometric::without_caps;
 use super::report::finish;
 use super::{BudgetLevel, Stage, Then};
-use crate::error::Error;
+use crate::error::PyramidError;
 use crate::lod::LodLevel;
 use crate::progress::{Event, Tracker};
 
@@ -72,7 +72,7 @@ pub(super) fn budget_chain(
     error: Option<f64>,
     capped: bool,
     tracker: &mut Tracker,
-) -> Result<Chain, Error> {
+) -> Result<Chain, PyramidError> {
     let mut order: Vec<usize> = (0..budgets.len()).collect();
     order.sort_by_key(|&i| std::cmp::Reverse(budgets[i]));
     let mut slots: Vec<Option<(LodLevel, BudgetLevel)>> = vec![None; budgets.len()];
@@ -107,7 +107,7 @@ pub(super) fn budget_level_below(
     budget: usize,
     error: Option<f64>,
     above: Option<(&LodLevel, &BudgetLevel)>,
-) -> Result<Found, Error> {
+) -> Result<Found, PyramidError> {
     let start = Instant::now();
     let cap = above.and_then(|(_, report)| report.genus);
     let (level, report, mut warnings) = budget_level_either(given, filled, budget, error, cap)?;

@@ -17,7 +17,7 @@ use super::parts::InputParts;
 use super::silhouettes::input_silhouettes;
 use super::{Then, DILATED_ISO_FRACTIONS};
 use crate::caps::InputBorder;
-use crate::error::Error;
+use crate::error::PyramidError;
 use crate::lod::{build_level, plan, LevelOptions, LodLevel, LodSource};
 
 /// What the budgets share: the source, the input mesh and its border, levels built so far.
@@ -60,7 +60,7 @@ impl<'a> BudgetContext<'a> {
         then: Then,
         closed: bool,
         time_cap: f64,
-    ) -> Result<Self, Error> {
+    ) -> Result<Self, PyramidError> {
         let border = match (input, closed) {
             (Some(mesh), false) => InputBorder::new(mesh)?,
             _ => None,
@@ -159,13 +159,17 @@ impl<'a> BudgetContext<'a> {
 
     /// The marching-cubes level at `resolution` and the seconds it took (built once), at the
     /// surface's isodensity.
-    pub(super) fn level(&self, resolution: usize) -> Result<(LodLevel, f64), Error> {
+    pub(super) fn level(&self, resolution: usize) -> Result<(LodLevel, f64), PyramidError> {
         self.level_at(resolution, self.level_options.iso)
     }
 
     /// The marching-cubes level at `resolution` and isodensity `iso`, and the CPU seconds it
     /// took (built once).
-    pub(super) fn level_at(&self, resolution: usize, iso: f32) -> Result<(LodLevel, f64), Error> {
+    pub(super) fn level_at(
+        &self,
+        resolution: usize,
+        iso: f32,
+    ) -> Result<(LodLevel, f64), PyramidError> {
         let key = (resolution, iso.to_bits());
         if let Some(found) = self.levels.lock().expect("not poisoned").get(&key) {
             return Ok(found.clone());

@@ -16,7 +16,7 @@ use super::input::closer_than_voxels;
 use super::report::{finish, report};
 use super::resolution::step_down;
 use super::{BudgetLevel, Stage, Then, COARSEST, FINEST, HEADROOM};
-use crate::error::Error;
+use crate::error::PyramidError;
 use crate::lod::LodLevel;
 
 /// What a budget's search has found so far.
@@ -48,7 +48,7 @@ pub(crate) fn budget_level(
     budget: usize,
     error: Option<f64>,
     genus_cap: Option<i64>,
-) -> Result<(LodLevel, BudgetLevel, Vec<String>), Error> {
+) -> Result<(LodLevel, BudgetLevel, Vec<String>), PyramidError> {
     let start = Instant::now();
     let mut best: Option<(Candidate, LodLevel, usize)> = None;
     if let Some((candidate, level, _)) = ctx.input_candidate(budget, error)? {
@@ -125,7 +125,7 @@ fn try_level(
     budget: usize,
     error: Option<f64>,
     search: &mut Search,
-) -> Result<(), Error> {
+) -> Result<(), PyramidError> {
     let is_first = resolution == base;
     let input_fits = (search.best.as_ref()).is_some_and(|b| {
         b.0.stage == Stage::InputQuadric && fits_capped(&b.0, budget, search.genus_cap)
@@ -228,7 +228,7 @@ struct Try {
 /// to 30, and breaks up or vanishes at 18, 21 and 25), so the finer steps are closer together
 /// than a factor of two in the count: the finest level whose topology the budget affords is
 /// usually the closest to the input.
-fn search_plan(ctx: &BudgetContext, first: usize, wanted: f64) -> Result<Vec<Try>, Error> {
+fn search_plan(ctx: &BudgetContext, first: usize, wanted: f64) -> Result<Vec<Try>, PyramidError> {
     let mut bases = vec![(ctx.level_options.iso, first)];
     for iso in ctx.isos().into_iter().skip(1) {
         bases.push((iso, ctx.resolution_for_at(wanted, iso)?.0));
@@ -282,7 +282,7 @@ fn bisect(
     search: &mut Search,
     budget: usize,
     error: Option<f64>,
-) -> Result<usize, Error> {
+) -> Result<usize, PyramidError> {
     let (best, counts) = (&mut search.best, &mut search.counts);
     let mut tried = 0;
     for _ in 0..4 {
