@@ -7,7 +7,7 @@
 
 use std::path::PathBuf;
 
-use voxlod::lod::{build_level, plan, LodOptions, LodSource};
+use voxlod::lod::{build_level, plan, LevelOptions, LodSource};
 use voxlod::sampling::{Filter, MeshSolid, PyramidOptions};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -19,7 +19,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mesh = voxlod::io::read_mesh(&input)?.mesh;
     let solid = MeshSolid::new(&mesh)?;
     let source = LodSource::Solid(&solid);
-    let options = LodOptions {
+    let options = LevelOptions {
         pyramid: PyramidOptions::halving(128, 6, Filter::Hypercone),
         ..Default::default()
     };

@@ -14,7 +14,7 @@ use crate::collapse;
 use crate::enclosed::hollow_solids;
 use crate::input::Input;
 use crate::measure::{Care, Measure};
-use crate::promises::{Promise, Promises};
+use crate::promises::{crosses_no_more, Promise, Promises};
 use crate::report::{BudgetLevel, InputReport};
 use crate::restore::StandIns;
 use crate::select::{choose, Chosen};
@@ -285,12 +285,6 @@ fn choose_down(
         levels.push(level);
     }
     Ok((levels, warnings))
-}
-
-/// Whether `candidate` has no more crossing pairs than the input (none, where it has none).
-pub fn crosses_no_more(input: &Input, candidate: &mut Candidate) -> bool {
-    let own = Promises::crossings(candidate);
-    own == 0 || own <= input.crossings()
 }
 
 /// The promises of `budget` before the chain adds the level above's cap.

@@ -14,6 +14,7 @@ use serde::Serialize;
 use voxlod_core::crossing_pairs;
 
 use crate::candidate::Candidate;
+use crate::input::Input;
 use crate::BUDGET_TOLERANCE;
 
 /// One promise.
@@ -128,4 +129,10 @@ impl Promises {
             .crossings
             .get_or_insert_with(|| crossing_pairs(&candidate.mesh).len())
     }
+}
+
+/// Whether `candidate` has no more crossing pairs than the input (none, where it has none).
+pub fn crosses_no_more(input: &Input, candidate: &mut Candidate) -> bool {
+    let own = Promises::crossings(candidate);
+    own == 0 || own <= input.crossings()
 }

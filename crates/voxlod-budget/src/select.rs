@@ -26,10 +26,9 @@
 use voxlod_fit::{fit_with, FitOptions};
 
 use crate::candidate::{Candidate, Method};
-use crate::chain::crosses_no_more;
 use crate::input::Input;
 use crate::measure::{Care, Distance, Measure};
-use crate::promises::{Promise, Promises, MEAN_SLACK};
+use crate::promises::{crosses_no_more, Promise, Promises, MEAN_SLACK};
 use crate::report::{CandidateReport, RuledOut};
 use crate::restore::{stood_in, with_parts_restored, StandIns, LOST};
 

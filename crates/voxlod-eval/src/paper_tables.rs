@@ -23,7 +23,7 @@ use std::time::Instant;
 use glam::DVec3;
 use serde::Serialize;
 use voxlod::core::Axis;
-use voxlod::lod::{build_level, plan, LodError, LodLevel, LodOptions, LodSource};
+use voxlod::lod::{build_level, plan, LevelOptions, LodError, LodLevel, LodSource};
 use voxlod::sampling::{Filter, PyramidOptions, Shape};
 
 /// One row of a paper's table.
@@ -218,7 +218,7 @@ pub fn reproduce(
         .iter()
         .map(|r| r.dims.into_iter().max().unwrap_or(1))
         .collect();
-    let options = LodOptions {
+    let options = LevelOptions {
         pyramid: PyramidOptions::with_resolutions(resolutions, table.filter),
         iso,
         normals: true,

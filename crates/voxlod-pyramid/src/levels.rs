@@ -23,8 +23,8 @@
 //!
 //! - *The genus never rises* from a level to the next ([`LodOptions::monotone`]). The paper
 //!   promises that holes fade as the filter widens, but a wall thinner than the filter fades
-//!   unevenly and perforates first (the pinion gear's coarsest level went from genus 1 to 3,
-//!   thingi10k-42722 from 3 to 14). Each level's filtered density passes through
+//!   unevenly and perforates first (without this, the pinion gear's coarsest level has genus 3
+//!   where its finer levels have 1, thingi10k-42722 14 where they have 3). Each level's filtered density passes through
 //!   [`voxlod_sampling::MonotoneChain`] before marching cubes: the cavities of the finer level
 //!   stay solid (their filtered density is added, as if the object had been filled before
 //!   filtering), and if that is not enough a threshold guarded by local topological numbers

@@ -26,6 +26,7 @@
 
 pub mod bricked;
 pub mod budget;
+mod budget_terms;
 mod by_budget;
 mod caps;
 pub mod error;

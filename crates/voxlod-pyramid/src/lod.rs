@@ -48,13 +48,11 @@ pub const BAND_ABOVE_BYTES: u64 = 1 << 30;
 
 /// The largest mesh of a level through the narrow band that is cleaned
 /// ([`voxlod_contouring::clean_mesh()`]). Cleaning holds about 130 bytes per triangle at its
-/// peak beyond the mesh itself (measured on a 326 k-triangle sphereflake level; about 240 before
-/// issue 12's lean lists and buckets). Larger meshes are kept as marching cubes made them
+/// peak beyond the mesh itself (measured on a 326 k-triangle sphereflake level). Larger meshes are kept as marching cubes made them
 /// (closed and oriented still, contoured for cleaning so without its defects but by rounding),
-/// and the level's report says so if cleaning's scan finds any. The limit stays where the
-/// issue 14 memory targets were measured (the 1024³ Zarr ball's 7.3 M-triangle level peaks at
-/// 667 MiB uncleaned; cleaned it would need about 1 GB more): raise it only with those runs
-/// measured again.
+/// and the level's report says so if cleaning's scan finds any. The limit keeps the 1024³ Zarr
+/// ball's 7.3 M-triangle level within its memory target (667 MiB uncleaned; cleaned it would
+/// need about 1 GB more, BENCHMARKS.md): raise it only with that run measured again.
 pub const CLEAN_BAND_AT_MOST_TRIANGLES: usize = 4_000_000;
 
 /// The largest dense level (by the plan's estimate) that is sampled on another task while the
@@ -153,10 +151,6 @@ pub struct LevelOptions {
     /// weighs distances and whose levels are simplified again).
     pub snap: bool,
 }
-
-/// The former name of [`LevelOptions`], kept while `voxlod-eval` still uses it. Not to be
-/// confused with [`crate::LodOptions`], the options of [`crate::lod()`].
-pub type LodOptions = LevelOptions;
 
 impl Default for LevelOptions {
     /// Six levels from 256, hyper-cone filter of one voxel, isodensity 0.5, with normals,
@@ -458,31 +452,4 @@ impl SampledLevel {
         self.volume = LevelVolume::Dense(adjusted);
         Ok((self, Some(record)))
     }
-}
-
-/// Builds every level, handing each to `each` as soon as it is made. The next level is
-/// sampled on another task while this one is contoured and handed over, when
-/// [`sample_ahead`] allows it (the levels are the same either way).
-pub fn build_lod(
-    source: &LodSource,
-    options: &LevelOptions,
-    mut each: impl FnMut(LodLevel) -> Result<(), LodError>,
-) -> Result<(), LodError> {
-    let plans = plan(source, options)?;
-    let mut ahead = None;
-    for (k, current) in plans.iter().enumerate() {
-        let sampled = match ahead.take() {
-            Some(sampled) => sampled,
-            None => sample_level(source, current, options),
-        }?;
-        let next =
-            (plans.get(k + 1)).filter(|next| sample_ahead(source, current, next, &options.pyramid));
-        rayon::in_place_scope(|scope| {
-            if let Some(next) = next {
-                scope.spawn(|_| ahead = Some(sample_level(source, next, options)));
-            }
-            each(sampled.contour(options)?)
-        })?;
-    }
-    Ok(())
 }

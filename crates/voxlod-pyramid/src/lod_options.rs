@@ -7,7 +7,7 @@ use voxlod_contouring::CleanOptions;
 use voxlod_fit::FitOptions;
 use voxlod_sampling::{Filter, MeshPreparation, MonotoneOptions, PyramidOptions};
 
-use crate::budget::terms::{check_budgets, BudgetLevel, ErrorTarget, Then};
+use crate::budget_terms::{check_budgets, BudgetLevel, ErrorTarget, Then};
 use crate::error::{InvalidOption, PyramidError};
 use crate::finest::{Finest, FinestChoice};
 use crate::lod::LodLevel;

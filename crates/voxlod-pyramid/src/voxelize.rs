@@ -142,7 +142,7 @@ pub fn voxelize(source: &Source, options: &VoxelizeOptions) -> Result<Voxelized,
 /// it came from (`world`; `None` leaves it as it is): the scan's direction and frame, and a
 /// grid whose first sample is where the scan's transform puts that point. Cost: none beyond
 /// moving the volume.
-fn in_world(volume: Volume, world: Option<WorldTransform>) -> Result<Volume, Error> {
+fn in_world(volume: Volume, world: Option<WorldTransform>) -> Result<Volume, PyramidError> {
     let Some(world) = world else {
         return Ok(volume);
     };
@@ -192,9 +192,11 @@ mod tests {
         };
         let density = voxelize(&source, &VoxelizeOptions::at(24)).unwrap().volume;
         assert_eq!(density.orientation, orientation);
-        let surface = crate::contour(&density, &crate::ContourOptions::at(0.5)).unwrap();
-        let n = surface.mesh.positions.len() as f64;
-        let mean = (surface.mesh.positions.iter()).fold(DVec3::ZERO, |s, p| s + p.as_dvec3() / n);
+        let options = voxlod_contouring::ContourOptions::geometry_only(0.5);
+        let mut surface = voxlod_contouring::marching_cubes(&density, &options).unwrap();
+        voxlod_core::Placement::of(&density.world(), None).apply(&mut surface);
+        let n = surface.positions.len() as f64;
+        let mean = (surface.positions.iter()).fold(DVec3::ZERO, |s, p| s + p.as_dvec3() / n);
         let expected = scan.world().index_to_world(centre);
         assert!((mean - expected).length() < 0.2, "{mean} {expected}");
     }

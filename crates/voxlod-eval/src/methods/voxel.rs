@@ -5,7 +5,7 @@
 //! resolution 64 on the bunny.
 
 use voxlod::core::TriangleMesh;
-use voxlod::lod::{build_level, plan, LodOptions, LodSource};
+use voxlod::lod::{build_level, plan, LevelOptions, LodSource};
 use voxlod::sampling::{Filter, PyramidOptions};
 
 use super::SearchLimits;
@@ -21,7 +21,7 @@ pub(super) fn voxel_level(
 ) -> Result<(TriangleMesh, f64), RunFailure> {
     let mut pyramid = PyramidOptions::with_resolutions(vec![resolution as usize], filter);
     pyramid.lines_per_radius = input.lines_per_radius();
-    let lod = LodOptions {
+    let lod = LevelOptions {
         pyramid,
         iso: 0.5,
         normals: false,

@@ -2,14 +2,14 @@
 
 use glam::DVec3;
 use voxlod::core::TriangleMesh;
-use voxlod::lod::{build_level, plan, LodOptions, LodSource};
+use voxlod::lod::{build_level, plan, LevelOptions, LodSource};
 use voxlod::sampling::csg::{CsgSolid, Shape};
 use voxlod::sampling::{Filter, PyramidOptions};
 
 /// (level, mesh, voxel size) of a sphere at resolutions 24, 12, 6.
 pub fn sphere_chain() -> Vec<(usize, TriangleMesh, f64)> {
     let solid = CsgSolid::new(Shape::sphere(DVec3::new(0.5, -0.25, 2.0), 1.0)).unwrap();
-    let options = LodOptions {
+    let options = LevelOptions {
         pyramid: PyramidOptions::with_resolutions(vec![24, 12, 6], Filter::Hypercone),
         ..Default::default()
     };

@@ -1,4 +1,4 @@
-//! Detached parts restored (our addition to §5; issue 12, item 3): a part of the input lying
+//! Detached parts restored (our addition to §5): a part of the input lying
 //! apart from everything a level kept, which the filter erased because it is small or thin,
 //! comes back as its own quadric collapse to a few triangles, taken from the voxel level's share
 //! of the budget.

@@ -1,4 +1,4 @@
-//! Nearly enclosed cavities filled (our addition; issue 12, item 3): a morphological closing
+//! Nearly enclosed cavities filled (our addition): a morphological closing
 //! of the input's solid that fills the hollows its material almost encloses, such as the
 //! cranial cavity of a CT bone surface, which the skull encloses but for the openings at its
 //! base and the orbits. Each budget's search runs twice more, on the input so filled and on

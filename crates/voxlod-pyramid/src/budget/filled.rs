@@ -1,4 +1,4 @@
-//! Cavities filled (our addition; issue 12, items 3 and 4): when the input mesh has closed
+//! Cavities filled (our addition): when the input mesh has closed
 //! shells that bound voids inside its material ([`voxlod_core::cavities`]: a hollow part's
 //! inner wall, the marrow spaces of a CT bone surface), each budget's search runs a second time
 //! on the input with those cavities filled, and the better of the two levels is kept (by the

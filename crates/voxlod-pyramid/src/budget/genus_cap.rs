@@ -1,4 +1,4 @@
-//! The genus kept from rising along a chain of budgets (our addition; issue 12, item 4): in a
+//! The genus kept from rising along a chain of budgets (our addition): in a
 //! run of several budgets, no level has more handles than the level of the next larger budget.
 //!
 //! Why: each budget's search (steps 0 to 6) picks the level closest to the input, and two
@@ -19,8 +19,7 @@
 //! one above (no candidate within 10 % had fewer), it stands and a warning says so.
 //!
 //! The simplified level above is often the closer one, not only where the cap binds: measured
-//! on the eleven shared meshes at 20 000, 5 000, 1 000 and 250 triangles (before crossing
-//! triangles lost to clean ones, step 4 of [`crate::budget`]), it won 18 of the 33 smaller
+//! on the eleven shared meshes at 20 000, 5 000, 1 000 and 250 triangles, it won 18 of the 33 smaller
 //! budgets, and no level measured farther than the same budget searched alone (at 250
 //! on a printed part, Thingi10K 138207, 0.17 against 0.89 mesh units). A level simplified in
 //! steps from a fine voxel level keeps planes and sharp edges that a collapse from a coarse

@@ -145,7 +145,6 @@ mod report;
 mod resolution;
 mod search;
 mod silhouettes;
-pub(crate) mod terms;
 
 use std::time::Instant;
 use voxlod_core::cavities::FilledCavities;
@@ -156,9 +155,9 @@ use crate::lod_options::{Lod, LodOptions};
 use crate::progress::{Event, ProgressFn, Tracker};
 use crate::source::Source;
 
+pub use crate::budget_terms::{BudgetLevel, ErrorTarget, Stage, Then, BUDGET_TOLERANCE};
 pub(crate) use context::BudgetContext;
 pub(crate) use error_target::error_level;
-pub use terms::{BudgetLevel, ErrorTarget, Stage, Then, BUDGET_TOLERANCE};
 /// The marching-cubes level aimed at has this many times the budget's triangles.
 const HEADROOM: f64 = 4.0;
 /// Resolutions searched: at most this fine (memory is checked as well), at least this coarse.

@@ -1,4 +1,4 @@
-//! The choice between the levels of different solids (our addition; issue 12, item 3): the
+//! The choice between the levels of different solids (our addition): the
 //! input as given, and the input with its cavities filled or lined (modules `filled` and
 //! `enclosed`). Each solid's search keeps its level closest by Hausdorff distance (step 4);
 //! between the solids, the distance alone is a poor judge. A filled skull's level buries the
@@ -19,7 +19,7 @@
 //! Measured on the CT head's bone surface (545 796 triangles, genus 675) at 1 000 triangles:
 //! the given skull's level is 6.75 % of the diagonal from the input (search samples) with a
 //! silhouette difference of 0.085, the lined skull's 8.39 % with 0.034; the rule keeps the lined
-//! one, whose dome is whole (BENCHMARKS.md, twelfth session).
+//! one, whose dome is whole (BENCHMARKS.md).
 //!
 //! Cost: only where levels of several solids compete (inputs with cavities): 14 renders of the
 //! input once per run, and 14 renders of each competing level per budget.

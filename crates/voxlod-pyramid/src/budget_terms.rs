@@ -1,4 +1,5 @@
-//! The budget pipeline's terms ([`crate::budget`]): what a run is asked ([`ErrorTarget`],
+//! The terms of the budget search ([`crate::budget`]), apart from it so that the options
+//! ([`crate::LodOptions`]) can name them: what a run is asked ([`ErrorTarget`],
 //! [`Then`], the budgets' check) and what it reports per level ([`Stage`], [`BudgetLevel`]).
 
 use std::fmt;
