@@ -65,13 +65,13 @@ use crate::then_envelope::simplify_level;
 /// Levels of detail of `source`, with the defaults of `options`.
 ///
 /// ```
-/// # fn main() -> Result<(), voxlod::Error> {
-/// use voxlod::sampling::{CsgSolid, Shape};
-/// use voxlod::core::glam::DVec3;
+/// # fn main() -> Result<(), voxlod_pyramid::PyramidError> {
+/// use voxlod_sampling::{CsgSolid, Shape};
+/// use voxlod_core::glam::DVec3;
 /// // A sphere of radius 1 as an implicit solid, three levels from 24 samples.
 /// let ball = CsgSolid::new(Shape::sphere(DVec3::ZERO, 1.0))?;
-/// let options = voxlod::LodOptions::halving(24, 3, voxlod::sampling::Filter::Hypercone);
-/// let lod = voxlod::lod(&voxlod::Source::Solid(&ball), &options)?;
+/// let options = voxlod_pyramid::LodOptions::halving(24, 3, voxlod_sampling::Filter::Hypercone);
+/// let lod = voxlod_pyramid::lod(&voxlod_pyramid::Source::Solid(&ball), &options)?;
 /// assert_eq!(lod.levels.len(), 3);
 /// for level in &lod.levels {
 ///     assert!(level.topology.is_closed_manifold() && level.topology.genus == Some(0));
@@ -89,22 +89,22 @@ pub fn lod(source: &Source, options: &LodOptions) -> Result<Lod, PyramidError> {
 /// [`crate::Control::Stop`]; a level's failure names the level.
 ///
 /// ```
-/// # fn main() -> Result<(), voxlod::Error> {
+/// # fn main() -> Result<(), voxlod_pyramid::PyramidError> {
 /// use std::sync::atomic::{AtomicUsize, Ordering};
-/// use voxlod::sampling::{CsgSolid, Shape};
-/// use voxlod::core::glam::DVec3;
+/// use voxlod_sampling::{CsgSolid, Shape};
+/// use voxlod_core::glam::DVec3;
 /// let ball = CsgSolid::new(Shape::sphere(DVec3::ZERO, 1.0))?;
-/// let options = voxlod::LodOptions::halving(16, 4, voxlod::sampling::Filter::Hypercone);
+/// let options = voxlod_pyramid::LodOptions::halving(16, 4, voxlod_sampling::Filter::Hypercone);
 /// // Stop once the first level is complete.
 /// let levels = AtomicUsize::new(0);
-/// let stop_after_one = |p: voxlod::Progress| match p.event {
-///     voxlod::Event::LodLevel(_) if levels.fetch_add(1, Ordering::Relaxed) == 0 => {
-///         voxlod::Control::Stop
+/// let stop_after_one = |p: voxlod_pyramid::Progress| match p.event {
+///     voxlod_pyramid::Event::LodLevel(_) if levels.fetch_add(1, Ordering::Relaxed) == 0 => {
+///         voxlod_pyramid::Control::Stop
 ///     }
-///     _ => voxlod::Control::Continue,
+///     _ => voxlod_pyramid::Control::Continue,
 /// };
-/// let e = voxlod::lod_with(&voxlod::Source::Solid(&ball), &options, &stop_after_one);
-/// assert!(matches!(e, Err(voxlod::Error::Cancelled)));
+/// let e = voxlod_pyramid::lod_with(&voxlod_pyramid::Source::Solid(&ball), &options, &stop_after_one);
+/// assert!(matches!(e, Err(voxlod_pyramid::PyramidError::Cancelled)));
 /// assert_eq!(levels.load(Ordering::Relaxed), 1);
 /// # Ok(())
 /// # }

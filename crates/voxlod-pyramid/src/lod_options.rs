@@ -90,10 +90,11 @@ impl LodOptions {
     /// One level per triangle count in `budgets`, by the budget pipeline ([`crate::budget`]):
     ///
     /// ```
-    /// # fn main() -> Result<(), voxlod::Error> {
+    /// # fn main() -> Result<(), voxlod_pyramid::PyramidError> {
     /// # let mesh = voxlod_testkit::shapes::torus(64, 32, 2.0, 0.7);
     /// // `mesh`: a closed torus of 4 096 triangles (or any mesh from `voxlod::read_mesh`).
-    /// let lod = voxlod::lod(&voxlod::Source::Mesh(&mesh), &voxlod::LodOptions::budgets(vec![1000, 250]))?;
+    /// use voxlod_pyramid::{lod, LodOptions, Source};
+    /// let lod = lod(&Source::Mesh(&mesh), &LodOptions::budgets(vec![1000, 250]))?;
     /// for (level, report) in lod.levels.iter().zip(&lod.budgets) {
     ///     let miss = level.mesh.triangle_count() as f64 / report.budget.unwrap() as f64 - 1.0;
     ///     assert!(miss.abs() <= 0.1 && level.topology.is_closed_manifold());

@@ -108,11 +108,11 @@ impl<'a> Source<'a> {
     /// Prepares the source for sampling (see the module documentation).
     ///
     /// ```
-    /// # fn main() -> Result<(), voxlod::Error> {
-    /// let volume = voxlod::core::Volume::filled(
-    ///     voxlod::core::Grid::new([4, 4, 4], [1.0; 3], [0.0; 3])?, 3.0, "doc")?;
+    /// # fn main() -> Result<(), voxlod_pyramid::PyramidError> {
+    /// let volume = voxlod_core::Volume::filled(
+    ///     voxlod_core::Grid::new([4, 4, 4], [1.0; 3], [0.0; 3])?, 3.0, "doc")?;
     /// // A threshold at or below every sample: all of the volume is inside, and it says so.
-    /// let prepared = voxlod::Source::Threshold { volume: &volume, threshold: 1.0 }.prepare()?;
+    /// let prepared = voxlod_pyramid::Source::Threshold { volume: &volume, threshold: 1.0 }.prepare()?;
     /// assert!(prepared.warnings()[0].contains("at or below every sample"));
     /// assert_eq!(prepared.iso(None)?, 0.5);
     /// assert!(prepared.iso(Some(1.5)).is_err());

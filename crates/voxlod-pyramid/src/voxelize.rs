@@ -86,11 +86,11 @@ pub struct Voxelized {
 /// Samples `source` into its filtered density.
 ///
 /// ```
-/// # fn main() -> Result<(), voxlod::Error> {
-/// use voxlod::sampling::{CsgSolid, Shape};
-/// use voxlod::core::glam::DVec3;
+/// # fn main() -> Result<(), voxlod_pyramid::PyramidError> {
+/// use voxlod_sampling::{CsgSolid, Shape};
+/// use voxlod_core::glam::DVec3;
 /// let ball = CsgSolid::new(Shape::sphere(DVec3::ZERO, 1.0))?;
-/// let v = voxlod::voxelize(&voxlod::Source::Solid(&ball), &voxlod::VoxelizeOptions::at(12))?;
+/// let v = voxlod_pyramid::voxelize(&voxlod_pyramid::Source::Solid(&ball), &voxlod_pyramid::VoxelizeOptions::at(12))?;
 /// let (lo, hi) = v.volume.range().unwrap();
 /// // Far outside the ball the density is 0 (to rounding); its centre is deep inside.
 /// assert!(lo.abs() < 1e-9 && hi > 0.9, "{lo} {hi}");

@@ -154,11 +154,13 @@ fn read_volume(args: &ContourArgs) -> Result<Volume, CliError> {
 /// `--close`), keeping its class and so its exit status.
 fn contour_error(args: &ContourArgs, e: voxlod::Error) -> CliError {
     match e {
-        voxlod::Error::IsoOutsideData { .. } => CliError::msg(format!(
-            "{}: {}",
-            args.volume.display(),
-            in_flag_words(&e.to_string())
-        )),
+        voxlod::Error::Pyramid(voxlod::PyramidError::IsoOutsideData { .. }) => {
+            CliError::msg(format!(
+                "{}: {}",
+                args.volume.display(),
+                in_flag_words(&e.to_string())
+            ))
+        }
         e => in_file(&args.volume, e),
     }
 }
