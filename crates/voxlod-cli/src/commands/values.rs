@@ -153,7 +153,7 @@ mod tests {
         let e = voxlod::Error::from(e).context("bunny.obj");
         let text = in_flags(e, &[("radius_voxels", "--radius")]).to_string();
         assert_eq!(text, "--radius 0: must be positive");
-        let e = in_flags(voxlod::Error::NeedsSolid, &[]);
+        let e = in_flags(voxlod::PyramidError::NeedsSolid.into(), &[]);
         assert!(
             e.to_string().ends_with("a volume with a --threshold"),
             "{e}"
