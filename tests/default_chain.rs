@@ -1,4 +1,4 @@
-//! The default chain of `voxlod::lod` (issue 12, items 5 and 6): it starts at or below the
+//! The default chain of `voxlod::lod`: it starts at or below the
 //! input's triangle count, its levels are clean (no crossing triangles by the testkit's
 //! independent test, no triangle under a thousandth of a cell², closed and outward-facing), a
 //! first level that would vanish moves the start finer with a warning, and an empty level's
