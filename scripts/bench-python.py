@@ -5,7 +5,7 @@
   512³ sphereflake fields (../shared/peers/peers.py; a local gyroid if that is absent);
 - voxlod.gaussian_filter vs scipy.ndimage.gaussian_filter at σ = 2 on 256³ float32;
 - voxlod.dask.lod_volume (threshold route) on an N³ Zarr volume with a LocalCluster of 2
-  workers, against the single-process bricked run of the same data, ``voxlod lod VOL.zarr
+  workers, against the single-process blockwise run of the same data, ``voxlod lod VOL.zarr
   --threshold T --resolution N --levels 1`` (``--dask N``; 0 skips; the binary is
   ``$VOXLOD_BIN`` or target/release/voxlod): wall times and whether the meshes are identical;
 - the same with ``direct=True`` (``--dask-direct N``, iso 110, ``--direct-resolution``,
@@ -84,7 +84,7 @@ def ball_zarr(n, path):
 
 
 def dask_lod_volume(n, folder):
-    """voxlod.dask.lod_volume against the single-process bricked run on an N³ Zarr ball."""
+    """voxlod.dask.lod_volume against the single-process blockwise run on an N³ Zarr ball."""
     import shutil
     import subprocess
     import tempfile
@@ -121,7 +121,7 @@ def dask_lod_volume(n, folder):
     same = (len(mine.faces) == len(faces) and a.shape == b.shape
             and bool(np.allclose(a, b, rtol=0, atol=4 * np.finfo(np.float32).eps * n)))
     print(f"| Dask lod_volume, ball {n}³ Zarr (128³ chunks), threshold, 1 level at {n}, "
-          f"LocalCluster of 2 processes | {blockwise:.1f} s | single-process bricked "
+          f"LocalCluster of 2 processes | {blockwise:.1f} s | single-process blockwise "
           f"`voxlod lod` {single:.1f} s | overhead {blockwise / single:.2f}x | "
           f"{len(mine.faces):,} vs {len(faces):,} triangles, identical mesh: {same} |", flush=True)
     if not os.environ.get("VOXLOD_KEEP") and folder.name.startswith("voxlod-dask-"):

@@ -85,7 +85,7 @@ pub use shells::{
     check_layers_levels, check_layers_options, layered_glb, layered_poly_mesh, layered_preview,
     layers, layers_chain, layers_levels, layers_radius, layers_with, Layers, LayersChain,
 };
-pub use voxlod_pyramid::{bricked, budget, finest, labels};
+pub use voxlod_pyramid::{blockwise, budget, finest, labels};
 pub use voxlod_pyramid::{
     iso_outside_data, run_to_end, Control, EnvelopeStep, ErrorClass, Event, Finest, InvalidOption,
     LevelEpsilon, Lod, LodLevel, LodOptions, Prepared, Progress, ProgressFn, PyramidError, Route,

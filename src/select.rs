@@ -17,7 +17,7 @@ use serde::Serialize;
 
 use voxlod_clustering::{ClusteringError, LevelReport};
 
-/// Options of [`select_level`].
+/// Options of [`select`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SelectOptions {
     /// A level fits when its cell size is at most `tolerance` pixel sizes.
@@ -56,70 +56,13 @@ impl SelectOptions {
 pub enum Selection {
     /// No level's cells fit in a pixel: draw the original model.
     Original,
-    /// Draw this level (an index into the list given to [`select_level`]).
+    /// Draw this level (an index into the list given to [`select`]).
     Level(usize),
 }
 
-/// The coarsest of the levels with the given cell sizes (any order) that fits `pixel_size`.
-pub fn select_level(
-    cell_sizes: &[f64],
-    pixel_size: f64,
-    options: &SelectOptions,
-) -> Result<Selection, ClusteringError> {
-    positive("the pixel size", pixel_size)?;
-    positive("the selection tolerance", options.tolerance)?;
-    for &s in cell_sizes {
-        positive("a level's cell size", s)?;
-    }
-    let limit = options.tolerance * pixel_size;
-    Ok(cell_sizes
-        .iter()
-        .enumerate()
-        .filter(|(_, &s)| s <= limit)
-        .max_by(|a, b| a.1.total_cmp(b.1).then(b.0.cmp(&a.0)))
-        .map_or(Selection::Original, |(i, _)| Selection::Level(i)))
-}
-
-/// [`select_level`] over reports of a series (their `cell_size`).
-pub fn select_from_reports(
-    reports: &[LevelReport],
-    pixel_size: f64,
-    options: &SelectOptions,
-) -> Result<Selection, ClusteringError> {
-    let sizes: Vec<f64> = reports.iter().map(|r| r.cell_size).collect();
-    select_level(&sizes, pixel_size, options)
-}
-
-/// Object-space size covered by one pixel at `distance` from a perspective camera with a
-/// vertical field of view `vertical_fov` (radians) and a viewport `viewport_height` pixels high:
-/// `2 · distance · tan(fov / 2) / height`.
-pub fn pixel_size(
-    distance: f64,
-    vertical_fov: f64,
-    viewport_height: u32,
-) -> Result<f64, ClusteringError> {
-    positive("the distance", distance)?;
-    positive("the field of view", vertical_fov)?;
-    if vertical_fov >= std::f64::consts::PI {
-        return Err(ClusteringError::InvalidParameter {
-            what: "the field of view (below π)",
-            value: vertical_fov,
-        });
-    }
-    positive("the viewport height", viewport_height as f64)?;
-    Ok(2.0 * distance * (0.5 * vertical_fov).tan() / viewport_height as f64)
-}
-
-fn positive(what: &'static str, value: f64) -> Result<(), ClusteringError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(ClusteringError::InvalidParameter { what, value })
-    }
-}
-
-/// The facade's call: [`select_level`] with [`crate::Error`], for the voxel pyramid's levels
-/// (their voxel sizes, [`crate::LodLevel::plan`]) or a clustering series' cell sizes.
+/// The coarsest of the levels with the given cell sizes (any order) that fits `pixel_size`:
+/// the voxel pyramid's levels (their voxel sizes, [`crate::LodLevel::plan`]) or a clustering
+/// series' cell sizes.
 ///
 /// ```
 /// # fn main() -> Result<(), voxlod::Error> {
@@ -137,7 +80,57 @@ pub fn select(
     pixel_size: f64,
     options: &SelectOptions,
 ) -> Result<Selection, crate::Error> {
-    Ok(select_level(cell_sizes, pixel_size, options)?)
+    positive("the pixel size", pixel_size)?;
+    positive("the selection tolerance", options.tolerance)?;
+    for &s in cell_sizes {
+        positive("a level's cell size", s)?;
+    }
+    let limit = options.tolerance * pixel_size;
+    Ok(cell_sizes
+        .iter()
+        .enumerate()
+        .filter(|(_, &s)| s <= limit)
+        .max_by(|a, b| a.1.total_cmp(b.1).then(b.0.cmp(&a.0)))
+        .map_or(Selection::Original, |(i, _)| Selection::Level(i)))
+}
+
+/// [`select`] over reports of a series (their `cell_size`).
+pub fn select_from_reports(
+    reports: &[LevelReport],
+    pixel_size: f64,
+    options: &SelectOptions,
+) -> Result<Selection, crate::Error> {
+    let sizes: Vec<f64> = reports.iter().map(|r| r.cell_size).collect();
+    select(&sizes, pixel_size, options)
+}
+
+/// Object-space size covered by one pixel at `distance` from a perspective camera with a
+/// vertical field of view `vertical_fov` (radians) and a viewport `viewport_height` pixels high:
+/// `2 · distance · tan(fov / 2) / height`.
+pub fn pixel_size(
+    distance: f64,
+    vertical_fov: f64,
+    viewport_height: u32,
+) -> Result<f64, crate::Error> {
+    positive("the distance", distance)?;
+    positive("the field of view", vertical_fov)?;
+    if vertical_fov >= std::f64::consts::PI {
+        return Err(ClusteringError::InvalidParameter {
+            what: "the field of view (below π)",
+            value: vertical_fov,
+        }
+        .into());
+    }
+    positive("the viewport height", viewport_height as f64)?;
+    Ok(2.0 * distance * (0.5 * vertical_fov).tan() / viewport_height as f64)
+}
+
+fn positive(what: &'static str, value: f64) -> Result<(), ClusteringError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(ClusteringError::InvalidParameter { what, value })
+    }
 }
 
 /// A choice among levels of which some have no mesh, and what was passed over.
@@ -176,7 +169,7 @@ pub fn select_drawn(
     }
     let drawable: Vec<usize> = (0..cell_sizes.len()).filter(|&i| with_mesh[i]).collect();
     let drawable_sizes: Vec<f64> = drawable.iter().map(|&i| cell_sizes[i]).collect();
-    let selection = match select_level(&drawable_sizes, pixel_size, options)? {
+    let selection = match select(&drawable_sizes, pixel_size, options)? {
         Selection::Level(j) => Selection::Level(drawable[j]),
         Selection::Original => Selection::Original,
     };
@@ -187,7 +180,7 @@ pub fn select_drawn(
              model is chosen"
                 .to_string(),
         );
-    } else if let Selection::Level(k) = select_level(cell_sizes, pixel_size, options)? {
+    } else if let Selection::Level(k) = select(cell_sizes, pixel_size, options)? {
         if !with_mesh[k] {
             let instead = match selection {
                 Selection::Level(i) => format!("level {i}, the coarsest with a mesh that fits,"),

@@ -1,14 +1,14 @@
 //! Level selection from the object-space size of a pixel, and the JSON report.
 
 use voxlod::clustering::{reports, rossignac_borrel, ClusterOptions};
-use voxlod::select::{pixel_size, select_from_reports, select_level, SelectOptions, Selection};
+use voxlod::select::{pixel_size, select, select_from_reports, SelectOptions, Selection};
 use voxlod_testkit::shapes::torus;
 
 #[test]
 fn picks_the_coarsest_level_that_fits_a_pixel() {
     let sizes = [0.5, 1.0, 2.0, 4.0];
     let side = SelectOptions::side();
-    let pick = |px: f64, o: &SelectOptions| select_level(&sizes, px, o).unwrap();
+    let pick = |px: f64, o: &SelectOptions| select(&sizes, px, o).unwrap();
     assert_eq!(pick(0.3, &side), Selection::Original);
     assert_eq!(pick(0.5, &side), Selection::Level(0));
     assert_eq!(pick(0.99, &side), Selection::Level(0));
@@ -22,10 +22,10 @@ fn picks_the_coarsest_level_that_fits_a_pixel() {
     assert_eq!(pick(1.5, &SelectOptions::pixels(2.0)), Selection::Level(2));
     // Order does not matter.
     assert_eq!(
-        select_level(&[4.0, 0.5, 2.0, 1.0], 1.5, &side).unwrap(),
+        select(&[4.0, 0.5, 2.0, 1.0], 1.5, &side).unwrap(),
         Selection::Level(3)
     );
-    assert_eq!(select_level(&[], 1.5, &side).unwrap(), Selection::Original);
+    assert_eq!(select(&[], 1.5, &side).unwrap(), Selection::Original);
 }
 
 #[test]
@@ -56,14 +56,14 @@ fn selects_among_a_real_series() {
 fn bad_selection_input_is_refused() {
     let o = SelectOptions::default();
     for px in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        let e = select_level(&[1.0], px, &o).unwrap_err().to_string();
+        let e = select(&[1.0], px, &o).unwrap_err().to_string();
         assert!(
             e.starts_with("the pixel size must be positive and finite"),
             "{e}"
         );
     }
-    assert!(select_level(&[1.0, 0.0], 1.0, &o).is_err());
-    assert!(select_level(&[1.0], 1.0, &SelectOptions::pixels(0.0)).is_err());
+    assert!(select(&[1.0, 0.0], 1.0, &o).is_err());
+    assert!(select(&[1.0], 1.0, &SelectOptions::pixels(0.0)).is_err());
     assert!(pixel_size(10.0, 4.0, 1000).is_err());
     assert!(pixel_size(10.0, 1.0, 0).is_err());
     assert!(pixel_size(-1.0, 1.0, 10).is_err());

@@ -1,5 +1,5 @@
 //! Zarr from the command line: `voxelize -o out.zarr` round trip, `lod vol.zarr --threshold`
-//! (the bricked route) against the same samples as a raw file (the dense route), broken stores
+//! (the blockwise route) against the same samples as a raw file (the dense route), broken stores
 //! refused cleanly, and a malformed `VOXLOD_MAX_MEMORY` refused before any work.
 
 mod common;
@@ -49,7 +49,7 @@ fn ball() -> Volume {
 }
 
 #[test]
-fn lod_of_a_zarr_through_the_bricked_route_matches_the_raw_file() {
+fn lod_of_a_zarr_through_the_blockwise_route_matches_the_raw_file() {
     let dir = tempfile::tempdir().unwrap();
     let volume = ball();
     let zarr = dir.path().join("ball.zarr");

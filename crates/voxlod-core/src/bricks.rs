@@ -113,7 +113,7 @@ impl BrickVolume {
     }
 
     /// A volume from its parts, as a builder that made the leaves itself assembles them (the
-    /// bricked threshold route, brick by brick): `values` one per brick (used for the bricks
+    /// blockwise threshold route, brick by brick): `values` one per brick (used for the bricks
     /// not in `leaf_bricks`), `leaf_bricks` the leaves' brick indices, strictly increasing, and
     /// `leaves` their `B³` samples each, in that order.
     pub fn from_parts(

@@ -8,7 +8,7 @@ mod common;
 use common::{chain_levels, lines_and_points, sphere_chain, two_cluster_levels};
 use glam::Vec3;
 use serde_json::Value;
-use voxlod::select::{select_level, SelectOptions, Selection};
+use voxlod::select::{select, SelectOptions, Selection};
 use voxlod_gltf::{
     chain_glb_bytes, decompress_glb, pixel_size_at, ChainLevel, ChainOptions, Compression,
     CoverageOptions,
@@ -113,7 +113,7 @@ fn coverage_bands_agree_with_voxlod_select() {
         for t in [0.01, 0.5, 0.99] {
             let c = lower + t * (upper(k) - lower);
             let pixel = pixel_size_at(c, diameter, &o);
-            let picked = select_level(&cells, pixel, &SelectOptions::side()).unwrap();
+            let picked = select(&cells, pixel, &SelectOptions::side()).unwrap();
             let expected = if k == 0 {
                 [Selection::Original, Selection::Level(0)]
             } else {

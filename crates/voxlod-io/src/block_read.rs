@@ -18,8 +18,8 @@ use std::path::Path;
 
 use rayon::prelude::*;
 
+use crate::blockwise_volume::read_exact_at;
 use crate::samples::{decode_into, SampleType};
-use crate::slab_reader::read_exact_at;
 use crate::{Endian, IoError};
 
 /// Samples per block: 256 Ki (512 KiB of 16-bit samples, 1 MiB of output).

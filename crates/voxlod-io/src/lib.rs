@@ -80,6 +80,7 @@
 
 pub mod atomic;
 mod block_read;
+mod blockwise_volume;
 mod budget;
 mod detached;
 mod dicom;
@@ -96,7 +97,6 @@ mod outputs;
 mod ply;
 mod raw;
 mod samples;
-mod slab_reader;
 mod stl;
 mod vtk;
 mod zarr;
@@ -108,6 +108,7 @@ use std::path::Path;
 use voxlod_core::validate::{find_defect, validate_mesh, Requirements};
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh, Volume};
 
+pub use blockwise_volume::BlockwiseVolume;
 pub use dicom::seg::{
     cielab_to_srgb, find_dicom_seg, is_dicom_seg, read_dicom_seg, SEGMENTATION_STORAGE,
 };
@@ -117,7 +118,6 @@ pub use label_table::{read_label_table, LabelMap, LabelName};
 pub use outputs::{check_image_path, OutputSet, IMAGE_EXTENSIONS};
 pub use raw::{RawLayout, RawType};
 pub use samples::{Endian, ParseNameError};
-pub use slab_reader::SlabVolume;
 pub use voxlod_core::weld::WeldReport;
 pub use zarr::{open_zarr, ZarrVolume};
 
@@ -614,39 +614,39 @@ pub fn read_volume(path: &Path, raw: Option<&RawLayout>) -> Result<Volume, IoErr
     }
 }
 
-/// Opens a volume for reading window by window ([`SlabVolume::read_window`]) instead of whole:
+/// Opens a volume for reading window by window ([`BlockwiseVolume::read_window`]) instead of whole:
 /// a headerless raw file with `raw` (as [`read_volume`] reads it), a NRRD (`.nrrd`, `.nhdr`) with
 /// raw encoding, or a MetaImage (`.mha`, `.mhd`) with uncompressed data. The header is parsed and
-/// the file's size checked; no sample is read. `Ok(None)` for any other file: compressed or
-/// ascii data (no random access: read it whole with [`read_volume`]), other volume formats, and
-/// files that are not volumes.
+/// the file's size checked; no sample is read. `Ok(None)` for any other file: compressed or ascii
+/// data (no random access: read it whole with [`read_volume`]), other volume formats, and files
+/// that are not volumes.
 ///
 /// ```
-/// use voxlod_io::{open_volume_slabs, Endian, RawLayout, RawType};
+/// use voxlod_io::{open_volume_blockwise, Endian, RawLayout, RawType};
 ///
 /// let folder = tempfile::tempdir()?;
 /// let path = folder.path().join("ramp.raw");
 /// std::fs::write(&path, (0u8..24).collect::<Vec<u8>>())?;
 /// let layout = RawLayout::new([4, 3, 2], RawType::U8, Endian::Little);
-/// let scan = open_volume_slabs(&path, Some(&layout))?.expect("raw files are read in windows");
+/// let scan = open_volume_blockwise(&path, Some(&layout))?.expect("raw files are read in windows");
 /// // Samples x 1..3, y 2, z 0..2: indices 9, 10 and 21, 22.
 /// let window = scan.read_window([1, 2, 0], [2, 1, 2])?;
 /// assert_eq!(window.as_slice(), &[9.0, 10.0, 21.0, 22.0]);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn open_volume_slabs(
+pub fn open_volume_blockwise(
     path: &Path,
     raw: Option<&RawLayout>,
-) -> Result<Option<SlabVolume>, IoError> {
+) -> Result<Option<BlockwiseVolume>, IoError> {
     let format = match volume_format_of(path) {
         Ok(format) => format,
         Err(_) if raw.is_some() => VolumeFormat::Raw,
         Err(_) => return Ok(None),
     };
     match (format, raw) {
-        (VolumeFormat::Nrrd | VolumeFormat::Nhdr, _) => nrrd::open_slabs(path),
-        (VolumeFormat::Mha | VolumeFormat::Mhd, _) => metaimage::open_slabs(path),
-        (VolumeFormat::Raw, Some(layout)) => raw::open_slabs(path, layout).map(Some),
+        (VolumeFormat::Nrrd | VolumeFormat::Nhdr, _) => nrrd::open_blockwise(path),
+        (VolumeFormat::Mha | VolumeFormat::Mhd, _) => metaimage::open_blockwise(path),
+        (VolumeFormat::Raw, Some(layout)) => raw::open_blockwise(path, layout).map(Some),
         _ => Ok(None),
     }
 }

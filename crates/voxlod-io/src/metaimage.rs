@@ -36,8 +36,8 @@ use voxlod_core::glam::{DMat3, DVec3};
 use voxlod_core::{Frame, Orientation, Volume, WorldTransform};
 
 use crate::atomic::{stage, TempFile};
+use crate::blockwise_volume::{BlockwiseVolume, DataStart, StoredSamples};
 use crate::samples::{self, SampleType};
-use crate::slab_reader::{DataStart, SlabVolume, StoredSamples};
 use crate::{Endian, IoError};
 
 const MAX_HEADER_BYTES: u64 = 1 << 20;
@@ -297,9 +297,9 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
 }
 
 /// The samples of a MetaImage without `CompressedData`, after its header or in its data file,
-/// for reading window by window ([`SlabVolume`]); `None` for compressed data, which has no
+/// for reading window by window ([`BlockwiseVolume`]); `None` for compressed data, which has no
 /// random access and is read whole ([`read`]).
-pub(crate) fn open_slabs(path: &Path) -> Result<Option<SlabVolume>, IoError> {
+pub(crate) fn open_blockwise(path: &Path) -> Result<Option<BlockwiseVolume>, IoError> {
     let file = File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
     let mut reader = BufReader::new(file);
     let header = read_header(path, &mut reader)?;
@@ -327,7 +327,7 @@ pub(crate) fn open_slabs(path: &Path) -> Result<Option<SlabVolume>, IoError> {
         origin: header.origin,
         orientation: header.orientation,
     };
-    SlabVolume::open(path, &data_path, start, &stored).map(Some)
+    BlockwiseVolume::open(path, &data_path, start, &stored).map(Some)
 }
 
 /// ITK's three-letter code of a direction in LPS: for each index axis, the side it runs

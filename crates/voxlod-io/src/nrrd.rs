@@ -37,8 +37,8 @@ use voxlod_core::{Frame, Orientation, Volume, WorldTransform};
 
 use crate::atomic::{stage, TempFile};
 use crate::block_read;
+use crate::blockwise_volume::{BlockwiseVolume, DataStart, StoredSamples};
 use crate::samples::{self, millimetres_per, SampleType};
-use crate::slab_reader::{DataStart, SlabVolume, StoredSamples};
 use crate::{Endian, IoError, IoErrorKind};
 
 /// The longest header we accept: real ones are a few hundred bytes.
@@ -457,9 +457,9 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
 }
 
 /// The samples of a NRRD with `encoding: raw`, attached or in its data file, for reading
-/// window by window ([`SlabVolume`]); `None` for gzip and ascii data, which have no random
+/// window by window ([`BlockwiseVolume`]); `None` for gzip and ascii data, which have no random
 /// access and are read whole ([`read`]).
-pub(crate) fn open_slabs(path: &Path) -> Result<Option<SlabVolume>, IoError> {
+pub(crate) fn open_blockwise(path: &Path) -> Result<Option<BlockwiseVolume>, IoError> {
     let file = File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
     let mut reader = BufReader::new(file);
     let header = read_header(path, &mut reader)?;
@@ -490,7 +490,7 @@ pub(crate) fn open_slabs(path: &Path) -> Result<Option<SlabVolume>, IoError> {
         origin: header.origin,
         orientation: header.orientation,
     };
-    SlabVolume::open(path, &data_path, start, &stored).map(Some)
+    BlockwiseVolume::open(path, &data_path, start, &stored).map(Some)
 }
 
 /// Skips the `lines` lines of `line skip` at the start of the data.

@@ -20,8 +20,8 @@ use voxlod_core::{Orientation, Volume};
 
 use crate::atomic::{stage, TempFile};
 use crate::block_read;
+use crate::blockwise_volume::{BlockwiseVolume, DataStart, StoredSamples};
 use crate::samples::{self, Endian, ParseNameError, SampleType};
-use crate::slab_reader::{DataStart, SlabVolume, StoredSamples};
 use crate::{IoError, IoErrorKind};
 
 /// Sample type of a headerless raw volume.
@@ -155,8 +155,8 @@ pub(crate) fn read(path: &Path, layout: &RawLayout) -> Result<Volume, IoError> {
 }
 
 /// A headerless raw volume laid out as `layout` says, for reading window by window
-/// ([`SlabVolume`]): the file's size is checked as [`read`] checks it, nothing more is read.
-pub(crate) fn open_slabs(path: &Path, layout: &RawLayout) -> Result<SlabVolume, IoError> {
+/// ([`BlockwiseVolume`]): the file's size is checked as [`read`] checks it, nothing more is read.
+pub(crate) fn open_blockwise(path: &Path, layout: &RawLayout) -> Result<BlockwiseVolume, IoError> {
     let ty = layout.dtype.sample_type();
     let len = std::fs::metadata(path)
         .map_err(|e| IoError::access(path, "cannot open", &e))?
@@ -177,7 +177,7 @@ pub(crate) fn open_slabs(path: &Path, layout: &RawLayout) -> Result<SlabVolume, 
         origin: layout.origin,
         orientation: Orientation::default(),
     };
-    SlabVolume::open(path, path, DataStart::At(layout.header_bytes), &stored)
+    BlockwiseVolume::open(path, path, DataStart::At(layout.header_bytes), &stored)
 }
 
 /// The size mismatch error, with the layouts that would fit when some are obvious.

@@ -5,9 +5,9 @@
 //!
 //! The client plans the levels as the single process does (the same grids and radii), then per
 //! level calls the Python half with the level's blocks and their windows of the scan
-//! ([`voxlod::sampling::BlockedDirect::scan_window`]: the block's span grown by the filter's
+//! ([`voxlod::sampling::BlockwiseDirect::scan_window`]: the block's span grown by the filter's
 //! reach). One task per block, on a worker, reads its window once and filters the block's
-//! samples ([`fill_direct_block`], [`voxlod::sampling::BlockedDirect::fill_block`]: the dense
+//! samples ([`fill_direct_block`], [`voxlod::sampling::BlockwiseDirect::fill_block`]: the dense
 //! route's code over the window, bit for bit). The client gathers them into the level's dense
 //! grid and finishes the level as `voxlod::lod_with` does for `Source::Direct`: the genus kept
 //! from rising (the chain's cavities filled with the scan's largest value), marching cubes at
@@ -31,13 +31,13 @@ use voxlod::core::validate::{find_defect, Requirements};
 use voxlod::core::{mesh_topology, Grid, Orientation, Placement, Volume, WorldTransform};
 use voxlod::lod::{LodError, LodLevel};
 use voxlod::sampling::density::estimated_bytes;
-use voxlod::sampling::{plan_levels_with, BlockedDirect, LevelPlan, MonotoneChain};
+use voxlod::sampling::{plan_levels_with, BlockwiseDirect, LevelPlan, MonotoneChain};
 
 use crate::arrays::{column, volume_slice};
-use crate::bricked::{block_windows, scan_grid};
 use crate::contour::scanned_copy;
 use crate::errors::{usage, Failure, Kind};
 use crate::facade::{lod_level_dict, lod_options, LevelArgs};
+use crate::threshold_blockwise::{block_windows, scan_grid};
 
 /// The scan as the client and the workers both describe it: NumPy shape, spacing and origin
 /// (array-axis order), its smallest and largest finite sample, the scan samples per side a
@@ -51,7 +51,7 @@ struct DirectPlan {
     /// The scan's largest finite sample (what the genus step fills cavities with).
     high: f32,
     plans: Vec<LevelPlan>,
-    levels: Vec<BlockedDirect>,
+    levels: Vec<BlockwiseDirect>,
     /// Grid space to the scan's world (the identity for a scan given by spacing and origin).
     placement: Placement,
 }
@@ -78,7 +78,7 @@ fn direct_plan(args: &DirectArgs) -> PyResult<DirectPlan> {
     let plans = plan_levels_with(&scan.bounds(), pyramid, &dense).map_err(Failure::from)?;
     let levels = plans
         .iter()
-        .map(|p| BlockedDirect::new(scan, &p.grid, pyramid.filter, p.radius, low, window))
+        .map(|p| BlockwiseDirect::new(scan, &p.grid, pyramid.filter, p.radius, low, window))
         .collect::<Result<Vec<_>, _>>()
         .map_err(Failure::from)?;
     let world = WorldTransform::of(&scan, &Orientation::default());
@@ -98,7 +98,7 @@ fn gather_level(
     py: Python<'_>,
     run_level: &Py<PyAny>,
     k: usize,
-    level: &BlockedDirect,
+    level: &BlockwiseDirect,
 ) -> PyResult<Volume> {
     let blocks = block_windows(
         (0..level.block_count()).map(|n| (level.block_at(n), level.scan_window(level.block_at(n)))),

@@ -8,7 +8,6 @@
 
 mod arrays;
 mod blocks;
-mod bricked;
 mod budgets;
 mod contour;
 mod direct_blockwise;
@@ -16,6 +15,7 @@ mod errors;
 mod facade;
 mod filter;
 mod labels;
+mod threshold_blockwise;
 
 use pyo3::prelude::*;
 
@@ -32,8 +32,14 @@ fn _voxlod(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(filter::gaussian_filter, m)?)?;
     m.add_function(wrap_pyfunction!(blocks::contour_block, m)?)?;
     m.add_function(wrap_pyfunction!(blocks::stitch, m)?)?;
-    m.add_function(wrap_pyfunction!(bricked::lod_threshold_blockwise, m)?)?;
-    m.add_function(wrap_pyfunction!(bricked::fill_threshold_block, m)?)?;
+    m.add_function(wrap_pyfunction!(
+        threshold_blockwise::lod_threshold_blockwise,
+        m
+    )?)?;
+    m.add_function(wrap_pyfunction!(
+        threshold_blockwise::fill_threshold_block,
+        m
+    )?)?;
     m.add_function(wrap_pyfunction!(direct_blockwise::lod_direct_blockwise, m)?)?;
     m.add_function(wrap_pyfunction!(direct_blockwise::fill_direct_block, m)?)?;
     m.add_function(wrap_pyfunction!(facade::lod_mesh, m)?)?;

@@ -166,16 +166,16 @@ COMMANDS = {
     "contour --close --frame": (contour, "field", ["--close", "other-frame"]),
     "lod": (lod, "field", []),
     "lod --frame": (lod, "field", ["other-frame"]),
-    # Read slab by slab (NRRD with raw encoding and MetaImage with uncompressed data only).
-    "lod --bricked": (lod, "field", ["--bricked"]),
+    # Read blockwise (NRRD with raw encoding and MetaImage with uncompressed data only).
+    "lod --blockwise": (lod, "field", ["--blockwise"]),
     "labels": (labels_command, "labels", []),
     "labels --frame": (labels_command, "labels", ["other-frame"]),
     "voxelize + contour": (voxelize_then_contour, "field", []),
 }
 
-# Every file with every command (--bricked reads NRRD and MetaImage slab by slab, not NIfTI).
+# Every file with every command (--blockwise reads NRRD and MetaImage blockwise, not NIfTI).
 CASES = [(ext, pose, command) for ext in WRITERS for pose in POSES for command in COMMANDS
-         if not (ext == "nii.gz" and "--bricked" in COMMANDS[command][2])]
+         if not (ext == "nii.gz" and "--blockwise" in COMMANDS[command][2])]
 
 
 @pytest.fixture(scope="module")

@@ -3,7 +3,7 @@
 //! cubes (§4), with what the facade's `lod` call adds around it.
 //!
 //! - **Sources** ([`Source`]): a mesh (through a BVH), a solid, a scan thresholded or filtered
-//!   directly, or a scan read block by block ([`bricked`]); [`Source::prepare`] checks it and
+//!   directly, or a scan read block by block ([`blockwise`]); [`Source::prepare`] checks it and
 //!   chooses the route ([`Route`]).
 //! - **Levels** ([`lod()`], [`lod_with`]): the resolutions planned and checked against the
 //!   memory budget, levels sampled ahead on all cores, the genus kept from rising along the
@@ -24,7 +24,7 @@
 
 #![warn(missing_docs)]
 
-pub mod bricked;
+pub mod blockwise;
 pub mod budget;
 mod budget_terms;
 mod by_budget;

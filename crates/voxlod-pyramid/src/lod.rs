@@ -34,10 +34,10 @@ use voxlod_sampling::narrow_band::{
     band_estimate, narrow_band_density, BandReport, NarrowBandOptions,
 };
 
-use crate::bricked::ChunkedThreshold;
+use crate::blockwise::BlockwiseSource;
 use crate::then_envelope::EnvelopeStep;
 use voxlod_sampling::{
-    direct_density, filtered_density, plan_levels_with, BrickedError, BrickedThreshold,
+    direct_density, filtered_density, plan_levels_with, BlockwiseError, BlockwiseThreshold,
     DensityReport, LevelEstimate, LevelPlan, MonotoneChain, MonotoneError, PyramidOptions,
     SamplingError, Solid, TopologyRecord,
 };
@@ -61,7 +61,7 @@ pub const SAMPLE_AHEAD_AT_MOST_BYTES: u64 = 256 << 20;
 
 /// Whether level `next` may be sampled on another task while `current` (the level above it)
 /// is kept monotone, contoured, cleaned and handed over: both are dense levels of a solid or of
-/// a scan filtered directly (not a chunked scan, not through the narrow band), `next` is
+/// a scan filtered directly (not a blockwise scan, not through the narrow band), `next` is
 /// expected to need at most [`SAMPLE_AHEAD_AT_MOST_BYTES`], and both together fit the memory
 /// budget. Sampling reads only the source, so the level is the one sampled in its turn.
 pub(crate) fn sample_ahead(
@@ -97,9 +97,9 @@ pub enum LodSource<'a> {
     Solid(&'a dyn Solid),
     /// A scanned volume filtered directly: the density stays in the data's units.
     Direct(&'a Volume),
-    /// A scan thresholded and read window by window ([`crate::bricked`]): as `Solid` of its
+    /// A scan thresholded and read window by window ([`crate::blockwise`]): as `Solid` of its
     /// [`voxlod_sampling::ThresholdSolid`], level by level through bricks.
-    Chunked(&'a ChunkedThreshold<'a>),
+    Blockwise(&'a BlockwiseSource<'a>),
 }
 
 impl LodSource<'_> {
@@ -117,7 +117,7 @@ impl LodSource<'_> {
             LodSource::Solid(s) => s.world(),
             LodSource::Direct(v) => Some(v.world()),
             // The scan's own transform (the identity for a Zarr array's spacing and origin).
-            LodSource::Chunked(c) => Some(c.world()),
+            LodSource::Blockwise(c) => Some(c.world()),
         }
     }
 
@@ -126,7 +126,7 @@ impl LodSource<'_> {
         match self {
             LodSource::Solid(s) => s.bounds(),
             LodSource::Direct(v) => v.grid.bounds(),
-            LodSource::Chunked(c) => c.bounds(),
+            LodSource::Blockwise(c) => c.bounds(),
         }
     }
 }
@@ -227,25 +227,28 @@ pub enum LodError {
     /// Keeping the chain's genus from rising failed (the memory budget).
     #[error(transparent)]
     Monotone(#[from] MonotoneError),
-    /// Reading a window of a chunked scan failed.
+    /// Reading a window of a blockwise scan failed.
     #[error(transparent)]
     Read(voxlod_io::IoError),
 }
 
-impl From<BrickedError<voxlod_io::IoError>> for LodError {
-    fn from(e: BrickedError<voxlod_io::IoError>) -> Self {
+impl From<BlockwiseError<voxlod_io::IoError>> for LodError {
+    fn from(e: BlockwiseError<voxlod_io::IoError>) -> Self {
         match e {
-            BrickedError::Read(e) => LodError::Read(e),
-            BrickedError::Sampling(e) => LodError::Sampling(e),
+            BlockwiseError::Read(e) => LodError::Read(e),
+            BlockwiseError::Sampling(e) => LodError::Sampling(e),
         }
     }
 }
 
-impl ChunkedThreshold<'_> {
+impl BlockwiseSource<'_> {
     /// The blocks of every level [`crate::lod::plan`] plans for this scan with `options`, finest
     /// first: what a caller that fills blocks elsewhere needs to know of each level.
-    pub fn level_blocks(&self, options: &LevelOptions) -> Result<Vec<BrickedThreshold>, LodError> {
-        let plans = plan(&LodSource::Chunked(self), options)?;
+    pub fn level_blocks(
+        &self,
+        options: &LevelOptions,
+    ) -> Result<Vec<BlockwiseThreshold>, LodError> {
+        let plans = plan(&LodSource::Blockwise(self), options)?;
         let blocks = plans
             .iter()
             .map(|p| self.blocks(&p.grid, &p.density_options(&options.pyramid)))
@@ -258,7 +261,7 @@ impl ChunkedThreshold<'_> {
 pub fn plan(source: &LodSource, options: &LevelOptions) -> Result<Vec<LevelPlan>, LodError> {
     let estimate = |grid: &Grid, q: usize| -> LevelEstimate {
         match source {
-            LodSource::Chunked(c) => {
+            LodSource::Blockwise(c) => {
                 // A level small enough for the dense route is made dense for the genus step.
                 let dense = estimated_bytes(grid, q);
                 let dense = if dense > BAND_ABOVE_BYTES { 0 } else { dense };
@@ -345,7 +348,7 @@ pub(crate) fn sample_level(
             let (v, report) = filtered_density(*solid, &plan.grid, &density_options)?;
             (LevelVolume::Dense(v), Some(report), None)
         }
-        LodSource::Chunked(scan) => {
+        LodSource::Blockwise(scan) => {
             let (bricks, report, band) = scan.sample(&plan.grid, &density_options)?;
             (LevelVolume::Bricks(bricks), Some(report), Some(band))
         }
@@ -423,7 +426,7 @@ impl SampledLevel {
     /// Adjusts the level's density so that its surface has no more handles than the chain's
     /// previous level ([`voxlod_sampling::monotone_topology`]), and returns what changed. A level
     /// sampled in the narrow band is left as it is (the rules need the dense volume, which is
-    /// what the band avoids) and starts the chain again: `None`. A level of a chunked scan small
+    /// what the band avoids) and starts the chain again: `None`. A level of a blockwise scan small
     /// enough for the dense route ([`BAND_ABOVE_BYTES`]) is made dense first, so that its chain
     /// is the in-memory threshold route's. The level's density goes through the chain by value
     /// (no copy of the dense volume).

@@ -15,7 +15,7 @@ use serde::Serialize;
 use voxlod_core::{Bounds, Grid, Volume};
 use voxlod_sampling::{MeshPreparation, MeshSolid, SamplingError, Solid, ThresholdSolid};
 
-use crate::bricked::{ChunkedScan, ChunkedThreshold};
+use crate::blockwise::{BlockwiseScan, BlockwiseSource};
 
 use crate::error::{InvalidOption, PyramidError};
 use crate::lod::LodSource;
@@ -40,9 +40,9 @@ pub enum Source<'a> {
     Solid(&'a dyn Solid),
     /// A scan too large to hold, read window by window and thresholded like `Threshold` (the
     /// same levels; no warning about the threshold, which would need a pass over the data).
-    ChunkedThreshold {
+    BlockwiseThreshold {
         /// The scan.
-        scan: &'a dyn ChunkedScan,
+        scan: &'a dyn BlockwiseScan,
         /// The inside's lowest value, in the data's units.
         threshold: f32,
     },
@@ -59,9 +59,9 @@ impl fmt::Debug for Source<'_> {
             ),
             Source::Direct(v) => write!(f, "Source::Direct({:?} samples)", v.grid.dims),
             Source::Solid(_) => write!(f, "Source::Solid"),
-            Source::ChunkedThreshold { scan, threshold } => write!(
+            Source::BlockwiseThreshold { scan, threshold } => write!(
                 f,
-                "Source::ChunkedThreshold({:?} samples, threshold {threshold})",
+                "Source::BlockwiseThreshold({:?} samples, threshold {threshold})",
                 scan.grid().dims
             ),
         }
@@ -99,7 +99,7 @@ impl<'a> Source<'a> {
     pub fn route(&self) -> Route {
         match self {
             Source::Mesh(_) => Route::Mesh,
-            Source::Threshold { .. } | Source::ChunkedThreshold { .. } => Route::Threshold,
+            Source::Threshold { .. } | Source::BlockwiseThreshold { .. } => Route::Threshold,
             Source::Direct(_) => Route::Direct,
             Source::Solid(_) => Route::Solid,
         }
@@ -140,7 +140,7 @@ impl<'a> Source<'a> {
                 (Inner::Direct(volume), None)
             }
             Source::Solid(solid) => (Inner::Solid(solid), None),
-            Source::ChunkedThreshold { scan, threshold } => {
+            Source::BlockwiseThreshold { scan, threshold } => {
                 if !threshold.is_finite() {
                     return Err(SamplingError::InvalidOption(format!(
                         "the threshold {threshold} is not a finite number"
@@ -148,8 +148,8 @@ impl<'a> Source<'a> {
                     .into());
                 }
                 check_grid_reach(&scan.grid())?;
-                let chunked = ChunkedThreshold { scan, threshold };
-                (Inner::Chunked(Box::new(chunked)), None)
+                let blockwise = BlockwiseSource { scan, threshold };
+                (Inner::Blockwise(Box::new(blockwise)), None)
             }
         };
         Ok(Prepared {
@@ -174,7 +174,7 @@ enum Inner<'a> {
     Threshold(Box<ThresholdSolid<'a>>),
     Direct(&'a Volume),
     Solid(&'a dyn Solid),
-    Chunked(Box<ChunkedThreshold<'a>>),
+    Blockwise(Box<BlockwiseSource<'a>>),
 }
 
 impl Prepared<'_> {
@@ -185,7 +185,7 @@ impl Prepared<'_> {
             Inner::Threshold(s) => LodSource::Solid(s.as_ref()),
             Inner::Direct(v) => LodSource::Direct(v),
             Inner::Solid(s) => LodSource::Solid(*s),
-            Inner::Chunked(c) => LodSource::Chunked(c.as_ref()),
+            Inner::Blockwise(c) => LodSource::Blockwise(c.as_ref()),
         }
     }
 
@@ -193,7 +193,7 @@ impl Prepared<'_> {
     pub fn solid(&self) -> Option<&dyn Solid> {
         match self.lod_source() {
             LodSource::Solid(s) => Some(s),
-            LodSource::Direct(_) | LodSource::Chunked(_) => None,
+            LodSource::Direct(_) | LodSource::Blockwise(_) => None,
         }
     }
 

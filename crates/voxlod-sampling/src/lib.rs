@@ -19,7 +19,7 @@
 //! - Levels that vanish (a sheet thinner than the filter): [`level_is_empty`] and
 //!   [`find_surface_resolution`], the coarsest finer resolution that still has a surface.
 //! - Scanned volumes filtered directly, without thresholding: [`direct_density`], or block by
-//!   block from windows of the scan, [`blocked_direct_density`]; and the
+//!   block from windows of the scan, [`blockwise_direct_density`]; and the
 //!   separable [`gaussian::gaussian_blur`] of a whole volume, and
 //!   [`gaussian_filter::gaussian_filter`] with SciPy's border modes.
 //!
@@ -66,8 +66,8 @@
 #![warn(missing_docs)]
 
 pub mod band_cover;
-pub mod bricked_direct;
-pub mod bricked_threshold;
+pub mod blockwise_direct;
+pub mod blockwise_threshold;
 mod cell_columns;
 pub mod closing;
 pub mod csg;
@@ -92,10 +92,10 @@ pub mod sphereflake;
 pub mod threshold;
 pub mod vanishing;
 
-pub use bricked_direct::{blocked_direct_density, BlockedDirect};
-pub use bricked_threshold::{
-    bricked_threshold_density, BlockBrick, BlockSamples, BrickAssembly, BrickedError,
-    BrickedThreshold,
+pub use blockwise_direct::{blockwise_direct_density, BlockwiseDirect};
+pub use blockwise_threshold::{
+    blockwise_threshold_density, BlockBrick, BlockSamples, BlockwiseError, BlockwiseThreshold,
+    BrickAssembly,
 };
 pub use csg::{CsgSolid, Shape};
 pub use density::{filtered_density, DensityOptions, DensityReport};

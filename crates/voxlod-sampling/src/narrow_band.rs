@@ -272,7 +272,7 @@ fn outside_values(x_lines: &LineCrossings, grid: &Grid, b: usize, mask: &[bool])
         .collect()
 }
 
-/// One thread's buffers for filling band bricks (also the bricked threshold route's blocks).
+/// One thread's buffers for filling band bricks (also the blockwise threshold route's blocks).
 pub(crate) struct BrickScratch {
     b: usize,
     rows: Rows,

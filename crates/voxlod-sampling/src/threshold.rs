@@ -34,7 +34,7 @@ pub struct ThresholdSolid<'a> {
     /// Per axis, the run-length encoded cell columns, built on first use and kept for all levels.
     columns: OnceLock<[ColumnRuns; 3]>,
     /// Whether the three axes' columns are classified side by side (a whole scan, classified
-    /// once on all threads) or one axis after another (a window of the bricked route, whose
+    /// once on all threads) or one axis after another (a window of the blockwise route, whose
     /// windows are already classified side by side, and whose memory stays that of one axis).
     axes_side_by_side: bool,
 }
@@ -63,8 +63,8 @@ impl<'a> ThresholdSolid<'a> {
     /// The solid of a scan with grid `grid`, of which only `window` is held: the samples from
     /// index `start` on. Along a lattice line it gives the crossings the whole scan gives inside
     /// the window (computed with the whole scan's coordinates, so bit for bit the same), plus
-    /// one where the line leaves the window inside the solid, at each end (for the bricked
-    /// route, [`crate::bricked_threshold`], whose windows reach beyond what a block reads).
+    /// one where the line leaves the window inside the solid, at each end (for the blockwise
+    /// route, [`crate::blockwise_threshold`], whose windows reach beyond what a block reads).
     pub fn window(
         window: &'a Volume,
         grid: Grid,

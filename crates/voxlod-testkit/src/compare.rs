@@ -1,5 +1,5 @@
 //! Comparing meshes bit for bit: what tests of two routes that must agree exactly (dense and
-//! bricked, whole read and slab read) assert.
+//! bricked samples, a scan read whole and read blockwise) assert.
 
 use voxlod_core::TriangleMesh;
 

@@ -24,7 +24,7 @@ pub fn shared_ct_head(test: &str) -> Option<Volume> {
 }
 
 /// The samples `start .. start + extent` (x, y, z indices) of `scan` as a volume of their own,
-/// placed where they sit in `scan`: what a chunked reader returns for that window.
+/// placed where they sit in `scan`: what a blockwise reader returns for that window.
 pub fn window(scan: &Volume, start: [usize; 3], extent: [usize; 3]) -> Volume {
     let s = &scan.grid;
     let origin = [0, 1, 2].map(|a| s.origin[a] + start[a] as f64 * s.spacing[a]);

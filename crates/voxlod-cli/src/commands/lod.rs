@@ -5,10 +5,10 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
 use serde::Serialize;
-use voxlod::bricked::ChunkedScan;
+use voxlod::blockwise::BlockwiseScan;
 use voxlod::core::{memory, Grid, Topology, Volume};
 use voxlod::finest::FinestChoice;
-use voxlod::io::SlabVolume;
+use voxlod::io::BlockwiseVolume;
 use voxlod::io::{OutputSet, VolumeFormat};
 use voxlod::lod::BAND_ABOVE_BYTES;
 use voxlod::sampling::{BandReport, DensityReport, Filter, PyramidOptions, TopologyRecord};
@@ -154,12 +154,12 @@ pub struct LodArgs {
     pub time_cap: f64,
     #[command(flatten)]
     pub route: VolumeRoute,
-    /// Volumes with --threshold: read the scan slab by slab instead of whole (raw files, NRRD
-    /// with raw encoding, MetaImage with uncompressed data; a Zarr array always is). Chosen by
-    /// itself when the volume as 32-bit floats would take more than 1 GiB or not fit in memory;
-    /// the levels are the same
-    #[arg(long, help_heading = "Volumes")]
-    pub bricked: bool,
+    /// Volumes with --threshold: read the scan blockwise, window by window, instead of whole
+    /// (raw files, NRRD with raw encoding, MetaImage with uncompressed data; a Zarr array always
+    /// is). Chosen by itself when the volume as 32-bit floats would take more than 1 GiB or not
+    /// fit in memory; the levels are the same
+    #[arg(long, alias = "bricked", help_heading = "Volumes")]
+    pub blockwise: bool,
     #[command(flatten)]
     pub frame: FrameArg,
 }
@@ -290,10 +290,10 @@ enum Loaded {
     Volume(voxlod::core::Volume),
     /// A scan with --threshold never read whole, sampled window by window (the same levels as
     /// a volume read whole): a Zarr array, or a raw, NRRD or MetaImage file too large to hold or
-    /// with --bricked. `world` stands for the scan's placement in the frame checks and the
+    /// with --blockwise. `world` stands for the scan's placement in the frame checks and the
     /// report: one sample with its spacing, origin and orientation (none for a Zarr array).
-    Chunked {
-        scan: Box<dyn ChunkedScan>,
+    Blockwise {
+        scan: Box<dyn BlockwiseScan>,
         world: Option<Volume>,
     },
 }
@@ -303,7 +303,7 @@ impl Loaded {
     fn volume_world(&self) -> Option<&Volume> {
         match self {
             Loaded::Volume(v) => Some(v),
-            Loaded::Chunked { world, .. } => world.as_ref(),
+            Loaded::Blockwise { world, .. } => world.as_ref(),
             Loaded::Mesh(_) => None,
         }
     }
@@ -315,15 +315,15 @@ fn load(args: &LodArgs) -> Result<Loaded, CliError> {
     if zarr && args.route.threshold.is_some() {
         let scan = voxlod::io::open_zarr(&args.input)?;
         check_grid_reach(&scan.grid(), &args.input, args.route.raw.spacing_source())?;
-        return Ok(Loaded::Chunked {
+        return Ok(Loaded::Blockwise {
             scan: Box::new(scan),
             world: None,
         });
     }
-    if let Some(scan) = slab_scan(args)? {
+    if let Some(scan) = blockwise_scan(args)? {
         check_grid_reach(&scan.grid(), &args.input, args.route.raw.spacing_source())?;
         let world = world_of(&scan).map_err(|e| in_file(&args.input, e))?;
-        return Ok(Loaded::Chunked {
+        return Ok(Loaded::Blockwise {
             scan: Box::new(scan),
             world: Some(world),
         });
@@ -344,15 +344,15 @@ fn load(args: &LodArgs) -> Result<Loaded, CliError> {
     }
 }
 
-/// The input as a scan to read slab by slab: with --bricked (which refuses what cannot be read
+/// The input as a scan to read blockwise: with --blockwise (which refuses what cannot be read
 /// so), or when it is a raw, NRRD or MetaImage file with uncompressed samples too large to hold
 /// ([`too_large_to_hold`]). Otherwise `None`, and the input is read whole (whose errors about a
 /// broken file are then the ones every route gives).
-fn slab_scan(args: &LodArgs) -> Result<Option<SlabVolume>, CliError> {
+fn blockwise_scan(args: &LodArgs) -> Result<Option<BlockwiseVolume>, CliError> {
     if args.route.threshold.is_none() {
-        if args.bricked {
+        if args.blockwise {
             return Err(CliError::usage(format!(
-                "{}: --bricked reads a scan window by window for --threshold; --direct filters \
+                "{}: --blockwise reads a scan window by window for --threshold; --direct filters \
                  the volume held whole",
                 args.input.display()
             )));
@@ -360,23 +360,23 @@ fn slab_scan(args: &LodArgs) -> Result<Option<SlabVolume>, CliError> {
         return Ok(None);
     }
     let layout = args.route.raw.layout()?;
-    match voxlod::io::open_volume_slabs(&args.input, layout.as_ref()) {
-        Ok(Some(scan)) if args.bricked || too_large_to_hold(&scan) => Ok(Some(scan)),
-        Ok(None) if args.bricked => Err(CliError::usage(format!(
-            "{}: --bricked reads raw files, NRRD with raw encoding and MetaImage with \
+    match voxlod::io::open_volume_blockwise(&args.input, layout.as_ref()) {
+        Ok(Some(scan)) if args.blockwise || too_large_to_hold(&scan) => Ok(Some(scan)),
+        Ok(None) if args.blockwise => Err(CliError::usage(format!(
+            "{}: --blockwise reads raw files, NRRD with raw encoding and MetaImage with \
              uncompressed data window by window (and Zarr arrays); this file's samples have no \
-             random access (compressed, ascii, another format or not a volume): drop --bricked \
+             random access (compressed, ascii, another format or not a volume): drop --blockwise \
              to read it whole",
             args.input.display()
         ))),
-        Err(e) if args.bricked => Err(e.into()),
+        Err(e) if args.blockwise => Err(e.into()),
         _ => Ok(None),
     }
 }
 
-/// Whether a scan is better read slab by slab: as 32-bit floats it would take more than the
+/// Whether a scan is better read blockwise: as 32-bit floats it would take more than the
 /// narrow band's [`BAND_ABOVE_BYTES`], or, with its stored bytes, more than the memory budget.
-fn too_large_to_hold(scan: &SlabVolume) -> bool {
+fn too_large_to_hold(scan: &BlockwiseVolume) -> bool {
     let count = scan.grid().len() as u64;
     let dense = count.saturating_mul(4);
     let read = dense.saturating_add(count.saturating_mul(scan.sample_bytes() as u64));
@@ -385,7 +385,7 @@ fn too_large_to_hold(scan: &SlabVolume) -> bool {
 
 /// One sample with the scan's spacing, origin and orientation: where its meshes are, for the
 /// frame checks and the report.
-fn world_of(scan: &SlabVolume) -> Result<Volume, voxlod::core::CoreError> {
+fn world_of(scan: &BlockwiseVolume) -> Result<Volume, voxlod::core::CoreError> {
     let g = scan.grid();
     let grid = Grid::new([1; 3], g.spacing, g.origin)?;
     Ok(Volume::filled(grid, 0.0, "the scan's placement")?.oriented(scan.orientation()))
@@ -399,7 +399,7 @@ fn source<'a>(loaded: &'a Loaded, route: &VolumeRoute) -> voxlod::Source<'a> {
             voxlod::Source::Threshold { volume, threshold }
         }
         (Loaded::Volume(volume), None) => voxlod::Source::Direct(volume),
-        (Loaded::Chunked { scan, .. }, threshold) => voxlod::Source::ChunkedThreshold {
+        (Loaded::Blockwise { scan, .. }, threshold) => voxlod::Source::BlockwiseThreshold {
             scan: scan.as_ref(),
             threshold: threshold.unwrap_or(f32::NAN),
         },

@@ -72,9 +72,7 @@ pub fn run(args: SelectArgs) -> Result<(), CliError> {
         .ok_or_else(|| malformed(&args.report, "a level has neither cell_size nor voxel_size"))?;
     let pixel = match (args.pixel_size, args.distance, args.fov, args.viewport) {
         (Some(s), ..) => s,
-        (None, Some(d), Some(fov), Some(h)) => {
-            pixel_size(d, fov.to_radians(), h).map_err(voxlod::Error::from)?
-        }
+        (None, Some(d), Some(fov), Some(h)) => pixel_size(d, fov.to_radians(), h)?,
         _ => {
             return Err(CliError::usage(
                 "give --pixel-size, or --distance with --fov and --viewport",

@@ -9,7 +9,7 @@
 //! data sample lies within R ([`crate::direct_density`]). So a block needs the data samples
 //! within R of its box: its *window*, the box's span on the scan grid grown by the support's
 //! reach ⌈R/h⌉ (h the data spacing) and one more sample on each side, cut to the scan.
-//! [`BlockedDirect::fill_block`] evaluates each sample of the block with the very code of
+//! [`BlockwiseDirect::fill_block`] evaluates each sample of the block with the very code of
 //! [`crate::direct_density`] over that window, indexed by the whole scan's indices and with the
 //! whole scan's minimum as the background, so every sample is the single-process value bit for
 //! bit (the same data, weights and summation order; `tests` below check it on several scans).
@@ -25,13 +25,13 @@
 //! sample with a window of 2R would read it (2R/h)³ times over in tiny tasks). **Memory**: a
 //! window of the scan as `f32` per block in flight (at most about (4R/h)³ samples at coarse
 //! levels), and the level's dense grid where the blocks are gathered
-//! ([`BlockedDirect::place_block`]), as the dense route holds it.
+//! ([`BlockwiseDirect::place_block`]), as the dense route holds it.
 
 use rayon::prelude::*;
 use serde::Serialize;
 use voxlod_core::{memory, Grid, Volume};
 
-use crate::bricked_threshold::BrickedError;
+use crate::blockwise_threshold::BlockwiseError;
 use crate::direct::{check_radius, DataView, Support};
 use crate::{Filter, SamplingError};
 
@@ -40,7 +40,7 @@ pub const WINDOW_SIDE: usize = 256;
 
 /// A level of a scan filtered directly, cut into blocks (see the module documentation).
 #[derive(Clone, Debug, Serialize)]
-pub struct BlockedDirect {
+pub struct BlockwiseDirect {
     /// The whole scan's grid.
     pub scan: Grid,
     /// The level's grid.
@@ -57,7 +57,7 @@ pub struct BlockedDirect {
     pub reach: [u64; 3],
 }
 
-impl BlockedDirect {
+impl BlockwiseDirect {
     /// The blocks of `grid` (a level of the scan with grid `scan`) filtered with `filter` of
     /// support `radius`, `background` outside the scan (its smallest finite sample). Blocks are
     /// sized so that a window spans about `window_side` scan samples ([`WINDOW_SIDE`] is a good
@@ -70,7 +70,7 @@ impl BlockedDirect {
         radius: f64,
         background: f32,
         window_side: usize,
-    ) -> Result<BlockedDirect, SamplingError> {
+    ) -> Result<BlockwiseDirect, SamplingError> {
         check_radius(radius)?;
         if !background.is_finite() {
             return Err(SamplingError::InvalidOption(format!(
@@ -89,7 +89,7 @@ impl BlockedDirect {
             let own = (window_side as f64 - halos).max(halos);
             ((own / step).floor().max(1.0) as usize).min(grid.dims[a])
         });
-        Ok(BlockedDirect {
+        Ok(BlockwiseDirect {
             scan,
             grid: *grid,
             filter,
@@ -147,8 +147,8 @@ impl BlockedDirect {
         (start, window)
     }
 
-    /// The filtered samples of `block` (x fastest over its box, [`BlockedDirect::block_box`])
-    /// from `window`, the scan samples [`BlockedDirect::scan_window`] names.
+    /// The filtered samples of `block` (x fastest over its box, [`BlockwiseDirect::block_box`])
+    /// from `window`, the scan samples [`BlockwiseDirect::scan_window`] names.
     pub fn fill_block(
         &self,
         block: [usize; 3],
@@ -197,7 +197,7 @@ impl BlockedDirect {
         Ok(Volume::filled(self.grid, 0.0, "the level's density")?)
     }
 
-    /// Copies the samples of `block` ([`BlockedDirect::fill_block`]) into `level`.
+    /// Copies the samples of `block` ([`BlockwiseDirect::fill_block`]) into `level`.
     pub fn place_block(
         &self,
         level: &mut Volume,
@@ -229,10 +229,10 @@ impl BlockedDirect {
 /// the scan (x, y, z sample indices) as a volume. The blocks are filled one after another (each
 /// in parallel over its slices) and gathered into the level's dense grid, which is
 /// [`crate::direct_density`]'s bit for bit.
-pub fn blocked_direct_density<E>(
-    level: &BlockedDirect,
+pub fn blockwise_direct_density<E>(
+    level: &BlockwiseDirect,
     read: &dyn Fn([usize; 3], [usize; 3]) -> Result<Volume, E>,
-) -> Result<Volume, BrickedError<E>>
+) -> Result<Volume, BlockwiseError<E>>
 where
     E: std::error::Error + 'static,
 {
@@ -240,7 +240,7 @@ where
     for n in 0..level.block_count() {
         let block = level.block_at(n);
         let (start, extent) = level.scan_window(block);
-        let window = read(start, extent).map_err(BrickedError::Read)?;
+        let window = read(start, extent).map_err(BlockwiseError::Read)?;
         let samples = level.fill_block(block, &window)?;
         level.place_block(&mut out, block, &samples)?;
     }
@@ -286,9 +286,10 @@ mod tests {
     fn assert_same(volume: &Volume, grid: &Grid, filter: Filter, radius: f64) -> usize {
         let (background, _) = volume.range().unwrap();
         // Small blocks, so that every case has blocks at the edges and inside.
-        let level = BlockedDirect::new(volume.grid, grid, filter, radius, background, 12).unwrap();
+        let level =
+            BlockwiseDirect::new(volume.grid, grid, filter, radius, background, 12).unwrap();
         let read = |start, extent| Ok::<_, SamplingError>(cut(volume, start, extent));
-        let blocked = blocked_direct_density(&level, &read).unwrap();
+        let blocked = blockwise_direct_density(&level, &read).unwrap();
         let dense = direct_density(volume, grid, filter, radius).unwrap();
         let bits = |v: &Volume| v.as_slice().iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&blocked), bits(&dense), "{filter:?} radius {radius}");
@@ -327,7 +328,7 @@ mod tests {
         let volume = scan([40, 30, 20], [0.5, 0.5, 1.0], [0.0; 3]);
         let grid = Grid::new([20, 16, 11], [1.0; 3], [-0.5, -0.5, -0.5]).unwrap();
         let level =
-            BlockedDirect::new(volume.grid, &grid, Filter::Hypercone, 2.0, 0.0, WINDOW_SIDE)
+            BlockwiseDirect::new(volume.grid, &grid, Filter::Hypercone, 2.0, 0.0, WINDOW_SIDE)
                 .unwrap();
         // Reach: 4 scan samples along x and y, 2 along z.
         assert_eq!(level.reach, [4, 4, 2]);
@@ -355,7 +356,7 @@ mod tests {
         // scan 13 times over.
         let scan = Grid::new([64; 3], [1.0; 3], [0.0; 3]).unwrap();
         let grid = Grid::new([8; 3], [8.0; 3], [0.0; 3]).unwrap();
-        let level = BlockedDirect::new(scan, &grid, Filter::Hypercone, 8.0, 0.0, 16).unwrap();
+        let level = BlockwiseDirect::new(scan, &grid, Filter::Hypercone, 8.0, 0.0, 16).unwrap();
         assert_eq!(level.block_side, [2, 2, 2]);
         let read: usize = (0..level.block_count())
             .map(|n| {
@@ -378,15 +379,15 @@ mod tests {
         let volume = scan([8, 8, 8], [1.0; 3], [0.0; 3]);
         let grid = Grid::new([4, 4, 4], [2.0; 3], [0.0; 3]).unwrap();
         let level =
-            BlockedDirect::new(volume.grid, &grid, Filter::Hypercone, 2.0, 0.0, WINDOW_SIDE)
+            BlockwiseDirect::new(volume.grid, &grid, Filter::Hypercone, 2.0, 0.0, WINDOW_SIDE)
                 .unwrap();
         let wrong = cut(&volume, [0; 3], [3, 3, 3]);
         let e = level.fill_block([0, 0, 0], &wrong).unwrap_err();
         assert!(e.to_string().contains("not [8, 8, 8]"), "{e}");
         assert!(level.fill_block([5, 0, 0], &volume).is_err());
-        assert!(BlockedDirect::new(volume.grid, &grid, Filter::Hypercone, 0.0, 0.0, 64).is_err());
+        assert!(BlockwiseDirect::new(volume.grid, &grid, Filter::Hypercone, 0.0, 0.0, 64).is_err());
         assert!(
-            BlockedDirect::new(volume.grid, &grid, Filter::Hypercone, 1.0, f32::NAN, 64).is_err()
+            BlockwiseDirect::new(volume.grid, &grid, Filter::Hypercone, 1.0, f32::NAN, 64).is_err()
         );
     }
 }

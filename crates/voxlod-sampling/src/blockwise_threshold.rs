@@ -16,11 +16,11 @@
 //! the level's samples are those of the dense route, but for one f64 residue: a row's running
 //! sum starts at the block, so spans that ended before it leave no `full - full` rounding
 //! (values of 0 in one route can be ~1e-16 in the other, far from any iso value;
-//! `tests/bricked_threshold.rs` bounds the difference by 1e-12). On generated gyroids
+//! `tests/blockwise_threshold.rs` bounds the difference by 1e-12). On generated gyroids
 //! of 48³ and 256³ the meshes had the same triangle counts and bit-identical vertex sets.
 //!
 //! A block whose window holds no crossing of the threshold (all its samples below it, or all at
-//! or above it away from the scan's edge: [`BrickedThreshold::uniform_value`]) skips the
+//! or above it away from the scan's edge: [`BlockwiseThreshold::uniform_value`]) skips the
 //! density pass: its samples are exactly 0 or 1 there, as the pass would give them.
 //!
 //! Beyond the paper, which holds the whole volume. **Memory**: per block in flight, its window of
@@ -46,9 +46,9 @@ use crate::SamplingError;
 /// Scan samples per block side the route aims at: a window of about this side is read at once.
 const WINDOW_SIDE: f64 = 128.0;
 
-/// Why a bricked level failed: reading a window of the scan, or sampling.
+/// Why a blockwise level failed: reading a window of the scan, or sampling.
 #[derive(Debug, thiserror::Error)]
-pub enum BrickedError<E: std::error::Error + 'static> {
+pub enum BlockwiseError<E: std::error::Error + 'static> {
     /// Reading a window of the scan failed.
     #[error(transparent)]
     Read(E),
@@ -59,7 +59,7 @@ pub enum BrickedError<E: std::error::Error + 'static> {
 
 /// A level of a thresholded scan, cut into blocks (see the module documentation).
 #[derive(Clone, Debug, Serialize)]
-pub struct BrickedThreshold {
+pub struct BlockwiseThreshold {
     /// The whole scan's grid.
     pub scan: Grid,
     /// Inside where the trilinear interpolation of the scan is `>= threshold`.
@@ -75,13 +75,13 @@ pub struct BrickedThreshold {
     /// Halo of the level's samples around a block: ⌈R⌉ + 1.
     pub halo: usize,
     /// When the blocks' windows together hold more than this many times the scan's samples, the
-    /// scan is read once, whole, if the budget allows ([`bricked_threshold_density`]); 1.5.
+    /// scan is read once, whole, if the budget allows ([`blockwise_threshold_density`]); 1.5.
     pub whole_scan_above: f64,
     #[serde(skip)]
     kernel: LineKernel,
 }
 
-impl BrickedThreshold {
+impl BlockwiseThreshold {
     /// The blocks of `grid` (a level of a scan with grid `scan`) filtered with `options`; blocks
     /// are sized so that each reads about 128³ samples of the scan.
     pub fn new(
@@ -90,7 +90,7 @@ impl BrickedThreshold {
         grid: &Grid,
         options: &DensityOptions,
         band: &NarrowBandOptions,
-    ) -> Result<BrickedThreshold, SamplingError> {
+    ) -> Result<BlockwiseThreshold, SamplingError> {
         if !threshold.is_finite() {
             return Err(SamplingError::InvalidOption(format!(
                 "the threshold {threshold} is not a finite number"
@@ -108,7 +108,7 @@ impl BrickedThreshold {
         let kernel = LineKernel::new(options.filter, options.radius / h, q);
         let finest = scan.spacing.iter().cloned().fold(f64::INFINITY, f64::min);
         let side = ((WINDOW_SIDE * finest / h) as usize / b * b).clamp(b, 16 * b);
-        Ok(BrickedThreshold {
+        Ok(BlockwiseThreshold {
             scan,
             threshold,
             grid: *grid,
@@ -149,7 +149,7 @@ impl BrickedThreshold {
         self.window_reach(block).0
     }
 
-    /// [`BrickedThreshold::scan_window`], and whether it had to be cut to the scan or the
+    /// [`BlockwiseThreshold::scan_window`], and whether it had to be cut to the scan or the
     /// lattice box to the level's grid (then the filter of a sample of the block may reach
     /// beyond the scan, where the solid is outside).
     fn window_reach(&self, block: [usize; 3]) -> (([usize; 3], [usize; 3]), bool) {
@@ -180,12 +180,12 @@ impl BrickedThreshold {
     }
 
     /// The value of every sample of `block` when its window (the samples
-    /// [`BrickedThreshold::scan_window`] names) runs from `low` to `high` and holds no crossing
+    /// [`BlockwiseThreshold::scan_window`] names) runs from `low` to `high` and holds no crossing
     /// of the threshold, so that the density pass can be skipped: 0 when every sample is below
     /// the threshold; 1 when every sample is at or above it and the window lies inside the scan
     /// with its whole margin (every lattice line the block's filter reaches is then inside from
     /// end to end, and the line kernel is normalised to give exactly 1, as the narrow band
-    /// relies on). `None`: the block needs [`BrickedThreshold::fill_block`].
+    /// relies on). `None`: the block needs [`BlockwiseThreshold::fill_block`].
     pub fn uniform_value(&self, block: [usize; 3], low: f32, high: f32) -> Option<f32> {
         if high < self.threshold {
             Some(0.0)
@@ -196,9 +196,9 @@ impl BrickedThreshold {
         }
     }
 
-    /// Block `block` from `window` (the samples [`BrickedThreshold::scan_window`] names): its
-    /// one value when [`BrickedThreshold::uniform_value`] finds no surface in the window (one
-    /// pass for its range), else its bricks ([`BrickedThreshold::fill_block`]).
+    /// Block `block` from `window` (the samples [`BlockwiseThreshold::scan_window`] names): its
+    /// one value when [`BlockwiseThreshold::uniform_value`] finds no surface in the window (one
+    /// pass for its range), else its bricks ([`BlockwiseThreshold::fill_block`]).
     pub fn sample_block(&self, block: [usize; 3], window: &Volume) -> BlockSamples {
         match self.uniform_window(block, window) {
             Some(value) => BlockSamples::Uniform(value),
@@ -209,7 +209,7 @@ impl BrickedThreshold {
         }
     }
 
-    /// [`BrickedThreshold::uniform_value`] of `window`'s range, found without the range: the
+    /// [`BlockwiseThreshold::uniform_value`] of `window`'s range, found without the range: the
     /// finite samples are compared with the threshold until one on each side turns up (a block
     /// with surface in its window stops at the first such pair, not at the window's end).
     fn uniform_window(&self, block: [usize; 3], window: &Volume) -> Option<f32> {
@@ -232,7 +232,7 @@ impl BrickedThreshold {
     }
 
     /// The bricks of `block`, every one of them the single value `value` (a block
-    /// [`BrickedThreshold::uniform_value`] answered), in increasing brick index.
+    /// [`BlockwiseThreshold::uniform_value`] answered), in increasing brick index.
     pub fn uniform_block(&self, block: [usize; 3], value: f32) -> Vec<BlockBrick> {
         self.bricks_of(block)
             .into_iter()
@@ -264,7 +264,7 @@ impl BrickedThreshold {
         out
     }
 
-    /// The bricks of one block, from `window` (the samples [`BrickedThreshold::scan_window`]
+    /// The bricks of one block, from `window` (the samples [`BlockwiseThreshold::scan_window`]
     /// names, read from the scan), in increasing brick index. Also the crossings found.
     pub fn fill_block(&self, block: [usize; 3], window: &Volume) -> (Vec<BlockBrick>, u64) {
         let (start, _) = self.scan_window(block);
@@ -322,7 +322,7 @@ impl BrickedThreshold {
     }
 }
 
-/// What [`BrickedThreshold::sample_block`] found for a block.
+/// What [`BlockwiseThreshold::sample_block`] found for a block.
 #[derive(Clone, Debug)]
 pub enum BlockSamples {
     /// Every sample of the block has this value (its window holds no surface).
@@ -359,7 +359,7 @@ impl BlockBrick {
 }
 
 /// A level's bricks gathered from its blocks into one [`BrickVolume`], checked against the memory
-/// budget as they accumulate: what [`bricked_threshold_density`] does with the blocks it fills,
+/// budget as they accumulate: what [`blockwise_threshold_density`] does with the blocks it fills,
 /// and what a caller that fills the blocks elsewhere (on a cluster) does with their answers.
 pub struct BrickAssembly {
     grid: Grid,
@@ -373,7 +373,7 @@ pub struct BrickAssembly {
 
 impl BrickAssembly {
     /// An empty level (every brick 0), after checking its brick index against the budget.
-    pub fn new(level: &BrickedThreshold) -> Result<BrickAssembly, SamplingError> {
+    pub fn new(level: &BlockwiseThreshold) -> Result<BrickAssembly, SamplingError> {
         let b = level.brick_size;
         let bricks: usize = level.grid.dims.map(|d| d.div_ceil(b)).iter().product();
         memory::check_allocation("the brick index", memory::bytes_of::<u64>(bricks))?;
@@ -454,15 +454,15 @@ impl BrickAssembly {
 /// budget, the scan is read once, whole, and the level's lattice cast on it as the dense route
 /// casts it; each block is then integrated from that lattice. The crossings a block's rows reach
 /// are those of its window, bit for bit, so the bricks are the same.
-pub fn bricked_threshold_density<E>(
-    level: &BrickedThreshold,
+pub fn blockwise_threshold_density<E>(
+    level: &BlockwiseThreshold,
     read: &(dyn Fn([usize; 3], [usize; 3]) -> Result<Volume, E> + Sync),
-) -> Result<(BrickVolume, DensityReport, BandReport), BrickedError<E>>
+) -> Result<(BrickVolume, DensityReport, BandReport), BlockwiseError<E>>
 where
     E: std::error::Error + Send + 'static,
 {
     if level.reads_scan_over() {
-        let scan = read([0; 3], level.scan.dims).map_err(BrickedError::Read)?;
+        let scan = read([0; 3], level.scan.dims).map_err(BlockwiseError::Read)?;
         return Ok(level.sample_from_whole_scan(&scan)?);
     }
     let mut assembly = BrickAssembly::new(level)?;
@@ -482,7 +482,7 @@ where
             .collect();
         let mut slab_bricks: Vec<BlockBrick> = Vec::new();
         let mut crossings = 0;
-        for (block_bricks, found) in filled.map_err(BrickedError::Read)? {
+        for (block_bricks, found) in filled.map_err(BlockwiseError::Read)? {
             crossings += found;
             slab_bricks.extend(block_bricks);
         }
@@ -491,7 +491,7 @@ where
     Ok(assembly.finish()?)
 }
 
-impl BrickedThreshold {
+impl BlockwiseThreshold {
     /// True when the blocks' windows together hold the scan more than `whole_scan_above` times
     /// over and the whole scan (as `f32`, and a byte per sample for its classification) fits
     /// the memory budget.
@@ -509,7 +509,7 @@ impl BrickedThreshold {
     }
 
     /// The level from the whole scan `scan` held in memory: its lattice cast once, then every
-    /// block integrated from it (see [`bricked_threshold_density`]).
+    /// block integrated from it (see [`blockwise_threshold_density`]).
     pub fn sample_from_whole_scan(
         &self,
         scan: &Volume,
@@ -547,7 +547,7 @@ mod tests {
         let grid = level_grid(&scan.bounds(), 12, 3.25).unwrap();
         let options = DensityOptions::new(Filter::Hypercone, 3.25);
         let band = NarrowBandOptions::default();
-        let mut level = BrickedThreshold::new(scan, 10.0, &grid, &options, &band).unwrap();
+        let mut level = BlockwiseThreshold::new(scan, 10.0, &grid, &options, &band).unwrap();
         // Block (2, 2, 2) has its window inside the scan, block (0, 0, 0) is cut by its edge.
         level.block_side = 4;
         assert!(!level.window_reach([2, 2, 2]).1 && level.window_reach([0, 0, 0]).1);

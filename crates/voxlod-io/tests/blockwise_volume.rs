@@ -1,4 +1,4 @@
-//! Volumes read window by window (`open_volume_slabs`): every window of a raw file, a NRRD with
+//! Volumes read window by window (`open_volume_blockwise`): every window of a raw file, a NRRD with
 //! raw encoding (attached, detached, `line skip`, `byte skip: -1`) and a MetaImage (`.mha`,
 //! `.mhd` with `HeaderSize`) holds exactly the samples of the volume read whole, with its grid
 //! and orientation; compressed data is left to the whole read; short files and layouts that do
@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 
 use voxlod_core::{Grid, Volume};
 use voxlod_io::{
-    open_volume_slabs, read_volume, write_volume, write_volume_with, Endian, IoErrorKind,
-    RawLayout, RawType, SlabVolume, VolumeWriteOptions,
+    open_volume_blockwise, read_volume, write_volume, write_volume_with, BlockwiseVolume, Endian,
+    IoErrorKind, RawLayout, RawType, VolumeWriteOptions,
 };
 use voxlod_testkit::data::shared_data_or_skip;
 use voxlod_testkit::volumes::window;
@@ -30,9 +30,9 @@ fn as_volume(values: &[i16], spacing: [f64; 3], origin: [f64; 3]) -> Volume {
 }
 
 /// Every window of a few shapes, and the whole, equal the volume read whole.
-fn check_windows(path: &Path, raw: Option<&RawLayout>) -> SlabVolume {
+fn check_windows(path: &Path, raw: Option<&RawLayout>) -> BlockwiseVolume {
     let whole = read_volume(path, raw).unwrap_or_else(|e| panic!("{e}"));
-    let scan = open_volume_slabs(path, raw)
+    let scan = open_volume_blockwise(path, raw)
         .unwrap_or_else(|e| panic!("{e}"))
         .unwrap_or_else(|| panic!("{} is not read in windows", path.display()));
     assert_eq!(scan.grid(), whole.grid, "{}", path.display());
@@ -177,16 +177,19 @@ fn compressed_data_and_other_files_are_left_to_the_whole_read() {
     for name in ["gz.nrrd", "gz.nhdr", "z.mha", "z.mhd", "v.vti", "v.nii"] {
         let path = dir.path().join(name);
         write_volume_with(&path, &volume, &compress).unwrap();
-        assert!(open_volume_slabs(&path, None).unwrap().is_none(), "{name}");
+        assert!(
+            open_volume_blockwise(&path, None).unwrap().is_none(),
+            "{name}"
+        );
     }
     let text = "NRRD0004\ntype: short\ndimension: 1\nsizes: 3\nencoding: ascii\n\n1 2 3\n";
     let path = write(&dir.path().join("ascii.nrrd"), text.as_bytes());
-    assert!(open_volume_slabs(&path, None).unwrap().is_none());
+    assert!(open_volume_blockwise(&path, None).unwrap().is_none());
     let mesh = write(&dir.path().join("m.obj"), b"v 0 0 0\n");
-    assert!(open_volume_slabs(&mesh, None).unwrap().is_none());
+    assert!(open_volume_blockwise(&mesh, None).unwrap().is_none());
     // A raw file needs its layout.
     let raw = write(&dir.path().join("r.raw"), &[0u8; 8]);
-    assert!(open_volume_slabs(&raw, None).unwrap().is_none());
+    assert!(open_volume_blockwise(&raw, None).unwrap().is_none());
 }
 
 #[test]
@@ -200,47 +203,49 @@ fn short_files_and_layouts_that_do_not_fit_name_the_file() {
         &dir.path().join("cut.nrrd"),
         &[cut.as_bytes(), &be[..be.len() - 1]].concat(),
     );
-    let err = open_volume_slabs(&path, None).unwrap_err();
+    let err = open_volume_blockwise(&path, None).unwrap_err();
     assert_eq!(err.kind, IoErrorKind::Truncated, "{err}");
     assert!(err.to_string().contains("cut.nrrd"), "{err}");
     write(&dir.path().join("short.bin"), &be[..100]);
     let detached = format!("NRRD0004\n{fields}data file: short.bin\n");
     let path = write(&dir.path().join("short.nhdr"), detached.as_bytes());
-    let err = open_volume_slabs(&path, None).unwrap_err();
+    let err = open_volume_blockwise(&path, None).unwrap_err();
     assert_eq!(err.kind, IoErrorKind::Truncated, "{err}");
     assert!(err.to_string().contains("short.bin"), "{err}");
     assert!(err.message.contains("2002 bytes"), "{err}");
     let missing = format!("NRRD0004\n{fields}data file: nowhere.bin\n");
     let path = write(&dir.path().join("missing.nhdr"), missing.as_bytes());
-    let err = open_volume_slabs(&path, None).unwrap_err();
+    let err = open_volume_blockwise(&path, None).unwrap_err();
     assert_eq!(err.kind, IoErrorKind::Access, "{err}");
     assert!(err.to_string().contains("nowhere.bin"), "{err}");
     // A raw layout that does not match the file's size: the whole read's message and hints.
     let raw = write(&dir.path().join("ct.raw"), &be);
     let layout = RawLayout::new([13, 11, 8], RawType::I16, Endian::Big);
-    let err = open_volume_slabs(&raw, Some(&layout)).unwrap_err();
+    let err = open_volume_blockwise(&raw, Some(&layout)).unwrap_err();
     assert_eq!(err.kind, IoErrorKind::SizeMismatch, "{err}");
     assert!(err.message.contains("dims 13 11 7"), "{err}");
     // Absurd sizes in a header: refused before anything of that size is allocated.
     let huge =
         "NRRD0004\ntype: short\ndimension: 3\nsizes: 100000 100000 100000\nencoding: raw\n\n";
     let path = write(&dir.path().join("huge.nrrd"), huge.as_bytes());
-    let err = open_volume_slabs(&path, None).unwrap_err();
+    let err = open_volume_blockwise(&path, None).unwrap_err();
     assert_eq!(err.kind, IoErrorKind::Truncated, "{err}");
     // A window beyond the volume is refused.
     let layout = RawLayout::new([13, 11, 7], RawType::I16, Endian::Big);
-    let scan = open_volume_slabs(&raw, Some(&layout)).unwrap().unwrap();
+    let scan = open_volume_blockwise(&raw, Some(&layout)).unwrap().unwrap();
     let err = scan.read_window([0, 0, 0], [13, 11, 8]).unwrap_err();
     assert!(err.message.contains("not inside"), "{err}");
 }
 
 #[test]
 fn the_shared_tooth_and_ct_head_read_in_windows_as_whole() {
-    if let Some(path) = shared_data_or_skip("volumes/tooth_103x94x161_uint8.nrrd", "tooth slabs") {
+    if let Some(path) =
+        shared_data_or_skip("volumes/tooth_103x94x161_uint8.nrrd", "tooth blockwise")
+    {
         check_windows(&path, None);
     }
     let head = "volumes/CThead_256x256x113_uint16be.raw";
-    if let Some(path) = shared_data_or_skip(head, "CT head slabs") {
+    if let Some(path) = shared_data_or_skip(head, "CT head blockwise") {
         let mut layout = RawLayout::new([256, 256, 113], RawType::U16, Endian::Big);
         layout.spacing = [1.0, 1.0, 2.0];
         check_windows(&path, Some(&layout));

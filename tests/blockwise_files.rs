@@ -1,5 +1,5 @@
-//! A raw, NRRD or MetaImage scan read slab by slab (`voxlod::io::SlabVolume` as a
-//! `Source::ChunkedThreshold`) gives exactly the levels of the same file read whole
+//! A raw, NRRD or MetaImage scan read blockwise (`voxlod::io::BlockwiseVolume` as a
+//! `Source::BlockwiseThreshold`) gives exactly the levels of the same file read whole
 //! (`Source::Threshold`) with the default chain (genus step and cleaning): the same triangle
 //! counts, genus and bit-identical vertex sets, placed in the file's world (an oblique NRRD's
 //! direction cosines included). On a generated scan of odd size, and on the CT head of
@@ -8,19 +8,19 @@
 use std::path::Path;
 
 use voxlod::core::{Grid, Volume};
-use voxlod::io::{open_volume_slabs, read_volume, Endian, RawLayout, RawType};
+use voxlod::io::{open_volume_blockwise, read_volume, Endian, RawLayout, RawType};
 use voxlod::sampling::Filter;
 use voxlod::{Lod, LodOptions, Source};
 use voxlod_testkit::compare::sorted_vertex_bits;
 use voxlod_testkit::data::shared_data_or_skip;
 
 /// Sorted bit patterns of a mesh's positions.
-/// The levels of `path` read whole and read slab by slab, compared level by level.
+/// The levels of `path` read whole and read blockwise, compared level by level.
 fn same_levels(path: &Path, raw: Option<&RawLayout>, threshold: f32, options: &LodOptions) -> Lod {
     let volume = read_volume(path, raw).unwrap();
-    let scan = open_volume_slabs(path, raw)
+    let scan = open_volume_blockwise(path, raw)
         .unwrap()
-        .expect("read in slabs");
+        .expect("read blockwise");
     let whole = voxlod::lod(
         &Source::Threshold {
             volume: &volume,
@@ -29,13 +29,13 @@ fn same_levels(path: &Path, raw: Option<&RawLayout>, threshold: f32, options: &L
         options,
     )
     .unwrap();
-    let chunked = Source::ChunkedThreshold {
+    let blockwise = Source::BlockwiseThreshold {
         scan: &scan,
         threshold,
     };
-    let slabs = voxlod::lod(&chunked, options).unwrap();
-    assert_eq!(whole.levels.len(), slabs.levels.len());
-    for (a, b) in whole.levels.iter().zip(&slabs.levels) {
+    let blockwise_levels = voxlod::lod(&blockwise, options).unwrap();
+    assert_eq!(whole.levels.len(), blockwise_levels.levels.len());
+    for (a, b) in whole.levels.iter().zip(&blockwise_levels.levels) {
         let r = a.resolution;
         assert!(a.mesh.triangle_count() > 0, "{r}");
         assert_eq!(a.mesh.triangle_count(), b.mesh.triangle_count(), "{r}");
@@ -47,9 +47,9 @@ fn same_levels(path: &Path, raw: Option<&RawLayout>, threshold: f32, options: &L
             sorted_vertex_bits(&b.mesh),
             "{r}"
         );
-        assert!(b.band.is_some(), "the slab route samples bricks");
+        assert!(b.band.is_some(), "the blockwise route samples bricks");
     }
-    slabs
+    blockwise_levels
 }
 
 /// Two blobs and a tunnel, as int16 values around 0, on a 53 × 47 × 39 grid.
@@ -78,7 +78,7 @@ fn blobs() -> Vec<i16> {
 }
 
 #[test]
-fn an_oblique_nrrd_read_in_slabs_gives_the_levels_read_whole() {
+fn an_oblique_nrrd_read_blockwise_gives_the_levels_read_whole() {
     let dir = tempfile::tempdir().unwrap();
     let bytes: Vec<u8> = blobs().iter().flat_map(|v| v.to_le_bytes()).collect();
     // Rotated about z by 30 degrees, in LPS, with uneven spacing.
@@ -105,7 +105,7 @@ fn an_oblique_nrrd_read_in_slabs_gives_the_levels_read_whole() {
 }
 
 #[test]
-fn a_raw_file_and_a_metaimage_read_in_slabs_give_the_levels_read_whole() {
+fn a_raw_file_and_a_metaimage_read_blockwise_give_the_levels_read_whole() {
     let dir = tempfile::tempdir().unwrap();
     let values = blobs();
     let be: Vec<u8> = values.iter().flat_map(|v| v.to_be_bytes()).collect();
@@ -123,9 +123,9 @@ fn a_raw_file_and_a_metaimage_read_in_slabs_give_the_levels_read_whole() {
 }
 
 #[test]
-fn the_ct_head_read_in_slabs_gives_the_levels_read_whole() {
+fn the_ct_head_read_blockwise_gives_the_levels_read_whole() {
     let head = "volumes/CThead_256x256x113_uint16be.raw";
-    let Some(path) = shared_data_or_skip(head, "CT head through slabs") else {
+    let Some(path) = shared_data_or_skip(head, "CT head read blockwise") else {
         return;
     };
     let mut layout = RawLayout::new([256, 256, 113], RawType::U16, Endian::Big);

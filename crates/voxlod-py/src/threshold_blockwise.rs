@@ -1,14 +1,14 @@
 //! The threshold route of paper §4 block by block on a Dask cluster, for `voxlod.dask.lod_volume`:
-//! the same levels as `voxlod.lod_volume` (the library's [`voxlod::Source::ChunkedThreshold`],
+//! the same levels as `voxlod.lod_volume` (the library's [`voxlod::Source::BlockwiseThreshold`],
 //! whose sampling of each level is handed to the cluster).
 //!
 //! The client runs [`voxlod::lod_with`] as the single process does (planning, the iso value's
 //! check, the genus step, contouring, cleaning, placement, warnings). Where it would sample a
 //! level, [`ClusterScan::sample_level`] names the level's blocks and their windows of the scan
-//! ([`voxlod::sampling::BrickedThreshold::scan_window`]) and calls the Python half, which runs
+//! ([`voxlod::sampling::BlockwiseThreshold::scan_window`]) and calls the Python half, which runs
 //! one task per block on the cluster: [`fill_threshold_block`] reads the block's window once,
 //! answers a window without a crossing of the threshold with one value, and otherwise fills
-//! the block's bricks ([`voxlod::sampling::BrickedThreshold::fill_block`]). The client gathers
+//! the block's bricks ([`voxlod::sampling::BlockwiseThreshold::fill_block`]). The client gathers
 //! the answers into the level's bricks ([`voxlod::sampling::BrickAssembly`]) and goes on.
 //! Workers plan the levels again from the same arguments (arithmetic only), so that nothing but
 //! plain numbers and arrays crosses the network.
@@ -22,13 +22,13 @@ use std::sync::Mutex;
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use voxlod::bricked::{ChunkedScan, ChunkedThreshold};
+use voxlod::blockwise::{BlockwiseScan, BlockwiseSource};
 use voxlod::core::{BrickVolume, Grid, Volume};
 use voxlod::io::{IoError, IoErrorKind};
 use voxlod::lod::LevelOptions;
 use voxlod::sampling::narrow_band::BandReport;
 use voxlod::sampling::{
-    BlockBrick, BlockSamples, BrickAssembly, BrickedError, BrickedThreshold, DensityReport,
+    BlockBrick, BlockSamples, BlockwiseError, BlockwiseThreshold, BrickAssembly, DensityReport,
 };
 
 use crate::arrays::{column, volume_slice};
@@ -49,7 +49,7 @@ pub(crate) fn scan_grid(shape: [usize; 3], spacing: [f64; 3], origin: [f64; 3]) 
 /// A scan known by its grid only: enough to plan its levels.
 struct GridOnly(Grid);
 
-impl ChunkedScan for GridOnly {
+impl BlockwiseScan for GridOnly {
     fn grid(&self) -> Grid {
         self.0
     }
@@ -83,7 +83,7 @@ fn cluster_error(message: &str) -> IoError {
 }
 
 /// The blocks of every level of the scan `args` describes, finest first.
-fn level_blocks(args: &ScanArgs) -> PyResult<Vec<BrickedThreshold>> {
+fn level_blocks(args: &ScanArgs) -> PyResult<Vec<BlockwiseThreshold>> {
     let (shape, spacing, origin, threshold, levels) = args.clone();
     let scan = GridOnly(scan_grid(shape, spacing, origin)?);
     let options = lod_options(levels)?;
@@ -94,11 +94,11 @@ fn level_blocks(args: &ScanArgs) -> PyResult<Vec<BrickedThreshold>> {
         clean: None,
         snap: false,
     };
-    let chunked = ChunkedThreshold {
+    let blockwise = BlockwiseSource {
         scan: &scan,
         threshold,
     };
-    Ok(chunked
+    Ok(blockwise
         .level_blocks(&level_options)
         .map_err(|e| Failure::from(voxlod::Error::from(e)))?)
 }
@@ -106,7 +106,7 @@ fn level_blocks(args: &ScanArgs) -> PyResult<Vec<BrickedThreshold>> {
 /// The scan of the client: its levels' blocks are filled on the cluster by `run_level`.
 struct ClusterScan {
     grid: Grid,
-    levels: Vec<BrickedThreshold>,
+    levels: Vec<BlockwiseThreshold>,
     /// `run_level(level, blocks)`: one answer per block (see [`fill_threshold_block`]).
     run_level: Py<PyAny>,
     /// The Python error that stopped a level, raised in place of the library's.
@@ -131,7 +131,7 @@ impl BlockAnswer<'_> {
     /// The block's bricks, checked against the level, and its crossings.
     fn bricks(
         &self,
-        level: &BrickedThreshold,
+        level: &BlockwiseThreshold,
         block: [usize; 3],
     ) -> PyResult<(Vec<BlockBrick>, u64)> {
         let (crossings, indices, values, leaf_at, leaves) = match self {
@@ -172,7 +172,7 @@ impl BlockAnswer<'_> {
 
 impl ClusterScan {
     /// The level's bricks from the cluster's answers.
-    fn run(&self, level: &BrickedThreshold) -> PyResult<BrickAssembly> {
+    fn run(&self, level: &BlockwiseThreshold) -> PyResult<BrickAssembly> {
         let k = self
             .levels
             .iter()
@@ -205,7 +205,7 @@ impl ClusterScan {
     }
 }
 
-impl ChunkedScan for ClusterScan {
+impl BlockwiseScan for ClusterScan {
     fn grid(&self) -> Grid {
         self.grid
     }
@@ -216,14 +216,14 @@ impl ChunkedScan for ClusterScan {
 
     fn sample_level(
         &self,
-        level: &BrickedThreshold,
-    ) -> Result<(BrickVolume, DensityReport, BandReport), BrickedError<IoError>> {
+        level: &BlockwiseThreshold,
+    ) -> Result<(BrickVolume, DensityReport, BandReport), BlockwiseError<IoError>> {
         match self.run(level) {
             Ok(assembly) => Ok(assembly.finish()?),
             Err(e) => {
                 let message = Python::attach(|py| e.value(py).to_string());
                 *self.raised.lock().unwrap_or_else(|p| p.into_inner()) = Some(e);
-                Err(BrickedError::Read(cluster_error(&message)))
+                Err(BlockwiseError::Read(cluster_error(&message)))
             }
         }
     }
@@ -254,7 +254,7 @@ pub fn lod_threshold_blockwise<'py>(
         raised: Mutex::new(None),
     };
     let options = lod_options(levels)?;
-    let source = voxlod::Source::ChunkedThreshold {
+    let source = voxlod::Source::BlockwiseThreshold {
         scan: &scan,
         threshold,
     };

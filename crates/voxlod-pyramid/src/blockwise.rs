@@ -1,9 +1,10 @@
-//! Scans read window by window for the threshold route (paper §4, first route): a [`ChunkedScan`] is a volume that is never read whole (a Zarr array, or a raw, NRRD
-//! or MetaImage file with uncompressed samples, [`voxlod_io::SlabVolume`], read slab by slab with
-//! positioned reads), and [`crate::Source::ChunkedThreshold`] samples each level from it block
-//! by block ([`voxlod_sampling::bricked_threshold`]) into bricks for sparse marching cubes. The
+//! Scans read blockwise, window by window, for the threshold route (paper §4, first route): a
+//! [`BlockwiseScan`] is a volume that is never read whole (a Zarr array, or a raw, NRRD or
+//! MetaImage file with uncompressed samples, [`voxlod_io::BlockwiseVolume`], read blockwise with
+//! positioned reads), and [`crate::Source::BlockwiseThreshold`] samples each level from it block by
+//! block ([`voxlod_sampling::blockwise_threshold`]) into bricks for sparse marching cubes. The
 //! levels are those of [`crate::Source::Threshold`] on the same data (same triangles, same
-//! vertices, placed in the same world: the scan's [`ChunkedScan::orientation`] moves the meshes
+//! vertices, placed in the same world: the scan's [`BlockwiseScan::orientation`] moves the meshes
 //! as a volume's own does); peak memory is a few windows of the scan, the band of bricks the
 //! surface reaches, and the mesh.
 //!
@@ -11,15 +12,15 @@
 //! (the halos twice), every sample of the level is integrated as the dense route does.
 
 use voxlod_core::{Bounds, BrickVolume, Grid, Orientation, Volume, WorldTransform};
-use voxlod_io::{IoError, SlabVolume, ZarrVolume};
+use voxlod_io::{BlockwiseVolume, IoError, ZarrVolume};
 use voxlod_sampling::narrow_band::{BandReport, NarrowBandOptions};
 use voxlod_sampling::{
-    bricked_threshold_density, BrickedError, BrickedThreshold, DensityOptions, DensityReport,
+    blockwise_threshold_density, BlockwiseError, BlockwiseThreshold, DensityOptions, DensityReport,
     SamplingError,
 };
 
 /// A scanned volume read window by window.
-pub trait ChunkedScan: Sync {
+pub trait BlockwiseScan: Sync {
     /// The whole scan's grid.
     fn grid(&self) -> Grid;
     /// The direction cosines and anatomical frame of the scan's index axes, through which its
@@ -32,19 +33,19 @@ pub trait ChunkedScan: Sync {
     fn read_window(&self, start: [usize; 3], extent: [usize; 3]) -> Result<Volume, IoError>;
 
     /// One level's samples as bricks: by default every block of `level` read
-    /// ([`ChunkedScan::read_window`]) and filled here ([`bricked_threshold_density`]). A scan
+    /// ([`BlockwiseScan::read_window`]) and filled here ([`blockwise_threshold_density`]). A scan
     /// whose blocks are filled elsewhere (the Python package's Dask route runs
-    /// [`BrickedThreshold::fill_block`] on a cluster) gathers their bricks with
+    /// [`BlockwiseThreshold::fill_block`] on a cluster) gathers their bricks with
     /// [`voxlod_sampling::BrickAssembly`] instead; the levels are then the same.
     fn sample_level(
         &self,
-        level: &BrickedThreshold,
-    ) -> Result<(BrickVolume, DensityReport, BandReport), BrickedError<IoError>> {
-        bricked_threshold_density(level, &|start, extent| self.read_window(start, extent))
+        level: &BlockwiseThreshold,
+    ) -> Result<(BrickVolume, DensityReport, BandReport), BlockwiseError<IoError>> {
+        blockwise_threshold_density(level, &|start, extent| self.read_window(start, extent))
     }
 }
 
-impl ChunkedScan for ZarrVolume {
+impl BlockwiseScan for ZarrVolume {
     fn grid(&self) -> Grid {
         ZarrVolume::grid(self)
     }
@@ -54,29 +55,29 @@ impl ChunkedScan for ZarrVolume {
     }
 }
 
-impl ChunkedScan for SlabVolume {
+impl BlockwiseScan for BlockwiseVolume {
     fn grid(&self) -> Grid {
-        SlabVolume::grid(self)
+        BlockwiseVolume::grid(self)
     }
 
     fn orientation(&self) -> Orientation {
-        SlabVolume::orientation(self)
+        BlockwiseVolume::orientation(self)
     }
 
     fn read_window(&self, start: [usize; 3], extent: [usize; 3]) -> Result<Volume, IoError> {
-        SlabVolume::read_window(self, start, extent)
+        BlockwiseVolume::read_window(self, start, extent)
     }
 }
 
-/// A chunked scan and its threshold, as [`crate::lod::LodSource::Chunked`] samples it.
-pub struct ChunkedThreshold<'a> {
+/// A blockwise scan and its threshold, as [`crate::lod::LodSource::Blockwise`] samples it.
+pub struct BlockwiseSource<'a> {
     /// The scan.
-    pub scan: &'a dyn ChunkedScan,
+    pub scan: &'a dyn BlockwiseScan,
     /// Inside where the trilinear interpolation of the scan is `>= threshold`.
     pub threshold: f32,
 }
 
-impl ChunkedThreshold<'_> {
+impl BlockwiseSource<'_> {
     /// The box the levels cover: the scan's.
     pub fn bounds(&self) -> Bounds {
         self.scan.grid().bounds()
@@ -88,13 +89,13 @@ impl ChunkedThreshold<'_> {
     }
 
     /// How one level of `grid` is cut into blocks (every level's:
-    /// [`ChunkedThreshold::level_blocks`]).
+    /// [`BlockwiseSource::level_blocks`]).
     pub fn blocks(
         &self,
         grid: &Grid,
         options: &DensityOptions,
-    ) -> Result<BrickedThreshold, SamplingError> {
-        BrickedThreshold::new(
+    ) -> Result<BlockwiseThreshold, SamplingError> {
+        BlockwiseThreshold::new(
             self.scan.grid(),
             self.threshold,
             grid,
@@ -117,8 +118,10 @@ impl ChunkedThreshold<'_> {
         &self,
         grid: &Grid,
         options: &DensityOptions,
-    ) -> Result<(BrickVolume, DensityReport, BandReport), BrickedError<IoError>> {
-        let blocks = self.blocks(grid, options).map_err(BrickedError::Sampling)?;
+    ) -> Result<(BrickVolume, DensityReport, BandReport), BlockwiseError<IoError>> {
+        let blocks = self
+            .blocks(grid, options)
+            .map_err(BlockwiseError::Sampling)?;
         self.scan.sample_level(&blocks)
     }
 }

@@ -1,9 +1,9 @@
-//! A scan read window by window (`Source::ChunkedThreshold`, the bricked threshold route) gives
+//! A scan read window by window (`Source::BlockwiseThreshold`, the blockwise threshold route) gives
 //! the levels of the same scan held whole (`Source::Threshold`) with the default chain: the
-//! genus step included, since a chunked level small enough for the dense route is made dense
+//! genus step included, since a blockwise level small enough for the dense route is made dense
 //! for it. On a generated closed gyroid, whose genus the step lowers along the chain.
 
-use voxlod::bricked::ChunkedScan;
+use voxlod::blockwise::BlockwiseScan;
 use voxlod::core::{Grid, Volume};
 use voxlod::io::IoError;
 use voxlod::sampling::Filter;
@@ -13,7 +13,7 @@ use voxlod_testkit::volumes::window;
 /// A scan held in memory, read window by window.
 struct InMemory(Volume);
 
-impl ChunkedScan for InMemory {
+impl BlockwiseScan for InMemory {
     fn grid(&self) -> Grid {
         self.0.grid
     }
@@ -47,7 +47,7 @@ fn closed_gyroid(n: usize) -> Volume {
 }
 
 #[test]
-fn a_chunked_scan_gives_the_levels_of_the_scan_held_whole() {
+fn a_blockwise_scan_gives_the_levels_of_the_scan_held_whole() {
     let scan = closed_gyroid(150);
     let options = LodOptions::halving(64, 3, Filter::Hypercone);
     let whole = Source::Threshold {
@@ -55,13 +55,13 @@ fn a_chunked_scan_gives_the_levels_of_the_scan_held_whole() {
         threshold: 0.0,
     };
     let reader = InMemory(scan.clone());
-    let chunked = Source::ChunkedThreshold {
+    let blockwise = Source::BlockwiseThreshold {
         scan: &reader,
         threshold: 0.0,
     };
     let (a, b) = (
         voxlod::lod(&whole, &options).unwrap(),
-        voxlod::lod(&chunked, &options).unwrap(),
+        voxlod::lod(&blockwise, &options).unwrap(),
     );
     // Both routes keep the genus from rising on every level, and neither says otherwise.
     assert_eq!(a.warnings, b.warnings);

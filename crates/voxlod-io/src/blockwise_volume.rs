@@ -3,14 +3,14 @@
 //! MetaImage without `CompressedData` lie in the file x fastest, then y, then z, so any box of
 //! them is found by arithmetic and read with positioned reads, never the whole file.
 //!
-//! [`SlabVolume`] holds the open data file, where its first sample is, the sample type, byte
-//! order and the geometry its header gave; [`SlabVolume::read_window`] reads one box as an `f32`
-//! volume placed where it sits in the scan (the windows a
-//! [`voxlod` bricked route](https://docs.rs/voxlod) asks for, a few slabs of blocks at a time).
-//! Opening checks that the file holds every sample its header promises (a short file is
-//! [`IoErrorKind::Truncated`] naming it, before any sample is read); each window is checked
-//! against the memory budget before it is allocated. The whole volume is never checked against
-//! the budget: not holding it is the point.
+//! [`BlockwiseVolume`] holds the open data file, where its first sample is, the sample type, byte
+//! order and the geometry its header gave; [`BlockwiseVolume::read_window`] reads one box as an
+//! `f32` volume placed where it sits in the scan (the windows a [`voxlod` blockwise
+//! route](https://docs.rs/voxlod) asks for, a few layers of blocks at a time). Opening checks that
+//! the file holds every sample its header promises (a short file is [`IoErrorKind::Truncated`]
+//! naming it, before any sample is read); each window is checked against the memory budget before
+//! it is allocated. The whole volume is never checked against the budget: not holding it is the
+//! point.
 //!
 //! Compressed data (NRRD `gzip`, MetaImage `CompressedData`) and NRRD `ascii` have no random
 //! access: the openers return `None` for them, and such files are read whole as before.
@@ -61,7 +61,7 @@ pub(crate) struct StoredSamples {
 
 /// An uncompressed volume on disk, read window by window (see the module documentation).
 #[derive(Debug)]
-pub struct SlabVolume {
+pub struct BlockwiseVolume {
     /// The file holding the samples (a detached header's data file).
     data_path: PathBuf,
     file: File,
@@ -75,7 +75,7 @@ pub struct SlabVolume {
     small_span_bytes: u64,
 }
 
-impl SlabVolume {
+impl BlockwiseVolume {
     /// Opens `data_path`, whose samples start at `start` and are laid out as `stored` says;
     /// `header` (the file the geometry came from) is named by geometry errors. Fails unless the
     /// file holds every sample.
@@ -84,7 +84,7 @@ impl SlabVolume {
         data_path: &Path,
         start: DataStart,
         stored: &StoredSamples,
-    ) -> Result<SlabVolume, IoError> {
+    ) -> Result<BlockwiseVolume, IoError> {
         let data_bytes = stored_bytes(data_path, stored.dims, stored.sample)?;
         samples::check_geometry(header, stored.spacing, stored.origin)?;
         let grid = Grid::new(stored.dims, stored.spacing, stored.origin)
@@ -113,7 +113,7 @@ impl SlabVolume {
         if offset.checked_add(data_bytes).is_none_or(|end| end > len) {
             return Err(short(offset));
         }
-        Ok(SlabVolume {
+        Ok(BlockwiseVolume {
             data_path: data_path.to_path_buf(),
             file,
             offset,
@@ -159,7 +159,7 @@ impl SlabVolume {
 
     /// The samples `start .. start + extent` (x, y, z indices) as a volume whose grid is the
     /// window's: same spacing, origin moved to the window's first sample, axis-aligned (the
-    /// orientation is the scan's, [`SlabVolume::orientation`]). The window must lie inside the
+    /// orientation is the scan's, [`BlockwiseVolume::orientation`]). The window must lie inside the
     /// volume; its size is checked against the memory budget before reading.
     pub fn read_window(&self, start: [usize; 3], extent: [usize; 3]) -> Result<Volume, IoError> {
         let dims = self.grid.dims;
@@ -326,24 +326,24 @@ mod tests {
         let path = dir.path().join("short.raw");
         std::fs::write(&path, vec![0u8; 100]).unwrap();
         let s = stored([5, 5, 5], SampleType::U8);
-        let err = SlabVolume::open(&path, &path, DataStart::At(0), &s).unwrap_err();
+        let err = BlockwiseVolume::open(&path, &path, DataStart::At(0), &s).unwrap_err();
         assert_eq!(err.kind, IoErrorKind::Truncated);
         assert!(err.to_string().contains("short.raw"), "{err}");
         assert!(
             err.message.contains("125 bytes") && err.message.contains("100"),
             "{err}"
         );
-        let err = SlabVolume::open(&path, &path, DataStart::AtEnd, &s).unwrap_err();
+        let err = BlockwiseVolume::open(&path, &path, DataStart::AtEnd, &s).unwrap_err();
         assert_eq!(err.kind, IoErrorKind::Truncated);
         // 100 bytes hold 4x5x5 samples after a 0-byte start, or the last 100 of a longer file.
         let s = stored([4, 5, 5], SampleType::U8);
         assert_eq!(
-            SlabVolume::open(&path, &path, DataStart::AtEnd, &s)
+            BlockwiseVolume::open(&path, &path, DataStart::AtEnd, &s)
                 .unwrap()
                 .offset,
             0
         );
-        let err = SlabVolume::open(&path, &path, DataStart::At(1), &s).unwrap_err();
+        let err = BlockwiseVolume::open(&path, &path, DataStart::At(1), &s).unwrap_err();
         assert!(err.message.contains("from byte 1"), "{err}");
     }
 
@@ -353,10 +353,10 @@ mod tests {
         let path = dir.path().join("tiny.raw");
         std::fs::write(&path, [0u8; 8]).unwrap();
         let s = stored([usize::MAX, usize::MAX, 2], SampleType::I16);
-        let err = SlabVolume::open(&path, &path, DataStart::At(0), &s).unwrap_err();
+        let err = BlockwiseVolume::open(&path, &path, DataStart::At(0), &s).unwrap_err();
         assert_eq!(err.kind, IoErrorKind::TooLarge);
         let s = stored([1 << 20, 1 << 20, 1 << 10], SampleType::I16);
-        let err = SlabVolume::open(&path, &path, DataStart::At(0), &s).unwrap_err();
+        let err = BlockwiseVolume::open(&path, &path, DataStart::At(0), &s).unwrap_err();
         assert_eq!(err.kind, IoErrorKind::Truncated);
     }
 
@@ -373,7 +373,7 @@ mod tests {
         std::fs::write(&path, [vec![9u8; 3], bytes].concat()).unwrap();
         let mut s = stored(dims, SampleType::U16);
         s.endian = Endian::Big;
-        let mut scan = SlabVolume::open(&path, &path, DataStart::At(3), &s).unwrap();
+        let mut scan = BlockwiseVolume::open(&path, &path, DataStart::At(3), &s).unwrap();
         scan.small_span_bytes = 0;
         for (start, extent) in [
             ([0, 0, 0], [300, 7, 5]),

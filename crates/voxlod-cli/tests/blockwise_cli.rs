@@ -1,4 +1,4 @@
-//! `voxlod lod --bricked`: a NRRD or raw scan read slab by slab gives the files of the scan read
+//! `voxlod lod --blockwise`: a NRRD or raw scan read blockwise gives the files of the scan read
 //! whole (same triangle counts, same vertex sets, in the requested frame too); what cannot be
 //! read so is refused cleanly, before any file is written.
 
@@ -77,19 +77,19 @@ fn assert_same_levels(a: &[TriangleMesh], b: &[TriangleMesh], what: &str) {
 }
 
 #[test]
-fn bricked_nrrd_and_raw_give_the_files_of_the_scan_read_whole() {
+fn blockwise_nrrd_and_raw_give_the_files_of_the_scan_read_whole() {
     let dir = tempfile::tempdir().unwrap();
     let nrrd = write_nrrd(dir.path());
     let t = ["--threshold", "0"];
     let (whole_report, whole) = lod(&nrrd, dir.path(), "whole", &t);
-    let (report, bricked) = lod(
+    let (report, blockwise) = lod(
         &nrrd,
         dir.path(),
-        "bricked",
-        &[&t[..], &["--bricked"]].concat(),
+        "blockwise",
+        &[&t[..], &["--blockwise"]].concat(),
     );
-    assert_same_levels(&whole, &bricked, "nrrd");
-    // The slab route samples bricks; the report keeps the frame and the transform.
+    assert_same_levels(&whole, &blockwise, "nrrd");
+    // The blockwise route samples bricks; the report keeps the frame and the transform.
     assert!(report["levels"][0]["band"].is_object(), "{report}");
     assert!(
         whole_report["levels"][0]["band"].is_null(),
@@ -100,13 +100,13 @@ fn bricked_nrrd_and_raw_give_the_files_of_the_scan_read_whole() {
     // Converted to RAS, both routes alike.
     let ras = [&t[..], &["--frame", "ras"]].concat();
     let (_, whole_ras) = lod(&nrrd, dir.path(), "whole-ras", &ras);
-    let (_, bricked_ras) = lod(
+    let (_, blockwise_ras) = lod(
         &nrrd,
         dir.path(),
-        "bricked-ras",
-        &[&ras[..], &["--bricked"]].concat(),
+        "blockwise-ras",
+        &[&ras[..], &["--blockwise"]].concat(),
     );
-    assert_same_levels(&whole_ras, &bricked_ras, "ras");
+    assert_same_levels(&whole_ras, &blockwise_ras, "ras");
     assert_ne!(
         sorted_vertex_bits(&whole_ras[0]),
         sorted_vertex_bits(&whole[0])
@@ -128,16 +128,16 @@ fn bricked_nrrd_and_raw_give_the_files_of_the_scan_read_whole() {
         "raw-whole",
         &[&t[..], &layout[..]].concat(),
     );
-    let flags = [&t[..], &layout[..], &["--bricked", "--no-monotone"]].concat();
-    let (_, raw_bricked) = lod(&raw, dir.path(), "raw-bricked", &flags);
+    let flags = [&t[..], &layout[..], &["--blockwise", "--no-monotone"]].concat();
+    let (_, raw_blockwise) = lod(&raw, dir.path(), "raw-blockwise", &flags);
     let flags = [&t[..], &layout[..], &["--no-monotone"]].concat();
     let (_, raw_plain) = lod(&raw, dir.path(), "raw-plain", &flags);
-    assert_same_levels(&raw_plain, &raw_bricked, "raw");
+    assert_same_levels(&raw_plain, &raw_blockwise, "raw");
     assert!(raw_whole[0].triangle_count() > 100);
 }
 
 #[test]
-fn what_cannot_be_read_in_slabs_is_refused_before_writing() {
+fn what_cannot_be_read_blockwise_is_refused_before_writing() {
     let dir = tempfile::tempdir().unwrap();
     let nrrd = write_nrrd(dir.path());
     let gz = dir.path().join("scan-gz.nrrd");
@@ -154,16 +154,16 @@ fn what_cannot_be_read_in_slabs_is_refused_before_writing() {
     let out = dir.path().join("out");
     for (input, flags, words) in [
         (&gz, vec!["--threshold", "0"], "no random access"),
-        (&nrrd, vec!["--direct", "--iso", "0"], "--bricked"),
+        (&nrrd, vec!["--direct", "--iso", "0"], "--blockwise"),
         (&cut, vec!["--threshold", "0"], "truncated"),
     ] {
-        let mut args = vec!["lod", arg(input), "-o", arg(&out), "--bricked"];
+        let mut args = vec!["lod", arg(input), "-o", arg(&out), "--blockwise"];
         args.extend(flags);
         let o = voxlod(&args);
         assert_clean_failure(&o, words);
         assert!(!out.exists(), "output left behind for {}", input.display());
     }
-    // Without --bricked the small gzip file is read whole.
+    // Without --blockwise the small gzip file is read whole.
     let o = voxlod(&[
         "lod",
         arg(&gz),
@@ -178,10 +178,10 @@ fn what_cannot_be_read_in_slabs_is_refused_before_writing() {
 }
 
 /// A 256³ uint8 raw scan of a ball (80 MiB as floats and bytes) run with and without a memory
-/// budget below that: under the budget the slab route is chosen by itself and gives the files
+/// budget below that: under the budget the blockwise route is chosen by itself and gives the files
 /// of the scan read whole.
 #[test]
-fn a_scan_over_the_memory_budget_is_read_in_slabs_by_itself() {
+fn a_scan_over_the_memory_budget_is_read_blockwise_by_itself() {
     let n = 256usize;
     let mut bytes = Vec::with_capacity(n * n * n);
     for z in 0..n {
@@ -216,11 +216,11 @@ fn a_scan_over_the_memory_budget_is_read_in_slabs_by_itself() {
         (json(&command.output().unwrap()), level_meshes(&out))
     };
     let (whole_report, whole) = run("whole", None);
-    let (report, slabs) = run("slabs", Some("64M"));
+    let (report, blockwise) = run("blockwise", Some("64M"));
     assert!(
         whole_report["levels"][0]["band"].is_null(),
         "{whole_report}"
     );
     assert!(report["levels"][0]["band"].is_object(), "{report}");
-    assert_same_levels(&whole, &slabs, "over the budget");
+    assert_same_levels(&whole, &blockwise, "over the budget");
 }

@@ -1,4 +1,4 @@
-//! The bricked threshold route gives the dense route's samples (to the f64 residue of the
+//! The blockwise threshold route gives the dense route's samples (to the f64 residue of the
 //! dense rows' running sums, ~1e-16, far from any iso value): a generated gyroid
 //! scan, thresholded, sampled block by block from windows of it, against `filtered_density` of
 //! the whole scan's `ThresholdSolid`, at several resolutions (level spacing unlike the scan's),
@@ -10,7 +10,7 @@ use std::convert::Infallible;
 use voxlod_core::{Grid, Volume};
 use voxlod_sampling::narrow_band::NarrowBandOptions;
 use voxlod_sampling::{
-    bricked_threshold_density, filtered_density, level_grid, BrickedThreshold, DensityOptions,
+    blockwise_threshold_density, filtered_density, level_grid, BlockwiseThreshold, DensityOptions,
     Filter, ThresholdSolid,
 };
 use voxlod_testkit::volumes::window;
@@ -54,14 +54,14 @@ fn compare(
     let options = DensityOptions::new(filter, radius);
     let (dense, _) = filtered_density(&solid, &grid, &options).unwrap();
     let band = NarrowBandOptions { brick_size: brick };
-    let mut level = BrickedThreshold::new(scan.grid, threshold, &grid, &options, &band).unwrap();
+    let mut level = BlockwiseThreshold::new(scan.grid, threshold, &grid, &options, &band).unwrap();
     level.block_side = block;
     let read = |start, extent| Ok::<_, Infallible>(window(scan, start, extent));
     // Block by block from windows, and from the whole scan read once: the same bits.
     level.whole_scan_above = f64::INFINITY;
-    let (bricks, report, band) = bricked_threshold_density(&level, &read).unwrap();
+    let (bricks, report, band) = blockwise_threshold_density(&level, &read).unwrap();
     level.whole_scan_above = 0.0;
-    let (whole, whole_report, whole_band) = bricked_threshold_density(&level, &read).unwrap();
+    let (whole, whole_report, whole_band) = blockwise_threshold_density(&level, &read).unwrap();
     assert_eq!(whole_band, band);
     assert!(whole_report.crossings > 0);
     assert_eq!(whole.to_volume().unwrap().as_slice().len(), grid.len());
@@ -107,7 +107,7 @@ fn compare(
 }
 
 #[test]
-fn bricked_threshold_matches_the_dense_route() {
+fn blockwise_threshold_matches_the_dense_route() {
     let scan = gyroid_scan(40, 23.0, 0.7);
     // The level about as fine as the scan, and coarser; hyper-cone and Gaussian.
     compare(&scan, 128.0, 40, Filter::Hypercone, 8, 8);
@@ -116,7 +116,7 @@ fn bricked_threshold_matches_the_dense_route() {
 }
 
 #[test]
-fn bricked_threshold_matches_the_dense_route_on_a_level_finer_than_the_scan() {
+fn blockwise_threshold_matches_the_dense_route_on_a_level_finer_than_the_scan() {
     let scan = gyroid_scan(40, 23.0, 0.7);
     compare(&scan, 128.0, 56, Filter::Hypercone, 8, 16);
 }
@@ -150,7 +150,8 @@ fn blocks_answered_without_the_density_pass_hold_what_the_pass_gives() {
     let level_grid = level_grid(&scan.grid.bounds(), 48, 1.0).unwrap();
     let options = DensityOptions::new(Filter::Hypercone, 1.0);
     let band = NarrowBandOptions { brick_size: 8 };
-    let mut level = BrickedThreshold::new(scan.grid, 100.0, &level_grid, &options, &band).unwrap();
+    let mut level =
+        BlockwiseThreshold::new(scan.grid, 100.0, &level_grid, &options, &band).unwrap();
     level.block_side = 8;
     let [bx, by, bz] = level.block_dims();
     let (mut answered, mut refused_inside, mut below_one) = ([0, 0], 0, 0);
