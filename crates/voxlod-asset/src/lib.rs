@@ -7,16 +7,26 @@
 //! input's so that colours, normals and texture coordinates survive. The readers (glTF in
 //! `voxlod-gltf`, OBJ with MTL and coloured PLY in `voxlod-io`) fill an [`Asset`]; the
 //! geometry-only stages (sampling, marching cubes, clustering, envelopes) take
-//! [`AssetMesh::geometry`] and never see attributes.
+//! [`AssetMesh::geometry`] and never see attributes. Two stages keep the looks of a level:
+//! [`collapse`], the input's own collapse with its attributes (its vertices are the input's),
+//! and [`transfer`], colours, normals and materials from the nearest input point for a surface
+//! that shares no vertex with the input (voxel and clustering levels), textures sampled
+//! ([`texture`]).
 //!
 //! Beyond the papers: the data model follows glTF 2.0's metallic-roughness materials.
 
 #![warn(missing_docs)]
 
 pub mod asset;
+pub mod collapse;
 pub mod error;
+pub mod texture;
+pub mod transfer;
 
 pub use asset::{
     AlphaMode, Asset, AssetMesh, Image, Material, Part, Sampler, TextureRef, TextureTransform, Wrap,
 };
+pub use collapse::{collapse, collapse_with, AttributeWeights, CollapseOptions};
 pub use error::AssetError;
+pub use texture::{decode, Texels};
+pub use transfer::{transfer, Transferred};

@@ -1,0 +1,143 @@
+//! A material's base colour texture decoded for sampling: PNG and JPEG through the `image`
+//! crate, sRGB converted to linear, read bilinearly (or nearest, as the sampler says) with the
+//! sampler's wrap modes and the slot's `KHR_texture_transform`. Other encodings (KTX2, WebP)
+//! are not decoded; [`decode_base_colours`] names them in its warnings and the material's factor
+//! stands in.
+//!
+//! Cost: decoding is linear in the image; the image's size meets the memory budget before it
+//! is decoded. A sample costs four texel reads.
+
+use std::io::Cursor;
+
+use image::{ImageFormat, ImageReader};
+use voxlod_core::glam::{Vec2, Vec4};
+use voxlod_core::memory::check_allocation;
+
+use crate::{Asset, AssetError, Image, Sampler, TextureRef, Wrap};
+
+/// A decoded image: linear RGBA texels, row by row from the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texels {
+    /// Width in texels.
+    pub width: usize,
+    /// Height in texels.
+    pub height: usize,
+    /// Linear RGBA, `width × height` of them.
+    pub rgba: Vec<Vec4>,
+}
+
+/// Decodes a PNG or JPEG image (colour channels sRGB, converted to linear; alpha kept).
+/// Fails on another encoding or corrupt bytes, naming the image.
+pub fn decode(image: &Image) -> Result<Texels, AssetError> {
+    let name = if image.name.is_empty() {
+        "an image"
+    } else {
+        &image.name
+    };
+    let bad = |why: String| AssetError::Invalid(format!("{name} ({}): {why}", image.mime));
+    let format = match image.mime.as_str() {
+        "image/png" => ImageFormat::Png,
+        "image/jpeg" => ImageFormat::Jpeg,
+        other => return Err(bad(format!("{other} images are not decoded"))),
+    };
+    let reader = || ImageReader::with_format(Cursor::new(image.bytes.as_slice()), format);
+    let (w, h) = reader().into_dimensions().map_err(|e| bad(e.to_string()))?;
+    let count = (w as u64) * (h as u64);
+    check_allocation(&format!("the {w}×{h} texture {name}"), count * 20)?;
+    let rgba = reader()
+        .decode()
+        .map_err(|e| bad(e.to_string()))?
+        .into_rgba8();
+    let texels = rgba
+        .pixels()
+        .map(|p| {
+            let c = |v: u8| srgb_to_linear(v as f32 / 255.0);
+            Vec4::new(c(p[0]), c(p[1]), c(p[2]), p[3] as f32 / 255.0)
+        })
+        .collect();
+    Ok(Texels {
+        width: w as usize,
+        height: h as usize,
+        rgba: texels,
+    })
+}
+
+/// The sRGB transfer function undone (IEC 61966-2-1).
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// The base colour texture of every material decoded, one entry per material (`None` where it
+/// has none or it could not be decoded), with a warning for each image that could not be.
+pub fn decode_base_colours(
+    asset: &Asset,
+) -> Result<(Vec<Option<Texels>>, Vec<String>), AssetError> {
+    let mut decoded: Vec<Option<Option<Texels>>> = vec![None; asset.images.len()];
+    let mut warnings = Vec::new();
+    let mut out = Vec::with_capacity(asset.materials.len());
+    for material in &asset.materials {
+        let Some(slot) = &material.base_color_texture else {
+            out.push(None);
+            continue;
+        };
+        if decoded[slot.image].is_none() {
+            decoded[slot.image] = Some(match decode(&asset.images[slot.image]) {
+                Ok(t) => Some(t),
+                Err(AssetError::Core(e)) => return Err(e.into()),
+                Err(e) => {
+                    warnings.push(format!("{e}: its material's base colour factor stands in"));
+                    None
+                }
+            });
+        }
+        out.push(decoded[slot.image].clone().flatten());
+    }
+    Ok((out, warnings))
+}
+
+impl Texels {
+    /// The texture at the vertex coordinates `uv` of the slot's set (transform applied), read
+    /// as the slot's sampler says.
+    pub fn sample(&self, slot: &TextureRef, uv: Vec2) -> Vec4 {
+        let uv = slot.transform.map_or(uv, |t| t.apply(uv));
+        self.sample_at(uv, &slot.sampler)
+    }
+
+    /// The texture at texture coordinates `uv` (0..1 across the image, v down).
+    pub fn sample_at(&self, uv: Vec2, sampler: &Sampler) -> Vec4 {
+        let x = uv.x * self.width as f32 - 0.5;
+        let y = uv.y * self.height as f32 - 0.5;
+        if !sampler.linear {
+            let i = wrap(x.round() as i64, self.width, sampler.wrap_u);
+            let j = wrap(y.round() as i64, self.height, sampler.wrap_v);
+            return self.rgba[j * self.width + i];
+        }
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let texel = |dx: i64, dy: i64| {
+            let i = wrap(x0 as i64 + dx, self.width, sampler.wrap_u);
+            let j = wrap(y0 as i64 + dy, self.height, sampler.wrap_v);
+            self.rgba[j * self.width + i]
+        };
+        let top = texel(0, 0).lerp(texel(1, 0), fx);
+        let bottom = texel(0, 1).lerp(texel(1, 1), fx);
+        top.lerp(bottom, fy)
+    }
+}
+
+/// Texel index `i` wrapped into `0..n`.
+fn wrap(i: i64, n: usize, mode: Wrap) -> usize {
+    let n = n as i64;
+    match mode {
+        Wrap::Repeat => i.rem_euclid(n) as usize,
+        Wrap::ClampToEdge => i.clamp(0, n - 1) as usize,
+        Wrap::MirroredRepeat => {
+            let m = i.rem_euclid(2 * n);
+            (if m < n { m } else { 2 * n - 1 - m }) as usize
+        }
+    }
+}
