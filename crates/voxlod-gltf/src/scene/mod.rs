@@ -1,0 +1,177 @@
+//! Reading a glTF 2.0 asset (`.gltf` with external or embedded buffers and images, or `.glb`)
+//! as a [`voxlod_asset::Asset`]: the scene's node hierarchy flattened into one world-space mesh
+//! with its attributes and a material per triangle ([`nodes`]), the metallic-roughness
+//! materials and the images' encoded bytes ([`materials`]).
+//!
+//! Extensions read: `KHR_mesh_quantization` (integer attributes, [`accessor`]),
+//! `EXT_meshopt_compression` (decoded with meshoptimizer, filters included, [`buffers`]),
+//! `KHR_texture_transform`, `KHR_materials_emissive_strength`, and `MSFT_lod` chains (their
+//! finest level). A file that requires another extension (`KHR_draco_mesh_compression` among
+//! them) is refused with its name; one that only uses another gets a warning that it is
+//! ignored. The JSON is validated by the `gltf` crate (indices in range, required fields) after
+//! the extensions it does not know are handled here.
+//!
+//! Cost: linear in the file, its buffers and images; every size meets the memory budget first.
+
+mod accessor;
+mod buffers;
+mod materials;
+mod nodes;
+
+use std::path::Path;
+
+use serde_json::Value;
+use voxlod_asset::{Asset, Material};
+use voxlod_core::memory::check_allocation;
+
+use crate::GltfError;
+
+/// Extensions this reader understands.
+const READ: [&str; 6] = [
+    "KHR_mesh_quantization",
+    "EXT_meshopt_compression",
+    "KHR_texture_transform",
+    "KHR_materials_emissive_strength",
+    "MSFT_lod",
+    "MSFT_screencoverage",
+];
+
+/// An asset read from a glTF file, and what was left out of it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneRead {
+    /// The asset.
+    pub asset: Asset,
+    /// What the reader ignored or left out (unknown extensions, primitives that are not
+    /// surfaces), in words.
+    pub warnings: Vec<String>,
+}
+
+/// Reads a `.gltf` or `.glb` file; relative URIs are read beside it. Errors name the file.
+pub fn read_scene(path: &Path) -> Result<SceneRead, GltfError> {
+    let named = |e: GltfError| match e {
+        GltfError::Invalid(m) => GltfError::Invalid(format!("{}: {m}", path.display())),
+        other => other,
+    };
+    let cannot =
+        |e: std::io::Error| GltfError::Invalid(format!("{}: cannot read: {e}", path.display()));
+    let len = std::fs::metadata(path).map_err(cannot)?.len();
+    check_allocation(&format!("reading {}", path.display()), len)?;
+    let bytes = std::fs::read(path).map_err(cannot)?;
+    parse_scene(&bytes, path.parent()).map_err(named)
+}
+
+/// Parses a `.gltf` (JSON) or `.glb` (binary) file's bytes; `base` is the folder its relative
+/// URIs are read from (none for bytes from memory, which then may only embed their data).
+pub fn parse_scene(bytes: &[u8], base: Option<&Path>) -> Result<SceneRead, GltfError> {
+    let invalid = |m: String| GltfError::Invalid(m);
+    let (json, bin) = if bytes.starts_with(b"glTF") {
+        let glb = gltf::binary::Glb::from_slice(bytes)
+            .map_err(|e| invalid(format!("not a GLB file: {e}")))?;
+        (glb.json.into_owned(), glb.bin.map(|b| b.into_owned()))
+    } else {
+        (bytes.to_vec(), None)
+    };
+    let mut doc: Value = serde_json::from_slice(&json)
+        .map_err(|e| invalid(format!("its JSON does not parse: {e}")))?;
+    let mut warnings = check_extensions(&mut doc)?;
+    let mut buffers = buffers::load_buffers(&doc, bin.as_deref(), base)?;
+    buffers::decode_meshopt_views(&mut doc, &mut buffers)?;
+    check_position_accessors(&doc)?;
+    let root: gltf::json::Root = serde_json::from_value(doc.clone())
+        .map_err(|e| invalid(format!("not a glTF 2.0 document: {e}")))?;
+    let document = gltf::Document::from_json(root)
+        .map_err(|e| invalid(format!("not a valid glTF 2.0 document: {e}")))?;
+    let mut materials = materials::materials(&document, &doc);
+    let images = materials::images(&document, &doc, &buffers, base)?;
+    let flat = nodes::flatten(&document, &buffers, &mut warnings)?;
+    if flat.mesh.triangles.is_empty() {
+        return Err(invalid("the scene has no triangles".into()));
+    }
+    // Primitives without a material take glTF's default one, added last.
+    let default = materials.len() as u32;
+    if flat.material.iter().any(Option::is_none) {
+        materials.push(Material {
+            name: "default".into(),
+            ..Material::default()
+        });
+    }
+    let mut mesh = flat.mesh;
+    mesh.material = flat
+        .material
+        .iter()
+        .map(|m| m.map_or(default, |k| k as u32))
+        .collect();
+    let asset = Asset {
+        mesh,
+        materials,
+        images,
+        parts: flat.parts,
+    };
+    asset.validate().map_err(|e| invalid(e.to_string()))?;
+    Ok(SceneRead { asset, warnings })
+}
+
+/// Refuses a primitive whose `POSITION` names a missing accessor. gltf-json 1.4.1's validation
+/// of primitives reads that accessor before it checks the index (and panics), so the check
+/// comes first, here and only here.
+fn check_position_accessors(doc: &Value) -> Result<(), GltfError> {
+    let accessors = doc["accessors"].as_array().map_or(0, Vec::len);
+    for (m, mesh) in doc["meshes"].as_array().into_iter().flatten().enumerate() {
+        for (p, primitive) in mesh["primitives"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .enumerate()
+        {
+            let position = &primitive["attributes"]["POSITION"];
+            if position.as_u64().is_some_and(|a| a as usize >= accessors) {
+                return Err(GltfError::Invalid(format!(
+                    "mesh {m}, primitive {p}: POSITION names accessor {position} of {accessors}"
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a file that requires an extension this reader does not understand (naming it),
+/// warns of those it only uses, and drops the ones it handles from `extensionsRequired` so the
+/// `gltf` crate's validation takes the file.
+fn check_extensions(doc: &mut Value) -> Result<Vec<String>, GltfError> {
+    let list = |doc: &Value, key: &str| -> Vec<String> {
+        doc[key].as_array().map_or_else(Vec::new, |a| {
+            a.iter()
+                .filter_map(|x| x.as_str().map(str::to_string))
+                .collect()
+        })
+    };
+    let required = list(doc, "extensionsRequired");
+    let unknown: Vec<&String> = required
+        .iter()
+        .filter(|x| !READ.contains(&x.as_str()))
+        .collect();
+    if !unknown.is_empty() {
+        let names: Vec<&str> = unknown.iter().map(|s| s.as_str()).collect();
+        let hint = if names.contains(&"KHR_draco_mesh_compression") {
+            " (Draco-compressed geometry: decompress it first, e.g. with gltf-transform or gltfpack -noq)"
+        } else {
+            ""
+        };
+        return Err(GltfError::Invalid(format!(
+            "it requires {}, which voxlod does not read{hint}",
+            names.join(", ")
+        )));
+    }
+    let warnings = list(doc, "extensionsUsed")
+        .into_iter()
+        .filter(|x| !READ.contains(&x.as_str()))
+        .map(|x| format!("the extension {x} is not read and was ignored"))
+        .collect();
+    if let Some(a) = doc
+        .get_mut("extensionsRequired")
+        .and_then(Value::as_array_mut)
+    {
+        a.clear();
+    }
+    Ok(warnings)
+}
