@@ -477,7 +477,8 @@ fn computed_order(
                            several layered files need (the layered shells of voxlod record it)";
             Error::from(LayersError::Gltf(problem.into())).context(*name)
         })?;
-        cells.push(recover_cells(&grid, &g.mesh.positions, &g.mesh.triangles));
+        let (positions, triangles) = (&g.mesh.positions, &g.mesh.triangles);
+        cells.push(recover_cells(&grid, &g.placement, positions, triangles));
         objects.push(grid);
     }
     let objects: Vec<CellTriangles> = layered
@@ -486,6 +487,7 @@ fn computed_order(
         .zip(objects)
         .map(|(((g, _), c), grid)| CellTriangles {
             grid,
+            placement: g.placement,
             positions: &g.mesh.positions,
             triangles: &g.mesh.triangles,
             cells: c,

@@ -59,8 +59,8 @@ pub fn check_layers_options(options: &LayersOptions) -> Result<LayerPlan, Error>
     Ok(plan)
 }
 
-/// Layered shells of `source`, which must be a solid (a mesh, a thresholded volume, an implicit
-/// solid).
+/// Layered shells of `source`, a solid (a mesh, a thresholded scan placed as [`crate::lod()`]
+/// places its surfaces, an implicit solid), with orders for view octants in its world.
 ///
 /// ```
 /// # fn main() -> Result<(), voxlod::Error> {
@@ -208,8 +208,8 @@ pub fn layers_chain(
 }
 
 /// The bytes of a layered `.glb` of one level: a mesh per layer (innermost first) with its
-/// blended material, the eight orders as index accessors, the volume grid and the filter
-/// radius of `radius_voxels` voxels in the scene's extras.
+/// blended material, the eight orders as index accessors, the volume grid (and placement) and
+/// the filter radius of `radius_voxels` voxels in the scene's extras.
 pub fn layered_glb(layered: &Layered, radius_voxels: f64) -> Result<Vec<u8>, Error> {
     let options = GlbOptions {
         radius: Some(layers_radius(layered, radius_voxels)),

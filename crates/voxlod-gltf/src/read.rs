@@ -3,8 +3,8 @@
 //! material ([`GlbPart`]). Of an `MSFT_lod` chain (as [`crate::chain`] writes it) only the
 //! finest level is read. What a voxlod layered file stores beside its meshes comes back too:
 //! the eight back-to-front orders (accessors named by [`ORDER_NAMES`]) and the volume grid the
-//! layers were cut from (the scene's extras); the layout is documented with the layered
-//! writer, `voxlod_layers::glb`.
+//! layers were cut from with the placement of their vertices (the scene's extras); the layout
+//! is documented with the layered writer, `voxlod_layers::glb`.
 //!
 //! Every offset is checked against the buffer, so a broken file is an error, never a panic;
 //! the file's size meets the memory budget before it is read. Node transforms are ignored, and
@@ -16,7 +16,7 @@ use std::path::Path;
 use glam::Vec3;
 use gltf::json;
 use gltf::json::validation::Checked;
-use voxlod_core::TriangleMesh;
+use voxlod_core::{Placement, TriangleMesh};
 
 use crate::GltfError;
 
@@ -56,7 +56,7 @@ pub struct GlbPart {
 
 /// What [`read_glb`] found: every triangle primitive concatenated, and what a layered file
 /// stores beside them.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct GlbScene {
     /// All primitives' vertices and triangles, in mesh then primitive order (global indices).
     pub mesh: TriangleMesh,
@@ -67,6 +67,22 @@ pub struct GlbScene {
     pub orders: Vec<Option<Vec<[u32; 3]>>>,
     /// The volume grid the layers were cut from (scene extras of a voxlod file).
     pub grid: Option<voxlod_core::Grid>,
+    /// The map from the grid's space to the vertices' (an oblique or flipped scan's layers);
+    /// the identity when the file records none: the vertices lie in the grid's space.
+    pub placement: Placement,
+}
+
+impl Default for GlbScene {
+    /// Nothing read: no mesh, part, order or grid, the identity placement.
+    fn default() -> Self {
+        GlbScene {
+            mesh: TriangleMesh::default(),
+            parts: Vec::new(),
+            orders: Vec::new(),
+            grid: None,
+            placement: Placement::IDENTITY,
+        }
+    }
 }
 
 impl GlbScene {
@@ -159,7 +175,7 @@ pub fn parse_glb(bytes: &[u8]) -> Result<GlbScene, GltfError> {
     if scene.mesh.triangles.is_empty() {
         return Err(bad("no triangle primitives".into()));
     }
-    scene.grid = stored_grid(&root);
+    (scene.grid, scene.placement) = stored_grid(&root);
     Ok(scene)
 }
 
@@ -283,27 +299,51 @@ fn read_orders(reader: &Reader, scene: &mut GlbScene, prefix: &str) -> Result<()
     Ok(())
 }
 
-/// The volume grid of a voxlod file, from the extras of its scene (or its first scene);
-/// `None` when absent or not a valid grid.
-fn stored_grid(root: &json::Root) -> Option<voxlod_core::Grid> {
-    root.scene
+/// The volume grid of a voxlod file, from the extras of its scene (or its first scene), and
+/// the placement of its vertices: `None` for a grid absent or not valid, the identity for a
+/// placement absent, without a grid, or not finite and invertible.
+fn stored_grid(root: &json::Root) -> (Option<voxlod_core::Grid>, Placement) {
+    let Some(v) = root
+        .scene
         .and_then(|i| root.scenes.get(i.value()))
         .or(root.scenes.first())
         .and_then(|sc| sc.extras.as_ref())
         .and_then(|raw| serde_json::from_str::<serde_json::Value>(raw.get()).ok())
-        .and_then(|v| {
-            let g = &v["voxlod"]["grid"];
-            let triple = |x: &serde_json::Value| -> Option<[f64; 3]> {
-                let a = x.as_array()?;
-                Some([
-                    a.first()?.as_f64()?,
-                    a.get(1)?.as_f64()?,
-                    a.get(2)?.as_f64()?,
-                ])
-            };
-            let dims = triple(&g["dims"])?.map(|d| d as usize);
-            voxlod_core::Grid::new(dims, triple(&g["spacing"])?, triple(&g["origin"])?).ok()
+    else {
+        return (None, Placement::IDENTITY);
+    };
+    let g = &v["voxlod"]["grid"];
+    let triple = |x: &serde_json::Value| -> Option<[f64; 3]> {
+        let a = x.as_array()?;
+        Some([
+            a.first()?.as_f64()?,
+            a.get(1)?.as_f64()?,
+            a.get(2)?.as_f64()?,
+        ])
+    };
+    let grid = (|| {
+        let dims = triple(&g["dims"])?.map(|d| d as usize);
+        voxlod_core::Grid::new(dims, triple(&g["spacing"])?, triple(&g["origin"])?).ok()
+    })();
+    let placement = grid.and_then(|_| {
+        let rows = g["placement"].as_array()?;
+        let row = |r: usize| -> Option<[f64; 4]> {
+            let a = rows.get(r)?.as_array()?;
+            let x = |c: usize| a.get(c)?.as_f64();
+            Some([x(0)?, x(1)?, x(2)?, x(3)?])
+        };
+        let [r0, r1, r2] = [row(0)?, row(1)?, row(2)?];
+        let linear = glam::DMat3::from_cols_array(&[
+            r0[0], r1[0], r2[0], r0[1], r1[1], r2[1], r0[2], r1[2], r2[2],
+        ]);
+        let translation = glam::DVec3::new(r0[3], r1[3], r2[3]);
+        let det = linear.determinant();
+        (linear.is_finite() && translation.is_finite() && det.is_normal()).then_some(Placement {
+            linear,
+            translation,
         })
+    });
+    (grid, placement.unwrap_or(Placement::IDENTITY))
 }
 
 /// Bounds-checked accessor reading.

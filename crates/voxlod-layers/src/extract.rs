@@ -6,6 +6,13 @@
 //! Nested isosurfaces of one field do not cross (the higher isodensity lies inside the lower), so
 //! the shells are nested like the paper's Figure 1b.
 //!
+//! **Placement** (beyond the paper). Marching cubes works in the volume's axis-aligned grid
+//! space; the finished layers are moved to where the volume's index-to-world transform puts
+//! them (spacing, origin and the direction cosines of an oblique or flipped scan,
+//! `voxlod_core::world`), as `voxlod::contour` and the pyramid's levels are, rewound when the
+//! transform flips handedness so every shell still faces outwards. The grid and the cells stay
+//! in grid space; [`LayeredMesh::placement`] says how to get from there to the vertices.
+//!
 //! **One pass** (beyond the paper). With [`ExtractOptions::one_pass`] the volume is read once to
 //! classify every sample against all isodensities
 //! ([`voxlod_contouring::marching_cubes_multi`]); the later passes work on bits and read the
@@ -18,7 +25,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 use serde::Serialize;
 use voxlod_contouring::{marching_cubes_multi, marching_cubes_with_cells, ContourOptions};
-use voxlod_core::{Grid, TriangleMesh, Volume};
+use voxlod_core::{Grid, Placement, TriangleMesh, Volume};
 
 use crate::plan::LayerPlan;
 use crate::LayersError;
@@ -42,8 +49,13 @@ pub struct Layer {
 /// All the shells of one object, innermost (opaque) first, and the grid they were cut from.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LayeredMesh {
-    /// The sample grid of the filtered volume; its cells are `dims − 1` per axis.
+    /// The sample grid of the filtered volume, in its axis-aligned grid space (`origin + spacing
+    /// · index`); its cells are `dims − 1` per axis.
     pub grid: Grid,
+    /// The map from the grid's space to the space of the layers' vertices: the volume's
+    /// index-to-world transform without its spacing and origin (the identity for an
+    /// axis-aligned volume, where grid space is the world).
+    pub placement: Placement,
     /// The shells, innermost first.
     pub layers: Vec<Layer>,
 }
@@ -181,8 +193,9 @@ impl ExtractOptions {
     }
 }
 
-/// Cuts every planned layer out of `volume`. Fails with [`LayersError::EmptyVolume`] when the
-/// innermost layer has no triangle (nothing of the object reached the grid).
+/// Cuts every planned layer out of `volume`, each placed where the volume's index-to-world
+/// transform puts it (see the module documentation). Fails with [`LayersError::EmptyVolume`]
+/// when the innermost layer has no triangle (nothing of the object reached the grid).
 pub fn extract_layers(
     volume: &Volume,
     plan: &LayerPlan,
@@ -211,19 +224,24 @@ pub fn extract_layers(
     if meshes[0].mesh.triangles.is_empty() {
         return Err(LayersError::EmptyVolume);
     }
+    let placement = Placement::of(&volume.world(), None);
     let layers = meshes
         .into_iter()
         .zip(&plan.layers)
-        .map(|(m, p)| Layer {
-            isodensity: p.isodensity as f32,
-            translucency: p.translucency as f32,
-            alpha: p.alpha as f32,
-            mesh: m.mesh,
-            cells: m.cells,
+        .map(|(mut m, p)| {
+            placement.apply(&mut m.mesh);
+            Layer {
+                isodensity: p.isodensity as f32,
+                translucency: p.translucency as f32,
+                alpha: p.alpha as f32,
+                mesh: m.mesh,
+                cells: m.cells,
+            }
         })
         .collect();
     let out = LayeredMesh {
         grid: volume.grid,
+        placement,
         layers,
     };
     debug_assert!(out.validate().is_ok());

@@ -11,12 +11,16 @@
 //!   translucency `1 − d/m` along every ray), `alphaMode: BLEND`, double sided, metallic 0, roughness 1; node `i`
 //!   places mesh `i` untransformed, and the scene holds every node;
 //! - mesh extras: `{"layer": i, "isodensity": c, "translucency": t, "alpha": a}`; scene extras:
-//!   `{"voxlod": {"grid": {dims, spacing, origin}, "orders": [...], "in_cell_direction":
-//!   "octant diagonal"}}`;
+//!   `{"voxlod": {"grid": {dims, spacing, origin, placement}, "orders": [...],
+//!   "in_cell_direction": "octant diagonal"}}`: the volume grid in its axis-aligned grid space,
+//!   and, for the layers of an oblique or flipped scan, `placement`: the 4×4 row-major affine
+//!   map from that space to the vertices' ([`LayeredMesh::placement`]; absent when it is the
+//!   identity), which taking the vertices back to the grid's cells needs;
 //! - eight extra `SCALAR` `UNSIGNED_INT` accessors named `order+x+y+z`, `order+x+y-z`,
 //!   `order+x-y+z`, `order+x-y-z`, `order-x+y+z`, `order-x+y-z`, `order-x-y+z`, `order-x-y-z`:
 //!   each a triangle list (three indices per triangle) of every triangle of every layer, back to
-//!   front for view directions (eye to scene) with those signs, whose indices refer to the
+//!   front for view directions (eye to scene) with those signs in the vertices' space (see
+//!   [`crate::order`] for a placed volume), whose indices refer to the
 //!   vertices of all layer meshes concatenated in mesh order (mesh 0's vertices first; a vertex
 //!   of mesh i has index `its index in mesh i + vertices of meshes 0..i`). Since the position
 //!   accessors are consecutive slices of one buffer view, that concatenation is exactly the
@@ -122,20 +126,33 @@ pub(crate) fn raw(value: serde_json::Value) -> json::Extras {
     serde_json::value::to_raw_value(&value).ok()
 }
 
-/// The grid of a layered mesh as extras.
+/// The grid of a layered mesh as extras, with the placement of its vertices when they do not
+/// lie in the grid's space.
 #[derive(Serialize)]
 pub(crate) struct GridExtras {
     dims: [usize; 3],
     spacing: [f64; 3],
     origin: [f64; 3],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    placement: Option<[[f64; 4]; 4]>,
 }
 
 impl GridExtras {
-    pub(crate) fn of(grid: &voxlod_core::Grid) -> GridExtras {
+    pub(crate) fn of(layered: &LayeredMesh) -> GridExtras {
+        let grid = &layered.grid;
+        let p = &layered.placement;
+        let placement = (!p.is_identity()).then(|| {
+            let row = |r: usize| {
+                let l = p.linear.row(r);
+                [l.x, l.y, l.z, p.translation[r]]
+            };
+            [row(0), row(1), row(2), [0.0, 0.0, 0.0, 1.0]]
+        });
         GridExtras {
             dims: grid.dims,
             spacing: grid.spacing,
             origin: grid.origin,
+            placement,
         }
     }
 }
@@ -197,7 +214,7 @@ fn document(
         extensions: None,
         extras: raw(serde_json::json!({
             "voxlod": {
-                "grid": GridExtras::of(&layered.grid),
+                "grid": GridExtras::of(layered),
                 "radius": radius_of(&layered.grid, options),
                 "orders": ORDER_NAMES,
                 "in_cell_direction": "octant diagonal",

@@ -14,7 +14,8 @@
 //!   vertex of layer `i` has index `its index in layer i + vertices of layers 0..i` — the
 //!   positions view of the level);
 //! - mesh and node extras: `{"voxlod": {"level", "radius", "grid", "orders", "triangles"}}`:
-//!   the filter's support radius in the input's units, the volume grid, the eight order
+//!   the filter's support radius in the input's units, the volume grid (with its placement, as
+//!   in [`crate::glb`]), the eight order
 //!   accessors by octant index;
 //! - scene extras: `{"voxlod": {"kind": "layered lod chain", "grid", "radius" (of the finest
 //!   level), "orders", "in_cell_direction", "screen_coverage": {…, "tolerance": 0.45,
@@ -101,7 +102,7 @@ pub fn layered_chain_document(
         extensions: None,
         extras: raw(value!({"voxlod": {
             "kind": "layered lod chain",
-            "grid": GridExtras::of(&finest.mesh.grid),
+            "grid": GridExtras::of(finest.mesh),
             "radius": finest.radius,
             "orders": ORDER_NAMES,
             "in_cell_direction": "octant diagonal",
@@ -142,7 +143,7 @@ fn push_chain_level(
     let extras = value!({"voxlod": {
         "level": k,
         "radius": level.radius,
-        "grid": GridExtras::of(&level.mesh.grid),
+        "grid": GridExtras::of(level.mesh),
         "orders": parts.orders.iter().map(|a| a.value()).collect::<Vec<_>>(),
         "triangles": level.mesh.triangle_count(),
     }});

@@ -4,7 +4,9 @@
 //!
 //! - [`plan`]: how many layers and which isodensities, optimally for an error bound
 //!   (equations 4–6).
-//! - [`extract`]: every layer from one volume, in one pass over it, with each triangle's cell.
+//! - [`extract`]: every layer from one volume, in one pass over it, with each triangle's cell,
+//!   placed where the volume's index-to-world transform puts it (an oblique or flipped scan's
+//!   world, as `voxlod::lod` places its surfaces).
 //! - [`order`]: back to front by slice-by-slice traversal of the cells; the eight orthographic
 //!   orders; perspective orders split at the eye's cell. [`scene`]: several objects, by their
 //!   buffers' boxes, interleaved exactly where the buffers overlap. [`verify`]: checking an order.

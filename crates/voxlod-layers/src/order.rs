@@ -11,6 +11,16 @@
 //! view from an eye E the same argument holds per axis with "far" meaning far from E's cell: each
 //! axis is walked from both ends towards the eye's cell (the traversal is split at the eye's cell).
 //!
+//! **Placed meshes** (beyond the paper). The layers of an oblique or flipped scan lie in the
+//! world, an affine image `L x + t` of the grid's space ([`CellTriangles::placement`]). An affine
+//! map keeps rays, and the order of points along them, so the order of the placed triangles along
+//! a world direction d is the order of the grid-space triangles along `L⁻¹ d`: the traversal
+//! walks the grid by the signs of `L⁻¹ d` (an eye is taken to grid space likewise), while the
+//! pair tests inside a cell compare the placed triangles along d itself. A world octant's stored
+//! order is walked by the signs of `L⁻¹` of its diagonal, so between cells it is right for every
+//! direction of the octant whose image has those signs (all of them when `L` only permutes or
+//! flips axes; near the diagonal when `L` is oblique), inside cells for the diagonal.
+//!
 //! **Inside a cell** (the paper says nothing about it). A cell holds the triangles of several
 //! layers, and a layer may hold several in one cell. They are put in depth order exactly: every
 //! pair whose projections overlap is compared by depth at an interior point of the overlap
@@ -28,7 +38,7 @@
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
-use voxlod_core::Grid;
+use voxlod_core::{Grid, Placement};
 
 use crate::geometry::{behind_fast, second_is_behind, Projected, Projector};
 use crate::LayersError;
@@ -138,6 +148,21 @@ pub enum View {
     },
 }
 
+/// A direction of the vertices' space in the grid's space: by the inverse of `placement`'s
+/// linear part.
+fn grid_direction(placement: &Placement, d: DVec3) -> DVec3 {
+    if placement.is_identity() {
+        d
+    } else {
+        placement.linear.inverse() * d
+    }
+}
+
+/// A point of the vertices' space in the grid's space: by the inverse of `placement`.
+fn grid_point(placement: &Placement, p: DVec3) -> DVec3 {
+    grid_direction(placement, p - placement.translation)
+}
+
 impl View {
     /// Refuses a zero or non-finite direction, or a non-finite eye.
     pub fn check(&self) -> Result<(), LayersError> {
@@ -157,9 +182,12 @@ impl View {
 /// Triangles that know the cell of their volume they came from.
 #[derive(Clone, Copy, Debug)]
 pub struct CellTriangles<'a> {
-    /// The volume's sample grid: cells are `dims − 1` per axis.
+    /// The volume's sample grid, in its axis-aligned grid space: cells are `dims − 1` per axis.
     pub grid: Grid,
-    /// The vertices.
+    /// The map from the grid's space to the vertices' ([`crate::LayeredMesh::placement`]): the
+    /// identity when the vertices lie in grid space.
+    pub placement: Placement,
+    /// The vertices (placed).
     pub positions: &'a [Vec3],
     /// The triangles, as indices into `positions`.
     pub triangles: &'a [[u32; 3]],
@@ -178,22 +206,38 @@ impl CellTriangles<'_> {
     }
 }
 
-/// The cell of each marching-cubes triangle of `grid`, recovered from its corners (for meshes
-/// read back from a file, which keep the grid but not the cells). A triangle's corners lie on the
+/// The cell of each marching-cubes triangle of `grid`, recovered from its corners placed by
+/// `placement` (for meshes read back from a file, which keep the grid and its placement but not
+/// the cells): the corners are taken back to grid space first. A triangle's corners lie on the
 /// edges of its cell, and never all on the cell's upper face along an axis, so along each axis
 /// the smallest corner coordinate, in samples, lies in `[i, i + 1 − 10⁻⁴]` for cell i (marching
 /// cubes keeps vertices 10⁻⁴ of an edge from its ends); a slack of 5·10⁻⁵ absorbs the rounding
 /// of stored coordinates.
-pub fn recover_cells(grid: &Grid, positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<u32> {
+pub fn recover_cells(
+    grid: &Grid,
+    placement: &Placement,
+    positions: &[Vec3],
+    triangles: &[[u32; 3]],
+) -> Vec<u32> {
     let dims = grid.dims.map(|d| d.saturating_sub(1).max(1));
     let origin = grid.origin_vec();
     let spacing = grid.spacing_vec();
+    let inverse = placement.linear.inverse();
+    let identity = placement.is_identity();
+    let to_grid = |p: Vec3| {
+        let p = p.as_dvec3();
+        if identity {
+            p
+        } else {
+            inverse * (p - placement.translation)
+        }
+    };
     triangles
         .par_iter()
         .map(|t| {
             let mut lo = DVec3::splat(f64::INFINITY);
             for &v in t {
-                lo = lo.min((positions[v as usize].as_dvec3() - origin) / spacing);
+                lo = lo.min((to_grid(positions[v as usize]) - origin) / spacing);
             }
             let ijk = [0, 1, 2].map(|a| {
                 let c = (lo[a] + 5e-5).floor();
@@ -313,7 +357,7 @@ fn runs(items: &[u32], key: impl Fn(u32) -> u32) -> (Vec<u32>, Vec<u32>) {
 /// How the cells are walked.
 #[derive(Clone, Copy, Debug)]
 enum Sweep {
-    /// Each axis from the far side of the octant's direction.
+    /// Each axis from the far side of a grid-space direction (only its signs matter).
     Octant(DVec3),
     /// Each axis from both ends towards the eye's cell (which may lie outside the grid).
     Eye([i64; 3]),
@@ -377,35 +421,37 @@ pub fn view_order_indexed(
     view.check()?;
     Ok(match *view {
         View::Orthographic { direction } => {
-            let signs = Octant::of(direction)?.signs();
-            traverse(
-                obj,
-                index,
-                Sweep::Octant(signs),
-                InCell::Direction(direction.normalize()),
-            )
+            let along = grid_direction(&obj.placement, direction);
+            check_direction(along)?;
+            let in_cell = InCell::Direction(direction.normalize());
+            traverse(obj, index, Sweep::Octant(along), in_cell)
         }
         View::Perspective { eye } => {
-            let g = &obj.grid;
-            let cell = [0, 1, 2].map(|a| ((eye[a] - g.origin[a]) / g.spacing[a]).floor() as i64);
+            let (g, at) = (&obj.grid, grid_point(&obj.placement, eye));
+            let cell = [0, 1, 2].map(|a| ((at[a] - g.origin[a]) / g.spacing[a]).floor() as i64);
             traverse(obj, index, Sweep::Eye(cell), InCell::Eye(eye))
         }
     })
 }
 
-/// The stored order of one octant (in-cell sorting along the octant's diagonal).
+/// The stored order of one octant of view directions in the space of the vertices: the grid
+/// walked by the signs of the octant's diagonal taken to grid space, in-cell sorting along the
+/// diagonal (see the module documentation).
 pub fn octant_order(obj: &CellTriangles, index: &CellIndex, octant: Octant) -> Vec<u32> {
+    let diagonal = octant.diagonal();
+    let along = grid_direction(&obj.placement, diagonal);
     traverse(
         obj,
         index,
-        Sweep::Octant(octant.signs()),
-        InCell::Direction(octant.diagonal()),
+        Sweep::Octant(along),
+        InCell::Direction(diagonal),
     )
 }
 
-/// All eight octant orders, by [`Octant::index`]. Opposite octants have reversed orders (the
-/// traversal reverses, and so does "behind" inside a cell, the diagonals being opposite), so
-/// four are computed and reversed for the other four.
+/// All eight octant orders, by [`Octant::index`], octants of view directions in the space of the
+/// vertices. Opposite octants have reversed orders (the traversal reverses, and so does "behind"
+/// inside a cell, the diagonals being opposite), so four are computed and reversed for the other
+/// four.
 pub fn octant_orders(obj: &CellTriangles) -> Result<Vec<Vec<u32>>, LayersError> {
     let index = index_cells(obj)?;
     let mut half: Vec<Vec<u32>> = Octant::ALL[..4]
@@ -747,9 +793,10 @@ mod tests {
             .collect::<Vec<_>>();
         let triangles = [[0, 1, 2], [3, 4, 5]];
         let grid = Grid::new([2, 60_000, 60_000], [1.0; 3], [0.0; 3]).unwrap();
-        let cells = recover_cells(&grid, &positions, &triangles);
+        let cells = recover_cells(&grid, &Placement::IDENTITY, &positions, &triangles);
         let obj = CellTriangles {
             grid,
+            placement: Placement::IDENTITY,
             positions: &positions,
             triangles: &triangles,
             cells: &cells,

@@ -9,7 +9,7 @@
 use std::time::Instant;
 
 use serde::Serialize;
-use voxlod_core::Volume;
+use voxlod_core::{Grid, Orientation, Volume, WorldTransform};
 use voxlod_sampling::{filtered_density, level_grid, DensityOptions, DensityReport, Solid};
 
 use crate::extract::{extract_layers, ExtractOptions, LayeredMesh};
@@ -86,7 +86,11 @@ pub struct Layered {
 }
 
 /// Filters `solid` on the grid `options` asks for (its box at `resolution` samples across,
-/// padded, radius `radius_voxels`): the volume the layers are cut from.
+/// padded, radius `radius_voxels`): the volume the layers are cut from. A solid made from an
+/// oriented scan ([`Solid::world`]) is sampled in its axis-aligned grid space and the volume
+/// placed in the scan's world (its direction and frame, its first sample where the scan's
+/// transform puts it), so the layers cut from it land where `voxlod::lod` puts the scan's
+/// surfaces.
 pub fn filter_solid(
     solid: &dyn Solid,
     options: &LayersOptions,
@@ -100,7 +104,25 @@ pub fn filter_solid(
         radius,
         lines_per_radius: options.lines_per_radius,
     };
-    Ok(filtered_density(solid, &grid, &density_options)?)
+    let (volume, report) = filtered_density(solid, &grid, &density_options)?;
+    Ok((in_world(volume, solid.world())?, report))
+}
+
+/// A volume sampled in a scan's axis-aligned grid space, placed in the scan's `world`
+/// (unchanged without one).
+fn in_world(volume: Volume, world: Option<WorldTransform>) -> Result<Volume, LayersError> {
+    let Some(world) = world else {
+        return Ok(volume);
+    };
+    let g = volume.grid;
+    let to_world = world.placement(world.origin);
+    let origin = to_world.linear * g.origin_vec() + to_world.translation;
+    let grid = Grid::new(g.dims, g.spacing, origin.to_array())?;
+    let orientation = Orientation {
+        direction: world.direction,
+        frame: world.frame,
+    };
+    Ok(Volume { grid, ..volume }.oriented(orientation))
 }
 
 /// Filters `solid` and builds its layers (see the module documentation).
@@ -146,11 +168,13 @@ pub fn layer_volume(
     })
 }
 
-/// The eight octant orders of a layered mesh.
+/// The eight octant orders of a layered mesh, for view octants in the space of its vertices
+/// (the world of a placed volume; [`octant_orders`]).
 pub fn orders_of(mesh: &LayeredMesh) -> Result<Vec<Vec<u32>>, LayersError> {
     let cat = mesh.concatenated();
     octant_orders(&CellTriangles {
         grid: mesh.grid,
+        placement: mesh.placement,
         positions: &cat.mesh.positions,
         triangles: &cat.mesh.triangles,
         cells: &cat.cells,

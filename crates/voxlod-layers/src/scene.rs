@@ -3,6 +3,10 @@
 //! accurate and efficient sorting algorithm is to take advantage of the volume buffers …, since
 //! intersections among the regularly partitioned volume buffers are easy to compute").
 //!
+//! Objects may be placed (the layers of oblique or flipped scans, [`CellTriangles::placement`]):
+//! boxes are then the world boxes around the placed ones, and buffers are merged on a shared
+//! lattice only when their placements are the same.
+//!
 //! 1. Each object's box is the box of its occupied cells (tighter than its whole buffer).
 //! 2. Objects whose boxes overlap are grouped (transitively). Inside a group the buffers are
 //!    merged into one lattice and traversed together, so triangles of different objects that
@@ -19,7 +23,7 @@
 //! Cost: O(G² + B²) for G groups of B boxes, plus the per-group traversal of [`crate::order`].
 
 use glam::{DVec3, Vec3};
-use voxlod_core::{Bounds, Grid};
+use voxlod_core::{Bounds, Grid, Placement};
 
 use crate::order::{view_order, CellTriangles, View};
 use crate::LayersError;
@@ -54,10 +58,31 @@ fn occupied_box(obj: &CellTriangles) -> Option<Bounds> {
         return None;
     }
     let g = &obj.grid;
-    Some(Bounds::new(
+    let cells = Bounds::new(
         g.position(lo[0] as f64, lo[1] as f64, lo[2] as f64),
         g.position(hi[0] as f64 + 1.0, hi[1] as f64 + 1.0, hi[2] as f64 + 1.0),
-    ))
+    );
+    Some(placed_box(&cells, &obj.placement))
+}
+
+/// The axis-aligned box around a grid-space box moved by `placement`.
+fn placed_box(b: &Bounds, placement: &Placement) -> Bounds {
+    if placement.is_identity() {
+        return *b;
+    }
+    let mut out = Bounds::EMPTY;
+    for corner in 0..8 {
+        let pick = |axis: usize| {
+            if corner >> axis & 1 == 0 {
+                b.min[axis]
+            } else {
+                b.max[axis]
+            }
+        };
+        let p = DVec3::new(pick(0), pick(1), pick(2));
+        out.grow(placement.linear * p + placement.translation);
+    }
+    out
 }
 
 fn boxes_overlap(a: &Bounds, b: &Bounds) -> bool {
@@ -149,6 +174,7 @@ pub fn scene_order(objects: &[CellTriangles], view: &View) -> Result<SceneOrder,
         }
         let obj = CellTriangles {
             grid: merged.grid,
+            placement: merged.placement,
             positions: &merged.positions,
             triangles: &merged.triangles,
             cells: &merged.cells,
@@ -240,6 +266,7 @@ fn order_groups(groups: &[Vec<usize>], boxes: &[Option<Bounds>], view: &View) ->
 /// Several objects on one lattice.
 struct Merged {
     grid: Grid,
+    placement: Placement,
     positions: Vec<Vec3>,
     triangles: Vec<[u32; 3]>,
     cells: Vec<u32>,
@@ -247,25 +274,32 @@ struct Merged {
     start: Vec<u32>,
 }
 
-/// Merges the members' buffers: on their shared lattice when they have one (exact), else on the
-/// coarsest spacing by triangle centroid.
+/// Merges the members' buffers: on their shared lattice when they have one and the same
+/// placement (exact), else on the coarsest spacing by placed triangle centroid, in the space of
+/// the vertices.
 fn merge(objects: &[CellTriangles], members: &[usize]) -> Result<(Merged, bool), LayersError> {
     let first = &objects[members[0]].grid;
+    let placement = objects[members[0]].placement;
     let h = DVec3::from(first.spacing);
     let shared = members.iter().all(|&o| {
         let g = &objects[o].grid;
-        (0..3).all(|a| {
-            let same = (g.spacing[a] - h[a]).abs() <= 1e-9 * h[a];
-            let shift = (g.origin[a] - first.origin[a]) / h[a];
-            same && (shift - shift.round()).abs() <= 1e-6
-        })
+        objects[o].placement == placement
+            && (0..3).all(|a| {
+                let same = (g.spacing[a] - h[a]).abs() <= 1e-9 * h[a];
+                let shift = (g.origin[a] - first.origin[a]) / h[a];
+                same && (shift - shift.round()).abs() <= 1e-6
+            })
     });
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
     let mut spacing = DVec3::ZERO;
     for &o in members {
         let g = &objects[o].grid;
-        let b = g.bounds();
+        let b = if shared {
+            g.bounds()
+        } else {
+            placed_box(&g.bounds(), &objects[o].placement)
+        };
         lo = lo.min(b.min);
         hi = hi.max(b.max);
         spacing = spacing.max(DVec3::from(g.spacing));
@@ -285,6 +319,11 @@ fn merge(objects: &[CellTriangles], members: &[usize]) -> Result<(Merged, bool),
     let grid = Grid::new(cdims.map(|d| d + 1), spacing.to_array(), lo.to_array())?;
     let mut m = Merged {
         grid,
+        placement: if shared {
+            placement
+        } else {
+            Placement::IDENTITY
+        },
         positions: Vec::new(),
         triangles: Vec::new(),
         cells: Vec::new(),

@@ -44,8 +44,12 @@ fn glb_round_trips_and_passes_the_validator() {
     }
     // The grid comes back, and with it every triangle's cell.
     assert_eq!(scene.grid, Some(l.mesh.grid));
-    let cells =
-        voxlod_layers::recover_cells(&l.mesh.grid, &scene.mesh.positions, &scene.mesh.triangles);
+    let cells = voxlod_layers::recover_cells(
+        &l.mesh.grid,
+        &l.mesh.placement,
+        &scene.mesh.positions,
+        &scene.mesh.triangles,
+    );
     assert_eq!(cells, cat.cells);
     // The accessor names are in the JSON as documented.
     let bytes = std::fs::read(&path).unwrap();

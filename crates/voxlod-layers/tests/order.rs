@@ -5,6 +5,7 @@
 mod common;
 
 use glam::DVec3;
+use voxlod_core::Placement;
 use voxlod_layers::{
     check_order, index_cells, octant_order, scene_order, view_order, CellTriangles, Layered,
     Octant, View,
@@ -17,6 +18,7 @@ fn cat(l: &Layered) -> voxlod_layers::Concatenated {
 fn obj<'a>(l: &Layered, c: &'a voxlod_layers::Concatenated) -> CellTriangles<'a> {
     CellTriangles {
         grid: l.mesh.grid,
+        placement: l.mesh.placement,
         positions: &c.mesh.positions,
         triangles: &c.mesh.triangles,
         cells: &c.cells,
@@ -174,12 +176,14 @@ fn several_objects_interleave_exactly() {
         obj(&l, &c),
         CellTriangles {
             grid: grid_at(shift),
+            placement: Placement::IDENTITY,
             positions: &p1,
             triangles: &c.mesh.triangles,
             cells: &c.cells,
         },
         CellTriangles {
             grid: grid_at(far),
+            placement: Placement::IDENTITY,
             positions: &p2,
             triangles: &c.mesh.triangles,
             cells: &c.cells,

@@ -119,11 +119,13 @@ def voxlod(*args) -> dict:
 
 
 def centroid(path: Path) -> np.ndarray:
-    """The centroid of the solid a closed mesh file bounds."""
+    """The centroid of the solid a closed mesh file bounds, whose triangles must face outwards
+    (a positive enclosed volume, flipped scans included)."""
     mesh = trimesh.load(path, process=False, force="mesh")
     a, b, c = (np.asarray(mesh.vertices, float)[mesh.faces[:, n]] for n in range(3))
     volumes = np.einsum("ij,ij->i", a, np.cross(b, c)) / 6.0
     assert mesh.is_watertight, path
+    assert volumes.sum() > 0, (path, "inside out")
     return ((a + b + c) / 4.0 * volumes[:, None]).sum(axis=0) / volumes.sum()
 
 
@@ -157,6 +159,15 @@ def voxelize_then_contour(source, work, *flags):
     return [(out, max(TOLERANCE, 0.5 * report["spacing"]))]
 
 
+def layers(source, work, extension, *flags):
+    """The layered shells in one file of ``extension`` (a .glb read as one mesh, or a .ply of all
+    layers): nested closed shells about the ball, so the centroid of all of them is its centre."""
+    out = work / f"shells.{extension}"
+    voxlod("layers", source, "-o", out, "--threshold", 0, "--resolution", VOXELIZE_RESOLUTION,
+           "--error", 0.05, *flags)
+    return [(out, TOLERANCE)]
+
+
 # name: (the command, the input it takes, its flags; "other-frame" asks for the frame the file
 # is not in).
 COMMANDS = {
@@ -171,6 +182,10 @@ COMMANDS = {
     "labels": (labels_command, "labels", []),
     "labels --frame": (labels_command, "labels", ["other-frame"]),
     "voxelize + contour": (voxelize_then_contour, "field", []),
+    # The first flag of `layers` is the output's extension.
+    "layers": (layers, "field", ["glb"]),
+    "layers .ply": (layers, "field", ["ply"]),
+    "layers --lod": (layers, "field", ["glb", "--lod", "--levels", 2]),
 }
 
 # Every file with every command (--blockwise reads NRRD and MetaImage blockwise, not NIfTI).
