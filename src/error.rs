@@ -14,6 +14,7 @@ use voxlod_clustering::ClusteringError;
 use voxlod_contouring::ContourError;
 use voxlod_core::CoreError;
 use voxlod_envelope::EnvelopeError;
+use voxlod_gltf::GltfError;
 use voxlod_io::IoError;
 use voxlod_layers::LayersError;
 use voxlod_metrics::MetricsError;
@@ -59,6 +60,9 @@ pub enum Error {
     /// The software rasterizer.
     #[error(transparent)]
     Render(#[from] RenderError),
+    /// A glTF file that cannot be read (a corrupt file is bad input) or written.
+    #[error(transparent)]
+    Gltf(GltfError),
     /// An option out of its range.
     #[error(transparent)]
     InvalidOption(#[from] InvalidOption),
@@ -99,6 +103,17 @@ impl From<PyramidError> for Error {
                 source: Box::new(Error::from(*source)),
             },
             own => Error::Pyramid(own),
+        }
+    }
+}
+
+impl From<GltfError> for Error {
+    /// The memory budget's and the files' errors become [`Error::Core`] and [`Error::Io`].
+    fn from(e: GltfError) -> Error {
+        match e {
+            GltfError::Core(e) => Error::Core(e),
+            GltfError::Io(e) => Error::Io(e),
+            other => Error::Gltf(other),
         }
     }
 }
@@ -152,6 +167,10 @@ impl Error {
             Error::Metrics(e) => metrics_class(e),
             Error::Budget(e) => budget_class(e),
             Error::Render(e) => render_class(e),
+            Error::Gltf(GltfError::Core(e)) => core_class(e),
+            Error::Gltf(GltfError::Io(e)) => io_class(e),
+            Error::Gltf(GltfError::InvalidParameter { .. }) => Usage,
+            Error::Gltf(_) => BadInput,
             Error::InvalidOption(_) => Usage,
             Error::Pyramid(e) => e.class(),
             Error::Cancelled => Cancelled,

@@ -11,7 +11,6 @@ use std::path::Path;
 use voxlod_core::{TriangleMesh, Volume};
 use voxlod_gltf::{GlbScene, GltfError};
 use voxlod_io::RawLayout;
-use voxlod_layers::LayersError;
 
 use crate::error::Error;
 
@@ -106,7 +105,7 @@ pub fn write_volume(path: impl AsRef<Path>, volume: &Volume) -> Result<(), Error
 /// and material as a part, and, for the layered shells of [`crate::layers()`], the volume grid
 /// and the eight back-to-front orders. Errors name the file.
 pub fn read_glb(path: impl AsRef<Path>) -> Result<GlbScene, Error> {
-    voxlod_gltf::read_glb(path.as_ref()).map_err(gltf_error)
+    Ok(voxlod_gltf::read_glb(path.as_ref())?)
 }
 
 /// Whether `path` names a binary glTF file (extension `.glb`, any case).
@@ -116,13 +115,7 @@ pub(crate) fn is_glb(path: impl AsRef<Path>) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("glb"))
 }
 
-/// A glTF reader's or encoder's failure as the facade's error: the memory budget and file
-/// errors as themselves, the rest as an invalid glTF file (class bad input).
+/// [`Error::from`] a glTF failure, for `map_err`.
 pub(crate) fn gltf_error(e: GltfError) -> Error {
-    match e {
-        GltfError::Core(e) => Error::Core(e),
-        GltfError::Io(e) => Error::Io(e),
-        GltfError::Invalid(problem) => Error::Layers(LayersError::Gltf(problem)),
-        other => Error::Layers(LayersError::Gltf(other.to_string())),
-    }
+    Error::from(e)
 }

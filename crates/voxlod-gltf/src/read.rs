@@ -110,10 +110,17 @@ impl GlbScene {
     }
 }
 
-/// Reads a `.glb` (see the module documentation). An error names the file.
+/// Reads a `.glb` (see the module documentation). An error names the file: one that cannot be
+/// read is [`GltfError::Io`] (of kind `Access`), one that is not a usable glTF binary
+/// [`GltfError::Invalid`].
 pub fn read_glb(path: &Path) -> Result<GlbScene, GltfError> {
-    let cannot_read =
-        |e: std::io::Error| GltfError::Invalid(format!("{}: cannot read: {e}", path.display()));
+    let cannot_read = |e: std::io::Error| {
+        voxlod_io::IoError::new(
+            path,
+            voxlod_io::IoErrorKind::Access,
+            format!("cannot read: {e}"),
+        )
+    };
     let len = std::fs::metadata(path).map_err(cannot_read)?.len();
     voxlod_core::memory::check_allocation(&format!("reading {}", path.display()), len)?;
     let bytes = std::fs::read(path).map_err(cannot_read)?;

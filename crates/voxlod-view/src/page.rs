@@ -7,7 +7,8 @@
 use std::path::{Path, PathBuf};
 
 use base64::Engine;
-use serde::Serialize;
+use serde_json::json;
+use voxlod_io::{IoError, IoErrorKind};
 
 use crate::check::{check_glb, CheckedGlb};
 use crate::ViewError;
@@ -37,29 +38,17 @@ pub struct PageModel {
     pub glb: CheckedGlb,
 }
 
-#[derive(Serialize)]
-struct Entry<'a> {
-    name: &'a str,
-    glb: String,
-}
-
-/// Reads and checks a `.glb` (any from `lod`, `layers`, or another tool) for the page.
+/// Reads and checks a `.glb` (any from `lod`, `layers`, or another tool) for the page. A file
+/// that cannot be read is an [`IoErrorKind::Access`] error, one that is not a usable `.glb` an
+/// [`IoErrorKind::Malformed`] one, both naming the file.
 pub fn read_model(path: &Path) -> Result<PageModel, ViewError> {
-    let len = std::fs::metadata(path)
-        .map_err(|source| ViewError::Read {
-            path: path.to_path_buf(),
-            source,
-        })?
-        .len();
+    let unreadable =
+        |e: std::io::Error| IoError::new(path, IoErrorKind::Access, format!("cannot read: {e}"));
+    let len = std::fs::metadata(path).map_err(unreadable)?.len();
     voxlod_core::memory::check_allocation(&format!("reading {}", path.display()), len)?;
-    let bytes = std::fs::read(path).map_err(|source| ViewError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let glb = check_glb(&bytes).map_err(|reason| ViewError::Invalid {
-        path: path.to_path_buf(),
-        reason,
-    })?;
+    let bytes = std::fs::read(path).map_err(unreadable)?;
+    let glb =
+        check_glb(&bytes).map_err(|reason| IoError::new(path, IoErrorKind::Malformed, reason))?;
     let name = path.file_name().map_or_else(
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
@@ -73,18 +62,12 @@ pub fn page_html(models: &[PageModel], options: &ViewOptions) -> Result<String, 
         return Err(ViewError::NoInput);
     }
     let encoder = base64::engine::general_purpose::STANDARD;
-    let entries: Vec<Entry> = models
+    let entries: Vec<_> = models
         .iter()
-        .map(|m| Entry {
-            name: &m.name,
-            glb: encoder.encode(&m.glb.bytes),
-        })
+        .map(|m| json!({"name": m.name, "glb": encoder.encode(&m.glb.bytes)}))
         .collect();
-    let data = serde_json::to_string(&entries)
-        .map_err(|e| ViewError::Invalid {
-            path: PathBuf::from("page"),
-            reason: e.to_string(),
-        })?
+    let data = serde_json::Value::Array(entries)
+        .to_string()
         .replace("</", "<\\/");
     let title = escape_html(&options.title);
     let script = VIEWER_JS.replace("</", "<\\/");

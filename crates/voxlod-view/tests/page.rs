@@ -6,6 +6,7 @@ mod common;
 use base64::Engine;
 use common::{write_sphere_chain, write_two_layers};
 use voxlod_gltf::ChainOptions;
+use voxlod_io::IoErrorKind;
 use voxlod_view::{page_html, read_model, write_page, ViewError, ViewOptions};
 
 #[test]
@@ -84,13 +85,19 @@ fn corrupt_files_are_refused_with_the_file_and_the_problem() {
         let path = dir.path().join(name);
         std::fs::write(&path, data).unwrap();
         let e = read_model(&path).unwrap_err();
-        assert!(matches!(e, ViewError::Invalid { .. }), "{name}: {e:?}");
+        assert!(
+            matches!(&e, ViewError::Io(io) if io.kind == IoErrorKind::Malformed),
+            "{name}: {e:?}"
+        );
         let text = e.to_string();
         assert!(text.starts_with(&path.display().to_string()), "{text}");
         assert!(!text.contains("panicked"), "{text}");
     }
     let missing = dir.path().join("missing.glb");
-    assert!(matches!(read_model(&missing), Err(ViewError::Read { .. })));
+    assert!(matches!(
+        read_model(&missing),
+        Err(ViewError::Io(io)) if io.kind == IoErrorKind::Access && io.path == missing
+    ));
     let page = dir.path().join("page.html");
     assert!(write_page(
         &[dir.path().join("text.glb")],

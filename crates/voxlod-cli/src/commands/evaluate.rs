@@ -13,7 +13,7 @@ const PREVIEW_SIZE: u32 = 200;
 
 use super::common::say;
 use super::common::{add_report, in_dir, print_json, progress, read_mesh_input, CliError};
-use super::values::number;
+use super::values::{in_flags, number};
 use voxlod_eval::evaluate::images::preview_strip;
 use voxlod_eval::evaluate::plot::{plot_evaluation, Chart};
 use voxlod_eval::evaluate::report::{markdown, ReportContext};
@@ -178,7 +178,7 @@ fn measure(
             });
         }
     })
-    .map_err(|e| CliError::msg(format!("{}: {e}", args.input.display())))?;
+    .map_err(|e| in_flags(voxlod::Error::from(e).in_file(&args.input), &[]))?;
     bar.finish_and_clear();
     Ok(evaluation)
 }

@@ -96,10 +96,13 @@ pub fn run(args: ViewArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// A page's failure with its class: a file's (unreadable: I/O; not a usable `.glb`: bad input),
+/// a glTF failure's and the memory budget's as the library's, no input as a usage error.
 fn view_error(e: ViewError) -> CliError {
     match e {
         ViewError::Io(e) => e.into(),
         ViewError::Core(e) => e.into(),
-        other => CliError::msg(other.to_string()),
+        ViewError::Gltf(e) => voxlod::Error::from(e).into(),
+        ViewError::NoInput => CliError::usage(e.to_string()),
     }
 }

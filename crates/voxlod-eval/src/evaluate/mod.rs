@@ -135,7 +135,7 @@ pub fn evaluate(
             if !omitted.iter().any(|o| o.what == what) {
                 omitted.push(Omission {
                     what: what.into(),
-                    reason: reason.into(),
+                    reason,
                 });
             }
             continue;

@@ -37,8 +37,8 @@ impl Simplifier for BudgetPipeline {
 
     fn run(&self, input: &MethodInput, target: f64) -> Result<PolyMesh, RunFailure> {
         let options = LodOptions::budgets(vec![target as usize]);
-        let lod = voxlod::lod(&Source::Mesh(input.mesh()), &options)
-            .map_err(|e| RunFailure::Pipeline(e.to_string()))?;
+        let lod =
+            voxlod::lod(&Source::Mesh(input.mesh()), &options).map_err(RunFailure::Pipeline)?;
         let level = lod.levels.into_iter().next();
         Ok(PolyMesh::from(level.map(|l| l.mesh).unwrap_or_default()))
     }

@@ -9,7 +9,7 @@
 use std::borrow::Cow;
 
 use voxlod::core::TriangleMesh;
-use voxlod::envelope::{check_manifold, repair_for_envelope};
+use voxlod::envelope::{check_manifold, manifold_problems, repair_for_envelope, ManifoldProblems};
 use voxlod::sampling::{MeshSolid, SamplingError};
 
 use super::{Method, RunFailure};
@@ -42,8 +42,9 @@ pub struct MethodInput<'a> {
     mesh: &'a TriangleMesh,
     lines_per_radius: usize,
     solid: Option<MeshSolid>,
-    /// The manifold, or why the input cannot be made one; `None` when not asked for.
-    manifold: Option<Result<Cow<'a, TriangleMesh>, String>>,
+    /// The manifold, or why the input cannot be made one (the repaired copy's problems);
+    /// `None` when not asked for.
+    manifold: Option<Result<Cow<'a, TriangleMesh>, ManifoldProblems>>,
     manifold_notes: Vec<String>,
 }
 
@@ -101,7 +102,7 @@ impl<'a> MethodInput<'a> {
         match &self.manifold {
             None => Err(RunFailure::NotPrepared("as a manifold")),
             Some(Ok(mesh)) => Ok(mesh),
-            Some(Err(reason)) => Err(RunFailure::NotManifold(reason.clone())),
+            Some(Err(problems)) => Err(RunFailure::NotManifold(problems.clone())),
         }
     }
 
@@ -112,9 +113,11 @@ impl<'a> MethodInput<'a> {
 
     /// Why a method with `needs` cannot run on this input (the input could not be made a
     /// manifold), or `None` when it can.
-    pub fn unmet(&self, needs: Needs) -> Option<&str> {
+    pub fn unmet(&self, needs: Needs) -> Option<String> {
         match &self.manifold {
-            Some(Err(reason)) if needs.manifold => Some(reason),
+            Some(Err(problems)) if needs.manifold => {
+                Some(RunFailure::NotManifold(problems.clone()).to_string())
+            }
             _ => None,
         }
     }
@@ -122,22 +125,23 @@ impl<'a> MethodInput<'a> {
 
 /// The mesh the envelope simplifies: the input, or the input cut into a consistently oriented
 /// manifold (with a note of what changed); or why neither can be had.
-fn manifold_input(mesh: &TriangleMesh) -> Result<(Cow<'_, TriangleMesh>, Vec<String>), String> {
+fn manifold_input(
+    mesh: &TriangleMesh,
+) -> Result<(Cow<'_, TriangleMesh>, Vec<String>), ManifoldProblems> {
     let problems = match check_manifold(mesh) {
         Ok(()) => return Ok((Cow::Borrowed(mesh), Vec::new())),
         Err(e) => e.to_string(),
     };
     let (repaired, repair) = repair_for_envelope(mesh);
-    match check_manifold(&repaired) {
-        Ok(()) => Ok((
-            Cow::Owned(repaired),
-            vec![format!(
-                "The input is not a consistently oriented manifold ({problems}); the envelope \
-                 simplified a repaired copy ({repair}) and was measured against the input."
-            )],
-        )),
-        Err(e) => Err(format!(
-            "the input is not a manifold even after repair: {e}"
-        )),
+    let left = manifold_problems(&repaired);
+    if !left.is_empty() {
+        return Err(left);
     }
+    Ok((
+        Cow::Owned(repaired),
+        vec![format!(
+            "The input is not a consistently oriented manifold ({problems}); the envelope \
+             simplified a repaired copy ({repair}) and was measured against the input."
+        )],
+    ))
 }

@@ -50,7 +50,7 @@ pub use voxel_filter::{VoxelFilter, VOXEL_GAUSSIAN, VOXEL_HYPERCONE};
 use serde::Serialize;
 use voxlod::clustering::ClusteringError;
 use voxlod::core::PolyMesh;
-use voxlod::envelope::EnvelopeError;
+use voxlod::envelope::{EnvelopeError, ManifoldProblems};
 use voxlod::lod::LodError;
 use voxlod_quadric::QuadricError;
 
@@ -221,18 +221,18 @@ pub enum RunFailure {
     /// Simplification envelopes failed.
     #[error(transparent)]
     Envelope(#[from] EnvelopeError),
-    /// The budget pipeline failed (the facade's error, as its message).
-    #[error("{0}")]
-    Pipeline(String),
+    /// The budget pipeline failed (the facade's error).
+    #[error(transparent)]
+    Pipeline(voxlod::Error),
     /// meshoptimizer (or the quadric stage around it) refused the input.
     #[error(transparent)]
     Quadric(#[from] QuadricError),
     /// The method needs something of the input that [`MethodInput::prepare`] was not asked for.
     #[error("the input was not prepared {0} (see Simplifier::needs)")]
     NotPrepared(&'static str),
-    /// The method needs a manifold input and the input could not be made one.
-    #[error("{0}")]
-    NotManifold(String),
+    /// The method needs a manifold input and the input could not be made one, even repaired.
+    #[error("the input is not a manifold even after repair: {}", EnvelopeError::NotManifold(.0.clone()))]
+    NotManifold(ManifoldProblems),
 }
 
 /// A simplification method, as options, command lines and reports name it: a handle on a
