@@ -58,6 +58,7 @@ mod envelope_series;
 mod error;
 mod files;
 mod inspect;
+mod label_maps;
 mod levels;
 mod picture;
 pub mod select;
@@ -75,6 +76,7 @@ pub use inspect::{
     inspect, inspect_file, inspect_scene, FileInspection, InspectOptions, Inspection,
     PartInspection, SceneInspection,
 };
+pub use label_maps::labels;
 pub use levels::{lod, lod_with, voxelize};
 pub use picture::{
     check_draw_options, draw, read_drawable, view_direction, DrawOptions, Drawable, Drawing,

@@ -9,7 +9,8 @@
 //! the encoding for readers without a decoder. [`read`] takes any binary glTF file back as one
 //! triangle mesh with its parts (the finest level of a chain; the layers and stored orders of a
 //! layered file). [`scene`] reads any glTF 2.0 asset (`.gltf` or `.glb`, quantized or
-//! meshopt-compressed) as a scene with its looks, a `voxlod_asset::Asset`.
+//! meshopt-compressed) as a scene with its looks, a `voxlod_asset::Asset`. [`labels`] writes
+//! every structure of a label map in one file, one node per label with its value on each vertex.
 //!
 //! Beyond the paper: the paper stops at the meshes; the file format and the switching rule are
 //! ours. The JSON is built with `gltf-json`; extensions it has no types for are added to the
@@ -20,6 +21,7 @@ pub mod coverage;
 pub mod decode;
 pub mod encode;
 pub mod error;
+pub mod labels;
 pub mod read;
 pub mod scene;
 pub mod streams;
@@ -31,5 +33,6 @@ pub use chain::{
 pub use coverage::{fitting_coverage, pixel_size_at, screen_coverages, CoverageOptions};
 pub use decode::decompress_glb;
 pub use error::GltfError;
+pub use labels::{labels_glb, LabelMesh};
 pub use read::{parse_glb, read_glb, GlbPart, GlbScene, ORDER_NAMES};
 pub use scene::{parse_scene, read_scene, SceneRead};

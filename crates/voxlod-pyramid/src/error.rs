@@ -173,6 +173,22 @@ pub enum PyramidError {
         /// What makes the numbers so large.
         cause: &'static str,
     },
+    /// A sample of a label map that is not an integer label.
+    #[error(
+        "sample ({}, {}, {}) holds {value}, which is not an integer label",
+        .at[0],
+        .at[1],
+        .at[2]
+    )]
+    NotALabel {
+        /// Its index along x, y, z.
+        at: [usize; 3],
+        /// Its value.
+        value: f32,
+    },
+    /// A label map that holds only background (0).
+    #[error("the map holds no label other than 0")]
+    NoLabels,
     /// The caller's progress callback asked to stop.
     #[error("stopped by the caller")]
     Cancelled,
@@ -265,7 +281,9 @@ impl PyramidError {
             | PyramidError::NoFiniteSamples
             | PyramidError::NoSurface { .. }
             | PyramidError::GridBeyondCoordinates { .. }
-            | PyramidError::ComputedBeyondRange { .. } => BadInput,
+            | PyramidError::ComputedBeyondRange { .. }
+            | PyramidError::NotALabel { .. }
+            | PyramidError::NoLabels => BadInput,
         }
     }
 }

@@ -6,22 +6,20 @@ use std::time::Instant;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod::core::{TriangleMesh, Volume};
+use voxlod::core::TriangleMesh;
+use voxlod::gltf::{labels_glb, LabelMesh};
 use voxlod::io::{read_label_map, LabelName, OutputSet};
-use voxlod::labels::{
-    find_labels, merge_labelled, mesh_labels, select_labels, voxel_volume, LabelInfo, LabelOptions,
-};
-use voxlod::lod::LodLevel;
+use voxlod::labels::{merge_labelled, LabelLevels, LabelOptions};
 use voxlod::sampling::Filter;
-use voxlod::{EnvelopeStep, LevelEpsilon, ThenEnvelope};
+use voxlod::{Control, EnvelopeStep, LevelEpsilon, ThenEnvelope};
 
 use super::common::say;
-use super::common::{
-    add_report, check_computed_mesh, in_dir, print_json, progress, CliError, MeshExtension,
-};
-use super::labels_glb::{labels_glb, LabelMesh};
-use super::values::number;
+use super::common::{add_report, in_dir, print_json, progress, CliError, MeshExtension};
+use super::values::{in_flags, number};
 use super::world::{frame_report, FrameArg, FrameReport};
+
+/// The library's option names that are not the flags' names.
+const FLAGS: &[(&str, &str)] = &[("radius_voxels", "--radius")];
 
 /// Mesh a label map: one closed, outward mesh per label (NIfTI, NRRD, MetaImage, Slicer .seg.nrrd,
 /// DICOM Segmentation).
@@ -160,31 +158,24 @@ fn parse_level_epsilon(text: &str) -> Result<LevelEpsilon, String> {
     text.parse()
 }
 
-/// One label's levels (made by `mesh_labels`): checked and staged for writing.
+/// One label's levels (made by `voxlod::labels`), staged for writing: its report and its
+/// level 0.
 fn write_label(
     args: &LabelsArgs,
-    map: &Volume,
-    label: &LabelInfo,
+    label: LabelLevels,
     name: Option<&LabelName>,
-    levels: Vec<LodLevel>,
     out: &mut OutputSet,
 ) -> Result<(LabelReport, Option<TriangleMesh>), CliError> {
-    let what = format!("{}: label {}", args.input.display(), label.value);
+    let value = label.label.value;
     let mut reports = Vec::new();
     let mut first = None;
-    let count = levels.len();
-    for level in levels {
+    let count = label.levels.len();
+    for level in label.levels {
         let start = Instant::now();
         let mesh = level.mesh;
-        check_computed_mesh(
-            &mesh,
-            &what,
-            "the map's extent is too large for 32-bit coordinates",
-        )?;
-        let envelope = level.envelope;
         let k = level.plan.level;
-        let file = (!mesh.is_empty())
-            .then(|| file_name(label.value, name, k, count, args.format.as_str()));
+        let file =
+            (!mesh.is_empty()).then(|| file_name(value, name, k, count, args.format.as_str()));
         if let Some(f) = &file {
             out.mesh(&in_dir(&args.output, f), &mesh)?;
         }
@@ -199,21 +190,62 @@ fn write_label(
             area: mesh.area(),
             closed_manifold: t.is_closed_manifold() && t.is_consistently_oriented(),
             seconds: level.sample_seconds + level.contour_seconds + start.elapsed().as_secs_f64(),
-            envelope,
+            envelope: level.envelope,
         });
         if k == 0 {
             first = Some(mesh);
         }
     }
     let report = LabelReport {
-        label: label.value,
+        label: value,
         name: name.map(|n| n.name.clone()),
         color: name.and_then(|n| n.color),
-        voxels: label.voxels,
-        voxel_volume: voxel_volume(map, label.voxels),
+        voxels: label.label.voxels,
+        voxel_volume: label.voxel_volume,
         levels: reports,
     };
     Ok((report, first))
+}
+
+/// The library's options from the flags.
+fn label_options(args: &LabelsArgs) -> LabelOptions {
+    let mut options = LabelOptions::with_levels(args.levels);
+    options.labels = args.labels.clone();
+    options.lod.pyramid.filter = args.filter;
+    options.lod.pyramid.radius_voxels = args.radius;
+    options.lod.clean = options.lod.clean.filter(|_| !args.no_clean);
+    options.frame = args.frame.target();
+    options.then_envelope = args.then_envelope.map(ThenEnvelope::new);
+    options
+}
+
+/// Every label's level 0 (those with a surface) in one `.vtp` and one `.glb`; their file names.
+fn write_all_labels(
+    args: &LabelsArgs,
+    firsts: &[(i64, TriangleMesh)],
+    table: &[LabelName],
+    out: &mut OutputSet,
+) -> Result<(Option<String>, Option<String>), CliError> {
+    if firsts.is_empty() {
+        return Ok((None, None));
+    }
+    let refs: Vec<(i64, &TriangleMesh)> = firsts.iter().map(|(v, m)| (*v, m)).collect();
+    out.poly_mesh(&in_dir(&args.output, "labels.vtp"), &merge_labelled(&refs))?;
+    let gltf: Vec<LabelMesh> = firsts
+        .iter()
+        .map(|(value, mesh)| {
+            let name = table.iter().find(|n| n.value == *value);
+            LabelMesh {
+                value: *value,
+                name: name.map(|n| n.name.as_str()),
+                color: name.and_then(|n| n.color),
+                mesh,
+            }
+        })
+        .collect();
+    let glb = labels_glb(&gltf).map_err(voxlod::Error::from)?;
+    out.bytes(&in_dir(&args.output, "labels.glb"), &glb)?;
+    Ok((Some("labels.vtp".into()), Some("labels.glb".into())))
 }
 
 /// The one line a label gets on the terminal.
@@ -247,58 +279,32 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
             eprintln!("warning: {w}");
         }
     }
-    let all =
-        find_labels(&map).map_err(|e| CliError::msg(format!("{}: {e}", args.input.display())))?;
-    let chosen = select_labels(all, args.labels.as_deref())
-        .map_err(|e| CliError::msg(format!("{}: {e}", args.input.display())))?;
-    let mut options = LabelOptions::with_levels(args.levels);
-    options.lod.pyramid.filter = args.filter;
-    options.lod.pyramid.radius_voxels = args.radius;
-    options.lod.clean = options.lod.clean.filter(|_| !args.no_clean);
     args.frame.check(&map, &args.input)?;
-    options.frame = args.frame.target();
-    options.then_envelope = args.then_envelope.map(ThenEnvelope::new);
     let mut out = OutputSet::protecting([&args.input]);
     out.create_dir(&args.output)?;
-    let bar = progress(chosen.len() as u64, "labels", args.json);
-    let meshed = mesh_labels(&map, &chosen, &options, &|_| bar.inc(1))
-        .map_err(|e| CliError::msg(format!("{}: {e}", args.input.display())))?;
+    let bar = progress(0, "labels", args.json);
+    let meshed = voxlod::labels(&map, &label_options(&args), &|p| {
+        bar.set_length(p.total as u64);
+        bar.set_position(p.done as u64);
+        Control::Continue
+    })
+    .map_err(|e| in_flags(e.in_file(&args.input), FLAGS))?;
     bar.finish_and_clear();
     let mut reports = Vec::new();
     let mut firsts: Vec<(i64, TriangleMesh)> = Vec::new();
-    for (label, levels) in chosen.iter().zip(meshed) {
-        let levels = levels.map_err(|e| {
-            CliError::msg(format!(
-                "{}: label {}: {e}",
-                args.input.display(),
-                label.value
-            ))
-        })?;
-        let name = table.iter().find(|n| n.value == label.value);
-        let (report, first) = write_label(&args, &map, label, name, levels, &mut out)?;
+    for label in meshed.labels {
+        let value = label.label.value;
+        let name = table.iter().find(|n| n.value == value);
+        let (report, first) = write_label(&args, label, name, &mut out)?;
         if !args.json {
             print_label(&report);
         }
         reports.push(report);
         if let Some(mesh) = first.filter(|m| !m.is_empty()) {
-            firsts.push((label.value, mesh));
+            firsts.push((value, mesh));
         }
     }
-    let all_labels = (!firsts.is_empty()).then(|| "labels.vtp".to_string());
-    let all_labels_gltf = (!firsts.is_empty()).then(|| "labels.glb".to_string());
-    if all_labels.is_some() {
-        let refs: Vec<(i64, &TriangleMesh)> = firsts.iter().map(|(v, m)| (*v, m)).collect();
-        out.poly_mesh(&in_dir(&args.output, "labels.vtp"), &merge_labelled(&refs))?;
-        let gltf: Vec<LabelMesh> = firsts
-            .iter()
-            .map(|(value, mesh)| LabelMesh {
-                value: *value,
-                name: table.iter().find(|n| n.value == *value),
-                mesh,
-            })
-            .collect();
-        out.bytes(&in_dir(&args.output, "labels.glb"), &labels_glb(&gltf)?)?;
-    }
+    let (all_labels, all_labels_gltf) = write_all_labels(&args, &firsts, &table, &mut out)?;
     let frame = frame_report(&map, args.frame.target());
     let report = LabelsReport {
         input: args.input.display().to_string(),

@@ -13,7 +13,6 @@ pub mod envelope;
 pub mod evaluate;
 pub mod inspect;
 pub mod labels;
-pub mod labels_glb;
 pub mod layers;
 pub mod layers_lod;
 pub mod lod;

@@ -8,13 +8,17 @@
 //! §2), so `levels`, the filter and the radius mean what they mean for `voxlod lod`. The
 //! indicator is cut to the label's bounding box plus one voxel, so a small structure in a large
 //! map costs what its box costs; level 0 samples at the map's finest spacing. Meshes are moved
-//! into the map's world (direction cosines and frame, `voxlod_core::world`).
+//! into the map's world (direction cosines and frame, `voxlod_core::world`). [`labels()`] is the
+//! one call: the labels found, chosen, meshed and checked, every failure a `PyramidError`; the
+//! steps it takes are public for callers that mesh a map piece by piece.
 //!
 //! Beyond the paper: the paper treats one object per volume; the per-label split and the
 //! label table are ours. Cost: one pass over the map to find the labels and their boxes, then
 //! per label one copy of its box and the pyramid's cost for that box; [`mesh_labels`] meshes
 //! the labels in parallel, largest box first, with the boxes in flight kept within the memory
 //! budget.
+
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -28,7 +32,12 @@ use voxlod_core::mesh_topology;
 use voxlod_envelope::EnvelopeError;
 
 use crate::lod::{build_level, plan, LevelOptions, LodError, LodLevel, LodSource};
+use crate::progress::Control;
 use crate::then_envelope::{simplify_level, ThenEnvelope};
+
+mod job;
+
+pub use job::{labels, LabelLevels, LabelMeshes};
 
 /// How label meshes are made.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -290,33 +299,59 @@ pub fn mesh_labels(
     labels: &[LabelInfo],
     options: &LabelOptions,
     done: &(dyn Fn(&LabelInfo) + Sync),
-) -> Result<Vec<Result<Vec<LodLevel>, LabelError>>, LabelError> {
+) -> Result<Vec<Meshed>, LabelError> {
+    let meshed = mesh_labels_until(map, labels, options, &|label| {
+        done(label);
+        Control::Continue
+    })?;
+    Ok(meshed
+        .into_iter()
+        .map(|r| r.expect("a label is left out only after a stop"))
+        .collect())
+}
+
+/// One label's levels, or why it could not be meshed.
+type Meshed = Result<Vec<LodLevel>, LabelError>;
+
+/// [`mesh_labels`], where `done` may answer [`Control::Stop`]: the labels not yet started are
+/// then left out (`None`); those in flight finish.
+fn mesh_labels_until(
+    map: &Volume,
+    labels: &[LabelInfo],
+    options: &LabelOptions,
+    done: &(dyn Fn(&LabelInfo) -> Control + Sync),
+) -> Result<Vec<Option<Meshed>>, LabelError> {
     let budget = memory::available_bytes().map_err(SamplingError::from)?;
     let sized = labels
         .iter()
         .enumerate()
         .map(|(n, l)| (n, label_estimated_bytes(map, l, options)))
         .collect();
-    let mut results: Vec<Option<Result<Vec<LodLevel>, LabelError>>> =
-        labels.iter().map(|_| None).collect();
+    let stopped = AtomicBool::new(false);
+    let mut results: Vec<Option<Meshed>> = labels.iter().map(|_| None).collect();
     for group in groups_within(sized, budget) {
-        let meshed: Vec<(usize, Result<Vec<LodLevel>, LabelError>)> = group
+        let meshed: Vec<(usize, Option<Meshed>)> = group
             .into_par_iter()
             .with_max_len(1)
             .map(|n| {
+                if stopped.load(Ordering::Relaxed) {
+                    return (n, None);
+                }
                 let levels = label_levels(map, &labels[n], options);
-                done(&labels[n]);
-                (n, levels)
+                if done(&labels[n]) == Control::Stop {
+                    stopped.store(true, Ordering::Relaxed);
+                }
+                (n, Some(levels))
             })
             .collect();
         for (n, levels) in meshed {
-            results[n] = Some(levels);
+            results[n] = levels;
+        }
+        if stopped.load(Ordering::Relaxed) {
+            break;
         }
     }
-    Ok(results
-        .into_iter()
-        .map(|r| r.expect("every label is in one group"))
-        .collect())
+    Ok(results)
 }
 
 /// Volume of `voxels` voxels of the map, in world units cubed.
