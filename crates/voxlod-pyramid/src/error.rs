@@ -124,6 +124,25 @@ pub enum PyramidError {
     /// Filtering the data directly needs the iso value in the data's units.
     #[error("direct filtering needs `iso` in the data's units")]
     IsoRequired,
+    /// A scanned volume with no route: neither a threshold nor direct filtering was asked for.
+    #[error(
+        "a volume needs `threshold` T (inside where the data is >= T) or `direct` (filter the \
+         data itself, with `iso` in its units)"
+    )]
+    NoVolumeRoute,
+    /// A scan read blockwise is thresholded; one filtered directly is held whole.
+    #[error(
+        "`blockwise` reads a scan window by window for `threshold`; `direct` filters the volume \
+         held whole"
+    )]
+    BlockwiseNeedsThreshold,
+    /// A file asked to be read blockwise whose samples cannot be read window by window.
+    #[error(
+        "`blockwise` reads raw files, NRRD with raw encoding and MetaImage with uncompressed \
+         data window by window (and Zarr arrays); this file's samples have no random access \
+         (compressed, ascii, another format or not a volume): drop `blockwise` to read it whole"
+    )]
+    NoRandomAccess,
     /// Layered shells need a solid (density 1 inside, 0 outside), not a volume filtered
     /// directly.
     #[error(
@@ -274,6 +293,9 @@ impl PyramidError {
             PyramidError::Budget(e) => budget_class(e),
             PyramidError::InvalidOption(_)
             | PyramidError::IsoRequired
+            | PyramidError::NoVolumeRoute
+            | PyramidError::BlockwiseNeedsThreshold
+            | PyramidError::NoRandomAccess
             | PyramidError::NeedsSolid => Usage,
             PyramidError::Cancelled => Cancelled,
             PyramidError::In { source, .. } => source.class(),

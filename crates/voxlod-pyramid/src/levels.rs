@@ -86,7 +86,8 @@ pub fn lod(source: &Source, options: &LodOptions) -> Result<Lod, PyramidError> {
 
 /// [`lod`], reporting progress to `progress` after each step (a level's sampling, contouring
 /// and envelope step; levels made side by side report their contouring once made) and stopping with [`PyramidError::Cancelled`] when it answers
-/// [`crate::Control::Stop`]; a level's failure names the level.
+/// [`crate::Control::Stop`]; a level's failure names the level. The levels are moved into
+/// [`LodOptions::frame`] once made (those given to `progress` are in the source's own frame).
 ///
 /// ```
 /// # fn main() -> Result<(), voxlod_pyramid::PyramidError> {
@@ -114,7 +115,12 @@ pub fn lod_with(
     options: &LodOptions,
     progress: &ProgressFn,
 ) -> Result<Lod, PyramidError> {
-    lod_levels(source, options, progress, true)
+    let to_frame = source.to_frame(options.frame)?;
+    let mut lod = lod_levels(source, options, progress, true)?;
+    for level in &mut lod.levels {
+        to_frame.apply(&mut level.mesh);
+    }
+    Ok(lod)
 }
 
 /// [`lod_with`]. With `overlap`, the next level is sampled on another task while this one is
@@ -463,5 +469,38 @@ mod tests {
             acted += record.samples_filled + record.samples_kept_inside;
         }
         assert!(acted > 0, "the genus step changed nothing");
+    }
+
+    /// With a frame asked for, the levels of a scan in LPS are those in its own frame turned
+    /// half about z (x and y negated), the same triangles facing the same way.
+    #[test]
+    fn levels_are_moved_into_the_frame_asked_for() {
+        use voxlod_core::{Frame, Grid, Orientation, Volume};
+        let grid = Grid::new([12, 12, 12], [1.0; 3], [2.0, 3.0, 4.0]).unwrap();
+        let ball = |i: usize| (i as f32 - 5.5).powi(2);
+        let values = (0..grid.len())
+            .map(|n| 16.0 - ball(n % 12) - ball(n / 12 % 12) - ball(n / 144))
+            .collect();
+        let lps = Orientation {
+            frame: Frame::Lps,
+            ..Default::default()
+        };
+        let volume = Volume::from_vec(grid, values).unwrap().oriented(lps);
+        let source = Source::Threshold {
+            volume: &volume,
+            threshold: 0.0,
+        };
+        let own = LodOptions::halving(12, 1, Filter::Hypercone);
+        let ras = LodOptions {
+            frame: Some(Frame::Ras),
+            ..own.clone()
+        };
+        let (a, b) = (lod(&source, &own).unwrap(), lod(&source, &ras).unwrap());
+        let (a, b) = (&a.levels[0].mesh, &b.levels[0].mesh);
+        assert!(!a.is_empty());
+        assert_eq!(a.triangles, b.triangles);
+        for (p, q) in a.positions.iter().zip(&b.positions) {
+            assert_eq!((q.x, q.y, q.z), (-p.x, -p.y, p.z));
+        }
     }
 }

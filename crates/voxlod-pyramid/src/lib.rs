@@ -4,7 +4,7 @@
 //!
 //! - **Sources** ([`Source`]): a mesh (through a BVH), a solid, a scan thresholded or filtered
 //!   directly, or a scan read block by block ([`blockwise`]); [`Source::prepare`] checks it and
-//!   chooses the route ([`Route`]).
+//!   chooses the route ([`Route`]). A scan file is opened whole or blockwise by [`Scan`].
 //! - **Levels** ([`lod()`], [`lod_with`]): the resolutions planned and checked against the
 //!   memory budget, levels sampled ahead on all cores, the genus kept from rising along the
 //!   chain ([`voxlod_sampling::monotone_level`]), each level cleaned and, on request,
@@ -36,6 +36,7 @@ mod levels;
 pub mod lod;
 mod lod_options;
 pub mod progress;
+pub mod scan;
 pub mod source;
 mod then_envelope;
 mod voxelize;
@@ -46,6 +47,7 @@ pub use levels::{lod, lod_with};
 pub use lod::LodLevel;
 pub use lod_options::{Lod, LodOptions};
 pub use progress::{run_to_end, Control, Event, Progress, ProgressFn, Tracker};
-pub use source::{iso_outside_data, Prepared, Route, Source};
+pub use scan::{BlockwiseReason, Scan};
+pub use source::{iso_outside_data, Prepared, Route, ScanRoute, Source};
 pub use then_envelope::{EnvelopeStep, LevelEpsilon, ThenEnvelope};
 pub use voxelize::{voxelize, VoxelizeOptions, Voxelized};

@@ -212,6 +212,26 @@ pub struct LodLevel {
     pub clean_skipped: bool,
 }
 
+impl LodLevel {
+    /// Handles fewer (none where the genus rose) and surfaces (pieces and cavities) more (> 0)
+    /// or fewer (< 0) than `above`, the level before it: as the genus chain recorded them
+    /// ([`LodLevel::monotone`]), else from the two meshes' topology; none for the first level.
+    pub fn change_from(&self, above: Option<&LodLevel>) -> (u64, i64) {
+        match (&self.monotone, above) {
+            (Some(record), _) => (record.handles_removed, record.surfaces_gained),
+            (None, Some(above)) => {
+                let (t, a) = (&self.topology, &above.topology);
+                let handles = a.genus.unwrap_or(0) - t.genus.unwrap_or(0);
+                (
+                    handles.max(0) as u64,
+                    t.components as i64 - a.components as i64,
+                )
+            }
+            (None, None) => (0, 0),
+        }
+    }
+}
+
 /// Why a level could not be built.
 #[derive(Debug, thiserror::Error)]
 pub enum LodError {

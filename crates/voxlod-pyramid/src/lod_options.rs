@@ -4,6 +4,7 @@
 
 use serde::Serialize;
 use voxlod_contouring::CleanOptions;
+use voxlod_core::Frame;
 use voxlod_fit::FitOptions;
 use voxlod_sampling::{Filter, MeshPreparation, MonotoneOptions, PyramidOptions};
 
@@ -61,6 +62,9 @@ pub struct LodOptions {
     /// closed and manifold kept (beyond the paper, [`voxlod_contouring::clean_mesh()`]). `None`
     /// keeps plain marching cubes.
     pub clean: Option<CleanOptions>,
+    /// The anatomical frame of the level meshes of a scan (`Frame::Lps`, `Frame::Ras`): `None`
+    /// keeps the scan's own. Refused for a source without a frame ([`crate::Source::to_frame`]).
+    pub frame: Option<Frame>,
 }
 
 impl Default for LodOptions {
@@ -82,6 +86,7 @@ impl Default for LodOptions {
             finest: Finest::InputTriangles,
             monotone: Some(MonotoneOptions::default()),
             clean: Some(CleanOptions::default()),
+            frame: None,
         }
     }
 }

@@ -12,7 +12,7 @@
 use std::fmt;
 
 use serde::Serialize;
-use voxlod_core::{Bounds, Grid, Volume};
+use voxlod_core::{Bounds, Frame, Grid, Placement, Volume};
 use voxlod_sampling::{MeshPreparation, MeshSolid, SamplingError, Solid, ThresholdSolid};
 
 use crate::blockwise::{BlockwiseScan, BlockwiseSource};
@@ -68,6 +68,35 @@ impl fmt::Debug for Source<'_> {
     }
 }
 
+/// How a scanned volume becomes a [`Source`]: thresholded into a solid, or filtered directly.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ScanRoute {
+    /// Inside where the data is `>= threshold` ([`Source::Threshold`]).
+    Threshold(f32),
+    /// The data filtered itself ([`Source::Direct`]).
+    Direct,
+}
+
+impl ScanRoute {
+    /// The route asked for: `threshold` when given, else `direct`; a volume asked neither is
+    /// refused ([`PyramidError::NoVolumeRoute`]).
+    pub fn of(threshold: Option<f32>, direct: bool) -> Result<ScanRoute, PyramidError> {
+        match (threshold, direct) {
+            (Some(t), _) => Ok(ScanRoute::Threshold(t)),
+            (None, true) => Ok(ScanRoute::Direct),
+            (None, false) => Err(PyramidError::NoVolumeRoute),
+        }
+    }
+
+    /// `volume` entering by this route.
+    pub fn source(self, volume: &Volume) -> Source<'_> {
+        match self {
+            ScanRoute::Threshold(threshold) => Source::Threshold { volume, threshold },
+            ScanRoute::Direct => Source::Direct(volume),
+        }
+    }
+}
+
 /// How a source enters the pipeline, for reports.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -103,6 +132,30 @@ impl<'a> Source<'a> {
             Source::Direct(_) => Route::Direct,
             Source::Solid(_) => Route::Solid,
         }
+    }
+
+    /// The change of frame that moves this source's finished meshes (in its own world) into
+    /// `frame`: none for `None`; refused for a source without an anatomical frame (a mesh, a
+    /// solid, a scan whose file does not say which frame it uses).
+    pub fn to_frame(&self, frame: Option<Frame>) -> Result<Placement, PyramidError> {
+        let Some(target) = frame else {
+            return Ok(Placement::IDENTITY);
+        };
+        let own = match self {
+            Source::Threshold { volume, .. } | Source::Direct(volume) => volume.orientation.frame,
+            Source::BlockwiseThreshold { scan, .. } => scan.orientation().frame,
+            Source::Mesh(_) | Source::Solid(_) => {
+                let problem = "a frame applies to volumes with an anatomical frame (NRRD, NIfTI, \
+                               MetaImage, VTI, DICOM); a mesh or a solid has none";
+                return Err(InvalidOption::new("frame", target.name(), problem).into());
+            }
+        };
+        if own == Frame::Unknown && target != Frame::Unknown {
+            let problem = "the file does not say which anatomical frame it uses, so it cannot \
+                           be converted";
+            return Err(InvalidOption::new("frame", target.name(), problem).into());
+        }
+        Ok(Placement::between_frames(own, target))
     }
 
     /// Prepares the source for sampling (see the module documentation).
@@ -295,7 +348,7 @@ pub fn check_grid_range(volume: &Volume) -> Result<(), PyramidError> {
 }
 
 /// [`check_grid_range`] for a scan known by its grid (one read window by window).
-fn check_grid_reach(g: &Grid) -> Result<(), PyramidError> {
+pub fn check_grid_reach(g: &Grid) -> Result<(), PyramidError> {
     for (axis, name) in ['x', 'y', 'z'].into_iter().enumerate() {
         let far = g.origin[axis] + g.spacing[axis] * (g.dims[axis].max(1) - 1) as f64;
         let reach = if g.origin[axis].abs() > far.abs() {
@@ -336,5 +389,40 @@ mod tests {
         }
         let nothing = Volume::from_vec(Grid::unit([2, 1, 1]).unwrap(), vec![f32::NAN; 2]).unwrap();
         assert_eq!(threshold_warning(&nothing, 0.0), None);
+    }
+
+    /// A volume without a route is refused; a change of frame is refused for a mesh and for a
+    /// scan that names no frame, and between LPS and RAS is the half turn about z.
+    #[test]
+    fn routes_and_frames_are_checked() {
+        assert!(matches!(
+            ScanRoute::of(None, false),
+            Err(PyramidError::NoVolumeRoute)
+        ));
+        assert_eq!(
+            ScanRoute::of(Some(2.0), true).unwrap(),
+            ScanRoute::Threshold(2.0)
+        );
+        let volume = Volume::filled(Grid::unit([2, 2, 2]).unwrap(), 1.0, "test").unwrap();
+        let unknown = ScanRoute::Direct.source(&volume);
+        assert!(unknown.to_frame(None).unwrap().is_identity());
+        let refused = |e: Result<Placement, PyramidError>| match e {
+            Err(PyramidError::InvalidOption(o)) => o.option == "frame",
+            _ => false,
+        };
+        assert!(refused(unknown.to_frame(Some(Frame::Ras))));
+        let mesh = TriangleMesh::default();
+        assert!(refused(Source::Mesh(&mesh).to_frame(Some(Frame::Lps))));
+        let orientation = voxlod_core::Orientation {
+            frame: Frame::Lps,
+            ..Default::default()
+        };
+        let lps = volume.oriented(orientation);
+        let to_ras = ScanRoute::Direct
+            .source(&lps)
+            .to_frame(Some(Frame::Ras))
+            .unwrap();
+        assert_eq!(to_ras, Placement::between_frames(Frame::Lps, Frame::Ras));
+        assert!(!to_ras.is_identity());
     }
 }
