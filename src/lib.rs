@@ -77,7 +77,7 @@ pub use inspect::{
     PartInspection, SceneInspection,
 };
 pub use label_maps::labels;
-pub use levels::{lod, lod_with, voxelize};
+pub use levels::{lod, lod_glb, lod_with, voxelize};
 pub use picture::{
     check_draw_options, draw, read_drawable, view_direction, DrawOptions, Drawable, Drawing,
     SURFACE_COLOR,
