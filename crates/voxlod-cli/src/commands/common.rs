@@ -345,45 +345,20 @@ pub fn describe_mesh(mesh: &TriangleMesh) -> String {
     )
 }
 
-/// The largest coordinate a mesh can hold (its positions are 32-bit floats).
-const LARGEST_COORDINATE: f64 = f32::MAX as f64;
-
 /// Refuses a volume whose samples lie beyond the 32-bit range of mesh coordinates, before any
-/// work: its surfaces would have infinite vertices. `source` says where the spacing and origin
-/// came from ("the file's header", "--spacing and --origin").
+/// work (`voxlod::pyramid::source::check_grid_range`): its surfaces would have infinite
+/// vertices. `source` says where the spacing and origin came from ("the file's header",
+/// "--spacing and --origin").
 pub fn check_grid_range(volume: &Volume, path: &Path, source: &str) -> Result<(), CliError> {
     check_grid_reach(&volume.grid, path, source)
 }
 
-/// [`check_grid_range`] for a volume known by its grid only (a Zarr scan not read whole).
+/// [`check_grid_range`] for a volume known by its grid only (a scan read blockwise).
 pub fn check_grid_reach(g: &voxlod::core::Grid, path: &Path, source: &str) -> Result<(), CliError> {
-    for (axis, name) in ["x", "y", "z"].iter().enumerate() {
-        let far = g.origin[axis] + g.spacing[axis] * (g.dims[axis].max(1) - 1) as f64;
-        let reach = if g.origin[axis].abs() > far.abs() {
-            g.origin[axis]
-        } else {
-            far
-        };
-        if reach.is_nan() || reach.abs() > LARGEST_COORDINATE {
-            return Err(CliError::msg(format!(
-                "{}: the samples reach {name} = {reach:.3e} (origin {}, spacing {}), beyond the \
-                 ±{LARGEST_COORDINATE:.1e} of 32-bit mesh coordinates; check {source}",
-                path.display(),
-                short_number(g.origin[axis]),
-                short_number(g.spacing[axis])
-            )));
-        }
-    }
-    Ok(())
-}
-
-/// A number as people write it: plain, or in scientific notation when very large or small.
-fn short_number(x: f64) -> String {
-    if x != 0.0 && !(1e-4..1e6).contains(&x.abs()) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
+    voxlod::pyramid::source::check_grid_reach(g).map_err(|e| {
+        let e = voxlod::Error::from(e).in_file(path);
+        CliError::msg(format!("{e}; check {source}"))
+    })
 }
 
 /// Refuses a computed mesh with a non-finite vertex or normal, as what it is: the computation

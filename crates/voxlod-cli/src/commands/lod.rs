@@ -5,12 +5,10 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
 use serde::Serialize;
-use voxlod::blockwise::BlockwiseScan;
-use voxlod::core::{memory, Grid, Topology, Volume};
+use voxlod::core::WorldTransform;
 use voxlod::finest::FinestChoice;
-use voxlod::io::BlockwiseVolume;
-use voxlod::io::{OutputSet, VolumeFormat};
-use voxlod::lod::BAND_ABOVE_BYTES;
+use voxlod::io::OutputSet;
+use voxlod::pyramid::{BlockwiseReason, Scan, ScanRoute};
 use voxlod::sampling::{BandReport, DensityReport, Filter, PyramidOptions, TopologyRecord};
 use voxlod::{
     Control, EnvelopeStep, Event, Finest, LevelEpsilon, Lod, LodLevel, LodOptions, Progress,
@@ -18,13 +16,13 @@ use voxlod::{
 
 use super::common::say;
 use super::common::{
-    add_report, check_grid_range, check_grid_reach, count, describe_mesh, in_dir, in_file,
-    print_json, progress, read_input, CliError, Input, MeshExtension,
+    add_report, check_grid_reach, count, describe_mesh, in_dir, print_json, progress, read_input,
+    CliError, Input, MeshExtension,
 };
 use super::lod_glb::{add_chain, GlbArgs, GlbReport, LodFormat, CHAIN_FILE};
 use super::source::{MeshSummary, VolumeRoute};
-use super::values::number;
-use super::world::{frame_report, FrameArg};
+use super::values::{in_flags, number};
+use super::world::FrameArg;
 
 /// Build levels of detail: a pyramid of filtered volumes, marching cubes on each (paper §2).
 ///
@@ -72,8 +70,10 @@ pub struct LodArgs {
     #[arg(long, value_name = "L", default_value_t = 6, conflicts_with = "resolutions",
         value_parser = number::<usize>, allow_hyphen_values = true)]
     pub levels: usize,
-    /// Explicit resolutions, one per level, e.g. 200,100,50,30,15,5
+    /// Explicit resolutions, one per level, e.g. 200,100,50,30,15,5 (not with --triangles or
+    /// --error, which choose the resolution of each level)
     #[arg(long, value_name = "A,B,...", value_delimiter = ',',
+        conflicts_with_all = ["triangles", "error"],
         value_parser = number::<usize>, allow_hyphen_values = true)]
     pub resolutions: Option<Vec<usize>>,
     /// Low-pass filter: hypercone (paper eq. 3) or gaussian (σ = R/3)
@@ -109,9 +109,10 @@ pub struct LodArgs {
     #[arg(long)]
     pub no_clean: bool,
     /// Then simplify each level within E by simplification envelopes (genus and holes stay): a
-    /// distance, a percentage of the level's diagonal (1%), or voxels of the level (1vox)
+    /// distance, a percentage of the level's diagonal (1%), or voxels of the level (1vox). Not
+    /// with --triangles or --error, whose geometric stage is chosen with --then envelope
     #[arg(long, value_name = "E", value_parser = parse_level_epsilon,
-        allow_hyphen_values = true)]
+        conflicts_with_all = ["triangles", "error"], allow_hyphen_values = true)]
     pub then_envelope: Option<LevelEpsilon>,
     /// Levels by triangle budget, one per count (e.g. 20000,5000,1000,250): each within 10 %
     /// or the report says why; the resolutions are chosen per budget
@@ -220,6 +221,9 @@ struct LodReport {
     frame: Option<voxlod::core::Frame>,
     #[serde(skip_serializing_if = "Option::is_none")]
     transform: Option<[[f64; 4]; 4]>,
+    /// Why a scan was read blockwise (absent when it was held whole).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    blockwise: Option<BlockwiseReason>,
     levels: Vec<LevelReport>,
     /// The MSFT_lod chain file, with --format glb.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -280,130 +284,54 @@ fn lod_options(args: &LodArgs) -> Result<LodOptions, CliError> {
         },
         monotone: defaults.monotone.filter(|_| !args.no_monotone),
         clean: defaults.clean.filter(|_| !args.no_clean),
+        frame: args.frame.target(),
         ..defaults
     })
 }
 
-/// What was read: a mesh (with what its reader did) or a volume.
+/// What was read: a mesh (with what its reader did) or a scan, held whole or read blockwise.
 enum Loaded {
     Mesh(voxlod::io::LoadedMesh),
-    Volume(voxlod::core::Volume),
-    /// A scan with --threshold never read whole, sampled window by window (the same levels as
-    /// a volume read whole): a Zarr array, or a raw, NRRD or MetaImage file too large to hold or
-    /// with --blockwise. `world` stands for the scan's placement in the frame checks and the
-    /// report: one sample with its spacing, origin and orientation (none for a Zarr array).
-    Blockwise {
-        scan: Box<dyn BlockwiseScan>,
-        world: Option<Volume>,
-    },
+    Scan(Scan),
 }
 
 impl Loaded {
-    /// The volume whose frame and transform the meshes are in (none for a mesh or a Zarr array).
-    fn volume_world(&self) -> Option<&Volume> {
+    /// The library's source for what was read.
+    fn source(&self) -> voxlod::Source<'_> {
         match self {
-            Loaded::Volume(v) => Some(v),
-            Loaded::Blockwise { world, .. } => world.as_ref(),
+            Loaded::Mesh(m) => voxlod::Source::Mesh(&m.mesh),
+            Loaded::Scan(scan) => scan.source(),
+        }
+    }
+
+    /// Where a scan's meshes are: its index-to-world transform in `frame` (none for a mesh).
+    fn world(&self, frame: Option<voxlod::core::Frame>) -> Option<WorldTransform> {
+        match self {
             Loaded::Mesh(_) => None,
+            Loaded::Scan(scan) => Some(scan.world(frame)),
         }
     }
 }
 
-/// Reads the input, refusing a volume without a route.
+/// Reads the input: a scan blockwise where the library chooses so ([`Scan::open_blockwise`]:
+/// asked with --blockwise, a Zarr array, or too large to hold), else whole; a volume needs a
+/// route (--threshold or --direct) and samples within 32-bit mesh coordinates.
 fn load(args: &LodArgs) -> Result<Loaded, CliError> {
-    let zarr = voxlod::io::volume_format_of(&args.input).ok() == Some(VolumeFormat::Zarr);
-    if zarr && args.route.threshold.is_some() {
-        let scan = voxlod::io::open_zarr(&args.input)?;
-        check_grid_reach(&scan.grid(), &args.input, args.route.raw.spacing_source())?;
-        return Ok(Loaded::Blockwise {
-            scan: Box::new(scan),
-            world: None,
-        });
-    }
-    if let Some(scan) = blockwise_scan(args)? {
-        check_grid_reach(&scan.grid(), &args.input, args.route.raw.spacing_source())?;
-        let world = world_of(&scan).map_err(|e| in_file(&args.input, e))?;
-        return Ok(Loaded::Blockwise {
-            scan: Box::new(scan),
-            world: Some(world),
-        });
-    }
-    match read_input(&args.input, &args.route.raw)? {
-        Input::Mesh(mesh) => Ok(Loaded::Mesh(mesh)),
-        Input::Volume(volume) => {
-            check_grid_range(&volume, &args.input, args.route.raw.spacing_source())?;
-            if args.route.threshold.is_none() && !args.route.direct {
-                return Err(CliError::msg(format!(
-                    "{}: a volume needs --threshold T (inside where the data is >= T) or --direct \
-                     (filter the data itself, with --iso in its units)",
-                    args.input.display()
-                )));
+    let (path, route) = (&args.input, &args.route);
+    let layout = route.raw.layout()?;
+    let opened = Scan::open_blockwise(path, layout.as_ref(), route.threshold, args.blockwise);
+    let scan = match opened.map_err(|e| lod_error(args, e.into()))? {
+        Some(scan) => scan,
+        None => match read_input(path, &route.raw)? {
+            Input::Mesh(mesh) => return Ok(Loaded::Mesh(mesh)),
+            Input::Volume(volume) => {
+                let to = ScanRoute::of(route.threshold, route.direct);
+                Scan::whole(volume, to.map_err(|e| lod_error(args, e.into()))?)
             }
-            Ok(Loaded::Volume(volume))
-        }
-    }
-}
-
-/// The input as a scan to read blockwise: with --blockwise (which refuses what cannot be read
-/// so), or when it is a raw, NRRD or MetaImage file with uncompressed samples too large to hold
-/// ([`too_large_to_hold`]). Otherwise `None`, and the input is read whole (whose errors about a
-/// broken file are then the ones every route gives).
-fn blockwise_scan(args: &LodArgs) -> Result<Option<BlockwiseVolume>, CliError> {
-    if args.route.threshold.is_none() {
-        if args.blockwise {
-            return Err(CliError::usage(format!(
-                "{}: --blockwise reads a scan window by window for --threshold; --direct filters \
-                 the volume held whole",
-                args.input.display()
-            )));
-        }
-        return Ok(None);
-    }
-    let layout = args.route.raw.layout()?;
-    match voxlod::io::open_volume_blockwise(&args.input, layout.as_ref()) {
-        Ok(Some(scan)) if args.blockwise || too_large_to_hold(&scan) => Ok(Some(scan)),
-        Ok(None) if args.blockwise => Err(CliError::usage(format!(
-            "{}: --blockwise reads raw files, NRRD with raw encoding and MetaImage with \
-             uncompressed data window by window (and Zarr arrays); this file's samples have no \
-             random access (compressed, ascii, another format or not a volume): drop --blockwise \
-             to read it whole",
-            args.input.display()
-        ))),
-        Err(e) if args.blockwise => Err(e.into()),
-        _ => Ok(None),
-    }
-}
-
-/// Whether a scan is better read blockwise: as 32-bit floats it would take more than the
-/// narrow band's [`BAND_ABOVE_BYTES`], or, with its stored bytes, more than the memory budget.
-fn too_large_to_hold(scan: &BlockwiseVolume) -> bool {
-    let count = scan.grid().len() as u64;
-    let dense = count.saturating_mul(4);
-    let read = dense.saturating_add(count.saturating_mul(scan.sample_bytes() as u64));
-    dense > BAND_ABOVE_BYTES || memory::check_allocation("the volume", read).is_err()
-}
-
-/// One sample with the scan's spacing, origin and orientation: where its meshes are, for the
-/// frame checks and the report.
-fn world_of(scan: &BlockwiseVolume) -> Result<Volume, voxlod::core::CoreError> {
-    let g = scan.grid();
-    let grid = Grid::new([1; 3], g.spacing, g.origin)?;
-    Ok(Volume::filled(grid, 0.0, "the scan's placement")?.oriented(scan.orientation()))
-}
-
-/// The library's source for what was read.
-fn source<'a>(loaded: &'a Loaded, route: &VolumeRoute) -> voxlod::Source<'a> {
-    match (loaded, route.threshold) {
-        (Loaded::Mesh(m), _) => voxlod::Source::Mesh(&m.mesh),
-        (Loaded::Volume(volume), Some(threshold)) => {
-            voxlod::Source::Threshold { volume, threshold }
-        }
-        (Loaded::Volume(volume), None) => voxlod::Source::Direct(volume),
-        (Loaded::Blockwise { scan, .. }, threshold) => voxlod::Source::BlockwiseThreshold {
-            scan: scan.as_ref(),
-            threshold: threshold.unwrap_or(f32::NAN),
         },
-    }
+    };
+    check_grid_reach(&scan.grid(), path, route.raw.spacing_source())?;
+    Ok(Loaded::Scan(scan))
 }
 
 /// The levels by resolution; `lod_budget.rs` makes them by budget or error
@@ -412,17 +340,6 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     args.glb.check(args.format)?;
     let options = lod_options(&args)?;
     let loaded = load(&args)?;
-    match loaded.volume_world() {
-        Some(v) => args.frame.check(v, &args.input)?,
-        None if args.frame.target().is_some() => {
-            return Err(CliError::usage(format!(
-                "{}: --frame applies to volumes with an anatomical frame (NRRD, NIfTI, \
-                 MetaImage, VTI, DICOM); a mesh or a Zarr array has none",
-                args.input.display()
-            )))
-        }
-        None => {}
-    }
     // Everything is written at the end, as one set; refuse now what it would refuse then.
     let mut out = OutputSet::protecting([&args.input]);
     for level in 0..options.pyramid.resolutions.len() {
@@ -438,17 +355,12 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         args.json,
     );
     let show = |p: Progress| show_level(&args, &bar, p);
-    let mut lod = voxlod::lod_with(&source(&loaded, &args.route), &options, &show)
-        .map_err(|e| lod_error(&args, e))?;
+    let lod =
+        voxlod::lod_with(&loaded.source(), &options, &show).map_err(|e| lod_error(&args, e))?;
     bar.finish_and_clear();
-    if let Some(v) = loaded.volume_world() {
-        for level in &mut lod.levels {
-            args.frame.convert(v, &mut level.mesh);
-        }
-    }
     let mut levels = Vec::with_capacity(lod.levels.len());
     for (k, level) in lod.levels.iter().enumerate() {
-        let previous = k.checked_sub(1).map(|above| &lod.levels[above].topology);
+        let previous = k.checked_sub(1).map(|above| &lod.levels[above]);
         levels.push(write_level(
             &args,
             &mut out,
@@ -458,7 +370,7 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
         )?);
     }
     let glb = match args.format {
-        LodFormat::Glb => Some(add_chain(&mut out, &args.output, &chain(&lod), &args.glb)?),
+        LodFormat::Glb => Some(add_chain(&mut out, &args.output, &lod, &args.glb)?),
         _ => None,
     };
     out.remove_stale(&args.output, is_level_file);
@@ -501,15 +413,6 @@ fn level_file(args: &LodArgs, level: usize) -> String {
     } else {
         CHAIN_FILE.to_string()
     }
-}
-
-/// The non-empty levels for the glTF chain: level, mesh, voxel size.
-fn chain(lod: &Lod) -> Vec<(usize, voxlod::core::TriangleMesh, f64)> {
-    lod.levels
-        .iter()
-        .filter(|l| !l.mesh.is_empty())
-        .map(|l| (l.plan.level, l.mesh.clone(), l.plan.voxel_size))
-        .collect()
 }
 
 /// The progress callback: the bar, the preparation's warnings as the work starts, and a line
@@ -555,40 +458,10 @@ fn print_repairs(args: &LodArgs, p: &voxlod::sampling::MeshPreparation) {
     }
 }
 
-/// The library's failure about the input; "no surface" in the flags' words.
-fn lod_error(args: &LodArgs, e: voxlod::Error) -> CliError {
-    match e {
-        voxlod::Error::Pyramid(voxlod::PyramidError::NoSurface {
-            iso,
-            voxel_size,
-            radius,
-        }) => CliError::msg(format!(
-            "{}: no level has a surface, so nothing was written: at every level the filtered \
-             density stays below the isodensity {iso}. The object is thinner than the filter \
-             (level 0: voxel {voxel_size:.4}, radius {radius:.4}) or encloses no volume; use a \
-             higher --resolution, a smaller --radius or a lower --iso",
-            args.input.display()
-        )),
-        voxlod::Error::InvalidOption(o) => CliError::usage(format!(
-            "--{} {}: {}",
-            flag_name(o.option),
-            o.value,
-            o.problem
-        )),
-        voxlod::Error::Pyramid(voxlod::PyramidError::IsoRequired) => CliError::usage(format!(
-            "{}: --direct needs --iso V in the data's units",
-            args.input.display()
-        )),
-        e => in_file(&args.input, e),
-    }
-}
-
-/// The flag of a [`voxlod::LodOptions`] field.
-fn flag_name(option: &str) -> String {
-    match option {
-        "radius_voxels" => "radius".to_string(),
-        other => other.replace('_', "-"),
-    }
+/// The library's failure about the input, its options named as the flags (`--radius` for
+/// `radius_voxels`) and its class, and so the exit status, kept.
+pub(super) fn lod_error(args: &LodArgs, e: voxlod::Error) -> CliError {
+    in_flags(e.in_file(&args.input), &[("radius_voxels", "--radius")])
 }
 
 /// Adds one level's mesh to the output set (none for an empty level) and reports it.
@@ -596,7 +469,7 @@ fn write_level(
     args: &LodArgs,
     out: &mut OutputSet,
     level: &LodLevel,
-    previous: Option<&Topology>,
+    previous: Option<&LodLevel>,
     finest_voxel: f64,
 ) -> Result<LevelReport, CliError> {
     let plan = &level.plan;
@@ -611,17 +484,7 @@ fn write_level(
     let write_seconds = write_start.elapsed().as_secs_f64();
     let t = &level.topology;
     let envelope_seconds = level.envelope.as_ref().map_or(0.0, |e| e.seconds);
-    let (handles_removed, components_gained) = match (&level.monotone, previous) {
-        (Some(record), _) => (record.handles_removed, record.surfaces_gained),
-        (None, Some(above)) => (
-            above
-                .genus
-                .unwrap_or(0)
-                .saturating_sub(t.genus.unwrap_or(0)) as u64,
-            t.components as i64 - above.components as i64,
-        ),
-        (None, None) => (0, 0),
-    };
+    let (handles_removed, components_gained) = level.change_from(previous);
     Ok(LevelReport {
         level: plan.level,
         resolution: plan.resolution,
@@ -675,12 +538,14 @@ fn lod_report(
     };
     let mut warnings = lod.warnings.clone();
     warnings.extend(written_warnings.iter().cloned());
-    let frame = loaded
-        .volume_world()
-        .map(|v| frame_report(v, args.frame.target()));
+    let world = loaded.world(args.frame.target());
     LodReport {
-        frame: frame.as_ref().map(|f| f.frame),
-        transform: frame.map(|f| f.transform),
+        frame: world.map(|w| w.frame),
+        transform: world.map(|w| w.matrix()),
+        blockwise: match loaded {
+            Loaded::Scan(scan) => scan.blockwise_reason(),
+            Loaded::Mesh(_) => None,
+        },
         input: args.input.display().to_string(),
         mesh,
         route: lod.route.name(),

@@ -10,13 +10,11 @@ use std::time::Instant;
 use serde::Serialize;
 use voxlod::budget::BudgetLevel;
 use voxlod::io::OutputSet;
-use voxlod::{Lod, LodOptions, Source};
+use voxlod::{Lod, LodOptions};
 
 use super::common::say;
-use super::common::{
-    add_report, describe_mesh, in_dir, in_file, print_json, read_input, CliError, Input,
-};
-use super::lod::LodArgs;
+use super::common::{add_report, describe_mesh, in_dir, print_json, CliError};
+use super::lod::{lod_error, LodArgs};
 
 /// The report of a budget run.
 #[derive(Serialize)]
@@ -45,23 +43,9 @@ struct BudgetLevelReport {
 /// Runs the budget pipeline as `args` ask (`--triangles` or `--error` was given).
 pub fn run(args: &LodArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    let options = options(args)?;
-    let input = read_input(&args.input, &args.route.raw)?;
-    let source = match &input {
-        Input::Mesh(loaded) => Source::Mesh(&loaded.mesh),
-        Input::Volume(volume) => match (args.route.threshold, args.route.direct) {
-            (Some(threshold), _) => Source::Threshold { volume, threshold },
-            (None, true) => Source::Direct(volume),
-            (None, false) => {
-                return Err(CliError::msg(format!(
-                    "{}: a volume needs --threshold T (inside where the data is >= T) or \
-                     --direct (filter the data itself, with --iso in its units)",
-                    args.input.display()
-                )))
-            }
-        },
-    };
-    let lod = voxlod::lod(&source, &options).map_err(|e| in_file(&args.input, e))?;
+    let options = options(args);
+    let input = args.route.read(&args.input)?;
+    let lod = voxlod::lod(&args.route.source(&input), &options).map_err(|e| lod_error(args, e))?;
     let level_name = |level: usize| super::lod::level_name(args, level);
     let mut out = OutputSet::protecting([&args.input]);
     for i in 0..lod.levels.len() {
@@ -105,7 +89,7 @@ pub fn run(args: &LodArgs) -> Result<(), CliError> {
 }
 
 /// The library options of `args`.
-fn options(args: &LodArgs) -> Result<LodOptions, CliError> {
+fn options(args: &LodArgs) -> LodOptions {
     let mut options = LodOptions {
         triangles: args.triangles.clone(),
         error: args.error,
@@ -114,24 +98,13 @@ fn options(args: &LodArgs) -> Result<LodOptions, CliError> {
         fit: (!args.no_fit).then(voxlod::FitOptions::default),
         time_cap: args.time_cap,
         iso: args.iso,
+        frame: args.frame.target(),
         ..LodOptions::default()
     };
     options.pyramid.filter = args.filter;
     options.pyramid.radius_voxels = args.radius;
     options.pyramid.lines_per_radius = args.lines_per_radius;
-    if args.then_envelope.is_some() {
-        return Err(CliError::usage(
-            "--then-envelope works on resolutions; with --triangles or --error choose the stage \
-             with --then envelope",
-        ));
-    }
-    if args.resolutions.is_some() {
-        return Err(CliError::usage(
-            "--resolutions and --triangles/--error exclude each other: the budget pipeline \
-             chooses the resolution of each level",
-        ));
-    }
-    Ok(options)
+    options
 }
 
 fn report(

@@ -1,17 +1,17 @@
 //! `voxlod lod --format glb`: every level in one `DIR/lod.glb`, chained with `MSFT_lod` from the
 //! finest to the coarsest, with `MSFT_screencoverage` from `voxlod select`'s pixel-size rule
-//! (crate `voxlod-gltf`); `--split` writes the level files too, `--compress meshopt` quantizes
+//! (`voxlod::lod_glb`); `--split` writes the level files too, `--compress meshopt` quantizes
 //! and encodes the geometry as gltfpack does.
 
 use std::path::Path;
 
 use clap::{Args, ValueEnum};
 use serde::Serialize;
-use voxlod::core::TriangleMesh;
+use voxlod::gltf::ChainOptions;
 use voxlod::io::OutputSet;
-use voxlod_gltf::{chain_document, to_glb, ChainLevel, ChainOptions, Compression};
+use voxlod::Lod;
 
-use super::common::{in_dir, CliError, MeshExtension};
+use super::common::{in_dir, in_file, CliError, MeshExtension};
 
 /// The name of the chain file in the output folder.
 pub const CHAIN_FILE: &str = "lod.glb";
@@ -79,37 +79,25 @@ pub struct GlbReport {
     pub screen_coverage: Vec<f64>,
 }
 
-/// Encodes the chain of `levels` (level, mesh, voxel size) and adds `DIR/lod.glb` to `out`.
+/// Encodes the levels of `lod` that have a surface as one chain and adds `DIR/lod.glb` to `out`.
 pub fn add_chain(
     out: &mut OutputSet,
     dir: &Path,
-    levels: &[(usize, TriangleMesh, f64)],
+    lod: &Lod,
     args: &GlbArgs,
 ) -> Result<GlbReport, CliError> {
-    let chain: Vec<ChainLevel> = levels
-        .iter()
-        .map(|(level, mesh, cell_size)| ChainLevel::new(*level, mesh, *cell_size))
-        .collect();
     let options = match args.compress {
         Some(CompressArg::Meshopt) => ChainOptions::meshopt(),
         None => ChainOptions::default(),
     };
     let path = in_dir(dir, CHAIN_FILE);
-    let fail = |e: voxlod_gltf::GltfError| CliError::msg(format!("{}: {e}", path.display()));
-    let (doc, bin) = chain_document(&chain, &options).map_err(fail)?;
-    let bytes = to_glb(&doc, bin).map_err(fail)?;
+    let (bytes, screen_coverage) = voxlod::lod_glb(lod, &options).map_err(|e| in_file(&path, e))?;
     out.bytes(&path, &bytes)?;
-    let screen_coverage =
-        serde_json::from_value(doc["nodes"][0]["extras"]["MSFT_screencoverage"].clone())
-            .unwrap_or_default();
     Ok(GlbReport {
         file: CHAIN_FILE.into(),
         bytes: bytes.len(),
-        compression: (options.compression == Compression::Meshopt).then_some("meshopt"),
-        levels: chain
-            .iter()
-            .filter(|l| !l.mesh.triangles.is_empty())
-            .count(),
+        compression: args.compress.map(|_| "meshopt"),
+        levels: screen_coverage.len(),
         screen_coverage,
     })
 }

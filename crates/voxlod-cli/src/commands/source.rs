@@ -6,10 +6,11 @@ use std::path::Path;
 
 use clap::Args;
 use serde::Serialize;
+use voxlod::pyramid::ScanRoute;
 use voxlod::sampling::MeshPreparation;
 
 use super::common::{check_grid_range, read_input, CliError, Input, RawArgs};
-use super::values::number;
+use super::values::{in_flags, number};
 
 /// How a scanned volume enters the pipeline.
 #[derive(Args, Debug, Clone)]
@@ -33,25 +34,20 @@ impl VolumeRoute {
         let input = read_input(path, &self.raw)?;
         if let Input::Volume(volume) = &input {
             check_grid_range(volume, path, self.raw.spacing_source())?;
-            if self.threshold.is_none() && !self.direct {
-                return Err(CliError::msg(format!(
-                    "{}: a volume needs --threshold T (inside where the data is >= T) or --direct \
-                     (filter the data itself, with --iso in its units)",
-                    path.display()
-                )));
-            }
+            ScanRoute::of(self.threshold, self.direct)
+                .map_err(|e| in_flags(voxlod::Error::from(e).in_file(path), &[]))?;
         }
         Ok(input)
     }
 
-    /// The library's source for what [`VolumeRoute::read`] read.
+    /// The library's source for what [`VolumeRoute::read`] read (which refused a volume
+    /// without a route).
     pub fn source<'a>(&self, input: &'a Input) -> voxlod::Source<'a> {
-        match (input, self.threshold) {
-            (Input::Mesh(m), _) => voxlod::Source::Mesh(&m.mesh),
-            (Input::Volume(volume), Some(threshold)) => {
-                voxlod::Source::Threshold { volume, threshold }
-            }
-            (Input::Volume(volume), None) => voxlod::Source::Direct(volume),
+        match input {
+            Input::Mesh(m) => voxlod::Source::Mesh(&m.mesh),
+            Input::Volume(volume) => ScanRoute::of(self.threshold, self.direct)
+                .unwrap_or(ScanRoute::Direct)
+                .source(volume),
         }
     }
 }
