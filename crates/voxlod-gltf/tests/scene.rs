@@ -667,3 +667,119 @@ fn documents_with_a_changed_number_never_panic() {
         }
     }
 }
+
+/// Every triangle corner with its attributes, as bits, sorted: equal for two meshes that draw
+/// the same triangles with the same looks, whatever their vertex order and primitives.
+fn corners(read: &SceneRead) -> Vec<Vec<u32>> {
+    let a = &read.asset;
+    let m = &a.mesh;
+    let mut out: Vec<Vec<u32>> = m
+        .triangles
+        .iter()
+        .enumerate()
+        .flat_map(|(t, tri)| {
+            let material = a.materials[m.material[t] as usize].name.len() as u32;
+            tri.map(|v| {
+                let v = v as usize;
+                let mut c: Vec<f32> = m.positions[v].to_array().to_vec();
+                c.extend(m.normals[v].to_array());
+                c.extend(m.uv[0].get(v).map_or([0.0; 2], |t| t.to_array()));
+                c.extend(m.colors.get(v).map_or([1.0; 4], |c| c.to_array()));
+                // -0 and 0 are one value (a transform on reading turns one into the other).
+                let mut bits: Vec<u32> = c.into_iter().map(|x| (x + 0.0).to_bits()).collect();
+                bits.push(material);
+                bits
+            })
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+#[test]
+fn an_asset_written_and_read_back_is_the_same_in_both_layouts() {
+    let (doc, bin) = scene(Storage::Float, true);
+    let input = parse_scene(&glb(&doc, bin), None).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for layout in [voxlod_gltf::Layout::MsftLod, voxlod_gltf::Layout::LodNodes] {
+        // Two levels: the asset and its first cube alone; read back, the finest is the asset.
+        let mut coarse = input.asset.clone();
+        coarse.mesh.triangles.truncate(12);
+        coarse.mesh.material.truncate(12);
+        coarse.parts.clear();
+        let options = voxlod_gltf::AssetGlbOptions {
+            layout,
+            ..Default::default()
+        };
+        let bytes = voxlod_gltf::asset_glb(&[input.asset.clone(), coarse], &options).unwrap();
+        let back = parse_scene(&bytes, None).unwrap();
+        assert!(back.warnings.is_empty(), "{:?}", back.warnings);
+        assert_eq!(corners(&back), corners(&input), "{layout:?}");
+        assert_eq!(back.asset.images, input.asset.images);
+        let textured = &back
+            .asset
+            .materials
+            .iter()
+            .find(|m| m.name == "checker")
+            .unwrap();
+        assert_eq!(**textured, input.asset.materials[0]);
+        let path = dir.path().join(format!("{layout:?}.glb"));
+        std::fs::write(&path, &bytes).unwrap();
+        if let Some(v) = voxlod_testkit::gltf_validator::validate_gltf(&path) {
+            assert_eq!((v.errors, v.warnings), (0, 0), "{layout:?}: {}", v.report);
+        }
+    }
+}
+
+#[test]
+fn writing_refuses_what_cannot_make_a_file() {
+    let (doc, bin) = scene(Storage::Float, true);
+    let asset = parse_scene(&glb(&doc, bin), None).unwrap().asset;
+    let options = voxlod_gltf::AssetGlbOptions::default();
+    let e = voxlod_gltf::asset_glb(&[], &options)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no level"), "{e}");
+    let mut broken = asset.clone();
+    broken.mesh.colors.pop();
+    let e = voxlod_gltf::asset_glb(&[broken], &options)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("level 0") && e.contains("colours"), "{e}");
+    let wrong = voxlod_gltf::AssetGlbOptions {
+        coverages: vec![0.5],
+        ..Default::default()
+    };
+    let e = voxlod_gltf::asset_glb(&[asset.clone(), asset], &wrong)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("one per level"), "{e}");
+}
+
+#[test]
+fn an_untextured_chain_declares_msft_lod_and_validates() {
+    let (doc, bin) = scene(Storage::Float, true);
+    let mut asset = parse_scene(&glb(&doc, bin), None).unwrap().asset;
+    asset.materials = asset.materials.iter().map(|m| m.untextured()).collect();
+    asset.images.clear();
+    let bytes = voxlod_gltf::asset_glb(&[asset.clone(), asset], &Default::default()).unwrap();
+    let json = gltf::binary::Glb::from_slice(&bytes)
+        .unwrap()
+        .json
+        .into_owned();
+    let root: Value = serde_json::from_slice(&json).unwrap();
+    assert_eq!(
+        root["extensionsUsed"],
+        json!(["KHR_materials_emissive_strength", "MSFT_lod"])
+    );
+    assert_eq!(
+        root["nodes"][0]["extensions"]["MSFT_lod"]["ids"],
+        json!([1])
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("plain.glb");
+    std::fs::write(&path, &bytes).unwrap();
+    if let Some(v) = voxlod_testkit::gltf_validator::validate_gltf(&path) {
+        assert_eq!((v.errors, v.warnings), (0, 0), "{}", v.report);
+    }
+}

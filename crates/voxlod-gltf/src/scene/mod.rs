@@ -11,12 +11,15 @@
 //! ignored. The JSON is validated by the `gltf` crate (indices in range, required fields) after
 //! the extensions it does not know are handled here.
 //!
+//! [`write`] writes levels of an asset back, with their looks, in either of two layouts.
+//!
 //! Cost: linear in the file, its buffers and images; every size meets the memory budget first.
 
 mod accessor;
 mod buffers;
 mod materials;
 mod nodes;
+pub mod write;
 
 use std::path::Path;
 
@@ -25,6 +28,8 @@ use voxlod_asset::{Asset, Material};
 use voxlod_core::memory::check_allocation;
 
 use crate::GltfError;
+
+pub use write::{asset_glb, AssetGlbOptions, Layout};
 
 /// Extensions this reader understands.
 const READ: [&str; 6] = [
