@@ -207,16 +207,16 @@ fn read_primitive(
             return Ok(None);
         }
     };
+    let mut read = read_columns(p, buffers)?;
+    read.positions = positions;
+    read.triangles = triangles;
+    read.check_lengths(n)?;
+    Ok(Some(read))
+}
+
+/// A primitive's attribute columns other than positions (the positions and triangles empty).
+fn read_columns(p: &Primitive, buffers: &[Vec<u8>]) -> Result<Read, GltfError> {
     let column = |s: Semantic| p.get(&s);
-    let sized = |what: &str, len: usize| {
-        if len == n {
-            Ok(())
-        } else {
-            Err(GltfError::Invalid(format!(
-                "{len} {what} for {n} positions"
-            )))
-        }
-    };
     let normals = column(Semantic::Normals)
         .map(|a| floats::<3>(&a, buffers))
         .transpose()?
@@ -225,8 +225,8 @@ fn read_primitive(
         .map(|a| floats::<4>(&a, buffers))
         .transpose()?
         .map(|v| v.into_iter().map(Vec4::from).collect::<Vec<_>>());
-    let uv = [0, 1].map(|k| column(Semantic::TexCoords(k)).map(|a| floats::<2>(&a, buffers)));
-    let [uv0, uv1] = uv;
+    let [uv0, uv1] =
+        [0, 1].map(|k| column(Semantic::TexCoords(k)).map(|a| floats::<2>(&a, buffers)));
     let uv = [uv0.transpose()?, uv1.transpose()?]
         .map(|o| o.map(|v| v.into_iter().map(Vec2::from).collect::<Vec<_>>()));
     let colors = match column(Semantic::Colors(0)) {
@@ -244,25 +244,34 @@ fn read_primitive(
         ),
         None => None,
     };
-    for (what, len) in [
-        ("normals", normals.as_ref().map(Vec::len)),
-        ("tangents", tangents.as_ref().map(Vec::len)),
-        ("texture coordinates 0", uv[0].as_ref().map(Vec::len)),
-        ("texture coordinates 1", uv[1].as_ref().map(Vec::len)),
-        ("colours", colors.as_ref().map(Vec::len)),
-    ] {
-        if let Some(len) = len {
-            sized(what, len)?;
-        }
-    }
-    Ok(Some(Read {
-        positions,
+    Ok(Read {
+        positions: Vec::new(),
         normals,
         tangents,
         uv,
         colors,
-        triangles,
-    }))
+        triangles: Vec::new(),
+    })
+}
+
+impl Read {
+    /// Refuses a column whose length is not the `n` positions'.
+    fn check_lengths(&self, n: usize) -> Result<(), GltfError> {
+        for (what, len) in [
+            ("normals", self.normals.as_ref().map(Vec::len)),
+            ("tangents", self.tangents.as_ref().map(Vec::len)),
+            ("texture coordinates 0", self.uv[0].as_ref().map(Vec::len)),
+            ("texture coordinates 1", self.uv[1].as_ref().map(Vec::len)),
+            ("colours", self.colors.as_ref().map(Vec::len)),
+        ] {
+            if let Some(len) = len.filter(|&len| len != n) {
+                return Err(GltfError::Invalid(format!(
+                    "{len} {what} for {n} positions"
+                )));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Appends a primitive in world space, filling the columns one side lacks.
