@@ -66,7 +66,7 @@ pub fn collapse(asset: &Asset, triangles: usize) -> Result<Asset, AssetError> {
 /// The asset collapsed towards `triangles` triangles (meshoptimizer stops above the count where
 /// a further collapse would break a seam or the topology it keeps); its vertices are a subset of
 /// the input's, with all their attributes, and each triangle keeps its material. Refuses an
-/// invalid asset ([`Asset::validate`]) and asks the memory budget for the copies.
+/// invalid asset ([`Asset::validate`]) and asks the memory limit for the copies.
 pub fn collapse_with(
     asset: &Asset,
     triangles: usize,

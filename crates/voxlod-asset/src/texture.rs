@@ -4,7 +4,7 @@
 //! are not decoded; [`decode_base_colours`] names them in its warnings and the material's factor
 //! stands in.
 //!
-//! Cost: decoding is linear in the image; the image's size meets the memory budget before it
+//! Cost: decoding is linear in the image; the image's size meets the memory limit before it
 //! is decoded. A sample costs four texel reads.
 
 use std::io::Cursor;

@@ -52,7 +52,7 @@ pub enum ClusteringError {
         /// The value given.
         value: f64,
     },
-    /// The memory budget's refusal, or another core error.
+    /// The memory limit's refusal, or another core error.
     #[error(transparent)]
     Core(#[from] CoreError),
 }

@@ -40,7 +40,7 @@ pub enum BlockError {
     /// The block's cells or samples reach past its sub-volume or the whole grid.
     #[error("the block does not fit its grid: {0}")]
     OutsideGrid(String),
-    /// The extraction failed (32-bit limits, the memory budget).
+    /// The extraction failed (32-bit limits, the memory limit).
     #[error(transparent)]
     Contour(#[from] ContourError),
 }

@@ -155,7 +155,7 @@ pub enum ContourError {
         /// The grid's samples along x, y, z.
         dims: [usize; 3],
     },
-    /// The classification bits or the mesh would not fit in the memory budget.
+    /// The classification bits or the mesh would not fit in the memory limit.
     #[error(transparent)]
     Memory(#[from] CoreError),
 }
@@ -663,7 +663,7 @@ fn zeroed_points(len: usize) -> Vec<Vec3> {
     if len == 0 {
         return Vec::new();
     }
-    let layout = std::alloc::Layout::array::<Vec3>(len).expect("a mesh within the memory budget");
+    let layout = std::alloc::Layout::array::<Vec3>(len).expect("a mesh within the memory limit");
     // SAFETY: the layout has a non-zero size; all-zero bytes are a valid `Vec3` (three 0.0);
     // the buffer comes from the global allocator with the layout of `len` `Vec3`s, as
     // `Vec::from_raw_parts` requires, and all `len` of them are initialised.

@@ -7,7 +7,7 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 pub enum CoreError {
     #[error("{what} would need {} but only {} is available (set VOXLOD_MAX_MEMORY to change the limit)", human_bytes(*.needed), human_bytes(*.available))]
-    /// An allocation would exceed the memory budget (see [`crate::memory`]).
+    /// An allocation would exceed the memory limit (see [`crate::memory`]).
     OutOfMemory {
         /// What the memory was for, in words (`"the filtered density"`).
         what: String,

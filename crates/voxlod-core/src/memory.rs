@@ -1,6 +1,6 @@
 //! Refusing work that cannot fit in memory, before allocating it.
 //!
-//! The budget is the smallest of what limits this process:
+//! The memory limit is the smallest of what limits this process:
 //!
 //! - `VOXLOD_MAX_MEMORY` when set (bytes, or with a `K`, `M`, `G` or `T` suffix, binary units),
 //!   taken as given; a value that is not a size is an error naming the variable and the value;
@@ -23,10 +23,10 @@ use std::path::{Path, PathBuf};
 
 use crate::CoreError;
 
-/// The environment variable that caps the budget.
+/// The environment variable that sets the memory limit.
 pub const MAX_MEMORY_VARIABLE: &str = "VOXLOD_MAX_MEMORY";
 
-/// The budget when no limit can be read.
+/// The memory limit when no limit can be read.
 const FALLBACK: u64 = 8 << 30;
 
 /// Bytes of `count` values of `T`, saturating instead of overflowing.

@@ -38,7 +38,7 @@ pub enum EnvelopeError {
     /// More vertices or triangles than the ids can name (the counts and the limit, in words).
     #[error("the mesh is too large: {0}")]
     TooLarge(String),
-    /// The memory budget's refusal, or another core error.
+    /// The memory limit's refusal, or another core error.
     #[error(transparent)]
     Core(#[from] CoreError),
     /// Measuring the distance to the input failed.

@@ -63,7 +63,7 @@ use voxlod_metrics::MetricsError;
 /// Why a mesh could not be fitted.
 #[derive(Debug, thiserror::Error)]
 pub enum FitError {
-    /// The level or the input cannot be measured (no triangles with area, the memory budget).
+    /// The level or the input cannot be measured (no triangles with area, the memory limit).
     #[error(transparent)]
     Metrics(#[from] MetricsError),
 }

@@ -2,7 +2,7 @@
 //! one with the same JSON but plain views in a single buffer, so that a reader without a
 //! meshopt decoder (the viewer page) can take it. Quantized attributes stay quantized
 //! (`KHR_mesh_quantization` is core WebGL work). Every count read from the file goes through
-//! the memory budget and is checked against the view it fills; a broken file is an error,
+//! the memory limit and is checked against the view it fills; a broken file is an error,
 //! never a panic.
 //!
 //! Cost: linear in the decoded size.

@@ -114,7 +114,7 @@ fn node_name(value: i64, name: Option<&str>) -> String {
 }
 
 /// The `.glb` bytes of the labels' meshes (those with triangles), one node each in the order
-/// given. Fails when the binary chunk would not fit in the memory budget
+/// given. Fails when the binary chunk would not fit in the memory limit
 /// ([`GltfError::Core`]).
 pub fn labels_glb(labels: &[LabelMesh]) -> Result<Vec<u8>, GltfError> {
     let size: usize = labels

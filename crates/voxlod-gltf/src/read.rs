@@ -7,7 +7,7 @@
 //! is documented with the layered writer, `voxlod_layers::glb`.
 //!
 //! Every offset is checked against the buffer, so a broken file is an error, never a panic;
-//! the file's size meets the memory budget before it is read. Node transforms are ignored, and
+//! the file's size meets the memory limit before it is read. Node transforms are ignored, and
 //! so are sparse accessors and data outside the GLB's own buffer (refused). Cost: linear in
 //! the file.
 

@@ -45,7 +45,7 @@ pub enum LayersError {
     /// Filtering the solid failed.
     #[error(transparent)]
     Sampling(#[from] SamplingError),
-    /// The memory budget's refusal, or another core error.
+    /// The memory limit's refusal, or another core error.
     #[error(transparent)]
     Core(#[from] CoreError),
     /// Drawing the preview failed.

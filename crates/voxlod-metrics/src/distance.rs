@@ -125,7 +125,7 @@ pub struct DistanceReport {
 ///
 /// Fails when either mesh is empty, invalid, or has no area (the error names which one), when
 /// the sample count is zero or above [`crate::surface_sampling::MAX_SAMPLES`], and when a block
-/// of samples would not fit in the memory budget.
+/// of samples would not fit in the memory limit.
 ///
 /// Two unit squares a quarter apart: every sample of either lies exactly 0.25 from the other.
 ///

@@ -35,7 +35,7 @@ pub enum MetricsError {
         /// What is wrong with it.
         source: Box<MetricsError>,
     },
-    /// An allocation over the memory budget.
+    /// An allocation over the memory limit.
     #[error(transparent)]
     Core(#[from] CoreError),
 }

@@ -186,7 +186,7 @@ impl<'a> SurfaceSampler<'a> {
     }
 
     /// All the samples `options` describes, drawn in parallel. Fails on a count above
-    /// [`MAX_SAMPLES`], and when they would not fit in the memory budget.
+    /// [`MAX_SAMPLES`], and when they would not fit in the memory limit.
     pub fn samples(&self, options: &SamplingOptions) -> Result<Vec<SurfaceSample>, MetricsError> {
         check_sample_ceiling(options.samples)?;
         voxlod_core::memory::check_allocation(

@@ -15,7 +15,7 @@ pub enum Kind {
     Usage,
     /// The data cannot be processed: `voxlod.InputError` (a `ValueError`).
     BadInput,
-    /// Beyond the memory budget or 32-bit indices: `voxlod.TooLargeError` (a `MemoryError`).
+    /// Beyond the memory limit or 32-bit indices: `voxlod.TooLargeError` (a `MemoryError`).
     TooLarge,
     /// A file: `voxlod.FileError` (an `OSError`).
     Io,

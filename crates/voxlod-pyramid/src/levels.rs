@@ -15,7 +15,7 @@
 //! settled in turn, but while a dense level is settled the next is already sampled on another
 //! task, and once settled the level is contoured, cleaned and checked on a task of its own
 //! while the coarser levels go on ([`crate::lod::sample_ahead`] says when: dense levels, the
-//! next at most 256 MiB, both within the memory budget). The finest level's cleaning, partly
+//! next at most 256 MiB, both within the memory limit). The finest level's cleaning, partly
 //! sequential, then overlaps the rest of the chain. Its progress (contoured, simplified, the
 //! finished level) is reported in level order once the levels are made.
 //!

@@ -6,7 +6,7 @@
 //!   directly, or a scan read block by block ([`blockwise`]); [`Source::prepare`] checks it and
 //!   chooses the route ([`Route`]). A scan file is opened whole or blockwise by [`Scan`].
 //! - **Levels** ([`lod()`], [`lod_with`]): the resolutions planned and checked against the
-//!   memory budget, levels sampled ahead on all cores, the genus kept from rising along the
+//!   memory limit, levels sampled ahead on all cores, the genus kept from rising along the
 //!   chain ([`voxlod_sampling::monotone_level`]), each level cleaned and, on request,
 //!   simplified within ε by simplification envelopes ([`ThenEnvelope`]); one level at a time
 //!   with [`lod::plan`] and [`lod::build_level`].

@@ -235,16 +235,16 @@ impl LodLevel {
 /// Why a level could not be built.
 #[derive(Debug, thiserror::Error)]
 pub enum LodError {
-    /// The sampling failed (an option, the memory budget).
+    /// The sampling failed (an option, the memory limit).
     #[error(transparent)]
     Sampling(#[from] SamplingError),
-    /// Marching cubes failed (32-bit limits, the memory budget).
+    /// Marching cubes failed (32-bit limits, the memory limit).
     #[error(transparent)]
     Contour(#[from] ContourError),
-    /// Cleaning the level failed (the memory budget).
+    /// Cleaning the level failed (the memory limit).
     #[error(transparent)]
     Clean(#[from] CleanError),
-    /// Keeping the chain's genus from rising failed (the memory budget).
+    /// Keeping the chain's genus from rising failed (the memory limit).
     #[error(transparent)]
     Monotone(#[from] MonotoneError),
     /// Reading a window of a blockwise scan failed.
@@ -338,7 +338,7 @@ pub(crate) enum LevelVolume {
 }
 
 impl LevelVolume {
-    /// The samples as one dense volume (checked against the memory budget).
+    /// The samples as one dense volume (checked against the memory limit).
     pub(crate) fn into_dense(self) -> Result<Volume, LodError> {
         match self {
             LevelVolume::Dense(volume) => Ok(volume),

@@ -2,7 +2,7 @@
 //! window ([`crate::blockwise`]). A scan for the threshold route is read blockwise when asked,
 //! when it is a Zarr array, or when it is too large to hold ([`too_large_to_hold`]: as 32-bit
 //! floats more than the narrow band's [`BAND_ABOVE_BYTES`], or, with its stored samples, more
-//! than the memory budget); a scan filtered directly is held whole. The levels are the same
+//! than the memory limit); a scan filtered directly is held whole. The levels are the same
 //! either way; the choice, and its reason ([`BlockwiseReason`]), decide only the peak memory.
 //!
 //! Beyond the paper (which holds the whole volume). Cost: opening reads the file's header; a
@@ -141,7 +141,7 @@ impl Scan {
 }
 
 /// Whether a scan is better read blockwise: as 32-bit floats it would take more than the
-/// narrow band's [`BAND_ABOVE_BYTES`], or, with its stored samples, more than the memory budget.
+/// narrow band's [`BAND_ABOVE_BYTES`], or, with its stored samples, more than the memory limit.
 pub fn too_large_to_hold(scan: &BlockwiseVolume) -> bool {
     let count = scan.grid().len() as u64;
     let dense = count.saturating_mul(4);

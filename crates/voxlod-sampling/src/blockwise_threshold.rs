@@ -52,7 +52,7 @@ pub enum BlockwiseError<E: std::error::Error + 'static> {
     /// Reading a window of the scan failed.
     #[error(transparent)]
     Read(E),
-    /// An option or the memory budget.
+    /// An option or the memory limit.
     #[error(transparent)]
     Sampling(#[from] SamplingError),
 }
@@ -494,7 +494,7 @@ where
 impl BlockwiseThreshold {
     /// True when the blocks' windows together hold the scan more than `whole_scan_above` times
     /// over and the whole scan (as `f32`, and a byte per sample for its classification) fits
-    /// the memory budget.
+    /// the memory limit.
     fn reads_scan_over(&self) -> bool {
         let [bx, by, bz] = self.block_dims();
         let windows: u64 = (0..bx * by * bz)

@@ -126,7 +126,7 @@ pub fn filtered_density(
 
 /// The lattice crossings of the three families (majority-voted when the solid is not exact),
 /// the line kernel and the report, after checking the options and `estimate(q)` bytes against
-/// the memory budget. Shared by [`filtered_density`] and [`crate::narrow_band`].
+/// the memory limit. Shared by [`filtered_density`] and [`crate::narrow_band`].
 pub(crate) fn lattice_crossings(
     solid: &dyn Solid,
     grid: &Grid,

@@ -15,7 +15,7 @@ pub enum SamplingError {
     /// An option out of its range (a radius, a resolution), said in words.
     #[error("invalid option: {0}")]
     InvalidOption(String),
-    /// An invalid grid, or work that would not fit in the memory budget.
+    /// An invalid grid, or work that would not fit in the memory limit.
     #[error(transparent)]
     Core(#[from] CoreError),
 }

@@ -11,7 +11,7 @@
 //! side, so that the filtered density is zero on the grid's boundary and marching cubes closes
 //! every surface. The padding is why a level of "resolution 200" has a few more samples.
 //!
-//! Cost: planning is O(levels), and checks every level against the memory budget before any
+//! Cost: planning is O(levels), and checks every level against the memory limit before any
 //! work starts; each level then costs one [`crate::filtered_density`], so the finest level
 //! dominates (halving the resolution divides the samples by eight).
 

@@ -13,7 +13,7 @@
 //! position can make that fail by a resolution or two, which the bisection then lands beside.
 //!
 //! Cost: one filtered sampling per probe, about `2 log2(max/resolution)` probes, each no bigger
-//! than the finest probed level (checked against the memory budget first).
+//! than the finest probed level (checked against the memory limit first).
 
 use serde::Serialize;
 use voxlod_core::Volume;

@@ -1,5 +1,5 @@
 //! Why a page could not be made: a file that cannot be read or is not a usable `.glb` (an
-//! [`IoError`] naming it, of kind `Access` or `Malformed`), a glTF failure, the memory budget,
+//! [`IoError`] naming it, of kind `Access` or `Malformed`), a glTF failure, the memory limit,
 //! or nothing to show. Each is a stage error the facade's `voxlod::Error` takes as it is, so a
 //! caller keeps its class; [`ViewError::NoInput`] is the caller's mistake.
 
@@ -16,7 +16,7 @@ pub enum ViewError {
     /// A glTF failure.
     #[error(transparent)]
     Gltf(#[from] GltfError),
-    /// Work beyond the memory budget.
+    /// Work beyond the memory limit.
     #[error(transparent)]
     Core(#[from] CoreError),
     /// A file that cannot be read, written, or is not a usable `.glb`.

@@ -4,7 +4,7 @@
 //! (taken as they are); sparse accessors applied over their base. The `gltf` crate's reader
 //! takes floats only, hence this one.
 //!
-//! Every range is checked against its buffer, and the element count meets the memory budget,
+//! Every range is checked against its buffer, and the element count meets the memory limit,
 //! so a broken file is an error naming the accessor, never a panic. Cost: linear.
 
 use gltf::accessor::{DataType, Dimensions};

@@ -4,7 +4,7 @@
 //! buffer view is plain afterwards. Works on the JSON as a `serde_json::Value`, before the
 //! `gltf` crate types it, because the crate refuses the compression extension it cannot read.
 //!
-//! Every declared length meets the memory budget before it is allocated, every range is
+//! Every declared length meets the memory limit before it is allocated, every range is
 //! checked against the bytes it reads from, and a file named by a URI must lie beside the
 //! glTF file (no absolute paths, no `..`). Cost: linear in the bytes read and decoded.
 

@@ -13,7 +13,7 @@
 //!
 //! [`write`] writes levels of an asset back, with their looks, in either of two layouts.
 //!
-//! Cost: linear in the file, its buffers and images; every size meets the memory budget first.
+//! Cost: linear in the file, its buffers and images; every size meets the memory limit first.
 
 mod accessor;
 mod buffers;

@@ -55,7 +55,7 @@ def labels(
     mesh-n-bone, igneous and zmesh make them.
 
     The labels are meshed in parallel on every core, a few per core at a time (largest box
-    first, within the memory budget); Ctrl-C is honoured between those groups. Each level is
+    first, within the memory limit); Ctrl-C is honoured between those groups. Each level is
     cleaned of slivers, needles and self-intersections (beyond the paper), as ``voxlod labels``
     does by default.
 

@@ -30,7 +30,7 @@ use voxlod_fit::FitOptions;
 use voxlod_metrics::health::count_zero_area_triangles;
 
 use super::context::BudgetContext;
-use super::geometric::without_caps;
+use super::geometric::without_degenerate;
 use super::BudgetLevel;
 use crate::lod::LodLevel;
 
@@ -64,7 +64,7 @@ fn fitted_level(
     if fitted.iterations == 0 {
         return None;
     }
-    let mesh = without_caps(fitted.mesh, level.plan.voxel_size);
+    let mesh = without_degenerate(fitted.mesh, level.plan.voxel_size);
     let distance = ctx.measure(&mesh)?;
     let topology = mesh_topology(&mesh);
     let same_topology = (topology.genus, topology.components, topology.boundary_loops)

@@ -44,7 +44,7 @@ use voxlod_quadric::{simplify_to_budget, QuadricOptions};
 use super::candidate::{beats, fits, Candidate, Standing};
 use super::context::BudgetContext;
 use super::filled::budget_level_either;
-use super::geometric::without_caps;
+use super::geometric::without_degenerate;
 use super::report::finish;
 use super::{BudgetLevel, Stage, Then};
 use crate::error::PyramidError;
@@ -165,7 +165,7 @@ fn simplified_above(
     }
     let options = QuadricOptions::budget(error.unwrap_or(f64::INFINITY));
     let done = simplify_to_budget(&above.mesh, budget, &options).ok()?;
-    let mesh = without_caps(done.mesh, above.plan.voxel_size);
+    let mesh = without_degenerate(done.mesh, above.plan.voxel_size);
     let candidate = Candidate {
         distance: ctx.measure(&mesh),
         mesh,

@@ -65,7 +65,7 @@ pub(super) fn stages(
 
 /// The quadric stage on `level`'s mesh for `target` triangles within `error`: meshoptimizer's
 /// collapse with the topology kept, the smallest parts dropped where it stalls above the
-/// target, and no zero-area triangle left ([`without_caps`]). `None` where it fails.
+/// target, and no zero-area triangle left ([`without_degenerate`]). `None` where it fails.
 pub(super) fn collapse(
     level: &LodLevel,
     target: usize,
@@ -77,13 +77,13 @@ pub(super) fn collapse(
     };
     let mut done = simplify_dropping_parts(&level.mesh, target, &options).ok()?;
     let simplified = std::mem::take(&mut done.simplified.mesh);
-    done.simplified.mesh = without_caps(simplified, level.plan.voxel_size);
+    done.simplified.mesh = without_degenerate(simplified, level.plan.voxel_size);
     Some(done)
 }
 
 /// `mesh` with its zero-area triangles fixed, judged against a voxel of `voxel`
 /// ([`voxlod_contouring::clean_mesh::without_zero_area`]).
-pub(super) fn without_caps(mesh: TriangleMesh, voxel: f64) -> TriangleMesh {
+pub(super) fn without_degenerate(mesh: TriangleMesh, voxel: f64) -> TriangleMesh {
     without_zero_area(mesh, voxel)
 }
 
@@ -145,7 +145,7 @@ fn envelope_to_count(
 
 #[cfg(test)]
 mod tests {
-    use super::without_caps;
+    use super::without_degenerate;
     use voxlod_core::glam::Vec3;
     use voxlod_core::{mesh_topology, TriangleMesh};
     use voxlod_metrics::health::count_zero_area_triangles;
@@ -184,7 +184,7 @@ mod tests {
         let volume = mesh.signed_volume();
         // The lower pyramid alone: base area 2, height 1.
         assert!((volume - 2.0 / 3.0).abs() < 1e-6, "{volume}");
-        let fixed = without_caps(mesh.clone(), 1.0);
+        let fixed = without_degenerate(mesh.clone(), 1.0);
         assert_eq!(count_zero_area_triangles(&fixed), 0);
         let after = mesh_topology(&fixed);
         assert!(after.is_closed_manifold() && after.is_consistently_oriented());
@@ -193,6 +193,6 @@ mod tests {
         assert_eq!(fixed.triangle_count(), 8);
         assert!((fixed.signed_volume() - volume).abs() < 1e-6);
         // A mesh without a cap comes back as it was, vertex order included.
-        assert_eq!(without_caps(fixed.clone(), 1.0), fixed);
+        assert_eq!(without_degenerate(fixed.clone(), 1.0), fixed);
     }
 }

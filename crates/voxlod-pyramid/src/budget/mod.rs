@@ -206,7 +206,7 @@ pub(crate) fn lod_by_budget(
     ctx.dilated = input.is_some() && options.iso.is_none() && options.then != Then::None;
     // The input with its cavities filled (module `filled`), and with its nearly enclosed
     // cavities filled (module `enclosed`), each with the context of its search.
-    // An optional search: where its grid does not fit (the memory budget), the run goes on
+    // An optional search: where its grid does not fit (the memory limit), the run goes on
     // without it and says so.
     let mut skipped = None;
     let enclosed = match (&ctx.welded, ctx.dilated) {
@@ -236,7 +236,7 @@ pub(crate) fn lod_by_budget(
     if input.is_some() && ctx.measure.is_none() {
         warnings.push(
             "distances to the input not measured (its samples or closest-point structure could not be \
-             built: the memory budget, or a mesh without area): each budget's first level within \
+             built: the memory limit, or a mesh without area): each budget's first level within \
              10 % is kept"
                 .to_string(),
         );

@@ -3,7 +3,7 @@
 //! [`PyramidError`] of its class.
 //!
 //! Cost: that of [`super::mesh_labels`] (one pass over the map, then each label's box through
-//! the pyramid, the labels in parallel within the memory budget), plus one pass over each
+//! the pyramid, the labels in parallel within the memory limit), plus one pass over each
 //! level's vertices to check them.
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -65,7 +65,7 @@ impl From<LabelError> for PyramidError {
 
 /// Every non-zero label of `map` (or those of `options.labels`) as closed, outward meshes,
 /// each with its levels (paper §2 and §4 on each label's indicator; see the module
-/// [`crate::labels`]), meshed in parallel within the memory budget.
+/// [`crate::labels`]), meshed in parallel within the memory limit.
 ///
 /// `progress` hears one [`crate::Event::Step`] per label meshed (`what` is `"meshed"`, `level`
 /// 0; `total` is the number of labels) and may stop the work: the labels not yet started are
@@ -73,7 +73,7 @@ impl From<LabelError> for PyramidError {
 ///
 /// Fails on a sample that is not an integer label ([`PyramidError::NotALabel`]), a map of
 /// background alone ([`PyramidError::NoLabels`]), a label asked for that the map lacks
-/// (an invalid `labels` option), work beyond the memory budget, and a label whose meshing
+/// (an invalid `labels` option), work beyond the memory limit, and a label whose meshing
 /// fails or whose surface leaves the 32-bit coordinates (the error names the label; with
 /// several, the first in the order of the result).
 ///
