@@ -45,7 +45,7 @@ use super::candidate::{beats, fits, Candidate, Standing};
 use super::context::BudgetContext;
 use super::filled::budget_level_either;
 use super::geometric::without_degenerate;
-use super::report::finish;
+use super::report::{finish, Choice, Tally, Target};
 use super::{BudgetLevel, Stage, Then};
 use crate::error::PyramidError;
 use crate::lod::LodLevel;
@@ -124,18 +124,18 @@ pub(super) fn budget_level_below(
         beats(theirs, Standing::of(&report, cap), budget)
     }) {
         let candidates = report.candidates + 1;
-        let from = (simplified, above_level.clone(), above_report.caps_cut);
-        let voxel_triangles = above_report.voxel_triangles;
-        let mut found = finish(
-            given,
-            from,
-            voxel_triangles,
-            budget,
-            error,
-            candidates,
+        let choice = Choice {
+            candidate: simplified,
+            level: above_level.clone(),
+            caps_cut: above_report.caps_cut,
+            voxel_triangles: above_report.voxel_triangles,
+        };
+        let tally = Tally {
+            tried: candidates,
             start,
             warnings,
-        );
+        };
+        let mut found = finish(given, choice, Target { budget, error }, tally);
         found.1.resolution = above_report.resolution;
         found.1.cavities_filled = above_report.cavities_filled;
         found.1.simplified_from = above_report.budget;

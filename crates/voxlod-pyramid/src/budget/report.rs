@@ -9,19 +9,57 @@ use super::context::BudgetContext;
 use super::{BudgetLevel, Stage, BUDGET_TOLERANCE, FINEST};
 use crate::lod::LodLevel;
 
+/// What a budget asks: its triangles, and the distance target where there is one.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Target {
+    /// The triangle budget.
+    pub budget: usize,
+    /// The distance target, in mesh units.
+    pub error: Option<f64>,
+}
+
+/// The candidate chosen for a budget, on the level it came from.
+pub(super) struct Choice {
+    /// The candidate.
+    pub candidate: Candidate,
+    /// The voxel level it was made from.
+    pub level: LodLevel,
+    /// Caps cut from that level.
+    pub caps_cut: usize,
+    /// Triangles of that level before the geometric stages.
+    pub voxel_triangles: usize,
+}
+
+/// How a budget's search went: candidates tried, when it started, the warnings so far.
+pub(super) struct Tally {
+    /// Candidates tried.
+    pub tried: usize,
+    /// When the budget's search started.
+    pub start: Instant,
+    /// Warnings so far.
+    pub warnings: Vec<String>,
+}
+
 /// The level and report of the chosen candidate (on the level it came from, with the caps cut
 /// from that level), and the warnings with the note of a missed budget.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn finish(
     ctx: &BudgetContext,
-    (chosen, mut level, cut): (Candidate, LodLevel, usize),
-    voxel_triangles: usize,
-    budget: usize,
-    error: Option<f64>,
-    tried: usize,
-    start: Instant,
-    mut warnings: Vec<String>,
+    choice: Choice,
+    target: Target,
+    tally: Tally,
 ) -> (LodLevel, BudgetLevel, Vec<String>) {
+    let Choice {
+        candidate: chosen,
+        mut level,
+        caps_cut: cut,
+        voxel_triangles,
+    } = choice;
+    let Target { budget, error } = target;
+    let Tally {
+        tried,
+        start,
+        mut warnings,
+    } = tally;
     level.mesh = chosen.mesh;
     level.topology = mesh_topology(&level.mesh);
     let cut = if chosen.stage == Stage::InputQuadric {

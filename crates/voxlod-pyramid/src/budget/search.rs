@@ -13,7 +13,7 @@ use super::candidate::{better, fits, fits_capped, Candidate};
 use super::context::BudgetContext;
 use super::geometric::{envelope_candidate, stages};
 use super::input::closer_than_voxels;
-use super::report::{finish, report};
+use super::report::{finish, report, Choice, Tally, Target};
 use super::resolution::step_down;
 use super::{BudgetLevel, Stage, Then, COARSEST, FINEST, HEADROOM};
 use crate::error::PyramidError;
@@ -55,16 +55,18 @@ pub(crate) fn budget_level(
         if fits_capped(&candidate, budget, genus_cap) && closer_than_voxels(ctx, &candidate, budget)
         {
             let voxel_triangles = level.mesh.triangle_count();
-            return Ok(finish(
-                ctx,
-                (candidate, level, 0),
+            let choice = Choice {
+                candidate,
+                level,
+                caps_cut: 0,
                 voxel_triangles,
-                budget,
-                error,
-                1,
+            };
+            let tally = Tally {
+                tried: 1,
                 start,
-                Vec::new(),
-            ));
+                warnings: Vec::new(),
+            };
+            return Ok(finish(ctx, choice, Target { budget, error }, tally));
         }
         best = Some((candidate, level, 0));
     }
@@ -98,17 +100,20 @@ pub(crate) fn budget_level(
         let report = report(ctx, &level, Some(budget), error, 0, tried, start);
         return Ok((level, report, warnings));
     };
-    let voxel_triangles = chosen.1.mesh.triangle_count();
-    Ok(finish(
-        ctx,
-        chosen,
+    let (candidate, level, caps_cut) = chosen;
+    let voxel_triangles = level.mesh.triangle_count();
+    let choice = Choice {
+        candidate,
+        level,
+        caps_cut,
         voxel_triangles,
-        budget,
-        error,
+    };
+    let tally = Tally {
         tried,
         start,
         warnings,
-    ))
+    };
+    Ok(finish(ctx, choice, Target { budget, error }, tally))
 }
 
 /// One level of the search plan, unless the time cap or a fitting candidate skips it: its
