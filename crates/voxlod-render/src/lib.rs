@@ -6,6 +6,7 @@
 //! - [`camera`]: cameras framing a box.
 //! - [`raster`]: exact integer rasterization of one triangle into a tile of samples.
 //! - [`mod@render`]: the scene, binning into tiles, parallel drawing, the box filter.
+//! - [`looks`]: assets drawn with their materials, vertex colours and base colour textures.
 //! - [`image`]: the image, PNG, side-by-side montage; [`metrics`]: RMS and silhouette masks.
 //! - [`silhouette`]: the silhouette difference between a mesh and a simplified copy.
 //!
@@ -47,6 +48,7 @@
 pub mod camera;
 pub mod error;
 pub mod image;
+pub mod looks;
 pub mod metrics;
 pub mod raster;
 pub mod render;
@@ -55,6 +57,7 @@ pub mod silhouette;
 pub use camera::{Camera, Projection};
 pub use error::RenderError;
 pub use image::Image;
+pub use looks::{decode_textures, AssetItem};
 pub use metrics::{rms_difference, silhouette_mask};
 pub use render::{render, LineItem, MeshItem, PointItem, RenderOptions, Scene};
 pub use silhouette::{view_directions, SilhouetteDifference, SilhouetteReference};

@@ -99,6 +99,8 @@ struct Snapped {
     v: [ScreenVertex; 3],
     /// Twice the area in snapped units, positive.
     area2: i64,
+    /// Whether vertices 1 and 2 were swapped to make the order counter-clockwise.
+    swapped: bool,
 }
 
 /// The vertices snapped to 1/[`SUB`] of a sample (`n` samples per pixel side) and put in
@@ -118,12 +120,18 @@ fn snap_counter_clockwise(v: [ScreenVertex; 3], n: u32) -> Option<Snapped> {
     if area2 == 0 {
         return None;
     }
-    if area2 < 0 {
+    let swapped = area2 < 0;
+    if swapped {
         p.swap(1, 2);
         v.swap(1, 2);
         area2 = -area2;
     }
-    Some(Snapped { p, v, area2 })
+    Some(Snapped {
+        p,
+        v,
+        area2,
+        swapped,
+    })
 }
 
 /// The samples (first x, last x, first y, last y, in the whole sample grid) whose centres
@@ -194,7 +202,7 @@ pub fn raster_triangle(
     rgba: [f32; 4],
     blend: bool,
 ) {
-    let Some(Snapped { p, v, area2 }) = snap_counter_clockwise(v, n) else {
+    let Some(Snapped { p, v, area2, .. }) = snap_counter_clockwise(v, n) else {
         return;
     };
     let Some((sx0, sx1, sy0, sy1)) = sample_box(&p, tile) else {
@@ -244,6 +252,90 @@ pub fn raster_triangle(
                         tile.depth[i] = z;
                         tile.color[i] = col;
                         tile.coverage[i] = 1.0;
+                    }
+                }
+            }
+            e[0] += step_x[0];
+            e[1] += step_x[1];
+            e[2] += step_x[2];
+        }
+    }
+}
+
+/// Draws one triangle into `tile` with a colour computed per sample: `fragment` receives the
+/// perspective-correct barycentric weights of the vertices in the order given (they sum to 1)
+/// and the interpolated shade, and returns the sample's linear RGBA, or `None` to leave the
+/// sample untouched (an alpha-masked texel). It is called only for samples that pass the
+/// z-test. `blend` as in [`raster_triangle`]: alpha-blended with no depth write, else written
+/// opaque through the z-buffer. Cost: as [`raster_triangle`] plus one `fragment` per sample.
+pub fn raster_fragments<F>(
+    tile: &mut Tile,
+    v: [ScreenVertex; 3],
+    n: u32,
+    flat: f32,
+    blend: bool,
+    mut fragment: F,
+) where
+    F: FnMut([f32; 3], f32) -> Option<[f32; 4]>,
+{
+    let Some(Snapped {
+        p,
+        v,
+        area2,
+        swapped,
+    }) = snap_counter_clockwise(v, n)
+    else {
+        return;
+    };
+    let Some((sx0, sx1, sy0, sy1)) = sample_box(&p, tile) else {
+        return;
+    };
+    let edges = EdgeFunctions::new(&p);
+    let bias = edges.bias;
+    let inv = 1.0 / area2 as f32;
+    let shade_of = |i: usize| {
+        if v[i].shade.is_nan() {
+            flat
+        } else {
+            v[i].shade
+        }
+    };
+    let (s0, s1, s2) = (shade_of(0), shade_of(1), shade_of(2));
+    let (w0, w1, w2) = (v[0].w, v[1].w, v[2].w);
+    let (z0, z1, z2) = (v[0].z, v[1].z, v[2].z);
+    let step_x = edges.a.map(|a| a * SUB);
+    for sy in sy0..=sy1 {
+        let mut e = [
+            edges.at(0, sx0, sy),
+            edges.at(1, sx0, sy),
+            edges.at(2, sx0, sy),
+        ];
+        let row = ((sy - tile.y0) as usize) * tile.size;
+        for sx in sx0..=sx1 {
+            if ((e[0] + bias[0]) | (e[1] + bias[1]) | (e[2] + bias[2])) >= 0 {
+                let l0 = e[0] as f32 * inv;
+                let l1 = e[1] as f32 * inv;
+                let l2 = 1.0 - l0 - l1;
+                let z = l0 * z0 + l1 * z1 + l2 * z2;
+                let i = row + (sx - tile.x0) as usize;
+                if z < tile.depth[i] {
+                    let pw = 1.0 / (l0 * w0 + l1 * w1 + l2 * w2);
+                    let (q0, q1, q2) = (l0 * w0 * pw, l1 * w1 * pw, l2 * w2 * pw);
+                    let shade = q0 * s0 + q1 * s1 + q2 * s2;
+                    // Back to the caller's vertex order.
+                    let weights = if swapped { [q0, q2, q1] } else { [q0, q1, q2] };
+                    if let Some(rgba) = fragment(weights, shade) {
+                        if blend {
+                            let dst = &mut tile.color[i];
+                            for ch in 0..3 {
+                                dst[ch] += (rgba[ch] - dst[ch]) * rgba[3];
+                            }
+                            tile.coverage[i] += (1.0 - tile.coverage[i]) * rgba[3];
+                        } else {
+                            tile.depth[i] = z;
+                            tile.color[i] = [rgba[0], rgba[1], rgba[2]];
+                            tile.coverage[i] = 1.0;
+                        }
                     }
                 }
             }

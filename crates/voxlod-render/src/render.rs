@@ -12,6 +12,10 @@
 //! per pixel that is averaged into the image at the end. Memory stays per tile, so a 16×16
 //! supersampled reference costs no more memory than one tile per thread.
 //!
+//! Assets ([`AssetItem`], module [`crate::looks`]) are drawn with their looks: their opaque and
+//! masked triangles with the opaque draws, their `BLEND` triangles after the blended meshes, in
+//! storage order; each sample's colour comes from the material, vertex colours and texture.
+//!
 //! Blended triangles are z-tested against the opaque surfaces but write no depth: the order,
 //! not a z-buffer, decides which translucent layer covers which. Triangles with a vertex before a
 //! perspective camera's near plane, or reaching far outside the image, are skipped.
@@ -22,7 +26,8 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use voxlod_core::{Bounds, TriangleMesh};
 
-use crate::raster::{raster_triangle, ScreenVertex, Tile};
+use crate::looks::AssetItem;
+use crate::raster::{raster_fragments, raster_triangle, ScreenVertex, Tile};
 use crate::{Camera, Image, RenderError};
 
 /// How to draw.
@@ -147,11 +152,14 @@ pub struct PointItem<'a> {
     pub size: f32,
 }
 
-/// Everything to draw. Blended meshes are drawn after everything else, in their order here.
+/// Everything to draw. Blended meshes are drawn after everything else, in their order here,
+/// then the assets' blended triangles.
 #[derive(Clone, Debug, Default)]
 pub struct Scene<'a> {
     /// Opaque and blended meshes.
     pub meshes: Vec<MeshItem<'a>>,
+    /// Assets drawn with their looks (materials, vertex colours, base colour textures).
+    pub assets: Vec<AssetItem<'a>>,
     /// Thick line segments (drawn opaque, after the opaque meshes).
     pub lines: Vec<LineItem<'a>>,
     /// Square points (drawn opaque, after the lines).
@@ -164,6 +172,13 @@ impl Scene<'_> {
         let mut b = Bounds::EMPTY;
         for m in &self.meshes {
             b = b.union(&m.mesh.bounds());
+        }
+        for a in &self.assets {
+            for t in &a.asset.mesh.triangles {
+                for &v in t {
+                    b.grow(a.asset.mesh.positions[v as usize].as_dvec3());
+                }
+            }
         }
         for l in &self.lines {
             for line in l.lines {
@@ -208,6 +223,9 @@ impl Scene<'_> {
                 }
             }
         }
+        for (i, a) in self.assets.iter().enumerate() {
+            a.check(i)?;
+        }
         for (i, l) in self.lines.iter().enumerate() {
             let n = l.positions.len() as u32;
             if l.lines.iter().flatten().any(|&v| v >= n) {
@@ -229,7 +247,7 @@ impl Scene<'_> {
 }
 
 /// Where a draw's triangle comes from: mesh `source` (or the generated quads when `source` is
-/// the number of meshes), triangle `tri`.
+/// the number of meshes, or asset `source − meshes − 1` beyond), triangle `tri`.
 #[derive(Clone, Copy, Debug)]
 struct Draw {
     source: u32,
@@ -290,6 +308,7 @@ pub fn render(
     let mut prepared = prepare_meshes(scene, camera, options, light);
     let quads = Quads::of(scene, camera);
     prepared.push(quads.prepared);
+    prepared.extend(prepare_assets(scene, camera, options, light));
     let sources = Sources {
         scene,
         prepared,
@@ -359,37 +378,77 @@ fn prepare_meshes(
     options: &RenderOptions,
     light: Vec3,
 ) -> Vec<Prepared> {
-    let lambert = |n: Vec3| options.shade(n, light);
-    scene
-        .meshes
-        .iter()
+    (scene.meshes.iter())
         .map(|m| {
             let mesh = m.mesh;
-            let with_normals = !mesh.normals.is_empty();
-            let vertices: Vec<ScreenVertex> = (0..mesh.positions.len())
-                .into_par_iter()
-                .map(|i| {
-                    let mut v = project(camera, mesh.positions[i]);
-                    if with_normals && !v.is_culled() {
-                        v.shade = lambert(mesh.normals[i].normalize_or_zero());
-                    }
-                    v
-                })
-                .collect();
-            let flat = if with_normals {
-                Vec::new()
-            } else {
-                mesh.triangles
-                    .par_iter()
-                    .map(|t| {
-                        let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
-                        lambert((b - a).cross(c - a).normalize_or_zero())
-                    })
-                    .collect()
-            };
-            Prepared { vertices, flat }
+            prepare(
+                &mesh.positions,
+                &mesh.normals,
+                &mesh.triangles,
+                camera,
+                options,
+                light,
+            )
         })
         .collect()
+}
+
+/// Every asset's vertices projected and shaded, as [`prepare_meshes`] does for meshes.
+fn prepare_assets(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    light: Vec3,
+) -> Vec<Prepared> {
+    (scene.assets.iter())
+        .map(|a| {
+            let mesh = &a.asset.mesh;
+            prepare(
+                &mesh.positions,
+                &mesh.normals,
+                &mesh.triangles,
+                camera,
+                options,
+                light,
+            )
+        })
+        .collect()
+}
+
+/// Vertices projected and shaded from their normals (or, with none, a flat shade per
+/// triangle), in parallel.
+fn prepare(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    triangles: &[[u32; 3]],
+    camera: &Camera,
+    options: &RenderOptions,
+    light: Vec3,
+) -> Prepared {
+    let lambert = |n: Vec3| options.shade(n, light);
+    let with_normals = !normals.is_empty();
+    let vertices: Vec<ScreenVertex> = (0..positions.len())
+        .into_par_iter()
+        .map(|i| {
+            let mut v = project(camera, positions[i]);
+            if with_normals && !v.is_culled() {
+                v.shade = lambert(normals[i].normalize_or_zero());
+            }
+            v
+        })
+        .collect();
+    let flat = if with_normals {
+        Vec::new()
+    } else {
+        triangles
+            .par_iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| positions[v as usize]);
+                lambert((b - a).cross(c - a).normalize_or_zero())
+            })
+            .collect()
+    };
+    Prepared { vertices, flat }
 }
 
 /// The scene's lines and points as screen-space quads of their width, two triangles each.
@@ -496,13 +555,31 @@ impl Sources<'_, '_> {
     /// The screen vertices of a draw's triangle.
     #[inline]
     fn corners(&self, d: Draw) -> [ScreenVertex; 3] {
-        let tri = if d.source == self.quad_source {
+        let tri = if d.source < self.quad_source {
+            self.scene.meshes[d.source as usize].mesh.triangles[d.tri as usize]
+        } else if d.source == self.quad_source {
             self.quad_triangles[d.tri as usize]
         } else {
-            self.scene.meshes[d.source as usize].mesh.triangles[d.tri as usize]
+            self.asset(d).asset.mesh.triangles[d.tri as usize]
         };
         let verts = &self.prepared[d.source as usize].vertices;
         tri.map(|v| verts[v as usize])
+    }
+
+    /// The asset of a draw beyond the quads.
+    #[inline]
+    fn asset(&self, d: Draw) -> &AssetItem<'_> {
+        &self.scene.assets[(d.source - self.quad_source - 1) as usize]
+    }
+
+    /// A draw's flat shade (1 where its vertices carry shades).
+    #[inline]
+    fn flat(&self, d: Draw) -> f32 {
+        self.prepared[d.source as usize]
+            .flat
+            .get(d.tri as usize)
+            .copied()
+            .unwrap_or(1.0)
     }
 
     /// A draw's colour (RGBA) and flat shade.
@@ -541,6 +618,17 @@ impl DrawList {
                 tri,
             }));
         }
+        for (k, a) in scene.assets.iter().enumerate() {
+            let source = quad_source + 1 + k as u32;
+            draws.extend(
+                (0..a.asset.mesh.triangles.len())
+                    .filter(|&t| !a.blends(t))
+                    .map(|t| Draw {
+                        source,
+                        tri: t as u32,
+                    }),
+            );
+        }
         draws.extend((0..quad_triangles as u32).map(|tri| Draw {
             source: quad_source,
             tri,
@@ -557,6 +645,17 @@ impl DrawList {
                     tri,
                 })),
             }
+        }
+        for (k, a) in scene.assets.iter().enumerate() {
+            let source = quad_source + 1 + k as u32;
+            draws.extend(
+                (0..a.asset.mesh.triangles.len())
+                    .filter(|&t| a.blends(t))
+                    .map(|t| Draw {
+                        source,
+                        tri: t as u32,
+                    }),
+            );
         }
         DrawList {
             draws,
@@ -690,15 +789,21 @@ fn draw_tile(
     for (start, items) in bins {
         for &k in &items[start[t] as usize..start[t + 1] as usize] {
             let d = draws.draws[k as usize];
+            let blend = k as usize >= draws.first_blended;
+            if d.source > sources.quad_source {
+                let looks = sources.asset(d).triangle(d.tri as usize);
+                raster_fragments(
+                    tile,
+                    sources.corners(d),
+                    n,
+                    sources.flat(d),
+                    blend,
+                    |w, shade| looks.sample(w, shade),
+                );
+                continue;
+            }
             let (rgba, flat) = sources.material(d);
-            raster_triangle(
-                tile,
-                sources.corners(d),
-                n,
-                flat,
-                rgba,
-                k as usize >= draws.first_blended,
-            );
+            raster_triangle(tile, sources.corners(d), n, flat, rgba, blend);
         }
     }
     box_filter(tile, tile_px as usize, n as usize)

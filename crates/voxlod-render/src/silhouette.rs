@@ -75,6 +75,7 @@ fn scene<'a>(mesh: &'a TriangleMesh, level: Option<&'a PolyMesh>) -> Scene<'a> {
         meshes: vec![MeshItem::opaque(mesh, SURFACE)],
         lines: lines.into_iter().collect(),
         points: points.into_iter().collect(),
+        ..Default::default()
     }
 }
 

@@ -1,0 +1,137 @@
+//! Assets drawn with their looks ([`AssetItem`]): the colour of a sample is the material's
+//! base colour factor × the vertex colour × the base colour texture (glTF 2.0 §3.9.2), lit
+//! like every mesh of the scene (two-sided Lambert from the interpolated vertex normals, or
+//! flat from the face when the asset has none), written linear and encoded sRGB by
+//! [`crate::Image::to_png`].
+//!
+//! Vertex colours and texture coordinates are interpolated perspective-correctly (weights
+//! `λ_k w_k / Σ λ_j w_j` with the vertices' 1/w), the texture read bilinearly (or nearest, as the
+//! sampler says) with its wrap modes and `KHR_texture_transform`, from the one decoded level
+//! (no mipmaps: a texture minified far aliases; supersampling averages it). Alpha follows the
+//! material's mode: ignored (`OPAQUE`), the sample dropped below the cutoff (`MASK`, writing
+//! neither colour nor depth), or blended after everything opaque in storage order with no depth
+//! write (`BLEND`). A triangle without a material takes glTF's default, white. Metalness,
+//! roughness, normal, occlusion and emissive maps are not drawn.
+//!
+//! Plain meshes ([`crate::MeshItem`]) do not pass through here: their fill stays the
+//! shade-times-palette loop of [`crate::raster::raster_triangle`].
+//!
+//! Cost: per covered sample, one texture read (four texels) and the interpolation of the
+//! attributes the asset has.
+
+use glam::{Vec2, Vec4};
+use voxlod_asset::texture::{decode_base_colours, Texels};
+use voxlod_asset::{AlphaMode, Asset, AssetError, Material};
+
+use crate::RenderError;
+
+/// An asset to draw with its looks, and the decoded base colour texture of each of its
+/// materials.
+#[derive(Clone, Copy, Debug)]
+pub struct AssetItem<'a> {
+    /// The asset (validated when the scene is drawn).
+    pub asset: &'a Asset,
+    /// One entry per material of the asset, `None` where the material has no base colour
+    /// texture or it could not be decoded (its factor stands in); or empty: factors only.
+    pub textures: &'a [Option<Texels>],
+}
+
+/// The decoded base colour textures of an asset's materials, for [`AssetItem::textures`], and
+/// a warning for each image that could not be decoded (KTX2, WebP, corrupt bytes: the factor
+/// stands in). Fails only when the memory budget refuses an image.
+pub fn decode_textures(asset: &Asset) -> Result<(Vec<Option<Texels>>, Vec<String>), RenderError> {
+    decode_base_colours(asset).map_err(|e| match e {
+        AssetError::Core(c) => RenderError::Core(c),
+        other => RenderError::Invalid(other.to_string()),
+    })
+}
+
+impl<'a> AssetItem<'a> {
+    /// `asset` with `textures` (from [`decode_textures`], or empty).
+    pub fn new(asset: &'a Asset, textures: &'a [Option<Texels>]) -> AssetItem<'a> {
+        AssetItem { asset, textures }
+    }
+
+    /// Whether triangle `tri` is drawn blended (its material's mode is `BLEND`).
+    #[inline]
+    pub(crate) fn blends(&self, tri: usize) -> bool {
+        self.asset
+            .material_of(tri)
+            .is_some_and(|m| m.alpha_mode == AlphaMode::Blend)
+    }
+
+    pub(crate) fn check(&self, i: usize) -> Result<(), RenderError> {
+        self.asset
+            .validate()
+            .map_err(|e| RenderError::Invalid(format!("asset {i}: {e}")))?;
+        let (t, m) = (self.textures.len(), self.asset.materials.len());
+        if t != 0 && t != m {
+            return Err(RenderError::Invalid(format!(
+                "asset {i}: {t} textures for {m} materials"
+            )));
+        }
+        Ok(())
+    }
+
+    /// The shader of triangle `tri`: its vertices' attributes gathered once.
+    #[inline]
+    pub(crate) fn triangle(&self, tri: usize) -> TriangleLooks<'a> {
+        static DEFAULT: std::sync::OnceLock<Material> = std::sync::OnceLock::new();
+        let mesh = &self.asset.mesh;
+        let corners = mesh.triangles[tri].map(|v| v as usize);
+        let material = match self.asset.material_of(tri) {
+            Some(m) => m,
+            None => DEFAULT.get_or_init(Material::default),
+        };
+        let colors = (!mesh.colors.is_empty()).then(|| corners.map(|v| mesh.colors[v]));
+        let texture = material.base_color_texture.as_ref().and_then(|slot| {
+            let k = mesh.material.get(tri).copied()? as usize;
+            let texels = self.textures.get(k)?.as_ref()?;
+            let set = slot
+                .transform
+                .and_then(|t| t.tex_coord)
+                .unwrap_or(slot.tex_coord);
+            let uv = mesh.uv.get(set as usize).filter(|uv| !uv.is_empty())?;
+            Some((texels, slot, corners.map(|v| uv[v])))
+        });
+        TriangleLooks {
+            factor: Vec4::from(material.base_color),
+            colors,
+            texture,
+            mode: material.alpha_mode,
+            cutoff: material.alpha_cutoff,
+        }
+    }
+}
+
+/// What one triangle's samples need: the material's factor, mode and cutoff, the corners'
+/// colours and texture coordinates.
+pub(crate) struct TriangleLooks<'a> {
+    factor: Vec4,
+    colors: Option<[Vec4; 3]>,
+    texture: Option<(&'a Texels, &'a voxlod_asset::TextureRef, [Vec2; 3])>,
+    mode: AlphaMode,
+    cutoff: f32,
+}
+
+impl TriangleLooks<'_> {
+    /// The linear RGBA of a sample with perspective-correct weights `w` and Lambert `shade`,
+    /// or `None` where `MASK` drops it.
+    #[inline]
+    pub(crate) fn sample(&self, w: [f32; 3], shade: f32) -> Option<[f32; 4]> {
+        let mut c = self.factor;
+        if let Some(k) = &self.colors {
+            c *= k[0] * w[0] + k[1] * w[1] + k[2] * w[2];
+        }
+        if let Some((texels, slot, uv)) = &self.texture {
+            c *= texels.sample(slot, uv[0] * w[0] + uv[1] * w[1] + uv[2] * w[2]);
+        }
+        let alpha = match self.mode {
+            AlphaMode::Opaque => 1.0,
+            AlphaMode::Mask if c.w < self.cutoff => return None,
+            AlphaMode::Mask => 1.0,
+            AlphaMode::Blend => c.w.clamp(0.0, 1.0),
+        };
+        Some([c.x * shade, c.y * shade, c.z * shade, alpha])
+    }
+}
