@@ -20,6 +20,10 @@
 //!
 //! A `.vtk` file may hold either kind: [`file_kind`] looks inside to tell.
 //!
+//! [`read_asset`] reads a mesh with its looks as a [`voxlod_asset::Asset`] (`asset_read/`): an
+//! OBJ with its MTL materials, texture coordinates, normals and images (through `tobj`), a PLY
+//! or OFF with its vertex colours made linear, the other mesh formats as geometry.
+//!
 //! Every error is an [`IoError`] that prints as `path: problem` on one line, in plain words
 //! (never a parser's internals), with an [`IoErrorKind`] to act on; no input, however broken,
 //! makes a reader panic or hang (`tests/mutation_sweep.rs`), and every size read from a file
@@ -78,6 +82,7 @@
 
 #![warn(missing_docs)]
 
+mod asset_read;
 pub mod atomic;
 mod block_read;
 mod blockwise_volume;
@@ -108,6 +113,7 @@ use std::path::Path;
 use voxlod_core::validate::{find_defect, validate_mesh, Requirements};
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh, Volume};
 
+pub use asset_read::{read_asset, srgb_to_linear, AssetRead};
 pub use blockwise_volume::BlockwiseVolume;
 pub use dicom::seg::{
     cielab_to_srgb, find_dicom_seg, is_dicom_seg, read_dicom_seg, SEGMENTATION_STORAGE,

@@ -9,8 +9,13 @@
 //! ```
 //!
 //! Comments (`#` to the end of the line) and blank lines are skipped anywhere. Vertices and
-//! faces are one per line; values after the ones we need (colours, texture coordinates) are
-//! ignored, and so are normals unless the header says `N`. Polygons are ear-clipped. Not
+//! faces are one per line; values after the ones we need (texture coordinates, face colours)
+//! are ignored, and so are normals unless the header says `N`. Vertex colours are read only
+//! when the header says `C` (COFF): three or four values after the position (and normal),
+//! integers in 0..=255 when every colour value of the file is an integer, else floats in 0..=1
+//! (so a file whose float colours are all written as `0` and `1` reads as nearly black: the
+//! format does not say which it is). A COFF file with a vertex lacking its colour comes back
+//! without colours. Polygons are ear-clipped. Not
 //! supported: binary OFF, `4OFF` and `nOFF` (other dimensions). The writer emits plain `OFF`.
 //!
 //! Cost: one pass over the file, O(file size) time; memory the mesh, with counts from the
@@ -28,6 +33,8 @@ use crate::{budget, ear_clipping, IoError, IoErrorKind};
 pub(crate) struct OffContent {
     pub mesh: TriangleMesh,
     pub polygons_triangulated: usize,
+    /// RGBA vertex colours in 0..=1 as stored (sRGB by convention): one per vertex, or none.
+    pub colors: Vec<[f32; 4]>,
 }
 
 pub(crate) fn read(path: &Path) -> Result<OffContent, IoError> {
@@ -51,6 +58,7 @@ fn malformed(path: &Path, line: usize, what: String) -> IoError {
 /// the memory budget).
 struct Header {
     has_normals: bool,
+    has_colors: bool,
     vertices: usize,
     faces: usize,
 }
@@ -111,26 +119,56 @@ fn parse_header<'a>(
     budget::check_count(path, "the faces of the OFF file", faces as u64, 24)?;
     Ok(Header {
         has_normals: prefix.contains('N'),
+        has_colors: prefix.contains('C'),
         vertices,
         faces,
     })
+}
+
+/// The vertices' positions, normals (when the header says `N`) and colours (when it says `C`
+/// and every vertex has one; see the module's documentation for their scale).
+struct Vertices {
+    positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    colors: Vec<[f32; 4]>,
+}
+
+/// The colour values after a vertex's position and normal: `Some` for three or four numbers
+/// (alpha NaN when absent, to be made opaque once the file's scale is known), with whether
+/// they are all integers.
+fn vertex_color<'a>(mut tokens: impl Iterator<Item = &'a str>) -> Option<([f32; 4], bool)> {
+    let mut color = [f32::NAN; 4];
+    let mut integers = true;
+    let mut k = 0;
+    for token in tokens.by_ref().take(4) {
+        let Ok(value) = token.parse::<f32>() else {
+            break;
+        };
+        integers &= token.parse::<u32>().is_ok();
+        color[k] = value;
+        k += 1;
+    }
+    (k >= 3).then_some((color, integers))
 }
 
 fn read_vertices<'a>(
     path: &Path,
     lines: &mut impl Iterator<Item = (usize, &'a str)>,
     header: &Header,
-) -> Result<(Vec<Vec3>, Vec<Vec3>), IoError> {
+) -> Result<Vertices, IoError> {
     let count = header.vertices;
     let needed = if header.has_normals { 6 } else { 3 };
     let mut positions = Vec::with_capacity(count);
     let mut normals = Vec::with_capacity(if header.has_normals { count } else { 0 });
+    let mut colors = Vec::with_capacity(if header.has_colors { count } else { 0 });
+    let (mut read_colors, mut integer_colors) = (header.has_colors, true);
     for v in 0..count {
         let (n, line) = lines.next().ok_or_else(|| {
             IoError::truncated(path, format!("the file ends after {v} of {count} vertices"))
         })?;
-        let values: Vec<f32> = line
-            .split_whitespace()
+        let mut tokens = line.split_whitespace();
+        let values: Vec<f32> = tokens
+            .by_ref()
             .take(needed)
             .map(|t| t.parse::<f32>())
             .collect::<Result<_, _>>()
@@ -152,8 +190,28 @@ fn read_vertices<'a>(
         if header.has_normals {
             normals.push(Vec3::new(values[3], values[4], values[5]));
         }
+        if read_colors {
+            match vertex_color(tokens) {
+                Some((color, integers)) => {
+                    colors.push(color);
+                    integer_colors &= integers;
+                }
+                None => read_colors = false,
+            }
+        }
     }
-    Ok((positions, normals))
+    if !read_colors {
+        colors = Vec::new();
+    }
+    let divisor = if integer_colors { 255.0 } else { 1.0 };
+    for c in &mut colors {
+        *c = c.map(|x| if x.is_nan() { 1.0 } else { x / divisor });
+    }
+    Ok(Vertices {
+        positions,
+        normals,
+        colors,
+    })
 }
 
 /// The faces as triangles, polygons ear-clipped; also how many polygons were.
@@ -231,7 +289,11 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<OffContent, IoError> {
     let text = String::from_utf8_lossy(bytes);
     let mut lines = content_lines(&text);
     let header = parse_header(path, &mut lines, bytes.len())?;
-    let (positions, normals) = read_vertices(path, &mut lines, &header)?;
+    let Vertices {
+        positions,
+        normals,
+        colors,
+    } = read_vertices(path, &mut lines, &header)?;
     let (triangles, polygons_triangulated) =
         read_faces(path, &mut lines, header.faces, &positions)?;
     Ok(OffContent {
@@ -241,6 +303,7 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<OffContent, IoError> {
             triangles,
         },
         polygons_triangulated,
+        colors,
     })
 }
 
@@ -285,6 +348,22 @@ mod tests {
         assert_eq!(off.mesh.triangles.len(), 2);
         assert_eq!(off.polygons_triangulated, 1);
         assert!(off.mesh.normals.is_empty());
+        // The third vertex has no colour: the file's colours are left out.
+        assert!(off.colors.is_empty());
+
+        // Integer colours, with alpha or not, scaled from 0..=255.
+        let off =
+            parse_str("COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 1 1 1 1\n0 1 0 0 51 255\n3 0 1 2\n")
+                .unwrap();
+        let expected = [[1.0, 0.0, 0.0, 1.0], [1.0 / 255.0; 4], [0.0, 0.2, 1.0, 1.0]];
+        assert_eq!(off.colors, expected);
+
+        // Float colours, three of them (alpha 1); a vertex without one drops them all.
+        let off =
+            parse_str("COFF\n3 1 0\n0 0 0 1 0.5 0\n1 0 0 0 0 1\n0 1 0 1 1 1\n3 0 1 2\n").unwrap();
+        assert_eq!(off.colors[0], [1.0, 0.5, 0.0, 1.0]);
+        let off = parse_str("COFF\n3 1 0\n0 0 0 1 0.5 0\n1 0 0\n0 1 0 1 1 1\n3 0 1 2\n").unwrap();
+        assert!(off.colors.is_empty());
 
         let off =
             parse_str("NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n").unwrap();

@@ -6,7 +6,9 @@
 //! property as a vertex attribute; `face` lists (`vertex_indices` or `vertex_index`, any
 //! integer types) become triangles, polygons ear-clipped; `edge` (`vertex1`, `vertex2`, other
 //! scalars as line attributes) and `point` (`vertex_index`) as voxlod writes them. Other
-//! elements are read past and ignored. Each element is parsed straight into a small record
+//! elements are read past and ignored. Vertex colours (`red`, `green`, `blue`, `alpha`, or
+//! `diffuse_*`) are attributes like any other; [`PlyColors`] says which they are and how to
+//! scale them, for [`read_asset`](crate::read_asset). Each element is parsed straight into a small record
 //! type rather than ply-rs-bw's map-per-element default, which would cost a hash map per vertex.
 //!
 //! Writing: `vertex` (x, y, z as float, nx, ny, nz when the mesh has normals, then one float
@@ -39,6 +41,50 @@ use crate::{budget, ear_clipping, guard, IoError, PolyView};
 pub(crate) struct PlyContent {
     pub mesh: PolyMesh,
     pub polygons_triangulated: usize,
+    /// Which vertex attributes are colour channels, when the vertices have colours.
+    pub colors: Option<PlyColors>,
+}
+
+/// The vertex colour properties of a PLY file: for red, green, blue and alpha (in that order),
+/// the index of its attribute in [`PolyMesh::vertex_attributes`] and the factor that takes the
+/// stored value to 0..=1 (1/255 for `uchar`, `char` and the 32-bit integers, 1/65535 for the
+/// 16-bit ones, 1 for `float` and `double`). Values are as stored: sRGB by convention.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PlyColors {
+    pub channels: [Option<(usize, f32)>; 4],
+}
+
+/// The property names each colour channel goes by, the common one first.
+const COLOR_NAMES: [[&str; 2]; 4] = [
+    ["red", "diffuse_red"],
+    ["green", "diffuse_green"],
+    ["blue", "diffuse_blue"],
+    ["alpha", "diffuse_alpha"],
+];
+
+/// The colour channels among the vertex's extra properties (`names`, in attribute order):
+/// `None` unless red, green and blue are all there. Cost: O(properties).
+fn color_channels(header: &Header, names: &[&str]) -> Option<PlyColors> {
+    let vertex = header.elements.get("vertex")?;
+    let channel = |candidates: &[&str; 2]| {
+        candidates.iter().find_map(|name| {
+            let k = names.iter().position(|n| n == name)?;
+            let PropertyType::Scalar(t) = &vertex.properties.get(*name)?.data_type else {
+                return None;
+            };
+            let scale = match t {
+                ScalarType::Float | ScalarType::Double => 1.0,
+                ScalarType::Short | ScalarType::UShort => 1.0 / 65535.0,
+                _ => 1.0 / 255.0,
+            };
+            Some((k, scale))
+        })
+    };
+    let channels = COLOR_NAMES.map(|c| channel(&c));
+    channels[..3]
+        .iter()
+        .all(Option::is_some)
+        .then_some(PlyColors { channels })
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -420,6 +466,7 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
     };
     let vertex_names = extra_names(&header, "vertex", is_vertex_extra);
     let vertex_attributes = collect_attributes(&vertex_names, vertices.iter().map(|v| &v.extra));
+    let colors = color_channels(&header, &vertex_names);
 
     let (triangles, polygons_triangulated) = triangulate_faces(path, &records.faces, &positions)?;
 
@@ -457,6 +504,7 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
             line_attributes,
         },
         polygons_triangulated,
+        colors,
     })
 }
 
