@@ -9,6 +9,8 @@
 //! - [`paper_tables`]: the paper's three results tables (§4), regenerated (`voxlod demo` and the
 //!   workspace's `table*` examples).
 //! - [`antialias`]: the paper's antialiasing claim (§3, Figure 7) measured in images.
+//! - [`appearance`]: how a level of an asset looks beside its input (PSNR and SSIM of renders
+//!   with their looks from 14 views).
 //!
 //! Built on the facade `voxlod`; nothing in the library depends on this crate.
 //!
@@ -46,6 +48,7 @@
 #![warn(missing_docs)]
 
 pub mod antialias;
+pub mod appearance;
 pub mod evaluate;
 pub mod methods;
 pub mod paper_tables;

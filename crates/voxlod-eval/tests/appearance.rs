@@ -1,0 +1,138 @@
+//! The appearance measure: identical renders, a level with and without its texture, a mesh
+//! without looks.
+
+use std::sync::Arc;
+
+use glam::Vec2;
+use image::ImageEncoder;
+use voxlod_asset::{collapse, Asset, AssetMesh, Image, Material, Sampler, TextureRef};
+use voxlod_eval::appearance::{appearance, AppearanceOptions, AppearanceReference};
+
+fn png(w: u32, h: u32, rgb: impl Fn(u32, u32) -> [u8; 3]) -> Vec<u8> {
+    let bytes: Vec<u8> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .flat_map(|(x, y)| rgb(x, y))
+        .collect();
+    let mut out = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut out)
+        .write_image(&bytes, w, h, image::ExtendedColorType::Rgb8)
+        .unwrap();
+    out
+}
+
+/// A unit icosphere of 5120 triangles without looks.
+fn plain_sphere() -> Asset {
+    let sphere = voxlod_testkit::shapes::icosphere(4);
+    Asset {
+        mesh: AssetMesh {
+            normals: sphere.positions.iter().map(|p| p.normalize()).collect(),
+            positions: sphere.positions,
+            triangles: sphere.triangles,
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+/// The icosphere with planar texture coordinates (x, y) and a 64² checker of 4-texel squares,
+/// orange and teal.
+fn checkered_sphere() -> Asset {
+    let mut asset = plain_sphere();
+    let mesh = &mut asset.mesh;
+    mesh.uv[0] = (mesh.positions.iter())
+        .map(|p| Vec2::new(0.5 + 0.5 * p.x, 0.5 - 0.5 * p.y))
+        .collect();
+    mesh.material = vec![0; mesh.triangles.len()];
+    asset.materials = vec![Material {
+        base_color_texture: Some(TextureRef {
+            image: 0,
+            tex_coord: 0,
+            transform: None,
+            sampler: Sampler::default(),
+        }),
+        ..Material::default()
+    }];
+    let checker = png(64, 64, |x, y| {
+        if (x / 4 + y / 4) % 2 == 0 {
+            [240, 140, 30]
+        } else {
+            [20, 150, 160]
+        }
+    });
+    asset.images = vec![Image {
+        name: "checker".into(),
+        mime: "image/png".into(),
+        bytes: Arc::new(checker),
+    }];
+    asset
+}
+
+#[test]
+fn identical_renders_score_infinite_psnr_and_ssim_one() {
+    let input = checkered_sphere();
+    let options = AppearanceOptions {
+        views: 4,
+        size: 128,
+        supersample: 1,
+    };
+    let report = appearance(&input, &input, &options).unwrap();
+    assert_eq!(report.psnr, f64::INFINITY);
+    assert_eq!(report.ssim, 1.0);
+    assert_eq!(report.per_view.len(), 4);
+    assert!(report
+        .per_view
+        .iter()
+        .all(|v| v.mse == 0.0 && v.ssim == 1.0));
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+}
+
+#[test]
+fn a_level_with_its_texture_replaced_by_grey_scores_clearly_lower() {
+    let input = checkered_sphere();
+    let level = collapse(&input, 600).unwrap();
+    assert!(
+        level.mesh.triangles.len() <= 700,
+        "{}",
+        level.mesh.triangles.len()
+    );
+    let mut grey = level.clone();
+    grey.images[0].bytes = Arc::new(png(4, 4, |_, _| [130, 145, 95]));
+    let reference = AppearanceReference::new(&input, &AppearanceOptions::default()).unwrap();
+    let textured = reference.compare(&level).unwrap();
+    let untextured = reference.compare(&grey).unwrap();
+    eprintln!(
+        "level of {} triangles: textured PSNR {:.2} dB SSIM {:.4}; grey PSNR {:.2} dB SSIM {:.4}",
+        level.mesh.triangles.len(),
+        textured.psnr,
+        textured.ssim,
+        untextured.psnr,
+        untextured.ssim
+    );
+    assert_eq!(textured.per_view.len(), 14);
+    assert!(textured.psnr.is_finite() && textured.ssim < 1.0);
+    assert!(textured.psnr > untextured.psnr + 3.0);
+    assert!(textured.ssim > untextured.ssim + 0.05);
+    // View by view too.
+    for (t, g) in textured.per_view.iter().zip(&untextured.per_view) {
+        assert!(t.psnr > g.psnr && t.ssim > g.ssim, "{t:?} {g:?}");
+    }
+}
+
+#[test]
+fn a_mesh_without_looks_is_measured_on_its_shaded_renders() {
+    let input = plain_sphere();
+    let level = collapse(&input, 300).unwrap();
+    let options = AppearanceOptions {
+        size: 256,
+        ..AppearanceOptions::default()
+    };
+    let report = appearance(&input, &level, &options).unwrap();
+    eprintln!(
+        "plain sphere at {} triangles: PSNR {:.2} dB, SSIM {:.4}",
+        level.mesh.triangles.len(),
+        report.psnr,
+        report.ssim
+    );
+    assert!(report.psnr.is_finite() && report.psnr > 25.0, "{report:?}");
+    assert!(report.ssim < 1.0 && report.ssim > 0.8, "{report:?}");
+}
