@@ -87,7 +87,7 @@ pub use shells::{
     check_layers_levels, check_layers_options, layered_glb, layered_poly_mesh, layered_preview,
     layers, layers_chain, layers_levels, layers_radius, layers_with, Layers, LayersChain,
 };
-pub use voxlod_pyramid::{blockwise, budget, finest, labels};
+pub use voxlod_pyramid::{asset_lod, blockwise, budget, finest, labels, AssetLod, AssetLodLevel};
 pub use voxlod_pyramid::{
     iso_outside_data, run_to_end, Control, EnvelopeStep, ErrorClass, Event, Finest, InvalidOption,
     LevelEpsilon, Lod, LodLevel, LodOptions, Prepared, Progress, ProgressFn, PyramidError, Route,
@@ -101,6 +101,7 @@ pub mod lod {
 pub use voxlod_fit::FitOptions;
 pub use voxlod_layers::LayersOptions;
 
+pub use voxlod_asset as asset;
 pub use voxlod_budget as portfolio;
 pub use voxlod_clustering as clustering;
 pub use voxlod_contouring as contouring;

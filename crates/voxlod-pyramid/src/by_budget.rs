@@ -6,8 +6,8 @@
 
 use std::time::Instant;
 
-use voxlod_budget::{levels_with, BudgetOptions, Method};
-use voxlod_core::TriangleMesh;
+use voxlod_budget::{levels_with, BudgetOptions, InputReport, Method};
+use voxlod_core::{Topology, TriangleMesh};
 use voxlod_sampling::{level_grid, LevelPlan, MeshPreparation, PyramidOptions};
 
 use crate::budget::{BudgetLevel, Stage, Then};
@@ -44,28 +44,59 @@ pub(crate) fn portfolio_lod(
     };
     let run = levels_with(mesh, &budget_options, &ask)?;
     warnings.extend(run.warnings.iter().cloned());
+    let levels = run
+        .levels
+        .into_iter()
+        .map(|l| (l.mesh, l.topology, l.report));
+    let error = budget_options.max_error;
+    let mut lod = as_lod(mesh, levels, &run.input, error, warnings)?;
+    lod.seconds = start.elapsed().as_secs_f64();
+    Ok(lod)
+}
+
+/// The portfolio's levels of `mesh` (each with its topology and report) in the shape of
+/// [`Lod`]: a plan per level from its resolution, the facade's budget report. `seconds` is 0.
+/// A level's cell (`voxel_size`) is its voxel where voxels made it, else the side of an
+/// equilateral triangle of its mean triangle area; each level's cell is larger than the finer
+/// level's, so that a chain's screen coverages fall from the finest level to the coarsest.
+pub(crate) fn as_lod(
+    mesh: &TriangleMesh,
+    run: impl Iterator<Item = (TriangleMesh, Topology, voxlod_budget::BudgetLevel)>,
+    input: &InputReport,
+    error: Option<f64>,
+    warnings: Vec<String>,
+) -> Result<Lod, PyramidError> {
     let bounds = mesh.bounds();
     let mut levels = Vec::new();
     let mut budgets = Vec::new();
-    for (i, level) in run.levels.into_iter().enumerate() {
-        let r = &level.report;
+    for (i, (level_mesh, topology, r)) in run.enumerate() {
         let resolution = r.resolution.unwrap_or(0);
         let voxel = bounds.longest_extent() / resolution.max(1) as f64;
         let grid = level_grid(&bounds, resolution.max(1), voxel)?;
-        let error = budget_options.max_error;
-        budgets.push(report(&level.report, error, run.input.genus));
+        let cell = if resolution > 0 {
+            voxel
+        } else {
+            triangle_side(&level_mesh).unwrap_or(voxel)
+        };
+        let finer = levels.last().map_or(0.0, |l: &LodLevel| l.plan.voxel_size);
+        let cell = if cell > finer {
+            cell
+        } else {
+            finer * (1.0 + 1e-6)
+        };
+        budgets.push(report(&r, error, input.genus));
         levels.push(LodLevel {
             resolution,
             plan: LevelPlan {
                 level: i,
                 resolution,
-                voxel_size: voxel,
-                radius: voxel,
+                voxel_size: cell,
+                radius: cell,
                 grid,
                 estimated_bytes: 0,
             },
-            topology: level.topology,
-            mesh: level.mesh,
+            topology,
+            mesh: level_mesh,
             density: None,
             sample_seconds: 0.0,
             contour_seconds: 0.0,
@@ -76,7 +107,7 @@ pub(crate) fn portfolio_lod(
             clean_skipped: false,
         });
     }
-    let p = run.input.preparation;
+    let p = input.preparation;
     Ok(Lod {
         levels,
         route: Route::Mesh,
@@ -85,19 +116,30 @@ pub(crate) fn portfolio_lod(
             degenerate_triangles: p.degenerate_triangles,
             duplicate_triangles: p.duplicate_triangles,
             holes_closed: 0,
-            closed: run.input.closed,
+            closed: input.closed,
         }),
         iso: 0.5,
         warnings,
         budgets,
         finest: None,
-        seconds: start.elapsed().as_secs_f64(),
+        seconds: 0.0,
     })
+}
+
+/// The side of an equilateral triangle of `mesh`'s mean triangle area; none without area.
+fn triangle_side(mesh: &TriangleMesh) -> Option<f64> {
+    let t = mesh.triangles.len();
+    let area = (t > 0).then(|| mesh.area())?;
+    let side = (4.0 * area / (3f64.sqrt() * t as f64)).sqrt();
+    (side.is_finite() && side > 0.0).then_some(side)
 }
 
 /// The portfolio's options for `options`, and a warning for each option of `options` that
 /// the portfolio does not use.
-fn budget_options(mesh: &TriangleMesh, options: &LodOptions) -> (BudgetOptions, Vec<String>) {
+pub(crate) fn budget_options(
+    mesh: &TriangleMesh,
+    options: &LodOptions,
+) -> (BudgetOptions, Vec<String>) {
     let defaults = LodOptions::default();
     let mut warnings = Vec::new();
     let mut unused = |name: &str, given: bool| {

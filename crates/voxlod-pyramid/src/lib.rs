@@ -24,6 +24,7 @@
 
 #![warn(missing_docs)]
 
+mod asset_lod;
 pub mod blockwise;
 pub mod budget;
 mod budget_terms;
@@ -41,6 +42,7 @@ pub mod source;
 mod then_envelope;
 mod voxelize;
 
+pub use asset_lod::{asset_lod, AssetLod, AssetLodLevel};
 pub use error::{ErrorClass, InvalidOption, PyramidError};
 pub use finest::Finest;
 pub use levels::{lod, lod_with};

@@ -53,13 +53,21 @@ use super::world::FrameArg;
 ///   voxlod lod bunny.obj -o chain --triangles 20000,5000,1000,250
 ///   voxlod lod part.stl -o fine --error 0.5%        # one level within 0.5 % of the diagonal
 ///   voxlod lod scan.ply -o out --triangles 2000 --then quadric --closed --json
+///
+/// A glTF asset (.glb, .gltf) keeps its looks: every level carries texture coordinates,
+/// colours, normals and materials, the input's own or taken from its nearest points, in one
+/// .glb (--layout msft-lod or lod-nodes; --split writes each level as its own .glb too):
+///   voxlod lod model.glb --triangles 5000,1000,250 -o model-lod.glb
+///   voxlod lod model.gltf -o out --layout lod-nodes --split
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct LodArgs {
-    /// The input: a mesh (.obj .ply .stl .off .vtp .vtk) or a volume (.nrrd .nhdr .vti .vtk .nii
-    /// .nii.gz .mha .mhd, or headerless raw with --dims)
+    /// The input: a mesh (.obj .ply .stl .off .vtp .vtk), a glTF asset with its looks (.glb
+    /// .gltf) or a volume (.nrrd .nhdr .vti .vtk .nii .nii.gz .mha .mhd, or headerless raw with
+    /// --dims)
     pub input: PathBuf,
-    /// Folder for the level meshes and report.json (created if missing)
+    /// Folder for the level meshes and report.json (created if missing); for --format glb also
+    /// a NAME.glb file, with NAME-level-N.glb (--split) and NAME-report.json beside it
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
     /// Samples across the longest side of the object at level 0 [default: for a mesh, from its
@@ -88,8 +96,9 @@ pub struct LodArgs {
     #[arg(long, value_name = "V", value_parser = number::<f32>, allow_hyphen_values = true)]
     pub iso: Option<f32>,
     /// Format of the level meshes, or glb: one DIR/lod.glb chaining every level (MSFT_lod)
-    #[arg(long, value_enum, default_value = "ply")]
-    pub format: LodFormat,
+    /// [default: ply; glb for a .glb or .gltf input, whose levels keep their looks]
+    #[arg(long = "format", value_enum, value_name = "FORMAT")]
+    pub format_given: Option<LodFormat>,
     #[command(flatten)]
     pub glb: GlbArgs,
     /// Quadrature lines per filter radius (accuracy against speed; 4 keeps the half-space
@@ -163,6 +172,17 @@ pub struct LodArgs {
     pub blockwise: bool,
     #[command(flatten)]
     pub frame: FrameArg,
+}
+
+impl LodArgs {
+    /// The format asked, else glb for a glTF input, else ply.
+    pub fn format(&self) -> LodFormat {
+        match self.format_given {
+            Some(format) => format,
+            None if super::lod_asset::is_gltf(&self.input) => LodFormat::Glb,
+            None => LodFormat::Ply,
+        }
+    }
 }
 
 /// One level in the report.
@@ -258,7 +278,7 @@ fn is_level_file(name: &str) -> bool {
 }
 
 /// The library's options from the flags.
-fn lod_options(args: &LodArgs) -> Result<LodOptions, CliError> {
+pub(super) fn lod_options(args: &LodArgs) -> Result<LodOptions, CliError> {
     if args.resolution == Some(0) {
         return Err(CliError::usage("--resolution must be at least 1"));
     }
@@ -337,7 +357,7 @@ fn load(args: &LodArgs) -> Result<Loaded, CliError> {
 /// The levels by resolution; `lod_budget.rs` makes them by budget or error
 /// (`--triangles`, `--error`).
 pub fn run(args: LodArgs) -> Result<(), CliError> {
-    args.glb.check(args.format)?;
+    args.glb.check_chain(args.format())?;
     let options = lod_options(&args)?;
     let loaded = load(&args)?;
     // Everything is written at the end, as one set; refuse now what it would refuse then.
@@ -345,7 +365,7 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
     for level in 0..options.pyramid.resolutions.len() {
         out.check(&in_dir(&args.output, &level_name(&args, level)))?;
     }
-    if args.format == LodFormat::Glb {
+    if args.format() == LodFormat::Glb {
         out.check(&in_dir(&args.output, CHAIN_FILE))?;
     }
     out.create_dir(&args.output)?;
@@ -369,7 +389,7 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
             lod.levels[0].plan.voxel_size,
         )?);
     }
-    let glb = match args.format {
+    let glb = match args.format() {
         LodFormat::Glb => Some(add_chain(&mut out, &args.output, &lod, &args.glb)?),
         _ => None,
     };
@@ -398,12 +418,12 @@ pub fn run(args: LodArgs) -> Result<(), CliError> {
 
 /// `level-N.EXT`.
 pub(super) fn level_name(args: &LodArgs, level: usize) -> String {
-    format!("level-{level}.{}", args.format.level_extension().as_str())
+    format!("level-{level}.{}", args.format().level_extension().as_str())
 }
 
 /// Whether each level gets a file of its own (always, but for `--format glb` without `--split`).
 fn level_files(args: &LodArgs) -> bool {
-    args.format != LodFormat::Glb || args.glb.split
+    args.format() != LodFormat::Glb || args.glb.split
 }
 
 /// The file a level is in: its own, or the chain.

@@ -1,7 +1,8 @@
 //! `voxlod lod --triangles A,B,… | --error E`: levels by triangle budget or error target, the
 //! library's budget pipeline (`voxlod::budget`: the voxel resolution that filters away what the
-//! budget cannot afford, then a geometric stage, paper §5). Writes `DIR/level-N.EXT` and
-//! `DIR/report.json` with, per level, the budget, the chosen resolution, the stage and its error
+//! budget cannot afford, then a geometric stage, paper §5). Writes `DIR/level-N.EXT` (with
+//! `--format glb`, `DIR/lod.glb` chaining the levels, and the level files as PLY with `--split`)
+//! and `DIR/report.json` with, per level, the budget, the chosen resolution, the stage and its error
 //! bound, the measured two-sided distance to the input, genus, components and handles removed,
 //! and every warning (with `--json` too).
 
@@ -15,6 +16,7 @@ use voxlod::{Lod, LodOptions};
 use super::common::say;
 use super::common::{add_report, describe_mesh, in_dir, print_json, CliError};
 use super::lod::{lod_error, LodArgs};
+use super::lod_glb::{add_chain, GlbReport, LodFormat, CHAIN_FILE};
 
 /// The report of a budget run.
 #[derive(Serialize)]
@@ -25,6 +27,9 @@ struct BudgetReport {
     closed: bool,
     time_cap_seconds: f64,
     levels: Vec<BudgetLevelReport>,
+    /// The MSFT_lod chain file, with --format glb.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    glb: Option<GlbReport>,
     total_seconds: f64,
     /// Every warning, also printed on standard error without --json.
     warnings: Vec<String>,
@@ -43,19 +48,32 @@ struct BudgetLevelReport {
 /// Runs the budget pipeline as `args` ask (`--triangles` or `--error` was given).
 pub fn run(args: &LodArgs) -> Result<(), CliError> {
     let start = Instant::now();
+    let format = args.format();
+    args.glb.check_chain(format)?;
     let options = options(args);
     let input = args.route.read(&args.input)?;
     let lod = voxlod::lod(&args.route.source(&input), &options).map_err(|e| lod_error(args, e))?;
     let level_name = |level: usize| super::lod::level_name(args, level);
+    let chain = format == LodFormat::Glb;
+    let level_files = !chain || args.glb.split;
     let mut out = OutputSet::protecting([&args.input]);
     for i in 0..lod.levels.len() {
-        out.check(&in_dir(&args.output, &level_name(i)))?;
+        if level_files {
+            out.check(&in_dir(&args.output, &level_name(i)))?;
+        }
+    }
+    if chain {
+        out.check(&in_dir(&args.output, CHAIN_FILE))?;
     }
     out.create_dir(&args.output)?;
     let mut levels = Vec::new();
     for (i, (level, budget)) in lod.levels.iter().zip(&lod.budgets).enumerate() {
-        let file = (!level.mesh.is_empty()).then(|| level_name(i));
-        if let Some(name) = &file {
+        let file = match (level.mesh.is_empty(), level_files) {
+            (true, _) => None,
+            (false, true) => Some(level_name(i)),
+            (false, false) => Some(CHAIN_FILE.to_string()),
+        };
+        if let (Some(name), true) = (&file, level_files) {
             out.mesh(&in_dir(&args.output, name), &level.mesh)?;
         }
         let t = &level.topology;
@@ -67,7 +85,10 @@ pub fn run(args: &LodArgs) -> Result<(), CliError> {
             budget: budget.clone(),
         });
     }
-    let report = report(args, &options, &lod, levels, start);
+    let mut report = report(args, &options, &lod, levels, start);
+    if chain {
+        report.glb = Some(add_chain(&mut out, &args.output, &lod, &args.glb)?);
+    }
     add_report(&mut out, &args.output, &report)?;
     out.commit()?;
     if args.json {
@@ -89,7 +110,7 @@ pub fn run(args: &LodArgs) -> Result<(), CliError> {
 }
 
 /// The library options of `args`.
-fn options(args: &LodArgs) -> LodOptions {
+pub(super) fn options(args: &LodArgs) -> LodOptions {
     let mut options = LodOptions {
         triangles: args.triangles.clone(),
         error: args.error,
@@ -121,6 +142,7 @@ fn report(
         closed: options.closed,
         time_cap_seconds: options.time_cap,
         levels,
+        glb: None,
         total_seconds: start.elapsed().as_secs_f64(),
         warnings: lod.warnings.clone(),
     }

@@ -12,6 +12,7 @@ use voxlod::io::OutputSet;
 use voxlod::Lod;
 
 use super::common::{in_dir, in_file, CliError, MeshExtension};
+use super::lod_asset::LayoutArg;
 
 /// The name of the chain file in the output folder.
 pub const CHAIN_FILE: &str = "lod.glb";
@@ -57,6 +58,11 @@ pub struct GlbArgs {
     /// With --format glb: compress the geometry
     #[arg(long, value_enum, value_name = "METHOD")]
     pub compress: Option<CompressArg>,
+    /// With a glTF input: how the levels sit in the .glb. msft-lod: one node switching levels
+    /// with MSFT_lod, for engines with the extension; lod-nodes: one node per level named
+    /// LOD0, LOD1, …, for Blender's, Unity's and Unreal's importers and three.js users
+    #[arg(long, value_enum, default_value = "msft-lod")]
+    pub layout: LayoutArg,
 }
 
 impl GlbArgs {
@@ -64,6 +70,21 @@ impl GlbArgs {
     pub fn check(&self, format: LodFormat) -> Result<(), CliError> {
         if format != LodFormat::Glb && (self.split || self.compress.is_some()) {
             return Err(CliError::usage("--split and --compress need --format glb"));
+        }
+        if format != LodFormat::Glb && self.layout != LayoutArg::MsftLod {
+            return Err(CliError::usage("--layout needs --format glb"));
+        }
+        Ok(())
+    }
+
+    /// [`GlbArgs::check`] for a mesh's or a volume's chain, which is written with `MSFT_lod`.
+    pub fn check_chain(&self, format: LodFormat) -> Result<(), CliError> {
+        self.check(format)?;
+        if self.layout != LayoutArg::MsftLod {
+            return Err(CliError::usage(
+                "--layout lod-nodes applies to a glTF input's levels; a mesh's or a volume's \
+                 chain is written with MSFT_lod",
+            ));
         }
         Ok(())
     }

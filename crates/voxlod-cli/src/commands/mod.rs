@@ -16,6 +16,7 @@ pub mod labels;
 pub mod layers;
 pub mod layers_lod;
 pub mod lod;
+pub mod lod_asset;
 pub mod lod_budget;
 pub mod lod_glb;
 pub mod render;
@@ -60,6 +61,7 @@ pub enum Command {
 /// Runs the chosen subcommand.
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
+        Command::Lod(args) if lod_asset::is_gltf(&args.input) => lod_asset::run(&args),
         Command::Lod(args) if args.triangles.is_some() || args.error.is_some() => {
             lod_budget::run(&args)
         }

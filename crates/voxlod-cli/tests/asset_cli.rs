@@ -1,0 +1,377 @@
+//! `voxlod lod` on a glTF asset: a sphere textured red on its −x half and blue on its +x half
+//! (texture coordinates projected along z, a 2×1 PNG). Every level comes out of the binary
+//! within its budget and textured or coloured (never grey), in one `.glb` in both layouts and
+//! as level files with `--split`; the report says per level how it got its looks. A file
+//! requiring an extension the reader cannot decode is refused naming it; a mesh with
+//! `--triangles --format glb` gets its chain.
+
+mod common;
+
+use std::io::Cursor;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use common::{arg, json, stderr, voxlod};
+use serde_json::Value;
+use voxlod::asset::{Asset, AssetMesh, Image, Material, Sampler, TextureRef, Wrap};
+use voxlod::core::glam::{Vec2, Vec4};
+use voxlod::gltf::{asset_glb, read_scene, AssetGlbOptions};
+use voxlod_testkit::shapes::icosphere;
+
+const BUDGETS: [usize; 3] = [2000, 200, 40];
+
+fn two_halves_png() -> Vec<u8> {
+    let img = image::RgbaImage::from_fn(2, 1, |x, _| {
+        if x == 0 {
+            image::Rgba([255, 0, 0, 255])
+        } else {
+            image::Rgba([0, 0, 255, 255])
+        }
+    });
+    let mut bytes = Vec::new();
+    img.write_to(&mut Cursor::new(&mut bytes), image::ImageFormat::Png)
+        .unwrap();
+    bytes
+}
+
+fn textured_sphere() -> Asset {
+    let s = icosphere(4);
+    let n = s.triangles.len();
+    Asset {
+        mesh: AssetMesh {
+            uv: [
+                s.positions
+                    .iter()
+                    .map(|p| Vec2::new((p.x + 1.0) / 2.0, (p.y + 1.0) / 2.0))
+                    .collect(),
+                Vec::new(),
+            ],
+            normals: s.positions.iter().map(|p| p.normalize()).collect(),
+            positions: s.positions,
+            triangles: s.triangles,
+            material: vec![0; n],
+            ..AssetMesh::default()
+        },
+        materials: vec![Material {
+            name: "halves".into(),
+            base_color_texture: Some(TextureRef {
+                image: 0,
+                tex_coord: 0,
+                transform: None,
+                sampler: Sampler {
+                    wrap_u: Wrap::ClampToEdge,
+                    wrap_v: Wrap::ClampToEdge,
+                    linear: false,
+                },
+            }),
+            ..Material::default()
+        }],
+        images: vec![Image {
+            name: "halves.png".into(),
+            mime: "image/png".into(),
+            bytes: Arc::new(two_halves_png()),
+        }],
+        parts: Vec::new(),
+    }
+}
+
+/// The textured sphere written as `dir/sphere.glb`.
+fn sphere_glb(dir: &Path) -> PathBuf {
+    let path = dir.join("sphere.glb");
+    let bytes = asset_glb(&[textured_sphere()], &AssetGlbOptions::default()).unwrap();
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+/// The JSON chunk of a `.glb` file, and its binary chunk.
+fn glb_chunks(bytes: &[u8]) -> (Value, Vec<u8>) {
+    assert_eq!(&bytes[..4], b"glTF");
+    let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let json = serde_json::from_slice(&bytes[20..20 + len]).unwrap();
+    let rest = &bytes[20 + len..];
+    let bin = if rest.len() >= 8 {
+        let n = u32::from_le_bytes(rest[..4].try_into().unwrap()) as usize;
+        rest[8..8 + n].to_vec()
+    } else {
+        Vec::new()
+    };
+    (json, bin)
+}
+
+fn glb_json(path: &Path) -> Value {
+    glb_chunks(&std::fs::read(path).unwrap()).0
+}
+
+/// Whether every primitive of `mesh` in `doc` is coloured (COLOR_0) or textured.
+fn mesh_has_looks(doc: &Value, mesh: usize) -> bool {
+    let prims = doc["meshes"][mesh]["primitives"].as_array().unwrap();
+    prims.iter().all(|p| {
+        let coloured = p["attributes"].get("COLOR_0").is_some();
+        let textured = p["material"].as_u64().is_some_and(|m| {
+            doc["materials"][m as usize]["pbrMetallicRoughness"]
+                .get("baseColorTexture")
+                .is_some()
+        });
+        coloured || textured
+    })
+}
+
+/// Asserts that `asset` shows red where the input is red and blue where it is blue: by its
+/// texture coordinates into the input's texture, or by its vertex colours.
+fn assert_red_and_blue(asset: &Asset, what: &str) {
+    let textured = asset
+        .materials
+        .iter()
+        .any(|m| m.base_color_texture.is_some());
+    let red = Vec4::new(1.0, 0.0, 0.0, 1.0);
+    let blue = Vec4::new(0.0, 0.0, 1.0, 1.0);
+    let mut checked = 0;
+    for (i, p) in asset.mesh.positions.iter().enumerate() {
+        if p.x.abs() <= 0.2 {
+            continue;
+        }
+        checked += 1;
+        if textured {
+            let u = asset.mesh.uv[0][i].x;
+            assert_eq!(u < 0.5, p.x < 0.0, "{what}: {p} has u {u}");
+        } else {
+            let c = asset.mesh.colors[i];
+            let want = if p.x < 0.0 { red } else { blue };
+            assert!((c - want).abs().max_element() < 0.02, "{what}: {p} has {c}");
+        }
+    }
+    assert!(checked > 0, "{what}: no vertex checked");
+}
+
+fn assert_within_budget(triangles: usize, budget: usize, what: &str) {
+    assert!(
+        triangles > 0 && triangles as f64 <= budget as f64 * 1.1,
+        "{what}: {triangles} triangles for a budget of {budget}"
+    );
+}
+
+fn assert_valid(path: &Path) {
+    if let Some(v) = voxlod_testkit::gltf_validator::validate_gltf(path) {
+        assert_eq!(v.errors, 0, "{}: {}", path.display(), v.report);
+    }
+}
+
+fn budgets_arg() -> String {
+    BUDGETS.map(|b| b.to_string()).join(",")
+}
+
+/// The report's levels: each says how it got its looks.
+fn assert_report_looks(report: &Value) {
+    let levels = report["levels"].as_array().unwrap();
+    assert_eq!(levels.len(), BUDGETS.len(), "{report}");
+    for (l, budget) in levels.iter().zip(BUDGETS) {
+        let looks = l["looks"].as_str().unwrap();
+        assert!(looks == "kept" || looks == "transferred", "{l}");
+        assert_eq!(l["budget"].as_u64(), Some(budget as u64), "{l}");
+    }
+}
+
+#[test]
+fn msft_lod_chain_carries_every_level_with_its_looks() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_glb(dir.path());
+    let out = dir.path().join("sphere-lod.glb");
+    let budgets = budgets_arg();
+    let o = voxlod(&[
+        "lod",
+        arg(&input),
+        "--triangles",
+        &budgets,
+        "-o",
+        arg(&out),
+        "--json",
+    ]);
+    let report = json(&o);
+    assert_report_looks(&report);
+    assert_eq!(report["layout"], "msft-lod");
+    assert!(dir.path().join("sphere-lod-report.json").is_file());
+    let doc = glb_json(&out);
+    let lod = doc["nodes"][0]["extensions"]["MSFT_lod"]["ids"]
+        .as_array()
+        .unwrap();
+    assert_eq!(lod.len(), BUDGETS.len() - 1, "{doc}");
+    let nodes: Vec<usize> = std::iter::once(0)
+        .chain(lod.iter().map(|i| i.as_u64().unwrap() as usize))
+        .collect();
+    for (k, (&node, budget)) in nodes.iter().zip(BUDGETS).enumerate() {
+        let n = &doc["nodes"][node];
+        let t = n["extras"]["voxlod"]["triangles"].as_u64().unwrap() as usize;
+        assert_within_budget(t, budget, &format!("level {k}"));
+        let mesh = n["mesh"].as_u64().unwrap() as usize;
+        assert!(mesh_has_looks(&doc, mesh), "level {k} is grey: {doc}");
+    }
+    // The finest level as a reader without MSFT_lod sees it.
+    let finest = read_scene(&out).unwrap().asset;
+    assert_red_and_blue(&finest, "level 0");
+    assert_valid(&out);
+}
+
+#[test]
+fn lod_nodes_and_split_levels_carry_their_looks() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_glb(dir.path());
+    let out = dir.path().join("levels");
+    let budgets = budgets_arg();
+    let o = voxlod(&[
+        "lod",
+        arg(&input),
+        "--triangles",
+        &budgets,
+        "-o",
+        arg(&out),
+        "--layout",
+        "lod-nodes",
+        "--split",
+        "--json",
+    ]);
+    let report = json(&o);
+    assert_report_looks(&report);
+    assert_eq!(report["layout"], "lod-nodes");
+    let chain = out.join("lod.glb");
+    let doc = glb_json(&chain);
+    let scene = doc["scenes"][0]["nodes"].as_array().unwrap();
+    assert_eq!(scene.len(), BUDGETS.len(), "{doc}");
+    for (k, (node, budget)) in scene.iter().zip(BUDGETS).enumerate() {
+        let n = &doc["nodes"][node.as_u64().unwrap() as usize];
+        assert_eq!(n["name"], format!("LOD{k}"));
+        let t = n["extras"]["voxlod"]["triangles"].as_u64().unwrap() as usize;
+        assert_within_budget(t, budget, &format!("LOD{k}"));
+        assert!(mesh_has_looks(&doc, n["mesh"].as_u64().unwrap() as usize));
+    }
+    assert_valid(&chain);
+    for (k, budget) in BUDGETS.iter().enumerate() {
+        let path = out.join(format!("level-{k}.glb"));
+        let level = read_scene(&path).unwrap().asset;
+        assert_within_budget(
+            level.mesh.triangles.len(),
+            *budget,
+            &path.display().to_string(),
+        );
+        assert_red_and_blue(&level, &path.display().to_string());
+        assert_valid(&path);
+        assert_eq!(
+            report["levels"][k]["file"],
+            format!("level-{k}.glb"),
+            "{report}"
+        );
+    }
+    assert!(out.join("report.json").is_file());
+}
+
+#[test]
+fn the_pyramid_of_an_asset_is_not_grey() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_glb(dir.path());
+    let out = dir.path().join("pyramid");
+    let o = voxlod(&[
+        "lod",
+        arg(&input),
+        "--resolution",
+        "32",
+        "--levels",
+        "2",
+        "-o",
+        arg(&out),
+        "--split",
+        "--json",
+    ]);
+    let report = json(&o);
+    let levels = report["levels"].as_array().unwrap();
+    assert_eq!(levels.len(), 2, "{report}");
+    for (k, l) in levels.iter().enumerate() {
+        assert_eq!(l["looks"], "transferred", "{l}");
+        let level = read_scene(&out.join(format!("level-{k}.glb")))
+            .unwrap()
+            .asset;
+        assert_red_and_blue(&level, &format!("pyramid level {k}"));
+    }
+}
+
+#[test]
+fn a_geometry_format_says_the_looks_were_dropped() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_glb(dir.path());
+    let out = dir.path().join("plys");
+    let o = voxlod(&[
+        "lod",
+        arg(&input),
+        "--triangles",
+        "200",
+        "--format",
+        "ply",
+        "-o",
+        arg(&out),
+        "--json",
+    ]);
+    let report = json(&o);
+    assert!(out.join("level-0.ply").is_file());
+    assert_eq!(report["levels"][0]["looks"], "dropped");
+    let warnings = report["warnings"].as_array().unwrap();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("looks")),
+        "{report}"
+    );
+}
+
+#[test]
+fn a_required_extension_that_cannot_be_decoded_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_glb(dir.path());
+    let (mut doc, bin) = glb_chunks(&std::fs::read(&input).unwrap());
+    doc["extensionsUsed"] = serde_json::json!(["KHR_draco_mesh_compression"]);
+    doc["extensionsRequired"] = serde_json::json!(["KHR_draco_mesh_compression"]);
+    let draco = dir.path().join("draco.glb");
+    std::fs::write(&draco, voxlod::gltf::to_glb(&doc, bin).unwrap()).unwrap();
+    let o = voxlod(&[
+        "lod",
+        arg(&draco),
+        "--triangles",
+        "200",
+        "-o",
+        arg(&dir.path().join("out")),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    common::assert_clean_failure(&o, "KHR_draco_mesh_compression");
+    common::assert_clean_failure(&o, "draco.glb");
+    let o = voxlod(&[
+        "lod",
+        arg(&dir.path().join("missing.glb")),
+        "-o",
+        arg(&dir.path().join("out")),
+    ]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+}
+
+#[test]
+fn a_mesh_with_budgets_and_format_glb_gets_its_chain() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = common::write_mesh(dir.path(), "sphere.ply", &icosphere(3));
+    let out = dir.path().join("chain");
+    let o = voxlod(&[
+        "lod",
+        arg(&mesh),
+        "--triangles",
+        "400,100",
+        "--format",
+        "glb",
+        "-o",
+        arg(&out),
+        "--json",
+    ]);
+    let report = json(&o);
+    assert_eq!(report["glb"]["levels"], 2, "{report}");
+    let chain = voxlod::gltf::read_glb(&out.join("lod.glb")).unwrap();
+    assert!(!chain.mesh.triangles.is_empty());
+    assert!(
+        !out.join("level-0.ply").exists(),
+        "level files only with --split"
+    );
+    assert_valid(&out.join("lod.glb"));
+}
