@@ -152,7 +152,13 @@ fn assert_within_budget(triangles: usize, budget: usize, what: &str) {
 
 fn assert_valid(path: &Path) {
     if let Some(v) = voxlod_testkit::gltf_validator::validate_gltf(path) {
-        assert_eq!(v.errors, 0, "{}: {}", path.display(), v.report);
+        assert_eq!(
+            (v.errors, v.warnings),
+            (0, 0),
+            "{}: {}",
+            path.display(),
+            v.report
+        );
     }
 }
 
@@ -347,6 +353,34 @@ fn a_required_extension_that_cannot_be_decoded_is_refused() {
         arg(&dir.path().join("out")),
     ]);
     assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+}
+
+#[test]
+fn the_readers_warnings_reach_the_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_glb(dir.path());
+    let (mut doc, bin) = glb_chunks(&std::fs::read(&input).unwrap());
+    doc["extensionsUsed"] = serde_json::json!(["EXT_made_up_for_the_test"]);
+    let used = dir.path().join("used.glb");
+    std::fs::write(&used, voxlod::gltf::to_glb(&doc, bin).unwrap()).unwrap();
+    let out = dir.path().join("out");
+    let o = voxlod(&[
+        "lod",
+        arg(&used),
+        "--triangles",
+        "200",
+        "-o",
+        arg(&out),
+        "--json",
+    ]);
+    let report = json(&o);
+    let warnings = report["warnings"].as_array().unwrap();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("EXT_made_up_for_the_test")),
+        "{report}"
+    );
 }
 
 #[test]

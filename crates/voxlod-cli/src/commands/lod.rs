@@ -66,8 +66,9 @@ pub struct LodArgs {
     /// .gltf) or a volume (.nrrd .nhdr .vti .vtk .nii .nii.gz .mha .mhd, or headerless raw with
     /// --dims)
     pub input: PathBuf,
-    /// Folder for the level meshes and report.json (created if missing); for --format glb also
-    /// a NAME.glb file, with NAME-level-N.glb (--split) and NAME-report.json beside it
+    /// Folder for the level meshes and report.json (created if missing); for a glTF input also
+    /// NAME.glb, the file with every level, with NAME-level-N.glb (--split) and
+    /// NAME-report.json beside it
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
     /// Samples across the longest side of the object at level 0 [default: for a mesh, from its
