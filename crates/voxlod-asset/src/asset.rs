@@ -12,7 +12,7 @@
 
 use std::sync::Arc;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use voxlod_core::glam::{Vec2, Vec3, Vec4};
 use voxlod_core::TriangleMesh;
 
@@ -54,7 +54,7 @@ pub struct AssetMesh {
 }
 
 /// Where one primitive of the input went in [`Asset::mesh`].
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Part {
     /// The node's name, or its mesh's, or `node N`.
     pub name: String,
@@ -65,7 +65,8 @@ pub struct Part {
 }
 
 /// How a material's alpha is used (glTF's `alphaMode`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "UPPERCASE")]
 pub enum AlphaMode {
     /// Alpha ignored.
     #[default]
@@ -78,7 +79,8 @@ pub enum AlphaMode {
 
 /// A physically based metallic-roughness material, as glTF 2.0 defines it, with the
 /// `KHR_materials_emissive_strength` factor. Colour factors are linear.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct Material {
     /// Its name (may be empty).
     pub name: String,
@@ -172,20 +174,23 @@ impl Material {
 }
 
 /// A material's use of an image.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TextureRef {
     /// Index into [`Asset::images`].
     pub image: usize,
     /// Which texture coordinate set it reads (0 or 1).
+    #[serde(default)]
     pub tex_coord: u32,
     /// `KHR_texture_transform`, when the slot has one.
+    #[serde(default)]
     pub transform: Option<TextureTransform>,
     /// How it wraps and filters.
+    #[serde(default)]
     pub sampler: Sampler,
 }
 
 /// `KHR_texture_transform`: texture coordinates scaled, then rotated, then offset.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TextureTransform {
     /// Added last.
     pub offset: [f32; 2],
@@ -209,7 +214,8 @@ impl TextureTransform {
 }
 
 /// How a texture wraps outside 0..1 (glTF's sampler wrap modes).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Wrap {
     /// Tiles (glTF's default).
     #[default]
@@ -221,7 +227,7 @@ pub enum Wrap {
 }
 
 /// A texture's sampler: wrap per axis and whether it is magnified smoothly.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Sampler {
     /// Wrap along u.
     pub wrap_u: Wrap,

@@ -35,8 +35,11 @@ pub fn points_xyz(rows: &[[f32; 3]]) -> Vec<Vec3> {
     rows.iter().map(|r| Vec3::new(r[2], r[1], r[0])).collect()
 }
 
-/// An `(n, 3)` array from rows, without a copy.
-pub fn rows<T: Element>(py: Python<'_>, rows: Vec<[T; 3]>) -> Bound<'_, PyArray2<T>> {
+/// An `(n, N)` array from rows, without a copy.
+pub fn rows<T: Element, const N: usize>(
+    py: Python<'_>,
+    rows: Vec<[T; N]>,
+) -> Bound<'_, PyArray2<T>> {
     Array2::from(rows).into_pyarray(py)
 }
 

@@ -15,6 +15,7 @@ mod errors;
 mod facade;
 mod filter;
 mod labels;
+mod scene;
 mod threshold_blockwise;
 
 use pyo3::prelude::*;
@@ -56,6 +57,8 @@ fn _voxlod(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(facade::layers, m)?)?;
     m.add_function(wrap_pyfunction!(labels::labels, m)?)?;
     m.add_function(wrap_pyfunction!(labels::chunk_labels, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::read_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::write_scene, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -32,6 +32,7 @@ import numpy as np
 from . import _voxlod
 from ._arrays import check_fits, triple, volume_array
 from ._labels import LabelMesh, labels
+from ._scene import Scene, read_scene, write_scene
 from ._facade import (
     Level,
     cluster,
@@ -57,6 +58,9 @@ __all__ = [
     "lod_volume",
     "Level",
     "read_mesh",
+    "read_scene",
+    "write_scene",
+    "Scene",
     "write_mesh",
     "read_volume",
     "write_volume",
