@@ -57,7 +57,7 @@ pub mod silhouette;
 pub use camera::{Camera, Projection};
 pub use error::RenderError;
 pub use image::Image;
-pub use looks::{decode_textures, AssetItem};
+pub use looks::{assets_bounds, decode_textures, render_assets, AssetItem};
 pub use metrics::{rms_difference, silhouette_mask};
 pub use render::{render, LineItem, MeshItem, PointItem, RenderOptions, Scene};
 pub use silhouette::{view_directions, SilhouetteDifference, SilhouetteReference};

@@ -1,4 +1,5 @@
-//! `voxlod render`: meshes and layered `.glb` files to a PNG with the software rasterizer.
+//! `voxlod render`: meshes, glTF assets with their looks and layered `.glb` files to a PNG with
+//! the software rasterizer.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -6,11 +7,14 @@ use std::time::Instant;
 use clap::Args;
 use glam::DVec3;
 use serde::Serialize;
-use voxlod::{DrawOptions, Drawing};
+use voxlod::core::PolyMesh;
+use voxlod::layers::Octant;
+use voxlod::render::{assets_bounds, render_assets, Camera, Image, RenderOptions};
+use voxlod::{DrawOptions, Drawable, Drawing};
 
 use super::camera::CameraArgs;
 use super::common::say;
-use super::common::{print_json, thousands, CliError};
+use super::common::{in_file, print_json, thousands, CliError};
 use super::values::{in_flags, number, numbers};
 
 /// Draw meshes and layered shells to a PNG (software rasterizer, Lambert shading).
@@ -23,16 +27,20 @@ use super::values::{in_flags, number, numbers};
 /// --perspective, or with several layered files, the order is computed afresh from the volume
 /// grid the file records: split at the eye's cell, objects ordered by their buffers' boxes and
 /// interleaved where the buffers overlap. --supersample N draws N×N samples per pixel (16 gives
-/// the antialiasing comparison's reference).
+/// the antialiasing comparison's reference). glTF assets (.gltf, or a .glb that is not layered)
+/// with materials or vertex colours are drawn with their looks: base colour factor × vertex
+/// colour × base colour texture, alpha masks honoured, Lambert-shaded; mixed with other inputs,
+/// they are drawn as plain meshes, with a warning.
 ///
 /// Examples:
+///   voxlod render helmet.glb -o helmet.png --supersample 4
 ///   voxlod render bunny.glb -o bunny.png --view -1,-0.5,-1
 ///   voxlod render level-0.ply level-3.ply -o levels.png --size 1200x800 --supersample 4
 ///   voxlod render part.glb -o near.png --perspective --fov 30
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct RenderArgs {
-    /// Meshes (.obj .ply .stl .off .vtp .vtk) and layered or plain .glb files
+    /// Meshes (.obj .ply .stl .off .vtp .vtk), glTF assets (.gltf .glb) and layered .glb files
     #[arg(required = true, value_name = "MESH")]
     pub meshes: Vec<PathBuf>,
     /// The PNG to write
@@ -83,6 +91,9 @@ struct RenderReport {
     points: usize,
     /// "stored" (the file's order for the octant) or "computed" (from the volume grids).
     layered_order: Option<&'static str>,
+    /// Whether the inputs were drawn with their looks (glTF assets' materials, colours and
+    /// textures).
+    looks: bool,
     seconds: f64,
     warnings: Vec<String>,
 }
@@ -110,21 +121,109 @@ pub fn run(args: RenderArgs) -> Result<(), CliError> {
             "--fov {fov} has no effect without --perspective (the camera is orthographic)"
         ));
     }
-    let inputs = args
-        .meshes
-        .iter()
-        .map(voxlod::read_drawable)
-        .collect::<Result<Vec<_>, _>>()?;
-    let drawing = voxlod::draw(&inputs, &options).map_err(|e| in_flags(e, &[]))?;
+    let (inputs, assets) = read_inputs(&args.meshes, &mut warnings)?;
+    let looks = assets.is_some();
+    let drawing = match assets {
+        Some(assets) => draw_assets(&assets, &options, &mut warnings)?,
+        None => voxlod::draw(&inputs, &options).map_err(|e| in_flags(e, &[]))?,
+    };
     let png = drawing.image.to_png().map_err(voxlod::Error::from)?;
     out.png(&args.output, &png)?;
     out.commit()?;
-    let report = render_report(&args, &drawing, start.elapsed().as_secs_f64(), warnings);
+    let report = render_report(
+        &args,
+        &drawing,
+        start.elapsed().as_secs_f64(),
+        warnings,
+        looks,
+    );
     if args.json {
         return print_json(&report);
     }
     print_report(&args, &report);
     Ok(())
+}
+
+/// The inputs as plain or layered drawables, and as assets with their looks when every input
+/// is a glTF asset that has looks (materials or vertex colours); a warning when only some are.
+fn read_inputs(
+    paths: &[PathBuf],
+    warnings: &mut Vec<String>,
+) -> Result<(Vec<Drawable>, Option<Vec<voxlod::gltf::SceneRead>>), CliError> {
+    let (mut drawables, mut assets) = (Vec::new(), Vec::new());
+    for path in paths {
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        let gltf = ext.eq_ignore_ascii_case("gltf");
+        let drawable = if gltf {
+            None
+        } else {
+            Some(voxlod::read_drawable(path)?)
+        };
+        let plain = matches!(drawable, None | Some(Drawable::Plain(_)));
+        if plain && (gltf || ext.eq_ignore_ascii_case("glb")) {
+            let read = voxlod::gltf::read_scene(path).map_err(|e| in_file(path, e))?;
+            let drawable = drawable
+                .unwrap_or_else(|| Drawable::Plain(PolyMesh::from(read.asset.mesh.geometry())));
+            drawables.push(drawable);
+            let looks = !read.asset.materials.is_empty() || !read.asset.mesh.colors.is_empty();
+            if looks {
+                assets.push((path, read));
+            }
+            continue;
+        }
+        drawables.extend(drawable);
+    }
+    if assets.is_empty() {
+        return Ok((drawables, None));
+    }
+    if assets.len() < paths.len() {
+        let names: Vec<String> = assets
+            .iter()
+            .map(|(p, _)| p.display().to_string())
+            .collect();
+        warnings.push(format!(
+            "{} drawn without their looks: assets are drawn with them only when every input is one",
+            names.join(", ")
+        ));
+        return Ok((drawables, None));
+    }
+    let reads = assets.into_iter().map(|(_, read)| read).collect();
+    Ok((drawables, Some(reads)))
+}
+
+/// Glb assets drawn with their looks, framed as [`voxlod::draw`] frames meshes.
+fn draw_assets(
+    reads: &[voxlod::gltf::SceneRead],
+    options: &DrawOptions,
+    warnings: &mut Vec<String>,
+) -> Result<Drawing, CliError> {
+    let view = voxlod::view_direction(options.view).map_err(|e| in_flags(e, &[]))?;
+    let assets: Vec<_> = reads.iter().map(|r| &r.asset).collect();
+    for r in reads {
+        warnings.extend(r.warnings.iter().cloned());
+    }
+    let fov = options.perspective.then_some(options.fov);
+    let render_error = |e| CliError::from(voxlod::Error::from(e));
+    let bounds = assets_bounds(&assets);
+    let camera =
+        Camera::fit(view, &bounds, options.width, options.height, fov).map_err(render_error)?;
+    let render_options = RenderOptions {
+        supersample: options.supersample,
+        background: options.background,
+        ..Default::default()
+    };
+    let (image, decode_warnings): (Image, _) =
+        render_assets(&assets, &camera, &render_options).map_err(render_error)?;
+    warnings.extend(decode_warnings);
+    Ok(Drawing {
+        image,
+        octant: Octant::of(view).map_err(|e| CliError::from(voxlod::Error::from(e)))?,
+        opaque_triangles: assets.iter().map(|a| a.mesh.triangles.len()).sum(),
+        layered_triangles: 0,
+        lines: 0,
+        points: 0,
+        layered_order: None,
+    })
 }
 
 /// The report of a drawing.
@@ -133,6 +232,7 @@ fn render_report(
     drawing: &Drawing,
     seconds: f64,
     warnings: Vec<String>,
+    looks: bool,
 ) -> RenderReport {
     RenderReport {
         output: args.output.display().to_string(),
@@ -147,6 +247,7 @@ fn render_report(
         lines: drawing.lines,
         points: drawing.points,
         layered_order: drawing.layered_order,
+        looks,
         seconds,
         warnings,
     }
