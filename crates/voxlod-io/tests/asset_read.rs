@@ -395,3 +395,119 @@ fn spot_reads_with_its_texture() {
         .all(|t| (-0.06..=1.01).contains(&t.x) && (-0.01..=1.01).contains(&t.y)));
     asset.validate().unwrap();
 }
+
+#[test]
+fn libraries_on_one_line_non_utf8_bytes_and_non_convex_faces() {
+    let dir = tempfile::tempdir().unwrap();
+    // An L of six corners (area 3), not convex: a fan from its first corner would cover
+    // the missing square too.
+    let obj =
+        b"mtllib a.mtl b.mtl\n# caf\xe9\nv 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\n\
+                usemtl blue\nf 3 4 5 6 1 2\n";
+    std::fs::write(dir.path().join("l.obj"), obj).unwrap();
+    std::fs::write(dir.path().join("a.mtl"), "newmtl red\nKd 1 0 0\n").unwrap();
+    std::fs::write(dir.path().join("b.mtl"), "newmtl blue\nKd 0 0 1\nTr 0.25\n").unwrap();
+    let read = read_asset(&dir.path().join("l.obj")).unwrap();
+    assert_eq!(read.warnings.len(), 1, "{:?}", read.warnings);
+    assert!(read.warnings[0].contains("UTF-8"), "{:?}", read.warnings);
+    let asset = &read.asset;
+    let names: Vec<&str> = asset.materials.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["red", "blue"]);
+    assert_eq!(asset.materials[1].base_color, [0.0, 0.0, 1.0, 0.75]);
+    let mesh = &asset.mesh;
+    assert_eq!((mesh.positions.len(), mesh.triangles.len()), (6, 4));
+    assert_eq!(mesh.material, [1; 4]);
+    assert!(mesh.uv[0].is_empty() && mesh.normals.is_empty());
+    let area: f32 = mesh
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+            let z = (b - a).cross(c - a).z * 0.5;
+            assert!(z > 0.0, "every triangle keeps the face's winding");
+            z
+        })
+        .sum();
+    assert!((area - 3.0).abs() < 1e-6, "{area}");
+}
+
+/// Every prefix of the OBJ and MTL, and every byte replaced by a few others: an asset or an
+/// error naming the file, never a panic.
+#[test]
+fn mutated_obj_and_mtl_files_never_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    write_png(&dir.path().join("tex.png"));
+    let obj_path = dir.path().join("looks.obj");
+    let mtl_path = dir.path().join("looks.mtl");
+    let mut outcomes = [0usize; 2];
+    let mut check = |obj: &[u8], mtl: &[u8]| {
+        std::fs::write(&obj_path, obj).unwrap();
+        std::fs::write(&mtl_path, mtl).unwrap();
+        match read_asset(&obj_path) {
+            Ok(read) => {
+                read.asset.validate().unwrap();
+                outcomes[0] += 1;
+            }
+            Err(error) => {
+                assert!(error
+                    .to_string()
+                    .starts_with(&obj_path.display().to_string()));
+                outcomes[1] += 1;
+            }
+        }
+    };
+    let (obj, mtl) = (OBJ.as_bytes(), MTL.as_bytes());
+    for cut in 0..obj.len() {
+        check(&obj[..cut], mtl);
+    }
+    for cut in 0..mtl.len() {
+        check(obj, &mtl[..cut]);
+    }
+    for k in 0..obj.len() {
+        for b in [b'-', b'/', 0xFF] {
+            let mut mutated = obj.to_vec();
+            mutated[k] = b;
+            check(&mutated, mtl);
+        }
+    }
+    for k in 0..mtl.len() {
+        for b in [b'-', b'x', b' '] {
+            let mut mutated = mtl.to_vec();
+            mutated[k] = b;
+            check(obj, &mutated);
+        }
+    }
+    assert!(outcomes[0] > 0 && outcomes[1] > 0, "{outcomes:?}");
+}
+
+/// The shared OBJ meshes read as assets have the geometry reader's triangles, corner by
+/// corner (the asset drops unreferenced vertices and splits by corner attributes, so indices
+/// differ; positions do not).
+#[test]
+fn shared_objs_as_assets_have_the_geometry_readers_triangles() {
+    let test = "shared_objs_as_assets_have_the_geometry_readers_triangles";
+    for name in ["ogre.obj", "stanford-bunny.obj"] {
+        let Some(path) = shared_data_or_skip(&format!("meshes/{name}"), test) else {
+            return;
+        };
+        let start = std::time::Instant::now();
+        let geometry = voxlod_io::read_mesh(&path).unwrap().mesh;
+        let geometry_time = start.elapsed();
+        let start = std::time::Instant::now();
+        let read = read_asset(&path).unwrap();
+        let asset_time = start.elapsed();
+        eprintln!(
+            "{name}: read_mesh {geometry_time:?}, read_asset {asset_time:?} ({} triangles, {} vertices as an asset, {} in the file)",
+            geometry.triangles.len(),
+            read.asset.mesh.positions.len(),
+            geometry.positions.len()
+        );
+        let mesh = &read.asset.mesh;
+        assert_eq!(mesh.triangles.len(), geometry.triangles.len(), "{name}");
+        for (a, g) in mesh.triangles.iter().zip(&geometry.triangles) {
+            let a = a.map(|i| mesh.positions[i as usize]);
+            let g = g.map(|i| geometry.positions[i as usize]);
+            assert_eq!(a, g, "{name}");
+        }
+    }
+}

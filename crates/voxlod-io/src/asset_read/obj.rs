@@ -13,8 +13,10 @@
 //! where only some parts have them keeps them with zeros for the others (texture coordinates,
 //! with a warning) or drops them (normals, with a warning: the pipeline recomputes them).
 //! Vertex colours (`v x y z r g b`) are sRGB and made linear. MTL files are read from the
-//! OBJ's folder, their materials by [`super::mtl`]; a missing one is a warning, and the faces
-//! that use its materials take the `default` material.
+//! OBJ's folder (several may share an `mtllib` line), their materials by [`super::mtl`]; a
+//! missing one is a warning, and the faces that use its materials take the `default` material.
+//! Bytes that are not UTF-8 (a comment or name in another encoding) are read as U+FFFD, with a
+//! warning, rather than refused.
 //!
 //! Unlike the geometry reader (`obj.rs`), unreferenced vertices are dropped: an asset's
 //! vertices are corners of its triangles.
@@ -22,6 +24,7 @@
 //! Cost: one pass of `tobj` over the file (a hash lookup per corner), then one over its
 //! models; memory the file, `tobj`'s models (about the asset's size) and the asset.
 
+use std::borrow::Cow;
 use std::cell::RefCell;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
@@ -66,14 +69,22 @@ pub(crate) fn read(path: &Path, warnings: &mut Vec<String>) -> Result<Asset, IoE
         ignore_lines: true,
         ..Default::default()
     };
+    // tobj reads lines as UTF-8 and fails on any other byte: a comment or name in another
+    // encoding gets replacement characters instead.
+    let text = String::from_utf8_lossy(&bytes);
+    if matches!(text, Cow::Owned(_)) {
+        warnings.push("the file is not valid UTF-8: its other bytes were read as \u{FFFD}".into());
+    }
     let loader = |name: &Path| load_library(&folder, name, &libraries);
-    let loaded = guard::quietly(|| tobj::load_obj_buf(&mut Cursor::new(&bytes), &options, loader))
+    let mut reader = Cursor::new(text.as_bytes());
+    let loaded = guard::quietly(|| tobj::load_obj_buf(&mut reader, &options, loader))
         .ok_or_else(|| IoError::malformed(path, "the OBJ data cannot be decoded"))?;
     let libraries = libraries.into_inner();
     if let Some(error) = libraries.error {
         return Err(error);
     }
     let (models, materials) = loaded.map_err(|e| from_tobj(path, e))?;
+    drop(text);
     drop(bytes);
     warnings.extend(libraries.warnings);
     // tobj gives an error instead of the materials when none loaded; the libraries' own
@@ -117,42 +128,71 @@ pub(crate) fn read(path: &Path, warnings: &mut Vec<String>) -> Result<Asset, IoE
     Ok(asset)
 }
 
-/// `tobj`'s material loader: the MTL file `name` relative to the OBJ's `folder`, read within
-/// the memory budget. A missing or unreadable file is a warning (and no materials); a file
-/// too large for the memory budget stops the read with that error.
+/// `tobj`'s material loader: the MTL file `name` relative to the OBJ's `folder` or, when no
+/// file has that name and it has spaces, each of the files it lists (`mtllib a.mtl b.mtl`,
+/// which `tobj` passes whole), their materials merged in order. Each is read within the memory
+/// limit; a missing or unreadable one is a warning (and no materials); one too large for the
+/// memory limit stops the read with that error. Cost: the MTL files' sizes.
 fn load_library(folder: &Path, name: &Path, libraries: &RefCell<Libraries>) -> tobj::MTLLoadResult {
-    let file = folder.join(name.to_string_lossy().replace('\\', "/"));
+    let name = name.to_string_lossy().replace('\\', "/");
+    let files: Vec<&str> = if folder.join(&name).is_file() || !name.contains(' ') {
+        vec![name.as_str()]
+    } else {
+        name.split_whitespace().collect()
+    };
     let mut libraries = libraries.borrow_mut();
-    let dir = file.parent().unwrap_or(Path::new("")).to_path_buf();
-    let len = match std::fs::metadata(&file) {
+    let mut merged: tobj::MTLLoadResult = Err(tobj::LoadError::OpenFileFailed);
+    for file in files {
+        let file = folder.join(file);
+        let Ok((materials, names)) = load_one_library(&file, &mut libraries) else {
+            continue;
+        };
+        let dir = file.parent().unwrap_or(Path::new("")).to_path_buf();
+        libraries.loaded.push((dir, materials.len()));
+        match &mut merged {
+            Ok((all, all_names)) => {
+                for (name, k) in names {
+                    all_names.insert(name, k + all.len());
+                }
+                all.extend(materials);
+            }
+            Err(_) => merged = Ok((materials, names)),
+        }
+    }
+    merged
+}
+
+/// The materials of one MTL file and their index by name, or an error after a warning (or,
+/// when it is too large for the memory limit, after recording that error).
+fn load_one_library(file: &Path, libraries: &mut Libraries) -> tobj::MTLLoadResult {
+    let missing = Err(tobj::LoadError::OpenFileFailed);
+    let len = match std::fs::metadata(file) {
         Ok(meta) if meta.is_file() => meta.len(),
         _ => {
             libraries.warnings.push(format!(
                 "material library {} not found: its materials are left out",
                 file.display()
             ));
-            return Err(tobj::LoadError::OpenFileFailed);
+            return missing;
         }
     };
-    if let Err(e) = budget::check_bytes(&file, "reading the material library", len) {
+    if let Err(e) = budget::check_bytes(file, "reading the material library", len) {
         libraries.error.get_or_insert(e);
-        return Err(tobj::LoadError::OpenFileFailed);
+        return missing;
     }
-    let bytes = match std::fs::read(&file) {
+    let bytes = match std::fs::read(file) {
         Ok(bytes) => bytes,
         Err(e) => {
             libraries.warnings.push(format!(
                 "material library {} cannot be read ({e}): its materials are left out",
                 file.display()
             ));
-            return Err(tobj::LoadError::OpenFileFailed);
+            return missing;
         }
     };
-    match tobj::load_mtl_buf(&mut Cursor::new(bytes)) {
-        Ok((materials, names)) => {
-            libraries.loaded.push((dir, materials.len()));
-            Ok((materials, names))
-        }
+    let text = String::from_utf8_lossy(&bytes);
+    match tobj::load_mtl_buf(&mut Cursor::new(text.as_bytes())) {
+        Ok(library) => Ok(library),
         Err(e) => {
             libraries.warnings.push(format!(
                 "material library {} is not valid MTL ({}): its materials are left out",
@@ -177,7 +217,7 @@ fn mtl_problem(e: tobj::LoadError) -> &'static str {
 fn from_tobj(path: &Path, e: tobj::LoadError) -> IoError {
     use tobj::LoadError as E;
     let message = match e {
-        E::OpenFileFailed | E::ReadError => "the file is not text (it is not UTF-8)",
+        E::OpenFileFailed | E::ReadError => "the file cannot be read as text",
         E::PositionParseError => "a vertex (v) has a coordinate that is not a number",
         E::ScalingByZeroError => "a vertex (v) has a weight w of zero",
         E::ColorParseError => {
