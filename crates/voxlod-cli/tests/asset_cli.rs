@@ -384,7 +384,7 @@ fn the_readers_warnings_reach_the_report() {
 }
 
 #[test]
-fn a_mesh_with_budgets_and_format_glb_gets_its_chain() {
+fn a_mesh_with_budgets_and_format_glb_gets_its_chain_in_either_layout() {
     let dir = tempfile::tempdir().unwrap();
     let mesh = common::write_mesh(dir.path(), "sphere.ply", &icosphere(3));
     let out = dir.path().join("chain");
@@ -408,4 +408,33 @@ fn a_mesh_with_budgets_and_format_glb_gets_its_chain() {
         "level files only with --split"
     );
     assert_valid(&out.join("lod.glb"));
+    let nodes = dir.path().join("nodes");
+    let o = voxlod(&[
+        "lod",
+        arg(&mesh),
+        "--triangles",
+        "400,100",
+        "--format",
+        "glb",
+        "--layout",
+        "lod-nodes",
+        "-o",
+        arg(&nodes),
+        "--json",
+    ]);
+    let report = json(&o);
+    assert_eq!(report["glb"]["layout"], "lod-nodes", "{report}");
+    let doc = glb_json(&nodes.join("lod.glb"));
+    let names: Vec<&str> = doc["scenes"][0]["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| {
+            doc["nodes"][n.as_u64().unwrap() as usize]["name"]
+                .as_str()
+                .unwrap()
+        })
+        .collect();
+    assert_eq!(names, ["LOD0", "LOD1"]);
+    assert_valid(&nodes.join("lod.glb"));
 }

@@ -1,13 +1,14 @@
 //! `voxlod lod --format glb`: every level in one `DIR/lod.glb`, chained with `MSFT_lod` from the
 //! finest to the coarsest, with `MSFT_screencoverage` from `voxlod select`'s pixel-size rule
 //! (`voxlod::lod_glb`); `--split` writes the level files too, `--compress meshopt` quantizes
-//! and encodes the geometry as gltfpack does.
+//! and encodes the geometry as gltfpack does. `--layout lod-nodes` writes one scene node per
+//! level named `LOD0`, `LOD1`, … instead (uncompressed).
 
 use std::path::Path;
 
 use clap::{Args, ValueEnum};
 use serde::Serialize;
-use voxlod::gltf::ChainOptions;
+use voxlod::gltf::{AssetGlbOptions, ChainOptions, Layout};
 use voxlod::io::OutputSet;
 use voxlod::Lod;
 
@@ -58,7 +59,7 @@ pub struct GlbArgs {
     /// With --format glb: compress the geometry
     #[arg(long, value_enum, value_name = "METHOD")]
     pub compress: Option<CompressArg>,
-    /// With a glTF input: how the levels sit in the .glb. msft-lod: one node switching levels
+    /// With --format glb: how the levels sit in the .glb. msft-lod: one node switching levels
     /// with MSFT_lod, for engines with the extension; lod-nodes: one node per level named
     /// LOD0, LOD1, …, for Blender's, Unity's and Unreal's importers and three.js users
     #[arg(long, value_enum, default_value = "msft-lod")]
@@ -77,13 +78,12 @@ impl GlbArgs {
         Ok(())
     }
 
-    /// [`GlbArgs::check`] for a mesh's or a volume's chain, which is written with `MSFT_lod`.
+    /// [`GlbArgs::check`] for a mesh's or a volume's chain: `--compress` writes `MSFT_lod`.
     pub fn check_chain(&self, format: LodFormat) -> Result<(), CliError> {
         self.check(format)?;
-        if self.layout != LayoutArg::MsftLod {
+        if self.layout != LayoutArg::MsftLod && self.compress.is_some() {
             return Err(CliError::usage(
-                "--layout lod-nodes applies to a glTF input's levels; a mesh's or a volume's \
-                 chain is written with MSFT_lod",
+                "--compress writes an MSFT_lod chain; --layout lod-nodes is written uncompressed",
             ));
         }
         Ok(())
@@ -96,6 +96,8 @@ pub struct GlbReport {
     pub file: String,
     pub bytes: usize,
     pub compression: Option<&'static str>,
+    /// `msft-lod` or `lod-nodes`.
+    pub layout: &'static str,
     pub levels: usize,
     pub screen_coverage: Vec<f64>,
 }
@@ -107,6 +109,9 @@ pub fn add_chain(
     lod: &Lod,
     args: &GlbArgs,
 ) -> Result<GlbReport, CliError> {
+    if args.layout == LayoutArg::LodNodes {
+        return add_lod_nodes(out, dir, lod);
+    }
     let options = match args.compress {
         Some(CompressArg::Meshopt) => ChainOptions::meshopt(),
         None => ChainOptions::default(),
@@ -118,7 +123,42 @@ pub fn add_chain(
         file: CHAIN_FILE.into(),
         bytes: bytes.len(),
         compression: args.compress.map(|_| "meshopt"),
+        layout: "msft-lod",
         levels: screen_coverage.len(),
         screen_coverage,
+    })
+}
+
+/// `DIR/lod.glb` with one scene node per level that has a surface, named `LOD0`, `LOD1`, …
+/// (positions and normals; `voxlod::gltf::asset_glb`'s `LodNodes` layout).
+fn add_lod_nodes(out: &mut OutputSet, dir: &Path, lod: &Lod) -> Result<GlbReport, CliError> {
+    let levels: Vec<_> = lod
+        .levels
+        .iter()
+        .filter(|l| !l.mesh.is_empty())
+        .map(|l| voxlod::asset::Asset {
+            mesh: voxlod::asset::AssetMesh {
+                positions: l.mesh.positions.clone(),
+                triangles: l.mesh.triangles.clone(),
+                normals: l.mesh.normals.clone(),
+                ..Default::default()
+            },
+            ..Default::default()
+        })
+        .collect();
+    let options = AssetGlbOptions {
+        layout: Layout::LodNodes,
+        ..AssetGlbOptions::default()
+    };
+    let path = in_dir(dir, CHAIN_FILE);
+    let bytes = voxlod::gltf::asset_glb(&levels, &options).map_err(|e| in_file(&path, e))?;
+    out.bytes(&path, &bytes)?;
+    Ok(GlbReport {
+        file: CHAIN_FILE.into(),
+        bytes: bytes.len(),
+        compression: None,
+        layout: "lod-nodes",
+        levels: levels.len(),
+        screen_coverage: Vec::new(),
     })
 }
