@@ -22,7 +22,8 @@
 //!
 //! [`read_asset`] reads a mesh with its looks as a [`voxlod_asset::Asset`] (`asset_read/`): an
 //! OBJ with its MTL materials, texture coordinates, normals and images (through `tobj`), a PLY
-//! or OFF with its vertex colours made linear, the other mesh formats as geometry.
+//! or OFF with its vertex colours made linear (a PLY's texture coordinates and `TextureFile`
+//! too), the other mesh formats as geometry.
 //!
 //! Every error is an [`IoError`] that prints as `path: problem` on one line, in plain words
 //! (never a parser's internals), with an [`IoErrorKind`] to act on; no input, however broken,

@@ -511,3 +511,51 @@ fn shared_objs_as_assets_have_the_geometry_readers_triangles() {
         }
     }
 }
+
+#[test]
+fn ply_texture_coordinates_and_texture_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = write_png(&dir.path().join("scan.png"));
+    let header = "ply\nformat ascii 1.0\ncomment TextureFile scan.png\nelement vertex 3\n\
+                  property float x\nproperty float y\nproperty float z\nproperty float s\n\
+                  property float t\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    let path = dir.path().join("scan.ply");
+    std::fs::write(
+        &path,
+        format!("{header}0 0 0 0 0.25\n1 0 0 1 0.25\n0 1 0 0 1\n3 0 1 2\n"),
+    )
+    .unwrap();
+    let read = read_asset(&path).unwrap();
+    assert!(read.warnings.is_empty(), "{:?}", read.warnings);
+    let asset = &read.asset;
+    assert_eq!(
+        asset.mesh.uv[0],
+        [
+            Vec2::new(0.0, 0.75),
+            Vec2::new(1.0, 0.75),
+            Vec2::new(0.0, 0.0)
+        ]
+    );
+    let texture = asset.materials[0].base_color_texture.as_ref().unwrap();
+    assert!(*asset.images[texture.image].bytes == png);
+
+    // Without its image: a warning, the coordinates kept, no texture.
+    std::fs::remove_file(dir.path().join("scan.png")).unwrap();
+    let read = read_asset(&path).unwrap();
+    assert!(read.warnings[0].contains("scan.png"), "{:?}", read.warnings);
+    assert!(read.asset.materials[0].base_color_texture.is_none());
+    assert_eq!(read.asset.mesh.uv[0].len(), 3);
+
+    // Per-corner coordinates of faces are not read: the texture is left out, saying why.
+    let header = "ply\nformat ascii 1.0\ncomment TextureFile scan.png\nelement vertex 3\n\
+                  property float x\nproperty float y\nproperty float z\nelement face 1\n\
+                  property list uchar int vertex_indices\nproperty list uchar float texcoord\nend_header\n";
+    std::fs::write(
+        &path,
+        format!("{header}0 0 0\n1 0 0\n0 1 0\n3 0 1 2 6 0 0 1 0 0 1\n"),
+    )
+    .unwrap();
+    let read = read_asset(&path).unwrap();
+    assert!(read.warnings[0].contains("texcoord"), "{:?}", read.warnings);
+    assert!(read.asset.mesh.uv[0].is_empty());
+}

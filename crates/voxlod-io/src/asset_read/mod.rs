@@ -5,8 +5,10 @@
 //!   and normals, vertices split where the corners of one position differ, a material per
 //!   triangle from `usemtl`, and the materials' images read beside their MTL file ([`mtl`]).
 //! - `.ply` with vertex colours (`red`, `green`, `blue`, optionally `alpha`; `uchar`, `ushort`
-//!   or `float`) and normals, read by the geometry reader (`ply/`), which names the colour
-//!   properties it met ([`crate::ply`]'s `PlyColors`).
+//!   or `float`), normals, and per-vertex texture coordinates (`u`/`v`, `s`/`t`, ...) with the
+//!   texture a `comment TextureFile` line names, read by the geometry reader (`ply/`), which
+//!   names the colour and texture properties it met ([`crate::ply`]'s `PlyColors`, `PlyLooks`).
+//!   Per-corner texture coordinates of faces (MeshLab's `texcoord` lists) are not read.
 //! - `.off`, COFF vertex colours included (`off.rs`).
 //! - `.stl`, `.vtp`, `.vtk`: the geometry (and normals) only, as [`crate::read_mesh`] reads it.
 //!
@@ -29,8 +31,8 @@ pub(crate) mod obj;
 
 use std::path::Path;
 
-use voxlod_asset::{Asset, AssetMesh, Material, Part};
-use voxlod_core::glam::Vec4;
+use voxlod_asset::{Asset, AssetMesh, Material, Part, Sampler, TextureRef};
+use voxlod_core::glam::{Vec2, Vec4};
 use voxlod_core::PolyMesh;
 
 use crate::{check_finite, check_readable, mesh_format_of, off, ply, IoError, MeshFormat};
@@ -69,20 +71,7 @@ pub fn read_asset(path: &Path) -> Result<AssetRead, IoError> {
     let mut warnings = Vec::new();
     let asset = match format {
         MeshFormat::Obj => obj::read(path, &mut warnings)?,
-        MeshFormat::Ply => {
-            let content = ply::read(path)?;
-            let colors = content.colors.map_or_else(Vec::new, |c| {
-                let channel = |k: usize, i: usize| {
-                    c.channels[k].map_or(1.0, |(a, scale)| {
-                        content.mesh.vertex_attributes[a].values[i] * scale
-                    })
-                };
-                (0..content.mesh.mesh.positions.len())
-                    .map(|i| srgba_to_linear([0, 1, 2, 3].map(|k| channel(k, i))))
-                    .collect()
-            });
-            geometry_asset(path, content.mesh, colors, &mut warnings)?
-        }
+        MeshFormat::Ply => ply_asset(path, &mut warnings)?,
         MeshFormat::Off => {
             let content = off::read(path)?;
             let colors = content.colors.iter().map(|&c| srgba_to_linear(c)).collect();
@@ -100,6 +89,58 @@ pub fn read_asset(path: &Path) -> Result<AssetRead, IoError> {
         .validate()
         .map_err(|e| IoError::malformed(path, e.to_string()))?;
     Ok(AssetRead { asset, warnings })
+}
+
+/// A PLY file as an asset: its vertex colours made linear, and its per-vertex texture
+/// coordinates (v flipped) with the texture its `comment TextureFile` names, read beside it,
+/// as the default material's base colour texture.
+fn ply_asset(path: &Path, warnings: &mut Vec<String>) -> Result<Asset, IoError> {
+    let content = ply::read(path)?;
+    let attributes = &content.mesh.vertex_attributes;
+    let n = content.mesh.mesh.positions.len();
+    let colors = content.colors.map_or_else(Vec::new, |c| {
+        let channel = |k: usize, i: usize| {
+            c.channels[k].map_or(1.0, |(a, scale)| attributes[a].values[i] * scale)
+        };
+        (0..n)
+            .map(|i| srgba_to_linear([0, 1, 2, 3].map(|k| channel(k, i))))
+            .collect()
+    });
+    let looks = &content.looks;
+    let uv: Vec<Vec2> = looks.uv.map_or_else(Vec::new, |[u, v]| {
+        let (u, v) = (&attributes[u].values, &attributes[v].values);
+        (0..n).map(|i| Vec2::new(u[i], 1.0 - v[i])).collect()
+    });
+    let mut images = mtl::Images::default();
+    let mut texture = None;
+    if let Some(file) = &looks.texture_file {
+        if uv.is_empty() {
+            warnings.push(format!(
+                "the texture {file} is left out: the vertices have no texture coordinates{}",
+                if looks.face_texcoords {
+                    " (per-corner texcoord lists of faces are not read)"
+                } else {
+                    ""
+                }
+            ));
+        } else {
+            let dir = path.parent().unwrap_or(Path::new(""));
+            let file = mtl::texture_statement(file).map_or_else(|| file.clone(), |s| s.file);
+            texture = images.get(&dir.join(file), "default", warnings)?;
+        }
+    }
+    let mut asset = geometry_asset(path, content.mesh, colors, warnings)?;
+    asset.mesh.uv[0] = uv;
+    if let Some(image) = texture {
+        asset.materials[0].base_color_texture = Some(TextureRef {
+            image,
+            tex_coord: 0,
+            transform: None,
+            sampler: Sampler::default(),
+        });
+        asset.images = images.images;
+    }
+    Ok(asset)
 }
 
 /// The asset of a mesh that has geometry, normals and colours but no materials: one `default`

@@ -96,7 +96,7 @@ pub(crate) struct Images {
 impl Images {
     /// The index of the image at `path`, read on first use; `None` (with a warning, once) when
     /// it cannot be read. An image too large for the memory budget is an error.
-    fn get(
+    pub(crate) fn get(
         &mut self,
         path: &Path,
         material: &str,

@@ -8,7 +8,8 @@
 //! scalars as line attributes) and `point` (`vertex_index`) as voxlod writes them. Other
 //! elements are read past and ignored. Vertex colours (`red`, `green`, `blue`, `alpha`, or
 //! `diffuse_*`) are attributes like any other; [`PlyColors`] says which they are and how to
-//! scale them, for [`read_asset`](crate::read_asset). Each element is parsed straight into a small record
+//! scale them, and [`PlyLooks`] which are texture coordinates and what texture the header's
+//! comments name, for [`read_asset`](crate::read_asset). Each element is parsed straight into a small record
 //! type rather than ply-rs-bw's map-per-element default, which would cost a hash map per vertex.
 //!
 //! Writing: `vertex` (x, y, z as float, nx, ny, nz when the mesh has normals, then one float
@@ -43,6 +44,49 @@ pub(crate) struct PlyContent {
     pub polygons_triangulated: usize,
     /// Which vertex attributes are colour channels, when the vertices have colours.
     pub colors: Option<PlyColors>,
+    /// The looks the header and the vertices carry besides colours.
+    pub looks: PlyLooks,
+}
+
+/// What a PLY file says about its texture: which vertex attributes hold per-vertex texture
+/// coordinates (`u`/`v`, `s`/`t`, `texture_u`/`texture_v` or `texture_s`/`texture_t`; as
+/// stored, v up the image), the file its `comment TextureFile` line names (as MeshLab writes
+/// it), and whether faces carry per-corner texture coordinates (a `texcoord` list, not read).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct PlyLooks {
+    pub uv: Option<[usize; 2]>,
+    pub texture_file: Option<String>,
+    pub face_texcoords: bool,
+}
+
+/// The property name pairs of per-vertex texture coordinates.
+const UV_NAMES: [[&str; 2]; 4] = [
+    ["u", "v"],
+    ["s", "t"],
+    ["texture_u", "texture_v"],
+    ["texture_s", "texture_t"],
+];
+
+/// The [`PlyLooks`] of a header whose vertex extras are `names`. Cost: O(properties + comments).
+fn looks_of(header: &Header, names: &[&str]) -> PlyLooks {
+    let position = |name: &str| names.iter().position(|n| *n == name);
+    let uv = UV_NAMES
+        .iter()
+        .find_map(|[u, v]| Some([position(u)?, position(v)?]));
+    let texture_file = header.comments.iter().find_map(|c| {
+        let (key, file) = c.trim().split_once(char::is_whitespace)?;
+        (key.eq_ignore_ascii_case("texturefile") && !file.trim().is_empty())
+            .then(|| file.trim().to_string())
+    });
+    let face_texcoords = header
+        .elements
+        .get("face")
+        .is_some_and(|f| f.properties.contains_key("texcoord"));
+    PlyLooks {
+        uv,
+        texture_file,
+        face_texcoords,
+    }
 }
 
 /// The vertex colour properties of a PLY file: for red, green, blue and alpha (in that order),
@@ -467,6 +511,7 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
     let vertex_names = extra_names(&header, "vertex", is_vertex_extra);
     let vertex_attributes = collect_attributes(&vertex_names, vertices.iter().map(|v| &v.extra));
     let colors = color_channels(&header, &vertex_names);
+    let looks = looks_of(&header, &vertex_names);
 
     let (triangles, polygons_triangulated) = triangulate_faces(path, &records.faces, &positions)?;
 
@@ -505,6 +550,7 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
         },
         polygons_triangulated,
         colors,
+        looks,
     })
 }
 
