@@ -6,7 +6,8 @@
 //! - [`camera`]: cameras framing a box.
 //! - [`raster`]: exact integer rasterization of one triangle into a tile of samples.
 //! - [`mod@render`]: the scene, binning into tiles, parallel drawing, the box filter.
-//! - [`looks`]: assets drawn with their materials, vertex colours and base colour textures.
+//! - [`looks`]: assets drawn with their materials, vertex colours and base colour textures;
+//!   [`assets`]: assets drawn in one call.
 //! - [`image`]: the image, PNG, side-by-side montage; [`metrics`]: RMS and silhouette masks.
 //! - [`silhouette`]: the silhouette difference between a mesh and a simplified copy.
 //!
@@ -45,6 +46,7 @@
 
 #![warn(missing_docs)]
 
+pub mod assets;
 pub mod camera;
 pub mod error;
 pub mod image;
@@ -54,10 +56,11 @@ pub mod raster;
 pub mod render;
 pub mod silhouette;
 
+pub use assets::{assets_bounds, render_assets};
 pub use camera::{Camera, Projection};
 pub use error::RenderError;
 pub use image::Image;
-pub use looks::{assets_bounds, decode_textures, render_assets, AssetItem};
+pub use looks::{decode_textures, AssetItem};
 pub use metrics::{rms_difference, silhouette_mask};
 pub use render::{render, LineItem, MeshItem, PointItem, RenderOptions, Scene};
 pub use silhouette::{view_directions, SilhouetteDifference, SilhouetteReference};

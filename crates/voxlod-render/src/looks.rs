@@ -22,9 +22,8 @@
 use glam::{Vec2, Vec4};
 use voxlod_asset::texture::{decode_base_colours, Texels};
 use voxlod_asset::{AlphaMode, Asset, AssetError, Material};
-use voxlod_core::Bounds;
 
-use crate::{render, Camera, Image, RenderError, RenderOptions, Scene};
+use crate::RenderError;
 
 /// An asset to draw with its looks, and the decoded base colour texture of each of its
 /// materials.
@@ -45,52 +44,6 @@ pub fn decode_textures(asset: &Asset) -> Result<(Vec<Option<Texels>>, Vec<String
         AssetError::Core(c) => RenderError::Core(c),
         other => RenderError::Invalid(other.to_string()),
     })
-}
-
-/// The box of the assets' triangles (empty when they have none). Cost: linear.
-pub fn assets_bounds(assets: &[&Asset]) -> Bounds {
-    let mut b = Bounds::EMPTY;
-    for a in assets {
-        for &v in a.mesh.triangles.iter().flatten() {
-            if let Some(p) = a.mesh.positions.get(v as usize) {
-                b.grow(p.as_dvec3());
-            }
-        }
-    }
-    b
-}
-
-/// `assets` drawn with their looks as `camera` sees them: their base colour textures decoded
-/// ([`decode_textures`]), then [`render`]; with the decoding's warnings, each asset's prefixed
-/// with its index when there are several.
-///
-/// # Errors
-///
-/// As [`render`] and [`decode_textures`].
-pub fn render_assets(
-    assets: &[&Asset],
-    camera: &Camera,
-    options: &RenderOptions,
-) -> Result<(Image, Vec<String>), RenderError> {
-    let mut textures = Vec::with_capacity(assets.len());
-    let mut warnings = Vec::new();
-    for (i, a) in assets.iter().enumerate() {
-        let (t, w) = decode_textures(a)?;
-        let prefix = if assets.len() > 1 {
-            format!("asset {i}: ")
-        } else {
-            String::new()
-        };
-        warnings.extend(w.into_iter().map(|w| format!("{prefix}{w}")));
-        textures.push(t);
-    }
-    let scene = Scene {
-        assets: (assets.iter().zip(&textures))
-            .map(|(a, t)| AssetItem::new(a, t))
-            .collect(),
-        ..Default::default()
-    };
-    Ok((render(&scene, camera, options)?, warnings))
 }
 
 impl<'a> AssetItem<'a> {
