@@ -150,6 +150,11 @@ impl AppearanceReference {
         Ok((views, warnings))
     }
 
+    /// How many views are compared.
+    pub fn views(&self) -> usize {
+        self.cameras.len()
+    }
+
     /// How `level` looks beside the input.
     ///
     /// # Errors

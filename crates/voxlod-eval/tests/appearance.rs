@@ -136,3 +136,42 @@ fn a_mesh_without_looks_is_measured_on_its_shaded_renders() {
     assert!(report.psnr.is_finite() && report.psnr > 25.0, "{report:?}");
     assert!(report.ssim < 1.0 && report.ssim > 0.8, "{report:?}");
 }
+
+#[test]
+fn evaluate_asset_measures_each_level_s_appearance() {
+    use voxlod::metrics::DistanceOptions;
+    use voxlod_eval::evaluate::{evaluate_asset, report, Budgets, EvaluateOptions, ImageOptions};
+
+    let input = checkered_sphere();
+    let options = EvaluateOptions {
+        methods: vec![
+            "rossignac-borrel".parse().unwrap(),
+            "voxel-gaussian".parse().unwrap(),
+        ],
+        budgets: Budgets::Explicit(vec![2000, 300]),
+        distance: DistanceOptions::with_samples(2_000),
+        images: ImageOptions::off(),
+        ..EvaluateOptions::quick()
+    };
+    let evaluation = evaluate_asset(&input, &options, |_, _| {}).unwrap();
+    assert_eq!(evaluation.appearance_views, 14);
+    for curve in &evaluation.curves {
+        for p in &curve.points {
+            let a = p.appearance.expect("measured");
+            eprintln!(
+                "{} at {} triangles: PSNR {:.2} dB, SSIM {:.4}",
+                curve.method, p.triangles, a.psnr, a.ssim
+            );
+            assert!(a.psnr.is_finite() && a.psnr > 12.0, "{a:?}");
+            assert!(a.ssim > 0.5 && a.ssim < 1.0, "{a:?}");
+        }
+        // More triangles look closer to the input.
+        if let [fine, coarse] = &curve.points[..] {
+            let (f, c) = (fine.appearance.unwrap(), coarse.appearance.unwrap());
+            assert!(f.ssim > c.ssim, "{}: {f:?} {c:?}", curve.method);
+        }
+    }
+    let markdown = report::markdown(&evaluation, &report::ReportContext::default());
+    assert!(markdown.contains("PSNR in dB · SSIM"), "{markdown}");
+    assert!(markdown.contains(" dB · 0."), "{markdown}");
+}

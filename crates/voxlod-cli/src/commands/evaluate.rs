@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use serde::Serialize;
+use voxlod::asset::Asset;
 use voxlod::core::{PolyMesh, TriangleMesh};
 use voxlod::io::OutputSet;
 use voxlod::metrics::DistanceOptions;
@@ -12,13 +13,13 @@ use voxlod::metrics::DistanceOptions;
 const PREVIEW_SIZE: u32 = 200;
 
 use super::common::say;
-use super::common::{add_report, in_dir, print_json, progress, read_mesh_input, CliError};
+use super::common::{add_report, in_dir, in_file, print_json, progress, read_mesh_input, CliError};
 use super::values::{in_flags, number};
 use voxlod_eval::evaluate::images::preview_strip;
 use voxlod_eval::evaluate::plot::{plot_evaluation, Chart};
 use voxlod_eval::evaluate::report::{markdown, ReportContext};
 use voxlod_eval::evaluate::{
-    evaluate, parameter_text, Budgets, EvaluateOptions, Evaluation, Method,
+    evaluate, evaluate_asset, parameter_text, Budgets, EvaluateOptions, Evaluation, Method,
 };
 
 /// Evaluate every simplification method on a mesh: error against triangle count.
@@ -35,6 +36,11 @@ use voxlod_eval::evaluate::{
 /// Each level is also rendered beside the input from 14 views (256 × 256, orthographic) and
 /// the share of silhouette pixels that differ is reported (--views 0 skips it).
 ///
+/// A glTF asset (.gltf, .glb) with materials or vertex colours is evaluated on its geometry,
+/// and each level's appearance is measured too: the level takes its looks from the nearest
+/// input points, both are drawn with their looks from 14 views (512 × 512, orthographic), and
+/// the report gives PSNR (dB, 8-bit sRGB) and SSIM (Wang et al. 2004, on luma).
+///
 /// Writes DIR/report.md, DIR/report.json, DIR/plot.png (error against triangles, log–log, one
 /// curve per method) and DIR/previews/METHOD.png (the input and each level, rendered side by
 /// side); with --meshes, every kept level as DIR/meshes/METHOD-TRIANGLES.ply (clustering levels
@@ -50,7 +56,7 @@ use voxlod_eval::evaluate::{
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct EvaluateArgs {
-    /// The mesh to simplify (.obj .ply .stl .off .vtp .vtk)
+    /// The mesh to simplify (.obj .ply .stl .off .vtp .vtk), or a glTF asset (.gltf .glb)
     pub input: PathBuf,
     /// Folder for report.md, report.json and plot.png (created if missing)
     #[arg(short, long, value_name = "DIR")]
@@ -159,16 +165,20 @@ fn budgets(args: &EvaluateArgs) -> Result<Budgets, CliError> {
 fn measure(
     args: &EvaluateArgs,
     mesh: &TriangleMesh,
+    looks: Option<&Asset>,
     options: &EvaluateOptions,
 ) -> Result<Evaluation, CliError> {
     let steps = options.methods.len() * options.budgets.resolve(mesh.triangles.len()).len();
     let bar = progress(steps as u64, "levels", args.json);
-    let evaluation = evaluate(mesh, options, |method, point| {
+    let on_point = |method: Method, point: &voxlod_eval::evaluate::CurvePoint| {
         bar.inc(1);
         if !args.json {
+            let appearance = point.appearance.map_or(String::new(), |a| {
+                format!(", PSNR {:.2} dB, SSIM {:.4}", a.psnr, a.ssim)
+            });
             bar.suspend(|| {
                 eprintln!(
-                    "{method:>16} {:>15} {:>6}: {:>8} triangles, Hausdorff {:.3} %, mean {:.4} %",
+                    "{method:>16} {:>15} {:>6}: {:>8} triangles, Hausdorff {:.3} %, mean {:.4} %{appearance}",
                     method.parameter_name(),
                     parameter_text(point.parameter),
                     point.triangles,
@@ -177,10 +187,31 @@ fn measure(
                 )
             });
         }
-    })
+    };
+    let evaluation = match looks {
+        Some(asset) => evaluate_asset(asset, options, on_point),
+        None => evaluate(mesh, options, on_point),
+    }
     .map_err(|e| in_flags(voxlod::Error::from(e).in_file(&args.input), &[]))?;
     bar.finish_and_clear();
     Ok(evaluation)
+}
+
+/// The input's geometry, and a glTF asset with its looks when it has some (materials or
+/// vertex colours), with the glTF reader's warnings.
+fn read_input(
+    path: &std::path::Path,
+    warnings: &mut Vec<String>,
+) -> Result<(TriangleMesh, Option<Asset>), CliError> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if !(ext.eq_ignore_ascii_case("gltf") || ext.eq_ignore_ascii_case("glb")) {
+        return Ok((read_mesh_input(path)?.mesh, None));
+    }
+    let read = voxlod::gltf::read_scene(path).map_err(|e| in_file(path, e))?;
+    warnings.extend(read.warnings);
+    let asset = read.asset;
+    let looks = !asset.materials.is_empty() || !asset.mesh.colors.is_empty();
+    Ok((asset.mesh.geometry(), looks.then_some(asset)))
 }
 
 /// The plot of error against triangles, or a warning (printed at once without --json).
@@ -280,10 +311,13 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
     for file in ["report.json", "report.md", "plot.png"] {
         out.check(&in_dir(&args.output, file))?;
     }
-    let mesh = read_mesh_input(&args.input)?.mesh;
-    let name = args.input.display().to_string();
-    let evaluation = measure(&args, &mesh, &options)?;
     let mut warnings = Vec::new();
+    let (mesh, looks) = read_input(&args.input, &mut warnings)?;
+    if !args.json {
+        warnings.iter().for_each(|w| eprintln!("warning: {w}"));
+    }
+    let name = args.input.display().to_string();
+    let evaluation = measure(&args, &mesh, looks.as_ref(), &options)?;
     let chart = chart(&args, &evaluation, &mut warnings);
     let strips = preview_strips(&args, &mesh, &evaluation)?;
     // Everything is computed: now write, as one set that appears at the end.

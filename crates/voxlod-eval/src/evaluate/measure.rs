@@ -14,10 +14,14 @@ use std::time::Instant;
 use voxlod::core::{mesh_topology, TriangleMesh};
 use voxlod::metrics::{mesh_distance, welded_mesh_report, DistanceOptions, MetricsError};
 
+use voxlod::render::RenderError;
+use voxlod_asset::Asset;
+
 use super::error::EvaluateError;
 use super::images::SilhouetteReference;
-use super::results::{CurvePoint, InputSummary};
+use super::results::{CurvePoint, InputSummary, LevelAppearance};
 use super::trial::Trial;
+use crate::appearance::AppearanceReference;
 use crate::methods::Method;
 
 /// The input's figures, after welding coincident vertices. Fails on a mesh that cannot be
@@ -51,6 +55,8 @@ pub(super) struct Measurer<'a> {
     pub silhouettes: Option<&'a SilhouetteReference>,
     /// Samples per surface.
     pub distance: &'a DistanceOptions,
+    /// The input asset and its renders, when it has looks.
+    pub looks: Option<(&'a Asset, &'a AppearanceReference)>,
 }
 
 impl Measurer<'_> {
@@ -87,6 +93,18 @@ impl Measurer<'_> {
             None => None,
         };
         let image_seconds = start.elapsed().as_secs_f64();
+        let appearance = match self.looks {
+            Some((asset, reference)) => {
+                let render_error = |source| EvaluateError::Render {
+                    method,
+                    parameter: method.parameter_name(),
+                    value: trial.parameter,
+                    source,
+                };
+                Some(level_appearance(asset, reference, &surface).map_err(render_error)?)
+            }
+            None => None,
+        };
         let topology = mesh_topology(&surface);
         let fraction = |x: f64| x / self.input.diagonal;
         Ok(CurvePoint {
@@ -113,7 +131,27 @@ impl Measurer<'_> {
             simplify_seconds: trial.seconds,
             distance_seconds,
             image_seconds,
+            appearance,
             level: trial.level.clone(),
         })
     }
+}
+
+/// The level with looks from the nearest points of `asset`, measured against its renders.
+fn level_appearance(
+    asset: &Asset,
+    reference: &AppearanceReference,
+    level: &TriangleMesh,
+) -> Result<LevelAppearance, RenderError> {
+    let start = Instant::now();
+    let transferred = voxlod_asset::transfer(asset, level).map_err(|e| match e {
+        voxlod_asset::AssetError::Core(c) => RenderError::Core(c),
+        other => RenderError::Invalid(format!("taking looks onto the level: {other}")),
+    })?;
+    let report = reference.compare(&transferred.asset)?;
+    Ok(LevelAppearance {
+        psnr: report.psnr,
+        ssim: report.ssim,
+        seconds: start.elapsed().as_secs_f64(),
+    })
 }

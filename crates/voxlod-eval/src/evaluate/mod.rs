@@ -76,11 +76,14 @@ pub use crate::methods::{Method, RunFailure};
 pub use error::{parameter_text, EvaluateError};
 pub use images::{ImageDifference, ImageOptions, SilhouetteReference};
 pub use options::{Budgets, EvaluateOptions};
-pub use results::{Curve, CurvePoint, Evaluation, InputSummary, Omission};
+pub use results::{Curve, CurvePoint, Evaluation, InputSummary, LevelAppearance, Omission};
 
 use std::time::Instant;
 
 use voxlod::core::TriangleMesh;
+use voxlod_asset::Asset;
+
+use crate::appearance::{AppearanceOptions, AppearanceReference};
 
 use crate::methods::{MethodInput, Needs};
 use measure::{summarise_input, Measurer};
@@ -95,6 +98,40 @@ use search::method_curve;
 /// out and listed in [`Evaluation::omitted`].
 pub fn evaluate(
     mesh: &TriangleMesh,
+    options: &EvaluateOptions,
+    on_point: impl FnMut(Method, &CurvePoint),
+) -> Result<Evaluation, EvaluateError> {
+    run(mesh, None, options, on_point)
+}
+
+/// [`evaluate`] on an asset's geometry, each level also measured for its appearance
+/// ([`CurvePoint::appearance`]): it takes its looks from the nearest points of the asset
+/// ([`voxlod_asset::transfer`]), and both are rendered from the 14 views of
+/// [`AppearanceOptions::default`] ([`crate::appearance`]). Cost: [`evaluate`]'s, plus the
+/// transfer and 14 renders per level.
+///
+/// # Errors
+///
+/// [`evaluate`]'s; an asset that cannot be rendered is [`EvaluateError::InputRender`].
+pub fn evaluate_asset(
+    asset: &Asset,
+    options: &EvaluateOptions,
+    on_point: impl FnMut(Method, &CurvePoint),
+) -> Result<Evaluation, EvaluateError> {
+    let reference = AppearanceReference::new(asset, &AppearanceOptions::default())
+        .map_err(EvaluateError::InputRender)?;
+    run(
+        &asset.mesh.geometry(),
+        Some((asset, &reference)),
+        options,
+        on_point,
+    )
+}
+
+/// [`evaluate`], with the appearance measured against `looks` when given.
+fn run(
+    mesh: &TriangleMesh,
+    looks: Option<(&Asset, &AppearanceReference)>,
     options: &EvaluateOptions,
     mut on_point: impl FnMut(Method, &CurvePoint),
 ) -> Result<Evaluation, EvaluateError> {
@@ -125,6 +162,7 @@ pub fn evaluate(
         input: &input,
         silhouettes: silhouettes.as_ref(),
         distance: &options.distance,
+        looks,
     };
     let mut omitted: Vec<Omission> = Vec::new();
     let mut curves = Vec::new();
@@ -160,6 +198,7 @@ pub fn evaluate(
         tolerance: options.tolerance,
         image_views: options.images.views.min(14),
         image_size: options.images.size,
+        appearance_views: looks.map_or(0, |(_, r)| r.views()),
         curves,
         omitted,
         seconds: start.elapsed().as_secs_f64(),

@@ -145,9 +145,15 @@ pub fn markdown(evaluation: &Evaluation, context: &ReportContext) -> String {
 fn side_by_side(out: &mut String, e: &Evaluation) {
     let _ = writeln!(
         out,
-        "## At each budget\n\nTriangles, then Hausdorff / mean distance in % of the diagonal{}.\n",
+        "## At each budget\n\nTriangles, then Hausdorff / mean distance in % of the diagonal{}{}.\n",
         if e.image_views > 0 {
             " / silhouette difference in % of covered pixels"
+        } else {
+            ""
+        },
+        if e.appearance_views > 0 {
+            ", then the appearance with looks taken from the input: PSNR in dB · SSIM over \
+             its views"
         } else {
             ""
         }
@@ -175,6 +181,10 @@ fn side_by_side(out: &mut String, e: &Evaluation) {
                         p.image_difference
                             .map_or(String::new(), |d| format!(" / {}", percent(d.fraction)))
                     );
+                    if let Some(a) = p.appearance {
+                        out.truncate(out.len() - 2); // the cell's closing " |"
+                        let _ = write!(out, " ({:.1} dB · {:.3}) |", a.psnr, a.ssim);
+                    }
                 }
                 None => out.push_str(" – |"),
             }

@@ -79,9 +79,24 @@ pub struct CurvePoint {
     pub distance_seconds: f64,
     /// Time of the silhouette difference.
     pub image_seconds: f64,
+    /// How the level looks beside an input asset ([`super::evaluate_asset`]): the level with
+    /// looks taken from the nearest input points ([`voxlod_asset::transfer`]), PSNR and SSIM
+    /// of their renders ([`crate::appearance`]); `None` for a mesh without looks.
+    pub appearance: Option<LevelAppearance>,
     /// The level: triangles, and for clustering its dangling edges and isolated points.
     #[serde(skip)]
     pub level: PolyMesh,
+}
+
+/// The appearance measure of one level (see [`crate::appearance`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct LevelAppearance {
+    /// PSNR in dB from the MSE pooled over the views (infinite: identical renders).
+    pub psnr: f64,
+    /// The mean of the views' SSIM.
+    pub ssim: f64,
+    /// Time of the transfer of looks and the renders.
+    pub seconds: f64,
 }
 
 /// The curve of one method.
@@ -127,6 +142,8 @@ pub struct Evaluation {
     pub image_views: usize,
     /// Pixels per side of each view.
     pub image_size: u32,
+    /// Views of the appearance measure (0: not measured, the input has no looks).
+    pub appearance_views: usize,
     /// One curve per method run, in the order of [`EvaluateOptions::methods`].
     pub curves: Vec<Curve>,
     /// What was left out, and why.
