@@ -175,3 +175,32 @@ fn evaluate_asset_measures_each_level_s_appearance() {
     assert!(markdown.contains("PSNR in dB · SSIM"), "{markdown}");
     assert!(markdown.contains(" dB · 0."), "{markdown}");
 }
+
+#[test]
+fn spot_s_collapsed_levels_keep_its_looks_better_than_grey() {
+    let test = "spot_s_collapsed_levels_keep_its_looks_better_than_grey";
+    let Some(path) = voxlod_testkit::data::shared_data_or_skip("assets/spot/spot.obj", test) else {
+        return;
+    };
+    let input = voxlod::io::read_asset(&path).unwrap().asset;
+    let reference = AppearanceReference::new(&input, &AppearanceOptions::default()).unwrap();
+    let mut last = f64::INFINITY;
+    for triangles in [2000, 500] {
+        let level = collapse(&input, triangles).unwrap();
+        let kept = reference.compare(&level).unwrap();
+        let mut grey = level.clone();
+        grey.images[0].bytes = Arc::new(png(4, 4, |_, _| [150, 140, 130]));
+        let grey = reference.compare(&grey).unwrap();
+        eprintln!(
+            "spot at {} triangles: textured {:.2} dB / SSIM {:.4}, grey {:.2} dB / {:.4}",
+            level.mesh.triangles.len(),
+            kept.psnr,
+            kept.ssim,
+            grey.psnr,
+            grey.ssim
+        );
+        assert!(kept.psnr > grey.psnr && kept.ssim > grey.ssim);
+        assert!(kept.ssim < last);
+        last = kept.ssim;
+    }
+}
