@@ -5,7 +5,8 @@
 //!   [`Method::CollapseAsGiven`]) is made again with the attributes weighed in
 //!   (`voxlod_asset::collapse`, meshoptimizer's `simplifyWithAttributes`): its vertices are the
 //!   input's, with their texture coordinates, colours, normals and materials, UV seams and
-//!   material borders kept. It is kept when it meets the budget within the tolerance and is
+//!   material borders kept. A level collapsed from the level above ([`Method::Above`]) is made
+//!   so from that level's looks, where it kept them. It is kept when it meets the budget within the tolerance and is
 //!   measured no farther from the input than the allowance below; otherwise the chosen level
 //!   takes the looks as the next case does.
 //! - Every other level (voxel, shell, clustering-like, checked collapses, the level above)
@@ -76,12 +77,31 @@ pub fn asset_levels(asset: &Asset, options: &BudgetOptions) -> Result<AssetBudge
     let geometry = asset.mesh.geometry();
     let run = levels(&geometry, options)?;
     let mut warnings = run.warnings;
-    let mut out = Vec::with_capacity(run.levels.len());
-    for level in run.levels {
-        let (asset_level, more) = with_looks(asset, &geometry, level.mesh, level.report, options)?;
+    // From the largest budget down, so that a level collapsed from the level above can be
+    // collapsed from that level's looks.
+    let mut order: Vec<usize> = (0..run.levels.len()).collect();
+    order.sort_by_key(|&k| std::cmp::Reverse(run.levels[k].report.budget));
+    let mut made: Vec<Option<AssetLevel>> = vec![None; run.levels.len()];
+    let mut levels_in: Vec<Option<crate::Level>> = run.levels.into_iter().map(Some).collect();
+    for k in order {
+        let Some(level) = levels_in[k].take() else {
+            continue;
+        };
+        let source = match (level.report.method, level.report.simplified_from) {
+            (Method::Collapse | Method::CollapseAsGiven, _) => Some(asset),
+            (Method::Above, Some(b)) => made
+                .iter()
+                .flatten()
+                .find(|l| l.report.budget == b && l.looks == Looks::Kept)
+                .map(|l| &l.asset),
+            _ => None,
+        };
+        let (asset_level, more) =
+            with_looks(asset, source, &geometry, level.mesh, level.report, options)?;
         warnings.extend(more);
-        out.push(asset_level);
+        made[k] = Some(asset_level);
     }
+    let out: Vec<AssetLevel> = made.into_iter().flatten().collect();
     warnings.sort();
     warnings.dedup();
     Ok(AssetBudgeted {
@@ -92,17 +112,19 @@ pub fn asset_levels(asset: &Asset, options: &BudgetOptions) -> Result<AssetBudge
     })
 }
 
-/// The level with looks: the collapse with attributes where it was a collapse and that holds,
-/// else the chosen mesh with looks from the nearest input points.
+/// The level with looks: `source` (the input, or the level above with its looks) collapsed
+/// with attributes where the level is such a collapse and that holds, else the chosen mesh
+/// with looks from the nearest input points.
 fn with_looks(
     asset: &Asset,
+    source: Option<&Asset>,
     geometry: &TriangleMesh,
     mesh: TriangleMesh,
     mut report: BudgetLevel,
     options: &BudgetOptions,
 ) -> Result<(AssetLevel, Vec<String>), BudgetError> {
-    if matches!(report.method, Method::Collapse | Method::CollapseAsGiven) {
-        let kept = voxlod_asset::collapse(asset, report.budget).map_err(looks_error)?;
+    if let Some(source) = source {
+        let kept = voxlod_asset::collapse(source, report.budget).map_err(looks_error)?;
         let t = kept.mesh.triangles.len();
         let within = (t as f64) <= report.budget as f64 * (1.0 + BUDGET_TOLERANCE) && t > 0;
         if within {

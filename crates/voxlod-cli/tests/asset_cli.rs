@@ -438,3 +438,66 @@ fn a_mesh_with_budgets_and_format_glb_gets_its_chain_in_either_layout() {
     assert_eq!(names, ["LOD0", "LOD1"]);
     assert_valid(&nodes.join("lod.glb"));
 }
+
+/// The textured sphere as `dir/sphere.obj` with `sphere.mtl` and `halves.png` beside it.
+fn sphere_obj(dir: &Path) -> PathBuf {
+    let a = textured_sphere();
+    let mut obj = String::from("mtllib sphere.mtl\nusemtl halves\n");
+    for p in &a.mesh.positions {
+        obj += &format!("v {} {} {}\n", p.x, p.y, p.z);
+    }
+    // OBJ's v points up the image, glTF's down.
+    for t in &a.mesh.uv[0] {
+        obj += &format!("vt {} {}\n", t.x, 1.0 - t.y);
+    }
+    for t in &a.mesh.triangles {
+        let [i, j, k] = t.map(|v| v + 1);
+        obj += &format!("f {i}/{i} {j}/{j} {k}/{k}\n");
+    }
+    std::fs::write(dir.join("sphere.obj"), obj).unwrap();
+    // MTL textures are read linearly with repeat: eight texels, so that only u within 1/16 of
+    // the middle mixes red and blue (|x| < 0.125), and clamped at the sides.
+    let mtl = "newmtl halves\nKd 1 1 1\nmap_Kd -clamp on halves.png\n";
+    std::fs::write(dir.join("sphere.mtl"), mtl).unwrap();
+    let img = image::RgbaImage::from_fn(8, 1, |x, _| {
+        image::Rgba(if x < 4 {
+            [255, 0, 0, 255]
+        } else {
+            [0, 0, 255, 255]
+        })
+    });
+    img.save(dir.join("halves.png")).unwrap();
+    dir.join("sphere.obj")
+}
+
+#[test]
+fn an_obj_with_its_mtl_and_format_glb_keeps_its_looks() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = sphere_obj(dir.path());
+    let out = dir.path().join("obj");
+    let o = voxlod(&[
+        "lod",
+        arg(&obj),
+        "--triangles",
+        &budgets_arg(),
+        "--format",
+        "glb",
+        "--layout",
+        "lod-nodes",
+        "--split",
+        "-o",
+        arg(&out),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = json(&o);
+    assert_report_looks(&report);
+    for (k, budget) in BUDGETS.into_iter().enumerate() {
+        let level = read_scene(&out.join(format!("level-{k}.glb")))
+            .unwrap()
+            .asset;
+        assert_within_budget(level.mesh.triangles.len(), budget, &format!("level {k}"));
+        assert_red_and_blue(&level, &format!("obj level {k}"));
+    }
+    assert_valid(&out.join("lod.glb"));
+}

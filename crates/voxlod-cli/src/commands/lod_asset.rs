@@ -1,4 +1,5 @@
-//! `voxlod lod MODEL.glb|MODEL.gltf`: levels of an asset with its looks (`voxlod::asset_lod`).
+//! `voxlod lod MODEL.glb|MODEL.gltf`, or an OBJ (with its MTL), PLY or OFF file that has looks
+//! with `--format glb`: levels of an asset with its looks (`voxlod::asset_lod`).
 //! The levels by resolution, by triangle budget or by error, as for a mesh, are made on the
 //! asset's geometry; each then carries the asset's texture coordinates, colours, normals and
 //! materials, kept or taken from the nearest input points. Written as one `.glb` with every
@@ -15,7 +16,7 @@ use clap::ValueEnum;
 use serde::Serialize;
 use voxlod::budget::BudgetLevel;
 use voxlod::gltf::{AssetGlbOptions, Layout};
-use voxlod::io::{IoError, IoErrorKind, OutputSet};
+use voxlod::io::{AssetRead, IoError, IoErrorKind, OutputSet};
 use voxlod::portfolio::Looks;
 use voxlod::run_to_end;
 
@@ -55,6 +56,30 @@ impl LayoutArg {
 pub fn is_gltf(path: &Path) -> bool {
     path.extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf"))
+}
+
+/// Whether the input may carry looks worth keeping: an OBJ (with its MTL), PLY or OFF file
+/// whose levels go to a `.glb` (`--format glb`).
+pub fn may_have_looks(args: &LodArgs) -> bool {
+    let mesh = args.input.extension().is_some_and(|e| {
+        ["obj", "ply", "off"]
+            .iter()
+            .any(|x| e.eq_ignore_ascii_case(x))
+    });
+    mesh && args.format() == LodFormat::Glb
+}
+
+/// The input read as an asset when it has looks (texture coordinates, colours, or materials
+/// other than one plain white one); `None` for bare geometry, which the mesh route takes.
+pub fn looks_of(args: &LodArgs) -> Result<Option<AssetRead>, CliError> {
+    let read = voxlod::io::read_asset(&args.input)?;
+    let a = &read.asset;
+    let plain = |m: &voxlod::asset::Material| m.textures().count() == 0 && m.base_color == [1.0; 4];
+    let looks = !a.mesh.uv[0].is_empty()
+        || !a.mesh.colors.is_empty()
+        || a.materials.len() > 1
+        || a.materials.iter().any(|m| !plain(m));
+    Ok(looks.then_some(read))
 }
 
 /// The report of an asset's levels.
@@ -152,7 +177,7 @@ fn format_name(format: LodFormat) -> String {
 }
 
 /// Reads the asset, makes its levels as `args` ask and writes them with their looks.
-pub fn run(args: &LodArgs) -> Result<(), CliError> {
+pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
     let start = Instant::now();
     let format = args.format();
     args.glb.check(format)?;
@@ -175,7 +200,16 @@ pub fn run(args: &LodArgs) -> Result<(), CliError> {
             format!("cannot open: {e}"),
         )
     })?;
-    let scene = voxlod::gltf::read_scene(&args.input).map_err(|e| in_file(&args.input, e))?;
+    let scene = match read {
+        Some(read) => read,
+        None => {
+            let s = voxlod::gltf::read_scene(&args.input).map_err(|e| in_file(&args.input, e))?;
+            AssetRead {
+                asset: s.asset,
+                warnings: s.warnings,
+            }
+        }
+    };
     let made = voxlod::asset_lod(&scene.asset, &options, &run_to_end)
         .map_err(|e| lod_error(args, e.into()))?;
     let mut warnings = scene.warnings.clone();

@@ -61,7 +61,13 @@ pub enum Command {
 /// Runs the chosen subcommand.
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
-        Command::Lod(args) if lod_asset::is_gltf(&args.input) => lod_asset::run(&args),
+        Command::Lod(args) if lod_asset::is_gltf(&args.input) => lod_asset::run(&args, None),
+        Command::Lod(args) if lod_asset::may_have_looks(&args) => match lod_asset::looks_of(&args)?
+        {
+            Some(read) => lod_asset::run(&args, Some(read)),
+            None if args.triangles.is_some() || args.error.is_some() => lod_budget::run(&args),
+            None => lod::run(args),
+        },
         Command::Lod(args) if args.triangles.is_some() || args.error.is_some() => {
             lod_budget::run(&args)
         }
