@@ -230,3 +230,23 @@ fn a_texture_is_perspective_correct_under_a_slanted_perspective_camera() {
     let right = camera.project(DVec3::new(4.0, 2.0, 0.0)).unwrap().x;
     assert!((0.5 * (left + right) - middle.x).abs() > 4.0);
 }
+
+#[test]
+fn blend_composites_the_texel_over_what_lies_behind() {
+    let texels: Vec<[u8; 4]> = vec![[255, 255, 255, 128]; 16];
+    let asset = textured_quad(&texels, 4, AlphaMode::Blend);
+    let (textures, _) = decode_textures(&asset).unwrap();
+    let scene = Scene {
+        assets: vec![AssetItem::new(&asset, &textures)],
+        ..Default::default()
+    };
+    let image = render(&scene, &head_on(3), &unlit()).unwrap();
+    let k = image.index(6, 6);
+    let alpha = 128.0 / 255.0;
+    let background = RenderOptions::default().background;
+    assert!((image.coverage[k] - alpha).abs() < 1e-6);
+    for c in 0..3 {
+        let want = background[c] + (1.0 - background[c]) * alpha;
+        assert!((image.rgb[k][c] - want).abs() < 1e-5, "{:?}", image.rgb[k]);
+    }
+}
