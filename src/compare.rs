@@ -49,7 +49,7 @@ impl CompareOptions {
     }
 
     /// `samples` points on each surface.
-    pub fn with_samples(samples: usize) -> Self {
+    pub fn for_samples(samples: usize) -> Self {
         CompareOptions {
             distance: DistanceOptions::with_samples(samples),
         }

@@ -115,7 +115,7 @@ fn holes_are_closed_before_sampling() {
 #[test]
 fn the_majority_vote_alone_gives_the_solid_a_person_sees() {
     let (sphere, holed) = holed_sphere();
-    let solid = MeshSolid::with_options(&holed, MeshSolidOptions::majority_only()).unwrap();
+    let solid = MeshSolid::new_with(&holed, MeshSolidOptions::majority_only()).unwrap();
     assert!(!solid.is_exact());
     let (_, mesh, report) = surface_of(&solid, &solid);
     let majority = report.majority.expect("a vote ran");

@@ -102,7 +102,7 @@ impl<'a> Measure<'a> {
         let points = |n: usize| -> Result<Points, BudgetError> {
             let options = SamplingOptions {
                 seed: INPUT_SEED,
-                ..SamplingOptions::with_samples(n)
+                ..SamplingOptions::for_samples(n)
             };
             let area = sampler.samples(&options)?.into_iter().map(|s| s.point);
             Ok(Points::ordered(
@@ -127,7 +127,7 @@ impl<'a> Measure<'a> {
     fn precise_points(&self) -> Points {
         let options = SamplingOptions {
             seed: INPUT_SEED,
-            ..SamplingOptions::with_samples(self.precise_samples)
+            ..SamplingOptions::for_samples(self.precise_samples)
         };
         let area = (self.sampler.samples(&options))
             .map(|v| v.into_iter().map(|s| s.point).collect())
@@ -158,7 +158,7 @@ impl<'a> Measure<'a> {
         let closest = MeshDistance::new(mesh).ok()?;
         let options = SamplingOptions {
             seed: CANDIDATE_SEED,
-            ..SamplingOptions::with_samples(input_points.area.len())
+            ..SamplingOptions::for_samples(input_points.area.len())
         };
         let area = sampler.samples(&options).ok()?.into_iter().map(|s| s.point);
         // At most as many vertices as area samples, spread over the vertex list.

@@ -65,7 +65,7 @@ impl BrickVolume {
     /// A volume whose bricks listed in `leaf_mask` (one flag per brick, x fastest) are leaves
     /// filled with their brick's value, and the others uniform with `values[brick]`. The
     /// memory is checked first. Fill the leaves through [`BrickVolume::leaves_mut`].
-    pub fn with_leaves(
+    pub fn from_leaves(
         grid: Grid,
         brick_size: usize,
         values: Vec<f32>,
@@ -167,7 +167,7 @@ impl BrickVolume {
             "the brick volume",
             Self::estimated_bytes(&grid, brick_size, 0),
         )?;
-        Self::with_leaves(grid, brick_size, vec![value; count], &vec![false; count])
+        Self::from_leaves(grid, brick_size, vec![value; count], &vec![false; count])
     }
 
     /// The samples of a dense volume, a brick uniform where all its samples are bitwise equal.
@@ -185,7 +185,7 @@ impl BrickVolume {
             values.push(first);
             mask.push(!uniform);
         }
-        let mut bricks = Self::with_leaves(grid, b, values, &mask)?;
+        let mut bricks = Self::from_leaves(grid, b, values, &mask)?;
         let leaf_bricks = bricks.leaf_bricks.clone();
         for (leaf, &brick) in bricks.leaves_mut().chunks_mut(b * b * b).zip(&leaf_bricks) {
             let origin = brick_origin(brick_dims, b, brick as usize);
@@ -366,7 +366,7 @@ mod tests {
     fn rejects_bad_brick_sizes_and_counts() {
         let grid = Grid::unit([4, 4, 4]).unwrap();
         assert!(BrickVolume::uniform(grid, 4, 0.0).is_err());
-        assert!(BrickVolume::with_leaves(grid, 8, vec![0.0; 2], &[false; 2]).is_err());
+        assert!(BrickVolume::from_leaves(grid, 8, vec![0.0; 2], &[false; 2]).is_err());
         let u = BrickVolume::uniform(grid, 8, 2.5).unwrap();
         assert_eq!(
             (u.brick_count(), u.leaf_count(), u.get(3, 2, 1)),

@@ -73,7 +73,7 @@ pub fn fit_to_surface(
     let sampler = SurfaceSampler::new(input)?;
     let sampling = SamplingOptions {
         seed: options.seed,
-        ..SamplingOptions::with_samples(options.samples)
+        ..SamplingOptions::for_samples(options.samples)
     };
     let samples: Vec<DVec3> = (sampler.samples(&sampling)?.into_iter())
         .map(|s| s.point)

@@ -85,7 +85,7 @@ impl Default for SamplingOptions {
 
 impl SamplingOptions {
     /// `samples` stratified points from the default seed.
-    pub fn with_samples(samples: usize) -> Self {
+    pub fn for_samples(samples: usize) -> Self {
         SamplingOptions {
             samples,
             ..Default::default()

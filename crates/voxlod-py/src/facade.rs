@@ -345,7 +345,7 @@ pub fn compare<'py>(
     seed: Option<u64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let (a, b) = (mesh_from(&a)?, mesh_from(&b)?);
-    let mut options = voxlod::CompareOptions::with_samples(samples);
+    let mut options = voxlod::CompareOptions::for_samples(samples);
     if let Some(seed) = seed {
         options.distance.seed = seed;
     }

@@ -37,7 +37,7 @@ type LabelArgs = (usize, String, f64, bool);
 
 fn label_options(args: LabelArgs, labels: Option<Vec<i64>>) -> PyResult<LabelOptions> {
     let (levels, filter, radius, normals) = args;
-    let mut options = LabelOptions::with_levels(levels);
+    let mut options = LabelOptions::for_levels(levels);
     options.lod.pyramid.filter = filter_named(&filter)?;
     options.lod.pyramid.radius_voxels = radius;
     options.lod.normals = normals;

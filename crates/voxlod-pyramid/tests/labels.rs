@@ -55,7 +55,7 @@ fn extent(mesh: &TriangleMesh) -> (DVec3, DVec3) {
 #[test]
 fn every_label_is_found_with_its_exact_voxels_and_box_and_meshed_closed_where_its_voxels_are() {
     let map = three_label_map();
-    let meshes = labels(&map, &LabelOptions::with_levels(2), &run_to_end).unwrap();
+    let meshes = labels(&map, &LabelOptions::for_levels(2), &run_to_end).unwrap();
     let found: Vec<(i64, usize, [usize; 3], [usize; 3])> = meshes
         .labels
         .iter()

@@ -96,11 +96,11 @@ impl MeshSolid {
     /// Prepares `mesh` for sampling with the default options: checks coordinates, welds, drops
     /// degenerate and duplicate triangles, closes holes, builds the BVH.
     pub fn new(mesh: &TriangleMesh) -> Result<MeshSolid, SamplingError> {
-        MeshSolid::with_options(mesh, MeshSolidOptions::default())
+        MeshSolid::new_with(mesh, MeshSolidOptions::default())
     }
 
     /// Prepares `mesh` for sampling.
-    pub fn with_options(
+    pub fn new_with(
         mesh: &TriangleMesh,
         options: MeshSolidOptions,
     ) -> Result<MeshSolid, SamplingError> {

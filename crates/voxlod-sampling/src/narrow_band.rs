@@ -182,7 +182,7 @@ pub fn narrow_band_density(
         ),
         bytes,
     )?;
-    let mut volume = BrickVolume::with_leaves(*grid, b, values, &mask)?;
+    let mut volume = BrickVolume::from_leaves(*grid, b, values, &mask)?;
     drop(mask);
     let leaf_bricks = volume.leaf_bricks().to_vec();
     volume

@@ -63,7 +63,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
     let (a, b) = rayon::join(|| read_mesh_input(&args.a), || read_mesh_input(&args.b));
     let (a, b) = (a?.mesh, b?.mesh);
     let read_seconds = start.elapsed().as_secs_f64();
-    let mut options = CompareOptions::with_samples(args.samples);
+    let mut options = CompareOptions::for_samples(args.samples);
     if let Some(seed) = args.seed {
         options.distance.seed = seed;
     }

@@ -209,7 +209,7 @@ fn write_label(
 
 /// The library's options from the flags.
 fn label_options(args: &LabelsArgs) -> LabelOptions {
-    let mut options = LabelOptions::with_levels(args.levels);
+    let mut options = LabelOptions::for_levels(args.levels);
     options.labels = args.labels.clone();
     options.lod.pyramid.filter = args.filter;
     options.lod.pyramid.radius_voxels = args.radius;

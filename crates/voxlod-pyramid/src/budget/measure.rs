@@ -62,7 +62,7 @@ impl<'a> InputMeasure<'a> {
         let options = DistanceOptions::with_samples(SEARCH_SAMPLES);
         let sampling = |side: u64| SamplingOptions {
             seed: options.seed.wrapping_add(side),
-            ..SamplingOptions::with_samples(SEARCH_SAMPLES)
+            ..SamplingOptions::for_samples(SEARCH_SAMPLES)
         };
         let sampler = SurfaceSampler::new(mesh).ok()?;
         let closest = MeshDistance::new(mesh).ok()?;
@@ -82,7 +82,7 @@ impl<'a> InputMeasure<'a> {
     pub(super) fn fit(&self, mesh: &TriangleMesh, options: &FitOptions) -> Option<Fitted> {
         let sampling = SamplingOptions {
             seed: options.seed,
-            ..SamplingOptions::with_samples(options.samples)
+            ..SamplingOptions::for_samples(options.samples)
         };
         let samples: Vec<DVec3> = (self.sampler.samples(&sampling).ok()?.into_iter())
             .map(|s| s.point)

@@ -69,7 +69,7 @@ impl Default for LabelOptions {
 
 impl LabelOptions {
     /// `levels` levels, each at half the resolution of the one before.
-    pub fn with_levels(levels: usize) -> Self {
+    pub fn for_levels(levels: usize) -> Self {
         let mut options = LabelOptions::default();
         options.lod.pyramid.resolutions = vec![0; levels.max(1)];
         options
@@ -442,7 +442,7 @@ mod tests {
             vec![2, 5, 9]
         );
         labels.reverse(); // any order the caller gives is kept
-        let options = LabelOptions::with_levels(2);
+        let options = LabelOptions::for_levels(2);
         let finished = std::sync::Mutex::new(Vec::new());
         let meshed = mesh_labels(&map, &labels, &options, &|l| {
             finished.lock().unwrap().push(l.value)
