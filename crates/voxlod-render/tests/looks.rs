@@ -245,8 +245,8 @@ fn blend_composites_the_texel_over_what_lies_behind() {
     let alpha = 128.0 / 255.0;
     let background = RenderOptions::default().background;
     assert!((image.coverage[k] - alpha).abs() < 1e-6);
-    for c in 0..3 {
-        let want = background[c] + (1.0 - background[c]) * alpha;
-        assert!((image.rgb[k][c] - want).abs() < 1e-5, "{:?}", image.rgb[k]);
+    for (got, bg) in image.rgb[k].iter().zip(background) {
+        let want = bg + (1.0 - bg) * alpha;
+        assert!((got - want).abs() < 1e-5, "{:?}", image.rgb[k]);
     }
 }
