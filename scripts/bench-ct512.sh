@@ -8,12 +8,12 @@
 # $CARGO_TARGET_DIR/bench-ct512 (never committed), then runs under /usr/bin/time:
 #   dense          voxlod lod CT.nrrd --threshold T            (the scan read whole; default chain)
 #   dense-plain    ... --no-monotone --no-clean                (plain marching cubes)
-#   bricked        ... --bricked                               (read slab by slab, same levels)
-#   bricked-plain  ... --bricked --no-monotone --no-clean
+#   blockwise      ... --blockwise                             (read blockwise, same levels)
+#   blockwise-plain ... --blockwise --no-monotone --no-clean
 #   vtk            VTK FlyingEdges3D at full resolution, 2 threads (peers' reader, one contour;
 #                  the median of 3 contour calls is printed beside the process's figures)
 # and prints wall, CPU (user + sys), peak RSS and triangles of each, the load average, and
-# whether each bricked run's levels have the dense run's triangle counts.
+# whether each blockwise run's levels have the dense run's triangle counts.
 # Then the shared CT head at full resolution (the issue's under-1-s target), when present.
 # Usage: scripts/bench-ct512.sh [T] (500: the skin; 1500: the skull).
 # Needs the peers' Python (~/.cache/voxlod-peers, ../shared/peers/setup.sh) or $PYTHON with
@@ -83,9 +83,9 @@ run() {
 }
 run dense
 run dense-plain --no-monotone --no-clean
-run bricked --bricked
-run bricked-plain --bricked --no-monotone --no-clean
-for pair in "dense bricked" "dense-plain bricked-plain"; do
+run blockwise --blockwise
+run blockwise-plain --blockwise --no-monotone --no-clean
+for pair in "dense blockwise" "dense-plain blockwise-plain"; do
     set -- $pair
     if [ "$(triangles "$dir/out-$1.json")" = "$(triangles "$dir/out-$2.json")" ]; then
         echo "$2: the same triangle counts as $1"
