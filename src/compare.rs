@@ -51,7 +51,7 @@ impl CompareOptions {
     /// `samples` points on each surface.
     pub fn for_samples(samples: usize) -> Self {
         CompareOptions {
-            distance: DistanceOptions::with_samples(samples),
+            distance: DistanceOptions::for_samples(samples),
         }
     }
 }

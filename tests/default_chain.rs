@@ -83,7 +83,7 @@ fn a_plate_too_thin_for_the_chosen_start_starts_finer() {
 fn an_empty_level_is_in_the_warnings() {
     let cube = unit_cube();
     let options = LodOptions {
-        pyramid: voxlod::sampling::PyramidOptions::with_resolutions(
+        pyramid: voxlod::sampling::PyramidOptions::for_resolutions(
             vec![16, 8, 1],
             Filter::Hypercone,
         ),

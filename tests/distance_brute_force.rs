@@ -160,7 +160,7 @@ fn report_matches_brute_force_on_small_pairs() {
         for layout in [SampleLayout::Stratified, SampleLayout::Independent] {
             let options = DistanceOptions {
                 layout,
-                ..DistanceOptions::with_samples(3_000)
+                ..DistanceOptions::for_samples(3_000)
             };
             check_pair(a, b, &options);
         }
@@ -175,7 +175,7 @@ fn report_matches_brute_force_across_sample_blocks() {
     let b = moved(torus(12, 6, 0.6, 0.25), Vec3::new(0.0, 0.0, 0.3), 1.0);
     let options = DistanceOptions {
         seed: 12345,
-        ..DistanceOptions::with_samples(20_001)
+        ..DistanceOptions::for_samples(20_001)
     };
     check_pair(&a, &b, &options);
 }

@@ -29,7 +29,7 @@ fn centroid_and_volume(mesh: &TriangleMesh) -> (DVec3, f64) {
 /// Level 0 of the thresholded volume at about `resolution` samples across, in world coordinates.
 fn world_mesh(volume: &Volume, threshold: f32, resolution: usize) -> TriangleMesh {
     let options = LevelOptions {
-        pyramid: PyramidOptions::with_resolutions(vec![resolution], Filter::Hypercone),
+        pyramid: PyramidOptions::for_resolutions(vec![resolution], Filter::Hypercone),
         ..LevelOptions::default()
     };
     let solid = ThresholdSolid::new(volume, threshold).unwrap();

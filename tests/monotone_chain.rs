@@ -15,7 +15,7 @@ fn chain(shape: &Shape, resolutions: &[usize], monotone: bool) -> Lod {
     let solid = CsgSolid::new(shape.clone()).unwrap();
     let defaults = LodOptions::default();
     let options = LodOptions {
-        pyramid: PyramidOptions::with_resolutions(resolutions.to_vec(), Filter::Hypercone),
+        pyramid: PyramidOptions::for_resolutions(resolutions.to_vec(), Filter::Hypercone),
         finest: Finest::Given,
         monotone: defaults.monotone.filter(|_| monotone),
         ..defaults

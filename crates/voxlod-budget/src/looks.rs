@@ -131,7 +131,7 @@ fn with_looks(
             let d = mesh_distance(
                 geometry,
                 &kept.mesh.geometry(),
-                &DistanceOptions::with_samples(options.careful_samples),
+                &DistanceOptions::for_samples(options.careful_samples),
             )?;
             if d.hausdorff <= report.hausdorff * ATTRIBUTE_ALLOWANCE {
                 report.triangles = t;

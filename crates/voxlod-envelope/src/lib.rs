@@ -534,7 +534,7 @@ fn measure(
         return Ok(None);
     }
     let t = Instant::now();
-    let d = mesh_distance(mesh, out, &DistanceOptions::with_samples(samples))?;
+    let d = mesh_distance(mesh, out, &DistanceOptions::for_samples(samples))?;
     Ok(Some(MeasuredDistance {
         hausdorff: d.hausdorff,
         hausdorff_over_epsilon: d.hausdorff / eps,

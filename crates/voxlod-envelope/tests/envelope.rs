@@ -98,7 +98,7 @@ fn assert_guarantees(input: &TriangleMesh, level: &EnvelopeLevel, what: &str) {
         "{what}: an input vertex is {worst} from the output (ε {eps})"
     );
     let samples = 200_000;
-    let d = mesh_distance(input, out, &DistanceOptions::with_samples(samples)).unwrap();
+    let d = mesh_distance(input, out, &DistanceOptions::for_samples(samples)).unwrap();
     let spacing = (input.area() / samples as f64).sqrt();
     eprintln!(
         "{what}: {} -> {} triangles, sampled two-sided distance {:.3e} = {:.3} ε (sample spacing {:.2e})",

@@ -69,7 +69,7 @@ fn assert_guarantees(input: &TriangleMesh, level: &EnvelopeLevel, what: &str) {
         "{what}: an input vertex is {worst} from the output (ε {eps})"
     );
     let samples = 300_000;
-    let d = mesh_distance(input, out, &DistanceOptions::with_samples(samples)).unwrap();
+    let d = mesh_distance(input, out, &DistanceOptions::for_samples(samples)).unwrap();
     eprintln!(
         "{what}: {} -> {} triangles ({:.1} %), sampled distance {:.3} ε, worst vertex {:.3} ε, \
          sample spacing {:.2e} ({:.4} ε), {:.2} s",

@@ -27,7 +27,7 @@
 //! let options = EvaluateOptions {
 //!     methods: vec!["rossignac-borrel".parse()?, "voxel-gaussian".parse()?],
 //!     budgets: Budgets::Explicit(vec![500, 250]),
-//!     distance: DistanceOptions::with_samples(2_000),
+//!     distance: DistanceOptions::for_samples(2_000),
 //!     images: ImageOptions::off(),
 //!     ..EvaluateOptions::quick()
 //! };

@@ -219,7 +219,7 @@ pub fn reproduce(
         .map(|r| r.dims.into_iter().max().unwrap_or(1))
         .collect();
     let options = LevelOptions {
-        pyramid: PyramidOptions::with_resolutions(resolutions, table.filter),
+        pyramid: PyramidOptions::for_resolutions(resolutions, table.filter),
         iso,
         normals: true,
         // The paper's counts are of plain marching cubes.

@@ -149,7 +149,7 @@ fn evaluate_asset_measures_each_level_s_appearance() {
             "voxel-gaussian".parse().unwrap(),
         ],
         budgets: Budgets::Explicit(vec![2000, 300]),
-        distance: DistanceOptions::with_samples(2_000),
+        distance: DistanceOptions::for_samples(2_000),
         images: ImageOptions::off(),
         ..EvaluateOptions::quick()
     };

@@ -60,7 +60,7 @@ fn levels(mesh: &TriangleMesh) -> Vec<(String, CurvePoint)> {
     let options = EvaluateOptions {
         methods: methods.iter().map(|m| m.parse().unwrap()).collect(),
         budgets: Budgets::Explicit(vec![BUDGET]),
-        distance: DistanceOptions::with_samples(20_000),
+        distance: DistanceOptions::for_samples(20_000),
         images: ImageOptions::quick(),
         ..EvaluateOptions::quick()
     };

@@ -13,7 +13,7 @@ fn run(methods: &[&str], budgets: Vec<usize>) -> voxlod_eval::evaluate::Evaluati
             .map(|m| m.parse::<Method>().unwrap())
             .collect(),
         budgets: Budgets::Explicit(budgets),
-        distance: DistanceOptions::with_samples(2_000),
+        distance: DistanceOptions::for_samples(2_000),
         images: ImageOptions::off(),
         ..EvaluateOptions::quick()
     };

@@ -50,21 +50,21 @@ impl Default for DistanceOptions {
 impl DistanceOptions {
     /// 10 000 samples per side: a quick look, in milliseconds for small meshes.
     pub fn quick() -> Self {
-        DistanceOptions::with_samples(10_000)
+        DistanceOptions::for_samples(10_000)
     }
 
     /// 100 000 samples per side (the default).
     pub fn standard() -> Self {
-        DistanceOptions::with_samples(100_000)
+        DistanceOptions::for_samples(100_000)
     }
 
     /// 1 000 000 samples per side: for final figures and meshes of a million triangles.
     pub fn precise() -> Self {
-        DistanceOptions::with_samples(1_000_000)
+        DistanceOptions::for_samples(1_000_000)
     }
 
     /// `samples_per_side` stratified samples per side from the default seed.
-    pub fn with_samples(samples_per_side: usize) -> Self {
+    pub fn for_samples(samples_per_side: usize) -> Self {
         DistanceOptions {
             samples_per_side,
             seed: DEFAULT_SEED,
@@ -138,7 +138,7 @@ pub struct DistanceReport {
 ///     let positions = corners.iter().map(|&[x, y]| Vec3::new(x, y, z)).collect();
 ///     TriangleMesh::new(positions, vec![[0, 1, 2], [0, 2, 3]])
 /// };
-/// let report = mesh_distance(&square(0.0), &square(0.25), &DistanceOptions::with_samples(1000))?;
+/// let report = mesh_distance(&square(0.0), &square(0.25), &DistanceOptions::for_samples(1000))?;
 /// for d in [report.hausdorff, report.mean, report.rms] {
 ///     assert!((d - 0.25).abs() < 1e-6);
 /// }
@@ -317,7 +317,7 @@ mod tests {
     #[test]
     fn refuses_sample_counts_that_would_run_for_hours() {
         let cube = unit_cube();
-        let options = DistanceOptions::with_samples(100_000_000_000);
+        let options = DistanceOptions::for_samples(100_000_000_000);
         let err = mesh_distance(&cube, &cube, &options).unwrap_err();
         assert!(matches!(
             err,

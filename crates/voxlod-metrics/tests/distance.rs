@@ -47,7 +47,7 @@ fn sphere_against_inscribed_icosphere_gives_the_analytic_hausdorff_distance() {
         assert!((exact.distance - analytic).abs() < 1e-9 * analytic);
 
         let report =
-            mesh_distance(&sphere, &coarse, &DistanceOptions::with_samples(200_000)).unwrap();
+            mesh_distance(&sphere, &coarse, &DistanceOptions::for_samples(200_000)).unwrap();
         let error = report.hausdorff - analytic;
         eprintln!(
             "level {level}: analytic {analytic:.6e}, sampled {:.6e} ({:+.2e} relative)",
@@ -94,7 +94,7 @@ fn shifted_cubes_give_the_analytic_mean_and_rms() {
     ] {
         let options = DistanceOptions {
             layout,
-            ..DistanceOptions::with_samples(200_000)
+            ..DistanceOptions::for_samples(200_000)
         };
         let report = mesh_distance(&cube, &shifted, &options).unwrap();
         eprintln!(
@@ -125,7 +125,7 @@ fn without_time(mut r: DistanceReport) -> DistanceReport {
 fn reports_are_deterministic_and_seeded() {
     let a = common::torus(60, 30);
     let b = common::torus_with(50, 25, 2.0, |u, v| 1.0 + 0.05 * (3.0 * u).sin() * v.cos());
-    let options = DistanceOptions::with_samples(30_000);
+    let options = DistanceOptions::for_samples(30_000);
     let report = without_time(mesh_distance(&a, &b, &options).unwrap());
     assert_eq!(
         report,
@@ -203,7 +203,7 @@ fn refuses_empty_flat_and_broken_meshes_naming_which() {
         message(&cube, &broken).starts_with("second mesh: vertex 0 has a non-finite coordinate")
     );
     assert!(matches!(
-        mesh_distance(&cube, &cube, &DistanceOptions::with_samples(0)),
+        mesh_distance(&cube, &cube, &DistanceOptions::for_samples(0)),
         Err(MetricsError::NoSamples)
     ));
 }

@@ -15,7 +15,7 @@ use voxlod_sampling::{
 fn bench(c: &mut Criterion) {
     let shell = Shape::sphere(DVec3::ZERO, 1.0).minus(Shape::sphere(DVec3::ZERO, 0.93));
     let solid = CsgSolid::new(shell).unwrap();
-    let pyramid = PyramidOptions::with_resolutions(vec![44, 36], Filter::Hypercone);
+    let pyramid = PyramidOptions::for_resolutions(vec![44, 36], Filter::Hypercone);
     let plans = plan_levels(&solid.bounds(), &pyramid).unwrap();
     let levels: Vec<_> = plans
         .iter()

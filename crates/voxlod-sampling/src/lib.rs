@@ -38,7 +38,7 @@
 //! let block = Shape::cuboid(DVec3::splat(-1.0), DVec3::splat(1.0))
 //!     .minus(Shape::cylinder(DVec3::ZERO, Axis::Z, 0.5, 2.0));
 //! let solid = CsgSolid::new(block)?;
-//! let options = PyramidOptions::with_resolutions(vec![16, 2], Filter::Hypercone);
+//! let options = PyramidOptions::for_resolutions(vec![16, 2], Filter::Hypercone);
 //! let levels = plan_levels(&solid.bounds(), &options)?;
 //! assert_eq!(levels[0].voxel_size, 2.0 / 16.0);
 //! assert_eq!(levels[1].radius, 2.0 / 2.0); // one voxel of the coarser level

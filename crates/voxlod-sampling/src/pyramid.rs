@@ -64,7 +64,7 @@ impl PyramidOptions {
     }
 
     /// Explicit resolutions.
-    pub fn with_resolutions(resolutions: Vec<usize>, filter: Filter) -> Self {
+    pub fn for_resolutions(resolutions: Vec<usize>, filter: Filter) -> Self {
         PyramidOptions {
             resolutions,
             ..PyramidOptions::halving(2, 1, filter)
@@ -235,12 +235,12 @@ mod tests {
     #[test]
     fn refuses_zero_and_absurd_resolutions() {
         let b = Bounds::new(DVec3::ZERO, DVec3::ONE);
-        let zero = PyramidOptions::with_resolutions(vec![64, 0], Filter::Hypercone);
+        let zero = PyramidOptions::for_resolutions(vec![64, 0], Filter::Hypercone);
         assert!(plan_levels(&b, &zero)
             .unwrap_err()
             .to_string()
             .contains("resolution 0"));
-        let huge = PyramidOptions::with_resolutions(vec![1_000_000], Filter::Hypercone);
+        let huge = PyramidOptions::for_resolutions(vec![1_000_000], Filter::Hypercone);
         let err = plan_levels(&b, &huge).unwrap_err().to_string();
         assert!(err.contains("would need") && err.contains("bytes"), "{err}");
     }

@@ -131,7 +131,7 @@ fn guarded_flips_never_add_a_handle_and_simple_flips_change_nothing() {
 /// Returns the records and checks each level's contour against its record.
 fn chain(shape: Shape, resolutions: &[usize], options: &MonotoneOptions) -> Vec<TopologyRecord> {
     let solid = CsgSolid::new(shape).unwrap();
-    let pyramid = PyramidOptions::with_resolutions(resolutions.to_vec(), Filter::Hypercone);
+    let pyramid = PyramidOptions::for_resolutions(resolutions.to_vec(), Filter::Hypercone);
     let plans = plan_levels(&voxlod_sampling::Solid::bounds(&solid), &pyramid).unwrap();
     let mut previous: Option<LevelShape> = None;
     let mut records = Vec::new();
@@ -269,7 +269,7 @@ fn a_chain_of_owned_levels_is_the_chain_of_borrowed_ones() {
         (dimpled, vec![128, 96, 72, 56, 44, 36, 28]),
     ] {
         let solid = CsgSolid::new(shape).unwrap();
-        let pyramid = PyramidOptions::with_resolutions(resolutions, Filter::Hypercone);
+        let pyramid = PyramidOptions::for_resolutions(resolutions, Filter::Hypercone);
         let plans = plan_levels(&voxlod_sampling::Solid::bounds(&solid), &pyramid).unwrap();
         let mut borrowed = MonotoneChain::new(MonotoneOptions::default());
         let mut owned = MonotoneChain::new(MonotoneOptions::default());

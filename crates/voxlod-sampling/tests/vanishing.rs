@@ -21,7 +21,7 @@ fn a_thin_sheet_vanishes_until_the_filter_is_narrow_enough() {
         DVec3::new(1.0, 1.0, t / 2.0),
     );
     let solid = CsgSolid::new(sheet).unwrap();
-    let pyramid = PyramidOptions::with_resolutions(vec![16], Filter::Hypercone);
+    let pyramid = PyramidOptions::for_resolutions(vec![16], Filter::Hypercone);
     let found = find_surface_resolution(&solid, &pyramid, 16, 0.5, 256).unwrap();
     eprintln!("{found:?}");
     assert!(found.empty);
@@ -33,7 +33,7 @@ fn a_thin_sheet_vanishes_until_the_filter_is_narrow_enough() {
     let bounds = voxlod_sampling::Solid::bounds(&solid);
     let analytic = (16..256)
         .find(|&n| {
-            let options = PyramidOptions::with_resolutions(vec![n], Filter::Hypercone);
+            let options = PyramidOptions::for_resolutions(vec![n], Filter::Hypercone);
             let plan = plan_levels(&bounds, &options).unwrap()[0];
             let nearest = (0..plan.grid.dims[2])
                 .map(|k| plan.grid.position(0.0, 0.0, k as f64).z.abs())
@@ -49,7 +49,7 @@ fn a_thin_sheet_vanishes_until_the_filter_is_narrow_enough() {
     );
     // Checked directly: a surface at n, none at n - 1.
     let level = |n: usize| -> Volume {
-        let options = PyramidOptions::with_resolutions(vec![n], Filter::Hypercone);
+        let options = PyramidOptions::for_resolutions(vec![n], Filter::Hypercone);
         let plan = plan_levels(&voxlod_sampling::Solid::bounds(&solid), &options).unwrap()[0];
         filtered_density(&solid, &plan.grid, &plan.density_options(&options))
             .unwrap()
@@ -62,7 +62,7 @@ fn a_thin_sheet_vanishes_until_the_filter_is_narrow_enough() {
 #[test]
 fn a_level_with_a_surface_is_its_own_answer_and_a_limit_is_respected() {
     let ball = CsgSolid::new(Shape::sphere(DVec3::ZERO, 1.0)).unwrap();
-    let pyramid = PyramidOptions::with_resolutions(vec![8], Filter::GAUSSIAN);
+    let pyramid = PyramidOptions::for_resolutions(vec![8], Filter::GAUSSIAN);
     let found = find_surface_resolution(&ball, &pyramid, 8, 0.5, 64).unwrap();
     assert!(!found.empty);
     assert_eq!(found.surface_resolution, Some(8));

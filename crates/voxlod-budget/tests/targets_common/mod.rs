@@ -39,7 +39,7 @@ pub struct Measured {
 
 /// `mesh` measured against `input`; `None` where it has no area.
 pub fn measured(input: &TriangleMesh, mesh: &TriangleMesh) -> Option<Measured> {
-    let d = mesh_distance(input, mesh, &DistanceOptions::with_samples(SAMPLES)).ok()?;
+    let d = mesh_distance(input, mesh, &DistanceOptions::for_samples(SAMPLES)).ok()?;
     let mut m = mesh.clone();
     m.remove_unreferenced_vertices();
     let t = mesh_topology(&m);

@@ -129,7 +129,7 @@ fn evaluate_options(args: &EvaluateArgs) -> Result<EvaluateOptions, CliError> {
         }
         options.methods = unique;
     }
-    options.distance = DistanceOptions::with_samples(args.samples);
+    options.distance = DistanceOptions::for_samples(args.samples);
     options.tolerance = args.tolerance;
     if args.views > 14 {
         return Err(CliError::usage(format!(

@@ -285,7 +285,7 @@ pub(super) fn lod_options(args: &LodArgs) -> Result<LodOptions, CliError> {
     }
     let resolution = args.resolution.unwrap_or(DEFAULT_RESOLUTION);
     let mut pyramid = match &args.resolutions {
-        Some(list) => PyramidOptions::with_resolutions(list.clone(), args.filter),
+        Some(list) => PyramidOptions::for_resolutions(list.clone(), args.filter),
         None if args.levels == 0 => return Err(CliError::usage("--levels must be at least 1")),
         None => PyramidOptions::halving(resolution, args.levels, args.filter),
     };

@@ -44,7 +44,7 @@
 //! let options = EvaluateOptions {
 //!     methods: vec!["voxel-hypercone".parse()?, "rossignac-borrel".parse()?],
 //!     budgets: Budgets::Explicit(vec![400]),
-//!     distance: DistanceOptions::with_samples(2_000),
+//!     distance: DistanceOptions::for_samples(2_000),
 //!     images: ImageOptions::off(),
 //!     ..EvaluateOptions::quick()
 //! };

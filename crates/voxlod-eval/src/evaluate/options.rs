@@ -109,7 +109,7 @@ impl EvaluateOptions {
                 count: 4,
                 smallest: 50,
             },
-            distance: DistanceOptions::with_samples(20_000),
+            distance: DistanceOptions::for_samples(20_000),
             tolerance: 0.2,
             max_trials: 4,
             images: ImageOptions::quick(),

@@ -92,7 +92,7 @@ use voxlod_quadric::QuadricError;
 /// let options = EvaluateOptions {
 ///     methods: vec![Method::new(&EveryNth), "rossignac-borrel".parse()?],
 ///     budgets: Budgets::Explicit(vec![256]),
-///     distance: DistanceOptions::with_samples(2_000),
+///     distance: DistanceOptions::for_samples(2_000),
 ///     images: ImageOptions::off(),
 ///     ..EvaluateOptions::quick()
 /// };

@@ -19,7 +19,7 @@ pub(super) fn voxel_level(
     resolution: f64,
     filter: Filter,
 ) -> Result<(TriangleMesh, f64), RunFailure> {
-    let mut pyramid = PyramidOptions::with_resolutions(vec![resolution as usize], filter);
+    let mut pyramid = PyramidOptions::for_resolutions(vec![resolution as usize], filter);
     pyramid.lines_per_radius = input.lines_per_radius();
     let lod = LevelOptions {
         pyramid,

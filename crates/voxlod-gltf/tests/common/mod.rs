@@ -10,7 +10,7 @@ use voxlod::sampling::{Filter, PyramidOptions};
 pub fn sphere_chain() -> Vec<(usize, TriangleMesh, f64)> {
     let solid = CsgSolid::new(Shape::sphere(DVec3::new(0.5, -0.25, 2.0), 1.0)).unwrap();
     let options = LevelOptions {
-        pyramid: PyramidOptions::with_resolutions(vec![24, 12, 6], Filter::Hypercone),
+        pyramid: PyramidOptions::for_resolutions(vec![24, 12, 6], Filter::Hypercone),
         ..Default::default()
     };
     let source = LodSource::Solid(&solid);

@@ -59,7 +59,7 @@ impl<'a> InputMeasure<'a> {
 
     /// Two-sided distance between the input and `mesh`, [`SEARCH_SAMPLES`] a side.
     pub(super) fn measure(&self, mesh: &TriangleMesh) -> Option<Measured> {
-        let options = DistanceOptions::with_samples(SEARCH_SAMPLES);
+        let options = DistanceOptions::for_samples(SEARCH_SAMPLES);
         let sampling = |side: u64| SamplingOptions {
             seed: options.seed.wrapping_add(side),
             ..SamplingOptions::for_samples(SEARCH_SAMPLES)
