@@ -1,6 +1,6 @@
-//! `labels`, `view` and `evaluate` end with the exit status of their failure's class: a bad
+//! Commands end with the exit status of their failure's class: a bad
 //! selection is a usage error (2), a map without labels or a corrupt file bad input (1), work
-//! beyond the memory budget 3, a file that cannot be read 4.
+//! beyond the memory limit 3, a file that cannot be read 4.
 
 mod common;
 
@@ -108,4 +108,49 @@ fn evaluate_without_budgets_is_a_usage_error_and_a_flat_mesh_bad_input() {
     assert_clean_failure(&o, "flat.ply: the input mesh: the mesh has no area");
     assert_eq!(o.status.code(), Some(1));
     assert!(!out.exists());
+}
+
+/// Flags whose value the command cannot use are usage errors (2), before any file is written:
+/// an output extension a command does not write, a radius of zero, a raw volume without its
+/// dimensions.
+#[test]
+fn flag_values_a_command_cannot_use_are_usage_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write_mesh(dir.path(), "cube.ply", &unit_cube());
+    let raw = dir.path().join("scan.raw");
+    std::fs::write(&raw, [0u8; 64]).unwrap();
+    let stl = dir.path().join("out.stl");
+    let cases: [(Vec<&str>, &str); 4] = [
+        (
+            vec!["cluster", arg(&mesh), "-o", arg(&stl), "--cells", "4"],
+            "clustering output has dangling edges and points",
+        ),
+        (
+            vec!["layers", arg(&mesh), "-o", arg(&stl)],
+            "is not a layers output",
+        ),
+        (
+            vec![
+                "voxelize",
+                arg(&mesh),
+                "-o",
+                arg(&stl),
+                "--resolution",
+                "8",
+                "--radius",
+                "0",
+            ],
+            "--radius must be a positive number of voxels",
+        ),
+        (
+            vec!["contour", arg(&raw), "-o", arg(&stl), "--iso", "1"],
+            "a headerless raw volume needs --dims",
+        ),
+    ];
+    for (args, words) in cases {
+        let o = voxlod(&args);
+        assert_clean_failure(&o, words);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(!stl.exists(), "{args:?} wrote a file");
+    }
 }

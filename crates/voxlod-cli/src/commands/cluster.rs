@@ -95,7 +95,7 @@ pub fn run(args: ClusterArgs) -> Result<(), CliError> {
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
     if !["ply", "vtp", "vtk", "glb"].contains(&ext.as_str()) {
-        return Err(CliError::msg(format!(
+        return Err(CliError::usage(format!(
             "{}: clustering output has dangling edges and points; write .ply, .vtp, .vtk or .glb",
             args.output.display()
         )));

@@ -256,7 +256,7 @@ pub fn read_input(path: &Path, raw: &RawArgs) -> Result<Input, CliError> {
     }
     match kind {
         FileKind::Mesh(_) => Ok(Input::Mesh(voxlod::io::read_mesh(path)?)),
-        FileKind::Volume(voxlod::io::VolumeFormat::Raw) => Err(CliError::msg(format!(
+        FileKind::Volume(voxlod::io::VolumeFormat::Raw) => Err(CliError::usage(format!(
             "{}: a headerless raw volume needs --dims X,Y,Z (and --dtype, --endian, --spacing)",
             path.display()
         ))),

@@ -143,7 +143,7 @@ fn out_kind(path: &Path) -> Result<OutKind, CliError> {
     match ext.as_str() {
         "glb" => Ok(OutKind::Glb),
         "ply" | "vtp" | "vtk" => Ok(OutKind::Mesh),
-        other => Err(CliError::msg(format!(
+        other => Err(CliError::usage(format!(
             "{}: '{}' is not a layers output: use .glb, .ply, .vtp or .vtk",
             path.display(),
             if other.is_empty() {

@@ -80,7 +80,7 @@ fn voxelize_options(args: &VoxelizeArgs) -> Result<VoxelizeOptions, CliError> {
         return Err(CliError::usage("--resolution must be at least 1"));
     }
     if !(args.radius.is_finite() && args.radius > 0.0) {
-        return Err(CliError::msg(
+        return Err(CliError::usage(
             "--radius must be a positive number of voxels",
         ));
     }
