@@ -61,6 +61,7 @@ fn main() -> Res<()> {
                     "target": target, "triangles": level.mesh.triangles.len(),
                     "psnr": report.psnr, "ssim": report.ssim, "looks": looks,
                     "appearance": appearance_of(level), "seconds": s,
+                "per_view_psnr": report.per_view.iter().map(|v| v.psnr).collect::<Vec<_>>(),
                 });
                 println!(
                     "{:<15} {:<14} {:>6} {:>7} {:>7} {:>7.2} {:<11.4} {:<16} {:>7.2}",
