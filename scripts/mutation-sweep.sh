@@ -11,7 +11,8 @@
 #   FIRST_SEED=7 ROUNDS=1 scripts/mutation-sweep.sh   # one round again, to reproduce it
 #
 # The seeds are those of mutation_sweep.rs: every format, DICOM among them (a CT slice, c.dcm,
-# and a segmentation, s.seg.dcm, read as a label map).
+# and a segmentation, s.seg.dcm, read as a label map); OBJ, PLY and OFF are read with their looks
+# too (read_asset), and a textured OBJ with its MTL is mutated on either file.
 # The CI run (cargo test) uses 400 mutations per seed file and a fixed seed.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -187,7 +187,28 @@ fn mesh_seeds() -> Vec<Seed> {
         fixture("cells-raw-zlib-big.vtp"),
         fixture("cube-legacy-ascii.vtk"),
         fixture("cube-legacy-binary.vtk"),
+        textured_obj(0),
+        textured_obj(1),
     ]
+}
+
+/// A textured square as OBJ with its MTL and a 1×1 PNG; `mutated` 0 mutates the OBJ, 1 the MTL
+/// (the OBJ is read either way).
+fn textured_obj(mutated: usize) -> Seed {
+    let obj = b"mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl tex\nf 1/1 2/2 3/3 4/4\n";
+    let mtl =
+        b"newmtl tex\nKd 1 0.5 0.25\nNs 50\nd 0.75\nmap_Kd -clamp on t.png\nmap_Bump -bm 2 t.png\n";
+    let png = b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR\0\0\0\x01\0\0\0\x01\x08\x02\0\0\0\x90wS\xde\0\0\0\x0cIDATx\x9cc\xf8\xcf\xc0\0\0\x03\x01\x01\0\xc9\xfe\x92\xef\0\0\0\0IEND\xaeB`\x82";
+    Seed {
+        files: vec![
+            ("t.obj".into(), obj.to_vec()),
+            ("t.mtl".into(), mtl.to_vec()),
+            ("t.png".into(), png.to_vec()),
+        ],
+        mutate: mutated,
+        read: 0,
+        folder: None,
+    }
 }
 
 fn volume_seeds() -> Vec<Seed> {

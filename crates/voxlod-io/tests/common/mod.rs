@@ -52,7 +52,7 @@ pub fn nifti(dim: [i16; 8], datatype: i16, bitpix: i16) -> Vec<u8> {
 }
 
 /// Reads `path` as its extension says: a mesh (a `.vtk` whose name starts with `mesh` or `cube`
-/// too), a volume, or for `.raw` 2x2x2 big-endian `u16` samples.
+/// too; an OBJ, PLY or OFF also with its looks, `read_asset`), a volume, or for `.raw` 2x2x2 big-endian `u16` samples.
 pub fn read_by_extension(path: &Path) -> Result<(), IoError> {
     let name = path
         .file_name()
@@ -63,8 +63,13 @@ pub fn read_by_extension(path: &Path) -> Result<(), IoError> {
         .iter()
         .any(|e| name.ends_with(e))
         || (name.ends_with(".vtk") && (name.starts_with("mesh") || name.starts_with("cube")));
+    let looks = [".obj", ".ply", ".off"].iter().any(|e| name.ends_with(e));
     if mesh {
-        voxlod_io::read_poly_mesh(path).map(|_| ())
+        voxlod_io::read_poly_mesh(path)?;
+        if looks {
+            voxlod_io::read_asset(path)?;
+        }
+        Ok(())
     } else if name.ends_with(".seg.dcm") {
         voxlod_io::read_label_map(path).map(|_| ())
     } else if name.ends_with(".seg.nrrd") {
