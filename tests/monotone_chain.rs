@@ -1,4 +1,4 @@
-//! `voxlod::lod`'s default chain never gains handles (issue 12, item 4; beyond the paper, see
+//! `voxlod::lod`'s default chain never gains handles (beyond the paper, see
 //! `voxlod_sampling::monotone_topology`): on generated hollow shells and a thin wall whose plain
 //! pyramid perforates as the filter grows, every level has at most the genus of the level above,
 //! each level reports the handles removed and the components gained or lost, and every level is
