@@ -3,72 +3,14 @@
 //! input's collapse with its texture coordinates and texture; every level, whatever made it,
 //! shows red where the input is red and blue where it is blue, never grey.
 
-use std::io::Cursor;
-use std::sync::Arc;
+use voxlod_testkit::assets::{textured_sphere, two_halves_png};
 
-use voxlod_asset::{Asset, AssetMesh, Image, Material, Sampler, TextureRef, Wrap};
 use voxlod_budget::{asset_levels, BudgetOptions, Looks};
-use voxlod_core::glam::{Vec2, Vec4};
-use voxlod_testkit::shapes::icosphere;
-
-fn two_halves_png() -> Vec<u8> {
-    let img = image::RgbaImage::from_fn(2, 1, |x, _| {
-        if x == 0 {
-            image::Rgba([255, 0, 0, 255])
-        } else {
-            image::Rgba([0, 0, 255, 255])
-        }
-    });
-    let mut bytes = Vec::new();
-    img.write_to(&mut Cursor::new(&mut bytes), image::ImageFormat::Png)
-        .unwrap();
-    bytes
-}
-
-fn textured_sphere() -> Asset {
-    let s = icosphere(4);
-    let n = s.triangles.len();
-    Asset {
-        mesh: AssetMesh {
-            uv: [
-                s.positions
-                    .iter()
-                    .map(|p| Vec2::new((p.x + 1.0) / 2.0, (p.y + 1.0) / 2.0))
-                    .collect(),
-                Vec::new(),
-            ],
-            normals: s.positions.iter().map(|p| p.normalize()).collect(),
-            positions: s.positions,
-            triangles: s.triangles,
-            material: vec![0; n],
-            ..AssetMesh::default()
-        },
-        materials: vec![Material {
-            name: "halves".into(),
-            base_color_texture: Some(TextureRef {
-                image: 0,
-                tex_coord: 0,
-                transform: None,
-                sampler: Sampler {
-                    wrap_u: Wrap::ClampToEdge,
-                    wrap_v: Wrap::ClampToEdge,
-                    linear: false,
-                },
-            }),
-            ..Material::default()
-        }],
-        images: vec![Image {
-            name: "halves.png".into(),
-            mime: "image/png".into(),
-            bytes: Arc::new(two_halves_png()),
-        }],
-        parts: Vec::new(),
-    }
-}
+use voxlod_core::glam::Vec4;
 
 #[test]
 fn every_level_of_a_textured_asset_shows_its_texture() {
-    let input = textured_sphere();
+    let input = textured_sphere(4);
     let run = asset_levels(&input, &BudgetOptions::for_triangles(&[2000, 200, 40])).unwrap();
     assert_eq!(run.levels.len(), 3);
     let red = Vec4::new(1.0, 0.0, 0.0, 1.0);

@@ -7,78 +7,22 @@
 
 mod common;
 
-use std::io::Cursor;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use voxlod_testkit::assets::textured_sphere;
 
 use common::{arg, json, stderr, voxlod};
 use serde_json::Value;
-use voxlod::asset::{Asset, AssetMesh, Image, Material, Sampler, TextureRef, Wrap};
-use voxlod::core::glam::{Vec2, Vec4};
+use voxlod::asset::Asset;
+use voxlod::core::glam::Vec4;
 use voxlod::gltf::{asset_glb, read_scene, AssetGlbOptions};
 use voxlod_testkit::shapes::icosphere;
 
 const BUDGETS: [usize; 3] = [2000, 200, 40];
 
-fn two_halves_png() -> Vec<u8> {
-    let img = image::RgbaImage::from_fn(2, 1, |x, _| {
-        if x == 0 {
-            image::Rgba([255, 0, 0, 255])
-        } else {
-            image::Rgba([0, 0, 255, 255])
-        }
-    });
-    let mut bytes = Vec::new();
-    img.write_to(&mut Cursor::new(&mut bytes), image::ImageFormat::Png)
-        .unwrap();
-    bytes
-}
-
-fn textured_sphere() -> Asset {
-    let s = icosphere(4);
-    let n = s.triangles.len();
-    Asset {
-        mesh: AssetMesh {
-            uv: [
-                s.positions
-                    .iter()
-                    .map(|p| Vec2::new((p.x + 1.0) / 2.0, (p.y + 1.0) / 2.0))
-                    .collect(),
-                Vec::new(),
-            ],
-            normals: s.positions.iter().map(|p| p.normalize()).collect(),
-            positions: s.positions,
-            triangles: s.triangles,
-            material: vec![0; n],
-            ..AssetMesh::default()
-        },
-        materials: vec![Material {
-            name: "halves".into(),
-            base_color_texture: Some(TextureRef {
-                image: 0,
-                tex_coord: 0,
-                transform: None,
-                sampler: Sampler {
-                    wrap_u: Wrap::ClampToEdge,
-                    wrap_v: Wrap::ClampToEdge,
-                    linear: false,
-                },
-            }),
-            ..Material::default()
-        }],
-        images: vec![Image {
-            name: "halves.png".into(),
-            mime: "image/png".into(),
-            bytes: Arc::new(two_halves_png()),
-        }],
-        parts: Vec::new(),
-    }
-}
-
 /// The textured sphere written as `dir/sphere.glb`.
 fn sphere_glb(dir: &Path) -> PathBuf {
     let path = dir.join("sphere.glb");
-    let bytes = asset_glb(&[textured_sphere()], &AssetGlbOptions::default()).unwrap();
+    let bytes = asset_glb(&[textured_sphere(4)], &AssetGlbOptions::default()).unwrap();
     std::fs::write(&path, bytes).unwrap();
     path
 }
@@ -441,7 +385,7 @@ fn a_mesh_with_budgets_and_format_glb_gets_its_chain_in_either_layout() {
 
 /// The textured sphere as `dir/sphere.obj` with `sphere.mtl` and `halves.png` beside it.
 fn sphere_obj(dir: &Path) -> PathBuf {
-    let a = textured_sphere();
+    let a = textured_sphere(4);
     let mut obj = String::from("mtllib sphere.mtl\nusemtl halves\n");
     for p in &a.mesh.positions {
         obj += &format!("v {} {} {}\n", p.x, p.y, p.z);

@@ -16,19 +16,16 @@
 //!
 //! Any loader error, uncaught page error or console warning fails the test with its message.
 
-use std::io::{BufRead, BufReader, Cursor, Read, Write};
+use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpListener, TcpStream};
 use std::path::{Component, Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::mpsc::{channel, Sender};
-use std::sync::Arc;
 use std::time::{Duration, Instant};
+use voxlod_testkit::assets::textured_sphere;
 
 use serde_json::Value;
-use voxlod_asset::{
-    collapse, transfer, Asset, AssetMesh, Image, Material, Sampler, TextureRef, Wrap,
-};
-use voxlod_core::glam::Vec2;
+use voxlod_asset::{collapse, transfer, Asset};
 use voxlod_gltf::{asset_glb, AssetGlbOptions, Layout};
 use voxlod_testkit::shapes::icosphere;
 use voxlod_testkit::skips::skip;
@@ -68,67 +65,9 @@ fn three() -> Option<PathBuf> {
     }
 }
 
-fn two_halves_png() -> Vec<u8> {
-    let img = image::RgbaImage::from_fn(2, 1, |x, _| {
-        if x == 0 {
-            image::Rgba([255, 0, 0, 255])
-        } else {
-            image::Rgba([0, 0, 255, 255])
-        }
-    });
-    let mut bytes = Vec::new();
-    img.write_to(&mut Cursor::new(&mut bytes), image::ImageFormat::Png)
-        .unwrap();
-    bytes
-}
-
-/// The unit sphere with u = (x + 1) / 2: texel 0 (red) on x < 0, texel 1 (blue) on x > 0.
-/// Dielectric, so that an ambient light shows its base colour.
-fn textured_sphere() -> Asset {
-    let s = icosphere(3);
-    let n = s.triangles.len();
-    Asset {
-        mesh: AssetMesh {
-            uv: [
-                s.positions
-                    .iter()
-                    .map(|p| Vec2::new((p.x + 1.0) / 2.0, (p.y + 1.0) / 2.0))
-                    .collect(),
-                Vec::new(),
-            ],
-            normals: s.positions.iter().map(|p| p.normalize()).collect(),
-            positions: s.positions,
-            triangles: s.triangles,
-            material: vec![0; n],
-            ..AssetMesh::default()
-        },
-        materials: vec![Material {
-            name: "halves".into(),
-            metallic: 0.0,
-            base_color_texture: Some(TextureRef {
-                image: 0,
-                tex_coord: 0,
-                transform: None,
-                sampler: Sampler {
-                    wrap_u: Wrap::ClampToEdge,
-                    wrap_v: Wrap::ClampToEdge,
-                    linear: false,
-                },
-            }),
-            ..Material::default()
-        }],
-        images: vec![Image {
-            name: "halves.png".into(),
-            mime: "image/png".into(),
-            bytes: Arc::new(two_halves_png()),
-        }],
-        parts: Vec::new(),
-    }
-}
-
 /// The input, its collapse and a coarser sphere with the input's looks as vertex colours.
 fn levels() -> Vec<Asset> {
-    let input = textured_sphere();
+    let input = textured_sphere(3);
     let collapsed = collapse(&input, 300).unwrap();
     let coloured = transfer(&input, &icosphere(1)).unwrap();
     assert!(coloured.warnings.is_empty(), "{:?}", coloured.warnings);

@@ -22,6 +22,7 @@
 //! other crate can use it without a dependency loop. Those two keep small private helpers in
 //! their unit tests, and tests that need more run from the workspace root's `tests/`.
 
+pub mod assets;
 pub mod compare;
 pub mod corpus;
 pub mod data;
