@@ -192,24 +192,7 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
     } else {
         lod_options(args)?
     };
-    // A missing or unreadable file is an I/O failure (exit 4), as for the other readers.
-    std::fs::File::open(&args.input).map_err(|e| {
-        IoError::new(
-            &args.input,
-            IoErrorKind::Access,
-            format!("cannot open: {e}"),
-        )
-    })?;
-    let scene = match read {
-        Some(read) => read,
-        None => {
-            let s = voxlod::gltf::read_scene(&args.input).map_err(|e| in_file(&args.input, e))?;
-            AssetRead {
-                asset: s.asset,
-                warnings: s.warnings,
-            }
-        }
-    };
+    let scene = read_input(args, read)?;
     let made = voxlod::asset_lod(&scene.asset, &options, &run_to_end)
         .map_err(|e| lod_error(args, e.into()))?;
     let mut warnings = scene.warnings.clone();
@@ -222,16 +205,13 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
     };
     let mut out = OutputSet::protecting([&args.input]);
     let level_files = !glb || args.glb.split;
-    for (k, level) in made.assets.iter().enumerate() {
-        if level_files && level.asset.is_some() {
-            out.check(&in_dir(&names.dir, &names.level(k, &ext)))?;
-        }
-    }
-    if glb {
-        out.check(&in_dir(&names.dir, &names.chain))?;
-    }
-    out.check(&in_dir(&names.dir, &names.report()))?;
-    out.create_dir(&names.dir)?;
+    let plan = Plan {
+        names: &names,
+        glb,
+        level_files,
+        ext: &ext,
+    };
+    plan.check(&mut out, &made)?;
     let glb_options = AssetGlbOptions {
         layout: args.glb.layout.layout(),
         coverages: Vec::new(),
@@ -241,39 +221,7 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
     };
-    let mut levels = Vec::with_capacity(made.assets.len());
-    for (k, (level, lod_level)) in made.assets.iter().zip(&made.lod.levels).enumerate() {
-        let file = match (&level.asset, glb, level_files) {
-            (None, _, _) => None,
-            (Some(asset), true, true) => {
-                let path = in_dir(&names.dir, &names.level(k, &ext));
-                let bytes = voxlod::gltf::asset_glb(std::slice::from_ref(asset), &glb_options)
-                    .map_err(|e| in_file(&path, e))?;
-                out.bytes(&path, &bytes)?;
-                Some(names.level(k, &ext))
-            }
-            (Some(_), true, false) => Some(names.chain.clone()),
-            (Some(_), false, _) => {
-                let path = in_dir(&names.dir, &names.level(k, &ext));
-                out.mesh(&path, &lod_level.mesh)?;
-                Some(names.level(k, &ext))
-            }
-        };
-        let budget = made.lod.budgets.get(k).cloned();
-        levels.push(AssetLevelReport {
-            level: k,
-            file,
-            vertices: lod_level.mesh.positions.len(),
-            triangles: budget.is_none().then_some(lod_level.mesh.triangles.len()),
-            looks: match (glb, level.looks) {
-                (false, _) => "dropped",
-                (true, Looks::Kept) => "kept",
-                (true, Looks::Transferred) => "transferred",
-            },
-            materials: level.asset.as_ref().map_or(0, |a| a.materials.len()),
-            budget,
-        });
-    }
+    let levels = plan.write_levels(&mut out, &made, &glb_options)?;
     let chain: Vec<_> = made.assets.iter().filter_map(|l| l.asset.clone()).collect();
     if glb {
         let path = in_dir(&names.dir, &names.chain);
@@ -303,6 +251,106 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
     if args.json {
         return print_json(&report);
     }
+    print_text(&report, &made, &names);
+    Ok(())
+}
+
+/// The input as an asset: the one read already, or the glTF file read now. A missing or
+/// unreadable file is an I/O failure (exit 4), as for the other readers.
+fn read_input(args: &LodArgs, read: Option<AssetRead>) -> Result<AssetRead, CliError> {
+    std::fs::File::open(&args.input).map_err(|e| {
+        IoError::new(
+            &args.input,
+            IoErrorKind::Access,
+            format!("cannot open: {e}"),
+        )
+    })?;
+    Ok(match read {
+        Some(read) => read,
+        None => {
+            let s = voxlod::gltf::read_scene(&args.input).map_err(|e| in_file(&args.input, e))?;
+            AssetRead {
+                asset: s.asset,
+                warnings: s.warnings,
+            }
+        }
+    })
+}
+
+/// What files a run writes: the names, whether the levels go to a `.glb`, whether each level
+/// gets its own file, and their extension.
+struct Plan<'a> {
+    names: &'a Names,
+    glb: bool,
+    level_files: bool,
+    ext: &'a str,
+}
+
+impl Plan<'_> {
+    /// Refuses outputs that would overwrite what they must not, before anything is written,
+    /// and makes the folder.
+    fn check(&self, out: &mut OutputSet, made: &voxlod::AssetLod) -> Result<(), CliError> {
+        let names = self.names;
+        for (k, level) in made.assets.iter().enumerate() {
+            if self.level_files && level.asset.is_some() {
+                out.check(&in_dir(&names.dir, &names.level(k, self.ext)))?;
+            }
+        }
+        if self.glb {
+            out.check(&in_dir(&names.dir, &names.chain))?;
+        }
+        out.check(&in_dir(&names.dir, &names.report()))?;
+        out.create_dir(&names.dir)?;
+        Ok(())
+    }
+
+    /// Writes each level's own file where it gets one, and reports every level.
+    fn write_levels(
+        &self,
+        out: &mut OutputSet,
+        made: &voxlod::AssetLod,
+        glb_options: &AssetGlbOptions,
+    ) -> Result<Vec<AssetLevelReport>, CliError> {
+        let (names, ext) = (self.names, self.ext);
+        let mut levels = Vec::with_capacity(made.assets.len());
+        for (k, (level, lod_level)) in made.assets.iter().zip(&made.lod.levels).enumerate() {
+            let file = match (&level.asset, self.glb, self.level_files) {
+                (None, _, _) => None,
+                (Some(asset), true, true) => {
+                    let path = in_dir(&names.dir, &names.level(k, ext));
+                    let bytes = voxlod::gltf::asset_glb(std::slice::from_ref(asset), glb_options)
+                        .map_err(|e| in_file(&path, e))?;
+                    out.bytes(&path, &bytes)?;
+                    Some(names.level(k, ext))
+                }
+                (Some(_), true, false) => Some(names.chain.clone()),
+                (Some(_), false, _) => {
+                    let path = in_dir(&names.dir, &names.level(k, ext));
+                    out.mesh(&path, &lod_level.mesh)?;
+                    Some(names.level(k, ext))
+                }
+            };
+            let budget = made.lod.budgets.get(k).cloned();
+            levels.push(AssetLevelReport {
+                level: k,
+                file,
+                vertices: lod_level.mesh.positions.len(),
+                triangles: budget.is_none().then_some(lod_level.mesh.triangles.len()),
+                looks: match (self.glb, level.looks) {
+                    (false, _) => "dropped",
+                    (true, Looks::Kept) => "kept",
+                    (true, Looks::Transferred) => "transferred",
+                },
+                materials: level.asset.as_ref().map_or(0, |a| a.materials.len()),
+                budget,
+            });
+        }
+        Ok(levels)
+    }
+}
+
+/// The warnings on standard error; the levels and the report's file on standard output.
+fn print_text(report: &AssetReport, made: &voxlod::AssetLod, names: &Names) {
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }
@@ -321,5 +369,4 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
         report.total_seconds,
         in_dir(&names.dir, &names.report()).display()
     ));
-    Ok(())
 }
