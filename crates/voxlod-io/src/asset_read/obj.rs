@@ -255,34 +255,7 @@ fn assemble(
     let complete =
         |m: &tobj::Model, data: &[f32], width: usize| data.len() == vertex_count(m) * width;
 
-    let with_uv = models
-        .iter()
-        .filter(|m| !m.mesh.texcoords.is_empty())
-        .count();
-    let with_normals = models.iter().filter(|m| !m.mesh.normals.is_empty()).count();
-    let with_colors = models
-        .iter()
-        .filter(|m| !m.mesh.vertex_color.is_empty())
-        .count();
-    let partial =
-        |m: &tobj::Model, data: &[f32], width: usize| !data.is_empty() && !complete(m, data, width);
-    if models.iter().any(|m| partial(m, &m.mesh.texcoords, 2)) {
-        warnings.push(
-            "some corners of a part have texture coordinates and others do not: that part's texture coordinates are zero"
-                .into(),
-        );
-    } else if with_uv > 0 && with_uv < models.len() {
-        warnings.push(format!(
-            "{} of {} parts have no texture coordinates: theirs are zero",
-            models.len() - with_uv,
-            models.len()
-        ));
-    }
-    let keep_normals =
-        with_normals == models.len() && models.iter().all(|m| complete(m, &m.mesh.normals, 3));
-    if with_normals > 0 && !keep_normals {
-        warnings.push("normals are given for some corners only: all are left out".into());
-    }
+    let (with_uv, keep_normals, with_colors) = attribute_presence(models, warnings);
 
     let mut mesh = AssetMesh::default();
     mesh.positions.reserve(vertices);
@@ -330,51 +303,7 @@ fn assemble(
                 mesh.colors.extend(std::iter::repeat_n(Vec4::ONE, n));
             }
         }
-        let index = |i: u32| -> Result<u32, IoError> {
-            if (i as usize) < n {
-                Ok(base + i)
-            } else {
-                Err(IoError::new(
-                    path,
-                    IoErrorKind::Malformed,
-                    "a face refers to a vertex that does not exist",
-                ))
-            }
-        };
-        if m.face_arities.is_empty() {
-            for t in m.indices.chunks_exact(3) {
-                mesh.triangles
-                    .push([index(t[0])?, index(t[1])?, index(t[2])?]);
-            }
-        } else {
-            let mut start = 0usize;
-            for &arity in &m.face_arities {
-                let end = start + arity as usize;
-                let face = m
-                    .indices
-                    .get(start..end)
-                    .ok_or_else(|| IoError::malformed(path, "the OBJ data cannot be decoded"))?;
-                start = end;
-                match face.len() {
-                    0..=2 => {}
-                    3 => mesh
-                        .triangles
-                        .push([index(face[0])?, index(face[1])?, index(face[2])?]),
-                    _ => {
-                        let local: Vec<u32> =
-                            face.iter().map(|&i| index(i)).collect::<Result<_, _>>()?;
-                        polygon.clear();
-                        polygon
-                            .extend(local.iter().map(|&v| mesh.positions[v as usize].as_dvec3()));
-                        mesh.triangles.extend(
-                            ear_clipping::triangulate(&polygon)
-                                .into_iter()
-                                .map(|t| t.map(|i| local[i])),
-                        );
-                    }
-                }
-            }
-        }
+        add_faces(path, m, base, n, &mut mesh, &mut polygon)?;
         parts.push(Part {
             name: model.name.clone(),
             first_triangle,
@@ -398,4 +327,99 @@ fn assemble(
         images: Vec::new(),
         parts,
     })
+}
+
+/// How many models have texture coordinates, whether every corner has a normal (else none are
+/// kept), and how many models have vertex colours; warnings for attributes given in part.
+fn attribute_presence(models: &[tobj::Model], warnings: &mut Vec<String>) -> (usize, bool, usize) {
+    let vertex_count = |m: &tobj::Model| m.mesh.positions.len() / 3;
+    let complete =
+        |m: &tobj::Model, data: &[f32], width: usize| data.len() == vertex_count(m) * width;
+    let with_uv = models
+        .iter()
+        .filter(|m| !m.mesh.texcoords.is_empty())
+        .count();
+    let with_normals = models.iter().filter(|m| !m.mesh.normals.is_empty()).count();
+    let with_colors = models
+        .iter()
+        .filter(|m| !m.mesh.vertex_color.is_empty())
+        .count();
+    let partial =
+        |m: &tobj::Model, data: &[f32], width: usize| !data.is_empty() && !complete(m, data, width);
+    if models.iter().any(|m| partial(m, &m.mesh.texcoords, 2)) {
+        warnings.push(
+            "some corners of a part have texture coordinates and others do not: that part's texture coordinates are zero"
+                .into(),
+        );
+    } else if with_uv > 0 && with_uv < models.len() {
+        warnings.push(format!(
+            "{} of {} parts have no texture coordinates: theirs are zero",
+            models.len() - with_uv,
+            models.len()
+        ));
+    }
+    let keep_normals =
+        with_normals == models.len() && models.iter().all(|m| complete(m, &m.mesh.normals, 3));
+    if with_normals > 0 && !keep_normals {
+        warnings.push("normals are given for some corners only: all are left out".into());
+    }
+
+    (with_uv, keep_normals, with_colors)
+}
+
+/// The faces of one model appended to `mesh` as triangles (its vertices start at `base`, `n`
+/// of them), polygons ear-clipped. Refuses a face naming a vertex the model lacks.
+fn add_faces(
+    path: &Path,
+    m: &tobj::Mesh,
+    base: u32,
+    n: usize,
+    mesh: &mut AssetMesh,
+    polygon: &mut Vec<DVec3>,
+) -> Result<(), IoError> {
+    let index = |i: u32| -> Result<u32, IoError> {
+        if (i as usize) < n {
+            Ok(base + i)
+        } else {
+            Err(IoError::new(
+                path,
+                IoErrorKind::Malformed,
+                "a face refers to a vertex that does not exist",
+            ))
+        }
+    };
+    if m.face_arities.is_empty() {
+        for t in m.indices.chunks_exact(3) {
+            mesh.triangles
+                .push([index(t[0])?, index(t[1])?, index(t[2])?]);
+        }
+    } else {
+        let mut start = 0usize;
+        for &arity in &m.face_arities {
+            let end = start + arity as usize;
+            let face = m
+                .indices
+                .get(start..end)
+                .ok_or_else(|| IoError::malformed(path, "the OBJ data cannot be decoded"))?;
+            start = end;
+            match face.len() {
+                0..=2 => {}
+                3 => mesh
+                    .triangles
+                    .push([index(face[0])?, index(face[1])?, index(face[2])?]),
+                _ => {
+                    let local: Vec<u32> =
+                        face.iter().map(|&i| index(i)).collect::<Result<_, _>>()?;
+                    polygon.clear();
+                    polygon.extend(local.iter().map(|&v| mesh.positions[v as usize].as_dvec3()));
+                    mesh.triangles.extend(
+                        ear_clipping::triangulate(polygon)
+                            .into_iter()
+                            .map(|t| t.map(|i| local[i])),
+                    );
+                }
+            }
+        }
+    }
+    Ok(())
 }
