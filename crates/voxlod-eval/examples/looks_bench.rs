@@ -93,24 +93,7 @@ fn main() -> Res<()> {
                     "{name}-gltfpack{}-{ratio}.glb",
                     if aggressive { "-sa" } else { "" }
                 ));
-                let start = Instant::now();
-                let mut cmd = Command::new(&gltfpack);
-                cmd.arg("-i").arg(&file).arg("-o").arg(&level_file);
-                cmd.arg("-si").arg(ratio.to_string()).arg("-noq");
-                if aggressive {
-                    cmd.arg("-sa");
-                }
-                let status = cmd.output()?;
-                let s = start.elapsed().as_secs_f64();
-                if !status.status.success() {
-                    return Err(format!(
-                        "gltfpack failed on {}: {}",
-                        file.display(),
-                        String::from_utf8_lossy(&status.stderr)
-                    )
-                    .into());
-                }
-                let level = read_scene(&level_file)?.asset;
+                let (level, s) = gltfpack_level(&gltfpack, &file, &level_file, ratio, aggressive)?;
                 let tris = level.mesh.triangles.len();
                 measure(tag, ratio, target, &level, "-", s)?;
                 reached.push(tris);
@@ -182,67 +165,42 @@ fn appearance_of(a: &Asset) -> &'static str {
     }
 }
 
+/// gltfpack's `-si ratio` level of `file` (`-sa` when `aggressive`), written to `level_file`
+/// and read back, with gltfpack's wall seconds.
+fn gltfpack_level(
+    gltfpack: &Path,
+    file: &Path,
+    level_file: &Path,
+    ratio: f64,
+    aggressive: bool,
+) -> Res<(Asset, f64)> {
+    let start = Instant::now();
+    let mut cmd = Command::new(gltfpack);
+    cmd.arg("-i").arg(file).arg("-o").arg(level_file);
+    cmd.arg("-si").arg(ratio.to_string()).arg("-noq");
+    if aggressive {
+        cmd.arg("-sa");
+    }
+    let status = cmd.output()?;
+    let s = start.elapsed().as_secs_f64();
+    if !status.status.success() {
+        return Err(format!(
+            "gltfpack failed on {}: {}",
+            file.display(),
+            String::from_utf8_lossy(&status.stderr)
+        )
+        .into());
+    }
+    Ok((read_scene(level_file)?.asset, s))
+}
+
 /// A generated multi-part scene: UV spheres and subdivided boxes, each with its own material
 /// and generated texture (checks, stripes, rings, a gradient), one part with a plain colour
 /// factor; with `colours`, every vertex has a colour too (a smooth tint over the scene, and
 /// the untextured parts coloured by position alone).
 fn textured_scene(colours: bool) -> Asset {
     let mut asset = Asset::default();
-    let textures: [fn(u32, u32) -> [u8; 3]; 4] = [
-        |x, y| {
-            if (x / 32 + y / 32) % 2 == 0 {
-                [220, 40, 40]
-            } else {
-                [240, 230, 200]
-            }
-        },
-        |x, _| {
-            if (x / 24) % 2 == 0 {
-                [30, 90, 200]
-            } else {
-                [250, 210, 40]
-            }
-        },
-        |x, y| {
-            let (dx, dy) = (x as f32 - 128.0, y as f32 - 128.0);
-            let r = (dx * dx + dy * dy).sqrt();
-            if ((r / 18.0) as u32).is_multiple_of(2) {
-                [20, 150, 60]
-            } else {
-                [230, 240, 230]
-            }
-        },
-        |x, y| [x as u8, y as u8, (255 - x.max(y)) as u8],
-    ];
-    for (k, texel) in textures.iter().enumerate() {
-        let img = image::RgbImage::from_fn(256, 256, |x, y| image::Rgb(texel(x, y)));
-        let mut png = Vec::new();
-        img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
-            .expect("PNG in memory");
-        asset.images.push(Image {
-            name: format!("texture {k}"),
-            mime: "image/png".into(),
-            bytes: Arc::new(png),
-        });
-        asset.materials.push(Material {
-            name: format!("textured {k}"),
-            base_color_texture: Some(TextureRef {
-                image: k,
-                tex_coord: 0,
-                transform: None,
-                sampler: Default::default(),
-            }),
-            metallic: 0.0,
-            roughness: 0.8,
-            ..Material::default()
-        });
-    }
-    asset.materials.push(Material {
-        name: "plain orange".into(),
-        base_color: [0.9, 0.35, 0.05, 1.0],
-        metallic: 0.0,
-        ..Material::default()
-    });
+    add_scene_materials(&mut asset);
     let mut mesh = AssetMesh::default();
     let mut add = |name: &str, part: AssetMesh, material: u32, parts: &mut Vec<Part>| {
         let base = mesh.positions.len() as u32;
@@ -302,6 +260,66 @@ fn textured_scene(colours: bool) -> Asset {
     asset.parts = parts;
     asset.validate().expect("a valid generated scene");
     asset
+}
+
+/// The scene's materials: four textured by generated images (checks, stripes, rings, a
+/// gradient) and one plain orange.
+fn add_scene_materials(asset: &mut Asset) {
+    let textures: [fn(u32, u32) -> [u8; 3]; 4] = [
+        |x, y| {
+            if (x / 32 + y / 32) % 2 == 0 {
+                [220, 40, 40]
+            } else {
+                [240, 230, 200]
+            }
+        },
+        |x, _| {
+            if (x / 24) % 2 == 0 {
+                [30, 90, 200]
+            } else {
+                [250, 210, 40]
+            }
+        },
+        |x, y| {
+            let (dx, dy) = (x as f32 - 128.0, y as f32 - 128.0);
+            let r = (dx * dx + dy * dy).sqrt();
+            if ((r / 18.0) as u32).is_multiple_of(2) {
+                [20, 150, 60]
+            } else {
+                [230, 240, 230]
+            }
+        },
+        |x, y| [x as u8, y as u8, (255 - x.max(y)) as u8],
+    ];
+    for (k, texel) in textures.iter().enumerate() {
+        let img = image::RgbImage::from_fn(256, 256, |x, y| image::Rgb(texel(x, y)));
+        let mut png = Vec::new();
+        img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+            .expect("PNG in memory");
+        asset.images.push(Image {
+            name: format!("texture {k}"),
+            mime: "image/png".into(),
+            bytes: Arc::new(png),
+        });
+        asset.materials.push(Material {
+            name: format!("textured {k}"),
+            base_color_texture: Some(TextureRef {
+                image: k,
+                tex_coord: 0,
+                transform: None,
+                sampler: Default::default(),
+            }),
+            metallic: 0.0,
+            roughness: 0.8,
+            ..Material::default()
+        });
+    }
+    asset.materials.push(Material {
+        name: "plain orange".into(),
+        base_color: [0.9, 0.35, 0.05, 1.0],
+        metallic: 0.0,
+        ..Material::default()
+    });
 }
 
 /// A latitude-longitude sphere: `rings` × `segments` quads, the seam's vertices doubled, the
