@@ -203,6 +203,21 @@ impl WorldTransform {
             translation: self.origin - self.direction * grid_origin,
         }
     }
+
+    /// A volume sampled in this scan's axis-aligned grid space, placed in its world: the
+    /// scan's direction and frame, and a grid whose first sample is where this transform puts
+    /// that point. Cost: none beyond moving the volume.
+    pub fn place(&self, volume: crate::Volume) -> Result<crate::Volume, CoreError> {
+        let g = volume.grid;
+        let to_world = self.placement(self.origin);
+        let origin = to_world.linear * g.origin_vec() + to_world.translation;
+        let grid = Grid::new(g.dims, g.spacing, origin.to_array())?;
+        let orientation = Orientation {
+            direction: self.direction,
+            frame: self.frame,
+        };
+        Ok(crate::Volume { grid, ..volume }.oriented(orientation))
+    }
 }
 
 /// An affine map of finished meshes from grid space to the world: `p ↦ linear · p +

@@ -9,7 +9,7 @@
 use std::time::Instant;
 
 use serde::Serialize;
-use voxlod_core::{Grid, Orientation, Volume, WorldTransform};
+use voxlod_core::{Volume, WorldTransform};
 use voxlod_sampling::{filtered_density, level_grid, DensityOptions, DensityReport, Solid};
 
 use crate::extract::{extract_layers, ExtractOptions, LayeredMesh};
@@ -109,20 +109,12 @@ pub fn filter_solid(
 }
 
 /// A volume sampled in a scan's axis-aligned grid space, placed in the scan's `world`
-/// (unchanged without one).
+/// (unchanged without one; [`WorldTransform::place`]).
 fn in_world(volume: Volume, world: Option<WorldTransform>) -> Result<Volume, LayersError> {
-    let Some(world) = world else {
-        return Ok(volume);
-    };
-    let g = volume.grid;
-    let to_world = world.placement(world.origin);
-    let origin = to_world.linear * g.origin_vec() + to_world.translation;
-    let grid = Grid::new(g.dims, g.spacing, origin.to_array())?;
-    let orientation = Orientation {
-        direction: world.direction,
-        frame: world.frame,
-    };
-    Ok(Volume { grid, ..volume }.oriented(orientation))
+    Ok(match world {
+        Some(world) => world.place(volume)?,
+        None => volume,
+    })
 }
 
 /// Filters `solid` and builds its layers (see the module documentation).

@@ -7,7 +7,7 @@
 
 use std::time::Instant;
 
-use voxlod_core::{Grid, Orientation, Volume, WorldTransform};
+use voxlod_core::{Volume, WorldTransform};
 use voxlod_sampling::{DensityReport, Filter, LevelPlan, PyramidOptions};
 
 use crate::error::{InvalidOption, PyramidError};
@@ -138,30 +138,20 @@ pub fn voxelize(source: &Source, options: &VoxelizeOptions) -> Result<Voxelized,
     })
 }
 
-/// A density sampled in the source's axis-aligned grid space, placed in the world of the scan
-/// it came from (`world`; `None` leaves it as it is): the scan's direction and frame, and a
-/// grid whose first sample is where the scan's transform puts that point. Cost: none beyond
-/// moving the volume.
+/// A volume sampled in a scan's axis-aligned grid space, placed in the scan's `world`
+/// (unchanged without one; [`WorldTransform::place`]).
 fn in_world(volume: Volume, world: Option<WorldTransform>) -> Result<Volume, PyramidError> {
-    let Some(world) = world else {
-        return Ok(volume);
-    };
-    let g = volume.grid;
-    let to_world = world.placement(world.origin);
-    let origin = to_world.linear * g.origin_vec() + to_world.translation;
-    let grid = Grid::new(g.dims, g.spacing, origin.to_array())?;
-    let orientation = Orientation {
-        direction: world.direction,
-        frame: world.frame,
-    };
-    Ok(Volume { grid, ..volume }.oriented(orientation))
+    Ok(match world {
+        Some(world) => world.place(volume)?,
+        None => volume,
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use voxlod_core::glam::{DMat3, DVec3};
-    use voxlod_core::Frame;
+    use voxlod_core::{Frame, Grid, Orientation};
 
     #[test]
     fn a_scan_density_lies_where_the_scan_does() {
