@@ -202,64 +202,10 @@ pub fn raster_triangle(
     rgba: [f32; 4],
     blend: bool,
 ) {
-    let Some(Snapped { p, v, area2, .. }) = snap_counter_clockwise(v, n) else {
-        return;
-    };
-    let Some((sx0, sx1, sy0, sy1)) = sample_box(&p, tile) else {
-        return;
-    };
-    let edges = EdgeFunctions::new(&p);
-    let bias = edges.bias;
-    let inv = 1.0 / area2 as f32;
-    let shade_of = |i: usize| {
-        if v[i].shade.is_nan() {
-            flat
-        } else {
-            v[i].shade
-        }
-    };
-    let (s0, s1, s2) = (shade_of(0), shade_of(1), shade_of(2));
-    let (w0, w1, w2) = (v[0].w, v[1].w, v[2].w);
-    let (z0, z1, z2) = (v[0].z, v[1].z, v[2].z);
-    let alpha = rgba[3];
-    let rgb = [rgba[0], rgba[1], rgba[2]];
-    let step_x = edges.a.map(|a| a * SUB);
-    for sy in sy0..=sy1 {
-        let mut e = [
-            edges.at(0, sx0, sy),
-            edges.at(1, sx0, sy),
-            edges.at(2, sx0, sy),
-        ];
-        let row = ((sy - tile.y0) as usize) * tile.size;
-        for sx in sx0..=sx1 {
-            if ((e[0] + bias[0]) | (e[1] + bias[1]) | (e[2] + bias[2])) >= 0 {
-                let l0 = e[0] as f32 * inv;
-                let l1 = e[1] as f32 * inv;
-                let l2 = 1.0 - l0 - l1;
-                let z = l0 * z0 + l1 * z1 + l2 * z2;
-                let i = row + (sx - tile.x0) as usize;
-                if z < tile.depth[i] {
-                    let pw = l0 * w0 + l1 * w1 + l2 * w2;
-                    let shade = (l0 * w0 * s0 + l1 * w1 * s1 + l2 * w2 * s2) / pw;
-                    let col = [rgb[0] * shade, rgb[1] * shade, rgb[2] * shade];
-                    if blend {
-                        let dst = &mut tile.color[i];
-                        for ch in 0..3 {
-                            dst[ch] += (col[ch] - dst[ch]) * alpha;
-                        }
-                        tile.coverage[i] += (1.0 - tile.coverage[i]) * alpha;
-                    } else {
-                        tile.depth[i] = z;
-                        tile.color[i] = col;
-                        tile.coverage[i] = 1.0;
-                    }
-                }
-            }
-            e[0] += step_x[0];
-            e[1] += step_x[1];
-            e[2] += step_x[2];
-        }
-    }
+    let [r, g, b, alpha] = rgba;
+    raster_fragments(tile, v, n, flat, blend, |_, shade| {
+        Some([r * shade, g * shade, b * shade, alpha])
+    });
 }
 
 /// Draws one triangle into `tile` with a colour computed per sample: `fragment` receives the
