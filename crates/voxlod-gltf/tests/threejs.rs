@@ -23,6 +23,7 @@ use std::process::{Command, Stdio};
 use std::sync::mpsc::{channel, Sender};
 use std::time::{Duration, Instant};
 use voxlod_testkit::assets::textured_sphere;
+use voxlod_testkit::browser::chromium;
 
 use serde_json::Value;
 use voxlod_asset::{collapse, transfer, Asset};
@@ -32,21 +33,6 @@ use voxlod_testkit::skips::skip;
 
 /// How long the page may take to load and report, in real time.
 const PAGE_TIMEOUT: Duration = Duration::from_secs(60);
-
-fn chromium() -> Option<PathBuf> {
-    let path = std::env::var_os("VOXLOD_CHROMIUM")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("/usr/bin/chromium"));
-    if path.is_file() {
-        Some(path)
-    } else {
-        skip(format!(
-            "no browser: {} is missing (apt-get install chromium, as .ci/run does)",
-            path.display()
-        ));
-        None
-    }
-}
 
 fn three() -> Option<PathBuf> {
     let peers = std::env::var_os("VOXLOD_PEERS")

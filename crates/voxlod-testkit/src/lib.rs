@@ -23,6 +23,7 @@
 //! their unit tests, and tests that need more run from the workspace root's `tests/`.
 
 pub mod assets;
+pub mod browser;
 pub mod compare;
 pub mod corpus;
 pub mod data;

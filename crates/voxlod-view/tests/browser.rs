@@ -16,30 +16,15 @@ mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use voxlod_testkit::browser::chromium;
 
 use common::{write_layered_ball_chain, write_sphere_chain, write_two_layers, SPHERE_CELLS};
 use image::RgbImage;
 use voxlod_gltf::ChainOptions;
-use voxlod_testkit::skips::skip;
 use voxlod_view::{write_page, ViewOptions, PATCH_COLORS};
 
 const SIZE: u32 = 400;
 const FOV: f64 = std::f64::consts::PI / 4.0;
-
-fn chromium() -> Option<PathBuf> {
-    let path = std::env::var_os("VOXLOD_CHROMIUM")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("/usr/bin/chromium"));
-    if path.is_file() {
-        Some(path)
-    } else {
-        skip(format!(
-            "no browser: {} is missing (apt-get install chromium, as .ci/run does)",
-            path.display()
-        ));
-        None
-    }
-}
 
 /// A screenshot of `page` with the camera at `distance` along `dir` (centre to eye).
 fn screenshot(browser: &Path, page: &Path, distance: f64, dir: [f64; 3], png: &Path) -> RgbImage {
