@@ -13,7 +13,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use voxlod_budget::{levels, BudgetOptions};
+use voxlod_budget::{levels, PortfolioOptions};
 
 #[path = "../tests/targets_common/mod.rs"]
 mod targets_common;
@@ -202,7 +202,7 @@ fn run(name: &str, mesh: &TriangleMesh, tally: &mut Tally) -> Vec<Row> {
         peers.push((s.ok(), sl.ok()));
     }
     let t = Instant::now();
-    let ours = levels(mesh, &BudgetOptions::for_triangles(&budgets));
+    let ours = levels(mesh, &PortfolioOptions::for_triangles(&budgets));
     let seconds = t.elapsed().as_secs_f64();
     let target_time = 5.0 * simplify_seconds + 0.5;
     tally.runs += 1;

@@ -20,7 +20,7 @@ use crate::restore::StandIns;
 use crate::select::{choose, Chosen};
 use crate::shell::shell_candidates;
 use crate::voxel::{voxel_candidates, COARSEST, FINEST, HEADROOM};
-use crate::{BudgetError, BudgetOptions, Budgeted, Level, Timings};
+use crate::{BudgetError, Budgeted, Level, PortfolioOptions, Timings};
 use voxlod_contouring::triangle_estimate::resolution_for_triangles;
 
 /// The input's collapse is kept without a voxel search where it is measured closer than this
@@ -39,7 +39,7 @@ pub type ProgressFn<'f> = dyn Fn(usize, usize) -> bool + Sync + 'f;
 /// [`crate::levels`] with a progress callback.
 pub fn levels_with(
     mesh: &TriangleMesh,
-    options: &BudgetOptions,
+    options: &PortfolioOptions,
     progress: &ProgressFn,
 ) -> Result<Budgeted, BudgetError> {
     let start = Instant::now();
@@ -150,7 +150,7 @@ fn search(
     input: &Input,
     given: Option<&TriangleMesh>,
     measure: &Measure,
-    options: &BudgetOptions,
+    options: &PortfolioOptions,
     budget: usize,
 ) -> Result<Searched, BudgetError> {
     let start = Instant::now();
@@ -197,7 +197,7 @@ pub const KEPT_AT_MOST: usize = 250_000;
 /// collapse broke a promise and the input has at most [`KEPT_AT_MOST`] triangles; the smaller
 /// budgets get it through the level above, collapsed further, which costs a fraction of a
 /// collapse of the whole input.
-fn add_kept(searched: &mut [Searched], input: &Input, options: &BudgetOptions) {
+fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions) {
     if !input.topology.is_manifold() || input.mesh.triangle_count() > KEPT_AT_MOST {
         return;
     }
@@ -216,7 +216,7 @@ fn add_voxels(
     input: &Input,
     measure: &Measure,
     solids: &[(Fill, MeshSolid)],
-    options: &BudgetOptions,
+    options: &PortfolioOptions,
 ) -> Result<(), BudgetError> {
     let start = Instant::now();
     let budget = searched.budget;
@@ -250,7 +250,7 @@ fn choose_down(
     searched: Vec<Searched>,
     input: &Input,
     measure: &Measure,
-    options: &BudgetOptions,
+    options: &PortfolioOptions,
     stand_ins: &StandIns,
 ) -> Result<(Vec<Level>, Vec<String>), BudgetError> {
     let mut levels: Vec<Level> = Vec::new();
@@ -288,7 +288,7 @@ fn choose_down(
 }
 
 /// The promises of `budget` before the chain adds the level above's cap.
-fn first_promises(input: &Input, options: &BudgetOptions, budget: usize) -> Promises {
+fn first_promises(input: &Input, options: &PortfolioOptions, budget: usize) -> Promises {
     Promises {
         budget,
         closed: options.closed || input.is_closed(),

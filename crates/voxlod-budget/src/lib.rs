@@ -46,10 +46,10 @@
 //! open.
 //!
 //! ```
-//! use voxlod_budget::{levels, BudgetOptions, Method};
+//! use voxlod_budget::{levels, PortfolioOptions, Method};
 //!
 //! let torus = voxlod_testkit::shapes::torus(96, 48, 1.0, 0.3);
-//! let run = levels(&torus, &BudgetOptions::for_triangles(&[2000, 300]))?;
+//! let run = levels(&torus, &PortfolioOptions::for_triangles(&[2000, 300]))?;
 //! for level in &run.levels {
 //!     let r = &level.report;
 //!     assert!((r.triangles as f64 - r.budget as f64).abs() <= 0.1 * r.budget as f64);
@@ -84,7 +84,7 @@ pub use error::BudgetError;
 pub use input::Preparation;
 pub use looks::{asset_levels, AssetBudgeted, AssetLevel, Looks};
 pub use measure::Distance;
-pub use options::{BudgetOptions, BUDGET_TOLERANCE};
+pub use options::{PortfolioOptions, BUDGET_TOLERANCE};
 pub use promises::{Promise, MEAN_SLACK};
 pub use report::{BudgetLevel, CandidateReport, InputReport, RuledOut};
 pub use voxlod_fit::FitOptions;
@@ -134,6 +134,6 @@ pub struct Timings {
 /// One level per budget of `options.triangles` from `mesh` (crate docs). Fails on a mesh
 /// without triangles or with bad coordinates, on budgets under 4, on work beyond the memory
 /// budget, and where no method gave a level at all.
-pub fn levels(mesh: &TriangleMesh, options: &BudgetOptions) -> Result<Budgeted, BudgetError> {
+pub fn levels(mesh: &TriangleMesh, options: &PortfolioOptions) -> Result<Budgeted, BudgetError> {
     levels_with(mesh, options, &|_, _| true)
 }

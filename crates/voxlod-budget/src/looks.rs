@@ -30,7 +30,7 @@ use voxlod_metrics::{mesh_distance, DistanceOptions};
 
 use crate::candidate::Method;
 use crate::options::BUDGET_TOLERANCE;
-use crate::{levels, BudgetError, BudgetLevel, BudgetOptions, InputReport};
+use crate::{levels, BudgetError, BudgetLevel, InputReport, PortfolioOptions};
 
 /// A collapsed level with attributes may be this much farther (Hausdorff) from the input than
 /// the geometric collapse the portfolio measured, as a multiple, before the geometric level
@@ -82,7 +82,10 @@ pub struct AssetBudgeted {
 
 /// One level per budget of `options.triangles` from `asset`, each with the asset's looks
 /// (module docs). Fails as [`crate::levels`] does, and on an invalid asset.
-pub fn asset_levels(asset: &Asset, options: &BudgetOptions) -> Result<AssetBudgeted, BudgetError> {
+pub fn asset_levels(
+    asset: &Asset,
+    options: &PortfolioOptions,
+) -> Result<AssetBudgeted, BudgetError> {
     let start = std::time::Instant::now();
     asset.validate().map_err(looks_error)?;
     let geometry = asset.mesh.geometry();
@@ -147,7 +150,7 @@ fn with_looks(
     geometry: &TriangleMesh,
     mesh: TriangleMesh,
     mut report: BudgetLevel,
-    options: &BudgetOptions,
+    options: &PortfolioOptions,
 ) -> Result<(AssetLevel, Vec<String>), BudgetError> {
     let kept = voxlod_asset::collapse(source, report.budget).map_err(looks_error)?;
     let t = kept.mesh.triangles.len();

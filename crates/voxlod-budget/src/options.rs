@@ -1,4 +1,4 @@
-//! [`BudgetOptions`]: what a run of budgets is asked.
+//! [`PortfolioOptions`]: what a run of budgets is asked.
 
 use serde::Serialize;
 use voxlod_fit::FitOptions;
@@ -11,7 +11,7 @@ pub const BUDGET_TOLERANCE: f64 = 0.10;
 
 /// How [`crate::levels`] runs.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct BudgetOptions {
+pub struct PortfolioOptions {
     /// The triangle budgets, in any order; one level each.
     pub triangles: Vec<usize>,
     /// The low-pass filter of the voxel candidates (He et al. 1995 §3).
@@ -36,12 +36,12 @@ pub struct BudgetOptions {
     pub careful_samples: usize,
 }
 
-impl Default for BudgetOptions {
-    /// No budget yet (see [`BudgetOptions::for_triangles`]), the hyper-cone, monotone, open
+impl Default for PortfolioOptions {
+    /// No budget yet (see [`PortfolioOptions::for_triangles`]), the hyper-cone, monotone, open
     /// where the input is open, no error limit, the quick fit, 2 000 quick and 10 000 careful
     /// samples a side.
     fn default() -> Self {
-        BudgetOptions {
+        PortfolioOptions {
             triangles: Vec::new(),
             filter: Filter::Hypercone,
             monotone: true,
@@ -54,12 +54,12 @@ impl Default for BudgetOptions {
     }
 }
 
-impl BudgetOptions {
+impl PortfolioOptions {
     /// The default options for `budgets`.
     pub fn for_triangles(budgets: &[usize]) -> Self {
-        BudgetOptions {
+        PortfolioOptions {
             triangles: budgets.to_vec(),
-            ..BudgetOptions::default()
+            ..PortfolioOptions::default()
         }
     }
 

@@ -2,7 +2,7 @@
 //! met, the chain's genus never rises, bad requests are refused, and where a promise rules out
 //! a closer candidate the report says so.
 
-use voxlod_budget::{levels, BudgetError, BudgetOptions, Method, Promise};
+use voxlod_budget::{levels, BudgetError, Method, PortfolioOptions, Promise};
 use voxlod_core::glam::Vec3;
 use voxlod_core::{mesh_topology, TriangleMesh};
 use voxlod_testkit::corpus;
@@ -14,7 +14,7 @@ fn within(triangles: usize, budget: usize) -> bool {
 /// Every level of `mesh` at `budgets`: within its budget, an oriented manifold, closed when
 /// `closed`, no more handles than the level above (the input's genus first, when it has one).
 fn check_chain(mesh: &TriangleMesh, budgets: &[usize], closed: bool) -> voxlod_budget::Budgeted {
-    let run = levels(mesh, &BudgetOptions::for_triangles(budgets)).unwrap();
+    let run = levels(mesh, &PortfolioOptions::for_triangles(budgets)).unwrap();
     let mut cap = run.input.genus;
     for (level, &b) in run.levels.iter().zip(budgets) {
         let r = &level.report;
@@ -95,9 +95,9 @@ fn a_triangle_soup_gets_manifold_oriented_levels() {
 
 #[test]
 fn asked_for_closed_levels_of_a_sheet_the_report_says_what_closedness_cost() {
-    let options = BudgetOptions {
+    let options = PortfolioOptions {
         closed: true,
-        ..BudgetOptions::for_triangles(&[600])
+        ..PortfolioOptions::for_triangles(&[600])
     };
     let run = levels(&corpus::sheet(), &options).unwrap();
     let level = &run.levels[0];
@@ -118,7 +118,7 @@ fn asked_for_closed_levels_of_a_sheet_the_report_says_what_closedness_cost() {
 fn the_level_of_each_budget_is_the_closest_candidate_that_keeps_the_promises() {
     let run = levels(
         &corpus::two_spheres(),
-        &BudgetOptions::for_triangles(&[800, 120]),
+        &PortfolioOptions::for_triangles(&[800, 120]),
     )
     .unwrap();
     for level in &run.levels {
@@ -141,14 +141,14 @@ fn the_level_of_each_budget_is_the_closest_candidate_that_keeps_the_promises() {
 fn bad_requests_are_refused_with_what_is_wrong() {
     let cube = voxlod_testkit::shapes::unit_cube();
     for budgets in [vec![], vec![100, 3]] {
-        let e = levels(&cube, &BudgetOptions::for_triangles(&budgets)).unwrap_err();
+        let e = levels(&cube, &PortfolioOptions::for_triangles(&budgets)).unwrap_err();
         assert!(matches!(e, BudgetError::InvalidBudgets(_)), "{e}");
     }
     let flat = TriangleMesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::X * 2.0], vec![[0, 1, 2]]);
-    let e = levels(&flat, &BudgetOptions::for_triangles(&[10])).unwrap_err();
+    let e = levels(&flat, &PortfolioOptions::for_triangles(&[10])).unwrap_err();
     assert!(matches!(e, BudgetError::EmptyMesh { triangles: 1 }), "{e}");
     let nan = TriangleMesh::new(vec![Vec3::NAN, Vec3::X, Vec3::Y], vec![[0, 1, 2]]);
-    assert!(levels(&nan, &BudgetOptions::for_triangles(&[10])).is_err());
+    assert!(levels(&nan, &PortfolioOptions::for_triangles(&[10])).is_err());
 }
 
 #[test]
@@ -156,7 +156,7 @@ fn stopping_from_the_progress_callback_ends_the_run() {
     let stop = |done: usize, _: usize| done == 0;
     let e = voxlod_budget::levels_with(
         &corpus::sphere_fine(),
-        &BudgetOptions::for_triangles(&[1000]),
+        &PortfolioOptions::for_triangles(&[1000]),
         &stop,
     )
     .unwrap_err();

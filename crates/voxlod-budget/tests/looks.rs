@@ -5,13 +5,13 @@
 
 use voxlod_testkit::assets::{textured_sphere, two_halves_png};
 
-use voxlod_budget::{asset_levels, BudgetOptions, Looks};
+use voxlod_budget::{asset_levels, Looks, PortfolioOptions};
 use voxlod_core::glam::Vec4;
 
 #[test]
 fn every_level_of_a_textured_asset_shows_its_texture() {
     let input = textured_sphere(4);
-    let run = asset_levels(&input, &BudgetOptions::for_triangles(&[2000, 200, 40])).unwrap();
+    let run = asset_levels(&input, &PortfolioOptions::for_triangles(&[2000, 200, 40])).unwrap();
     assert_eq!(run.levels.len(), 3);
     let red = Vec4::new(1.0, 0.0, 0.0, 1.0);
     let blue = Vec4::new(0.0, 0.0, 1.0, 1.0);

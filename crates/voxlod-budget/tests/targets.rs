@@ -9,14 +9,14 @@
 mod targets_common;
 
 use targets_common::{measured, target_budgets, verdict};
-use voxlod_budget::{levels, BudgetOptions};
+use voxlod_budget::{levels, PortfolioOptions};
 use voxlod_core::{mesh_topology, TriangleMesh};
 use voxlod_quadric::{simplify_sloppy, simplify_unchecked};
 
 /// The failures of `mesh`'s levels, one line each.
 fn failures(name: &str, mesh: &TriangleMesh) -> Vec<String> {
     let budgets = target_budgets(mesh.triangle_count());
-    let run = levels(mesh, &BudgetOptions::for_triangles(&budgets)).unwrap();
+    let run = levels(mesh, &PortfolioOptions::for_triangles(&budgets)).unwrap();
     let closed_input = run.input.closed;
     let mut out = Vec::new();
     for (level, &b) in run.levels.iter().zip(&budgets) {

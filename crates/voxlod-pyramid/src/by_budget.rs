@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use voxlod_budget::{levels_with, BudgetOptions, InputReport, Method};
+use voxlod_budget::{levels_with, InputReport, Method, PortfolioOptions};
 use voxlod_core::{Topology, TriangleMesh};
 use voxlod_sampling::{level_grid, LevelPlan, MeshPreparation, PyramidOptions};
 
@@ -139,7 +139,7 @@ fn triangle_side(mesh: &TriangleMesh) -> Option<f64> {
 pub(crate) fn budget_options(
     mesh: &TriangleMesh,
     options: &LodOptions,
-) -> (BudgetOptions, Vec<String>) {
+) -> (PortfolioOptions, Vec<String>) {
     let defaults = LodOptions::default();
     let mut warnings = Vec::new();
     let mut unused = |name: &str, given: bool| {
@@ -163,14 +163,14 @@ pub(crate) fn budget_options(
         pyramid.lines_per_radius != default_pyramid.lines_per_radius,
     );
     let diagonal = mesh.bounds().diagonal();
-    let budget = BudgetOptions {
+    let budget = PortfolioOptions {
         triangles: options.triangles.clone().unwrap_or_default(),
         filter: pyramid.filter,
         monotone: options.monotone.is_some(),
         closed: options.closed,
         max_error: options.error.map(|e| e.distance(diagonal)),
         fit: options.fit.clone(),
-        ..BudgetOptions::default()
+        ..PortfolioOptions::default()
     };
     (budget, warnings)
 }
