@@ -433,6 +433,9 @@ impl Document {
             let semantic = match s.kind {
                 StreamKind::Positions => Semantic::Positions,
                 StreamKind::Normals => Semantic::Normals,
+                StreamKind::Tangents => Semantic::Tangents,
+                StreamKind::TexCoords => Semantic::TexCoords(0),
+                StreamKind::Colors => Semantic::Colors(0),
                 StreamKind::Widths => Semantic::Extras("WIDTH".into()),
                 StreamKind::Indices => {
                     indices = Some(accessor);
@@ -486,17 +489,8 @@ impl Document {
                 let fallback_at = self.fallback_len;
                 self.fallback_len = (fallback_at + s.bytes.len()).next_multiple_of(4);
                 let view = self.root.buffer_views.len();
-                self.view_extensions.push((
-                    view,
-                    value!({
-                        "buffer": 0,
-                        "byteOffset": at,
-                        "byteLength": encoded.len(),
-                        "byteStride": s.stride,
-                        "count": s.count,
-                        "mode": if vertex { "ATTRIBUTES" } else { "TRIANGLES" },
-                    }),
-                ));
+                let extension = crate::encode::view_extension(s, at, encoded.len());
+                self.view_extensions.push((view, extension));
                 (1, fallback_at)
             }
         };
@@ -562,11 +556,20 @@ fn accessor(s: &Stream, view: json::Index<json::buffer::View>, level: usize) -> 
         Component::U32 => C::U32,
         Component::F32 => C::F32,
     };
-    let (kind, name) = match s.kind {
-        StreamKind::Positions => (json::accessor::Type::Vec3, "positions"),
-        StreamKind::Normals => (json::accessor::Type::Vec3, "normals"),
-        StreamKind::Widths => (json::accessor::Type::Scalar, "widths"),
-        StreamKind::Indices => (json::accessor::Type::Scalar, "indices"),
+    let kind = match s.kind.accessor_type().0 {
+        1 => json::accessor::Type::Scalar,
+        2 => json::accessor::Type::Vec2,
+        3 => json::accessor::Type::Vec3,
+        _ => json::accessor::Type::Vec4,
+    };
+    let name = match s.kind {
+        StreamKind::Positions => "positions",
+        StreamKind::Normals => "normals",
+        StreamKind::Tangents => "tangents",
+        StreamKind::TexCoords => "texture coordinates",
+        StreamKind::Colors => "colours",
+        StreamKind::Widths => "widths",
+        StreamKind::Indices => "indices",
     };
     json::Accessor {
         buffer_view: Some(view),

@@ -5,8 +5,29 @@
 //!
 //! Cost: linear in the stream.
 
+use serde_json::{json, Value};
+
 use crate::streams::{Stream, StreamKind};
 use crate::GltfError;
+
+/// The `EXT_meshopt_compression` object of a buffer view whose stream `s` was encoded into
+/// `length` bytes at `offset` of buffer 0: `ATTRIBUTES` mode for vertex streams, `TRIANGLES`
+/// for indices, no filter.
+pub fn view_extension(s: &Stream, offset: usize, length: usize) -> Value {
+    let mode = if s.kind == StreamKind::Indices {
+        "TRIANGLES"
+    } else {
+        "ATTRIBUTES"
+    };
+    json!({
+        "buffer": 0,
+        "byteOffset": offset,
+        "byteLength": length,
+        "byteStride": s.stride,
+        "count": s.count,
+        "mode": mode,
+    })
+}
 
 /// The encoded bytes of a stream.
 pub fn encode_stream(s: &Stream) -> Result<Vec<u8>, GltfError> {
@@ -27,6 +48,7 @@ pub fn encode_stream(s: &Stream) -> Result<Vec<u8>, GltfError> {
             4 => meshopt::encode_vertex_buffer(&elements::<4>(&s.bytes)).map_err(bad),
             8 => meshopt::encode_vertex_buffer(&elements::<8>(&s.bytes)).map_err(bad),
             12 => meshopt::encode_vertex_buffer(&elements::<12>(&s.bytes)).map_err(bad),
+            16 => meshopt::encode_vertex_buffer(&elements::<16>(&s.bytes)).map_err(bad),
             other => Err(GltfError::Meshopt(format!(
                 "unsupported vertex stride {other}"
             ))),

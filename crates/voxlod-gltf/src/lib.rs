@@ -35,4 +35,6 @@ pub use decode::decompress_glb;
 pub use error::GltfError;
 pub use labels::{labels_glb, LabelMesh};
 pub use read::{parse_glb, read_glb, GlbPart, GlbScene, ORDER_NAMES};
-pub use scene::{asset_glb, parse_scene, read_scene, AssetGlbOptions, Layout, SceneRead};
+pub use scene::{
+    asset_glb, parse_scene, positions_grid, read_scene, AssetGlbOptions, Layout, SceneRead,
+};

@@ -5,8 +5,10 @@
 //! integers in `u16` with one padding component (stride 8) on a grid shared by every level,
 //! undone by the node's uniform scale and translation (so positions stay in the input's units);
 //! normals as normalized `i8` with padding (stride 4). Before quantizing, triangles and vertices
-//! are reordered for the vertex cache and for fetch (meshoptimizer), which changes neither the
-//! triangles nor their count and makes the meshopt codec's deltas small.
+//! are reordered for the vertex cache and for fetch (meshoptimizer, [`cache_order`]), which
+//! changes neither the triangles nor their count and makes the meshopt codec's deltas small.
+//! The same pieces ([`quantized_positions`], [`snorm8`], [`unorm16`], [`flat_floats`],
+//! [`index_stream`]) make the streams of an asset's primitives (`scene::columns`).
 //!
 //! Cost: linear in the level's size (the cache optimizer is linear too).
 
@@ -27,14 +29,44 @@ pub enum Component {
     F32,
 }
 
+impl Component {
+    /// glTF's `componentType` code.
+    pub fn code(self) -> u32 {
+        match self {
+            Component::I8 => 5120,
+            Component::U16 => 5123,
+            Component::U32 => 5125,
+            Component::F32 => 5126,
+        }
+    }
+}
+
 /// What a stream holds, for its accessor and for the meshopt mode.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum StreamKind {
     Positions,
     Normals,
+    /// xyz and the bitangent's sign (glTF's `TANGENT`).
+    Tangents,
+    /// One texture coordinate set.
+    TexCoords,
+    /// RGBA colours.
+    Colors,
     /// One float per vertex (the `_WIDTH` of thick edges).
     Widths,
     Indices,
+}
+
+impl StreamKind {
+    /// Components per element, and the glTF accessor type.
+    pub fn accessor_type(self) -> (usize, &'static str) {
+        match self {
+            StreamKind::Positions | StreamKind::Normals => (3, "VEC3"),
+            StreamKind::Tangents | StreamKind::Colors => (4, "VEC4"),
+            StreamKind::TexCoords => (2, "VEC2"),
+            StreamKind::Widths | StreamKind::Indices => (1, "SCALAR"),
+        }
+    }
 }
 
 /// One accessor's data in the uncompressed layout.
@@ -67,7 +99,9 @@ impl Quantization {
         Quantization { offset: lo, scale }
     }
 
-    fn quantize(&self, p: Vec3) -> [u16; 3] {
+    /// The grid point nearest `p` (clamped to the grid): within `scale / 2` of `p` per
+    /// component for a point inside the box.
+    pub fn quantize(&self, p: Vec3) -> [u16; 3] {
         let max = ((1u32 << POSITION_BITS) - 1) as f32;
         let q = ((p - self.offset) / self.scale)
             .round()
@@ -93,15 +127,45 @@ pub fn quantized_streams(
     mesh: &TriangleMesh,
     grid: &Quantization,
 ) -> Result<Vec<Stream>, GltfError> {
-    let n = mesh.positions.len();
     let flat: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
-    if flat.iter().any(|&v| v as usize >= n) {
+    let (indices, order) = cache_order(&flat, mesh.positions.len())?;
+    let mut out = vec![quantized_positions(
+        order.iter().map(|&old| mesh.positions[old]),
+        grid,
+    )];
+    if !mesh.normals.is_empty() {
+        let mut normals = Vec::with_capacity(order.len() * 4);
+        for &old in &order {
+            let u = unit_normal(mesh.normals[old]);
+            normals.extend(u.to_array().map(snorm8));
+            normals.push(0);
+        }
+        out.push(Stream {
+            kind: StreamKind::Normals,
+            bytes: normals,
+            stride: 4,
+            count: order.len(),
+            component: Component::I8,
+            normalized: true,
+            bounds: None,
+        });
+    }
+    out.push(index_stream(&indices, order.len()));
+    Ok(out)
+}
+
+/// A triangle list reordered for the vertex cache, then its vertices for fetch
+/// (meshoptimizer's `optimizeVertexCache` and `optimizeVertexFetchRemap`): the new indices, and
+/// for each new vertex the old one it is. The triangles stay the same triangles, as many;
+/// vertices no triangle uses are dropped. Refuses an index beyond `vertex_count`. Cost: linear.
+pub fn cache_order(flat: &[u32], vertex_count: usize) -> Result<(Vec<u32>, Vec<usize>), GltfError> {
+    if flat.iter().any(|&v| v as usize >= vertex_count) {
         return Err(GltfError::InvalidChain(
             "a triangle refers to a vertex the mesh does not have".into(),
         ));
     }
-    let cached = meshopt::optimize_vertex_cache(&flat, n);
-    let remap = meshopt::optimize_vertex_fetch_remap(&cached, n);
+    let cached = meshopt::optimize_vertex_cache(flat, vertex_count);
+    let remap = meshopt::optimize_vertex_fetch_remap(&cached, vertex_count);
     let used = remap.iter().filter(|&&r| r != u32::MAX).count();
     let mut order = vec![0usize; used];
     for (old, &new) in remap.iter().enumerate() {
@@ -109,49 +173,59 @@ pub fn quantized_streams(
             order[new as usize] = old;
         }
     }
-    let indices: Vec<u32> = cached.iter().map(|&v| remap[v as usize]).collect();
+    let indices = cached.iter().map(|&v| remap[v as usize]).collect();
+    Ok((indices, order))
+}
 
-    let mut positions = Vec::with_capacity(used * 8);
+/// Positions on `grid` as unsigned 14-bit integers in `u16` with one padding component
+/// (stride 8), with their bounds in grid units.
+pub fn quantized_positions(positions: impl Iterator<Item = Vec3>, grid: &Quantization) -> Stream {
+    let mut bytes = Vec::new();
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for &old in &order {
-        let q = grid.quantize(mesh.positions[old]);
+    let mut count = 0;
+    for p in positions {
+        let q = grid.quantize(p);
         for c in 0..3 {
             lo[c] = lo[c].min(q[c] as f64);
             hi[c] = hi[c].max(q[c] as f64);
-            positions.extend_from_slice(&q[c].to_le_bytes());
+            bytes.extend_from_slice(&q[c].to_le_bytes());
         }
-        positions.extend_from_slice(&0u16.to_le_bytes());
+        bytes.extend_from_slice(&0u16.to_le_bytes());
+        count += 1;
     }
-    let mut out = vec![Stream {
+    Stream {
         kind: StreamKind::Positions,
-        bytes: positions,
+        bytes,
         stride: 8,
-        count: used,
+        count,
         component: Component::U16,
         normalized: false,
-        bounds: (used > 0).then_some((lo, hi)),
-    }];
-    if !mesh.normals.is_empty() {
-        let mut normals = Vec::with_capacity(used * 4);
-        for &old in &order {
-            let u = unit_normal(mesh.normals[old]) * 127.0;
-            for c in u.round().to_array() {
-                normals.push(c as i8 as u8);
-            }
-            normals.push(0);
-        }
-        out.push(Stream {
-            kind: StreamKind::Normals,
-            bytes: normals,
-            stride: 4,
-            count: used,
-            component: Component::I8,
-            normalized: true,
-            bounds: None,
-        });
+        bounds: (count > 0).then_some((lo, hi)),
     }
-    out.push(index_stream(&indices, used));
-    Ok(out)
+}
+
+/// A value in -1..=1 as a normalized `i8` (glTF 2.0 §3.11: read back as `max(c / 127, -1)`),
+/// within `0.5 / 127` of it.
+pub fn snorm8(x: f32) -> u8 {
+    (x.clamp(-1.0, 1.0) * 127.0).round() as i8 as u8
+}
+
+/// A value in 0..=1 as a normalized `u16` (read back as `c / 65535`), within `0.5 / 65535`.
+pub fn unorm16(x: f32) -> [u8; 2] {
+    ((x.clamp(0.0, 1.0) * 65535.0).round() as u16).to_le_bytes()
+}
+
+/// Floats, `width` per element (stride `4 · width`), without bounds.
+pub fn flat_floats(kind: StreamKind, values: &[f32], width: usize) -> Stream {
+    Stream {
+        kind,
+        bytes: values.iter().flat_map(|v| v.to_le_bytes()).collect(),
+        stride: 4 * width,
+        count: values.len() / width,
+        component: Component::F32,
+        normalized: false,
+        bounds: None,
+    }
 }
 
 /// Float triples, with bounds when they are positions.
@@ -182,19 +256,11 @@ pub(crate) fn float_stream(kind: StreamKind, values: &[Vec3]) -> Stream {
 
 /// One float per vertex.
 pub(crate) fn scalar_stream(values: &[f32]) -> Stream {
-    Stream {
-        kind: StreamKind::Widths,
-        bytes: values.iter().flat_map(|v| v.to_le_bytes()).collect(),
-        stride: 4,
-        count: values.len(),
-        component: Component::F32,
-        normalized: false,
-        bounds: None,
-    }
+    flat_floats(StreamKind::Widths, values, 1)
 }
 
 /// `u16` indices when every vertex index fits, else `u32`.
-fn index_stream(indices: &[u32], vertex_count: usize) -> Stream {
+pub fn index_stream(indices: &[u32], vertex_count: usize) -> Stream {
     let small = vertex_count <= u16::MAX as usize;
     let mut bytes = Vec::with_capacity(indices.len() * if small { 2 } else { 4 });
     for &v in indices {

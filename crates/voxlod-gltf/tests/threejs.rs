@@ -13,6 +13,8 @@
 //!   `vertexColors`. Each level drawn alone is red left of centre and blue right of it.
 //! - `MsftLod`: the file loads (three ignores the extension), the scene holds one node drawing
 //!   the finest level, textured, red left and blue right.
+//! - `LodNodes` compressed (`EXT_meshopt_compression`, `KHR_mesh_quantization`; three's
+//!   `MeshoptDecoder` given to the loader): everything the plain `LodNodes` file shows.
 //!
 //! Any loader error, uncaught page error or console warning fails the test with its message.
 
@@ -27,7 +29,7 @@ use voxlod_testkit::browser::chromium;
 
 use serde_json::Value;
 use voxlod_asset::{collapse, transfer, Asset};
-use voxlod_gltf::{asset_glb, AssetGlbOptions, Layout};
+use voxlod_gltf::{asset_glb, AssetGlbOptions, Compression, Layout};
 use voxlod_testkit::shapes::icosphere;
 use voxlod_testkit::skips::skip;
 
@@ -93,8 +95,10 @@ window.addEventListener('load', () => setTimeout(() => {{
 window.started = true;
 import * as THREE from 'three';
 import {{ GLTFLoader }} from 'three/addons/loaders/GLTFLoader.js';
+import {{ MeshoptDecoder }} from 'three/addons/libs/meshopt_decoder.module.js';
 const files = {files};
 const loader = new GLTFLoader();
+loader.setMeshoptDecoder(MeshoptDecoder);
 const canvas = document.createElement('canvas');
 const renderer = new THREE.WebGLRenderer({{canvas}});
 const target = new THREE.WebGLRenderTarget(64, 64);
@@ -299,21 +303,27 @@ fn gltf_loader_reads_every_level_with_its_textures_and_colours() {
     let levels = levels();
     let dir = tempfile::tempdir().unwrap();
     let files = [
-        ("lod-nodes.glb", Layout::LodNodes),
-        ("msft-lod.glb", Layout::MsftLod),
+        ("lod-nodes.glb", Layout::LodNodes, Compression::None),
+        ("msft-lod.glb", Layout::MsftLod, Compression::None),
+        (
+            "lod-nodes-meshopt.glb",
+            Layout::LodNodes,
+            Compression::Meshopt,
+        ),
     ];
-    for (name, layout) in files {
+    for (name, layout, compression) in files {
         let bytes = asset_glb(
             &levels,
             &AssetGlbOptions {
                 layout,
+                compression,
                 ..AssetGlbOptions::default()
             },
         )
         .unwrap();
         std::fs::write(dir.path().join(name), bytes).unwrap();
     }
-    let names: Vec<&str> = files.iter().map(|(n, _)| *n).collect();
+    let names: Vec<&str> = files.iter().map(|(n, _, _)| *n).collect();
     std::fs::write(dir.path().join("index.html"), page(&names)).unwrap();
     let (port, receive) = start_server(dir.path().to_path_buf(), three);
     let summary = run_page(
@@ -337,40 +347,16 @@ fn gltf_loader_reads_every_level_with_its_textures_and_colours() {
         .iter()
         .map(|l| l.mesh.triangles.len() as u64)
         .collect();
-    let textured = |k: usize| k < 2;
-
-    let nodes = &summary["files"]["lod-nodes.glb"];
-    assert!(
-        nodes["error"].is_null(),
-        "lod-nodes.glb: {}",
-        nodes["error"]
-    );
-    let children = nodes["children"].as_array().unwrap();
-    let names: Vec<&str> = children
-        .iter()
-        .map(|c| c["name"].as_str().unwrap())
-        .collect();
-    assert_eq!(names, ["LOD0", "LOD1", "LOD2"], "one scene node per level");
-    for (k, child) in children.iter().enumerate() {
-        let meshes = child["meshes"].as_array().unwrap();
-        let drawn: u64 = meshes
-            .iter()
-            .map(|m| m["triangles"].as_u64().unwrap())
-            .sum();
-        assert_eq!(drawn, triangles[k], "LOD{k}'s triangles");
-        for m in meshes {
-            assert_eq!(m["normal"], true, "LOD{k}: {m}");
-            if textured(k) {
-                assert_eq!(m["map"], serde_json::json!([2, 1]), "LOD{k}'s texture: {m}");
-                assert_eq!(m["uv"], true, "LOD{k}: {m}");
-            } else {
-                assert_eq!(m["color"], true, "LOD{k}'s vertex colours: {m}");
-                assert_eq!(m["vertexColors"], true, "LOD{k}: {m}");
-                assert!(m["map"].is_null(), "LOD{k}: {m}");
-            }
-        }
-        assert_red_left_blue_right(&format!("LOD{k}"), &child["drawn"]);
+    for file in ["lod-nodes.glb", "lod-nodes-meshopt.glb"] {
+        assert_lod_nodes(&summary["files"][file], file, &triangles);
     }
+    let used = summary["files"]["lod-nodes-meshopt.glb"]["extensionsUsed"].clone();
+    assert!(
+        used.as_array()
+            .unwrap()
+            .contains(&"EXT_meshopt_compression".into()),
+        "extensionsUsed {used}"
+    );
 
     let lod = &summary["files"]["msft-lod.glb"];
     let used = lod["extensionsUsed"].as_array().unwrap();
@@ -387,4 +373,45 @@ fn gltf_loader_reads_every_level_with_its_textures_and_colours() {
         assert_eq!(m["map"], serde_json::json!([2, 1]), "node 0's texture: {m}");
     }
     assert_red_left_blue_right("MSFT_lod node 0", &children[0]["drawn"]);
+}
+
+/// The `LodNodes` layout as three loaded it: `LOD0`…`LOD2`, each drawing its level's triangles,
+/// the first two textured, the last with vertex colours, each red left and blue right.
+fn assert_lod_nodes(nodes: &Value, file: &str, triangles: &[u64]) {
+    let textured = |k: usize| k < 2;
+    assert!(nodes["error"].is_null(), "{file}: {}", nodes["error"]);
+    let children = nodes["children"].as_array().unwrap();
+    let names: Vec<&str> = children
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        ["LOD0", "LOD1", "LOD2"],
+        "{file}: one scene node per level"
+    );
+    for (k, child) in children.iter().enumerate() {
+        let meshes = child["meshes"].as_array().unwrap();
+        let drawn: u64 = meshes
+            .iter()
+            .map(|m| m["triangles"].as_u64().unwrap())
+            .sum();
+        assert_eq!(drawn, triangles[k], "{file} LOD{k}'s triangles");
+        for m in meshes {
+            assert_eq!(m["normal"], true, "{file} LOD{k}: {m}");
+            if textured(k) {
+                assert_eq!(
+                    m["map"],
+                    serde_json::json!([2, 1]),
+                    "{file} LOD{k}'s texture: {m}"
+                );
+                assert_eq!(m["uv"], true, "{file} LOD{k}: {m}");
+            } else {
+                assert_eq!(m["color"], true, "{file} LOD{k}'s vertex colours: {m}");
+                assert_eq!(m["vertexColors"], true, "{file} LOD{k}: {m}");
+                assert!(m["map"].is_null(), "{file} LOD{k}: {m}");
+            }
+        }
+        assert_red_left_blue_right(&format!("{file} LOD{k}"), &child["drawn"]);
+    }
 }

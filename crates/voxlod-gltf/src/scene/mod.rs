@@ -11,12 +11,14 @@
 //! ignored. The JSON is validated by the `gltf` crate (indices in range, required fields) after
 //! the extensions it does not know are handled here.
 //!
-//! [`write`] writes levels of an asset back, with their looks, in either of two layouts.
+//! [`write`] writes levels of an asset back, with their looks, in either of two layouts,
+//! plain or compressed (`columns`: each primitive's streams).
 //!
 //! Cost: linear in the file, its buffers and images; every size meets the memory limit first.
 
 mod accessor;
 mod buffers;
+mod columns;
 mod materials;
 mod nodes;
 pub mod write;
@@ -29,7 +31,7 @@ use voxlod_core::memory::check_allocation;
 
 use crate::GltfError;
 
-pub use write::{asset_glb, AssetGlbOptions, Layout};
+pub use write::{asset_glb, positions_grid, AssetGlbOptions, Layout};
 
 /// Extensions this reader understands.
 const READ: [&str; 6] = [

@@ -13,17 +13,28 @@
 //!   Blender's, Unity's and Unreal's importers turn into LOD groups; a plain viewer shows them
 //!   all, one over the other).
 //!
+//! With [`Compression::Meshopt`] every attribute and index stream is quantized
+//! (`KHR_mesh_quantization`; which attribute how, and within what error, in `scene::columns`:
+//! texture coordinates outside 0..=1 stay float) and encoded with meshoptimizer
+//! (`EXT_meshopt_compression`, codecs and buffer layout as the plain chain writes them,
+//! [`crate::encode`]): the GLB's buffer holds the encoded views and the images, a second
+//! buffer without data (`fallback: true`) gives the decoded views their place, and every level
+//! node carries the positions' dequantizing uniform scale and translation (one grid over every
+//! level). Both extensions are then required.
+//!
 //! Beyond the papers: the file format is glTF's; the layouts are the engines' conventions.
-//! Cost: linear in the levels' size.
+//! Cost: linear in the levels' size; with compression, the encoders are linear too.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
 use serde_json::{json, Value};
 use voxlod_asset::{AlphaMode, Asset, Material, TextureRef, Wrap};
-use voxlod_core::glam::{Vec2, Vec3, Vec4};
+use voxlod_core::glam::Vec3;
 
-use crate::chain::{declare_lod, to_glb};
+use super::columns::Columns;
+use crate::chain::{declare_lod, to_glb, Compression};
+use crate::streams::{Quantization, Stream, StreamKind};
 use crate::GltfError;
 
 /// How the levels sit in the file.
@@ -46,6 +57,19 @@ pub struct AssetGlbOptions {
     pub coverages: Vec<f64>,
     /// The name of the asset (the root's `asset.extras` and the nodes' names' prefix).
     pub name: String,
+    /// Float attributes ([`Compression::None`]), or quantized and meshopt-encoded
+    /// ([`Compression::Meshopt`], see `scene::columns` for each attribute's storage and error).
+    pub compression: Compression,
+}
+
+impl AssetGlbOptions {
+    /// The default options, compressed with meshopt over quantized attributes.
+    pub fn meshopt() -> Self {
+        AssetGlbOptions {
+            compression: Compression::Meshopt,
+            ..Default::default()
+        }
+    }
 }
 
 /// The `.glb` bytes of the levels, finest first. Refuses no level, an invalid level, or
@@ -65,7 +89,10 @@ pub fn asset_glb(levels: &[Asset], options: &AssetGlbOptions) -> Result<Vec<u8>,
         }
     }
     let coverages = coverages(levels, &options.coverages)?;
-    let mut doc = Writer::default();
+    let mut doc = Writer {
+        grid: (options.compression == Compression::Meshopt).then(|| positions_grid(levels)),
+        ..Writer::default()
+    };
     for (k, level) in levels.iter().enumerate() {
         let mesh = doc.mesh(level, k)?;
         let name = match options.layout {
@@ -73,8 +100,13 @@ pub fn asset_glb(levels: &[Asset], options: &AssetGlbOptions) -> Result<Vec<u8>,
             Layout::MsftLod if options.name.is_empty() => format!("level {k}"),
             Layout::MsftLod => format!("{} level {k}", options.name),
         };
-        doc.nodes.push(json!({"name": name, "mesh": mesh,
-            "extras": {"voxlod": {"level": k, "triangles": level.mesh.triangles.len()}}}));
+        let mut node = json!({"name": name, "mesh": mesh,
+            "extras": {"voxlod": {"level": k, "triangles": level.mesh.triangles.len()}}});
+        if let Some(q) = &doc.grid {
+            node["translation"] = json!(q.offset.to_array());
+            node["scale"] = json!([q.scale, q.scale, q.scale]);
+        }
+        doc.nodes.push(node);
     }
     let mut root = doc.finish(&options.name);
     match options.layout {
@@ -97,6 +129,18 @@ pub fn asset_glb(levels: &[Asset], options: &AssetGlbOptions) -> Result<Vec<u8>,
         }
     }
     to_glb(&root, doc.bin)
+}
+
+/// The grid compressed levels' positions are quantized on: the box of every level's vertices,
+/// its longest side in `2^14 − 1` steps ([`Quantization::over`]).
+pub fn positions_grid(levels: &[Asset]) -> Quantization {
+    let (lo, hi) = levels
+        .iter()
+        .flat_map(|l| l.mesh.positions.iter())
+        .fold((Vec3::MAX, Vec3::MIN), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    Quantization::over(lo, hi)
 }
 
 /// The coverages given, checked, or the default ones.
@@ -136,6 +180,10 @@ struct Writer {
     image_index: HashMap<*const Vec<u8>, usize>,
     images: Vec<(Arc<Vec<u8>>, String, String)>,
     transforms: bool,
+    /// With compression: the positions' grid; the views' decoded layout takes
+    /// `fallback_len` bytes of buffer 1.
+    grid: Option<Quantization>,
+    fallback_len: usize,
 }
 
 impl Writer {
@@ -163,136 +211,75 @@ impl Writer {
         Ok(self.meshes.len() - 1)
     }
 
-    /// One primitive of `triangles`, its vertices compacted.
+    /// One primitive of `triangles`: its vertices compacted, as floats or quantized.
     fn primitive(&mut self, level: &Asset, triangles: &[[u32; 3]]) -> Result<Value, GltfError> {
-        let m = &level.mesh;
-        let mut new_index: HashMap<u32, u32> = HashMap::new();
-        let mut from: Vec<usize> = Vec::new();
-        let indices: Vec<u32> = triangles
-            .iter()
-            .flatten()
-            .map(|&v| {
-                *new_index.entry(v).or_insert_with(|| {
-                    from.push(v as usize);
-                    (from.len() - 1) as u32
-                })
-            })
-            .collect();
-        let pick3 = |a: &[Vec3]| {
-            from.iter()
-                .flat_map(|&v| a[v].to_array())
-                .collect::<Vec<f32>>()
+        let columns = Columns::gather(&level.mesh, triangles);
+        let streams = match &self.grid {
+            None => columns.plain(),
+            Some(grid) => columns.quantized(grid)?,
         };
-        let pick2 = |a: &[Vec2]| {
-            from.iter()
-                .flat_map(|&v| a[v].to_array())
-                .collect::<Vec<f32>>()
-        };
-        let pick4 = |a: &[Vec4]| {
-            from.iter()
-                .flat_map(|&v| a[v].to_array())
-                .collect::<Vec<f32>>()
-        };
-        let positions: Vec<Vec3> = from.iter().map(|&v| m.positions[v]).collect();
-        let (lo, hi) = positions
-            .iter()
-            .fold((Vec3::MAX, Vec3::MIN), |(lo, hi), &p| {
-                (lo.min(p), hi.max(p))
-            });
         let mut attributes = json!({});
-        let pos = self.floats(
-            &pick3(&m.positions),
-            "VEC3",
-            Some((lo.to_array().to_vec(), hi.to_array().to_vec())),
-        );
-        attributes["POSITION"] = json!(pos);
-        if !m.normals.is_empty() {
-            let normals: Vec<f32> = from
-                .iter()
-                .flat_map(|&v| unit(m.normals[v]).to_array())
-                .collect();
-            attributes["NORMAL"] = json!(self.floats(&normals, "VEC3", None));
-        }
-        if !m.tangents.is_empty() {
-            let t: Vec<f32> = from
-                .iter()
-                .flat_map(|&v| {
-                    let t = m.tangents[v];
-                    unit(t.truncate())
-                        .extend(if t.w < 0.0 { -1.0 } else { 1.0 })
-                        .to_array()
-                })
-                .collect();
-            attributes["TANGENT"] = json!(self.floats(&t, "VEC4", None));
-        }
-        for (set, uv) in m.uv.iter().enumerate() {
-            if !uv.is_empty() {
-                attributes[format!("TEXCOORD_{set}")] =
-                    json!(self.floats(&pick2(uv), "VEC2", None));
+        let mut indices = None;
+        for (semantic, stream) in &streams {
+            let accessor = self.stream(stream)?;
+            match semantic {
+                Some(name) => attributes[name.as_str()] = json!(accessor),
+                None => indices = Some(accessor),
             }
         }
-        if !m.colors.is_empty() {
-            let c: Vec<f32> = pick4(&m.colors)
-                .into_iter()
-                .map(|x| x.clamp(0.0, 1.0))
-                .collect();
-            attributes["COLOR_0"] = json!(self.floats(&c, "VEC4", None));
-        }
-        let idx = self.indices(&indices, from.len());
-        Ok(json!({"attributes": attributes, "indices": idx, "mode": 4}))
+        Ok(json!({"attributes": attributes, "indices": indices, "mode": 4}))
     }
 
-    /// A float accessor (with bounds when given); returns its index.
-    fn floats(
-        &mut self,
-        values: &[f32],
-        kind: &str,
-        bounds: Option<(Vec<f32>, Vec<f32>)>,
-    ) -> usize {
-        let width = match kind {
-            "VEC2" => 2,
-            "VEC3" => 3,
-            _ => 4,
+    /// A stream's buffer view (plain, or meshopt-encoded with its decoded layout in the
+    /// fallback buffer) and accessor; returns the accessor's index.
+    fn stream(&mut self, s: &Stream) -> Result<usize, GltfError> {
+        let vertex = s.kind != StreamKind::Indices;
+        let target = if vertex { 34962 } else { 34963 };
+        let view = match self.grid {
+            None => self.view(s.bytes.clone(), Some(target)),
+            Some(_) => {
+                let encoded = crate::encode::encode_stream(s)?;
+                let at = self.align();
+                self.bin.extend_from_slice(&encoded);
+                let fallback_at = self.fallback_len;
+                self.fallback_len = (fallback_at + s.bytes.len()).next_multiple_of(4);
+                let mut v = json!({"buffer": 1, "byteOffset": fallback_at,
+                    "byteLength": s.bytes.len(), "target": target,
+                    "extensions": {"EXT_meshopt_compression":
+                        crate::encode::view_extension(s, at, encoded.len())}});
+                if vertex {
+                    v["byteStride"] = json!(s.stride);
+                }
+                self.views.push(v);
+                self.views.len() - 1
+            }
         };
-        let view = self.view(
-            values.iter().flat_map(|x| x.to_le_bytes()).collect(),
-            Some(34962),
-        );
-        let mut a = json!({"bufferView": view, "componentType": 5126, "type": kind, "count": values.len() / width});
-        if let Some((lo, hi)) = bounds {
-            a["min"] = json!(lo);
-            a["max"] = json!(hi);
+        let (_, kind) = s.kind.accessor_type();
+        let mut a = json!({"bufferView": view, "componentType": s.component.code(),
+            "type": kind, "count": s.count});
+        if s.normalized {
+            a["normalized"] = json!(true);
+        }
+        if let Some((lo, hi)) = s.bounds {
+            let narrow = |b: [f64; 3]| b.map(|x| x as f32);
+            a["min"] = json!(narrow(lo));
+            a["max"] = json!(narrow(hi));
         }
         self.accessors.push(a);
-        self.accessors.len() - 1
+        Ok(self.accessors.len() - 1)
     }
 
-    /// An index accessor, `u16` where the vertices allow; returns its index.
-    fn indices(&mut self, indices: &[u32], vertices: usize) -> usize {
-        let (bytes, component): (Vec<u8>, u32) = if vertices <= u16::MAX as usize {
-            (
-                indices
-                    .iter()
-                    .flat_map(|&i| (i as u16).to_le_bytes())
-                    .collect(),
-                5123,
-            )
-        } else {
-            (
-                indices.iter().flat_map(|&i| i.to_le_bytes()).collect(),
-                5125,
-            )
-        };
-        let view = self.view(bytes, Some(34963));
-        self.accessors.push(json!({"bufferView": view, "componentType": component, "type": "SCALAR", "count": indices.len()}));
-        self.accessors.len() - 1
+    /// Pads the binary chunk to 4 bytes; returns its length.
+    fn align(&mut self) -> usize {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        self.bin.len()
     }
 
     /// A buffer view of `bytes`, 4-aligned; returns its index.
     fn view(&mut self, bytes: Vec<u8>, target: Option<u32>) -> usize {
-        while !self.bin.len().is_multiple_of(4) {
-            self.bin.push(0);
-        }
+        self.align();
         let mut v = json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()});
         if let Some(t) = target {
             v["target"] = json!(t);
@@ -363,6 +350,10 @@ impl Writer {
             self.bin.push(0);
         }
         let mut used: Vec<&str> = Vec::new();
+        let compressed = ["EXT_meshopt_compression", "KHR_mesh_quantization"];
+        if self.grid.is_some() {
+            used.extend(compressed);
+        }
         if self.transforms {
             used.push("KHR_texture_transform");
         }
@@ -382,6 +373,12 @@ impl Writer {
             "bufferViews": self.views,
             "buffers": [{"byteLength": self.bin.len()}],
         });
+        if self.grid.is_some() {
+            root["extensionsRequired"] = json!(compressed);
+            root["buffers"] = json!([{"byteLength": self.bin.len()},
+                {"byteLength": self.fallback_len,
+                 "extensions": {"EXT_meshopt_compression": {"fallback": true}}}]);
+        }
         if !name.is_empty() {
             root["asset"]["extras"] = json!({"name": name});
         }
@@ -478,15 +475,5 @@ fn wrap(w: Wrap) -> u32 {
         Wrap::Repeat => 10497,
         Wrap::MirroredRepeat => 33648,
         Wrap::ClampToEdge => 33071,
-    }
-}
-
-/// A unit vector (the validator asks normals to be unit length); +z for a zero one.
-fn unit(v: Vec3) -> Vec3 {
-    let n = v.normalize_or_zero();
-    if n == Vec3::ZERO {
-        Vec3::Z
-    } else {
-        n
     }
 }
