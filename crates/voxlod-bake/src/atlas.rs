@@ -1,0 +1,324 @@
+//! A UV atlas for a level that has none: its charts grown, parameterized and packed by
+//! xatlas (through [`crate::xatlas`]), cut along creases (edges that bend by more than
+//! [`AtlasOptions::crease_degrees`], see [`crate::creases`]), with a padding of texels
+//! between charts, on a texture of a given size or at a given texel density.
+//!
+//! The result is the level unwelded at chart borders: each vertex belongs to one chart and
+//! has texture coordinates in [0, 1] (v down the image, as glTF has it), its position and
+//! normal, and the level vertex it copies.
+//!
+//! Cost: xatlas's (near-linear in the triangles for the charts; packing tries
+//! [`AtlasOptions::attempts`] places per chart), repeated packing when a fixed size is too
+//! small at xatlas's first estimate, and one rasterisation to measure the utilisation.
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+use voxlod_core::glam::{Vec2, Vec3};
+use voxlod_core::memory::check_allocation;
+use voxlod_core::TriangleMesh;
+
+use crate::creases::crease;
+use crate::xatlas::{ChartOptions, Generated, PackOptions, Xatlas};
+use crate::{raster, BakeError};
+
+/// The chart of a triangle xatlas left out (degenerate: no area).
+pub const NO_CHART: u32 = u32::MAX;
+
+/// The largest texture side an atlas may have (what common GPUs take).
+pub const MAX_TEXTURE: u32 = 16384;
+
+/// Bytes per texel that an atlas and a bake hold at once: the coverage, the baked texels and
+/// their dilation map, the images and their PNG encoding.
+pub const BAKE_BYTES_PER_TEXEL: u64 = raster::BYTES_PER_TEXEL + 16 + 4 + 16 + 16;
+
+/// How large the texture is.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TextureSize {
+    /// A square texture of this many texels a side.
+    Texels(u32),
+    /// Texels per world unit along the surface; the texture is as large as the charts need.
+    Density(f32),
+}
+
+/// Options of [`atlas`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct AtlasOptions {
+    /// The texture's size, or the texel density it follows.
+    pub texture: TextureSize,
+    /// Texels of gutter around each chart.
+    pub padding: u32,
+    /// Edges that bend by more than this many degrees are chart borders.
+    pub crease_degrees: f32,
+    /// Places xatlas tries per chart when packing (0: every place, slow).
+    pub attempts: u32,
+}
+
+impl Default for AtlasOptions {
+    /// A 1024² texture, 4 texels of padding, creases above 60°.
+    fn default() -> Self {
+        AtlasOptions {
+            texture: TextureSize::Texels(1024),
+            padding: 4,
+            crease_degrees: 60.0,
+            attempts: 1024,
+        }
+    }
+}
+
+impl AtlasOptions {
+    /// A square texture of `texels` a side, the rest default.
+    pub fn for_texture(texels: u32) -> Self {
+        AtlasOptions {
+            texture: TextureSize::Texels(texels),
+            ..AtlasOptions::default()
+        }
+    }
+
+    /// `texels_per_unit` texels per world unit, the rest default.
+    pub fn for_density(texels_per_unit: f32) -> Self {
+        AtlasOptions {
+            texture: TextureSize::Density(texels_per_unit),
+            ..AtlasOptions::default()
+        }
+    }
+
+    fn check(&self) -> Result<(), BakeError> {
+        let bad = |s: String| Err(BakeError::Invalid(s));
+        match self.texture {
+            TextureSize::Texels(n) if n < 8 => return bad(format!("a {n}² texture is too small")),
+            TextureSize::Density(d) if !(d.is_finite() && d > 0.0) => {
+                return bad(format!("texel density {d} is not a positive number"))
+            }
+            _ => {}
+        }
+        if !(0.0..=180.0).contains(&self.crease_degrees) {
+            return bad(format!(
+                "crease angle {}° is not in 0..=180",
+                self.crease_degrees
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A level with texture coordinates (see the module documentation).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Atlas {
+    /// Vertex positions, copied from the level.
+    pub positions: Vec<Vec3>,
+    /// Unit normals (the level's, split at creases).
+    pub normals: Vec<Vec3>,
+    /// Texture coordinates in [0, 1], v down.
+    pub uv: Vec<Vec2>,
+    /// The level's triangles, in its order, naming the atlas's vertices.
+    pub triangles: Vec<[u32; 3]>,
+    /// The level vertex each vertex copies.
+    pub level_vertex: Vec<u32>,
+    /// The chart of each triangle, or [`NO_CHART`].
+    pub chart: Vec<u32>,
+    /// How many charts.
+    pub chart_count: usize,
+    /// Texture width in texels.
+    pub width: u32,
+    /// Texture height in texels.
+    pub height: u32,
+    /// Covered texels (inside or at the border of a triangle) over all texels.
+    pub utilisation: f64,
+    /// Triangles whose texture-space winding is against their chart's (folds).
+    pub flipped: usize,
+    /// Seconds taken.
+    pub seconds: f64,
+}
+
+impl Atlas {
+    /// Which texel stands for which point of which triangle ([`raster::coverage`]).
+    pub fn coverage(&self) -> raster::Coverage {
+        let (w, h) = (self.width as usize, self.height as usize);
+        raster::coverage(&self.uv, &self.triangles, w, h)
+    }
+}
+
+/// The atlas of `level` (see the module documentation). Refuses an empty or invalid level,
+/// bad options, a texture larger than [`MAX_TEXTURE`] or than the memory limit allows (asked
+/// before xatlas packs), and a level xatlas cannot chart.
+pub fn atlas(level: &TriangleMesh, options: &AtlasOptions) -> Result<Atlas, BakeError> {
+    let start = Instant::now();
+    options.check()?;
+    check_level(level)?;
+    if let TextureSize::Texels(n) = options.texture {
+        check_texture(n, n)?;
+    }
+    let creased = crease(level, options.crease_degrees);
+    let positions: Vec<[f32; 3]> = creased.positions.iter().map(|p| p.to_array()).collect();
+    let normals: Vec<[f32; 3]> = creased.normals.iter().map(|n| n.to_array()).collect();
+    let mut xatlas =
+        Xatlas::new(&positions, &normals, &creased.triangles).map_err(BakeError::Atlas)?;
+    xatlas.charts(ChartOptions {
+        // Creases are always chart borders.
+        normal_seam_metric_weight: 2000.0,
+        ..ChartOptions::default()
+    });
+    let generated = pack(&mut xatlas, level, options)?;
+    let mut atlas = Atlas {
+        positions: Vec::with_capacity(generated.vertices.len()),
+        normals: Vec::with_capacity(generated.vertices.len()),
+        uv: Vec::with_capacity(generated.vertices.len()),
+        triangles: generated.triangles,
+        level_vertex: Vec::with_capacity(generated.vertices.len()),
+        chart: Vec::new(),
+        chart_count: generated.chart_count as usize,
+        width: generated.width,
+        height: generated.height,
+        ..Atlas::default()
+    };
+    let size = Vec2::new(generated.width as f32, generated.height as f32);
+    for v in &generated.vertices {
+        let g = v.input as usize;
+        atlas.positions.push(creased.positions[g]);
+        atlas.normals.push(creased.normals[g]);
+        atlas.level_vertex.push(creased.level_vertex[g]);
+        atlas
+            .uv
+            .push((Vec2::from(v.uv) / size).clamp(Vec2::ZERO, Vec2::ONE));
+    }
+    atlas.chart = atlas
+        .triangles
+        .iter()
+        .map(|t| generated.vertices[t[0] as usize].chart.unwrap_or(NO_CHART))
+        .collect();
+    atlas.flipped = count_flipped(&atlas);
+    let coverage = atlas.coverage();
+    atlas.utilisation = coverage.covered() as f64 / coverage.texels.len() as f64;
+    atlas.seconds = start.elapsed().as_secs_f64();
+    Ok(atlas)
+}
+
+/// Refuses a level with no triangles, an index out of range or a coordinate not finite.
+fn check_level(level: &TriangleMesh) -> Result<(), BakeError> {
+    let bad = |s: String| Err(BakeError::Invalid(format!("the level {s}")));
+    if level.triangles.is_empty() {
+        return bad("has no triangles".into());
+    }
+    let n = level.positions.len();
+    if let Some(t) = level
+        .triangles
+        .iter()
+        .position(|t| t.iter().any(|&v| v as usize >= n))
+    {
+        return bad(format!(
+            "triangle {t} names a vertex beyond its {n} vertices"
+        ));
+    }
+    if let Some(v) = level.positions.iter().position(|p| !p.is_finite()) {
+        return bad(format!("vertex {v} is not finite"));
+    }
+    Ok(())
+}
+
+/// Refuses a texture larger than [`MAX_TEXTURE`] a side or than the memory limit allows for
+/// an atlas and its bake.
+pub fn check_texture(width: u32, height: u32) -> Result<(), BakeError> {
+    let texels = width as u64 * height as u64;
+    check_allocation(
+        &format!("a {width}×{height} texture and its bake"),
+        texels.saturating_mul(BAKE_BYTES_PER_TEXEL),
+    )?;
+    if width.max(height) > MAX_TEXTURE {
+        return Err(BakeError::Invalid(format!(
+            "a {width}×{height} texture is larger than the {MAX_TEXTURE} texels a side GPUs take"
+        )));
+    }
+    Ok(())
+}
+
+/// Packs the charts into one atlas: at a fixed size, with the density lowered until one
+/// atlas holds every chart; at a density, checking the size it needs first.
+fn pack(
+    xatlas: &mut Xatlas,
+    level: &TriangleMesh,
+    options: &AtlasOptions,
+) -> Result<Generated, BakeError> {
+    let base = PackOptions {
+        attempts: options.attempts.min(i32::MAX as u32) as i32,
+        texels_per_unit: 0.0,
+        resolution: 0,
+        max_chart_size: MAX_TEXTURE,
+        block_align: false,
+        conservative: options.padding > 0,
+        padding: options.padding,
+    };
+    match options.texture {
+        TextureSize::Density(d) => {
+            // Charts cover about half the atlas: ask for the size that would be.
+            let side = (2.0 * surface_area(level) as f64).sqrt() * d as f64;
+            let side = side.min(u32::MAX as f64) as u32;
+            check_texture(side, side)?;
+            let generated = xatlas.pack(PackOptions {
+                texels_per_unit: d,
+                ..base
+            });
+            check_texture(generated.width, generated.height)?;
+            Ok(generated)
+        }
+        TextureSize::Texels(n) => {
+            let area = surface_area(level).max(f32::MIN_POSITIVE);
+            // Start where the charts would fill the texture with nothing between them.
+            let mut density = (n as f32 - 2.0 * options.padding as f32) / area.sqrt();
+            for _ in 0..40 {
+                let generated = xatlas.pack(PackOptions {
+                    texels_per_unit: density,
+                    resolution: n,
+                    max_chart_size: n,
+                    ..base
+                });
+                if generated.atlas_count == 1 {
+                    return Ok(generated);
+                }
+                density *= 0.9;
+            }
+            Err(BakeError::Atlas(format!(
+                "the charts do not fit one {n}² texture with {} texels of padding",
+                options.padding
+            )))
+        }
+    }
+}
+
+/// The level's surface area.
+fn surface_area(level: &TriangleMesh) -> f32 {
+    level
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| level.positions[v as usize]);
+            (b - a).cross(c - a).length() / 2.0
+        })
+        .sum()
+}
+
+/// Triangles whose texture-space winding differs from the most common one of their chart.
+fn count_flipped(atlas: &Atlas) -> usize {
+    let mut votes = vec![(0usize, 0usize); atlas.chart_count];
+    let sign: Vec<Option<bool>> = atlas
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| atlas.uv[v as usize]);
+            let area = (b - a).perp_dot(c - a);
+            (area != 0.0).then_some(area > 0.0)
+        })
+        .collect();
+    for (s, &c) in sign.iter().zip(&atlas.chart) {
+        if let (Some(s), Some(v)) = (s, votes.get_mut(c as usize)) {
+            if *s {
+                v.0 += 1
+            } else {
+                v.1 += 1
+            }
+        }
+    }
+    votes.iter().map(|&(p, n)| p.min(n)).sum()
+}

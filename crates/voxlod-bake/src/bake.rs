@@ -1,0 +1,307 @@
+//! The source's looks baked onto a level: the level gets an atlas ([`crate::atlas`]) and
+//! MikkTSpace tangents ([`crate::tangents`]); each texel a triangle covers
+//! ([`crate::raster`]) stands for a point of the level, with its interpolated normal and
+//! tangent frame; a ray cast from that point finds the source ([`crate::cast`]), whose looks
+//! there ([`crate::source`]) are written to the texel: base colour, the source's shading
+//! normal in the level's tangent frame, occlusion-roughness-metallic and emissive where the
+//! source has them, alpha where it has alpha. The charts' looks are then pushed into the
+//! gutters ([`crate::dilate`]) and the textures encoded as PNG ([`crate::output`]).
+//!
+//! The same job as Simplygon's or InstaLOD's material casting, xNormal's bake to a cage.
+//!
+//! Cost: the atlas's; then O(texels × log N) ray casts for N source triangles, on all cores.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use voxlod_asset::Asset;
+use voxlod_core::glam::{Vec3, Vec4};
+use voxlod_core::TriangleMesh;
+
+use crate::cast::Cast;
+use crate::dilate::{apply, dilation_sources, Dilation};
+use crate::output::{proxy_asset, TexelValues, Textures};
+use crate::raster::{Cover, UNCOVERED};
+use crate::source::{linear_to_srgb, Channels, Look, SourceLooks};
+use crate::tangents::mikktspace;
+use crate::{atlas, Atlas, AtlasOptions, BakeError};
+
+/// Options of [`bake`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct BakeOptions {
+    /// The atlas: texture size or density, padding, creases.
+    pub atlas: AtlasOptions,
+    /// How far from the level a ray looks for the source, in world units; `None`:
+    /// [`cage_voxels`](Self::cage_voxels) voxels.
+    pub cage: Option<f32>,
+    /// The level's voxel size; `None`: the level's median edge length stands in (a marching
+    /// cubes level's edges are about a voxel long).
+    pub voxel_size: Option<f32>,
+    /// The cage distance in voxels, where [`cage`](Self::cage) is not given.
+    pub cage_voxels: f32,
+    /// How far the charts' looks spread into the gutters.
+    pub dilation: Dilation,
+}
+
+impl Default for BakeOptions {
+    /// A 1024² atlas, a cage of 2 voxels, the whole gutter filled.
+    fn default() -> Self {
+        BakeOptions {
+            atlas: AtlasOptions::default(),
+            cage: None,
+            voxel_size: None,
+            cage_voxels: 2.0,
+            dilation: Dilation::Whole,
+        }
+    }
+}
+
+impl BakeOptions {
+    /// A square texture of `texels` a side, the rest default.
+    pub fn for_texture(texels: u32) -> Self {
+        BakeOptions {
+            atlas: AtlasOptions::for_texture(texels),
+            ..BakeOptions::default()
+        }
+    }
+}
+
+/// What a bake did, for a level's report.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct BakeReport {
+    /// Texture width in texels.
+    pub width: u32,
+    /// Texture height in texels.
+    pub height: u32,
+    /// Charts of the atlas.
+    pub charts: usize,
+    /// Covered texels over all texels.
+    pub utilisation: f64,
+    /// Texels a triangle covers.
+    pub texels: usize,
+    /// Covered texels whose ray found the source.
+    pub texels_hit: usize,
+    /// Covered texels that took the source's nearest point instead.
+    pub texels_fallback: usize,
+    /// The cage distance used.
+    pub cage: f32,
+    /// Seconds of the atlas.
+    pub atlas_seconds: f64,
+    /// Seconds in all.
+    pub seconds: f64,
+    /// What could not be baked as asked (an image not decoded, folded charts).
+    pub warnings: Vec<String>,
+}
+
+/// A level with its looks baked.
+#[derive(Clone, Debug)]
+pub struct Baked {
+    /// The level as an asset: one material, its textures as PNG, texture coordinates,
+    /// normals and tangents; ready for `voxlod_gltf::asset_glb`.
+    pub asset: Asset,
+    /// The atlas it was baked on.
+    pub atlas: Atlas,
+    /// What the bake did.
+    pub report: BakeReport,
+}
+
+/// Bakes `source`'s looks onto `level` (see the module documentation). Refuses an invalid
+/// source or level, bad options, and a texture the memory limit cannot hold (asked before
+/// anything of the texture's size is allocated).
+pub fn bake(
+    source: &Asset,
+    level: &TriangleMesh,
+    options: &BakeOptions,
+) -> Result<Baked, BakeError> {
+    let start = Instant::now();
+    let looks = SourceLooks::new(source)?;
+    let cast = Cast::new(&source.mesh.geometry())?;
+    let mut atlas = atlas(level, &options.atlas)?;
+    let tangents = mikktspace(
+        &atlas.positions,
+        &atlas.normals,
+        &atlas.uv,
+        &atlas.triangles,
+    );
+    let cage = cage_of(level, options)?;
+    let cover = atlas.coverage();
+    let emissive_scale = emissive_scale(source);
+    let frame = Frame {
+        atlas: &atlas,
+        tangents: &tangents,
+    };
+    let baked: Vec<(TexelValues, u8)> = cover
+        .texels
+        .par_iter()
+        .map(|c| {
+            if c.triangle == UNCOVERED {
+                return (TexelValues::default(), 0);
+            }
+            let (p, n, t) = frame.at(c);
+            let found = cast.find(p, n, cage);
+            let look = looks.at(found.triangle, found.weights, n);
+            (
+                encode(&look, n, t, &looks.channels, emissive_scale),
+                1 + u8::from(found.hit),
+            )
+        })
+        .collect();
+    let texels_hit = baked.iter().filter(|b| b.1 == 2).count();
+    let covered: Vec<bool> = baked.iter().map(|b| b.1 > 0).collect();
+    let mut values: Vec<TexelValues> = baked.into_iter().map(|b| b.0).collect();
+    let sources = dilation_sources(&covered, cover.width, cover.height, options.dilation);
+    apply(&mut values, &sources);
+    let texels = covered.iter().filter(|&&c| c).count();
+    drop(cover);
+    let mut warnings = looks.warnings.clone();
+    if atlas.flipped > 0 {
+        warnings.push(format!(
+            "{} triangles are folded over in their chart (their texels may be shared)",
+            atlas.flipped
+        ));
+    }
+    let textures = Textures {
+        width: atlas.width,
+        height: atlas.height,
+        values: &values,
+        channels: looks.channels,
+        emissive_scale,
+    };
+    let asset = proxy_asset(&atlas, &tangents, &textures, source)?;
+    let report = BakeReport {
+        width: atlas.width,
+        height: atlas.height,
+        charts: atlas.chart_count,
+        utilisation: atlas.utilisation,
+        texels,
+        texels_hit,
+        texels_fallback: texels - texels_hit,
+        cage,
+        atlas_seconds: atlas.seconds,
+        seconds: start.elapsed().as_secs_f64(),
+        warnings,
+    };
+    atlas.seconds = report.atlas_seconds;
+    Ok(Baked {
+        asset,
+        atlas,
+        report,
+    })
+}
+
+/// The level's surface at a texel: position, unit normal, tangent frame.
+struct Frame<'a> {
+    atlas: &'a Atlas,
+    tangents: &'a [Vec4],
+}
+
+impl Frame<'_> {
+    /// Position, unit normal and tangent (xyz unit, perpendicular to the normal; w the
+    /// bitangent's sign) at the point a texel stands for.
+    fn at(&self, c: &Cover) -> (Vec3, Vec3, Vec4) {
+        let tri = self.atlas.triangles[c.triangle as usize].map(|v| v as usize);
+        let w = c.weights;
+        let mix3 = |v: &[Vec3]| v[tri[0]] * w[0] + v[tri[1]] * w[1] + v[tri[2]] * w[2];
+        let p = mix3(&self.atlas.positions);
+        let [a, b, e] = tri.map(|v| self.atlas.positions[v]);
+        let face = (b - a).cross(e - a).try_normalize().unwrap_or(Vec3::Z);
+        let n = mix3(&self.atlas.normals).try_normalize().unwrap_or(face);
+        let t4 = self.tangents[tri[0]] * w[0]
+            + self.tangents[tri[1]] * w[1]
+            + self.tangents[tri[2]] * w[2];
+        let t = (t4.truncate() - n * n.dot(t4.truncate()))
+            .try_normalize()
+            .unwrap_or_else(|| n.any_orthonormal_vector());
+        let sign = if self.tangents[tri[0]].w < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        (p, n, t.extend(sign))
+    }
+}
+
+/// A look as 8-bit texel values, the normal in the frame (`n`, `t`).
+fn encode(look: &Look, n: Vec3, t: Vec4, channels: &Channels, emissive_scale: f32) -> TexelValues {
+    let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    let srgb = |v: f32| byte(linear_to_srgb(v.clamp(0.0, 1.0)));
+    let tangent = t.truncate();
+    let bitangent = n.cross(tangent) * t.w;
+    let m = Vec3::new(
+        look.normal.dot(tangent),
+        look.normal.dot(bitangent),
+        look.normal.dot(n),
+    );
+    // A source normal facing away from the level (a fold) is kept on the level's side.
+    let m = Vec3::new(m.x, m.y, m.z.max(0.0))
+        .try_normalize()
+        .unwrap_or(Vec3::Z);
+    let alpha = if channels.alpha { look.base.w } else { 1.0 };
+    let e = look.emissive / emissive_scale;
+    TexelValues {
+        base: [
+            srgb(look.base.x),
+            srgb(look.base.y),
+            srgb(look.base.z),
+            byte(alpha),
+        ],
+        normal: [
+            byte(m.x * 0.5 + 0.5),
+            byte(m.y * 0.5 + 0.5),
+            byte(m.z * 0.5 + 0.5),
+            255,
+        ],
+        orm: [
+            byte(look.occlusion),
+            byte(look.roughness),
+            byte(look.metallic),
+            255,
+        ],
+        emissive: [srgb(e.x), srgb(e.y), srgb(e.z), 255],
+    }
+}
+
+/// The largest emitted value of the source's materials (at least 1): the baked emissive
+/// texture holds emission over it, the material's emissive strength restores it.
+fn emissive_scale(source: &Asset) -> f32 {
+    source
+        .materials
+        .iter()
+        .flat_map(|m| m.emissive.map(|e| e * m.emissive_strength))
+        .fold(1.0f32, f32::max)
+}
+
+/// The cage distance: given, or `cage_voxels` voxels (the voxel size given, or the level's
+/// median edge length).
+fn cage_of(level: &TriangleMesh, options: &BakeOptions) -> Result<f32, BakeError> {
+    let cage = match (options.cage, options.voxel_size) {
+        (Some(c), _) => c,
+        (None, Some(v)) => options.cage_voxels * v,
+        (None, None) => options.cage_voxels * median_edge(level),
+    };
+    if !(cage.is_finite() && cage > 0.0) {
+        return Err(BakeError::Invalid(format!(
+            "the cage distance {cage} is not a positive number"
+        )));
+    }
+    Ok(cage)
+}
+
+/// The median edge length of the level's triangles.
+fn median_edge(level: &TriangleMesh) -> f32 {
+    let mut lengths: Vec<f32> = level
+        .triangles
+        .iter()
+        .flat_map(|t| {
+            let p = t.map(|v| level.positions[v as usize]);
+            [(p[0], p[1]), (p[1], p[2]), (p[2], p[0])].map(|(a, b)| a.distance(b))
+        })
+        .collect();
+    let mid = lengths.len() / 2;
+    if lengths.is_empty() {
+        return 0.0;
+    }
+    *lengths.select_nth_unstable_by(mid, f32::total_cmp).1
+}

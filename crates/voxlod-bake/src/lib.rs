@@ -1,0 +1,33 @@
+//! The bake stage of scene proxies: a level that shares no vertex with its source (a voxel
+//! level of He, Hong, Kaufman, Varshney and Wang 1995, made elsewhere) gets texture
+//! coordinates and textures cast from the source asset, so that one mesh with one material
+//! looks like the source.
+//!
+//! One algorithm per module: [`atlas`] (charts cut along creases by [`creases`], packed by
+//! xatlas through [`xatlas`]), [`raster`] (which texel stands for which surface point, with
+//! conservative coverage at chart borders), [`tangents`] (MikkTSpace), [`cast`] (rays from the
+//! level into the source, the nearest point where they miss), [`source`] (the source's
+//! material at a point), [`dilate`] (chart looks pushed into the gutters), [`output`] (PNG
+//! textures and the asset), and [`bake`] running them in order.
+//!
+//! Beyond the papers: the voxel paper's levels carry positions only; baking is what
+//! commercial remeshers (Simplygon, InstaLOD) and bakers (xNormal) do to such proxies.
+
+#![warn(missing_docs)]
+
+pub mod atlas;
+pub mod bake;
+pub mod cast;
+pub mod creases;
+pub mod dilate;
+pub mod error;
+pub mod output;
+pub mod raster;
+pub mod source;
+pub mod tangents;
+mod xatlas;
+
+pub use atlas::{atlas, Atlas, AtlasOptions, TextureSize};
+pub use bake::{bake, BakeOptions, BakeReport, Baked};
+pub use dilate::Dilation;
+pub use error::BakeError;

@@ -1,0 +1,162 @@
+//! A baked level as an asset: its atlas mesh (positions, normals, MikkTSpace tangents,
+//! texture coordinates set 0), one material and its textures encoded as PNG by the `image`
+//! crate, which `voxlod_gltf::asset_glb` writes unchanged.
+//!
+//! The material: base colour texture (RGBA where the source has alpha, else RGB), normal
+//! texture, an occlusion-roughness-metallic texture serving both slots where the source has
+//! either (else the source's first material's factors), an emissive texture where the source
+//! emits (the emissive strength restoring values above 1); alpha mode blend where a source
+//! material blends, else mask where one masks, else opaque; double-sided where any is.
+//!
+//! Cost: linear in the texels (PNG encoding).
+
+use std::io::Cursor;
+use std::sync::Arc;
+
+use image::{ExtendedColorType, ImageEncoder};
+use voxlod_asset::{AlphaMode, Asset, AssetMesh, Image, Material, Sampler, TextureRef, Wrap};
+use voxlod_core::glam::Vec4;
+
+use crate::source::Channels;
+use crate::{Atlas, BakeError};
+
+/// One texel's baked values, 8-bit, as the textures store them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TexelValues {
+    /// Base colour, sRGB, with linear alpha.
+    pub base: [u8; 4],
+    /// Tangent-space normal, (n + 1) / 2.
+    pub normal: [u8; 4],
+    /// Occlusion, roughness, metalness.
+    pub orm: [u8; 4],
+    /// Emissive, sRGB, over the material's emissive strength.
+    pub emissive: [u8; 4],
+}
+
+/// The baked texels and what they hold.
+pub struct Textures<'a> {
+    /// Texels across.
+    pub width: u32,
+    /// Texels down.
+    pub height: u32,
+    /// Row by row from the top.
+    pub values: &'a [TexelValues],
+    /// Which textures to write beyond base colour and normal.
+    pub channels: Channels,
+    /// What the emissive texture's 1 stands for.
+    pub emissive_scale: f32,
+}
+
+/// The level as an asset with its baked material (see the module documentation).
+pub fn proxy_asset(
+    atlas: &Atlas,
+    tangents: &[Vec4],
+    textures: &Textures,
+    source: &Asset,
+) -> Result<Asset, BakeError> {
+    let mut images = Vec::new();
+    let mut slot = |name: &'static str, bytes: Vec<u8>| {
+        images.push(Image {
+            name: format!("{name}.png"),
+            mime: "image/png".into(),
+            bytes: Arc::new(bytes),
+        });
+        Some(TextureRef {
+            image: images.len() - 1,
+            tex_coord: 0,
+            transform: None,
+            sampler: Sampler {
+                wrap_u: Wrap::ClampToEdge,
+                wrap_v: Wrap::ClampToEdge,
+                linear: true,
+            },
+        })
+    };
+    let c = textures.channels;
+    let alpha_channels = if c.alpha { 4 } else { 3 };
+    let first = source.materials.first().cloned().unwrap_or_default();
+    let mut material = Material {
+        name: "baked".into(),
+        base_color_texture: slot(
+            "base_color",
+            png(textures, "base colour", alpha_channels, |v| v.base)?,
+        ),
+        normal_texture: slot("normal", png(textures, "normal", 3, |v| v.normal)?),
+        metallic: first.metallic,
+        roughness: first.roughness,
+        alpha_mode: alpha_mode(&source.materials),
+        alpha_cutoff: first.alpha_cutoff,
+        double_sided: source.materials.iter().any(|m| m.double_sided),
+        ..Material::default()
+    };
+    if c.metallic_roughness || c.occlusion {
+        let orm = slot(
+            "occlusion_roughness_metallic",
+            png(textures, "ORM", 3, |v| v.orm)?,
+        );
+        if c.occlusion {
+            material.occlusion_texture = orm.clone();
+        }
+        (material.metallic, material.roughness) = (1.0, 1.0);
+        material.metallic_roughness_texture = orm;
+    }
+    if c.emissive {
+        material.emissive_texture = slot("emissive", png(textures, "emissive", 3, |v| v.emissive)?);
+        material.emissive = [1.0; 3];
+        material.emissive_strength = textures.emissive_scale;
+    }
+    let n = atlas.triangles.len();
+    Ok(Asset {
+        mesh: AssetMesh {
+            positions: atlas.positions.clone(),
+            triangles: atlas.triangles.clone(),
+            normals: atlas.normals.clone(),
+            tangents: tangents.to_vec(),
+            uv: [atlas.uv.clone(), Vec::new()],
+            colors: Vec::new(),
+            material: vec![0; n],
+        },
+        materials: vec![material],
+        images,
+        parts: Vec::new(),
+    })
+}
+
+/// The alpha mode of a proxy of these materials.
+fn alpha_mode(materials: &[Material]) -> AlphaMode {
+    let any = |mode| materials.iter().any(|m| m.alpha_mode == mode);
+    if any(AlphaMode::Blend) {
+        AlphaMode::Blend
+    } else if any(AlphaMode::Mask) {
+        AlphaMode::Mask
+    } else {
+        AlphaMode::Opaque
+    }
+}
+
+/// One texture as PNG bytes: the first `channels` of each texel's `pick`.
+fn png(
+    textures: &Textures,
+    what: &'static str,
+    channels: usize,
+    pick: impl Fn(&TexelValues) -> [u8; 4],
+) -> Result<Vec<u8>, BakeError> {
+    let raw: Vec<u8> = textures
+        .values
+        .iter()
+        .flat_map(|v| pick(v).into_iter().take(channels))
+        .collect();
+    let colour = if channels == 4 {
+        ExtendedColorType::Rgba8
+    } else {
+        ExtendedColorType::Rgb8
+    };
+    let mut bytes = Vec::new();
+    image::codecs::png::PngEncoder::new(Cursor::new(&mut bytes))
+        .write_image(&raw, textures.width, textures.height, colour)
+        .map_err(|e| BakeError::Encode {
+            what,
+            why: e.to_string(),
+        })?;
+    Ok(bytes)
+}

@@ -1,0 +1,262 @@
+//! What the source shows at a point of one of its triangles, as glTF 2.0's metallic-roughness
+//! material defines it (§3.9): base colour = vertex colour × factor × texture (linear, the
+//! texture's sRGB undone), the shading normal (interpolated, bent by the normal map in the
+//! source's tangent frame), occlusion (1 + strength × (texture − 1)), roughness and metalness
+//! (factors × the texture's green and blue), emissive (factor × strength × texture).
+//!
+//! Textures are decoded once each (`voxlod_asset::texture`); colour textures are sampled in
+//! linear light, data textures (normal, metallic-roughness, occlusion) in their stored
+//! values. An image that cannot be decoded is named in [`SourceLooks::warnings`] and its
+//! slot's factor stands in. A source with a normal map and no tangents gets MikkTSpace
+//! tangents on the coordinate set of its first normal map, as glTF asks of a viewer.
+//!
+//! Cost: decoding each image once; a look costs a few texture samples.
+
+use voxlod_asset::texture::{decode, Texels};
+use voxlod_asset::{AlphaMode, Asset, AssetError, Material, TextureRef};
+use voxlod_core::glam::{Vec2, Vec3, Vec4};
+
+use crate::tangents::mikktspace;
+use crate::BakeError;
+
+/// The source's looks at one point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Look {
+    /// Linear RGBA.
+    pub base: Vec4,
+    /// Unit shading normal, in world space.
+    pub normal: Vec3,
+    /// Ambient occlusion, 0..=1.
+    pub occlusion: f32,
+    /// Roughness, 0..=1.
+    pub roughness: f32,
+    /// Metalness, 0..=1.
+    pub metallic: f32,
+    /// Linear emitted colour (may exceed 1).
+    pub emissive: Vec3,
+}
+
+/// Which looks the source has beyond a base colour and normals.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Channels {
+    /// Metallic-roughness textures, or materials that differ in those factors.
+    pub metallic_roughness: bool,
+    /// Occlusion textures.
+    pub occlusion: bool,
+    /// Emissive materials.
+    pub emissive: bool,
+    /// Materials that are not opaque.
+    pub alpha: bool,
+}
+
+/// A source asset ready to be looked at (see the module documentation).
+pub struct SourceLooks<'a> {
+    asset: &'a Asset,
+    /// Decoded images, as colour (linear) and as data (stored values), by image index.
+    colour: Vec<Option<Texels>>,
+    data: Vec<Option<Texels>>,
+    tangents: Vec<Vec4>,
+    /// The looks the source has.
+    pub channels: Channels,
+    /// Images that could not be decoded.
+    pub warnings: Vec<String>,
+}
+
+impl<'a> SourceLooks<'a> {
+    /// Decodes the images `asset`'s materials use. Fails on an invalid asset or a memory
+    /// refusal; an image that cannot be decoded is a warning.
+    pub fn new(asset: &'a Asset) -> Result<Self, BakeError> {
+        asset.validate()?;
+        let mut looks = SourceLooks {
+            asset,
+            colour: vec![None; asset.images.len()],
+            data: vec![None; asset.images.len()],
+            tangents: asset.mesh.tangents.clone(),
+            channels: channels(&asset.materials),
+            warnings: Vec::new(),
+        };
+        for material in &asset.materials {
+            for slot in [&material.base_color_texture, &material.emissive_texture] {
+                looks.load(slot, false)?;
+            }
+            for slot in [
+                &material.normal_texture,
+                &material.metallic_roughness_texture,
+                &material.occlusion_texture,
+            ] {
+                looks.load(slot, true)?;
+            }
+        }
+        let normal_map = asset
+            .materials
+            .iter()
+            .find_map(|m| m.normal_texture.as_ref());
+        if let Some(slot) = normal_map {
+            let mesh = &asset.mesh;
+            if mesh.tangents.is_empty() && !mesh.normals.is_empty() {
+                let uv = &mesh.uv[set_of(slot)];
+                looks.tangents = mikktspace(&mesh.positions, &mesh.normals, uv, &mesh.triangles);
+            }
+        }
+        Ok(looks)
+    }
+
+    /// Decodes the slot's image once, as colour or as data.
+    fn load(&mut self, slot: &Option<TextureRef>, as_data: bool) -> Result<(), BakeError> {
+        let Some(slot) = slot else { return Ok(()) };
+        let store = if as_data {
+            &mut self.data
+        } else {
+            &mut self.colour
+        };
+        if store[slot.image].is_some() {
+            return Ok(());
+        }
+        match decode(&self.asset.images[slot.image]) {
+            Ok(mut texels) => {
+                if as_data {
+                    for t in &mut texels.rgba {
+                        *t = Vec4::new(
+                            linear_to_srgb(t.x),
+                            linear_to_srgb(t.y),
+                            linear_to_srgb(t.z),
+                            t.w,
+                        );
+                    }
+                }
+                store[slot.image] = Some(texels);
+            }
+            Err(AssetError::Core(e)) => return Err(e.into()),
+            Err(e) => self
+                .warnings
+                .push(format!("{e}: its material's factor stands in")),
+        }
+        Ok(())
+    }
+
+    /// The looks at the point with barycentric `weights` on source triangle `t`; `facing` is
+    /// the normal used where the source has none.
+    pub fn at(&self, t: usize, weights: [f32; 3], facing: Vec3) -> Look {
+        let mesh = &self.asset.mesh;
+        let corners = mesh.triangles[t].map(|v| v as usize);
+        let mix4 = |values: &[Vec4]| -> Vec4 {
+            corners
+                .iter()
+                .zip(weights)
+                .map(|(&v, w)| values[v] * w)
+                .sum()
+        };
+        let mix3 = |values: &[Vec3]| -> Vec3 {
+            corners
+                .iter()
+                .zip(weights)
+                .map(|(&v, w)| values[v] * w)
+                .sum()
+        };
+        let uv = |set: usize| -> Vec2 {
+            corners
+                .iter()
+                .zip(weights)
+                .map(|(&v, w)| mesh.uv[set][v] * w)
+                .sum()
+        };
+        let geometric = {
+            let [a, b, c] = corners.map(|v| mesh.positions[v]);
+            (b - a).cross(c - a).try_normalize().unwrap_or(facing)
+        };
+        let mut normal = if mesh.normals.is_empty() {
+            geometric
+        } else {
+            mix3(&mesh.normals).try_normalize().unwrap_or(geometric)
+        };
+        let colour = if mesh.colors.is_empty() {
+            Vec4::ONE
+        } else {
+            mix4(&mesh.colors)
+        };
+        let Some(material) = self.asset.material_of(t) else {
+            let d = Material::default();
+            return Look {
+                base: colour,
+                normal,
+                occlusion: 1.0,
+                roughness: d.roughness,
+                metallic: d.metallic,
+                emissive: Vec3::ZERO,
+            };
+        };
+        let sample = |slot: &Option<TextureRef>, store: &[Option<Texels>]| -> Option<Vec4> {
+            let slot = slot.as_ref()?;
+            let texels = store[slot.image].as_ref()?;
+            Some(texels.sample(slot, uv(set_of(slot))))
+        };
+        if let Some(m) = sample(&material.normal_texture, &self.data) {
+            if !self.tangents.is_empty() {
+                let tangent = mix4(&self.tangents);
+                normal = bend(normal, tangent, m, material.normal_scale);
+            }
+        }
+        let base = colour
+            * Vec4::from(material.base_color)
+            * sample(&material.base_color_texture, &self.colour).unwrap_or(Vec4::ONE);
+        let mr = sample(&material.metallic_roughness_texture, &self.data).unwrap_or(Vec4::ONE);
+        let occlusion = sample(&material.occlusion_texture, &self.data)
+            .map_or(1.0, |o| 1.0 + material.occlusion_strength * (o.x - 1.0));
+        let emissive = Vec3::from(material.emissive)
+            * material.emissive_strength
+            * sample(&material.emissive_texture, &self.colour).map_or(Vec3::ONE, |e| e.truncate());
+        Look {
+            base,
+            normal,
+            occlusion: occlusion.clamp(0.0, 1.0),
+            roughness: (material.roughness * mr.y).clamp(0.0, 1.0),
+            metallic: (material.metallic * mr.z).clamp(0.0, 1.0),
+            emissive,
+        }
+    }
+}
+
+/// The texture coordinate set a slot reads.
+fn set_of(slot: &TextureRef) -> usize {
+    slot.transform
+        .and_then(|t| t.tex_coord)
+        .unwrap_or(slot.tex_coord)
+        .min(1) as usize
+}
+
+/// The normal `n` bent by the normal-map sample `m` (stored values, 0..1) in the tangent
+/// frame of `tangent` (xyz, w the bitangent's sign), its xy scaled (glTF §3.9.3).
+fn bend(n: Vec3, tangent: Vec4, m: Vec4, scale: f32) -> Vec3 {
+    let t = (tangent.truncate() - n * n.dot(tangent.truncate())).try_normalize();
+    let Some(t) = t else { return n };
+    let b = n.cross(t) * if tangent.w < 0.0 { -1.0 } else { 1.0 };
+    let x = (2.0 * m.x - 1.0) * scale;
+    let y = (2.0 * m.y - 1.0) * scale;
+    let z = 2.0 * m.z - 1.0;
+    (t * x + b * y + n * z).try_normalize().unwrap_or(n)
+}
+
+/// Which looks beyond base colour and normals the materials need baked.
+fn channels(materials: &[Material]) -> Channels {
+    let first = materials.first();
+    Channels {
+        metallic_roughness: materials.iter().any(|m| {
+            m.metallic_roughness_texture.is_some()
+                || first.is_some_and(|f| (f.metallic, f.roughness) != (m.metallic, m.roughness))
+        }),
+        occlusion: materials.iter().any(|m| m.occlusion_texture.is_some()),
+        emissive: materials
+            .iter()
+            .any(|m| m.emissive.iter().any(|&e| e * m.emissive_strength > 0.0)),
+        alpha: materials.iter().any(|m| m.alpha_mode != AlphaMode::Opaque),
+    }
+}
+
+/// The sRGB transfer function (IEC 61966-2-1), the inverse of [`voxlod_asset::texture::srgb_to_linear`].
+pub fn linear_to_srgb(c: f32) -> f32 {
+    if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}

@@ -1,0 +1,152 @@
+//! UV atlases by xatlas: a cube cut at its creases into its six faces, a sphere's charts at a
+//! texel density, padding between charts, and bad input named (sizes beyond the memory limit:
+//! `atlas_limits.rs`, which sets the limit for its one test).
+
+use voxlod_bake::atlas::NO_CHART;
+use voxlod_bake::raster::UNCOVERED;
+use voxlod_bake::{atlas, AtlasOptions};
+use voxlod_core::glam::{DVec3, Vec3};
+use voxlod_core::TriangleMesh;
+use voxlod_testkit::shapes::{icosphere, subdivided, unit_cube};
+
+/// The unit cube with each face split into 2·4^levels triangles.
+fn fine_cube(levels: u32) -> TriangleMesh {
+    let cube = unit_cube();
+    subdivided(
+        cube.positions.iter().map(|p| p.as_dvec3()).collect(),
+        cube.triangles,
+        levels,
+        |p: DVec3| p,
+    )
+}
+
+fn face_normal(atlas: &voxlod_bake::Atlas, t: usize) -> Vec3 {
+    let [a, b, c] = atlas.triangles[t].map(|v| atlas.positions[v as usize]);
+    (b - a).cross(c - a).normalize()
+}
+
+#[test]
+fn a_cube_is_cut_at_its_creases_into_six_charts() {
+    let level = fine_cube(2);
+    let atlas = atlas(&level, &AtlasOptions::for_texture(256)).unwrap();
+    assert_eq!(atlas.chart_count, 6);
+    assert_eq!(atlas.triangles.len(), level.triangles.len());
+    assert_eq!((atlas.width, atlas.height), (256, 256));
+    // Each chart is one face: its triangles share one normal; each face's vertices are its own.
+    for c in 0..6u32 {
+        let members: Vec<usize> = (0..atlas.chart.len())
+            .filter(|&t| atlas.chart[t] == c)
+            .collect();
+        assert_eq!(members.len(), level.triangles.len() / 6, "chart {c}");
+        let n = face_normal(&atlas, members[0]);
+        assert!(members
+            .iter()
+            .all(|&t| face_normal(&atlas, t).dot(n) > 0.999));
+    }
+    let mut chart_of_vertex = vec![NO_CHART; atlas.positions.len()];
+    for (t, tri) in atlas.triangles.iter().enumerate() {
+        for &v in tri {
+            let c = &mut chart_of_vertex[v as usize];
+            assert!(
+                *c == NO_CHART || *c == atlas.chart[t],
+                "vertex {v} in two charts"
+            );
+            *c = atlas.chart[t];
+        }
+    }
+    // A face of 4^2 · 2 triangles has 5 × 5 vertices; the normals are the faces' own.
+    assert_eq!(atlas.positions.len(), 6 * 25);
+    for (t, tri) in atlas.triangles.iter().enumerate() {
+        let n = face_normal(&atlas, t);
+        for &v in tri {
+            assert!(atlas.normals[v as usize].dot(n) > 0.999);
+            assert_eq!(
+                level.positions[atlas.level_vertex[v as usize] as usize],
+                atlas.positions[v as usize]
+            );
+        }
+    }
+    assert!(atlas
+        .uv
+        .iter()
+        .all(|uv| (0.0..=1.0).contains(&uv.x) && (0.0..=1.0).contains(&uv.y)));
+    assert_eq!(atlas.flipped, 0);
+}
+
+#[test]
+fn charts_keep_the_padding_apart() {
+    let level = icosphere(3);
+    for padding in [2u32, 6] {
+        let options = AtlasOptions {
+            padding,
+            ..AtlasOptions::for_texture(512)
+        };
+        let atlas = atlas(&level, &options).unwrap();
+        assert!(atlas.chart_count > 1);
+        let cover = atlas.coverage();
+        let chart = |x: usize, y: usize| {
+            let c = cover.texels[y * cover.width + x];
+            (c.triangle != UNCOVERED).then(|| atlas.chart[c.triangle as usize])
+        };
+        // Two texels of different charts (inside or at their borders) are at least the
+        // padding apart, less the conservative fringe of one texel on each side.
+        let reach = padding.saturating_sub(2) as i64;
+        for y in 0..cover.height {
+            for x in 0..cover.width {
+                let Some(a) = chart(x, y) else { continue };
+                for dy in -reach..=reach {
+                    for dx in -reach..=reach {
+                        let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                        if nx < 0 || ny < 0 || nx >= cover.width as i64 || ny >= cover.height as i64
+                        {
+                            continue;
+                        }
+                        if let Some(b) = chart(nx as usize, ny as usize) {
+                            assert_eq!(
+                                a, b,
+                                "charts {a} and {b} meet at ({x}, {y}), padding {padding}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        let covered = cover.covered() as f64 / cover.texels.len() as f64;
+        assert_eq!(atlas.utilisation, covered);
+        assert!(
+            atlas.utilisation > 0.2 && atlas.utilisation < 1.0,
+            "{}",
+            atlas.utilisation
+        );
+    }
+}
+
+#[test]
+fn a_density_sizes_the_texture() {
+    // The unit sphere's area is 4π; at 64 texels a unit, its charts need about 64²·4π texels.
+    let level = icosphere(3);
+    let atlas = atlas(&level, &AtlasOptions::for_density(64.0)).unwrap();
+    let texels = (atlas.width * atlas.height) as f64;
+    let chart_texels = 64.0f64.powi(2) * 4.0 * std::f64::consts::PI;
+    assert!(
+        texels > chart_texels && texels < 4.0 * chart_texels,
+        "{}×{}",
+        atlas.width,
+        atlas.height
+    );
+    let denser = voxlod_bake::atlas(&level, &AtlasOptions::for_density(128.0)).unwrap();
+    assert!(denser.width > atlas.width * 3 / 2);
+}
+
+#[test]
+fn bad_levels_and_options_are_named() {
+    let empty = TriangleMesh::default();
+    let err = atlas(&empty, &AtlasOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("no triangles"), "{err}");
+    let mut broken = unit_cube();
+    broken.triangles[3][1] = 99;
+    let err = atlas(&broken, &AtlasOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("triangle 3"), "{err}");
+    let err = atlas(&unit_cube(), &AtlasOptions::for_density(-1.0)).unwrap_err();
+    assert!(err.to_string().contains("density"), "{err}");
+}
