@@ -19,11 +19,11 @@ V=target/release/voxlod
 echo "== marching cubes (peers: VTK FlyingEdges3D, scikit-image)"
 "$P" "$KIT" mc "$D/sf512.nrrd" --iso 0
 "$P" "$KIT" mc "$D/gy256.nrrd" --iso 0
-echo "== marching cubes (voxlod contour, geometry only, contour_seconds of 5 runs)"
+echo "== marching cubes (voxlod contour, geometry only, 5 runs: triangles, marching cubes alone, the whole contouring with its checks and topology)"
 for f in sf512 gy256; do
   for _ in 1 2 3 4 5; do
     "$V" contour "$D/$f.nrrd" -o "$D/$f.ply" --iso 0 --no-normals --json |
-      "$P" -c "import json,sys; r=json.load(sys.stdin); print('$f', r['triangles'], round(r['contour_seconds'], 4))"
+      "$P" -c "import json,sys; r=json.load(sys.stdin); print('$f', r['triangles'], round(r['marching_cubes_seconds'], 4), round(r['contour_seconds'], 4))"
   done
 done
 
@@ -43,5 +43,5 @@ RAYON_NUM_THREADS=1 cargo run --release -q -p voxlod-clustering --example cluste
 
 if [ -f ../shared/data/meshes/stanford-bunny.obj ]; then
   echo "== voxlod lod on the bunny, 6 levels from 256"
-  hyperfine --warmup 1 --runs 5 "$V lod ../shared/data/meshes/stanford-bunny.obj -o $D/bunny"
+  hyperfine --warmup 1 --runs 5 --prepare "rm -rf $D/bunny" "$V lod ../shared/data/meshes/stanford-bunny.obj -o $D/bunny"
 fi

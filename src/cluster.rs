@@ -12,7 +12,6 @@ use voxlod_core::TriangleMesh;
 use voxlod_gltf::{chain_glb_bytes, ChainLevel, ChainOptions};
 
 use crate::error::Error;
-use crate::files::gltf_error;
 
 /// Options of [`cluster`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -142,5 +141,5 @@ pub fn cluster_glb(levels: &[Level]) -> Result<Vec<u8>, Error> {
         name: "voxlod clustering".into(),
         ..Default::default()
     };
-    chain_glb_bytes(&chain, &options).map_err(gltf_error)
+    Ok(chain_glb_bytes(&chain, &options)?)
 }

@@ -11,9 +11,8 @@
 use std::time::Instant;
 
 use voxlod_contouring::marching_cubes;
-use voxlod_core::glam::DVec3;
 use voxlod_core::validate::{find_defect, Requirements};
-use voxlod_core::{mesh_topology, Grid, Placement, Topology, TriangleMesh, Volume};
+use voxlod_core::{mesh_topology, Placement, Topology, TriangleMesh, Volume};
 
 use crate::error::Error;
 use voxlod_pyramid::source::{check_grid_range, iso_outside_data};
@@ -71,8 +70,11 @@ pub struct Contour {
     pub dims: [usize; 3],
     /// An iso value at or below every sample with `close`.
     pub warnings: Vec<String>,
-    /// Wall time of the checks, the padding and marching cubes.
+    /// Wall time of the whole call: the checks of the data and of the mesh, the padding,
+    /// marching cubes and the topology.
     pub seconds: f64,
+    /// Wall time of marching cubes alone.
+    pub marching_cubes_seconds: f64,
 }
 
 /// The isosurface of `volume` at `options.iso`.
@@ -110,7 +112,7 @@ pub fn contour(volume: &Volume, options: &ContourOptions) -> Result<Contour, Err
     }
     let padded;
     let volume = if options.close {
-        padded = pad_below(volume, options.iso)?;
+        padded = volume.padded_below(options.iso)?;
         &padded
     } else {
         volume
@@ -120,7 +122,9 @@ pub fn contour(volume: &Volume, options: &ContourOptions) -> Result<Contour, Err
         normals: options.normals,
         ..Default::default()
     };
+    let marching = Instant::now();
     let mut mesh = marching_cubes(volume, &contour)?;
+    let marching_cubes_seconds = marching.elapsed().as_secs_f64();
     // An oblique or flipped scan's mesh goes to its world (`voxlod_core::world`).
     Placement::of(&volume.world(), None).apply(&mut mesh);
     if let Some(defect) = find_defect(&mesh, &Requirements::computed()) {
@@ -136,36 +140,15 @@ pub fn contour(volume: &Volume, options: &ContourOptions) -> Result<Contour, Err
         dims: volume.grid.dims,
         warnings,
         seconds: start.elapsed().as_secs_f64(),
+        marching_cubes_seconds,
     })
-}
-
-/// The volume with one more sample on every side, all below `iso`, in the same place: it keeps
-/// the orientation, and its index 0 lies where the original's index (-1, -1, -1) does, so a
-/// closed contour of an oblique or flipped scan lands where the open one does. Cost: one copy
-/// of the samples.
-fn pad_below(volume: &Volume, iso: f32) -> Result<Volume, Error> {
-    let g = volume.grid;
-    let dims = g.dims.map(|d| d + 2);
-    let origin = volume.world().index_to_world(DVec3::splat(-1.0));
-    let grid = Grid::new(dims, g.spacing, origin.to_array())?;
-    let (lo, _) = volume.range().unwrap_or((iso, iso));
-    let below = lo.min(iso) - 1.0;
-    let mut padded = Volume::filled(grid, below, "the padded volume")?.oriented(volume.orientation);
-    for k in 0..g.dims[2] {
-        for j in 0..g.dims[1] {
-            for i in 0..g.dims[0] {
-                padded.values[[k + 1, j + 1, i + 1]] = volume.get(i, j, k);
-            }
-        }
-    }
-    Ok(padded)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use voxlod_core::glam::DMat3;
-    use voxlod_core::{Frame, Orientation};
+    use voxlod_core::glam::{DMat3, DVec3};
+    use voxlod_core::{Frame, Grid, Orientation};
 
     /// A ball of radius 3 (in the grid's units) around index (6, 5, 4) of a 12 × 11 × 10 grid
     /// with unequal spacing, rotated and flipped.

@@ -9,7 +9,7 @@
 use std::path::Path;
 
 use voxlod_core::{TriangleMesh, Volume};
-use voxlod_gltf::{GlbScene, GltfError};
+use voxlod_gltf::GlbScene;
 use voxlod_io::RawLayout;
 
 use crate::error::Error;
@@ -113,9 +113,4 @@ pub(crate) fn is_glb(path: impl AsRef<Path>) -> bool {
     path.as_ref()
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("glb"))
-}
-
-/// [`Error::from`] a glTF failure, for `map_err`.
-pub(crate) fn gltf_error(e: GltfError) -> Error {
-    Error::from(e)
 }

@@ -1,12 +1,13 @@
-//! The pyramid's one-call jobs with the facade's error: [`lod()`], [`lod_with`] and
-//! [`voxelize()`] call crate `voxlod-pyramid` (its docs say what they do and cost) and turn its
+//! The pyramid's one-call jobs with the facade's error: [`lod()`], [`lod_by_budget`] (each with
+//! a `_with` form taking progress) and [`voxelize()`] call crate `voxlod-pyramid` (its docs say what they do and cost) and turn its
 //! error into [`Error`]; [`lod_glb`] writes the levels as one glTF chain (crate `voxlod-gltf`).
 
 use crate::error::Error;
 use voxlod_gltf::{chain_document, to_glb, ChainLevel, ChainOptions};
-use voxlod_pyramid::{Lod, LodOptions, ProgressFn, Source, VoxelizeOptions, Voxelized};
+use voxlod_pyramid::{BudgetOptions, Lod, LodOptions, ProgressFn, Source};
+use voxlod_pyramid::{VoxelizeOptions, Voxelized};
 
-/// Levels of detail of `source` (He et al. 1995 §2, §4; by triangle budget or error, §5), as
+/// Levels of detail of `source` by resolution (He et al. 1995 §2, §4), as
 /// [`voxlod_pyramid::lod()`].
 pub fn lod(source: &Source, options: &LodOptions) -> Result<Lod, Error> {
     Ok(voxlod_pyramid::lod(source, options)?)
@@ -19,6 +20,23 @@ pub fn lod_with(
     progress: &ProgressFn,
 ) -> Result<Lod, Error> {
     Ok(voxlod_pyramid::lod_with(source, options, progress)?)
+}
+
+/// Levels of `source` by triangle budget or error target (He et al. 1995 §5), as
+/// [`voxlod_pyramid::lod_by_budget`].
+pub fn lod_by_budget(source: &Source, options: &BudgetOptions) -> Result<Lod, Error> {
+    Ok(voxlod_pyramid::lod_by_budget(source, options)?)
+}
+
+/// [`lod_by_budget`] with a progress callback, as [`voxlod_pyramid::lod_by_budget_with`].
+pub fn lod_by_budget_with(
+    source: &Source,
+    options: &BudgetOptions,
+    progress: &ProgressFn,
+) -> Result<Lod, Error> {
+    Ok(voxlod_pyramid::lod_by_budget_with(
+        source, options, progress,
+    )?)
 }
 
 /// One level's filtered density as a volume, as [`voxlod_pyramid::voxelize()`].

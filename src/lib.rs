@@ -19,7 +19,7 @@
 //! |---|---|---|
 //! | files | [`read_mesh`], [`write_mesh`], [`read_volume`], [`write_volume`], [`read_glb`] | |
 //! | levels of detail (§2, §4) | [`lod()`], [`lod_with`]; one level at a time: [`lod::plan`], [`lod::build_level`] | [`LodOptions`] |
-//! | levels by triangle budget or error (§5) | [`lod()`] with [`LodOptions::budgets`] | [`budget`] |
+//! | levels by triangle budget or error (§5) | [`lod_by_budget`], [`lod_by_budget_with`] | [`BudgetOptions`] |
 //! | one filtered volume | [`voxelize`] | [`VoxelizeOptions`] |
 //! | marching cubes on any volume | [`contour`] | [`ContourOptions`] |
 //! | layered translucent shells (§3) | [`layers()`], [`layers_with`]; a chain of levels: [`layers_levels`], [`layers_chain`]; files: [`layered_glb`], [`layered_poly_mesh`], [`layered_preview`] | [`LayersOptions`] |
@@ -77,7 +77,7 @@ pub use inspect::{
     PartInspection, SceneInspection,
 };
 pub use label_maps::labels;
-pub use levels::{lod, lod_glb, lod_with, voxelize};
+pub use levels::{lod, lod_by_budget, lod_by_budget_with, lod_glb, lod_with, voxelize};
 pub use picture::{
     check_draw_options, draw, read_drawable, view_direction, DrawOptions, Drawable, Drawing,
     SURFACE_COLOR,
@@ -87,12 +87,13 @@ pub use shells::{
     check_layers_levels, check_layers_options, layered_glb, layered_poly_mesh, layered_preview,
     layers, layers_chain, layers_levels, layers_radius, layers_with, Layers, LayersChain,
 };
-pub use voxlod_pyramid::{asset_lod, blockwise, budget, finest, labels, AssetLod, AssetLodLevel};
+pub use voxlod_pyramid::{asset_lod, asset_lod_by_budget, blockwise, budget, finest, labels};
 pub use voxlod_pyramid::{
     iso_outside_data, run_to_end, Control, EnvelopeStep, ErrorClass, Event, Finest, InvalidOption,
     LevelEpsilon, Lod, LodLevel, LodOptions, Prepared, Progress, ProgressFn, PyramidError, Route,
     Source, ThenEnvelope, VoxelizeOptions, Voxelized,
 };
+pub use voxlod_pyramid::{AssetLod, AssetLodLevel, BudgetOptions};
 
 /// Levels one at a time: [`voxlod_pyramid::lod`].
 pub mod lod {

@@ -16,7 +16,6 @@ use voxlod_layers::{
 use voxlod_render::{Camera, Image, RenderOptions};
 
 use crate::error::Error;
-use crate::files::gltf_error;
 use crate::picture::{view_direction, SURFACE_COLOR};
 use voxlod_pyramid::progress::{run_to_end, ProgressFn, Tracker};
 use voxlod_pyramid::{InvalidOption, PyramidError, Source};
@@ -194,7 +193,7 @@ pub fn layers_chain(
         })
         .collect();
     let (doc, bin) = layered_chain_document(&chain, &GlbOptions::default())?;
-    let bytes = voxlod_gltf::to_glb(&doc, bin).map_err(gltf_error)?;
+    let bytes = voxlod_gltf::to_glb(&doc, bin)?;
     let screen_coverage = doc["nodes"][0]["extras"]["MSFT_screencoverage"]
         .as_array()
         .map(|c| c.iter().filter_map(|v| v.as_f64()).collect())

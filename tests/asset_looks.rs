@@ -8,7 +8,7 @@
 use voxlod::asset::Asset;
 use voxlod::gltf::{asset_glb, parse_scene, AssetGlbOptions};
 use voxlod::portfolio::Looks;
-use voxlod::{asset_lod, run_to_end, LodOptions};
+use voxlod::{asset_lod_by_budget, run_to_end, BudgetOptions};
 use voxlod_eval::appearance::{AppearanceOptions, AppearanceReference};
 
 const TEST: &str = "a_textured_collapse_keeps_its_texture_when_a_little_farther";
@@ -32,11 +32,8 @@ fn a_textured_collapse_keeps_its_texture_when_a_little_farther() {
     };
     let reference = AppearanceReference::new(&input, &options).unwrap();
     for budget in [2928, 293] {
-        let lod_options = LodOptions {
-            triangles: Some(vec![budget]),
-            ..Default::default()
-        };
-        let made = asset_lod(&input, &lod_options, &run_to_end).unwrap();
+        let lod_options = BudgetOptions::for_triangles(&[budget]);
+        let made = asset_lod_by_budget(&input, &lod_options, &run_to_end).unwrap();
         let level = &made.assets[0];
         assert_eq!(level.looks, Looks::Kept, "{budget} triangles");
         let a = level.asset.as_ref().unwrap();

@@ -6,15 +6,15 @@
 use voxlod::budget::{ErrorTarget, Stage, Then};
 use voxlod::core::glam::Vec3;
 use voxlod::core::{mesh_topology, TriangleMesh};
-use voxlod::{lod, LodOptions, Source};
+use voxlod::{lod_by_budget, BudgetOptions, LodOptions, Source};
 use voxlod_testkit::data::shared_data_or_skip;
 use voxlod_testkit::shapes::{append, icosphere, icosphere_at, torus};
 
-fn options(budgets: &[usize]) -> LodOptions {
-    LodOptions {
+fn options(budgets: &[usize]) -> BudgetOptions {
+    BudgetOptions {
         // Every candidate is tried: no timing decides anything in these tests.
         time_cap: f64::INFINITY,
-        ..LodOptions::budgets(budgets.to_vec())
+        ..BudgetOptions::for_triangles(budgets)
     }
 }
 
@@ -25,7 +25,7 @@ fn within(count: usize, budget: usize) -> bool {
 #[test]
 fn a_torus_gets_closed_manifold_levels_within_ten_percent() {
     let mesh = torus(96, 48, 2.0, 0.7);
-    let out = lod(&Source::Mesh(&mesh), &options(&[3000, 600, 150])).unwrap();
+    let out = lod_by_budget(&Source::Mesh(&mesh), &options(&[3000, 600, 150])).unwrap();
     assert_eq!(out.levels.len(), 3);
     for (level, report) in out.levels.iter().zip(&out.budgets) {
         let budget = report.budget.unwrap();
@@ -58,11 +58,11 @@ fn the_genus_is_never_above_the_voxel_levels() {
     mesh.triangles
         .extend(other.triangles.iter().map(|t| t.map(|v| v + offset)));
     for then in [Then::Quadric, Then::Envelope] {
-        let options = LodOptions {
+        let options = BudgetOptions {
             then,
             ..options(&[800, 100])
         };
-        let out = lod(&Source::Mesh(&mesh), &options).unwrap();
+        let out = lod_by_budget(&Source::Mesh(&mesh), &options).unwrap();
         for (level, report) in out.levels.iter().zip(&out.budgets) {
             if report.resolution == 0 {
                 // The input's own collapse: no voxel level, the input's genus (2) at most.
@@ -101,7 +101,7 @@ fn a_detached_small_part_comes_back_beside_the_level() {
     let mut mesh = icosphere(3);
     let centre = Vec3::new(3.0, 0.0, 0.0);
     append(&mut mesh, &icosphere_at(2, 0.01, centre));
-    let out = lod(&Source::Mesh(&mesh), &options(&[200])).unwrap();
+    let out = lod_by_budget(&Source::Mesh(&mesh), &options(&[200])).unwrap();
     let (level, report) = (&out.levels[0], &out.budgets[0]);
     assert_eq!(report.parts_restored, 1, "{report:?}");
     let topology = mesh_topology(&level.mesh);
@@ -128,7 +128,7 @@ fn a_hollow_part_turns_solid_when_that_is_closer() {
     let mut inner = icosphere_at(3, 0.95, Vec3::ZERO);
     inner.triangles.iter_mut().for_each(|t| t.swap(1, 2));
     append(&mut mesh, &inner);
-    let out = lod(&Source::Mesh(&mesh), &options(&[300])).unwrap();
+    let out = lod_by_budget(&Source::Mesh(&mesh), &options(&[300])).unwrap();
     let (level, report) = (&out.levels[0], &out.budgets[0]);
     // Whichever candidate won (the input filled, the inner shell dropped, or a voxel level
     // whose wall closed up), the level is the solid, not the shell.
@@ -181,7 +181,7 @@ fn a_hollow_part_with_a_narrow_mouth_gets_a_closed_level_near_it() {
     let topology = mesh_topology(&mesh);
     assert!(topology.is_closed_manifold());
     assert_eq!((topology.components, topology.genus), (1, Some(0)));
-    let out = lod(&Source::Mesh(&mesh), &options(&[300])).unwrap();
+    let out = lod_by_budget(&Source::Mesh(&mesh), &options(&[300])).unwrap();
     let (level, report) = (&out.levels[0], &out.budgets[0]);
     let topology = mesh_topology(&level.mesh);
     assert!(topology.is_closed_manifold() && topology.is_consistently_oriented());
@@ -196,12 +196,12 @@ fn a_hollow_part_with_a_narrow_mouth_gets_a_closed_level_near_it() {
 #[test]
 fn without_the_genus_cap_a_budget_gets_the_same_level_whatever_other_budgets_run() {
     let mesh = torus(96, 48, 2.0, 0.7);
-    let free = |budgets: &[usize]| LodOptions {
-        monotone: None,
+    let free = |budgets: &[usize]| BudgetOptions {
+        monotone: false,
         ..options(budgets)
     };
-    let alone = lod(&Source::Mesh(&mesh), &free(&[600])).unwrap();
-    let with_others = lod(&Source::Mesh(&mesh), &free(&[4000, 600, 150])).unwrap();
+    let alone = lod_by_budget(&Source::Mesh(&mesh), &free(&[600])).unwrap();
+    let with_others = lod_by_budget(&Source::Mesh(&mesh), &free(&[4000, 600, 150])).unwrap();
     assert_eq!(alone.levels[0].mesh, with_others.levels[1].mesh);
     assert_eq!(
         alone.budgets[0].resolution,
@@ -230,7 +230,7 @@ fn four_rings() -> TriangleMesh {
 #[test]
 fn along_a_chain_of_budgets_the_genus_never_rises_in_any_order_given() {
     let mesh = four_rings();
-    let down = lod(&Source::Mesh(&mesh), &options(&[2000, 500, 120, 40])).unwrap();
+    let down = lod_by_budget(&Source::Mesh(&mesh), &options(&[2000, 500, 120, 40])).unwrap();
     let genera: Vec<i64> = down
         .levels
         .iter()
@@ -248,10 +248,10 @@ fn along_a_chain_of_budgets_the_genus_never_rises_in_any_order_given() {
         }
     }
     // The largest budget is searched first, with no cap: its level is the budget's alone.
-    let alone = lod(&Source::Mesh(&mesh), &options(&[2000])).unwrap();
+    let alone = lod_by_budget(&Source::Mesh(&mesh), &options(&[2000])).unwrap();
     assert_eq!(alone.levels[0].mesh, down.levels[0].mesh);
     // Given in another order, the same levels, in the order given.
-    let mixed = lod(&Source::Mesh(&mesh), &options(&[120, 2000, 40, 500])).unwrap();
+    let mixed = lod_by_budget(&Source::Mesh(&mesh), &options(&[120, 2000, 40, 500])).unwrap();
     for (i, j) in [(0, 2), (1, 0), (2, 3), (3, 1)] {
         assert_eq!(mixed.levels[i].mesh, down.levels[j].mesh, "{i} against {j}");
         assert_eq!(mixed.budgets[i].budget, down.budgets[j].budget);
@@ -270,10 +270,14 @@ fn a_printed_part_whose_budgets_alone_gain_handles_gets_a_monotone_chain() {
     // this machine's build): the case the cap is for. Without it the chain is not monotone.
     let alone: Vec<i64> = budgets
         .iter()
-        .map(|&b| lod(&Source::Mesh(&mesh), &LodOptions::budgets(vec![b])).unwrap())
+        .map(|&b| lod_by_budget(&Source::Mesh(&mesh), &BudgetOptions::for_triangles(&[b])).unwrap())
         .map(|l| l.levels[0].topology.genus.unwrap())
         .collect();
-    let chain = lod(&Source::Mesh(&mesh), &LodOptions::budgets(budgets.to_vec())).unwrap();
+    let chain = lod_by_budget(
+        &Source::Mesh(&mesh),
+        &BudgetOptions::for_triangles(&budgets),
+    )
+    .unwrap();
     let genera: Vec<i64> = chain
         .levels
         .iter()
@@ -304,7 +308,7 @@ fn sphere_with_a_hole() -> TriangleMesh {
 fn an_open_input_keeps_its_opening_unless_closed_is_asked() {
     let mesh = sphere_with_a_hole();
     assert_eq!(mesh_topology(&mesh).boundary_loops, 1);
-    let out = lod(&Source::Mesh(&mesh), &options(&[1500, 300])).unwrap();
+    let out = lod_by_budget(&Source::Mesh(&mesh), &options(&[1500, 300])).unwrap();
     for (level, report) in out.levels.iter().zip(&out.budgets) {
         let t = mesh_topology(&level.mesh);
         assert_eq!(t.boundary_loops, 1, "{report:?}");
@@ -313,11 +317,11 @@ fn an_open_input_keeps_its_opening_unless_closed_is_asked() {
         assert_eq!(report.caps_cut > 0, report.stage != Stage::InputQuadric);
         assert!(within(t.triangles, report.budget.unwrap()), "{report:?}");
     }
-    let closed = LodOptions {
+    let closed = BudgetOptions {
         closed: true,
         ..options(&[300])
     };
-    let out = lod(&Source::Mesh(&mesh), &closed).unwrap();
+    let out = lod_by_budget(&Source::Mesh(&mesh), &closed).unwrap();
     let t = mesh_topology(&out.levels[0].mesh);
     assert!(t.is_closed_manifold(), "{t:?}");
     assert_eq!(out.budgets[0].caps_cut, 0);
@@ -351,11 +355,11 @@ fn every_voxel_level_keeps_exactly_the_inputs_three_openings() {
     let mesh = sphere_with_three_holes();
     let input = mesh_topology(&mesh);
     assert_eq!((input.boundary_loops, input.components), (3, 1));
-    let options = LodOptions {
+    let options = BudgetOptions {
         then: Then::None,
         ..options(&[8000, 3000, 1200])
     };
-    let out = lod(&Source::Mesh(&mesh), &options).unwrap();
+    let out = lod_by_budget(&Source::Mesh(&mesh), &options).unwrap();
     for (level, report) in out.levels.iter().zip(&out.budgets) {
         let t = mesh_topology(&level.mesh);
         assert_eq!(report.stage, Stage::Voxel);
@@ -372,7 +376,7 @@ fn a_budget_that_affords_the_inputs_topology_simplifies_the_input_itself() {
     // A torus: the level with about 3 000 triangles keeps its handle, so the voxel stage has
     // nothing to remove, and the input's own collapse is far closer than half a voxel.
     let mesh = torus(96, 48, 2.0, 0.7);
-    let out = lod(&Source::Mesh(&mesh), &options(&[3000])).unwrap();
+    let out = lod_by_budget(&Source::Mesh(&mesh), &options(&[3000])).unwrap();
     let report = &out.budgets[0];
     assert_eq!(report.stage, Stage::InputQuadric, "{report:?}");
     let t = mesh_topology(&out.levels[0].mesh);
@@ -384,11 +388,8 @@ fn a_budget_that_affords_the_inputs_topology_simplifies_the_input_itself() {
 #[test]
 fn an_error_target_alone_gives_one_level_near_it() {
     let mesh = torus(96, 48, 2.0, 0.7);
-    let options = LodOptions {
-        error: Some(ErrorTarget::Fraction(0.01)),
-        ..LodOptions::default()
-    };
-    let out = lod(&Source::Mesh(&mesh), &options).unwrap();
+    let options = BudgetOptions::for_error(ErrorTarget::Fraction(0.01));
+    let out = lod_by_budget(&Source::Mesh(&mesh), &options).unwrap();
     assert_eq!(out.levels.len(), 1);
     let report = &out.budgets[0];
     let target = report.error_target.unwrap();
@@ -401,7 +402,11 @@ fn an_error_target_alone_gives_one_level_near_it() {
 fn impossible_budgets_are_refused() {
     let mesh = torus(24, 12, 2.0, 0.7);
     for budgets in [vec![], vec![1000, 3]] {
-        let e = lod(&Source::Mesh(&mesh), &LodOptions::budgets(budgets)).unwrap_err();
+        let e = lod_by_budget(
+            &Source::Mesh(&mesh),
+            &BudgetOptions::for_triangles(&budgets),
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("triangles"), "{e}");
     }
 }
@@ -411,12 +416,12 @@ fn fitting_to_the_input_never_leaves_a_level_farther_and_keeps_it_clean() {
     // A lattice of hundreds of handles: at small budgets a voxel level wins, whose fitted
     // twin competes beside it, so the run with fitting is never farther than the run without.
     let mesh = voxlod_testkit::corpus::genus_rich();
-    let fitted = lod(&Source::Mesh(&mesh), &options(&[300, 150])).unwrap();
-    let unfitted = LodOptions {
+    let fitted = lod_by_budget(&Source::Mesh(&mesh), &options(&[300, 150])).unwrap();
+    let unfitted = BudgetOptions {
         fit: None,
         ..options(&[300, 150])
     };
-    let unfitted = lod(&Source::Mesh(&mesh), &unfitted).unwrap();
+    let unfitted = lod_by_budget(&Source::Mesh(&mesh), &unfitted).unwrap();
     // A level may keep as many crossing pairs as its input has (none here).
     let input_crossings = voxlod::core::crossing_pairs(&mesh).len();
     for (f, u) in fitted.budgets.iter().zip(&unfitted.budgets) {

@@ -102,6 +102,24 @@ impl Volume {
         (lo <= hi).then_some((lo, hi))
     }
 
+    /// The volume with one more sample on every side, all below `iso` (and below every sample),
+    /// in the same place: it keeps the orientation, and its index 0 lies where this volume's
+    /// index (-1, -1, -1) does, so that a closed contour of an oblique or flipped scan lands
+    /// where the open one does. Asks the memory limit; cost: one copy of the samples.
+    pub fn padded_below(&self, iso: f32) -> Result<Volume, CoreError> {
+        let g = self.grid;
+        let dims = g.dims.map(|d| d + 2);
+        let origin = self.world().index_to_world(glam::DVec3::splat(-1.0));
+        let grid = Grid::new(dims, g.spacing, origin.to_array())?;
+        let (lo, _) = self.range().unwrap_or((iso, iso));
+        let below = lo.min(iso) - 1.0;
+        let mut padded =
+            Volume::filled(grid, below, "the padded volume")?.oriented(self.orientation);
+        let inner = ndarray::s![1..=g.dims[2], 1..=g.dims[1], 1..=g.dims[0]];
+        padded.values.slice_mut(inner).assign(&self.values);
+        Ok(padded)
+    }
+
     /// Trilinear interpolation at fractional sample coordinates, clamped to the grid.
     pub fn sample_trilinear(&self, x: f64, y: f64, z: f64) -> f32 {
         let [nx, ny, nz] = self.grid.dims;

@@ -1,7 +1,7 @@
 //! Levels of textured assets by triangle budget, voxlod's against gltfpack's `-si`, by
 //! appearance: for Spot (its OBJ written once as `.glb`) and two generated multi-part textured
 //! scenes (one with vertex colours), at 50 %, 20 %, 5 % and 1 % of the triangles, voxlod's
-//! budget levels with their looks (`voxlod::asset_lod`) and gltfpack's `-si R` on the same
+//! budget levels with their looks (`voxlod::asset_lod_by_budget`) and gltfpack's `-si R` on the same
 //! `.glb`, both read back from the files they wrote, each measured against the input over the
 //! 14 views (`voxlod_eval::appearance`: PSNR, SSIM), with its triangles, whether it is textured
 //! or coloured, and its seconds. Where gltfpack stops short of a ratio at its error limit, it
@@ -20,7 +20,7 @@ use serde_json::json;
 use voxlod::asset::{Asset, AssetMesh, Image, Material, Part, TextureRef};
 use voxlod::core::glam::{Vec2, Vec3, Vec4};
 use voxlod::gltf::{asset_glb, read_scene, AssetGlbOptions};
-use voxlod::{asset_lod, run_to_end, LodOptions};
+use voxlod::{asset_lod_by_budget, run_to_end, BudgetOptions};
 use voxlod_eval::appearance::{AppearanceOptions, AppearanceReference};
 
 type Res<T> = Result<T, Box<dyn std::error::Error>>;
@@ -125,12 +125,9 @@ fn main() -> Res<()> {
 /// voxlod's level of `input` at `target` triangles, written as `.glb` and read back, with how
 /// it got its looks and its seconds (the level's making only).
 fn voxlod_level(input: &Asset, target: usize, out: &Path, name: &str) -> Res<(Asset, String, f64)> {
-    let options = LodOptions {
-        triangles: Some(vec![target]),
-        ..Default::default()
-    };
+    let options = BudgetOptions::for_triangles(&[target]);
     let start = Instant::now();
-    let made = asset_lod(input, &options, &run_to_end)?;
+    let made = asset_lod_by_budget(input, &options, &run_to_end)?;
     let s = start.elapsed().as_secs_f64();
     let level = made.assets.into_iter().next().ok_or("no level")?;
     let asset = level.asset.ok_or("an empty level")?;

@@ -1,6 +1,6 @@
 //! Levels by triangle budget or error target from Python: `voxlod.lod(v, f,
 //! triangles=[20000, 5000], error="0.5%")` runs the library's budget pipeline
-//! ([`voxlod::budget`]: the voxel level that filters away what a budget cannot afford, then a
+//! ([`voxlod::lod_by_budget`]: the voxel level that filters away what a budget cannot afford, then a
 //! geometric stage, He et al. 1995 §5) and returns each level with its budget report. Cost: the
 //! pipeline's, without the GIL.
 
@@ -10,7 +10,7 @@ use voxlod::budget::{ErrorTarget, Then};
 use voxlod::Source;
 
 use crate::errors::usage;
-use crate::facade::{as_dict, lod_level_dict, lod_options, mesh_from, watched, LevelArgs, MeshIn};
+use crate::facade::{as_dict, filter_named, lod_level_dict, mesh_from, watched, LevelArgs, MeshIn};
 
 /// What the budget pipeline is asked besides the levels' filter: the budgets, the error target
 /// (`"0.5"` in mesh units or `"0.5%"` of the diagonal), the geometric stage, closed levels, and
@@ -42,16 +42,23 @@ pub fn lod_budgets<'py>(
             "time_cap ({time_cap}) must be 0 or more seconds (float('inf') for no cap)"
         )));
     }
-    let options = voxlod::LodOptions {
-        triangles,
+    // The levels' resolutions are chosen per budget: only the filter, its radius, the
+    // isodensity and the normals apply.
+    let (_, filter, radius_voxels, iso, normals, _) = levels;
+    let options = voxlod::BudgetOptions {
+        triangles: triangles.unwrap_or_default(),
         error,
         then,
+        filter: filter_named(&filter)?,
+        radius_voxels,
+        iso,
+        normals,
         closed,
         time_cap,
-        ..lod_options(levels)?
+        ..voxlod::BudgetOptions::default()
     };
     let lod = watched(py, progress, |ask| {
-        voxlod::lod_with(&Source::Mesh(&mesh), &options, ask)
+        voxlod::lod_by_budget_with(&Source::Mesh(&mesh), &options, ask)
     })?;
     let mut out = Vec::with_capacity(lod.levels.len());
     for (level, report) in lod.levels.into_iter().zip(&lod.budgets) {

@@ -1,12 +1,13 @@
 //! Levels of detail of an asset with its looks (texture coordinates, colours, normals,
-//! materials): [`crate::lod_with`] on the asset's geometry, each level then given the looks.
+//! materials): the levels of the asset's geometry, each then given the looks.
 //!
-//! - By triangle budget with the portfolio ([`crate::LodOptions::triangles`], `then` auto or
-//!   quadric): `voxlod_budget::asset_levels`, where a level that is the input's collapse keeps
-//!   the input's vertices with their attributes ([`Looks::Kept`]) and every other level takes
-//!   them from the nearest input points ([`Looks::Transferred`]).
-//! - Every other route (the pyramid by resolution, an error target, the envelope stage): the
-//!   levels of the geometry as [`crate::lod_with`] makes them, each with colours, normals and
+//! - By triangle budget with the portfolio ([`asset_lod_by_budget`], `then` auto or quadric):
+//!   `voxlod_budget::asset_levels`, where a level that is the input's collapse keeps the
+//!   input's vertices with their attributes ([`Looks::Kept`]) and every other level takes them
+//!   from the nearest input points ([`Looks::Transferred`]).
+//! - Every other route (the pyramid by resolution, [`asset_lod`]; an error target or the
+//!   envelope stage, [`asset_lod_by_budget`]): the levels of the geometry as
+//!   [`crate::lod_with`] or [`crate::lod_by_budget_with`] makes them, each with colours, normals and
 //!   materials from the nearest input points, the base colour texture sampled into vertex
 //!   colours (`voxlod_asset::transfer`), so that no level of a textured asset comes out grey.
 //!
@@ -17,7 +18,8 @@ use voxlod_asset::{Asset, AssetError};
 use voxlod_budget::{asset_levels, Looks};
 use voxlod_core::{mesh_topology, CoreError};
 
-use crate::by_budget::{answers, as_lod, budget_options};
+use crate::budget_options::BudgetOptions;
+use crate::by_budget::{as_lod, lod_by_budget_with};
 use crate::error::PyramidError;
 use crate::levels::lod_with;
 use crate::lod_options::{Lod, LodOptions};
@@ -33,8 +35,8 @@ pub struct AssetLodLevel {
     pub looks: Looks,
 }
 
-/// Levels of detail of an asset: the levels' geometry and reports as [`crate::lod_with`] gives
-/// them, and each level with its looks.
+/// Levels of detail of an asset: the levels' geometry and reports as [`crate::lod_with`] or
+/// [`crate::lod_by_budget_with`] gives them, and each level with its looks.
 #[derive(Clone, Debug)]
 pub struct AssetLod {
     /// The levels' geometry, reports and warnings (the looks' warnings among them).
@@ -43,8 +45,9 @@ pub struct AssetLod {
     pub assets: Vec<AssetLodLevel>,
 }
 
-/// The levels of `asset` for `options`, each with the asset's looks (module docs). Fails as
-/// [`crate::lod_with`] does, and on an invalid asset (bad input).
+/// The pyramid's levels of `asset` for `options` ([`crate::lod_with`] on its geometry), each
+/// with the looks of the nearest input points (module docs). Fails as [`crate::lod_with`]
+/// does, and on an invalid asset (bad input).
 pub fn asset_lod(
     asset: &Asset,
     options: &LodOptions,
@@ -53,28 +56,54 @@ pub fn asset_lod(
     let start = std::time::Instant::now();
     asset.validate().map_err(asset_error)?;
     let geometry = asset.mesh.geometry();
-    if answers(options) {
-        options.check()?;
-        Source::Mesh(&geometry).to_frame(options.frame)?;
-        let (budget, mut warnings) = budget_options(&geometry, options);
-        let run = asset_levels(asset, &budget)?;
-        warnings.extend(run.warnings);
-        let mut assets = Vec::with_capacity(run.levels.len());
-        let mut levels = Vec::with_capacity(run.levels.len());
-        for level in run.levels {
-            let mesh = level.asset.mesh.geometry();
-            levels.push((mesh_topology(&mesh), mesh, level.report));
-            assets.push(AssetLodLevel {
-                asset: Some(level.asset),
-                looks: level.looks,
-            });
-        }
-        let levels = levels.into_iter().map(|(t, m, r)| (m, t, r));
-        let mut lod = as_lod(&geometry, levels, &run.input, budget.max_error, warnings)?;
-        lod.seconds = start.elapsed().as_secs_f64();
-        return Ok(AssetLod { lod, assets });
+    let lod = lod_with(&Source::Mesh(&geometry), options, progress)?;
+    transferred(asset, lod, start)
+}
+
+/// The levels of `asset` for the budgets or error target of `options`, each with the asset's
+/// looks: kept where a level is the input's collapse, else from the nearest input points
+/// (module docs). Fails as [`crate::lod_by_budget_with`] does, and on an invalid asset.
+pub fn asset_lod_by_budget(
+    asset: &Asset,
+    options: &BudgetOptions,
+    progress: &ProgressFn,
+) -> Result<AssetLod, PyramidError> {
+    let start = std::time::Instant::now();
+    asset.validate().map_err(asset_error)?;
+    let geometry = asset.mesh.geometry();
+    let source = Source::Mesh(&geometry);
+    if !options.uses_portfolio(&source) {
+        let lod = lod_by_budget_with(&source, options, progress)?;
+        return transferred(asset, lod, start);
     }
-    let mut lod = lod_with(&Source::Mesh(&geometry), options, progress)?;
+    options.check()?;
+    source.to_frame(options.frame)?;
+    let (portfolio, mut warnings) = options.portfolio(&geometry);
+    let run = asset_levels(asset, &portfolio)?;
+    warnings.extend(run.warnings);
+    let mut assets = Vec::with_capacity(run.levels.len());
+    let mut levels = Vec::with_capacity(run.levels.len());
+    for level in run.levels {
+        let mesh = level.asset.mesh.geometry();
+        levels.push((mesh_topology(&mesh), mesh, level.report));
+        assets.push(AssetLodLevel {
+            asset: Some(level.asset),
+            looks: level.looks,
+        });
+    }
+    let levels = levels.into_iter().map(|(t, m, r)| (m, t, r));
+    let mut lod = as_lod(&geometry, levels, &run.input, portfolio.max_error, warnings)?;
+    lod.seconds = start.elapsed().as_secs_f64();
+    Ok(AssetLod { lod, assets })
+}
+
+/// `lod`'s levels of `asset`'s geometry, each with colours, normals and materials from the
+/// nearest input points.
+fn transferred(
+    asset: &Asset,
+    mut lod: Lod,
+    start: std::time::Instant,
+) -> Result<AssetLod, PyramidError> {
     let mut assets = Vec::with_capacity(lod.levels.len());
     for level in &lod.levels {
         let asset = if level.mesh.is_empty() {

@@ -1,36 +1,63 @@
-//! [`crate::lod()`] by triangle budget for a mesh: the portfolio of crate `voxlod-budget` (the
-//! input's own collapse, voxel levels after He et al. 1995 §5, the level above, each budget
-//! answered by the candidate measured closest that keeps the levels' promises), its levels and
-//! reports in the shape of [`Lod`]. Volumes, an error target alone, and the envelope or no
-//! geometric stage still go through [`crate::budget`].
+//! Levels by triangle budget or error target ([`lod_by_budget`], He et al. 1995 §5): for a mesh
+//! with the quadric stage, the portfolio of crate `voxlod-budget` (the input's own collapse,
+//! voxel levels, the level above, each budget answered by the candidate measured closest that
+//! keeps the levels' promises), its levels and reports in the shape of [`Lod`]; volumes, an
+//! error target alone, and the envelope or no geometric stage go through [`crate::budget`]'s
+//! voxel-first search.
 
 use std::time::Instant;
 
-use voxlod_budget::{levels_with, InputReport, Method, PortfolioOptions};
+use voxlod_budget::{levels_with, InputReport, Method};
 use voxlod_core::{Topology, TriangleMesh};
-use voxlod_sampling::{level_grid, LevelPlan, MeshPreparation, PyramidOptions};
+use voxlod_sampling::{level_grid, LevelPlan, MeshPreparation};
 
-use crate::budget::{BudgetLevel, Stage, Then};
+use crate::budget::{BudgetLevel, Stage};
+use crate::budget_options::BudgetOptions;
 use crate::error::PyramidError;
 use crate::lod::LodLevel;
-use crate::lod_options::{Lod, LodOptions};
-use crate::progress::{Control, Event, Progress, ProgressFn};
-use crate::source::Route;
+use crate::lod_options::Lod;
+use crate::progress::{run_to_end, Control, Event, Progress, ProgressFn};
+use crate::source::{Route, Source};
 
-/// Whether [`portfolio_lod`] answers `options` for a mesh: budgets given, and the quadric
-/// stage (or the automatic choice) asked.
-pub(crate) fn answers(options: &LodOptions) -> bool {
-    options.triangles.is_some() && matches!(options.then, Then::Auto | Then::Quadric)
+/// Levels of `source` by the budgets or error target of `options` (module docs), one per
+/// budget in the order given, each within 10 % of its budget or its report says why not. Fails
+/// on options out of range (before any work), a source the route cannot take, the memory limit.
+/// Cost: the portfolio's for a mesh (a collapse and a few voxel levels per budget), the
+/// voxel-first search's otherwise ([`crate::budget`]).
+pub fn lod_by_budget(source: &Source, options: &BudgetOptions) -> Result<Lod, PyramidError> {
+    lod_by_budget_with(source, options, &run_to_end)
+}
+
+/// [`lod_by_budget`], reporting progress to `progress` and stopping with
+/// [`PyramidError::Cancelled`] when it answers [`Control::Stop`]. The levels are moved into
+/// [`BudgetOptions::frame`] once made.
+pub fn lod_by_budget_with(
+    source: &Source,
+    options: &BudgetOptions,
+    progress: &ProgressFn,
+) -> Result<Lod, PyramidError> {
+    options.check()?;
+    let to_frame = source.to_frame(options.frame)?;
+    let mut lod = match source {
+        Source::Mesh(mesh) if options.uses_portfolio(source) => {
+            portfolio_lod(mesh, options, progress)?
+        }
+        _ => crate::budget::voxel_first(source, options, progress)?,
+    };
+    for level in &mut lod.levels {
+        to_frame.apply(&mut level.mesh);
+    }
+    Ok(lod)
 }
 
 /// The levels of `mesh` for `options.triangles` (module docs).
 pub(crate) fn portfolio_lod(
     mesh: &TriangleMesh,
-    options: &LodOptions,
+    options: &BudgetOptions,
     progress: &ProgressFn,
 ) -> Result<Lod, PyramidError> {
     let start = Instant::now();
-    let (budget_options, mut warnings) = budget_options(mesh, options);
+    let (portfolio, mut warnings) = options.portfolio(mesh);
     let ask = |done: usize, total: usize| {
         let step = Progress {
             done,
@@ -42,13 +69,16 @@ pub(crate) fn portfolio_lod(
         };
         progress(step) == Control::Continue
     };
-    let run = levels_with(mesh, &budget_options, &ask)?;
+    let run = levels_with(mesh, &portfolio, &ask)?;
     warnings.extend(run.warnings.iter().cloned());
-    let levels = run
-        .levels
-        .into_iter()
-        .map(|l| (l.mesh, l.topology, l.report));
-    let error = budget_options.max_error;
+    let normals = options.normals;
+    let levels = run.levels.into_iter().map(|mut l| {
+        if normals && l.mesh.normals.is_empty() {
+            l.mesh.compute_vertex_normals();
+        }
+        (l.mesh, l.topology, l.report)
+    });
+    let error = portfolio.max_error;
     let mut lod = as_lod(mesh, levels, &run.input, error, warnings)?;
     lod.seconds = start.elapsed().as_secs_f64();
     Ok(lod)
@@ -132,47 +162,6 @@ fn triangle_side(mesh: &TriangleMesh) -> Option<f64> {
     let area = (t > 0).then(|| mesh.area())?;
     let side = (4.0 * area / (3f64.sqrt() * t as f64)).sqrt();
     (side.is_finite() && side > 0.0).then_some(side)
-}
-
-/// The portfolio's options for `options`, and a warning for each option of `options` that
-/// the portfolio does not use.
-pub(crate) fn budget_options(
-    mesh: &TriangleMesh,
-    options: &LodOptions,
-) -> (PortfolioOptions, Vec<String>) {
-    let defaults = LodOptions::default();
-    let mut warnings = Vec::new();
-    let mut unused = |name: &str, given: bool| {
-        if given {
-            warnings.push(format!(
-                "{name} does not apply to budget levels of a mesh (the portfolio chooses each \
-                 level's resolution and isodensity): ignored"
-            ));
-        }
-    };
-    let pyramid = &options.pyramid;
-    let default_pyramid = PyramidOptions::default();
-    unused("iso", options.iso.is_some());
-    unused("time_cap", options.time_cap != defaults.time_cap);
-    unused(
-        "radius",
-        pyramid.radius_voxels != default_pyramid.radius_voxels,
-    );
-    unused(
-        "lines_per_radius",
-        pyramid.lines_per_radius != default_pyramid.lines_per_radius,
-    );
-    let diagonal = mesh.bounds().diagonal();
-    let budget = PortfolioOptions {
-        triangles: options.triangles.clone().unwrap_or_default(),
-        filter: pyramid.filter,
-        monotone: options.monotone.is_some(),
-        closed: options.closed,
-        max_error: options.error.map(|e| e.distance(diagonal)),
-        fit: options.fit.clone(),
-        ..PortfolioOptions::default()
-    };
-    (budget, warnings)
 }
 
 /// The facade's report of a portfolio level.

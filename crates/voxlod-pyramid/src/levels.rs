@@ -51,7 +51,6 @@ use voxlod_core::mesh_topology;
 use voxlod_core::validate::{find_defect, Requirements};
 use voxlod_sampling::{LevelPlan, MonotoneChain, TopologyRecord};
 
-use crate::budget::lod_by_budget;
 use crate::error::PyramidError;
 use crate::finest::{choose_finest, scaled, surface_resolution, Finest, FinestChoice};
 use crate::lod::{
@@ -134,12 +133,6 @@ fn lod_levels(
 ) -> Result<Lod, PyramidError> {
     let start = Instant::now();
     options.check()?;
-    if let (Source::Mesh(mesh), true) = (source, crate::by_budget::answers(options)) {
-        return crate::by_budget::portfolio_lod(mesh, options, progress);
-    }
-    if options.triangles.is_some() || options.error.is_some() {
-        return lod_by_budget(source, options, progress);
-    }
     let prepared = source.prepare()?;
     let iso = prepared.iso(options.iso)?;
     let (pyramid, mut finest) = match (options.finest, source) {

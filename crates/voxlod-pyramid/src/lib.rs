@@ -11,9 +11,9 @@
 //!   simplified within ε by simplification envelopes ([`ThenEnvelope`]); one level at a time
 //!   with [`lod::plan`] and [`lod::build_level`].
 //! - **The finest resolution** ([`finest`]): given, or chosen from a triangle count.
-//! - **Levels by triangle budget or error** ([`budget`]): for a mesh, the portfolio of crate
-//!   `voxlod-budget`; for a scan, and for an error target, the voxel-first search of §5
-//!   (a voxel level, then the geometric stage).
+//! - **Levels by triangle budget or error** ([`lod_by_budget`], [`BudgetOptions`]): for a
+//!   mesh, the portfolio of crate `voxlod-budget`; for a scan, and for an error target, the
+//!   voxel-first search of §5 ([`budget`]: a voxel level, then the geometric stage).
 //! - **Label maps** ([`labels`]): each label's indicator through the same pyramid.
 //! - **One filtered volume** ([`voxelize()`]).
 //! - Progress and cancellation ([`ProgressFn`], [`Control`]) and the crate's error
@@ -27,6 +27,7 @@
 mod asset_lod;
 pub mod blockwise;
 pub mod budget;
+mod budget_options;
 mod budget_terms;
 mod by_budget;
 mod caps;
@@ -42,7 +43,9 @@ pub mod source;
 mod then_envelope;
 mod voxelize;
 
-pub use asset_lod::{asset_lod, AssetLod, AssetLodLevel};
+pub use asset_lod::{asset_lod, asset_lod_by_budget, AssetLod, AssetLodLevel};
+pub use budget_options::BudgetOptions;
+pub use by_budget::{lod_by_budget, lod_by_budget_with};
 pub use error::{ErrorClass, InvalidOption, PyramidError};
 pub use finest::Finest;
 pub use levels::{lod, lod_with};

@@ -1,14 +1,14 @@
 //! What [`crate::lod`] is asked ([`LodOptions`]: the pyramid, the isodensity, the steps beyond
-//! the paper, the budgets) and what it returns ([`Lod`]: the levels and their reports), with the
-//! options' presets and their checks before any work (cost: none beyond the checks).
+//! the paper) and what it and [`crate::lod_by_budget`] return ([`Lod`]: the levels and their
+//! reports), with the options' presets and their checks before any work (cost: none beyond the
+//! checks). Levels by budget have options of their own ([`crate::BudgetOptions`]).
 
 use serde::Serialize;
 use voxlod_contouring::CleanOptions;
 use voxlod_core::Frame;
-use voxlod_fit::FitOptions;
 use voxlod_sampling::{Filter, MeshPreparation, MonotoneOptions, PyramidOptions};
 
-use crate::budget_terms::{check_budgets, BudgetLevel, ErrorTarget, Then};
+use crate::budget_terms::BudgetLevel;
 use crate::error::{InvalidOption, PyramidError};
 use crate::finest::{Finest, FinestChoice};
 use crate::lod::LodLevel;
@@ -28,27 +28,6 @@ pub struct LodOptions {
     pub normals: bool,
     /// Then simplify each level by simplification envelopes within ε.
     pub then_envelope: Option<ThenEnvelope>,
-    /// Levels by triangle budget, one per count in the order given ([`crate::budget`]): the
-    /// resolutions of `pyramid` are then chosen per budget (its filter, radius and quadrature
-    /// are used).
-    pub triangles: Option<Vec<usize>>,
-    /// An error target: with `triangles`, the bound of every level's geometric stage; alone,
-    /// one level within it ([`crate::budget`]).
-    pub error: Option<ErrorTarget>,
-    /// The geometric stage of the budget levels.
-    pub then: Then,
-    /// Budget levels of an open mesh keep the caps that sampling puts over its holes
-    /// (watertight levels); by default the caps are cut away and the openings kept.
-    pub closed: bool,
-    /// Budget levels have their vertices fitted to the input mesh, kept only where that
-    /// measures closer (beyond the paper, step 7 of [`crate::budget`]). `None` leaves each
-    /// level as its geometric stage made it.
-    pub fit: Option<FitOptions>,
-    /// CPU seconds (all threads; [`voxlod_core::cpu_clock`]) each budget's search may spend per
-    /// isodensity on neighbouring resolutions after its first candidate (`f64::INFINITY`: all
-    /// of them, `0`: the first only). Counted in CPU time, not wall time, so that the same
-    /// input and options give the same levels on a busy machine as on a quiet one.
-    pub time_cap: f64,
     /// How the finest resolution is chosen: by default, for a mesh, from the input's triangle
     /// count (at most `pyramid`'s finest, [`crate::finest`]); [`Finest::Given`] takes `pyramid`
     /// as it is.
@@ -77,12 +56,6 @@ impl Default for LodOptions {
             iso: None,
             normals: true,
             then_envelope: None,
-            triangles: None,
-            error: None,
-            then: Then::Auto,
-            closed: false,
-            fit: Some(FitOptions::default()),
-            time_cap: 1.0,
             finest: Finest::InputTriangles,
             monotone: Some(MonotoneOptions::default()),
             clean: Some(CleanOptions::default()),
@@ -92,28 +65,6 @@ impl Default for LodOptions {
 }
 
 impl LodOptions {
-    /// One level per triangle count in `budgets`, by the budget pipeline ([`crate::budget`]):
-    ///
-    /// ```
-    /// # fn main() -> Result<(), voxlod_pyramid::PyramidError> {
-    /// # let mesh = voxlod_testkit::shapes::torus(64, 32, 2.0, 0.7);
-    /// // `mesh`: a closed torus of 4 096 triangles (or any mesh from `voxlod::read_mesh`).
-    /// use voxlod_pyramid::{lod, LodOptions, Source};
-    /// let lod = lod(&Source::Mesh(&mesh), &LodOptions::budgets(vec![1000, 250]))?;
-    /// for (level, report) in lod.levels.iter().zip(&lod.budgets) {
-    ///     let miss = level.mesh.triangle_count() as f64 / report.budget.unwrap() as f64 - 1.0;
-    ///     assert!(miss.abs() <= 0.1 && level.topology.is_closed_manifold());
-    /// }
-    /// # Ok(())
-    /// # }
-    /// ```
-    pub fn budgets(triangles: Vec<usize>) -> Self {
-        LodOptions {
-            triangles: Some(triangles),
-            ..Default::default()
-        }
-    }
-
     /// `levels` levels from `resolution` samples, halving each time, with `filter`.
     pub fn halving(resolution: usize, levels: usize, filter: Filter) -> Self {
         LodOptions {
@@ -175,23 +126,6 @@ impl LodOptions {
             let problem = "at least one quadrature line per filter radius";
             return Err(InvalidOption::new("lines_per_radius", 0, problem).into());
         }
-        if self.time_cap.is_nan() || self.time_cap < 0.0 {
-            let problem = "the time cap is a number of seconds, zero or more";
-            return Err(InvalidOption::new("time_cap", self.time_cap, problem).into());
-        }
-        if self.then_envelope.is_some() && (self.triangles.is_some() || self.error.is_some()) {
-            let problem = "the envelope step is part of the budget pipeline; choose it with `then`";
-            return Err(InvalidOption::new("then_envelope", "set", problem).into());
-        }
-        if let Some(budgets) = &self.triangles {
-            check_budgets(budgets)?;
-        }
-        if let Some(e @ (ErrorTarget::Distance(x) | ErrorTarget::Fraction(x))) = self.error {
-            if !(x.is_finite() && x > 0.0) {
-                let problem = "the error target must be a positive distance or fraction";
-                return Err(InvalidOption::new("error", e, problem).into());
-            }
-        }
         Ok(())
     }
 }
@@ -215,7 +149,7 @@ pub struct Lod {
     pub iso: f32,
     /// Empty levels, a threshold at or below every sample: each in one line.
     pub warnings: Vec<String>,
-    /// Per level, what the budget pipeline did (empty unless `triangles` or `error` was set).
+    /// Per level, what the budget pipeline did ([`crate::lod_by_budget`]; empty from [`crate::lod`]).
     pub budgets: Vec<BudgetLevel>,
     /// How the finest resolution was chosen from a mesh's triangle count
     /// ([`LodOptions::finest`]); `None` when the pyramid was taken as given.

@@ -72,11 +72,15 @@ pub struct LodArgs {
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
     /// Samples across the longest side of the object at level 0 [default: for a mesh, from its
-    /// triangle count, at most 256; for a volume, 256]
-    #[arg(long, value_name = "N", value_parser = number::<usize>, allow_hyphen_values = true)]
+    /// triangle count, at most 256; for a volume, 256] (not with --triangles or --error, which
+    /// choose the resolution of each level)
+    #[arg(long, value_name = "N", value_parser = number::<usize>, allow_hyphen_values = true,
+        conflicts_with_all = ["triangles", "error"])]
     pub resolution: Option<usize>,
-    /// Number of levels, each half the resolution of the one before
-    #[arg(long, value_name = "L", default_value_t = 6, conflicts_with = "resolutions",
+    /// Number of levels, each half the resolution of the one before (not with --triangles or
+    /// --error: one level per budget)
+    #[arg(long, value_name = "L", default_value_t = 6,
+        conflicts_with_all = ["resolutions", "triangles", "error"],
         value_parser = number::<usize>, allow_hyphen_values = true)]
     pub levels: usize,
     /// Explicit resolutions, one per level, e.g. 200,100,50,30,15,5 (not with --triangles or
@@ -115,8 +119,9 @@ pub struct LodArgs {
     /// genus of the larger budget's level
     #[arg(long)]
     pub no_monotone: bool,
-    /// Keep plain marching cubes (no cleaning of slivers, needles and self-intersections)
-    #[arg(long)]
+    /// Keep plain marching cubes (no cleaning of slivers, needles and self-intersections); not
+    /// with --triangles or --error, whose levels are always cleaned
+    #[arg(long, conflicts_with_all = ["triangles", "error"])]
     pub no_clean: bool,
     /// Then simplify each level within E by simplification envelopes (genus and holes stay): a
     /// distance, a percentage of the level's diagonal (1%), or voxels of the level (1vox). Not
@@ -306,7 +311,6 @@ pub(super) fn lod_options(args: &LodArgs) -> Result<LodOptions, CliError> {
         monotone: defaults.monotone.filter(|_| !args.no_monotone),
         clean: defaults.clean.filter(|_| !args.no_clean),
         frame: args.frame.target(),
-        ..defaults
     })
 }
 

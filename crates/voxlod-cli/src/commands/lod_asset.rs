@@ -187,14 +187,21 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
         ));
     }
     let names = Names::of(args, format)?;
-    let options = if args.triangles.is_some() || args.error.is_some() {
-        super::lod_budget::options(args)
+    let by_budget = args.triangles.is_some() || args.error.is_some();
+    let pyramid = if by_budget {
+        None
     } else {
-        lod_options(args)?
+        Some(lod_options(args)?)
     };
     let scene = read_input(args, read)?;
-    let made = voxlod::asset_lod(&scene.asset, &options, &run_to_end)
-        .map_err(|e| lod_error(args, e.into()))?;
+    let made = match &pyramid {
+        Some(options) => voxlod::asset_lod(&scene.asset, options, &run_to_end),
+        None => {
+            let options = super::lod_budget::options(args);
+            voxlod::asset_lod_by_budget(&scene.asset, &options, &run_to_end)
+        }
+    }
+    .map_err(|e| lod_error(args, e.into()))?;
     let mut warnings = scene.warnings.clone();
     warnings.extend(made.lod.warnings.iter().cloned());
     let glb = format == LodFormat::Glb;
@@ -220,6 +227,7 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
+        ..Default::default()
     };
     let levels = plan.write_levels(&mut out, &made, &glb_options)?;
     let chain: Vec<_> = made.assets.iter().filter_map(|l| l.asset.clone()).collect();

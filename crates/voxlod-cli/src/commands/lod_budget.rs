@@ -11,7 +11,7 @@ use std::time::Instant;
 use serde::Serialize;
 use voxlod::budget::BudgetLevel;
 use voxlod::io::OutputSet;
-use voxlod::{Lod, LodOptions};
+use voxlod::{BudgetOptions, Lod};
 
 use super::common::say;
 use super::common::{add_report, describe_mesh, in_dir, print_json, CliError};
@@ -52,7 +52,8 @@ pub fn run(args: &LodArgs) -> Result<(), CliError> {
     args.glb.check_chain(format)?;
     let options = options(args);
     let input = args.route.read(&args.input)?;
-    let lod = voxlod::lod(&args.route.source(&input), &options).map_err(|e| lod_error(args, e))?;
+    let source = args.route.source(&input);
+    let lod = voxlod::lod_by_budget(&source, &options).map_err(|e| lod_error(args, e))?;
     let level_name = |level: usize| super::lod::level_name(args, level);
     let chain = format == LodFormat::Glb;
     let level_files = !chain || args.glb.split;
@@ -110,27 +111,27 @@ pub fn run(args: &LodArgs) -> Result<(), CliError> {
 }
 
 /// The library options of `args`.
-pub(super) fn options(args: &LodArgs) -> LodOptions {
-    let mut options = LodOptions {
-        triangles: args.triangles.clone(),
+pub(super) fn options(args: &LodArgs) -> BudgetOptions {
+    BudgetOptions {
+        triangles: args.triangles.clone().unwrap_or_default(),
         error: args.error,
         then: args.then,
+        filter: args.filter,
+        radius_voxels: args.radius,
+        lines_per_radius: args.lines_per_radius,
+        iso: args.iso,
+        normals: true,
+        monotone: !args.no_monotone,
         closed: args.closed,
         fit: (!args.no_fit).then(voxlod::FitOptions::default),
         time_cap: args.time_cap,
-        iso: args.iso,
         frame: args.frame.target(),
-        ..LodOptions::default()
-    };
-    options.pyramid.filter = args.filter;
-    options.pyramid.radius_voxels = args.radius;
-    options.pyramid.lines_per_radius = args.lines_per_radius;
-    options
+    }
 }
 
 fn report(
     args: &LodArgs,
-    options: &LodOptions,
+    options: &BudgetOptions,
     lod: &Lod,
     levels: Vec<BudgetLevelReport>,
     start: Instant,

@@ -9,7 +9,7 @@
 //! stages, each measured; about a second for tens of thousands of triangles.
 
 use voxlod::core::PolyMesh;
-use voxlod::{LodOptions, Source};
+use voxlod::{BudgetOptions, Source};
 
 use super::SearchLimits;
 use super::{target_count_space, MethodInput, RunFailure, SearchSpace, Simplifier};
@@ -36,9 +36,9 @@ impl Simplifier for BudgetPipeline {
     }
 
     fn run(&self, input: &MethodInput, target: f64) -> Result<PolyMesh, RunFailure> {
-        let options = LodOptions::budgets(vec![target as usize]);
-        let lod =
-            voxlod::lod(&Source::Mesh(input.mesh()), &options).map_err(RunFailure::Pipeline)?;
+        let options = BudgetOptions::for_triangles(&[target as usize]);
+        let lod = voxlod::lod_by_budget(&Source::Mesh(input.mesh()), &options)
+            .map_err(RunFailure::Pipeline)?;
         let level = lod.levels.into_iter().next();
         Ok(PolyMesh::from(level.map(|l| l.mesh).unwrap_or_default()))
     }

@@ -29,7 +29,7 @@
 //! at 5.1 % of the diagonal, where alone it has genus 1 at 3.0 %.
 //!
 //! **Independence** (module docs of [`crate::budget`]) holds for one budget alone and with
-//! [`crate::LodOptions::monotone`] off (no cap, no level above); in a chain, a level depends
+//! [`crate::BudgetOptions::monotone`] off (no cap, no level above); in a chain, a level depends
 //! on the larger budgets of its run through the cap and the level above. `evaluate` runs each
 //! budget alone.
 //!

@@ -2,7 +2,7 @@
 //! simplifier, as the paper proposes (He et al. 1995, §5: the voxel method removes the small
 //! features and holes, a geometric method then spends the triangles where the shape needs them).
 //!
-//! For each budget `B` of [`crate::LodOptions::triangles`], on its own:
+//! For each budget `B` of [`crate::BudgetOptions::triangles`], on its own:
 //!
 //! 0. **What the budget affords.** The marching-cubes level with about `B` triangles shows what
 //!    topology `B` triangles can carry. When it has no fewer handles and components than the
@@ -32,7 +32,7 @@
 //!    step 4 weigh against what the 0.5 level lost: the candidates of all three compete there.
 //! 2. **Openings.** An open mesh input keeps its openings: the caps that sampling put over its
 //!    holes are cut away from the level ([`crate::caps`]), unless
-//!    [`crate::LodOptions::closed`] asks for watertight levels.
+//!    [`crate::BudgetOptions::closed`] asks for watertight levels.
 //! 3. **Geometric stage** ([`Then`]): meshoptimizer's quadric collapse with the topology kept
 //!    (voxlod-quadric); where it stalls more than 10 % above the budget because the level has
 //!    more components than the budget can carry, the smallest components (by bounding-box
@@ -46,7 +46,7 @@
 //!    the envelopes cost 10 to 300 times the quadric stage's time and were closer to the input
 //!    only once, at the largest budget, where the input's own collapse (step 0) is closer
 //!    still.
-//! 4. **Search.** Within [`crate::LodOptions::time_cap`] CPU seconds per budget and
+//! 4. **Search.** Within [`crate::BudgetOptions::time_cap`] CPU seconds per budget and
 //!    isodensity (counted after the probes for its first resolution, on the process's CPU
 //!    clock, [`voxlod_core::cpu_clock`], so that other programs' load does not cut the search
 //!    short and change the level), the finer neighbour (about `8 B`
@@ -95,7 +95,7 @@
 //!    measured) is unchanged or better: the filter's smoothing, which no collapse of the voxel
 //!    level can undo, is then taken back where the input shows it (the sphereflake at 1 000
 //!    triangles: 3.11 % → 2.84 % of the diagonal, `evaluate`'s samples).
-//!    [`crate::LodOptions::fit`] `None` leaves the levels as step 3 made them.
+//!    [`crate::BudgetOptions::fit`] `None` leaves the levels as step 3 made them.
 //!
 //! **Independence.** A budget's level depends on that budget and the options alone, never on
 //! the other budgets of the run: each search starts from nothing, and levels built for one
@@ -105,11 +105,11 @@
 //! which decides only where a search ends near the cap).
 //!
 //! **Genus along a chain** (module `genus_cap`, our addition): with
-//! [`crate::LodOptions::monotone`] on, several budgets are searched from the largest down and
+//! [`crate::BudgetOptions::monotone`] on, several budgets are searched from the largest down and
 //! no level may have more handles than the level above it; a level whose own search would add
 //! handles is the one exception to independence.
 //!
-//! **PyramidError target.** With [`crate::LodOptions::error`] and no budgets, one level: the resolution
+//! **Error target.** With [`crate::BudgetOptions::error`] and no budgets, one level: the resolution
 //! whose voxel is the error, then the quadric stage within the error; with budgets too, the
 //! error bounds every geometric stage.
 //!
@@ -149,9 +149,10 @@ mod silhouettes;
 use std::time::Instant;
 use voxlod_core::cavities::FilledCavities;
 
+use crate::budget_options::BudgetOptions;
 use crate::error::PyramidError;
 use crate::lod::LevelOptions;
-use crate::lod_options::{Lod, LodOptions};
+use crate::lod_options::Lod;
 use crate::progress::{Event, ProgressFn, Tracker};
 use crate::source::Source;
 
@@ -171,18 +172,18 @@ const DILATED_ISO_FRACTIONS: [f32; 2] = [0.5, 0.3];
 /// Samples per side of the distances measured during the search.
 const SEARCH_SAMPLES: usize = 10_000;
 
-/// [`crate::lod_with`] for budgets or an error target (the options are checked): one level per
-/// budget, in the order given, or one for the error target alone.
-pub(crate) fn lod_by_budget(
+/// The voxel-first levels of [`crate::lod_by_budget`] (module docs; the options are checked by
+/// the caller): one level per budget, in the order given, or one for the error target alone.
+pub(crate) fn voxel_first(
     source: &Source,
-    options: &LodOptions,
+    options: &BudgetOptions,
     progress: &ProgressFn,
 ) -> Result<Lod, PyramidError> {
     let start = Instant::now();
     let prepared = source.prepare()?;
     let iso = prepared.iso(options.iso)?;
     let level_options = LevelOptions {
-        pyramid: options.pyramid.clone(),
+        pyramid: options.pyramid(),
         iso,
         normals: options.normals,
         clean: Some(voxlod_contouring::CleanOptions::default()),
@@ -229,7 +230,7 @@ pub(crate) fn lod_by_budget(
         .collect();
     let filled: Vec<_> = fill_ctxs.iter().zip(&fills).collect();
     let error = options.error.map(|e| e.distance(ctx.diagonal));
-    let budgets = options.triangles.clone().unwrap_or_default();
+    let budgets = options.triangles.clone();
     let mut tracker = Tracker::start(progress, budgets.len().max(1))?;
     let mut warnings = prepared.warnings().to_vec();
     warnings.extend(skipped);
@@ -248,7 +249,7 @@ pub(crate) fn lod_by_budget(
         warnings.extend(more);
         (vec![level], vec![report])
     } else {
-        let capped = options.monotone.is_some();
+        let capped = options.monotone;
         let chain = genus_cap::budget_chain(&ctx, &filled, &budgets, error, capped, &mut tracker)?;
         warnings.extend(chain.warnings);
         (chain.levels, chain.reports)
