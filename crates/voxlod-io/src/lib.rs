@@ -23,7 +23,9 @@
 //! [`read_asset`] reads a mesh with its looks as a [`voxlod_asset::Asset`] (`asset_read/`): an
 //! OBJ with its MTL materials, texture coordinates, normals and images (through `tobj`), a PLY
 //! or OFF with its vertex colours made linear (a PLY's texture coordinates and `TextureFile`
-//! too), the other mesh formats as geometry.
+//! too), the other mesh formats as geometry. [`write_asset`] writes one back (`asset_write/`): an
+//! OBJ with its MTL and images beside it, or a PLY with sRGB `uchar` vertex colours, texture
+//! coordinates and its texture beside it.
 //!
 //! Every error is an [`IoError`] that prints as `path: problem` on one line, in plain words
 //! (never a parser's internals), with an [`IoErrorKind`] to act on; no input, however broken,
@@ -84,6 +86,7 @@
 #![warn(missing_docs)]
 
 mod asset_read;
+mod asset_write;
 pub mod atomic;
 mod block_read;
 mod blockwise_volume;
@@ -115,6 +118,9 @@ use voxlod_core::validate::{find_defect, validate_mesh, Requirements};
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh, Volume};
 
 pub use asset_read::{read_asset, srgb_to_linear, AssetRead};
+pub use asset_write::{
+    asset_files, linear_to_srgb, stage_assets, write_asset, AssetFile, AssetFiles,
+};
 pub use blockwise_volume::BlockwiseVolume;
 pub use dicom::seg::{
     cielab_to_srgb, find_dicom_seg, is_dicom_seg, read_dicom_seg, SEGMENTATION_STORAGE,
