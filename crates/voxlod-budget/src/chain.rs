@@ -7,7 +7,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use voxlod_core::cavities::fill_cavities;
 use voxlod_core::TriangleMesh;
-use voxlod_sampling::MeshSolid;
+use voxlod_sampling::{MeshSolid, MeshSolidOptions};
 
 use crate::candidate::{Candidate, Fill, Method};
 use crate::collapse;
@@ -74,7 +74,7 @@ pub fn levels_with(
     step(budgets.len())?;
     let voxels = searched.iter().any(|s| s.needs_voxels);
     let solids = match voxels {
-        true => solids(&input)?,
+        true => solids(&input, options.remesh)?,
         false => Vec::new(),
     };
     let mut searched = searched;
@@ -119,14 +119,20 @@ pub const CAVITY_SHARE: f64 = 0.01;
 /// The input as solids for the voxel candidates: as given; with its closed cavities filled,
 /// where they hold at least [`CAVITY_SHARE`] of its volume, so that a hollow part whose wall
 /// the budget cannot afford turns solid instead of perforating; and with the hollows it nearly
-/// encloses filled and lined (module `enclosed`).
-fn solids(input: &Input) -> Result<Vec<(Fill, MeshSolid)>, BudgetError> {
-    let given = MeshSolid::new(&input.mesh)?;
-    let mut solids = hollow_solids(input, &given)?;
+/// encloses filled and lined (module `enclosed`). With `remesh`, parts that pass through each
+/// other are sampled as their union (`MeshSolidOptions::union`), as a proxy of a scene needs.
+fn solids(input: &Input, remesh: bool) -> Result<Vec<(Fill, MeshSolid)>, BudgetError> {
+    let options = MeshSolidOptions {
+        union: remesh,
+        ..MeshSolidOptions::default()
+    };
+    let given = MeshSolid::new_with(&input.mesh, options)?;
+    let mut solids = hollow_solids(input, &given, options)?;
     if let Some(filled) = fill_cavities(&input.mesh) {
         let (before, after) = (input.mesh.signed_volume(), filled.mesh.signed_volume());
         if after - before >= CAVITY_SHARE * after.abs() {
-            solids.insert(0, (Fill::Cavities, MeshSolid::new(&filled.mesh)?));
+            let filled = MeshSolid::new_with(&filled.mesh, options)?;
+            solids.insert(0, (Fill::Cavities, filled));
         }
     }
     solids.insert(0, (Fill::None, given));
@@ -157,6 +163,16 @@ fn search(
     let promises = first_promises(input, options, budget);
     let mut candidates = Vec::new();
     let (mut close_enough, mut plain_broke, mut large_and_opened) = (false, false, false);
+    if options.remesh {
+        return Ok(Searched {
+            budget,
+            candidates,
+            needs_voxels: true,
+            plain_broke,
+            seconds: start.elapsed().as_secs_f64(),
+            notes: Vec::new(),
+        });
+    }
     if let Some(mut plain) = collapse::plain(input, budget, options.max_error) {
         let broken = promises.broken_cheap(&plain);
         let keeps = broken.is_empty() && crosses_no_more(input, &mut plain);
@@ -293,6 +309,7 @@ fn first_promises(input: &Input, options: &PortfolioOptions, budget: usize) -> P
         budget,
         closed: options.closed || input.is_closed(),
         max_handles: input.topology.genus,
+        remesh: options.remesh,
     }
 }
 

@@ -27,7 +27,9 @@
 use voxlod_contouring::{marching_cubes, ContourOptions};
 use voxlod_core::{TriangleMesh, Volume};
 use voxlod_sampling::closing::{closing_fill, Closing};
-use voxlod_sampling::{filtered_density, level_grid, DensityOptions, Filter, MeshSolid};
+use voxlod_sampling::{
+    filtered_density, level_grid, DensityOptions, Filter, MeshSolid, MeshSolidOptions,
+};
 
 use crate::candidate::Fill;
 use crate::input::Input;
@@ -48,16 +50,17 @@ pub const CLOSING_FRACTION: f64 = 1.0 / 16.0;
 /// The least volume filled, as a multiple of the solid's, for the hollows to count.
 pub const LEAST_FILLED: f64 = 1.0;
 
-/// The input with its nearly enclosed hollows filled, and with them lined, as solids; none
-/// where the hollows are too small to count (module docs).
+/// The input with its nearly enclosed hollows filled, and with them lined, as solids sampled
+/// with `options`; none where the hollows are too small to count (module docs).
 pub fn hollow_solids(
     input: &Input,
     solid: &MeshSolid,
+    options: MeshSolidOptions,
 ) -> Result<Vec<(Fill, MeshSolid)>, BudgetError> {
     let meshes = hollow_meshes(input, solid)?;
     let solids = meshes
         .iter()
-        .map(|(fill, mesh)| Ok((*fill, MeshSolid::new(mesh)?)));
+        .map(|(fill, mesh)| Ok((*fill, MeshSolid::new_with(mesh, options)?)));
     solids.collect()
 }
 

@@ -29,6 +29,10 @@ pub struct PortfolioOptions {
     /// Voxel candidates' vertices fitted to the input (crate `voxlod-fit`), kept only where
     /// that measures closer; `None` leaves them as the quadric stage made them.
     pub fit: Option<FitOptions>,
+    /// Every level a new surface around the input (a proxy, to be baked): only voxel, shell
+    /// and level-above candidates compete, never the input's own collapse nor its parts stood
+    /// in for, so that parts merge, gaps close and what the filter removes stays removed.
+    pub remesh: bool,
     /// Samples a side of the quick distance that ranks every candidate.
     pub quick_samples: usize,
     /// Samples a side of the careful distance that decides between the closest candidates
@@ -48,6 +52,7 @@ impl Default for PortfolioOptions {
             closed: false,
             max_error: None,
             fit: Some(FitOptions::quick()),
+            remesh: false,
             quick_samples: 2_000,
             careful_samples: 10_000,
         }
@@ -55,6 +60,15 @@ impl Default for PortfolioOptions {
 }
 
 impl PortfolioOptions {
+    /// A proxy's levels for `budgets` ([`PortfolioOptions::remesh`]), every level closed.
+    pub fn remesh(budgets: &[usize]) -> Self {
+        PortfolioOptions {
+            remesh: true,
+            closed: true,
+            ..PortfolioOptions::for_triangles(budgets)
+        }
+    }
+
     /// The default options for `budgets`.
     pub fn for_triangles(budgets: &[usize]) -> Self {
         PortfolioOptions {

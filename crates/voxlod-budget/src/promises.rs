@@ -82,6 +82,9 @@ pub struct Promises {
     pub closed: bool,
     /// The most handles it may have (`None`: no cap, where the level above has no genus).
     pub max_handles: Option<i64>,
+    /// A new surface only ([`crate::PortfolioOptions::remesh`]): no candidate made of the
+    /// input's own triangles is added at the choice.
+    pub remesh: bool,
 }
 
 /// Whether `count` triangles are within the tolerance of `budget` (module docs).

@@ -73,7 +73,7 @@ pub fn choose(
     }
     // The small parts stood in for, where no collapse of the input keeps the promises or the
     // closest candidate lost parts.
-    let stood = needs_stand_ins(&candidates, &broken)
+    let stood = (!promises.remesh && needs_stand_ins(&candidates, &broken))
         .then(|| stood_in(input, stand_ins, promises.budget, 1))
         .flatten();
     let twins = restored_twins(&candidates, &broken, input, stand_ins, promises.budget);

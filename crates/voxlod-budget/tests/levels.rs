@@ -162,3 +162,39 @@ fn stopping_from_the_progress_callback_ends_the_run() {
     .unwrap_err();
     assert!(matches!(e, BudgetError::Cancelled));
 }
+
+#[test]
+fn remesh_levels_are_new_closed_surfaces_that_merge_interpenetrating_parts() {
+    // Three spheres that pass through each other, and a fourth apart: seven or more triangles
+    // per input part at every budget would keep four components; the remeshed levels are the
+    // union's surface, one component for the three, the fourth apart.
+    let mut mesh = voxlod_testkit::shapes::icosphere_at(4, 1.0, Vec3::ZERO);
+    for centre in [Vec3::new(1.2, 0.0, 0.0), Vec3::new(0.6, 1.0, 0.0)] {
+        let part = voxlod_testkit::shapes::icosphere_at(4, 1.0, centre);
+        voxlod_testkit::shapes::append(&mut mesh, &part);
+    }
+    let apart = voxlod_testkit::shapes::icosphere_at(3, 0.6, Vec3::new(5.0, 0.0, 0.0));
+    voxlod_testkit::shapes::append(&mut mesh, &apart);
+    assert_eq!(mesh_topology(&mesh).components, 4);
+    let budgets = [2000, 500, 120];
+    let run = levels(&mesh, &PortfolioOptions::remesh(&budgets)).unwrap();
+    for (level, &b) in run.levels.iter().zip(&budgets) {
+        let r = &level.report;
+        assert!(
+            matches!(r.method, Method::Voxel | Method::Shell | Method::Above),
+            "{b}: {:?}",
+            r.method
+        );
+        let t = mesh_topology(&level.mesh);
+        assert!(
+            t.is_closed_manifold() && t.is_consistently_oriented(),
+            "{b}: {t:?}"
+        );
+        assert_eq!(t.components, 2, "{b}: {t:?} {r:?}");
+        assert!(within(level.mesh.triangle_count(), b), "{b}: {t:?}");
+    }
+    // The same budgets without `remesh` answer the largest with the input's own collapse,
+    // which keeps the four parts apart.
+    let plain = levels(&mesh, &PortfolioOptions::for_triangles(&budgets[..1])).unwrap();
+    assert_eq!(mesh_topology(&plain.levels[0].mesh).components, 4);
+}
