@@ -3,7 +3,11 @@
 //! within its budget and textured or coloured (never grey), in one `.glb` in both layouts and
 //! as level files with `--split`; the report says per level how it got its looks. A file
 //! requiring an extension the reader cannot decode is refused naming it; a mesh with
-//! `--triangles --format glb` gets its chain.
+//! `--triangles --format glb` gets its chain. With `--format obj` or `ply` each level is an OBJ
+//! with its MTL and texture, or a coloured, textured PLY, read back with its looks; with
+//! `--compress meshopt` the `.glb` is compressed, validates and reads back; `--compress` or
+//! `--split` with OBJ or PLY output is a usage error naming the flag. The report lists every
+//! file written with what it carries.
 
 mod common;
 
@@ -253,13 +257,13 @@ fn a_geometry_format_says_the_looks_were_dropped() {
         "--triangles",
         "200",
         "--format",
-        "ply",
+        "stl",
         "-o",
         arg(&out),
         "--json",
     ]);
     let report = json(&o);
-    assert!(out.join("level-0.ply").is_file());
+    assert!(out.join("level-0.stl").is_file());
     assert_eq!(report["levels"][0]["looks"], "dropped");
     let warnings = report["warnings"].as_array().unwrap();
     assert!(
@@ -353,20 +357,15 @@ fn a_mesh_with_budgets_and_format_glb_gets_its_chain_in_either_layout() {
     );
     assert_valid(&out.join("lod.glb"));
     let nodes = dir.path().join("nodes");
-    let o = voxlod(&[
-        "lod",
-        arg(&mesh),
+    let flags = [
         "--triangles",
         "400,100",
         "--format",
         "glb",
         "--layout",
         "lod-nodes",
-        "-o",
-        arg(&nodes),
-        "--json",
-    ]);
-    let report = json(&o);
+    ];
+    let report = lod_report(&mesh, &nodes, &flags);
     assert_eq!(report["glb"]["layout"], "lod-nodes", "{report}");
     let doc = glb_json(&nodes.join("lod.glb"));
     let names: Vec<&str> = doc["scenes"][0]["nodes"]
@@ -381,6 +380,22 @@ fn a_mesh_with_budgets_and_format_glb_gets_its_chain_in_either_layout() {
         .collect();
     assert_eq!(names, ["LOD0", "LOD1"]);
     assert_valid(&nodes.join("lod.glb"));
+
+    // Compressed in the same layout: the same two nodes, both extensions required.
+    let packed = dir.path().join("packed");
+    let report = lod_report(
+        &mesh,
+        &packed,
+        &[&flags[..], &["--compress", "meshopt"]].concat(),
+    );
+    assert_eq!(report["glb"]["compression"], "meshopt", "{report}");
+    let doc = glb_json(&packed.join("lod.glb"));
+    assert_eq!(doc["scenes"][0]["nodes"].as_array().unwrap().len(), 2);
+    let required = doc["extensionsRequired"].to_string();
+    assert!(required.contains("KHR_mesh_quantization"), "{doc}");
+    let finest = read_scene(&packed.join("lod.glb")).unwrap().asset;
+    assert_within_budget(finest.mesh.triangles.len(), 400, "LOD0");
+    assert_valid(&packed.join("lod.glb"));
 }
 
 /// The textured sphere as `dir/sphere.obj` with `sphere.mtl` and `halves.png` beside it.
@@ -444,4 +459,159 @@ fn an_obj_with_its_mtl_and_format_glb_keeps_its_looks() {
         assert_red_and_blue(&level, &format!("obj level {k}"));
     }
     assert_valid(&out.join("lod.glb"));
+}
+
+/// The report's `files`: every file in `out` but the report, each listed once with what it
+/// carries.
+fn assert_files_listed(report: &Value, out: &Path) {
+    let listed: Vec<&str> = report["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["file"].as_str().unwrap())
+        .collect();
+    let mut on_disk: Vec<String> = std::fs::read_dir(out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != "report.json")
+        .collect();
+    on_disk.sort();
+    let mut sorted: Vec<String> = listed.iter().map(|s| s.to_string()).collect();
+    sorted.sort();
+    assert_eq!(sorted, on_disk, "{report}");
+    for f in report["files"].as_array().unwrap() {
+        assert!(!f["carries"].as_array().unwrap().is_empty(), "{f}");
+        let bytes = std::fs::metadata(out.join(f["file"].as_str().unwrap()))
+            .unwrap()
+            .len();
+        assert_eq!(f["bytes"].as_u64(), Some(bytes), "{f}");
+    }
+}
+
+/// `voxlod lod INPUT -o OUT --json FLAGS…`'s report (the run must succeed).
+fn lod_report(input: &Path, out: &Path, flags: &[&str]) -> Value {
+    let mut args = vec!["lod", arg(input), "-o", arg(out), "--json"];
+    args.extend(flags);
+    json(&voxlod(&args))
+}
+
+/// The OBJ or PLY level files of a run by [`BUDGETS`] read back with their looks: within their
+/// budgets, as many triangles as the report says, red and blue where the input is, with the
+/// texture where the level kept the input's looks; every file listed.
+fn assert_level_files_keep_looks(report: &Value, out: &Path, format: &str) {
+    assert_report_looks(report);
+    assert_files_listed(report, out);
+    for (k, budget) in BUDGETS.into_iter().enumerate() {
+        let path = out.join(format!("level-{k}.{format}"));
+        let read = voxlod::io::read_asset(&path).unwrap();
+        assert!(read.warnings.is_empty(), "{path:?}: {:?}", read.warnings);
+        let level = read.asset;
+        let t = level.mesh.triangles.len();
+        assert_within_budget(t, budget, &path.display().to_string());
+        assert_eq!(report["levels"][k]["triangles"].as_u64(), Some(t as u64));
+        assert_red_and_blue(&level, &path.display().to_string());
+        let textured = report["levels"][k]["looks"] == "kept";
+        assert_eq!(!level.images.is_empty(), textured, "{path:?}");
+    }
+    if format == "obj" {
+        assert!(out.join("level-0.mtl").is_file());
+    }
+}
+
+#[test]
+fn obj_and_ply_levels_keep_their_looks() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_glb(dir.path());
+    for format in ["obj", "ply"] {
+        let out = dir.path().join(format);
+        let flags = ["--triangles", &budgets_arg(), "--format", format];
+        let report = lod_report(&input, &out, &flags);
+        assert_level_files_keep_looks(&report, &out, format);
+        assert!(
+            out.join("halves.png").is_file(),
+            "the texture beside the levels"
+        );
+    }
+}
+
+#[test]
+fn a_compressed_asset_chain_validates_and_reads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_glb(dir.path());
+    let mut sizes = Vec::new();
+    for compress in [false, true] {
+        let out = dir.path().join(format!("compressed-{compress}"));
+        let mut flags = vec!["--triangles", "2000,200", "--layout", "lod-nodes"];
+        if compress {
+            flags.extend(["--compress", "meshopt"]);
+        }
+        let report = lod_report(&input, &out, &flags);
+        assert_files_listed(&report, &out);
+        let chain = out.join("lod.glb");
+        sizes.push(std::fs::metadata(&chain).unwrap().len());
+        let doc = glb_json(&chain);
+        let carries = report["files"][0]["carries"].to_string();
+        if compress {
+            assert_eq!(report["compression"], "meshopt");
+            assert!(carries.contains("meshopt compression"), "{report}");
+            let required = doc["extensionsRequired"].to_string();
+            assert!(required.contains("EXT_meshopt_compression"), "{doc}");
+        } else {
+            assert!(report.get("compression").is_none(), "{report}");
+        }
+        let finest = read_scene(&chain).unwrap().asset;
+        assert_within_budget(finest.mesh.triangles.len(), 2000, "LOD0");
+        assert_red_and_blue(&finest, &format!("compressed {compress}"));
+        assert_valid(&chain);
+    }
+    assert!(
+        sizes[1] < sizes[0],
+        "compressed {} bytes, plain {}",
+        sizes[1],
+        sizes[0]
+    );
+}
+
+#[test]
+fn compress_and_split_with_obj_or_ply_are_usage_errors_naming_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_glb(dir.path());
+    let out = dir.path().join("refused");
+    for (format, flags, named) in [
+        ("obj", &["--compress", "meshopt"][..], "--compress"),
+        ("ply", &["--compress", "meshopt"][..], "--compress"),
+        ("ply", &["--split"][..], "--split"),
+    ] {
+        let mut args = vec!["lod", arg(&input), "--format", format, "-o", arg(&out)];
+        args.extend(flags);
+        let o = voxlod(&args);
+        assert_eq!(
+            o.status.code(),
+            Some(2),
+            "{format} {flags:?}: {}",
+            stderr(&o)
+        );
+        common::assert_clean_failure(&o, named);
+        assert!(!out.exists(), "nothing written");
+    }
+}
+
+#[test]
+fn an_obj_with_looks_and_format_ply_keeps_them_and_a_bare_mesh_takes_the_mesh_route() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = sphere_obj(dir.path());
+    let out = dir.path().join("ply");
+    let report = lod_report(
+        &obj,
+        &out,
+        &["--triangles", &budgets_arg(), "--format", "ply"],
+    );
+    assert_level_files_keep_looks(&report, &out, "ply");
+    // A mesh without looks: the mesh route's report (no `files`), plain level files.
+    let mesh = common::write_mesh(dir.path(), "bare.obj", &icosphere(3));
+    let bare = dir.path().join("bare");
+    let report = lod_report(&mesh, &bare, &["--triangles", "400", "--format", "obj"]);
+    assert!(report.get("files").is_none(), "{report}");
+    assert!(bare.join("level-0.obj").is_file());
+    assert!(!bare.join("level-0.mtl").exists());
 }

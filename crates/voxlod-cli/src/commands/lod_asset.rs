@@ -3,11 +3,16 @@
 //! The levels by resolution, by triangle budget or by error, as for a mesh, are made on the
 //! asset's geometry; each then carries the asset's texture coordinates, colours, normals and
 //! materials, kept or taken from the nearest input points. Written as one `.glb` with every
-//! level (`--layout msft-lod` or `lod-nodes`), and each level as its own `.glb` with `--split`.
-//! Another `--format` writes the geometry only, and the report says that the looks were dropped.
+//! level (`--layout msft-lod` or `lod-nodes`; `--compress meshopt` quantizes and encodes it),
+//! and each level as its own `.glb` with `--split`; or, with `--format obj`, each level as an
+//! OBJ with its MTL and textures beside it, with `--format ply` as a PLY with vertex colours,
+//! texture coordinates and its texture (`voxlod::io::asset_files`). Another `--format` writes
+//! the geometry only, and the report says that the looks were dropped. The report lists every
+//! file written with what it carries.
 //!
-//! Files: with `-o DIR`, `DIR/lod.glb`, `DIR/level-N.EXT` and `DIR/report.json`; with
-//! `-o NAME.glb`, `NAME.glb`, `NAME-level-N.glb` and `NAME-report.json` beside it.
+//! Files: with `-o DIR`, `DIR/lod.glb`, `DIR/level-N.EXT` (with `.mtl` and textures for OBJ)
+//! and `DIR/report.json`; with `-o NAME.glb`, `NAME.glb`, `NAME-level-N.glb` and
+//! `NAME-report.json` beside it.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -15,7 +20,7 @@ use std::time::Instant;
 use clap::ValueEnum;
 use serde::Serialize;
 use voxlod::budget::BudgetLevel;
-use voxlod::gltf::{AssetGlbOptions, Layout};
+use voxlod::gltf::{AssetGlbOptions, Compression, Layout};
 use voxlod::io::{AssetRead, IoError, IoErrorKind, OutputSet};
 use voxlod::portfolio::Looks;
 use voxlod::run_to_end;
@@ -37,14 +42,14 @@ pub enum LayoutArg {
 }
 
 impl LayoutArg {
-    fn layout(self) -> Layout {
+    pub(super) fn layout(self) -> Layout {
         match self {
             LayoutArg::MsftLod => Layout::MsftLod,
             LayoutArg::LodNodes => Layout::LodNodes,
         }
     }
 
-    fn name(self) -> &'static str {
+    pub(super) fn name(self) -> &'static str {
         match self {
             LayoutArg::MsftLod => "msft-lod",
             LayoutArg::LodNodes => "lod-nodes",
@@ -59,14 +64,23 @@ pub fn is_gltf(path: &Path) -> bool {
 }
 
 /// Whether the input may carry looks worth keeping: an OBJ (with its MTL), PLY or OFF file
-/// whose levels go to a `.glb` (`--format glb`).
+/// whose levels go to a format that holds them (`--format glb`, or `obj` or `ply` given).
 pub fn may_have_looks(args: &LodArgs) -> bool {
     let mesh = args.input.extension().is_some_and(|e| {
         ["obj", "ply", "off"]
             .iter()
             .any(|x| e.eq_ignore_ascii_case(x))
     });
-    mesh && args.format() == LodFormat::Glb
+    let keeps = matches!(
+        args.format_given,
+        Some(LodFormat::Glb | LodFormat::Obj | LodFormat::Ply)
+    );
+    mesh && (keeps || args.format() == LodFormat::Glb)
+}
+
+/// Whether `format` writes each level with its looks as OBJ + MTL or coloured PLY.
+fn writes_looks_as_mesh(format: LodFormat) -> bool {
+    matches!(format, LodFormat::Obj | LodFormat::Ply)
 }
 
 /// The input read as an asset when it has looks (texture coordinates, colours, or materials
@@ -93,11 +107,106 @@ struct AssetReport {
     /// The file with every level (absent for other formats).
     #[serde(skip_serializing_if = "Option::is_none")]
     glb: Option<String>,
+    /// `meshopt` for compressed `.glb` files (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    compression: Option<&'static str>,
     levels: Vec<AssetLevelReport>,
+    /// Every file written (the report aside), with what it carries.
+    files: Vec<FileReport>,
     total_seconds: f64,
     /// Every warning: the reader's (extensions ignored, images left out), the levels', the
-    /// looks' (images that could not be decoded, looks dropped by a geometry-only format).
+    /// looks' (images that could not be decoded, looks dropped by a geometry-only format, what
+    /// OBJ or PLY cannot hold).
     warnings: Vec<String>,
+}
+
+/// One file written and what it carries.
+#[derive(Serialize)]
+struct FileReport {
+    /// Its name in the output folder.
+    file: String,
+    /// The level it holds; absent for the file with every level, and for a texture or MTL
+    /// library (`level` then names the first level that uses it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    level: Option<usize>,
+    /// Its size; absent for a geometry-only level file (written by the mesh writer).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    bytes: Option<usize>,
+    /// `triangles`, `normals`, `texture coordinates`, `vertex colours`, `materials`,
+    /// `texture`, `meshopt compression`, …
+    carries: Vec<String>,
+}
+
+/// What the run has written so far, and what the writers warned of.
+#[derive(Default)]
+struct Written {
+    files: Vec<FileReport>,
+    warnings: Vec<String>,
+}
+
+impl Written {
+    fn add(
+        &mut self,
+        path: &Path,
+        level: Option<usize>,
+        bytes: Option<usize>,
+        carries: Vec<String>,
+    ) {
+        let file = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        if self.files.iter().any(|f| f.file == file) {
+            return; // a texture several levels share
+        }
+        self.files.push(FileReport {
+            file,
+            level,
+            bytes,
+            carries,
+        });
+    }
+
+    /// A `.glb` of `levels` staged in `out` and listed.
+    fn glb(
+        &mut self,
+        out: &mut OutputSet,
+        path: &Path,
+        levels: &[voxlod::asset::Asset],
+        level: Option<usize>,
+        options: &AssetGlbOptions,
+    ) -> Result<(), CliError> {
+        let bytes = voxlod::gltf::asset_glb(levels, options).map_err(|e| in_file(path, e))?;
+        out.bytes(path, &bytes)?;
+        let mut carries = vec![format!("{} levels", levels.len())];
+        if levels.len() == 1 {
+            carries.clear();
+        }
+        carries.extend(carried(levels));
+        if options.compression == Compression::Meshopt {
+            carries.push("meshopt compression".into());
+        }
+        self.add(path, level, Some(bytes.len()), carries);
+        Ok(())
+    }
+}
+
+/// What a `.glb` of `levels` carries besides triangles.
+fn carried(levels: &[voxlod::asset::Asset]) -> Vec<String> {
+    let any = |f: &dyn Fn(&voxlod::asset::Asset) -> bool| levels.iter().any(f);
+    [
+        (true, "triangles"),
+        (any(&|a| !a.mesh.normals.is_empty()), "normals"),
+        (any(&|a| !a.mesh.tangents.is_empty()), "tangents"),
+        (any(&|a| !a.mesh.uv[0].is_empty()), "texture coordinates"),
+        (any(&|a| !a.mesh.colors.is_empty()), "vertex colours"),
+        (any(&|a| !a.materials.is_empty()), "materials"),
+        (any(&|a| !a.images.is_empty()), "textures"),
+    ]
+    .into_iter()
+    .filter(|(present, _)| *present)
+    .map(|(_, what)| what.to_string())
+    .collect()
 }
 
 #[derive(Serialize)]
@@ -181,11 +290,6 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
     let start = Instant::now();
     let format = args.format();
     args.glb.check(format)?;
-    if args.glb.compress.is_some() {
-        return Err(CliError::usage(
-            "--compress applies to meshes' chains; an asset's levels are written uncompressed",
-        ));
-    }
     let names = Names::of(args, format)?;
     let by_budget = args.triangles.is_some() || args.error.is_some();
     let pyramid = if by_budget {
@@ -217,9 +321,11 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
         glb,
         level_files,
         ext: &ext,
+        looks: glb || writes_looks_as_mesh(format),
     };
     plan.check(&mut out, &made)?;
     let glb_options = AssetGlbOptions {
+        compression: args.glb.compression(),
         layout: args.glb.layout.layout(),
         coverages: Vec::new(),
         name: args
@@ -227,15 +333,15 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
-        ..Default::default()
     };
-    let levels = plan.write_levels(&mut out, &made, &glb_options)?;
+    let mut written = Written::default();
+    let levels = plan.write_levels(&mut out, &made, &glb_options, &mut written)?;
     let chain: Vec<_> = made.assets.iter().filter_map(|l| l.asset.clone()).collect();
+    warnings.append(&mut written.warnings);
     if glb {
         let path = in_dir(&names.dir, &names.chain);
-        let bytes = voxlod::gltf::asset_glb(&chain, &glb_options).map_err(|e| in_file(&path, e))?;
-        out.bytes(&path, &bytes)?;
-    } else {
+        written.glb(&mut out, &path, &chain, None, &glb_options)?;
+    } else if !plan.looks {
         warnings.push(format!(
             "the levels' looks (texture coordinates, colours, normals, materials) were dropped: \
              {} files hold geometry only; --format glb keeps them",
@@ -248,7 +354,9 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
         route: made.lod.route.name(),
         layout: glb.then(|| args.glb.layout.name()),
         glb: glb.then(|| names.chain.clone()),
+        compression: (glb && args.glb.compress.is_some()).then_some("meshopt"),
         levels,
+        files: written.files,
         total_seconds: start.elapsed().as_secs_f64(),
         warnings,
     };
@@ -292,6 +400,8 @@ struct Plan<'a> {
     glb: bool,
     level_files: bool,
     ext: &'a str,
+    /// Whether the levels' files keep their looks (`.glb`, OBJ + MTL, coloured PLY).
+    looks: bool,
 }
 
 impl Plan<'_> {
@@ -302,6 +412,9 @@ impl Plan<'_> {
         for (k, level) in made.assets.iter().enumerate() {
             if self.level_files && level.asset.is_some() {
                 out.check(&in_dir(&names.dir, &names.level(k, self.ext)))?;
+                if self.ext == "obj" && self.looks {
+                    out.check(&in_dir(&names.dir, &names.level(k, "mtl")))?;
+                }
             }
         }
         if self.glb {
@@ -312,29 +425,45 @@ impl Plan<'_> {
         Ok(())
     }
 
-    /// Writes each level's own file where it gets one, and reports every level.
+    /// Writes each level's own file where it gets one (with the files beside it: an OBJ's
+    /// MTL and textures, a PLY's texture), lists them in `written`, and reports every level.
     fn write_levels(
         &self,
         out: &mut OutputSet,
         made: &voxlod::AssetLod,
         glb_options: &AssetGlbOptions,
+        written: &mut Written,
     ) -> Result<Vec<AssetLevelReport>, CliError> {
         let (names, ext) = (self.names, self.ext);
         let mut levels = Vec::with_capacity(made.assets.len());
+        let mut looks_files = Vec::new();
         for (k, (level, lod_level)) in made.assets.iter().zip(&made.lod.levels).enumerate() {
-            let file = match (&level.asset, self.glb, self.level_files) {
+            let path = in_dir(&names.dir, &names.level(k, ext));
+            let file = match (&level.asset, self.glb, self.looks) {
                 (None, _, _) => None,
-                (Some(asset), true, true) => {
-                    let path = in_dir(&names.dir, &names.level(k, ext));
-                    let bytes = voxlod::gltf::asset_glb(std::slice::from_ref(asset), glb_options)
-                        .map_err(|e| in_file(&path, e))?;
-                    out.bytes(&path, &bytes)?;
+                (Some(asset), true, _) if self.level_files => {
+                    let one = std::slice::from_ref(asset);
+                    written.glb(out, &path, one, Some(k), glb_options)?;
                     Some(names.level(k, ext))
                 }
-                (Some(_), true, false) => Some(names.chain.clone()),
-                (Some(_), false, _) => {
-                    let path = in_dir(&names.dir, &names.level(k, ext));
+                (Some(_), true, _) => Some(names.chain.clone()),
+                (Some(asset), false, true) => {
+                    let files = voxlod::io::asset_files(&path, asset)?;
+                    for f in &files.files {
+                        written.add(&f.path, Some(k), Some(f.bytes.len()), f.carries.clone());
+                    }
+                    let said = files.warnings.iter().map(|w| format!("level {k}: {w}"));
+                    written.warnings.extend(said);
+                    looks_files.push(files);
+                    Some(names.level(k, ext))
+                }
+                (Some(_), false, false) => {
                     out.mesh(&path, &lod_level.mesh)?;
+                    let mut carries = vec!["triangles".to_string()];
+                    if !lod_level.mesh.normals.is_empty() {
+                        carries.push("normals".into());
+                    }
+                    written.add(&path, Some(k), None, carries);
                     Some(names.level(k, ext))
                 }
             };
@@ -344,7 +473,7 @@ impl Plan<'_> {
                 file,
                 vertices: lod_level.mesh.positions.len(),
                 triangles: budget.is_none().then_some(lod_level.mesh.triangles.len()),
-                looks: match (self.glb, level.looks) {
+                looks: match (self.looks, level.looks) {
                     (false, _) => "dropped",
                     (true, Looks::Kept) => "kept",
                     (true, Looks::Transferred) => "transferred",
@@ -353,6 +482,8 @@ impl Plan<'_> {
                 budget,
             });
         }
+        let staged: Vec<&voxlod::io::AssetFiles> = looks_files.iter().collect();
+        voxlod::io::stage_assets(out, &staged)?;
         Ok(levels)
     }
 }

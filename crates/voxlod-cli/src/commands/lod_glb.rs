@@ -2,13 +2,13 @@
 //! finest to the coarsest, with `MSFT_screencoverage` from `voxlod select`'s pixel-size rule
 //! (`voxlod::lod_glb`); `--split` writes the level files too, `--compress meshopt` quantizes
 //! and encodes the geometry as gltfpack does. `--layout lod-nodes` writes one scene node per
-//! level named `LOD0`, `LOD1`, … instead (uncompressed).
+//! level named `LOD0`, `LOD1`, … instead (compressed too with `--compress`).
 
 use std::path::Path;
 
 use clap::{Args, ValueEnum};
 use serde::Serialize;
-use voxlod::gltf::{AssetGlbOptions, ChainOptions, Layout};
+use voxlod::gltf::{AssetGlbOptions, ChainOptions, Compression, Layout};
 use voxlod::io::OutputSet;
 use voxlod::Lod;
 
@@ -21,12 +21,15 @@ pub const CHAIN_FILE: &str = "lod.glb";
 /// Format of `lod`'s output: level meshes, or one glTF chain.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum LodFormat {
+    /// PLY level files; an asset's with vertex colours, texture coordinates and its texture
     Ply,
+    /// OBJ level files; an asset's with its MTL materials and textures beside them
     Obj,
     Stl,
     Vtp,
     Vtk,
-    /// One DIR/lod.glb with every level (MSFT_lod); level files as PLY with --split
+    /// One DIR/lod.glb with every level (MSFT_lod, or LOD nodes with --layout); level files as
+    /// PLY with --split (as .glb for an asset)
     Glb,
 }
 
@@ -46,7 +49,8 @@ impl LodFormat {
 /// Geometry compression of the chain.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum CompressArg {
-    /// EXT_meshopt_compression with KHR_mesh_quantization (14-bit positions, 8-bit normals)
+    /// EXT_meshopt_compression with KHR_mesh_quantization (14-bit positions, 8-bit normals and
+    /// tangents, 16-bit texture coordinates in 0..1 and colours)
     Meshopt,
 }
 
@@ -56,7 +60,8 @@ pub struct GlbArgs {
     /// With --format glb: write the level files (PLY) beside lod.glb
     #[arg(long)]
     pub split: bool,
-    /// With --format glb: compress the geometry
+    /// With --format glb: compress the geometry and an asset's attributes, in either layout
+    /// (OBJ and PLY level files are written uncompressed)
     #[arg(long, value_enum, value_name = "METHOD")]
     pub compress: Option<CompressArg>,
     /// With --format glb: how the levels sit in the .glb. msft-lod: one node switching levels
@@ -67,10 +72,23 @@ pub struct GlbArgs {
 }
 
 impl GlbArgs {
-    /// Refuses the flags without `--format glb`.
+    /// Refuses the flags without `--format glb`, naming the flag.
     pub fn check(&self, format: LodFormat) -> Result<(), CliError> {
-        if format != LodFormat::Glb && (self.split || self.compress.is_some()) {
-            return Err(CliError::usage("--split and --compress need --format glb"));
+        let name = format
+            .to_possible_value()
+            .map(|v| v.get_name().to_uppercase())
+            .unwrap_or_default();
+        if format != LodFormat::Glb && self.compress.is_some() {
+            return Err(CliError::usage(format!(
+                "--compress needs --format glb: {name} level files are written uncompressed"
+            )));
+        }
+        if format != LodFormat::Glb && self.split {
+            return Err(CliError::usage(format!(
+                "--split needs --format glb: with --format {} every level is its own file \
+                 already",
+                name.to_lowercase()
+            )));
         }
         if format != LodFormat::Glb && self.layout != LayoutArg::MsftLod {
             return Err(CliError::usage("--layout needs --format glb"));
@@ -78,15 +96,17 @@ impl GlbArgs {
         Ok(())
     }
 
-    /// [`GlbArgs::check`] for a mesh's or a volume's chain: `--compress` writes `MSFT_lod`.
-    pub fn check_chain(&self, format: LodFormat) -> Result<(), CliError> {
-        self.check(format)?;
-        if self.layout != LayoutArg::MsftLod && self.compress.is_some() {
-            return Err(CliError::usage(
-                "--compress writes an MSFT_lod chain; --layout lod-nodes is written uncompressed",
-            ));
+    /// How `--compress` asks the `.glb` to be stored.
+    pub fn compression(&self) -> Compression {
+        match self.compress {
+            Some(CompressArg::Meshopt) => Compression::Meshopt,
+            None => Compression::None,
         }
-        Ok(())
+    }
+
+    /// [`GlbArgs::check`] for a mesh's or a volume's chain.
+    pub fn check_chain(&self, format: LodFormat) -> Result<(), CliError> {
+        self.check(format)
     }
 }
 
@@ -110,7 +130,7 @@ pub fn add_chain(
     args: &GlbArgs,
 ) -> Result<GlbReport, CliError> {
     if args.layout == LayoutArg::LodNodes {
-        return add_lod_nodes(out, dir, lod);
+        return add_lod_nodes(out, dir, lod, args);
     }
     let options = match args.compress {
         Some(CompressArg::Meshopt) => ChainOptions::meshopt(),
@@ -130,8 +150,14 @@ pub fn add_chain(
 }
 
 /// `DIR/lod.glb` with one scene node per level that has a surface, named `LOD0`, `LOD1`, …
-/// (positions and normals; `voxlod::gltf::asset_glb`'s `LodNodes` layout).
-fn add_lod_nodes(out: &mut OutputSet, dir: &Path, lod: &Lod) -> Result<GlbReport, CliError> {
+/// (positions and normals; `voxlod::gltf::asset_glb`'s `LodNodes` layout, compressed with
+/// `--compress`).
+fn add_lod_nodes(
+    out: &mut OutputSet,
+    dir: &Path,
+    lod: &Lod,
+    args: &GlbArgs,
+) -> Result<GlbReport, CliError> {
     let levels: Vec<_> = lod
         .levels
         .iter()
@@ -148,6 +174,7 @@ fn add_lod_nodes(out: &mut OutputSet, dir: &Path, lod: &Lod) -> Result<GlbReport
         .collect();
     let options = AssetGlbOptions {
         layout: Layout::LodNodes,
+        compression: args.compression(),
         ..AssetGlbOptions::default()
     };
     let path = in_dir(dir, CHAIN_FILE);
@@ -156,7 +183,7 @@ fn add_lod_nodes(out: &mut OutputSet, dir: &Path, lod: &Lod) -> Result<GlbReport
     Ok(GlbReport {
         file: CHAIN_FILE.into(),
         bytes: bytes.len(),
-        compression: None,
+        compression: args.compress.map(|_| "meshopt"),
         layout: "lod-nodes",
         levels: levels.len(),
         screen_coverage: Vec::new(),
