@@ -3,7 +3,9 @@
 //! back as a glTF asset, at 50 % and 5 % of its triangles. The collapse with attributes is
 //! somewhat farther from the input than the geometric collapse, because its UV seams stay; it
 //! is kept with its texture rather than the geometric level with the texture reduced to
-//! vertex colours, which renders farther from the input.
+//! vertex colours, which renders farther from the input. Where the portfolio chooses a voxel
+//! level (a globe textured in two halves, under 1 % of its triangles), the textured collapse
+//! replaces it where its colours are closer to the input's, and renders closer too.
 
 use voxlod::asset::Asset;
 use voxlod::gltf::{asset_glb, parse_scene, AssetGlbOptions};
@@ -45,6 +47,80 @@ fn a_textured_collapse_keeps_its_texture_when_a_little_farther() {
             .unwrap()
             .asset;
         let kept = reference.compare(a).unwrap().psnr;
+        let colours = reference.compare(&transferred).unwrap().psnr;
+        assert!(
+            kept > colours,
+            "{budget}: kept {kept} dB, transferred {colours} dB"
+        );
+    }
+}
+
+/// A latitude-longitude sphere (a vertex per segment at each pole, the meridian's vertices
+/// doubled) textured with the two-halves image along its longitude: red on one side, blue
+/// on the other.
+fn halves_globe(rings: u32, segments: u32) -> Asset {
+    use voxlod::core::glam::{Vec2, Vec3};
+    let mut asset = voxlod_testkit::assets::textured_sphere(1);
+    let m = &mut asset.mesh;
+    *m = voxlod::asset::AssetMesh::default();
+    for i in 0..=rings {
+        for j in 0..=segments {
+            let (v, u) = (i as f32 / rings as f32, j as f32 / segments as f32);
+            let (theta, phi) = (v * std::f32::consts::PI, u * std::f32::consts::TAU);
+            let n = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                -theta.sin() * phi.sin(),
+            );
+            m.positions.push(n);
+            m.normals.push(n);
+            m.uv[0].push(Vec2::new(u, v));
+        }
+    }
+    let at = |i: u32, j: u32| i * (segments + 1) + j;
+    for i in 0..rings {
+        for j in 0..segments {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            if i != 0 {
+                m.triangles.push([a, b, d]);
+            }
+            if i != rings - 1 {
+                m.triangles.push([b, c, d]);
+            }
+        }
+    }
+    m.material = vec![0; m.triangles.len()];
+    asset
+}
+
+#[test]
+fn a_textured_collapse_replaces_a_voxel_level_where_its_colours_are_closer() {
+    let input = halves_globe(48, 96);
+    let options = AppearanceOptions {
+        views: 14,
+        size: 128,
+        supersample: 1,
+    };
+    let reference = AppearanceReference::new(&input, &options).unwrap();
+    for budget in [90, 40] {
+        let portfolio = voxlod::portfolio::PortfolioOptions::for_triangles(&[budget]);
+        let run = voxlod::portfolio::asset_levels(&input, &portfolio).unwrap();
+        let geometric = voxlod::portfolio::levels(&input.mesh.geometry(), &portfolio).unwrap();
+        let level = &run.levels[0];
+        let chosen = &geometric.levels[0];
+        assert_eq!(level.looks, Looks::Kept, "{budget} triangles");
+        assert!(!level.asset.mesh.uv[0].is_empty());
+        // Farther than the chosen level: kept by its colours, not by its distance.
+        assert!(
+            level.report.hausdorff > chosen.report.hausdorff,
+            "{budget}: {} against {}",
+            level.report.hausdorff,
+            chosen.report.hausdorff
+        );
+        let transferred = voxlod::asset::transfer(&input, &geometric.levels[0].mesh)
+            .unwrap()
+            .asset;
+        let kept = reference.compare(&level.asset).unwrap().psnr;
         let colours = reference.compare(&transferred).unwrap().psnr;
         assert!(
             kept > colours,

@@ -7,14 +7,31 @@
 //! share a position with a vertex of other attributes on their seam, and a vertex used by two
 //! materials is split first so that every material border is such a seam.
 //!
-//! Cost: O(T log T) for T input triangles (meshoptimizer's collapse), plus linear copies.
+//! Two steps go beyond gltfpack's `-si`:
+//! - Point seams ([`crate::seams`]): the vertices of a sphere's pole or a cone's apex, one per
+//!   segment with its own texture coordinate, are welded into one vertex for the collapse and
+//!   take back their own attributes per triangle after it, so that the fan collapses as one
+//!   vertex instead of staying whole.
+//! - Below the seams' minimum: where the collapse that keeps every seam stops above the count
+//!   (by more than [`SEAM_MINIMUM_SLACK`]), it runs again in meshoptimizer's permissive mode,
+//!   which collapses across texture seams where the attribute error allows (material borders
+//!   stay protected); its level is taken where it gets closer to the count. Its vertices are
+//!   still the input's.
+//!
+//! Cost: O(T log T) for T input triangles (meshoptimizer's collapse, twice below the seams'
+//! minimum), plus linear copies and hash maps.
 
 use std::collections::HashMap;
 
-use meshopt::{SimplifyOptions, VertexDataAdapter};
+use meshopt::{SimplifyOptions, SimplifyVertex, VertexDataAdapter};
 use voxlod_core::memory::{bytes_of, check_allocation};
 
+use crate::seams::{point_seams, resolve, weld, PointSeams, SeamOptions};
 use crate::{Asset, AssetError, AssetMesh};
+
+/// How far above the count (a fraction of it) the collapse that keeps every seam may stop
+/// before the collapse across seams is tried.
+pub const SEAM_MINIMUM_SLACK: f64 = 0.10;
 
 /// How much each attribute weighs against the positions' quadric error (which meshoptimizer
 /// measures relative to the mesh's extent, so 1 weighs a unit of the attribute like the whole
@@ -47,6 +64,12 @@ pub struct CollapseOptions {
     /// Largest error meshoptimizer may reach, relative to the mesh's extent; the default (1)
     /// lets the triangle count decide.
     pub target_error: f32,
+    /// Point seams to weld for the collapse ([`crate::seams`]); `None` keeps every vertex
+    /// apart, as gltfpack does.
+    pub point_seams: Option<SeamOptions>,
+    /// Whether a collapse that stops above the count at the seams' minimum may run again
+    /// across texture seams (module docs).
+    pub cross_seams: bool,
 }
 
 impl Default for CollapseOptions {
@@ -54,6 +77,19 @@ impl Default for CollapseOptions {
         CollapseOptions {
             weights: AttributeWeights::default(),
             target_error: 1.0,
+            point_seams: Some(SeamOptions::default()),
+            cross_seams: true,
+        }
+    }
+}
+
+impl CollapseOptions {
+    /// gltfpack's `-si` rule: every seam kept, no vertex welded, no collapse across seams.
+    pub fn seams_kept() -> Self {
+        CollapseOptions {
+            point_seams: None,
+            cross_seams: false,
+            ..Self::default()
         }
     }
 }
@@ -64,7 +100,8 @@ pub fn collapse(asset: &Asset, triangles: usize) -> Result<Asset, AssetError> {
 }
 
 /// The asset collapsed towards `triangles` triangles (meshoptimizer stops above the count where
-/// a further collapse would break a seam or the topology it keeps); its vertices are a subset of
+/// a further collapse would break a seam or the topology it keeps, unless
+/// [`CollapseOptions::cross_seams`] lets it cross texture seams); its vertices are a subset of
 /// the input's, with all their attributes, and each triangle keeps its material. Refuses an
 /// invalid asset ([`Asset::validate`]) and asks the memory limit for the copies.
 pub fn collapse_with(
@@ -76,29 +113,127 @@ pub fn collapse_with(
     let split = split_material_borders(asset)?;
     let mesh = &split.mesh;
     let (attributes, weights) = attribute_table(mesh, &options.weights);
-    let stride = weights.len().max(1);
     check_allocation(
         "the collapse's attribute table",
         bytes_of::<f32>(attributes.len()),
     )?;
-    let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
-    let adapter = VertexDataAdapter::new(meshopt::typed_to_bytes(&positions), 12, 0)
-        .map_err(|e| AssetError::Invalid(format!("meshoptimizer refused the vertices: {e}")))?;
-    let indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
-    let locks = vec![false; positions.len()];
-    let kept = meshopt::simplify_with_attributes_and_locks(
-        &indices,
-        &adapter,
-        &attributes,
-        &weights,
-        stride * 4,
-        &locks,
-        triangles.saturating_mul(3),
-        options.target_error,
-        SimplifyOptions::empty(),
-        None,
-    );
+    let seams = match &options.point_seams {
+        Some(o) => point_seams(mesh, o)?,
+        None => PointSeams::none(mesh.positions.len()),
+    };
+    let table = Table {
+        mesh,
+        attributes: &attributes,
+        weights: &weights,
+        seams: &seams,
+    };
+    let mut kept = table.collapse(triangles, options.target_error, false)?;
+    // Welded fans let a part collapse further, and the count then takes whole parts where
+    // others stop at their seams: a material lost that way is kept by leaving fans apart.
+    let materials = {
+        let mut m = mesh.material.clone();
+        m.sort_unstable();
+        m.dedup();
+        m.len().max(1)
+    };
+    if seams.groups() > 0 && materials_in(mesh, &kept) < materials {
+        let none = PointSeams::none(mesh.positions.len());
+        let apart = Table {
+            seams: &none,
+            ..table
+        }
+        .collapse(triangles, options.target_error, false)?;
+        if materials_in(mesh, &apart) > materials_in(mesh, &kept) {
+            kept = apart;
+        }
+    }
+    let slack = triangles as f64 * (1.0 + SEAM_MINIMUM_SLACK);
+    if options.cross_seams && kept.len() / 3 > slack as usize {
+        let crossed = table.collapse(triangles, options.target_error, true)?;
+        if crossed.len() < kept.len() && materials_in(mesh, &crossed) >= materials_in(mesh, &kept) {
+            kept = crossed;
+        }
+    }
     Ok(keep_triangles(&split, &kept))
+}
+
+/// How many materials the triangles `indices` (three per triangle) use; 1 without materials.
+fn materials_in(mesh: &AssetMesh, indices: &[u32]) -> usize {
+    if mesh.material.is_empty() {
+        return usize::from(!indices.is_empty());
+    }
+    let of = vertex_materials(mesh);
+    let mut used: Vec<u32> = indices.chunks_exact(3).map(|c| of[c[0] as usize]).collect();
+    used.sort_unstable();
+    used.dedup();
+    used.len()
+}
+
+/// A split asset's vertices as meshoptimizer reads them, with the point seams to weld.
+#[derive(Clone, Copy)]
+struct Table<'a> {
+    mesh: &'a AssetMesh,
+    attributes: &'a [f32],
+    weights: &'a [f32],
+    seams: &'a PointSeams,
+}
+
+impl Table<'_> {
+    /// The kept triangles (three input vertex indices each) of one collapse towards
+    /// `triangles`: point seams welded before and resolved after; with `across`, in
+    /// meshoptimizer's permissive mode with the material borders' vertices protected.
+    fn collapse(&self, triangles: usize, error: f32, across: bool) -> Result<Vec<u32>, AssetError> {
+        let mesh = self.mesh;
+        let stride = self.weights.len().max(1);
+        let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
+        let adapter = VertexDataAdapter::new(meshopt::typed_to_bytes(&positions), 12, 0)
+            .map_err(|e| AssetError::Invalid(format!("meshoptimizer refused the vertices: {e}")))?;
+        let indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+        let indices = weld(&indices, self.seams);
+        let (flags, locks) = if across {
+            (SimplifyOptions::Permissive, material_borders(mesh))
+        } else {
+            (
+                SimplifyOptions::empty(),
+                vec![SimplifyVertex::None; positions.len()],
+            )
+        };
+        let mut kept = meshopt::simplify_with_attributes_and_locks(
+            &indices,
+            &adapter,
+            self.attributes,
+            self.weights,
+            stride * 4,
+            &locks,
+            triangles.saturating_mul(3),
+            error,
+            flags,
+            None,
+        );
+        resolve(&mut kept, self.seams, self.attributes, stride);
+        Ok(kept)
+    }
+}
+
+/// meshoptimizer's vertex flags protecting every vertex whose position a vertex of another
+/// material shares (after [`split_material_borders`], the material borders' vertices).
+fn material_borders(mesh: &AssetMesh) -> Vec<SimplifyVertex> {
+    let mut flags = vec![SimplifyVertex::None; mesh.positions.len()];
+    let key = |v: u32| mesh.positions[v as usize].to_array().map(f32::to_bits);
+    // Per position: the first material seen, and whether another one uses it too.
+    let mut seen: HashMap<[u32; 3], (u32, bool)> = HashMap::new();
+    for (corners, &m) in mesh.triangles.iter().zip(&mesh.material) {
+        for &v in corners {
+            let entry = seen.entry(key(v)).or_insert((m, false));
+            entry.1 |= entry.0 != m;
+        }
+    }
+    for &v in mesh.triangles.iter().flatten() {
+        if seen.get(&key(v)).is_some_and(|e| e.1) {
+            flags[v as usize] = SimplifyVertex::Protect;
+        }
+    }
+    flags
 }
 
 /// The attributes as meshoptimizer reads them, one row per vertex, and their weights. An

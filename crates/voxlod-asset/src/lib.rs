@@ -19,7 +19,9 @@
 
 pub mod asset;
 pub mod collapse;
+pub mod colour_error;
 pub mod error;
+pub mod seams;
 pub mod texture;
 pub mod transfer;
 
@@ -27,6 +29,8 @@ pub use asset::{
     AlphaMode, Asset, AssetMesh, Image, Material, Part, Sampler, TextureRef, TextureTransform, Wrap,
 };
 pub use collapse::{collapse, collapse_with, AttributeWeights, CollapseOptions};
+pub use colour_error::colour_error;
 pub use error::AssetError;
+pub use seams::{point_seams, PointSeams, SeamOptions};
 pub use texture::{decode, Texels};
 pub use transfer::{transfer, Transferred};

@@ -77,15 +77,15 @@ pub fn transfer(input: &Asset, level: &TriangleMesh) -> Result<Transferred, Asse
 }
 
 /// A point on an input triangle by its barycentric weights.
-struct Barycentric {
-    triangle: usize,
-    weights: [f32; 3],
+pub(crate) struct Barycentric {
+    pub(crate) triangle: usize,
+    pub(crate) weights: [f32; 3],
 }
 
 impl Barycentric {
     /// The weights of `point` (on or near triangle `t`), clamped to the triangle; a degenerate
     /// triangle gives its first corner.
-    fn on(mesh: &AssetMesh, t: usize, point: DVec3) -> Barycentric {
+    pub(crate) fn on(mesh: &AssetMesh, t: usize, point: DVec3) -> Barycentric {
         let [a, b, c] = mesh.triangles[t].map(|v| mesh.positions[v as usize].as_dvec3());
         let (e0, e1, ep) = (b - a, c - a, point - a);
         let (d00, d01, d11) = (e0.dot(e0), e0.dot(e1), e1.dot(e1));
@@ -115,7 +115,7 @@ impl Barycentric {
 }
 
 /// What the input shows at a point: vertex colour × base colour factor × base colour texture.
-fn colour_at(input: &Asset, textures: &[Option<Texels>], at: &Barycentric) -> Vec4 {
+pub(crate) fn colour_at(input: &Asset, textures: &[Option<Texels>], at: &Barycentric) -> Vec4 {
     let mesh = &input.mesh;
     let mut colour = if mesh.colors.is_empty() {
         Vec4::ONE

@@ -12,7 +12,11 @@
 //!   level takes the looks as the next case does.
 //! - Every other level (voxel, shell, clustering-like, checked collapses, the level above)
 //!   is replaced by the input's collapse with attributes where that meets the budget and is
-//!   measured no farther from the input; otherwise it
+//!   measured no farther from the input, or, for a textured asset, where it is within
+//!   [`TEXTURED_ALLOWANCE`] and its colours are closer to the input's
+//!   (`voxlod_asset::colour_error`: what the input shows at points over its surface against
+//!   what the level shows at the nearest points) than the level's with transferred looks;
+//!   otherwise it
 //!   takes colours, normals and untextured materials from the nearest input point
 //!   (`voxlod_asset::transfer`), the base colour texture sampled into vertex colours, so that
 //!   no level of a textured asset comes out grey.
@@ -21,7 +25,8 @@
 //! the input's vertices for the same reason the collapse does here.
 //!
 //! Cost: the portfolio's, plus one attribute collapse and one distance measure per level, and
-//! one nearest-point pass per level that does not keep the input's vertices (O(V log N)).
+//! one nearest-point pass per level that does not keep the input's vertices (O(V log N)); a
+//! level of a textured asset compared by colour adds two colour measures (O(T log L) each).
 
 use serde::Serialize;
 use voxlod_asset::{Asset, AssetError};
@@ -112,19 +117,20 @@ pub fn asset_levels(
         };
         // A level made otherwise is compared with the input's collapse with attributes, which
         // replaces it where it is no farther from the input.
-        let (source, allowance) = match collapsed {
-            Some(source) => (source, allowance(asset)),
-            None => (asset, 1.0),
+        let source = match collapsed {
+            Some(source) => Source {
+                asset: source,
+                allowance: allowance(asset),
+                by_colour: false,
+            },
+            None => Source {
+                asset,
+                allowance: 1.0,
+                by_colour: textured(asset),
+            },
         };
-        let (asset_level, more) = with_looks(
-            asset,
-            source,
-            allowance,
-            &geometry,
-            level.mesh,
-            level.report,
-            options,
-        )?;
+        let (asset_level, more) =
+            with_looks(asset, source, &geometry, level.mesh, level.report, options)?;
         warnings.extend(more);
         made[k] = Some(asset_level);
     }
@@ -139,29 +145,50 @@ pub fn asset_levels(
     })
 }
 
-/// The level with looks: `source` (the input, or the level above with its looks) collapsed
-/// with attributes where that meets the budget and is measured no farther from the input than
-/// `allowance` times the chosen level, else the chosen mesh with looks from the nearest input
-/// points.
+/// What a level is collapsed from with its looks, and how it is judged.
+#[derive(Clone, Copy)]
+struct Source<'a> {
+    /// The input, or the level above with its looks.
+    asset: &'a Asset,
+    /// How much farther than the chosen level the collapse may be.
+    allowance: f64,
+    /// Whether a collapse beyond the allowance is compared by colour (a level made otherwise of
+    /// a textured asset).
+    by_colour: bool,
+}
+
+/// The level with looks: `source` collapsed with attributes where that meets the budget and is
+/// measured no farther from the input than its allowance times the chosen level, or, where
+/// it is compared by colour, no farther than [`TEXTURED_ALLOWANCE`] times and closer in colour
+/// ([`voxlod_asset::colour_error`]) than the chosen mesh with transferred looks; else the
+/// chosen mesh with looks from the nearest input points.
 fn with_looks(
     asset: &Asset,
-    source: &Asset,
-    allowance: f64,
+    source: Source<'_>,
     geometry: &TriangleMesh,
     mesh: TriangleMesh,
     mut report: BudgetLevel,
     options: &PortfolioOptions,
 ) -> Result<(AssetLevel, Vec<String>), BudgetError> {
-    let kept = voxlod_asset::collapse(source, report.budget).map_err(looks_error)?;
+    let kept = voxlod_asset::collapse(source.asset, report.budget).map_err(looks_error)?;
     let t = kept.mesh.triangles.len();
     let within = (t as f64) <= report.budget as f64 * (1.0 + BUDGET_TOLERANCE) && t > 0;
+    let mut taken = None;
     if within {
         let d = mesh_distance(
             geometry,
             &kept.mesh.geometry(),
             &DistanceOptions::for_samples(options.careful_samples),
         )?;
-        if d.hausdorff <= report.hausdorff * allowance {
+        let mut keep = d.hausdorff <= report.hausdorff * source.allowance;
+        if !keep && source.by_colour && d.hausdorff <= report.hausdorff * TEXTURED_ALLOWANCE {
+            let transferred = voxlod_asset::transfer(asset, &mesh).map_err(looks_error)?;
+            let error = |level: &Asset| voxlod_asset::colour_error(asset, level);
+            keep = error(&kept).map_err(looks_error)?
+                < error(&transferred.asset).map_err(looks_error)?;
+            taken = Some(transferred);
+        }
+        if keep {
             report.triangles = t;
             report.hausdorff_fraction = d.hausdorff_fraction;
             report.hausdorff = d.hausdorff;
@@ -174,7 +201,10 @@ fn with_looks(
             return Ok((level, Vec::new()));
         }
     }
-    let taken = voxlod_asset::transfer(asset, &mesh).map_err(looks_error)?;
+    let taken = match taken {
+        Some(taken) => taken,
+        None => voxlod_asset::transfer(asset, &mesh).map_err(looks_error)?,
+    };
     let level = AssetLevel {
         asset: taken.asset,
         looks: Looks::Transferred,
@@ -184,18 +214,23 @@ fn with_looks(
 }
 
 /// How much farther than the geometric collapse a collapse with attributes may be:
-/// [`TEXTURED_ALLOWANCE`] when a triangle's material has a base colour texture, else
-/// [`ATTRIBUTE_ALLOWANCE`].
+/// [`TEXTURED_ALLOWANCE`] for a textured asset ([`textured`]), else [`ATTRIBUTE_ALLOWANCE`].
 fn allowance(asset: &Asset) -> f64 {
-    let textured = !asset.mesh.uv[0].is_empty() || !asset.mesh.uv[1].is_empty();
-    let uses_texture = (0..asset.mesh.triangles.len())
-        .filter_map(|t| asset.material_of(t))
-        .any(|m| m.base_color_texture.is_some());
-    if textured && uses_texture {
+    if textured(asset) {
         TEXTURED_ALLOWANCE
     } else {
         ATTRIBUTE_ALLOWANCE
     }
+}
+
+/// Whether the asset has texture coordinates and a triangle whose material has a base colour
+/// texture.
+fn textured(asset: &Asset) -> bool {
+    let coordinates = !asset.mesh.uv[0].is_empty() || !asset.mesh.uv[1].is_empty();
+    coordinates
+        && (0..asset.mesh.triangles.len())
+            .filter_map(|t| asset.material_of(t))
+            .any(|m| m.base_color_texture.is_some())
 }
 
 /// An asset stage's failure as the crate's error (a memory refusal keeps its class).
