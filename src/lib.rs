@@ -21,6 +21,7 @@
 //! | levels of detail (§2, §4) | [`lod()`], [`lod_with`]; one level at a time: [`lod::plan`], [`lod::build_level`] | [`LodOptions`] |
 //! | levels by triangle budget or error (§5) | [`lod_by_budget`], [`lod_by_budget_with`] | [`BudgetOptions`] |
 //! | one filtered volume | [`voxelize`] | [`VoxelizeOptions`] |
+//! | one baked proxy for a whole scene | [`proxy()`], [`proxy_with`] | [`ProxyOptions`] |
 //! | marching cubes on any volume | [`contour`] | [`ContourOptions`] |
 //! | layered translucent shells (§3) | [`layers()`], [`layers_with`]; a chain of levels: [`layers_levels`], [`layers_chain`]; files: [`layered_glb`], [`layered_poly_mesh`], [`layered_preview`] | [`LayersOptions`] |
 //! | vertex clustering baselines | [`cluster`]; one `.glb` chain: [`cluster_glb`] | [`ClusteringOptions`] |
@@ -93,6 +94,7 @@ pub use voxlod_pyramid::{
     LevelEpsilon, Lod, LodLevel, LodOptions, Prepared, Progress, ProgressFn, PyramidError, Route,
     Source, ThenEnvelope, VoxelizeOptions, Voxelized,
 };
+pub use voxlod_pyramid::{proxy, proxy_with, Proxy, ProxyLevel, ProxyOptions};
 pub use voxlod_pyramid::{AssetLod, AssetLodLevel, BudgetOptions};
 
 /// Levels one at a time: [`voxlod_pyramid::lod`].
@@ -103,6 +105,7 @@ pub use voxlod_fit::FitOptions;
 pub use voxlod_layers::LayersOptions;
 
 pub use voxlod_asset as asset;
+pub use voxlod_bake as bake;
 pub use voxlod_budget as portfolio;
 pub use voxlod_clustering as clustering;
 pub use voxlod_contouring as contouring;

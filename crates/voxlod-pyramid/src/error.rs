@@ -94,6 +94,9 @@ pub enum PyramidError {
     /// Levels by triangle budget.
     #[error(transparent)]
     Budget(#[from] BudgetError),
+    /// Baking a proxy's textures.
+    #[error(transparent)]
+    Bake(#[from] voxlod_bake::BakeError),
     /// An option out of its range.
     #[error(transparent)]
     InvalidOption(#[from] InvalidOption),
@@ -291,6 +294,7 @@ impl PyramidError {
             PyramidError::Envelope(e) => envelope_class(e),
             PyramidError::Metrics(e) => metrics_class(e),
             PyramidError::Budget(e) => budget_class(e),
+            PyramidError::Bake(e) => bake_class(e),
             PyramidError::InvalidOption(_)
             | PyramidError::IsoRequired
             | PyramidError::NoVolumeRoute
@@ -307,6 +311,17 @@ impl PyramidError {
             | PyramidError::NotALabel { .. }
             | PyramidError::NoLabels => BadInput,
         }
+    }
+}
+
+/// The class of a bake's error: the memory limit keeps its class; an invalid source, level or
+/// atlas is bad input.
+pub fn bake_class(e: &voxlod_bake::BakeError) -> ErrorClass {
+    use voxlod_bake::BakeError;
+    match e {
+        BakeError::Core(e) | BakeError::Asset(voxlod_asset::AssetError::Core(e)) => core_class(e),
+        BakeError::Metrics(e) => metrics_class(e),
+        _ => ErrorClass::BadInput,
     }
 }
 

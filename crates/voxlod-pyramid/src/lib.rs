@@ -15,6 +15,8 @@
 //!   mesh, the portfolio of crate `voxlod-budget`; for a scan, and for an error target, the
 //!   voxel-first search of §5 ([`budget`]: a voxel level, then the geometric stage).
 //! - **Label maps** ([`labels`]): each label's indicator through the same pyramid.
+//! - **One proxy for a whole scene** ([`proxy()`]): the scene's union as new closed levels by
+//!   budget, each baked with one material and one texture set (crate `voxlod-bake`).
 //! - **One filtered volume** ([`voxelize()`]).
 //! - Progress and cancellation ([`ProgressFn`], [`Control`]) and the crate's error
 //!   ([`PyramidError`], with [`ErrorClass`]).
@@ -38,6 +40,7 @@ mod levels;
 pub mod lod;
 mod lod_options;
 pub mod progress;
+mod proxy;
 pub mod scan;
 pub mod source;
 mod then_envelope;
@@ -52,6 +55,7 @@ pub use levels::{lod, lod_with};
 pub use lod::LodLevel;
 pub use lod_options::{Lod, LodOptions};
 pub use progress::{run_to_end, Control, Event, Progress, ProgressFn, Tracker};
+pub use proxy::{proxy, proxy_with, Proxy, ProxyLevel, ProxyOptions};
 pub use scan::{BlockwiseReason, Scan};
 pub use source::{iso_outside_data, Prepared, Route, ScanRoute, Source};
 pub use then_envelope::{EnvelopeStep, LevelEpsilon, ThenEnvelope};

@@ -19,6 +19,7 @@ pub mod lod;
 pub mod lod_asset;
 pub mod lod_budget;
 pub mod lod_glb;
+pub mod proxy;
 pub mod render;
 pub mod select;
 pub mod source;
@@ -43,6 +44,7 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     Lod(lod::LodArgs),
+    Proxy(proxy::ProxyArgs),
     Demo(demo::DemoArgs),
     Voxelize(voxelize::VoxelizeArgs),
     Contour(contour::ContourArgs),
@@ -72,6 +74,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
             lod_budget::run(&args)
         }
         Command::Lod(args) => lod::run(args),
+        Command::Proxy(args) => proxy::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Voxelize(args) => voxelize::run(args),
         Command::Contour(args) => contour::run(args),

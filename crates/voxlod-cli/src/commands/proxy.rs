@@ -1,0 +1,290 @@
+//! `voxlod proxy SCENE -o OUT.glb --triangles A,B,…`: one proxy for a whole scene
+//! (`voxlod::proxy`): the scene's parts as one solid, levels by budget made by the voxel method
+//! and the quadric stage, each baked with one material and one texture set, written as one
+//! `.glb` in either level layout; the report gives per level its triangles, draw calls,
+//! texture size, charts, texel utilisation and its appearance against the scene.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args;
+use serde::Serialize;
+use voxlod::asset::Asset;
+use voxlod::gltf::{AssetGlbOptions, Compression};
+use voxlod::io::OutputSet;
+use voxlod::{Control, Progress, ProxyOptions};
+use voxlod_eval::appearance::{AppearanceOptions, AppearanceReference};
+
+use super::common::{in_file, print_json, progress, say, CliError};
+use super::lod_asset::LayoutArg;
+use super::lod_glb::CompressArg;
+use super::values::number;
+
+/// One proxy for a whole scene, its looks baked: every part and instance of a glTF scene (or
+/// of an OBJ, PLY or OFF asset) sampled as one solid and remeshed by the voxel method at each
+/// triangle budget (parts merge, gaps narrower than a voxel close, what is hidden inside goes,
+/// the genus drops), then given a UV atlas and textures cast from the scene: base colour,
+/// tangent-space normals, occlusion-roughness-metallic and emissive where the scene has them.
+/// Each level is one closed mesh with one material: one draw call.
+///
+/// Examples:
+///   voxlod proxy street.glb -o street-proxy.glb --triangles 5000,1000,250
+///   voxlod proxy machine.gltf -o proxy.glb --triangles 2000 --texture 2048 --layout lod-nodes
+///   voxlod proxy spot.obj -o spot-proxy.glb --triangles 500 --json
+#[derive(Args, Debug)]
+#[command(verbatim_doc_comment)]
+pub struct ProxyArgs {
+    /// The scene: a glTF file (.glb, .gltf: every node, instance and material), or an asset
+    /// with its looks (.obj with .mtl, .ply or .off with vertex colours)
+    pub input: PathBuf,
+    /// The .glb to write, every level in it
+    #[arg(short, long, value_name = "OUT.glb")]
+    pub output: PathBuf,
+    /// Triangle budgets, one level each (e.g. 5000,1000,250), each within 10 %
+    #[arg(long, value_name = "N,N,...", value_delimiter = ',', required = true,
+        value_parser = number::<usize>, allow_hyphen_values = true)]
+    pub triangles: Vec<usize>,
+    /// Texels a side of each level's textures
+    #[arg(long, value_name = "TEXELS", default_value_t = 1024,
+        value_parser = number::<u32>, allow_hyphen_values = true)]
+    pub texture: u32,
+    /// How the levels sit in the .glb. msft-lod: one node switching levels with MSFT_lod;
+    /// lod-nodes: one node per level named LOD0, LOD1, … (Blender, Unity, Unreal, three.js)
+    #[arg(long, value_enum, default_value = "msft-lod")]
+    pub layout: LayoutArg,
+    /// Compress the levels' geometry (textures stay PNG)
+    #[arg(long, value_enum, value_name = "METHOD")]
+    pub compress: Option<CompressArg>,
+    /// Let the genus rise from a level to the next
+    #[arg(long)]
+    pub no_monotone: bool,
+    /// Leave each level's vertices where the voxel method put them (by default they are
+    /// fitted to the scene's surface where that measures closer)
+    #[arg(long)]
+    pub no_fit: bool,
+    /// Skip the appearance measure (the scene and every level rendered from 14 views)
+    #[arg(long)]
+    pub no_appearance: bool,
+    /// Print the report as JSON on standard output (no progress bar)
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The report of a proxy run.
+#[derive(Serialize)]
+struct ProxyReport {
+    input: String,
+    output: String,
+    bytes: usize,
+    layout: &'static str,
+    /// Draw calls of the scene: one per material its triangles use.
+    input_draw_calls: usize,
+    input_triangles: usize,
+    levels: Vec<LevelReport>,
+    total_seconds: f64,
+    /// Every warning, also printed on standard error without --json.
+    warnings: Vec<String>,
+}
+
+#[derive(Serialize)]
+struct LevelReport {
+    level: usize,
+    budget: usize,
+    triangles: usize,
+    draw_calls: usize,
+    method: &'static str,
+    resolution: Option<usize>,
+    /// Two-sided Hausdorff distance to the scene's surface, and as a fraction of its diagonal.
+    hausdorff: f64,
+    hausdorff_fraction: f64,
+    genus: Option<i64>,
+    components: usize,
+    /// The bake: texture size, charts, texel utilisation, texels that hit the scene.
+    bake: voxlod::bake::BakeReport,
+    /// PSNR (dB) and SSIM from 14 views against the scene, without --no-appearance.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    psnr: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    ssim: Option<f64>,
+    /// The level's making and bake.
+    seconds: f64,
+}
+
+/// Reads the scene, makes its proxy levels and writes them.
+pub fn run(args: ProxyArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    let is_glb = args
+        .output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb"));
+    if !is_glb {
+        return Err(CliError::usage(format!(
+            "-o {}: a proxy is written as one .glb (its textures inside); name it OUT.glb",
+            args.output.display()
+        )));
+    }
+    let mut out = OutputSet::protecting([&args.input]);
+    out.check(&args.output)?;
+    let (scene, mut warnings) = read_scene(&args.input)?;
+    let options = ProxyOptions {
+        monotone: !args.no_monotone,
+        fit: (!args.no_fit).then(voxlod::FitOptions::quick),
+        ..ProxyOptions::for_triangles(&args.triangles, args.texture)
+    };
+    let bar = progress(args.triangles.len() as u64, "levels baked", args.json);
+    let show = |p: Progress| {
+        if matches!(p.event, voxlod::Event::Step { what: "bake", .. }) {
+            bar.inc(1);
+        }
+        Control::Continue
+    };
+    let made = voxlod::proxy_with(&scene, &options, &show).map_err(|e| in_file(&args.input, e))?;
+    bar.finish_and_clear();
+    warnings.extend(made.warnings.iter().cloned());
+    let measured = appearance(&args, &scene, &made)?;
+    let levels: Vec<Asset> = made.levels.iter().map(|l| l.asset.clone()).collect();
+    let glb = AssetGlbOptions {
+        layout: args.layout.layout(),
+        name: stem(&args.input),
+        compression: match args.compress {
+            Some(CompressArg::Meshopt) => Compression::Meshopt,
+            None => Compression::None,
+        },
+        ..AssetGlbOptions::default()
+    };
+    let bytes = voxlod::gltf::asset_glb(&levels, &glb).map_err(|e| in_file(&args.output, e))?;
+    out.bytes(&args.output, &bytes)?;
+    out.commit()?;
+    let report = ProxyReport {
+        input: args.input.display().to_string(),
+        output: args.output.display().to_string(),
+        bytes: bytes.len(),
+        layout: args.layout.name(),
+        input_draw_calls: draw_calls(&scene),
+        input_triangles: scene.mesh.triangles.len(),
+        levels: level_reports(&made, measured),
+        total_seconds: start.elapsed().as_secs_f64(),
+        warnings,
+    };
+    if args.json {
+        return print_json(&report);
+    }
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
+    for l in &report.levels {
+        say(describe(l));
+    }
+    say(format_args!(
+        "{} levels ({} draw call each, the scene {}) in {:.2} s -> {}",
+        report.levels.len(),
+        1,
+        report.input_draw_calls,
+        report.total_seconds,
+        report.output
+    ));
+    Ok(())
+}
+
+/// The scene as one asset: a glTF file by its scene reader, anything else by the asset reader.
+fn read_scene(path: &Path) -> Result<(Asset, Vec<String>), CliError> {
+    let gltf = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf"));
+    if gltf {
+        let read = voxlod::gltf::read_scene(path).map_err(|e| in_file(path, e))?;
+        return Ok((read.asset, read.warnings));
+    }
+    let read = voxlod::io::read_asset(path)?;
+    Ok((read.asset, read.warnings))
+}
+
+/// PSNR and SSIM of each level against the scene from 14 views at 256², unless skipped.
+fn appearance(
+    args: &ProxyArgs,
+    scene: &Asset,
+    made: &voxlod::Proxy,
+) -> Result<Vec<Measured>, CliError> {
+    if args.no_appearance {
+        return Ok(vec![None; made.levels.len()]);
+    }
+    let options = AppearanceOptions {
+        views: 14,
+        size: 256,
+        supersample: 1,
+    };
+    let reference = AppearanceReference::new(scene, &options)
+        .map_err(|e| CliError::msg(format!("the appearance measure: {e}")))?;
+    let compare = |asset: &Asset| {
+        let r = reference
+            .compare(asset)
+            .map_err(|e| CliError::msg(format!("the appearance measure: {e}")))?;
+        Ok(Some((r.psnr, r.ssim)))
+    };
+    made.levels.iter().map(|l| compare(&l.asset)).collect()
+}
+
+/// PSNR and SSIM of a level, when measured.
+type Measured = Option<(f64, f64)>;
+
+fn level_reports(made: &voxlod::Proxy, measured: Vec<Measured>) -> Vec<LevelReport> {
+    let levels = made.levels.iter().zip(measured).enumerate();
+    levels.map(|(i, (l, m))| level_report(i, l, m)).collect()
+}
+
+fn level_report(i: usize, l: &voxlod::ProxyLevel, m: Measured) -> LevelReport {
+    let r = &l.report;
+    LevelReport {
+        level: i,
+        budget: r.budget,
+        triangles: l.asset.mesh.triangles.len(),
+        draw_calls: draw_calls(&l.asset),
+        method: r.method.name(),
+        resolution: r.resolution,
+        hausdorff: r.hausdorff,
+        hausdorff_fraction: r.hausdorff_fraction,
+        genus: r.genus,
+        components: r.components,
+        bake: l.bake.clone(),
+        psnr: m.map(|m| m.0),
+        ssim: m.map(|m| m.1),
+        seconds: r.seconds + l.bake.seconds,
+    }
+}
+
+/// Draw calls of an asset: one per material its triangles use (one where it has none).
+fn draw_calls(asset: &Asset) -> usize {
+    let mut used: Vec<u32> = asset.mesh.material.clone();
+    used.sort_unstable();
+    used.dedup();
+    used.len().max(1)
+}
+
+fn stem(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// One line per level: budget, what came out, the bake, the appearance.
+fn describe(l: &LevelReport) -> String {
+    let b = &l.bake;
+    let looks = match (l.psnr, l.ssim) {
+        (Some(p), Some(s)) => format!(", PSNR {p:.2} dB, SSIM {s:.4}"),
+        _ => String::new(),
+    };
+    format!(
+        "level {}: budget {}: {} triangles ({} at resolution {}), Hausdorff {:.2} % of the \
+         diagonal; {}×{} texels, {} charts, {:.0} % of the texels used{looks}",
+        l.level,
+        l.budget,
+        l.triangles,
+        l.method,
+        l.resolution.map_or("-".into(), |r| r.to_string()),
+        100.0 * l.hausdorff_fraction,
+        b.width,
+        b.height,
+        b.charts,
+        100.0 * b.utilisation,
+    )
+}

@@ -1,0 +1,84 @@
+//! `voxlod proxy`: a scene of three parts with three materials (two spheres passing through
+//! each other, a third apart) becomes one `.glb` with one mesh, one material and one texture
+//! set per level, in both layouts; the Khronos validator accepts it, our reader reads it back
+//! textured, and the report gives per level the draw calls, the bake and the appearance. An
+//! output that is not `.glb` and a budget under 4 are usage errors (exit 2) naming the flag.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{arg, json, stderr, voxlod};
+use voxlod::gltf::{asset_glb, read_scene, AssetGlbOptions};
+
+/// The three-part scene written as `dir/scene.glb`.
+fn scene_glb(dir: &Path) -> PathBuf {
+    let path = dir.join("scene.glb");
+    let scene = voxlod_testkit::assets::three_part_scene();
+    std::fs::write(
+        &path,
+        asset_glb(&[scene], &AssetGlbOptions::default()).unwrap(),
+    )
+    .unwrap();
+    path
+}
+
+#[test]
+fn a_scene_proxy_is_one_draw_call_per_level_and_validates() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_glb(dir.path());
+    for layout in ["msft-lod", "lod-nodes"] {
+        let out = dir.path().join(format!("proxy-{layout}.glb"));
+        let o = voxlod(&[
+            "proxy",
+            arg(&scene),
+            "-o",
+            arg(&out),
+            "--triangles",
+            "1500,400",
+            "--texture",
+            "256",
+            "--layout",
+            layout,
+            "--json",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let report = json(&o);
+        assert_eq!(report["input_draw_calls"], 3);
+        assert_eq!(report["layout"], layout);
+        let levels = report["levels"].as_array().unwrap();
+        assert_eq!(levels.len(), 2);
+        for (level, budget) in levels.iter().zip([1500.0, 400.0]) {
+            assert_eq!(level["draw_calls"], 1);
+            let n = level["triangles"].as_f64().unwrap();
+            assert!((n / budget - 1.0).abs() <= 0.1, "{level}");
+            assert_eq!(level["bake"]["width"], 256);
+            assert!(level["bake"]["charts"].as_u64().unwrap() >= 1);
+            assert!(level["psnr"].as_f64().unwrap() > 15.0, "{level}");
+        }
+        // Read back whole: one textured material per level.
+        let back = read_scene(&out).unwrap().asset;
+        assert_eq!(back.materials.len(), 2);
+        assert!(back.materials.iter().all(|m| m.base_color_texture.is_some()));
+        assert!(!back.mesh.uv[0].is_empty());
+        if let Some(v) = voxlod_testkit::gltf_validator::validate_gltf(&out) {
+            assert_eq!(v.errors, 0, "{}", v.report);
+        }
+    }
+}
+
+#[test]
+fn proxy_refuses_other_outputs_and_tiny_budgets_naming_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_glb(dir.path());
+    let obj = dir.path().join("proxy.obj");
+    let o = voxlod(&["proxy", arg(&scene), "-o", arg(&obj), "--triangles", "500"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("-o"), "{}", stderr(&o));
+    assert!(!obj.exists());
+    let glb = dir.path().join("proxy.glb");
+    let o = voxlod(&["proxy", arg(&scene), "-o", arg(&glb), "--triangles", "3"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("triangles"), "{}", stderr(&o));
+    assert!(!glb.exists());
+}

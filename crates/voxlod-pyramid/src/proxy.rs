@@ -1,0 +1,171 @@
+//! One proxy for a whole scene, its looks baked ([`proxy`]): every part and instance of the
+//! scene (a glTF scene flattened into world space by its reader, or a folder of meshes made
+//! into one asset) sampled as one solid, levels by triangle budget made by the paper's method
+//! (the voxel filter merges parts, closes gaps narrower than a voxel, drops what is hidden
+//! inside and lowers the genus, He et al. 1995 §2–5; then the quadric stage spends the
+//! budget), each level then given texture coordinates and textures cast from the scene
+//! (crate `voxlod-bake`): one mesh, one material and one texture set per level, drawn in one
+//! call.
+//!
+//! The levels come from the portfolio of crate `voxlod-budget` restricted to new surfaces
+//! ([`voxlod_budget::PortfolioOptions::remesh`]): voxel levels, shells around open parts and
+//! the level above collapsed further, never the scene's own collapse (which keeps every part,
+//! every hidden face and a draw call per material). Parts that pass through each other are
+//! sampled as their union. Every level is closed, an oriented manifold, its genus never above
+//! the level before it.
+//!
+//! Beyond the paper: He et al. carry positions only; the bake is what scene remeshers
+//! (Simplygon, InstaLOD) add to such a proxy.
+//!
+//! Cost: the portfolio's voxel search per budget (a few samplings of the scene's solid,
+//! O(N³) at the resolution a budget affords), then per level one atlas and one bake
+//! (O(texels · log F) for F scene triangles).
+
+use std::time::Instant;
+
+use serde::Serialize;
+use voxlod_asset::Asset;
+use voxlod_bake::{bake, BakeOptions, BakeReport};
+use voxlod_budget::{levels_with, BudgetLevel, InputReport, PortfolioOptions};
+use voxlod_fit::FitOptions;
+use voxlod_sampling::Filter;
+
+use crate::error::{InvalidOption, PyramidError};
+use crate::progress::{run_to_end, Control, Event, Progress, ProgressFn};
+
+/// Options of [`proxy`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ProxyOptions {
+    /// The triangle budgets, one level each, in the order given.
+    pub triangles: Vec<usize>,
+    /// The low-pass filter of the voxel levels (He et al. 1995 §3).
+    pub filter: Filter,
+    /// No level has more handles than the level of the next larger budget.
+    pub monotone: bool,
+    /// The voxel levels' vertices fitted to the scene's surface where that measures closer.
+    pub fit: Option<FitOptions>,
+    /// The atlas and the bake: texture size (or texel density), padding, creases, the cage.
+    pub bake: BakeOptions,
+}
+
+impl Default for ProxyOptions {
+    /// No budget yet ([`ProxyOptions::for_triangles`]), the hyper-cone, monotone, the quick
+    /// fit, 1024² textures.
+    fn default() -> Self {
+        ProxyOptions {
+            triangles: Vec::new(),
+            filter: Filter::Hypercone,
+            monotone: true,
+            fit: Some(FitOptions::quick()),
+            bake: BakeOptions::for_texture(1024),
+        }
+    }
+}
+
+impl ProxyOptions {
+    /// One level per count in `budgets`, textures of `texels` a side.
+    pub fn for_triangles(budgets: &[usize], texels: u32) -> Self {
+        ProxyOptions {
+            triangles: budgets.to_vec(),
+            bake: BakeOptions::for_texture(texels),
+            ..Default::default()
+        }
+    }
+}
+
+/// One level of a proxy.
+#[derive(Clone, Debug)]
+pub struct ProxyLevel {
+    /// The level with its texture coordinates, its one material and its textures.
+    pub asset: Asset,
+    /// How the portfolio made it and how far it is from the scene's surface.
+    pub report: BudgetLevel,
+    /// What the bake did: texture size, charts, texel utilisation, texels that hit the scene.
+    pub bake: BakeReport,
+}
+
+/// A scene's proxy levels, in the order of the budgets.
+#[derive(Clone, Debug)]
+pub struct Proxy {
+    /// One per budget.
+    pub levels: Vec<ProxyLevel>,
+    /// The scene's geometry as the portfolio prepared it.
+    pub input: InputReport,
+    /// The portfolio's and the bakes' warnings.
+    pub warnings: Vec<String>,
+    /// Wall time of the whole call.
+    pub seconds: f64,
+}
+
+/// The proxy levels of `scene` for `options` (module docs). Fails on options out of range, an
+/// invalid scene, the memory limit (asked before each texture), or a level the atlas cannot
+/// parameterize.
+pub fn proxy(scene: &Asset, options: &ProxyOptions) -> Result<Proxy, PyramidError> {
+    proxy_with(scene, options, &run_to_end)
+}
+
+/// [`proxy`], reporting progress (the portfolio's steps, then one per bake) and stopping with
+/// [`PyramidError::Cancelled`] when `progress` answers [`Control::Stop`].
+pub fn proxy_with(
+    scene: &Asset,
+    options: &ProxyOptions,
+    progress: &ProgressFn,
+) -> Result<Proxy, PyramidError> {
+    let start = Instant::now();
+    if options.triangles.is_empty() {
+        let problem = "give at least one budget";
+        return Err(InvalidOption::new("triangles", "[]", problem).into());
+    }
+    scene.validate().map_err(voxlod_bake::BakeError::from)?;
+    let geometry = scene.mesh.geometry();
+    let portfolio = PortfolioOptions {
+        filter: options.filter,
+        monotone: options.monotone,
+        fit: options.fit.clone(),
+        ..PortfolioOptions::remesh(&options.triangles)
+    };
+    let ask = |done: usize, total: usize| {
+        let what = "proxy levels";
+        let event = Event::Step { level: 0, what };
+        progress(Progress { done, total, event }) == Control::Continue
+    };
+    let run = levels_with(&geometry, &portfolio, &ask)?;
+    let mut warnings = run.warnings;
+    let longest = geometry.bounds().longest_extent();
+    let mut levels = Vec::with_capacity(run.levels.len());
+    for (i, level) in run.levels.into_iter().enumerate() {
+        let bake_options = BakeOptions {
+            voxel_size: level
+                .report
+                .resolution
+                .map(|r| (longest / r.max(1) as f64) as f32),
+            ..options.bake.clone()
+        };
+        let baked = bake(scene, &level.mesh, &bake_options)?;
+        let budget = level.report.budget;
+        let noted = baked.report.warnings.iter();
+        warnings.extend(noted.map(|w| format!("{budget} triangles: {w}")));
+        levels.push(ProxyLevel {
+            asset: baked.asset,
+            report: level.report,
+            bake: baked.report,
+        });
+        let step = Progress {
+            done: i + 1,
+            total: options.triangles.len(),
+            event: Event::Step {
+                level: i,
+                what: "bake",
+            },
+        };
+        if progress(step) == Control::Stop {
+            return Err(PyramidError::Cancelled);
+        }
+    }
+    Ok(Proxy {
+        levels,
+        input: run.input,
+        warnings,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}

@@ -1,0 +1,59 @@
+//! One proxy for a whole scene: three parts with their own materials (two of them passing
+//! through each other) become, at every budget, one closed mesh with one material whose
+//! baked texture renders closer to the scene than the same mesh with the scene's colours
+//! taken into its vertices.
+
+use voxlod::core::mesh_topology;
+use voxlod::{proxy, ProxyOptions};
+use voxlod_eval::appearance::{AppearanceOptions, AppearanceReference};
+
+#[test]
+fn a_scene_becomes_one_closed_baked_mesh_per_level() {
+    let scene = voxlod_testkit::assets::three_part_scene();
+    let budgets = [2000, 500];
+    let made = proxy(&scene, &ProxyOptions::for_triangles(&budgets, 256)).unwrap();
+    assert_eq!(made.levels.len(), 2);
+    let options = AppearanceOptions {
+        views: 14,
+        size: 128,
+        supersample: 1,
+    };
+    let reference = AppearanceReference::new(&scene, &options).unwrap();
+    for (level, budget) in made.levels.iter().zip(budgets) {
+        let asset = &level.asset;
+        // One mesh, one material, one texture set: one draw call.
+        assert_eq!(asset.materials.len(), 1, "{budget}");
+        assert!(asset.materials[0].base_color_texture.is_some(), "{budget}");
+        assert_eq!(asset.mesh.uv[0].len(), asset.mesh.positions.len());
+        assert!(asset.mesh.material.iter().all(|&m| m == 0));
+        // Its vertices are split along the charts' seams; welded, it is closed.
+        let mut welded = asset.mesh.geometry();
+        voxlod::core::weld::weld_vertices(&mut welded);
+        let t = mesh_topology(&welded);
+        assert!(
+            t.is_closed_manifold() && t.is_consistently_oriented(),
+            "{budget}: {t:?}"
+        );
+        // The two spheres that pass through each other are one surface; the third, apart,
+        // another (or dropped at the smaller budget).
+        assert!((1..=2).contains(&t.components), "{budget}: {t:?}");
+        let n = asset.mesh.triangles.len() as f64;
+        assert!((n / budget as f64 - 1.0).abs() <= 0.1, "{budget}: {n}");
+        let b = &level.bake;
+        assert_eq!((b.width, b.height), (256, 256));
+        assert!(
+            b.charts >= 1 && b.utilisation > 0.2 && b.utilisation <= 1.0,
+            "{b:?}"
+        );
+        assert!(b.texels_hit as f64 >= 0.9 * b.texels as f64, "{b:?}");
+        // The baked texture beats the scene's looks taken into the level's vertices.
+        let geometry = asset.mesh.geometry();
+        let transferred = voxlod::asset::transfer(&scene, &geometry).unwrap().asset;
+        let baked = reference.compare(asset).unwrap().psnr;
+        let colours = reference.compare(&transferred).unwrap().psnr;
+        assert!(
+            baked > colours,
+            "{budget}: baked {baked} dB, vertex colours {colours} dB"
+        );
+    }
+}
