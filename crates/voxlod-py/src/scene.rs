@@ -11,7 +11,9 @@ use glam::{Vec2, Vec3, Vec4};
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use voxlod::gltf::{asset_glb, read_scene as read_gltf_scene, AssetGlbOptions, Layout};
+use voxlod::gltf::{
+    asset_glb, read_scene as read_gltf_scene, AssetGlbOptions, Compression, Layout,
+};
 use voxlod_asset::{Asset, AssetMesh, Image, Material};
 
 use crate::arrays::{faces_i32, rows};
@@ -89,14 +91,18 @@ type LevelIn<'py> = (
     Vec<ImageTuple>,
 );
 
-/// `write_scene(path, levels, layout)`: the levels (finest first) as one `.glb`; `layout` is
-/// `"msft-lod"` or `"lod-nodes"`. The file replaces `path` only when complete.
+/// `write_scene(path, levels, layout, compress)`: the levels (finest first) as one `.glb`;
+/// `layout` is `"msft-lod"` or `"lod-nodes"`; with `compress`, every attribute quantized and
+/// meshopt-encoded (`EXT_meshopt_compression`, `KHR_mesh_quantization`; texture coordinates
+/// outside 0..1 stay float). The file replaces `path` only when complete.
 #[pyfunction]
+#[pyo3(signature = (path, levels, layout, compress = false))]
 pub fn write_scene(
     py: Python<'_>,
     path: PathBuf,
     levels: Vec<LevelIn<'_>>,
     layout: &str,
+    compress: bool,
 ) -> PyResult<()> {
     let layout = match layout {
         "msft-lod" => Layout::MsftLod,
@@ -111,6 +117,11 @@ pub fn write_scene(
     py.detach(|| {
         let options = AssetGlbOptions {
             layout,
+            compression: if compress {
+                Compression::Meshopt
+            } else {
+                Compression::None
+            },
             ..AssetGlbOptions::default()
         };
         let bytes =

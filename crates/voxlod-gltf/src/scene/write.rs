@@ -59,6 +59,9 @@ pub struct AssetGlbOptions {
     pub name: String,
     /// Float attributes ([`Compression::None`]), or quantized and meshopt-encoded
     /// ([`Compression::Meshopt`], see `scene::columns` for each attribute's storage and error).
+    /// Compression pays from a few hundred vertices on: each view's extension object and the
+    /// codec's fixed tail cost about 200 bytes, so two quads come out larger (2.9 kB plain,
+    /// 4.7 kB compressed) while Spot's geometry shrinks to 0.41 of its size.
     pub compression: Compression,
 }
 

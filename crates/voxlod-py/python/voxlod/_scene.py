@@ -72,10 +72,16 @@ def write_scene(
     levels: Union[Scene, Sequence[Scene]],
     *,
     layout: str = "msft-lod",
+    compress: bool = False,
 ) -> None:
     """Writes one or more levels (finest first) with their looks as one ``.glb``: ``layout``
     ``"msft-lod"`` (one node, the coarser levels listed by ``MSFT_lod``) or ``"lod-nodes"`` (one
-    node per level named ``LOD0``, ``LOD1``, …). Images are embedded as given."""
+    node per level named ``LOD0``, ``LOD1``, …). Images are embedded as given. With
+    ``compress=True`` the geometry and attributes are quantized and meshopt-encoded
+    (``EXT_meshopt_compression`` with ``KHR_mesh_quantization``, as gltfpack writes): positions
+    on a 14-bit grid (within half a step of the box's longest side / 16383), normals and
+    tangents as 8-bit, texture coordinates in 0..1 and colours as 16-bit; texture coordinates
+    outside 0..1 stay float. ``read_scene`` and viewers with a meshopt decoder read it."""
     if isinstance(levels, Scene):
         levels = [levels]
     given = []
@@ -95,4 +101,4 @@ def write_scene(
                 [(n, m, bytes(b)) for n, m, b in s.images],
             )
         )
-    _voxlod.write_scene(os.fspath(path), given, layout)
+    _voxlod.write_scene(os.fspath(path), given, layout, compress)
