@@ -11,7 +11,9 @@
 //! - Point seams ([`crate::seams`]): the vertices of a sphere's pole or a cone's apex, one per
 //!   segment with its own texture coordinate, are welded into one vertex for the collapse and
 //!   take back their own attributes per triangle after it, so that the fan collapses as one
-//!   vertex instead of staying whole.
+//!   vertex instead of staying whole. Where that loses a whole material (a part whose fans
+//!   let it collapse to nothing while other parts stop at their seams), the collapse with the
+//!   fans apart is taken if it keeps more materials.
 //! - Below the seams' minimum: where the collapse that keeps every seam stops above the count
 //!   (by more than [`SEAM_MINIMUM_SLACK`]), it runs again in meshoptimizer's permissive mode,
 //!   which collapses across texture seams where the attribute error allows (material borders
