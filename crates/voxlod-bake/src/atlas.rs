@@ -54,16 +54,23 @@ pub struct AtlasOptions {
     pub crease_degrees: f32,
     /// Places xatlas tries per chart when packing (0: every place, slow).
     pub attempts: u32,
+    /// A chart may take at most the area of this many of the level's triangles of mean area
+    /// (0: no limit). xatlas's parameterization costs more than linear time in a chart's size
+    /// (a conjugate-gradient solve and a quadratic check of its border), so large charts of a
+    /// large level are slow to make.
+    pub max_chart_triangles: u32,
 }
 
 impl Default for AtlasOptions {
-    /// A 1024² texture, 4 texels of padding, creases above 60°.
+    /// A 1024² texture, 4 texels of padding, creases above 60°, charts of at most about 1024
+    /// triangles.
     fn default() -> Self {
         AtlasOptions {
             texture: TextureSize::Texels(1024),
             padding: 4,
             crease_degrees: 60.0,
             attempts: 1024,
+            max_chart_triangles: 1024,
         }
     }
 }
@@ -159,6 +166,7 @@ pub fn atlas(level: &TriangleMesh, options: &AtlasOptions) -> Result<Atlas, Bake
     xatlas.charts(ChartOptions {
         // Creases are always chart borders.
         normal_seam_metric_weight: 2000.0,
+        max_chart_area: max_chart_area(level, options.max_chart_triangles),
         ..ChartOptions::default()
     });
     let generated = pack(&mut xatlas, level, options)?;
@@ -265,8 +273,9 @@ fn pack(
         }
         TextureSize::Texels(n) => {
             let area = surface_area(level).max(f32::MIN_POSITIVE);
-            // Start where the charts would fill the texture with nothing between them.
-            let mut density = (n as f32 - 2.0 * options.padding as f32) / area.sqrt();
+            // Start where the charts would fill 60 % of the texture, a little more than xatlas
+            // packs, and lower the density until one texture holds them.
+            let mut density = 0.77 * (n as f32 - 2.0 * options.padding as f32) / area.sqrt();
             for _ in 0..40 {
                 let generated = xatlas.pack(PackOptions {
                     texels_per_unit: density,
@@ -277,7 +286,7 @@ fn pack(
                 if generated.atlas_count == 1 {
                     return Ok(generated);
                 }
-                density *= 0.9;
+                density *= 0.93;
             }
             Err(BakeError::Atlas(format!(
                 "the charts do not fit one {n}² texture with {} texels of padding",
@@ -285,6 +294,16 @@ fn pack(
             )))
         }
     }
+}
+
+/// The area of `triangles` of the level's mean triangle area; 0 (xatlas's "no limit") where
+/// that is the whole level or more.
+fn max_chart_area(level: &TriangleMesh, triangles: u32) -> f32 {
+    let n = level.triangles.len();
+    if triangles == 0 || triangles as usize >= n {
+        return 0.0;
+    }
+    surface_area(level) * triangles as f32 / n as f32
 }
 
 /// The level's surface area.

@@ -1,6 +1,7 @@
 //! A baked level as an asset: the textures a source's materials call for (alpha, occlusion-
 //! roughness-metallic, emission) with the values its materials give, and the asset written
-//! as glTF by voxlod-gltf and read back unchanged.
+//! as glTF by voxlod-gltf, clean by the Khronos validator (where the peers' kit has it), and
+//! read back unchanged.
 
 use voxlod_asset::texture::srgb_to_linear;
 use voxlod_asset::{AlphaMode, Asset, Material};
@@ -9,6 +10,7 @@ use voxlod_bake::{bake, BakeOptions, Baked};
 use voxlod_core::glam::Vec3;
 use voxlod_gltf::{asset_glb, read_scene, AssetGlbOptions};
 use voxlod_testkit::assets::textured_sphere;
+use voxlod_testkit::gltf_validator::validate_gltf;
 use voxlod_testkit::shapes::icosphere;
 
 /// The two-halves sphere whose upper half (z > 0) is a second material: half transparent,
@@ -125,6 +127,10 @@ fn the_asset_is_written_as_gltf_unchanged() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("proxy.glb");
     std::fs::write(&path, glb).unwrap();
+    if let Some(validation) = validate_gltf(&path) {
+        assert_eq!(validation.errors, 0, "{}", validation.report);
+        assert_eq!(validation.warnings, 0, "{}", validation.report);
+    }
     let read = read_scene(&path).unwrap().asset;
     assert_eq!(read.mesh.triangles.len(), level.triangles.len());
     assert_eq!(read.mesh.uv[0].len(), read.mesh.positions.len());
