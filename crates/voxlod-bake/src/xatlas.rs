@@ -6,9 +6,9 @@
 //! of 2019), but its Rust bindings name the functions by their MSVC-mangled symbols
 //! (`?Create@xatlas@@…`), so a program that calls them does not link with GCC or Clang
 //! (Itanium C++ ABI: Linux, macOS). This module is the one place that works around it: it
-//! declares the functions itself under their Itanium names (the MSVC names on MSVC targets),
-//! with the structures laid out as the vendored `xatlas.h` declares them, and links the
-//! library `xatlas-rs` builds. Nothing else in voxlod calls xatlas. Diagnostics that xatlas
+//! declares the functions itself under their Itanium names (on MSVC targets, the crate's own
+//! MSVC names, which are not built or tested here), with the structures laid out as the
+//! vendored `xatlas.h` declares them, and links the library `xatlas-rs` builds. Nothing else in voxlod calls xatlas. Diagnostics that xatlas
 //! would print to standard output are switched off; [`Generated`] carries what is needed to
 //! check its result instead.
 //!
