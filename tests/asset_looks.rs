@@ -128,3 +128,33 @@ fn a_textured_collapse_replaces_a_voxel_level_where_its_colours_are_closer() {
         );
     }
 }
+
+#[test]
+fn voxel_levels_of_a_textured_scene_are_baked_closer_than_vertex_colours() {
+    // The pyramid's levels share no vertex with the input: each gets an atlas and a texture
+    // cast from the scene, which renders closer than the scene's colours in its vertices.
+    let scene = voxlod_testkit::assets::three_part_scene();
+    let options = voxlod::LodOptions::halving(40, 2, voxlod::sampling::Filter::Hypercone);
+    let made = voxlod::asset_lod(&scene, &options, &run_to_end).unwrap();
+    let view = AppearanceOptions {
+        views: 14,
+        size: 128,
+        supersample: 1,
+    };
+    let reference = AppearanceReference::new(&scene, &view).unwrap();
+    for (level, lod_level) in made.assets.iter().zip(&made.lod.levels) {
+        assert_eq!(level.looks, Looks::Baked);
+        let a = level.asset.as_ref().unwrap();
+        assert_eq!(a.materials.len(), 1);
+        assert!(a.materials[0].base_color_texture.is_some());
+        let transferred = voxlod::asset::transfer(&scene, &lod_level.mesh)
+            .unwrap()
+            .asset;
+        let baked = reference.compare(a).unwrap().psnr;
+        let colours = reference.compare(&transferred).unwrap().psnr;
+        assert!(
+            baked > colours,
+            "baked {baked} dB, vertex colours {colours} dB"
+        );
+    }
+}

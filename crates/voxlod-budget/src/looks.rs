@@ -58,6 +58,9 @@ pub enum Looks {
     Kept,
     /// Colours, normals and materials taken from the nearest input points.
     Transferred,
+    /// New texture coordinates and textures cast from the input (crate `voxlod-bake`): a
+    /// level of a textured input that shares no vertex with it.
+    Baked,
 }
 
 /// One budget's level of an asset.

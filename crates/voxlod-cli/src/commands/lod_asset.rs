@@ -477,6 +477,7 @@ impl Plan<'_> {
                     (false, _) => "dropped",
                     (true, Looks::Kept) => "kept",
                     (true, Looks::Transferred) => "transferred",
+                    (true, Looks::Baked) => "baked",
                 },
                 materials: level.asset.as_ref().map_or(0, |a| a.materials.len()),
                 budget,
