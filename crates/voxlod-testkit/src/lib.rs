@@ -17,6 +17,8 @@
 //! - [`compare`]: meshes compared bit for bit.
 //! - [`peers`]: the peers' Python (nibabel, pydicom, SimpleITK, zmesh), or a recorded skip.
 //! - [`readers`]: minimal OBJ and ASCII STL readers independent of `voxlod-io`.
+//! - [`scenes`]: scenes with materials and generated textures (a room, a machine, a tree, a
+//!   building, instanced props, a million-triangle machine), for scene proxies.
 //!
 //! It depends on `voxlod-core`, and on `voxlod-sampling` for the sphereflake's spheres: every
 //! other crate can use it without a dependency loop. Those two keep small private helpers in
@@ -35,6 +37,7 @@ pub mod gltf_validator;
 pub mod intersections;
 pub mod peers;
 pub mod readers;
+pub mod scenes;
 pub mod shapes;
 pub mod skips;
 pub mod volumes;
