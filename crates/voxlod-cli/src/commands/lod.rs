@@ -55,10 +55,15 @@ use super::world::FrameArg;
 ///   voxlod lod scan.ply -o out --triangles 2000 --then quadric --closed --json
 ///
 /// A glTF asset (.glb, .gltf) keeps its looks: every level carries texture coordinates,
-/// colours, normals and materials, the input's own or taken from its nearest points, in one
-/// .glb (--layout msft-lod or lod-nodes; --split writes each level as its own .glb too):
+/// colours, normals and materials, the input's own where the level keeps its vertices, else
+/// baked into new textures (or taken from its nearest points), in one .glb (--layout msft-lod
+/// or lod-nodes; --split writes each level as its own .glb too; --compress meshopt quantizes
+/// and compresses it). --format obj writes each level as OBJ with its MTL and textures,
+/// --format ply as a coloured, textured PLY; an OBJ, PLY or OFF input with looks keeps them
+/// when a --format is given:
 ///   voxlod lod model.glb --triangles 5000,1000,250 -o model-lod.glb
-///   voxlod lod model.gltf -o out --layout lod-nodes --split
+///   voxlod lod model.gltf -o out --layout lod-nodes --split --compress meshopt
+///   voxlod lod spot.obj -o spot-lods --triangles 2000,500 --format obj
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct LodArgs {
@@ -362,7 +367,7 @@ fn load(args: &LodArgs) -> Result<Loaded, CliError> {
 /// The levels by resolution; `lod_budget.rs` makes them by budget or error
 /// (`--triangles`, `--error`).
 pub fn run(args: LodArgs) -> Result<(), CliError> {
-    args.glb.check_chain(args.format())?;
+    args.glb.check(args.format())?;
     let options = lod_options(&args)?;
     let loaded = load(&args)?;
     // Everything is written at the end, as one set; refuse now what it would refuse then.

@@ -49,7 +49,7 @@ struct BudgetLevelReport {
 pub fn run(args: &LodArgs) -> Result<(), CliError> {
     let start = Instant::now();
     let format = args.format();
-    args.glb.check_chain(format)?;
+    args.glb.check(format)?;
     let options = options(args);
     let input = args.route.read(&args.input)?;
     let source = args.route.source(&input);

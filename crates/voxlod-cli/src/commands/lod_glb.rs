@@ -103,11 +103,6 @@ impl GlbArgs {
             None => Compression::None,
         }
     }
-
-    /// [`GlbArgs::check`] for a mesh's or a volume's chain.
-    pub fn check_chain(&self, format: LodFormat) -> Result<(), CliError> {
-        self.check(format)
-    }
 }
 
 /// What the report says about the chain file.
