@@ -59,37 +59,10 @@ fn a_textured_collapse_keeps_its_texture_when_a_little_farther() {
 /// doubled) textured with the two-halves image along its longitude: red on one side, blue
 /// on the other.
 fn halves_globe(rings: u32, segments: u32) -> Asset {
-    use voxlod::core::glam::{Vec2, Vec3};
     let mut asset = voxlod_testkit::assets::textured_sphere(1);
-    let m = &mut asset.mesh;
-    *m = voxlod::asset::AssetMesh::default();
-    for i in 0..=rings {
-        for j in 0..=segments {
-            let (v, u) = (i as f32 / rings as f32, j as f32 / segments as f32);
-            let (theta, phi) = (v * std::f32::consts::PI, u * std::f32::consts::TAU);
-            let n = Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.cos(),
-                -theta.sin() * phi.sin(),
-            );
-            m.positions.push(n);
-            m.normals.push(n);
-            m.uv[0].push(Vec2::new(u, v));
-        }
-    }
-    let at = |i: u32, j: u32| i * (segments + 1) + j;
-    for i in 0..rings {
-        for j in 0..segments {
-            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-            if i != 0 {
-                m.triangles.push([a, b, d]);
-            }
-            if i != rings - 1 {
-                m.triangles.push([b, c, d]);
-            }
-        }
-    }
-    m.material = vec![0; m.triangles.len()];
+    let centre = voxlod::core::glam::Vec3::ZERO;
+    asset.mesh = voxlod_testkit::assets::uv_sphere(centre, 1.0, rings, segments);
+    asset.mesh.material = vec![0; asset.mesh.triangles.len()];
     asset
 }
 

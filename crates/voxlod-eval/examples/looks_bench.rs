@@ -319,35 +319,11 @@ fn add_scene_materials(asset: &mut Asset) {
     });
 }
 
-/// A latitude-longitude sphere: `rings` × `segments` quads, the seam's vertices doubled, the
-/// poles' triangles one per quad.
+/// A latitude-longitude sphere (voxlod-testkit's), u running 0..2 around.
 fn sphere(centre: Vec3, radius: f32, rings: u32, segments: u32) -> AssetMesh {
-    let mut m = AssetMesh::default();
-    for i in 0..=rings {
-        for j in 0..=segments {
-            let (v, u) = (i as f32 / rings as f32, j as f32 / segments as f32);
-            let (theta, phi) = (v * std::f32::consts::PI, u * std::f32::consts::TAU);
-            let n = Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.cos(),
-                -theta.sin() * phi.sin(),
-            );
-            m.positions.push(centre + n * radius);
-            m.normals.push(n);
-            m.uv[0].push(Vec2::new(u * 2.0, v));
-        }
-    }
-    let at = |i: u32, j: u32| i * (segments + 1) + j;
-    for i in 0..rings {
-        for j in 0..segments {
-            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-            if i != 0 {
-                m.triangles.push([a, b, d]);
-            }
-            if i != rings - 1 {
-                m.triangles.push([b, c, d]);
-            }
-        }
+    let mut m = voxlod_testkit::assets::uv_sphere(centre, radius, rings, segments);
+    for uv in &mut m.uv[0] {
+        uv.x *= 2.0;
     }
     m
 }

@@ -73,7 +73,11 @@ pub fn textured_sphere(levels: u32) -> Asset {
 pub fn checker_png(size: u32, cells: u32, a: [u8; 3], b: [u8; 3]) -> Vec<u8> {
     let cell = (size / cells.max(1)).max(1);
     let img = image::RgbaImage::from_fn(size, size, |x, y| {
-        let [r, g, bl] = if (x / cell + y / cell).is_multiple_of(2) { a } else { b };
+        let [r, g, bl] = if (x / cell + y / cell).is_multiple_of(2) {
+            a
+        } else {
+            b
+        };
         image::Rgba([r, g, bl, 255])
     });
     let mut bytes = Vec::new();
@@ -159,4 +163,40 @@ pub fn three_part_scene() -> Asset {
         ],
         parts: Vec::new(),
     }
+}
+
+/// A latitude-longitude sphere of `radius` around `centre`: `rings` × `segments` quads, the
+/// meridian seam's vertices doubled, each pole a vertex per segment, the pole rows one
+/// triangle per quad; unit normals, texture coordinates u 0..1 around (the segment's u at a
+/// pole) and v 0..1 from pole to pole; no material.
+pub fn uv_sphere(centre: glam::Vec3, radius: f32, rings: u32, segments: u32) -> AssetMesh {
+    use std::f32::consts::{PI, TAU};
+    let mut m = AssetMesh::default();
+    for i in 0..=rings {
+        for j in 0..=segments {
+            let (v, u) = (i as f32 / rings as f32, j as f32 / segments as f32);
+            let (theta, phi) = (v * PI, u * TAU);
+            let n = glam::Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                -theta.sin() * phi.sin(),
+            );
+            m.positions.push(centre + n * radius);
+            m.normals.push(n);
+            m.uv[0].push(Vec2::new(u, v));
+        }
+    }
+    let at = |i: u32, j: u32| i * (segments + 1) + j;
+    for i in 0..rings {
+        for j in 0..segments {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            if i != 0 {
+                m.triangles.push([a, b, d]);
+            }
+            if i != rings - 1 {
+                m.triangles.push([b, c, d]);
+            }
+        }
+    }
+    m
 }
