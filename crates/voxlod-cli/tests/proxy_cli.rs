@@ -2,7 +2,8 @@
 //! each other, a third apart) becomes one `.glb` with one mesh, one material and one texture
 //! set per level, in both layouts; the Khronos validator accepts it, our reader reads it back
 //! textured, and the report gives per level the draw calls, the bake and the appearance. An
-//! output that is not `.glb` and a budget under 4 are usage errors (exit 2) naming the flag.
+//! output that is not `.glb`, a budget under 4 and a texture side of 0 are usage errors (exit
+//! 2) naming the flag; a missing input is an I/O error (exit 4) naming the file.
 
 mod common;
 
@@ -59,7 +60,10 @@ fn a_scene_proxy_is_one_draw_call_per_level_and_validates() {
         // Read back whole: one textured material per level.
         let back = read_scene(&out).unwrap().asset;
         assert_eq!(back.materials.len(), 2);
-        assert!(back.materials.iter().all(|m| m.base_color_texture.is_some()));
+        assert!(back
+            .materials
+            .iter()
+            .all(|m| m.base_color_texture.is_some()));
         assert!(!back.mesh.uv[0].is_empty());
         if let Some(v) = voxlod_testkit::gltf_validator::validate_gltf(&out) {
             assert_eq!(v.errors, 0, "{}", v.report);
@@ -80,5 +84,28 @@ fn proxy_refuses_other_outputs_and_tiny_budgets_naming_the_flag() {
     let o = voxlod(&["proxy", arg(&scene), "-o", arg(&glb), "--triangles", "3"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("triangles"), "{}", stderr(&o));
+    let o = voxlod(&[
+        "proxy",
+        arg(&scene),
+        "-o",
+        arg(&glb),
+        "--triangles",
+        "500",
+        "--texture",
+        "0",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--texture"), "{}", stderr(&o));
+    let missing = dir.path().join("missing.glb");
+    let o = voxlod(&[
+        "proxy",
+        arg(&missing),
+        "-o",
+        arg(&glb),
+        "--triangles",
+        "500",
+    ]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(stderr(&o).contains("missing.glb"), "{}", stderr(&o));
     assert!(!glb.exists());
 }

@@ -44,7 +44,7 @@ pub struct ProxyArgs {
     #[arg(long, value_name = "N,N,...", value_delimiter = ',', required = true,
         value_parser = number::<usize>, allow_hyphen_values = true)]
     pub triangles: Vec<usize>,
-    /// Texels a side of each level's textures
+    /// Texels a side of each level's textures (16 to 16384)
     #[arg(long, value_name = "TEXELS", default_value_t = 1024,
         value_parser = number::<u32>, allow_hyphen_values = true)]
     pub texture: u32,
@@ -123,6 +123,12 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
             args.output.display()
         )));
     }
+    if !(16..=16384).contains(&args.texture) {
+        return Err(CliError::usage(format!(
+            "--texture {}: a side of 16 to 16384 texels",
+            args.texture
+        )));
+    }
     let mut out = OutputSet::protecting([&args.input]);
     out.check(&args.output)?;
     let (scene, mut warnings) = read_scene(&args.input)?;
@@ -187,7 +193,15 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
 }
 
 /// The scene as one asset: a glTF file by its scene reader, anything else by the asset reader.
+/// A file that cannot be opened is an I/O error naming it.
 fn read_scene(path: &Path) -> Result<(Asset, Vec<String>), CliError> {
+    std::fs::File::open(path).map_err(|e| {
+        voxlod::io::IoError::new(
+            path,
+            voxlod::io::IoErrorKind::Access,
+            format!("cannot open: {e}"),
+        )
+    })?;
     let gltf = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf"));
