@@ -227,15 +227,17 @@ fn appearance(
         size: 256,
         supersample: 1,
     };
-    let reference = AppearanceReference::new(scene, &options)
-        .map_err(|e| CliError::msg(format!("the appearance measure: {e}")))?;
+    let reference = AppearanceReference::new(scene, &options).map_err(measure_error)?;
     let compare = |asset: &Asset| {
-        let r = reference
-            .compare(asset)
-            .map_err(|e| CliError::msg(format!("the appearance measure: {e}")))?;
+        let r = reference.compare(asset).map_err(measure_error)?;
         Ok(Some((r.psnr, r.ssim)))
     };
     made.levels.iter().map(|l| compare(&l.asset)).collect()
+}
+
+/// A failure of the appearance measure, its class kept.
+fn measure_error(e: voxlod::render::RenderError) -> CliError {
+    CliError::Library(voxlod::Error::from(e).context("the appearance measure"))
 }
 
 /// PSNR and SSIM of a level, when measured.
