@@ -242,3 +242,107 @@ fn layers_lod_writes_a_layered_chain_the_viewer_knows() {
         assert!(stderr(&o).contains(what), "{args:?}: {}", stderr(&o));
     }
 }
+
+/// The centre of the box of `doc`'s node 0's positions (its accessors' bounds): where the page
+/// aims its camera for a plain `MSFT_lod` chain.
+fn finest_centre(doc: &serde_json::Value) -> [f64; 3] {
+    let mesh = doc["nodes"][0]["mesh"].as_u64().unwrap() as usize;
+    let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+    for p in doc["meshes"][mesh]["primitives"].as_array().unwrap() {
+        let a = &doc["accessors"][p["attributes"]["POSITION"].as_u64().unwrap() as usize];
+        for k in 0..3 {
+            lo[k] = lo[k].min(a["min"][k].as_f64().unwrap());
+            hi[k] = hi[k].max(a["max"][k].as_f64().unwrap());
+        }
+    }
+    std::array::from_fn(|k| (lo[k] + hi[k]) / 2.0)
+}
+
+/// The proxy of the three-part scene (`voxlod proxy`, one baked material per level) seen from
+/// +z in the page: at points of the source's surfaces, the colours of their checker squares
+/// (red and white on the large sphere, blue and yellow on the one passing through it) and the
+/// third sphere's green, not the grey an untextured viewer shows.
+#[test]
+fn a_scene_proxy_shows_its_baked_colours_in_the_viewer() {
+    let Some(browser) = voxlod_testkit::browser::chromium() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.glb");
+    let source = voxlod_testkit::assets::three_part_scene();
+    let bytes = voxlod::gltf::asset_glb(&[source], &Default::default()).unwrap();
+    std::fs::write(&scene, bytes).unwrap();
+    let proxy = dir.path().join("proxy.glb");
+    let o = voxlod(&[
+        "proxy",
+        arg(&scene),
+        "-o",
+        arg(&proxy),
+        "--triangles",
+        "1500",
+        "--texture",
+        "256",
+        "--no-appearance",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let page = dir.path().join("proxy.html");
+    let o = voxlod(&["view", arg(&proxy), "-o", arg(&page)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (size, distance) = (400u32, 7.0);
+    let png = dir.path().join("proxy.png");
+    let options = voxlod_view::ShotOptions {
+        size,
+        distance,
+        direction: [0.0, 0.0, 1.0],
+        ..Default::default()
+    };
+    voxlod_view::screenshot(&browser, &page, &options, &png).unwrap();
+    let img = image::open(&png).unwrap().to_rgb8();
+    // Seen along −z with +y up: a point's pixel by the page's 45° perspective.
+    let centre = finest_centre(&glb_json(&proxy));
+    let focal = size as f64 / 2.0 / (std::f64::consts::PI / 8.0).tan();
+    let colour_at = |p: [f64; 3]| -> [f64; 3] {
+        let depth = distance - (p[2] - centre[2]);
+        let x = size as f64 / 2.0 + focal * (p[0] - centre[0]) / depth;
+        let y = size as f64 / 2.0 - focal * (p[1] - centre[1]) / depth;
+        // The mean of the 5 × 5 pixels around it.
+        let (px, py) = (x.round() as u32, y.round() as u32);
+        let block: Vec<[u8; 3]> = (py - 2..=py + 2)
+            .flat_map(|row| (px - 2..=px + 2).map(move |col| (col, row)))
+            .map(|(col, row)| img.get_pixel(col, row).0)
+            .collect();
+        std::array::from_fn(|c| block.iter().map(|q| q[c] as f64).sum::<f64>() / 25.0)
+    };
+    let front = |c: [f64; 3], r: f64, dx: f64, dy: f64| {
+        [
+            c[0] + r * dx,
+            c[1] + r * dy,
+            c[2] + r * (1.0 - dx * dx - dy * dy).sqrt(),
+        ]
+    };
+    type Test = fn([f64; 3]) -> bool;
+    let cases: [(&str, [f64; 3], Test); 5] = [
+        // The large sphere's checker has 8 squares a side over (x, y) in −1..1: the square
+        // right of the centre's corner (4, 4) is red, the one left of it (3, 4) white.
+        ("red", front([0.0; 3], 1.0, 0.125, 0.125), |c| {
+            c[0] > 150.0 && c[1] < 90.0 && c[2] < 90.0
+        }),
+        ("white", front([0.0; 3], 1.0, -0.125, 0.125), |c| {
+            c.iter().all(|&v| v > 170.0)
+        }),
+        // The smaller sphere's 4 squares a side: (2, 2) blue, (2, 1) yellow.
+        ("blue", front([1.1, 0.0, 0.0], 0.6, 0.25, 0.25), |c| {
+            c[2] > 130.0 && c[0] < 90.0 && c[1] < 90.0
+        }),
+        ("yellow", front([1.1, 0.0, 0.0], 0.6, 0.25, -0.25), |c| {
+            c[0] > 150.0 && c[1] > 130.0 && c[2] < 100.0
+        }),
+        ("green", front([0.0, 2.2, 0.0], 0.4, 0.0, 0.0), |c| {
+            c[1] > 150.0 && c[1] > c[0] + 60.0 && c[1] > c[2] + 60.0
+        }),
+    ];
+    for (name, p, test) in cases {
+        let c = colour_at(p);
+        assert!(test(c), "{name} at {p:?}: pixel colour {c:?}");
+    }
+}

@@ -4,7 +4,10 @@
 //! The file is decoded from `EXT_meshopt_compression` first ([`voxlod_gltf::decompress_glb`]),
 //! then its JSON is validated by the `gltf` crate (every index refers to something), every
 //! accessor the page reads is bounds-checked against its view and the binary chunk, every index
-//! against its primitive's vertices, and the node graph must be a forest (the script walks it).
+//! against its primitive's vertices, the node graph must be a forest (the script walks it),
+//! every attribute the page binds has its glTF shape (`TEXCOORD_n` two components, `COLOR_0`
+//! three or four, …), and every image is inside the file (a buffer view or a `data:` URI: the
+//! page fetches nothing).
 //! Cost: linear in the file.
 
 use gltf::json;
@@ -12,15 +15,21 @@ use gltf::json::validation::Checked;
 
 use voxlod_gltf::ORDER_NAMES;
 
-/// Required extensions the page handles (quantized attributes are plain WebGL attributes).
-const READ_EXTENSIONS: &[&str] = &["KHR_mesh_quantization"];
+/// Required extensions the page handles (quantized attributes are plain WebGL attributes;
+/// `EXT_meshopt_compression` is decoded before the check, so it is never left to require).
+const READ_EXTENSIONS: &[&str] = &[
+    "KHR_mesh_quantization",
+    "KHR_texture_transform",
+    "KHR_materials_emissive_strength",
+];
 
 /// A checked file: its plain bytes and what it holds.
 #[derive(Clone, Debug)]
 pub struct CheckedGlb {
     pub bytes: Vec<u8>,
     pub triangles: usize,
-    /// `MSFT_lod` levels in the scene's first node (1 when there is no chain).
+    /// Levels of the chain: `MSFT_lod` levels in the scene's first node, else the scene's
+    /// nodes named `LOD0`, `LOD1`, … (1 when there is no chain).
     pub levels: usize,
     /// Whether it holds the eight back-to-front orders of layered shells (of every level, in a
     /// chain).
@@ -67,11 +76,15 @@ pub fn check_glb(bytes: &[u8]) -> Result<CheckedGlb, String> {
         }
     }
     check_forest(&root)?;
+    check_images(&root)?;
     if triangles == 0 && root.meshes.is_empty() {
         return Err("it holds no mesh to draw".into());
     }
     let nodes = lod_nodes(&glb.json)?;
-    let levels = nodes.len().max(1);
+    let levels = match nodes.len() {
+        0 | 1 => lod_node_names(&root).max(1),
+        n => n,
+    };
     let single_layered = root
         .accessors
         .iter()
@@ -151,11 +164,13 @@ fn check_primitive(
     };
     let vertices = root.accessors[pos.value()].count.0 as usize;
     for (semantic, a) in &prim.attributes {
-        if root.accessors[a.value()].count.0 as usize != vertices {
+        let accessor = &root.accessors[a.value()];
+        if accessor.count.0 as usize != vertices {
             return Err(format!(
                 "attribute {semantic:?} has another count than the positions"
             ));
         }
+        check_shape(semantic, accessor)?;
     }
     let mode = match prim.mode {
         Checked::Valid(m) => m,
@@ -170,6 +185,52 @@ fn check_primitive(
     } else {
         0
     })
+}
+
+/// The components an attribute the page binds must have (glTF 2.0 §3.7.2.1): what WebGL would
+/// otherwise read as something else.
+fn check_shape(
+    semantic: &Checked<json::mesh::Semantic>,
+    accessor: &json::Accessor,
+) -> Result<(), String> {
+    use json::accessor::Type;
+    use json::mesh::Semantic;
+    let allowed: &[Type] = match semantic {
+        Checked::Valid(Semantic::Positions | Semantic::Normals) => &[Type::Vec3],
+        Checked::Valid(Semantic::Tangents) => &[Type::Vec4],
+        Checked::Valid(Semantic::TexCoords(_)) => &[Type::Vec2],
+        Checked::Valid(Semantic::Colors(_)) => &[Type::Vec3, Type::Vec4],
+        _ => return Ok(()),
+    };
+    match accessor.type_ {
+        Checked::Valid(t) if allowed.contains(&t) => Ok(()),
+        _ => Err(format!(
+            "attribute {semantic:?} must be of type {}",
+            allowed
+                .iter()
+                .map(|t| format!("{t:?}").to_uppercase())
+                .collect::<Vec<_>>()
+                .join(" or ")
+        )),
+    }
+}
+
+/// Every image is inside the file: a buffer view, or a `data:` URI.
+fn check_images(root: &json::Root) -> Result<(), String> {
+    for (i, image) in root.images.iter().enumerate() {
+        match (&image.buffer_view, &image.uri) {
+            (Some(_), _) => {}
+            (None, Some(uri)) if uri.starts_with("data:") => {}
+            (None, Some(uri)) => {
+                return Err(format!(
+                    "image {i} is the file {uri:?} outside the .glb; the page embeds only \
+                     images inside it (a buffer view or a data: URI)"
+                ))
+            }
+            (None, None) => return Err(format!("image {i} has neither a buffer view nor a URI")),
+        }
+    }
+    Ok(())
 }
 
 /// The count of index accessor `a`, after checking every index is below `vertices`.
@@ -296,4 +357,33 @@ fn lod_nodes(json_chunk: &[u8]) -> Result<Vec<usize>, String> {
         }
     }
     Ok(out)
+}
+
+/// How many levels the scene's root nodes named `LOD0`, `LOD1`, … `LODn−1` make (each index
+/// once, n ≥ 2, as the page's script reads them); 0 when they make no chain.
+fn lod_node_names(root: &json::Root) -> usize {
+    let scene = root.scene.map_or(0, |s| s.value());
+    let Some(roots) = root.scenes.get(scene).map(|s| &s.nodes) else {
+        return 0;
+    };
+    let mut seen = vec![false; roots.len()];
+    let mut named = 0;
+    for r in roots {
+        let level = root.nodes[r.value()]
+            .name
+            .as_deref()
+            .and_then(|n| n.strip_prefix("LOD"))
+            .filter(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+            .and_then(|k| k.parse::<usize>().ok());
+        if let Some(k) = level.filter(|&k| k < roots.len()) {
+            seen[k] = true;
+            named += 1;
+        }
+    }
+    let levels = seen.iter().take_while(|&&s| s).count();
+    if levels >= 2 && levels == named && seen[levels..].iter().all(|s| !s) {
+        levels
+    } else {
+        0
+    }
 }

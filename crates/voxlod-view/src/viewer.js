@@ -8,8 +8,13 @@
 //  - a chain of layered levels (voxlod layers --lod: accessors "level K order±x±y±z"): the
 //    coarsest level whose filter radius on screen is at most 0.45 px, drawn as above; closer
 //    than level 0 allows, level 0's single surface;
+//  - the LOD0, LOD1, … node layout (voxlod's --layout lod-nodes) as a chain, with the coverages
+//    voxlod's writer gives an MSFT_lod chain by default (coverageByTriangles);
 //  - any other glTF: triangles shaded, lines as thick screen-space quads (at least EDGE_PX, or
 //    their _WIDTH in object units on screen), points as squares.
+// Triangles are drawn with their materials (MATERIAL_FS: base colour factor × texture × vertex
+// colour, alpha mask and blend, normal map, emissive); images decode asynchronously, a white
+// stand-in until then; what cannot be shown is named in the overlay.
 // The camera is set by the URL hash (#camera=DISTANCE,DX,DY,DZ&model=I, DX.. pointing from the
 // object's centre to the eye) or window.voxlodView.setCamera(distance, [dx, dy, dz]).
 // The state drawn is in document.title and in a colour patch at the top left (level or octant;
@@ -29,6 +34,8 @@
     5123: [Uint16Array, 2], 5125: [Uint32Array, 4], 5126: [Float32Array, 4],
   };
   const SIZES = { SCALAR: 1, VEC2: 2, VEC3: 3, VEC4: 4 };
+  // The page's grey for triangles without a material, linear (sRGB 0.75, 0.76, 0.8).
+  const DEFAULT_SURFACE = [0.522, 0.540, 0.604, 1];
 
   function fromBase64(text) {
     const raw = atob(text);
@@ -127,6 +134,70 @@
       vec4 c = vertexColor ? vColor : color;
       outColor = vec4(c.rgb * shade, c.a);
     }`;
+  // Triangles with their glTF material: base colour factor × base colour texture (sRGB-decoded
+  // by its SRGB8_ALPHA8 format) × COLOR_0, alpha cut (MASK) or kept (BLEND), a tangent-space
+  // normal map (with TANGENT: bitangent = cross(N, T)·w, glTF 2.0 §3.7.2.1; without: a frame from
+  // screen-space derivatives of position and texture coordinates, V pointing up the image as
+  // glTF's normal maps expect), emissive factor × texture. Lit by the page's head light in
+  // linear light, written sRGB-encoded (glTF's colours are linear, the screen's sRGB).
+  const MATERIAL_VS = `#version 300 es
+    layout(location=0) in vec3 position; layout(location=1) in vec3 normal; layout(location=2) in vec4 vcolor;
+    layout(location=3) in vec2 uv0; layout(location=4) in vec2 uv1; layout(location=5) in vec4 tangent;
+    uniform mat4 model, viewProj;
+    out vec3 vNormal; out vec3 vWorld; out vec4 vColor; out vec2 vUv0; out vec2 vUv1; out vec4 vTangent;
+    void main() {
+      vec4 w = model * vec4(position, 1.0);
+      vWorld = w.xyz; vNormal = mat3(model) * normal; vColor = vcolor; vUv0 = uv0; vUv1 = uv1;
+      vTangent = vec4(mat3(model) * tangent.xyz, tangent.w);
+      gl_Position = viewProj * w;
+    }`;
+  const MATERIAL_FS = `#version 300 es
+    precision highp float;
+    in vec3 vNormal; in vec3 vWorld; in vec4 vColor; in vec2 vUv0; in vec2 vUv1; in vec4 vTangent;
+    uniform vec4 color; uniform vec3 eye, emissive; uniform bool lit, hasTangent;
+    uniform sampler2D baseTex, normalTex, emissiveTex;
+    uniform mat3 baseXf, normalXf, emissiveXf;
+    uniform int baseSet, normalSet, emissiveSet, alphaMode;
+    uniform float normalScale, alphaCutoff;
+    out vec4 outColor;
+    vec2 uvOf(int set, mat3 xf) { return (xf * vec3(set == 1 ? vUv1 : vUv0, 1.0)).xy; }
+    vec3 encodeSrgb(vec3 c) {
+      return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+    }
+    vec3 mappedNormal(vec3 n) {
+      vec2 uv = uvOf(normalSet, normalXf);
+      vec3 m = texture(normalTex, uv).xyz * 2.0 - 1.0;
+      m.xy *= normalScale;
+      vec3 t, b;
+      if (hasTangent) {
+        t = normalize(vTangent.xyz - n * dot(n, vTangent.xyz));
+        b = cross(n, t) * (vTangent.w < 0.0 ? -1.0 : 1.0);
+      } else {
+        vec3 dp1 = dFdx(vWorld), dp2 = dFdy(vWorld);
+        vec2 duv1 = dFdx(uv), duv2 = dFdy(uv);
+        vec3 p2 = cross(dp2, n), p1 = cross(n, dp1);
+        t = p2 * duv1.x + p1 * duv2.x;
+        b = -(p2 * duv1.y + p1 * duv2.y);
+        float s = inversesqrt(max(max(dot(t, t), dot(b, b)), 1e-30));
+        t *= s; b *= s;
+      }
+      return normalize(t * m.x + b * m.y + n * m.z);
+    }
+    void main() {
+      vec4 c = color * vColor;
+      if (baseSet >= 0) c *= texture(baseTex, uvOf(baseSet, baseXf));
+      if (alphaMode == 1 && c.a < alphaCutoff) discard;
+      float shade = 1.0;
+      if (lit) {
+        vec3 n = normalize(vNormal);
+        if (normalSet >= 0) n = mappedNormal(n);
+        shade = 0.3 + 0.7 * abs(dot(n, normalize(eye - vWorld)));
+      }
+      vec3 e = emissive;
+      if (emissiveSet >= 0) e *= texture(emissiveTex, uvOf(emissiveSet, emissiveXf)).rgb;
+      vec3 rgb = clamp(c.rgb * shade + e, 0.0, 1.0);
+      outColor = vec4(encodeSrgb(rgb), alphaMode == 2 ? c.a : 1.0);
+    }`;
   // Thick edges: every segment an instanced quad offset across the line on screen.
   const EDGE_VS = `#version 300 es
     layout(location=0) in vec3 a; layout(location=1) in vec3 b; layout(location=2) in vec2 corner;
@@ -181,11 +252,125 @@
     return acc.type === 5121 ? new Uint16Array(acc.data) : acc.data;
   }
 
-  // A GPU draw of one primitive: triangles or points with the shaded program, lines as quads.
-  function uploadPrimitive(gl, g, prim, model) {
+  // The bytes of a data URI's payload without ;base64 (RFC 2397: %XX escapes, else the
+  // characters' own codes).
+  function percentDecoded(text) {
+    const out = [];
+    for (let i = 0; i < text.length; i++) {
+      if (text[i] === "%" && /^[0-9a-fA-F]{2}$/.test(text.substr(i + 1, 2))) { out.push(parseInt(text.substr(i + 1, 2), 16)); i += 2; }
+      else out.push(text.charCodeAt(i) & 255);
+    }
+    return new Uint8Array(out);
+  }
+
+  // An image's encoded bytes and media type (from its buffer view or a data URI), or why the
+  // page cannot show it. The Rust side (check.rs) has refused images outside the file.
+  function imageSource(g, index) {
+    const image = (g.json.images || [])[index];
+    if (!image) return `image ${index} does not exist`;
+    let bytes, mime = image.mimeType || "";
+    if (image.bufferView !== undefined) {
+      const v = g.json.bufferViews[image.bufferView];
+      bytes = g.bin.subarray(v.byteOffset || 0, (v.byteOffset || 0) + v.byteLength);
+    } else {
+      const m = /^data:([^;,]*)(;base64)?,(.*)$/s.exec(image.uri || "");
+      if (!m) return `image ${index} is not inside the file`;
+      mime = mime || m[1];
+      bytes = m[2] ? new Uint8Array(fromBase64(m[3])) : percentDecoded(m[3]);
+    }
+    if (!/^image\/(png|jpeg|webp)$/.test(mime)) return `image ${index} (${mime || "no media type"}) is not one a browser decodes`;
+    return { bytes, mime };
+  }
+
+  // The GPU texture of an image in one colour space (sRGB for colours, linear for normals),
+  // decoded asynchronously: `texture` stays null until it is ready, then `redraw` runs. An image
+  // that cannot be decoded leaves a note for the overlay.
+  function textureOf(gl, g, index, srgb, redraw) {
+    const key = `${index} ${srgb}`;
+    if (g.looks.has(key)) return g.looks.get(key);
+    const slot = { texture: null };
+    g.looks.set(key, slot);
+    const source = imageSource(g, index);
+    if (typeof source === "string") { g.notes.push(source + ": drawn without it"); return slot; }
+    const blob = new Blob([source.bytes], { type: source.mime });
+    createImageBitmap(blob, { premultiplyAlpha: "none", colorSpaceConversion: "none" })
+      .then((bitmap) => {
+        const t = gl.createTexture();
+        gl.bindTexture(gl.TEXTURE_2D, t);
+        gl.texImage2D(gl.TEXTURE_2D, 0, srgb ? gl.SRGB8_ALPHA8 : gl.RGBA8, gl.RGBA, gl.UNSIGNED_BYTE, bitmap);
+        gl.generateMipmap(gl.TEXTURE_2D);
+        bitmap.close();
+        slot.texture = t;
+      })
+      .catch((e) => { g.notes.push(`image ${index} cannot be decoded (${e.message}): drawn without it`); })
+      .then(redraw);
+    return slot;
+  }
+
+  // A WebGL sampler object for glTF sampler `index` (glTF's defaults: repeat, linear, and
+  // trilinear minification, as every texture gets its mipmaps).
+  function samplerOf(gl, g, index) {
+    const key = `sampler ${index}`;
+    if (g.looks.has(key)) return g.looks.get(key);
+    const d = (g.json.samplers || [])[index] || {};
+    const s = gl.createSampler();
+    gl.samplerParameteri(s, gl.TEXTURE_WRAP_S, d.wrapS || gl.REPEAT);
+    gl.samplerParameteri(s, gl.TEXTURE_WRAP_T, d.wrapT || gl.REPEAT);
+    gl.samplerParameteri(s, gl.TEXTURE_MAG_FILTER, d.magFilter || gl.LINEAR);
+    gl.samplerParameteri(s, gl.TEXTURE_MIN_FILTER, d.minFilter || gl.LINEAR_MIPMAP_LINEAR);
+    g.looks.set(key, s);
+    return s;
+  }
+
+  // KHR_texture_transform as a column-major 3×3 matrix: scale, then rotation (u' = c·u + s·v,
+  // v' = −s·u + c·v), then offset.
+  function uvMatrix(x) {
+    const [ox, oy] = x.offset || [0, 0], [sx, sy] = x.scale || [1, 1], r = x.rotation || 0;
+    const c = Math.cos(r), s = Math.sin(r);
+    return new Float32Array([sx * c, -sx * s, 0, sy * s, sy * c, 0, ox, oy, 1]);
+  }
+
+  // A material's texture slot (a textureInfo): its texture, sampler, coordinate set and
+  // transform; null when absent or not drawable (with a note).
+  function textureSlot(gl, g, info, srgb, redraw, what) {
+    if (!info) return null;
+    const tex = (g.json.textures || [])[info.index];
+    const x = (info.extensions || {}).KHR_texture_transform || {};
+    const set = x.texCoord !== undefined ? x.texCoord : info.texCoord || 0;
+    if (!tex || tex.source === undefined) { g.notes.push(`${what} texture ${info.index} has no image the page reads`); return null; }
+    if (set > 1) { g.notes.push(`${what} texture ${info.index} reads TEXCOORD_${set}, which the page does not`); return null; }
+    return { image: textureOf(gl, g, tex.source, srgb, redraw), sampler: samplerOf(gl, g, tex.sampler), set, xf: uvMatrix(x) };
+  }
+
+  // What the material program needs of material `index` (none: the page's grey), once per file.
+  function materialOf(gl, g, index, redraw) {
+    const key = `material ${index}`;
+    if (g.looks.has(key)) return g.looks.get(key);
+    const mat = (g.json.materials || [])[index];
+    const pbr = (mat && mat.pbrMetallicRoughness) || {};
+    const strength = ((mat && mat.extensions) || {}).KHR_materials_emissive_strength;
+    const emissive = ((mat && mat.emissiveFactor) || [0, 0, 0]).map((e) => e * ((strength && strength.emissiveStrength) || 1));
+    const out = {
+      color: pbr.baseColorFactor || (mat ? [1, 1, 1, 1] : DEFAULT_SURFACE),
+      base: textureSlot(gl, g, pbr.baseColorTexture, true, redraw, "base colour"),
+      normal: mat ? textureSlot(gl, g, mat.normalTexture, false, redraw, "normal") : null,
+      normalScale: mat && mat.normalTexture && mat.normalTexture.scale !== undefined ? mat.normalTexture.scale : 1,
+      emissive,
+      emissiveTexture: mat ? textureSlot(gl, g, mat.emissiveTexture, true, redraw, "emissive") : null,
+      alphaMode: { MASK: 1, BLEND: 2 }[mat && mat.alphaMode] || 0,
+      alphaCutoff: mat && mat.alphaCutoff !== undefined ? mat.alphaCutoff : 0.5,
+    };
+    g.looks.set(key, out);
+    return out;
+  }
+
+  // A GPU draw of one primitive: triangles with the material program, points with the shaded
+  // one, lines as quads.
+  function uploadPrimitive(gl, g, prim, model, redraw) {
     const mode = prim.mode === undefined ? 4 : prim.mode;
     const pos = accessor(g, prim.attributes.POSITION);
-    const nor = prim.attributes.NORMAL !== undefined ? accessor(g, prim.attributes.NORMAL) : null;
+    const optional = (name) => (prim.attributes[name] !== undefined ? accessor(g, prim.attributes[name]) : null);
+    const nor = optional("NORMAL");
     const idx = prim.indices !== undefined ? indexData(accessor(g, prim.indices)) : null;
     const mat = g.json.materials && prim.material !== undefined ? g.json.materials[prim.material] : {};
     const pbr = mat.pbrMetallicRoughness || {};
@@ -194,12 +379,11 @@
     gl.bindVertexArray(vao);
     let draw;
     if (mode === 1 || mode === 3 || mode === 2) {
-      draw = edgeDraw(gl, pos, idx, mode, prim.attributes._WIDTH !== undefined ? accessor(g, prim.attributes._WIDTH) : null);
+      draw = edgeDraw(gl, pos, idx, mode, optional("_WIDTH"));
     } else {
       attribute(gl, 0, pos);
       if (nor) attribute(gl, 1, nor);
       else gl.vertexAttrib3f(1, 0, 0, 1);
-      gl.vertexAttrib4f(2, 1, 1, 1, 1);
       let count = pos.count, type = null;
       if (idx) {
         arrayBuffer(gl, gl.ELEMENT_ARRAY_BUFFER, idx);
@@ -207,10 +391,31 @@
         type = idx instanceof Uint32Array ? gl.UNSIGNED_INT : gl.UNSIGNED_SHORT;
       }
       draw = { kind: "shaded", mode, count, type, lit: !!nor && mode >= 4 };
+      if (mode >= 4) {
+        // Absent attributes are constants: white vertex colour, (0, 0) coordinates, no tangent.
+        const looks = [[2, "COLOR_0", [1, 1, 1, 1]], [3, "TEXCOORD_0", [0, 0, 0, 1]], [4, "TEXCOORD_1", [0, 0, 0, 1]], [5, "TANGENT", [1, 0, 0, 1]]];
+        for (const [loc, name, constant] of looks) {
+          const acc = optional(name);
+          if (acc) attribute(gl, loc, acc);
+          else gl.vertexAttrib4fv(loc, constant);
+        }
+        draw.kind = "material";
+        draw.material = materialOf(gl, g, prim.material, redraw);
+        draw.hasTangent = !!optional("TANGENT");
+        draw.centre = boxCentre(g.json.accessors[prim.attributes.POSITION], model);
+      } else {
+        gl.vertexAttrib4f(2, 1, 1, 1, 1);
+      }
     }
     gl.bindVertexArray(null);
     const triangles = mode === 4 ? (idx ? idx.length : pos.count) / 3 : 0;
-    return Object.assign(draw, { vao, model, color, blend: mat.alphaMode === "BLEND", triangles });
+    return Object.assign(draw, { vao, model, color, triangles });
+  }
+
+  // The world position of the centre of an accessor's bounds (its origin without bounds).
+  function boxCentre(a, model) {
+    const c = a.min && a.max ? [0, 1, 2].map((k) => (a.min[k] + a.max[k]) / 2) : [0, 0, 0];
+    return transformPoint(model, c);
   }
 
   // Segments as instances: endpoints (and a width in object units, from _WIDTH) per instance,
@@ -250,19 +455,20 @@
     return { kind: "edges", count: pairs.length / 2 };
   }
 
-  function drawsOfNode(gl, g, index, parent, out) {
+  function drawsOfNode(gl, g, index, parent, out, redraw) {
     const node = g.json.nodes[index];
     const m = multiply(parent, nodeMatrix(node));
     if (node.mesh !== undefined) {
       for (const prim of g.json.meshes[node.mesh].primitives) {
-        if (prim.attributes.POSITION !== undefined) out.push(uploadPrimitive(gl, g, prim, m));
+        if (prim.attributes.POSITION !== undefined) out.push(uploadPrimitive(gl, g, prim, m, redraw));
       }
     }
-    for (const c of node.children || []) drawsOfNode(gl, g, c, m, out);
+    for (const c of node.children || []) drawsOfNode(gl, g, c, m, out, redraw);
     return out;
   }
 
   const IDENTITY = new Float32Array([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]);
+  const IDENTITY3 = new Float32Array([1, 0, 0, 0, 1, 0, 0, 0, 1]);
 
   // The box of every position accessor under the scene's nodes, in world units.
   function sceneBounds(g, roots) {
@@ -336,8 +542,36 @@
     };
   }
 
-  function loadModel(gl, entry) {
+  // The scene's root nodes named LOD0, LOD1, … LODn−1 (n ≥ 2, each once: voxlod's lod-nodes
+  // layout, and the importers' LOD-group convention), finest first; null when there are none.
+  function lodNodeIds(g, roots) {
+    const ids = [];
+    let named = 0;
+    for (const r of roots) {
+      const m = /^LOD(\d+)$/.exec((g.json.nodes[r] || {}).name || "");
+      if (m && Number(m[1]) < roots.length) { ids[Number(m[1])] = r; named += 1; }
+    }
+    return ids.length >= 2 && named === ids.length && !ids.includes(undefined) ? ids : null;
+  }
+
+  // MSFT_screencoverage for levels without it, by the rule voxlod's writer uses for its default:
+  // level k is left below half the square root of level k+1's share of level 0's triangles (its
+  // node's extras.voxlod.triangles, else the triangles drawn); 0 for the last. Equal steps
+  // 1/2, 1/3, … where the triangles do not decrease.
+  function coverageByTriangles(g, ids, levels) {
+    const counted = levels.map((draws) => draws.reduce((s, d) => s + d.triangles, 0));
+    const triangles = ids.map((id, k) => (((g.json.nodes[id].extras || {}).voxlod || {}).triangles) || counted[k]);
+    const decreasing = triangles.every((t, k) => k === 0 || (t > 0 && t < triangles[k - 1]));
+    return ids.map((_, k) => {
+      if (k === ids.length - 1) return 0;
+      return decreasing ? 0.5 * Math.sqrt(triangles[k + 1] / triangles[0]) : 1 / (k + 2);
+    });
+  }
+
+  function loadModel(gl, entry, redraw) {
     const g = parseGlb(fromBase64(entry.glb));
+    g.looks = new Map();
+    g.notes = [];
     const sceneIndex = g.json.scene || 0;
     const scene = (g.json.scenes || [])[sceneIndex] || { nodes: (g.json.nodes || []).map((_, i) => i) };
     const extras = (scene.extras || {}).voxlod || {};
@@ -354,6 +588,17 @@
     }
     const root = g.json.nodes && g.json.nodes[scene.nodes[0]];
     const lod = root && root.extensions && root.extensions.MSFT_lod;
+    const lodNodes = lod ? null : lodNodeIds(g, scene.nodes);
+    if (lodNodes) {
+      // Root nodes beside the levels are drawn with every level.
+      const others = scene.nodes.filter((n) => !lodNodes.includes(n)).flatMap((n) => drawsOfNode(gl, g, n, IDENTITY, [], redraw));
+      model.kind = "lod";
+      model.levelNames = lodNodes.map((id) => g.json.nodes[id].name);
+      model.levels = lodNodes.map((id) => drawsOfNode(gl, g, id, IDENTITY, [], redraw).concat(others));
+      model.coverage = coverageByTriangles(g, lodNodes, model.levels);
+      model.viewportHeight = (extras.screen_coverage || {}).viewport_height || 1080;
+      return Object.assign(model, { notes: g.notes });
+    }
     if (lod) {
       const ids = [scene.nodes[0]].concat(lod.ids);
       const levelOrders = ids.map((_, k) => named.filter(([n]) => n.startsWith(`level ${k} order`)).map(([n, i]) => [n.slice(`level ${k} `.length), i]));
@@ -367,15 +612,15 @@
         return model;
       }
       model.kind = "lod";
-      model.levels = ids.map((id) => drawsOfNode(gl, g, id, IDENTITY, []));
+      model.levels = ids.map((id) => drawsOfNode(gl, g, id, IDENTITY, [], redraw));
       model.coverage = (root.extras || {}).MSFT_screencoverage || ids.map((_, i) => (i === ids.length - 1 ? 0 : 1 / (i + 2)));
       const sc = extras.screen_coverage || {};
       model.viewportHeight = sc.viewport_height || 1080;
       if (sc.diameter) model.diameter = sc.diameter;
-      return model;
+      return Object.assign(model, { notes: g.notes });
     }
-    model.draws = scene.nodes.flatMap((n) => drawsOfNode(gl, g, n, IDENTITY, []));
-    return model;
+    model.draws = scene.nodes.flatMap((n) => drawsOfNode(gl, g, n, IDENTITY, [], redraw));
+    return Object.assign(model, { notes: g.notes });
   }
 
   function start() {
@@ -384,8 +629,15 @@
     const overlay = document.getElementById("overlay");
     if (!gl) { overlay.textContent = "WebGL2 is not available"; document.title = "voxlod: no webgl2"; return; }
     const shaded = program(gl, SHADED_VS, SHADED_FS), edges = program(gl, EDGE_VS, EDGE_FS);
+    const material = program(gl, MATERIAL_VS, MATERIAL_FS);
+    gl.useProgram(material.p);
+    ["baseTex", "normalTex", "emissiveTex"].forEach((name, unit) => gl.uniform1i(material.u[name], unit));
+    const white = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, white);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, 1, 1, 0, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array([255, 255, 255, 255]));
     const entries = JSON.parse(document.getElementById("voxlod-data").textContent);
-    const models = entries.map((e) => loadModel(gl, e));
+    // Images decode after the first frame; each one ready draws the view again.
+    const models = entries.map((e) => loadModel(gl, e, () => render()));
     const state = { model: 0, distance: 0, dir: [0.4, 0.3, 1.0] };
     const resetDistance = () => { state.distance = 2.0 * models[state.model].diameter; };
     resetDistance();
@@ -420,6 +672,39 @@
       else gl.drawArrays(d.mode, 0, d.count);
     }
 
+    // One texture slot on `unit`: its image when decoded (else the white stand-in), its sampler,
+    // coordinate set and transform; set −1 turns the slot off.
+    function bindSlot(unit, slot, name, standIn) {
+      const ready = slot && slot.image.texture;
+      gl.activeTexture(gl.TEXTURE0 + unit);
+      gl.bindTexture(gl.TEXTURE_2D, ready || white);
+      gl.bindSampler(unit, slot ? slot.sampler : null);
+      gl.uniform1i(material.u[name + "Set"], slot && (ready || standIn) ? slot.set : -1);
+      gl.uniformMatrix3fv(material.u[name + "Xf"], false, slot ? slot.xf : IDENTITY3);
+    }
+
+    function drawMaterial(d, viewProj, eye) {
+      const m = d.material;
+      gl.useProgram(material.p);
+      gl.uniformMatrix4fv(material.u.model, false, d.model);
+      gl.uniformMatrix4fv(material.u.viewProj, false, viewProj);
+      gl.uniform3fv(material.u.eye, eye);
+      gl.uniform4fv(material.u.color, m.color);
+      gl.uniform1i(material.u.lit, d.lit ? 1 : 0);
+      gl.uniform1i(material.u.hasTangent, d.hasTangent ? 1 : 0);
+      bindSlot(0, m.base, "base", true);
+      bindSlot(1, m.normal, "normal", false);
+      bindSlot(2, m.emissiveTexture, "emissive", false);
+      gl.uniform1f(material.u.normalScale, m.normalScale);
+      gl.uniform3fv(material.u.emissive, m.emissiveTexture && !m.emissiveTexture.image.texture ? [0, 0, 0] : m.emissive);
+      gl.uniform1i(material.u.alphaMode, m.alphaMode);
+      gl.uniform1f(material.u.alphaCutoff, m.alphaCutoff);
+      gl.bindVertexArray(d.vao);
+      if (d.type) gl.drawElements(d.mode, d.count, d.type, 0);
+      else gl.drawArrays(d.mode, 0, d.count);
+      for (let unit = 0; unit < 3; unit++) gl.bindSampler(unit, null);
+    }
+
     function drawEdges(d, viewProj) {
       gl.useProgram(edges.p);
       gl.uniformMatrix4fv(edges.u.model, false, d.model);
@@ -432,9 +717,23 @@
       gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, d.count);
     }
 
+    // Opaque and masked draws first, then BLEND materials back to front (by their bounds'
+    // centres) over them without writing depth.
     function drawDraws(draws, viewProj, eye) {
       gl.enable(gl.DEPTH_TEST);
-      for (const d of draws) (d.kind === "edges" ? drawEdges : drawShaded)(d, viewProj, eye);
+      const blended = (d) => d.kind === "material" && d.material.alphaMode === 2;
+      const kinds = { edges: drawEdges, shaded: drawShaded, material: drawMaterial };
+      for (const d of draws) if (!blended(d)) kinds[d.kind](d, viewProj, eye);
+      const far = (d) => Math.hypot(d.centre[0] - eye[0], d.centre[1] - eye[1], d.centre[2] - eye[2]);
+      const back = draws.filter(blended).sort((a, b) => far(b) - far(a));
+      if (back.length) {
+        gl.enable(gl.BLEND);
+        gl.blendFuncSeparate(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA, gl.ONE, gl.ONE_MINUS_SRC_ALPHA);
+        gl.depthMask(false);
+        for (const d of back) drawMaterial(d, viewProj, eye);
+        gl.depthMask(true);
+        gl.disable(gl.BLEND);
+      }
       return draws.reduce((s, d) => s + d.triangles, 0);
     }
 
@@ -526,7 +825,8 @@
         text = `${m.name}: ${triangles} triangles`;
         title = `voxlod triangles=${triangles}`;
       }
-      overlay.textContent = `${text} · distance ${state.distance.toPrecision(4)}`;
+      const notes = m.notes && m.notes.length ? ` · ${m.notes.join("; ")}` : "";
+      overlay.textContent = `${text} · distance ${state.distance.toPrecision(4)}${notes}`;
       document.title = title;
     }
 

@@ -14,81 +14,13 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
 use voxlod_testkit::browser::chromium;
 
+use common::shots::{drawn_pixels, patch, screenshot, shots, FOV, SIZE};
 use common::{write_layered_ball_chain, write_sphere_chain, write_two_layers, SPHERE_CELLS};
 use image::RgbImage;
 use voxlod_gltf::ChainOptions;
 use voxlod_view::{write_page, ViewOptions, PATCH_COLORS};
-
-const SIZE: u32 = 400;
-const FOV: f64 = std::f64::consts::PI / 4.0;
-
-/// A screenshot of `page` with the camera at `distance` along `dir` (centre to eye).
-fn screenshot(browser: &Path, page: &Path, distance: f64, dir: [f64; 3], png: &Path) -> RgbImage {
-    let profile = tempfile::tempdir().unwrap();
-    let url = format!(
-        "file://{}#camera={distance},{},{},{}",
-        page.display(),
-        dir[0],
-        dir[1],
-        dir[2]
-    );
-    let out = Command::new(browser)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--use-gl=swiftshader",
-            "--enable-unsafe-swiftshader",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--no-first-run",
-            "--hide-scrollbars",
-            "--virtual-time-budget=5000",
-        ])
-        .arg(format!("--user-data-dir={}", profile.path().display()))
-        .arg(format!("--window-size={SIZE},{SIZE}"))
-        .arg(format!("--screenshot={}", png.display()))
-        .arg(url)
-        .output()
-        .expect("chromium runs");
-    assert!(
-        png.is_file(),
-        "no screenshot: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    image::open(png).unwrap().to_rgb8()
-}
-
-fn patch(img: &RgbImage) -> [u8; 3] {
-    img.get_pixel(8, 8).0
-}
-
-/// Pixels away from white, outside the top strip (patch and overlay).
-fn drawn_pixels(img: &RgbImage) -> usize {
-    img.enumerate_pixels()
-        .filter(|(_, y, p)| *y >= 30 && p.0.iter().any(|&c| c < 235))
-        .count()
-}
-
-/// Where screenshots go: `VOXLOD_VIEW_SHOTS` to keep them, else a temporary folder.
-fn shots() -> (Option<tempfile::TempDir>, PathBuf) {
-    match std::env::var_os("VOXLOD_VIEW_SHOTS") {
-        Some(dir) => {
-            std::fs::create_dir_all(&dir).unwrap();
-            (None, PathBuf::from(dir))
-        }
-        None => {
-            let t = tempfile::tempdir().unwrap();
-            let p = t.path().to_path_buf();
-            (Some(t), p)
-        }
-    }
-}
 
 /// The level the page must show: `voxlod select`'s rule for a 400-pixel viewport.
 fn expected_level(distance: f64) -> usize {

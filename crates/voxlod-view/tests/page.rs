@@ -1,13 +1,16 @@
 //! The page without a browser: self-contained, the data inlined intact, bad files refused with
-//! an error that names the file and the problem.
+//! an error that names the file and the problem (an image outside the file, an attribute of the
+//! wrong shape, a required extension the page does not read), and the `LOD0, LOD1, …` layout
+//! counted as a chain.
 
 mod common;
 
 use base64::Engine;
-use common::{write_sphere_chain, write_two_layers};
-use voxlod_gltf::ChainOptions;
+use common::{edit_glb, write_sphere_chain, write_two_layers};
+use serde_json::json;
+use voxlod_gltf::{asset_glb, AssetGlbOptions, ChainOptions, Layout};
 use voxlod_io::IoErrorKind;
-use voxlod_view::{page_html, read_model, write_page, ViewError, ViewOptions};
+use voxlod_view::{check_glb, page_html, read_model, write_page, ViewError, ViewOptions};
 
 #[test]
 fn the_page_inlines_everything_and_the_data_round_trips() {
@@ -123,4 +126,47 @@ fn an_index_beyond_the_vertices_is_refused() {
     std::fs::write(&bad, bytes).unwrap();
     let e = read_model(&bad).unwrap_err().to_string();
     assert!(e.contains("index 77 beyond its 4 vertices"), "{e}");
+}
+
+#[test]
+fn textured_levels_are_checked_and_lod_nodes_count_as_levels() {
+    let dir = tempfile::tempdir().unwrap();
+    let levels = [4, 2, 1].map(voxlod_testkit::assets::textured_sphere);
+    let options = AssetGlbOptions {
+        layout: Layout::LodNodes,
+        ..AssetGlbOptions::default()
+    };
+    let bytes = asset_glb(&levels, &options).unwrap();
+    let glb = dir.path().join("lod-nodes.glb");
+    std::fs::write(&glb, &bytes).unwrap();
+    let model = read_model(&glb).unwrap();
+    assert_eq!(model.glb.levels, 3);
+    assert_eq!(model.glb.triangles, 20 * (256 + 16 + 4));
+    // Two nodes named LOD0: no chain, one model of every node.
+    let twice = edit_glb(&bytes, |doc| doc["nodes"][1]["name"] = json!("LOD0"));
+    assert_eq!(check_glb(&twice).unwrap().levels, 1);
+
+    let refused =
+        |edit: &dyn Fn(&mut serde_json::Value)| check_glb(&edit_glb(&bytes, edit)).unwrap_err();
+    let e = refused(&|doc| doc["images"][0] = json!({"uri": "halves.png"}));
+    assert!(
+        e.contains("image 0 is the file \"halves.png\" outside the .glb"),
+        "{e}"
+    );
+    let e = refused(&|doc| {
+        let uv = doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"].clone();
+        doc["accessors"][uv.as_u64().unwrap() as usize]["type"] = json!("SCALAR");
+    });
+    assert!(
+        e.contains("TexCoords(0)") && e.contains("must be of type VEC2"),
+        "{e}"
+    );
+    let e = refused(&|doc| doc["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]));
+    assert!(e.contains("KHR_draco_mesh_compression"), "{e}");
+    // Required extensions the page reads are accepted.
+    let transform = edit_glb(&bytes, |doc| {
+        doc["extensionsUsed"] = json!(["KHR_texture_transform"]);
+        doc["extensionsRequired"] = json!(["KHR_texture_transform"]);
+    });
+    assert!(check_glb(&transform).is_ok());
 }

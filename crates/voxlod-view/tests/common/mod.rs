@@ -1,5 +1,9 @@
 //! Scenes for the page tests, made in code.
 
+#![allow(dead_code)] // each test file uses some of the helpers
+
+pub mod shots;
+
 use std::path::Path;
 
 use serde_json::json;
@@ -112,7 +116,6 @@ pub fn write_two_layers(path: &Path, radius: f64) {
 
 /// A ball of radius 1 at the origin as layered shells at resolutions 16 and 8, chained
 /// (`voxlod layers --lod`); returns the two levels' filter radii.
-#[allow(dead_code)] // not every test file uses it
 pub fn write_layered_ball_chain(path: &Path) -> [f64; 2] {
     use voxlod_layers::{layer_solid, layered_chain_bytes, GlbOptions, LayeredLevel};
     let solid =
@@ -144,4 +147,17 @@ pub fn write_layered_ball_chain(path: &Path) -> [f64; 2] {
     let bytes = layered_chain_bytes(&chain, &GlbOptions::default()).unwrap();
     std::fs::write(path, bytes).unwrap();
     radii
+}
+
+/// The `.glb` `bytes` with its JSON chunk replaced by `edit` applied to it.
+pub fn edit_glb(bytes: &[u8], edit: impl FnOnce(&mut serde_json::Value)) -> Vec<u8> {
+    let glb = gltf::binary::Glb::from_slice(bytes).unwrap();
+    let mut doc: serde_json::Value = serde_json::from_slice(&glb.json).unwrap();
+    edit(&mut doc);
+    let out = gltf::binary::Glb {
+        header: glb.header,
+        json: serde_json::to_vec(&doc).unwrap().into(),
+        bin: glb.bin,
+    };
+    out.to_vec().unwrap()
 }
