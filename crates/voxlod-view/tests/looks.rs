@@ -2,7 +2,8 @@
 //! where no browser is installed, as `browser.rs` does):
 //! - the two-halves textured sphere (`voxlod_testkit::assets::textured_sphere`, red where
 //!   x < 0, blue where x > 0) seen from +z: red left of centre, blue right of it, plain and
-//!   meshopt-compressed over quantized texture coordinates;
+//!   meshopt-compressed over quantized texture coordinates; the same in the emissive slot of a
+//!   black material;
 //! - the same image as a data URI with `KHR_texture_transform` mirroring u (scale −1, offset 1):
 //!   the halves swap sides;
 //! - a level coloured per vertex (green where x < 0, magenta where x > 0) through `COLOR_0`,
@@ -82,6 +83,17 @@ fn halves_seen(
     left_and_right(&screenshot(browser, &page, 3.0, [0.0, 0.0, 1.0], &png))
 }
 
+/// The two-halves sphere black, its halves in the emissive slot (factor 1): red and blue at
+/// full strength whatever the shade.
+fn glowing_sphere() -> Asset {
+    let mut sphere = textured_sphere(4);
+    let m = &mut sphere.materials[0];
+    m.emissive_texture = m.base_color_texture.take();
+    m.emissive = [1.0; 3];
+    m.base_color = [0.0, 0.0, 0.0, 1.0];
+    sphere
+}
+
 fn is_green(c: [f64; 3]) -> bool {
     c[1] > 180.0 && c[0] < 60.0 && c[2] < 60.0
 }
@@ -97,8 +109,9 @@ fn textures_and_vertex_colours_show_plain_and_compressed() {
     };
     let (_keep, dir) = shots();
     type Test = fn([f64; 3]) -> bool;
-    let cases: [(&str, Asset, Test, Test); 2] = [
+    let cases: [(&str, Asset, Test, Test); 3] = [
         ("halves", textured_sphere(4), is_red, is_blue),
+        ("glowing", glowing_sphere(), is_red, is_blue),
         (
             "coloured",
             coloured_sphere(1.0, AlphaMode::Opaque),
