@@ -273,20 +273,26 @@ fn pack(
         }
         TextureSize::Texels(n) => {
             let area = surface_area(level).max(f32::MIN_POSITIVE);
-            // Start where the charts would fill 60 % of the texture, a little more than xatlas
-            // packs, and lower the density until one texture holds them.
-            let mut density = 0.77 * (n as f32 - 2.0 * options.padding as f32) / area.sqrt();
-            for _ in 0..40 {
-                let generated = xatlas.pack(PackOptions {
-                    texels_per_unit: density,
+            // Start where the charts would fill 80 % of the texture, more than xatlas packs,
+            // lower the density until one texture holds them, then bisect between the last
+            // density that did not fit and the first that did.
+            let mut density = 0.9 * (n as f32 - 2.0 * options.padding as f32) / area.sqrt();
+            let mut pack_at = |d: f32| {
+                xatlas.pack(PackOptions {
+                    texels_per_unit: d,
                     resolution: n,
                     max_chart_size: n,
                     ..base
-                });
+                })
+            };
+            let mut too_dense = None;
+            for _ in 0..40 {
+                let generated = pack_at(density);
                 if generated.atlas_count == 1 {
-                    return Ok(generated);
+                    return Ok(densest_fit(&mut pack_at, (density, generated), too_dense));
                 }
-                density *= 0.93;
+                too_dense = Some(density);
+                density *= 0.85;
             }
             Err(BakeError::Atlas(format!(
                 "the charts do not fit one {n}² texture with {} texels of padding",
@@ -294,6 +300,33 @@ fn pack(
             )))
         }
     }
+}
+
+/// Bisections between a density that fits one texture and one that does not.
+const DENSITY_BISECTIONS: usize = 4;
+
+/// The densest packing found by bisecting between `fit` (a density and its packing in one
+/// texture) and `too_dense` (a density whose charts did not fit), in [`DENSITY_BISECTIONS`]
+/// steps; `fit` itself without a failing density to bisect towards.
+fn densest_fit(
+    pack_at: &mut impl FnMut(f32) -> Generated,
+    fit: (f32, Generated),
+    too_dense: Option<f32>,
+) -> Generated {
+    let Some(mut hi) = too_dense else {
+        return fit.1;
+    };
+    let (mut lo, mut best) = fit;
+    for _ in 0..DENSITY_BISECTIONS {
+        let mid = (lo * hi).sqrt();
+        let generated = pack_at(mid);
+        if generated.atlas_count == 1 {
+            (lo, best) = (mid, generated);
+        } else {
+            hi = mid;
+        }
+    }
+    best
 }
 
 /// The area of `triangles` of the level's mean triangle area; 0 (xatlas's "no limit") where

@@ -150,3 +150,12 @@ fn bad_levels_and_options_are_named() {
     let err = atlas(&unit_cube(), &AtlasOptions::for_density(-1.0)).unwrap_err();
     assert!(err.to_string().contains("density"), "{err}");
 }
+
+#[test]
+fn a_fixed_texture_is_filled_as_densely_as_its_charts_pack() {
+    // A sphere's smooth charts pack into a 512² texture with about half of its texels covered
+    // or more: the density is bisected up to the first that does not fit, not left a whole
+    // step below it.
+    let atlas = voxlod_bake::atlas(&icosphere(4), &AtlasOptions::for_texture(512)).unwrap();
+    assert!(atlas.utilisation >= 0.45, "{}", atlas.utilisation);
+}
