@@ -4,8 +4,9 @@
 //!   x < 0, blue where x > 0) seen from +z: red left of centre, blue right of it, plain and
 //!   meshopt-compressed over quantized texture coordinates; the same in the emissive slot of a
 //!   black material;
-//! - the same image as a data URI with `KHR_texture_transform` mirroring u (scale −1, offset 1):
-//!   the halves swap sides;
+//! - the same image as a data URI under `KHR_texture_transform`: mirrored (the halves swap),
+//!   turned a quarter (red below, blue above), and scaled by −1 (repeated: swapped; clamped:
+//!   red everywhere, the sampler's wrap);
 //! - a level coloured per vertex (green where x < 0, magenta where x > 0) through `COLOR_0`,
 //!   float and quantized;
 //! - alpha: a base colour of alpha 0.3 under `MASK` with cutoff 0.5 draws nothing, under
@@ -133,8 +134,20 @@ fn textures_and_vertex_colours_show_plain_and_compressed() {
     }
 }
 
+/// The mean colours a half-way down (y = −0.5) and up (y = +0.5) on the unit sphere's front,
+/// seen from +z at distance 3.
+fn below_and_above(img: &image::RgbImage) -> ([f64; 3], [f64; 3]) {
+    let z = 0.75f64.sqrt();
+    let col = SIZE / 2;
+    // Rows grow downwards: y = −0.5 is the column of x = +0.5 mirrored.
+    (
+        mean_around(img, col, column(0.5, z, 3.0)),
+        mean_around(img, col, column(-0.5, z, 3.0)),
+    )
+}
+
 #[test]
-fn a_data_uri_image_with_a_texture_transform_swaps_the_halves() {
+fn texture_transforms_and_samplers_apply_to_a_data_uri_image() {
     let Some(browser) = chromium() else {
         return;
     };
@@ -144,27 +157,68 @@ fn a_data_uri_image_with_a_texture_transform_swaps_the_halves() {
         "data:image/png;base64,{}",
         base64::engine::general_purpose::STANDARD.encode(two_halves_png())
     );
-    let edited = edit_glb(&plain, |doc| {
-        doc["images"][0] = json!({"uri": uri});
-        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] =
-            json!({"KHR_texture_transform": {"offset": [1.0, 0.0], "scale": [-1.0, 1.0]}});
-        doc["extensionsUsed"] = json!(["KHR_texture_transform"]);
-        doc["extensionsRequired"] = json!(["KHR_texture_transform"]);
-    });
-    let glb = dir.join("halves-mirrored.glb");
-    std::fs::write(&glb, edited).unwrap();
-    let page = dir.join("halves-mirrored.html");
-    write_page(&[glb], &page, &ViewOptions::default()).unwrap();
-    let img = screenshot(
-        &browser,
-        &page,
-        3.0,
-        [0.0, 0.0, 1.0],
-        &dir.join("halves-mirrored.png"),
-    );
-    let (left, right) = left_and_right(&img);
-    assert!(is_blue(left), "left of centre {left:?}, expected blue");
-    assert!(is_red(right), "right of centre {right:?}, expected red");
+    let (clamp, repeat) = (33071, 10497);
+    let half_turn = std::f64::consts::FRAC_PI_2;
+    // (name, transform, wrap along u, test of left, right, below, above). The texture's u is
+    // (x + 1) / 2, v is (y + 1) / 2; texel 0 (u < 0.5) red, texel 1 blue.
+    type Test = fn([f64; 3]) -> bool;
+    let any: Test = |_| true;
+    let cases: [(&str, serde_json::Value, u32, [Test; 4]); 4] = [
+        // u' = 1 − u: the halves swap.
+        (
+            "mirrored",
+            json!({"offset": [1.0, 0.0], "scale": [-1.0, 1.0]}),
+            clamp,
+            [is_blue, is_red, any, any],
+        ),
+        // u' = v: red below, blue above.
+        (
+            "rotated",
+            json!({"rotation": half_turn}),
+            clamp,
+            [any, any, is_red, is_blue],
+        ),
+        // u' = −u: repeated, 1 − u (swapped); clamped, 0 everywhere (red).
+        (
+            "repeated",
+            json!({"scale": [-1.0, 1.0]}),
+            repeat,
+            [is_blue, is_red, any, any],
+        ),
+        (
+            "clamped",
+            json!({"scale": [-1.0, 1.0]}),
+            clamp,
+            [is_red, is_red, any, any],
+        ),
+    ];
+    for (name, transform, wrap, tests) in cases {
+        let edited = edit_glb(&plain, |doc| {
+            doc["images"][0] = json!({"uri": uri});
+            doc["samplers"][0]["wrapS"] = json!(wrap);
+            doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] =
+                json!({"KHR_texture_transform": transform});
+            doc["extensionsUsed"] = json!(["KHR_texture_transform"]);
+            doc["extensionsRequired"] = json!(["KHR_texture_transform"]);
+        });
+        let glb = dir.join(format!("halves-{name}.glb"));
+        std::fs::write(&glb, edited).unwrap();
+        let page = dir.join(format!("halves-{name}.html"));
+        write_page(&[glb], &page, &ViewOptions::default()).unwrap();
+        let png = dir.join(format!("halves-{name}.png"));
+        let img = screenshot(&browser, &page, 3.0, [0.0, 0.0, 1.0], &png);
+        let (left, right) = left_and_right(&img);
+        let (below, above) = below_and_above(&img);
+        let seen = [
+            ("left", left),
+            ("right", right),
+            ("below", below),
+            ("above", above),
+        ];
+        for ((what, colour), test) in seen.into_iter().zip(tests) {
+            assert!(test(colour), "{name}: {what} of centre {colour:?}");
+        }
+    }
 }
 
 /// The unit icosphere coloured per vertex: linear green where x < 0, magenta where x > 0 (a
