@@ -93,103 +93,25 @@ pub(crate) fn files(path: &Path, asset: &Asset) -> Result<AssetFiles, IoError> {
             format!("{vertices} vertices do not fit PLY's int indices"),
         ));
     }
-    let factor = |b: &super::Block| {
-        b.material.map_or(Vec4::ONE, |k| {
-            Vec4::from(asset.materials[k as usize].base_color)
-        })
-    };
-    let colored = !m.colors.is_empty() || blocks.iter().any(|b| factor(b) != Vec4::ONE);
-    let color = |v: usize, f: Vec4| m.colors.get(v).copied().unwrap_or(Vec4::ONE) * f;
-    let alpha = colored
-        && blocks.iter().any(|b| {
-            b.vertices
-                .iter()
-                .any(|&v| color(v as usize, factor(b)).w < 1.0)
-        });
+    let looks = Looks::of(asset, &blocks);
     let texture = texture(asset, &mut warnings);
     if !m.uv[1].is_empty() {
         warnings.push("PLY holds one texture coordinate set: set 1 was left out".to_string());
     }
-
-    let mut header = Header::new();
-    header.encoding = Encoding::BinaryLittleEndian;
-    header.comments.push("written by voxlod".to_string());
     let textures = Textures::of(&asset.images);
-    if let Some(k) = texture {
-        header
-            .comments
-            .push(format!("TextureFile {}", textures.names[k]));
-    }
-    let float = || PropertyType::Scalar(ScalarType::Float);
-    let uchar = || PropertyType::Scalar(ScalarType::UChar);
-    let mut names: Vec<(&str, PropertyType)> = vec![("x", float()), ("y", float()), ("z", float())];
-    if !m.normals.is_empty() {
-        names.extend([("nx", float()), ("ny", float()), ("nz", float())]);
-    }
-    if colored {
-        names.extend([("red", uchar()), ("green", uchar()), ("blue", uchar())]);
-        if alpha {
-            names.push(("alpha", uchar()));
-        }
-    }
-    if !m.uv[0].is_empty() {
-        names.extend([("texture_u", float()), ("texture_v", float())]);
-    }
-    let vertex_def = element("vertex", vertices, names);
-    let face_def = element(
-        "face",
-        m.triangles.len(),
-        vec![(
-            "vertex_indices",
-            PropertyType::List(ScalarType::UChar, ScalarType::Int),
-        )],
-    );
-    header.elements.add(vertex_def.clone());
-    header.elements.add(face_def.clone());
-
+    let texture_name = texture.map(|k| textures.names[k].as_str());
+    let (header, vertex_def, face_def) = header(asset, vertices, &looks, texture_name);
     let io = |e: std::io::Error| IoError::unsupported(path, format!("cannot encode: {e}"));
     let mut bytes = Vec::with_capacity(vertices * 40 + m.triangles.len() * 13 + 512);
     Writer::<VertexOut>::new()
         .write_header(&mut bytes, &header)
         .map_err(io)?;
-    let vertex_writer = Writer::<VertexOut>::new();
-    for b in &blocks {
-        let f = factor(b);
-        for &v in &b.vertices {
-            let v = v as usize;
-            let c = color(v, f);
-            let srgb = [c.x, c.y, c.z].map(|x| byte(linear_to_srgb(x)));
-            let out = VertexOut {
-                position: m.positions[v],
-                normal: m.normals.get(v).copied().unwrap_or(Vec3::Z),
-                color: [srgb[0], srgb[1], srgb[2], byte(c.w)],
-                uv: m.uv[0]
-                    .get(v)
-                    .map_or(Vec2::ZERO, |t| Vec2::new(t.x, 1.0 - t.y)),
-            };
-            vertex_writer
-                .write_little_endian_element(&mut bytes, &out, &vertex_def)
-                .map_err(io)?;
-        }
-    }
-    let face_writer = Writer::<FaceOut>::new();
-    let mut first = 0i32;
-    for b in &blocks {
-        for t in &b.triangles {
-            let face = FaceOut {
-                corners: t.map(|c| first + c as i32),
-            };
-            face_writer
-                .write_little_endian_element(&mut bytes, &face, &face_def)
-                .map_err(io)?;
-        }
-        first += b.vertices.len() as i32;
-    }
-
+    write_vertices(&mut bytes, asset, &blocks, &vertex_def).map_err(io)?;
+    write_faces(&mut bytes, &blocks, &face_def).map_err(io)?;
     let mut carries = vec!["triangles".to_string()];
     for (present, what) in [
         (!m.normals.is_empty(), "normals"),
-        (colored, "vertex colours"),
+        (looks.colored, "vertex colours"),
         (!m.uv[0].is_empty(), "texture coordinates"),
     ] {
         if present {
@@ -205,6 +127,126 @@ pub(crate) fn files(path: &Path, asset: &Asset) -> Result<AssetFiles, IoError> {
         files.push(textures.file(path, &asset.images, k));
     }
     Ok(AssetFiles { files, warnings })
+}
+
+/// Whether the vertices carry colours (their own, or their material's factor), and alpha.
+struct Looks {
+    colored: bool,
+    alpha: bool,
+}
+
+impl Looks {
+    fn of(asset: &Asset, blocks: &[super::Block]) -> Looks {
+        let m = &asset.mesh;
+        let colored = !m.colors.is_empty() || blocks.iter().any(|b| factor(asset, b) != Vec4::ONE);
+        let alpha = colored
+            && blocks.iter().any(|b| {
+                let f = factor(asset, b);
+                b.vertices
+                    .iter()
+                    .any(|&v| colour(asset, v as usize, f).w < 1.0)
+            });
+        Looks { colored, alpha }
+    }
+}
+
+/// The base colour factor of a block's material (white without one).
+fn factor(asset: &Asset, b: &super::Block) -> Vec4 {
+    b.material.map_or(Vec4::ONE, |k| {
+        Vec4::from(asset.materials[k as usize].base_color)
+    })
+}
+
+/// Vertex `v`'s colour times `factor` (white without vertex colours).
+fn colour(asset: &Asset, v: usize, factor: Vec4) -> Vec4 {
+    asset.mesh.colors.get(v).copied().unwrap_or(Vec4::ONE) * factor
+}
+
+/// The binary little-endian header: the vertex element with what the asset carries, the face
+/// element, the texture's name in a `TextureFile` comment.
+fn header(
+    asset: &Asset,
+    vertices: usize,
+    looks: &Looks,
+    texture: Option<&str>,
+) -> (Header, ElementDef, ElementDef) {
+    let m = &asset.mesh;
+    let mut header = Header::new();
+    header.encoding = Encoding::BinaryLittleEndian;
+    header.comments.push("written by voxlod".to_string());
+    if let Some(name) = texture {
+        header.comments.push(format!("TextureFile {name}"));
+    }
+    let float = || PropertyType::Scalar(ScalarType::Float);
+    let uchar = || PropertyType::Scalar(ScalarType::UChar);
+    let mut names: Vec<(&str, PropertyType)> = vec![("x", float()), ("y", float()), ("z", float())];
+    if !m.normals.is_empty() {
+        names.extend([("nx", float()), ("ny", float()), ("nz", float())]);
+    }
+    if looks.colored {
+        names.extend([("red", uchar()), ("green", uchar()), ("blue", uchar())]);
+        if looks.alpha {
+            names.push(("alpha", uchar()));
+        }
+    }
+    if !m.uv[0].is_empty() {
+        names.extend([("texture_u", float()), ("texture_v", float())]);
+    }
+    let vertex_def = element("vertex", vertices, names);
+    let indices = PropertyType::List(ScalarType::UChar, ScalarType::Int);
+    let face_def = element("face", m.triangles.len(), vec![("vertex_indices", indices)]);
+    header.elements.add(vertex_def.clone());
+    header.elements.add(face_def.clone());
+    (header, vertex_def, face_def)
+}
+
+/// Every block's vertices, colours in sRGB bytes, v flipped to PLY's upward convention.
+fn write_vertices(
+    bytes: &mut Vec<u8>,
+    asset: &Asset,
+    blocks: &[super::Block],
+    vertex_def: &ElementDef,
+) -> std::io::Result<()> {
+    let m = &asset.mesh;
+    let writer = Writer::<VertexOut>::new();
+    for b in blocks {
+        let f = factor(asset, b);
+        for &v in &b.vertices {
+            let v = v as usize;
+            let c = colour(asset, v, f);
+            let srgb = [c.x, c.y, c.z].map(|x| byte(linear_to_srgb(x)));
+            let out = VertexOut {
+                position: m.positions[v],
+                normal: m.normals.get(v).copied().unwrap_or(Vec3::Z),
+                color: [srgb[0], srgb[1], srgb[2], byte(c.w)],
+                uv: m.uv[0]
+                    .get(v)
+                    .map_or(Vec2::ZERO, |t| Vec2::new(t.x, 1.0 - t.y)),
+            };
+            writer.write_little_endian_element(bytes, &out, vertex_def)?;
+        }
+    }
+    Ok(())
+}
+
+/// Every block's triangles, its corners numbered after the blocks before it.
+fn write_faces(
+    bytes: &mut Vec<u8>,
+    blocks: &[super::Block],
+    face_def: &ElementDef,
+) -> std::io::Result<()> {
+    let writer = Writer::<FaceOut>::new();
+    let mut first = 0i32;
+    for b in blocks {
+        for t in &b.triangles {
+            let face = FaceOut {
+                corners: t.map(|c| first + c as i32),
+            };
+            writer.write_little_endian_element(bytes, &face, face_def)?;
+        }
+        first += b.vertices.len() as i32;
+    }
+    Ok(())
 }
 
 /// The image of the PLY's one texture: the first material's base colour texture that reads
