@@ -13,16 +13,21 @@ use super::common::{print_json, CliError};
 
 /// Write one HTML page that shows .glb files with WebGL2, with nothing to fetch at view time.
 ///
-/// An MSFT_lod chain (voxlod lod --format glb) switches levels by screen coverage as the camera
-/// moves (an overlay names the level and its triangles); layered shells (voxlod layers) are
-/// blended back to front in the stored order of the camera's octant while the filter radius on
-/// screen is at most 0.45 px, else the single surface is drawn; other .glb files are drawn with
-/// their lines and points. Drag to orbit, wheel to zoom, keys 1-9 pick a file. The camera can
-/// be set in the address: page.html#camera=DISTANCE,DX,DY,DZ&model=I.
+/// An MSFT_lod chain (voxlod lod --format glb), or one node per level named LOD0, LOD1, …
+/// (--layout lod-nodes), switches levels by screen coverage as the camera moves (an overlay
+/// names the level and its triangles); levels with looks are drawn with their base colour
+/// textures (texture transforms, samplers), vertex colours, normal maps, emissive, and alpha
+/// masks or blending, as voxlod lod writes an asset's levels and voxlod proxy its proxies
+/// (meshopt-compressed files are decoded before the page is written); layered shells (voxlod
+/// layers) are blended back to front in the stored order of the camera's octant while the
+/// filter radius on screen is at most 0.45 px, else the single surface is drawn; other .glb
+/// files are drawn with their lines and points. Drag to orbit, wheel to zoom, keys 1-9 pick a
+/// file. The camera can be set in the address: page.html#camera=DISTANCE,DX,DY,DZ&model=I.
 ///
 /// Examples:
 ///   voxlod lod bunny.obj -o bunny-lods --format glb && voxlod view bunny-lods/lod.glb -o bunny.html
 ///   voxlod view bunny-layers.glb bunny-lods/lod.glb -o both.html
+///   voxlod proxy scene.glb -o proxy.glb --triangles 2000,500 && voxlod view proxy.glb -o proxy.html
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct ViewArgs {
