@@ -11,8 +11,12 @@
 //! filtering, so that a misplaced texel shows. Closed pieces weld into closed, outward
 //! surfaces (module [`pieces`]); leaf cards are open and double-sided.
 //!
+//! Flat faces are a few large cells (a box is 12 triangles or a little more), so that the
+//! triangles are where curvature needs them (turned legs, domes, knobs, barrels, a flared
+//! trunk) and a simplifier cannot meet a budget by merging coplanar cells alone.
+//!
 //! Every scene is deterministic (its random choices hash fixed seeds) and, but for
-//! [`scene_1m`], holds 10 000 to 100 000 triangles; the facts each function states (parts,
+//! [`scene_1m`], holds 5 000 to 60 000 triangles; the facts each function states (parts,
 //! materials, triangles) are checked by `tests/scenes.rs`.
 //!
 //! Cost: linear in the triangles, plus encoding a few 256² PNGs; a release build makes each
@@ -27,7 +31,7 @@ use voxlod_asset::{AlphaMode, Asset, AssetMesh, Image, Material, Part, Sampler, 
 pub mod pieces;
 pub mod textures;
 
-use pieces::{block, card, frustum, placed, sphere};
+use pieces::{block, card, frustum, lathe, placed, profile, sphere};
 use textures::{bricks, checks, glyphs, grain, leaves, speckle, stripes, unit};
 
 /// A scene under construction: parts appended in world space with their materials.
@@ -130,9 +134,10 @@ fn to(translation: Vec3) -> Affine3A {
 
 /// A room 6 × 6 m with its floor at y = 0, open at the front (+z) and at the top, as a
 /// diorama: the floor (wood grain), three walls (striped wallpaper), a rug (glyph rows), a
-/// table (top and four legs, a checked top), four chairs (seat, four legs, back; grain) turned
-/// to face it, a bookshelf (two sides, three shelves) holding 24 books (glyph spines) and a
-/// lamp (base, pole, shade, emissive bulb): 67 parts, 8 materials, 44 268 triangles.
+/// table (a checked top, four turned legs) with a checked vase on it, four chairs (seat, back,
+/// four turned legs; grain) turned to face it, each with a checked cushion, a bookshelf (two
+/// sides, three shelves) holding 24 books (glyph spines) with a globe beside it, and a lamp
+/// (base, pole, curved shade, emissive bulb): 73 parts, 8 materials, 18 096 triangles.
 pub fn room() -> Asset {
     let mut s = SceneBuilder::new();
     let wood = s.textured(
@@ -175,7 +180,7 @@ pub fn room() -> Asset {
     );
     let metal = s.plain("brass", [0.6, 0.45, 0.15], [0.0; 3]);
     let bulb = s.plain("bulb", [1.0, 0.95, 0.8], [1.0, 0.85, 0.5]);
-    let density = 8.0;
+    let density = 1.0;
     s.add(
         "floor".into(),
         &block(Vec3::new(3.0, 0.05, 3.0), density, 1.0),
@@ -220,11 +225,11 @@ pub fn room() -> Asset {
 fn furnish_table(s: &mut SceneBuilder, centre: Vec3, wood: u32, cloth: u32) {
     s.add(
         "table top".into(),
-        &block(Vec3::new(0.9, 0.04, 0.55), 16.0, 1.0),
+        &block(Vec3::new(0.9, 0.04, 0.55), 1.0, 1.0),
         to(centre + Vec3::new(0.0, 0.76, 0.0)),
         cloth,
     );
-    let leg = block(Vec3::new(0.04, 0.36, 0.04), 8.0, 2.0);
+    let leg = lathe(&turned(0.72, 0.04, 12), 16, 2.0);
     for (k, (x, z)) in [(-0.8, -0.45), (0.8, -0.45), (-0.8, 0.45), (0.8, 0.45)]
         .into_iter()
         .enumerate()
@@ -236,9 +241,10 @@ fn furnish_table(s: &mut SceneBuilder, centre: Vec3, wood: u32, cloth: u32) {
             wood,
         );
     }
-    let seat = block(Vec3::new(0.22, 0.03, 0.22), 16.0, 2.0);
-    let back = block(Vec3::new(0.22, 0.3, 0.025), 16.0, 2.0);
-    let chair_leg = block(Vec3::new(0.025, 0.22, 0.025), 8.0, 2.0);
+    let seat = block(Vec3::new(0.22, 0.03, 0.22), 1.0, 2.0);
+    let back = block(Vec3::new(0.22, 0.3, 0.025), 1.0, 2.0);
+    let chair_leg = lathe(&turned(0.44, 0.025, 10), 12, 2.0);
+    let cushion = sphere(1.0, 32);
     for k in 0..4 {
         let angle = k as f32 * FRAC_PI_2;
         let turn = Quat::from_rotation_y(angle);
@@ -267,13 +273,35 @@ fn furnish_table(s: &mut SceneBuilder, centre: Vec3, wood: u32, cloth: u32) {
                 wood,
             );
         }
+        let on_seat = base + turn * Vec3::new(0.0, 0.53, 0.0);
+        let squash = Vec3::new(0.2, 0.045, 0.2);
+        let place = at(on_seat, turn, squash);
+        s.add(format!("chair {k} cushion"), &cushion, place, cloth);
     }
+    let vase = lathe(
+        &profile(24, |t| {
+            let belly = (PI * t).sin().max(0.0).powf(1.5);
+            [0.045 + 0.065 * belly + 0.02 * t.powi(4), 0.3 * t - 0.15]
+        }),
+        48,
+        2.0,
+    );
+    let place = to(centre + Vec3::new(0.2, 0.95, -0.1));
+    s.add("vase".into(), &vase, place, cloth);
+}
+
+/// A turned leg's profile along y, `length` long and about `radius` thick, with two beads.
+fn turned(length: f32, radius: f32, points: u32) -> Vec<[f32; 2]> {
+    profile(points, |t| {
+        let bead = (3.0 * PI * t).sin().powi(2);
+        [radius * (1.0 + 0.35 * bead - 0.2 * t), length * (t - 0.5)]
+    })
 }
 
 /// A bookshelf against the back wall at `centre` (on the floor): two sides, three shelves,
 /// eight books standing on each shelf.
 fn furnish_shelf(s: &mut SceneBuilder, centre: Vec3, wood: u32, spines: u32) {
-    let side = block(Vec3::new(0.02, 0.9, 0.15), 16.0, 2.0);
+    let side = block(Vec3::new(0.02, 0.9, 0.15), 1.0, 2.0);
     for (k, x) in [-0.6f32, 0.6].into_iter().enumerate() {
         s.add(
             format!("shelf side {k}"),
@@ -282,7 +310,7 @@ fn furnish_shelf(s: &mut SceneBuilder, centre: Vec3, wood: u32, spines: u32) {
             wood,
         );
     }
-    let board = block(Vec3::new(0.58, 0.02, 0.15), 16.0, 2.0);
+    let board = block(Vec3::new(0.58, 0.02, 0.15), 1.0, 2.0);
     for level in 0..3 {
         let y = 0.1 + 0.6 * level as f32;
         s.add(
@@ -294,7 +322,7 @@ fn furnish_shelf(s: &mut SceneBuilder, centre: Vec3, wood: u32, spines: u32) {
         for b in 0..8u32 {
             let h = 0.18 + 0.08 * unit(b, level, 7);
             let w = 0.03 + 0.02 * unit(b, level, 8);
-            let book = block(Vec3::new(w, h, 0.11), 24.0, 1.5);
+            let book = block(Vec3::new(w, h, 0.11), 1.0, 1.5);
             let x = -0.5 + 0.135 * b as f32;
             s.add(
                 format!("book {level}.{b}"),
@@ -304,6 +332,9 @@ fn furnish_shelf(s: &mut SceneBuilder, centre: Vec3, wood: u32, spines: u32) {
             );
         }
     }
+    let globe = sphere(0.12, 48);
+    let place = to(centre + Vec3::new(0.9, 0.12, 0.0));
+    s.add("globe".into(), &globe, place, spines);
 }
 
 /// A floor lamp at `centre`: a base, a pole, a striped shade and an emissive bulb.
@@ -311,23 +342,31 @@ fn furnish_lamp(s: &mut SceneBuilder, centre: Vec3, metal: u32, shade: u32, bulb
     let parts = [
         (
             "lamp base",
-            frustum([0.22, 0.18, 0.04], 48, 1, 2.0),
+            lathe(
+                &profile(8, |t| [0.22 - 0.06 * t * t, 0.04 * t - 0.02]),
+                48,
+                2.0,
+            ),
             0.02,
             metal,
         ),
         (
             "lamp pole",
-            frustum([0.02, 0.02, 1.5], 16, 24, 2.0),
+            frustum([0.02, 0.02, 1.5], 16, 2.0),
             0.79,
             metal,
         ),
         (
             "lamp shade",
-            frustum([0.3, 0.16, 0.35], 64, 8, 1.0),
+            lathe(
+                &profile(12, |t| [0.3 - 0.14 * t.sqrt(), 0.35 * t - 0.175]),
+                64,
+                1.0,
+            ),
             1.55,
             shade,
         ),
-        ("lamp bulb", sphere(0.08, 24), 1.45, bulb),
+        ("lamp bulb", sphere(0.08, 32), 1.45, bulb),
     ];
     for (name, piece, y, material) in parts {
         s.add(
@@ -339,17 +378,18 @@ fn furnish_lamp(s: &mut SceneBuilder, centre: Vec3, metal: u32, shade: u32, bulb
     }
 }
 
-/// [`machine_with`] at detail 1: 61 200 triangles.
+/// [`machine_with`] at detail 1: 54 272 triangles.
 pub fn machine() -> Asset {
     machine_with(1.0)
 }
 
 /// A machine on a base plate 8 × 5: a 20 × 10 grid of cells, each holding one small part
-/// (a housing box, a tilted block sunk into the plate, a boss cylinder or a knob sphere, by
+/// (a housing box, a tilted block sunk into the plate, a domed boss or a knob sphere, by
 /// the cell's hash), plus 12 pipes lying across the cells through the parts: 213 parts
 /// (plate, 200 cell parts, 12 pipes), 6 materials (worn metal, hazard stripes, checked
-/// panels, glyph labels, copper, red paint). `detail` scales the pieces' tessellation (cells
-/// per unit and segments around), so triangles grow with its square.
+/// panels, glyph labels, copper, red paint). `detail` scales the curved pieces'
+/// tessellation (segments around, points along a profile), so triangles grow with its
+/// square.
 pub fn machine_with(detail: f32) -> Asset {
     let mut s = SceneBuilder::new();
     let metal = s.textured(
@@ -378,7 +418,7 @@ pub fn machine_with(detail: f32) -> Asset {
         false,
     );
     let paint = s.plain("red paint", [0.6, 0.05, 0.04], [0.0; 3]);
-    let density = 6.0 * detail;
+    let density = 1.0;
     let segments = |n: f32| ((n * detail).round() as u32).max(6);
     s.add(
         "base plate".into(),
@@ -394,23 +434,27 @@ pub fn machine_with(detail: f32) -> Asset {
         let (name, piece, place) = match (r(1) * 4.0) as u32 {
             0 => {
                 let half = Vec3::new(0.1 + 0.06 * r(2), 0.1 + 0.2 * r(3), 0.12 + 0.08 * r(4));
-                let piece = block(half, 2.5 * density, 4.0);
+                let piece = block(half, density, 4.0);
                 ("housing", piece, to(centre + Vec3::Y * half.y))
             }
             1 => {
                 let half = Vec3::new(0.15, 0.08 + 0.1 * r(3), 0.1);
                 let tilt = Quat::from_euler(glam::EulerRot::YXZ, TAU * r(2), 0.5 * r(4), 0.0);
-                let piece = block(half, 2.5 * density, 4.0);
+                let piece = block(half, density, 4.0);
                 ("tilted block", piece, at(centre, tilt, Vec3::ONE))
             }
             2 => {
                 let (radius, height) = (0.08 + 0.07 * r(2), 0.15 + 0.35 * r(3));
-                let piece = frustum([radius, radius * 0.8, height], segments(16.0), 4, 3.0);
+                let dome = |t: f32| {
+                    let t = 0.97 * t;
+                    [radius * (1.0 - t.powi(4)).powf(0.25), height * (t - 0.5)]
+                };
+                let piece = lathe(&profile(segments(10.0), dome), segments(24.0), 3.0);
                 ("boss", piece, to(centre + Vec3::Y * (0.5 * height)))
             }
             _ => {
                 let radius = 0.1 + 0.06 * r(2);
-                let piece = sphere(radius, segments(16.0));
+                let piece = sphere(radius, segments(24.0));
                 ("knob", piece, to(centre + Vec3::Y * (0.6 * radius)))
             }
         };
@@ -418,7 +462,7 @@ pub fn machine_with(detail: f32) -> Asset {
     }
     for k in 0..12u32 {
         let (z, y) = (-2.3 + 0.42 * k as f32, 0.2 + 0.25 * unit(k, 0, 40));
-        let pipe = frustum([0.05, 0.05, 7.6], segments(16.0), segments(32.0), 2.0);
+        let pipe = frustum([0.05, 0.05, 7.6], segments(16.0), 2.0);
         let turn = Quat::from_rotation_z(FRAC_PI_2);
         let angle = Quat::from_rotation_y(0.15 * (unit(k, 1, 40) - 0.5));
         let place = at(Vec3::new(0.0, y, z), angle * turn, Vec3::ONE);
@@ -427,16 +471,16 @@ pub fn machine_with(detail: f32) -> Asset {
     s.finish()
 }
 
-/// A machine of about a million triangles: [`machine_with`] at detail 4.25, 1 012 068
+/// A machine of about a million triangles: [`machine_with`] at detail 4.25, 988 124
 /// triangles.
 pub fn scene_1m() -> Asset {
     machine_with(4.25)
 }
 
-/// A tree: a tapering trunk (bark grain) with six branches passing into it, and 480 leaf
-/// cards (thin open quads, 2 × 2 cells, double-sided, alpha-masked at 0.5 with four leaves
-/// each) scattered over an ellipsoid crown and turned at random: 487 parts, 2 materials,
-/// 17 312 triangles.
+/// A tree: a tapering, flared trunk (bark grain) with six branches passing into it, and 480
+/// leaf cards (thin open quads of two triangles, double-sided, alpha-masked at 0.5 with four
+/// leaves each) scattered over an ellipsoid crown and turned at random: 487 parts, 2
+/// materials, 5 952 triangles.
 pub fn tree() -> Asset {
     let mut s = SceneBuilder::new();
     let bark = s.textured(
@@ -447,7 +491,17 @@ pub fn tree() -> Asset {
     let leaf = s.textured("leaves", leaves(256, 22), true);
     s.add(
         "trunk".into(),
-        &frustum([0.35, 0.18, 4.0], 64, 48, 2.0),
+        &lathe(
+            &profile(32, |t| {
+                let flare = 0.25 * (1.0 - t).powi(8);
+                [
+                    0.18 + 0.17 * (1.0 - t) + flare + 0.01 * (20.0 * t).sin(),
+                    4.0 * t - 2.0,
+                ]
+            }),
+            48,
+            2.0,
+        ),
         to(Vec3::new(0.0, 2.0, 0.0)),
         bark,
     );
@@ -456,7 +510,13 @@ pub fn tree() -> Asset {
         let lift = 0.7 + 0.3 * unit(k, 1, 23);
         let turn = Quat::from_rotation_y(around) * Quat::from_rotation_z(-lift);
         let base = Vec3::new(0.0, 2.6 + 0.25 * k as f32, 0.0);
-        let branch = frustum([0.12, 0.05, 2.2], 24, 24, 2.0);
+        let branch = lathe(
+            &profile(10, |t| {
+                [0.12 - 0.07 * t + 0.01 * (9.0 * t).sin(), 2.2 * (t - 0.5)]
+            }),
+            16,
+            2.0,
+        );
         let centre = base + turn * Vec3::new(0.0, 1.0, 0.0);
         s.add(
             format!("branch {k}"),
@@ -465,7 +525,7 @@ pub fn tree() -> Asset {
             bark,
         );
     }
-    let leaf_card = card(0.6, 0.6, 2);
+    let leaf_card = card(0.6, 0.6, 1);
     for k in 0..480u32 {
         let r = |c: u32| unit(k, c, 24);
         let (phi, cos_theta, depth) = (TAU * r(0), 2.0 * r(1) - 1.0, 0.55 + 0.45 * r(2).sqrt());
@@ -500,9 +560,10 @@ struct BuildingLooks {
 /// A three-storey building 8.5 × 6.5 × 9 with walls 0.25 thick: each floor of each wall a band
 /// below the windows, a band above them and piers between window openings (3 a floor on the
 /// long walls, 2 on the short ones), a stone sill under each opening; inside, three floor
-/// slabs, a partition wall (between window columns) and two cabinets a floor, hollow between them; a roof slab over
-/// all: 109 parts, 5 materials (bricks, stone, floor grain, plaster with glyph posters, roof
-/// checks), 60 632 triangles.
+/// slabs, a partition wall (between window columns) and two cabinets a floor, hollow between
+/// them; a roof slab over all and four stone columns with entasis in front of the front wall,
+/// through the roof's overhang: 113 parts, 5 materials (bricks, stone, floor grain, plaster
+/// with glyph posters, roof checks), 8 096 triangles.
 pub fn building() -> Asset {
     let mut s = SceneBuilder::new();
     let looks = BuildingLooks {
@@ -569,14 +630,14 @@ pub fn building() -> Asset {
     }
     for floor in 0..3 {
         let y = 3.0 * floor as f32;
-        let slab = block(Vec3::new(half_x - 0.01, 0.1, half_z - 0.01), 5.0, 1.0);
+        let slab = block(Vec3::new(half_x - 0.01, 0.1, half_z - 0.01), 1.0, 1.0);
         s.add(
             format!("slab {floor}"),
             &slab,
             to(Vec3::Y * (y + 0.1)),
             looks.floor,
         );
-        let partition = block(Vec3::new(0.08, 1.35, half_z - 0.05), 5.0, 1.0);
+        let partition = block(Vec3::new(0.08, 1.35, half_z - 0.05), 1.0, 1.0);
         let place = to(Vec3::new(1.4, y + 1.55, 0.0));
         s.add(
             format!("partition {floor}"),
@@ -585,13 +646,24 @@ pub fn building() -> Asset {
             looks.plaster,
         );
         for (k, x) in [-2.5f32, 2.0].into_iter().enumerate() {
-            let cabinet = block(Vec3::new(0.6, 0.5, 0.3), 8.0, 1.0);
+            let cabinet = block(Vec3::new(0.6, 0.5, 0.3), 1.0, 1.0);
             let place = to(Vec3::new(x, y + 0.7, -half_z + 0.4));
             s.add(format!("cabinet {floor}.{k}"), &cabinet, place, looks.stone);
         }
     }
-    let roof = block(Vec3::new(half_x + 0.4, 0.15, half_z + 0.4), 5.0, 0.5);
+    let roof = block(Vec3::new(half_x + 0.4, 0.15, half_z + 0.4), 1.0, 0.5);
     s.add("roof".into(), &roof, to(Vec3::Y * 9.15), looks.roof);
+    let column = lathe(
+        &profile(16, |t| {
+            [0.18 - 0.04 * t + 0.03 * (PI * t).sin(), 9.0 * (t - 0.5)]
+        }),
+        32,
+        1.0,
+    );
+    for (k, x) in [-3.9f32, -1.42, 1.42, 3.9].into_iter().enumerate() {
+        let place = to(Vec3::new(x, 4.5, half_z + t + 0.2));
+        s.add(format!("column {k}"), &column, place, looks.stone);
+    }
     s.finish()
 }
 
@@ -605,7 +677,7 @@ fn facade(
     frame: Affine3A,
     looks: &BuildingLooks,
 ) {
-    let density = 5.0;
+    let density = 1.0;
     let (width, half_t) = (1.2f32, thickness / 2.0);
     let centres: Vec<f32> = (0..windows)
         .map(|k| -length / 2.0 + length * (k as f32 + 0.5) / windows as f32)
@@ -640,12 +712,11 @@ fn facade(
 
 /// Props on a ground slab 12 × 12 (concrete), as a glTF scene instancing three meshes: an
 /// 8 × 8 grid whose cell (i, j) holds a crate (glyph labels) where (i + 2j) mod 3 is 0, a
-/// barrel (hoop stripes) where it is 1, a traffic cone (hazard stripes) where it is 2, each
+/// bulging barrel (hoop stripes) where it is 1, a traffic cone (hazard stripes) where it is 2, each
 /// turned about y and scaled by 0.85 to 1.15 by the cell's hash, and on each crate of an even
 /// row j a smaller crate turned on top of it: 22 + 11 crates, 21 barrels, 21 cones and the
-/// ground, 76 parts, 4 materials, 75 936 triangles. Every instance of a mesh is its vertices
-/// moved by a
-/// similarity.
+/// ground, 76 parts, 4 materials, 25 260 triangles. Every instance of a mesh is its vertices
+/// moved by a similarity.
 pub fn props() -> Asset {
     let mut s = SceneBuilder::new();
     let concrete = s.textured(
@@ -668,11 +739,15 @@ pub fn props() -> Asset {
         stripes(256, 40, &[[240, 90, 20, 255], [245, 245, 245, 255]]),
         false,
     );
-    let ground = block(Vec3::new(6.0, 0.05, 6.0), 4.0, 0.5);
+    let ground = block(Vec3::new(6.0, 0.05, 6.0), 1.0, 0.5);
     s.add("ground".into(), &ground, to(Vec3::Y * -0.05), concrete);
-    let crate_mesh = block(Vec3::splat(0.4), 10.0, 1.25);
-    let barrel = frustum([0.35, 0.35, 0.9], 48, 12, 1.0);
-    let cone = frustum([0.3, 0.04, 0.7], 32, 10, 1.0);
+    let crate_mesh = block(Vec3::splat(0.4), 1.0, 1.25);
+    let barrel = lathe(
+        &profile(16, |t| [0.3 + 0.06 * (PI * t).sin(), 0.9 * (t - 0.5)]),
+        32,
+        1.0,
+    );
+    let cone = frustum([0.3, 0.04, 0.7], 32, 1.0);
     let (mut crates, mut barrels, mut cones) = (0, 0, 0);
     for (i, j) in (0..8u32).flat_map(|j| (0..8u32).map(move |i| (i, j))) {
         let centre = Vec3::new(-4.9 + 1.4 * i as f32, 0.0, -4.9 + 1.4 * j as f32);

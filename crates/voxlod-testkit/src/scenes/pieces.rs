@@ -49,36 +49,57 @@ pub fn block(half: Vec3, density: f32, uv_scale: f32) -> AssetMesh {
 }
 
 /// A frustum along y from −height/2 (radius `bottom`) to +height/2 (radius `top`), both radii
-/// positive, `segments` around and `rings` along, capped at both ends; texture coordinates are arc length and height times `uv_scale` on the side, the
-/// plan's coordinates on the caps. Closed once welded.
-pub fn frustum(
-    [bottom, top, height]: [f32; 3],
-    segments: u32,
-    rings: u32,
-    uv_scale: f32,
-) -> AssetMesh {
-    let (segments, rings) = (segments.max(3), rings.max(1));
-    let mean = 0.5 * (bottom + top);
+/// positive, `segments` around, capped at both ends: a [`lathe`] of two profile points.
+pub fn frustum([bottom, top, height]: [f32; 3], segments: u32, uv_scale: f32) -> AssetMesh {
+    lathe(
+        &[[bottom, -0.5 * height], [top, 0.5 * height]],
+        segments,
+        uv_scale,
+    )
+}
+
+/// The profile of a [`lathe`]: `points` samples of `f(t)` = [radius, y] for t from 0 to 1.
+pub fn profile(points: u32, f: impl Fn(f32) -> [f32; 2]) -> Vec<[f32; 2]> {
+    let last = points.max(2) - 1;
+    (0..=last).map(|k| f(k as f32 / last as f32)).collect()
+}
+
+/// A surface of revolution about y: `profile` gives [radius, y] from bottom to top (radii
+/// positive), turned through `segments`, capped at both ends; shading normals from the
+/// profile's slope (smooth along it), texture coordinates arc length around and along the
+/// profile times `uv_scale` on the side, the plan's coordinates on the caps. Closed once
+/// welded.
+pub fn lathe(profile: &[[f32; 2]], segments: u32, uv_scale: f32) -> AssetMesh {
+    let segments = segments.max(3);
+    let rings = profile.len() as u32 - 1;
     let point = |j: u32, r: u32| {
         let theta = TAU * (j % segments) as f32 / segments as f32;
-        let t = r as f32 / rings as f32;
-        let radius = bottom + (top - bottom) * t;
-        Vec3::new(
-            radius * theta.cos(),
-            -0.5 * height + height * t,
-            -radius * theta.sin(),
-        )
+        let [radius, y] = profile[r as usize];
+        Vec3::new(radius * theta.cos(), y, -radius * theta.sin())
     };
     let mut m = AssetMesh::default();
-    let slope = (bottom - top) / height;
+    let mut along = 0.0;
     for r in 0..=rings {
+        let k = r as usize;
+        let (before, after) = (
+            profile[k.saturating_sub(1)],
+            profile[(k + 1).min(rings as usize)],
+        );
+        // The outward normal in the (radius, y) plane: the profile's tangent turned clockwise.
+        let (dr, dy) = (after[0] - before[0], after[1] - before[1]);
+        let flat = Vec2::new(dy, -dr).normalize_or(Vec2::X);
+        if r > 0 {
+            along += Vec2::from(profile[k]).distance(Vec2::from(profile[k - 1]));
+        }
         for j in 0..=segments {
-            let p = point(j, r);
             let theta = TAU * j as f32 / segments as f32;
-            m.positions.push(p);
-            m.normals
-                .push(Vec3::new(theta.cos(), slope, -theta.sin()).normalize());
-            m.uv[0].push(Vec2::new(theta * mean, -p.y) * uv_scale);
+            m.positions.push(point(j, r));
+            m.normals.push(Vec3::new(
+                flat.x * theta.cos(),
+                flat.y,
+                -flat.x * theta.sin(),
+            ));
+            m.uv[0].push(Vec2::new(theta * profile[k][0], -along) * uv_scale);
         }
     }
     grid(&mut m.triangles, 0, [segments, rings], false);
