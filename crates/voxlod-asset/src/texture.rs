@@ -29,8 +29,19 @@ pub struct Texels {
 /// Decodes a PNG or JPEG image (colour channels sRGB, converted to linear; alpha kept).
 /// Fails on another encoding or corrupt bytes, naming the image.
 pub fn decode(image: &Image) -> Result<Texels, AssetError> {
+    decode_named(image, "an image")
+}
+
+/// [`decode`] of the asset's image `k`; errors name it by its name, or by `image k` when it has
+/// none.
+pub fn decode_at(asset: &Asset, k: usize) -> Result<Texels, AssetError> {
+    decode_named(&asset.images[k], &format!("image {k}"))
+}
+
+/// [`decode`], errors naming the image by its name, or `unnamed` when it has none.
+fn decode_named(image: &Image, unnamed: &str) -> Result<Texels, AssetError> {
     let name = if image.name.is_empty() {
-        "an image"
+        unnamed
     } else {
         &image.name
     };
@@ -85,7 +96,7 @@ pub fn decode_base_colours(
             continue;
         };
         if decoded[slot.image].is_none() {
-            decoded[slot.image] = Some(match decode(&asset.images[slot.image]) {
+            decoded[slot.image] = Some(match decode_at(asset, slot.image) {
                 Ok(t) => Some(t),
                 Err(AssetError::Core(e)) => return Err(e.into()),
                 Err(e) => {

@@ -12,7 +12,7 @@
 //!
 //! Cost: decoding each image once; a look costs a few texture samples.
 
-use voxlod_asset::texture::{decode, Texels};
+use voxlod_asset::texture::{decode_at, Texels};
 use voxlod_asset::{AlphaMode, Asset, AssetError, Material, TextureRef};
 use voxlod_core::glam::{Vec2, Vec3, Vec4};
 
@@ -112,7 +112,7 @@ impl<'a> SourceLooks<'a> {
         if store[slot.image].is_some() {
             return Ok(());
         }
-        match decode(&self.asset.images[slot.image]) {
+        match decode_at(self.asset, slot.image) {
             Ok(mut texels) => {
                 if as_data {
                     for t in &mut texels.rgba {

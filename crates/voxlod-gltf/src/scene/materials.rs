@@ -65,6 +65,33 @@ pub(crate) fn materials(doc: &Document, json: &Value) -> Vec<Material> {
         .collect()
 }
 
+/// Gives each texture whose `KHR_texture_basisu` extension names a KTX2 image and that has no
+/// `source` that image as its `source`, so the `gltf` crate's validation takes it and the image
+/// is read with its bytes unchanged. A texture with both keeps its fallback `source`; its KTX2
+/// image stays among the images, used by no texture, with a warning naming both.
+/// Cost: linear in the textures.
+pub(crate) fn basisu_sources(json: &mut Value) -> Vec<String> {
+    let mut warnings = Vec::new();
+    let textures = json
+        .get_mut("textures")
+        .and_then(Value::as_array_mut)
+        .into_iter()
+        .flatten();
+    for (t, texture) in textures.enumerate() {
+        let Some(ktx2) = texture["extensions"]["KHR_texture_basisu"]["source"].as_u64() else {
+            continue;
+        };
+        match texture["source"].as_u64() {
+            Some(fallback) => warnings.push(format!(
+                "texture {t}: its fallback image {fallback} is read; its KTX2 image {ktx2} \
+                 (KHR_texture_basisu) is kept but no texture uses it"
+            )),
+            None => texture["source"] = Value::from(ktx2),
+        }
+    }
+    warnings
+}
+
 /// The JSON at a path of keys.
 fn at<'a>(v: &'a Value, path: &[&str]) -> &'a Value {
     path.iter().fold(v, |v, k| &v[*k])

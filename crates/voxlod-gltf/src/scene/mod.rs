@@ -5,7 +5,8 @@
 //!
 //! Extensions read: `KHR_mesh_quantization` (integer attributes, [`accessor`]),
 //! `EXT_meshopt_compression` (decoded with meshoptimizer, filters included, [`buffers`]),
-//! `KHR_texture_transform`, `KHR_materials_emissive_strength`, and `MSFT_lod` chains (their
+//! `KHR_texture_transform`, `KHR_materials_emissive_strength`, `KHR_texture_basisu` (a KTX2
+//! image read as it is, [`materials::basisu_sources`]), and `MSFT_lod` chains (their
 //! finest level). A file that requires another extension (`KHR_draco_mesh_compression` among
 //! them) is refused with its name; one that only uses another gets a warning that it is
 //! ignored. The JSON is validated by the `gltf` crate (indices in range, required fields) after
@@ -34,11 +35,12 @@ use crate::GltfError;
 pub use write::{asset_glb, positions_grid, AssetGlbOptions, Layout};
 
 /// Extensions this reader understands.
-const READ: [&str; 6] = [
+const READ: [&str; 7] = [
     "KHR_mesh_quantization",
     "EXT_meshopt_compression",
     "KHR_texture_transform",
     "KHR_materials_emissive_strength",
+    "KHR_texture_basisu",
     "MSFT_lod",
     "MSFT_screencoverage",
 ];
@@ -81,6 +83,7 @@ pub fn parse_scene(bytes: &[u8], base: Option<&Path>) -> Result<SceneRead, GltfE
     let mut doc: Value = serde_json::from_slice(&json)
         .map_err(|e| invalid(format!("its JSON does not parse: {e}")))?;
     let mut warnings = check_extensions(&mut doc)?;
+    warnings.extend(materials::basisu_sources(&mut doc));
     let mut buffers = buffers::load_buffers(&doc, bin.as_deref(), base)?;
     buffers::decode_meshopt_views(&mut doc, &mut buffers)?;
     check_position_accessors(&doc)?;

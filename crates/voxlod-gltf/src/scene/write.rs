@@ -5,7 +5,8 @@
 //! `TEXCOORD_0`, `TEXCOORD_1` and `COLOR_0` (float RGBA) where the level has them, `u16` or
 //! `u32` indices. Materials equal across levels are written once; images are embedded as they
 //! were read (PNG, JPEG, KTX2 bytes unchanged; one copy for images the levels share), with
-//! their samplers and `KHR_texture_transform`. Two ways to hold the levels, [`Layout`]:
+//! their samplers and `KHR_texture_transform`; a KTX2 image's texture names it through
+//! `KHR_texture_basisu` (no `source`), which the file then requires. Two ways to hold the levels, [`Layout`]:
 //! - `MsftLod`: node 0 draws the finest level and lists the others with `MSFT_lod`, with
 //!   `MSFT_screencoverage` in its extras; the scene holds node 0 only (engines with the
 //!   extension switch levels; others draw the finest);
@@ -36,6 +37,9 @@ use super::columns::Columns;
 use crate::chain::{declare_lod, to_glb, Compression};
 use crate::streams::{Quantization, Stream, StreamKind};
 use crate::GltfError;
+
+/// The media type of KTX2 images, whose textures name them through `KHR_texture_basisu`.
+const KTX2: &str = "image/ktx2";
 
 /// How the levels sit in the file.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -183,6 +187,8 @@ struct Writer {
     image_index: HashMap<*const Vec<u8>, usize>,
     images: Vec<(Arc<Vec<u8>>, String, String)>,
     transforms: bool,
+    /// Whether a texture's image is KTX2 (`KHR_texture_basisu`, then required).
+    basisu: bool,
     /// With compression: the positions' grid; the views' decoded layout takes
     /// `fallback_len` bytes of buffer 1.
     grid: Option<Quantization>,
@@ -360,6 +366,9 @@ impl Writer {
         if self.transforms {
             used.push("KHR_texture_transform");
         }
+        if self.basisu {
+            used.push("KHR_texture_basisu");
+        }
         if materials
             .iter()
             .any(|m| m["extensions"]["KHR_materials_emissive_strength"].is_object())
@@ -376,8 +385,17 @@ impl Writer {
             "bufferViews": self.views,
             "buffers": [{"byteLength": self.bin.len()}],
         });
+        let mut required: Vec<&str> = Vec::new();
+        if self.basisu {
+            required.push("KHR_texture_basisu");
+        }
         if self.grid.is_some() {
-            root["extensionsRequired"] = json!(compressed);
+            required.extend(compressed);
+        }
+        if !required.is_empty() {
+            root["extensionsRequired"] = json!(required);
+        }
+        if self.grid.is_some() {
             root["buffers"] = json!([{"byteLength": self.bin.len()},
                 {"byteLength": self.fallback_len,
                  "extensions": {"EXT_meshopt_compression": {"fallback": true}}}]);
@@ -418,7 +436,12 @@ impl Writer {
                     samplers.push(sampler);
                     samplers.len() - 1
                 });
-            let texture = json!({"source": t.image, "sampler": s});
+            let texture = if self.images[t.image].1 == KTX2 {
+                self.basisu = true;
+                json!({"extensions": {"KHR_texture_basisu": {"source": t.image}}, "sampler": s})
+            } else {
+                json!({"source": t.image, "sampler": s})
+            };
             let index = textures
                 .iter()
                 .position(|x| *x == texture)
