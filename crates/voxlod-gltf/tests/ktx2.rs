@@ -10,6 +10,7 @@ use voxlod_asset::{Asset, Image};
 use voxlod_gltf::{asset_glb, parse_scene, AssetGlbOptions};
 use voxlod_testkit::assets::textured_sphere;
 use voxlod_testkit::gltf_validator::validate_gltf;
+use voxlod_testkit::skips::skip;
 
 /// A 1×1 uncompressed `VK_FORMAT_R8G8B8A8_SRGB` (43) KTX2 file of one texel (KTX 2.0 §3:
 /// identifier, header, index, one level; §4 the data format descriptor's basic block with
@@ -237,4 +238,62 @@ fn a_bake_from_a_ktx2_textured_asset_keeps_the_factor_with_a_warning() {
         .filter(|w| w.contains("swatch.ktx2"))
         .collect();
     assert_eq!(named.len(), 1, "{:?}", baked.report.warnings);
+}
+
+/// three.js's KTX2 parser (`ktx-parse`, from the peers' kit) on `file`: its format, size,
+/// first level's bytes and samples' channels, as JSON; `None` (skipped) without node or three.
+fn ktx_parse(file: &std::path::Path) -> Option<Value> {
+    let peers = std::env::var_os("VOXLOD_PEERS")
+        .map(std::path::PathBuf::from)
+        .or_else(|| {
+            std::env::var_os("HOME").map(|h| std::path::Path::new(&h).join(".cache/voxlod-peers"))
+        })?;
+    let module = peers.join("node_modules/three/examples/jsm/libs/ktx-parse.module.js");
+    if !module.is_file() {
+        skip(format!("no ktx-parse: {} is missing", module.display()));
+        return None;
+    }
+    let script = format!(
+        "import {{ read }} from {module:?}; import fs from 'fs';\n\
+         const c = read(new Uint8Array(fs.readFileSync(process.argv[1])));\n\
+         console.log(JSON.stringify({{vkFormat: c.vkFormat, size: [c.pixelWidth, c.pixelHeight],\n\
+           level: Array.from(c.levels[0].levelData),\n\
+           channels: c.dataFormatDescriptor[0].samples.map(s => s.channelType)}}));",
+        module = module.display().to_string()
+    );
+    let out = match std::process::Command::new("node")
+        .args(["--input-type=module", "-e", &script])
+        .arg(file)
+        .output()
+    {
+        Ok(out) => out,
+        Err(e) => {
+            skip(format!("no node: {e}"));
+            return None;
+        }
+    };
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Some(serde_json::from_slice(&out.stdout).unwrap())
+}
+
+#[test]
+fn the_ktx2_image_read_back_parses_with_three_js_ktx_parse() {
+    let asset = ktx2_sphere();
+    let glb = asset_glb(&[asset], &AssetGlbOptions::default()).unwrap();
+    let image = parse_scene(&glb, None).unwrap().asset.images[0].clone();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("swatch.ktx2");
+    std::fs::write(&path, image.bytes.as_slice()).unwrap();
+    let Some(parsed) = ktx_parse(&path) else {
+        return;
+    };
+    assert_eq!(
+        parsed,
+        serde_json::json!({"vkFormat": 43, "size": [1, 1], "level": [200, 100, 50, 255],
+            "channels": [0, 1, 2, 143]})
+    );
 }
