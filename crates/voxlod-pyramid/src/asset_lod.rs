@@ -146,7 +146,8 @@ fn bake_transferred(asset: &Asset, made: &mut AssetLod) -> Result<(), PyramidErr
 }
 
 /// The side of a baked level's textures: the largest side of the input's base colour and
-/// normal textures, within 256 to 2048 texels; `None` for an asset without such a texture.
+/// normal textures that decode, within 256 to 2048 texels; `None` for an asset without such a
+/// texture.
 fn texture_side(asset: &Asset) -> Result<Option<u32>, PyramidError> {
     let mut side = None;
     for m in &asset.materials {
@@ -155,7 +156,13 @@ fn texture_side(asset: &Asset) -> Result<Option<u32>, PyramidError> {
             let Some(image) = asset.images.get(slot.image) else {
                 continue;
             };
-            let texels = voxlod_asset::texture::decode(image).map_err(asset_error)?;
+            // An image this crate cannot decode (KTX2) is left out here; the transfer's and
+            // the bake's warnings name it. A memory refusal keeps its class.
+            let texels = match voxlod_asset::texture::decode(image) {
+                Ok(texels) => texels,
+                Err(AssetError::Core(e)) => return Err(PyramidError::Core(e)),
+                Err(_) => continue,
+            };
             let largest = texels.width.max(texels.height) as u32;
             side = Some(side.unwrap_or(0).max(largest));
         }
