@@ -566,33 +566,7 @@ struct BuildingLooks {
 /// with glyph posters, roof checks), 8 096 triangles.
 pub fn building() -> Asset {
     let mut s = SceneBuilder::new();
-    let looks = BuildingLooks {
-        brick: s.textured(
-            "bricks",
-            bricks(256, [150, 60, 40, 255], [200, 195, 185, 255], 31),
-            false,
-        ),
-        stone: s.textured(
-            "stone",
-            speckle(256, [150, 150, 140, 255], [215, 210, 200, 255], 32),
-            false,
-        ),
-        floor: s.textured(
-            "floor",
-            grain(256, 4, [120, 80, 45, 255], [200, 160, 110, 255], 33),
-            false,
-        ),
-        plaster: s.textured(
-            "posters",
-            glyphs(256, [230, 225, 210, 255], [40, 70, 150, 255], 34),
-            false,
-        ),
-        roof: s.textured(
-            "roof tiles",
-            checks(256, 32, [110, 40, 30, 255], [70, 70, 75, 255]),
-            false,
-        ),
-    };
+    let looks = building_looks(&mut s);
     let (t, half_x, half_z) = (0.25f32, 4.0f32, 3.0f32);
     let walls = [
         (
@@ -665,6 +639,38 @@ pub fn building() -> Asset {
         s.add(format!("column {k}"), &column, place, looks.stone);
     }
     s.finish()
+}
+
+/// The materials of [`building`]: bricks, stone, floor grain, plaster with glyph posters,
+/// roof checks.
+fn building_looks(s: &mut SceneBuilder) -> BuildingLooks {
+    BuildingLooks {
+        brick: s.textured(
+            "bricks",
+            bricks(256, [150, 60, 40, 255], [200, 195, 185, 255], 31),
+            false,
+        ),
+        stone: s.textured(
+            "stone",
+            speckle(256, [150, 150, 140, 255], [215, 210, 200, 255], 32),
+            false,
+        ),
+        floor: s.textured(
+            "floor",
+            grain(256, 4, [120, 80, 45, 255], [200, 160, 110, 255], 33),
+            false,
+        ),
+        plaster: s.textured(
+            "posters",
+            glyphs(256, [230, 225, 210, 255], [40, 70, 150, 255], 34),
+            false,
+        ),
+        roof: s.textured(
+            "roof tiles",
+            checks(256, 32, [110, 40, 30, 255], [70, 70, 75, 255]),
+            false,
+        ),
+    }
 }
 
 /// One wall of [`building`] in its frame `frame` (x along the wall, y up from the ground,
