@@ -290,13 +290,13 @@ fn a_scene_proxy_shows_its_baked_colours_in_the_viewer() {
     assert!(o.status.success(), "{}", stderr(&o));
     let (size, distance) = (400u32, 7.0);
     let png = dir.path().join("proxy.png");
-    let options = voxlod_view::ShotOptions {
+    let options = voxlod_testkit::browser::ShotOptions {
         size,
         distance,
         direction: [0.0, 0.0, 1.0],
         ..Default::default()
     };
-    voxlod_view::screenshot(&browser, &page, &options, &png).unwrap();
+    voxlod_testkit::browser::screenshot(&browser, &page, &options, &png);
     let img = image::open(&png).unwrap().to_rgb8();
     // Seen along −z with +y up: a point's pixel by the page's 45° perspective.
     let centre = finest_centre(&glb_json(&proxy));

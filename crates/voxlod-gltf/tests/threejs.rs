@@ -242,18 +242,8 @@ fn start_server(root: PathBuf, three: PathBuf) -> (u16, std::sync::mpsc::Receive
 fn run_page(browser: &Path, url: &str, receive: &std::sync::mpsc::Receiver<String>) -> Value {
     let profile = tempfile::tempdir().unwrap();
     let mut child = Command::new(browser)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--use-gl=swiftshader",
-            "--enable-unsafe-swiftshader",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--no-first-run",
-            "--window-size=200,200",
-        ])
+        .args(voxlod_testkit::browser::HEADLESS)
+        .arg("--window-size=200,200")
         .arg(format!("--user-data-dir={}", profile.path().display()))
         .arg(url)
         .stdout(Stdio::null())

@@ -54,7 +54,8 @@
 //! object's centre to the eye) or `window.voxlodView.setCamera(distance, [dx, dy, dz])`; the
 //! page's title reports what is drawn (`voxlod level=K triangles=N` or `voxlod order=NAME …`)
 //! and a 24-pixel patch at the top left shows it in colour (level or octant; black for the
-//! single surface). [`screenshot`] takes a headless Chromium's picture of a page.
+//! single surface). `voxlod_testkit::browser::screenshot` takes a headless Chromium's picture of a page for the
+//! tests.
 //!
 //! Beyond the paper: the paper rendered offline; the viewer and its switching rules are ours.
 //! Cost: building a page is linear in the inputs.
@@ -62,12 +63,10 @@
 pub mod check;
 pub mod error;
 pub mod page;
-pub mod shot;
 
 pub use check::{check_glb, CheckedGlb};
 pub use error::ViewError;
 pub use page::{page_html, read_model, write_page, PageModel, ViewOptions};
-pub use shot::{screenshot, ShotOptions};
 
 /// The level patch colours of the page, by level (or octant) index, as 8-bit RGB.
 pub const PATCH_COLORS: [[u8; 3]; 8] = [

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use image::RgbImage;
-use voxlod_view::ShotOptions;
+use voxlod_testkit::browser::ShotOptions;
 
 pub const SIZE: u32 = 400;
 pub const FOV: f64 = std::f64::consts::PI / 4.0;
@@ -25,7 +25,7 @@ pub fn screenshot(
         direction: dir,
         ..ShotOptions::default()
     };
-    voxlod_view::screenshot(browser, page, &options, png).unwrap();
+    voxlod_testkit::browser::screenshot(browser, page, &options, png);
     image::open(png).unwrap().to_rgb8()
 }
 
