@@ -38,6 +38,23 @@ pub fn decode_at(asset: &Asset, k: usize) -> Result<Texels, AssetError> {
     decode_named(&asset.images[k], &format!("image {k}"))
 }
 
+/// The width and height of a PNG or JPEG image, read from its header without decoding it;
+/// `None` for another encoding or a header that does not read. Cost: the header only.
+pub fn dimensions(image: &Image) -> Option<(u32, u32)> {
+    let format = decoded_format(&image.mime)?;
+    let reader = ImageReader::with_format(Cursor::new(image.bytes.as_slice()), format);
+    reader.into_dimensions().ok()
+}
+
+/// The formats this module decodes.
+fn decoded_format(mime: &str) -> Option<ImageFormat> {
+    match mime {
+        "image/png" => Some(ImageFormat::Png),
+        "image/jpeg" => Some(ImageFormat::Jpeg),
+        _ => None,
+    }
+}
+
 /// [`decode`], errors naming the image by its name, or `unnamed` when it has none.
 fn decode_named(image: &Image, unnamed: &str) -> Result<Texels, AssetError> {
     let name = if image.name.is_empty() {
@@ -46,10 +63,8 @@ fn decode_named(image: &Image, unnamed: &str) -> Result<Texels, AssetError> {
         &image.name
     };
     let bad = |why: String| AssetError::Invalid(format!("{name} ({}): {why}", image.mime));
-    let format = match image.mime.as_str() {
-        "image/png" => ImageFormat::Png,
-        "image/jpeg" => ImageFormat::Jpeg,
-        other => return Err(bad(format!("{other} images are not decoded"))),
+    let Some(format) = decoded_format(&image.mime) else {
+        return Err(bad(format!("{} images are not decoded", image.mime)));
     };
     let reader = || ImageReader::with_format(Cursor::new(image.bytes.as_slice()), format);
     let (w, h) = reader().into_dimensions().map_err(|e| bad(e.to_string()))?;

@@ -120,7 +120,7 @@ pub const BAKED_AT_MOST: usize = 30_000;
 /// Bakes every level of `made` whose looks were transferred, where `asset` has a texture
 /// (module docs); the bakes' warnings join the run's.
 fn bake_transferred(asset: &Asset, made: &mut AssetLod) -> Result<(), PyramidError> {
-    let Some(texels) = texture_side(asset)? else {
+    let Some(texels) = texture_side(asset) else {
         return Ok(());
     };
     for (level, lod_level) in made.assets.iter_mut().zip(&made.lod.levels) {
@@ -146,28 +146,16 @@ fn bake_transferred(asset: &Asset, made: &mut AssetLod) -> Result<(), PyramidErr
 }
 
 /// The side of a baked level's textures: the largest side of the input's base colour and
-/// normal textures that decode, within 256 to 2048 texels; `None` for an asset without such a
-/// texture.
-fn texture_side(asset: &Asset) -> Result<Option<u32>, PyramidError> {
-    let mut side = None;
-    for m in &asset.materials {
+/// normal textures whose headers read (KTX2 is passed through, never read), within 256 to
+/// 2048 texels; `None` for an asset without such a texture. Reads the images' headers only.
+fn texture_side(asset: &Asset) -> Option<u32> {
+    let slots = asset.materials.iter().flat_map(|m| {
         let slots = [&m.base_color_texture, &m.normal_texture];
-        for slot in slots.into_iter().flatten() {
-            let Some(image) = asset.images.get(slot.image) else {
-                continue;
-            };
-            // An image this crate cannot decode (KTX2) is left out here; the transfer's and
-            // the bake's warnings name it. A memory refusal keeps its class.
-            let texels = match voxlod_asset::texture::decode(image) {
-                Ok(texels) => texels,
-                Err(AssetError::Core(e)) => return Err(PyramidError::Core(e)),
-                Err(_) => continue,
-            };
-            let largest = texels.width.max(texels.height) as u32;
-            side = Some(side.unwrap_or(0).max(largest));
-        }
-    }
-    Ok(side.map(|s: u32| s.clamp(256, 2048)))
+        slots.into_iter().flatten()
+    });
+    let images = slots.filter_map(|slot| asset.images.get(slot.image));
+    let sides = images.filter_map(voxlod_asset::texture::dimensions);
+    sides.map(|(w, h)| w.max(h).clamp(256, 2048)).max()
 }
 
 /// `lod`'s levels of `asset`'s geometry, each with colours, normals and materials from the
