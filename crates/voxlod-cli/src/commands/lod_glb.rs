@@ -54,6 +54,16 @@ pub enum CompressArg {
     Meshopt,
 }
 
+impl CompressArg {
+    /// How an asset's `.glb` is stored for `--compress` given or not.
+    pub fn compression(asked: Option<CompressArg>) -> Compression {
+        match asked {
+            Some(CompressArg::Meshopt) => Compression::Meshopt,
+            None => Compression::None,
+        }
+    }
+}
+
 /// The flags of the chain file.
 #[derive(Args, Debug, Clone)]
 pub struct GlbArgs {
@@ -98,10 +108,7 @@ impl GlbArgs {
 
     /// How `--compress` asks the `.glb` to be stored.
     pub fn compression(&self) -> Compression {
-        match self.compress {
-            Some(CompressArg::Meshopt) => Compression::Meshopt,
-            None => Compression::None,
-        }
+        CompressArg::compression(self.compress)
     }
 }
 

@@ -10,7 +10,7 @@ use std::time::Instant;
 use clap::Args;
 use serde::Serialize;
 use voxlod::asset::Asset;
-use voxlod::gltf::{AssetGlbOptions, Compression};
+use voxlod::gltf::AssetGlbOptions;
 use voxlod::io::OutputSet;
 use voxlod::{Control, Progress, ProxyOptions};
 use voxlod_eval::appearance::{AppearanceOptions, AppearanceReference};
@@ -152,10 +152,7 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
     let glb = AssetGlbOptions {
         layout: args.layout.layout(),
         name: stem(&args.input),
-        compression: match args.compress {
-            Some(CompressArg::Meshopt) => Compression::Meshopt,
-            None => Compression::None,
-        },
+        compression: CompressArg::compression(args.compress),
         ..AssetGlbOptions::default()
     };
     let bytes = voxlod::gltf::asset_glb(&levels, &glb).map_err(|e| in_file(&args.output, e))?;
