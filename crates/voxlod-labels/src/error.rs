@@ -1,0 +1,17 @@
+//! The one error type of the segmentation stage.
+
+use voxlod_core::CoreError;
+
+/// Why a label map cannot be meshed.
+#[derive(Debug, thiserror::Error)]
+pub enum LabelsError {
+    /// Only background.
+    #[error("the map holds no label other than 0")]
+    NoLabels,
+    /// A label asked for is not in the map.
+    #[error("the map has no label {0} (it holds {1})")]
+    Missing(u32, String),
+    /// Memory or grid trouble from the core.
+    #[error(transparent)]
+    Core(#[from] CoreError),
+}

@@ -1,0 +1,16 @@
+//! Segmentations (label maps) to meshes at the speed of the volume's bytes: every label of a
+//! [`voxlod_core::LabelVolume`] meshed in one pass over the volume, not one pass per label.
+//!
+//! Two surfaces, each its own file:
+//! - marching cubes per label on the label's indicator at ½ (the surface zmesh and the paper's
+//!   thresholding route give without a filter): each label closed and outward on its own;
+//! - surface nets over all labels at once (Frisken 2022, as VTK's `vtkSurfaceNets3D`), whose
+//!   every interface between two labels is meshed once and shared by both, then smoothed with
+//!   each vertex kept within its voxel's reach and each label's volume kept.
+//!
+//! The paper's filtered levels per label stay in `voxlod_pyramid::labels`; this crate is the
+//! route without a filter, beyond the paper.
+
+pub mod error;
+
+pub use error::LabelsError;
