@@ -12,5 +12,9 @@
 //! route without a filter, beyond the paper.
 
 pub mod error;
+pub mod find;
+pub mod marching_cubes;
 
 pub use error::LabelsError;
+pub use find::{find_labels, select_labels, LabelInfo};
+pub use marching_cubes::{marching_cubes, marching_cubes_of};
