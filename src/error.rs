@@ -16,10 +16,11 @@ use voxlod_core::CoreError;
 use voxlod_envelope::EnvelopeError;
 use voxlod_gltf::GltfError;
 use voxlod_io::IoError;
+use voxlod_labels::LabelsError;
 use voxlod_layers::LayersError;
 use voxlod_metrics::MetricsError;
 use voxlod_pyramid::error::{
-    budget_class, contour_class, core_class, envelope_class, io_class, metrics_class,
+    budget_class, contour_class, core_class, envelope_class, io_class, metrics_class, render_class,
     sampling_class,
 };
 use voxlod_pyramid::lod::LodError;
@@ -54,6 +55,9 @@ pub enum Error {
     /// Distances and mesh health.
     #[error(transparent)]
     Metrics(#[from] MetricsError),
+    /// Label maps meshed without a filter.
+    #[error(transparent)]
+    Labels(#[from] LabelsError),
     /// Levels by triangle budget.
     #[error(transparent)]
     Budget(#[from] BudgetError),
@@ -166,6 +170,9 @@ impl Error {
             Error::Envelope(e) => envelope_class(e),
             Error::Metrics(e) => metrics_class(e),
             Error::Budget(e) => budget_class(e),
+            Error::Labels(LabelsError::Core(e)) => core_class(e),
+            Error::Labels(LabelsError::Missing(..)) => Usage,
+            Error::Labels(_) => BadInput,
             Error::Render(e) => render_class(e),
             Error::Gltf(GltfError::Core(e)) => core_class(e),
             Error::Gltf(GltfError::Io(e)) => io_class(e),
@@ -203,17 +210,6 @@ fn clustering_class(e: &ClusteringError) -> ErrorClass {
         | ClusteringError::ZeroLevels
         | ClusteringError::TooManyLevels { .. }
         | ClusteringError::InvalidParameter { .. } => ErrorClass::Usage,
-        _ => ErrorClass::BadInput,
-    }
-}
-
-fn render_class(e: &RenderError) -> ErrorClass {
-    match e {
-        RenderError::Core(e) => core_class(e),
-        RenderError::ZeroViewDirection
-        | RenderError::NonFiniteView(_)
-        | RenderError::BadSize(..)
-        | RenderError::BadSupersample(_) => ErrorClass::Usage,
         _ => ErrorClass::BadInput,
     }
 }

@@ -1,7 +1,10 @@
-//! [`labels()`]: crate `voxlod-pyramid`'s label maps job with the facade's error.
+//! The label maps' jobs with the facade's error: [`labels()`], the paper's filtered levels per
+//! label (crate `voxlod-pyramid`), and [`label_surfaces`], every label meshed in one pass without
+//! a filter (crate `voxlod-labels`).
 
 use crate::error::Error;
-use voxlod_core::Volume;
+use voxlod_core::{LabelVolume, Volume};
+use voxlod_labels::{LabelSurface, SurfaceOptions};
 use voxlod_pyramid::{labels::LabelMeshes, labels::LabelOptions, ProgressFn};
 
 /// Every label of a label map meshed with its levels, as [`voxlod_pyramid::labels::labels`].
@@ -11,4 +14,12 @@ pub fn labels(
     progress: &ProgressFn,
 ) -> Result<LabelMeshes, Error> {
     Ok(voxlod_pyramid::labels::labels(map, options, progress)?)
+}
+
+/// Every label of a label map as one closed, outward mesh, as [`voxlod_labels::label_surfaces`].
+pub fn label_surfaces(
+    map: &LabelVolume,
+    options: &SurfaceOptions,
+) -> Result<Vec<LabelSurface>, Error> {
+    Ok(voxlod_labels::label_surfaces(map, options)?)
 }

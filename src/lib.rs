@@ -77,7 +77,7 @@ pub use inspect::{
     inspect, inspect_file, inspect_scene, FileInspection, InspectOptions, Inspection,
     PartInspection, SceneInspection,
 };
-pub use label_maps::labels;
+pub use label_maps::{label_surfaces, labels};
 pub use levels::{lod, lod_by_budget, lod_by_budget_with, lod_glb, lod_with, voxelize};
 pub use picture::{
     check_draw_options, draw, read_drawable, view_direction, DrawOptions, Drawable, Drawing,
@@ -88,6 +88,7 @@ pub use shells::{
     check_layers_levels, check_layers_options, layered_glb, layered_poly_mesh, layered_preview,
     layers, layers_chain, layers_levels, layers_radius, layers_with, Layers, LayersChain,
 };
+pub use voxlod_labels::{LabelSurface, Surface, SurfaceOptions};
 pub use voxlod_pyramid::{asset_lod, asset_lod_by_budget, blockwise, budget, finest, labels};
 pub use voxlod_pyramid::{
     iso_outside_data, run_to_end, Control, EnvelopeStep, ErrorClass, Event, Finest, InvalidOption,

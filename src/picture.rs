@@ -239,7 +239,7 @@ fn frame(inputs: &[Drawable], view: DVec3, options: &DrawOptions) -> Result<Came
     let mut bounds = Bounds::EMPTY;
     for input in inputs {
         bounds = bounds.union(&match input {
-            Drawable::Plain(m) => poly_bounds(m),
+            Drawable::Plain(m) => m.bounds(),
             Drawable::Layered { scene, .. } => scene.mesh.bounds(),
         });
     }
@@ -254,15 +254,6 @@ fn frame(inputs: &[Drawable], view: DVec3, options: &DrawOptions) -> Result<Came
         options.height,
         fov,
     )?)
-}
-
-/// The box of a mesh's triangles, edges and points.
-fn poly_bounds(m: &PolyMesh) -> Bounds {
-    let mut b = m.mesh.bounds();
-    for &v in m.lines.iter().flatten().chain(&m.points) {
-        b.grow(m.mesh.positions[v as usize].as_dvec3());
-    }
-    b
 }
 
 /// Dangling edges of one look, drawn as one line item.

@@ -191,6 +191,15 @@ impl From<TriangleMesh> for PolyMesh {
 }
 
 impl PolyMesh {
+    /// The box of the triangles' vertices, the lines' and the points.
+    pub fn bounds(&self) -> Bounds {
+        let mut b = self.mesh.bounds();
+        for &v in self.lines.iter().flatten().chain(&self.points) {
+            b.grow(self.mesh.positions[v as usize].as_dvec3());
+        }
+        b
+    }
+
     /// Checks the triangle mesh and that lines, points and attributes are in range and sized.
     pub fn validate(&self) -> Result<(), CoreError> {
         self.mesh.validate()?;

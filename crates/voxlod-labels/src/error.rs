@@ -11,6 +11,9 @@ pub enum LabelsError {
     /// A label asked for is not in the map.
     #[error("the map has no label {0} (it holds {1})")]
     Missing(u32, String),
+    /// A mesh whose coordinates leave 32-bit floats (a map placed too far out).
+    #[error("label {0}: {1} (the map's extent is too large for 32-bit coordinates)")]
+    BeyondRange(u32, String),
     /// Memory or grid trouble from the core.
     #[error(transparent)]
     Core(#[from] CoreError),

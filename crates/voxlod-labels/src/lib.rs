@@ -13,8 +13,12 @@
 
 pub mod error;
 pub mod find;
+pub mod job;
 pub mod marching_cubes;
+pub mod smoothing;
+pub mod surface_nets;
 
 pub use error::LabelsError;
 pub use find::{find_labels, select_labels, LabelInfo};
+pub use job::{label_surfaces, LabelSurface, Surface, SurfaceOptions};
 pub use marching_cubes::{marching_cubes, marching_cubes_of};

@@ -20,6 +20,7 @@ use voxlod_core::CoreError;
 use voxlod_envelope::EnvelopeError;
 use voxlod_io::{IoError, IoErrorKind};
 use voxlod_metrics::MetricsError;
+use voxlod_render::RenderError;
 use voxlod_sampling::{MonotoneError, SamplingError};
 
 use crate::lod::LodError;
@@ -416,5 +417,17 @@ fn short_number(x: f64) -> String {
         format!("{x:e}")
     } else {
         format!("{x}")
+    }
+}
+
+/// The class of a stage crate's error.
+pub fn render_class(e: &RenderError) -> ErrorClass {
+    match e {
+        RenderError::Core(e) => core_class(e),
+        RenderError::ZeroViewDirection
+        | RenderError::NonFiniteView(_)
+        | RenderError::BadSize(..)
+        | RenderError::BadSupersample(_) => ErrorClass::Usage,
+        _ => ErrorClass::BadInput,
     }
 }

@@ -1,0 +1,95 @@
+//! The segmentation stage's one call, [`label_surfaces`]: the map's labels found, the ones asked
+//! for chosen, every one meshed in one pass over the map, moved into the frame asked for and
+//! checked.
+//!
+//! Cost: that of the surface chosen (see `marching_cubes.rs` and `surface_nets.rs`), plus one
+//! pass over the map to find the labels and one over each mesh to check and move it.
+
+use rayon::prelude::*;
+use serde::Serialize;
+use voxlod_core::validate::{find_defect, Requirements};
+use voxlod_core::{Frame, LabelVolume, Placement, TriangleMesh};
+
+use crate::find::{find_labels, select_labels, LabelInfo};
+use crate::marching_cubes::marching_cubes_of;
+use crate::LabelsError;
+
+/// Which surface every label gets.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub enum Surface {
+    /// Marching cubes of each label's indicator at ½: every label closed and outward on its
+    /// own (`marching_cubes.rs`).
+    #[default]
+    MarchingCubes,
+}
+
+/// How [`label_surfaces`] meshes a map.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct SurfaceOptions {
+    /// The surface.
+    pub surface: Surface,
+    /// Only these labels, in this order (every non-zero label, increasing, when `None`).
+    pub labels: Option<Vec<u32>>,
+    /// The frame of the meshes: the map's own when `None`.
+    pub frame: Option<Frame>,
+}
+
+/// One label with its mesh.
+#[derive(Clone, Debug)]
+pub struct LabelSurface {
+    /// The label: its value, voxel count and index box.
+    pub label: LabelInfo,
+    /// Its voxels' volume: voxel count times the voxel's volume, in world units cubed.
+    pub voxel_volume: f64,
+    /// Its closed, outward mesh, in the frame of [`SurfaceOptions::frame`].
+    pub mesh: TriangleMesh,
+}
+
+/// Every label asked for with its mesh (see [`label_surfaces`]).
+///
+/// ```
+/// use voxlod_core::{Grid, LabelVolume};
+/// use voxlod_labels::{label_surfaces, SurfaceOptions};
+///
+/// // A 4 × 4 × 4 map holding one 2 × 2 × 2 block of label 7.
+/// let grid = Grid::new([4, 4, 4], [1.0; 3], [0.0; 3]).unwrap();
+/// let values = (0..64)
+///     .map(|n: usize| [n % 4, n / 4 % 4, n / 16])
+///     .map(|at| if at.iter().all(|&a| (1..3).contains(&a)) { 7 } else { 0 })
+///     .collect();
+/// let map = LabelVolume::from_vec(grid, values).unwrap();
+/// let surfaces = label_surfaces(&map, &SurfaceOptions::default())?;
+/// assert_eq!(surfaces.len(), 1);
+/// assert_eq!((surfaces[0].label.value, surfaces[0].label.voxels), (7, 8));
+/// assert_eq!(surfaces[0].voxel_volume, 8.0);
+/// assert!(!surfaces[0].mesh.is_empty());
+/// # Ok::<(), voxlod_labels::LabelsError>(())
+/// ```
+pub fn label_surfaces(
+    map: &LabelVolume,
+    options: &SurfaceOptions,
+) -> Result<Vec<LabelSurface>, LabelsError> {
+    let chosen = select_labels(find_labels(map), options.labels.as_deref())?;
+    let meshes = match &options.surface {
+        Surface::MarchingCubes => marching_cubes_of(map, &chosen)?,
+    };
+    let to_frame = options.frame.map_or(Placement::IDENTITY, |target| {
+        Placement::between_frames(map.orientation.frame, target)
+    });
+    let voxel = map.grid.spacing.iter().product::<f64>();
+    chosen
+        .into_par_iter()
+        .zip(meshes)
+        .map(|(label, mut mesh)| {
+            to_frame.apply(&mut mesh);
+            if let Some(defect) = find_defect(&mesh, &Requirements::computed()) {
+                return Err(LabelsError::BeyondRange(label.value, defect.to_string()));
+            }
+            Ok(LabelSurface {
+                voxel_volume: label.voxels as f64 * voxel,
+                label,
+                mesh,
+            })
+        })
+        .collect()
+}
