@@ -9,15 +9,15 @@ use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
-use voxlod_core::Volume;
+use voxlod_core::LabelVolume;
 
 use crate::{IoError, IoErrorKind};
 
-/// A label map: the volume of label values, its label table, and what reading it warned of.
+/// A label map: its exact `u32` labels, its label table, and what reading it warned of.
 #[derive(Clone, Debug)]
 pub struct LabelMap {
-    /// Label values (0 is background).
-    pub volume: Volume,
+    /// The labels, one per voxel, x fastest (0 is the background).
+    pub labels: LabelVolume,
     /// Names and colours of the labels the file names.
     pub table: Vec<LabelName>,
     /// Warnings, each a line naming the file (overlapping DICOM segments).

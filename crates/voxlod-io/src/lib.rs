@@ -15,6 +15,7 @@
 //! | `.mha`, `.mhd` | volume | MetaImage, zlib or not, local or detached data | same | `metaimage.rs` |
 //! | `.dcm`, a folder | volume | DICOM series (one SeriesInstanceUID), in LPS | — | `dicom/mod.rs`, `dicom/geometry.rs` |
 //! | `.dcm`, a folder | label map | DICOM Segmentation (BINARY, FRACTIONAL), in LPS ([`read_label_map`]) | — | `dicom/seg.rs` |
+//! | any volume format above | label map | exact `u32` labels ([`read_label_map`]) | `.nrrd`, `.nii`, `.nii.gz` `uint32` ([`write_label_map`]) | `label_map.rs` |
 //! | `.raw` (or any other, given a [`RawLayout`]) | volume | headerless samples | `f32` little-endian | `raw.rs` |
 //! | `.zarr` (a folder) | volume | Zarr v2/v3 arrays, OME-Zarr 0.4/0.5 images; whole or by region ([`open_zarr`]) | OME-Zarr 0.5 image (Zarr v3, zstd) | `zarr/` |
 //!
@@ -91,11 +92,13 @@ pub mod atomic;
 mod block_read;
 mod blockwise_volume;
 mod budget;
+mod decode_target;
 mod detached;
 mod dicom;
 pub mod ear_clipping;
 mod error;
 mod guard;
+mod label_map;
 mod label_table;
 mod metaimage;
 mod nifti;
@@ -107,6 +110,7 @@ mod ply;
 mod raw;
 mod samples;
 mod stl;
+mod stream_read;
 mod vtk;
 mod zarr;
 
@@ -127,6 +131,7 @@ pub use dicom::seg::{
 };
 pub use dicom::{list_dicom_series, read_dicom_series, DicomOptions, SeriesSummary};
 pub use error::{IoError, IoErrorKind};
+pub use label_map::{read_label_map, read_label_map_with, write_label_map};
 pub use label_table::{read_label_table, LabelMap, LabelName};
 pub use outputs::{check_image_path, OutputSet, IMAGE_EXTENSIONS};
 pub use raw::{RawLayout, RawType};
@@ -387,7 +392,7 @@ impl<'a> From<&'a PolyMesh> for PolyView<'a> {
 }
 
 /// Fails unless `path` is a readable, non-empty file.
-fn check_readable(path: &Path) -> Result<(), IoError> {
+pub(crate) fn check_readable(path: &Path) -> Result<(), IoError> {
     let meta = std::fs::metadata(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
     if meta.is_dir() {
         return Err(IoError::new(
@@ -561,20 +566,6 @@ pub struct VolumeWriteOptions {
     /// costs far more time than writing it (vtkio's compressor is the slowest, several seconds
     /// for a 256³ volume; NRRD with gzip is the quick way to a small file).
     pub compress: bool,
-}
-
-/// Reads a label map: a DICOM Segmentation (a SEG file, or a folder holding one) by
-/// `dicom/seg.rs`, any other volume by [`read_volume`] with the table of
-/// [`read_label_table`].
-pub fn read_label_map(path: &Path) -> Result<LabelMap, IoError> {
-    if find_dicom_seg(path)?.is_some() {
-        return read_dicom_seg(path);
-    }
-    Ok(LabelMap {
-        volume: read_volume(path, None)?,
-        table: read_label_table(path)?,
-        warnings: Vec::new(),
-    })
 }
 
 /// Reads a volume by extension. Headerless raw files (`.raw`, or any extension that is not a

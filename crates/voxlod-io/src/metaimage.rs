@@ -3,7 +3,8 @@
 //! `ElementDataFile`, then the samples.
 //!
 //! Reading understands `NDims` (1 to 3), `DimSize`, `ElementType` (`MET_UCHAR`, `MET_CHAR`,
-//! `MET_USHORT`, `MET_SHORT`, `MET_UINT`, `MET_INT`, `MET_FLOAT`, `MET_DOUBLE`),
+//! `MET_USHORT`, `MET_SHORT`, `MET_UINT`, `MET_INT`, `MET_LONG_LONG`, `MET_ULONG_LONG`,
+//! `MET_FLOAT`, `MET_DOUBLE`),
 //! `ElementNumberOfChannels` (must be 1), `BinaryDataByteOrderMSB` / `ElementByteOrderMSB`,
 //! `CompressedData` (zlib, or gzip), `ElementSpacing` (else `ElementSize`), `Offset` (else
 //! `Origin` or `Position`), `HeaderSize` (bytes to skip in a data file; `-1`: the data is at its
@@ -23,9 +24,13 @@
 //! is taken (see [`crate::OutputSet`]); the header records the name, and both files appear
 //! together.
 //!
+//! The samples are decoded as they are read (and inflated), block by block (`stream_read.rs`):
+//! into `f32` for a volume ([`read`]), into exact `u32` labels for a label map
+//! ([`read_labels`], `decode_target.rs`).
+//!
 //! Cost: O(header) to parse the header, then one read of the N samples in O(N) time; memory at
-//! the peak is the stored bytes (N × sample size) plus the `f32` volume (4N bytes), both
-//! checked against the budget first (`samples::check_volume_size`).
+//! the peak is the decoded samples (4N bytes) plus one block of stored bytes, checked against
+//! the budget first (`samples::check_decoded_size`).
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom, Write};
@@ -33,11 +38,13 @@ use std::path::{Path, PathBuf};
 
 use flate2::write::ZlibEncoder;
 use voxlod_core::glam::{DMat3, DVec3};
-use voxlod_core::{Frame, Orientation, Volume, WorldTransform};
+use voxlod_core::{Frame, LabelVolume, Orientation, Volume, WorldTransform};
 
 use crate::atomic::{stage, TempFile};
 use crate::blockwise_volume::{BlockwiseVolume, DataStart, StoredSamples};
-use crate::samples::{self, SampleType};
+use crate::decode_target::{AsLabels, AsSamples, DecodeTarget};
+use crate::samples::{self, Decoded, SampleType};
+use crate::stream_read::read_stream;
 use crate::{Endian, IoError};
 
 const MAX_HEADER_BYTES: u64 = 1 << 20;
@@ -64,6 +71,8 @@ fn element_type(name: &str) -> Option<SampleType> {
         "MET_SHORT" => SampleType::I16,
         "MET_UINT" => SampleType::U32,
         "MET_INT" => SampleType::I32,
+        "MET_LONG_LONG" => SampleType::I64,
+        "MET_ULONG_LONG" => SampleType::U64,
         "MET_FLOAT" => SampleType::F32,
         "MET_DOUBLE" => SampleType::F64,
         _ => return None,
@@ -163,6 +172,22 @@ fn interpret_geometry(
     Ok((spacing, origin, orientation))
 }
 
+/// For an image of more than three axes: the first axis after the third that holds more than
+/// one value, in the words of a message (", axis 4 holds 5 values"), else nothing.
+fn longer_axis(dim_size: &str) -> String {
+    let longer = dim_size
+        .split_whitespace()
+        .enumerate()
+        .skip(3)
+        .find(|(_, n)| *n != "1");
+    longer.map_or(String::new(), |(axis, n)| {
+        format!(
+            " (DimSize = {dim_size}): axis {} holds {n} values",
+            axis + 1
+        )
+    })
+}
+
 fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError> {
     let get = |key: &str| field(fields, key);
     let require = |key: &str, name: &str| {
@@ -178,7 +203,10 @@ fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError
     if !(1..=3).contains(&ndims) {
         return Err(IoError::unsupported(
             path,
-            format!("NDims = {ndims}: only 1- to 3-dimensional images are read"),
+            format!(
+                "NDims = {ndims}{}: only 1- to 3-dimensional images are read",
+                longer_axis(get("dimsize").unwrap_or(""))
+            ),
         ));
     }
     let dim_text = require("dimsize", "DimSize")?;
@@ -246,11 +274,27 @@ fn interpret(path: &Path, fields: &[(String, String)]) -> Result<Header, IoError
     })
 }
 
+/// Reads a MetaImage volume (`f32` samples).
 pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
+    read_as(path, &AsSamples, "volume")?.into_volume(path)
+}
+
+/// Reads a MetaImage label map (exact `u32` labels, `decode_target.rs`).
+pub(crate) fn read_labels(path: &Path) -> Result<LabelVolume, IoError> {
+    read_as(path, &AsLabels::default(), "label map")?.into_labels(path)
+}
+
+/// The samples decoded by `target` (a `noun` for the budget's message), read as they are
+/// inflated or from the file, with their geometry.
+fn read_as<T: DecodeTarget>(
+    path: &Path,
+    target: &T,
+    noun: &str,
+) -> Result<Decoded<Vec<T::Item>>, IoError> {
     let file = File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
     let mut reader = BufReader::with_capacity(1 << 20, file);
     let header = read_header(path, &mut reader)?;
-    let (_, data_bytes) = samples::check_volume_size(path, header.dims, header.sample)?;
+    let (_, data_bytes) = samples::check_decoded_size(path, header.dims, header.sample, noun)?;
 
     let (data_path, mut data) = match &header.data_file {
         None => (path.to_path_buf(), reader),
@@ -284,16 +328,21 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
             (other.clone(), data)
         }
     };
-    let bytes = if header.compressed {
+    let (dims, stored) = (header.dims, (header.sample, header.endian));
+    let values = if header.compressed {
         let inflated = samples::inflater(&mut data);
-        samples::read_data(&data_path, inflated, data_bytes, "compressed image data")?
+        let what = "compressed image data";
+        read_stream(&data_path, inflated, dims, stored, target, what)?
     } else {
-        samples::read_data(&data_path, &mut data, data_bytes, "image data")?
+        read_stream(&data_path, &mut data, dims, stored, target, "image data")?
     };
-    let values = samples::decode(&bytes, header.sample, header.endian);
-    drop(bytes);
-    samples::make_volume(path, header.dims, header.spacing, header.origin, values)
-        .map(|v| v.oriented(header.orientation))
+    Ok(Decoded {
+        dims,
+        spacing: header.spacing,
+        origin: header.origin,
+        orientation: header.orientation,
+        values,
+    })
 }
 
 /// The samples of a MetaImage without `CompressedData`, after its header or in its data file,
@@ -497,7 +546,8 @@ mod tests {
             ("NDims = 3\nDimSize = 1 1 1\nElementType = MET_UCHAR\n", IoErrorKind::Malformed, "ElementDataFile"),
             ("NDims = 3\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n", IoErrorKind::Malformed, "DimSize"),
             ("NDims = 4\nElementDataFile = LOCAL\n", IoErrorKind::Unsupported, "NDims = 4"),
-            ("NDims = 3\nDimSize = 1 1 1\nElementType = MET_LONG_LONG\nElementDataFile = LOCAL\n", IoErrorKind::Unsupported, "MET_LONG_LONG"),
+            ("NDims = 3\nDimSize = 1 1 1\nElementType = MET_STRING\nElementDataFile = LOCAL\n", IoErrorKind::Unsupported, "MET_STRING"),
+            ("NDims = 4\nDimSize = 2 2 2 3\nElementDataFile = LOCAL\n", IoErrorKind::Unsupported, "axis 4 holds 3 values"),
             ("NDims = 3\nDimSize = 1 1 1\nElementType = MET_UCHAR\nElementNumberOfChannels = 3\nElementDataFile = LOCAL\n", IoErrorKind::Unsupported, "channels"),
             ("garbage without equals\n", IoErrorKind::Malformed, "Key = Value"),
         ] {

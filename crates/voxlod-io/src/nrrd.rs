@@ -2,13 +2,13 @@
 //! separate file it names). Read and written by hand: no maintained crate exists, and the part
 //! of the format scans use is a short text header.
 //!
-//! Reading understands the fields `type` (every C spelling of 8-, 16- and 32-bit integers,
+//! Reading understands the fields `type` (every C spelling of 8-, 16-, 32- and 64-bit integers,
 //! `float`, `double`), `dimension` (1 to 3), `sizes`, `endian`, `encoding` (`raw`, `gzip`/`gz`,
 //! `ascii`/`text`/`txt`), `space directions` (spacing = length of each vector), `spacings`,
 //! `space origin`, `space units` (converted to millimetres), `data file`/`datafile` (one file,
 //! relative to the header), `line skip` and `byte skip` (including `-1` for raw data at the end
-//! of the file). Comments and `key:=value` pairs are ignored. Not supported: 64-bit integer
-//! types, `bzip2` and `hex` encodings, lists of data files, non-spatial axes (colour
+//! of the file). Comments and `key:=value` pairs are ignored. Not supported: `bzip2` and `hex`
+//! encodings, lists of data files, non-spatial axes (colour
 //! channels, time). Geometry is the full index-to-world transform (`voxlod_core::world`): the
 //! `space directions` vectors give spacing (their lengths) and direction cosines, `space origin`
 //! the origin, and `space` the frame (`left-posterior-superior`/`LPS` and
@@ -22,10 +22,14 @@
 //! `<name>.raw` (`<name>.raw.gz` compressed) beside it, or another free name when that one is
 //! taken (see [`crate::OutputSet`]); the header records the name, and both files appear together.
 //!
+//! The samples are decoded straight into `f32` for a volume ([`read`]) or into exact `u32` labels
+//! for a label map ([`read_labels`], `decode_target.rs`), raw data block by block on all threads
+//! (`block_read.rs`), gzip data block by block as it is inflated (`stream_read.rs`).
+//!
 //! Cost: O(header) to parse the header, then one read of the N samples in O(N) time; memory at
-//! the peak is the stored bytes (N × sample size) plus the `f32` volume (4N bytes), both
-//! checked against the budget first (`samples::check_volume_size`). ASCII data is parsed number
-//! by number, O(file size).
+//! the peak is the decoded samples (4N bytes) plus a block of stored bytes per thread, checked
+//! against the budget first (`samples::check_decoded_size`). ASCII data is parsed number by
+//! number, O(file size), and its text is held whole.
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom, Write};
@@ -33,12 +37,14 @@ use std::path::{Path, PathBuf};
 
 use flate2::write::GzEncoder;
 use voxlod_core::glam::{DMat3, DVec3};
-use voxlod_core::{Frame, Orientation, Volume, WorldTransform};
+use voxlod_core::{Frame, Grid, LabelVolume, Orientation, Volume, WorldTransform};
 
 use crate::atomic::{stage, TempFile};
 use crate::block_read;
 use crate::blockwise_volume::{BlockwiseVolume, DataStart, StoredSamples};
-use crate::samples::{self, millimetres_per, SampleType};
+use crate::decode_target::{AsLabels, AsSamples, DecodeTarget};
+use crate::samples::{self, millimetres_per, Decoded, SampleType};
+use crate::stream_read::read_stream;
 use crate::{Endian, IoError, IoErrorKind};
 
 /// The longest header we accept: real ones are a few hundred bytes.
@@ -78,6 +84,16 @@ fn sample_type(name: &str) -> Option<SampleType> {
         }
         "int" | "signed int" | "int32" | "int32_t" => SampleType::I32,
         "uint" | "unsigned int" | "uint32" | "uint32_t" => SampleType::U32,
+        "longlong"
+        | "long long"
+        | "long long int"
+        | "signed long long"
+        | "signed long long int"
+        | "int64"
+        | "int64_t" => SampleType::I64,
+        "ulonglong" | "unsigned long long" | "unsigned long long int" | "uint64" | "uint64_t" => {
+            SampleType::U64
+        }
         "float" => SampleType::F32,
         "double" => SampleType::F64,
         _ => return None,
@@ -222,10 +238,7 @@ fn interpret_layout(fields: &Fields) -> Result<(SampleType, usize, [usize; 3]), 
         .parse()
         .map_err(|_| fields.bad("dimension", dimension_text))?;
     if !(1..=3).contains(&dimension) {
-        return Err(IoError::unsupported(
-            fields.path,
-            format!("dimension {dimension}: only 1- to 3-dimensional scalar volumes are read"),
-        ));
+        return Err(refuse_dimension(fields, dimension));
     }
     let sizes_text = fields.require(&["sizes"])?;
     let sizes: Vec<usize> = samples::parse_list(sizes_text, dimension)
@@ -233,6 +246,27 @@ fn interpret_layout(fields: &Fields) -> Result<(SampleType, usize, [usize; 3]), 
     let mut dims = [1usize; 3];
     dims[..dimension].copy_from_slice(&sizes);
     Ok((sample, dimension, dims))
+}
+
+/// The refusal of a `dimension` beyond 3, naming the first axis after the third that holds more
+/// than one value (a 4-D map: a time series, or channels).
+fn refuse_dimension(fields: &Fields, dimension: usize) -> IoError {
+    let sizes = fields.get(&["sizes"]).unwrap_or("");
+    let longer = sizes
+        .split_whitespace()
+        .enumerate()
+        .skip(3)
+        .find(|(_, n)| *n != "1");
+    let axis = match longer {
+        Some((axis, n)) => format!(": axis {} holds {n} values", axis + 1),
+        None => String::new(),
+    };
+    IoError::unsupported(
+        fields.path,
+        format!(
+            "dimension {dimension} (sizes {sizes}){axis}; only 1- to 3-dimensional scalar volumes are read"
+        ),
+    )
 }
 
 /// `endian` (little when absent) and `encoding`.
@@ -394,11 +428,26 @@ fn interpret_data_location(fields: &Fields) -> Result<(Option<PathBuf>, usize, i
     Ok((data_file, line_skip, byte_skip))
 }
 
+/// Reads a NRRD volume (`f32` samples).
 pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
+    read_as(path, &AsSamples, "volume")?.into_volume(path)
+}
+
+/// Reads a NRRD label map (exact `u32` labels, `decode_target.rs`).
+pub(crate) fn read_labels(path: &Path) -> Result<LabelVolume, IoError> {
+    read_as(path, &AsLabels::default(), "label map")?.into_labels(path)
+}
+
+/// The samples decoded by `target` (a `noun` for the budget's message) with their geometry.
+fn read_as<T: DecodeTarget>(
+    path: &Path,
+    target: &T,
+    noun: &str,
+) -> Result<Decoded<Vec<T::Item>>, IoError> {
     let file = File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
     let mut reader = BufReader::with_capacity(1 << 20, file);
     let header = read_header(path, &mut reader)?;
-    let (count, data_bytes) = samples::check_volume_size(path, header.dims, header.sample)?;
+    let (_, data_bytes) = samples::check_decoded_size(path, header.dims, header.sample, noun)?;
 
     // Where the data lives: after the header, or in the file it names (errors then name that
     // file, since it is the one that is short or missing).
@@ -412,6 +461,8 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
     let data_path = data_path.as_path();
     skip_lines(data_path, &mut data, header.line_skip)?;
 
+    let stored = (header.sample, header.endian);
+    let dims = header.dims;
     let values = match header.encoding {
         Encoding::Raw => {
             if header.byte_skip == -1 {
@@ -434,8 +485,8 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
             }
             let offset = (data.stream_position())
                 .map_err(|e| IoError::access(data_path, "cannot read", &e))?;
-            let stored = (header.sample, header.endian);
-            block_read::read_decoded(data_path, data.get_ref(), offset, count, stored, "raw data")?
+            let file = data.get_ref();
+            block_read::read_decoded(data_path, file, offset, dims, stored, target, "raw data")?
         }
         Encoding::Gzip => {
             if header.byte_skip == -1 {
@@ -447,13 +498,17 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
             let mut inflated = flate2::bufread::MultiGzDecoder::new(data);
             // For compressed data, byte skip counts decompressed bytes.
             skip(data_path, &mut inflated, header.byte_skip as u64)?;
-            let bytes = samples::read_data(data_path, &mut inflated, data_bytes, "gzip data")?;
-            samples::decode(&bytes, header.sample, header.endian)
+            read_stream(data_path, inflated, dims, stored, target, "gzip data")?
         }
-        Encoding::Ascii => read_ascii(data_path, data, count)?,
+        Encoding::Ascii => read_ascii(data_path, data, dims, target)?,
     };
-    samples::make_volume(path, header.dims, header.spacing, header.origin, values)
-        .map(|v| v.oriented(header.orientation))
+    Ok(Decoded {
+        dims,
+        spacing: header.spacing,
+        origin: header.origin,
+        orientation: header.orientation,
+        values,
+    })
 }
 
 /// The samples of a NRRD with `encoding: raw`, attached or in its data file, for reading
@@ -522,44 +577,62 @@ fn skip(path: &Path, reader: &mut impl Read, bytes: u64) -> Result<(), IoError> 
     Ok(())
 }
 
-/// Whitespace-separated numbers, as many as the volume has samples.
-fn read_ascii(path: &Path, reader: impl Read, count: usize) -> Result<Vec<f32>, IoError> {
+/// Whitespace-separated numbers, as many as the grid of `dims` has samples, decoded by
+/// `target` as `f64` values.
+fn read_ascii<T: DecodeTarget>(
+    path: &Path,
+    reader: impl Read,
+    dims: [usize; 3],
+    target: &T,
+) -> Result<Vec<T::Item>, IoError> {
+    let count = dims.iter().product::<usize>();
     let mut text = String::new();
     reader
         .take((count as u64).saturating_mul(64))
         .read_to_string(&mut text)
         .map_err(|e| IoError::malformed(path, format!("the ascii data is not text: {e}")))?;
-    let mut values = Vec::with_capacity(count);
-    for token in text.split_whitespace().take(count) {
-        let v: f64 = token.parse().map_err(|_| {
-            IoError::malformed(path, format!("'{token}' in the ascii data is not a number"))
-        })?;
-        values.push(v as f32);
-    }
-    if values.len() < count {
-        return Err(IoError::truncated(
-            path,
-            format!(
-                "the ascii data is truncated: expected {count} values, found {}",
-                values.len()
-            ),
-        ));
+    let mut values = vec![T::Item::default(); count];
+    let mut tokens = text.split_whitespace();
+    let mut bytes = Vec::new();
+    for (b, out) in values.chunks_mut(block_read::BLOCK).enumerate() {
+        bytes.clear();
+        for token in tokens.by_ref().take(out.len()) {
+            let v: f64 = token.parse().map_err(|_| {
+                IoError::malformed(path, format!("'{token}' in the ascii data is not a number"))
+            })?;
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+        let found = b * block_read::BLOCK + bytes.len() / 8;
+        if found < (b * block_read::BLOCK + out.len()) {
+            return Err(IoError::truncated(
+                path,
+                format!("the ascii data is truncated: expected {count} values, found {found}"),
+            ));
+        }
+        let first = b * block_read::BLOCK;
+        (target.decode(&bytes, SampleType::F64, Endian::Little, out))
+            .map_err(|bad| bad.error(path, dims, first))?;
     }
     Ok(values)
 }
 
-/// The header text for `volume`, with its data attached or in `data_file`.
-fn header_text(volume: &Volume, compress: bool, data_file: Option<&str>) -> String {
-    let g = &volume.grid;
+/// The header text for samples of `type_name` on `g` placed by `orientation`, with their data
+/// attached or in `data_file`.
+fn header_text(
+    (g, orientation): (&Grid, &Orientation),
+    type_name: &str,
+    compress: bool,
+    data_file: Option<&str>,
+) -> String {
     let [nx, ny, nz] = g.dims;
-    let world = volume.world();
+    let world = WorldTransform::of(g, orientation);
     let step = |a: usize| {
         let v = world.direction.col(a) * world.spacing[a];
         format!("({},{},{})", v.x, v.y, v.z)
     };
     let (x, y, z) = (step(0), step(1), step(2));
     let [ox, oy, oz] = g.origin;
-    let space = match volume.orientation.frame {
+    let space = match orientation.frame {
         Frame::Lps => "space: left-posterior-superior",
         Frame::Ras => "space: right-anterior-superior",
         Frame::Unknown => "space dimension: 3",
@@ -567,7 +640,7 @@ fn header_text(volume: &Volume, compress: bool, data_file: Option<&str>) -> Stri
     let mut text = format!(
         "NRRD0004\n\
          # written by voxlod\n\
-         type: float\n\
+         type: {type_name}\n\
          dimension: 3\n\
          {space}\n\
          sizes: {nx} {ny} {nz}\n\
@@ -598,11 +671,19 @@ fn write_data(w: &mut impl Write, volume: &Volume, compress: bool) -> std::io::R
 
 /// Writes a `.nrrd` with attached data.
 pub(crate) fn write(path: &Path, volume: &Volume, compress: bool) -> Result<TempFile, IoError> {
-    let header = header_text(volume, compress, None);
+    let header = header_text((&volume.grid, &volume.orientation), "float", compress, None);
     stage(path, |w| {
         w.write_all(header.as_bytes())?;
         write_data(w, volume, compress)
     })
+}
+
+/// Writes a label map as a `.nrrd` of raw `uint32` samples (little-endian), with the geometry
+/// of [`write`].
+pub(crate) fn write_labels(w: &mut impl Write, labels: &LabelVolume) -> std::io::Result<()> {
+    let place = (&labels.grid, &labels.orientation);
+    w.write_all(header_text(place, "uint32", false, None).as_bytes())?;
+    crate::raw::write_labels_le(w, &labels.values)
 }
 
 /// The data file that the NRRD header `path` names, if it can be read and names one.
@@ -620,7 +701,8 @@ pub(crate) fn write_detached(
     compress: bool,
 ) -> Result<[TempFile; 2], IoError> {
     let data_name = crate::detached::name_in_header(path, data_path)?;
-    let header = header_text(volume, compress, Some(&data_name));
+    let place = (&volume.grid, &volume.orientation);
+    let header = header_text(place, "float", compress, Some(&data_name));
     // The header first, so that an unwritable directory is reported for the file asked for.
     let mut header_file = TempFile::create(path)?;
     let mut data_file = TempFile::create(data_path)?;
@@ -670,7 +752,8 @@ mod tests {
         for (text, kind, needle) in [
             ("P6\n", IoErrorKind::Malformed, "NRRD000x"),
             ("NRRD0004\ndimension: 3\nsizes: 1 1 1\nencoding: raw\n\n", IoErrorKind::Malformed, "'type'"),
-            ("NRRD0004\ntype: int64\ndimension: 1\nsizes: 1\nencoding: raw\n\n", IoErrorKind::Unsupported, "int64"),
+            ("NRRD0004\ntype: block\ndimension: 1\nsizes: 1\nencoding: raw\n\n", IoErrorKind::Unsupported, "block"),
+            ("NRRD0004\ntype: int\ndimension: 4\nsizes: 2 2 2 5\nencoding: raw\n\n", IoErrorKind::Unsupported, "axis 4 holds 5 values"),
             ("NRRD0004\ntype: float\ndimension: 4\nsizes: 3 1 1 1\nencoding: raw\n\n", IoErrorKind::Unsupported, "dimension 4"),
             ("NRRD0004\ntype: float\ndimension: 3\nsizes: 1 1\nencoding: raw\n\n", IoErrorKind::Malformed, "sizes"),
             ("NRRD0004\ntype: float\ndimension: 3\nsizes: 1 1 1\nencoding: bzip2\n\n", IoErrorKind::Unsupported, "bzip2"),

@@ -23,7 +23,7 @@ use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use voxlod_core::{PolyMesh, TriangleMesh, Volume};
+use voxlod_core::{LabelVolume, PolyMesh, TriangleMesh, Volume};
 
 use crate::atomic::{self, TempFile};
 use crate::{IoError, IoErrorKind, PolyView, VolumeFormat, VolumeWriteOptions};
@@ -329,6 +329,40 @@ impl OutputSet {
             self.add(temp);
         }
         Ok(())
+    }
+
+    /// Writes a label map (see [`crate::write_label_map`]): `.nrrd` as raw `uint32`, `.nii` and
+    /// `.nii.gz` as NIfTI-1 `uint32`; other extensions, and maps whose labels do not match their
+    /// grid, are refused before anything is written.
+    pub fn label_map(&mut self, path: &Path, labels: &LabelVolume) -> Result<(), IoError> {
+        let format = crate::volume_format_of(path)?;
+        let g = &labels.grid;
+        voxlod_core::Grid::new(g.dims, g.spacing, g.origin)
+            .map_err(|e| IoError::malformed(path, format!("cannot write: {e}")))?;
+        if labels.values.len() != g.len() {
+            return Err(IoError::malformed(
+                path,
+                format!(
+                    "cannot write: {} labels for a {}x{}x{} grid",
+                    labels.values.len(),
+                    g.dims[0],
+                    g.dims[1],
+                    g.dims[2]
+                ),
+            ));
+        }
+        match format {
+            VolumeFormat::Nrrd => self.file(path, |w| crate::nrrd::write_labels(w, labels)),
+            VolumeFormat::Nifti => {
+                crate::nifti::write::check_sizes(path, g)?;
+                let gzip = path.to_string_lossy().to_ascii_lowercase().ends_with(".gz");
+                self.file(path, |w| crate::nifti::write::write_labels(w, labels, gzip))
+            }
+            _ => Err(IoError::unsupported(
+                path,
+                "label maps are written as .nrrd, .nii or .nii.gz (uint32)",
+            )),
+        }
     }
 
     /// The data file for the header `header`: the one the header names now if it is ours to

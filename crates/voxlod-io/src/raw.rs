@@ -7,21 +7,25 @@
 //! sample type, a header). Writing produces `f32` little-endian samples and nothing else; keep
 //! the dimensions, spacing and origin yourself, or prefer NRRD.
 //!
-//! Cost: one read of the N samples in O(N) time; memory at the peak is the stored bytes (N ×
-//! sample size) plus the `f32` volume (4N bytes), both checked against the budget first
-//! (`samples::check_volume_size`).
+//! Samples are decoded to `f32` for a volume, or to exact `u32` labels for a label map
+//! (`decode_target.rs`), block by block on all threads (`block_read.rs`).
+//!
+//! Cost: one read of the N samples in O(N) time; memory at the peak is the decoded samples (4N
+//! bytes) plus a block of stored bytes per thread, checked against the budget first
+//! (`samples::check_decoded_size`).
 
 use std::fmt;
 use std::io::Write;
 use std::path::Path;
 use std::str::FromStr;
 
-use voxlod_core::{Orientation, Volume};
+use voxlod_core::{LabelVolume, Orientation, Volume};
 
 use crate::atomic::{stage, TempFile};
 use crate::block_read;
 use crate::blockwise_volume::{BlockwiseVolume, DataStart, StoredSamples};
-use crate::samples::{self, Endian, ParseNameError, SampleType};
+use crate::decode_target::{AsLabels, AsSamples, DecodeTarget};
+use crate::samples::{self, Decoded, Endian, ParseNameError, SampleType};
 use crate::{IoError, IoErrorKind};
 
 /// Sample type of a headerless raw volume.
@@ -29,24 +33,39 @@ use crate::{IoError, IoErrorKind};
 pub enum RawType {
     /// Unsigned 8-bit integers.
     U8,
+    /// Signed 8-bit integers.
+    I8,
     /// Signed 16-bit integers (most CT scans).
     I16,
     /// Unsigned 16-bit integers (the Stanford CT head).
     U16,
     /// Signed 32-bit integers.
     I32,
+    /// Unsigned 32-bit integers (label maps of connectomics).
+    U32,
     /// 32-bit IEEE floats.
     F32,
+    /// Signed 64-bit integers.
+    I64,
+    /// Unsigned 64-bit integers.
+    U64,
+    /// 64-bit IEEE floats.
+    F64,
 }
 
 impl RawType {
     /// Every sample type, smallest first.
-    pub const ALL: [RawType; 5] = [
+    pub const ALL: [RawType; 10] = [
         RawType::U8,
+        RawType::I8,
         RawType::I16,
         RawType::U16,
         RawType::I32,
+        RawType::U32,
         RawType::F32,
+        RawType::I64,
+        RawType::U64,
+        RawType::F64,
     ];
 
     /// Bytes per sample.
@@ -54,24 +73,35 @@ impl RawType {
         self.sample_type().size()
     }
 
-    /// The short name accepted by [`FromStr`] (`u8`, `i16`, `u16`, `i32`, `f32`).
+    /// The short name accepted by [`FromStr`] (`u8`, `i8`, `i16`, `u16`, `i32`, `u32`, `f32`,
+    /// `i64`, `u64`, `f64`).
     pub fn name(self) -> &'static str {
         match self {
             RawType::U8 => "u8",
+            RawType::I8 => "i8",
             RawType::I16 => "i16",
             RawType::U16 => "u16",
             RawType::I32 => "i32",
+            RawType::U32 => "u32",
             RawType::F32 => "f32",
+            RawType::I64 => "i64",
+            RawType::U64 => "u64",
+            RawType::F64 => "f64",
         }
     }
 
     pub(crate) fn sample_type(self) -> SampleType {
         match self {
             RawType::U8 => SampleType::U8,
+            RawType::I8 => SampleType::I8,
             RawType::I16 => SampleType::I16,
             RawType::U16 => SampleType::U16,
             RawType::I32 => SampleType::I32,
+            RawType::U32 => SampleType::U32,
             RawType::F32 => SampleType::F32,
+            RawType::I64 => SampleType::I64,
+            RawType::U64 => SampleType::U64,
+            RawType::F64 => SampleType::F64,
         }
     }
 }
@@ -85,19 +115,25 @@ impl fmt::Display for RawType {
 impl FromStr for RawType {
     type Err = ParseNameError;
 
-    /// `u8`, `i16`, `u16`, `i32`, `f32`, case-insensitive; the long forms `uint8`, `int16`,
-    /// `uint16`, `int32`, `float32` and `float` are accepted too.
+    /// The short names of [`RawType::name`], case-insensitive; the long forms `uint8`, `int8`,
+    /// `int16`, `uint16`, `int32`, `uint32`, `float32`, `float`, `int64`, `uint64`, `float64` and
+    /// `double` are accepted too.
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.trim().to_ascii_lowercase().as_str() {
             "u8" | "uint8" => Ok(RawType::U8),
+            "i8" | "int8" => Ok(RawType::I8),
             "i16" | "int16" => Ok(RawType::I16),
             "u16" | "uint16" => Ok(RawType::U16),
             "i32" | "int32" => Ok(RawType::I32),
+            "u32" | "uint32" => Ok(RawType::U32),
             "f32" | "float32" | "float" => Ok(RawType::F32),
+            "i64" | "int64" => Ok(RawType::I64),
+            "u64" | "uint64" => Ok(RawType::U64),
+            "f64" | "float64" | "double" => Ok(RawType::F64),
             _ => Err(ParseNameError::new(
                 "sample type",
                 s,
-                "u8, i16, u16, i32, f32",
+                "u8, i8, i16, u16, i32, u32, f32, i64, u64, f64",
             )),
         }
     }
@@ -136,8 +172,33 @@ impl RawLayout {
 
 /// Reads a headerless raw volume laid out as `layout` says.
 pub(crate) fn read(path: &Path, layout: &RawLayout) -> Result<Volume, IoError> {
+    let values = read_as(path, layout, &AsSamples, "volume")?;
+    samples::make_volume(path, layout.dims, layout.spacing, layout.origin, values)
+}
+
+/// Reads a headerless raw label map laid out as `layout` says (exact `u32` labels).
+pub(crate) fn read_labels(path: &Path, layout: &RawLayout) -> Result<LabelVolume, IoError> {
+    let values = read_as(path, layout, &AsLabels::default(), "label map")?;
+    let decoded = Decoded {
+        dims: layout.dims,
+        spacing: layout.spacing,
+        origin: layout.origin,
+        orientation: Orientation::default(),
+        values,
+    };
+    decoded.into_labels(path)
+}
+
+/// The samples of the file decoded by `target`, after the file's size is checked against the
+/// layout and the decoded size against the budget (`noun` names what is read).
+fn read_as<T: DecodeTarget>(
+    path: &Path,
+    layout: &RawLayout,
+    target: &T,
+    noun: &str,
+) -> Result<Vec<T::Item>, IoError> {
     let ty = layout.dtype.sample_type();
-    let (_, data_bytes) = samples::check_volume_size(path, layout.dims, ty)?;
+    let (_, data_bytes) = samples::check_decoded_size(path, layout.dims, ty, noun)?;
     let file = std::fs::File::open(path).map_err(|e| IoError::access(path, "cannot open", &e))?;
     let file_len = file
         .metadata()
@@ -147,11 +208,9 @@ pub(crate) fn read(path: &Path, layout: &RawLayout) -> Result<Volume, IoError> {
     if file_len != expected {
         return Err(size_mismatch(path, layout, file_len, expected));
     }
-    let count = data_bytes / ty.size();
     let stored = (ty, layout.endian);
-    let what = "raw sample data";
-    let values = block_read::read_decoded(path, &file, layout.header_bytes, count, stored, what)?;
-    samples::make_volume(path, layout.dims, layout.spacing, layout.origin, values)
+    let (offset, what) = (layout.header_bytes, "raw sample data");
+    block_read::read_decoded(path, &file, offset, layout.dims, stored, target, what)
 }
 
 /// A headerless raw volume laid out as `layout` says, for reading window by window
@@ -229,7 +288,26 @@ pub(crate) fn write(path: &Path, volume: &Volume) -> Result<TempFile, IoError> {
 }
 
 /// Streams samples as little-endian `f32`, in blocks so no second copy of the volume is made.
-pub(crate) fn write_samples_f32_le(w: &mut impl Write, values: &[f32]) -> std::io::Result<()> {
+pub(crate) fn write_samples_f32_le(
+    w: &mut (impl Write + ?Sized),
+    values: &[f32],
+) -> std::io::Result<()> {
+    let mut block = Vec::with_capacity(64 * 1024);
+    for chunk in values.chunks(16 * 1024) {
+        block.clear();
+        for v in chunk {
+            block.extend_from_slice(&v.to_le_bytes());
+        }
+        w.write_all(&block)?;
+    }
+    Ok(())
+}
+
+/// Streams labels as little-endian `u32`, in blocks so no second copy of the map is made.
+pub(crate) fn write_labels_le(
+    w: &mut (impl Write + ?Sized),
+    values: &[u32],
+) -> std::io::Result<()> {
     let mut block = Vec::with_capacity(64 * 1024);
     for chunk in values.chunks(16 * 1024) {
         block.clear();
@@ -253,8 +331,8 @@ mod tests {
         }
         assert_eq!("BIG".parse::<Endian>().unwrap(), Endian::Big);
         assert_eq!("little".parse::<Endian>().unwrap(), Endian::Little);
-        let err = "u64".parse::<RawType>().unwrap_err().to_string();
-        assert!(err.contains("u64") && err.contains("u16"), "{err}");
+        let err = "u128".parse::<RawType>().unwrap_err().to_string();
+        assert!(err.contains("u128") && err.contains("u16"), "{err}");
         assert!("middle".parse::<Endian>().is_err());
     }
 

@@ -11,7 +11,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
-use voxlod_core::{memory, Grid, Volume};
+use voxlod_core::{memory, Grid, LabelVolume, Orientation, Volume};
 
 use crate::{budget, IoError, IoErrorKind};
 
@@ -66,8 +66,9 @@ impl ParseNameError {
     }
 }
 
-/// A stored sample type. Everything is converted to `f32` in memory; 32-bit integers and `f64`
-/// lose precision beyond 24 bits of mantissa, which no scanner comes near.
+/// A stored sample type. Volumes convert everything to `f32` in memory (32- and 64-bit integers
+/// and `f64` lose precision beyond 24 bits of mantissa, which no scanner comes near); label maps
+/// to exact `u32` (`decode_target.rs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum SampleType {
     U8,
@@ -76,6 +77,8 @@ pub(crate) enum SampleType {
     I16,
     U32,
     I32,
+    U64,
+    I64,
     F32,
     F64,
 }
@@ -86,7 +89,7 @@ impl SampleType {
             SampleType::U8 | SampleType::I8 => 1,
             SampleType::U16 | SampleType::I16 => 2,
             SampleType::U32 | SampleType::I32 | SampleType::F32 => 4,
-            SampleType::F64 => 8,
+            SampleType::U64 | SampleType::I64 | SampleType::F64 => 8,
         }
     }
 
@@ -98,6 +101,8 @@ impl SampleType {
             SampleType::I16 => "int16",
             SampleType::U32 => "uint32",
             SampleType::I32 => "int32",
+            SampleType::U64 => "uint64",
+            SampleType::I64 => "int64",
             SampleType::F32 => "float32",
             SampleType::F64 => "float64",
         }
@@ -132,6 +137,8 @@ pub(crate) fn decode_into(bytes: &[u8], ty: SampleType, endian: Endian, out: &mu
         SampleType::I16 => convert!(i16, 2),
         SampleType::U32 => convert!(u32, 4),
         SampleType::I32 => convert!(i32, 4),
+        SampleType::U64 => convert!(u64, 8),
+        SampleType::I64 => convert!(i64, 8),
         SampleType::F32 => convert!(f32, 4),
         SampleType::F64 => convert!(f64, 8),
     }
@@ -152,15 +159,47 @@ pub(crate) fn refuse_zero_dims(path: &Path, dims: [usize; 3]) -> Result<(), IoEr
 }
 
 /// The number of samples of a grid of `dims`, and the bytes they take on disk, after checking
-/// that both the stored bytes and the `f32` copy fit in memory. An absurd header (sizes of
-/// 100000³) ends here with [`IoErrorKind::TooLarge`] and the byte count, before any allocation.
+/// that both the stored bytes and the `f32` copy fit in memory (for the readers that hold both:
+/// VTK, Zarr, windows of a blockwise volume). An absurd header (sizes of 100000³) ends here with
+/// [`IoErrorKind::TooLarge`] and the byte count, before any allocation.
 pub(crate) fn check_volume_size(
     path: &Path,
     dims: [usize; 3],
     ty: SampleType,
 ) -> Result<(usize, usize), IoError> {
+    check_size(path, dims, ty, "volume", |count| {
+        memory::bytes_of::<u8>(count)
+            .saturating_mul(ty.size() as u64)
+            .saturating_add(memory::bytes_of::<f32>(count))
+    })
+}
+
+/// As [`check_volume_size`], for a reader that decodes block by block (`stream_read.rs`,
+/// `block_read.rs`): the 4-byte samples or labels (`noun` says which, "volume" or "label
+/// map") and one block of stored bytes per thread.
+pub(crate) fn check_decoded_size(
+    path: &Path,
+    dims: [usize; 3],
+    ty: SampleType,
+    noun: &str,
+) -> Result<(usize, usize), IoError> {
+    let threads = rayon::current_num_threads() as u64;
+    check_size(path, dims, ty, noun, |count| {
+        let block = count.min(crate::block_read::BLOCK) as u64 * ty.size() as u64 * threads;
+        memory::bytes_of::<u32>(count).saturating_add(block)
+    })
+}
+
+/// The count and stored bytes of a grid of `dims`, once `needed(count)` bytes fit in memory.
+fn check_size(
+    path: &Path,
+    dims: [usize; 3],
+    ty: SampleType,
+    noun: &str,
+    needed: impl Fn(usize) -> u64,
+) -> Result<(usize, usize), IoError> {
     refuse_zero_dims(path, dims)?;
-    let what = format!("a {}x{}x{} {} volume", dims[0], dims[1], dims[2], ty.name());
+    let what = format!("a {}x{}x{} {} {noun}", dims[0], dims[1], dims[2], ty.name());
     let count = dims
         .iter()
         .try_fold(1usize, |acc, &d| acc.checked_mul(d))
@@ -172,56 +211,41 @@ pub(crate) fn check_volume_size(
             format!("{what} has more samples than memory can address"),
         ));
     };
-    let stored = memory::bytes_of::<u8>(count).saturating_mul(ty.size() as u64);
-    let needed = stored.saturating_add(memory::bytes_of::<f32>(count));
-    budget::check_bytes(path, &what, needed)?;
+    budget::check_bytes(path, &what, needed(count))?;
     Ok((count, count * ty.size()))
 }
 
-/// Reads exactly `expected` bytes of sample data from `reader`, which may be a decompressor.
-/// Fewer bytes give [`IoErrorKind::Truncated`] naming both counts; a corrupt compressed stream
-/// gives [`IoErrorKind::Malformed`]. Bytes beyond `expected` are never read.
-pub(crate) fn read_data(
+/// The error of a read of `expected` bytes of the `what` that failed with `e` after `found`
+/// bytes: [`IoErrorKind::Truncated`] naming both counts when the data (or its compressed stream)
+/// ends early, [`IoErrorKind::Malformed`] for a corrupt compressed stream, else an access error.
+pub(crate) fn read_error(
     path: &Path,
-    reader: impl Read,
-    expected: usize,
     what: &str,
-) -> Result<Vec<u8>, IoError> {
-    let mut data = Vec::new();
-    data.try_reserve_exact(expected).map_err(|_| {
-        IoError::new(
-            path,
-            IoErrorKind::TooLarge,
-            format!("cannot allocate {expected} bytes for the {what}"),
-        )
-    })?;
-    let result = reader.take(expected as u64).read_to_end(&mut data);
-    match result {
-        Ok(_) if data.len() == expected => Ok(data),
-        Ok(_) => Err(IoError::truncated(
+    expected: usize,
+    found: usize,
+    e: &std::io::Error,
+) -> IoError {
+    match e.kind() {
+        std::io::ErrorKind::UnexpectedEof => IoError::truncated(
             path,
             format!(
-                "the {what} is truncated: expected {expected} bytes, found {}",
-                data.len()
+                "the {what} is truncated: expected {expected} bytes, found {found} before the compressed stream ended early"
             ),
-        )),
-        Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => Err(IoError::truncated(
+        ),
+        std::io::ErrorKind::InvalidInput | std::io::ErrorKind::InvalidData => IoError::malformed(
             path,
-            format!(
-                "the {what} is truncated: expected {expected} bytes, found {} before the compressed stream ended early",
-                data.len()
-            ),
-        )),
-        Err(e) if e.kind() == std::io::ErrorKind::InvalidInput
-            || e.kind() == std::io::ErrorKind::InvalidData =>
-        {
-            Err(IoError::malformed(
-                path,
-                format!("the {what} is corrupt after {} bytes: {e}", data.len()),
-            ))
-        }
-        Err(e) => Err(IoError::access(path, &format!("cannot read the {what}"), &e)),
+            format!("the {what} is corrupt after {found} bytes: {e}"),
+        ),
+        _ => IoError::access(path, &format!("cannot read the {what}"), e),
     }
+}
+
+/// The error of `what` ending after `found` of its `expected` bytes.
+pub(crate) fn short_data(path: &Path, what: &str, expected: usize, found: usize) -> IoError {
+    IoError::truncated(
+        path,
+        format!("the {what} is truncated: expected {expected} bytes, found {found}"),
+    )
 }
 
 /// A decompressor for zlib or gzip data, told apart by the gzip magic bytes.
@@ -245,6 +269,52 @@ pub(crate) fn make_volume(
     check_geometry(path, spacing, origin)?;
     let grid = Grid::new(dims, spacing, origin).map_err(|e| IoError::from_core(path, e))?;
     Volume::from_vec(grid, values).map_err(|e| IoError::from_core(path, e))
+}
+
+/// Decoded samples (`f32` for a volume, `u32` for a label map) with the geometry their header
+/// gave, before the checks that make them a [`Volume`] or a [`LabelVolume`].
+pub(crate) struct Decoded<V> {
+    pub(crate) dims: [usize; 3],
+    pub(crate) spacing: [f64; 3],
+    pub(crate) origin: [f64; 3],
+    pub(crate) orientation: Orientation,
+    pub(crate) values: V,
+}
+
+impl<V> Decoded<V> {
+    /// The same geometry with `f` of the values (which fails naming the file).
+    pub(crate) fn map<W>(
+        self,
+        f: impl FnOnce(V) -> Result<W, IoError>,
+    ) -> Result<Decoded<W>, IoError> {
+        Ok(Decoded {
+            dims: self.dims,
+            spacing: self.spacing,
+            origin: self.origin,
+            orientation: self.orientation,
+            values: f(self.values)?,
+        })
+    }
+}
+
+impl Decoded<Vec<f32>> {
+    /// The volume, its geometry checked ([`make_volume`]).
+    pub(crate) fn into_volume(self, path: &Path) -> Result<Volume, IoError> {
+        make_volume(path, self.dims, self.spacing, self.origin, self.values)
+            .map(|v| v.oriented(self.orientation))
+    }
+}
+
+impl Decoded<Vec<u32>> {
+    /// The label map, its geometry checked as [`make_volume`] checks a volume's.
+    pub(crate) fn into_labels(self, path: &Path) -> Result<LabelVolume, IoError> {
+        check_geometry(path, self.spacing, self.origin)?;
+        let grid = Grid::new(self.dims, self.spacing, self.origin)
+            .map_err(|e| IoError::from_core(path, e))?;
+        LabelVolume::from_vec(grid, self.values)
+            .map(|v| v.oriented(self.orientation))
+            .map_err(|e| IoError::from_core(path, e))
+    }
 }
 
 /// Fails unless the spacing is finite and positive and the origin finite.
@@ -381,12 +451,5 @@ mod tests {
             check_volume_size(p, [4, 5, 6], SampleType::I16).unwrap(),
             (120, 240)
         );
-    }
-
-    #[test]
-    fn short_data_names_both_counts() {
-        let err = read_data(Path::new("t.mha"), &[1u8, 2, 3][..], 10, "image data").unwrap_err();
-        assert_eq!(err.kind, IoErrorKind::Truncated);
-        assert!(err.message.contains("expected 10 bytes, found 3"), "{err}");
     }
 }

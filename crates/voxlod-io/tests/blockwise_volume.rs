@@ -76,6 +76,11 @@ fn raw_files_of_every_type_and_byte_order() {
         (RawType::U16, Endian::Big),
         (RawType::I32, Endian::Little),
         (RawType::F32, Endian::Big),
+        (RawType::I8, Endian::Little),
+        (RawType::U32, Endian::Big),
+        (RawType::I64, Endian::Little),
+        (RawType::U64, Endian::Big),
+        (RawType::F64, Endian::Little),
     ] {
         let bytes: Vec<u8> = values
             .iter()
@@ -86,6 +91,11 @@ fn raw_files_of_every_type_and_byte_order() {
                 (RawType::U16, _) => ((v + 100) as u16).to_be_bytes().to_vec(),
                 (RawType::I32, _) => (v as i32 * 1000).to_le_bytes().to_vec(),
                 (RawType::F32, _) => (v as f32 * 0.25).to_be_bytes().to_vec(),
+                (RawType::I8, _) => vec![(v / 4) as i8 as u8],
+                (RawType::U32, _) => ((v as i32 + 100) as u32).to_be_bytes().to_vec(),
+                (RawType::I64, _) => (v as i64 * 3).to_le_bytes().to_vec(),
+                (RawType::U64, _) => ((v as i64 + 100) as u64).to_be_bytes().to_vec(),
+                (RawType::F64, _) => (v as f64 * 0.5).to_le_bytes().to_vec(),
             })
             .collect();
         let header = vec![7u8; 5];

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use dicom_pixeldata::PixelDecoder;
 use glam::DVec3;
-use voxlod_core::{Frame, Volume};
+use voxlod_core::{Frame, LabelVolume};
 use voxlod_io::{read_label_map, IoErrorKind, LabelMap};
 use voxlod_testkit::dicom_seg::{inside, oblique_axes, phantom_seg, write_seg, Kind, Seg, PHANTOM};
 
@@ -17,11 +17,13 @@ fn write(dir: &Path, name: &str, seg: &Seg) -> PathBuf {
 }
 
 /// Centre (world) and count of the voxels holding `label`.
-fn label_centroid(volume: &Volume, label: f32) -> (DVec3, usize) {
-    let world = volume.world();
+fn label_centroid(map: &LabelVolume, label: u32) -> (DVec3, usize) {
+    let world = map.world();
+    let [nx, ny, _] = map.grid.dims;
     let (mut sum, mut n) = (DVec3::ZERO, 0usize);
-    for ((k, j, i), &v) in volume.values.indexed_iter() {
+    for (index, &v) in map.values.iter().enumerate() {
         if v == label {
+            let (i, j, k) = (index % nx, index / nx % ny, index / (nx * ny));
             sum += world.index_to_world(DVec3::new(i as f64, j as f64, k as f64));
             n += 1;
         }
@@ -65,7 +67,7 @@ fn a_binary_seg_lands_where_the_ball_and_the_box_are_with_names_and_colours() {
     );
     let path = write(dir.path(), "seg.dcm", &seg);
     let map = read_label_map(&path).unwrap();
-    let volume = &map.volume;
+    let volume = &map.labels;
     assert_eq!(
         volume.grid.dims[..2],
         [seg.columns as usize, seg.rows as usize]
@@ -100,8 +102,8 @@ fn a_binary_seg_lands_where_the_ball_and_the_box_are_with_names_and_colours() {
     // for the cap the box takes, which the warning counts.
     let shared = overlap(&map);
     assert!(shared > 0);
-    let (ball, n_ball) = label_centroid(volume, 1.0);
-    let (cube, n_box) = label_centroid(volume, 2.0);
+    let (ball, n_ball) = label_centroid(volume, 1);
+    let (cube, n_box) = label_centroid(volume, 2);
     assert_eq!(n_box, written_inside(&seg, 2));
     assert_eq!(n_ball + shared, written_inside(&seg, 1));
     // Against the shapes: volumes within 3 %, centres within a voxel.
@@ -135,7 +137,7 @@ fn a_fractional_seg_thresholds_at_half_the_maximum_and_matches_the_binary_one() 
         let half = max.div_ceil(2);
         assert!(values.contains(&half) && values.contains(&(half - 1)));
         let map = read_label_map(&write(dir.path(), &format!("f{max}.dcm"), &seg)).unwrap();
-        assert_eq!(map.volume, binary.volume, "max {max}");
+        assert_eq!(map.labels, binary.labels, "max {max}");
         assert_eq!(map.table, binary.table);
     }
 }
@@ -147,7 +149,7 @@ fn a_folder_with_one_seg_reads_it_and_two_are_listed() {
     let file = write(dir.path(), "a.dcm", &seg);
     std::fs::write(dir.path().join("notes.txt"), "not DICOM").unwrap();
     let from_folder = read_label_map(dir.path()).unwrap();
-    assert_eq!(from_folder.volume, read_label_map(&file).unwrap().volume);
+    assert_eq!(from_folder.labels, read_label_map(&file).unwrap().labels);
     write(dir.path(), "b.dcm", &seg);
     let e = read_label_map(dir.path()).unwrap_err();
     assert!(e.message.contains("2 DICOM Segmentation files"), "{e}");
@@ -175,12 +177,12 @@ fn left_out_empty_planes_are_put_back_but_gaps_without_a_step_are_refused() {
     let mut holed = whole.clone();
     holed.frames.retain(|f| f.position != gone);
     let map = read_label_map(&write(dir.path(), "holed.dcm", &holed)).unwrap();
-    assert_eq!(map.volume.grid, full.volume.grid);
+    assert_eq!(map.labels.grid, full.labels.grid);
     let plane = positions.len() / 2;
     let per = whole.columns as usize * whole.rows as usize;
-    let (a, b) = (map.volume.as_slice(), full.volume.as_slice());
-    assert!(a[plane * per..(plane + 1) * per].iter().all(|&v| v == 0.0));
-    assert!(b[plane * per..(plane + 1) * per].iter().any(|&v| v != 0.0));
+    let (a, b) = (&map.labels.values, &full.labels.values);
+    assert!(a[plane * per..(plane + 1) * per].iter().all(|&v| v == 0));
+    assert!(b[plane * per..(plane + 1) * per].iter().any(|&v| v != 0));
     assert_eq!(a[..plane * per], b[..plane * per]);
     assert_eq!(a[(plane + 1) * per..], b[(plane + 1) * per..]);
     // Without SpacingBetweenSlices the gap is missing planes.
@@ -355,7 +357,7 @@ fn pydicom_reads_the_same_frames_from_the_written_seg() {
     }
     // And the map the reader makes holds, per segment, those bits (the overlap aside).
     let map = read_label_map(&path).unwrap();
-    let (_, n_box) = label_centroid(&map.volume, 2.0);
+    let (_, n_box) = label_centroid(&map.labels, 2);
     let box_ones: usize = lines
         .iter()
         .filter(|l| l.starts_with("2 "))
@@ -409,7 +411,7 @@ fn a_seg_written_by_highdicom_is_placed_voxel_for_voxel() {
         let lines: Vec<Vec<&str>> = out.lines().map(|l| l.split(' ').collect()).collect();
         assert_eq!(lines[3][2], bits, "{out}");
         let map = read_label_map(&path).unwrap();
-        assert_eq!(map.volume.orientation.frame, Frame::Lps);
+        assert_eq!(map.labels.orientation.frame, Frame::Lps);
         let names: Vec<&str> = map.table.iter().map(|l| l.name.as_str()).collect();
         assert_eq!(names, ["ball", "box"]);
         for (label, rgb) in map.table.iter().zip([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]) {
@@ -418,7 +420,7 @@ fn a_seg_written_by_highdicom_is_placed_voxel_for_voxel() {
         }
         assert_eq!(overlap(&map).to_string(), lines[2][1], "{out}");
         for line in &lines[..2] {
-            let (centre, n) = label_centroid(&map.volume, line[0].parse().unwrap());
+            let (centre, n) = label_centroid(&map.labels, line[0].parse().unwrap());
             assert_eq!(n.to_string(), line[1], "label {}", line[0]);
             let expected: Vec<f64> = line[2..5].iter().map(|v| v.parse().unwrap()).collect();
             let expected = DVec3::new(expected[0], expected[1], expected[2]);

@@ -281,6 +281,7 @@ fn raw_reads_every_type_and_byte_order() {
                 RawType::U16 => x as f32,
                 RawType::I16 | RawType::I32 => -x as f32,
                 RawType::F32 => x as f32 + 0.5,
+                _ => unreachable!("only the types written above"),
             })
             .collect();
         assert_eq!(v.as_slice(), &expected[..], "{dtype} {endian}");

@@ -273,7 +273,8 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
         return Err(CliError::usage("--levels must be at least 1"));
     }
     let read = read_label_map(&args.input)?;
-    let (map, table) = (read.volume, read.table);
+    let map = (read.labels.to_volume()).map_err(|e| super::common::in_file(&args.input, e))?;
+    let table = read.table;
     if !args.json {
         for w in &read.warnings {
             eprintln!("warning: {w}");

@@ -1,5 +1,5 @@
 //! DICOM Segmentation objects (SEG, SOP Class 1.2.840.10008.5.1.4.1.1.66.4) in, as label maps:
-//! one volume whose samples are segment numbers (0 outside every segment), and a label table
+//! one map of `u32` labels, the segment numbers (0 outside every segment), and a label table
 //! with each segment's name and colour.
 //!
 //! What is read (DICOM PS3.3 A.51 and C.8.20):
@@ -39,7 +39,7 @@ use dicom_object::{DefaultDicomObject, InMemDicomObject, Tag};
 use dicom_pixeldata::PixelDecoder;
 use glam::DVec3;
 use palette::{FromColor, Lab, Srgb};
-use voxlod_core::{memory, Volume};
+use voxlod_core::{memory, LabelVolume};
 
 use crate::dicom::geometry::{stack, SliceGeometry, SpacingTolerance};
 use crate::dicom::{decimals, dimension, looks_like_dicom, open, text};
@@ -144,10 +144,10 @@ pub fn read_dicom_seg(path: &Path) -> Result<LabelMap, IoError> {
     let count = dims.iter().map(|&d| d as u64).product::<u64>();
     budget::check_count(path, "the voxels of the segmentation", count, 4)?;
     let pixels = frame_pixels(&obj, path, encoding, [rows, columns], frames.len())?;
-    let mut values: Vec<f32> = memory::zeroed_vec(count as usize);
+    let mut values: Vec<u32> = memory::zeroed_vec(count as usize);
     let overlaps = paint(&mut values, &frames, &planes, &pixels, encoding, dims);
     let (grid, orientation) = world.split(dims).map_err(|e| IoError::from_core(path, e))?;
-    let volume = Volume::from_vec(grid, values)
+    let labels = LabelVolume::from_vec(grid, values)
         .map(|v| v.oriented(orientation))
         .map_err(|e| IoError::from_core(path, e))?;
     let warnings = overlaps
@@ -160,7 +160,7 @@ pub fn read_dicom_seg(path: &Path) -> Result<LabelMap, IoError> {
         })
         .collect();
     Ok(LabelMap {
-        volume,
+        labels,
         table,
         warnings,
     })
@@ -567,7 +567,7 @@ fn decode_compressed(obj: &DefaultDicomObject, path: &Path) -> Result<Vec<u8>, I
 /// Paints every frame's inside pixels with its segment number, segments in increasing order;
 /// returns how many voxels each pair of segments shares.
 fn paint(
-    values: &mut [f32],
+    values: &mut [u32],
     frames: &[Frame],
     planes: &[DVec3],
     pixels: &[u8],
@@ -586,7 +586,7 @@ fn paint(
         else {
             continue;
         };
-        let label = f32::from(frame.segment);
+        let label = u32::from(frame.segment);
         let target = &mut values[plane * per_frame..(plane + 1) * per_frame];
         for (i, voxel) in target.iter_mut().enumerate() {
             let inside = match encoding {
@@ -601,7 +601,7 @@ fn paint(
             if !inside {
                 continue;
             }
-            if *voxel != 0.0 && *voxel != label {
+            if *voxel != 0 && *voxel != label {
                 *overlaps.entry((*voxel as u16, frame.segment)).or_insert(0) += 1;
             }
             *voxel = label;

@@ -7,16 +7,20 @@
 //! `vox_offset` beyond 352 in files without extensions, and keeps the crate's `ndarray`
 //! feature, with its second copy of the data, out of the build.)
 //!
-//! - Types: 8-, 16- and 32-bit integers, `float32`, `float64`; `scl_slope`/`scl_inter` are
-//!   applied when the slope is non-zero. RGB, complex and 64-bit integer data are refused.
+//! - Types: 8-, 16-, 32- and 64-bit integers, `float32`, `float64`; `scl_slope`/`scl_inter` are
+//!   applied when the slope is non-zero. RGB and complex data are refused.
+//! - Label maps ([`read_labels`]) are decoded straight to exact `u32` labels; a scaling other
+//!   than the identity is applied in `f64` and the map accepted only when every scaled sample
+//!   is a whole number from 0 to 2³²−1.
 //! - Geometry: the full index-to-world transform in RAS and millimetres, chosen as nibabel
 //!   chooses it (sform, else qform, else the `pixdim` base affine; `affine.rs`).
 //! - Only 3-D data: a 4-D series with more than one volume is refused rather than cut short.
 //! - Header/image pairs (`.hdr`/`.img`, magic `ni1`) and NIfTI-2 are not supported.
 //!
 //! Cost: O(1) for the header, then one streaming read of the N samples (decompressed on the fly
-//! when gzipped), O(N); memory the stored samples plus the `f32` volume, checked against the
-//! budget from the header's dimensions before reading.
+//! when gzipped, decoded block by block, `stream_read.rs`), O(N); memory the decoded samples
+//! (4N bytes) plus one block of stored bytes, checked against the budget from the header's
+//! dimensions before reading.
 
 mod affine;
 pub(crate) mod write;
@@ -26,9 +30,11 @@ use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
 use ::nifti::NiftiHeader;
-use voxlod_core::Volume;
+use voxlod_core::{LabelVolume, Volume};
 
-use crate::samples::{self, SampleType};
+use crate::decode_target::{AsLabels, AsSamples, DecodeTarget};
+use crate::samples::{self, Decoded, SampleType};
+use crate::stream_read::read_stream;
 use crate::{guard, Endian, IoError};
 
 /// The file's bytes, decompressed if they are gzip.
@@ -55,14 +61,14 @@ fn sample_type(path: &Path, code: i16) -> Result<SampleType, IoError> {
         512 => SampleType::U16,
         8 => SampleType::I32,
         768 => SampleType::U32,
+        1024 => SampleType::I64,
+        1280 => SampleType::U64,
         16 => SampleType::F32,
         64 => SampleType::F64,
         other => {
             let name = match other {
                 32 => "complex64",
                 128 => "RGB24",
-                1024 => "int64",
-                1280 => "uint64",
                 1536 => "float128",
                 1792 => "complex128",
                 2048 => "complex256",
@@ -76,7 +82,7 @@ fn sample_type(path: &Path, code: i16) -> Result<SampleType, IoError> {
             };
             return Err(IoError::unsupported(
                 path,
-                format!("datatype {name} (code {other}) is not supported: only scalar 8-, 16- and 32-bit integer and float data are read"),
+                format!("datatype {name} (code {other}) is not supported: only scalar 8- to 64-bit integer and 32- and 64-bit float data are read"),
             ));
         }
     })
@@ -108,20 +114,48 @@ fn dimensions(path: &Path, raw: &[u16; 8]) -> Result<[usize; 3], IoError> {
         *size = dim[axis + 1] as usize;
     }
     let volumes: u64 = (4..=axes).map(|i| dim[i] as u64).product();
-    if volumes > 1 {
+    if let Some(axis) = (4..=axes).find(|&i| dim[i] > 1) {
         let sizes: Vec<String> = (1..=axes).map(|i| dim[i].to_string()).collect();
         return Err(IoError::unsupported(
             path,
             format!(
-                "a series of {volumes} volumes (sizes {}): only single 3-D volumes are read",
-                sizes.join(" x ")
+                "a series of {volumes} volumes (sizes {}; axis {axis} holds {}): only single 3-D volumes are read",
+                sizes.join(" x "),
+                dim[axis]
             ),
         ));
     }
     Ok(dims)
 }
 
+/// Reads a NIfTI-1 volume (`f32` samples, `scl_slope`/`scl_inter` applied when the slope is
+/// non-zero).
 pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
+    let header = read_header(path)?;
+    let mut decoded = read_as(path, &header, &AsSamples, "volume")?;
+    if let Some((slope, inter)) = scaling(&header) {
+        let (slope, inter) = (slope as f32, inter as f32);
+        for v in &mut decoded.values {
+            *v = *v * slope + inter;
+        }
+    }
+    decoded.into_volume(path)
+}
+
+/// Reads a NIfTI-1 label map (exact `u32` labels, `decode_target.rs`). A `scl_slope` and
+/// `scl_inter` other than the identity are applied in `f64`, and the map is read only when
+/// every scaled sample is a whole number from 0 to 2³²−1 (else the first that is not is
+/// named, with its stored value and the scaling).
+pub(crate) fn read_labels(path: &Path) -> Result<LabelVolume, IoError> {
+    let header = read_header(path)?;
+    let target = AsLabels {
+        scale: scaling(&header),
+    };
+    read_as(path, &header, &target, "label map")?.into_labels(path)
+}
+
+/// The header, parsed by the `nifti` crate under the panic guard; single-file NIfTI-1 only.
+fn read_header(path: &Path) -> Result<NiftiHeader, IoError> {
     let header = guard::quietly(|| {
         NiftiHeader::from_reader(open(path)?).map_err(|e| IoError::from_nifti(path, &e))
     })
@@ -132,9 +166,29 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
             "not a single-file NIfTI-1 image (header/image pairs .hdr/.img are not supported)",
         ));
     }
+    Ok(header)
+}
+
+/// `(scl_slope, scl_inter)` when they change the samples: a finite non-zero slope and a finite
+/// intercept that are not 1 and 0 (a zero or NaN slope means unscaled, as nibabel writes it).
+fn scaling(header: &NiftiHeader) -> Option<(f64, f64)> {
+    let (slope, inter) = (header.scl_slope, header.scl_inter);
+    let applies =
+        slope != 0.0 && slope.is_finite() && inter.is_finite() && !(slope == 1.0 && inter == 0.0);
+    applies.then_some((f64::from(slope), f64::from(inter)))
+}
+
+/// The samples decoded by `target` (a `noun` for the budget's message) as they are read (and
+/// inflated), with the geometry of the header.
+fn read_as<T: DecodeTarget>(
+    path: &Path,
+    header: &NiftiHeader,
+    target: &T,
+    noun: &str,
+) -> Result<Decoded<Vec<T::Item>>, IoError> {
     let dims = dimensions(path, &header.dim)?;
     let sample = sample_type(path, header.datatype)?;
-    let (_, data_bytes) = samples::check_volume_size(path, dims, sample)?;
+    samples::check_decoded_size(path, dims, sample, noun)?;
 
     // Skip to the data: the header and any extensions come first.
     let offset = header.vox_offset;
@@ -158,25 +212,22 @@ pub(crate) fn read(path: &Path) -> Result<Volume, IoError> {
             format!("the file ends at byte {skipped}, before the data at vox_offset {offset}"),
         ));
     }
-    let bytes = samples::read_data(path, reader, data_bytes, "image data")?;
     let endian = match header.endianness {
         ::nifti::Endianness::Little => Endian::Little,
         ::nifti::Endianness::Big => Endian::Big,
     };
-    let mut values = samples::decode(&bytes, sample, endian);
-    drop(bytes);
-    let (slope, inter) = (header.scl_slope, header.scl_inter);
-    if slope != 0.0 && slope.is_finite() && inter.is_finite() && !(slope == 1.0 && inter == 0.0) {
-        for v in &mut values {
-            *v = *v * slope + inter;
-        }
-    }
+    let values = read_stream(path, reader, dims, (sample, endian), target, "image data")?;
 
     // Geometry in millimetres and RAS, as nibabel chooses it (`affine.rs`).
-    let world = affine::world_of(path, &header, dims)?;
+    let world = affine::world_of(path, header, dims)?;
     let (grid, orientation) = world
         .split(dims)
         .map_err(|e| IoError::malformed(path, e.to_string()))?;
-    samples::make_volume(path, dims, grid.spacing, grid.origin, values)
-        .map(|v| v.oriented(orientation))
+    Ok(Decoded {
+        dims,
+        spacing: grid.spacing,
+        origin: grid.origin,
+        orientation,
+        values,
+    })
 }

@@ -1,5 +1,5 @@
 //! Writing NIfTI-1 volumes (`.nii`, and `.nii.gz` gzip-compressed): one 348-byte header, the
-//! empty extension flag, then the samples as little-endian `float32`.
+//! empty extension flag, then the samples as little-endian `float32` (label maps as `uint32`).
 //!
 //! The geometry is written twice, as nibabel and ITK read it: the sform (`srow_x/y/z`, the full
 //! index-to-world matrix) and the qform (a rotation quaternion, `pixdim` and `qfac = ±1` for a
@@ -20,7 +20,7 @@ use std::io::Write;
 use std::path::Path;
 
 use glam::{DMat3, DQuat};
-use voxlod_core::{Frame, Volume};
+use voxlod_core::{Frame, Grid, LabelVolume, Orientation, Volume, WorldTransform};
 
 use crate::atomic::{stage, TempFile};
 use crate::IoError;
@@ -31,6 +31,8 @@ const HEADER_BYTES: usize = 348;
 const DATA_OFFSET: f32 = 352.0;
 /// `datatype` of `float32`.
 const FLOAT32: i16 = 16;
+/// `datatype` of `uint32`.
+const UINT32: i16 = 768;
 /// `xyzt_units`: millimetres, no time unit.
 const MILLIMETRES: u8 = 2;
 
@@ -54,21 +56,25 @@ pub(crate) fn quaternion_of(direction: DMat3) -> Option<([f64; 3], f64)> {
     Some(([q.x, q.y, q.z], qfac))
 }
 
-/// The 348 header bytes, little-endian.
-fn header(volume: &Volume) -> [u8; HEADER_BYTES] {
+/// The 348 header bytes, little-endian, for samples of `datatype` (`bitpix` bits each) on
+/// `grid` placed by `orientation`.
+fn header(
+    (grid, orientation): (&Grid, &Orientation),
+    (datatype, bitpix): (i16, i16),
+) -> [u8; HEADER_BYTES] {
     let mut h = [0u8; HEADER_BYTES];
     let mut put = |at: usize, bytes: &[u8]| h[at..at + bytes.len()].copy_from_slice(bytes);
-    let world = volume.world().in_frame(Frame::Ras);
+    let world = WorldTransform::of(grid, orientation).in_frame(Frame::Ras);
     let code: i16 = if world.frame == Frame::Unknown { 2 } else { 1 };
-    let dims = volume.grid.dims;
+    let dims = grid.dims;
 
     put(0, &(HEADER_BYTES as i32).to_le_bytes());
     let dim = [3, dims[0], dims[1], dims[2], 1, 1, 1, 1];
     for (i, d) in dim.iter().enumerate() {
         put(40 + 2 * i, &(*d as i16).to_le_bytes());
     }
-    put(70, &FLOAT32.to_le_bytes());
-    put(72, &32i16.to_le_bytes());
+    put(70, &datatype.to_le_bytes());
+    put(72, &bitpix.to_le_bytes());
     let qform = quaternion_of(world.direction);
     let qfac = qform.map_or(1.0, |(_, qfac)| qfac);
     let pixdim = [
@@ -107,16 +113,53 @@ fn header(volume: &Volume) -> [u8; HEADER_BYTES] {
     h
 }
 
-/// The header, the extension flag and the samples.
-fn write_all(w: &mut impl Write, volume: &Volume) -> std::io::Result<()> {
-    w.write_all(&header(volume))?;
-    w.write_all(&[0u8; 4])?;
-    crate::raw::write_samples_f32_le(w, volume.as_slice())
+/// Writes `path` as NIfTI-1 `float32`, gzip-compressed when `gzip` (a `.nii.gz` name).
+pub(crate) fn write(path: &Path, volume: &Volume, gzip: bool) -> Result<TempFile, IoError> {
+    check_sizes(path, &volume.grid)?;
+    let head = header((&volume.grid, &volume.orientation), (FLOAT32, 32));
+    stage(path, |w| {
+        with_gzip(w, gzip, |w| {
+            w.write_all(&head)?;
+            w.write_all(&[0u8; 4])?;
+            crate::raw::write_samples_f32_le(w, volume.as_slice())
+        })
+    })
 }
 
-/// Writes `path` as NIfTI-1, gzip-compressed when `gzip` (a `.nii.gz` name).
-pub(crate) fn write(path: &Path, volume: &Volume, gzip: bool) -> Result<TempFile, IoError> {
-    for (axis, &size) in volume.grid.dims.iter().enumerate() {
+/// Writes a label map to `w` as NIfTI-1 `uint32` (`scl_slope` 1, `scl_inter` 0), with the
+/// geometry of [`write`]; gzip-compressed when `gzip`. The sizes must have passed
+/// [`check_sizes`].
+pub(crate) fn write_labels(
+    w: &mut impl Write,
+    labels: &LabelVolume,
+    gzip: bool,
+) -> std::io::Result<()> {
+    let head = header((&labels.grid, &labels.orientation), (UINT32, 32));
+    with_gzip(w, gzip, |w| {
+        w.write_all(&head)?;
+        w.write_all(&[0u8; 4])?;
+        crate::raw::write_labels_le(w, &labels.values)
+    })
+}
+
+/// Runs `write` on `w`, through a gzip encoder when `gzip`.
+fn with_gzip<W: Write>(
+    w: &mut W,
+    gzip: bool,
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    if gzip {
+        let mut z = flate2::write::GzEncoder::new(w, flate2::Compression::new(6));
+        write(&mut z)?;
+        z.finish().map(|_| ())
+    } else {
+        write(w)
+    }
+}
+
+/// Fails unless every size fits NIfTI-1's signed 16-bit `dim`.
+pub(crate) fn check_sizes(path: &Path, grid: &Grid) -> Result<(), IoError> {
+    for (axis, &size) in grid.dims.iter().enumerate() {
         if size > i16::MAX as usize {
             return Err(IoError::unsupported(
                 path,
@@ -127,15 +170,7 @@ pub(crate) fn write(path: &Path, volume: &Volume, gzip: bool) -> Result<TempFile
             ));
         }
     }
-    stage(path, |w| {
-        if gzip {
-            let mut z = flate2::write::GzEncoder::new(w, flate2::Compression::new(6));
-            write_all(&mut z, volume)?;
-            z.finish().map(|_| ())
-        } else {
-            write_all(w, volume)
-        }
-    })
+    Ok(())
 }
 
 #[cfg(test)]

@@ -18,22 +18,74 @@
 //! vtkio owns the data it writes, so writing makes one copy of the samples, and its
 //! compressor feeds zlib one sample at a time (seconds for a 256³ volume).
 //!
+//! A label map ([`read_labels`]) takes the array's values as exact `u32` labels: a `UInt32`
+//! array as vtkio decoded it, any other type converted, refusing a value that is not a label
+//! (`decode_target.rs`).
+//!
 //! Cost: O(N) for N samples; memory the vtkio model plus the `f32` volume (two copies of the
-//! samples at the peak).
+//! samples at the peak; for a `UInt32` label map, the vtkio model alone).
 
 use std::path::Path;
 
 use voxlod_core::glam::{DMat3, DVec3};
-use voxlod_core::{Frame, Orientation, Volume};
+use voxlod_core::{Frame, LabelVolume, Orientation, Volume};
 use vtkio::model::{
-    Attribute, Attributes, DataArray, DataSet, Extent, ImageDataPiece, Piece, Version, Vtk,
+    Attribute, Attributes, DataArray, DataSet, Extent, IOBuffer, ImageDataPiece, Piece, Version,
+    Vtk,
 };
 
-use crate::samples::{self, SampleType};
+use crate::decode_target::{labels_of, BadLabel};
+use crate::samples::{self, Decoded, SampleType};
 use crate::vtk::{self, Flavor};
 use crate::IoError;
 
+/// Reads an image as a volume (`f32` samples).
 pub(crate) fn read(path: &Path, flavor: Flavor) -> Result<Volume, IoError> {
+    let image = read_image(path, flavor)?;
+    samples::check_volume_size(path, image.dims, SampleType::F32)?;
+    image
+        .map(|values| Ok(vtk::into_f32(values)))?
+        .into_volume(path)
+}
+
+/// Reads an image as a label map: its array's values as exact `u32` labels, without a copy when
+/// it is `UInt32` (`decode_target.rs`; the first value that is not a label is named with its
+/// voxel).
+pub(crate) fn read_labels(path: &Path, flavor: Flavor) -> Result<LabelVolume, IoError> {
+    let image = read_image(path, flavor)?;
+    let dims = image.dims;
+    samples::check_decoded_size(path, dims, SampleType::U32, "label map")?;
+    image
+        .map(|values| into_labels(values).map_err(|bad| bad.error(path, dims, 0)))?
+        .into_labels(path)
+}
+
+/// vtkio's buffer as labels: a `UInt32` one as it is, any other converted (the memory budget
+/// was asked for both copies when the file was parsed).
+fn into_labels(buffer: IOBuffer) -> Result<Vec<u32>, BadLabel> {
+    macro_rules! convert {
+        ($values:expr) => {{
+            let mut out = vec![0u32; $values.len()];
+            labels_of(&$values, &mut out).map(|()| out)
+        }};
+    }
+    match buffer {
+        IOBuffer::U32(v) => Ok(v),
+        IOBuffer::Bit(v) | IOBuffer::U8(v) => convert!(v),
+        IOBuffer::I8(v) => convert!(v),
+        IOBuffer::U16(v) => convert!(v),
+        IOBuffer::I16(v) => convert!(v),
+        IOBuffer::I32(v) => convert!(v),
+        IOBuffer::U64(v) => convert!(v),
+        IOBuffer::I64(v) => convert!(v),
+        IOBuffer::F32(v) => convert!(v),
+        IOBuffer::F64(v) => convert!(v),
+    }
+}
+
+/// The first one-component point-data array of a single-piece image, as vtkio holds it, with
+/// the image's geometry.
+fn read_image(path: &Path, flavor: Flavor) -> Result<Decoded<IOBuffer>, IoError> {
     let vtk = vtk::load(path, flavor)?;
     let DataSet::ImageData {
         extent,
@@ -88,8 +140,9 @@ pub(crate) fn read(path: &Path, flavor: Flavor) -> Result<Volume, IoError> {
             "the image has no one-component point-data array (cell data and vectors are not read)",
         ));
     };
-    samples::check_volume_size(path, dims, SampleType::F32)?;
-    let count = dims[0] * dims[1] * dims[2];
+    samples::refuse_zero_dims(path, dims)?;
+    let count = dims.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
+    let count = count.unwrap_or(usize::MAX);
     if buffer.len() != count {
         return Err(IoError::truncated(
             path,
@@ -119,8 +172,13 @@ pub(crate) fn read(path: &Path, flavor: Flavor) -> Result<Volume, IoError> {
         .direction,
         frame: Frame::Unknown,
     };
-    samples::make_volume(path, dims, spacing, origin, vtk::into_f32(buffer))
-        .map(|v| v.oriented(orientation))
+    Ok(Decoded {
+        dims,
+        spacing,
+        origin,
+        orientation,
+        values: buffer,
+    })
 }
 
 /// The first index and the sample counts of an extent, in i64: an extent's width can overflow

@@ -15,8 +15,9 @@
 //! multiscale, give spacing and origin; an axis `unit` of micrometres, nanometres, metres … turns
 //! them into millimetres, like the other readers. Plain arrays have unit spacing and origin 0.
 //!
-//! **Samples.** uint8, int8, uint16, int16, uint32, int32, float32 and float64, converted to
-//! `f32`; any other type is refused naming it. A chunk missing from the store reads as the
+//! **Samples.** uint8, int8, uint16, int16, uint32, int32, uint64, int64, float32 and float64,
+//! converted to `f32`, or for a label map ([`ZarrVolume::read_labels`]) to exact `u32` labels
+//! (`decode_target.rs`), one layer of chunks at a time; any other type is refused naming it. A chunk missing from the store reads as the
 //! array's fill value (Zarr's rule), chunks at the upper edges may be partial (zarrs cuts them),
 //! and a codec voxlod's build of zarrs lacks is refused naming it. Codecs built in: gzip, zlib
 //! (v2), zstd, blosc (v2 and v3), crc32c, transpose, sharding.
@@ -33,16 +34,18 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use serde_json::Value;
-use voxlod_core::{Grid, Volume};
+use voxlod_core::{memory, Grid, LabelVolume, Volume};
 use zarrs::array::{Array, ArrayError, DataType};
 use zarrs::array_subset::ArraySubset;
 use zarrs::filesystem::FilesystemStore;
 
+use crate::decode_target::{labels_of, BadLabel};
 use crate::samples::{self, SampleType};
 use crate::{IoError, IoErrorKind};
 
 /// The sample types voxlod reads from Zarr, for messages.
-const SUPPORTED_TYPES: &str = "uint8, int8, uint16, int16, uint32, int32, float32, float64";
+const SUPPORTED_TYPES: &str =
+    "uint8, int8, uint16, int16, uint32, int32, uint64, int64, float32, float64";
 
 /// A Zarr array opened as a volume: its geometry is known, its samples are read on demand,
 /// region by region ([`ZarrVolume::read_region`]) or whole ([`ZarrVolume::read_all`]).
@@ -163,21 +166,90 @@ impl ZarrVolume {
             ));
         }
         let (count, _) = samples::check_volume_size(&self.path, dims, self.sample)?;
-        let ndim = self.array.shape().len();
-        let mut ranges: Vec<std::ops::Range<u64>> = vec![0..1; ndim];
-        for a in 0..3 {
-            let (s, n) = (start[a] as u64, dims[a] as u64);
-            ranges[self.spatial[a]] = s..s + n;
-        }
-        let subset = ArraySubset::new_with_ranges(&ranges);
-        let stored = self.retrieve(&subset)?;
-        let values = reorder(stored, dims, self.spatial, ndim);
+        let stored = self.retrieve(&self.subset(start, dims))?;
+        let values = reorder(stored, dims, self.spatial, self.array.shape().len());
         debug_assert_eq!(values.len(), count);
         let origin =
             [0, 1, 2].map(|a| self.grid.origin[a] + start[a] as f64 * self.grid.spacing[a]);
         let grid = Grid::new(dims, self.grid.spacing, origin)
             .map_err(|e| IoError::from_core(&self.path, e))?;
         Volume::from_vec(grid, values).map_err(|e| IoError::from_core(&self.path, e))
+    }
+
+    /// Every sample as an exact `u32` label (`decode_target.rs`), read one layer of chunks
+    /// (the chunks' depth along z) at a time, so that the peak is the labels plus one layer of
+    /// stored samples (both checked against the memory budget first). A value that is not a
+    /// label is refused naming its voxel; so is an empty array.
+    pub fn read_labels(&self) -> Result<LabelVolume, IoError> {
+        let path = self.path.as_path();
+        let dims = self.grid.dims;
+        let (count, _) = samples::check_decoded_size(path, dims, self.sample, "label map")?;
+        let [nx, ny, nz] = dims;
+        let depth = self.chunk[2].clamp(1, nz);
+        let layer = (nx * ny).saturating_mul(depth);
+        let what = format!("one layer of {nx}x{ny}x{depth} stored samples");
+        let layer_bytes =
+            memory::bytes_of::<u8>(layer).saturating_mul(2 * self.sample.size() as u64);
+        crate::budget::check_bytes(path, &what, layer_bytes)?;
+        let mut values = vec![0u32; count];
+        for (n, out) in values.chunks_mut(layer).enumerate() {
+            let z = n * depth;
+            let region = [nx, ny, out.len() / (nx * ny)];
+            let subset = self.subset([0, 0, z], region);
+            self.retrieve_labels(&subset, region, out)
+                .map_err(|e| e.unwrap_or_else(|bad| bad.error(path, dims, z * nx * ny)))?;
+        }
+        LabelVolume::from_vec(self.grid, values).map_err(|e| IoError::from_core(path, e))
+    }
+
+    /// The array subset of the region `start .. start + dims` (x, y, z), one value along the
+    /// other dimensions.
+    fn subset(&self, start: [usize; 3], dims: [usize; 3]) -> ArraySubset {
+        let mut ranges: Vec<std::ops::Range<u64>> = vec![0..1; self.array.shape().len()];
+        for a in 0..3 {
+            let (s, n) = (start[a] as u64, dims[a] as u64);
+            ranges[self.spatial[a]] = s..s + n;
+        }
+        ArraySubset::new_with_ranges(&ranges)
+    }
+
+    /// The labels of the subset (a region of `dims`) into `out`, x fastest: a Zarr failure,
+    /// or the first value that is not a label.
+    fn retrieve_labels(
+        &self,
+        subset: &ArraySubset,
+        dims: [usize; 3],
+        out: &mut [u32],
+    ) -> Result<(), Result<IoError, BadLabel>> {
+        let ndim = self.array.shape().len();
+        let failed = |e| {
+            Ok(crate::zarr::errors::reading(
+                &self.path,
+                &self.array_path,
+                e,
+            ))
+        };
+        macro_rules! labels {
+            ($t:ty) => {{
+                let stored = self
+                    .array
+                    .retrieve_array_subset_elements::<$t>(subset)
+                    .map_err(failed)?;
+                labels_of(&reorder(stored, dims, self.spatial, ndim), out).map_err(Err)
+            }};
+        }
+        match self.sample {
+            SampleType::U8 => labels!(u8),
+            SampleType::I8 => labels!(i8),
+            SampleType::U16 => labels!(u16),
+            SampleType::I16 => labels!(i16),
+            SampleType::U32 => labels!(u32),
+            SampleType::I32 => labels!(i32),
+            SampleType::U64 => labels!(u64),
+            SampleType::I64 => labels!(i64),
+            SampleType::F32 => labels!(f32),
+            SampleType::F64 => labels!(f64),
+        }
     }
 
     /// The subset's samples as `f32`, in the array's C order.
@@ -196,6 +268,8 @@ impl ZarrVolume {
             SampleType::I16 => elements!(i16),
             SampleType::U32 => elements!(u32),
             SampleType::I32 => elements!(i32),
+            SampleType::U64 => elements!(u64),
+            SampleType::I64 => elements!(i64),
             SampleType::F32 => self.array.retrieve_array_subset_elements::<f32>(subset),
             SampleType::F64 => elements!(f64),
         };
@@ -205,7 +279,7 @@ impl ZarrVolume {
 
 /// Samples in the array's C order over `ndim` dimensions (one value on the non-spatial ones)
 /// to x-fastest order: a plain move when the array's last three dimensions are z, y, x.
-fn reorder(stored: Vec<f32>, dims: [usize; 3], spatial: [usize; 3], ndim: usize) -> Vec<f32> {
+fn reorder<T: Copy>(stored: Vec<T>, dims: [usize; 3], spatial: [usize; 3], ndim: usize) -> Vec<T> {
     if spatial == [ndim - 1, ndim - 2, ndim - 3] {
         return stored;
     }
@@ -327,6 +401,8 @@ fn sample_type(path: &Path, data_type: &DataType) -> Result<SampleType, IoError>
         DataType::Int16 => SampleType::I16,
         DataType::UInt32 => SampleType::U32,
         DataType::Int32 => SampleType::I32,
+        DataType::UInt64 => SampleType::U64,
+        DataType::Int64 => SampleType::I64,
         DataType::Float32 => SampleType::F32,
         DataType::Float64 => SampleType::F64,
         other => {
