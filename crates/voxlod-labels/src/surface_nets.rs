@@ -798,15 +798,21 @@ impl SharedSurface {
     /// threads' scratch (a word per shared vertex per thread).
     pub fn label_meshes(&self, labels: &[u32]) -> Result<Vec<TriangleMesh>, LabelsError> {
         let lists = self.triangles_by_label(labels)?;
+        let threads = rayon::current_num_threads();
         memory::check_allocation(
             "the label meshes' scratch",
-            memory::bytes_of::<u64>(self.positions.len()) * rayon::current_num_threads() as u64,
+            memory::bytes_of::<u64>(self.positions.len()) * threads as u64,
         )?;
+        // One scratch per thread, made once (rayon's per-job init would make one per split).
+        let pool: Vec<std::sync::Mutex<Scratch>> =
+            (0..threads).map(|_| Default::default()).collect();
         Ok(labels
             .par_iter()
             .zip(lists.par_iter())
-            .map_init(Scratch::default, |scratch, (&label, list)| {
-                self.extract(label, list, scratch).0
+            .map(|(&label, list)| {
+                let at = rayon::current_thread_index().unwrap_or(0) % threads;
+                let mut scratch = pool[at].lock().unwrap_or_else(|e| e.into_inner());
+                self.extract(label, list, &mut scratch).0
             })
             .collect())
     }
