@@ -1,7 +1,7 @@
 //! What the volume readers share: sample types and byte orders ([`Endian`]) and their
-//! conversion to `f32`, reading exactly the number of bytes a header promises (plain or
-//! compressed), the memory check before any large allocation, and the final checks on grid
-//! geometry.
+//! conversion to `f32`, the words of a short or corrupt read of sample data, the memory check
+//! before any large allocation, the decoded samples with their geometry ([`Decoded`]), and the
+//! final checks on grid geometry.
 //!
 //! Cost: O(N) per conversion of N samples; the checks are O(1).
 
@@ -176,17 +176,17 @@ pub(crate) fn check_volume_size(
 
 /// As [`check_volume_size`], for a reader that decodes block by block (`stream_read.rs`,
 /// `block_read.rs`): the 4-byte samples or labels (`noun` says which, "volume" or "label
-/// map") and one block of stored bytes per thread.
+/// map") and the blocks of stored bytes in flight (one per thread, no more than the data).
 pub(crate) fn check_decoded_size(
     path: &Path,
     dims: [usize; 3],
     ty: SampleType,
     noun: &str,
 ) -> Result<(usize, usize), IoError> {
-    let threads = rayon::current_num_threads() as u64;
+    let in_flight = crate::block_read::BLOCK.saturating_mul(rayon::current_num_threads());
     check_size(path, dims, ty, noun, |count| {
-        let block = count.min(crate::block_read::BLOCK) as u64 * ty.size() as u64 * threads;
-        memory::bytes_of::<u32>(count).saturating_add(block)
+        let blocks = memory::bytes_of::<u8>(count.min(in_flight)).saturating_mul(ty.size() as u64);
+        memory::bytes_of::<u32>(count).saturating_add(blocks)
     })
 }
 
