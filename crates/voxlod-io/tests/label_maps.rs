@@ -700,4 +700,27 @@ print(back.get_data_dtype(), int(np.asarray(back.dataobj).astype(np.uint64).sum(
     assert!((at(1.0, 0.0, 0.0) - DVec3::new(10.0, -4.1, 7.0)).length() < 1e-5);
     assert!((at(0.0, 1.0, 0.0) - DVec3::new(9.2, -5.0, 7.0)).length() < 1e-5);
     assert!((at(0.0, 0.0, 1.0) - DVec3::new(10.0, -5.0, 8.5)).length() < 1e-5);
+
+    // And back: the map written by voxlod is uint32 to nibabel, with the same labels and affine.
+    let ours = dir.path().join("ours.nii.gz");
+    write_label_map(&ours, &map).unwrap();
+    let check = r#"
+import sys
+import numpy as np
+import nibabel as nib
+image = nib.load(sys.argv[1])
+data = np.asarray(image.dataobj)
+print(image.get_data_dtype(), int(data.astype(np.uint64).sum()), int(data[0, 0, 0]), int(data[4, 3, 2]))
+print(" ".join("%.4f" % v for v in image.affine[:3].ravel()))
+"#;
+    let Some(out) = voxlod_testkit::peers::run_python(check, &[ours.as_os_str()]) else {
+        return;
+    };
+    let lines: Vec<&str> = out.lines().collect();
+    let last = u64::from(map.values[59]);
+    assert_eq!(lines[0], format!("uint32 {sum} 4294967295 {last}"), "{out}");
+    assert_eq!(
+        lines[1],
+        "0.0000 -0.8000 0.0000 10.0000 0.9000 0.0000 0.0000 -5.0000 0.0000 0.0000 1.5000 7.0000"
+    );
 }
