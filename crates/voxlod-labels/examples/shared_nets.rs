@@ -138,7 +138,9 @@ fn main() {
             .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
         let spacing = [1.0, 1.0, count as f64 / 10.0];
         let grid = Grid::new([n; 3], spacing, [0.0; 3]).unwrap();
-        run(&LabelVolume::from_vec(grid, values.collect()).unwrap());
+        let values: Vec<u32> = values.collect();
+        drop(bytes);
+        run(&LabelVolume::from_vec(grid, values).unwrap());
         return;
     } else if kind == "voronoi" {
         voronoi(n, count)

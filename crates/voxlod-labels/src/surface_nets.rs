@@ -33,7 +33,8 @@
 //!
 //! Cost: two passes over the volume (count, then fill into the final arrays), each in parallel
 //! over slabs of z, each corner tested from the two padded voxel layers around it (a corner
-//! inside a run of equal labels costs eight compares); the output is sized once from the
+//! inside a run of equal labels costs eight compares, a corner row whose four voxel rows are
+//! equal costs a row comparison); the output is sized once from the
 //! counts. Memory: the output plus, per slab task, three padded voxel layers and two planes of
 //! corner indices.
 
@@ -333,6 +334,14 @@ impl<'a> Net<'a> {
         for j in 0..=ny {
             let (r0, r1) = (&below[j * w..(j + 2) * w], &above[j * w..(j + 2) * w]);
             let (a0, a1, b0, b1) = (&r0[..w], &r0[w..], &r1[..w], &r1[w..]);
+            if a0 == a1 && a0 == b0 && a0 == b1 {
+                // Four equal rows (a run of planes alike): vertices only where the row changes.
+                for i in (0..=nx).filter(|&i| a0[i] != a0[i + 1]) {
+                    let (l, r) = (a0[i], a0[i + 1]);
+                    found(i, j, [l, r, l, r, l, r, l, r]);
+                }
+                continue;
+            }
             for i in 0..=nx {
                 let v = a0[i];
                 if a0[i + 1] == v
