@@ -19,6 +19,7 @@ use voxlod_io::IoError;
 use voxlod_labels::LabelsError;
 use voxlod_layers::LayersError;
 use voxlod_metrics::MetricsError;
+use voxlod_precomputed::PrecomputedError as Precomputed;
 use voxlod_pyramid::error::{
     budget_class, contour_class, core_class, envelope_class, io_class, metrics_class, render_class,
     sampling_class,
@@ -58,6 +59,9 @@ pub enum Error {
     /// Label maps meshed without a filter.
     #[error(transparent)]
     Labels(#[from] LabelsError),
+    /// Neuroglancer precomputed layers.
+    #[error(transparent)]
+    Precomputed(#[from] Precomputed),
     /// Levels by triangle budget.
     #[error(transparent)]
     Budget(#[from] BudgetError),
@@ -173,6 +177,10 @@ impl Error {
             Error::Labels(LabelsError::Core(e)) => core_class(e),
             Error::Labels(LabelsError::Missing(..)) => Usage,
             Error::Labels(_) => BadInput,
+            Error::Precomputed(Precomputed::Core(e)) => core_class(e),
+            Error::Precomputed(Precomputed::Io { .. }) => Io,
+            Error::Precomputed(Precomputed::Options(_)) => Usage,
+            Error::Precomputed(_) => BadInput,
             Error::Render(e) => render_class(e),
             Error::Gltf(GltfError::Core(e)) => core_class(e),
             Error::Gltf(GltfError::Io(e)) => io_class(e),

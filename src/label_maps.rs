@@ -1,10 +1,8 @@
-//! The label maps' jobs with the facade's error: [`labels()`], the paper's filtered levels per
-//! label (crate `voxlod-pyramid`), and [`label_surfaces`], every label meshed in one pass without
-//! a filter (crate `voxlod-labels`).
+//! The label maps' jobs with the facade's error (crates `voxlod-pyramid` and `voxlod-labels`).
 
-use crate::error::Error;
+use crate::Error;
 use voxlod_core::{LabelVolume, Volume};
-use voxlod_labels::{LabelSurface, SurfaceOptions};
+use voxlod_labels::{LabelSurfaces, SurfaceOptions};
 use voxlod_pyramid::{labels::LabelMeshes, labels::LabelOptions, ProgressFn};
 
 /// Every label of a label map meshed with its levels, as [`voxlod_pyramid::labels::labels`].
@@ -17,9 +15,6 @@ pub fn labels(
 }
 
 /// Every label of a label map as one closed, outward mesh, as [`voxlod_labels::label_surfaces`].
-pub fn label_surfaces(
-    map: &LabelVolume,
-    options: &SurfaceOptions,
-) -> Result<Vec<LabelSurface>, Error> {
+pub fn label_surfaces(map: &LabelVolume, options: &SurfaceOptions) -> Result<LabelSurfaces, Error> {
     Ok(voxlod_labels::label_surfaces(map, options)?)
 }

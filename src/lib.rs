@@ -88,7 +88,9 @@ pub use shells::{
     check_layers_levels, check_layers_options, layered_glb, layered_poly_mesh, layered_preview,
     layers, layers_chain, layers_levels, layers_radius, layers_with, Layers, LayersChain,
 };
-pub use voxlod_labels::{LabelSurface, Surface, SurfaceOptions};
+pub use voxlod_labels::{
+    LabelSurface, LabelSurfaces, LabelsError, SmoothingOptions, Surface, SurfaceOptions,
+};
 pub use voxlod_pyramid::{asset_lod, asset_lod_by_budget, blockwise, budget, finest, labels};
 pub use voxlod_pyramid::{
     iso_outside_data, run_to_end, Control, EnvelopeStep, ErrorClass, Event, Finest, InvalidOption,
@@ -117,6 +119,7 @@ pub use voxlod_gltf as gltf;
 pub use voxlod_io as io;
 pub use voxlod_layers as layers;
 pub use voxlod_metrics as metrics;
+pub use voxlod_precomputed as precomputed;
 pub use voxlod_pyramid as pyramid;
 pub use voxlod_quadric as quadric;
 pub use voxlod_render as render;

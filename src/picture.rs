@@ -19,9 +19,7 @@ use voxlod_render::{
     render, Camera, Image, LineItem, MeshItem, PointItem, RenderError, RenderOptions, Scene,
 };
 
-use crate::error::Error;
-use crate::files::{is_glb, read_glb};
-use voxlod_pyramid::InvalidOption;
+use crate::{error::Error, files::is_glb, files::read_glb, InvalidOption};
 
 /// The colour of an opaque surface (linear RGB): a light steel grey.
 pub const SURFACE_COLOR: [f32; 3] = [0.85, 0.86, 0.9];

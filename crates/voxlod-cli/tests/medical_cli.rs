@@ -277,7 +277,22 @@ fn labels_writes_named_closed_meshes_their_volumes_and_one_gltf_with_label_per_v
             _ => {}
         }
     }
-    // The same in the VTP: the label per vertex, all three.
+    assert!(
+        !out.join("labels.vtp").exists(),
+        "the VTP of all labels is for --format vtp"
+    );
+    // With VTK's files, all three in one VTP too, the label per vertex.
+    let out = dir.path().join("vtk");
+    let report = json(&voxlod(&[
+        "labels",
+        arg(&map),
+        "-o",
+        arg(&out),
+        "--format",
+        "vtp",
+        "--json",
+    ]));
+    assert_eq!(report["all_labels"], "labels.vtp");
     let vtp = voxlod::io::read_poly_mesh(&out.join("labels.vtp")).unwrap();
     let label = vtp
         .vertex_attributes
@@ -375,8 +390,8 @@ fn labels_no_clean_keeps_plain_marching_cubes_and_labels_run_in_parallel_in_orde
         args.extend(extra);
         json(&voxlod(&args))
     };
-    let cleaned = run("cleaned", &[]);
-    let plain = run("plain", &["--no-clean"]);
+    let cleaned = run("cleaned", &["--levels", "1"]);
+    let plain = run("plain", &["--levels", "1", "--no-clean"]);
     let (cleaned, plain) = (
         cleaned["labels"].as_array().unwrap(),
         plain["labels"].as_array().unwrap(),

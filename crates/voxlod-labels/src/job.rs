@@ -6,25 +6,30 @@
 //! pass over the map to find the labels and one over each mesh to check and move it.
 
 use rayon::prelude::*;
-use serde::Serialize;
 use voxlod_core::validate::{find_defect, Requirements};
 use voxlod_core::{Frame, LabelVolume, Placement, TriangleMesh};
 
 use crate::find::{find_labels, select_labels, LabelInfo};
 use crate::marching_cubes::marching_cubes_of;
+use crate::smoothing::{smooth, SmoothingOptions, SmoothingReport};
+use crate::surface_nets::{surface_nets, SurfaceNetsOptions};
 use crate::LabelsError;
 
 /// Which surface every label gets.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub enum Surface {
     /// Marching cubes of each label's indicator at ½: every label closed and outward on its
     /// own (`marching_cubes.rs`).
     #[default]
     MarchingCubes,
+    /// Surface nets over all labels at once, every interface meshed once and shared by its two
+    /// labels (`surface_nets.rs`), then smoothed with the volumes kept (`smoothing.rs`;
+    /// [`SmoothingOptions::none`] keeps the voxels' faces).
+    Shared(SmoothingOptions),
 }
 
 /// How [`label_surfaces`] meshes a map.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct SurfaceOptions {
     /// The surface.
     pub surface: Surface,
@@ -45,7 +50,19 @@ pub struct LabelSurface {
     pub mesh: TriangleMesh,
 }
 
-/// Every label asked for with its mesh (see [`label_surfaces`]).
+/// What [`label_surfaces`] returns.
+#[derive(Clone, Debug)]
+pub struct LabelSurfaces {
+    /// Every label asked for with its mesh, in the order of [`SurfaceOptions::labels`].
+    pub labels: Vec<LabelSurface>,
+    /// What the smoothing of [`Surface::Shared`] did (`None` for marching cubes).
+    pub smoothing: Option<SmoothingReport>,
+}
+
+/// Every label asked for with its mesh: the labels found ([`find_labels`]), chosen
+/// ([`select_labels`]: a label the map lacks, or a map of background alone, is an error), meshed
+/// by the [`Surface`] asked for in one pass over the map, moved into [`SurfaceOptions::frame`]
+/// and checked for coordinates beyond 32-bit floats.
 ///
 /// ```
 /// use voxlod_core::{Grid, LabelVolume};
@@ -58,7 +75,7 @@ pub struct LabelSurface {
 ///     .map(|at| if at.iter().all(|&a| (1..3).contains(&a)) { 7 } else { 0 })
 ///     .collect();
 /// let map = LabelVolume::from_vec(grid, values).unwrap();
-/// let surfaces = label_surfaces(&map, &SurfaceOptions::default())?;
+/// let surfaces = label_surfaces(&map, &SurfaceOptions::default())?.labels;
 /// assert_eq!(surfaces.len(), 1);
 /// assert_eq!((surfaces[0].label.value, surfaces[0].label.voxels), (7, 8));
 /// assert_eq!(surfaces[0].voxel_volume, 8.0);
@@ -68,16 +85,22 @@ pub struct LabelSurface {
 pub fn label_surfaces(
     map: &LabelVolume,
     options: &SurfaceOptions,
-) -> Result<Vec<LabelSurface>, LabelsError> {
+) -> Result<LabelSurfaces, LabelsError> {
     let chosen = select_labels(find_labels(map), options.labels.as_deref())?;
-    let meshes = match &options.surface {
-        Surface::MarchingCubes => marching_cubes_of(map, &chosen)?,
+    let (meshes, smoothing) = match &options.surface {
+        Surface::MarchingCubes => (marching_cubes_of(map, &chosen)?, None),
+        Surface::Shared(smoothing) => {
+            let mut shared = surface_nets(map, &SurfaceNetsOptions::default())?;
+            let report = smooth(&mut shared, smoothing)?;
+            let values: Vec<u32> = chosen.iter().map(|l| l.value).collect();
+            (shared.label_meshes(&values)?, Some(report))
+        }
     };
     let to_frame = options.frame.map_or(Placement::IDENTITY, |target| {
         Placement::between_frames(map.orientation.frame, target)
     });
     let voxel = map.grid.spacing.iter().product::<f64>();
-    chosen
+    let labels = chosen
         .into_par_iter()
         .zip(meshes)
         .map(|(label, mut mesh)| {
@@ -91,5 +114,6 @@ pub fn label_surfaces(
                 mesh,
             })
         })
-        .collect()
+        .collect::<Result<_, _>>()?;
+    Ok(LabelSurfaces { labels, smoothing })
 }

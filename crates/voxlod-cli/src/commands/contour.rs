@@ -104,7 +104,7 @@ pub fn run(args: ContourArgs) -> Result<(), CliError> {
         output: args.output.display().to_string(),
         dims: surface.dims,
         iso: args.iso,
-        frame: frame_report(&volume, args.frame.target()),
+        frame: frame_report(volume.world(), args.frame.target()),
         vertices: surface.mesh.positions.len(),
         triangles: surface.mesh.triangles.len(),
         euler_characteristic: topology.euler_characteristic,
@@ -150,7 +150,7 @@ fn read_volume(args: &ContourArgs) -> Result<Volume, CliError> {
         }
     };
     check_grid_range(&volume, &args.volume, args.raw.spacing_source())?;
-    args.frame.check(&volume, &args.volume)?;
+    args.frame.check(volume.orientation.frame, &args.volume)?;
     Ok(volume)
 }
 

@@ -3,7 +3,7 @@
 
 use clap::{Args, ValueEnum};
 use serde::Serialize;
-use voxlod::core::{Frame, Placement, TriangleMesh, Volume};
+use voxlod::core::{Frame, Placement, TriangleMesh, Volume, WorldTransform};
 
 /// The frame a command writes its meshes in.
 #[derive(Args, Debug, Clone, Copy, Default)]
@@ -31,8 +31,8 @@ impl FrameArg {
     }
 
     /// Refuses a conversion the input cannot make: an input without a frame has no LPS or RAS.
-    pub fn check(&self, volume: &Volume, input: &std::path::Path) -> Result<(), super::CliError> {
-        match (self.target(), volume.orientation.frame) {
+    pub fn check(&self, frame: Frame, input: &std::path::Path) -> Result<(), super::CliError> {
+        match (self.target(), frame) {
             (Some(target), Frame::Unknown) => Err(super::CliError::usage(format!(
                 "{}: --frame {}: the file does not say which anatomical frame it uses, so it cannot be converted",
                 input.display(),
@@ -59,9 +59,8 @@ pub struct FrameReport {
     pub transform: [[f64; 4]; 4],
 }
 
-/// What the report says about the frame of the meshes made from `volume`.
-pub fn frame_report(volume: &Volume, target: Option<Frame>) -> FrameReport {
-    let world = volume.world();
+/// What the report says about the frame of the meshes made from a volume placed by `world`.
+pub fn frame_report(world: WorldTransform, target: Option<Frame>) -> FrameReport {
     let world = match target {
         Some(t) => world.in_frame(t),
         None => world,

@@ -1,0 +1,350 @@
+//! `voxlod labels`: a label map (segmentation) in, one closed mesh per structure out: by default
+//! every label meshed in one pass without a filter (`surfaces.rs`, `voxlod::label_surfaces`),
+//! or the paper's filtered levels per label when levels or a filter are asked for
+//! (`filtered.rs`, `voxlod::labels`); written as mesh files or as a neuroglancer precomputed
+//! layer.
+
+mod filtered;
+mod surfaces;
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+use serde::Serialize;
+use voxlod::core::TriangleMesh;
+use voxlod::gltf::{labels_glb, LabelMesh};
+use voxlod::io::{read_label_map, LabelName, OutputSet};
+use voxlod::labels::merge_labelled;
+use voxlod::sampling::Filter;
+use voxlod::{EnvelopeStep, LevelEpsilon};
+
+use super::common::{in_dir, say, CliError, MeshExtension};
+use super::values::number;
+use super::world::{FrameArg, FrameReport};
+
+/// Mesh a label map: one closed, outward mesh per label (NIfTI, NRRD, MetaImage, VTK image, Zarr,
+/// Slicer .seg.nrrd, DICOM Segmentation; labels are whole numbers up to 4294967295, 0 is
+/// background).
+///
+/// By default every label is meshed in one pass over the map by marching cubes of its voxels
+/// (the isosurface ½ of the label's indicator, as zmesh makes it): each label closed and outward
+/// on its own. With --shared the labels are meshed together by surface nets (Frisken 2022): each
+/// interface between two labels is meshed once and used by both, so neighbours meet without gap
+/// or overlap; the shared surface is then smoothed (--smooth, λ|μ iterations) with each vertex
+/// kept within half a voxel of its corner and each label's volume kept.
+///
+/// With --levels, --filter, --radius or --then-envelope each label's indicator is filtered and
+/// contoured like a thresholded scan instead (paper §2, §4), level 0 at the map's finest spacing,
+/// each further level at half the resolution, cleaned of slivers unless --no-clean.
+///
+/// Writes DIR/label-V.ply (label-V-NAME.ply when the file names its segments, label-V-K.ply for
+/// level K of several), every label's level 0 together in DIR/labels.glb (one node per label;
+/// with --format vtp or vtk also in DIR/labels.vtp, per-vertex `label`), and DIR/report.json. With --format precomputed, DIR
+/// becomes a neuroglancer precomputed segmentation layer instead: the labels in raw chunks and
+/// per label a multi-resolution mesh of --levels levels (Draco fragments on the octree's grid,
+/// each level simplified from the finer one with the fragments' seams locked, so no crack opens
+/// between levels), sharded above 512 labels; cloud-volume and neuroglancer read it.
+///
+/// Examples:
+///   voxlod labels segmentation.nii.gz -o organs
+///   voxlod labels Segmentation.seg.nrrd -o models --shared --frame lps --labels 1,4,7
+///   voxlod labels aseg.mha -o aseg --levels 3 --then-envelope 1vox
+///   voxlod labels cells.nrrd -o layer --format precomputed --levels 3 --unit nm
+///   voxlod labels SEG.dcm -o segments   # or a folder holding one DICOM SEG file
+#[derive(Args, Debug)]
+#[command(verbatim_doc_comment)]
+pub struct LabelsArgs {
+    /// The label map (.nrrd .nhdr .nii .nii.gz .mha .mhd .vti .vtk .zarr), or a DICOM
+    /// Segmentation (a SEG .dcm, or a folder holding one): segment numbers are labels
+    pub input: PathBuf,
+    /// Folder for the meshes and report.json (created if missing), or the precomputed layer
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+    /// Only these labels, e.g. 1,4,7 (default: every non-zero label)
+    #[arg(long, value_name = "A,B,...", value_delimiter = ',',
+        value_parser = number::<u32>, allow_hyphen_values = true)]
+    pub labels: Option<Vec<u32>>,
+    /// Mesh every interface between two labels once, shared by both (surface nets), smoothed
+    #[arg(long)]
+    pub shared: bool,
+    /// λ|μ smoothing iterations of the --shared surface, volumes kept (0 keeps the voxel faces)
+    #[arg(long, value_name = "N", value_parser = number::<usize>, allow_hyphen_values = true)]
+    pub smooth: Option<usize>,
+    /// Levels per label: the paper's filtered levels (each half the resolution of the one
+    /// before), or with --format precomputed the levels of the multi-resolution mesh
+    #[arg(long, value_name = "L", value_parser = number::<usize>, allow_hyphen_values = true)]
+    pub levels: Option<usize>,
+    /// Low-pass filter of the filtered levels: hypercone (paper eq. 3) or gaussian (σ = R/3)
+    #[arg(long)]
+    pub filter: Option<Filter>,
+    /// Filter support radius of the filtered levels, in voxels of each level (default 1)
+    #[arg(long, value_name = "VOXELS", value_parser = number::<f64>, allow_hyphen_values = true)]
+    pub radius: Option<f64>,
+    /// Format of the per-label meshes, or `precomputed` for a neuroglancer layer
+    #[arg(long, value_enum, default_value = "ply")]
+    pub format: LabelFormat,
+    /// Bits per quantized coordinate of the precomputed meshes (10 or 16)
+    #[arg(long, value_name = "BITS", value_parser = number::<u32>, allow_hyphen_values = true)]
+    pub quantization_bits: Option<u32>,
+    /// Unit of the map's spacing, for the precomputed layer's resolution in nanometres
+    #[arg(long, value_enum)]
+    pub unit: Option<SpacingUnit>,
+    /// Then simplify each filtered level within E by simplification envelopes: a distance, a
+    /// percentage of the level's diagonal (1%), or voxels of the level (1vox)
+    #[arg(long, value_name = "E", value_parser = parse_level_epsilon,
+        allow_hyphen_values = true)]
+    pub then_envelope: Option<LevelEpsilon>,
+    /// Keep plain marching cubes for the filtered levels (no cleaning of slivers, needles and
+    /// self-intersections); the default surface is plain marching cubes already
+    #[arg(long)]
+    pub no_clean: bool,
+    #[command(flatten)]
+    pub frame: FrameArg,
+    /// Print the report as JSON on standard output (no progress bar)
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What `--format` writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LabelFormat {
+    Ply,
+    Obj,
+    Stl,
+    Vtp,
+    Vtk,
+    /// A neuroglancer precomputed segmentation layer with multi-resolution meshes
+    Precomputed,
+}
+
+impl LabelFormat {
+    /// The mesh files' format, `None` for a precomputed layer.
+    fn mesh(self) -> Option<MeshExtension> {
+        match self {
+            LabelFormat::Ply => Some(MeshExtension::Ply),
+            LabelFormat::Obj => Some(MeshExtension::Obj),
+            LabelFormat::Stl => Some(MeshExtension::Stl),
+            LabelFormat::Vtp => Some(MeshExtension::Vtp),
+            LabelFormat::Vtk => Some(MeshExtension::Vtk),
+            LabelFormat::Precomputed => None,
+        }
+    }
+}
+
+/// The unit of a map's spacing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SpacingUnit {
+    /// Nanometres (connectomics maps)
+    Nm,
+    /// Micrometres (micro-CT, light microscopy)
+    Um,
+    /// Millimetres (medical maps)
+    Mm,
+}
+
+impl SpacingUnit {
+    fn nanometres(self) -> f64 {
+        match self {
+            SpacingUnit::Nm => 1.0,
+            SpacingUnit::Um => 1e3,
+            SpacingUnit::Mm => 1e6,
+        }
+    }
+}
+
+/// The value parser of `--then-envelope` (the error without the flag's name).
+fn parse_level_epsilon(text: &str) -> Result<LevelEpsilon, String> {
+    text.parse()
+}
+
+/// One level of a label in the report.
+#[derive(Serialize)]
+struct LevelReport {
+    level: usize,
+    resolution: usize,
+    voxel_size: f64,
+    file: Option<String>,
+    triangles: usize,
+    /// Enclosed volume of the mesh, in world units cubed.
+    volume: f64,
+    area: f64,
+    closed_manifold: bool,
+    seconds: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    envelope: Option<EnvelopeStep>,
+}
+
+/// One label in the report.
+#[derive(Serialize)]
+struct LabelReport {
+    label: u32,
+    name: Option<String>,
+    color: Option<[f32; 3]>,
+    voxels: u64,
+    /// Voxel count times the voxel's volume.
+    voxel_volume: f64,
+    levels: Vec<LevelReport>,
+}
+
+/// The whole report (report.json, `--json`).
+#[derive(Serialize)]
+struct LabelsReport {
+    input: String,
+    /// `marching_cubes`, `surface_nets` or `filtered`.
+    surface: &'static str,
+    #[serde(flatten)]
+    frame: FrameReport,
+    all_labels: Option<String>,
+    /// The glTF with every label's level 0 (`_LABEL` per vertex).
+    all_labels_gltf: Option<String>,
+    labels: Vec<LabelReport>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    smoothing: Option<surfaces::SmoothingSummary>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    precomputed: Option<surfaces::LayerSummary>,
+    /// What reading the map warned of (overlapping DICOM segments).
+    warnings: Vec<String>,
+    total_seconds: f64,
+}
+
+/// Refuses flags that do not go together, naming them.
+fn check_flags(args: &LabelsArgs) -> Result<(), CliError> {
+    let filtered = filtered::asked_for(args);
+    let precomputed = args.format == LabelFormat::Precomputed;
+    let refuse = |text: &str| Err(CliError::usage(text.to_string()));
+    if args.levels == Some(0) {
+        return refuse("--levels must be at least 1");
+    }
+    if args.smooth.is_some() && !args.shared {
+        return refuse("--smooth smooths the --shared surface: add --shared");
+    }
+    if precomputed && (args.filter.is_some() || args.radius.is_some()) {
+        return refuse("--filter and --radius make filtered levels, which --format precomputed does not write: its levels are simplified from the finer one with the seams locked");
+    }
+    if precomputed && args.then_envelope.is_some() {
+        return refuse("--then-envelope does not apply to --format precomputed");
+    }
+    if filtered && args.shared && !precomputed {
+        return refuse("--shared meshes the labels together without a filter: it does not go with --levels, --filter, --radius or --then-envelope");
+    }
+    if precomputed && args.frame.target().is_some() {
+        return refuse(
+            "--frame does not apply to --format precomputed: a layer keeps the map's own axes",
+        );
+    }
+    if !precomputed && (args.quantization_bits.is_some() || args.unit.is_some()) {
+        return refuse("--quantization-bits and --unit apply to --format precomputed only");
+    }
+    Ok(())
+}
+
+pub fn run(args: LabelsArgs) -> Result<(), CliError> {
+    check_flags(&args)?;
+    let read = read_label_map(&args.input)?;
+    if !args.json {
+        for w in &read.warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+    args.frame
+        .check(read.labels.orientation.frame, &args.input)?;
+    if filtered::asked_for(&args) && args.format != LabelFormat::Precomputed {
+        filtered::run(&args, read)
+    } else {
+        surfaces::run(&args, read)
+    }
+}
+
+/// `liver` → `liver`, `Left Kidney` → `left-kidney`: a name safe in a file name.
+fn slug(name: &str) -> String {
+    let mut out = String::new();
+    for c in name.chars() {
+        if c.is_ascii_alphanumeric() {
+            out.push(c.to_ascii_lowercase());
+        } else if !out.ends_with('-') {
+            out.push('-');
+        }
+    }
+    out.trim_matches('-').chars().take(60).collect()
+}
+
+/// The file of level `level` of `levels` of a label.
+fn file_name(
+    label: u32,
+    name: Option<&LabelName>,
+    level: usize,
+    levels: usize,
+    ext: &str,
+) -> String {
+    let mut stem = format!("label-{label}");
+    if let Some(n) = name.map(|n| slug(&n.name)).filter(|s| !s.is_empty()) {
+        stem.push('-');
+        stem.push_str(&n);
+    }
+    if levels > 1 {
+        stem.push_str(&format!("-{level}"));
+    }
+    format!("{stem}.{ext}")
+}
+
+/// The entry of the map's label table for `value`.
+fn name_of(table: &[LabelName], value: u32) -> Option<&LabelName> {
+    table.iter().find(|n| n.value == i64::from(value))
+}
+
+/// The names of the `.vtp` and the `.glb` of every label's level 0 (`None` when not written).
+type AllLabelFiles = (Option<String>, Option<String>);
+
+/// Every label's level 0 (those with a surface) in one `.glb`, and in one `.vtp` when the
+/// per-label files are VTK's (`vtp`, `vtk`); their file names.
+fn write_all_labels(
+    output: &std::path::Path,
+    format: LabelFormat,
+    firsts: &[(u32, TriangleMesh)],
+    table: &[LabelName],
+    out: &mut OutputSet,
+) -> Result<AllLabelFiles, CliError> {
+    if firsts.is_empty() {
+        return Ok((None, None));
+    }
+    let vtp = matches!(format, LabelFormat::Vtp | LabelFormat::Vtk);
+    if vtp {
+        let refs: Vec<(i64, &TriangleMesh)> =
+            firsts.iter().map(|(v, m)| (i64::from(*v), m)).collect();
+        out.poly_mesh(&in_dir(output, "labels.vtp"), &merge_labelled(&refs))?;
+    }
+    let gltf: Vec<LabelMesh> = firsts
+        .iter()
+        .map(|(value, mesh)| {
+            let name = name_of(table, *value);
+            LabelMesh {
+                value: i64::from(*value),
+                name: name.map(|n| n.name.as_str()),
+                color: name.and_then(|n| n.color),
+                mesh,
+            }
+        })
+        .collect();
+    let glb = labels_glb(&gltf).map_err(voxlod::Error::from)?;
+    out.bytes(&in_dir(output, "labels.glb"), &glb)?;
+    Ok((vtp.then(|| "labels.vtp".into()), Some("labels.glb".into())))
+}
+
+/// The one line a label gets on the terminal.
+fn print_label(report: &LabelReport) {
+    let l0 = &report.levels[0];
+    say(format_args!(
+        "label {}{}: {} voxels, {} triangles, volume {:.1} (voxels: {:.1}), area {:.1}",
+        report.label,
+        report
+            .name
+            .as_deref()
+            .map(|n| format!(" ({n})"))
+            .unwrap_or_default(),
+        report.voxels,
+        l0.triangles,
+        l0.volume,
+        report.voxel_volume,
+        l0.area
+    ));
+}

@@ -1,0 +1,263 @@
+//! `voxlod labels` without a filter: every label meshed in one pass over the map
+//! (`voxlod::label_surfaces`, marching cubes per label or the shared surface nets), written as
+//! mesh files or as a neuroglancer precomputed layer.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::Serialize;
+use voxlod::core::{mesh_topology, LabelVolume, TriangleMesh};
+use voxlod::io::{LabelMap, LabelName, OutputSet};
+use voxlod::precomputed::{write_layer, LayerReport, PrecomputedOptions};
+use voxlod::{LabelSurface, LabelSurfaces, LabelsError, SmoothingOptions, Surface, SurfaceOptions};
+
+use super::{
+    file_name, name_of, print_label, write_all_labels, AllLabelFiles, LabelReport, LabelsArgs,
+    LabelsReport, LevelReport,
+};
+use crate::commands::common::{add_report, in_dir, in_file, print_json, say, CliError};
+use crate::commands::world::frame_report;
+
+/// What the smoothing of the shared surface did, in the report.
+#[derive(Serialize)]
+pub(super) struct SmoothingSummary {
+    /// λ|μ pairs run.
+    iterations: usize,
+    /// Volume-restoring rounds run.
+    restore_rounds: usize,
+    /// The label whose volume changed most, and by how much (relative, after restoring).
+    worst_label: Option<u32>,
+    worst_volume_change: Option<f64>,
+    /// Vertices that ended on a face of their half-voxel box.
+    constrained_vertices: usize,
+}
+
+/// What the precomputed layer holds, in the report.
+#[derive(Serialize)]
+pub(super) struct LayerSummary {
+    /// Levels of detail per label.
+    lods: usize,
+    /// Whether the meshes are sharded.
+    sharded: bool,
+    /// Per level of detail: triangles over all labels.
+    triangles: Vec<usize>,
+    /// Per level of detail: Draco bytes over all labels.
+    bytes: Vec<u64>,
+    /// Octree nodes (fragments) over all labels and levels.
+    fragments: usize,
+    /// Bytes of the volume's chunks.
+    volume_bytes: u64,
+    /// The layer's resolution, nanometres per voxel.
+    resolution: [f64; 3],
+}
+
+impl LayerSummary {
+    fn of(report: &LayerReport, lods: usize) -> LayerSummary {
+        let mut summary = LayerSummary {
+            lods,
+            sharded: report.sharding.is_some(),
+            triangles: vec![0; lods],
+            bytes: vec![0; lods],
+            fragments: 0,
+            volume_bytes: report.volume_bytes,
+            resolution: report.resolution,
+        };
+        for (k, lod) in report.labels.iter().flat_map(|l| l.lods.iter().enumerate()) {
+            summary.triangles[k] += lod.triangles;
+            summary.bytes[k] += lod.bytes;
+            summary.fragments += lod.fragments;
+        }
+        summary
+    }
+}
+
+/// The library's options from the flags (a precomputed layer stays in the map's frame).
+fn surface_options(args: &LabelsArgs) -> SurfaceOptions {
+    let surface = if args.shared {
+        let mut smoothing = SmoothingOptions::default();
+        if let Some(n) = args.smooth {
+            smoothing.iterations = n;
+        }
+        Surface::Shared(smoothing)
+    } else {
+        Surface::MarchingCubes
+    };
+    SurfaceOptions {
+        surface,
+        labels: args.labels.clone(),
+        frame: args.frame.target(),
+    }
+}
+
+/// One label's report, its level 0 the surface at the map's resolution.
+fn label_report(
+    map: &LabelVolume,
+    l: &LabelSurface,
+    name: Option<&LabelName>,
+    file: Option<String>,
+) -> LabelReport {
+    let t = mesh_topology(&l.mesh);
+    let finest = map
+        .grid
+        .spacing
+        .iter()
+        .cloned()
+        .fold(f64::INFINITY, f64::min);
+    LabelReport {
+        label: l.label.value,
+        name: name.map(|n| n.name.clone()),
+        color: name.and_then(|n| n.color),
+        voxels: l.label.voxels,
+        voxel_volume: l.voxel_volume,
+        levels: vec![LevelReport {
+            level: 0,
+            resolution: map.grid.dims.into_iter().max().unwrap_or(0),
+            voxel_size: finest,
+            file,
+            triangles: l.mesh.triangles.len(),
+            volume: l.mesh.signed_volume(),
+            area: l.mesh.area(),
+            closed_manifold: t.is_closed_manifold() && t.is_consistently_oriented(),
+            seconds: 0.0,
+            envelope: None,
+        }],
+    }
+}
+
+fn smoothing_summary(surfaces: &LabelSurfaces) -> Option<SmoothingSummary> {
+    surfaces.smoothing.as_ref().map(|s| SmoothingSummary {
+        iterations: s.iterations,
+        restore_rounds: s.restore_rounds,
+        worst_label: s.worst.map(|w| w.label),
+        worst_volume_change: s.worst.map(|w| w.relative()),
+        constrained_vertices: s.constrained_vertices,
+    })
+}
+
+/// Every label's mesh written as a file, with the all-labels files; the labels' reports.
+fn write_files(
+    args: &LabelsArgs,
+    map: &LabelVolume,
+    surfaces: Vec<LabelSurface>,
+    table: &[LabelName],
+    out: &mut OutputSet,
+) -> Result<(Vec<LabelReport>, AllLabelFiles), CliError> {
+    let ext = args.format.mesh().expect("mesh files");
+    let reports: Vec<LabelReport> = surfaces
+        .par_iter()
+        .map(|l| {
+            let name = name_of(table, l.label.value);
+            let file = file_name(l.label.value, name, 0, 1, ext.as_str());
+            label_report(map, l, name, Some(file))
+        })
+        .collect();
+    for (l, report) in surfaces.iter().zip(&reports) {
+        let file = report.levels[0].file.as_deref().expect("named above");
+        out.mesh(&in_dir(&args.output, file), &l.mesh)?;
+    }
+    let firsts: Vec<(u32, TriangleMesh)> = surfaces
+        .into_iter()
+        .map(|l| (l.label.value, l.mesh))
+        .collect();
+    Ok((
+        reports,
+        write_all_labels(&args.output, args.format, &firsts, table, out)?,
+    ))
+}
+
+/// The precomputed layer of the map and its labels' meshes; the labels' reports.
+fn write_precomputed(
+    args: &LabelsArgs,
+    map: &LabelVolume,
+    surfaces: Vec<LabelSurface>,
+    table: &[LabelName],
+) -> Result<(Vec<LabelReport>, LayerSummary), CliError> {
+    let mut options = PrecomputedOptions::default();
+    options.lods = args.levels.unwrap_or(options.lods);
+    if let Some(bits) = args.quantization_bits {
+        options.quantization_bits = bits;
+    }
+    if let Some(unit) = args.unit {
+        options.nanometres_per_unit = unit.nanometres();
+    }
+    let reports: Vec<LabelReport> = surfaces
+        .par_iter()
+        .map(|l| label_report(map, l, name_of(table, l.label.value), None))
+        .collect();
+    let meshes: Vec<(u32, TriangleMesh)> = surfaces
+        .into_iter()
+        .map(|l| (l.label.value, l.mesh))
+        .collect();
+    let layer = write_layer(&args.output, map, &meshes, &options)
+        .map_err(|e| CliError::Library(voxlod::Error::from(e)))?;
+    Ok((reports, LayerSummary::of(&layer, options.lods)))
+}
+
+/// Every label meshed without a filter, written with the report.
+pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
+    let start = Instant::now();
+    let map = read.labels;
+    let surfaces = voxlod::label_surfaces(&map, &surface_options(args)).map_err(|e| match e {
+        voxlod::Error::Labels(LabelsError::Missing(label, _)) => {
+            CliError::usage(format!("--labels {label}: {e}"))
+        }
+        e => in_file(&args.input, e),
+    })?;
+    let smoothing = smoothing_summary(&surfaces);
+    let surface = if args.shared {
+        "surface_nets"
+    } else {
+        "marching_cubes"
+    };
+    let (reports, all_labels, all_labels_gltf, precomputed, out) = match args.format.mesh() {
+        Some(_) => {
+            let mut out = OutputSet::protecting([&args.input]);
+            out.create_dir(&args.output)?;
+            let (reports, (all, gltf)) =
+                write_files(args, &map, surfaces.labels, &read.table, &mut out)?;
+            (reports, all, gltf, None, out)
+        }
+        None => {
+            let (reports, layer) = write_precomputed(args, &map, surfaces.labels, &read.table)?;
+            (
+                reports,
+                None,
+                None,
+                Some(layer),
+                OutputSet::protecting([&args.input]),
+            )
+        }
+    };
+    let report = LabelsReport {
+        input: args.input.display().to_string(),
+        surface,
+        frame: frame_report(map.world(), args.frame.target()),
+        all_labels,
+        all_labels_gltf,
+        labels: reports,
+        smoothing,
+        precomputed,
+        warnings: read.warnings,
+        total_seconds: start.elapsed().as_secs_f64(),
+    };
+    finish(args, report, out)
+}
+
+/// The report written beside the meshes (or into the layer) and printed.
+fn finish(args: &LabelsArgs, report: LabelsReport, mut out: OutputSet) -> Result<(), CliError> {
+    add_report(&mut out, &args.output, &report)?;
+    out.commit()?;
+    if args.json {
+        return print_json(&report);
+    }
+    for label in &report.labels {
+        print_label(label);
+    }
+    say(format_args!(
+        "{} labels written to {} in {:.2} s",
+        report.labels.len(),
+        args.output.display(),
+        report.total_seconds
+    ));
+    Ok(())
+}

@@ -1,0 +1,214 @@
+//! `voxlod labels` without a filter on a generated map: marching cubes per label by default,
+//! the shared surface nets with `--shared`, a neuroglancer layer with `--format precomputed`,
+//! and the flags that do not go together refused.
+
+mod common;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use common::{arg, assert_clean_failure, json, voxlod};
+use voxlod::core::{mesh_topology, Grid, LabelVolume, TriangleMesh};
+
+/// A 30 × 26 × 22 map (spacing 1 × 1 × 2): two balls that touch, the larger with id 2³²−1,
+/// and a box across the map's border; written as a uint32 NRRD into `dir`.
+fn map(dir: &Path) -> PathBuf {
+    let grid = Grid::new([30, 26, 22], [1.0, 1.0, 2.0], [5.0, 0.0, -3.0]).unwrap();
+    let values = (0..grid.len())
+        .map(|n| [n % 30, n / 30 % 26, n / 780].map(|a| a as f64))
+        .map(|[x, y, z]| {
+            let ball = |c: [f64; 3], r: f64| {
+                (x - c[0]).powi(2) + (y - c[1]).powi(2) + (2.0 * (z - c[2])).powi(2) <= r * r
+            };
+            if ball([18.0, 13.0, 11.0], 8.0) {
+                u32::MAX
+            } else if ball([8.0, 13.0, 11.0], 6.0) {
+                3
+            } else if x < 2.0 && y < 5.0 {
+                9
+            } else {
+                0
+            }
+        })
+        .collect();
+    let path = dir.join("map.nrrd");
+    let map = LabelVolume::from_vec(grid, values).unwrap();
+    voxlod::io::write_label_map(&path, &map).unwrap();
+    path
+}
+
+fn read(path: &Path) -> TriangleMesh {
+    voxlod::io::read_mesh(path).unwrap().mesh
+}
+
+#[test]
+fn every_label_is_closed_and_outward_and_keeps_its_volume() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = map(dir.path());
+    for (name, flags) in [("plain", &[][..]), ("shared", &["--shared"][..])] {
+        let out = dir.path().join(name);
+        let mut args = vec!["labels", arg(&map), "-o", arg(&out), "--json"];
+        args.extend(flags);
+        let report = json(&voxlod(&args));
+        let surface = if flags.is_empty() {
+            "marching_cubes"
+        } else {
+            "surface_nets"
+        };
+        assert_eq!(report["surface"], surface);
+        let labels = report["labels"].as_array().unwrap();
+        let values: Vec<u64> = labels
+            .iter()
+            .map(|l| l["label"].as_u64().unwrap())
+            .collect();
+        assert_eq!(values, [3, 9, u32::MAX as u64]);
+        for l in labels {
+            let level = &l["levels"][0];
+            let mesh = read(&out.join(level["file"].as_str().unwrap()));
+            let t = mesh_topology(&mesh);
+            assert!(
+                t.is_closed_manifold() && t.is_consistently_oriented(),
+                "{name} {l}"
+            );
+            assert_eq!(level["triangles"], mesh.triangles.len());
+            let error = mesh.signed_volume() / l["voxel_volume"].as_f64().unwrap() - 1.0;
+            // Shared and smoothed: the volume kept; marching cubes cuts the corners.
+            let tolerance = if flags.is_empty() { 0.2 } else { 0.01 };
+            assert!(
+                error.abs() < tolerance,
+                "{name} label {}: {error}",
+                l["label"]
+            );
+        }
+        assert!(
+            report["smoothing"].is_object() != flags.is_empty(),
+            "{report}"
+        );
+    }
+}
+
+/// Each triangle as its corners' positions (bit patterns), rotated to start at the smallest.
+fn triangles(mesh: &TriangleMesh) -> Vec<[[u32; 3]; 3]> {
+    mesh.triangles
+        .iter()
+        .map(|t| {
+            let p = t.map(|v| mesh.positions[v as usize].to_array().map(f32::to_bits));
+            let first = (0..3).min_by_key(|&n| p[n]).unwrap();
+            [p[first], p[(first + 1) % 3], p[(first + 2) % 3]]
+        })
+        .collect()
+}
+
+#[test]
+fn shared_neighbours_meet_on_the_same_triangles_without_gap_or_overlap() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = map(dir.path());
+    let out = dir.path().join("shared");
+    voxlod(&[
+        "labels",
+        arg(&map),
+        "-o",
+        arg(&out),
+        "--shared",
+        "--smooth",
+        "4",
+    ]);
+    let small = triangles(&read(&out.join("label-3.ply")));
+    let large = triangles(&read(&out.join(format!("label-{}.ply", u32::MAX))));
+    let mut seen: HashMap<[[u32; 3]; 3], usize> = HashMap::new();
+    for t in small.iter().chain(&large) {
+        *seen.entry(*t).or_default() += 1;
+    }
+    assert!(
+        seen.values().all(|&n| n == 1),
+        "a triangle used twice the same way round"
+    );
+    let reversed = |t: &[[u32; 3]; 3]| {
+        let r = [t[0], t[2], t[1]];
+        let first = (0..3).min_by_key(|&n| r[n]).unwrap();
+        [r[first], r[(first + 1) % 3], r[(first + 2) % 3]]
+    };
+    let between = small
+        .iter()
+        .filter(|t| seen.contains_key(&reversed(t)))
+        .count();
+    assert!(
+        between >= 8,
+        "{between} triangles shared between the two balls"
+    );
+}
+
+#[test]
+fn a_precomputed_layer_holds_every_label_at_every_level() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = map(dir.path());
+    let out = dir.path().join("layer");
+    let report = json(&voxlod(&[
+        "labels",
+        arg(&map),
+        "-o",
+        arg(&out),
+        "--format",
+        "precomputed",
+        "--levels",
+        "2",
+        "--unit",
+        "mm",
+        "--json",
+    ]));
+    let layer = &report["precomputed"];
+    assert_eq!(layer["lods"], 2, "{report}");
+    assert_eq!(layer["resolution"], serde_json::json!([1e6, 1e6, 2e6]));
+    let info: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("info")).unwrap()).unwrap();
+    assert_eq!(info["type"], "segmentation");
+    assert_eq!(info["mesh"], "mesh");
+    for label in [3u64, 9, u32::MAX as u64] {
+        let stored = voxlod::precomputed::read::read_mesh(&out, label).unwrap();
+        let fragments = stored.fragments().unwrap();
+        let per_lod = |k: usize| -> usize {
+            fragments
+                .iter()
+                .filter(|f| f.lod == k)
+                .map(|f| f.fragment.triangles.len())
+                .sum()
+        };
+        assert!(per_lod(0) > 0 && per_lod(1) > 0, "label {label}");
+        assert!(per_lod(1) <= per_lod(0), "label {label}");
+    }
+    assert!(out.join("report.json").is_file());
+}
+
+#[test]
+fn flags_that_do_not_go_together_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = map(dir.path());
+    let out = dir.path().join("out");
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["--smooth", "3"],
+            "--smooth smooths the --shared surface: add --shared",
+        ),
+        (
+            &["--shared", "--levels", "2"],
+            "--shared meshes the labels together without a filter",
+        ),
+        (
+            &["--format", "precomputed", "--radius", "2"],
+            "--filter and --radius make filtered levels",
+        ),
+        (
+            &["--quantization-bits", "10"],
+            "apply to --format precomputed only",
+        ),
+        (&["--levels", "0"], "--levels must be at least 1"),
+    ];
+    for (flags, message) in cases {
+        let mut args = vec!["labels", arg(&map), "-o", arg(&out)];
+        args.extend(flags);
+        let o = voxlod(&args);
+        assert_clean_failure(&o, message);
+        assert_eq!(o.status.code(), Some(2), "{flags:?}");
+        assert!(!out.exists());
+    }
+}
