@@ -56,7 +56,12 @@ fn every_label_closes_outward_by_either_surface() {
         let values: Vec<u32> = surfaces.labels.iter().map(|l| l.label.value).collect();
         assert_eq!(values, [1, 2, 3, 7]);
         for l in &surfaces.labels {
-            assert!(closed_outward(&l.mesh), "{:?} label {}", options.surface, l.label.value);
+            assert!(
+                closed_outward(&l.mesh),
+                "{:?} label {}",
+                options.surface,
+                l.label.value
+            );
         }
     }
 }
@@ -67,7 +72,12 @@ fn shared_surfaces_keep_the_voxel_volume_within_a_percent() {
     assert!(surfaces.smoothing.is_some());
     for l in &surfaces.labels {
         let error = l.mesh.signed_volume() / l.voxel_volume - 1.0;
-        assert!(error.abs() < 0.01, "label {}: {:+.3} %", l.label.value, 100.0 * error);
+        assert!(
+            error.abs() < 0.01,
+            "label {}: {:+.3} %",
+            l.label.value,
+            100.0 * error
+        );
     }
 }
 
@@ -98,7 +108,11 @@ fn neighbours_of_the_shared_surface_use_the_same_triangles_reversed() {
         overlaps += usize::from(labels.len() > 1);
         let reversed = [t[0], t[2], t[1]];
         let first = (0..3).min_by_key(|&n| reversed[n]).unwrap();
-        let reversed = [reversed[first], reversed[(first + 1) % 3], reversed[(first + 2) % 3]];
+        let reversed = [
+            reversed[first],
+            reversed[(first + 1) % 3],
+            reversed[(first + 2) % 3],
+        ];
         if labels == &[2] && uses.get(&reversed).is_some_and(|o| o == &[3]) {
             between += 1;
         }
@@ -113,7 +127,10 @@ fn a_mirrored_map_in_another_frame_stays_outward() {
         direction: DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0)),
         frame: Frame::Lps,
     };
-    for surface in [Surface::MarchingCubes, Surface::Shared(SmoothingOptions::default())] {
+    for surface in [
+        Surface::MarchingCubes,
+        Surface::Shared(SmoothingOptions::default()),
+    ] {
         let options = SurfaceOptions {
             surface,
             frame: Some(Frame::Ras),
