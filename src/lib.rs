@@ -88,9 +88,6 @@ pub use shells::{
     check_layers_levels, check_layers_options, layered_glb, layered_poly_mesh, layered_preview,
     layers, layers_chain, layers_levels, layers_radius, layers_with, Layers, LayersChain,
 };
-pub use voxlod_labels::{
-    LabelSurface, LabelSurfaces, LabelsError, SmoothingOptions, Surface, SurfaceOptions,
-};
 pub use voxlod_pyramid::{asset_lod, asset_lod_by_budget, blockwise, budget, finest, labels};
 pub use voxlod_pyramid::{
     iso_outside_data, run_to_end, Control, EnvelopeStep, ErrorClass, Event, Finest, InvalidOption,
@@ -117,6 +114,7 @@ pub use voxlod_envelope as envelope;
 pub use voxlod_fit as fit;
 pub use voxlod_gltf as gltf;
 pub use voxlod_io as io;
+pub use voxlod_labels as surfaces;
 pub use voxlod_layers as layers;
 pub use voxlod_metrics as metrics;
 pub use voxlod_precomputed as precomputed;

@@ -354,7 +354,7 @@ pub fn compare<'py>(
 }
 
 /// A dict of a mesh's `vertices`, `faces` and `normals` arrays.
-fn mesh_dict(py: Python<'_>, mesh: TriangleMesh) -> PyResult<Bound<'_, PyDict>> {
+pub(crate) fn mesh_dict(py: Python<'_>, mesh: TriangleMesh) -> PyResult<Bound<'_, PyDict>> {
     let dict = PyDict::new(py);
     let (v, f, n) = mesh_arrays(py, mesh);
     dict.set_item("vertices", v)?;

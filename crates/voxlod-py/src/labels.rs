@@ -13,8 +13,12 @@ use pyo3::types::PyDict;
 use voxlod::labels::{find_labels, mesh_labels, select_labels, voxel_volume, LabelError};
 use voxlod::labels::{LabelInfo, LabelOptions};
 
+use voxlod::core::{memory, Grid, LabelVolume};
+use voxlod::surfaces::{LabelSurfaces, SmoothingOptions, Surface, SurfaceOptions};
+
+use crate::arrays::volume_slice;
 use crate::errors::{Failure, Kind};
-use crate::facade::{filter_named, lod_level_dict, volume_from};
+use crate::facade::{filter_named, lod_level_dict, mesh_dict, volume_from};
 
 impl From<LabelError> for Failure {
     /// The map's own faults are bad input, a label asked for and absent a usage error, the
@@ -98,26 +102,25 @@ fn label_dict<'py>(
 
 /// One chunk's labels: values, voxel counts, and first and last index of each (array-axis
 /// order, in the whole map).
-type ChunkLabels = (Vec<i64>, Vec<usize>, Vec<[usize; 3]>, Vec<[usize; 3]>);
+type ChunkLabels = (Vec<u32>, Vec<u64>, Vec<[usize; 3]>, Vec<[usize; 3]>);
 
-/// `chunk_labels(chunk, offset)`, for `voxlod.dask.labels` on a worker: the labels of one chunk
-/// of a map whose first sample is at `offset` (array-axis order), found as `voxlod.labels` finds
-/// them ([`find_labels`]), with their boxes in the whole map's indices. A sample that is not a
-/// label is named by its index in the whole map.
+/// `chunk_labels(chunk, offset)`, for `voxlod.dask.labels` on a worker: the labels of one uint32
+/// chunk of a map whose first sample is at `offset` (array-axis order), found as
+/// `voxlod.labels` finds them (`voxlod::surfaces::find_labels`, one pass), with their boxes in
+/// the whole map's indices.
 #[pyfunction]
 pub fn chunk_labels(
     py: Python<'_>,
-    chunk: PyReadonlyArray3<'_, f32>,
+    chunk: PyReadonlyArray3<'_, u32>,
     offset: [usize; 3],
 ) -> PyResult<ChunkLabels> {
-    let chunk = volume_from(&chunk, [1.0; 3], [0.0; 3])?;
-    let found = py.detach(|| find_labels(&chunk));
+    let (values, dims) = volume_slice(&chunk, "chunk")?;
+    let grid = Grid::new(dims, [1.0; 3], [0.0; 3]).map_err(Failure::from)?;
+    memory::check_allocation("the chunk", memory::bytes_of::<u32>(values.len()))
+        .map_err(Failure::from)?;
+    let chunk = LabelVolume::from_vec(grid, values.to_vec()).map_err(Failure::from)?;
+    let found = py.detach(|| voxlod::surfaces::find_labels(&chunk));
     let [oz, oy, ox] = offset;
-    let found = found.map_err(|e| match e {
-        LabelError::NotALabel(i, j, k, v) => LabelError::NotALabel(i + ox, j + oy, k + oz, v),
-        other => other,
-    });
-    let found = found.map_err(Failure::from)?;
     let zyx = |at: [usize; 3]| [at[2] + oz, at[1] + oy, at[0] + ox];
     Ok((
         found.iter().map(|l| l.value).collect(),
@@ -125,4 +128,79 @@ pub fn chunk_labels(
         found.iter().map(|l| zyx(l.min)).collect(),
         found.iter().map(|l| zyx(l.max)).collect(),
     ))
+}
+
+/// Per label a dict of its mesh, and the smoothing's report.
+type Surfaces<'py> = (Vec<Bound<'py, PyDict>>, Option<Bound<'py, PyDict>>);
+
+/// `label_surfaces(map, spacing, origin, labels, shared, smooth, normals)`: every label of a
+/// `(nz, ny, nx)` uint32 map meshed in one pass without a filter (the facade's
+/// `voxlod::label_surfaces`: marching cubes per label, or with `shared` the surface nets shared
+/// between neighbours, smoothed by `smooth` λ|μ iterations with the volumes kept). Returns per
+/// label (in increasing order, or that of `labels`) a dict of `label`, `voxels`,
+/// `voxel_volume`, `vertices`, `faces` and `normals` (area-weighted, empty when not asked for),
+/// and the smoothing's report (`None` without `shared`). The GIL is released while meshing.
+#[pyfunction]
+#[pyo3(signature = (map, spacing, origin, labels, shared, smooth, normals))]
+#[allow(clippy::too_many_arguments)]
+pub fn label_surfaces<'py>(
+    py: Python<'py>,
+    map: PyReadonlyArray3<'py, u32>,
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    labels: Option<Vec<u32>>,
+    shared: bool,
+    smooth: Option<usize>,
+    normals: bool,
+) -> PyResult<Surfaces<'py>> {
+    let (values, dims) = volume_slice(&map, "volume")?;
+    let zyx = |v: [f64; 3]| [v[2], v[1], v[0]];
+    let grid = Grid::new(dims, zyx(spacing), zyx(origin)).map_err(Failure::from)?;
+    memory::check_allocation("the label map", memory::bytes_of::<u32>(values.len()))
+        .map_err(Failure::from)?;
+    let map = LabelVolume::from_vec(grid, values.to_vec()).map_err(Failure::from)?;
+    let surface = if shared {
+        let mut smoothing = SmoothingOptions::default();
+        smoothing.iterations = smooth.unwrap_or(smoothing.iterations);
+        Surface::Shared(smoothing)
+    } else {
+        Surface::MarchingCubes
+    };
+    let options = SurfaceOptions {
+        surface,
+        labels,
+        frame: None,
+    };
+    let found = py.detach(|| voxlod::label_surfaces(&map, &options).map_err(Failure::from))?;
+    let smoothing = smoothing_dict(py, &found)?;
+    let mut out = Vec::with_capacity(found.labels.len());
+    for mut l in found.labels {
+        if normals {
+            l.mesh.compute_vertex_normals();
+        }
+        let dict = mesh_dict(py, l.mesh)?;
+        dict.set_item("label", l.label.value)?;
+        dict.set_item("voxels", l.label.voxels)?;
+        dict.set_item("voxel_volume", l.voxel_volume)?;
+        out.push(dict);
+    }
+    Ok((out, smoothing))
+}
+
+/// The smoothing's report as a dict (`None` without smoothing): iterations and restoring rounds
+/// run, the worst label's relative volume change, vertices held by their half-voxel box.
+fn smoothing_dict<'py>(
+    py: Python<'py>,
+    found: &LabelSurfaces,
+) -> PyResult<Option<Bound<'py, PyDict>>> {
+    let Some(r) = &found.smoothing else {
+        return Ok(None);
+    };
+    let dict = PyDict::new(py);
+    dict.set_item("iterations", r.iterations)?;
+    dict.set_item("restore_rounds", r.restore_rounds)?;
+    dict.set_item("worst_label", r.worst.map(|w| w.label))?;
+    dict.set_item("worst_volume_change", r.worst.map(|w| w.relative()))?;
+    dict.set_item("constrained_vertices", r.constrained_vertices)?;
+    Ok(Some(dict))
 }

@@ -56,6 +56,7 @@ fn _voxlod(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(facade::envelope, m)?)?;
     m.add_function(wrap_pyfunction!(facade::layers, m)?)?;
     m.add_function(wrap_pyfunction!(labels::labels, m)?)?;
+    m.add_function(wrap_pyfunction!(labels::label_surfaces, m)?)?;
     m.add_function(wrap_pyfunction!(labels::chunk_labels, m)?)?;
     m.add_function(wrap_pyfunction!(scene::read_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene::write_scene, m)?)?;

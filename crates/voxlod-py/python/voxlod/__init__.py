@@ -31,7 +31,7 @@ import numpy as np
 
 from . import _voxlod
 from ._arrays import check_fits, triple, volume_array
-from ._labels import LabelMesh, labels
+from ._labels import LabelMesh, Mesher, labels
 from ._scene import Scene, read_scene, write_scene
 from ._facade import (
     Level,
@@ -68,6 +68,7 @@ __all__ = [
     "compare",
     "layers",
     "labels",
+    "Mesher",
     "LabelMesh",
     "cluster",
     "envelope",

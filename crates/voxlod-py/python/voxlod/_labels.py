@@ -1,6 +1,8 @@
-"""Label maps (segmentations) to meshes: one closed, outward mesh per structure, each with its
-own chain of levels of detail (the library's ``voxlod::labels``; each label's indicator is
-thresholded at ½ and filtered as in the paper's §4 thresholding route)."""
+"""Label maps (segmentations) to meshes: one closed, outward mesh per structure, every label
+meshed in one pass without a filter (the library's ``voxlod::label_surfaces``: marching cubes
+per label, or surface nets shared between neighbours), or each with its own chain of filtered
+levels (``voxlod::labels``; each label's indicator thresholded at ½ and filtered as in the
+paper's §4 thresholding route); and :class:`Mesher`, zmesh's interface on the former."""
 
 from __future__ import annotations
 
@@ -12,7 +14,7 @@ import numpy as np
 from . import _voxlod
 from ._arrays import triple, volume_array
 from ._facade import Level, _levels
-from .errors import UsageError
+from .errors import InputError, UsageError
 
 
 @dataclass
@@ -44,54 +46,172 @@ def labels(
     volume: Any,
     spacing: Sequence[float] = (1.0, 1.0, 1.0),
     labels: Optional[Sequence[int]] = None,
-    levels: int = 1,
+    levels: Optional[int] = None,
     *,
     origin: Sequence[float] = (0.0, 0.0, 0.0),
-    filter: str = "hypercone",
-    radius: float = 1.0,
+    shared: bool = False,
+    smooth: Optional[int] = None,
+    filter: Optional[str] = None,
+    radius: Optional[float] = None,
     normals: bool = True,
 ) -> List[LabelMesh]:
-    """One closed mesh (or chain of ``levels`` levels) per label of a label map, as
-    mesh-n-bone, igneous and zmesh make them.
+    """One closed, outward mesh per label of a label map, as zmesh, igneous and mesh-n-bone
+    make them; or a chain of filtered levels per label.
 
-    The labels are meshed in parallel on every core, a few per core at a time (largest box
-    first, within the memory limit); Ctrl-C is honoured between those groups. Each level is
-    cleaned of slivers, needles and self-intersections (beyond the paper), as ``voxlod labels``
-    does by default.
+    By default every label is meshed in one pass over the map, on every core, by marching
+    cubes of its voxels (the isosurface ½ of the label's indicator, the surface zmesh makes).
+    With ``shared=True`` the labels are meshed together by surface nets (Frisken 2022, as
+    VTK's ``vtkSurfaceNets3D``): every interface between two labels is meshed once and used by
+    both, so neighbours meet without gap or overlap, then smoothed by ``smooth`` λ|μ iterations
+    (default 8; 0 keeps the voxels' faces) with each vertex kept within half a voxel of its
+    corner and each label's volume kept. With ``levels``, ``filter`` or ``radius``, each
+    label's indicator is filtered and contoured instead (the paper's §4 thresholding route),
+    ``levels`` levels at halving resolution, each cleaned of slivers.
 
     Parameters
     ----------
-    volume : (nz, ny, nx) array of integer labels
-        0 is background. Integer dtypes, or floats holding whole numbers (up to 2**24).
+    volume : (nz, ny, nx) array of labels
+        0 is background; labels are whole numbers from 0 to 4294967295 (any integer or float
+        dtype holding such values; the filtered levels take labels up to 2**24).
     spacing, origin : three floats
         In array-axis order (axis 0, 1, 2), like :func:`voxlod.marching_cubes`'s ``spacing``.
     labels : sequence of int, optional
-        Only these labels (each must be in the map); all non-zero labels by default.
-    levels : int
-        Levels per label, each at half the resolution of the one before.
-    filter, radius, normals
-        As for :func:`voxlod.lod_volume`.
+        Only these labels (each must be in the map), in this order; all non-zero labels, in
+        increasing order, by default.
+    levels : int, optional
+        Filtered levels per label, each at half the resolution of the one before.
+    shared, smooth
+        The shared surface and its smoothing iterations (not with the filtered levels).
+    filter, radius
+        The filtered levels' filter (``hypercone`` or ``gaussian``) and radius in voxels.
+    normals : bool
+        Per-vertex normals (the surface's area-weighted, or the filtered density's gradient).
 
     Returns
     -------
-    list of :class:`LabelMesh`, by increasing label, meshes in world (x, y, z) = (axis 2, 1, 0)
-    coordinates.
+    list of :class:`LabelMesh`, meshes in world (x, y, z) = (axis 2, 1, 0) coordinates.
 
     Examples
     --------
     >>> import numpy as np, voxlod
-    >>> seg = np.zeros((12, 12, 20), np.uint8)
+    >>> seg = np.zeros((12, 12, 20), np.uint32)
     >>> seg[2:10, 2:10, 2:9] = 1
-    >>> seg[2:10, 2:10, 9:17] = 2
-    >>> [(m.label, m.voxels, len(m.levels)) for m in voxlod.labels(seg, levels=2)]
-    [(1, 448, 2), (2, 512, 2)]
+    >>> seg[2:10, 2:10, 9:17] = 4000000000
+    >>> [(m.label, m.voxels, len(m.faces) > 0) for m in voxlod.labels(seg, shared=True)]
+    [(1, 448, True), (4000000000, 512, True)]
+    >>> [(m.label, len(m.levels)) for m in voxlod.labels(seg % 7, levels=2)]
+    [(1, 2), (3, 2)]
     """
-    options = label_options(levels, filter, radius, normals)
-    array = label_samples(volume, "volume")
     chosen = None if labels is None else [int(v) for v in labels]
-    found = _voxlod.labels(array, triple(spacing, "spacing"), triple(origin, "origin"), chosen,
-                           options)
-    return [label_mesh(d) for d in found]
+    if levels is not None or filter is not None or radius is not None:
+        if shared or smooth is not None:
+            raise UsageError("shared and smooth mesh the labels together without a filter: "
+                             "they do not go with levels, filter or radius")
+        options = label_options(1 if levels is None else levels, filter or "hypercone",
+                                1.0 if radius is None else radius, normals)
+        found = _voxlod.labels(label_samples(volume, "volume"), triple(spacing, "spacing"),
+                               triple(origin, "origin"), chosen, options)
+        return [label_mesh(d) for d in found]
+    if smooth is not None and not shared:
+        raise UsageError("smooth smooths the shared surface: pass shared=True")
+    if smooth is not None and int(smooth) < 0:
+        raise UsageError(f"smooth must be 0 or more iterations, not {smooth}")
+    if chosen is not None and any(not 0 < v <= 2**32 - 1 for v in chosen):
+        raise UsageError(f"labels are whole numbers from 1 to 4294967295, not {chosen}")
+    array = label_values(volume, "volume")
+    found, _ = _voxlod.label_surfaces(array, triple(spacing, "spacing"), triple(origin, "origin"),
+                                      chosen, bool(shared),
+                                      None if smooth is None else int(smooth), bool(normals))
+    resolution = max(array.shape)
+    return [LabelMesh(label=d["label"], voxels=d["voxels"], voxel_volume=d["voxel_volume"],
+                      levels=[Level(vertices=d["vertices"], faces=d["faces"], normals=d["normals"],
+                                    resolution=resolution, genus=None)])
+            for d in found]
+
+
+def label_values(volume: Any, name: str) -> np.ndarray:
+    """A label map as the C-ordered uint32 array the Rust side reads; values that are not
+    labels (negative, fractional, not finite, above 2**32 - 1) are refused naming the first."""
+    array = np.asarray(volume)
+    check_label_dtype(array.dtype, name)
+    unbounded = array.dtype.kind in "if" or (array.dtype.kind == "u" and array.dtype.itemsize > 4)
+    if unbounded and array.size:
+        valid = (array >= 0) & (array <= 2**32 - 1)
+        if array.dtype.kind == "f":
+            valid &= np.isfinite(array) & (np.floor(array) == array)
+        if not valid.all():
+            at = tuple(int(i) for i in np.argwhere(~valid)[0])
+            raise InputError(f"{name}: {array[at]} at index {at} is not a label (labels are "
+                             "whole numbers from 0 to 4294967295)")
+    return volume_array(array, np.uint32, name)
+
+
+class MesherMesh:
+    """One label's mesh as zmesh's :class:`Mesh` gives it: ``vertices`` (V, 3) float32 in
+    (x, y, z) physical units, ``faces`` (F, 3) uint32, ``normals`` (V, 3) float32 or None."""
+
+    def __init__(self, vertices: np.ndarray, faces: np.ndarray, normals: Optional[np.ndarray]):
+        self.vertices = vertices
+        self.faces = faces
+        self.normals = normals
+
+
+class Mesher:
+    """zmesh's ``Mesher`` on voxlod, so that a zmesh user switches in one line
+    (``from voxlod import Mesher``): ``Mesher(voxel_res).mesh(labels)`` meshes every label of a
+    ``labels[x, y, z]`` array in one pass (:func:`voxlod.labels`), ``ids()`` lists them and
+    ``get(id)`` gives one's vertices and faces, placed as zmesh places them: voxel ``i`` at
+    ``i * voxel_res``, everything one voxel further with ``close=True`` (zmesh pads the array
+    by a voxel on each side then), half a voxel further with ``voxel_centered=True``.
+
+    Beyond zmesh: ``mesh(..., shared=True, smooth=N)`` gives neighbours that share their
+    boundary, smoothed with volumes kept. Unlike zmesh with ``close=False``, every mesh is
+    closed at the array's border. zmesh's simplification (``reduction_factor``, ``max_error``)
+    is not done here: use :func:`voxlod.lod_mesh`; asking for it raises
+    :class:`voxlod.UsageError`.
+    """
+
+    def __init__(self, voxel_res: Sequence[float]):
+        self.voxel_res = triple(voxel_res, "voxel_res")
+        self._meshes: dict = {}
+        self._shift = np.zeros(3, np.float32)
+
+    def mesh(self, data: Any, close: bool = False, shared: bool = False,
+             smooth: Optional[int] = None) -> None:
+        """Meshes every label of ``data`` (indexed ``[x, y, z]``, as zmesh takes it)."""
+        array = np.asarray(data)
+        if array.ndim != 3:
+            raise UsageError(f"data must be a 3-D array indexed [x, y, z], not shape {array.shape}")
+        found = labels(array.T, spacing=self.voxel_res[::-1], shared=shared, smooth=smooth)
+        self._meshes = {m.label: m for m in found}
+        self._shift = np.float32(1.0 if close else 0.0) * np.float32(self.voxel_res)
+
+    def ids(self) -> List[int]:
+        """The labels meshed, in increasing order."""
+        return list(self._meshes)
+
+    def get(self, label: int, normals: bool = False, reduction_factor: int = 0,
+            max_error: Optional[float] = None, voxel_centered: bool = False) -> MesherMesh:
+        """One label's mesh (``normals`` per vertex when asked for)."""
+        if reduction_factor or max_error is not None:
+            raise UsageError("voxlod's Mesher does not simplify (reduction_factor, max_error): "
+                             "use voxlod.lod_mesh")
+        if label not in self._meshes:
+            raise UsageError(f"label {label} was not meshed (ids: {self.ids()[:20]})")
+        level = self._meshes[label].levels[0]
+        shift = self._shift + np.float32(0.5 if voxel_centered else 0.0) * \
+            np.float32(self.voxel_res)
+        vertices = level.vertices + shift if shift.any() else level.vertices
+        return MesherMesh(vertices, level.faces.astype(np.uint32),
+                          level.normals if normals else None)
+
+    def erase(self, label: int) -> None:
+        """Forgets one label's mesh."""
+        self._meshes.pop(label, None)
+
+    def clear(self) -> None:
+        """Forgets every mesh."""
+        self._meshes = {}
 
 
 def label_options(levels: int, filter: str, radius: float, normals: bool) -> tuple:

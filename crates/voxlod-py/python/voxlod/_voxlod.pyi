@@ -96,6 +96,15 @@ def labels(
     labels: Optional[List[int]],
     options: Tuple[int, str, float, bool],
 ) -> List[Dict[str, Any]]: ...
+def label_surfaces(
+    map: np.ndarray,
+    spacing: Tuple[float, float, float],
+    origin: Tuple[float, float, float],
+    labels: Optional[List[int]],
+    shared: bool,
+    smooth: Optional[int],
+    normals: bool,
+) -> Tuple[List[Dict[str, Any]], Optional[Dict[str, Any]]]: ...
 def chunk_labels(
     chunk: F32, offset: Sequence[int]
 ) -> Tuple[List[int], List[int], List[Tuple[int, int, int]], List[Tuple[int, int, int]]]: ...

@@ -53,8 +53,10 @@ from typing import Any, List, Optional, Sequence, Tuple
 import numpy as np
 
 from . import _facade, _voxlod
+from ._facade import Level
 from ._arrays import triple
-from ._labels import LabelMesh, check_label_dtype, label_mesh, label_options, label_samples
+from ._labels import (LabelMesh, check_label_dtype, label_mesh, label_options, label_samples,
+                      label_values)
 from .errors import InputError, NoSurfaceError, UsageError
 
 __all__ = ["marching_cubes", "lod_volume", "labels", "as_dask_array"]
@@ -416,7 +418,7 @@ def _level_runner(array: Any, path: Optional[str], scan: Tuple[Any, ...], client
 def _chunk_labels(chunk: Any, offset: Tuple[int, int, int]) -> Tuple[Any, ...]:
     """One task of :func:`labels`' first pass: the chunk's labels, voxel counts and boxes (in
     the whole map's indices, array-axis order)."""
-    chunk = label_samples(_aligned(chunk), "the label map")
+    chunk = label_values(_aligned(chunk), "the label map")
     return _voxlod.chunk_labels(chunk, tuple(offset))
 
 
@@ -479,16 +481,35 @@ def _mesh_label(value: int, low: Sequence[int], high: Sequence[int], chunks: Lis
     return found[0]
 
 
+def _surface_label(value: int, low: Sequence[int], high: Sequence[int], chunks: List[Any],
+                   corners: List[Sequence[int]], spacing, origin, normals: bool) -> dict:
+    """One task of :func:`labels`' second pass without a filter: the label's marching-cubes
+    mesh from its box (samples ``low .. high``), assembled as :func:`_mesh_label` assembles it,
+    as uint32. The label's cells all lie in its box grown by one voxel and are visited in the
+    same order as in the whole map, so the mesh is the one-process mesh (positions equal up to
+    the rounding of ``origin + index * spacing`` to float32)."""
+    box = np.zeros(tuple(h - l for l, h in zip(low, high)), np.uint32)
+    for chunk, corner in zip(chunks, corners):
+        start = [max(l, c) for l, c in zip(low, corner)]
+        stop = [min(h, c + n) for h, c, n in zip(high, corner, chunk.shape)]
+        part = chunk[tuple(slice(a - c, b - c) for a, b, c in zip(start, stop, corner))]
+        part = label_values(_aligned(part), "the label map")
+        box[tuple(slice(a - l, b - l) for a, b, l in zip(start, stop, low))] = \
+            np.where(part == value, part, np.uint32(0))
+    found, _ = _voxlod.label_surfaces(box, spacing, origin, [int(value)], False, None, normals)
+    return found[0]
+
+
 def labels(
     source: Any,
     *,
     client: Any = None,
     spacing: Sequence[float] = (1.0, 1.0, 1.0),
     labels: Optional[Sequence[int]] = None,
-    levels: int = 1,
+    levels: Optional[int] = None,
     origin: Sequence[float] = (0.0, 0.0, 0.0),
-    filter: str = "hypercone",
-    radius: float = 1.0,
+    filter: Optional[str] = None,
+    radius: Optional[float] = None,
     normals: bool = True,
 ) -> List[LabelMesh]:
     """:func:`voxlod.labels` on a Dask cluster: one closed mesh (or chain of ``levels``
@@ -498,8 +519,11 @@ def labels(
     A first pass, one task per chunk, lists each chunk's labels with their voxel counts and
     boxes. Then one task per label assembles the label's box grown by one voxel (cut to the
     map) from the chunks that hold that label only (elsewhere in the box the label's indicator
-    is 0), and meshes it as :func:`voxlod.labels` does. A chunk that holds no label is read
-    once, one that holds some twice (once per pass, shared by its labels).
+    is 0), and meshes it as :func:`voxlod.labels` does: by marching cubes of its voxels, or
+    with ``levels``, ``filter`` or ``radius`` its filtered levels. A chunk that holds no label
+    is read once, one that holds some twice (once per pass, shared by its labels). The shared
+    surface (``voxlod.labels(shared=True)``) is not offered here: its smoothing moves vertices
+    shared by every label, across the whole map.
 
     Parameters
     ----------
@@ -525,7 +549,9 @@ def labels(
     >>> [(m.label, m.voxels, len(m.levels)) for m in found]
     [(1, 448, 2), (2, 512, 2)]
     """
-    options = label_options(levels, filter, radius, normals)
+    filtered = levels is not None or filter is not None or radius is not None
+    options = label_options(1 if levels is None else levels, filter or "hypercone",
+                            1.0 if radius is None else radius, normals)
     array = as_dask_array(source)
     check_label_dtype(array.dtype, "the label map")
     spacing, origin = triple(spacing, "spacing"), triple(origin, "origin")
@@ -537,6 +563,18 @@ def labels(
         low = [max(f - 1, 0) for f in first]
         high = [min(l + 2, n) for l, n in zip(last, array.shape)]
         box_origin = tuple(o + l * s for o, l, s in zip(origin, low, spacing))
-        tasks.append((_mesh_label, value, low, high, [keys[n] for n in holding],
-                      [chunks[n][0] for n in holding], spacing, box_origin, options))
-    return [label_mesh(d) for d in _graph_results("voxlod-label-meshes", tasks, array, client)]
+        holding_keys, corners = [keys[n] for n in holding], [chunks[n][0] for n in holding]
+        if filtered:
+            tasks.append((_mesh_label, value, low, high, holding_keys, corners, spacing,
+                          box_origin, options))
+        else:
+            tasks.append((_surface_label, value, low, high, holding_keys, corners, spacing,
+                          box_origin, bool(normals)))
+    results = _graph_results("voxlod-label-meshes", tasks, array, client)
+    if filtered:
+        return [label_mesh(d) for d in results]
+    resolution = max(array.shape)
+    return [LabelMesh(label=d["label"], voxels=d["voxels"], voxel_volume=d["voxel_volume"],
+                      levels=[Level(vertices=d["vertices"], faces=d["faces"],
+                                    normals=d["normals"], resolution=resolution, genus=None)])
+            for d in results]

@@ -9,7 +9,9 @@ use serde::Serialize;
 use voxlod::core::{mesh_topology, LabelVolume, TriangleMesh};
 use voxlod::io::{LabelMap, LabelName, OutputSet};
 use voxlod::precomputed::{write_layer, LayerReport, PrecomputedOptions};
-use voxlod::{LabelSurface, LabelSurfaces, LabelsError, SmoothingOptions, Surface, SurfaceOptions};
+use voxlod::surfaces::{
+    LabelSurface, LabelSurfaces, LabelsError, SmoothingOptions, Surface, SurfaceOptions,
+};
 
 use super::{
     file_name, name_of, print_label, write_all_labels, AllLabelFiles, LabelReport, LabelsArgs,
