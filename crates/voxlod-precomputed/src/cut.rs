@@ -11,8 +11,7 @@
 //! are cut at the same points. The point's coordinate across the plane is the plane's, exactly.
 //! Cost: linear in the triangles and the pieces made; a hash map of the crossings per axis.
 
-use std::collections::HashMap;
-
+use rustc_hash::FxHashMap;
 use voxlod_core::glam::DVec3;
 
 /// The position of plane `n` of an axis.
@@ -54,9 +53,9 @@ fn cut_axis(
     origin: f64,
     cell: f64,
 ) -> Vec<[u32; 3]> {
-    let mut crossings: HashMap<(u32, u32, i64), u32> = HashMap::new();
-    let mut out = Vec::with_capacity(triangles.len());
-    let mut ring: Vec<u32> = Vec::new();
+    let mut crossings: FxHashMap<(u32, u32, i64), u32> = FxHashMap::default();
+    let mut out = Vec::with_capacity(triangles.len() + triangles.len() / 8);
+    let (mut ring, mut piece): (Vec<u32>, Vec<u32>) = (Vec::new(), Vec::new());
     for tri in triangles {
         let c = tri.map(|v| positions[v as usize][a]);
         let lo = c[0].min(c[1]).min(c[2]);
@@ -76,20 +75,14 @@ fn cut_axis(
             let (u, v) = (tri[e], tri[(e + 1) % 3]);
             ring.push(u);
             let (cu, cv) = (c[e], c[(e + 1) % 3]);
-            let (s_lo, s_hi) = (
-                slab(origin, cell, cu.min(cv)),
-                slab(origin, cell, cu.max(cv)),
-            );
-            let mut planes: Vec<i64> = (s_lo + 1..=s_hi)
-                .filter(|&n| {
-                    let x = plane(origin, cell, n);
-                    x > cu.min(cv) && x < cu.max(cv)
-                })
-                .collect();
-            if cu > cv {
-                planes.reverse();
-            }
-            for n in planes {
+            let (low, high) = (cu.min(cv), cu.max(cv));
+            let (s_lo, s_hi) = (slab(origin, cell, low), slab(origin, cell, high));
+            // The planes strictly between the endpoints, from u's side to v's.
+            let strictly = |n: &i64| {
+                let x = plane(origin, cell, *n);
+                x > low && x < high
+            };
+            let mut add = |n: i64| {
                 let key = (u.min(v), u.max(v), n);
                 let id = *crossings.entry(key).or_insert_with(|| {
                     let x = crossing(
@@ -102,15 +95,21 @@ fn cut_axis(
                     positions.len() as u32 - 1
                 });
                 ring.push(id);
+            };
+            if cu <= cv {
+                (s_lo + 1..=s_hi).filter(strictly).for_each(&mut add);
+            } else {
+                (s_lo + 1..=s_hi).rev().filter(strictly).for_each(&mut add);
             }
         }
         for s in first..=last {
             let (bottom, top) = (plane(origin, cell, s), plane(origin, cell, s + 1));
-            let piece: Vec<u32> = ring
-                .iter()
-                .copied()
-                .filter(|&v| (bottom..=top).contains(&positions[v as usize][a]))
-                .collect();
+            piece.clear();
+            piece.extend(
+                ring.iter()
+                    .copied()
+                    .filter(|&v| (bottom..=top).contains(&positions[v as usize][a])),
+            );
             for i in 1..piece.len().saturating_sub(1) {
                 out.push([piece[0], piece[i], piece[i + 1]]);
             }
@@ -179,6 +178,8 @@ fn cell_of(
 
 #[cfg(test)]
 mod tests {
+    use std::collections::HashMap;
+
     use super::*;
 
     fn area(positions: &[DVec3], pieces: &[([i64; 3], [u32; 3])]) -> f64 {

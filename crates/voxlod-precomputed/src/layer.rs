@@ -13,8 +13,9 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 use serde_json::json;
 use voxlod_core::glam::DVec3;
-use voxlod_core::{LabelVolume, TriangleMesh};
+use voxlod_core::{memory, LabelVolume, TriangleMesh};
 
+use crate::canonical::{Compact, Compactor};
 use crate::draco::{self, QuantizedFragment};
 use crate::lods::{self, Octree, OctreeOptions};
 use crate::manifest::Manifest;
@@ -84,6 +85,7 @@ pub fn write_layer(
     options.validate()?;
     let frame = StoredFrame::of(&map.world())?;
     check_meshes(meshes)?;
+    check_memory(meshes, options)?;
     check_target(dir)?;
     let partial = partial_dir(dir)?;
     let result = write_into(&partial, map, meshes, options, &frame);
@@ -181,6 +183,22 @@ fn check_meshes(meshes: &[(u32, TriangleMesh)]) -> Result<(), PrecomputedError> 
     Ok(())
 }
 
+/// Asks the memory limit for the octrees of the labels built at once: the largest ones, one
+/// per thread.
+fn check_memory(
+    meshes: &[(u32, TriangleMesh)],
+    options: &PrecomputedOptions,
+) -> Result<(), PrecomputedError> {
+    let mut sizes: Vec<u64> = meshes
+        .iter()
+        .map(|(_, m)| lods::octree_bytes(m.positions.len(), m.triangles.len(), options.lods))
+        .collect();
+    sizes.sort_unstable_by(|a, b| b.cmp(a));
+    let at_once = sizes.iter().take(rayon::current_num_threads()).sum();
+    memory::check_allocation("the octrees of the labels meshed at once", at_once)?;
+    Ok(())
+}
+
 /// One file per manifest and per fragment data, labels in parallel.
 fn write_unsharded(
     mesh_dir: &Path,
@@ -247,11 +265,19 @@ fn empty_report(label: u32) -> LabelReport {
 }
 
 /// The octree's origin for a label: the volume's corner moved down by whole coarsest nodes
-/// until it is at or below every vertex, so that node positions are non-negative and every
-/// label's nodes lie on one global grid.
-fn grid_origin(positions: &[DVec3], frame: &StoredFrame, coarsest: f64) -> DVec3 {
+/// until it is at or below every vertex the triangles use, so that node positions are
+/// non-negative and every label's nodes lie on one global grid.
+fn grid_origin(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    frame: &StoredFrame,
+    coarsest: f64,
+) -> DVec3 {
     let corner = DVec3::from_array(frame.voxel_offset.map(|v| v as f64));
-    let low = positions.iter().fold(DVec3::INFINITY, |m, p| m.min(*p));
+    let low = triangles
+        .iter()
+        .flatten()
+        .fold(DVec3::INFINITY, |m, &v| m.min(positions[v as usize]));
     corner + ((low - corner) / coarsest).floor().min(DVec3::ZERO) * coarsest
 }
 
@@ -274,19 +300,20 @@ fn encode_label(
     let chunk = DVec3::splat(options.fragment_voxels as f64);
     let coarsest = options.fragment_voxels as f64 * (1u64 << (options.lods - 1)) as f64;
     let octree_options = OctreeOptions {
-        grid_origin: grid_origin(&positions, frame, coarsest),
+        grid_origin: grid_origin(&positions, &mesh.triangles, frame, coarsest),
         chunk,
         lods: options.lods,
         ratio: options.lod_ratio,
     };
-    let octree =
-        lods::build(&positions, &mesh.triangles, &octree_options).map_err(|e| match e {
+    let octree = lods::build_unchecked(&positions, &mesh.triangles, &octree_options).map_err(
+        |e| match e {
             PrecomputedError::Mesh { reason, .. } => PrecomputedError::Mesh {
                 label: label as u64,
                 reason,
             },
             other => other,
-        })?;
+        },
+    )?;
     let (manifest, data, lods) = encode_octree(&octree, options.quantization_bits)?;
     let manifest = manifest.to_bytes();
     Ok(Some(Encoded {
@@ -316,13 +343,14 @@ fn encode_octree(
     };
     let mut data = Vec::new();
     let mut reports = Vec::with_capacity(lods);
+    let mut compactor = Compactor::new(octree.positions.len());
     for (k, level) in octree.levels.iter().enumerate() {
         let lattice = Lattice::new(octree.grid_origin, octree.chunk, k, bits);
         let mut report = LodReport::default();
         let (mut positions, mut sizes) = (Vec::new(), Vec::new());
         for node in level.values() {
-            let fragment =
-                quantize_node(&octree.positions, &node.triangles, &lattice, node.position);
+            let piece = compactor.compact(&node.triangles);
+            let fragment = quantize_piece(&octree.positions, piece, &lattice, node.position);
             let bytes = draco::encode(&fragment)?;
             positions.push(node.position);
             sizes.push(
@@ -341,26 +369,32 @@ fn encode_octree(
     Ok((manifest, data, reports))
 }
 
-/// A node's triangles with their own vertices, quantized on the level's lattice.
+/// A node's triangles with their own vertices, quantized on the level's lattice: the vertices
+/// in increasing index order (position order in an [`Octree`]), the triangles as given.
 pub fn quantize_node(
     positions: &[DVec3],
     triangles: &[[u32; 3]],
     lattice: &Lattice,
     cell: [u32; 3],
 ) -> QuantizedFragment {
-    let mut local: std::collections::HashMap<u32, u32> = std::collections::HashMap::new();
-    let mut out = QuantizedFragment::default();
-    for t in triangles {
-        let tri = t.map(|v| {
-            *local.entry(v).or_insert_with(|| {
-                out.positions
-                    .push(lattice.quantize(positions[v as usize], cell));
-                out.positions.len() as u32 - 1
-            })
-        });
-        out.triangles.push(tri);
+    quantize_piece(positions, Compact::of(triangles), lattice, cell)
+}
+
+/// A piece on its own vertices, quantized on the level's lattice in the node at `cell`.
+fn quantize_piece(
+    positions: &[DVec3],
+    piece: Compact,
+    lattice: &Lattice,
+    cell: [u32; 3],
+) -> QuantizedFragment {
+    QuantizedFragment {
+        positions: piece
+            .vertices
+            .iter()
+            .map(|&v| lattice.quantize(positions[v as usize], cell))
+            .collect(),
+        triangles: piece.triangles,
     }
-    out
 }
 
 fn mkdir(path: &Path) -> Result<(), PrecomputedError> {

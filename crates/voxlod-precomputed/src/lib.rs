@@ -34,6 +34,7 @@
 //! all nodes (`quantize.rs`), so a vertex on a face between two nodes of a level has the same
 //! integers in both. Oblique maps are refused: precomputed volumes are axis-aligned.
 
+pub mod canonical;
 pub mod cut;
 pub mod draco;
 pub mod error;
@@ -41,7 +42,6 @@ pub mod layer;
 pub mod lods;
 pub mod manifest;
 pub mod morton;
-pub mod murmur;
 pub mod quantize;
 pub mod read;
 pub mod sharding;

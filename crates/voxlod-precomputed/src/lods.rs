@@ -11,15 +11,23 @@
 //! split of its node (`meshes.md`). Vertices are never created after the cut, only dropped, so
 //! all levels index one vertex array.
 //!
-//! Cost: the cut, then one simplification per node and level (meshoptimizer is about
-//! O(n log n) in the piece's triangles); memory: the vertices and each level's triangles.
+//! The octree is a function of the label's set of triangles: the mesh is welded into a
+//! canonical order before the cut, the vertices renumbered in position order after it, and
+//! each node's piece handed to meshoptimizer on its own vertices (`canonical.rs`), so the same
+//! triangles in another order, or split between blocks with their shared vertices repeated,
+//! give the same octree, whatever the number of threads.
+//!
+//! Cost: two sorts of the vertices, the cut, then one simplification per node and level
+//! (meshoptimizer is about O(n log n) in the piece's triangles); memory: the vertices and each
+//! level's triangles.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 
 use meshopt::{SimplifyOptions, VertexDataAdapter};
 use voxlod_core::glam::DVec3;
 use voxlod_core::memory;
 
+use crate::canonical::{self, Compactor};
 use crate::cut::cut_to_cells;
 use crate::morton;
 use crate::PrecomputedError;
@@ -65,8 +73,11 @@ pub struct OctreeOptions {
 }
 
 /// Builds the octree of a mesh given in the stored model space (vertices with the same
-/// position are merged first). Fails, naming the reason, if the memory limit refuses the work
-/// or a node falls beyond the grid's 32-bit positions.
+/// position are merged first, unused ones dropped). The octree depends on the set of triangles,
+/// not on the order of the vertices, of the triangles or of their corners (`canonical.rs`): its
+/// vertices are in position order, each level-0 node's triangles rotated and sorted, and each
+/// node simplified on its own vertices in position order. Fails, naming the reason, if the
+/// memory limit refuses the work or a node falls beyond the grid's 32-bit positions.
 pub fn build(
     positions: &[DVec3],
     triangles: &[[u32; 3]],
@@ -74,23 +85,30 @@ pub fn build(
 ) -> Result<Octree, PrecomputedError> {
     memory::check_allocation(
         "a label's octree",
-        memory::bytes_of::<DVec3>(positions.len() * 2)
-            + memory::bytes_of::<[u32; 3]>(triangles.len() * (options.lods + 2)),
+        octree_bytes(positions.len(), triangles.len(), options.lods),
     )?;
-    let (mut welded, triangles) = weld(positions, triangles);
+    build_unchecked(positions, triangles, options)
+}
+
+/// An upper estimate of the memory [`build`] takes for a mesh of this size.
+pub fn octree_bytes(vertices: usize, triangles: usize, lods: usize) -> u64 {
+    memory::bytes_of::<DVec3>(vertices * 3)
+        + memory::bytes_of::<([u64; 3], u32)>(vertices)
+        + memory::bytes_of::<[u32; 3]>(triangles * (lods + 4))
+}
+
+/// [`build`] without asking the memory limit (the caller has asked for the whole job).
+pub(crate) fn build_unchecked(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    options: &OctreeOptions,
+) -> Result<Octree, PrecomputedError> {
+    let (mut welded, triangles) = canonical::weld(positions, triangles);
+    let sorted = welded.len();
     let pieces = cut_to_cells(&mut welded, &triangles, options.grid_origin, options.chunk);
-    let mut level0: BTreeMap<u128, Node> = BTreeMap::new();
-    for (cell, t) in pieces {
-        let position = node_position(cell)?;
-        level0
-            .entry(morton::code(position))
-            .or_insert_with(|| Node {
-                position,
-                ..Node::default()
-            })
-            .triangles
-            .push(t);
-    }
+    let (cells, mut pieces): (Vec<[i64; 3]>, Vec<[u32; 3]>) = pieces.into_iter().unzip();
+    canonical::renumber_by_position(&mut welded, sorted, &mut pieces);
+    let level0 = level_zero(&cells, &pieces)?;
     let mut octree = Octree {
         positions: welded,
         grid_origin: options.grid_origin,
@@ -102,16 +120,36 @@ pub fn build(
         .iter()
         .map(|p| (*p - options.grid_origin).as_vec3().to_array())
         .collect();
-    let bytes: &[u8] = meshopt::typed_to_bytes(&relative);
-    let adapter = VertexDataAdapter::new(bytes, 12, 0).map_err(|e| PrecomputedError::Mesh {
-        label: 0,
-        reason: format!("meshoptimizer refused the vertices: {e}"),
-    })?;
+    let mut simplifier = Simplifier::new(&relative, options.ratio);
     for lod in 1..options.lods {
-        let next = coarser(&octree.levels[lod - 1], &adapter, lod, options.ratio);
+        let next = coarser(&octree.levels[lod - 1], &mut simplifier, lod)?;
         octree.levels.push(next);
     }
     Ok(octree)
+}
+
+/// The level-0 nodes: the cut's pieces grouped by cell, in Morton order, each node's triangles
+/// sorted.
+fn level_zero(
+    cells: &[[i64; 3]],
+    pieces: &[[u32; 3]],
+) -> Result<BTreeMap<u128, Node>, PrecomputedError> {
+    let mut keyed: Vec<(u128, [u32; 3], [u32; 3])> = Vec::with_capacity(pieces.len());
+    for (cell, t) in cells.iter().zip(pieces) {
+        let position = node_position(*cell)?;
+        keyed.push((morton::code(position), *t, position));
+    }
+    keyed.sort_unstable();
+    let mut level0: BTreeMap<u128, Node> = BTreeMap::new();
+    for group in keyed.chunk_by(|a, b| a.0 == b.0) {
+        let node = Node {
+            position: group[0].2,
+            triangles: group.iter().map(|g| g.1).collect(),
+            parts: Vec::new(),
+        };
+        level0.insert(group[0].0, node);
+    }
+    Ok(level0)
 }
 
 /// A cell index as a node position, or the reason it is not one.
@@ -126,42 +164,17 @@ fn node_position(cell: [i64; 3]) -> Result<[u32; 3], PrecomputedError> {
     Ok(out)
 }
 
-/// Merges vertices at the same position (so that cut pieces and simplification see one
-/// surface) and drops triangles that then repeat an index.
-fn weld(positions: &[DVec3], triangles: &[[u32; 3]]) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-    let mut first: HashMap<[u64; 3], u32> = HashMap::with_capacity(positions.len());
-    let mut out = Vec::with_capacity(positions.len());
-    let remap: Vec<u32> = positions
-        .iter()
-        .map(|p| {
-            *first
-                .entry(p.to_array().map(f64::to_bits))
-                .or_insert_with(|| {
-                    out.push(*p);
-                    out.len() as u32 - 1
-                })
-        })
-        .collect();
-    let triangles = triangles
-        .iter()
-        .map(|t| t.map(|v| remap[v as usize]))
-        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
-        .collect();
-    (out, triangles)
-}
-
 /// Level `lod` from the level below: each node simplified with its boundary locked, then the
-/// eight children of each new node gathered.
+/// eight children of each new node gathered in Morton order.
 fn coarser(
     finer: &BTreeMap<u128, Node>,
-    adapter: &VertexDataAdapter<'_>,
+    simplifier: &mut Simplifier<'_>,
     lod: usize,
-    ratio: f64,
-) -> BTreeMap<u128, Node> {
+) -> Result<BTreeMap<u128, Node>, PrecomputedError> {
     let error = (1u64 << lod) as f32;
     let mut out: BTreeMap<u128, Node> = BTreeMap::new();
     for child in finer.values() {
-        let kept = simplify(&child.triangles, adapter, ratio, error);
+        let kept = simplifier.simplify(&child.triangles, error)?;
         let position = child.position.map(|c| c >> 1);
         let node = out.entry(morton::code(position)).or_insert_with(|| Node {
             position,
@@ -170,24 +183,61 @@ fn coarser(
         node.triangles.extend(kept);
         node.parts.push((child.position, node.triangles.len()));
     }
-    out
+    Ok(out)
 }
 
-/// One node's piece simplified to about `ratio` of its triangles within `error` (stored
-/// units), its boundary locked.
-fn simplify(
-    triangles: &[[u32; 3]],
-    adapter: &VertexDataAdapter<'_>,
+/// meshoptimizer's simplifier applied to pieces of one vertex array, each on its own vertices.
+struct Simplifier<'a> {
+    /// Every vertex, relative to the grid's origin.
+    relative: &'a [[f32; 3]],
+    /// Fraction of a piece's triangles to keep.
     ratio: f64,
-    error: f32,
-) -> Vec<[u32; 3]> {
-    if triangles.is_empty() {
-        return Vec::new();
+    /// The piece's vertices, reused from piece to piece.
+    local: Vec<[f32; 3]>,
+    /// Puts each piece on its own vertices.
+    compactor: Compactor,
+}
+
+impl<'a> Simplifier<'a> {
+    fn new(relative: &'a [[f32; 3]], ratio: f64) -> Self {
+        Simplifier {
+            relative,
+            ratio,
+            local: Vec::new(),
+            compactor: Compactor::new(relative.len()),
+        }
     }
-    let indices: Vec<u32> = triangles.iter().flatten().copied().collect();
-    let target = 3 * ((triangles.len() as f64 * ratio).ceil() as usize).max(1);
-    let options =
-        SimplifyOptions::LockBorder | SimplifyOptions::Sparse | SimplifyOptions::ErrorAbsolute;
-    let kept = meshopt::simplify(&indices, adapter, target, error, options, None);
-    kept.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect()
+
+    /// A piece simplified to about `ratio` of its triangles within `error` (stored units), its
+    /// boundary locked; the triangles kept are rotated and sorted. The piece is handed to
+    /// meshoptimizer on its own vertices in increasing index order and its triangles in the
+    /// order given, so the result depends on the piece alone.
+    fn simplify(
+        &mut self,
+        triangles: &[[u32; 3]],
+        error: f32,
+    ) -> Result<Vec<[u32; 3]>, PrecomputedError> {
+        if triangles.is_empty() {
+            return Ok(Vec::new());
+        }
+        let piece = self.compactor.compact(triangles);
+        self.local.clear();
+        self.local
+            .extend(piece.vertices.iter().map(|&v| self.relative[v as usize]));
+        let bytes: &[u8] = meshopt::typed_to_bytes(&self.local);
+        let adapter = VertexDataAdapter::new(bytes, 12, 0).map_err(|e| PrecomputedError::Mesh {
+            label: 0,
+            reason: format!("meshoptimizer refused the vertices: {e}"),
+        })?;
+        let indices: &[u32] = piece.triangles.as_flattened();
+        let target = 3 * ((triangles.len() as f64 * self.ratio).ceil() as usize).max(1);
+        let options = SimplifyOptions::LockBorder | SimplifyOptions::ErrorAbsolute;
+        let kept = meshopt::simplify(indices, &adapter, target, error, options, None);
+        let mut out: Vec<[u32; 3]> = kept
+            .chunks_exact(3)
+            .map(|t| canonical::rotate([0, 1, 2].map(|i| piece.vertices[t[i] as usize])))
+            .collect();
+        out.sort_unstable();
+        Ok(out)
+    }
 }

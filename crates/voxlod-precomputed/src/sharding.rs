@@ -13,7 +13,6 @@ use flate2::read::GzDecoder;
 use flate2::write::GzEncoder;
 use serde_json::json;
 
-use crate::murmur;
 use crate::PrecomputedError;
 
 /// How a chunk id becomes its hashed id.
@@ -24,6 +23,16 @@ pub enum ShardHash {
     /// MurmurHash3_x86_128 of its 8 little-endian bytes, low 64 bits.
     #[default]
     Murmurhash3X86_128,
+}
+
+/// The sharded format's hash of a chunk id: the low 64 bits of MurmurHash3_x86_128 (seed 0)
+/// of its 8 little-endian bytes, as neuroglancer and cloud-volume compute it. The hash is the
+/// `murmur3` crate's; the low 64 bits of its `u128` are the digest's first 8 bytes read little
+/// endian, `h1 | h2 << 32`.
+pub fn murmur_hash(id: u64) -> u64 {
+    let mut bytes: &[u8] = &id.to_le_bytes();
+    // Reading from a byte slice never fails; the fallback is never taken.
+    murmur3::murmur3_x86_128(&mut bytes, 0).map_or(0, |h| h as u64)
 }
 
 /// How minishard indices or chunk data are encoded.
@@ -137,7 +146,7 @@ impl ShardingSpec {
         let shifted = id.checked_shr(self.preshift_bits).unwrap_or(0);
         match self.hash {
             ShardHash::Identity => shifted,
-            ShardHash::Murmurhash3X86_128 => murmur::hash_u64(shifted),
+            ShardHash::Murmurhash3X86_128 => murmur_hash(shifted),
         }
     }
 
@@ -323,6 +332,23 @@ pub fn read_chunk(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_hash_is_the_one_cloud_volume_computes() {
+        // Printed by cloud-volume's mmh3.hash64(np.uint64(id).tobytes(), x64arch=False)[0]
+        // (tests/peers.rs runs the same comparison live when the peers are installed).
+        let expected: [(u64, u64); 6] = [
+            (0, 5148371408780832321),
+            (1, 16770674756601302682),
+            (7, 15959679207757848918),
+            (300, 10283220358353951676),
+            ((1 << 40) + 5, 2274969156372510802),
+            (u64::MAX, 6291360166951214362),
+        ];
+        for (id, hash) in expected {
+            assert_eq!(murmur_hash(id), hash, "id {id}");
+        }
+    }
 
     #[test]
     fn bits_grow_with_the_labels() {
