@@ -24,11 +24,8 @@ use rayon::prelude::*;
 
 use crate::blockwise_volume::read_exact_at;
 use crate::decode_target::DecodeTarget;
-use crate::samples::SampleType;
+use crate::samples::{SampleType, BLOCK};
 use crate::{Endian, IoError};
-
-/// Samples per block: 256 Ki (512 KiB of 16-bit samples, 1 MiB of output).
-pub(crate) const BLOCK: usize = 1 << 18;
 
 /// The samples of a grid of `dims` (x fastest), of type `ty`, stored from byte `offset` of
 /// `file` (at `path`, for messages), decoded by `target`. A file shorter than the samples gives

@@ -594,7 +594,7 @@ fn read_ascii<T: DecodeTarget>(
     let mut values = vec![T::Item::default(); count];
     let mut tokens = text.split_whitespace();
     let mut bytes = Vec::new();
-    for (b, out) in values.chunks_mut(block_read::BLOCK).enumerate() {
+    for (b, out) in values.chunks_mut(samples::BLOCK).enumerate() {
         bytes.clear();
         for token in tokens.by_ref().take(out.len()) {
             let v: f64 = token.parse().map_err(|_| {
@@ -602,14 +602,14 @@ fn read_ascii<T: DecodeTarget>(
             })?;
             bytes.extend_from_slice(&v.to_le_bytes());
         }
-        let found = b * block_read::BLOCK + bytes.len() / 8;
-        if found < (b * block_read::BLOCK + out.len()) {
+        let found = b * samples::BLOCK + bytes.len() / 8;
+        if found < (b * samples::BLOCK + out.len()) {
             return Err(IoError::truncated(
                 path,
                 format!("the ascii data is truncated: expected {count} values, found {found}"),
             ));
         }
-        let first = b * block_read::BLOCK;
+        let first = b * samples::BLOCK;
         (target.decode(&bytes, SampleType::F64, Endian::Little, out))
             .map_err(|bad| bad.error(path, dims, first))?;
     }

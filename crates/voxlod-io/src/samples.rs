@@ -174,6 +174,10 @@ pub(crate) fn check_volume_size(
     })
 }
 
+/// Samples per block of the readers that decode block by block (`block_read.rs`,
+/// `stream_read.rs`): 256 Ki (512 KiB of 16-bit samples, 1 MiB of output).
+pub(crate) const BLOCK: usize = 1 << 18;
+
 /// As [`check_volume_size`], for a reader that decodes block by block (`stream_read.rs`,
 /// `block_read.rs`): the 4-byte samples or labels (`noun` says which, "volume" or "label
 /// map") and the blocks of stored bytes in flight (one per thread, no more than the data).
@@ -183,7 +187,7 @@ pub(crate) fn check_decoded_size(
     ty: SampleType,
     noun: &str,
 ) -> Result<(usize, usize), IoError> {
-    let in_flight = crate::block_read::BLOCK.saturating_mul(rayon::current_num_threads());
+    let in_flight = BLOCK.saturating_mul(rayon::current_num_threads());
     check_size(path, dims, ty, noun, |count| {
         let blocks = memory::bytes_of::<u8>(count.min(in_flight)).saturating_mul(ty.size() as u64);
         memory::bytes_of::<u32>(count).saturating_add(blocks)

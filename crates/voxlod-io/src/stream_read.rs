@@ -13,8 +13,8 @@
 use std::io::Read;
 use std::path::Path;
 
-use crate::block_read::BLOCK;
 use crate::decode_target::DecodeTarget;
+use crate::samples::BLOCK;
 use crate::samples::{read_error, short_data, SampleType};
 use crate::{Endian, IoError};
 
