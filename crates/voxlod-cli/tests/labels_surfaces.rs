@@ -71,6 +71,10 @@ fn every_label_is_closed_and_outward_and_keeps_its_volume() {
                 "{name} {l}"
             );
             assert_eq!(level["triangles"], mesh.triangles.len());
+            assert!(
+                level["closed_manifold"].is_null(),
+                "measured only with --check"
+            );
             let error = mesh.signed_volume() / l["voxel_volume"].as_f64().unwrap() - 1.0;
             // Shared and smoothed: the volume kept; marching cubes cuts the corners.
             let tolerance = if flags.is_empty() { 0.2 } else { 0.01 };

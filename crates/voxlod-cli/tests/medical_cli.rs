@@ -206,7 +206,14 @@ fn labels_writes_named_closed_meshes_their_volumes_and_one_gltf_with_label_per_v
     let dir = tempfile::tempdir().unwrap();
     let map = seg_nrrd(dir.path());
     let out = dir.path().join("models");
-    let report = json(&voxlod(&["labels", arg(&map), "-o", arg(&out), "--json"]));
+    let report = json(&voxlod(&[
+        "labels",
+        arg(&map),
+        "-o",
+        arg(&out),
+        "--check",
+        "--json",
+    ]));
     let labels = report["labels"].as_array().unwrap();
     assert_eq!(labels.len(), 3, "{report}");
     assert_eq!(report["frame"], "lps");

@@ -9,10 +9,10 @@ use voxlod::labels::{LabelLevels, LabelOptions};
 use voxlod::{Control, ThenEnvelope};
 
 use super::{
-    file_name, name_of, print_label, write_all_labels, LabelReport, LabelsArgs, LabelsReport,
-    LevelReport,
+    file_name, finish, name_of, print_label, write_all_labels, LabelReport, LabelsArgs,
+    LabelsReport, LevelReport,
 };
-use crate::commands::common::{add_report, in_dir, in_file, print_json, progress, say, CliError};
+use crate::commands::common::{in_dir, in_file, progress, CliError};
 use crate::commands::values::in_flags;
 use crate::commands::world::frame_report;
 
@@ -79,7 +79,7 @@ fn write_label(
             triangles: mesh.triangles.len(),
             volume: mesh.signed_volume(),
             area: mesh.area(),
-            closed_manifold: t.is_closed_manifold() && t.is_consistently_oriented(),
+            closed_manifold: Some(t.is_closed_manifold() && t.is_consistently_oriented()),
             seconds: level.sample_seconds + level.contour_seconds + start.elapsed().as_secs_f64(),
             envelope: level.envelope,
         });
@@ -105,7 +105,7 @@ pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
         .labels
         .to_volume()
         .map_err(|e| in_file(&args.input, e))?;
-    let table = read.table;
+    let (table, mut warnings) = (read.table, read.warnings);
     let mut out = OutputSet::protecting([&args.input]);
     out.create_dir(&args.output)?;
     let bar = progress(0, "labels", args.json);
@@ -129,8 +129,13 @@ pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
             firsts.push((value, mesh));
         }
     }
-    let (all_labels, all_labels_gltf) =
-        write_all_labels(&args.output, args.format, &firsts, &table, &mut out)?;
+    let (all_labels, all_labels_gltf) = write_all_labels(
+        &args.output,
+        args.format,
+        &firsts,
+        &table,
+        (&mut out, &mut warnings),
+    )?;
     let report = LabelsReport {
         input: args.input.display().to_string(),
         surface: "filtered",
@@ -140,20 +145,8 @@ pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
         labels: reports,
         smoothing: None,
         precomputed: None,
-        warnings: read.warnings,
+        warnings,
         total_seconds: start.elapsed().as_secs_f64(),
     };
-    add_report(&mut out, &args.output, &report)?;
-    out.commit()?;
-    if args.json {
-        print_json(&report)?;
-    } else {
-        say(format_args!(
-            "{} labels written to {} in {:.2} s",
-            report.labels.len(),
-            args.output.display(),
-            report.total_seconds
-        ));
-    }
-    Ok(())
+    finish(args, report, out, false)
 }

@@ -18,7 +18,7 @@ use voxlod::labels::merge_labelled;
 use voxlod::sampling::Filter;
 use voxlod::{EnvelopeStep, LevelEpsilon};
 
-use super::common::{in_dir, say, CliError, MeshExtension};
+use super::common::{add_report, in_dir, print_json, say, CliError, MeshExtension};
 use super::values::number;
 use super::world::{FrameArg, FrameReport};
 
@@ -94,6 +94,10 @@ pub struct LabelsArgs {
     #[arg(long, value_name = "E", value_parser = parse_level_epsilon,
         allow_hyphen_values = true)]
     pub then_envelope: Option<LevelEpsilon>,
+    /// Measure each label's topology for the report (closed, manifold, consistently oriented):
+    /// the filtered levels always are; for the one-pass surfaces it costs about what meshing does
+    #[arg(long)]
+    pub check: bool,
     /// Keep plain marching cubes for the filtered levels (no cleaning of slivers, needles and
     /// self-intersections); the default surface is plain marching cubes already
     #[arg(long)]
@@ -168,7 +172,8 @@ struct LevelReport {
     /// Enclosed volume of the mesh, in world units cubed.
     volume: f64,
     area: f64,
-    closed_manifold: bool,
+    /// Closed, manifold and consistently oriented (`null` where not measured: see `--check`).
+    closed_manifold: Option<bool>,
     seconds: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     envelope: Option<EnvelopeStep>,
@@ -241,11 +246,6 @@ fn check_flags(args: &LabelsArgs) -> Result<(), CliError> {
 pub fn run(args: LabelsArgs) -> Result<(), CliError> {
     check_flags(&args)?;
     let read = read_label_map(&args.input)?;
-    if !args.json {
-        for w in &read.warnings {
-            eprintln!("warning: {w}");
-        }
-    }
     args.frame
         .check(read.labels.orientation.frame, &args.input)?;
     if filtered::asked_for(&args) && args.format != LabelFormat::Precomputed {
@@ -253,6 +253,35 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
     } else {
         surfaces::run(&args, read)
     }
+}
+
+/// The report written beside the meshes (or into the layer), then printed: as JSON, or the
+/// warnings, each label's line when `per_label` (the filtered route prints them as it goes) and
+/// a summary.
+fn finish(
+    args: &LabelsArgs,
+    report: LabelsReport,
+    mut out: OutputSet,
+    per_label: bool,
+) -> Result<(), CliError> {
+    add_report(&mut out, &args.output, &report)?;
+    out.commit()?;
+    if args.json {
+        return print_json(&report);
+    }
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
+    for label in report.labels.iter().filter(|_| per_label) {
+        print_label(label);
+    }
+    say(format_args!(
+        "{} labels written to {} in {:.2} s",
+        report.labels.len(),
+        args.output.display(),
+        report.total_seconds
+    ));
+    Ok(())
 }
 
 /// `liver` → `liver`, `Left Kidney` → `left-kidney`: a name safe in a file name.
@@ -295,15 +324,28 @@ fn name_of(table: &[LabelName], value: u32) -> Option<&LabelName> {
 /// The names of the `.vtp` and the `.glb` of every label's level 0 (`None` when not written).
 type AllLabelFiles = (Option<String>, Option<String>);
 
+/// The most triangles the files of all labels together hold: beyond, a viewer would not open
+/// them, and they would double the output; each label's own file is written all the same.
+const ALL_LABELS_MAX_TRIANGLES: usize = 4_000_000;
+
 /// Every label's level 0 (those with a surface) in one `.glb`, and in one `.vtp` when the
-/// per-label files are VTK's (`vtp`, `vtk`); their file names.
+/// per-label files are VTK's (`vtp`, `vtk`); their file names. Not written, with a warning, when
+/// the labels hold more than [`ALL_LABELS_MAX_TRIANGLES`] together.
 fn write_all_labels(
     output: &std::path::Path,
     format: LabelFormat,
     firsts: &[(u32, TriangleMesh)],
     table: &[LabelName],
-    out: &mut OutputSet,
+    (out, warnings): (&mut OutputSet, &mut Vec<String>),
 ) -> Result<AllLabelFiles, CliError> {
+    let triangles: usize = firsts.iter().map(|(_, m)| m.triangles.len()).sum();
+    if triangles > ALL_LABELS_MAX_TRIANGLES {
+        warnings.push(format!(
+            "labels.glb not written: the labels hold {triangles} triangles together, more than \
+             {ALL_LABELS_MAX_TRIANGLES}; each label has its own file (or see --format precomputed)"
+        ));
+        return Ok((None, None));
+    }
     if firsts.is_empty() {
         return Ok((None, None));
     }

@@ -14,10 +14,10 @@ use voxlod::surfaces::{
 };
 
 use super::{
-    file_name, name_of, print_label, write_all_labels, AllLabelFiles, LabelReport, LabelsArgs,
+    file_name, finish, name_of, write_all_labels, AllLabelFiles, LabelReport, LabelsArgs,
     LabelsReport, LevelReport,
 };
-use crate::commands::common::{add_report, in_dir, in_file, print_json, say, CliError};
+use crate::commands::common::{in_dir, in_file, CliError};
 use crate::commands::world::frame_report;
 
 /// What the smoothing of the shared surface did, in the report.
@@ -97,8 +97,12 @@ fn label_report(
     l: &LabelSurface,
     name: Option<&LabelName>,
     file: Option<String>,
+    check: bool,
 ) -> LabelReport {
-    let t = mesh_topology(&l.mesh);
+    let closed_manifold = check.then(|| {
+        let t = mesh_topology(&l.mesh);
+        t.is_closed_manifold() && t.is_consistently_oriented()
+    });
     let finest = map
         .grid
         .spacing
@@ -119,7 +123,7 @@ fn label_report(
             triangles: l.mesh.triangles.len(),
             volume: l.mesh.signed_volume(),
             area: l.mesh.area(),
-            closed_manifold: t.is_closed_manifold() && t.is_consistently_oriented(),
+            closed_manifold,
             seconds: 0.0,
             envelope: None,
         }],
@@ -142,7 +146,7 @@ fn write_files(
     map: &LabelVolume,
     surfaces: Vec<LabelSurface>,
     table: &[LabelName],
-    out: &mut OutputSet,
+    (out, warnings): (&mut OutputSet, &mut Vec<String>),
 ) -> Result<(Vec<LabelReport>, AllLabelFiles), CliError> {
     let ext = args.format.mesh().expect("mesh files");
     let reports: Vec<LabelReport> = surfaces
@@ -150,7 +154,7 @@ fn write_files(
         .map(|l| {
             let name = name_of(table, l.label.value);
             let file = file_name(l.label.value, name, 0, 1, ext.as_str());
-            label_report(map, l, name, Some(file))
+            label_report(map, l, name, Some(file), args.check)
         })
         .collect();
     for (l, report) in surfaces.iter().zip(&reports) {
@@ -163,7 +167,7 @@ fn write_files(
         .collect();
     Ok((
         reports,
-        write_all_labels(&args.output, args.format, &firsts, table, out)?,
+        write_all_labels(&args.output, args.format, &firsts, table, (out, warnings))?,
     ))
 }
 
@@ -184,7 +188,7 @@ fn write_precomputed(
     }
     let reports: Vec<LabelReport> = surfaces
         .par_iter()
-        .map(|l| label_report(map, l, name_of(table, l.label.value), None))
+        .map(|l| label_report(map, l, name_of(table, l.label.value), None, args.check))
         .collect();
     let meshes: Vec<(u32, TriangleMesh)> = surfaces
         .into_iter()
@@ -199,6 +203,7 @@ fn write_precomputed(
 pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
     let start = Instant::now();
     let map = read.labels;
+    let mut warnings = read.warnings;
     let surfaces = voxlod::label_surfaces(&map, &surface_options(args)).map_err(|e| match e {
         voxlod::Error::Labels(LabelsError::Missing(label, _)) => {
             CliError::usage(format!("--labels {label}: {e}"))
@@ -215,8 +220,13 @@ pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
         Some(_) => {
             let mut out = OutputSet::protecting([&args.input]);
             out.create_dir(&args.output)?;
-            let (reports, (all, gltf)) =
-                write_files(args, &map, surfaces.labels, &read.table, &mut out)?;
+            let (reports, (all, gltf)) = write_files(
+                args,
+                &map,
+                surfaces.labels,
+                &read.table,
+                (&mut out, &mut warnings),
+            )?;
             (reports, all, gltf, None, out)
         }
         None => {
@@ -239,27 +249,8 @@ pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
         labels: reports,
         smoothing,
         precomputed,
-        warnings: read.warnings,
+        warnings,
         total_seconds: start.elapsed().as_secs_f64(),
     };
-    finish(args, report, out)
-}
-
-/// The report written beside the meshes (or into the layer) and printed.
-fn finish(args: &LabelsArgs, report: LabelsReport, mut out: OutputSet) -> Result<(), CliError> {
-    add_report(&mut out, &args.output, &report)?;
-    out.commit()?;
-    if args.json {
-        return print_json(&report);
-    }
-    for label in &report.labels {
-        print_label(label);
-    }
-    say(format_args!(
-        "{} labels written to {} in {:.2} s",
-        report.labels.len(),
-        args.output.display(),
-        report.total_seconds
-    ));
-    Ok(())
+    finish(args, report, out, true)
 }
