@@ -5,7 +5,11 @@
 //! `DIR`: a reader sees the previous layer or the new one, never a half-written one. An existing
 //! `DIR` is replaced only if it is empty or a precomputed layer (it has an `info` naming a
 //! `neuroglancer_multiscale_volume`); anything else is refused. Labels are meshed in parallel
-//! (rayon); sharded layers one shard at a time, so memory holds one shard's output.
+//! (rayon), and within a label the nodes of a level are simplified and encoded in parallel;
+//! sharded layers one shard at a time, so memory holds one shard's output. Every file is put
+//! together in a fixed order (labels by id, nodes in Morton order), so the bytes do not depend
+//! on the number of threads, nor on the order of a mesh's vertices and triangles
+//! (`canonical.rs`).
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -17,7 +21,7 @@ use voxlod_core::{memory, LabelVolume, TriangleMesh};
 
 use crate::canonical::{Compact, Compactor};
 use crate::draco::{self, QuantizedFragment};
-use crate::lods::{self, Octree, OctreeOptions};
+use crate::lods::{self, Node, Octree, OctreeOptions};
 use crate::manifest::Manifest;
 use crate::quantize::{Lattice, StoredFrame};
 use crate::sharding::{ShardWriter, ShardingSpec};
@@ -343,22 +347,33 @@ fn encode_octree(
     };
     let mut data = Vec::new();
     let mut reports = Vec::with_capacity(lods);
-    let mut compactor = Compactor::new(octree.positions.len());
     for (k, level) in octree.levels.iter().enumerate() {
         let lattice = Lattice::new(octree.grid_origin, octree.chunk, k, bits);
+        let nodes: Vec<&Node> = level.values().collect();
+        // Fragments encoded in parallel, stored in the nodes' (Morton) order.
+        let fragments: Vec<(usize, Vec<u8>)> = nodes
+            .par_iter()
+            .with_min_len(lods::NODES_PER_TASK)
+            .map_init(
+                || Compactor::new(octree.positions.len()),
+                |compactor, node| {
+                    let piece = compactor.compact(&node.triangles);
+                    let fragment =
+                        quantize_piece(&octree.positions, piece, &lattice, node.position);
+                    Ok((fragment.triangles.len(), draco::encode(&fragment)?))
+                },
+            )
+            .collect::<Result<_, PrecomputedError>>()?;
         let mut report = LodReport::default();
         let (mut positions, mut sizes) = (Vec::new(), Vec::new());
-        for node in level.values() {
-            let piece = compactor.compact(&node.triangles);
-            let fragment = quantize_piece(&octree.positions, piece, &lattice, node.position);
-            let bytes = draco::encode(&fragment)?;
+        for (node, (triangles, bytes)) in nodes.iter().zip(fragments) {
             positions.push(node.position);
             sizes.push(
                 u32::try_from(bytes.len())
                     .map_err(|_| PrecomputedError::Draco("a fragment over 4 GiB".into()))?,
             );
             report.fragments += 1;
-            report.triangles += fragment.triangles.len();
+            report.triangles += triangles;
             report.bytes += bytes.len() as u64;
             data.extend_from_slice(&bytes);
         }

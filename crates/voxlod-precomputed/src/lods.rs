@@ -24,6 +24,7 @@
 use std::collections::BTreeMap;
 
 use meshopt::{SimplifyOptions, VertexDataAdapter};
+use rayon::prelude::*;
 use voxlod_core::glam::DVec3;
 use voxlod_core::memory;
 
@@ -120,9 +121,8 @@ pub(crate) fn build_unchecked(
         .iter()
         .map(|p| (*p - options.grid_origin).as_vec3().to_array())
         .collect();
-    let mut simplifier = Simplifier::new(&relative, options.ratio);
     for lod in 1..options.lods {
-        let next = coarser(&octree.levels[lod - 1], &mut simplifier, lod)?;
+        let next = coarser(&octree.levels[lod - 1], &relative, options.ratio, lod)?;
         octree.levels.push(next);
     }
     Ok(octree)
@@ -164,17 +164,31 @@ fn node_position(cell: [i64; 3]) -> Result<[u32; 3], PrecomputedError> {
     Ok(out)
 }
 
-/// Level `lod` from the level below: each node simplified with its boundary locked, then the
-/// eight children of each new node gathered in Morton order.
+/// Nodes handed to one task when a level's nodes are simplified or encoded in parallel: each
+/// task sets up scratch memory of one mark per vertex of the label.
+pub(crate) const NODES_PER_TASK: usize = 32;
+
+/// Level `lod` from the level below: each node simplified with its boundary locked (in
+/// parallel; each node's result depends on that node alone), then the eight children of each
+/// new node gathered in Morton order.
 fn coarser(
     finer: &BTreeMap<u128, Node>,
-    simplifier: &mut Simplifier<'_>,
+    relative: &[[f32; 3]],
+    ratio: f64,
     lod: usize,
 ) -> Result<BTreeMap<u128, Node>, PrecomputedError> {
     let error = (1u64 << lod) as f32;
+    let children: Vec<&Node> = finer.values().collect();
+    let kept: Vec<Vec<[u32; 3]>> = children
+        .par_iter()
+        .with_min_len(NODES_PER_TASK)
+        .map_init(
+            || Simplifier::new(relative, ratio),
+            |simplifier, child| simplifier.simplify(&child.triangles, error),
+        )
+        .collect::<Result<_, _>>()?;
     let mut out: BTreeMap<u128, Node> = BTreeMap::new();
-    for child in finer.values() {
-        let kept = simplifier.simplify(&child.triangles, error)?;
+    for (child, kept) in children.iter().zip(kept) {
         let position = child.position.map(|c| c >> 1);
         let node = out.entry(morton::code(position)).or_insert_with(|| Node {
             position,
