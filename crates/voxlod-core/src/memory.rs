@@ -179,13 +179,19 @@ fn statm_bytes(column: usize) -> Option<u64> {
     pages.checked_mul(u64::try_from(page).ok()?)
 }
 
-/// The memory left to this process's control group and its ancestors, the smallest.
+/// The memory left to this process's control group and its ancestors, the smallest. The
+/// groups' directories are found once per process (a process does not change groups here);
+/// their limits and usage are read at every call.
 fn cgroup_remaining() -> Option<u64> {
-    let membership = std::fs::read_to_string("/proc/self/cgroup").ok()?;
-    let mounts = std::fs::read_to_string("/proc/self/mountinfo").ok()?;
-    cgroup_memory_dirs(&membership, &mounts)
-        .into_iter()
-        .filter_map(|(dir, root)| remaining_up_to(&dir, &root))
+    static DIRS: std::sync::OnceLock<Option<Vec<(PathBuf, PathBuf)>>> = std::sync::OnceLock::new();
+    let dirs = DIRS.get_or_init(|| {
+        let membership = std::fs::read_to_string("/proc/self/cgroup").ok()?;
+        let mounts = std::fs::read_to_string("/proc/self/mountinfo").ok()?;
+        Some(cgroup_memory_dirs(&membership, &mounts))
+    });
+    dirs.as_ref()?
+        .iter()
+        .filter_map(|(dir, root)| remaining_up_to(dir, root))
         .min()
 }
 

@@ -16,8 +16,8 @@
 //! meet (the surface nets of `surface_nets.rs` share them).
 //!
 //! **Cost.** One read of the map (four rows at a time), O(1) per uniform cell; then per label
-//! O(T) with one hash look-up per triangle corner. Memory: 8 bytes per label and mixed cell,
-//! then the meshes.
+//! O(T), each triangle corner's vertex found in two layers of slots over the label's box.
+//! Memory: 8 bytes per label and mixed cell, the slots of the labels in flight, the meshes.
 
 use glam::{DMat4, DVec3, Vec3};
 use rayon::prelude::*;
@@ -63,6 +63,7 @@ pub fn marching_cubes_of(
             words
         })
         .collect();
+    check_meshes(&tasks, labels.len())?;
     let world = map.world();
     let to_world = DMat4::from_cols_array_2d(&world.matrix()).transpose();
     let flips = world.flips_handedness();
@@ -83,18 +84,14 @@ pub fn marching_cubes_of(
 /// The cells of a map padded by one voxel of background on every side: cell `(ci, cj, ck)`
 /// has its lowest corner at the map's voxel `(ci - 1, cj - 1, ck - 1)`.
 struct CellGrid {
-    /// Voxels of the map along x, y, z.
-    voxels: [usize; 3],
     /// Cells along x, y, z: one more than the voxels.
     dims: [usize; 3],
 }
 
 impl CellGrid {
     fn of(map: &LabelVolume) -> CellGrid {
-        let voxels = map.grid.dims;
         CellGrid {
-            voxels,
-            dims: voxels.map(|n| n + 1),
+            dims: map.grid.dims.map(|n| n + 1),
         }
     }
 
@@ -111,26 +108,72 @@ impl CellGrid {
         ([cell % dx, cell / dx % dy, cell / (dx * dy)], word as u8)
     }
 
-    /// The key of edge `e` of a cell: its lower corner's index in the padded voxel grid, times
-    /// three, plus its axis. Two cells sharing the edge give the same key.
-    fn edge_key(&self, [ci, cj, ck]: [usize; 3], e: u8) -> u64 {
+    /// The lower corner of edge `e` of a cell, in the padded voxel grid, and the edge's axis.
+    /// Two cells sharing the edge give the same corner and axis.
+    fn edge_corner([ci, cj, ck]: [usize; 3], e: u8) -> ([usize; 3], usize) {
         let c = EDGE_CORNERS[e as usize].0 as usize;
-        let (px, py) = (self.voxels[0] + 2, self.voxels[1] + 2);
         let at = [ci + (c & 1), cj + ((c >> 1) & 1), ck + ((c >> 2) & 1)];
-        (((at[2] * py + at[1]) * px + at[0]) as u64) * 3 + EDGE_AXIS[e as usize] as u64
+        (at, EDGE_AXIS[e as usize] as usize)
     }
 
-    /// The midpoint of the edge of `key`, in the map's voxel indices.
-    fn edge_midpoint(&self, key: u64) -> DVec3 {
-        let (px, py) = ((self.voxels[0] + 2) as u64, (self.voxels[1] + 2) as u64);
-        let (corner, axis) = (key / 3, (key % 3) as usize);
-        let mut at = DVec3::new(
-            (corner % px) as f64,
-            (corner / px % py) as f64,
-            (corner / (px * py)) as f64,
-        ) - DVec3::ONE;
-        at[axis] += 0.5;
-        at
+    /// The midpoint of the edge from padded corner `at` along `axis`, in the map's voxel
+    /// indices.
+    fn edge_midpoint(at: [usize; 3], axis: usize) -> DVec3 {
+        let mut p = DVec3::new(at[0] as f64, at[1] as f64, at[2] as f64) - DVec3::ONE;
+        p[axis] += 0.5;
+        p
+    }
+}
+
+/// The vertex of each crossed edge of one label, by its corner and axis, for two layers of
+/// corners along z at a time: a cell of layer `ck` uses corners of layers `ck` and `ck + 1`
+/// only, and the label's cells come in increasing `ck`, so a layer's slots are reset (only
+/// those set) when the cells move past it. Memory: two layers of the label's box along x and y.
+struct VertexWindow {
+    /// The box's first corner along x and y, and its corners per row along x.
+    x0: usize,
+    y0: usize,
+    row: usize,
+    /// Per layer parity, the vertex of each (corner, axis), `NONE` when not made yet.
+    slots: [Vec<u32>; 2],
+    /// Per layer parity, the slots set, and the layer they belong to.
+    touched: [Vec<u32>; 2],
+    layer: [usize; 2],
+}
+
+const NONE: u32 = u32::MAX;
+
+impl VertexWindow {
+    /// A window over cells `lo..=hi` along x and y.
+    fn new(lo: [usize; 2], hi: [usize; 2]) -> VertexWindow {
+        let row = hi[0] - lo[0] + 2;
+        let len = row * (hi[1] - lo[1] + 2) * 3;
+        VertexWindow {
+            x0: lo[0],
+            y0: lo[1],
+            row,
+            slots: [vec![NONE; len], vec![NONE; len]],
+            touched: [Vec::new(), Vec::new()],
+            layer: [usize::MAX; 2],
+        }
+    }
+
+    /// The slot of the edge from `at` along `axis`, its layer's slots reset first if they
+    /// belonged to an older layer.
+    fn slot(&mut self, at: [usize; 3], axis: usize) -> &mut u32 {
+        let parity = at[2] & 1;
+        if self.layer[parity] != at[2] {
+            for &n in &self.touched[parity] {
+                self.slots[parity][n as usize] = NONE;
+            }
+            self.touched[parity].clear();
+            self.layer[parity] = at[2];
+        }
+        let n = ((at[1] - self.y0) * self.row + (at[0] - self.x0)) * 3 + axis;
+        if self.slots[parity][n] == NONE {
+            self.touched[parity].push(n as u32);
+        }
+        &mut self.slots[parity][n]
     }
 }
 
@@ -231,24 +274,47 @@ fn record_cell(
     }
 }
 
+/// Asks the memory limit, once for all labels, for their meshes: a triangle per table entry of
+/// each word and about half a vertex per triangle (each vertex is shared by about six
+/// triangles' corners).
+fn check_meshes(tasks: &[Vec<Vec<u64>>], labels: usize) -> Result<(), LabelsError> {
+    let table = tables();
+    let count: usize = tasks
+        .par_iter()
+        .flat_map(|task| task.par_iter().take(labels))
+        .map(|words| {
+            let triangles = |w: &u64| table.triangle_count[(w & 0xff) as usize] as usize;
+            words.iter().map(triangles).sum::<usize>()
+        })
+        .sum();
+    let bytes = memory::bytes_of::<[u32; 3]>(count) + memory::bytes_of::<Vec3>(count / 2 + 8);
+    memory::check_allocation("the labels' meshes", bytes)?;
+    Ok(())
+}
+
 /// One label's mesh from its words (in cell order): triangles from the tables, one vertex per
-/// crossed edge at its midpoint, placed in the world by `to_world`.
+/// crossed edge at its midpoint (found in a [`VertexWindow`]), placed in the world by
+/// `to_world`; vertices numbered as they first appear. The memory limit was asked by
+/// [`check_meshes`] (the vertex window, two layers of the label's box, is not counted).
 fn label_mesh<'a>(
     cells: &CellGrid,
     words: impl Iterator<Item = &'a [u64]> + Clone,
     to_world: &DMat4,
 ) -> Result<TriangleMesh, LabelsError> {
     let table = tables();
-    let count: usize = words
-        .clone()
-        .flatten()
-        .map(|&w| table.triangle_count[(w & 0xff) as usize] as usize)
-        .sum();
-    // Each vertex is shared by about six triangles' corners: half a vertex per triangle.
-    let bytes = memory::bytes_of::<[u32; 3]>(count) + memory::bytes_of::<Vec3>(count / 2 + 8);
-    memory::check_allocation("a label's mesh", bytes)?;
-    let mut index: FxHashMap<u64, u32> = FxHashMap::default();
-    index.reserve(count / 2 + 8);
+    let (mut count, mut lo, mut hi) = (0usize, [usize::MAX; 2], [0usize; 2]);
+    for &w in words.clone().flatten() {
+        count += table.triangle_count[(w & 0xff) as usize] as usize;
+        let (cell, _) = cells.cell_of(w);
+        for a in 0..2 {
+            lo[a] = lo[a].min(cell[a]);
+            hi[a] = hi[a].max(cell[a]);
+        }
+    }
+    if count == 0 {
+        return Ok(TriangleMesh::default());
+    }
+    let mut vertices = VertexWindow::new(lo, hi);
     let mut positions = Vec::with_capacity(count / 2 + 8);
     let mut triangles = Vec::with_capacity(count);
     for &word in words.flatten() {
@@ -256,12 +322,14 @@ fn label_mesh<'a>(
         let case = case as usize;
         for tri in &table.triangles[case][..table.triangle_count[case] as usize] {
             let mut corner = |e: u8| {
-                let key = cells.edge_key(cell, e);
-                *index.entry(key).or_insert_with(|| {
-                    let p = to_world.transform_point3(cells.edge_midpoint(key));
+                let (at, axis) = CellGrid::edge_corner(cell, e);
+                let slot = vertices.slot(at, axis);
+                if *slot == NONE {
+                    let p = to_world.transform_point3(CellGrid::edge_midpoint(at, axis));
                     positions.push(p.as_vec3());
-                    (positions.len() - 1) as u32
-                })
+                    *slot = (positions.len() - 1) as u32;
+                }
+                *slot
             };
             triangles.push([corner(tri[0]), corner(tri[1]), corner(tri[2])]);
         }
