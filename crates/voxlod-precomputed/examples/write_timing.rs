@@ -1,8 +1,9 @@
 //! Times [`write_layer`] on a generated Voronoi label map meshed by marching cubes, the path of
 //! `voxlod labels SEG --format precomputed`:
 //! `cargo run --release -p voxlod-precomputed --example write_timing -- [N LABELS LODS
-//! plain|sharded|both BITS]` (defaults 256, 1000, 3, both, 16). Prints the meshing time, then per layout the write time, the
-//! triangles per level and the bytes written.
+//! plain|sharded|both BITS FRAGMENT_VOXELS]` (defaults 256, 1000, 3, both, 16, 32). Prints
+//! the meshing time, then per layout the write time (wall and CPU), the triangles per level,
+//! the fragments and their bytes.
 
 use std::time::Instant;
 
@@ -89,6 +90,7 @@ fn main() {
     let (n, count, lods) = (number(0, 256), number(1, 1000) as u32, number(2, 3));
     let layouts = args.get(3).map_or("both", |s| s.as_str());
     let bits = number(4, 16) as u32;
+    let fragment_voxels = number(5, 32);
     let t = Instant::now();
     let map = voronoi(n, count);
     eprintln!(
@@ -117,6 +119,7 @@ fn main() {
             lods,
             sharding,
             quantization_bits: bits,
+            fragment_voxels,
             ..PrecomputedOptions::default()
         };
         let (t, cpu) = (Instant::now(), cpu_seconds());

@@ -3,9 +3,10 @@
 //!
 //! Vertices are ordered by position (x, then y, then z, as exact doubles) and vertices at the
 //! same position are one vertex; a triangle is rotated to start at its least vertex (its
-//! orientation kept) and triangles are sorted. The same triangles given in any order, with
-//! their corners rotated, or with a vertex repeated (as blockwise meshing yields on block
-//! faces) come out as the same arrays. Cost: a sort of the vertices and one of the triangles.
+//! orientation kept) and triangles are sorted, a triangle given twice kept once. The same
+//! triangles given in any order, with their corners rotated, with a vertex repeated or a
+//! triangle given twice (as blockwise meshing yields on block faces) come out as the same
+//! arrays. Cost: a sort of the vertices and one of the triangles.
 
 use voxlod_core::glam::DVec3;
 
@@ -41,8 +42,10 @@ pub fn degenerate(t: &[u32; 3]) -> bool {
 }
 
 /// The vertices used by `triangles`, one per position, in position order, and the triangles on
-/// them rotated and sorted; triangles that repeat a vertex once merged are dropped. Unused
-/// vertices do not count. Indices must be in range (`TriangleMesh::validate`).
+/// them rotated and sorted; triangles that repeat a vertex once merged are dropped, and a
+/// triangle given twice (same corners, same orientation, as two blocks may both emit one on
+/// their common face) is kept once. Unused vertices do not count. Indices must be in range
+/// (`TriangleMesh::validate`).
 pub fn weld(positions: &[DVec3], triangles: &[[u32; 3]]) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let mut used = vec![false; positions.len()];
     triangles
@@ -69,6 +72,7 @@ pub fn weld(positions: &[DVec3], triangles: &[[u32; 3]]) -> (Vec<DVec3>, Vec<[u3
         .map(rotate)
         .collect();
     out.sort_unstable();
+    out.dedup();
     (welded, out)
 }
 

@@ -25,9 +25,9 @@
 //!
 //! # Same triangles, same bytes
 //! A layer's files depend on each label's set of triangles and the options, not on the order
-//! of the mesh's vertices or triangles, on a triangle's first corner, on a vertex being given
-//! several times, or on the number of threads (`canonical.rs`): a label's triangles gathered
-//! from blocks of a map write the same layer as the mesh of the whole map.
+//! of the mesh's vertices or triangles, on a triangle's first corner, on a vertex or a triangle
+//! being given several times, or on the number of threads (`canonical.rs`): a label's
+//! triangles gathered from blocks of a map write the same layer as the mesh of the whole map.
 //!
 //! # Coordinates
 //! The stored model space is neuroglancer's voxel space: voxel `(i, j, k)` of the map is the

@@ -30,8 +30,9 @@ impl Lcg {
 }
 
 /// The same triangles as `mesh`, written differently: every third triangle's corners get
-/// copies of their vertices of their own (as a block boundary would give), then the vertices
-/// are permuted, the triangles shuffled and each triangle's corners rotated.
+/// copies of their vertices of their own and every seventh triangle is given twice (as block
+/// boundaries would give), then the vertices are permuted, the triangles shuffled and each
+/// triangle's corners rotated.
 fn scrambled(mesh: &TriangleMesh, seed: u64) -> TriangleMesh {
     let mut rng = Lcg(seed);
     let mut positions = mesh.positions.clone();
@@ -42,6 +43,8 @@ fn scrambled(mesh: &TriangleMesh, seed: u64) -> TriangleMesh {
             *v = positions.len() as u32 - 1;
         }
     }
+    let twice: Vec<[u32; 3]> = triangles.iter().step_by(7).copied().collect();
+    triangles.extend(twice);
     let mut order: Vec<u32> = (0..positions.len() as u32).collect();
     rng.shuffle(&mut order);
     // Vertex `old` goes to place `place[old]`.
@@ -108,6 +111,7 @@ fn shuffled_vertices_and_triangles_give_the_same_bytes() {
     // The scrambled meshes really are written differently.
     for ((_, a), (_, b)) in meshes.iter().zip(&other) {
         assert!(b.positions.len() > a.positions.len());
+        assert!(b.triangles.len() > a.triangles.len());
         assert_ne!(a.triangles[..10], b.triangles[..10]);
     }
     let dir = tempfile::tempdir().unwrap();
