@@ -14,11 +14,12 @@ use voxlod::labels::{find_labels, mesh_labels, select_labels, voxel_volume, Labe
 use voxlod::labels::{LabelInfo, LabelOptions};
 
 use voxlod::core::{memory, Grid, LabelVolume};
+use voxlod::precomputed::{write_layer, PrecomputedOptions, Sharding};
 use voxlod::surfaces::{LabelSurfaces, SmoothingOptions, Surface, SurfaceOptions};
 
 use crate::arrays::volume_slice;
 use crate::errors::{Failure, Kind};
-use crate::facade::{filter_named, lod_level_dict, mesh_dict, volume_from};
+use crate::facade::{filter_named, lod_level_dict, mesh_dict, mesh_from, volume_from, MeshIn};
 
 impl From<LabelError> for Failure {
     /// The map's own faults are bad input, a label asked for and absent a usage error, the
@@ -203,4 +204,73 @@ fn smoothing_dict<'py>(
     dict.set_item("worst_volume_change", r.worst.map(|w| w.relative()))?;
     dict.set_item("constrained_vertices", r.constrained_vertices)?;
     Ok(Some(dict))
+}
+
+/// One level of detail of a label in the layer: fragments, triangles, Draco bytes.
+type LodFigures = (usize, usize, u64);
+
+/// `write_precomputed(dir, map, spacing, origin, meshes, (lods, quantization_bits, nanometres,
+/// sharding))`: the neuroglancer precomputed segmentation layer of a `(nz, ny, nx)` uint32 map
+/// and its labels' meshes (`(label, (vertices, faces))`, world coordinates as `label_surfaces`
+/// gives them), by the facade's `voxlod::precomputed::write_layer`; `sharding` is `"auto"`,
+/// `"always"` or `"never"`. Returns the layer's report as a dict. The GIL is released while
+/// writing.
+#[pyfunction]
+#[pyo3(signature = (dir, map, spacing, origin, meshes, options))]
+pub fn write_precomputed<'py>(
+    py: Python<'py>,
+    dir: std::path::PathBuf,
+    map: PyReadonlyArray3<'py, u32>,
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    meshes: Vec<(u32, MeshIn<'py>)>,
+    options: (usize, u32, f64, String),
+) -> PyResult<Bound<'py, PyDict>> {
+    let (values, dims) = volume_slice(&map, "volume")?;
+    let zyx = |v: [f64; 3]| [v[2], v[1], v[0]];
+    let grid = Grid::new(dims, zyx(spacing), zyx(origin)).map_err(Failure::from)?;
+    memory::check_allocation("the label map", memory::bytes_of::<u32>(values.len()))
+        .map_err(Failure::from)?;
+    let map = LabelVolume::from_vec(grid, values.to_vec()).map_err(Failure::from)?;
+    let meshes = meshes
+        .iter()
+        .map(|(label, mesh)| Ok((*label, mesh_from(mesh)?)))
+        .collect::<PyResult<Vec<_>>>()?;
+    let (lods, bits, nanometres, sharding) = options;
+    let mut layer = PrecomputedOptions {
+        lods,
+        quantization_bits: bits,
+        nanometres_per_unit: nanometres,
+        ..PrecomputedOptions::default()
+    };
+    layer.sharding = match sharding.as_str() {
+        "auto" => Sharding::Auto,
+        "always" => Sharding::Always,
+        "never" => Sharding::Never,
+        other => {
+            return Err(Failure::new(
+                Kind::Usage,
+                format!("sharding must be auto, always or never, not {other:?}"),
+            )
+            .into())
+        }
+    };
+    let report = py
+        .detach(|| write_layer(&dir, &map, &meshes, &layer))
+        .map_err(|e| Failure::from(voxlod::Error::from(e)))?;
+    let dict = PyDict::new(py);
+    dict.set_item("dir", report.dir.display().to_string())?;
+    dict.set_item("sharded", report.sharding.is_some())?;
+    dict.set_item("volume_bytes", report.volume_bytes)?;
+    dict.set_item("resolution", report.resolution)?;
+    let labels: Vec<(u32, Vec<LodFigures>)> = report
+        .labels
+        .iter()
+        .map(|l| {
+            let lods = l.lods.iter().map(|d| (d.fragments, d.triangles, d.bytes));
+            (l.label, lods.collect())
+        })
+        .collect();
+    dict.set_item("labels", labels)?;
+    Ok(dict)
 }

@@ -57,6 +57,7 @@ fn _voxlod(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(facade::layers, m)?)?;
     m.add_function(wrap_pyfunction!(labels::labels, m)?)?;
     m.add_function(wrap_pyfunction!(labels::label_surfaces, m)?)?;
+    m.add_function(wrap_pyfunction!(labels::write_precomputed, m)?)?;
     m.add_function(wrap_pyfunction!(labels::chunk_labels, m)?)?;
     m.add_function(wrap_pyfunction!(scene::read_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene::write_scene, m)?)?;

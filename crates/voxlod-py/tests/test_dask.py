@@ -352,3 +352,17 @@ def test_bad_label_maps_raise():
         voxlod.dask.labels(da.from_array(seg.astype(np.complex64), chunks=10))
     with pytest.raises(voxlod.UsageError, match="levels"):
         voxlod.dask.labels(da.from_array(seg, chunks=10), levels=0)
+
+
+def test_a_precomputed_layer_from_dask_is_the_one_process_layer(client, segmentation, tmp_path):
+    keywords = dict(spacing=(1.5, 1.0, 1.0), origin=(2.0, -3.0, 0.5), levels=2, sharding="always")
+    voxlod.precomputed(tmp_path / "whole", segmentation, **keywords)
+    array = da.from_array(segmentation, chunks=((16, 14, 10), (20, 28), (24, 24, 16)))
+    voxlod.dask.precomputed(tmp_path / "dask", array, client=client, **keywords)
+    files = sorted(p.relative_to(tmp_path / "whole") for p in (tmp_path / "whole").rglob("*")
+                   if p.is_file())
+    assert len(files) >= 4  # info, a volume chunk, mesh/info and the shard
+    assert files == sorted(p.relative_to(tmp_path / "dask") for p in (tmp_path / "dask").rglob("*")
+                           if p.is_file())
+    for f in files:
+        assert (tmp_path / "whole" / f).read_bytes() == (tmp_path / "dask" / f).read_bytes(), f

@@ -142,3 +142,18 @@ def test_the_mesher_answers_as_zmesh_does(segmentation):
         assert abs(abs(va) / vb - 1) < 2e-3, (label, va, vb)
     with pytest.raises(voxlod.UsageError, match="reduction_factor"):
         ours.get(1, reduction_factor=10)
+
+
+def test_a_precomputed_layer_reads_back_in_cloud_volume(segmentation, tmp_path):
+    layer = tmp_path / "layer"
+    report = voxlod.precomputed(layer, segmentation, spacing=SPACING, levels=2, unit="nm")
+    assert [label for label, _ in report["labels"]] == [1, 2, 3]
+    assert (layer / "info").is_file() and (layer / "mesh" / "info").is_file()
+    cloudvolume = pytest.importorskip("cloudvolume", reason="cloud-volume is not installed: "
+                                      "the layer is not read back (pip install cloud-volume)")
+    cv = cloudvolume.CloudVolume(f"file://{layer}", progress=False)
+    assert np.array_equal(np.asarray(cv[:, :, :])[..., 0], segmentation.T)
+    for label, lods in report["labels"]:
+        for lod, (_, triangles, _) in enumerate(lods):
+            mesh = cv.mesh.get(label, lod=lod)[label]
+            assert len(mesh.faces) == triangles, (label, lod)

@@ -31,7 +31,7 @@ import numpy as np
 
 from . import _voxlod
 from ._arrays import check_fits, triple, volume_array
-from ._labels import LabelMesh, Mesher, labels
+from ._labels import LabelMesh, Mesher, labels, precomputed
 from ._scene import Scene, read_scene, write_scene
 from ._facade import (
     Level,
@@ -69,6 +69,7 @@ __all__ = [
     "layers",
     "labels",
     "Mesher",
+    "precomputed",
     "LabelMesh",
     "cluster",
     "envelope",

@@ -243,3 +243,40 @@ def label_mesh(found: dict) -> LabelMesh:
     """One label's dict from the Rust side as a :class:`LabelMesh`."""
     return LabelMesh(label=found["label"], voxels=found["voxels"],
                      voxel_volume=found["voxel_volume"], levels=_levels((found["levels"], [])))
+
+
+def precomputed(
+    directory: Any,
+    volume: Any,
+    meshes: Optional[List[LabelMesh]] = None,
+    *,
+    spacing: Sequence[float] = (1.0, 1.0, 1.0),
+    origin: Sequence[float] = (0.0, 0.0, 0.0),
+    levels: int = 3,
+    quantization_bits: int = 16,
+    unit: str = "nm",
+    sharding: str = "auto",
+    shared: bool = False,
+) -> dict:
+    """Writes ``directory`` as a neuroglancer precomputed segmentation layer, as
+    ``voxlod labels SEG -o DIR --format precomputed`` does: the labels of ``volume`` in raw
+    chunks and per label a multi-resolution mesh of ``levels`` levels (Draco fragments on the
+    octree's grid, each level simplified from the finer one with the seams locked, so no crack
+    opens between levels), sharded above 512 labels (``sharding``: ``auto``, ``always`` or
+    ``never``). ``meshes`` are the labels' meshes as :func:`labels` returns them (made here,
+    ``shared`` or not, when not given); ``unit`` is the unit of ``spacing`` (``nm``, ``um`` or
+    ``mm``). cloud-volume reads the layer back. Returns the layer's report (per label and level:
+    fragments, triangles, bytes).
+    """
+    nanometres = {"nm": 1.0, "um": 1e3, "mm": 1e6}.get(unit)
+    if nanometres is None:
+        raise UsageError(f"unit must be nm, um or mm, not {unit!r}")
+    array = label_values(volume, "volume")
+    if meshes is None:
+        meshes = labels(array, spacing=spacing, origin=origin, shared=shared, normals=False)
+    pairs = [(int(m.label), (np.ascontiguousarray(m.vertices, np.float32),
+                             np.ascontiguousarray(m.faces, np.uint32))) for m in meshes]
+    return _voxlod.write_precomputed(str(directory), array, triple(spacing, "spacing"),
+                                     triple(origin, "origin"), pairs,
+                                     (int(levels), int(quantization_bits), nanometres,
+                                      str(sharding)))

@@ -105,6 +105,14 @@ def label_surfaces(
     smooth: Optional[int],
     normals: bool,
 ) -> Tuple[List[Dict[str, Any]], Optional[Dict[str, Any]]]: ...
+def write_precomputed(
+    dir: str,
+    map: np.ndarray,
+    spacing: Tuple[float, float, float],
+    origin: Tuple[float, float, float],
+    meshes: List[Tuple[int, Tuple[np.ndarray, np.ndarray]]],
+    options: Tuple[int, int, float, str],
+) -> Dict[str, Any]: ...
 def chunk_labels(
     chunk: F32, offset: Sequence[int]
 ) -> Tuple[List[int], List[int], List[Tuple[int, int, int]], List[Tuple[int, int, int]]]: ...

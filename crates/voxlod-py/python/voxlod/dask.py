@@ -578,3 +578,27 @@ def labels(
                       levels=[Level(vertices=d["vertices"], faces=d["faces"],
                                     normals=d["normals"], resolution=resolution, genus=None)])
             for d in results]
+
+
+def precomputed(
+    directory: Any,
+    source: Any,
+    *,
+    client: Any = None,
+    spacing: Sequence[float] = (1.0, 1.0, 1.0),
+    origin: Sequence[float] = (0.0, 0.0, 0.0),
+    levels: int = 3,
+    quantization_bits: int = 16,
+    unit: str = "nm",
+    sharding: str = "auto",
+) -> dict:
+    """:func:`voxlod.precomputed` with the labels meshed on a Dask cluster
+    (:func:`labels`, each label's box where its chunks are): the same bytes as one process
+    writes, since the meshes are the same and the layer's bytes depend only on them and the
+    map. The map itself is gathered once to write its chunks."""
+    array = as_dask_array(source)
+    meshes = labels(array, client=client, spacing=spacing, origin=origin, normals=False)
+    from ._labels import precomputed as write
+    return write(directory, np.asarray(array), meshes, spacing=spacing, origin=origin,
+                 levels=levels, quantization_bits=quantization_bits, unit=unit,
+                 sharding=sharding)
