@@ -23,6 +23,23 @@ pub fn code(p: [u32; 3]) -> u128 {
     half(0) | half(16) << 48
 }
 
+/// Every third bit of `x` (bit `3i` to bit `i`), 16 of them: the inverse of [`spread`].
+#[inline]
+fn compact(x: u64) -> u32 {
+    let mut x = x & 0x2492_4924_9249;
+    x = (x | x >> 2) & 0x0c30_c30c_30c3;
+    x = (x | x >> 4) & 0x00f0_0f00_f00f;
+    x = (x | x >> 8) & 0x0000_ff00_00ff;
+    x = (x | x >> 16) & 0xffff;
+    x as u32
+}
+
+/// The node position of a Morton code made by [`code`].
+#[inline]
+pub fn decode(code: u128) -> [u32; 3] {
+    std::array::from_fn(|a| compact((code >> a) as u64) | compact((code >> (48 + a)) as u64) << 16)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -57,6 +74,7 @@ mod tests {
                 (seed >> 40) as u32 ^ 0xdead_beef,
             ];
             assert_eq!(code(p), naive(p), "{p:?}");
+            assert_eq!(decode(code(p)), p);
         }
         assert_eq!(code([u32::MAX; 3]), (1u128 << 96) - 1);
     }
