@@ -58,14 +58,7 @@ fn cut_axis(
     let (mut ring, mut piece): (Vec<u32>, Vec<u32>) = (Vec::new(), Vec::new());
     for tri in triangles {
         let c = tri.map(|v| positions[v as usize][a]);
-        let lo = c[0].min(c[1]).min(c[2]);
-        let hi = c[0].max(c[1]).max(c[2]);
-        let first = slab(origin, cell, lo);
-        // The last slab whose interior the triangle reaches.
-        let mut last = slab(origin, cell, hi);
-        if plane(origin, cell, last) == hi && last > first {
-            last -= 1;
-        }
+        let (first, last) = slab_range(c, origin, cell);
         if first >= last {
             out.push(tri);
             continue;
@@ -118,36 +111,71 @@ fn cut_axis(
     out
 }
 
+/// The slabs of axis `a` whose interiors a triangle with coordinates `c` reaches: the first
+/// and the last (equal for a triangle that crosses no plane of the axis; a triangle flat on a
+/// plane is in the slab above it).
+#[inline]
+fn slab_range(c: [f64; 3], origin: f64, cell: f64) -> (i64, i64) {
+    let lo = c[0].min(c[1]).min(c[2]);
+    let hi = c[0].max(c[1]).max(c[2]);
+    let first = slab(origin, cell, lo);
+    let mut last = slab(origin, cell, hi);
+    if plane(origin, cell, last) == hi && last > first {
+        last -= 1;
+    }
+    (first, last)
+}
+
+/// The cell of a triangle that crosses no grid plane, or `None` if it crosses one.
+#[inline]
+fn single_cell(t: [u32; 3], positions: &[DVec3], origin: DVec3, cell: DVec3) -> Option<[i64; 3]> {
+    let mut out = [0i64; 3];
+    for a in 0..3 {
+        let c = t.map(|v| positions[v as usize][a]);
+        let (first, last) = slab_range(c, origin[a], cell[a]);
+        if first < last {
+            return None;
+        }
+        out[a] = first;
+    }
+    Some(out)
+}
+
 /// Cuts the mesh on the grid of `cell`-sized cells from `origin` and returns each piece with
 /// its cell (`floor((centroid − origin) / cell)`, non-negative when `origin` is at or below
 /// every vertex; a piece flat on a plane goes to the cell above it). New vertices are appended
-/// to `positions`; triangles with a repeated index are dropped.
+/// to `positions`; triangles with a repeated index are dropped. Triangles inside one cell
+/// are passed through as they are; only the others are cut, axis by axis.
 pub fn cut_to_cells(
     positions: &mut Vec<DVec3>,
     triangles: &[[u32; 3]],
     origin: DVec3,
     cell: DVec3,
 ) -> Vec<([i64; 3], [u32; 3])> {
-    let mut pieces: Vec<[u32; 3]> = triangles
-        .iter()
-        .copied()
-        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
-        .collect();
+    let mut out = Vec::with_capacity(triangles.len() + triangles.len() / 8);
+    let mut pieces: Vec<[u32; 3]> = Vec::new();
+    for &t in triangles {
+        if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
+            continue;
+        }
+        match single_cell(t, positions, origin, cell) {
+            Some(c) => out.push((c, t)),
+            None => pieces.push(t),
+        }
+    }
     for a in 0..3 {
         pieces = cut_axis(positions, pieces, a, origin[a], cell[a]);
     }
-    pieces
-        .into_iter()
-        .map(|t| {
-            let centroid = t
-                .iter()
-                .map(|&v| positions[v as usize])
-                .fold(DVec3::ZERO, |s, p| s + p)
-                / 3.0;
-            let c = std::array::from_fn(|a| cell_of(t, positions, a, origin[a], cell[a], centroid));
-            (c, t)
-        })
-        .collect()
+    out.extend(pieces.into_iter().map(|t| {
+        let centroid = t
+            .iter()
+            .map(|&v| positions[v as usize])
+            .fold(DVec3::ZERO, |s, p| s + p)
+            / 3.0;
+        let c = std::array::from_fn(|a| cell_of(t, positions, a, origin[a], cell[a], centroid));
+        (c, t)
+    }));
+    out
 }
 
 /// The slab of axis `a` holding a piece: its centroid's, unless rounding put the centroid of a
