@@ -161,15 +161,33 @@ fn main() {
     run(&map);
 }
 
+/// CPU seconds of this process so far (all threads), from /proc (0 elsewhere).
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let fields: Vec<&str> = stat
+        .rsplit(')')
+        .next()
+        .unwrap_or("")
+        .split_whitespace()
+        .collect();
+    let tick = |n: usize| {
+        fields
+            .get(n)
+            .and_then(|f| f.parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
+    (tick(11) + tick(12)) / 100.0
+}
+
 fn run(map: &LabelVolume) {
-    let t = Instant::now();
+    let (t, c) = (Instant::now(), cpu_seconds());
     let mut surface = surface_nets(map, &SurfaceNetsOptions::default()).unwrap();
-    let nets = t.elapsed().as_secs_f64();
+    let (nets, nets_cpu) = (t.elapsed().as_secs_f64(), cpu_seconds() - c);
     let report = smooth(&mut surface, &SmoothingOptions::default()).unwrap();
-    let smoothed = t.elapsed().as_secs_f64();
+    let (smoothed, smoothed_cpu) = (t.elapsed().as_secs_f64(), cpu_seconds() - c);
     let labels = surface.labels();
     let meshes = surface.label_meshes(&labels).unwrap();
-    let total = t.elapsed().as_secs_f64();
+    let (total, total_cpu) = (t.elapsed().as_secs_f64(), cpu_seconds() - c);
     let label_triangles: usize = meshes.iter().map(|m| m.triangles.len()).sum();
     println!(
         "{} labels; shared surface {} vertices, {} triangles; label meshes {} triangles",
@@ -180,7 +198,7 @@ fn run(map: &LabelVolume) {
     );
     println!(
         "surface nets {nets:.3} s, + smoothing {smoothed:.3} s, + every label's mesh {total:.3} s \
-         ({} threads)",
+         ({} threads; CPU time {nets_cpu:.2}, {smoothed_cpu:.2}, {total_cpu:.2} s)",
         rayon::current_num_threads()
     );
     let voxel: f64 = map.grid.spacing.iter().product();

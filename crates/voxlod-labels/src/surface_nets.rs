@@ -42,9 +42,12 @@ use std::sync::OnceLock;
 
 use rayon::prelude::*;
 use voxlod_core::glam::{DMat3, DVec3, Vec3};
-use voxlod_core::{memory, LabelVolume, TriangleMesh, WorldTransform};
+use voxlod_core::{memory, LabelVolume, WorldTransform};
 
 use crate::LabelsError;
+
+mod extract;
+pub(crate) use extract::LabelSlots;
 
 /// How [`surface_nets`] works (the surface itself has no parameter).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -145,7 +148,7 @@ pub struct SharedSurface {
 
 /// The shared surface of every label of `map` (the module's contract). Fails only when the
 /// memory limit refuses the output or a task's layers, or when the map has more than 2³² − 1
-/// vertices or quads. A map of one label only gives an empty surface.
+/// vertices or 2³⁰ − 1 quads. A map of one label only gives an empty surface.
 ///
 /// Cost: O(voxels) in two parallel passes plus O(output).
 pub fn surface_nets(
@@ -164,7 +167,8 @@ pub fn surface_nets(
     let plane_counts: Vec<u32> = counts.iter().flat_map(|c| c.0.iter().copied()).collect();
     let vertices: usize = plane_counts.iter().map(|&c| c as usize).sum();
     let quads: usize = counts.iter().map(|c| c.1).sum();
-    if vertices > u32::MAX as usize || quads > (u32::MAX / 2) as usize {
+    // Label meshes list a triangle as `t << 1` plus its side: under 2³¹ triangles.
+    if vertices > u32::MAX as usize || quads > (u32::MAX / 4) as usize {
         return Err(LabelsError::Core(voxlod_core::CoreError::InvalidGrid(
             format!("{vertices} vertices and {quads} quads are beyond 32-bit indices"),
         )));
@@ -751,221 +755,4 @@ fn face_at(corner: [u32; 3], tri: [[u32; 3]; 3], flip: bool) -> (u8, u8) {
     let (qe, qf) = (positive(e), positive(f));
     let octant = ((outward < 0) as usize) << axis | qe << e | qf << f;
     ((axis * 4 + qe + 2 * qf) as u8, octant as u8)
-}
-
-impl SharedSurface {
-    /// The labels other than 0 that have triangles, sorted. Cost: O(triangles), parallel.
-    pub fn labels(&self) -> Vec<u32> {
-        let mut labels: Vec<u32> = self
-            .sides
-            .par_chunks(4096)
-            .fold(Vec::new, |mut acc: Vec<u32>, chunk| {
-                let mut last = [u32::MAX; 2];
-                for s in chunk.iter().step_by(2) {
-                    if *s != last {
-                        acc.extend(s.iter().filter(|&&l| l != 0));
-                        last = *s;
-                    }
-                }
-                acc.sort_unstable();
-                acc.dedup();
-                acc
-            })
-            .reduce(Vec::new, |mut a, b| {
-                a.extend(b);
-                a.sort_unstable();
-                a.dedup();
-                a
-            });
-        labels.dedup();
-        labels
-    }
-
-    /// Whether the index-to-world transform reverses windings.
-    fn flips(&self) -> bool {
-        self.world.flips_handedness()
-    }
-
-    /// `label`'s closed, outward mesh: its triangles, wound counter-clockwise seen from outside
-    /// the label, over its own compacted vertices (positions copied from the shared ones), with
-    /// non-manifold corners split (module docs). Empty for a label without triangles.
-    pub fn label_mesh(&self, label: u32) -> TriangleMesh {
-        self.label_mesh_with_sources(label).0
-    }
-
-    /// [`SharedSurface::label_mesh`] and, per vertex of that mesh, the shared vertex it copies.
-    pub fn label_mesh_with_sources(&self, label: u32) -> (TriangleMesh, Vec<u32>) {
-        let triangles: Vec<u32> = (0..self.triangles.len() as u32)
-            .filter(|&t| self.sides[t as usize].contains(&label))
-            .collect();
-        let mut scratch = Scratch::default();
-        self.extract(label, &triangles, &mut scratch)
-    }
-
-    /// The meshes of `labels`, in that order, in one pass over the triangles and then in
-    /// parallel per label. Fails only when the memory limit refuses the per-label lists or the
-    /// threads' scratch (a word per shared vertex per thread).
-    pub fn label_meshes(&self, labels: &[u32]) -> Result<Vec<TriangleMesh>, LabelsError> {
-        let lists = self.triangles_by_label(labels)?;
-        let threads = rayon::current_num_threads();
-        memory::check_allocation(
-            "the label meshes' scratch",
-            memory::bytes_of::<u64>(self.positions.len()) * threads as u64,
-        )?;
-        // One scratch per thread, made once (rayon's per-job init would make one per split).
-        let pool: Vec<std::sync::Mutex<Scratch>> =
-            (0..threads).map(|_| Default::default()).collect();
-        Ok(labels
-            .par_iter()
-            .zip(lists.par_iter())
-            .map(|(&label, list)| {
-                let at = rayon::current_thread_index().unwrap_or(0) % threads;
-                let mut scratch = pool[at].lock().unwrap_or_else(|e| e.into_inner());
-                self.extract(label, list, &mut scratch).0
-            })
-            .collect())
-    }
-
-    /// For each asked label (by position in `labels`), the triangles it uses.
-    fn triangles_by_label(&self, labels: &[u32]) -> Result<Vec<Vec<u32>>, LabelsError> {
-        let mut order: Vec<(u32, usize)> = labels.iter().copied().zip(0..).collect();
-        order.sort_unstable();
-        let slot = |label: u32| -> Option<usize> {
-            order
-                .binary_search_by_key(&label, |o| o.0)
-                .ok()
-                .map(|n| order[n].1)
-        };
-        let mut counts = vec![0usize; labels.len()];
-        let mut last = ([u32::MAX; 2], [None, None]);
-        for s in &self.sides {
-            if *s != last.0 {
-                last = (*s, [slot(s[0]), slot(s[1])]);
-            }
-            last.1.iter().flatten().for_each(|&n| counts[n] += 1);
-        }
-        memory::check_allocation(
-            "the label meshes' triangle lists",
-            memory::bytes_of::<u32>(counts.iter().sum()),
-        )?;
-        let mut lists: Vec<Vec<u32>> = counts.iter().map(|&c| Vec::with_capacity(c)).collect();
-        last = ([u32::MAX; 2], [None, None]);
-        for (t, s) in self.sides.iter().enumerate() {
-            if *s != last.0 {
-                last = (*s, [slot(s[0]), slot(s[1])]);
-            }
-            last.1
-                .iter()
-                .flatten()
-                .for_each(|&n| lists[n].push(t as u32));
-        }
-        Ok(lists)
-    }
-
-    /// One label's mesh from its triangles (module docs), and each vertex's shared source.
-    fn extract(&self, label: u32, list: &[u32], scratch: &mut Scratch) -> (TriangleMesh, Vec<u32>) {
-        scratch.begin(self.positions.len());
-        let mut sources = Vec::new();
-        let mut triangles = Vec::with_capacity(list.len());
-        let mut singular: Vec<(u32, u32, u8, u32)> = Vec::new();
-        for &t in list {
-            let mut tri = self.triangles[t as usize];
-            if self.sides[t as usize][0] != label {
-                tri.swap(1, 2);
-            }
-            let out_t = triangles.len() as u32;
-            let local = std::array::from_fn(|c| {
-                let v = tri[c];
-                if self.flags[v as usize].is_singular() {
-                    singular.push((v, out_t, c as u8, t));
-                    u32::MAX
-                } else {
-                    scratch.local(v, &mut sources)
-                }
-            });
-            triangles.push(local);
-        }
-        if !singular.is_empty() {
-            self.split_singular(label, &mut singular, &mut triangles, &mut sources);
-        }
-        let positions = sources
-            .iter()
-            .map(|&v| self.positions[v as usize])
-            .collect();
-        (TriangleMesh::new(positions, triangles), sources)
-    }
-
-    /// Gives each corner of the label's triangles at a singular vertex the copy of that vertex
-    /// for its sheet (`sheets`), appending the copies to `sources`. `singular` holds (shared
-    /// vertex, output triangle, corner, shared triangle).
-    fn split_singular(
-        &self,
-        label: u32,
-        singular: &mut [(u32, u32, u8, u32)],
-        triangles: &mut [[u32; 3]],
-        sources: &mut Vec<u32>,
-    ) {
-        singular.sort_unstable();
-        for group in singular.chunk_by(|a, b| a.0 == b.0) {
-            let v = group[0].0;
-            let faces: Vec<(u8, u8)> = group
-                .iter()
-                .map(|&(_, _, _, t)| {
-                    let mut tri = self.triangles[t as usize];
-                    if self.sides[t as usize][0] != label {
-                        tri.swap(1, 2);
-                    }
-                    let corners = tri.map(|w| self.corners[w as usize]);
-                    face_at(self.corners[v as usize], corners, self.flips())
-                })
-                .collect();
-            let roots = sheets(&faces);
-            let mut copies: Vec<(u8, u32)> = Vec::new();
-            for (&(_, out, c, _), &(face, _)) in group.iter().zip(&faces) {
-                let root = roots[face as usize];
-                let id = match copies.iter().find(|p| p.0 == root) {
-                    Some(p) => p.1,
-                    None => {
-                        sources.push(v);
-                        let id = sources.len() as u32 - 1;
-                        copies.push((root, id));
-                        id
-                    }
-                };
-                triangles[out as usize][c as usize] = id;
-            }
-        }
-    }
-}
-
-/// A label's map from shared vertices to its own, reused across labels: a stamp per shared
-/// vertex says whether the slot belongs to the current label.
-#[derive(Default)]
-struct Scratch {
-    /// Per shared vertex: the label pass that wrote it (high word) and the local index.
-    slots: Vec<u64>,
-    pass: u32,
-}
-
-impl Scratch {
-    fn begin(&mut self, vertices: usize) {
-        if self.slots.len() != vertices || self.pass == u32::MAX {
-            self.slots = vec![0; vertices];
-            self.pass = 0;
-        }
-        self.pass += 1;
-    }
-
-    /// The local index of shared vertex `v`, made (and its source recorded) on first use.
-    #[inline]
-    fn local(&mut self, v: u32, sources: &mut Vec<u32>) -> u32 {
-        let slot = &mut self.slots[v as usize];
-        if (*slot >> 32) as u32 == self.pass {
-            return *slot as u32;
-        }
-        let id = sources.len() as u32;
-        sources.push(v);
-        *slot = (self.pass as u64) << 32 | id as u64;
-        id
-    }
 }

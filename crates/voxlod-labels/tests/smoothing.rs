@@ -8,6 +8,7 @@ use voxlod_core::glam::Vec3;
 use voxlod_core::{mesh_topology, Grid, LabelVolume};
 use voxlod_labels::smoothing::{smooth, SmoothingOptions, SmoothingReport};
 use voxlod_labels::surface_nets::{surface_nets, SharedSurface, SurfaceNetsOptions, VertexKind};
+use voxlod_labels::LabelsError;
 
 fn map_of(
     dims: [usize; 3],
@@ -274,6 +275,38 @@ fn a_voronoi_map_keeps_every_sizeable_label_within_one_percent() {
     assert_in_boxes(&surface, [1.0; 3], 0.5);
     assert_shared(&surface);
     assert!(report.constrained_vertices < surface.positions.len());
+    // The meshes taken out together (triangles sorted by label in chunks, two-plane windows)
+    // equal those taken out one by one (a filter over every triangle).
+    let labels = surface.labels();
+    let together = surface.label_meshes(&labels).unwrap();
+    for (&label, mesh) in labels.iter().zip(&together) {
+        assert_eq!(mesh, &surface.label_mesh(label), "label {label}");
+    }
+}
+
+/// Positions, triangles, report and label meshes bit for bit the same on 1 and 3 threads.
+#[test]
+fn the_result_does_not_depend_on_the_number_of_threads() {
+    let map = octants(7, true);
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let (_, surface, report) = smoothed(&map, &SmoothingOptions::default());
+            let meshes = surface.label_meshes(&surface.labels()).unwrap();
+            (
+                surface.positions.clone(),
+                surface.triangles.clone(),
+                report,
+                meshes,
+            )
+        })
+    };
+    let (one, three) = (run(1), run(3));
+    assert!(one.2.iterations > 0 && one.2.restore_rounds > 0);
+    assert_eq!(one, three);
 }
 
 #[test]
@@ -294,7 +327,11 @@ fn options_out_of_range_are_refused() {
             ..SmoothingOptions::default()
         },
     ] {
-        assert!(smooth(&mut surface, &bad).is_err());
+        let error = smooth(&mut surface, &bad).unwrap_err();
+        assert!(
+            matches!(error, LabelsError::InvalidOption { option, .. } if option.starts_with("smoothing ")),
+            "{error}"
+        );
     }
     let report = smooth(&mut surface, &SmoothingOptions::none()).unwrap();
     assert!(report.volumes.iter().all(|v| v.before == v.after));
