@@ -159,9 +159,10 @@ fn mask(half: Vec3) -> Vec3 {
     Vec3::select(half.cmpgt(Vec3::ZERO), Vec3::ONE, Vec3::ZERO)
 }
 
-/// Per vertex between two labels, the gradient of its inside label's volume, and the two
-/// labels (`[u32::MAX; 2]` for other vertices). A vertex between exactly two labels has every
-/// triangle between the same two, in the same order. Cost: O(triangles), parallel over
+/// Per vertex, the gradient of the volume of the inside label of its last triangle, and that
+/// triangle's two labels (`[u32::MAX; 2]` for a vertex without triangles). Meaningful for the
+/// vertices between exactly two labels (the only ones the callers use): such a vertex has
+/// every triangle between the same two, in the same order. Cost: O(triangles), parallel over
 /// chunks of corner planes in two colours (a chunk's triangles touch its planes and the next
 /// chunk's first, so chunks of one colour write apart).
 fn gradients(surface: &SharedSurface, layout: &Layout, q: &[Vec3]) -> (Vec<Vec3>, Vec<[u32; 2]>) {
@@ -204,11 +205,10 @@ fn gradients(surface: &SharedSurface, layout: &Layout, q: &[Vec3]) -> (Vec<Vec3>
                     let tri = surface.triangles[t];
                     let [a, b, c] = tri.map(|v| q[v as usize]);
                     let area = (b - a).cross(c - a) / 6.0;
+                    let pair = surface.sides[t];
                     for v in tri {
-                        if surface.flags[v as usize].has_two_labels() {
-                            g[v as usize - first] += area;
-                            s[v as usize - first] = surface.sides[t];
-                        }
+                        g[v as usize - first] += area;
+                        s[v as usize - first] = pair;
                     }
                 }
             });
