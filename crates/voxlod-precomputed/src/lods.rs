@@ -17,9 +17,9 @@
 //! triangles in another order, or split between blocks with their shared vertices repeated,
 //! give the same octree, whatever the number of threads.
 //!
-//! Cost: two sorts of the vertices, the cut, then one simplification per node and level
-//! (meshoptimizer is about O(n log n) in the piece's triangles); memory: the vertices and each
-//! level's triangles.
+//! Cost: a sort of the vertices and one of the triangles, the cut, then one simplification
+//! per node and level (meshoptimizer is about O(n log n) in the piece's triangles; the nodes of
+//! a level run in parallel); memory: the vertices and each level's triangles.
 
 use std::collections::BTreeMap;
 
