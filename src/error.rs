@@ -175,7 +175,7 @@ impl Error {
             Error::Metrics(e) => metrics_class(e),
             Error::Budget(e) => budget_class(e),
             Error::Labels(LabelsError::Core(e)) => core_class(e),
-            Error::Labels(LabelsError::Missing(..)) => Usage,
+            Error::Labels(LabelsError::Missing(..) | LabelsError::InvalidOption { .. }) => Usage,
             Error::Labels(_) => BadInput,
             Error::Precomputed(Precomputed::Core(e)) => core_class(e),
             Error::Precomputed(Precomputed::Io { .. }) => Io,
