@@ -5,7 +5,7 @@ against its voxel volume.
 
 Run with the peers' Python (numpy, scipy, zmesh, vtk):
 
-    ~/.cache/voxlod-peers/bin/python scripts/labels-bench.py [VOXLOD_BINARY] [--map ellipsoids|voronoi|FILE.nrrd] [--size N] [--labels L]
+    ~/.cache/voxlod-peers/bin/python scripts/labels-bench.py [VOXLOD_BINARY] [--map ellipsoids|voronoi] [--size N] [--labels L] [--no-flying-edges]
 
 Maps are made here and written as uint32 NRRD (raw): `ellipsoids` (default 256^3, 50 random
 ellipsoids, spacing 1 x 1 x 1.5, later ones drawn over earlier ones) and `voronoi` (default
@@ -150,7 +150,7 @@ def run_vtk_flying_edges(labels, spacing):
 
 def main():
     args = sys.argv[1:]
-    binary, kind, n, count = "target/release/voxlod", "ellipsoids", None, None
+    binary, kind, n, count, flying_edges = "target/release/voxlod", "ellipsoids", None, None, True
     while args:
         a = args.pop(0)
         if a == "--map":
@@ -159,6 +159,8 @@ def main():
             n = int(args.pop(0))
         elif a == "--labels":
             count = int(args.pop(0))
+        elif a == "--no-flying-edges":
+            flying_edges = False
         else:
             binary = a
     load = os.getloadavg()[0]
@@ -192,8 +194,9 @@ def main():
         seconds, tris = run_vtk_nets(labels, spacing, smoothing)
         print(f"{'vtkSurfaceNets3D' + (' smoothed' if smoothing else ''):22s} {seconds:6.2f} s "
               f"{tris:29d} triangles (shared)")
-    seconds, tris = run_vtk_flying_edges(labels, spacing)
-    print(f"{'vtkDiscreteFlyingEdges3D':22s} {seconds:6.2f} s {tris:29d} triangles")
+    if flying_edges:
+        seconds, tris = run_vtk_flying_edges(labels, spacing)
+        print(f"{'vtkDiscreteFlyingEdges3D':22s} {seconds:6.2f} s {tris:29d} triangles")
     print(f"peak memory of this Python (map, zmesh, VTK): "
           f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MiB")
     for name, meshes in results.items():
