@@ -346,7 +346,7 @@ def test_bad_label_maps_raise():
     with pytest.raises(voxlod.UsageError, match=r"no label 7 \(it holds 1\)"):
         voxlod.dask.labels(da.from_array(seg, chunks=10), labels=[7])
     seg[13, 14, 15] = 2.5
-    with pytest.raises(voxlod.InputError, match=r"sample \(15, 14, 13\) holds 2.5"):
+    with pytest.raises(voxlod.InputError, match=r"2.5 at index \(13, 14, 15\) is not a label"):
         voxlod.dask.labels(da.from_array(seg, chunks=10))
     with pytest.raises(voxlod.UsageError, match="integers"):
         voxlod.dask.labels(da.from_array(seg.astype(np.complex64), chunks=10))

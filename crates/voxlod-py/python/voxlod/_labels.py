@@ -129,9 +129,11 @@ def labels(
             for d in found]
 
 
-def label_values(volume: Any, name: str) -> np.ndarray:
-    """A label map as the C-ordered uint32 array the Rust side reads; values that are not
-    labels (negative, fractional, not finite, above 2**32 - 1) are refused naming the first."""
+def label_values(volume: Any, name: str, offset: Sequence[int] = (0, 0, 0)) -> np.ndarray:
+    """A label map (or a piece of one whose first sample is at ``offset`` in the whole map) as
+    the C-ordered uint32 array the Rust side reads; values that are not labels (negative,
+    fractional, not finite, above 2**32 - 1) are refused naming the first by its index in the
+    whole map."""
     array = np.asarray(volume)
     check_label_dtype(array.dtype, name)
     unbounded = array.dtype.kind in "if" or (array.dtype.kind == "u" and array.dtype.itemsize > 4)
@@ -141,7 +143,8 @@ def label_values(volume: Any, name: str) -> np.ndarray:
             valid &= np.isfinite(array) & (np.floor(array) == array)
         if not valid.all():
             at = tuple(int(i) for i in np.argwhere(~valid)[0])
-            raise InputError(f"{name}: {array[at]} at index {at} is not a label (labels are "
+            where = tuple(a + int(o) for a, o in zip(at, offset))
+            raise InputError(f"{name}: {array[at]} at index {where} is not a label (labels are "
                              "whole numbers from 0 to 4294967295)")
     return volume_array(array, np.uint32, name)
 

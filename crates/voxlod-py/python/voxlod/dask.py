@@ -418,7 +418,7 @@ def _level_runner(array: Any, path: Optional[str], scan: Tuple[Any, ...], client
 def _chunk_labels(chunk: Any, offset: Tuple[int, int, int]) -> Tuple[Any, ...]:
     """One task of :func:`labels`' first pass: the chunk's labels, voxel counts and boxes (in
     the whole map's indices, array-axis order)."""
-    chunk = label_values(_aligned(chunk), "the label map")
+    chunk = label_values(_aligned(chunk), "the label map", offset)
     return _voxlod.chunk_labels(chunk, tuple(offset))
 
 
