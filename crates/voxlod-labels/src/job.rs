@@ -12,7 +12,7 @@ use voxlod_core::{Frame, LabelVolume, Placement, TriangleMesh};
 use crate::find::{find_labels, select_labels, LabelInfo};
 use crate::marching_cubes::marching_cubes_of;
 use crate::smoothing::{smooth, SmoothingOptions, SmoothingReport};
-use crate::surface_nets::{surface_nets, SurfaceNetsOptions};
+use crate::surface_nets::{surface_nets, SharedSurface, SurfaceNetsOptions};
 use crate::LabelsError;
 
 /// Which surface every label gets.
@@ -86,20 +86,84 @@ pub fn label_surfaces(
     map: &LabelVolume,
     options: &SurfaceOptions,
 ) -> Result<LabelSurfaces, LabelsError> {
-    let chosen = select_labels(find_labels(map), options.labels.as_deref())?;
-    let (meshes, smoothing) = match &options.surface {
-        Surface::MarchingCubes => (marching_cubes_of(map, &chosen)?, None),
+    let plan = Plan::of(map, options)?;
+    let meshed = mesh(map, &plan, &options.surface)?;
+    finish(plan, meshed)
+}
+
+/// [`label_surfaces`], taking the map and dropping it as soon as the labels' surface is made:
+/// the shared surface's smoothing and the labels' meshes then run without it, so the peak is
+/// the map and the surface, or the surface and the meshes, not all three.
+pub fn label_surfaces_owned(
+    map: LabelVolume,
+    options: &SurfaceOptions,
+) -> Result<LabelSurfaces, LabelsError> {
+    let plan = Plan::of(&map, options)?;
+    let meshed = mesh(&map, &plan, &options.surface)?;
+    drop(map);
+    finish(plan, meshed)
+}
+
+/// What the labels' meshes need from the map once it is gone: the labels chosen, the change of
+/// frame, the voxel's volume.
+struct Plan {
+    chosen: Vec<LabelInfo>,
+    to_frame: Placement,
+    voxel: f64,
+}
+
+impl Plan {
+    fn of(map: &LabelVolume, options: &SurfaceOptions) -> Result<Plan, LabelsError> {
+        let chosen = select_labels(find_labels(map), options.labels.as_deref())?;
+        let to_frame = options.frame.map_or(Placement::IDENTITY, |target| {
+            Placement::between_frames(map.orientation.frame, target)
+        });
+        let voxel = map.grid.spacing.iter().product::<f64>();
+        Ok(Plan {
+            chosen,
+            to_frame,
+            voxel,
+        })
+    }
+}
+
+/// The surface made from the map: the labels' meshes, or the shared surface to smooth.
+enum Meshed<'a> {
+    Meshes(Vec<TriangleMesh>),
+    Shared(Box<SharedSurface>, &'a SmoothingOptions),
+}
+
+/// The pass over the map of the [`Surface`] asked for.
+fn mesh<'a>(
+    map: &LabelVolume,
+    plan: &Plan,
+    surface: &'a Surface,
+) -> Result<Meshed<'a>, LabelsError> {
+    Ok(match surface {
+        Surface::MarchingCubes => Meshed::Meshes(marching_cubes_of(map, &plan.chosen)?),
         Surface::Shared(smoothing) => {
-            let mut shared = surface_nets(map, &SurfaceNetsOptions::default())?;
-            let report = smooth(&mut shared, smoothing)?;
-            let values: Vec<u32> = chosen.iter().map(|l| l.value).collect();
+            let shared = surface_nets(map, &SurfaceNetsOptions::default())?;
+            Meshed::Shared(Box::new(shared), smoothing)
+        }
+    })
+}
+
+/// The labels' meshes (the shared surface smoothed and taken apart first), moved into the frame
+/// and checked.
+fn finish(plan: Plan, meshed: Meshed) -> Result<LabelSurfaces, LabelsError> {
+    let (meshes, smoothing) = match meshed {
+        Meshed::Shared(mut shared, options) => {
+            let report = smooth(&mut shared, options)?;
+            let values: Vec<u32> = plan.chosen.iter().map(|l| l.value).collect();
             (shared.label_meshes(&values)?, Some(report))
         }
+        Meshed::Meshes(meshes) => (meshes, None),
     };
-    let to_frame = options.frame.map_or(Placement::IDENTITY, |target| {
-        Placement::between_frames(map.orientation.frame, target)
-    });
-    let voxel = map.grid.spacing.iter().product::<f64>();
+    let Plan {
+        chosen,
+        to_frame,
+        voxel,
+    } = plan;
     let labels = chosen
         .into_par_iter()
         .zip(meshes)

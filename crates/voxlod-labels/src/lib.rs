@@ -20,7 +20,9 @@ pub mod surface_nets;
 
 pub use error::LabelsError;
 pub use find::{find_labels, select_labels, LabelInfo};
-pub use job::{label_surfaces, LabelSurface, LabelSurfaces, Surface, SurfaceOptions};
+pub use job::{
+    label_surfaces, label_surfaces_owned, LabelSurface, LabelSurfaces, Surface, SurfaceOptions,
+};
 pub use marching_cubes::{marching_cubes, marching_cubes_of};
 pub use smoothing::{smooth, SmoothingOptions, SmoothingReport};
 pub use surface_nets::{surface_nets, SharedSurface, SurfaceNetsOptions};

@@ -165,3 +165,18 @@ fn the_labels_asked_for_come_in_their_order_and_a_missing_one_is_named() {
     let error = label_surfaces(&empty, &SurfaceOptions::default()).unwrap_err();
     assert!(matches!(error, LabelsError::NoLabels));
 }
+
+#[test]
+fn the_owned_call_gives_the_borrowed_call_s_meshes() {
+    for options in [SurfaceOptions::default(), shared()] {
+        let borrowed = label_surfaces(&scene(), &options).unwrap();
+        let owned = voxlod_labels::label_surfaces_owned(scene(), &options).unwrap();
+        assert_eq!(borrowed.labels.len(), owned.labels.len());
+        for (a, b) in borrowed.labels.iter().zip(&owned.labels) {
+            assert_eq!((a.label.value, a.voxel_volume), (b.label.value, b.voxel_volume));
+            assert_eq!(a.mesh.triangles, b.mesh.triangles);
+            assert_eq!(a.mesh.positions, b.mesh.positions);
+        }
+        assert_eq!(borrowed.smoothing.is_some(), owned.smoothing.is_some());
+    }
+}

@@ -6,11 +6,12 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 use serde::Serialize;
-use voxlod::core::{mesh_topology, LabelVolume, TriangleMesh};
+use voxlod::core::{mesh_topology, Grid, LabelVolume, TriangleMesh};
 use voxlod::io::{LabelMap, LabelName, OutputSet};
 use voxlod::precomputed::{write_layer, LayerReport, PrecomputedOptions};
 use voxlod::surfaces::{
-    LabelSurface, LabelSurfaces, LabelsError, SmoothingOptions, Surface, SurfaceOptions,
+    label_surfaces_owned, LabelSurface, LabelSurfaces, LabelsError, SmoothingOptions, Surface,
+    SurfaceOptions,
 };
 
 use super::{
@@ -93,7 +94,7 @@ fn surface_options(args: &LabelsArgs) -> SurfaceOptions {
 
 /// One label's report, its level 0 the surface at the map's resolution.
 fn label_report(
-    map: &LabelVolume,
+    grid: &Grid,
     l: &LabelSurface,
     name: Option<&LabelName>,
     file: Option<String>,
@@ -103,12 +104,7 @@ fn label_report(
         let t = mesh_topology(&l.mesh);
         t.is_closed_manifold() && t.is_consistently_oriented()
     });
-    let finest = map
-        .grid
-        .spacing
-        .iter()
-        .cloned()
-        .fold(f64::INFINITY, f64::min);
+    let finest = grid.spacing.iter().cloned().fold(f64::INFINITY, f64::min);
     LabelReport {
         label: l.label.value,
         name: name.map(|n| n.name.clone()),
@@ -117,7 +113,7 @@ fn label_report(
         voxel_volume: l.voxel_volume,
         levels: vec![LevelReport {
             level: 0,
-            resolution: map.grid.dims.into_iter().max().unwrap_or(0),
+            resolution: grid.dims.into_iter().max().unwrap_or(0),
             voxel_size: finest,
             file,
             triangles: l.mesh.triangles.len(),
@@ -143,7 +139,7 @@ fn smoothing_summary(surfaces: &LabelSurfaces) -> Option<SmoothingSummary> {
 /// Every label's mesh written as a file, with the all-labels files; the labels' reports.
 fn write_files(
     args: &LabelsArgs,
-    map: &LabelVolume,
+    grid: &Grid,
     surfaces: Vec<LabelSurface>,
     table: &[LabelName],
     (out, warnings): (&mut OutputSet, &mut Vec<String>),
@@ -154,7 +150,7 @@ fn write_files(
         .map(|l| {
             let name = name_of(table, l.label.value);
             let file = file_name(l.label.value, name, 0, 1, ext.as_str());
-            label_report(map, l, name, Some(file), args.check)
+            label_report(grid, l, name, Some(file), args.check)
         })
         .collect();
     for (l, report) in surfaces.iter().zip(&reports) {
@@ -188,7 +184,15 @@ fn write_precomputed(
     }
     let reports: Vec<LabelReport> = surfaces
         .par_iter()
-        .map(|l| label_report(map, l, name_of(table, l.label.value), None, args.check))
+        .map(|l| {
+            label_report(
+                &map.grid,
+                l,
+                name_of(table, l.label.value),
+                None,
+                args.check,
+            )
+        })
         .collect();
     let meshes: Vec<(u32, TriangleMesh)> = surfaces
         .into_iter()
@@ -199,51 +203,62 @@ fn write_precomputed(
     Ok((reports, LayerSummary::of(&layer, options.lods)))
 }
 
-/// Every label meshed without a filter, written with the report.
-pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
-    let start = Instant::now();
-    let map = read.labels;
-    let mut warnings = read.warnings;
-    let surfaces = voxlod::label_surfaces(&map, &surface_options(args)).map_err(|e| match e {
+/// The library's call, its `--labels` error named by the flag.
+fn meshed(args: &LabelsArgs, map: MapHeld) -> Result<LabelSurfaces, CliError> {
+    let options = surface_options(args);
+    let surfaces = match map {
+        MapHeld::Borrowed(map) => voxlod::label_surfaces(map, &options),
+        MapHeld::Owned(map) => label_surfaces_owned(map, &options).map_err(voxlod::Error::from),
+    };
+    surfaces.map_err(|e| match e {
         voxlod::Error::Labels(LabelsError::Missing(label, _)) => {
             CliError::usage(format!("--labels {label}: {e}"))
         }
         e => in_file(&args.input, e),
-    })?;
-    let smoothing = smoothing_summary(&surfaces);
+    })
+}
+
+/// The map, kept for the precomputed layer's chunks or given away to be dropped once meshed.
+enum MapHeld<'a> {
+    Borrowed(&'a LabelVolume),
+    Owned(LabelVolume),
+}
+
+/// Every label meshed without a filter, written with the report.
+pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
+    let start = Instant::now();
+    let (map, table, mut warnings) = (read.labels, read.table, read.warnings);
+    let frame = frame_report(map.world(), args.frame.target());
     let surface = if args.shared {
         "surface_nets"
     } else {
         "marching_cubes"
     };
-    let (reports, all_labels, all_labels_gltf, precomputed, out) = match args.format.mesh() {
-        Some(_) => {
-            let mut out = OutputSet::protecting([&args.input]);
-            out.create_dir(&args.output)?;
-            let (reports, (all, gltf)) = write_files(
-                args,
-                &map,
-                surfaces.labels,
-                &read.table,
-                (&mut out, &mut warnings),
-            )?;
-            (reports, all, gltf, None, out)
-        }
-        None => {
-            let (reports, layer) = write_precomputed(args, &map, surfaces.labels, &read.table)?;
-            (
-                reports,
-                None,
-                None,
-                Some(layer),
-                OutputSet::protecting([&args.input]),
-            )
-        }
-    };
+    let (reports, all_labels, all_labels_gltf, precomputed, smoothing, out) =
+        match args.format.mesh() {
+            Some(_) => {
+                let grid = map.grid;
+                let surfaces = meshed(args, MapHeld::Owned(map))?;
+                let smoothing = smoothing_summary(&surfaces);
+                let mut out = OutputSet::protecting([&args.input]);
+                out.create_dir(&args.output)?;
+                let files = (&mut out, &mut warnings);
+                let (reports, (all, gltf)) =
+                    write_files(args, &grid, surfaces.labels, &table, files)?;
+                (reports, all, gltf, None, smoothing, out)
+            }
+            None => {
+                let surfaces = meshed(args, MapHeld::Borrowed(&map))?;
+                let smoothing = smoothing_summary(&surfaces);
+                let (reports, layer) = write_precomputed(args, &map, surfaces.labels, &table)?;
+                let out = OutputSet::protecting([&args.input]);
+                (reports, None, None, Some(layer), smoothing, out)
+            }
+        };
     let report = LabelsReport {
         input: args.input.display().to_string(),
         surface,
-        frame: frame_report(map.world(), args.frame.target()),
+        frame,
         all_labels,
         all_labels_gltf,
         labels: reports,
