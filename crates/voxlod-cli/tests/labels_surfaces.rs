@@ -147,6 +147,13 @@ fn a_precomputed_layer_holds_every_label_at_every_level() {
     let dir = tempfile::tempdir().unwrap();
     let map = map(dir.path());
     let out = dir.path().join("layer");
+    let plain = dir.path().join("plain");
+    voxlod(&["labels", arg(&map), "-o", arg(&plain)]);
+    std::fs::copy(
+        plain.join("label-3.ply"),
+        dir.path().join("layer-source-3.ply"),
+    )
+    .unwrap();
     let report = json(&voxlod(&[
         "labels",
         arg(&map),
@@ -181,6 +188,24 @@ fn a_precomputed_layer_holds_every_label_at_every_level() {
         assert!(per_lod(1) <= per_lod(0), "label {label}");
     }
     assert!(out.join("report.json").is_file());
+    // The layer's labels read back and meshed again: the same labels, placed in nanometres.
+    let again = dir.path().join("again");
+    let report = json(&voxlod(&["labels", arg(&out), "-o", arg(&again), "--json"]));
+    let values: Vec<u64> = report["labels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["label"].as_u64().unwrap())
+        .collect();
+    assert_eq!(values, [3, 9, u32::MAX as u64]);
+    let ball = read(&again.join("label-3.ply"));
+    let before = read(&dir.path().join("layer-source-3.ply"));
+    let scale: f64 = 1e6; // mm to nm
+    let volume = ball.signed_volume() / scale.powi(3);
+    assert!(
+        (volume / before.signed_volume() - 1.0).abs() < 1e-6,
+        "{volume}"
+    );
 }
 
 #[test]

@@ -50,6 +50,7 @@ pub mod manifest;
 pub mod morton;
 pub mod quantize;
 pub mod read;
+pub mod read_volume;
 pub mod sharding;
 pub mod volume;
 
@@ -57,6 +58,7 @@ pub use draco::QuantizedFragment;
 pub use error::PrecomputedError;
 pub use layer::{write_layer, LabelReport, LayerReport, LodReport};
 pub use manifest::Manifest;
+pub use read_volume::read_labels;
 pub use sharding::{ShardEncoding, ShardHash, ShardingSpec};
 
 /// Whether the meshes go into shard files.

@@ -13,7 +13,7 @@ use clap::{Args, ValueEnum};
 use serde::Serialize;
 use voxlod::core::TriangleMesh;
 use voxlod::gltf::{labels_glb, LabelMesh};
-use voxlod::io::{read_label_map, LabelName, OutputSet};
+use voxlod::io::{read_label_map, LabelMap, LabelName, OutputSet};
 use voxlod::labels::merge_labelled;
 use voxlod::sampling::Filter;
 use voxlod::{EnvelopeStep, LevelEpsilon};
@@ -23,8 +23,8 @@ use super::values::number;
 use super::world::{FrameArg, FrameReport};
 
 /// Mesh a label map: one closed, outward mesh per label (NIfTI, NRRD, MetaImage, VTK image, Zarr,
-/// Slicer .seg.nrrd, DICOM Segmentation; labels are whole numbers up to 4294967295, 0 is
-/// background).
+/// Slicer .seg.nrrd, DICOM Segmentation, or a neuroglancer precomputed layer with raw chunks;
+/// labels are whole numbers up to 4294967295, 0 is background).
 ///
 /// By default every label is meshed in one pass over the map by marching cubes of its voxels
 /// (the isosurface ½ of the label's indicator, as zmesh makes it): each label closed and outward
@@ -54,8 +54,9 @@ use super::world::{FrameArg, FrameReport};
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct LabelsArgs {
-    /// The label map (.nrrd .nhdr .nii .nii.gz .mha .mhd .vti .vtk .zarr), or a DICOM
-    /// Segmentation (a SEG .dcm, or a folder holding one): segment numbers are labels
+    /// The label map (.nrrd .nhdr .nii .nii.gz .mha .mhd .vti .vtk .zarr), a DICOM
+    /// Segmentation (a SEG .dcm, or a folder holding one: segment numbers are labels), or a
+    /// precomputed layer (a folder holding `info`; raw chunks, in nanometres)
     pub input: PathBuf,
     /// Folder for the meshes and report.json (created if missing), or the precomputed layer
     #[arg(short, long, value_name = "DIR")]
@@ -245,7 +246,7 @@ fn check_flags(args: &LabelsArgs) -> Result<(), CliError> {
 
 pub fn run(args: LabelsArgs) -> Result<(), CliError> {
     check_flags(&args)?;
-    let read = read_label_map(&args.input)?;
+    let read = read_map(&args.input)?;
     args.frame
         .check(read.labels.orientation.frame, &args.input)?;
     if filtered::asked_for(&args) && args.format != LabelFormat::Precomputed {
@@ -253,6 +254,21 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
     } else {
         surfaces::run(&args, read)
     }
+}
+
+/// The label map of `input`: a neuroglancer precomputed layer (a folder holding `info`; its
+/// labels in nanometres), or any file `read_label_map` reads.
+fn read_map(input: &std::path::Path) -> Result<LabelMap, CliError> {
+    if !input.join("info").is_file() {
+        return Ok(read_label_map(input)?);
+    }
+    let labels = voxlod::precomputed::read_labels(input)
+        .map_err(|e| CliError::Library(voxlod::Error::from(e)))?;
+    Ok(LabelMap {
+        labels,
+        table: Vec::new(),
+        warnings: Vec::new(),
+    })
 }
 
 /// The report written beside the meshes (or into the layer), then printed: as JSON, or the
