@@ -21,11 +21,10 @@ fn a_written_layer_reads_back_its_labels_in_nanometres() {
         assert_eq!(back.grid.dims, map.grid.dims);
         let nm = map.grid.spacing.map(|s| s * 4.0);
         assert_eq!(back.grid.spacing, nm);
-        for a in 0..3 {
-            // The origin: the voxel offset (the map's origin in voxels, rounded) in nanometres.
-            let offset = (map.grid.origin[a] / map.grid.spacing[a]).round();
-            assert_eq!(back.grid.origin[a], offset * nm[a]);
-        }
+        // The origin: the voxel offset (the map's origin in voxels, rounded) in nanometres.
+        let origin: [f64; 3] =
+            std::array::from_fn(|a| (map.grid.origin[a] / map.grid.spacing[a]).round() * nm[a]);
+        assert_eq!(back.grid.origin, origin);
     }
 }
 
@@ -33,14 +32,25 @@ fn a_written_layer_reads_back_its_labels_in_nanometres() {
 fn other_encodings_and_missing_chunks_are_named() {
     let dir = tempfile::tempdir().unwrap();
     let layer = dir.path().join("layer");
-    voxlod_precomputed::write_layer(&layer, &common::map(), &common::meshes(), &common::options())
-        .unwrap();
+    voxlod_precomputed::write_layer(
+        &layer,
+        &common::map(),
+        &common::meshes(),
+        &common::options(),
+    )
+    .unwrap();
     let info_path = layer.join("info");
     let info = std::fs::read_to_string(&info_path).unwrap();
-    std::fs::write(&info_path, info.replace("\"raw\"", "\"compressed_segmentation\"")).unwrap();
+    std::fs::write(
+        &info_path,
+        info.replace("\"raw\"", "\"compressed_segmentation\""),
+    )
+    .unwrap();
     let error = read_labels(&layer).unwrap_err();
     assert!(
-        error.to_string().contains("encoding \"compressed_segmentation\": only raw chunks"),
+        error
+            .to_string()
+            .contains("encoding \"compressed_segmentation\": only raw chunks"),
         "{error}"
     );
     std::fs::write(&info_path, info).unwrap();
@@ -49,7 +59,12 @@ fn other_encodings_and_missing_chunks_are_named() {
         .map(|e| e.unwrap().path())
         .find(|p| p.is_dir() && !p.ends_with("mesh"))
         .unwrap();
-    let chunk = std::fs::read_dir(&scale).unwrap().next().unwrap().unwrap().path();
+    let chunk = std::fs::read_dir(&scale)
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path();
     std::fs::remove_file(&chunk).unwrap();
     match read_labels(&layer).unwrap_err() {
         PrecomputedError::Io { path, .. } => assert_eq!(path, chunk),
