@@ -173,7 +173,10 @@ fn the_owned_call_gives_the_borrowed_call_s_meshes() {
         let owned = voxlod_labels::label_surfaces_owned(scene(), &options).unwrap();
         assert_eq!(borrowed.labels.len(), owned.labels.len());
         for (a, b) in borrowed.labels.iter().zip(&owned.labels) {
-            assert_eq!((a.label.value, a.voxel_volume), (b.label.value, b.voxel_volume));
+            assert_eq!(
+                (a.label.value, a.voxel_volume),
+                (b.label.value, b.voxel_volume)
+            );
             assert_eq!(a.mesh.triangles, b.mesh.triangles);
             assert_eq!(a.mesh.positions, b.mesh.positions);
         }

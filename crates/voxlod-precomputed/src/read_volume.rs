@@ -56,14 +56,21 @@ fn read_info(dir: &Path) -> Result<Scale, PrecomputedError> {
     let info: serde_json::Value =
         serde_json::from_slice(&text).map_err(|e| bad(format!("not JSON: {e}")))?;
     if info["num_channels"].as_u64().unwrap_or(1) != 1 {
-        return Err(bad(format!("{} channels: a label map has one", info["num_channels"])));
+        return Err(bad(format!(
+            "{} channels: a label map has one",
+            info["num_channels"]
+        )));
     }
     let bytes = match info["data_type"].as_str() {
         Some("uint8") => 1,
         Some("uint16") => 2,
         Some("uint32") => 4,
         Some("uint64") => 8,
-        other => return Err(bad(format!("data type {other:?}: labels are unsigned integers"))),
+        other => {
+            return Err(bad(format!(
+                "data type {other:?}: labels are unsigned integers"
+            )))
+        }
     };
     let scale = &info["scales"][0];
     let encoding = scale["encoding"].as_str().unwrap_or("");
@@ -74,22 +81,33 @@ fn read_info(dir: &Path) -> Result<Scale, PrecomputedError> {
         )));
     }
     let triple = |v: &serde_json::Value, what: &str| -> Result<[f64; 3], PrecomputedError> {
-        let n = v.as_array().filter(|a| a.len() == 3).ok_or_else(|| bad(format!("no {what}")))?;
+        let n = v
+            .as_array()
+            .filter(|a| a.len() == 3)
+            .ok_or_else(|| bad(format!("no {what}")))?;
         let f = |x: &serde_json::Value| x.as_f64().ok_or_else(|| bad(format!("{what}: {x}")));
         Ok([f(&n[0])?, f(&n[1])?, f(&n[2])?])
     };
     let whole = |v: [f64; 3], what: &str| -> Result<[usize; 3], PrecomputedError> {
         if v.iter().any(|&x| !(x >= 1.0 && x.fract() == 0.0)) {
-            return Err(bad(format!("{what} {v:?} is not three positive whole numbers")));
+            return Err(bad(format!(
+                "{what} {v:?} is not three positive whole numbers"
+            )));
         }
         Ok(v.map(|x| x as usize))
     };
     Ok(Scale {
-        key: scale["key"].as_str().ok_or_else(|| bad("no scale key".into()))?.to_string(),
+        key: scale["key"]
+            .as_str()
+            .ok_or_else(|| bad("no scale key".into()))?
+            .to_string(),
         size: whole(triple(&scale["size"], "size")?, "size")?,
         resolution: triple(&scale["resolution"], "resolution")?,
         offset: triple(&scale["voxel_offset"], "voxel_offset")?.map(|x| x as i64),
-        chunk: whole(triple(&scale["chunk_sizes"][0], "chunk_sizes")?, "chunk size")?,
+        chunk: whole(
+            triple(&scale["chunk_sizes"][0], "chunk_sizes")?,
+            "chunk size",
+        )?,
         bytes,
     })
 }
@@ -126,10 +144,11 @@ fn read_chunk(
         let label = u64::from_le_bytes(word);
         let at = [n % dims[0], n / dims[0] % dims[1], n / (dims[0] * dims[1])];
         let [x, y, z] = std::array::from_fn(|a| begin[a] + at[a]);
-        values[(z * sy + y) * sx + x] = u32::try_from(label).map_err(|_| PrecomputedError::Format {
-            path: path.clone(),
-            reason: format!("label {label} at ({x}, {y}, {z}) is above 4294967295"),
-        })?;
+        values[(z * sy + y) * sx + x] =
+            u32::try_from(label).map_err(|_| PrecomputedError::Format {
+                path: path.clone(),
+                reason: format!("label {label} at ({x}, {y}, {z}) is above 4294967295"),
+            })?;
     }
     Ok(())
 }
