@@ -292,15 +292,7 @@ pub(crate) fn write_samples_f32_le(
     w: &mut (impl Write + ?Sized),
     values: &[f32],
 ) -> std::io::Result<()> {
-    let mut block = Vec::with_capacity(64 * 1024);
-    for chunk in values.chunks(16 * 1024) {
-        block.clear();
-        for v in chunk {
-            block.extend_from_slice(&v.to_le_bytes());
-        }
-        w.write_all(&block)?;
-    }
-    Ok(())
+    write_le(w, values, f32::to_le_bytes)
 }
 
 /// Streams labels as little-endian `u32`, in blocks so no second copy of the map is made.
@@ -308,11 +300,20 @@ pub(crate) fn write_labels_le(
     w: &mut (impl Write + ?Sized),
     values: &[u32],
 ) -> std::io::Result<()> {
-    let mut block = Vec::with_capacity(64 * 1024);
+    write_le(w, values, u32::to_le_bytes)
+}
+
+/// Streams values as the bytes `le` gives each, 16 Ki values per write.
+fn write_le<T: Copy, const N: usize>(
+    w: &mut (impl Write + ?Sized),
+    values: &[T],
+    le: impl Fn(T) -> [u8; N],
+) -> std::io::Result<()> {
+    let mut block = Vec::with_capacity(16 * 1024 * N);
     for chunk in values.chunks(16 * 1024) {
         block.clear();
-        for v in chunk {
-            block.extend_from_slice(&v.to_le_bytes());
+        for &v in chunk {
+            block.extend_from_slice(&le(v));
         }
         w.write_all(&block)?;
     }
