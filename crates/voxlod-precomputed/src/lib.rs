@@ -41,6 +41,7 @@
 //! integers in both. Oblique maps are refused: precomputed volumes are axis-aligned.
 
 pub mod canonical;
+pub mod compressed_segmentation;
 pub mod cut;
 pub mod draco;
 pub mod error;

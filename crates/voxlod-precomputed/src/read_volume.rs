@@ -1,6 +1,7 @@
 //! A precomputed layer's labels read back (neuroglancer `volume.md`): the finest scale of a
-//! layer whose chunks are raw (plain or gzipped), as this crate and igneous' raw layers write
-//! them. Other encodings (`compressed_segmentation`, `jpeg`, …) are refused naming the encoding.
+//! layer whose chunks are raw or `compressed_segmentation` (`compressed_segmentation.rs`),
+//! plain or gzipped, as this crate, igneous and cloud-volume write them. Other encodings
+//! (`jpeg`, `png`, …) are refused naming the encoding.
 //!
 //! The map's world is the layer's physical space in nanometres: spacing the scale's
 //! resolution, origin its voxel offset times the resolution. Cost: one read of every chunk; the
@@ -11,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use voxlod_core::{memory, Grid, LabelVolume};
 
-use crate::PrecomputedError;
+use crate::{compressed_segmentation, PrecomputedError};
 
 /// The finest scale of a layer's `info`.
 struct Scale {
@@ -21,6 +22,8 @@ struct Scale {
     offset: [i64; 3],
     chunk: [usize; 3],
     bytes: usize,
+    /// The blocks of `compressed_segmentation`, `None` for raw chunks.
+    blocks: Option<[usize; 3]>,
 }
 
 /// The labels of the precomputed layer at `dir` (a folder holding `info`), at its finest scale.
@@ -74,10 +77,9 @@ fn read_info(dir: &Path) -> Result<Scale, PrecomputedError> {
     };
     let scale = &info["scales"][0];
     let encoding = scale["encoding"].as_str().unwrap_or("");
-    if encoding != "raw" {
+    if !matches!(encoding, "raw" | "compressed_segmentation") {
         return Err(bad(format!(
-            "encoding {encoding:?}: only raw chunks are read (convert the layer with igneous or \
-             cloud-volume to raw)"
+            "encoding {encoding:?}: labels are read from raw or compressed_segmentation chunks"
         )));
     }
     let triple = |v: &serde_json::Value, what: &str| -> Result<[f64; 3], PrecomputedError> {
@@ -109,6 +111,16 @@ fn read_info(dir: &Path) -> Result<Scale, PrecomputedError> {
             "chunk size",
         )?,
         bytes,
+        blocks: match encoding {
+            "raw" => None,
+            _ => {
+                let block = &scale["compressed_segmentation_block_size"];
+                Some(whole(
+                    triple(block, "compressed_segmentation_block_size")?,
+                    "block size",
+                )?)
+            }
+        },
     })
 }
 
@@ -130,18 +142,12 @@ fn read_chunk(
         .join("_");
     let (path, data) = chunk_bytes(&dir.join(&scale.key).join(&name))?;
     let dims: [usize; 3] = std::array::from_fn(|a| end[a] - begin[a]);
-    let expected = dims.iter().product::<usize>() * scale.bytes;
-    if data.len() != expected {
-        return Err(PrecomputedError::Format {
-            path,
-            reason: format!("{} bytes where the chunk holds {expected}", data.len()),
-        });
-    }
+    let labels = chunk_labels(scale, dims, &data).map_err(|reason| PrecomputedError::Format {
+        path: path.clone(),
+        reason,
+    })?;
     let [sx, sy, _] = scale.size;
-    for (n, sample) in data.chunks_exact(scale.bytes).enumerate() {
-        let mut word = [0u8; 8];
-        word[..scale.bytes].copy_from_slice(sample);
-        let label = u64::from_le_bytes(word);
+    for (n, label) in labels.into_iter().enumerate() {
         let at = [n % dims[0], n / dims[0] % dims[1], n / (dims[0] * dims[1])];
         let [x, y, z] = std::array::from_fn(|a| begin[a] + at[a]);
         values[(z * sy + y) * sx + x] =
@@ -151,6 +157,35 @@ fn read_chunk(
             })?;
     }
     Ok(())
+}
+
+/// The labels of a chunk of `dims` voxels (x fastest) from its file's bytes.
+fn chunk_labels(scale: &Scale, dims: [usize; 3], data: &[u8]) -> Result<Vec<u64>, String> {
+    if let Some(block) = scale.blocks {
+        if !data.len().is_multiple_of(4) {
+            return Err(format!("{} bytes, not whole 32-bit words", data.len()));
+        }
+        let words: Vec<u32> = data
+            .chunks_exact(4)
+            .map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]))
+            .collect();
+        return compressed_segmentation::decode(&words, dims, block, scale.bytes == 8);
+    }
+    let expected = dims.iter().product::<usize>() * scale.bytes;
+    if data.len() != expected {
+        return Err(format!(
+            "{} bytes where the chunk holds {expected}",
+            data.len()
+        ));
+    }
+    Ok(data
+        .chunks_exact(scale.bytes)
+        .map(|sample| {
+            let mut word = [0u8; 8];
+            word[..sample.len()].copy_from_slice(sample);
+            u64::from_le_bytes(word)
+        })
+        .collect())
 }
 
 /// The bytes of a chunk file, gunzipped when it is the `.gz` one.

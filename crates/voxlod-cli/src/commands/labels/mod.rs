@@ -23,7 +23,8 @@ use super::values::number;
 use super::world::{FrameArg, FrameReport};
 
 /// Mesh a label map: one closed, outward mesh per label (NIfTI, NRRD, MetaImage, VTK image, Zarr,
-/// Slicer .seg.nrrd, DICOM Segmentation, or a neuroglancer precomputed layer with raw chunks;
+/// Slicer .seg.nrrd, DICOM Segmentation, or a neuroglancer precomputed layer (raw or
+/// compressed_segmentation chunks);
 /// labels are whole numbers up to 4294967295, 0 is background).
 ///
 /// By default every label is meshed in one pass over the map by marching cubes of its voxels
@@ -56,7 +57,8 @@ use super::world::{FrameArg, FrameReport};
 pub struct LabelsArgs {
     /// The label map (.nrrd .nhdr .nii .nii.gz .mha .mhd .vti .vtk .zarr), a DICOM
     /// Segmentation (a SEG .dcm, or a folder holding one: segment numbers are labels), or a
-    /// precomputed layer (a folder holding `info`; raw chunks, in nanometres)
+    /// precomputed layer (a folder holding `info`; raw or compressed_segmentation chunks, in
+    /// nanometres)
     pub input: PathBuf,
     /// Folder for the meshes and report.json (created if missing), or the precomputed layer
     #[arg(short, long, value_name = "DIR")]
