@@ -23,9 +23,8 @@ use super::values::number;
 use super::world::{FrameArg, FrameReport};
 
 /// Mesh a label map: one closed, outward mesh per label (NIfTI, NRRD, MetaImage, VTK image, Zarr,
-/// Slicer .seg.nrrd, DICOM Segmentation, or a neuroglancer precomputed layer (raw or
-/// compressed_segmentation chunks);
-/// labels are whole numbers up to 4294967295, 0 is background).
+/// Slicer .seg.nrrd, DICOM Segmentation, or a neuroglancer precomputed layer; labels are whole
+/// numbers up to 4294967295, 0 is background).
 ///
 /// By default every label is meshed in one pass over the map by marching cubes of its voxels
 /// (the isosurface ½ of the label's indicator, as zmesh makes it): each label closed and outward
