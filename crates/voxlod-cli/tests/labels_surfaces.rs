@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use common::{arg, assert_clean_failure, json, voxlod};
 use voxlod::core::{mesh_topology, Grid, LabelVolume, TriangleMesh};
+use voxlod_testkit::compare::{reversed_key, triangle_keys, TriangleKey};
 
 /// A 30 × 26 × 22 map (spacing 1 × 1 × 2): two balls that touch, the larger with id 2³²−1,
 /// and a box across the map's border; written as a uint32 NRRD into `dir`.
@@ -91,18 +92,6 @@ fn every_label_is_closed_and_outward_and_keeps_its_volume() {
     }
 }
 
-/// Each triangle as its corners' positions (bit patterns), rotated to start at the smallest.
-fn triangles(mesh: &TriangleMesh) -> Vec<[[u32; 3]; 3]> {
-    mesh.triangles
-        .iter()
-        .map(|t| {
-            let p = t.map(|v| mesh.positions[v as usize].to_array().map(f32::to_bits));
-            let first = (0..3).min_by_key(|&n| p[n]).unwrap();
-            [p[first], p[(first + 1) % 3], p[(first + 2) % 3]]
-        })
-        .collect()
-}
-
 #[test]
 fn shared_neighbours_meet_on_the_same_triangles_without_gap_or_overlap() {
     let dir = tempfile::tempdir().unwrap();
@@ -117,9 +106,9 @@ fn shared_neighbours_meet_on_the_same_triangles_without_gap_or_overlap() {
         "--smooth",
         "4",
     ]);
-    let small = triangles(&read(&out.join("label-3.ply")));
-    let large = triangles(&read(&out.join(format!("label-{}.ply", u32::MAX))));
-    let mut seen: HashMap<[[u32; 3]; 3], usize> = HashMap::new();
+    let small = triangle_keys(&read(&out.join("label-3.ply")));
+    let large = triangle_keys(&read(&out.join(format!("label-{}.ply", u32::MAX))));
+    let mut seen: HashMap<TriangleKey, usize> = HashMap::new();
     for t in small.iter().chain(&large) {
         *seen.entry(*t).or_default() += 1;
     }
@@ -127,14 +116,9 @@ fn shared_neighbours_meet_on_the_same_triangles_without_gap_or_overlap() {
         seen.values().all(|&n| n == 1),
         "a triangle used twice the same way round"
     );
-    let reversed = |t: &[[u32; 3]; 3]| {
-        let r = [t[0], t[2], t[1]];
-        let first = (0..3).min_by_key(|&n| r[n]).unwrap();
-        [r[first], r[(first + 1) % 3], r[(first + 2) % 3]]
-    };
     let between = small
         .iter()
-        .filter(|t| seen.contains_key(&reversed(t)))
+        .filter(|t| seen.contains_key(&reversed_key(t)))
         .count();
     assert!(
         between >= 8,

@@ -22,7 +22,8 @@
 //! Writing ([`write_label_map`]) gives raw `uint32` NRRD (`.nrrd`) or NIfTI-1 `uint32` (`.nii`,
 //! `.nii.gz`), placed as [`crate::write_volume`] places a volume.
 //!
-//! Not in the voxel paper (He et al. 1995): it is the way in for the segmentations of issue 36.
+//! Not in the voxel paper (He et al. 1995), which meshes one object per volume: the way in for
+//! segmentations, whose labels (up to 2³²−1) `f32` samples would not hold exactly.
 //! Cost: O(N) for N voxels; memory at the peak the map's 4N bytes plus one block of stored
 //! samples per thread (VTK: plus vtkio's model of the file; Zarr: plus one layer of chunks).
 

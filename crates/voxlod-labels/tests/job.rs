@@ -8,6 +8,7 @@ use voxlod_core::glam::{DMat3, DVec3};
 use voxlod_core::world::{Frame, Orientation};
 use voxlod_core::{mesh_topology, Grid, LabelVolume, TriangleMesh};
 use voxlod_labels::{label_surfaces, LabelsError, SmoothingOptions, Surface, SurfaceOptions};
+use voxlod_testkit::compare::{reversed_key, triangle_keys, TriangleKey};
 
 fn map(dims: [usize; 3], spacing: [f64; 3], label: impl Fn([f64; 3]) -> u32) -> LabelVolume {
     let grid = Grid::new(dims, spacing, [0.0; 3]).unwrap();
@@ -81,24 +82,12 @@ fn shared_surfaces_keep_the_voxel_volume_within_a_percent() {
     }
 }
 
-/// Each triangle of `mesh` as its three corners' positions, rotated to start at the smallest.
-fn corner_triples(mesh: &TriangleMesh) -> Vec<[[u32; 3]; 3]> {
-    mesh.triangles
-        .iter()
-        .map(|t| {
-            let p = t.map(|v| mesh.positions[v as usize].to_array().map(f32::to_bits));
-            let first = (0..3).min_by_key(|&n| p[n]).unwrap();
-            [p[first], p[(first + 1) % 3], p[(first + 2) % 3]]
-        })
-        .collect()
-}
-
 #[test]
 fn neighbours_of_the_shared_surface_use_the_same_triangles_reversed() {
     let surfaces = label_surfaces(&scene(), &shared()).unwrap();
-    let mut uses: HashMap<[[u32; 3]; 3], Vec<u32>> = HashMap::new();
+    let mut uses: HashMap<TriangleKey, Vec<u32>> = HashMap::new();
     for l in &surfaces.labels {
-        for t in corner_triples(&l.mesh) {
+        for t in triangle_keys(&l.mesh) {
             uses.entry(t).or_default().push(l.label.value);
         }
     }
@@ -106,14 +95,7 @@ fn neighbours_of_the_shared_surface_use_the_same_triangles_reversed() {
     let (mut between, mut overlaps) = (0, 0);
     for (t, labels) in &uses {
         overlaps += usize::from(labels.len() > 1);
-        let reversed = [t[0], t[2], t[1]];
-        let first = (0..3).min_by_key(|&n| reversed[n]).unwrap();
-        let reversed = [
-            reversed[first],
-            reversed[(first + 1) % 3],
-            reversed[(first + 2) % 3],
-        ];
-        if labels == &[2] && uses.get(&reversed).is_some_and(|o| o == &[3]) {
+        if labels == &[2] && uses.get(&reversed_key(t)).is_some_and(|o| o == &[3]) {
             between += 1;
         }
     }

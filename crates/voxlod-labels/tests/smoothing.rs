@@ -3,6 +3,7 @@
 //! junctions and borders held.
 
 use std::collections::HashMap;
+use voxlod_testkit::compare::{triangle_key, TriangleKey};
 
 use voxlod_core::glam::Vec3;
 use voxlod_core::{mesh_topology, Grid, LabelVolume};
@@ -85,12 +86,8 @@ fn assert_in_boxes(surface: &SharedSurface, spacing: [f64; 3], constraint: f64) 
 
 /// The two labels of every interface triangle see it on the same positions, reversed.
 fn assert_shared(surface: &SharedSurface) {
-    type Key = [[u32; 3]; 3];
-    let key = |tri: [Vec3; 3]| -> Key {
-        let bits = tri.map(|p| p.to_array().map(f32::to_bits));
-        let first = (0..3).min_by_key(|&n| bits[n]).unwrap();
-        std::array::from_fn(|n| bits[(first + n) % 3])
-    };
+    type Key = TriangleKey;
+    let key = triangle_key;
     let labels = surface.labels();
     let meshes = surface.label_meshes(&labels).unwrap();
     let mut seen: HashMap<Key, Vec<u32>> = HashMap::new();

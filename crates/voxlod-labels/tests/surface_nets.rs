@@ -3,8 +3,9 @@
 //! triangle used by exactly the two labels it separates.
 
 use std::collections::HashMap;
+use voxlod_testkit::compare::{triangle_key, TriangleKey};
 
-use voxlod_core::glam::{DMat3, DVec3, Vec3};
+use voxlod_core::glam::{DMat3, DVec3};
 use voxlod_core::{mesh_topology, Frame, Grid, LabelVolume, Orientation, TriangleMesh};
 use voxlod_labels::surface_nets::{surface_nets, SharedSurface, SurfaceNetsOptions};
 
@@ -228,12 +229,8 @@ fn voxel_counts(map: &LabelVolume) -> HashMap<u32, usize> {
 /// Every shared triangle with sides [A, B] is in A's mesh as it is and in B's reversed (by
 /// positions), and no label mesh has a triangle the shared surface lacks.
 fn assert_interfaces_shared(surface: &SharedSurface) {
-    type Key = [[u32; 3]; 3];
-    let key = |tri: [Vec3; 3]| -> Key {
-        let bits = tri.map(|p| p.to_array().map(f32::to_bits));
-        let first = (0..3).min_by_key(|&n| bits[n]).unwrap();
-        std::array::from_fn(|n| bits[(first + n) % 3])
-    };
+    type Key = TriangleKey;
+    let key = triangle_key;
     let labels = surface.labels();
     let meshes = surface.label_meshes(&labels).unwrap();
     let mut used: HashMap<(Key, u32), usize> = HashMap::new();

@@ -101,6 +101,21 @@ fn label_dict<'py>(
     Ok(dict)
 }
 
+/// A label map from a C-ordered `(nz, ny, nx)` uint32 array, spacing and origin in axis order:
+/// its copy asked of the memory limit first.
+fn label_volume_from(
+    array: &PyReadonlyArray3<'_, u32>,
+    spacing: [f64; 3],
+    origin: [f64; 3],
+) -> PyResult<LabelVolume> {
+    let (values, dims) = volume_slice(array, "volume")?;
+    let zyx = |v: [f64; 3]| [v[2], v[1], v[0]];
+    let grid = Grid::new(dims, zyx(spacing), zyx(origin)).map_err(Failure::from)?;
+    memory::check_allocation("the label map", memory::bytes_of::<u32>(values.len()))
+        .map_err(Failure::from)?;
+    Ok(LabelVolume::from_vec(grid, values.to_vec()).map_err(Failure::from)?)
+}
+
 /// One chunk's labels: values, voxel counts, and first and last index of each (array-axis
 /// order, in the whole map).
 type ChunkLabels = (Vec<u32>, Vec<u64>, Vec<[usize; 3]>, Vec<[usize; 3]>);
@@ -115,11 +130,7 @@ pub fn chunk_labels(
     chunk: PyReadonlyArray3<'_, u32>,
     offset: [usize; 3],
 ) -> PyResult<ChunkLabels> {
-    let (values, dims) = volume_slice(&chunk, "chunk")?;
-    let grid = Grid::new(dims, [1.0; 3], [0.0; 3]).map_err(Failure::from)?;
-    memory::check_allocation("the chunk", memory::bytes_of::<u32>(values.len()))
-        .map_err(Failure::from)?;
-    let chunk = LabelVolume::from_vec(grid, values.to_vec()).map_err(Failure::from)?;
+    let chunk = label_volume_from(&chunk, [1.0; 3], [0.0; 3])?;
     let found = py.detach(|| voxlod::surfaces::find_labels(&chunk));
     let [oz, oy, ox] = offset;
     let zyx = |at: [usize; 3]| [at[2] + oz, at[1] + oy, at[0] + ox];
@@ -154,12 +165,7 @@ pub fn label_surfaces<'py>(
     smooth: Option<usize>,
     normals: bool,
 ) -> PyResult<Surfaces<'py>> {
-    let (values, dims) = volume_slice(&map, "volume")?;
-    let zyx = |v: [f64; 3]| [v[2], v[1], v[0]];
-    let grid = Grid::new(dims, zyx(spacing), zyx(origin)).map_err(Failure::from)?;
-    memory::check_allocation("the label map", memory::bytes_of::<u32>(values.len()))
-        .map_err(Failure::from)?;
-    let map = LabelVolume::from_vec(grid, values.to_vec()).map_err(Failure::from)?;
+    let map = label_volume_from(&map, spacing, origin)?;
     let surface = if shared {
         let mut smoothing = SmoothingOptions::default();
         smoothing.iterations = smooth.unwrap_or(smoothing.iterations);
@@ -226,12 +232,7 @@ pub fn write_precomputed<'py>(
     meshes: Vec<(u32, MeshIn<'py>)>,
     options: (usize, u32, f64, String),
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (values, dims) = volume_slice(&map, "volume")?;
-    let zyx = |v: [f64; 3]| [v[2], v[1], v[0]];
-    let grid = Grid::new(dims, zyx(spacing), zyx(origin)).map_err(Failure::from)?;
-    memory::check_allocation("the label map", memory::bytes_of::<u32>(values.len()))
-        .map_err(Failure::from)?;
-    let map = LabelVolume::from_vec(grid, values.to_vec()).map_err(Failure::from)?;
+    let map = label_volume_from(&map, spacing, origin)?;
     let meshes = meshes
         .iter()
         .map(|(label, mesh)| Ok((*label, mesh_from(mesh)?)))

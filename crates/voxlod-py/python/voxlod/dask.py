@@ -462,21 +462,29 @@ def _chosen_labels(found: dict, wanted: Optional[Sequence[int]]) -> List[int]:
     return [int(v) for v in wanted]
 
 
-def _mesh_label(value: int, low: Sequence[int], high: Sequence[int], chunks: List[Any],
-                corners: List[Sequence[int]], spacing, origin, options) -> dict:
-    """One task of :func:`labels`' second pass: the label's meshes from its box (samples
-    ``low .. high``), assembled from the chunks that hold the label (each starting at its
-    ``corners``). Samples of other labels are 0 in the box: the label's indicator is the
-    same."""
-    label = np.float32(value)
-    box = np.zeros(tuple(h - l for l, h in zip(low, high)), np.float32)
+def _label_box(value: int, low: Sequence[int], high: Sequence[int], chunks: List[Any],
+               corners: List[Sequence[int]], convert: Any, dtype: Any) -> np.ndarray:
+    """The box of samples ``low .. high`` holding ``value`` where the map does and 0 elsewhere,
+    assembled from the chunks that hold the label (each starting at its ``corners``), each
+    piece checked and converted by ``convert`` (to ``dtype``)."""
+    label = dtype(value)
+    box = np.zeros(tuple(h - l for l, h in zip(low, high)), dtype)
     for chunk, corner in zip(chunks, corners):
         start = [max(l, c) for l, c in zip(low, corner)]
         stop = [min(h, c + n) for h, c, n in zip(high, corner, chunk.shape)]
         part = chunk[tuple(slice(a - c, b - c) for a, b, c in zip(start, stop, corner))]
-        part = label_samples(_aligned(part), "the label map")
+        part = convert(_aligned(part), "the label map")
         box[tuple(slice(a - l, b - l) for a, b, l in zip(start, stop, low))] = \
-            np.where(part == label, label, np.float32(0))
+            np.where(part == label, label, dtype(0))
+    return box
+
+
+def _mesh_label(value: int, low: Sequence[int], high: Sequence[int], chunks: List[Any],
+                corners: List[Sequence[int]], spacing, origin, options) -> dict:
+    """One task of :func:`labels`' second pass: the label's meshes from its box (samples
+    ``low .. high``, :func:`_label_box`). Samples of other labels are 0 in the box: the
+    label's indicator is the same."""
+    box = _label_box(value, low, high, chunks, corners, label_samples, np.float32)
     found = _voxlod.labels(box, spacing, origin, [int(value)], options)
     return found[0]
 
@@ -484,18 +492,10 @@ def _mesh_label(value: int, low: Sequence[int], high: Sequence[int], chunks: Lis
 def _surface_label(value: int, low: Sequence[int], high: Sequence[int], chunks: List[Any],
                    corners: List[Sequence[int]], spacing, origin, normals: bool) -> dict:
     """One task of :func:`labels`' second pass without a filter: the label's marching-cubes
-    mesh from its box (samples ``low .. high``), assembled as :func:`_mesh_label` assembles it,
-    as uint32. The label's cells all lie in its box grown by one voxel and are visited in the
+    mesh from its box (samples ``low .. high``, :func:`_label_box`), as uint32. The label's cells all lie in its box grown by one voxel and are visited in the
     same order as in the whole map, so the mesh is the one-process mesh (positions equal up to
     the rounding of ``origin + index * spacing`` to float32)."""
-    box = np.zeros(tuple(h - l for l, h in zip(low, high)), np.uint32)
-    for chunk, corner in zip(chunks, corners):
-        start = [max(l, c) for l, c in zip(low, corner)]
-        stop = [min(h, c + n) for h, c, n in zip(high, corner, chunk.shape)]
-        part = chunk[tuple(slice(a - c, b - c) for a, b, c in zip(start, stop, corner))]
-        part = label_values(_aligned(part), "the label map")
-        box[tuple(slice(a - l, b - l) for a, b, l in zip(start, stop, low))] = \
-            np.where(part == value, part, np.uint32(0))
+    box = _label_box(value, low, high, chunks, corners, label_values, np.uint32)
     found, _ = _voxlod.label_surfaces(box, spacing, origin, [int(value)], False, None, normals)
     return found[0]
 
