@@ -75,6 +75,7 @@ mod promises;
 mod report;
 mod restore;
 pub mod select;
+pub mod separate;
 mod shell;
 mod voxel;
 
