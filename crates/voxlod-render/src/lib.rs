@@ -10,6 +10,7 @@
 //!   [`assets`]: assets drawn in one call.
 //! - [`image`]: the image, PNG, side-by-side montage; [`metrics`]: RMS and silhouette masks.
 //! - [`silhouette`]: the silhouette difference between a mesh and a simplified copy.
+//! - [`visibility`]: which triangles a sphere of views sees, for culling what is hidden inside.
 //!
 //! Cost: O(V + T) to project and bin, plus O(covered samples) to fill; memory is the image and
 //! one tile of samples per thread, whatever the supersampling.
@@ -55,6 +56,7 @@ pub mod metrics;
 pub mod raster;
 pub mod render;
 pub mod silhouette;
+pub mod visibility;
 
 pub use assets::{assets_bounds, render_assets};
 pub use camera::{Camera, Projection};
@@ -64,3 +66,6 @@ pub use looks::{decode_textures, AssetItem};
 pub use metrics::{rms_difference, silhouette_mask};
 pub use render::{render, LineItem, MeshItem, PointItem, RenderOptions, Scene};
 pub use silhouette::{view_directions, SilhouetteDifference, SilhouetteReference};
+pub use visibility::{
+    sphere_directions, visible_sample_counts, visible_triangles, VisibilityOptions,
+};
