@@ -8,7 +8,7 @@
 # textures, its seconds and its peak memory (/usr/bin/time -v).
 # Usage: scripts/proxy-bench.sh [OUT_DIR]   (default ~/.cache/voxlod-bench/proxy)
 # GLTFPACK overrides the gltfpack binary (default: the npm one in ~/.cache/voxlod-peers);
-# PROXY_BENCH_ONLY=scenes or =time runs one half.
+# PROXY_BENCH_ONLY=scenes or =time runs one half; PROXY_BENCH_INPUTS=tree,spot only those inputs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT="${1:-${VOXLOD_BENCH_DIR:-$HOME/.cache/voxlod-bench}/proxy}"

@@ -259,6 +259,7 @@ fn run(name: &str, mesh: &TriangleMesh, tally: &mut Tally) -> Vec<Row> {
                 voxlod_budget::Fill::Cavities => " cavities",
                 voxlod_budget::Fill::Hollows => " hollows",
                 voxlod_budget::Fill::HollowLining => " lined",
+                voxlod_budget::Fill::OpenShells => " shells",
             };
         println!(
             "  {b:7}  ours {} {label:14} simplify {}  sloppy {} {flags}",

@@ -80,6 +80,9 @@ pub enum Fill {
     Hollows,
     /// Only the lining of those hollows, within the closing's radius of the material.
     HollowLining,
+    /// Nothing; the closed parts sampled as a solid and the open parts as shells around them
+    /// (module `open_parts`).
+    OpenShells,
 }
 
 impl Fill {
@@ -90,7 +93,13 @@ impl Fill {
             Fill::Cavities => "cavities filled",
             Fill::Hollows => "hollows filled",
             Fill::HollowLining => "hollows lined",
+            Fill::OpenShells => "open parts as shells",
         }
+    }
+
+    /// Whether the solid filled some of the input's inside (cavities or hollows).
+    pub fn fills_inside(self) -> bool {
+        matches!(self, Fill::Cavities | Fill::Hollows | Fill::HollowLining)
     }
 }
 

@@ -14,12 +14,13 @@ use crate::collapse;
 use crate::enclosed::hollow_solids;
 use crate::input::Input;
 use crate::measure::{Care, Measure};
+use crate::open_parts::split_open_parts;
 use crate::promises::{crosses_no_more, Promise, Promises};
 use crate::report::{BudgetLevel, InputReport};
 use crate::restore::StandIns;
 use crate::select::{choose, Chosen};
 use crate::shell::shell_candidates;
-use crate::voxel::{voxel_candidates, COARSEST, FINEST, HEADROOM};
+use crate::voxel::{voxel_candidates, Sampled, COARSEST, FINEST, HEADROOM};
 use crate::{BudgetError, Budgeted, Level, PortfolioOptions, Timings};
 use voxlod_contouring::triangle_estimate::resolution_for_triangles;
 
@@ -119,23 +120,36 @@ pub const CAVITY_SHARE: f64 = 0.01;
 /// The input as solids for the voxel candidates: as given; with its closed cavities filled,
 /// where they hold at least [`CAVITY_SHARE`] of its volume, so that a hollow part whose wall
 /// the budget cannot afford turns solid instead of perforating; and with the hollows it nearly
-/// encloses filled and lined (module `enclosed`). With `remesh`, parts that pass through each
-/// other are sampled as their union (`MeshSolidOptions::union`), as a proxy of a scene needs.
-fn solids(input: &Input, remesh: bool) -> Result<Vec<(Fill, MeshSolid)>, BudgetError> {
+/// encloses filled and lined (module `enclosed`); where it has closed and open parts, the
+/// closed ones as a solid with shells around the open ones (module `open_parts`). With
+/// `remesh`, parts that pass through each other are sampled as their union
+/// (`MeshSolidOptions::union`), as a proxy of a scene needs.
+fn solids(input: &Input, remesh: bool) -> Result<Vec<Sampled>, BudgetError> {
     let options = MeshSolidOptions {
         union: remesh,
         ..MeshSolidOptions::default()
     };
     let given = MeshSolid::new_with(&input.mesh, options)?;
-    let mut solids = hollow_solids(input, &given, options)?;
+    let hollows = hollow_solids(input, &given, options)?;
+    let mut solids = Vec::new();
+    if let Some(split) = split_open_parts(input) {
+        let closed = MeshSolid::new_with(&split.closed, options)?;
+        let open = voxlod_metrics::MeshDistance::new(&split.open)?;
+        solids.push(Sampled {
+            fill: Fill::OpenShells,
+            solid: closed,
+            shells: Some(open),
+        });
+    }
     if let Some(filled) = fill_cavities(&input.mesh) {
         let (before, after) = (input.mesh.signed_volume(), filled.mesh.signed_volume());
         if after - before >= CAVITY_SHARE * after.abs() {
             let filled = MeshSolid::new_with(&filled.mesh, options)?;
-            solids.insert(0, (Fill::Cavities, filled));
+            solids.insert(0, Sampled::solid(Fill::Cavities, filled));
         }
     }
-    solids.insert(0, (Fill::None, given));
+    solids.insert(0, Sampled::solid(Fill::None, given));
+    solids.extend(hollows.into_iter().map(|(f, s)| Sampled::solid(f, s)));
     Ok(solids)
 }
 
@@ -231,16 +245,14 @@ fn add_voxels(
     searched: &mut Searched,
     input: &Input,
     measure: &Measure,
-    solids: &[(Fill, MeshSolid)],
+    solids: &[Sampled],
     options: &PortfolioOptions,
 ) -> Result<(), BudgetError> {
     let start = Instant::now();
     let budget = searched.budget;
-    let (filter, max_error) = (options.filter, options.max_error);
-    for (fill, solid) in solids {
-        let sampled = (*fill, solid);
-        let found = voxel_candidates(input, measure, sampled, filter, budget, max_error)?;
-        if found.vanished && *fill == Fill::None {
+    for sampled in solids {
+        let found = voxel_candidates(input, measure, sampled, options, budget)?;
+        if found.vanished && sampled.fill == Fill::None {
             searched.notes.push(format!(
                 "the voxel level at resolution {} vanished (parts thinner than a voxel)",
                 found.resolution
@@ -254,7 +266,8 @@ fn add_voxels(
             .iter()
             .all(|c| c.method != Method::Voxel)
     {
-        let shell = shell_candidates(input, measure.input_closest(), budget, options.max_error)?;
+        let max_error = options.max_error;
+        let shell = shell_candidates(input, measure.input_closest(), budget, max_error)?;
         searched.candidates.extend(shell);
     }
     searched.seconds += start.elapsed().as_secs_f64();

@@ -70,6 +70,7 @@ mod error;
 mod input;
 pub mod looks;
 mod measure;
+mod open_parts;
 mod options;
 mod promises;
 mod report;

@@ -66,8 +66,8 @@ pub fn shell_candidates(
         .collect())
 }
 
-/// The ramp density of the module docs on `grid`.
-fn shell_density(
+/// The ramp density of the module docs on `grid`: half-thickness `t`, ramp half-width `w`.
+pub fn shell_density(
     grid: &Grid,
     closest: &MeshDistance,
     t: f64,

@@ -21,14 +21,17 @@
 
 use voxlod_contouring::marching_cubes_multi;
 use voxlod_contouring::triangle_estimate::resolution_for_triangles;
+use voxlod_metrics::MeshDistance;
 use voxlod_quadric::{simplify_dropping_parts, simplify_unchecked, PartsOptions, QuadricOptions};
-use voxlod_sampling::{filtered_density, level_grid, DensityOptions, Filter, MeshSolid};
+use voxlod_sampling::closing::closing_fill;
+use voxlod_sampling::{filtered_density, level_grid, DensityOptions, MeshSolid};
 
 use crate::candidate::{Candidate, Fill, Method};
 use crate::input::Input;
 use crate::measure::{Care, Measure};
+use crate::open_parts::add_open_shells;
 use crate::promises::within_budget;
-use crate::BudgetError;
+use crate::{BudgetError, PortfolioOptions};
 use voxlod_contouring::clean_mesh::without_zero_area;
 
 /// The marching-cubes level aimed at has this many times the budget's triangles: room for the
@@ -54,33 +57,57 @@ pub struct VoxelFound {
     pub vanished: bool,
 }
 
-/// The isodensities a solid is contoured at: all of [`ISOS`] for the input as given and with
-/// its closed cavities filled; only 0.5 where its hollows are filled or lined (module
-/// `enclosed`), whose walls are thick by construction.
+/// The input as one solid of the voxel candidates: what of its inside is filled, the solid
+/// sampled, and the open parts sampled as shells beside it (module `open_parts`).
+pub struct Sampled {
+    /// What the solid fills.
+    pub fill: Fill,
+    /// The solid (with [`Fill::OpenShells`], of the closed parts only).
+    pub solid: MeshSolid,
+    /// The open parts, whose shells join the solid (with [`Fill::OpenShells`] only).
+    pub shells: Option<MeshDistance>,
+}
+
+impl Sampled {
+    /// `solid`, with `fill` filled, no shells.
+    pub fn solid(fill: Fill, solid: MeshSolid) -> Sampled {
+        Sampled {
+            fill,
+            solid,
+            shells: None,
+        }
+    }
+}
+
+/// The isodensities a solid is contoured at: all of [`ISOS`] for the input as given, with its
+/// closed cavities filled, and with its open parts as shells; only 0.5 where its hollows are
+/// filled or lined (module `enclosed`), whose walls are thick by construction.
 pub fn isos_of(fill: Fill) -> &'static [f32] {
     match fill {
-        Fill::None | Fill::Cavities => &ISOS,
+        Fill::None | Fill::Cavities | Fill::OpenShells => &ISOS,
         Fill::Hollows | Fill::HollowLining => &ISOS[..1],
     }
 }
 
-/// The voxel candidates of `budget` from `solid` (the input as a solid, with `fill` filled),
-/// filtered by `filter`.
+/// The voxel candidates of `budget` from `sampled` (the input as a solid), filtered by
+/// `options.filter`, gaps closed as `options.close_gaps` asks, collapsed within
+/// `options.max_error`.
 pub fn voxel_candidates(
     input: &Input,
     measure: &Measure,
-    (fill, solid): (Fill, &MeshSolid),
-    filter: Filter,
+    sampled: &Sampled,
+    options: &PortfolioOptions,
     budget: usize,
-    max_error: Option<f64>,
 ) -> Result<VoxelFound, BudgetError> {
+    let max_error = options.max_error;
     let want = HEADROOM * budget as f64;
     let start = resolution_for_triangles(&input.mesh, want as usize).unwrap_or(COARSEST);
     let mut resolution = start.clamp(COARSEST, FINEST);
     let mut found = VoxelFound::default();
     let (mut refined, mut coarsened) = (false, 0);
+    let fill = sampled.fill;
     loop {
-        let levels = contoured(input, solid, filter, resolution, isos_of(fill))?;
+        let levels = contoured(input, sampled, options, resolution)?;
         let most = levels.iter().map(|m| m.triangle_count()).max().unwrap_or(0);
         found.resolution = resolution;
         found.vanished = most == 0;
@@ -112,7 +139,7 @@ pub fn voxel_candidates(
         let coarser = ((at * COARSER) as usize).max(COARSEST);
         for r in [finer, coarser] {
             if r != found.resolution {
-                let levels = contoured(input, solid, filter, r, isos_of(fill))?;
+                let levels = contoured(input, sampled, options, r)?;
                 add_collapsed(&mut found, input, levels, (r, fill), budget, max_error);
             }
         }
@@ -186,23 +213,51 @@ fn add_collapsed(
     reached
 }
 
-/// The input's solid filtered at `resolution` (radius one voxel, as the paper's pyramid) and
-/// contoured at each of `isos`.
+/// The input's solid filtered at `resolution` (radius one voxel, as the paper's pyramid), its
+/// open parts' shells added where it has them, its gaps closed where `options` asks, and
+/// contoured at each of [`isos_of`] its fill.
 fn contoured(
     input: &Input,
-    solid: &MeshSolid,
-    filter: Filter,
+    sampled: &Sampled,
+    options: &PortfolioOptions,
     resolution: usize,
-    isos: &[f32],
 ) -> Result<Vec<voxlod_core::TriangleMesh>, BudgetError> {
     let radius = input.bounds.longest_extent() / resolution as f64;
     let grid = level_grid(&input.bounds, resolution, radius)?;
-    let (density, _) = filtered_density(solid, &grid, &DensityOptions::new(filter, radius))?;
+    let density_options = DensityOptions::new(options.filter, radius);
+    let (mut density, _) = filtered_density(&sampled.solid, &grid, &density_options)?;
+    if let Some(open) = &sampled.shells {
+        add_open_shells(&mut density, open, radius)?;
+    }
+    if let Some(gap) = options.close_gaps {
+        close_gaps(&mut density, gap)?;
+    }
+    let isos = isos_of(sampled.fill);
     let levels = marching_cubes_multi(&density, isos, false).map_err(|e| BudgetError::NoLevel {
         budget: 0,
         why: format!("marching cubes: {e}"),
     })?;
     Ok(levels.into_iter().map(|l| l.mesh).collect())
+}
+
+/// `density` with the gaps of its solid (isodensity 1/2) narrower than `gap` (mesh units)
+/// closed: a morphological closing by a ball of radius `gap / 2`, rounded to whole samples
+/// ([`closing_fill`]: dilated, what the outside cannot reach kept, eroded again), whose new
+/// samples are raised to 1. A gap under a sample's width is left to the filter. Cost:
+/// O(r N³) for radius r in samples.
+fn close_gaps(density: &mut voxlod_core::Volume, gap: f64) -> Result<(), BudgetError> {
+    let radius = (0.5 * gap / density.grid.spacing[0]).round() as usize;
+    if radius == 0 {
+        return Ok(());
+    }
+    let dims = density.grid.dims;
+    let inside: Vec<bool> = density.as_slice().iter().map(|&d| d >= 0.5).collect();
+    let closing = closing_fill(&inside, dims, radius)?;
+    let values = density.as_slice_mut();
+    for i in closing.filled {
+        values[i] = 1.0;
+    }
+    Ok(())
 }
 
 /// meshoptimizer passes of a level's checked collapse (each also checks the result's topology

@@ -198,3 +198,76 @@ fn remesh_levels_are_new_closed_surfaces_that_merge_interpenetrating_parts() {
     let plain = levels(&mesh, &PortfolioOptions::for_triangles(&budgets[..1])).unwrap();
     assert_eq!(mesh_topology(&plain.levels[0].mesh).components, 4);
 }
+
+/// Two unit cubes side by side along x with a gap of `gap` between them.
+fn two_cubes(gap: f32) -> TriangleMesh {
+    let mut mesh = voxlod_testkit::shapes::unit_cube();
+    let mut other = voxlod_testkit::shapes::unit_cube();
+    other.positions.iter_mut().for_each(|p| p.x += 1.0 + gap);
+    voxlod_testkit::shapes::append(&mut mesh, &other);
+    mesh
+}
+
+#[test]
+fn close_gaps_joins_parts_closer_than_the_distance_and_only_those() {
+    // At 2 000 triangles the grid is fine enough to keep a 0.3 gap open (about 60 samples
+    // across the 2.3 long side: the gap is 8 samples wide).
+    let mesh = two_cubes(0.3);
+    let components = |close_gaps: Option<f64>| {
+        let options = PortfolioOptions {
+            close_gaps,
+            ..PortfolioOptions::remesh(&[2000])
+        };
+        let run = levels(&mesh, &options).unwrap();
+        let t = mesh_topology(&run.levels[0].mesh);
+        assert!(
+            t.is_closed_manifold() && t.is_consistently_oriented(),
+            "{t:?}"
+        );
+        t.components
+    };
+    assert_eq!(components(None), 2);
+    assert_eq!(components(Some(0.2)), 2);
+    assert_eq!(components(Some(0.5)), 1);
+    let bad = PortfolioOptions {
+        close_gaps: Some(f64::NAN),
+        ..PortfolioOptions::remesh(&[2000])
+    };
+    assert!(matches!(
+        levels(&mesh, &bad),
+        Err(BudgetError::InvalidOption {
+            name: "close_gaps",
+            ..
+        })
+    ));
+}
+
+#[test]
+fn open_cards_beside_a_closed_part_survive_as_shells() {
+    // A closed cube and, one unit above it, forty open cards (two triangles each, no
+    // thickness): sampled as one solid the cards bound nothing and vanish; as shells they stay.
+    let mut mesh = voxlod_testkit::shapes::unit_cube();
+    for i in 0..40 {
+        let mut card = voxlod_testkit::shapes::unit_cube();
+        card.positions.truncate(4);
+        card.triangles = vec![[0, 1, 3], [0, 3, 2]];
+        let (x, y) = ((i % 8) as f32 * 0.25, (i / 8) as f32 * 0.25);
+        for p in card.positions.iter_mut() {
+            *p = Vec3::new(x + 0.2 * p.x, y + 0.2 * p.y, 2.0 + 0.1 * p.x);
+        }
+        voxlod_testkit::shapes::append(&mut mesh, &card);
+    }
+    let run = levels(&mesh, &PortfolioOptions::remesh(&[1500])).unwrap();
+    let level = &run.levels[0];
+    assert_eq!(
+        level.report.fill,
+        voxlod_budget::Fill::OpenShells,
+        "{:?}",
+        level.report
+    );
+    let t = mesh_topology(&level.mesh);
+    assert!(t.is_closed_manifold(), "{t:?}");
+    // The level reaches up to the cards (z about 2.1) and down to the cube (z = 0).
+    let b = level.mesh.bounds();
+    assert!(b.max[2] > 2.05 && b.min[2] < 0.05, "{b:?}");
+}

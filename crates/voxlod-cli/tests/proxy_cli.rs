@@ -109,3 +109,63 @@ fn proxy_refuses_other_outputs_and_tiny_budgets_naming_the_flag() {
     assert!(stderr(&o).contains("missing.glb"), "{}", stderr(&o));
     assert!(!glb.exists());
 }
+
+#[test]
+fn proxy_refuses_bad_gap_angle_and_density_values_naming_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_glb(dir.path());
+    let glb = dir.path().join("proxy.glb");
+    for (flag, value) in [
+        ("--close-gaps", "-1"),
+        ("--close-gaps", "nan"),
+        ("--hard-edges", "200"),
+        ("--texel-density", "0"),
+    ] {
+        let args = ["proxy", arg(&scene), "-o", arg(&glb), "--triangles", "500"];
+        let o = voxlod(&[&args[..], &[flag, value]].concat());
+        assert_eq!(o.status.code(), Some(2), "{flag} {value}: {}", stderr(&o));
+        assert!(stderr(&o).contains(flag), "{}", stderr(&o));
+        assert!(!glb.exists());
+    }
+    // A density and a size together are a contradiction clap names.
+    let both = [
+        "proxy",
+        arg(&scene),
+        "-o",
+        arg(&glb),
+        "--triangles",
+        "500",
+        "--texture",
+        "512",
+        "--texel-density",
+        "40",
+    ];
+    assert_eq!(voxlod(&both).status.code(), Some(2));
+}
+
+#[test]
+fn proxy_texel_density_sizes_the_texture_by_the_level_area() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_glb(dir.path());
+    let side = |density: &str| {
+        let out = dir.path().join(format!("proxy-{density}.glb"));
+        let o = voxlod(&[
+            "proxy",
+            arg(&scene),
+            "-o",
+            arg(&out),
+            "--triangles",
+            "400",
+            "--texel-density",
+            density,
+            "--no-appearance",
+            "--json",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        json(&o)["levels"][0]["bake"]["width"].as_u64().unwrap()
+    };
+    // Twice the density, about twice the side (the charts' packing varies a little).
+    let (low, high) = (side("40"), side("80"));
+    let ratio = high as f64 / low as f64;
+    assert!((1.6..=2.5).contains(&ratio), "{low} -> {high}");
+}

@@ -58,8 +58,17 @@ fn main() -> Res<()> {
         ("building", scenes::building(), vec![0.05, 0.01]),
         ("props", scenes::props(), vec![0.05, 0.01]),
     ];
+    // PROXY_BENCH_INPUTS=tree,spot runs only the inputs named.
+    let only = std::env::var("PROXY_BENCH_INPUTS").ok();
+    let wanted = |name: &str| {
+        only.as_ref()
+            .is_none_or(|o| o.split(',').any(|n| n == name))
+    };
+    inputs.retain(|(name, _, _)| wanted(name));
     let spot = Path::new(&args[3]);
-    if spot.exists() {
+    if !wanted("spot") {
+        println!("spot skipped: not in PROXY_BENCH_INPUTS");
+    } else if spot.exists() {
         let asset = voxlod::io::read_asset(spot)?.asset;
         inputs.push(("spot", asset, vec![0.2, 0.05, 0.01]));
     } else {

@@ -190,7 +190,7 @@ fn report(r: &voxlod_budget::BudgetLevel, error: Option<f64>, genus: Option<i64>
         handles_removed: genus.zip(r.genus).map(|(i, l)| i - l),
         parts_dropped: r.parts_dropped,
         iso: r.iso.unwrap_or(0.5),
-        cavities_filled: usize::from(r.fill != voxlod_budget::Fill::None),
+        cavities_filled: usize::from(r.fill.fills_inside()),
         parts_restored: r.parts_restored,
         simplified_from: r.simplified_from,
         fitted_to_input: r.fitted_to_input,

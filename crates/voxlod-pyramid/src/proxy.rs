@@ -44,6 +44,10 @@ pub struct ProxyOptions {
     pub monotone: bool,
     /// The voxel levels' vertices fitted to the scene's surface where that measures closer.
     pub fit: Option<FitOptions>,
+    /// Gaps between parts narrower than this (scene units) closed in every level; `None`:
+    /// only what the filter closes, gaps under about a voxel
+    /// ([`voxlod_budget::PortfolioOptions::close_gaps`]).
+    pub close_gaps: Option<f64>,
     /// The atlas and the bake: texture size (or texel density), padding, creases, the cage.
     pub bake: BakeOptions,
 }
@@ -57,6 +61,7 @@ impl Default for ProxyOptions {
             filter: Filter::Hypercone,
             monotone: true,
             fit: Some(FitOptions::quick()),
+            close_gaps: None,
             bake: BakeOptions::for_texture(1024),
         }
     }
@@ -122,6 +127,7 @@ pub fn proxy_with(
         filter: options.filter,
         monotone: options.monotone,
         fit: options.fit.clone(),
+        close_gaps: options.close_gaps,
         ..PortfolioOptions::remesh(&options.triangles)
     };
     let ask = |done: usize, total: usize| {

@@ -20,16 +20,20 @@ use super::lod_asset::LayoutArg;
 use super::lod_glb::CompressArg;
 use super::values::number;
 
-/// One proxy for a whole scene, its looks baked: every part and instance of a glTF scene (or
-/// of an OBJ, PLY or OFF asset) sampled as one solid and remeshed by the voxel method at each
-/// triangle budget (parts merge, gaps narrower than a voxel close, what is hidden inside goes,
-/// the genus drops), then given a UV atlas and textures cast from the scene: base colour,
-/// tangent-space normals, occlusion-roughness-metallic and emissive where the scene has them.
-/// Each level is one closed mesh with one material: one draw call.
+/// One proxy for a whole scene, its looks baked: one mesh, one material, one draw call a level.
+///
+/// Every part and instance of a glTF scene (or of an OBJ, PLY or OFF asset) is sampled as one
+/// solid and remeshed by the voxel method at each triangle budget (parts merge, gaps narrower
+/// than a voxel close, what is hidden inside goes, the genus drops), then given a UV atlas and
+/// textures cast from the scene: base colour, tangent-space normals,
+/// occlusion-roughness-metallic and emissive where the scene has them. Closed parts are
+/// sampled as solids and open parts (leaf cards, fences, cloth) as thin shells around them,
+/// so that they do not vanish; their alpha masks are baked.
 ///
 /// Examples:
 ///   voxlod proxy street.glb -o street-proxy.glb --triangles 5000,1000,250
 ///   voxlod proxy machine.gltf -o proxy.glb --triangles 2000 --texture 2048 --layout lod-nodes
+///   voxlod proxy yard.glb -o yard-proxy.glb --triangles 800 --close-gaps 0.5 --hard-edges 40
 ///   voxlod proxy spot.obj -o spot-proxy.glb --triangles 500 --json
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
@@ -48,6 +52,22 @@ pub struct ProxyArgs {
     #[arg(long, value_name = "TEXELS", default_value_t = 1024,
         value_parser = number::<u32>, allow_hyphen_values = true)]
     pub texture: u32,
+    /// Texels per scene unit along the surface instead of a fixed --texture size: each
+    /// level's texture is as large as its charts need at that density (at most 16384)
+    #[arg(long, value_name = "TEXELS_PER_UNIT", conflicts_with = "texture",
+        value_parser = number::<f32>, allow_hyphen_values = true)]
+    pub texel_density: Option<f32>,
+    /// Close gaps between parts narrower than this distance (scene units): a fence's
+    /// pickets or a shelf's books become one surface. By default only gaps under about a
+    /// voxel of the level close
+    #[arg(long, value_name = "DISTANCE", value_parser = number::<f64>,
+        allow_hyphen_values = true)]
+    pub close_gaps: Option<f64>,
+    /// Edges of a level that bend by more than this angle (degrees, 0 to 180) are hard:
+    /// split normals and a chart border there; smaller bends are shaded smooth
+    #[arg(long, value_name = "DEGREES", default_value_t = 60.0,
+        value_parser = number::<f32>, allow_hyphen_values = true)]
+    pub hard_edges: f32,
     /// How the levels sit in the .glb. msft-lod: one node switching levels with MSFT_lod;
     /// lod-nodes: one node per level named LOD0, LOD1, … (Blender, Unity, Unreal, three.js)
     #[arg(long, value_enum, default_value = "msft-lod")]
@@ -129,14 +149,20 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
             args.texture
         )));
     }
+    check_values(&args)?;
     let mut out = OutputSet::protecting([&args.input]);
     out.check(&args.output)?;
     let (scene, mut warnings) = read_scene(&args.input)?;
-    let options = ProxyOptions {
+    let mut options = ProxyOptions {
         monotone: !args.no_monotone,
         fit: (!args.no_fit).then(voxlod::FitOptions::quick),
+        close_gaps: args.close_gaps,
         ..ProxyOptions::for_triangles(&args.triangles, args.texture)
     };
+    if let Some(density) = args.texel_density {
+        options.bake.atlas.texture = voxlod::bake::TextureSize::Density(density);
+    }
+    options.bake.atlas.crease_degrees = args.hard_edges;
     let bar = progress(args.triangles.len() as u64, "levels baked", args.json);
     let show = |p: Progress| {
         if matches!(p.event, voxlod::Event::Step { what: "bake", .. }) {
@@ -186,6 +212,27 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
         report.total_seconds,
         report.output
     ));
+    Ok(())
+}
+
+/// Refuses flag values no run can honour (exit 2), before any work.
+fn check_values(args: &ProxyArgs) -> Result<(), CliError> {
+    if !(0.0..=180.0).contains(&args.hard_edges) {
+        let a = args.hard_edges;
+        return Err(CliError::usage(format!(
+            "--hard-edges {a}: an angle of 0 to 180 degrees"
+        )));
+    }
+    if let Some(d) = args.texel_density.filter(|d| !(d.is_finite() && *d > 0.0)) {
+        return Err(CliError::usage(format!(
+            "--texel-density {d}: texels per scene unit, a positive number"
+        )));
+    }
+    if let Some(g) = args.close_gaps.filter(|g| !(g.is_finite() && *g > 0.0)) {
+        return Err(CliError::usage(format!(
+            "--close-gaps {g}: a gap width, a positive distance in scene units"
+        )));
+    }
     Ok(())
 }
 
