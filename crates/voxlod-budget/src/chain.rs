@@ -51,7 +51,10 @@ pub fn levels_with(
         phase = Instant::now();
     };
     options.check()?;
-    let input = Input::prepare(mesh)?;
+    let mut input = Input::prepare(mesh)?;
+    if options.drop_hidden {
+        input = crate::visible::without_hidden(input)?;
+    }
     let given = input.changed_by_preparation().then_some(mesh);
     let measure = Measure::new(&input, options.quick_samples, options.careful_samples)?;
     lap(&mut timings.prepare);
@@ -100,6 +103,17 @@ pub fn levels_with(
             budget: 0,
             why: "a budget was lost between search and choice".into(),
         })?;
+    if let Some(hidden) = input
+        .seen
+        .as_ref()
+        .map(|s| s.hidden_parts)
+        .filter(|&h| h > 0)
+    {
+        let views = crate::visible::VIEWS;
+        warnings.push(format!(
+            "{hidden} parts seen from none of {views} views around the input were dropped"
+        ));
+    }
     if input.preparation.turned_right_side_out {
         warnings
             .push("the input was inside out (negative volume): its levels face outwards".into());

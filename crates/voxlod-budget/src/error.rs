@@ -33,6 +33,9 @@ pub enum BudgetError {
     /// Measuring failed (the memory budget).
     #[error(transparent)]
     Metrics(#[from] MetricsError),
+    /// Drawing the input's views to find what is seen failed (the memory budget).
+    #[error(transparent)]
+    Render(#[from] voxlod_render::RenderError),
     /// Every method failed on a budget: no candidate at all.
     #[error("no level for {budget} triangles: {why}")]
     NoLevel {

@@ -32,8 +32,21 @@ pub struct Input {
     pub diagonal: f64,
     /// What preparing it changed.
     pub preparation: Preparation,
+    /// What of it is seen from outside, where hidden surfaces are left out of measuring
+    /// (module `visible`); `None`: every triangle counts.
+    pub seen: Option<Seen>,
     /// Its crossing triangle pairs, counted on first use.
     crossings: OnceLock<usize>,
+}
+
+/// The input's triangles seen from outside (module `visible`).
+pub struct Seen {
+    /// Whether each of the input's triangles is seen.
+    pub mask: Vec<bool>,
+    /// The seen triangles alone: the surface candidates are measured against.
+    pub mesh: TriangleMesh,
+    /// Parts no view saw, dropped from the input.
+    pub hidden_parts: usize,
 }
 
 /// What [`Input::prepare`] changed, for the report.
@@ -86,8 +99,20 @@ impl Input {
                 turned_right_side_out: inside_out,
             },
             mesh: clean,
+            seen: None,
             crossings: OnceLock::new(),
         })
+    }
+
+    /// The surface candidates are measured against and fitted to: the seen triangles where
+    /// hidden ones are left out ([`Input::seen`]), else the whole input.
+    pub fn measured(&self) -> &TriangleMesh {
+        self.seen.as_ref().map_or(&self.mesh, |s| &s.mesh)
+    }
+
+    /// Whether the input's triangle `t` counts in measuring ([`Input::measured`]).
+    pub fn is_measured(&self, t: u32) -> bool {
+        self.seen.as_ref().is_none_or(|s| s.mask[t as usize])
     }
 
     /// The length that judges a degenerate triangle of a collapse of the input: a thousandth of

@@ -78,6 +78,8 @@ mod restore;
 pub mod select;
 pub mod separate;
 mod shell;
+mod shell_density;
+mod visible;
 mod voxel;
 
 pub use candidate::{Fill, Method};

@@ -93,11 +93,16 @@ impl<'a> Measure<'a> {
     /// The input's side, with `quick` and `careful` area samples. Fails only on the memory
     /// budget (the input is prepared, so it has area).
     pub fn new(input: &'a Input, quick: usize, careful: usize) -> Result<Measure<'a>, BudgetError> {
-        let sampler = SurfaceSampler::new(&input.mesh)?;
-        let step = input.parts.len().div_ceil(PART_POINTS).max(1);
+        let sampler = SurfaceSampler::new(input.measured())?;
         let mesh = &input.mesh;
-        let part_points: Vec<DVec3> = (input.parts.iter().step_by(step))
-            .map(|p| mesh.positions[mesh.triangles[p[0] as usize][0] as usize].as_dvec3())
+        // One vertex of each part's first measured triangle (parts none of whose triangles
+        // counts have none).
+        let firsts: Vec<u32> = (input.parts.iter())
+            .filter_map(|p| p.iter().copied().find(|&t| input.is_measured(t)))
+            .collect();
+        let step = firsts.len().div_ceil(PART_POINTS).max(1);
+        let part_points: Vec<DVec3> = (firsts.iter().step_by(step))
+            .map(|&t| mesh.positions[mesh.triangles[t as usize][0] as usize].as_dvec3())
             .collect();
         let points = |n: usize| -> Result<Points, BudgetError> {
             let options = SamplingOptions {
@@ -112,7 +117,7 @@ impl<'a> Measure<'a> {
             ))
         };
         Ok(Measure {
-            closest: MeshDistance::new(&input.mesh)?,
+            closest: MeshDistance::new(input.measured())?,
             quick: points(quick)?,
             careful: points(careful)?,
             precise: std::sync::OnceLock::new(),

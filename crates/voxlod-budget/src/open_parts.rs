@@ -7,7 +7,7 @@
 //! level keeps only the closed parts; a shell around the whole input (module `shell`) keeps the
 //! open parts but doubles every closed part's surface. Here each kind is sampled as what it is:
 //! the closed parts' filtered density, and around the open parts the shell's ramp density of
-//! their unsigned distance (module `shell`), combined by their maximum (the union of the two
+//! their unsigned distance (module `shell_density`), combined by their maximum (the union of the two
 //! solids) before contouring. The open parts become thin closed slabs that follow them; the
 //! closed parts are as in the input's own voxel level. Our addition to the paper.
 //!
@@ -15,13 +15,13 @@
 //! where one of its edges is used by one triangle or by more than two.
 //!
 //! Cost: one edge sort (O(F log F)), a solid of the closed parts and a closest-point structure
-//! of the open parts (O(F log F) each); per grid, the shell's density (module `shell`).
+//! of the open parts (O(F log F) each); per grid, the shell's density (module `shell_density`).
 
 use voxlod_core::{TriangleMesh, Volume};
 use voxlod_metrics::MeshDistance;
 
 use crate::input::Input;
-use crate::shell::{shell_density, HALF_THICKNESS, RAMP};
+use crate::shell_density::{shell_density, HALF_THICKNESS, RAMP};
 use crate::BudgetError;
 
 /// An input's parts split by kind: both non-empty.

@@ -33,6 +33,9 @@ pub struct PortfolioOptions {
     /// and level-above candidates compete, never the input's own collapse nor its parts stood
     /// in for, so that parts merge, gaps close and what the filter removes stays removed.
     pub remesh: bool,
+    /// Parts that no view from a sphere around the input sees are dropped, and candidates are
+    /// measured against and fitted to the triangles seen only (module `visible`).
+    pub drop_hidden: bool,
     /// Gaps between parts narrower than this (mesh units) closed in every voxel candidate's
     /// solid (a morphological closing, module `voxel`); `None`: only what the filter closes,
     /// gaps under about a voxel.
@@ -58,6 +61,7 @@ impl Default for PortfolioOptions {
             fit: Some(FitOptions::quick()),
             remesh: false,
             close_gaps: None,
+            drop_hidden: false,
             quick_samples: 2_000,
             careful_samples: 10_000,
         }
@@ -65,11 +69,13 @@ impl Default for PortfolioOptions {
 }
 
 impl PortfolioOptions {
-    /// A proxy's levels for `budgets` ([`PortfolioOptions::remesh`]), every level closed.
+    /// A proxy's levels for `budgets` ([`PortfolioOptions::remesh`]), every level closed, what
+    /// is hidden dropped ([`PortfolioOptions::drop_hidden`]).
     pub fn remesh(budgets: &[usize]) -> Self {
         PortfolioOptions {
             remesh: true,
             closed: true,
+            drop_hidden: true,
             ..PortfolioOptions::for_triangles(budgets)
         }
     }

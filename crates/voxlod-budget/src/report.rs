@@ -125,6 +125,10 @@ pub struct InputReport {
     pub diagonal: f64,
     /// What preparing it changed.
     pub preparation: Preparation,
+    /// Parts no view saw, dropped ([`crate::PortfolioOptions::drop_hidden`]).
+    pub hidden_parts: usize,
+    /// Triangles of the parts kept that no view saw: left out of measuring.
+    pub hidden_triangles: usize,
 }
 
 impl InputReport {
@@ -139,6 +143,9 @@ impl InputReport {
             closed: input.is_closed(),
             diagonal: input.diagonal,
             preparation: input.preparation,
+            hidden_parts: input.seen.as_ref().map_or(0, |s| s.hidden_parts),
+            hidden_triangles: (input.seen.as_ref())
+                .map_or(0, |s| s.mask.iter().filter(|&&m| !m).count()),
         }
     }
 }

@@ -271,3 +271,45 @@ fn open_cards_beside_a_closed_part_survive_as_shells() {
     let b = level.mesh.bounds();
     assert!(b.max[2] > 2.05 && b.min[2] < 0.05, "{b:?}");
 }
+
+/// The unit cube scaled by `size` and moved to `at`, facing outwards or, `inverted`, inwards.
+fn cube_at(at: f32, size: f32, inverted: bool) -> TriangleMesh {
+    let mut cube = voxlod_testkit::shapes::unit_cube();
+    cube.positions
+        .iter_mut()
+        .for_each(|p| *p = *p * size + Vec3::splat(at));
+    if inverted {
+        cube.flip_orientation();
+    }
+    cube
+}
+
+#[test]
+fn hidden_parts_are_dropped_and_left_out_of_measuring() {
+    // A closed room: walls 0.5 thick around a hollow (an inward-facing inner box), and a
+    // crate in the hollow. From outside only the outer box shows: the hollow's walls and the
+    // crate are dropped, and the level is the outer box, measured against it alone.
+    let mut mesh = cube_at(0.0, 3.0, false);
+    voxlod_testkit::shapes::append(&mut mesh, &cube_at(0.5, 2.0, true));
+    voxlod_testkit::shapes::append(&mut mesh, &cube_at(1.2, 0.6, false));
+    let run = levels(&mesh, &PortfolioOptions::remesh(&[600])).unwrap();
+    assert_eq!(run.input.hidden_parts, 2, "{:?}", run.input);
+    assert_eq!(run.input.triangles, 12);
+    assert!(run
+        .warnings
+        .iter()
+        .any(|w| w.contains("2 parts seen from none")));
+    let level = &run.levels[0];
+    let t = mesh_topology(&level.mesh);
+    assert!(t.is_closed_manifold() && t.components == 1, "{t:?}");
+    let volume = level.mesh.signed_volume();
+    assert!((volume / 27.0 - 1.0).abs() < 0.1, "{volume}");
+    // Kept, the hidden parts leave the hollow in the solid sampled.
+    let kept = PortfolioOptions {
+        drop_hidden: false,
+        ..PortfolioOptions::remesh(&[600])
+    };
+    let run = levels(&mesh, &kept).unwrap();
+    assert_eq!(run.input.hidden_parts, 0);
+    assert_eq!(run.input.triangles, 36);
+}

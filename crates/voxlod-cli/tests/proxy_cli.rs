@@ -46,6 +46,8 @@ fn a_scene_proxy_is_one_draw_call_per_level_and_validates() {
         assert!(o.status.success(), "{}", stderr(&o));
         let report = json(&o);
         assert_eq!(report["input_draw_calls"], 3);
+        // Every part shows from outside.
+        assert_eq!(report["hidden_parts"], 0);
         assert_eq!(report["layout"], layout);
         let levels = report["levels"].as_array().unwrap();
         assert_eq!(levels.len(), 2);
@@ -84,16 +86,7 @@ fn proxy_refuses_other_outputs_and_tiny_budgets_naming_the_flag() {
     let o = voxlod(&["proxy", arg(&scene), "-o", arg(&glb), "--triangles", "3"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("triangles"), "{}", stderr(&o));
-    let o = voxlod(&[
-        "proxy",
-        arg(&scene),
-        "-o",
-        arg(&glb),
-        "--triangles",
-        "500",
-        "--texture",
-        "0",
-    ]);
+    let o = proxy_500(&scene, &glb, &["--texture", "0"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("--texture"), "{}", stderr(&o));
     let missing = dir.path().join("missing.glb");
@@ -121,26 +114,20 @@ fn proxy_refuses_bad_gap_angle_and_density_values_naming_the_flag() {
         ("--hard-edges", "200"),
         ("--texel-density", "0"),
     ] {
-        let args = ["proxy", arg(&scene), "-o", arg(&glb), "--triangles", "500"];
-        let o = voxlod(&[&args[..], &[flag, value]].concat());
+        let o = proxy_500(&scene, &glb, &[flag, value]);
         assert_eq!(o.status.code(), Some(2), "{flag} {value}: {}", stderr(&o));
         assert!(stderr(&o).contains(flag), "{}", stderr(&o));
         assert!(!glb.exists());
     }
     // A density and a size together are a contradiction clap names.
-    let both = [
-        "proxy",
-        arg(&scene),
-        "-o",
-        arg(&glb),
-        "--triangles",
-        "500",
-        "--texture",
-        "512",
-        "--texel-density",
-        "40",
-    ];
-    assert_eq!(voxlod(&both).status.code(), Some(2));
+    let both = ["--texture", "512", "--texel-density", "40"];
+    assert_eq!(proxy_500(&scene, &glb, &both).status.code(), Some(2));
+}
+
+/// `voxlod proxy SCENE -o OUT --triangles 500` with `extra` flags.
+fn proxy_500(scene: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+    let args = ["proxy", arg(scene), "-o", arg(out), "--triangles", "500"];
+    voxlod(&[&args[..], extra].concat())
 }
 
 #[test]

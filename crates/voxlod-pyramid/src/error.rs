@@ -332,6 +332,7 @@ pub fn budget_class(e: &BudgetError) -> ErrorClass {
         BudgetError::Core(e) => core_class(e),
         BudgetError::Sampling(e) => sampling_class(e),
         BudgetError::Metrics(e) => metrics_class(e),
+        BudgetError::Render(e) => render_class(e),
         BudgetError::InvalidBudgets(_) | BudgetError::InvalidOption { .. } => ErrorClass::Usage,
         BudgetError::Cancelled => ErrorClass::Cancelled,
         BudgetError::EmptyMesh { .. } | BudgetError::NoLevel { .. } => ErrorClass::BadInput,

@@ -48,13 +48,17 @@ pub struct ProxyOptions {
     /// only what the filter closes, gaps under about a voxel
     /// ([`voxlod_budget::PortfolioOptions::close_gaps`]).
     pub close_gaps: Option<f64>,
+    /// Parts seen from none of a sphere of views around the scene are dropped, and the levels
+    /// are measured against and fitted to what is seen
+    /// ([`voxlod_budget::PortfolioOptions::drop_hidden`]).
+    pub drop_hidden: bool,
     /// The atlas and the bake: texture size (or texel density), padding, creases, the cage.
     pub bake: BakeOptions,
 }
 
 impl Default for ProxyOptions {
     /// No budget yet ([`ProxyOptions::for_triangles`]), the hyper-cone, monotone, the quick
-    /// fit, 1024² textures.
+    /// fit, gaps closed by the filter alone, hidden parts dropped, 1024² textures.
     fn default() -> Self {
         ProxyOptions {
             triangles: Vec::new(),
@@ -62,6 +66,7 @@ impl Default for ProxyOptions {
             monotone: true,
             fit: Some(FitOptions::quick()),
             close_gaps: None,
+            drop_hidden: true,
             bake: BakeOptions::for_texture(1024),
         }
     }
@@ -128,6 +133,7 @@ pub fn proxy_with(
         monotone: options.monotone,
         fit: options.fit.clone(),
         close_gaps: options.close_gaps,
+        drop_hidden: options.drop_hidden,
         ..PortfolioOptions::remesh(&options.triangles)
     };
     let ask = |done: usize, total: usize| {

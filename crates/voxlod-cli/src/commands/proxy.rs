@@ -75,6 +75,10 @@ pub struct ProxyArgs {
     /// Compress the levels' geometry (textures stay PNG)
     #[arg(long, value_enum, value_name = "METHOD")]
     pub compress: Option<CompressArg>,
+    /// Keep the parts that none of 64 views around the scene sees (by default they are
+    /// dropped, and levels are measured against what is seen)
+    #[arg(long)]
+    pub keep_hidden: bool,
     /// Let the genus rise from a level to the next
     #[arg(long)]
     pub no_monotone: bool,
@@ -100,6 +104,8 @@ struct ProxyReport {
     /// Draw calls of the scene: one per material its triangles use.
     input_draw_calls: usize,
     input_triangles: usize,
+    /// Parts no view saw, dropped (0 with --keep-hidden).
+    hidden_parts: usize,
     levels: Vec<LevelReport>,
     total_seconds: f64,
     /// Every warning, also printed on standard error without --json.
@@ -157,6 +163,7 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
         monotone: !args.no_monotone,
         fit: (!args.no_fit).then(voxlod::FitOptions::quick),
         close_gaps: args.close_gaps,
+        drop_hidden: !args.keep_hidden,
         ..ProxyOptions::for_triangles(&args.triangles, args.texture)
     };
     if let Some(density) = args.texel_density {
@@ -191,6 +198,7 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
         layout: args.layout.name(),
         input_draw_calls: draw_calls(&scene),
         input_triangles: scene.mesh.triangles.len(),
+        hidden_parts: made.input.hidden_parts,
         levels: level_reports(&made, measured),
         total_seconds: start.elapsed().as_secs_f64(),
         warnings,
