@@ -57,3 +57,31 @@ fn a_scene_becomes_one_closed_baked_mesh_per_level() {
         );
     }
 }
+
+#[test]
+fn a_tree_keeps_its_crown_of_open_leaf_cards() {
+    // 480 alpha-masked leaf cards (open quads) around a closed trunk: sampled as one solid the
+    // cards bound nothing and the crown vanishes; as shells around the cards it stays, so the
+    // level reaches as high and as wide as the scene, and the bake gives it an alpha mask.
+    let scene = voxlod_testkit::scenes::tree();
+    let made = proxy(&scene, &ProxyOptions::for_triangles(&[600], 256)).unwrap();
+    let level = &made.levels[0];
+    let (source, kept) = (
+        scene.mesh.geometry().bounds(),
+        level.asset.mesh.geometry().bounds(),
+    );
+    for axis in 0..3 {
+        let extent = source.max[axis] - source.min[axis];
+        let reached = kept.max[axis] - kept.min[axis];
+        assert!(
+            reached >= 0.9 * extent,
+            "axis {axis}: {reached} of {extent}"
+        );
+    }
+    let material = &level.asset.materials[0];
+    assert_eq!(
+        material.alpha_mode,
+        voxlod::asset::AlphaMode::Mask,
+        "{material:?}"
+    );
+}
