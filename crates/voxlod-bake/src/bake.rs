@@ -5,7 +5,8 @@
 //! there ([`crate::source`]) are written to the texel: base colour, the source's shading
 //! normal in the level's tangent frame, occlusion-roughness-metallic and emissive where the
 //! source has them, alpha where it has alpha. The charts' looks are then pushed into the
-//! gutters ([`crate::dilate`]) and the textures encoded as PNG ([`crate::output`]).
+//! gutters ([`crate::dilate`]) and the textures encoded as PNG, or JPEG on request
+//! ([`crate::output`]).
 //!
 //! The same job as Simplygon's or InstaLOD's material casting, xNormal's bake to a cage.
 //!
@@ -25,7 +26,7 @@ use crate::output::{proxy_asset, TexelValues, Textures};
 use crate::raster::{Cover, UNCOVERED};
 use crate::source::{linear_to_srgb, Channels, Look, SourceLooks};
 use crate::tangents::mikktspace;
-use crate::{atlas, Atlas, AtlasOptions, BakeError};
+use crate::{atlas, Atlas, AtlasOptions, BakeError, ImageFormat};
 
 /// Options of [`bake`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -43,10 +44,13 @@ pub struct BakeOptions {
     pub cage_voxels: f32,
     /// How far the charts' looks spread into the gutters.
     pub dilation: Dilation,
+    /// How the base colour, ORM and emissive textures are encoded (the normal map is PNG
+    /// either way; see [`crate::output`]).
+    pub images: ImageFormat,
 }
 
 impl Default for BakeOptions {
-    /// A 1024² atlas, a cage of 2 voxels, the whole gutter filled.
+    /// A 1024² atlas, a cage of 2 voxels, the whole gutter filled, PNG textures.
     fn default() -> Self {
         BakeOptions {
             atlas: AtlasOptions::default(),
@@ -54,6 +58,7 @@ impl Default for BakeOptions {
             voxel_size: None,
             cage_voxels: 2.0,
             dilation: Dilation::Whole,
+            images: ImageFormat::Png,
         }
     }
 }
@@ -98,8 +103,8 @@ pub struct BakeReport {
 /// A level with its looks baked.
 #[derive(Clone, Debug)]
 pub struct Baked {
-    /// The level as an asset: one material, its textures as PNG, texture coordinates,
-    /// normals and tangents; ready for `voxlod_gltf::asset_glb`.
+    /// The level as an asset: one material, its textures as PNG (or JPEG as asked), texture
+    /// coordinates, normals and tangents; ready for `voxlod_gltf::asset_glb`.
     pub asset: Asset,
     /// The atlas it was baked on.
     pub atlas: Atlas,
@@ -116,6 +121,7 @@ pub fn bake(
     options: &BakeOptions,
 ) -> Result<Baked, BakeError> {
     let start = Instant::now();
+    options.images.check()?;
     let looks = SourceLooks::new(source)?;
     let cast = Cast::new(&source.mesh.geometry())?;
     let mut atlas = atlas(level, &options.atlas)?;
@@ -168,8 +174,10 @@ pub fn bake(
         values: &values,
         channels: looks.channels,
         emissive_scale,
+        format: options.images,
     };
-    let asset = proxy_asset(&atlas, &tangents, &textures, source)?;
+    let (asset, noted) = proxy_asset(&atlas, &tangents, &textures, source)?;
+    warnings.extend(noted);
     let report = BakeReport {
         width: atlas.width,
         height: atlas.height,

@@ -7,8 +7,9 @@
 //! xatlas through [`xatlas`]), [`raster`] (which texel stands for which surface point, with
 //! conservative coverage at chart borders), [`tangents`] (MikkTSpace), [`cast`] (rays from the
 //! level into the source, the nearest point where they miss), [`source`] (the source's
-//! material at a point), [`dilate`] (chart looks pushed into the gutters), [`output`] (PNG
-//! textures and the asset), and [`bake`] running them in order.
+//! material at a point), [`dilate`] (chart looks pushed into the gutters), [`output`] (the
+//! textures and the asset), [`encode`] (the textures as PNG, or JPEG on request), and
+//! [`bake`] running them in order.
 //!
 //! Beyond the papers: the voxel paper's levels carry positions only; baking is what
 //! commercial remeshers (Simplygon, InstaLOD) and bakers (xNormal) do to such proxies.
@@ -20,6 +21,7 @@ pub mod bake;
 pub mod cast;
 pub mod creases;
 pub mod dilate;
+pub mod encode;
 pub mod error;
 pub mod output;
 pub mod raster;
@@ -30,4 +32,5 @@ mod xatlas;
 pub use atlas::{atlas, Atlas, AtlasOptions, TextureSize};
 pub use bake::{bake, BakeOptions, BakeReport, Baked};
 pub use dilate::Dilation;
+pub use encode::ImageFormat;
 pub use error::BakeError;

@@ -1,6 +1,6 @@
 //! A baked level as an asset: its atlas mesh (positions, normals, MikkTSpace tangents,
-//! texture coordinates set 0), one material and its textures encoded as PNG by the `image`
-//! crate, which `voxlod_gltf::asset_glb` writes unchanged.
+//! texture coordinates set 0), one material and its textures encoded by [`crate::encode`]
+//! (PNG, or JPEG on request), which `voxlod_gltf::asset_glb` writes unchanged.
 //!
 //! The material: base colour texture (RGBA where the source has alpha, else RGB), normal
 //! texture, an occlusion-roughness-metallic texture serving both slots where the source has
@@ -8,15 +8,19 @@
 //! emits (the emissive strength restoring values above 1); alpha mode blend where a source
 //! material blends, else mask where one masks, else opaque; double-sided where any is.
 //!
-//! Cost: linear in the texels (PNG encoding).
+//! With [`ImageFormat::Jpeg`] the base colour, ORM and emissive textures are JPEG (`.jpg`,
+//! `image/jpeg`); the normal map stays PNG (JPEG's block artefacts would show as shading
+//! faults), and so does a base colour whose alpha the material uses (mask or blend: JPEG has
+//! no alpha), with a warning saying why.
+//!
+//! Cost: linear in the texels (the encoding).
 
-use std::io::Cursor;
 use std::sync::Arc;
 
-use image::{ExtendedColorType, ImageEncoder};
 use voxlod_asset::{AlphaMode, Asset, AssetMesh, Image, Material, Sampler, TextureRef, Wrap};
 use voxlod_core::glam::Vec4;
 
+use crate::encode::{encode, ImageFormat};
 use crate::source::Channels;
 use crate::{Atlas, BakeError};
 
@@ -45,23 +49,32 @@ pub struct Textures<'a> {
     pub channels: Channels,
     /// What the emissive texture's 1 stands for.
     pub emissive_scale: f32,
+    /// How the colour-like textures are encoded (the normal map is PNG either way).
+    pub format: ImageFormat,
 }
 
-/// The level as an asset with its baked material (see the module documentation).
+/// The level as an asset with its baked material (see the module documentation), and the
+/// warnings of its encoding (a base colour kept PNG for its alpha). Fails where a texture
+/// cannot be encoded.
 pub fn proxy_asset(
     atlas: &Atlas,
     tangents: &[Vec4],
     textures: &Textures,
     source: &Asset,
-) -> Result<Asset, BakeError> {
+) -> Result<(Asset, Vec<String>), BakeError> {
     let mut images = Vec::new();
-    let mut slot = |name: &'static str, bytes: Vec<u8>| {
+    let mut slot = |name: &'static str,
+                    what: &'static str,
+                    channels: usize,
+                    format: ImageFormat,
+                    pick: fn(&TexelValues) -> [u8; 4]| {
+        let bytes = encoded(textures, what, channels, format, pick)?;
         images.push(Image {
-            name: format!("{name}.png"),
-            mime: "image/png".into(),
+            name: format!("{name}.{}", format.extension()),
+            mime: format.mime().into(),
             bytes: Arc::new(bytes),
         });
-        Some(TextureRef {
+        Ok::<_, BakeError>(Some(TextureRef {
             image: images.len() - 1,
             tex_coord: 0,
             transform: None,
@@ -70,18 +83,23 @@ pub fn proxy_asset(
                 wrap_v: Wrap::ClampToEdge,
                 linear: true,
             },
-        })
+        }))
     };
     let c = textures.channels;
+    let colour = textures.format;
+    let (base_format, warnings) = base_colour_format(colour, c.alpha);
     let alpha_channels = if c.alpha { 4 } else { 3 };
     let first = source.materials.first().cloned().unwrap_or_default();
     let mut material = Material {
         name: "baked".into(),
         base_color_texture: slot(
             "base_color",
-            png(textures, "base colour", alpha_channels, |v| v.base)?,
-        ),
-        normal_texture: slot("normal", png(textures, "normal", 3, |v| v.normal)?),
+            "base colour",
+            alpha_channels,
+            base_format,
+            |v| v.base,
+        )?,
+        normal_texture: slot("normal", "normal", 3, ImageFormat::Png, |v| v.normal)?,
         metallic: first.metallic,
         roughness: first.roughness,
         alpha_mode: alpha_mode(&source.materials),
@@ -90,10 +108,7 @@ pub fn proxy_asset(
         ..Material::default()
     };
     if c.metallic_roughness || c.occlusion {
-        let orm = slot(
-            "occlusion_roughness_metallic",
-            png(textures, "ORM", 3, |v| v.orm)?,
-        );
+        let orm = slot("occlusion_roughness_metallic", "ORM", 3, colour, |v| v.orm)?;
         if c.occlusion {
             material.occlusion_texture = orm.clone();
         }
@@ -101,12 +116,12 @@ pub fn proxy_asset(
         material.metallic_roughness_texture = orm;
     }
     if c.emissive {
-        material.emissive_texture = slot("emissive", png(textures, "emissive", 3, |v| v.emissive)?);
+        material.emissive_texture = slot("emissive", "emissive", 3, colour, |v| v.emissive)?;
         material.emissive = [1.0; 3];
         material.emissive_strength = textures.emissive_scale;
     }
     let n = atlas.triangles.len();
-    Ok(Asset {
+    let asset = Asset {
         mesh: AssetMesh {
             positions: atlas.positions.clone(),
             triangles: atlas.triangles.clone(),
@@ -119,7 +134,19 @@ pub fn proxy_asset(
         materials: vec![material],
         images,
         parts: Vec::new(),
-    })
+    };
+    Ok((asset, warnings))
+}
+
+/// The base colour texture's format when the others are in `format`: PNG where `alpha` is
+/// used and `format` is not PNG (JPEG has no alpha channel), with a warning saying so.
+fn base_colour_format(format: ImageFormat, alpha: bool) -> (ImageFormat, Vec<String>) {
+    if !alpha || format == ImageFormat::Png {
+        return (format, Vec::new());
+    }
+    let why = "the base colour texture stays PNG: the material masks or blends by its alpha, \
+               which JPEG cannot store";
+    (ImageFormat::Png, vec![why.to_string()])
 }
 
 /// The alpha mode of a proxy of these materials.
@@ -134,29 +161,25 @@ fn alpha_mode(materials: &[Material]) -> AlphaMode {
     }
 }
 
-/// One texture as PNG bytes: the first `channels` of each texel's `pick`.
-fn png(
+/// One texture encoded in `format`: the first `channels` of each texel's `pick`.
+fn encoded(
     textures: &Textures,
     what: &'static str,
     channels: usize,
-    pick: impl Fn(&TexelValues) -> [u8; 4],
+    format: ImageFormat,
+    pick: fn(&TexelValues) -> [u8; 4],
 ) -> Result<Vec<u8>, BakeError> {
     let raw: Vec<u8> = textures
         .values
         .iter()
         .flat_map(|v| pick(v).into_iter().take(channels))
         .collect();
-    let colour = if channels == 4 {
-        ExtendedColorType::Rgba8
-    } else {
-        ExtendedColorType::Rgb8
-    };
-    let mut bytes = Vec::new();
-    image::codecs::png::PngEncoder::new(Cursor::new(&mut bytes))
-        .write_image(&raw, textures.width, textures.height, colour)
-        .map_err(|e| BakeError::Encode {
-            what,
-            why: e.to_string(),
-        })?;
-    Ok(bytes)
+    encode(
+        &raw,
+        textures.width,
+        textures.height,
+        channels,
+        format,
+        what,
+    )
 }

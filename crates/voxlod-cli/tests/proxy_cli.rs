@@ -156,3 +156,107 @@ fn proxy_texel_density_sizes_the_texture_by_the_level_area() {
     let ratio = high as f64 / low as f64;
     assert!((1.6..=2.5).contains(&ratio), "{low} -> {high}");
 }
+
+/// The three-part scene with photograph-like textures instead of its checkers, written as
+/// `dir/grainy.glb`: 256² smooth colour ramps with a grain of ±16 levels, sampled linearly.
+/// Flat colours and checkers are smaller as PNG; textures with grain, as scanned and painted
+/// ones have, are where JPEG is smaller.
+fn grainy_scene_glb(dir: &Path) -> PathBuf {
+    let mut scene = voxlod_testkit::assets::three_part_scene();
+    let grain = |x: u32, y: u32, k: u32| {
+        let h =
+            (x.wrapping_mul(73_856_093) ^ y.wrapping_mul(19_349_663) ^ k.wrapping_mul(83_492_791))
+                .wrapping_mul(2_654_435_761);
+        (h >> 24) as i32 / 8 - 16
+    };
+    for (i, image) in scene.images.iter_mut().enumerate() {
+        let texels = image::RgbImage::from_fn(256, 256, |x, y| {
+            let ramp = [x as i32 / 2 + 40, y as i32 / 2 + 40, 200 - 80 * i as i32];
+            image::Rgb([0, 1, 2].map(|k| (ramp[k] + grain(x, y, k as u32)).clamp(0, 255) as u8))
+        });
+        let mut bytes = Vec::new();
+        texels
+            .write_to(
+                &mut std::io::Cursor::new(&mut bytes),
+                image::ImageFormat::Png,
+            )
+            .unwrap();
+        image.bytes = std::sync::Arc::new(bytes);
+    }
+    for material in &mut scene.materials {
+        if let Some(t) = material.base_color_texture.as_mut() {
+            t.sampler.linear = true;
+        }
+    }
+    let path = dir.join("grainy.glb");
+    let glb = asset_glb(&[scene], &AssetGlbOptions::default()).unwrap();
+    std::fs::write(&path, glb).unwrap();
+    path
+}
+
+#[test]
+fn proxy_images_jpeg_writes_smaller_jpeg_textures_that_validate() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = grainy_scene_glb(dir.path());
+    let write = |images: &str| {
+        let out = dir.path().join(format!("proxy-{images}.glb"));
+        let flags = ["--images", images, "--no-appearance", "--json"];
+        let o = proxy_500(&scene, &out, &flags);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(
+            json(&o)["bytes"].as_u64(),
+            Some(out.metadata().unwrap().len())
+        );
+        out
+    };
+    let (png, jpeg) = (write("png"), write("jpeg"));
+    let back = read_scene(&jpeg).unwrap().asset;
+    let material = &back.materials[0];
+    let texture = |t: &Option<voxlod::asset::TextureRef>| &back.images[t.as_ref().unwrap().image];
+    let base = texture(&material.base_color_texture);
+    assert_eq!(base.mime, "image/jpeg");
+    assert!(base.bytes.starts_with(&[0xFF, 0xD8, 0xFF]));
+    assert_eq!(texture(&material.normal_texture).mime, "image/png");
+    assert!(!back.mesh.uv[0].is_empty());
+    let png_back = read_scene(&png).unwrap().asset;
+    assert!(png_back.images.iter().all(|i| i.mime == "image/png"));
+    let (png_bytes, jpeg_bytes) = (
+        png.metadata().unwrap().len(),
+        jpeg.metadata().unwrap().len(),
+    );
+    assert!(
+        jpeg_bytes < png_bytes,
+        "JPEG {jpeg_bytes} B, PNG {png_bytes} B"
+    );
+    if let Some(v) = voxlod_testkit::gltf_validator::validate_gltf(&jpeg) {
+        assert_eq!(v.errors, 0, "{}", v.report);
+    }
+}
+
+#[test]
+fn proxy_refuses_a_jpeg_quality_out_of_range_or_without_jpeg_images() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_glb(dir.path());
+    let glb = dir.path().join("proxy.glb");
+    for extra in [
+        &["--images", "jpeg", "--jpeg-quality", "0"][..],
+        &["--images", "jpeg", "--jpeg-quality", "101"],
+        &["--jpeg-quality", "0"],
+    ] {
+        let o = proxy_500(&scene, &glb, extra);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains("--jpeg-quality"), "{}", stderr(&o));
+        assert!(stderr(&o).contains("1 to 100"), "{}", stderr(&o));
+        assert!(!glb.exists());
+    }
+    // A quality that would be ignored names both flags.
+    let o = proxy_500(&scene, &glb, &["--jpeg-quality", "80"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    for flag in ["--jpeg-quality", "--images jpeg"] {
+        assert!(stderr(&o).contains(flag), "{}", stderr(&o));
+    }
+    assert!(!glb.exists());
+    let o = proxy_500(&scene, &glb, &["--images", "webp"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--images"), "{}", stderr(&o));
+}

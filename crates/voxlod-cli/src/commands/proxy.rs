@@ -7,13 +7,15 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use clap::Args;
+use clap::{Args, ValueEnum};
 use serde::Serialize;
 use voxlod::asset::Asset;
+use voxlod::bake::ImageFormat;
 use voxlod::gltf::AssetGlbOptions;
 use voxlod::io::OutputSet;
 use voxlod::{Control, Progress, ProxyOptions};
 use voxlod_eval::appearance::{AppearanceOptions, AppearanceReference};
+use voxlod_eval::evaluate::draw_calls;
 
 use super::common::{in_file, print_json, progress, say, CliError};
 use super::lod_asset::LayoutArg;
@@ -35,6 +37,7 @@ use super::values::number;
 ///   voxlod proxy machine.gltf -o proxy.glb --triangles 2000 --texture 2048 --layout lod-nodes
 ///   voxlod proxy yard.glb -o yard-proxy.glb --triangles 800 --close-gaps 0.5 --hard-edges 40
 ///   voxlod proxy spot.obj -o spot-proxy.glb --triangles 500 --json
+///   voxlod proxy city.glb -o city-web.glb --triangles 3000 --images jpeg --jpeg-quality 85
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct ProxyArgs {
@@ -72,9 +75,20 @@ pub struct ProxyArgs {
     /// lod-nodes: one node per level named LOD0, LOD1, … (Blender, Unity, Unreal, three.js)
     #[arg(long, value_enum, default_value = "msft-lod")]
     pub layout: LayoutArg,
-    /// Compress the levels' geometry (textures stay PNG)
+    /// Compress the levels' geometry (textures stay as --images says)
     #[arg(long, value_enum, value_name = "METHOD")]
     pub compress: Option<CompressArg>,
+    /// How the textures are stored: png (lossless), or jpeg (base colour, ORM and emissive as
+    /// JPEG). JPEG is what web and game pipelines expect, and smaller where textures have
+    /// grain (photographs, scans; flat colours are smaller as PNG); the normal map stays PNG,
+    /// since JPEG's 8×8 blocks would show as shading faults, and so does a base colour whose
+    /// alpha masks or blends
+    #[arg(long, value_enum, default_value = "png")]
+    pub images: ImagesArg,
+    /// JPEG quality with --images jpeg, 1 (smallest) to 100 (closest); default 90, where
+    /// block artefacts are hard to see on colour maps
+    #[arg(long, value_name = "Q", value_parser = number::<u32>, allow_hyphen_values = true)]
+    pub jpeg_quality: Option<u32>,
     /// Keep the parts that none of 64 views around the scene sees (by default they are
     /// dropped, and levels are measured against what is seen)
     #[arg(long)]
@@ -93,6 +107,19 @@ pub struct ProxyArgs {
     #[arg(long)]
     pub json: bool,
 }
+
+/// How `--images` stores the baked textures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ImagesArg {
+    /// Lossless PNG for every texture
+    Png,
+    /// JPEG for base colour, ORM and emissive; PNG for the normal map and a base colour with
+    /// alpha
+    Jpeg,
+}
+
+/// The JPEG quality `--images jpeg` takes without `--jpeg-quality`.
+const JPEG_QUALITY: u8 = 90;
 
 /// The report of a proxy run.
 #[derive(Serialize)]
@@ -156,6 +183,7 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
         )));
     }
     check_values(&args)?;
+    let images = image_format(&args)?;
     let mut out = OutputSet::protecting([&args.input]);
     out.check(&args.output)?;
     let (scene, mut warnings) = read_scene(&args.input)?;
@@ -170,6 +198,7 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
         options.bake.atlas.texture = voxlod::bake::TextureSize::Density(density);
     }
     options.bake.atlas.crease_degrees = args.hard_edges;
+    options.bake.images = images;
     let bar = progress(args.triangles.len() as u64, "levels baked", args.json);
     let show = |p: Progress| {
         if matches!(p.event, voxlod::Event::Step { what: "bake", .. }) {
@@ -242,6 +271,29 @@ fn check_values(args: &ProxyArgs) -> Result<(), CliError> {
         )));
     }
     Ok(())
+}
+
+/// The texture format `--images` and `--jpeg-quality` ask for; a quality outside 1 to 100, or
+/// given without `--images jpeg` (it would be ignored), is a usage error naming the flags.
+fn image_format(args: &ProxyArgs) -> Result<ImageFormat, CliError> {
+    let quality = match args.jpeg_quality {
+        Some(q) if !(1..=100).contains(&q) => {
+            return Err(CliError::usage(format!(
+                "--jpeg-quality {q}: a quality of 1 to 100"
+            )));
+        }
+        q => q.map(|q| q as u8),
+    };
+    match (args.images, quality) {
+        (ImagesArg::Png, None) => Ok(ImageFormat::Png),
+        (ImagesArg::Png, Some(q)) => Err(CliError::usage(format!(
+            "--jpeg-quality {q} applies to JPEG textures only: add --images jpeg, or leave \
+             --jpeg-quality out"
+        ))),
+        (ImagesArg::Jpeg, q) => Ok(ImageFormat::Jpeg {
+            quality: q.unwrap_or(JPEG_QUALITY),
+        }),
+    }
 }
 
 /// The scene as one asset: a glTF file by its scene reader, anything else by the asset reader.
@@ -318,14 +370,6 @@ fn level_report(i: usize, l: &voxlod::ProxyLevel, m: Measured) -> LevelReport {
         ssim: m.map(|m| m.1),
         seconds: r.seconds + l.bake.seconds,
     }
-}
-
-/// Draw calls of an asset: one per material its triangles use (one where it has none).
-fn draw_calls(asset: &Asset) -> usize {
-    let mut used: Vec<u32> = asset.mesh.material.clone();
-    used.sort_unstable();
-    used.dedup();
-    used.len().max(1)
 }
 
 fn stem(path: &Path) -> String {
