@@ -2,8 +2,10 @@
 //! each other, a third apart) becomes one `.glb` with one mesh, one material and one texture
 //! set per level, in both layouts; the Khronos validator accepts it, our reader reads it back
 //! textured, and the report gives per level the draw calls, the bake and the appearance. An
-//! output that is not `.glb`, a budget under 4 and a texture side of 0 are usage errors (exit
-//! 2) naming the flag; a missing input is an I/O error (exit 4) naming the file.
+//! output that is not `.glb`, a budget under 4, a texture side of 0, gap widths, angles,
+//! densities and JPEG qualities out of range are usage errors (exit 2) naming the flag; a
+//! missing input is an I/O error (exit 4) naming the file. `--texel-density` sizes the texture
+//! by the level's area; `--images jpeg` writes JPEG colour maps that validate.
 
 mod common;
 
