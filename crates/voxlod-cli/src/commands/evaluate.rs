@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use serde::Serialize;
-use voxlod::asset::Asset;
+use voxlod::asset::{Asset, Material};
 use voxlod::core::{PolyMesh, TriangleMesh};
 use voxlod::io::OutputSet;
 use voxlod::metrics::DistanceOptions;
@@ -19,7 +19,8 @@ use voxlod_eval::evaluate::images::preview_strip;
 use voxlod_eval::evaluate::plot::{plot_evaluation, Chart};
 use voxlod_eval::evaluate::report::{markdown, ReportContext};
 use voxlod_eval::evaluate::{
-    evaluate, evaluate_asset, parameter_text, Budgets, EvaluateOptions, Evaluation, Method,
+    evaluate, evaluate_asset, method_named, parameter_text, Budgets, EvaluateOptions, Evaluation,
+    Method, PROXY,
 };
 
 /// Evaluate every simplification method on a mesh: error against triangle count.
@@ -36,15 +37,22 @@ use voxlod_eval::evaluate::{
 /// Each level is also rendered beside the input from 14 views (256 × 256, orthographic) and
 /// the share of silhouette pixels that differ is reported (--views 0 skips it).
 ///
-/// A glTF asset (.gltf, .glb) with materials or vertex colours is evaluated on its geometry,
-/// and each level's appearance is measured too: the level takes its looks from the nearest
-/// input points, both are drawn with their looks from 14 views (512 × 512, orthographic), and
-/// the report gives PSNR (dB, 8-bit sRGB) and SSIM (Wang et al. 2004, on luma).
+/// An asset with looks (a glTF scene, .gltf or .glb, with materials or vertex colours; an OBJ
+/// with its MTL, a PLY or OFF with colours or a texture) is evaluated on its geometry, and each
+/// level's appearance is measured too: the level takes its looks from the nearest input
+/// points, both are drawn with their looks from 14 views (512 × 512, orthographic), and the
+/// report gives PSNR (dB, 8-bit sRGB) and SSIM (Wang et al. 2004, on luma). Such an input also
+/// gets the method proxy: at every budget the level of `voxlod proxy` (the whole scene as one
+/// solid, remeshed, its looks baked into one texture set of --proxy-texture² texels), measured
+/// alike but drawn with its own textures. Every level and the input report their draw calls:
+/// one per material the triangles use as drawn (the input's materials; 1 for each level, a
+/// simplifier's with its looks as vertex colours, the proxy's with its one material).
 ///
 /// Writes DIR/report.md, DIR/report.json, DIR/plot.png (error against triangles, log–log, one
 /// curve per method) and DIR/previews/METHOD.png (the input and each level, rendered side by
-/// side); with --meshes, every kept level as DIR/meshes/METHOD-TRIANGLES.ply (clustering levels
-/// with their dangling edges and points). Nothing is written if the evaluation fails.
+/// side, the proxy's too); with --meshes, every kept level's geometry as
+/// DIR/meshes/METHOD-TRIANGLES.ply (clustering levels with their dangling edges and points).
+/// Nothing is written if the evaluation fails.
 ///
 /// The envelope needs a consistently oriented manifold: an input that is not one is repaired
 /// for it (the report says what changed), or left out with the reason when repair fails.
@@ -53,10 +61,12 @@ use voxlod_eval::evaluate::{
 ///   voxlod evaluate bunny.obj -o bunny-eval
 ///   voxlod evaluate rocker-arm.obj -o rocker --budgets 8000,2000,500 --samples 200000
 ///   voxlod evaluate part.stl -o part-eval --methods voxel-hypercone,rossignac-borrel
+///   voxlod evaluate street.glb -o street-eval --budgets 20000,5000 --methods voxel-hypercone,proxy
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct EvaluateArgs {
-    /// The mesh to simplify (.obj .ply .stl .off .vtp .vtk), or a glTF asset (.gltf .glb)
+    /// The mesh to simplify (.obj .ply .stl .off .vtp .vtk), or a glTF asset (.gltf .glb);
+    /// a glTF, OBJ, PLY or OFF file with looks is measured for its appearance too
     pub input: PathBuf,
     /// Folder for report.md, report.json and plot.png (created if missing)
     #[arg(short, long, value_name = "DIR")]
@@ -70,8 +80,9 @@ pub struct EvaluateArgs {
         value_parser = number::<usize>, allow_hyphen_values = true)]
     pub count: usize,
     /// Methods to run (default: all): voxel-hypercone, voxel-gaussian, rossignac-borrel,
-    /// low-tan, envelope, voxel-envelope
-    #[arg(long, value_name = "M,...", value_delimiter = ',')]
+    /// low-tan, envelope, voxel-envelope, budget, meshopt-simplify, meshopt-sloppy, and proxy
+    /// (an input with looks only)
+    #[arg(long, value_name = "M,...", value_delimiter = ',', value_parser = method_named)]
     pub methods: Option<Vec<Method>>,
     /// Points sampled on each surface for each distance
     #[arg(long, value_name = "N", default_value_t = 100_000,
@@ -85,6 +96,10 @@ pub struct EvaluateArgs {
     #[arg(long, value_name = "N", default_value_t = 14,
         value_parser = number::<usize>, allow_hyphen_values = true)]
     pub views: usize,
+    /// Texels a side of the proxy's textures (16 to 16384)
+    #[arg(long, value_name = "TEXELS", default_value_t = 1024,
+        value_parser = number::<u32>, allow_hyphen_values = true)]
+    pub proxy_texture: u32,
     /// Also write every kept level to DIR/meshes/
     #[arg(long)]
     pub meshes: bool,
@@ -138,6 +153,13 @@ fn evaluate_options(args: &EvaluateArgs) -> Result<EvaluateOptions, CliError> {
         )));
     }
     options.images.views = args.views;
+    if !(16..=16384).contains(&args.proxy_texture) {
+        return Err(CliError::usage(format!(
+            "--proxy-texture {}: a side of 16 to 16384 texels",
+            args.proxy_texture
+        )));
+    }
+    options.proxy_texture = args.proxy_texture;
     Ok(options)
 }
 
@@ -168,7 +190,9 @@ fn measure(
     looks: Option<&Asset>,
     options: &EvaluateOptions,
 ) -> Result<Evaluation, CliError> {
-    let steps = options.methods.len() * options.budgets.resolve(mesh.triangles.len()).len();
+    let run = |m: &&Method| **m != PROXY || looks.is_some();
+    let methods = options.methods.iter().filter(run).count();
+    let steps = methods * options.budgets.resolve(mesh.triangles.len()).len();
     let bar = progress(steps as u64, "levels", args.json);
     let on_point = |method: Method, point: &voxlod_eval::evaluate::CurvePoint| {
         bar.inc(1);
@@ -197,21 +221,33 @@ fn measure(
     Ok(evaluation)
 }
 
-/// The input's geometry, and a glTF asset with its looks when it has some (materials or
-/// vertex colours), with the glTF reader's warnings.
+/// The input's geometry, and the input as an asset when it has looks, with its reader's
+/// warnings: a glTF scene with materials or vertex colours; an OBJ, PLY or OFF file with
+/// colours or materials other than the plain white one the asset reader adds
+/// ([`voxlod::io::read_asset`]). Any other input is read as a mesh.
 fn read_input(
     path: &std::path::Path,
     warnings: &mut Vec<String>,
 ) -> Result<(TriangleMesh, Option<Asset>), CliError> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    if !(ext.eq_ignore_ascii_case("gltf") || ext.eq_ignore_ascii_case("glb")) {
-        return Ok((read_mesh_input(path)?.mesh, None));
+    let is = |names: &[&str]| names.iter().any(|n| ext.eq_ignore_ascii_case(n));
+    if is(&["gltf", "glb"]) {
+        let read = voxlod::gltf::read_scene(path).map_err(|e| in_file(path, e))?;
+        warnings.extend(read.warnings);
+        let asset = read.asset;
+        let looks = !asset.materials.is_empty() || !asset.mesh.colors.is_empty();
+        return Ok((asset.mesh.geometry(), looks.then_some(asset)));
     }
-    let read = voxlod::gltf::read_scene(path).map_err(|e| in_file(path, e))?;
-    warnings.extend(read.warnings);
-    let asset = read.asset;
-    let looks = !asset.materials.is_empty() || !asset.mesh.colors.is_empty();
-    Ok((asset.mesh.geometry(), looks.then_some(asset)))
+    if is(&["obj", "ply", "off"]) {
+        let read = voxlod::io::read_asset(path)?;
+        let plain = |m: &Material| m.textures().count() == 0 && m.base_color == [1.0; 4];
+        let a = &read.asset;
+        if !a.mesh.colors.is_empty() || a.materials.len() > 1 || !a.materials.iter().all(plain) {
+            warnings.extend(read.warnings);
+            return Ok((read.asset.mesh.geometry(), Some(read.asset)));
+        }
+    }
+    Ok((read_mesh_input(path)?.mesh, None))
 }
 
 /// The plot of error against triangles, or a warning (printed at once without --json).
@@ -313,6 +349,12 @@ pub fn run(args: EvaluateArgs) -> Result<(), CliError> {
     }
     let mut warnings = Vec::new();
     let (mesh, looks) = read_input(&args.input, &mut warnings)?;
+    if looks.is_none() && options.methods.contains(&PROXY) && args.methods.is_some() {
+        warnings.push(
+            "proxy: the input has no looks (materials or colours) to bake; it is not evaluated"
+                .into(),
+        );
+    }
     if !args.json {
         warnings.iter().for_each(|w| eprintln!("warning: {w}"));
     }

@@ -59,6 +59,10 @@ pub enum EvaluateError {
         /// What failed.
         source: RenderError,
     },
+    /// The scene proxy ([`super::PROXY`], [`voxlod::proxy`]) failed for a reason other than a
+    /// budget it cannot reach (those are misses).
+    #[error("proxy: {0}")]
+    Proxy(voxlod::pyramid::PyramidError),
     /// A level's distance to the input cannot be measured.
     #[error("{method} at {parameter} {}: measuring the level: {source}", parameter_text(*.value))]
     Distance {
@@ -130,6 +134,7 @@ impl From<EvaluateError> for voxlod::Error {
             } => Error::from(source)
                 .context("measuring the level")
                 .context(run(method, parameter, value)),
+            EvaluateError::Proxy(e) => Error::from(e).context(super::PROXY.name()),
         }
     }
 }

@@ -6,6 +6,10 @@
 //! Only triangles are measured: the dangling edges and isolated points that clustering leaves
 //! are counted but have no area to sample, and the vertices only they use are dropped first.
 //!
+//! The appearance of a level beside an input asset: a level without looks of its own takes
+//! them from the nearest input points ([`voxlod_asset::transfer`]); a level with its own (the
+//! proxy's baked textures, [`Measurer::measure_asset`]) is drawn as it is.
+//!
 //! Cost per level: two BVH builds and `2 × samples` closest-point queries, plus one render per
 //! view when silhouettes are measured.
 
@@ -17,6 +21,7 @@ use voxlod::metrics::{mesh_distance, welded_mesh_report, DistanceOptions, Metric
 use voxlod::render::RenderError;
 use voxlod_asset::Asset;
 
+use super::draw_calls::draw_calls;
 use super::error::EvaluateError;
 use super::images::SilhouetteReference;
 use super::results::{CurvePoint, InputSummary, LevelAppearance};
@@ -26,7 +31,11 @@ use crate::methods::Method;
 
 /// The input's figures, after welding coincident vertices. Fails on a mesh that cannot be
 /// measured: broken indices or coordinates, or no area.
-pub(super) fn summarise_input(mesh: &TriangleMesh) -> Result<InputSummary, EvaluateError> {
+/// `draw_calls` is the input's as given ([`super::draw_calls`]).
+pub(super) fn summarise_input(
+    mesh: &TriangleMesh,
+    draw_calls: usize,
+) -> Result<InputSummary, EvaluateError> {
     let health = welded_mesh_report(mesh)?;
     if health.area <= 0.0 {
         return Err(EvaluateError::Input(MetricsError::NoArea {
@@ -42,6 +51,7 @@ pub(super) fn summarise_input(mesh: &TriangleMesh) -> Result<InputSummary, Evalu
         boundary_loops: health.topology.boundary_loops,
         genus: health.topology.genus,
         closed_manifold: health.closed_manifold,
+        draw_calls,
     })
 }
 
@@ -60,12 +70,36 @@ pub(super) struct Measurer<'a> {
 }
 
 impl Measurer<'_> {
-    /// Distances, silhouettes and topology of `trial`'s level, kept for `budget`.
+    /// Distances, silhouettes and topology of `trial`'s level, kept for `budget`; beside an
+    /// input asset, its appearance with looks taken from the nearest input points.
     pub fn measure(
         &self,
         method: Method,
         trial: &Trial,
         budget: usize,
+    ) -> Result<CurvePoint, EvaluateError> {
+        self.measure_with(method, trial, budget, None)
+    }
+
+    /// [`Measurer::measure`] of a level that has looks of its own, `level` (whose geometry is
+    /// `trial`'s): its appearance is measured as `level` is drawn, and its draw calls are
+    /// `level`'s ([`super::draw_calls`]).
+    pub fn measure_asset(
+        &self,
+        method: Method,
+        trial: &Trial,
+        budget: usize,
+        level: &Asset,
+    ) -> Result<CurvePoint, EvaluateError> {
+        self.measure_with(method, trial, budget, Some(level))
+    }
+
+    fn measure_with(
+        &self,
+        method: Method,
+        trial: &Trial,
+        budget: usize,
+        own_looks: Option<&Asset>,
     ) -> Result<CurvePoint, EvaluateError> {
         let start = Instant::now();
         // Vertices that only dangling edges or points use do not belong to the surface.
@@ -80,28 +114,25 @@ impl Measurer<'_> {
             }
         })?;
         let distance_seconds = start.elapsed().as_secs_f64();
+        let render_error = |source| EvaluateError::Render {
+            method,
+            parameter: method.parameter_name(),
+            value: trial.parameter,
+            source,
+        };
         let start = Instant::now();
         let image_difference = match self.silhouettes {
-            Some(reference) => Some(reference.difference(&trial.level).map_err(|source| {
-                EvaluateError::Render {
-                    method,
-                    parameter: method.parameter_name(),
-                    value: trial.parameter,
-                    source,
-                }
-            })?),
+            Some(reference) => Some(reference.difference(&trial.level).map_err(render_error)?),
             None => None,
         };
         let image_seconds = start.elapsed().as_secs_f64();
         let appearance = match self.looks {
             Some((asset, reference)) => {
-                let render_error = |source| EvaluateError::Render {
-                    method,
-                    parameter: method.parameter_name(),
-                    value: trial.parameter,
-                    source,
+                let looks = match own_looks {
+                    Some(level) => Looks::Own(level),
+                    None => Looks::Taken(asset, &surface),
                 };
-                Some(level_appearance(asset, reference, &surface).map_err(render_error)?)
+                Some(level_appearance(reference, looks).map_err(render_error)?)
             }
             None => None,
         };
@@ -132,23 +163,36 @@ impl Measurer<'_> {
             distance_seconds,
             image_seconds,
             appearance,
+            draw_calls: own_looks.map_or(1, draw_calls),
             level: trial.level.clone(),
         })
     }
 }
 
-/// The level with looks from the nearest points of `asset`, measured against its renders.
+/// Where a level's looks come from for its appearance.
+enum Looks<'a> {
+    /// From the nearest points of the input asset, onto the level's geometry.
+    Taken(&'a Asset, &'a TriangleMesh),
+    /// The level's own.
+    Own(&'a Asset),
+}
+
+/// The level with its looks, measured against the input's renders.
 fn level_appearance(
-    asset: &Asset,
     reference: &AppearanceReference,
-    level: &TriangleMesh,
+    looks: Looks,
 ) -> Result<LevelAppearance, RenderError> {
     let start = Instant::now();
-    let transferred = voxlod_asset::transfer(asset, level).map_err(|e| match e {
-        voxlod_asset::AssetError::Core(c) => RenderError::Core(c),
-        other => RenderError::Invalid(format!("taking looks onto the level: {other}")),
-    })?;
-    let report = reference.compare(&transferred.asset)?;
+    let report = match looks {
+        Looks::Own(level) => reference.compare(level)?,
+        Looks::Taken(asset, level) => {
+            let transferred = voxlod_asset::transfer(asset, level).map_err(|e| match e {
+                voxlod_asset::AssetError::Core(c) => RenderError::Core(c),
+                other => RenderError::Invalid(format!("taking looks onto the level: {other}")),
+            })?;
+            reference.compare(&transferred.asset)?
+        }
+    };
     Ok(LevelAppearance {
         psnr: report.psnr,
         ssim: report.ssim,

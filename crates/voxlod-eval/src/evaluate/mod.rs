@@ -19,6 +19,9 @@
 //!   bounding-box diagonal (the same unit for every level and method, unlike `voxlod compare`,
 //!   whose unit is the box of both meshes), its topology, and when [`EvaluateOptions::images`]
 //!   asks for it the share of differing silhouette pixels over a set of views ([`images`]);
+//! - the scene proxy (`proxy.rs`, [`PROXY`]): on an asset with looks, [`voxlod::proxy`]'s
+//!   level at each budget, measured alike and drawn with its own baked textures;
+//! - draw calls (`draw_calls.rs`, [`draw_calls`]): of the input as given and of every level;
 //! - [`plot`] and [`report`]: the chart and the Markdown write-up.
 //!
 //! Simplification envelopes need a consistently oriented manifold; an input that is not one is
@@ -61,9 +64,11 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod draw_calls;
 mod error;
 mod measure;
 mod options;
+mod proxy;
 mod results;
 mod search;
 mod trial;
@@ -73,13 +78,16 @@ pub mod plot;
 pub mod report;
 
 pub use crate::methods::{Method, RunFailure};
+pub use draw_calls::draw_calls;
 pub use error::{parameter_text, EvaluateError};
 pub use images::{ImageDifference, ImageOptions, SilhouetteReference};
 pub use options::{Budgets, EvaluateOptions};
+pub use proxy::{method_named, PROXY};
 pub use results::{Curve, CurvePoint, Evaluation, InputSummary, LevelAppearance, Omission};
 
 use std::time::Instant;
 
+use voxlod::core::weld::weld_vertices;
 use voxlod::core::TriangleMesh;
 use voxlod_asset::Asset;
 
@@ -87,10 +95,13 @@ use crate::appearance::{AppearanceOptions, AppearanceReference};
 
 use crate::methods::{MethodInput, Needs};
 use measure::{summarise_input, Measurer};
-use search::method_curve;
+use proxy::proxy_curve;
+use search::{method_curve, CurveJob};
 
 /// Runs every method of `options` on `mesh` at every budget and measures each level against
-/// `mesh`. `on_point` hears of each measured level as soon as it is made (for progress).
+/// `mesh`. `on_point` hears of each measured level as soon as it is made (for progress). The
+/// scene proxy ([`PROXY`]) bakes an asset's looks and is passed over here, without an entry in
+/// [`Evaluation::omitted`] ([`evaluate_asset`] runs it).
 ///
 /// Fails on a mesh that cannot be measured (empty, no area, broken indices or coordinates), a
 /// mesh the voxel methods cannot sample, or a run that fails; the error names the method and
@@ -104,15 +115,19 @@ pub fn evaluate(
     run(mesh, None, options, on_point)
 }
 
-/// [`evaluate`] on an asset's geometry, each level also measured for its appearance
+/// [`evaluate`] on an asset's geometry welded by position (texture seams and split normals
+/// part vertices that its surface shares; the simplifiers take the surface, as the proxy does),
+/// each level also measured for its appearance
 /// ([`CurvePoint::appearance`]): it takes its looks from the nearest points of the asset
 /// ([`voxlod_asset::transfer`]), and both are rendered from the 14 views of
-/// [`AppearanceOptions::default`] ([`crate::appearance`]). Cost: [`evaluate`]'s, plus the
-/// transfer and 14 renders per level.
+/// [`AppearanceOptions::default`] ([`crate::appearance`]). With [`PROXY`] among the methods,
+/// the asset's proxy levels too, drawn with their own baked textures (module `proxy.rs`).
+/// Cost: [`evaluate`]'s, plus the transfer and 14 renders per level, plus the proxy's.
 ///
 /// # Errors
 ///
-/// [`evaluate`]'s; an asset that cannot be rendered is [`EvaluateError::InputRender`].
+/// [`evaluate`]'s; an asset that cannot be rendered is [`EvaluateError::InputRender`]; a proxy
+/// that fails other than by missing a budget is [`EvaluateError::Proxy`].
 pub fn evaluate_asset(
     asset: &Asset,
     options: &EvaluateOptions,
@@ -120,12 +135,9 @@ pub fn evaluate_asset(
 ) -> Result<Evaluation, EvaluateError> {
     let reference = AppearanceReference::new(asset, &AppearanceOptions::default())
         .map_err(EvaluateError::InputRender)?;
-    run(
-        &asset.mesh.geometry(),
-        Some((asset, &reference)),
-        options,
-        on_point,
-    )
+    let mut mesh = asset.mesh.geometry();
+    weld_vertices(&mut mesh);
+    run(&mesh, Some((asset, &reference)), options, on_point)
 }
 
 /// [`evaluate`], with the appearance measured against `looks` when given.
@@ -136,7 +148,7 @@ fn run(
     mut on_point: impl FnMut(Method, &CurvePoint),
 ) -> Result<Evaluation, EvaluateError> {
     let start = Instant::now();
-    let input = summarise_input(mesh)?;
+    let input = summarise_input(mesh, looks.map_or(1, |(asset, _)| draw_calls(asset)))?;
     if options.methods.is_empty() {
         return Err(EvaluateError::NoMethods);
     }
@@ -164,9 +176,22 @@ fn run(
         distance: &options.distance,
         looks,
     };
+    let job = CurveJob {
+        measurer: &measurer,
+        budgets: &budgets,
+        options,
+    };
     let mut omitted: Vec<Omission> = Vec::new();
     let mut curves = Vec::new();
     for &method in &options.methods {
+        if method == PROXY {
+            // A proxy bakes the input's looks: a mesh without them has none.
+            if let Some((asset, _)) = looks {
+                let curve = proxy_curve(asset, &job, &mut on_point)?;
+                curves.push(curve);
+            }
+            continue;
+        }
         let needs = method.simplifier().needs();
         if let Some(reason) = prepared.unmet(needs) {
             let what = method.simplifier().description();
@@ -178,14 +203,7 @@ fn run(
             }
             continue;
         }
-        let mut curve = method_curve(
-            method,
-            &prepared,
-            &measurer,
-            &budgets,
-            options,
-            &mut on_point,
-        )?;
+        let mut curve = method_curve(method, &prepared, &job, &mut on_point)?;
         if needs.manifold {
             curve.notes = prepared.manifold_notes().to_vec();
         }

@@ -44,7 +44,9 @@ impl Budgets {
 /// How to evaluate (see the module documentation).
 #[derive(Clone, Debug, PartialEq)]
 pub struct EvaluateOptions {
-    /// The methods to run, in the order of the report ([`Method::ALL`] by default).
+    /// The methods to run, in the order of the report ([`Method::ALL`], then the scene proxy
+    /// [`super::PROXY`], by default). The proxy runs on assets with looks only
+    /// ([`super::evaluate_asset`]); [`super::evaluate`] passes over it.
     pub methods: Vec<Method>,
     /// The triangle counts to aim at.
     pub budgets: Budgets,
@@ -65,6 +67,8 @@ pub struct EvaluateOptions {
     pub lines_per_radius: usize,
     /// The silhouette difference's views and image size.
     pub images: ImageOptions,
+    /// Texels a side of each proxy level's textures ([`voxlod::ProxyOptions::for_triangles`]).
+    pub proxy_texture: u32,
 }
 
 impl Default for EvaluateOptions {
@@ -82,10 +86,13 @@ impl EvaluateOptions {
         }
     }
 
-    /// Every method, eight halving budgets down to 100 triangles, 100 000 samples per side.
+    /// Every method and the proxy with textures of 1024², eight halving budgets down to 100
+    /// triangles, 100 000 samples per side.
     pub fn standard() -> Self {
+        let mut methods = Method::ALL.to_vec();
+        methods.push(super::PROXY);
         EvaluateOptions {
-            methods: Method::ALL.to_vec(),
+            methods,
             budgets: Budgets::Halving {
                 count: 8,
                 smallest: 100,
@@ -98,11 +105,12 @@ impl EvaluateOptions {
             max_cells: 4096,
             lines_per_radius: 4,
             images: ImageOptions::standard(),
+            proxy_texture: 1024,
         }
     }
 
-    /// Every method, four budgets, 20 000 samples per side, a looser fit: for tests and a first
-    /// look.
+    /// Every method and the proxy with textures of 256², four budgets, 20 000 samples per
+    /// side, a looser fit: for tests and a first look.
     pub fn quick() -> Self {
         EvaluateOptions {
             budgets: Budgets::Halving {
@@ -113,6 +121,7 @@ impl EvaluateOptions {
             tolerance: 0.2,
             max_trials: 4,
             images: ImageOptions::quick(),
+            proxy_texture: 256,
             ..EvaluateOptions::standard()
         }
     }

@@ -69,8 +69,12 @@ const PALETTE: [(u8, u8, u8); 10] = [
 ];
 
 /// The colour of a method's curve, as `#rrggbb` for the report's legend: by its place in
-/// [`Method::ALL`], grey for a method of the caller's own.
+/// [`Method::ALL`], black for the scene proxy ([`super::PROXY`]), grey for a method of the
+/// caller's own.
 pub fn method_colour(method: Method) -> (u8, u8, u8) {
+    if method == super::PROXY {
+        return (0, 0, 0);
+    }
     method
         .index()
         .map_or(PALETTE[9], |i| PALETTE[i % (PALETTE.len() - 1)])

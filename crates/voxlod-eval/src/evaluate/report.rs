@@ -49,7 +49,8 @@ pub fn markdown(evaluation: &Evaluation, context: &ReportContext) -> String {
         out,
         "The input has {} vertices and {} triangles (area {:.6e}, bounding-box diagonal {:.6e}); \
          after welding coincident vertices it has {} component(s), {} boundary loop(s), genus {}, \
-         and it is {}a closed manifold.\n",
+         and it is {}a closed manifold. Drawn as given it takes {} draw call(s), one per \
+         material its triangles use.\n",
         i.vertices,
         i.triangles,
         i.area,
@@ -57,7 +58,8 @@ pub fn markdown(evaluation: &Evaluation, context: &ReportContext) -> String {
         i.components,
         i.boundary_loops,
         genus(i.genus),
-        if i.closed_manifold { "" } else { "not " }
+        if i.closed_manifold { "" } else { "not " },
+        i.draw_calls
     );
     let _ = writeln!(
         out,
@@ -92,6 +94,7 @@ pub fn markdown(evaluation: &Evaluation, context: &ReportContext) -> String {
     }
 
     side_by_side(&mut out, e);
+    draw_call_table(&mut out, e);
     for curve in &e.curves {
         method_table(&mut out, curve);
         if let Some((_, file)) = context.previews.iter().find(|(m, _)| *m == curve.method) {
@@ -104,6 +107,21 @@ pub fn markdown(evaluation: &Evaluation, context: &ReportContext) -> String {
         }
     }
 
+    how_to_read(&mut out, e);
+    if !e.omitted.is_empty() || !context.notes.is_empty() {
+        let _ = writeln!(out, "\n## Not evaluated, and notes\n");
+        for o in &e.omitted {
+            let _ = writeln!(out, "- {}: {}.", o.what, o.reason);
+        }
+        for n in &context.notes {
+            let _ = writeln!(out, "- {n}");
+        }
+    }
+    out
+}
+
+/// The section that says how each measure is made.
+fn how_to_read(out: &mut String, e: &Evaluation) {
     let _ = writeln!(out, "## How to read this\n");
     let _ = writeln!(
         out,
@@ -117,8 +135,21 @@ pub fn markdown(evaluation: &Evaluation, context: &ReportContext) -> String {
          - Clustering leaves dangling edges and isolated points where triangles collapsed; they \
          are counted but have no area, so only the triangles are measured. Its output is \
          usually not a manifold (genus undefined: –).\n\
-         - Two budgets whose nearest level is the same are reported once."
+         - Two budgets whose nearest level is the same are reported once.\n\
+         - Draw calls: one per material a level's triangles use as it is drawn. A \
+         simplifier's level is one mesh, its looks (when the input has some) taken from the \
+         input as vertex colours: one call. The proxy's level is one mesh with one baked \
+         material: one call."
     );
+    if e.curves.iter().any(|c| c.method == super::PROXY) {
+        let _ = writeln!(
+            out,
+            "- The proxy (`voxlod proxy`) is made from the whole input with its looks, at each \
+             budget at once: its parameter is the budget. Its appearance is drawn with its own \
+             baked textures, where the other methods' levels take their looks from the \
+             nearest input points."
+        );
+    }
     if e.image_views > 0 {
         let _ = writeln!(
             out,
@@ -129,16 +160,6 @@ pub fn markdown(evaluation: &Evaluation, context: &ReportContext) -> String {
             e.image_views, e.image_size, e.image_size
         );
     }
-    if !e.omitted.is_empty() || !context.notes.is_empty() {
-        let _ = writeln!(out, "\n## Not evaluated, and notes\n");
-        for o in &e.omitted {
-            let _ = writeln!(out, "- {}: {}.", o.what, o.reason);
-        }
-        for n in &context.notes {
-            let _ = writeln!(out, "- {n}");
-        }
-    }
-    out
 }
 
 /// One row per budget, one column per method: triangles and Hausdorff / mean distance.
@@ -152,21 +173,13 @@ fn side_by_side(out: &mut String, e: &Evaluation) {
             ""
         },
         if e.appearance_views > 0 {
-            ", then the appearance with looks taken from the input: PSNR in dB · SSIM over \
-             its views"
+            ", then the appearance (looks taken from the input; the proxy's own baked \
+             textures): PSNR in dB · SSIM over its views"
         } else {
             ""
         }
     );
-    let _ = write!(out, "| budget |");
-    for c in &e.curves {
-        let _ = write!(out, " {} |", c.method);
-    }
-    let _ = write!(out, "\n|---:|");
-    for _ in &e.curves {
-        let _ = write!(out, "---|");
-    }
-    out.push('\n');
+    method_columns(out, e, ["| budget |", "|---:|"], "---|");
     for &budget in &e.budgets {
         let _ = write!(out, "| {budget} |");
         for c in &e.curves {
@@ -194,6 +207,44 @@ fn side_by_side(out: &mut String, e: &Evaluation) {
     out.push('\n');
 }
 
+/// A table's header and rule: the `lead` cells and their rule, then a column per method, each
+/// ruled `rule`.
+fn method_columns(out: &mut String, e: &Evaluation, lead: [&str; 2], rule: &str) {
+    out.push_str(lead[0]);
+    for c in &e.curves {
+        let _ = write!(out, " {} |", c.method);
+    }
+    out.push('\n');
+    out.push_str(lead[1]);
+    for _ in &e.curves {
+        out.push_str(rule);
+    }
+    out.push('\n');
+}
+
+/// The input's draw calls beside each method's: one row, the range over a method's levels.
+fn draw_call_table(out: &mut String, e: &Evaluation) {
+    let _ = writeln!(
+        out,
+        "## Draw calls\n\nOne per material a mesh's triangles use as it is drawn.\n"
+    );
+    method_columns(out, e, ["| | input |", "|---|---:|"], "---:|");
+    let _ = write!(out, "| draw calls | {} |", e.input.draw_calls);
+    for c in &e.curves {
+        let calls = c.points.iter().map(|p| p.draw_calls);
+        match (calls.clone().min(), calls.max()) {
+            (Some(a), Some(b)) if a == b => {
+                let _ = write!(out, " {a} |");
+            }
+            (Some(a), Some(b)) => {
+                let _ = write!(out, " {a}–{b} |");
+            }
+            _ => out.push_str(" – |"),
+        }
+    }
+    out.push_str("\n\n");
+}
+
 fn method_table(out: &mut String, c: &Curve) {
     let _ = writeln!(
         out,
@@ -204,12 +255,12 @@ fn method_table(out: &mut String, c: &Curve) {
         out,
         "| budget | {} | triangles | vertices | Hausdorff % | input→level % | level→input % \
          | mean % | RMS % | silhouette % | components | genus | closed manifold \
-         | dangling edges | points | seconds |",
+         | dangling edges | points | draw calls | seconds |",
         c.parameter
     );
     let _ = writeln!(
         out,
-        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|"
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|"
     );
     for p in &c.points {
         row(out, p);
@@ -226,7 +277,7 @@ fn method_table(out: &mut String, c: &Curve) {
 fn row(out: &mut String, p: &CurvePoint) {
     let _ = writeln!(
         out,
-        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3} |",
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3} |",
         p.budget,
         parameter_text(p.parameter),
         p.triangles,
@@ -243,6 +294,7 @@ fn row(out: &mut String, p: &CurvePoint) {
         if p.closed_manifold { "yes" } else { "no" },
         p.dangling_edges,
         p.isolated_points,
+        p.draw_calls,
         p.simplify_seconds
     );
 }

@@ -10,7 +10,8 @@ use crate::methods::Method;
 /// The input's figures, for the report.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct InputSummary {
-    /// Vertices as given (before welding).
+    /// Vertices as given (before welding; an asset's geometry is welded by position first,
+    /// [`super::evaluate_asset`]).
     pub vertices: usize,
     /// Triangles as given.
     pub triangles: usize,
@@ -26,6 +27,9 @@ pub struct InputSummary {
     pub genus: Option<i64>,
     /// Whether the welded input is a closed, consistently oriented manifold.
     pub closed_manifold: bool,
+    /// Draw calls of the input as given ([`super::draw_calls`]): one per material its
+    /// triangles use; 1 for a mesh without looks.
+    pub draw_calls: usize,
 }
 
 /// One measured level of one method.
@@ -33,7 +37,7 @@ pub struct InputSummary {
 pub struct CurvePoint {
     /// The triangle count aimed at.
     pub budget: usize,
-    /// The method's parameter that came nearest (resolution or cells).
+    /// The method's parameter that came nearest (resolution or cells; the proxy's budget).
     pub parameter: f64,
     /// Triangles of the level.
     pub triangles: usize,
@@ -79,10 +83,16 @@ pub struct CurvePoint {
     pub distance_seconds: f64,
     /// Time of the silhouette difference.
     pub image_seconds: f64,
-    /// How the level looks beside an input asset ([`super::evaluate_asset`]): the level with
-    /// looks taken from the nearest input points ([`voxlod_asset::transfer`]), PSNR and SSIM
-    /// of their renders ([`crate::appearance`]); `None` for a mesh without looks.
+    /// How the level looks beside an input asset ([`super::evaluate_asset`]): PSNR and SSIM
+    /// of their renders ([`crate::appearance`]), the level drawn with looks taken from the
+    /// nearest input points ([`voxlod_asset::transfer`]), or for the [`super::PROXY`] with its
+    /// own baked textures; `None` for a mesh without looks.
     pub appearance: Option<LevelAppearance>,
+    /// Draw calls of the level as it is drawn: 1 for the simplifiers' levels (one mesh whose
+    /// looks taken from the input are vertex colours under one material; the untextured
+    /// copies of the input's materials that the transfer keeps per triangle carry no colour),
+    /// and for the proxy's ([`super::draw_calls`] of its baked level: one material).
+    pub draw_calls: usize,
     /// The level: triangles, and for clustering its dangling edges and isolated points.
     #[serde(skip)]
     pub level: PolyMesh,
@@ -95,7 +105,7 @@ pub struct LevelAppearance {
     pub psnr: f64,
     /// The mean of the views' SSIM.
     pub ssim: f64,
-    /// Time of the transfer of looks and the renders.
+    /// Time of the renders and, for a level without looks of its own, the transfer of looks.
     pub seconds: f64,
 }
 

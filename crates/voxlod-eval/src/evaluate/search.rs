@@ -142,17 +142,27 @@ fn within(triangles: usize, budget: usize, tolerance: f64) -> bool {
     (triangles as f64 / budget as f64 - 1.0).abs() <= tolerance
 }
 
-/// Searches each of `budgets` in turn, then measures the level kept for it: the curve of
-/// `method`. `on_point` hears of each measured level.
+/// What every method's curve is made for: the budgets, the options, and what measures a level.
+pub(super) struct CurveJob<'a> {
+    pub measurer: &'a Measurer<'a>,
+    pub budgets: &'a [usize],
+    pub options: &'a EvaluateOptions,
+}
+
+/// Searches each of the job's budgets in turn, then measures the level kept for it: the curve
+/// of `method`. `on_point` hears of each measured level.
 pub(super) fn method_curve(
     method: Method,
     input: &MethodInput,
-    measurer: &Measurer,
-    budgets: &[usize],
-    options: &EvaluateOptions,
+    job: &CurveJob,
     on_point: &mut impl FnMut(Method, &CurvePoint),
 ) -> Result<Curve, EvaluateError> {
     let start = Instant::now();
+    let CurveJob {
+        measurer,
+        budgets,
+        options,
+    } = *job;
     let space = method.simplifier().search_space(&options.search_limits());
     let mut trials = Trials {
         list: Vec::new(),
@@ -240,21 +250,34 @@ fn kept_trial<'t>(
             method.parameter_name()
         ));
     };
-    let ratio = best.triangles() as f64 / budget as f64;
-    if ratio.ln().abs() > options.max_miss_factor.ln() {
-        return Err(format!(
-            "budget {budget}: out of reach; the nearest level has {} triangles ({} {})",
-            best.triangles(),
-            method.parameter_name(),
-            parameter_text(best.parameter)
-        ));
+    match out_of_reach(method, best, budget, options) {
+        Some(miss) => Err(miss),
+        None => Ok(best),
     }
-    Ok(best)
+}
+
+/// The miss of `budget` when `level` is further from it than
+/// [`EvaluateOptions::max_miss_factor`] either way; `None` when it is kept.
+pub(super) fn out_of_reach(
+    method: Method,
+    level: &Trial,
+    budget: usize,
+    options: &EvaluateOptions,
+) -> Option<String> {
+    let ratio = level.triangles() as f64 / budget as f64;
+    (ratio.ln().abs() > options.max_miss_factor.ln()).then(|| {
+        format!(
+            "budget {budget}: out of reach; the nearest level has {} triangles ({} {})",
+            level.triangles(),
+            method.parameter_name(),
+            parameter_text(level.parameter)
+        )
+    })
 }
 
 /// The miss for a level that could not be measured because its triangles all collapsed to zero
 /// area (nothing to sample); any other failure is passed on.
-fn unmeasurable(
+pub(super) fn unmeasurable(
     error: EvaluateError,
     method: Method,
     best: &Trial,
