@@ -1,8 +1,9 @@
 //! The source's looks baked onto a level: the level gets an atlas ([`crate::atlas`]) and
 //! MikkTSpace tangents ([`crate::tangents`]); each texel a triangle covers
 //! ([`crate::raster`]) stands for a point of the level, with its interpolated normal and
-//! tangent frame; a ray cast from that point finds the source ([`crate::cast`]), whose looks
-//! there ([`crate::source`]) are written to the texel: base colour, the source's shading
+//! tangent frame; a ray cast from that point along its triangle's normal finds the source
+//! ([`crate::cast`]), whose looks there ([`crate::source`]), its textures averaged over the
+//! texel's footprint ([`crate::mipmaps`]), are written to the texel: base colour, the source's shading
 //! normal in the level's tangent frame, occlusion-roughness-metallic and emissive where the
 //! source has them, alpha where it has alpha. The charts' looks are then pushed into the
 //! gutters ([`crate::dilate`]) and the textures encoded as PNG, or JPEG on request
@@ -17,7 +18,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use voxlod_asset::Asset;
-use voxlod_core::glam::{Vec3, Vec4};
+use voxlod_core::glam::{Vec2, Vec3, Vec4};
 use voxlod_core::TriangleMesh;
 
 use crate::cast::Cast;
@@ -138,6 +139,7 @@ pub fn bake(
         atlas: &atlas,
         tangents: &tangents,
     };
+    let texel_sizes = texel_sizes(&atlas);
     let baked: Vec<(TexelValues, u8)> = cover
         .texels
         .par_iter()
@@ -146,8 +148,9 @@ pub fn bake(
                 return (TexelValues::default(), 0);
             }
             let (p, n, t) = frame.at(c);
-            let found = cast.find(p, n, cage);
-            let look = looks.at(found.triangle, found.weights, n);
+            let found = cast.find(p, frame.face(c), cage);
+            let footprint = texel_sizes[c.triangle as usize];
+            let look = looks.at(found.triangle, found.weights, n, footprint);
             (
                 encode(&look, n, t, &looks.channels, emissive_scale),
                 1 + u8::from(found.hit),
@@ -199,6 +202,24 @@ pub fn bake(
     })
 }
 
+/// Per triangle of `atlas`, the side of one of its texels on the level's surface (world
+/// units): the square root of its world area over its area in texels (0 where it has none).
+fn texel_sizes(atlas: &Atlas) -> Vec<f32> {
+    let scale = Vec2::new(atlas.width as f32, atlas.height as f32);
+    let size = |t: &[u32; 3]| {
+        let [a, b, c] = t.map(|v| atlas.positions[v as usize]);
+        let [p, q, r] = t.map(|v| atlas.uv[v as usize] * scale);
+        let texels = 0.5 * (q - p).perp_dot(r - p).abs();
+        let world = 0.5 * (b - a).cross(c - a).length();
+        if texels > 0.0 {
+            (world / texels).sqrt()
+        } else {
+            0.0
+        }
+    };
+    atlas.triangles.iter().map(size).collect()
+}
+
 /// The level's surface at a texel: position, unit normal, tangent frame.
 struct Frame<'a> {
     atlas: &'a Atlas,
@@ -208,6 +229,18 @@ struct Frame<'a> {
 impl Frame<'_> {
     /// Position, unit normal and tangent (xyz unit, perpendicular to the normal; w the
     /// bitangent's sign) at the point a texel stands for.
+    /// The unit normal of the texel's triangle: the direction it is cast along. A large flat
+    /// triangle of a level whose corners are rounded (a voxel level's bevels) has vertex
+    /// normals tilted towards its neighbours; cast along them, the rays fan out across it and
+    /// what lies behind a flat face (a facade's recessed windows) is sampled sheared, in the
+    /// shape of the triangulation. Along the face normal every texel of a flat face looks
+    /// straight in, as a viewer in front of it does.
+    fn face(&self, c: &Cover) -> Vec3 {
+        let tri = self.atlas.triangles[c.triangle as usize].map(|v| v as usize);
+        let [a, b, e] = tri.map(|v| self.atlas.positions[v]);
+        (b - a).cross(e - a).try_normalize().unwrap_or(Vec3::Z)
+    }
+
     fn at(&self, c: &Cover) -> (Vec3, Vec3, Vec4) {
         let tri = self.atlas.triangles[c.triangle as usize].map(|v| v as usize);
         let w = c.weights;

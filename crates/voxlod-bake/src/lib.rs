@@ -23,6 +23,7 @@ pub mod creases;
 pub mod dilate;
 pub mod encode;
 pub mod error;
+pub mod mipmaps;
 pub mod output;
 pub mod raster;
 pub mod source;

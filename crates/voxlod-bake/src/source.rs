@@ -4,18 +4,22 @@
 //! source's tangent frame), occlusion (1 + strength × (texture − 1)), roughness and metalness
 //! (factors × the texture's green and blue), emissive (factor × strength × texture).
 //!
-//! Textures are decoded once each (`voxlod_asset::texture`); colour textures are sampled in
-//! linear light, data textures (normal, metallic-roughness, occlusion) in their stored
-//! values. An image that cannot be decoded is named in [`SourceLooks::warnings`] and its
+//! Textures are decoded once each (`voxlod_asset::texture`) and kept as mipmaps
+//! ([`crate::mipmaps`]): a look is asked for a footprint, the size of the bake's texel on the
+//! surface, and each texture is sampled at the level whose texels are that large on the source
+//! triangle, so that a finely tiled texture is averaged rather than aliased. Colour textures
+//! are sampled in linear light, data textures (normal, metallic-roughness, occlusion) in their
+//! stored values. An image that cannot be decoded is named in [`SourceLooks::warnings`] and its
 //! slot's factor stands in. A source with a normal map and no tangents gets MikkTSpace
 //! tangents on the coordinate set of its first normal map, as glTF asks of a viewer.
 //!
 //! Cost: decoding each image once; a look costs a few texture samples.
 
-use voxlod_asset::texture::{decode_at, Texels};
+use voxlod_asset::texture::decode_at;
 use voxlod_asset::{AlphaMode, Asset, AssetError, Material, TextureRef};
 use voxlod_core::glam::{Vec2, Vec3, Vec4};
 
+use crate::mipmaps::Mipmaps;
 use crate::tangents::mikktspace;
 use crate::BakeError;
 
@@ -52,9 +56,10 @@ pub struct Channels {
 /// A source asset ready to be looked at (see the module documentation).
 pub struct SourceLooks<'a> {
     asset: &'a Asset,
-    /// Decoded images, as colour (linear) and as data (stored values), by image index.
-    colour: Vec<Option<Texels>>,
-    data: Vec<Option<Texels>>,
+    /// Decoded images with their mipmaps, as colour (linear) and as data (stored values), by
+    /// image index.
+    colour: Vec<Option<Mipmaps>>,
+    data: Vec<Option<Mipmaps>>,
     tangents: Vec<Vec4>,
     /// The looks the source has.
     pub channels: Channels,
@@ -124,7 +129,7 @@ impl<'a> SourceLooks<'a> {
                         );
                     }
                 }
-                store[slot.image] = Some(texels);
+                store[slot.image] = Some(Mipmaps::new(texels));
             }
             Err(AssetError::Core(e)) => return Err(e.into()),
             Err(e) => self
@@ -134,9 +139,10 @@ impl<'a> SourceLooks<'a> {
         Ok(())
     }
 
-    /// The looks at the point with barycentric `weights` on source triangle `t`; `facing` is
-    /// the normal used where the source has none.
-    pub fn at(&self, t: usize, weights: [f32; 3], facing: Vec3) -> Look {
+    /// The looks at the point with barycentric `weights` on source triangle `t`, its textures
+    /// averaged over a patch `footprint` across (world units; 0 samples them at a point);
+    /// `facing` is the normal used where the source has none.
+    pub fn at(&self, t: usize, weights: [f32; 3], facing: Vec3, footprint: f32) -> Look {
         let mesh = &self.asset.mesh;
         let corners = mesh.triangles[t].map(|v| v as usize);
         let mix4 = |values: &[Vec4]| -> Vec4 {
@@ -185,10 +191,11 @@ impl<'a> SourceLooks<'a> {
                 emissive: Vec3::ZERO,
             };
         };
-        let sample = |slot: &Option<TextureRef>, store: &[Option<Texels>]| -> Option<Vec4> {
+        let sample = |slot: &Option<TextureRef>, store: &[Option<Mipmaps>]| -> Option<Vec4> {
             let slot = slot.as_ref()?;
-            let texels = store[slot.image].as_ref()?;
-            Some(texels.sample(slot, uv(set_of(slot))))
+            let mipmaps = store[slot.image].as_ref()?;
+            let texels = footprint * texel_density(mesh, t, slot, mipmaps.size());
+            Some(mipmaps.sample(slot, uv(set_of(slot)), texels))
         };
         if let Some(m) = sample(&material.normal_texture, &self.data) {
             if !self.tangents.is_empty() {
@@ -213,6 +220,31 @@ impl<'a> SourceLooks<'a> {
             metallic: (material.metallic * mr.z).clamp(0.0, 1.0),
             emissive,
         }
+    }
+}
+
+/// Texels of a `size` texture per world unit along source triangle `t`, through `slot`'s
+/// coordinates and transform: the square root of its area in texels over its area in the
+/// world (0 for a triangle without area).
+fn texel_density(
+    mesh: &voxlod_asset::AssetMesh,
+    t: usize,
+    slot: &TextureRef,
+    (width, height): (usize, usize),
+) -> f32 {
+    let corners = mesh.triangles[t].map(|v| v as usize);
+    let uv = corners.map(|v| {
+        let at = mesh.uv[set_of(slot)][v];
+        let at = slot.transform.map_or(at, |x| x.apply(at));
+        at * Vec2::new(width as f32, height as f32)
+    });
+    let texels = 0.5 * (uv[1] - uv[0]).perp_dot(uv[2] - uv[0]).abs();
+    let [a, b, c] = corners.map(|v| mesh.positions[v]);
+    let world = 0.5 * (b - a).cross(c - a).length();
+    if world > 0.0 {
+        (texels / world).sqrt()
+    } else {
+        0.0
     }
 }
 

@@ -2,7 +2,8 @@
 //! itself, texel by texel against the checker; a cube with one colour per face, where no
 //! texel of a chart (inside, at its border or in its gutter) takes another face's colour;
 //! normal maps from flat, tilted and normal-mapped sources; material factors and emission;
-//! the result written as glTF unchanged.
+//! a finely tiled texture averaged over each texel's footprint; the result written as glTF
+//! unchanged.
 
 use std::io::Cursor;
 use std::sync::Arc;
@@ -455,5 +456,43 @@ fn a_normal_mapped_source_bakes_its_mapped_normals() {
                 shaded(&texel)
             );
         }
+    }
+}
+
+#[test]
+fn a_finely_tiled_texture_bakes_to_its_mean_not_to_moire() {
+    // A black and white checker of single texels, 64² and tiled 32 times across the unit
+    // square: 2048 source texels per unit against about 100 baked texels per unit, so each
+    // baked texel covers some 20 × 20 source texels. Sampled at a point, every texel would be
+    // black or white (moiré); averaged over its footprint (the mipmaps), each is the mean:
+    // linear 0.5, sRGB 188.
+    let checker = png(64, 64, |x, y| match (x + y) % 2 {
+        0 => [0, 0, 0, 255],
+        _ => [255, 255, 255, 255],
+    });
+    let material = Material {
+        base_color_texture: Some(TextureRef {
+            sampler: Sampler::default(),
+            ..texture(0).unwrap()
+        }),
+        metallic: 0.0,
+        ..Material::default()
+    };
+    let image = Image {
+        name: "fine.png".into(),
+        mime: "image/png".into(),
+        bytes: Arc::new(checker),
+    };
+    let mut source = flat_source(Vec3::Z, material, vec![image]);
+    source.mesh.uv[0].iter_mut().for_each(|uv| *uv *= 32.0);
+    let baked = bake(&source, &square(2, 0.01), &BakeOptions::for_texture(128)).unwrap();
+    let image = decoded(&baked, 0);
+    let inside: Vec<u8> = (texel_points(&baked).iter().enumerate())
+        .filter(|(_, t)| t.is_some_and(|(_, inside, _, _)| inside))
+        .map(|(i, _)| image.as_raw()[4 * i])
+        .collect();
+    assert!(inside.len() > 3000, "{}", inside.len());
+    for &red in &inside {
+        assert!((180..=196).contains(&red), "a texel of {red}");
     }
 }

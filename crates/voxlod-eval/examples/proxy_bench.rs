@@ -32,6 +32,7 @@ use voxlod::render::raster::{raster_fragments, ScreenVertex, Tile};
 use voxlod::render::{view_directions, Camera};
 use voxlod::{proxy, ProxyOptions};
 use voxlod_eval::appearance::{AppearanceOptions, AppearanceReference};
+use voxlod_eval::evaluate::draw_calls;
 use voxlod_testkit::scenes;
 
 type Res<T> = Result<T, Box<dyn std::error::Error>>;
@@ -286,15 +287,6 @@ fn gltfpack_level(
         seconds,
         details: Value::Null,
     }
-}
-
-/// Draw calls the asset needs: one per material its triangles use (one when it has none).
-fn draw_calls(asset: &Asset) -> usize {
-    let mut used: Vec<u32> = asset.mesh.material.clone();
-    used.sort_unstable();
-    used.dedup();
-    used.len()
-        .max(usize::from(!asset.mesh.triangles.is_empty()))
 }
 
 /// Whether the asset's triangles, welded by position, are a closed manifold.
