@@ -225,3 +225,103 @@ fn flags_that_do_not_go_together_are_refused() {
         assert!(!out.exists());
     }
 }
+
+#[test]
+fn triangles_budgets_every_label_and_the_report_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = map(dir.path());
+    for (name, flags) in [
+        ("shared", &["--shared", "--smooth", "8"][..]),
+        ("plain", &[][..]),
+    ] {
+        let out = dir.path().join(name);
+        let mut args = vec!["labels", arg(&map), "-o", arg(&out), "--json"];
+        args.extend(flags);
+        args.extend(["--triangles", "500", "--check"]);
+        let report = json(&voxlod(&args));
+        assert_eq!(report["triangles_budget"], 500, "{name}: {report}");
+        assert_eq!(report["labels_above_budget"], 0, "{name}: {report}");
+        for label in report["labels"].as_array().unwrap() {
+            let level = &label["levels"][0];
+            let file = out.join(level["file"].as_str().unwrap());
+            let mesh = read(&file);
+            let n = mesh.triangles.len();
+            assert_eq!(level["triangles"].as_u64(), Some(n as u64));
+            assert!(
+                (100..=550).contains(&n),
+                "{name} label {}: {n}",
+                label["label"]
+            );
+            assert_eq!(
+                level["closed_manifold"], true,
+                "{name} label {}",
+                label["label"]
+            );
+            let change =
+                level["volume"].as_f64().unwrap() / label["voxel_volume"].as_f64().unwrap();
+            assert!(
+                (change - 1.0).abs() < 0.1,
+                "{name} label {}: {change}",
+                label["label"]
+            );
+        }
+    }
+}
+
+#[test]
+fn triangles_is_refused_below_four_and_beside_the_filtered_levels_or_a_layer() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = map(dir.path());
+    let out = dir.path().join("out");
+    let cases: [(&[&str], &str); 3] = [
+        (&["--triangles", "3"], "--triangles must be at least 4"),
+        (
+            &["--triangles", "500", "--levels", "2"],
+            "--triangles reduces the one-pass surfaces",
+        ),
+        (
+            &["--triangles", "500", "--format", "precomputed"],
+            "--triangles does not apply to --format precomputed",
+        ),
+    ];
+    for (flags, message) in cases {
+        let o = voxlod(&[&["labels", arg(&map), "-o", arg(&out)][..], flags].concat());
+        assert_clean_failure(&o, message);
+        assert_eq!(
+            (o.status.code(), out.exists()),
+            (Some(2), false),
+            "{flags:?}"
+        );
+    }
+}
+
+#[test]
+fn labels_held_above_the_budget_are_named_in_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = map(dir.path());
+    let out = dir.path().join("tight");
+    let report = json(&voxlod(&[
+        "labels",
+        arg(&map),
+        "-o",
+        arg(&out),
+        "--json",
+        "--shared",
+        "--triangles",
+        "4",
+    ]));
+    let above = report["labels_above_budget"].as_u64().unwrap();
+    assert!(above >= 1, "{report}");
+    let warning = report["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|w| w.as_str())
+        .find(|w| w.contains("stay above --triangles 4"))
+        .unwrap_or_else(|| panic!("no warning: {report}"));
+    assert!(
+        warning.starts_with(&format!("{above} label(s)")),
+        "{warning}"
+    );
+    assert!(warning.contains("the largest, label"), "{warning}");
+}

@@ -2,13 +2,15 @@
 //! for chosen, every one meshed in one pass over the map, moved into the frame asked for and
 //! checked.
 //!
-//! Cost: that of the surface chosen (see `marching_cubes.rs` and `surface_nets.rs`), plus one
-//! pass over the map to find the labels and one over each mesh to check and move it.
+//! Cost: that of the surface chosen (see `marching_cubes.rs` and `surface_nets.rs`) and of the
+//! budget when one is asked for (`budget.rs`), plus one pass over the map to find the labels and
+//! one over each mesh to check and move it.
 
 use rayon::prelude::*;
 use voxlod_core::validate::{find_defect, Requirements};
 use voxlod_core::{Frame, LabelVolume, Placement, TriangleMesh};
 
+use crate::budget::{budget_meshes, budget_shared, check_budget, BudgetReport};
 use crate::find::{find_labels, select_labels, LabelInfo};
 use crate::marching_cubes::marching_cubes_of;
 use crate::smoothing::{smooth, SmoothingOptions, SmoothingReport};
@@ -37,6 +39,15 @@ pub struct SurfaceOptions {
     pub labels: Option<Vec<u32>>,
     /// The frame of the meshes: the map's own when `None`.
     pub frame: Option<Frame>,
+    /// Each label's mesh reduced to at most about this many triangles (`budget.rs`): for
+    /// [`Surface::Shared`] the smoothed surface simplified patch by patch with the junctions
+    /// between patches (and the vertices next to them) locked, so neighbours still share their
+    /// triangles, and no patch moved by more than [`crate::budget::MEAN_SHIFT`] voxels on
+    /// average; for marching cubes each label's mesh on its own. Labels whose locked vertices
+    /// or unbreakable pieces hold more stay above it ([`LabelSurfaces::budget`] lists them).
+    /// At least 4; `None` keeps every triangle. Cost: about one quadric simplification of every
+    /// triangle, O(F log F), in parallel over patches or labels.
+    pub triangles: Option<usize>,
 }
 
 /// One label with its mesh.
@@ -57,12 +68,15 @@ pub struct LabelSurfaces {
     pub labels: Vec<LabelSurface>,
     /// What the smoothing of [`Surface::Shared`] did (`None` for marching cubes).
     pub smoothing: Option<SmoothingReport>,
+    /// What the budget of [`SurfaceOptions::triangles`] did (`None` without a budget).
+    pub budget: Option<BudgetReport>,
 }
 
 /// Every label asked for with its mesh: the labels found ([`find_labels`]), chosen
 /// ([`select_labels`]: a label the map lacks, or a map of background alone, is an error), meshed
-/// by the [`Surface`] asked for in one pass over the map, moved into [`SurfaceOptions::frame`]
-/// and checked for coordinates beyond 32-bit floats.
+/// by the [`Surface`] asked for in one pass over the map, reduced to the budget of
+/// [`SurfaceOptions::triangles`] when there is one, moved into [`SurfaceOptions::frame`] and
+/// checked for coordinates beyond 32-bit floats. A budget under 4 is an error.
 ///
 /// ```
 /// use voxlod_core::{Grid, LabelVolume};
@@ -110,10 +124,14 @@ struct Plan {
     chosen: Vec<LabelInfo>,
     to_frame: Placement,
     voxel: f64,
+    triangles: Option<usize>,
 }
 
 impl Plan {
     fn of(map: &LabelVolume, options: &SurfaceOptions) -> Result<Plan, LabelsError> {
+        if let Some(n) = options.triangles {
+            check_budget(n)?;
+        }
         let chosen = select_labels(find_labels(map), options.labels.as_deref())?;
         let to_frame = options.frame.map_or(Placement::IDENTITY, |target| {
             Placement::between_frames(map.orientation.frame, target)
@@ -123,6 +141,7 @@ impl Plan {
             chosen,
             to_frame,
             voxel,
+            triangles: options.triangles,
         })
     }
 }
@@ -148,21 +167,33 @@ fn mesh<'a>(
     })
 }
 
-/// The labels' meshes (the shared surface smoothed and taken apart first), moved into the frame
-/// and checked.
+/// The labels' meshes (the shared surface smoothed, reduced to the budget and taken apart
+/// first), moved into the frame and checked.
 fn finish(plan: Plan, meshed: Meshed) -> Result<LabelSurfaces, LabelsError> {
-    let (meshes, smoothing) = match meshed {
-        Meshed::Shared(mut shared, options) => {
+    let values: Vec<u32> = plan.chosen.iter().map(|l| l.value).collect();
+    let (meshes, smoothing, kept) = match (meshed, plan.triangles) {
+        (Meshed::Shared(mut shared, options), budget) => {
             let report = smooth(&mut shared, options)?;
-            let values: Vec<u32> = plan.chosen.iter().map(|l| l.value).collect();
-            (shared.label_meshes(&values)?, Some(report))
+            let (meshes, kept) = match budget {
+                Some(n) => budget_shared(&shared, &values, n)?,
+                None => (shared.label_meshes(&values)?, 0),
+            };
+            (meshes, Some(report), kept)
         }
-        Meshed::Meshes(meshes) => (meshes, None),
+        (Meshed::Meshes(mut meshes), Some(n)) => {
+            let kept = budget_meshes(&mut meshes, n)?;
+            (meshes, None, kept)
+        }
+        (Meshed::Meshes(meshes), None) => (meshes, None, 0),
     };
+    let budget = plan
+        .triangles
+        .map(|n| BudgetReport::of(n, &values, &meshes, kept));
     let Plan {
         chosen,
         to_frame,
         voxel,
+        ..
     } = plan;
     let labels = chosen
         .into_par_iter()
@@ -179,5 +210,9 @@ fn finish(plan: Plan, meshed: Meshed) -> Result<LabelSurfaces, LabelsError> {
             })
         })
         .collect::<Result<_, _>>()?;
-    Ok(LabelSurfaces { labels, smoothing })
+    Ok(LabelSurfaces {
+        labels,
+        smoothing,
+        budget,
+    })
 }

@@ -8,9 +8,13 @@
 //!   every interface between two labels is meshed once and shared by both, then smoothed with
 //!   each vertex kept within its voxel's reach and each label's volume kept.
 //!
+//! Then, when a budget is asked for, each label's mesh reduced to about that many triangles
+//! (`budget.rs`), the shared surface patch by patch so neighbours stay joined.
+//!
 //! The paper's filtered levels per label stay in `voxlod_pyramid::labels`; this crate is the
 //! route without a filter, beyond the paper.
 
+pub mod budget;
 pub mod error;
 pub mod find;
 pub mod job;
@@ -18,6 +22,7 @@ pub mod marching_cubes;
 pub mod smoothing;
 pub mod surface_nets;
 
+pub use budget::{budget_meshes, budget_shared, BudgetReport};
 pub use error::LabelsError;
 pub use find::{find_labels, select_labels, LabelInfo};
 pub use job::{

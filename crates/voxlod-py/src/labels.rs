@@ -145,15 +145,16 @@ pub fn chunk_labels(
 /// Per label a dict of its mesh, and the smoothing's report.
 type Surfaces<'py> = (Vec<Bound<'py, PyDict>>, Option<Bound<'py, PyDict>>);
 
-/// `label_surfaces(map, spacing, origin, labels, shared, smooth, normals)`: every label of a
-/// `(nz, ny, nx)` uint32 map meshed in one pass without a filter (the facade's
+/// `label_surfaces(map, spacing, origin, labels, shared, smooth, normals, triangles=None)`:
+/// every label of a `(nz, ny, nx)` uint32 map meshed in one pass without a filter (the facade's
 /// `voxlod::label_surfaces`: marching cubes per label, or with `shared` the surface nets shared
-/// between neighbours, smoothed by `smooth` λ|μ iterations with the volumes kept). Returns per
+/// between neighbours, smoothed by `smooth` λ|μ iterations with the volumes kept), each reduced
+/// to about `triangles` when given (`SurfaceOptions::triangles`). Returns per
 /// label (in increasing order, or that of `labels`) a dict of `label`, `voxels`,
 /// `voxel_volume`, `vertices`, `faces` and `normals` (area-weighted, empty when not asked for),
 /// and the smoothing's report (`None` without `shared`). The GIL is released while meshing.
 #[pyfunction]
-#[pyo3(signature = (map, spacing, origin, labels, shared, smooth, normals))]
+#[pyo3(signature = (map, spacing, origin, labels, shared, smooth, normals, triangles=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn label_surfaces<'py>(
     py: Python<'py>,
@@ -164,6 +165,7 @@ pub fn label_surfaces<'py>(
     shared: bool,
     smooth: Option<usize>,
     normals: bool,
+    triangles: Option<usize>,
 ) -> PyResult<Surfaces<'py>> {
     let map = label_volume_from(&map, spacing, origin)?;
     let surface = if shared {
@@ -177,6 +179,7 @@ pub fn label_surfaces<'py>(
         surface,
         labels,
         frame: None,
+        triangles,
     };
     let found = py.detach(|| voxlod::label_surfaces(&map, &options).map_err(Failure::from))?;
     let smoothing = smoothing_dict(py, &found)?;

@@ -157,3 +157,23 @@ def test_a_precomputed_layer_reads_back_in_cloud_volume(segmentation, tmp_path):
         for lod, (_, triangles, _) in enumerate(lods):
             mesh = cv.mesh.get(label, lod=lod)[label]
             assert len(mesh.faces) == triangles, (label, lod)
+
+
+def test_triangles_budgets_each_label_and_neighbours_still_share_their_triangles(segmentation):
+    plain = {m.label: m for m in voxlod.labels(segmentation, spacing=SPACING, shared=True)}
+    found = voxlod.labels(segmentation, spacing=SPACING, shared=True, triangles=800)
+    for m in found:
+        assert 400 <= len(m.faces) <= 800 < len(plain[m.label].faces), (m.label, len(m.faces))
+        mesh = as_trimesh(m.vertices, m.faces)
+        assert mesh.is_watertight and mesh.is_winding_consistent, m.label
+        assert abs(mesh.volume / m.voxel_volume - 1) < 0.02, (m.label, mesh.volume)
+    # Balls 1 and 2 still meet on the same triangles; ball 3 shares none.
+    keys = {m.label: {frozenset(map(tuple, m.vertices[f])) for f in m.faces} for m in found}
+    assert len(keys[1] & keys[2]) > 10
+    assert not (keys[1] | keys[2]) & keys[3]
+    for m in voxlod.labels(segmentation, spacing=SPACING, triangles=800):
+        assert len(m.faces) <= 800 and as_trimesh(m.vertices, m.faces).is_watertight, m.label
+    with pytest.raises(voxlod.UsageError, match="triangles must be at least 4"):
+        voxlod.labels(segmentation, triangles=3)
+    with pytest.raises(voxlod.UsageError, match="triangles reduces the one-pass surfaces"):
+        voxlod.labels(segmentation, levels=2, triangles=800)

@@ -54,6 +54,7 @@ def labels(
     filter: Optional[str] = None,
     radius: Optional[float] = None,
     normals: bool = True,
+    triangles: Optional[int] = None,
 ) -> List[LabelMesh]:
     """One closed, outward mesh per label of a label map, as zmesh, igneous and mesh-n-bone
     make them; or a chain of filtered levels per label.
@@ -82,6 +83,11 @@ def labels(
         Filtered levels per label, each at half the resolution of the one before.
     shared, smooth
         The shared surface and its smoothing iterations (not with the filtered levels).
+    triangles : int, optional
+        Each label's mesh reduced to at most about this many triangles (at least 4; not with
+        the filtered levels). With ``shared`` the shared surface is simplified patch by patch
+        with the junctions between three labels locked, so neighbours still share their
+        triangles; a label whose locked junctions hold more stays above.
     filter, radius
         The filtered levels' filter (``hypercone`` or ``gaussian``) and radius in voxels.
     normals : bool
@@ -107,6 +113,9 @@ def labels(
         if shared or smooth is not None:
             raise UsageError("shared and smooth mesh the labels together without a filter: "
                              "they do not go with levels, filter or radius")
+        if triangles is not None:
+            raise UsageError("triangles reduces the one-pass surfaces: it does not go with "
+                             "levels, filter or radius")
         options = label_options(1 if levels is None else levels, filter or "hypercone",
                                 1.0 if radius is None else radius, normals)
         found = _voxlod.labels(label_samples(volume, "volume"), triple(spacing, "spacing"),
@@ -116,12 +125,16 @@ def labels(
         raise UsageError("smooth smooths the shared surface: pass shared=True")
     if smooth is not None and int(smooth) < 0:
         raise UsageError(f"smooth must be 0 or more iterations, not {smooth}")
+    if triangles is not None and int(triangles) < 4:
+        raise UsageError(f"triangles must be at least 4 (a closed surface needs four), "
+                         f"not {triangles}")
     if chosen is not None and any(not 0 < v <= 2**32 - 1 for v in chosen):
         raise UsageError(f"labels are whole numbers from 1 to 4294967295, not {chosen}")
     array = label_values(volume, "volume")
     found, _ = _voxlod.label_surfaces(array, triple(spacing, "spacing"), triple(origin, "origin"),
                                       chosen, bool(shared),
-                                      None if smooth is None else int(smooth), bool(normals))
+                                      None if smooth is None else int(smooth), bool(normals),
+                                      None if triangles is None else int(triangles))
     resolution = max(array.shape)
     return [LabelMesh(label=d["label"], voxels=d["voxels"], voxel_volume=d["voxel_volume"],
                       levels=[Level(vertices=d["vertices"], faces=d["faces"], normals=d["normals"],

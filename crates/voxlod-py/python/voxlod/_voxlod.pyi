@@ -104,6 +104,7 @@ def label_surfaces(
     shared: bool,
     smooth: Optional[int],
     normals: bool,
+    triangles: Optional[int] = None,
 ) -> Tuple[List[Dict[str, Any]], Optional[Dict[str, Any]]]: ...
 def write_precomputed(
     dir: str,

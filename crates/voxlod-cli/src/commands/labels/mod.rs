@@ -33,6 +33,13 @@ use super::world::{FrameArg, FrameReport};
 /// or overlap; the shared surface is then smoothed (--smooth, λ|μ iterations) with each vertex
 /// kept within half a voxel of its corner and each label's volume kept.
 ///
+/// With --triangles N each label's mesh is then reduced to at most about N triangles by quadric
+/// edge collapse (meshoptimizer), its topology kept. With --shared the smoothed surface is
+/// simplified patch by patch (the triangles between one pair of labels), the junctions where
+/// three labels meet locked with the vertices next to them, so neighbours still share every
+/// triangle of their interface, and no patch moved by more than a tenth of a voxel on average;
+/// a label whose locked junctions hold more than N triangles stays above it, with a warning.
+///
 /// With --levels, --filter, --radius or --then-envelope each label's indicator is filtered and
 /// contoured like a thresholded scan instead (paper §2, §4), level 0 at the map's finest spacing,
 /// each further level at half the resolution, cleaned of slivers unless --no-clean.
@@ -48,6 +55,7 @@ use super::world::{FrameArg, FrameReport};
 /// Examples:
 ///   voxlod labels segmentation.nii.gz -o organs
 ///   voxlod labels Segmentation.seg.nrrd -o models --shared --frame lps --labels 1,4,7
+///   voxlod labels cells.nrrd -o cells --shared --smooth 8 --triangles 5000
 ///   voxlod labels aseg.mha -o aseg --levels 3 --then-envelope 1vox
 ///   voxlod labels cells.nrrd -o layer --format precomputed --levels 3 --unit nm
 ///   voxlod labels SEG.dcm -o segments   # or a folder holding one DICOM SEG file
@@ -72,6 +80,10 @@ pub struct LabelsArgs {
     /// λ|μ smoothing iterations of the --shared surface, volumes kept (0 keeps the voxel faces)
     #[arg(long, value_name = "N", value_parser = number::<usize>, allow_hyphen_values = true)]
     pub smooth: Option<usize>,
+    /// Reduce each label's mesh to at most about N triangles (at least 4; with --shared the
+    /// interfaces stay shared, their junctions locked)
+    #[arg(long, value_name = "N", value_parser = number::<usize>, allow_hyphen_values = true)]
+    pub triangles: Option<usize>,
     /// Levels per label: the paper's filtered levels (each half the resolution of the one
     /// before), or with --format precomputed the levels of the multi-resolution mesh
     #[arg(long, value_name = "L", value_parser = number::<usize>, allow_hyphen_values = true)]
@@ -225,6 +237,18 @@ fn check_flags(args: &LabelsArgs) -> Result<(), CliError> {
     if args.smooth.is_some() && !args.shared {
         return refuse("--smooth smooths the --shared surface: add --shared");
     }
+    if args
+        .triangles
+        .is_some_and(|n| n < voxlod::surfaces::budget::MIN_TRIANGLES)
+    {
+        return refuse("--triangles must be at least 4 (a closed surface needs four triangles)");
+    }
+    if precomputed && args.triangles.is_some() {
+        return refuse("--triangles does not apply to --format precomputed: the layer makes its coarser levels itself (--levels)");
+    }
+    if filtered && args.triangles.is_some() {
+        return refuse("--triangles reduces the one-pass surfaces (marching cubes or --shared): it does not go with --levels, --filter, --radius or --then-envelope");
+    }
     if precomputed && (args.filter.is_some() || args.radius.is_some()) {
         return refuse("--filter and --radius make filtered levels, which --format precomputed does not write: its levels are simplified from the finer one with the seams locked");
     }
@@ -278,13 +302,37 @@ fn read_map(input: &std::path::Path) -> Result<LabelMap, CliError> {
 fn finish(
     args: &LabelsArgs,
     report: LabelsReport,
+    out: OutputSet,
+    per_label: bool,
+) -> Result<(), CliError> {
+    finish_with_budget(args, report, None, out, per_label)
+}
+
+/// The report with what the budget did (`--triangles`), its fields beside the report's own.
+#[derive(Serialize)]
+struct Written<'a> {
+    #[serde(flatten)]
+    report: &'a LabelsReport,
+    #[serde(flatten)]
+    budget: Option<&'a surfaces::BudgetSummary>,
+}
+
+/// [`finish`], the budget's summary added to the report when there is one.
+fn finish_with_budget(
+    args: &LabelsArgs,
+    report: LabelsReport,
+    budget: Option<surfaces::BudgetSummary>,
     mut out: OutputSet,
     per_label: bool,
 ) -> Result<(), CliError> {
-    add_report(&mut out, &args.output, &report)?;
+    let written = Written {
+        report: &report,
+        budget: budget.as_ref(),
+    };
+    add_report(&mut out, &args.output, &written)?;
     out.commit()?;
     if args.json {
-        return print_json(&report);
+        return print_json(&written);
     }
     for w in &report.warnings {
         eprintln!("warning: {w}");

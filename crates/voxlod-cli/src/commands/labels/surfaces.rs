@@ -10,13 +10,13 @@ use voxlod::core::{mesh_topology, Grid, LabelVolume, TriangleMesh};
 use voxlod::io::{LabelMap, LabelName, OutputSet};
 use voxlod::precomputed::{write_layer, LayerReport, PrecomputedOptions};
 use voxlod::surfaces::{
-    label_surfaces_owned, LabelSurface, LabelSurfaces, LabelsError, SmoothingOptions, Surface,
-    SurfaceOptions,
+    label_surfaces_owned, BudgetReport, LabelSurface, LabelSurfaces, LabelsError, SmoothingOptions,
+    Surface, SurfaceOptions,
 };
 
 use super::{
-    file_name, finish, name_of, write_all_labels, AllLabelFiles, LabelReport, LabelsArgs,
-    LabelsReport, LevelReport,
+    file_name, finish_with_budget, name_of, write_all_labels, AllLabelFiles, LabelReport,
+    LabelsArgs, LabelsReport, LevelReport,
 };
 use crate::commands::common::{in_dir, in_file, CliError};
 use crate::commands::world::frame_report;
@@ -33,6 +33,44 @@ pub(super) struct SmoothingSummary {
     worst_volume_change: Option<f64>,
     /// Vertices that ended on a face of their half-voxel box.
     constrained_vertices: usize,
+}
+
+/// What the budget of `--triangles` did, in the report (beside the report's own fields).
+#[derive(Serialize)]
+pub(super) struct BudgetSummary {
+    /// The budget, triangles per label.
+    triangles_budget: usize,
+    /// Labels left above it (their locked junctions, or pieces that could not be reduced
+    /// without breaking them or moving them too far, hold more).
+    labels_above_budget: usize,
+    /// Connected pieces kept as they were because every reduction broke their topology (or, with
+    /// --shared, moved them too far).
+    pieces_kept_whole: usize,
+}
+
+impl BudgetSummary {
+    /// The summary of `budget`, and the warning of the labels left above it.
+    fn of(budget: &BudgetReport, shared: bool) -> (BudgetSummary, Option<String>) {
+        let warning = budget.above.first().map(|&(label, triangles)| {
+            let why = if shared {
+                "the junctions where three labels meet are locked so neighbours stay joined, and \
+                 no patch moves by more than a tenth of a voxel on average"
+            } else {
+                "what is left cannot be reduced without breaking a piece's topology"
+            };
+            format!(
+                "{} label(s) stay above --triangles {} ({why}); the largest, label {label}, has {triangles} triangles",
+                budget.above.len(),
+                budget.triangles
+            )
+        });
+        let summary = BudgetSummary {
+            triangles_budget: budget.triangles,
+            labels_above_budget: budget.above.len(),
+            pieces_kept_whole: budget.kept_parts,
+        };
+        (summary, warning)
+    }
 }
 
 /// What the precomputed layer holds, in the report.
@@ -89,6 +127,7 @@ fn surface_options(args: &LabelsArgs) -> SurfaceOptions {
         surface,
         labels: args.labels.clone(),
         frame: args.frame.target(),
+        triangles: args.triangles,
     }
 }
 
@@ -234,12 +273,18 @@ pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
     } else {
         "marching_cubes"
     };
+    let mut budget = None;
     let (reports, all_labels, all_labels_gltf, precomputed, smoothing, out) =
         match args.format.mesh() {
             Some(_) => {
                 let grid = map.grid;
                 let surfaces = meshed(args, MapHeld::Owned(map))?;
                 let smoothing = smoothing_summary(&surfaces);
+                if let Some(b) = &surfaces.budget {
+                    let (summary, warning) = BudgetSummary::of(b, args.shared);
+                    budget = Some(summary);
+                    warnings.extend(warning);
+                }
                 let mut out = OutputSet::protecting([&args.input]);
                 out.create_dir(&args.output)?;
                 let files = (&mut out, &mut warnings);
@@ -267,5 +312,5 @@ pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
         warnings,
         total_seconds: start.elapsed().as_secs_f64(),
     };
-    finish(args, report, out, true)
+    finish_with_budget(args, report, budget, out, true)
 }
