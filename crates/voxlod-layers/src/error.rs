@@ -51,6 +51,9 @@ pub enum LayersError {
     /// Drawing the preview failed.
     #[error(transparent)]
     Render(#[from] voxlod_render::RenderError),
+    /// Baking an asset's looks onto the layers failed (a memory refusal is [`Self::Core`]).
+    #[error(transparent)]
+    Bake(voxlod_bake::BakeError),
     /// Reading or writing a file failed.
     #[error(transparent)]
     Io(#[from] voxlod_io::IoError),

@@ -26,6 +26,10 @@
 //!   accessors are consecutive slices of one buffer view, that concatenation is exactly the
 //!   positions buffer view.
 //!
+//! Layers with an asset's looks baked on ([`crate::looks`]) add texture coordinates and a base
+//! colour texture per layer after the orders ([`crate::glb_looks`] documents the additions);
+//! without them the file is as above, with no texture coordinate, image or texture.
+//!
 //! [`voxlod_gltf::read_glb`] reads such a file back: the layers as its parts, the orders and the
 //! grid. Cost: linear in the layers' size.
 
@@ -38,6 +42,8 @@ use gltf::json::validation::{Checked, USize64};
 use serde::Serialize;
 
 use crate::extract::{Layer, LayeredMesh};
+use crate::glb_looks::{push_looks, textured, LookParts};
+use crate::looks::LayerLooks;
 use crate::order::ORDER_NAMES;
 use crate::LayersError;
 
@@ -100,7 +106,7 @@ pub fn glb_bytes(
     orders: &[Vec<u32>],
     options: &GlbOptions,
 ) -> Result<Vec<u8>, LayersError> {
-    let (root, bin) = document(layered, orders, options)?;
+    let (root, bin) = document(layered, orders, options, None)?;
     encode_glb(&root, bin)
 }
 
@@ -116,10 +122,13 @@ pub fn write_glb(
     orders: &[Vec<u32>],
     options: &GlbOptions,
 ) -> Result<(), LayersError> {
-    let bytes = glb_bytes(layered, orders, options)?;
-    Ok(voxlod_io::atomic::write_atomically(path, |w| {
-        std::io::Write::write_all(w, &bytes)
-    })?)
+    write_bytes(path, &glb_bytes(layered, orders, options)?)
+}
+
+/// Writes `bytes` to `path` atomically.
+pub(crate) fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), LayersError> {
+    let write = |w: &mut std::io::BufWriter<std::fs::File>| std::io::Write::write_all(w, bytes);
+    Ok(voxlod_io::atomic::write_atomically(path, write)?)
 }
 
 pub(crate) fn raw(value: serde_json::Value) -> json::Extras {
@@ -183,16 +192,18 @@ pub(crate) fn new_root() -> json::Root {
     root
 }
 
-/// The glTF document of `layered` and its eight orders, and its binary buffer (see the module
-/// documentation for the layout).
-fn document(
+/// The glTF document of `layered` and its eight orders, with each layer's `looks` when given,
+/// and its binary buffer (see the module documentation for the layout).
+pub(crate) fn document(
     layered: &LayeredMesh,
     orders: &[Vec<u32>],
     options: &GlbOptions,
+    looks: Option<&[Option<LayerLooks>]>,
 ) -> Result<(serde_json::Value, Vec<u8>), LayersError> {
     let mut root = new_root();
     let mut bin = Vec::new();
-    let level = push_level(&mut root, &mut bin, layered, orders, options.color, "")?;
+    let looked = (layered, looks);
+    let level = push_level(&mut root, &mut bin, looked, orders, options.color, "")?;
     let mut nodes = Vec::new();
     for (i, primitive) in level.primitives {
         let l = &layered.layers[i];
@@ -249,12 +260,12 @@ pub(crate) struct LevelParts {
 }
 
 /// Appends `layered` and its `orders` to buffer 0 of `root` (bytes in `bin`): views, accessors
-/// and materials, names prefixed by `prefix`; checks the mesh, the orders and the memory
-/// budget first.
+/// and materials, names prefixed by `prefix`, and each layer's looks when given; checks the
+/// mesh, the orders, the looks and the memory budget first.
 pub(crate) fn push_level(
     root: &mut json::Root,
     bin: &mut Vec<u8>,
-    layered: &LayeredMesh,
+    (layered, looks): (&LayeredMesh, Option<&[Option<LayerLooks>]>),
     orders: &[Vec<u32>],
     color: [f32; 3],
     prefix: &str,
@@ -272,7 +283,11 @@ pub(crate) fn push_level(
     voxlod_core::memory::check_allocation("the glTF buffer", (bin.len() + bytes) as u64)?;
     bin.reserve(bytes);
     let views = write_buffer(root, bin, layered, orders, with_normals, prefix);
-    let primitives = layer_primitives(root, layered, &views, color, prefix);
+    let looks = match looks {
+        Some(looks) => push_looks(root, bin, layered, looks, prefix)?,
+        None => vec![None; layered.layers.len()],
+    };
+    let primitives = layer_primitives(root, layered, &views, (color, &looks), prefix);
     let orders = ORDER_NAMES
         .iter()
         .enumerate()
@@ -312,7 +327,13 @@ fn write_buffer(
 ) -> BufferViews {
     use json::buffer::Target::{ArrayBuffer, ElementArrayBuffer};
     let view = |root: &mut json::Root, at: usize, end: usize, stride, target, name: &str| {
-        push_view(root, at..end, stride, target, &format!("{prefix}{name}"))
+        push_view(
+            root,
+            at..end,
+            stride,
+            Some(target),
+            &format!("{prefix}{name}"),
+        )
     };
     let at = bin.len();
     for l in &layered.layers {
@@ -373,11 +394,11 @@ fn write_buffer(
 }
 
 /// Adds a view of `bytes` of buffer 0 to `root`.
-fn push_view(
+pub(crate) fn push_view(
     root: &mut json::Root,
     bytes: std::ops::Range<usize>,
     stride: Option<usize>,
-    target: json::buffer::Target,
+    target: Option<json::buffer::Target>,
     name: &str,
 ) -> json::Index<json::buffer::View> {
     root.push(json::buffer::View {
@@ -386,18 +407,19 @@ fn push_view(
         byte_offset: Some(USize64(bytes.start as u64)),
         byte_stride: stride.map(json::buffer::Stride),
         name: Some(name.into()),
-        target: Some(Checked::Valid(target)),
+        target: target.map(Checked::Valid),
         extensions: None,
         extras: None,
     })
 }
 
-/// A primitive (with its accessors and material) for each layer with triangles.
+/// A primitive (with its accessors and material) for each layer with triangles, of `color` or
+/// with the layer's looks.
 fn layer_primitives(
     root: &mut json::Root,
     layered: &LayeredMesh,
     views: &BufferViews,
-    color: [f32; 3],
+    (color, looks): ([f32; 3], &[Option<LookParts>]),
     prefix: &str,
 ) -> Vec<(usize, json::mesh::Primitive)> {
     let mut first_vertex = 0usize;
@@ -407,7 +429,10 @@ fn layer_primitives(
         if !l.mesh.triangles.is_empty() {
             // glTF has no empty primitives; an empty layer has no vertices either.
             let at = (first_vertex, first_index);
-            let p = layer_primitive(root, (i, l), views, at, color, prefix);
+            let mut p = layer_primitive(root, (i, l), views, at, color, prefix);
+            if let Some(look) = &looks[i] {
+                look_at(root, &mut p, look);
+            }
             out.push((i, p));
         }
         first_vertex += l.mesh.positions.len();
@@ -482,7 +507,17 @@ fn layer_primitive(
     }
 }
 
-fn accessor(
+/// `primitive` given its look: `TEXCOORD_0` and its material's base colour texture.
+fn look_at(root: &mut json::Root, primitive: &mut json::mesh::Primitive, look: &LookParts) {
+    let semantic = Checked::Valid(json::mesh::Semantic::TexCoords(0));
+    primitive.attributes.insert(semantic, look.texcoords);
+    if let Some(m) = primitive.material {
+        textured(&mut root.materials[m.value()], look);
+    }
+}
+
+/// An accessor of `count` elements of `view` from byte `offset`.
+pub(crate) fn accessor(
     view: json::Index<json::buffer::View>,
     offset: usize,
     count: usize,

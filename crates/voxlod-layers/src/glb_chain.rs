@@ -134,7 +134,8 @@ fn push_chain_level(
     options: &GlbOptions,
 ) -> Result<(), LayersError> {
     let prefix = format!("level {k} ");
-    let parts = push_level(root, bin, level.mesh, level.orders, options.color, &prefix)?;
+    let plain = (level.mesh, None);
+    let parts = push_level(root, bin, plain, level.orders, options.color, &prefix)?;
     if parts.primitives.is_empty() {
         return Err(LayersError::Invalid(format!(
             "level {k} of the chain has no triangle"

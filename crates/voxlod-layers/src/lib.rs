@@ -13,6 +13,9 @@
 //! - [`glb`]: binary glTF with the eight orders stored; [`glb_chain`]: layered levels as one
 //!   `MSFT_lod` chain, switched by the filter radius on screen; [`export`]: PLY and VTK with
 //!   per-vertex `opacity` and `layer`.
+//! - [`looks`]: an asset's base colour baked onto every layer (`voxlod-bake`; the paper's
+//!   layers carry one colour), on atlases made with the slivers snapped shut ([`snap`]),
+//!   written by [`glb_looks`].
 //! - [`pipeline`]: solid → volume → plan → layers → orders in one call.
 //! - [`preview`]: drawing the layered shells in a stored order.
 //! - [`bolt()`]: the bolt of Figure 7, a CSG part.
@@ -61,11 +64,14 @@ pub mod extract;
 pub mod geometry;
 pub mod glb;
 pub mod glb_chain;
+pub mod glb_looks;
+pub mod looks;
 pub mod order;
 pub mod pipeline;
 pub mod plan;
 pub mod preview;
 pub mod scene;
+pub mod snap;
 pub mod verify;
 
 pub use bolt::bolt;
@@ -75,6 +81,11 @@ pub use extract::{extract_layers, Concatenated, ExtractOptions, Layer, LayeredMe
 pub use glb::{glb_bytes, write_glb, GlbOptions, RADIUS_LIMIT_PIXELS};
 pub use glb_chain::{
     layered_chain_bytes, layered_chain_document, layered_coverage_options, LayeredLevel,
+};
+pub use glb_looks::{baked_glb_bytes, write_baked_glb};
+pub use looks::{
+    bake_layers, has_base_colour, in_level_order, BakedLayers, LayerLooks, LooksOptions,
+    DEFAULT_TEXTURE,
 };
 pub use order::{
     index_cells, octant_order, octant_orders, recover_cells, view_order, CellIndex, CellTriangles,

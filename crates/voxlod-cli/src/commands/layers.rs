@@ -6,14 +6,20 @@ use std::time::Instant;
 use clap::Args;
 use glam::DVec3;
 use serde::Serialize;
+use voxlod::asset::Asset;
+use voxlod::core::TriangleMesh;
 use voxlod::io::OutputSet;
-use voxlod::layers::{Blending, Layered, LayersOptions, PlanOptions, ORDER_NAMES};
+use voxlod::layers::{
+    bake_layers, has_base_colour, BakedLayers, Blending, GlbOptions, Layered, LayersOptions,
+    LooksOptions, PlanOptions, DEFAULT_TEXTURE, ORDER_NAMES,
+};
 use voxlod::sampling::Filter;
 
 use super::camera::CameraArgs;
 use super::common::say;
-use super::common::{print_json, progress, thousands, CliError};
+use super::common::{in_file, print_json, progress, thousands, CliError, Input};
 use super::layers_lod::{ChainReport, LodArgs};
+use super::lod_asset::is_gltf;
 use super::source::{in_flag_words, VolumeRoute};
 use super::values::{in_flags, number};
 
@@ -33,6 +39,13 @@ const FLAGS: &[(&str, &str)] = &[("radius_voxels", "--radius")];
 /// .vtp or .vtk hold all layers in one mesh with per-vertex `opacity` and `layer`, triangles in
 /// the back-to-front order of --view's octant.
 ///
+/// An asset with looks (.glb or .gltf, an OBJ with its MTL and textures, a PLY or OFF with
+/// vertex colours) gives its base colour to the layers of a .glb: each layer gets a texture
+/// atlas and a base colour texture of --texture texels a side baked from the asset (a ray from
+/// each texel finds the asset's surface), and its material is that texture with the layer's
+/// alpha. The paper's layers carry one colour; the bake is voxlod's. A .ply/.vtp/.vtk output
+/// or --lod chain carries no looks (a warning says so).
+///
 /// With --lod, OUT.glb holds the layered shells at several resolutions (--levels halvings of
 /// --resolution, or --resolutions) as one MSFT_lod chain: one mesh per level with a primitive
 /// per layer and the level's eight orders (accessors "level K order+x+y+z" …); its
@@ -44,10 +57,12 @@ const FLAGS: &[(&str, &str)] = &[("radius_voxels", "--radius")];
 ///   voxlod layers part.stl -o part.glb --error 0.01 --filter gaussian --resolution 200 --json
 ///   voxlod layers tooth.nrrd --threshold 120 -o tooth.vtp --error 0.05
 ///   voxlod layers bunny.obj -o bunny-chain.glb --lod --resolutions 256,128,64,32
+///   voxlod layers statue.glb -o statue-layers.glb --error 0.05 --texture 1024
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct LayersArgs {
-    /// The input: a mesh (.obj .ply .stl .off .vtp .vtk) or a volume with --threshold
+    /// The input: a mesh (.obj .ply .stl .off .vtp .vtk), an asset with looks (.glb .gltf, or
+    /// an OBJ, PLY or OFF with materials or colours), or a volume with --threshold
     pub input: PathBuf,
     /// Output: .glb (layers and the eight orders), or .ply .vtp .vtk (opacity, layer)
     #[arg(short, long, value_name = "OUT")]
@@ -72,6 +87,10 @@ pub struct LayersArgs {
     /// along every ray) or direct (alpha = 1 − translucency for each layer on its own)
     #[arg(long, default_value = "composited")]
     pub blending: Blending,
+    /// With an input that has looks and a .glb output: texels a side of each layer's baked
+    /// base colour texture, 8 to 16384 [default: 512]
+    #[arg(long, value_name = "N", value_parser = number::<u32>, allow_hyphen_values = true)]
+    pub texture: Option<u32>,
     /// Also draw the layered shells to this PNG (one sample per pixel, stored order)
     #[arg(long, value_name = "PNG")]
     pub preview: Option<PathBuf>,
@@ -125,11 +144,39 @@ struct LayersReport {
     total_seconds: f64,
     /// With --lod: the chain's levels, coverages and size (the fields above describe level 0).
     lod: Option<ChainReport>,
+    /// With an input that has looks and a single .glb: each layer's baked base colour (the
+    /// layers' `vertices` above are then the baked layers', split at chart seams).
+    texture: Option<TextureReport>,
     /// Every warning printed without --json.
     warnings: Vec<String>,
 }
 
+/// The layers' baked base colour, for the report.
+#[derive(Serialize)]
+struct TextureReport {
+    /// Texels a side of each layer's base colour texture.
+    size: u32,
+    /// Seconds of all the bakes.
+    seconds: f64,
+    /// Per layer with triangles.
+    layers: Vec<BakedLayerReport>,
+}
+
+#[derive(Serialize)]
+struct BakedLayerReport {
+    index: usize,
+    /// Charts of the layer's atlas.
+    charts: usize,
+    /// Covered texels over all texels.
+    utilisation: f64,
+    /// Covered texels whose ray missed the asset (its nearest point stood in).
+    texels_fallback: usize,
+    /// Seconds of the atlas (most of the bake).
+    atlas_seconds: f64,
+}
+
 /// The kind of output, by extension.
+#[derive(Clone, Copy)]
 enum OutKind {
     Glb,
     Mesh,
@@ -173,6 +220,174 @@ fn check_outputs(args: &LayersArgs, out: &mut OutputSet) -> Result<OutKind, CliE
     Ok(kind)
 }
 
+/// Refuses --texture out of range or where it can never apply (a mesh file or a chain).
+fn check_texture(args: &LayersArgs, kind: OutKind) -> Result<(), CliError> {
+    let Some(n) = args.texture else {
+        return Ok(());
+    };
+    if !(8..=voxlod::bake::atlas::MAX_TEXTURE).contains(&n) {
+        let max = voxlod::bake::atlas::MAX_TEXTURE;
+        return Err(CliError::usage(format!(
+            "--texture {n}: must be 8 to {max} texels"
+        )));
+    }
+    if args.chain.lod {
+        return Err(CliError::usage(
+            "--texture: the layers of a --lod chain carry one colour, no baked texture",
+        ));
+    }
+    if matches!(kind, OutKind::Mesh) {
+        return Err(CliError::usage(format!(
+            "--texture: {} holds no textures; bake the layers' looks into a .glb",
+            args.output.display()
+        )));
+    }
+    Ok(())
+}
+
+/// What the layers are made from: their geometry, and the asset whose base colour they take
+/// when it has one.
+struct LayersInput {
+    geometry: Geometry,
+    /// The asset, when it has a base colour to bake (`voxlod::layers::has_base_colour`).
+    looks: Option<Asset>,
+    /// What the asset's reader warned of.
+    warnings: Vec<String>,
+}
+
+/// The input's geometry.
+enum Geometry {
+    /// A mesh or a volume, read as the other commands read them.
+    Read(Input),
+    /// A glTF asset's triangles.
+    Asset(TriangleMesh),
+}
+
+impl LayersInput {
+    /// The library's source of the layers' solid.
+    fn source<'a>(&'a self, route: &VolumeRoute) -> voxlod::Source<'a> {
+        match &self.geometry {
+            Geometry::Read(input) => route.source(input),
+            Geometry::Asset(mesh) => voxlod::Source::Mesh(mesh),
+        }
+    }
+}
+
+/// Reads the layers' input: a glTF file as an asset; anything else as the other commands read
+/// it, and an OBJ, PLY or OFF mesh also as an asset for its looks (where that reader fails, a
+/// warning says so and the layers carry one colour). Cost: an OBJ, PLY or OFF is read twice.
+fn read_layers_input(args: &LayersArgs) -> Result<LayersInput, CliError> {
+    let path = &args.input;
+    if is_gltf(path) {
+        if let Err(e) = std::fs::metadata(path) {
+            let kind = voxlod::io::IoErrorKind::Access;
+            return Err(voxlod::io::IoError::new(path, kind, format!("cannot open: {e}")).into());
+        }
+        let read = voxlod::gltf::read_scene(path).map_err(|e| in_file(path, e))?;
+        return Ok(LayersInput {
+            geometry: Geometry::Asset(read.asset.mesh.geometry()),
+            looks: has_base_colour(&read.asset).then_some(read.asset),
+            warnings: read.warnings,
+        });
+    }
+    let input = args.route.read(path)?;
+    let mesh_with_looks = matches!(input, Input::Mesh(_))
+        && path.extension().is_some_and(|e| {
+            let e = e.to_ascii_lowercase();
+            e == "obj" || e == "ply" || e == "off"
+        });
+    let mut out = LayersInput {
+        geometry: Geometry::Read(input),
+        looks: None,
+        warnings: Vec::new(),
+    };
+    if mesh_with_looks {
+        match voxlod::io::read_asset(path) {
+            Ok(read) if has_base_colour(&read.asset) => {
+                out.looks = Some(read.asset);
+                out.warnings = read.warnings;
+            }
+            Ok(_) => {}
+            Err(e) => out.warnings.push(format!(
+                "its looks could not be read ({e}): the layers carry one colour"
+            )),
+        }
+    }
+    Ok(out)
+}
+
+/// The warning for looks that the output does not carry, or --texture without looks.
+fn looks_warning(args: &LayersArgs, has_looks: bool, kind: OutKind) -> Option<String> {
+    let input = args.input.display();
+    match (has_looks, kind) {
+        (false, _) => args.texture.map(|_| {
+            format!(
+                "--texture: {input} has no base colour to bake (no vertex colours, base colour \
+                 texture or coloured material): the layers carry one colour"
+            )
+        }),
+        (true, OutKind::Mesh) => Some(format!(
+            "{} holds no textures: the layers carry none of {input}'s looks (a .glb output \
+             bakes them)",
+            args.output.display()
+        )),
+        (true, OutKind::Glb) if args.chain.lod => Some(format!(
+            "--lod: the chain's layers carry one colour, none of {input}'s looks (a single \
+             layered .glb bakes them)"
+        )),
+        (true, OutKind::Glb) => args.preview.as_ref().map(|_| {
+            "--preview draws the layers in one colour, without their baked textures".to_string()
+        }),
+    }
+}
+
+/// The layers baked with the input's looks, when they have looks and go to a single layered
+/// .glb; with the seconds the bakes took.
+fn bake(
+    args: &LayersArgs,
+    input: &LayersInput,
+    kind: OutKind,
+    layered: &Layered,
+) -> Result<Option<(BakedLayers, f64)>, voxlod::Error> {
+    let Some(asset) = &input.looks else {
+        return Ok(None);
+    };
+    if args.chain.lod || matches!(kind, OutKind::Mesh) {
+        return Ok(None);
+    }
+    let start = Instant::now();
+    let options = LooksOptions {
+        texture: args.texture.unwrap_or(DEFAULT_TEXTURE),
+        radius_voxels: args.radius,
+    };
+    let baked = bake_layers(asset, &layered.mesh, &options)?;
+    Ok(Some((baked, start.elapsed().as_secs_f64())))
+}
+
+/// The bakes in the report: each baked layer's atlas, and the layers' vertices as written.
+fn add_texture(report: &mut LayersReport, (baked, seconds): &(BakedLayers, f64), size: u32) {
+    let mut layers = Vec::new();
+    for (index, (layer, look)) in baked.mesh.layers.iter().zip(&baked.looks).enumerate() {
+        report.layers[index].vertices = layer.mesh.positions.len();
+        if let Some(look) = look {
+            layers.push(BakedLayerReport {
+                index,
+                charts: look.report.charts,
+                utilisation: look.report.utilisation,
+                texels_fallback: look.report.texels_fallback,
+                atlas_seconds: look.report.atlas_seconds,
+            });
+        }
+    }
+    report.vertices = baked.mesh.vertex_count();
+    report.warnings.extend(baked.warnings.iter().cloned());
+    report.texture = Some(TextureReport {
+        size,
+        seconds: *seconds,
+        layers,
+    });
+}
+
 /// The library's options from the flags, refused before any work when out of range (with
 /// --lod, at every level's resolution).
 fn layers_options(
@@ -209,14 +424,22 @@ fn write_outputs(
     out: &mut OutputSet,
     (kind, chain): (OutKind, Option<Vec<u8>>),
     view: DVec3,
-    layered: &Layered,
+    (layered, baked): (&Layered, Option<&BakedLayers>),
 ) -> Result<(), CliError> {
-    let bytes = match (kind, chain) {
-        (_, Some(chain)) => Some(chain),
-        (OutKind::Glb, None) => {
+    let bytes = match (kind, chain, baked) {
+        (_, Some(chain), _) => Some(chain),
+        (OutKind::Glb, None, Some(baked)) => {
+            let options = GlbOptions {
+                radius: Some(voxlod::layers_radius(layered, args.radius)),
+                ..Default::default()
+            };
+            let bytes = voxlod::layers::baked_glb_bytes(baked, &layered.orders, &options);
+            Some(bytes.map_err(|e| failed_on(&args.output)(e.into()))?)
+        }
+        (OutKind::Glb, None, None) => {
             Some(voxlod::layered_glb(layered, args.radius).map_err(failed_on(&args.output))?)
         }
-        (OutKind::Mesh, None) => None,
+        (OutKind::Mesh, None, _) => None,
     };
     let preview = match &args.preview {
         Some(path) => {
@@ -247,13 +470,14 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
     // Everything that can be refused is refused before any work.
     let mut out = OutputSet::protecting([&args.input]);
     let kind = check_outputs(&args, &mut out)?;
+    check_texture(&args, kind)?;
     let view = DVec3::from(args.camera.view);
     voxlod::view_direction(view).map_err(|e| in_flags(e, FLAGS))?;
     let resolutions = args.chain.resolutions(args.resolution)?;
     let mut options = layers_options(&args, resolutions.as_deref())?;
-    let input = args.route.read(&args.input)?;
+    let input = read_layers_input(&args)?;
     let bar = progress(3, "layers", args.json);
-    let source = args.route.source(&input);
+    let source = input.source(&args.route);
     let failed = |e: voxlod::Error| in_flags(e.in_file(&args.input), FLAGS);
     let (shells, chain, lod) = match &resolutions {
         Some(list) => {
@@ -270,15 +494,28 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
         ),
     };
     bar.inc(2);
-    write_outputs(&args, &mut out, (kind, chain), view, &shells.layered)?;
+    let baked = bake(&args, &input, kind, &shells.layered).map_err(failed)?;
+    let layers = (&shells.layered, baked.as_ref().map(|b| &b.0));
+    write_outputs(&args, &mut out, (kind, chain), view, layers)?;
     out.commit()?;
     bar.finish_and_clear();
-    let report = LayersReport {
-        warnings: shells.warnings.iter().map(|w| in_flag_words(w)).collect(),
+    let mut warnings: Vec<String> = shells.warnings.iter().map(|w| in_flag_words(w)).collect();
+    warnings.extend(
+        input
+            .warnings
+            .iter()
+            .map(|w| format!("{}: {w}", args.input.display())),
+    );
+    warnings.extend(looks_warning(&args, input.looks.is_some(), kind));
+    let mut report = LayersReport {
+        warnings,
         resolution: options.resolution,
         lod,
         ..report(&args, &shells.layered, start.elapsed().as_secs_f64())
     };
+    if let Some(baked) = &baked {
+        add_texture(&mut report, baked, args.texture.unwrap_or(DEFAULT_TEXTURE));
+    }
     if args.json {
         return print_json(&report);
     }
@@ -321,6 +558,15 @@ fn print_report(args: &LayersArgs, report: &LayersReport) {
                 thousands(l.triangles)
             ));
         }
+    }
+    if let Some(t) = &report.texture {
+        let charts: usize = t.layers.iter().map(|l| l.charts).sum();
+        say(format_args!(
+            "  base colour baked onto {} layers: {}² texels each, {charts} charts, {:.2} s",
+            t.layers.len(),
+            t.size,
+            t.seconds
+        ));
     }
     if let Some(p) = &report.preview {
         say(format_args!("preview -> {p}"));
@@ -365,6 +611,7 @@ fn report(args: &LayersArgs, layered: &Layered, total_seconds: f64) -> LayersRep
         order_seconds: t.order_seconds,
         total_seconds,
         lod: None,
+        texture: None,
         warnings: Vec::new(),
     }
 }
