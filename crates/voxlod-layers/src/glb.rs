@@ -43,7 +43,8 @@ use serde::Serialize;
 
 use crate::extract::{Layer, LayeredMesh};
 use crate::glb_looks::{push_looks, textured, LookParts};
-use crate::looks::LayerLooks;
+use crate::glb_parts::{accessor, push_view};
+use crate::looks::{BakedLayers, LayerLooks};
 use crate::order::ORDER_NAMES;
 use crate::LayersError;
 
@@ -123,6 +124,29 @@ pub fn write_glb(
     options: &GlbOptions,
 ) -> Result<(), LayersError> {
     write_bytes(path, &glb_bytes(layered, orders, options)?)
+}
+
+/// The bytes of a `.glb` of baked layers and their eight orders (global triangle indices into
+/// the layers concatenated, by [`Octant::index`](crate::Octant::index): the unbaked layers'
+/// orders, which hold for the baked ones). Refuses looks that do not fit the layers (a layer
+/// with triangles and no looks, texture coordinates not one per vertex).
+pub fn baked_glb_bytes(
+    baked: &BakedLayers,
+    orders: &[Vec<u32>],
+    options: &GlbOptions,
+) -> Result<Vec<u8>, LayersError> {
+    let (root, bin) = document(&baked.mesh, orders, options, Some(&baked.looks))?;
+    encode_glb(&root, bin)
+}
+
+/// [`baked_glb_bytes`] written to `path` atomically (nothing is left behind on failure).
+pub fn write_baked_glb(
+    path: &Path,
+    baked: &BakedLayers,
+    orders: &[Vec<u32>],
+    options: &GlbOptions,
+) -> Result<(), LayersError> {
+    write_bytes(path, &baked_glb_bytes(baked, orders, options)?)
 }
 
 /// Writes `bytes` to `path` atomically.
@@ -393,26 +417,6 @@ fn write_buffer(
     }
 }
 
-/// Adds a view of `bytes` of buffer 0 to `root`.
-pub(crate) fn push_view(
-    root: &mut json::Root,
-    bytes: std::ops::Range<usize>,
-    stride: Option<usize>,
-    target: Option<json::buffer::Target>,
-    name: &str,
-) -> json::Index<json::buffer::View> {
-    root.push(json::buffer::View {
-        buffer: json::Index::new(0),
-        byte_length: USize64(bytes.len() as u64),
-        byte_offset: Some(USize64(bytes.start as u64)),
-        byte_stride: stride.map(json::buffer::Stride),
-        name: Some(name.into()),
-        target: target.map(Checked::Valid),
-        extensions: None,
-        extras: None,
-    })
-}
-
 /// A primitive (with its accessors and material) for each layer with triangles, of `color` or
 /// with the layer's looks.
 fn layer_primitives(
@@ -513,32 +517,6 @@ fn look_at(root: &mut json::Root, primitive: &mut json::mesh::Primitive, look: &
     primitive.attributes.insert(semantic, look.texcoords);
     if let Some(m) = primitive.material {
         textured(&mut root.materials[m.value()], look);
-    }
-}
-
-/// An accessor of `count` elements of `view` from byte `offset`.
-pub(crate) fn accessor(
-    view: json::Index<json::buffer::View>,
-    offset: usize,
-    count: usize,
-    component: json::accessor::ComponentType,
-    kind: json::accessor::Type,
-    bounds: Option<([f32; 3], [f32; 3])>,
-    name: String,
-) -> json::Accessor {
-    json::Accessor {
-        buffer_view: Some(view),
-        byte_offset: Some(USize64(offset as u64)),
-        count: USize64(count as u64),
-        component_type: Checked::Valid(json::accessor::GenericComponentType(component)),
-        extensions: None,
-        extras: None,
-        type_: Checked::Valid(kind),
-        min: bounds.map(|b| serde_json::json!(b.0)),
-        max: bounds.map(|b| serde_json::json!(b.1)),
-        name: Some(name),
-        normalized: false,
-        sparse: None,
     }
 }
 

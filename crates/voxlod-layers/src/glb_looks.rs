@@ -10,20 +10,18 @@
 //! - layer `i`'s primitive has `TEXCOORD_0`; its material's `baseColorTexture` is a texture
 //!   of its own image, all textures sharing one sampler (linear, clamped to the edge); the
 //!   base colour factor is `(1, 1, 1, alpha)`, so the texture is multiplied by the layer's
-//!   blend alpha and nothing else ([`GlbOptions::color`] is not used);
+//!   blend alpha and nothing else ([`crate::GlbOptions::color`] is not used);
 //! - the orders index the baked layers' vertices, which the atlas split at chart seams: the
 //!   same triangles as the unbaked layers, in the same orders.
 //!
 //! Cost: linear in the layers' size and the images' bytes.
 
-use std::path::Path;
-
 use gltf::json;
 use gltf::json::validation::Checked;
 
 use crate::extract::LayeredMesh;
-use crate::glb::{accessor, encode_glb, push_view, write_bytes, GlbOptions};
-use crate::looks::{BakedLayers, LayerLooks};
+use crate::glb_parts::{accessor, push_view};
+use crate::looks::LayerLooks;
 use crate::LayersError;
 
 /// What a layer's primitive refers to for its looks.
@@ -33,29 +31,6 @@ pub(crate) struct LookParts {
     pub texcoords: json::Index<json::Accessor>,
     /// Its base colour texture.
     pub texture: json::Index<json::Texture>,
-}
-
-/// The bytes of a `.glb` of baked layers and their eight orders (global triangle indices into
-/// the layers concatenated, by [`Octant::index`](crate::Octant::index): the unbaked layers'
-/// orders, which hold for the baked ones). Refuses looks that do not fit the layers (a layer
-/// with triangles and no looks, texture coordinates not one per vertex).
-pub fn baked_glb_bytes(
-    baked: &BakedLayers,
-    orders: &[Vec<u32>],
-    options: &GlbOptions,
-) -> Result<Vec<u8>, LayersError> {
-    let (root, bin) = crate::glb::document(&baked.mesh, orders, options, Some(&baked.looks))?;
-    encode_glb(&root, bin)
-}
-
-/// [`baked_glb_bytes`] written to `path` atomically (nothing is left behind on failure).
-pub fn write_baked_glb(
-    path: &Path,
-    baked: &BakedLayers,
-    orders: &[Vec<u32>],
-    options: &GlbOptions,
-) -> Result<(), LayersError> {
-    write_bytes(path, &baked_glb_bytes(baked, orders, options)?)
 }
 
 /// Refuses `looks` that do not fit `layered`: one entry per layer, looks on every layer with

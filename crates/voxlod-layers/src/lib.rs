@@ -65,6 +65,7 @@ pub mod geometry;
 pub mod glb;
 pub mod glb_chain;
 pub mod glb_looks;
+mod glb_parts;
 pub mod looks;
 pub mod order;
 pub mod pipeline;
@@ -78,11 +79,12 @@ pub use bolt::bolt;
 pub use error::LayersError;
 pub use export::{to_poly_mesh, write_layered_mesh};
 pub use extract::{extract_layers, Concatenated, ExtractOptions, Layer, LayeredMesh};
-pub use glb::{glb_bytes, write_glb, GlbOptions, RADIUS_LIMIT_PIXELS};
+pub use glb::{
+    baked_glb_bytes, glb_bytes, write_baked_glb, write_glb, GlbOptions, RADIUS_LIMIT_PIXELS,
+};
 pub use glb_chain::{
     layered_chain_bytes, layered_chain_document, layered_coverage_options, LayeredLevel,
 };
-pub use glb_looks::{baked_glb_bytes, write_baked_glb};
 pub use looks::{
     bake_layers, has_base_colour, in_level_order, BakedLayers, LayerLooks, LooksOptions,
     DEFAULT_TEXTURE,
