@@ -177,7 +177,9 @@ def test_cluster_and_envelope_simplify(torus):
 
 def test_lod_by_triangle_budgets_lands_each_level_near_its_budget(torus):
     budgets = [2000, 500, 120]
-    levels = voxlod.lod(*torus, triangles=budgets, time_cap=float("inf"))
+    # An option that does not apply to the mesh portfolio is named, not silently dropped.
+    with pytest.warns(UserWarning, match="time_cap does not apply"):
+        levels = voxlod.lod(*torus, triangles=budgets, time_cap=float("inf"))
     assert [level.budget["budget"] for level in levels] == budgets
     for level, budget in zip(levels, budgets):
         assert abs(len(level.faces) / budget - 1) <= 0.10, (budget, len(level.faces))
