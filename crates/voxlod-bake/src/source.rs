@@ -129,6 +129,9 @@ impl<'a> SourceLooks<'a> {
                         );
                     }
                 }
+                let levels = voxlod_core::memory::bytes_of::<Vec4>(texels.rgba.len() / 3 + 1);
+                let what = format!("the mipmaps of image {}", slot.image);
+                voxlod_core::memory::check_allocation(&what, levels)?;
                 store[slot.image] = Some(Mipmaps::new(texels));
             }
             Err(AssetError::Core(e)) => return Err(e.into()),
