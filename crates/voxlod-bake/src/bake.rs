@@ -23,6 +23,7 @@ use voxlod_core::TriangleMesh;
 
 use crate::cast::Cast;
 use crate::dilate::{apply, dilation_sources, Dilation};
+use crate::mipmaps::texels_per_unit;
 use crate::output::{proxy_asset, TexelValues, Textures};
 use crate::raster::{Cover, UNCOVERED};
 use crate::source::{linear_to_srgb, Channels, Look, SourceLooks};
@@ -207,12 +208,12 @@ pub fn bake(
 fn texel_sizes(atlas: &Atlas) -> Vec<f32> {
     let scale = Vec2::new(atlas.width as f32, atlas.height as f32);
     let size = |t: &[u32; 3]| {
-        let [a, b, c] = t.map(|v| atlas.positions[v as usize]);
-        let [p, q, r] = t.map(|v| atlas.uv[v as usize] * scale);
-        let texels = 0.5 * (q - p).perp_dot(r - p).abs();
-        let world = 0.5 * (b - a).cross(c - a).length();
-        if texels > 0.0 {
-            (world / texels).sqrt()
+        let density = texels_per_unit(
+            t.map(|v| atlas.positions[v as usize]),
+            t.map(|v| atlas.uv[v as usize] * scale),
+        );
+        if density > 0.0 {
+            1.0 / density
         } else {
             0.0
         }

@@ -10,7 +10,7 @@
 
 use voxlod_asset::texture::Texels;
 use voxlod_asset::TextureRef;
-use voxlod_core::glam::{Vec2, Vec4};
+use voxlod_core::glam::{Vec2, Vec3, Vec4};
 
 /// A texture and its mipmap levels (level 0 the image itself, the last 1 × 1).
 #[derive(Clone, Debug)]
@@ -57,6 +57,21 @@ impl Mipmaps {
         }
         let coarse = self.levels[below + 1].sample(slot, uv);
         fine.lerp(coarse, lod - below as f32)
+    }
+}
+
+/// Texels per world unit along a triangle with corners `world` and, in texels, `texels`: the
+/// square root of its area in texels over its area in the world (0 where it has no world
+/// area).
+pub fn texels_per_unit(world: [Vec3; 3], texels: [Vec2; 3]) -> f32 {
+    let [a, b, c] = world;
+    let [p, q, r] = texels;
+    let in_texels = 0.5 * (q - p).perp_dot(r - p).abs();
+    let in_world = 0.5 * (b - a).cross(c - a).length();
+    if in_world > 0.0 {
+        (in_texels / in_world).sqrt()
+    } else {
+        0.0
     }
 }
 

@@ -19,7 +19,7 @@ use voxlod_asset::texture::decode_at;
 use voxlod_asset::{AlphaMode, Asset, AssetError, Material, TextureRef};
 use voxlod_core::glam::{Vec2, Vec3, Vec4};
 
-use crate::mipmaps::Mipmaps;
+use crate::mipmaps::{texels_per_unit, Mipmaps};
 use crate::tangents::mikktspace;
 use crate::BakeError;
 
@@ -241,14 +241,7 @@ fn texel_density(
         let at = slot.transform.map_or(at, |x| x.apply(at));
         at * Vec2::new(width as f32, height as f32)
     });
-    let texels = 0.5 * (uv[1] - uv[0]).perp_dot(uv[2] - uv[0]).abs();
-    let [a, b, c] = corners.map(|v| mesh.positions[v]);
-    let world = 0.5 * (b - a).cross(c - a).length();
-    if world > 0.0 {
-        (texels / world).sqrt()
-    } else {
-        0.0
-    }
+    texels_per_unit(corners.map(|v| mesh.positions[v]), uv)
 }
 
 /// The texture coordinate set a slot reads.

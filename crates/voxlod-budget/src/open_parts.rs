@@ -14,9 +14,10 @@
 //! A part is a connected set of triangles (sharing vertices after the input's weld); it is open
 //! where one of its edges is used by one triangle or by more than two.
 //!
-//! Cost: one edge sort (O(F log F)), a solid of the closed parts and a closest-point structure
+//! Cost: one edge sort (O(F log F), [`on_open_edges`]), a solid of the closed parts and a closest-point structure
 //! of the open parts (O(F log F) each); per grid, the shell's density (module `shell_density`).
 
+use voxlod_core::manifold::on_open_edges;
 use voxlod_core::{TriangleMesh, Volume};
 use voxlod_metrics::MeshDistance;
 
@@ -35,7 +36,7 @@ pub struct SplitParts {
 /// The input's closed and open parts (module docs), or `None` where all its parts are of one
 /// kind.
 pub fn split_open_parts(input: &Input) -> Option<SplitParts> {
-    let open_triangle = triangles_on_open_edges(&input.mesh.triangles);
+    let open_triangle = on_open_edges(&input.mesh.triangles);
     let mut closed = Vec::new();
     let mut open = Vec::new();
     for part in &input.parts {
@@ -55,27 +56,6 @@ pub fn split_open_parts(input: &Input) -> Option<SplitParts> {
         closed: of(closed),
         open: of(open),
     })
-}
-
-/// Whether each triangle has an edge used by one triangle or by more than two.
-fn triangles_on_open_edges(triangles: &[[u32; 3]]) -> Vec<bool> {
-    let mut edges: Vec<((u32, u32), u32)> = Vec::with_capacity(3 * triangles.len());
-    for (t, tri) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            edges.push(((a.min(b), a.max(b)), t as u32));
-        }
-    }
-    edges.sort_unstable();
-    let mut open = vec![false; triangles.len()];
-    for run in edges.chunk_by(|x, y| x.0 == y.0) {
-        if run.len() != 2 {
-            for &(_, t) in run {
-                open[t as usize] = true;
-            }
-        }
-    }
-    open
 }
 
 /// `density` (a filtered density of the closed parts on a grid of spacing `voxel`) raised to
@@ -129,9 +109,9 @@ mod tests {
 
     #[test]
     fn an_edge_of_three_triangles_makes_its_part_open() {
-        let open = triangles_on_open_edges(&[[0, 1, 2], [1, 0, 3], [0, 1, 4]]);
+        let open = on_open_edges(&[[0, 1, 2], [1, 0, 3], [0, 1, 4]]);
         assert_eq!(open, vec![true, true, true]);
         let tetrahedron = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
-        assert_eq!(triangles_on_open_edges(&tetrahedron), vec![false; 4]);
+        assert_eq!(on_open_edges(&tetrahedron), vec![false; 4]);
     }
 }

@@ -178,6 +178,18 @@ struct EdgeUse {
     forward: bool,
 }
 
+/// Whether each of `triangles` has an edge used by one triangle or by more than two: a
+/// border, or where sheets touch. Cost: O(F log F) (the edge sort).
+pub fn on_open_edges(triangles: &[[u32; 3]]) -> Vec<bool> {
+    let mut open = vec![false; triangles.len()];
+    for run in edge_runs(&sorted_edges(triangles)) {
+        if run.len() != 2 {
+            run.iter().for_each(|u| open[u.triangle as usize] = true);
+        }
+    }
+    open
+}
+
 /// Every edge use, sorted by edge.
 fn sorted_edges(triangles: &[[u32; 3]]) -> Vec<EdgeUse> {
     let mut uses: Vec<EdgeUse> = Vec::with_capacity(3 * triangles.len());
