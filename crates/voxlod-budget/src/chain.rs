@@ -5,22 +5,19 @@
 use std::time::Instant;
 
 use rayon::prelude::*;
-use voxlod_core::cavities::fill_cavities;
 use voxlod_core::TriangleMesh;
-use voxlod_sampling::{MeshSolid, MeshSolidOptions};
 
 use crate::candidate::{Candidate, Fill, Method};
 use crate::collapse;
-use crate::enclosed::hollow_solids;
+use crate::grids::{with_solids, Grids};
 use crate::input::Input;
 use crate::measure::{Care, Measure};
-use crate::open_parts::split_open_parts;
 use crate::promises::{crosses_no_more, Promise, Promises};
 use crate::report::{BudgetLevel, InputReport};
 use crate::restore::StandIns;
-use crate::select::{choose, Chosen};
+use crate::select::{choose, measure_ahead, Chosen};
 use crate::shell::shell_candidates;
-use crate::voxel::{voxel_candidates, Sampled, COARSEST, FINEST, HEADROOM};
+use crate::voxel::{planned_grids, voxel_candidates, COARSEST, FINEST, HEADROOM};
 use crate::{BudgetError, Budgeted, Level, PortfolioOptions, Timings};
 use voxlod_contouring::triangle_estimate::resolution_for_triangles;
 
@@ -76,18 +73,15 @@ pub fn levels_with(
         .collect::<Result<_, _>>()?;
     lap(&mut timings.collapses);
     step(budgets.len())?;
-    let voxels = searched.iter().any(|s| s.needs_voxels);
-    let solids = match voxels {
-        true => solids(&input, options.remesh)?,
-        false => Vec::new(),
-    };
     let mut searched = searched;
-    add_kept(&mut searched, &input, options);
-    searched
-        .par_iter_mut()
-        .filter(|s| s.needs_voxels)
-        .map(|s| add_voxels(s, &input, &measure, &solids, options))
-        .collect::<Result<Vec<()>, BudgetError>>()?;
+    match searched.iter().any(|s| s.needs_voxels) {
+        true => add_all_voxels(&mut searched, &input, &measure, options)?,
+        false => add_kept(&mut searched, &input, options),
+    }
+    searched.par_iter_mut().for_each(|s| {
+        let promises = first_promises(&input, options, s.budget);
+        measure_ahead(&mut s.candidates, &promises, &measure);
+    });
     lap(&mut timings.voxels);
     step(2 * budgets.len())?;
     let stand_ins = StandIns::default();
@@ -125,46 +119,6 @@ pub fn levels_with(
         timings,
         seconds: start.elapsed().as_secs_f64(),
     })
-}
-
-/// The cavities of the input hold at least this fraction of its volume for the filled solid to
-/// be sampled too: a tiny void (a scan's bubble) changes no voxel level a budget affords.
-pub const CAVITY_SHARE: f64 = 0.01;
-
-/// The input as solids for the voxel candidates: as given; with its closed cavities filled,
-/// where they hold at least [`CAVITY_SHARE`] of its volume, so that a hollow part whose wall
-/// the budget cannot afford turns solid instead of perforating; and with the hollows it nearly
-/// encloses filled and lined (module `enclosed`); where it has closed and open parts, the
-/// closed ones as a solid with shells around the open ones (module `open_parts`). With
-/// `remesh`, parts that pass through each other are sampled as their union
-/// (`MeshSolidOptions::union`), as a proxy of a scene needs.
-fn solids(input: &Input, remesh: bool) -> Result<Vec<Sampled>, BudgetError> {
-    let options = MeshSolidOptions {
-        union: remesh,
-        ..MeshSolidOptions::default()
-    };
-    let given = MeshSolid::new_with(&input.mesh, options)?;
-    let hollows = hollow_solids(input, &given, options)?;
-    let mut solids = Vec::new();
-    if let Some(split) = split_open_parts(input) {
-        let closed = MeshSolid::new_with(&split.closed, options)?;
-        let open = voxlod_metrics::MeshDistance::new(&split.open)?;
-        solids.push(Sampled {
-            fill: Fill::OpenShells,
-            solid: closed,
-            shells: Some(open),
-        });
-    }
-    if let Some(filled) = fill_cavities(&input.mesh) {
-        let (before, after) = (input.mesh.signed_volume(), filled.mesh.signed_volume());
-        if after - before >= CAVITY_SHARE * after.abs() {
-            let filled = MeshSolid::new_with(&filled.mesh, options)?;
-            solids.insert(0, Sampled::solid(Fill::Cavities, filled));
-        }
-    }
-    solids.insert(0, Sampled::solid(Fill::None, given));
-    solids.extend(hollows.into_iter().map(|(f, s)| Sampled::solid(f, s)));
-    Ok(solids)
 }
 
 /// One budget's candidates before the choice.
@@ -254,18 +208,43 @@ fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions
     }
 }
 
+/// The checked collapse ([`add_kept`]) beside the voxel and shell candidates of every budget
+/// that needs them: the solids built, the grids the budgets ask for first made at once
+/// (module `grids`), then each budget's search, all on the cores.
+fn add_all_voxels(
+    searched: &mut [Searched],
+    input: &Input,
+    measure: &Measure,
+    options: &PortfolioOptions,
+) -> Result<(), BudgetError> {
+    with_solids(input, options.remesh, |solids| {
+        let plan: Vec<(usize, usize)> = (searched.iter().filter(|s| s.needs_voxels))
+            .flat_map(|s| planned_grids(input, options, solids.len(), s.budget))
+            .collect();
+        let (grids, ()) = rayon::join(
+            || Grids::new(input, solids, options, &plan),
+            || add_kept(searched, input, options),
+        );
+        let grids = grids?;
+        searched
+            .par_iter_mut()
+            .filter(|s| s.needs_voxels)
+            .try_for_each(|s| add_voxels(s, input, measure, &grids, options))
+    })
+}
+
 /// The voxel (and, for a surface that is not closed, shell) candidates of `searched`'s budget.
 fn add_voxels(
     searched: &mut Searched,
     input: &Input,
     measure: &Measure,
-    solids: &[Sampled],
+    grids: &Grids,
     options: &PortfolioOptions,
 ) -> Result<(), BudgetError> {
     let start = Instant::now();
     let budget = searched.budget;
-    for sampled in solids {
-        let found = voxel_candidates(input, measure, sampled, options, budget)?;
+    for (solid, sampled) in grids.solids().iter().enumerate() {
+        let found = voxel_candidates(input, measure, grids, solid, options, budget)?;
         if found.vanished && sampled.fill == Fill::None {
             searched.notes.push(format!(
                 "the voxel level at resolution {} vanished (parts thinner than a voxel)",

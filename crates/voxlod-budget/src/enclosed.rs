@@ -14,22 +14,21 @@
 //!
 //! How: the input's solid is filtered at [`RESOLUTION`] samples across its longest side (a
 //! hyper-cone of one voxel, inside where the density is at least 0.5), closed, the density
-//! raised to 1 over the fill or its lining and contoured at 0.5 (marching cubes): away from
+//! raised to 1 over the fill or its lining, and the solid is where that volume, trilinearly
+//! interpolated, is at least 0.5 (`voxlod_sampling::ThresholdSolid`, sampled directly by each
+//! grid without a surface in between): away from
 //! the hollows the surface is the input's, to the grid's precision. Nothing is made when the
 //! hollows hold less than [`LEAST_FILLED`] times the solid's own volume: the material is then
 //! a body with notches and bays, not a shell around a hollow. A first look at
 //! [`FIRST_LOOK_RESOLUTION`] spares most inputs the fine grid.
 //!
 //! Cost: one density at [`FIRST_LOOK_RESOLUTION`] and, past its gate, one at [`RESOLUTION`]
-//! (O(N³) samples plus the lattice lines' crossings), the closings O(r N³), two marching
-//! cubes passes and two BVH builds.
+//! (O(N³) samples plus the lattice lines' crossings), the closings O(r N³), and two copies of
+//! the fine grid (16 MB each at 160³).
 
-use voxlod_contouring::{marching_cubes, ContourOptions};
-use voxlod_core::{TriangleMesh, Volume};
+use voxlod_core::Volume;
 use voxlod_sampling::closing::{closing_fill, Closing};
-use voxlod_sampling::{
-    filtered_density, level_grid, DensityOptions, Filter, MeshSolid, MeshSolidOptions,
-};
+use voxlod_sampling::{filtered_density, level_grid, DensityOptions, Filter, MeshSolid};
 
 use crate::candidate::Fill;
 use crate::input::Input;
@@ -50,55 +49,32 @@ pub const CLOSING_FRACTION: f64 = 1.0 / 16.0;
 /// The least volume filled, as a multiple of the solid's, for the hollows to count.
 pub const LEAST_FILLED: f64 = 1.0;
 
-/// The input with its nearly enclosed hollows filled, and with them lined, as solids sampled
-/// with `options`; none where the hollows are too small to count (module docs).
-pub fn hollow_solids(
+/// The input with its nearly enclosed hollows filled, and with them lined (module docs): for
+/// each, the input's density at [`RESOLUTION`] raised to 1 over the fill or its lining, whose
+/// samples at 0.5 or above (trilinearly interpolated, `voxlod_sampling::ThresholdSolid`) are the
+/// solid; none where the hollows are too small to count.
+pub fn hollow_volumes(
     input: &Input,
     solid: &MeshSolid,
-    options: MeshSolidOptions,
-) -> Result<Vec<(Fill, MeshSolid)>, BudgetError> {
-    let meshes = hollow_meshes(input, solid)?;
-    let solids = meshes
-        .iter()
-        .map(|(fill, mesh)| Ok((*fill, MeshSolid::new_with(mesh, options)?)));
-    solids.collect()
-}
-
-/// The surfaces of [`hollow_solids`].
-fn hollow_meshes(
-    input: &Input,
-    solid: &MeshSolid,
-) -> Result<Vec<(Fill, TriangleMesh)>, BudgetError> {
+) -> Result<Vec<(Fill, Volume)>, BudgetError> {
     if closed_grid(input, solid, FIRST_LOOK_RESOLUTION, FIRST_LOOK_ISO)?.is_none() {
         return Ok(Vec::new());
     }
     let Some((volume, closing)) = closed_grid(input, solid, RESOLUTION, 0.5)? else {
         return Ok(Vec::new());
     };
-    let mut meshes = Vec::new();
-    for (fill, samples) in [
-        (Fill::Hollows, &closing.filled),
-        (Fill::HollowLining, &closing.lining),
-    ] {
-        let mesh = raised(&volume, samples)?;
-        if !mesh.triangles.is_empty() {
-            meshes.push((fill, mesh));
+    let raised = |samples: &[usize]| {
+        let mut raised = volume.clone();
+        let values = raised.as_slice_mut();
+        for &i in samples {
+            values[i] = 1.0;
         }
-    }
-    Ok(meshes)
-}
-
-/// `volume` with its density raised to 1 at `samples`, contoured at 0.5.
-fn raised(volume: &Volume, samples: &[usize]) -> Result<TriangleMesh, BudgetError> {
-    let mut raised = volume.clone();
-    let values = raised.as_slice_mut();
-    for &i in samples {
-        values[i] = 1.0;
-    }
-    marching_cubes(&raised, &ContourOptions::geometry_only(0.5)).map_err(|e| BudgetError::NoLevel {
-        budget: 0,
-        why: format!("marching cubes of the filled hollows: {e}"),
-    })
+        raised
+    };
+    Ok(vec![
+        (Fill::Hollows, raised(&closing.filled)),
+        (Fill::HollowLining, raised(&closing.lining)),
+    ])
 }
 
 /// The input's density at `resolution` and what the closing of its samples at `iso` or above
@@ -125,8 +101,10 @@ fn closed_grid(
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+    use voxlod_contouring::{marching_cubes, ContourOptions};
     use voxlod_core::glam::DVec3;
     use voxlod_core::Axis;
+    use voxlod_core::TriangleMesh;
     use voxlod_sampling::{CsgSolid, Shape};
 
     /// A spherical shell of radius 1 and wall 0.06 with a round hole of `hole` radius through
@@ -152,11 +130,12 @@ mod tests {
     fn hollows(mesh: &TriangleMesh) -> Vec<(Fill, f64)> {
         let input = Input::prepare(mesh).unwrap();
         let solid = MeshSolid::new(&input.mesh).unwrap();
-        let meshes = hollow_meshes(&input, &solid).unwrap();
-        meshes
-            .iter()
-            .map(|(f, m)| (*f, m.signed_volume()))
-            .collect()
+        let volumes = hollow_volumes(&input, &solid).unwrap();
+        let contoured = |v: &Volume| {
+            let mesh = marching_cubes(v, &ContourOptions::geometry_only(0.5)).unwrap();
+            mesh.signed_volume()
+        };
+        volumes.iter().map(|(f, v)| (*f, contoured(v))).collect()
     }
 
     #[test]

@@ -67,6 +67,7 @@ mod chain;
 mod collapse;
 mod enclosed;
 mod error;
+mod grids;
 mod input;
 pub mod looks;
 mod measure;

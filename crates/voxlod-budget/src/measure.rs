@@ -127,6 +127,13 @@ impl<'a> Measure<'a> {
         })
     }
 
+    /// Makes the input's points of the precise set now, where they are not made yet: before
+    /// precise measurements run side by side (the set is made once, and making it uses all
+    /// cores).
+    pub fn prepare_precise(&self) {
+        self.precise.get_or_init(|| self.precise_points());
+    }
+
     /// The input's points of the precise set (an empty set where sampling fails: the input
     /// sampled for the other sets, so it does not).
     fn precise_points(&self) -> Points {

@@ -23,6 +23,7 @@
 //! Cost: per candidate, one quick measurement (often cut short); per finalist, a crossing count
 //! and a careful measurement; one fit.
 
+use rayon::prelude::*;
 use voxlod_fit::{fit_with, FitOptions};
 
 use crate::candidate::{Candidate, Method};
@@ -118,6 +119,18 @@ pub fn choose(
         ruled_out,
         warning,
     })
+}
+
+/// Step 2's quick measurements made ahead, before the chain's choice: of `candidates` that keep
+/// `promises`' cheap ones (the chain's cap on handles is not known yet, so the promises are the
+/// budget's first). Budgets run this side by side; the choice then measures only what was
+/// added since (the level above, a fit, twins) and what was rejected early here.
+pub fn measure_ahead(candidates: &mut [Candidate], promises: &Promises, measure: &Measure) {
+    let broken: Vec<Vec<Promise>> = candidates
+        .iter()
+        .map(|c| promises.broken_cheap(c))
+        .collect();
+    measure_quickly(candidates, &broken, measure);
 }
 
 /// Step 2's quick measurements of the candidates that keep the cheap promises.
@@ -221,6 +234,19 @@ fn finalists(
     let collapse = order
         .iter()
         .position(|&i| candidates[i].method == Method::Collapse);
+    // The likely finalists' checks, side by side; the loop below repeats them in order, from
+    // what they found, and checks further candidates where some were ruled out.
+    let likely: Vec<usize> = (order.iter().enumerate())
+        .filter(|&(rank, _)| rank < FINALISTS || Some(rank) == collapse)
+        .map(|(_, &i)| i)
+        .collect();
+    (candidates.par_iter_mut().enumerate())
+        .filter(|(i, _)| likely.contains(i))
+        .for_each(|(_, c)| {
+            if crosses_no_more(input, c) {
+                careful(c, measure);
+            }
+        });
     let mut chosen: Vec<usize> = Vec::new();
     for (rank, &i) in order.iter().enumerate() {
         if chosen.len() >= FINALISTS && Some(rank) != collapse {
@@ -261,7 +287,8 @@ fn finalists(
     if tied.len() < 2 {
         return Some(best);
     }
-    let precise: Vec<Option<Distance>> = (tied.iter())
+    measure.prepare_precise();
+    let precise: Vec<Option<Distance>> = (tied.par_iter())
         .map(|&i| measure.distance(&candidates[i].mesh, Care::Precise, f64::INFINITY))
         .collect();
     let by_precise = |i: usize| {

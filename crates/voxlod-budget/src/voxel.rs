@@ -19,17 +19,13 @@
 //! the density, O(N³)), one marching cubes pass for the three isodensities, and a checked
 //! quadric collapse per isodensity.
 
-use voxlod_contouring::marching_cubes_multi;
 use voxlod_contouring::triangle_estimate::resolution_for_triangles;
-use voxlod_metrics::MeshDistance;
 use voxlod_quadric::{simplify_dropping_parts, simplify_unchecked, PartsOptions, QuadricOptions};
-use voxlod_sampling::closing::closing_fill;
-use voxlod_sampling::{filtered_density, level_grid, DensityOptions, MeshSolid};
 
 use crate::candidate::{Candidate, Fill, Method};
+use crate::grids::{isos_of, Grids};
 use crate::input::Input;
 use crate::measure::{Care, Measure};
-use crate::open_parts::add_open_shells;
 use crate::promises::within_budget;
 use crate::{BudgetError, PortfolioOptions};
 use voxlod_contouring::clean_mesh::without_zero_area;
@@ -61,9 +57,6 @@ pub fn level_triangles(budget: usize, remesh: bool) -> f64 {
     }
 }
 
-/// The isodensities contoured (module docs).
-pub const ISOS: [f32; 3] = [0.5, 0.25, 0.15];
-
 /// Resolutions tried: at least this coarse, at most this fine.
 pub const COARSEST: usize = 4;
 /// See [`COARSEST`].
@@ -80,68 +73,79 @@ pub struct VoxelFound {
     pub vanished: bool,
 }
 
-/// The input as one solid of the voxel candidates: what of its inside is filled, the solid
-/// sampled, and the open parts sampled as shells beside it (module `open_parts`).
-pub struct Sampled {
-    /// What the solid fills.
-    pub fill: Fill,
-    /// The solid (with [`Fill::OpenShells`], of the closed parts only).
-    pub solid: MeshSolid,
-    /// The open parts, whose shells join the solid (with [`Fill::OpenShells`] only).
-    pub shells: Option<MeshDistance>,
+/// The first grid of `budget`'s search: the resolution whose level would have
+/// [`level_triangles`].
+pub fn first_resolution(input: &Input, options: &PortfolioOptions, budget: usize) -> usize {
+    let want = level_triangles(budget, options.remesh);
+    let start = resolution_for_triangles(&input.mesh, want as usize).unwrap_or(COARSEST);
+    start.clamp(COARSEST, FINEST)
 }
 
-impl Sampled {
-    /// `solid`, with `fill` filled, no shells.
-    pub fn solid(fill: Fill, solid: MeshSolid) -> Sampled {
-        Sampled {
-            fill,
-            solid,
-            shells: None,
-        }
+/// The grids `budget`'s search asks for first, for every solid: [`first_resolution`] and,
+/// where that is at most [`SMALL`], its [`neighbours`].
+pub fn planned_grids(
+    input: &Input,
+    options: &PortfolioOptions,
+    solids: usize,
+    budget: usize,
+) -> Vec<(usize, usize)> {
+    let first = first_resolution(input, options, budget);
+    let mut resolutions = vec![first];
+    if first <= SMALL {
+        resolutions.extend(neighbours(first));
     }
+    (0..solids)
+        .flat_map(|s| resolutions.iter().map(move |&r| (s, r)))
+        .collect()
 }
 
-/// The isodensities a solid is contoured at: all of [`ISOS`] for the input as given, with its
-/// closed cavities filled, and with its open parts as shells; only 0.5 where its hollows are
-/// filled or lined (module `enclosed`), whose walls are thick by construction.
-pub fn isos_of(fill: Fill) -> &'static [f32] {
-    match fill {
-        Fill::None | Fill::Cavities | Fill::OpenShells => &ISOS,
-        Fill::Hollows | Fill::HollowLining => &ISOS[..1],
-    }
+/// The finer ([`FINER`]) and coarser ([`COARSER`]) resolutions beside `resolution`, within
+/// [`COARSEST`]..[`FINEST`], other than it.
+fn neighbours(resolution: usize) -> impl Iterator<Item = usize> {
+    let at = resolution as f64;
+    let finer = ((at * FINER) as usize).min(FINEST);
+    let coarser = ((at * COARSER) as usize).max(COARSEST);
+    [finer, coarser]
+        .into_iter()
+        .filter(move |&r| r != resolution)
 }
 
-/// The voxel candidates of `budget` from `sampled` (the input as a solid), filtered by
-/// `options.filter`, gaps closed as `options.close_gaps` asks, collapsed within
+/// The voxel candidates of `budget` from solid `solid` of `grids` (the input as a solid),
+/// filtered by `options.filter`, gaps closed as `options.close_gaps` asks, collapsed within
 /// `options.max_error`.
 pub fn voxel_candidates(
     input: &Input,
     measure: &Measure,
-    sampled: &Sampled,
+    grids: &Grids,
+    solid: usize,
     options: &PortfolioOptions,
     budget: usize,
 ) -> Result<VoxelFound, BudgetError> {
     let max_error = options.max_error;
     let want = level_triangles(budget, options.remesh);
-    let start = resolution_for_triangles(&input.mesh, want as usize).unwrap_or(COARSEST);
-    let mut resolution = start.clamp(COARSEST, FINEST);
+    let mut resolution = first_resolution(input, options, budget);
     let mut found = VoxelFound::default();
     let (mut refined, mut coarsened) = (false, 0);
-    let fill = sampled.fill;
+    let fill = grids.solids()[solid].fill;
     loop {
-        let levels = contoured(input, sampled, options, resolution)?;
+        let levels = grids.levels(solid, resolution)?;
         let most = levels.iter().map(|m| m.triangle_count()).max().unwrap_or(0);
         found.resolution = resolution;
         found.vanished = most == 0;
         let enough = most as f64 >= budget as f64 * (1.0 - crate::BUDGET_TOLERANCE);
+        // Refined once at most, and never after a coarser grid was asked for because the
+        // collapse stalled: a finer grid than the one that stalled stalls too, and a coarser
+        // one has fewer triangles still.
+        if !enough && coarsened > 0 {
+            break;
+        }
         if !enough && !refined && resolution < FINEST {
             refined = true;
             let factor = (want / most.max(1) as f64).sqrt().clamp(1.25, 4.0);
             resolution = ((resolution as f64 * factor) as usize).min(FINEST);
             continue;
         }
-        let levels = closest_if_large(levels, measure);
+        let levels = closest_if_large(&levels, measure);
         let at = (resolution, fill);
         let reached = add_collapsed(&mut found, input, levels, at, budget, max_error);
         // A level with more handles than the budget can carry stalls the collapse: coarser
@@ -157,14 +161,10 @@ pub fn voxel_candidates(
     // foretell (a finer one keeps more shape, a coarser one has fewer handles to stall on):
     // the neighbours on both sides too.
     if found.resolution <= SMALL && !found.vanished && coarsened == 0 {
-        let at = found.resolution as f64;
-        let finer = ((at * FINER) as usize).min(FINEST);
-        let coarser = ((at * COARSER) as usize).max(COARSEST);
-        for r in [finer, coarser] {
-            if r != found.resolution {
-                let levels = contoured(input, sampled, options, r)?;
-                add_collapsed(&mut found, input, levels, (r, fill), budget, max_error);
-            }
+        for r in neighbours(found.resolution) {
+            let levels = grids.levels(solid, r)?;
+            let levels = levels.iter().cloned().collect();
+            add_collapsed(&mut found, input, levels, (r, fill), budget, max_error);
         }
     }
     Ok(found)
@@ -181,26 +181,26 @@ pub const MAX_COARSER: usize = 3;
 /// a stall there does not send the search to coarser grids.
 pub const LARGE_LEVEL: usize = 60_000;
 
-/// `levels` (one per isodensity of [`ISOS`]), or where the largest is above [`LARGE_LEVEL`],
+/// `levels` (one per isodensity of [`crate::grids::ISOS`]), or where the largest is above [`LARGE_LEVEL`],
 /// only the one measured closest to the input, the others left empty.
 fn closest_if_large(
-    mut levels: Vec<voxlod_core::TriangleMesh>,
+    levels: &[voxlod_core::TriangleMesh],
     measure: &Measure,
 ) -> Vec<voxlod_core::TriangleMesh> {
     if levels.iter().all(|l| l.triangle_count() <= LARGE_LEVEL) {
-        return levels;
+        return levels.to_vec();
     }
     let shape = |l: &voxlod_core::TriangleMesh| {
         (measure.distance(l, Care::Quick, f64::INFINITY)).map_or(f64::INFINITY, |d| d.shape)
     };
     let distances: Vec<f64> = levels.iter().map(shape).collect();
     let best = (0..levels.len()).min_by(|&a, &b| distances[a].total_cmp(&distances[b]));
-    for (i, level) in levels.iter_mut().enumerate() {
-        if Some(i) != best {
-            *level = voxlod_core::TriangleMesh::default();
-        }
-    }
-    levels
+    (levels.iter().enumerate())
+        .map(|(i, level)| match Some(i) == best {
+            true => level.clone(),
+            false => voxlod_core::TriangleMesh::default(),
+        })
+        .collect()
 }
 
 /// Grids up to this resolution get a finer neighbour ([`FINER`] times finer) and a coarser one
@@ -234,53 +234,6 @@ fn add_collapsed(
             }));
     }
     reached
-}
-
-/// The input's solid filtered at `resolution` (radius one voxel, as the paper's pyramid), its
-/// open parts' shells added where it has them, its gaps closed where `options` asks, and
-/// contoured at each of [`isos_of`] its fill.
-fn contoured(
-    input: &Input,
-    sampled: &Sampled,
-    options: &PortfolioOptions,
-    resolution: usize,
-) -> Result<Vec<voxlod_core::TriangleMesh>, BudgetError> {
-    let radius = input.bounds.longest_extent() / resolution as f64;
-    let grid = level_grid(&input.bounds, resolution, radius)?;
-    let density_options = DensityOptions::new(options.filter, radius);
-    let (mut density, _) = filtered_density(&sampled.solid, &grid, &density_options)?;
-    if let Some(open) = &sampled.shells {
-        add_open_shells(&mut density, open, radius)?;
-    }
-    if let Some(gap) = options.close_gaps {
-        close_gaps(&mut density, gap)?;
-    }
-    let isos = isos_of(sampled.fill);
-    let levels = marching_cubes_multi(&density, isos, false).map_err(|e| BudgetError::NoLevel {
-        budget: 0,
-        why: format!("marching cubes: {e}"),
-    })?;
-    Ok(levels.into_iter().map(|l| l.mesh).collect())
-}
-
-/// `density` with the gaps of its solid (isodensity 1/2) narrower than `gap` (mesh units)
-/// closed: a morphological closing by a ball of radius `gap / 2`, rounded to whole samples
-/// ([`closing_fill`]: dilated, what the outside cannot reach kept, eroded again), whose new
-/// samples are raised to 1. A gap under a sample's width is left to the filter. Cost:
-/// O(r N³) for radius r in samples.
-fn close_gaps(density: &mut voxlod_core::Volume, gap: f64) -> Result<(), BudgetError> {
-    let radius = (0.5 * gap / density.grid.spacing[0]).round() as usize;
-    if radius == 0 {
-        return Ok(());
-    }
-    let dims = density.grid.dims;
-    let inside: Vec<bool> = density.as_slice().iter().map(|&d| d >= 0.5).collect();
-    let closing = closing_fill(&inside, dims, radius)?;
-    let values = density.as_slice_mut();
-    for i in closing.filled {
-        values[i] = 1.0;
-    }
-    Ok(())
 }
 
 /// meshoptimizer passes of a level's checked collapse (each also checks the result's topology
