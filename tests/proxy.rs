@@ -85,3 +85,20 @@ fn a_tree_keeps_its_crown_of_open_leaf_cards() {
         "{material:?}"
     );
 }
+
+#[test]
+fn screen_sizes_size_each_level_and_come_one_per_budget() {
+    let scene = voxlod_testkit::assets::three_part_scene();
+    let mut options = ProxyOptions::for_triangles(&[400], 256);
+    options.screen_sizes = vec![400, 100];
+    let refused = proxy(&scene, &options).unwrap_err().to_string();
+    assert!(refused.contains("screen_sizes"), "{refused}");
+    options.screen_sizes = vec![0];
+    assert!(proxy(&scene, &options).is_err());
+    // At 60 pixels across (about 12 texels a unit over the box's diagonal of 4.9) the texture
+    // follows the screen size, not the 256² of `for_triangles`.
+    options.screen_sizes = vec![60];
+    let made = proxy(&scene, &options).unwrap();
+    let b = &made.levels[0].bake;
+    assert!((40..=150).contains(&b.width), "{b:?}");
+}

@@ -5,7 +5,8 @@
 //! output that is not `.glb`, a budget under 4, a texture side of 0, gap widths, angles,
 //! densities and JPEG qualities out of range are usage errors (exit 2) naming the flag; a
 //! missing input is an I/O error (exit 4) naming the file. `--texel-density` sizes the texture
-//! by the level's area; `--images jpeg` writes JPEG colour maps that validate.
+//! by the level's area, `--screen-size` by the pixels each level is drawn across; `--images
+//! jpeg` writes JPEG colour maps that validate.
 
 mod common;
 
@@ -155,6 +156,48 @@ fn proxy_texel_density_sizes_the_texture_by_the_level_area() {
     let (low, high) = (side("40"), side("80"));
     let ratio = high as f64 / low as f64;
     assert!((1.6..=2.5).contains(&ratio), "{low} -> {high}");
+}
+
+#[test]
+fn proxy_screen_size_gives_each_level_a_texel_per_pixel() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_glb(dir.path());
+    let out = dir.path().join("proxy.glb");
+    let o = voxlod(&[
+        "proxy",
+        arg(&scene),
+        "-o",
+        arg(&out),
+        "--triangles",
+        "600,300",
+        "--screen-size",
+        "400,100",
+        "--no-appearance",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = json(&o);
+    let level = |i: usize| &report["levels"][i];
+    assert_eq!(level(0)["screen_size"], 400);
+    assert_eq!(level(1)["screen_size"], 100);
+    // A quarter of the pixels across, a quarter of the texels a side (the two levels' areas
+    // are close; the charts' packing varies a little).
+    let side = |i: usize| level(i)["bake"]["width"].as_u64().unwrap() as f64;
+    let ratio = side(0) / side(1);
+    assert!((3.0..=5.3).contains(&ratio), "{} -> {}", side(0), side(1));
+    // The scene's box has a diagonal of about 4.9 and its spheres about 18 square units:
+    // 400 pixels ask for about 80 texels a unit, about 500 a side.
+    assert!((200.0..=900.0).contains(&side(0)), "{}", side(0));
+    // One size per budget, none of 0 pixels, and not beside a fixed size.
+    for extra in [
+        &["--screen-size", "400,100"][..],
+        &["--screen-size", "0"],
+        &["--screen-size", "400", "--texture", "512"],
+    ] {
+        let o = proxy_500(&scene, &out.with_extension("x.glb"), extra);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains("--screen-size"), "{}", stderr(&o));
+    }
 }
 
 /// The three-part scene with photograph-like textures instead of its checkers, written as

@@ -25,7 +25,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 use voxlod_asset::Asset;
-use voxlod_bake::{bake, BakeOptions, BakeReport};
+use voxlod_bake::{bake, BakeOptions, BakeReport, TextureSize};
 use voxlod_budget::{levels_with, BudgetLevel, InputReport, PortfolioOptions};
 use voxlod_fit::FitOptions;
 use voxlod_sampling::Filter;
@@ -54,6 +54,19 @@ pub struct ProxyOptions {
     pub drop_hidden: bool,
     /// The atlas and the bake: texture size (or texel density), padding, creases, the cage.
     pub bake: BakeOptions,
+    /// Where not empty, one per budget: the pixels across which the level is drawn (the
+    /// diameter of the scene's bounding sphere, around its box, on screen). Each level's
+    /// textures then have about one texel per pixel there: a density of this many texels
+    /// over the diameter per scene unit, the texture as large as the charts need at it,
+    /// instead of `bake.atlas.texture`. The way game engines choose a
+    /// level by its screen size (Simplygon's and Unreal's), applied to its textures.
+    pub screen_sizes: Vec<u32>,
+}
+
+/// Texels per scene unit for a level drawn `pixels` across a scene whose bounding sphere has
+/// diameter `diameter`: one texel per pixel where the surface faces the viewer.
+fn screen_density(pixels: u32, diameter: f64) -> f32 {
+    (pixels as f64 / diameter) as f32
 }
 
 impl Default for ProxyOptions {
@@ -68,6 +81,7 @@ impl Default for ProxyOptions {
             close_gaps: None,
             drop_hidden: true,
             bake: BakeOptions::for_texture(1024),
+            screen_sizes: Vec::new(),
         }
     }
 }
@@ -126,6 +140,7 @@ pub fn proxy_with(
         let problem = "give at least one budget";
         return Err(InvalidOption::new("triangles", "[]", problem).into());
     }
+    check_screen_sizes(options)?;
     scene.validate().map_err(voxlod_bake::BakeError::from)?;
     let geometry = scene.mesh.geometry();
     let portfolio = PortfolioOptions {
@@ -146,13 +161,17 @@ pub fn proxy_with(
     let longest = geometry.bounds().longest_extent();
     let mut levels = Vec::with_capacity(run.levels.len());
     for (i, level) in run.levels.into_iter().enumerate() {
-        let bake_options = BakeOptions {
+        let mut bake_options = BakeOptions {
             voxel_size: level
                 .report
                 .resolution
                 .map(|r| (longest / r.max(1) as f64) as f32),
             ..options.bake.clone()
         };
+        if let Some(&pixels) = options.screen_sizes.get(i) {
+            let density = screen_density(pixels, geometry.bounds().diagonal());
+            bake_options.atlas.texture = TextureSize::Density(density);
+        }
         let baked = bake(scene, &level.mesh, &bake_options)?;
         let budget = level.report.budget;
         let noted = baked.report.warnings.iter();
@@ -180,4 +199,23 @@ pub fn proxy_with(
         warnings,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// Screen sizes, where given, are one per budget and at least one pixel.
+fn check_screen_sizes(options: &ProxyOptions) -> Result<(), PyramidError> {
+    let sizes = &options.screen_sizes;
+    let given = format!("{sizes:?}");
+    if !sizes.is_empty() && sizes.len() != options.triangles.len() {
+        let problem = format!(
+            "give one screen size per budget ({} budgets, {} screen sizes)",
+            options.triangles.len(),
+            sizes.len()
+        );
+        return Err(InvalidOption::new("screen_sizes", given, problem).into());
+    }
+    if sizes.contains(&0) {
+        let problem = "a level is drawn at least one pixel across";
+        return Err(InvalidOption::new("screen_sizes", given, problem).into());
+    }
+    Ok(())
 }

@@ -37,6 +37,7 @@ use super::values::number;
 ///   voxlod proxy machine.gltf -o proxy.glb --triangles 2000 --texture 2048 --layout lod-nodes
 ///   voxlod proxy yard.glb -o yard-proxy.glb --triangles 800 --close-gaps 0.5 --hard-edges 40
 ///   voxlod proxy spot.obj -o spot-proxy.glb --triangles 500 --json
+///   voxlod proxy block.glb -o block-proxy.glb --triangles 4000,800 --screen-size 1200,300
 ///   voxlod proxy city.glb -o city-web.glb --triangles 3000 --images jpeg --jpeg-quality 85
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
@@ -60,6 +61,14 @@ pub struct ProxyArgs {
     #[arg(long, value_name = "TEXELS_PER_UNIT", conflicts_with = "texture",
         value_parser = number::<f32>, allow_hyphen_values = true)]
     pub texel_density: Option<f32>,
+    /// Pixels across which each level is drawn, one per --triangles value (e.g.
+    /// 800,200,60: the scene's bounding sphere that many pixels wide on screen), instead of
+    /// a fixed --texture size: each level's textures get about one texel per pixel there,
+    /// as large as its charts need
+    #[arg(long, value_name = "PIXELS,...", value_delimiter = ',',
+        conflicts_with_all = ["texture", "texel_density"],
+        value_parser = number::<u32>, allow_hyphen_values = true)]
+    pub screen_size: Vec<u32>,
     /// Close gaps between parts narrower than this distance (scene units): a fence's
     /// pickets or a shelf's books become one surface. By default only gaps under about a
     /// voxel of the level close
@@ -152,6 +161,9 @@ struct LevelReport {
     hausdorff_fraction: f64,
     genus: Option<i64>,
     components: usize,
+    /// Pixels across which the level is drawn, with --screen-size.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    screen_size: Option<u32>,
     /// The bake: texture size, charts, texel utilisation, texels that hit the scene.
     bake: voxlod::bake::BakeReport,
     /// PSNR (dB) and SSIM from 14 views against the scene, without --no-appearance.
@@ -197,6 +209,7 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
     if let Some(density) = args.texel_density {
         options.bake.atlas.texture = voxlod::bake::TextureSize::Density(density);
     }
+    options.screen_sizes = args.screen_size.clone();
     options.bake.atlas.crease_degrees = args.hard_edges;
     options.bake.images = images;
     let bar = progress(args.triangles.len() as u64, "levels baked", args.json);
@@ -228,7 +241,7 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
         input_draw_calls: draw_calls(&scene),
         input_triangles: scene.mesh.triangles.len(),
         hidden_parts: made.input.hidden_parts,
-        levels: level_reports(&made, measured),
+        levels: level_reports(&made, measured, &args.screen_size),
         total_seconds: start.elapsed().as_secs_f64(),
         warnings,
     };
@@ -264,6 +277,18 @@ fn check_values(args: &ProxyArgs) -> Result<(), CliError> {
         return Err(CliError::usage(format!(
             "--texel-density {d}: texels per scene unit, a positive number"
         )));
+    }
+    let sizes = &args.screen_size;
+    if !sizes.is_empty() && sizes.len() != args.triangles.len() {
+        let (n, m) = (sizes.len(), args.triangles.len());
+        return Err(CliError::usage(format!(
+            "--screen-size: {n} sizes for {m} budgets; give one per --triangles value"
+        )));
+    }
+    if sizes.contains(&0) {
+        return Err(CliError::usage(
+            "--screen-size 0: a level is drawn at least one pixel across",
+        ));
     }
     if let Some(g) = args.close_gaps.filter(|g| !(g.is_finite() && *g > 0.0)) {
         return Err(CliError::usage(format!(
@@ -347,12 +372,22 @@ fn measure_error(e: voxlod::render::RenderError) -> CliError {
 /// PSNR and SSIM of a level, when measured.
 type Measured = Option<(f64, f64)>;
 
-fn level_reports(made: &voxlod::Proxy, measured: Vec<Measured>) -> Vec<LevelReport> {
+fn level_reports(
+    made: &voxlod::Proxy,
+    measured: Vec<Measured>,
+    screen_sizes: &[u32],
+) -> Vec<LevelReport> {
     let levels = made.levels.iter().zip(measured).enumerate();
-    levels.map(|(i, (l, m))| level_report(i, l, m)).collect()
+    let report = |(i, (l, m))| level_report(i, l, m, screen_sizes.get(i).copied());
+    levels.map(report).collect()
 }
 
-fn level_report(i: usize, l: &voxlod::ProxyLevel, m: Measured) -> LevelReport {
+fn level_report(
+    i: usize,
+    l: &voxlod::ProxyLevel,
+    m: Measured,
+    screen_size: Option<u32>,
+) -> LevelReport {
     let r = &l.report;
     LevelReport {
         level: i,
@@ -365,6 +400,7 @@ fn level_report(i: usize, l: &voxlod::ProxyLevel, m: Measured) -> LevelReport {
         hausdorff_fraction: r.hausdorff_fraction,
         genus: r.genus,
         components: r.components,
+        screen_size,
         bake: l.bake.clone(),
         psnr: m.map(|m| m.0),
         ssim: m.map(|m| m.1),
