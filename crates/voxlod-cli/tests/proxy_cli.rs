@@ -127,7 +127,19 @@ fn proxy_refuses_bad_gap_angle_and_density_values_naming_the_flag() {
 
 /// `voxlod proxy SCENE -o OUT --triangles 500` with `extra` flags.
 fn proxy_500(scene: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
-    let args = ["proxy", arg(scene), "-o", arg(out), "--triangles", "500"];
+    proxy_to(scene, out, "500", extra)
+}
+
+/// `voxlod proxy SCENE -o OUT --triangles TRIANGLES` with `extra` flags.
+fn proxy_to(scene: &Path, out: &Path, triangles: &str, extra: &[&str]) -> std::process::Output {
+    let args = [
+        "proxy",
+        arg(scene),
+        "-o",
+        arg(out),
+        "--triangles",
+        triangles,
+    ];
     voxlod(&[&args[..], extra].concat())
 }
 
@@ -163,18 +175,8 @@ fn proxy_screen_size_gives_each_level_a_texel_per_pixel() {
     let dir = tempfile::tempdir().unwrap();
     let scene = scene_glb(dir.path());
     let out = dir.path().join("proxy.glb");
-    let o = voxlod(&[
-        "proxy",
-        arg(&scene),
-        "-o",
-        arg(&out),
-        "--triangles",
-        "600,300",
-        "--screen-size",
-        "400,100",
-        "--no-appearance",
-        "--json",
-    ]);
+    let sizes = ["--screen-size", "400,100", "--no-appearance", "--json"];
+    let o = proxy_to(&scene, &out, "600,300", &sizes);
     assert!(o.status.success(), "{}", stderr(&o));
     let report = json(&o);
     let level = |i: usize| &report["levels"][i];
