@@ -7,11 +7,13 @@
 
 use std::time::Instant;
 
+use voxlod_asset::Asset;
 use voxlod_core::glam::DVec3;
 use voxlod_core::PolyMesh;
 use voxlod_layers::{
-    filter_solid, glb_bytes, layer_volume, layered_chain_document, plan_layers, render_layered,
-    to_poly_mesh, GlbOptions, LayerPlan, Layered, LayeredLevel, LayersOptions, Octant,
+    bake_layers, filter_solid, glb_bytes, layer_volume, layered_chain_glb, plan_layers,
+    render_layered, to_poly_mesh, BakedLayers, GlbOptions, LayerPlan, Layered, LayeredLevel,
+    LayersOptions, LooksOptions, Octant,
 };
 use voxlod_render::{Camera, Image, RenderOptions};
 
@@ -36,13 +38,8 @@ pub struct Layers {
 /// positive number of voxels, no quadrature line. Cheap; call it to refuse bad options before
 /// reading any input.
 pub fn check_layers_options(options: &LayersOptions) -> Result<LayerPlan, Error> {
-    let plan = plan_layers(&options.plan).map_err(|e| {
-        Error::from(InvalidOption::new(
-            "error",
-            options.plan.error,
-            e.to_string(),
-        ))
-    })?;
+    let plan = plan_layers(&options.plan)
+        .map_err(|e| InvalidOption::new("error", options.plan.error, e.to_string()))?;
     if options.resolution < 2 {
         let problem = "must be at least 2";
         return Err(InvalidOption::new("resolution", options.resolution, problem).into());
@@ -114,16 +111,15 @@ pub fn layers_levels(
     resolutions: &[usize],
 ) -> Result<Vec<Layers>, Error> {
     check_layers_levels(options, resolutions)?;
-    let per_level = |resolution| LayersOptions {
-        resolution,
-        ..*options
-    };
     let prepared = source.prepare()?;
     let solid = prepared.solid().ok_or(PyramidError::NeedsSolid)?;
     let mut out = Vec::with_capacity(resolutions.len());
     for &r in resolutions {
         let start = Instant::now();
-        let level_options = per_level(r);
+        let level_options = LayersOptions {
+            resolution: r,
+            ..*options
+        };
         let (volume, density) = filter_solid(solid, &level_options)?;
         let sample_seconds = start.elapsed().as_secs_f64();
         let mut layered = layer_volume(&volume, &options.plan, &options.extract)?;
@@ -166,43 +162,48 @@ pub struct LayersChain {
     pub screen_coverage: Vec<f64>,
     /// The `.glb` file.
     pub bytes: Vec<u8>,
+    /// Per level, its layers with the asset's looks baked, where looks were given.
+    pub baked: Vec<Option<BakedLayers>>,
 }
 
 /// The layered shells of [`layers_levels`] as one binary glTF `MSFT_lod` chain
 /// (`voxlod_layers::glb_chain`): a mesh per level with a primitive per layer and the level's
 /// eight orders, switched where each level's filter radius spans at most
-/// [`voxlod_layers::RADIUS_LIMIT_PIXELS`] on screen. Cost: the levels', then linear in their
-/// size.
+/// [`voxlod_layers::RADIUS_LIMIT_PIXELS`] on screen. With `looks`, every level's layers take
+/// the asset's base colour (`voxlod_layers::bake_layers`, one bake per layer). Cost: the
+/// levels', the bakes', then linear in their size.
 pub fn layers_chain(
     source: &Source,
     options: &LayersOptions,
     resolutions: &[usize],
+    looks: Option<(&Asset, &LooksOptions)>,
 ) -> Result<LayersChain, Error> {
     let levels = layers_levels(source, options, resolutions)?;
     let radii: Vec<f64> = levels
         .iter()
         .map(|l| layers_radius(&l.layered, options.radius_voxels))
         .collect();
-    let chain: Vec<LayeredLevel> = levels
-        .iter()
-        .zip(&radii)
-        .map(|(l, &radius)| LayeredLevel {
-            mesh: &l.layered.mesh,
+    let baked: Vec<Option<BakedLayers>> = match looks {
+        Some((asset, o)) => (levels.iter())
+            .map(|l| bake_layers(asset, &l.layered.mesh, o).map(Some))
+            .collect::<Result<_, _>>()?,
+        None => vec![None; levels.len()],
+    };
+    let chain: Vec<LayeredLevel> = (levels.iter().zip(&radii).zip(&baked))
+        .map(|((l, &radius), b)| LayeredLevel {
+            mesh: b.as_ref().map_or(&l.layered.mesh, |b| &b.mesh),
             orders: &l.layered.orders,
             radius,
+            looks: b.as_ref().map(|b| &b.looks[..]),
         })
         .collect();
-    let (doc, bin) = layered_chain_document(&chain, &GlbOptions::default())?;
-    let bytes = voxlod_gltf::to_glb(&doc, bin)?;
-    let screen_coverage = doc["nodes"][0]["extras"]["MSFT_screencoverage"]
-        .as_array()
-        .map(|c| c.iter().filter_map(|v| v.as_f64()).collect())
-        .unwrap_or_default();
+    let (bytes, screen_coverage) = layered_chain_glb(&chain)?;
     Ok(LayersChain {
         levels,
         radii,
         screen_coverage,
         bytes,
+        baked,
     })
 }
 

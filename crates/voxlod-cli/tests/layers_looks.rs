@@ -1,7 +1,8 @@
 //! `voxlod layers` on an asset with looks: a glTF scene (and an OBJ with its MTL and texture)
 //! gives every layer of the `.glb` a baked base colour texture, reported and validated; a
-//! plain mesh gives the layers one colour as before, and `--texture` there warns; `--texture`
-//! out of range, with a `.ply` output or with `--lod` is a usage error (exit 2).
+//! plain mesh gives the layers one colour as before, and `--texture` there warns; every level
+//! of a `--lod` chain gets its layers' textures too; `--texture` out of range or with a `.ply`
+//! output is a usage error (exit 2).
 
 mod common;
 
@@ -26,6 +27,15 @@ fn gltf_json(path: &Path) -> serde_json::Value {
     let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
     assert_eq!(&bytes[16..20], b"JSON");
     serde_json::from_slice(&bytes[20..20 + length]).unwrap()
+}
+
+/// Asserts that primitive `p` of `doc` has texture coordinates and a material with a base
+/// colour texture.
+fn assert_textured(doc: &serde_json::Value, p: &serde_json::Value) {
+    assert!(p["attributes"]["TEXCOORD_0"].is_u64(), "{p}");
+    let m = &doc["materials"][p["material"].as_u64().unwrap() as usize];
+    let texture = &m["pbrMetallicRoughness"]["baseColorTexture"];
+    assert!(texture.is_object(), "{m}");
 }
 
 /// `voxlod layers INPUT -o OUT --error 0.05` with `extra` flags.
@@ -62,13 +72,7 @@ fn a_textured_scene_gives_every_layer_a_baked_base_colour() {
     let doc = gltf_json(&out);
     assert_eq!(doc["images"].as_array().unwrap().len(), 3);
     for mesh in doc["meshes"].as_array().unwrap() {
-        let p = &mesh["primitives"][0];
-        assert!(p["attributes"]["TEXCOORD_0"].is_u64(), "{p}");
-        let m = &doc["materials"][p["material"].as_u64().unwrap() as usize];
-        assert!(
-            m["pbrMetallicRoughness"]["baseColorTexture"].is_object(),
-            "{m}"
-        );
+        assert_textured(&doc, &mesh["primitives"][0]);
     }
     if let Some(v) = voxlod_testkit::gltf_validator::validate_gltf(&out) {
         assert_eq!(v.errors, 0, "{}", v.report);
@@ -143,7 +147,6 @@ fn texture_where_it_cannot_apply_is_a_usage_error() {
         (&glb, &["--texture", "4"][..], "must be 8 to 16384"),
         (&glb, &["--texture", "20000"][..], "must be 8 to 16384"),
         (&ply, &["--texture", "256"][..], "holds no textures"),
-        (&glb, &["--texture", "256", "--lod"][..], "--lod chain"),
     ] {
         let mut all = vec!["layers", arg(&scene), "-o", arg(out)];
         all.extend_from_slice(extra);
@@ -151,6 +154,42 @@ fn texture_where_it_cannot_apply_is_a_usage_error() {
         assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", stderr(&o));
         common::assert_clean_failure(&o, expect);
         assert!(!out.exists());
+    }
+}
+
+#[test]
+fn every_level_of_a_chain_takes_the_base_colour() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_glb(dir.path());
+    let out = dir.path().join("chain.glb");
+    let extra: Vec<&str> = "--lod --resolutions 32,16 --texture 64 --json"
+        .split(' ')
+        .collect();
+    let o = layers(&scene, &out, &extra);
+    let report = json(&o);
+    let levels = report["lod"]["levels"].as_array().unwrap();
+    assert_eq!(levels.len(), 2);
+    for level in levels {
+        assert!(level["charts"].as_u64().unwrap() >= 3, "{level}");
+    }
+    // The only warnings are the bakes' own, each naming its level and layer.
+    for w in report["warnings"].as_array().unwrap() {
+        assert!(w.as_str().unwrap().starts_with("chain level "), "{w}");
+    }
+    // Every primitive of every level has texture coordinates and a base colour texture of
+    // its own: three layers a level, six images.
+    let doc = gltf_json(&out);
+    assert_eq!(doc["images"].as_array().unwrap().len(), 6);
+    let meshes = doc["meshes"].as_array().unwrap();
+    assert_eq!(meshes.len(), 2);
+    for p in meshes
+        .iter()
+        .flat_map(|m| m["primitives"].as_array().unwrap())
+    {
+        assert_textured(&doc, p);
+    }
+    if let Some(v) = voxlod_testkit::gltf_validator::validate_gltf(&out) {
+        assert_eq!(v.errors, 0, "{}", v.report);
     }
 }
 

@@ -7,8 +7,9 @@
 //!   `extensions.MSFT_lod.ids = [1, …, n−1]` and `extras.MSFT_screencoverage`; the scene holds
 //!   node 0 only;
 //! - mesh `k` has one primitive per layer with triangles, innermost first, each with its own
-//!   blended material (alpha as in a single layered file) and extras `{"layer", "isodensity",
-//!   "translucency", "alpha"}`;
+//!   blended material (alpha as in a single layered file; with looks, the layer's baked base
+//!   colour texture and texture coordinates, as [`crate::glb_looks`] writes them) and extras
+//!   `{"layer", "isodensity", "translucency", "alpha"}`;
 //! - level `k`'s eight orders are `SCALAR` `UNSIGNED_INT` accessors named `level k order±x±y±z`,
 //!   triangle lists over the level's layers' vertices concatenated in primitive order (so a
 //!   vertex of layer `i` has index `its index in layer i + vertices of layers 0..i` — the
@@ -41,6 +42,7 @@ use crate::extract::LayeredMesh;
 use crate::glb::{
     encode_glb, new_root, push_level, raw, GlbOptions, GridExtras, RADIUS_LIMIT_PIXELS,
 };
+use crate::looks::LayerLooks;
 use crate::order::ORDER_NAMES;
 use crate::LayersError;
 
@@ -53,6 +55,9 @@ pub struct LayeredLevel<'a> {
     pub orders: &'a [Vec<u32>],
     /// The filter's support radius in the input's units.
     pub radius: f64,
+    /// Per layer, its baked looks ([`crate::bake_layers`] of this level, whose mesh `mesh`
+    /// then is); `None`: the layers carry one colour.
+    pub looks: Option<&'a [Option<LayerLooks>]>,
 }
 
 /// The viewing assumptions of a layered chain's coverages: [`RADIUS_LIMIT_PIXELS`] on a
@@ -72,6 +77,17 @@ pub fn layered_chain_bytes(
 ) -> Result<Vec<u8>, LayersError> {
     let (doc, bin) = layered_chain_document(levels, options)?;
     encode_glb(&doc, bin)
+}
+
+/// The bytes of the `.glb` of a layered chain ([`layered_chain_bytes`] with the default
+/// options) and each level's `MSFT_screencoverage`, the coverage down to which it is drawn.
+pub fn layered_chain_glb(levels: &[LayeredLevel]) -> Result<(Vec<u8>, Vec<f64>), LayersError> {
+    let (doc, bin) = layered_chain_document(levels, &GlbOptions::default())?;
+    let coverage = doc["nodes"][0]["extras"]["MSFT_screencoverage"]
+        .as_array()
+        .map(|c| c.iter().filter_map(|v| v.as_f64()).collect())
+        .unwrap_or_default();
+    Ok((encode_glb(&doc, bin)?, coverage))
 }
 
 /// The JSON value and binary chunk of a layered chain (see the module documentation).
@@ -134,8 +150,8 @@ fn push_chain_level(
     options: &GlbOptions,
 ) -> Result<(), LayersError> {
     let prefix = format!("level {k} ");
-    let plain = (level.mesh, None);
-    let parts = push_level(root, bin, plain, level.orders, options.color, &prefix)?;
+    let layers = (level.mesh, level.looks);
+    let parts = push_level(root, bin, layers, level.orders, options.color, &prefix)?;
     if parts.primitives.is_empty() {
         return Err(LayersError::Invalid(format!(
             "level {k} of the chain has no triangle"

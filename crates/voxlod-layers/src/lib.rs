@@ -83,7 +83,8 @@ pub use glb::{
     baked_glb_bytes, glb_bytes, write_baked_glb, write_glb, GlbOptions, RADIUS_LIMIT_PIXELS,
 };
 pub use glb_chain::{
-    layered_chain_bytes, layered_chain_document, layered_coverage_options, LayeredLevel,
+    layered_chain_bytes, layered_chain_document, layered_chain_glb, layered_coverage_options,
+    LayeredLevel,
 };
 pub use looks::{
     bake_layers, has_base_colour, in_level_order, BakedLayers, LayerLooks, LooksOptions,

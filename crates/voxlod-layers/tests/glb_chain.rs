@@ -32,6 +32,7 @@ fn chain(levels: &[Layered]) -> Vec<LayeredLevel<'_>> {
             mesh: &l.mesh,
             orders: &l.orders,
             radius: l.mesh.grid.spacing[0],
+            looks: None,
         })
         .collect()
 }

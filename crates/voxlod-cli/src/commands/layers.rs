@@ -43,8 +43,8 @@ const FLAGS: &[(&str, &str)] = &[("radius_voxels", "--radius")];
 /// vertex colours) gives its base colour to the layers of a .glb: each layer gets a texture
 /// atlas and a base colour texture of --texture texels a side baked from the asset (a ray from
 /// each texel finds the asset's surface), and its material is that texture with the layer's
-/// alpha. The paper's layers carry one colour; the bake is voxlod's. A .ply/.vtp/.vtk output
-/// or --lod chain carries no looks (a warning says so).
+/// alpha; with --lod, every level's layers. The paper's layers carry one colour; the bake is
+/// voxlod's. A .ply/.vtp/.vtk output carries no looks (a warning says so).
 ///
 /// With --lod, OUT.glb holds the layered shells at several resolutions (--levels halvings of
 /// --resolution, or --resolutions) as one MSFT_lod chain: one mesh per level with a primitive
@@ -231,11 +231,6 @@ fn check_texture(args: &LayersArgs, kind: OutKind) -> Result<(), CliError> {
             "--texture {n}: must be 8 to {max} texels"
         )));
     }
-    if args.chain.lod {
-        return Err(CliError::usage(
-            "--texture: the layers of a --lod chain carry one colour, no baked texture",
-        ));
-    }
     if matches!(kind, OutKind::Mesh) {
         return Err(CliError::usage(format!(
             "--texture: {} holds no textures; bake the layers' looks into a .glb",
@@ -331,10 +326,6 @@ fn looks_warning(args: &LayersArgs, has_looks: bool, kind: OutKind) -> Option<St
              bakes them)",
             args.output.display()
         )),
-        (true, OutKind::Glb) if args.chain.lod => Some(format!(
-            "--lod: the chain's layers carry one colour, none of {input}'s looks (a single \
-             layered .glb bakes them)"
-        )),
         (true, OutKind::Glb) => args.preview.as_ref().map(|_| {
             "--preview draws the layers in one colour, without their baked textures".to_string()
         }),
@@ -342,7 +333,8 @@ fn looks_warning(args: &LayersArgs, has_looks: bool, kind: OutKind) -> Option<St
 }
 
 /// The layers baked with the input's looks, when they have looks and go to a single layered
-/// .glb; with the seconds the bakes took.
+/// .glb (a chain's levels are baked as the chain is made, [`looks_options`]); with the seconds
+/// the bakes took.
 fn bake(
     args: &LayersArgs,
     input: &LayersInput,
@@ -356,12 +348,16 @@ fn bake(
         return Ok(None);
     }
     let start = Instant::now();
-    let options = LooksOptions {
+    let baked = bake_layers(asset, &layered.mesh, &looks_options(args))?;
+    Ok(Some((baked, start.elapsed().as_secs_f64())))
+}
+
+/// How the layers' looks are baked: --texture texels a side, rays as far as the filter.
+fn looks_options(args: &LayersArgs) -> LooksOptions {
+    LooksOptions {
         texture: args.texture.unwrap_or(DEFAULT_TEXTURE),
         radius_voxels: args.radius,
-    };
-    let baked = bake_layers(asset, &layered.mesh, &options)?;
-    Ok(Some((baked, start.elapsed().as_secs_f64())))
+    }
 }
 
 /// The bakes in the report: each baked layer's atlas, and the layers' vertices as written.
@@ -479,9 +475,16 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
     let bar = progress(3, "layers", args.json);
     let source = input.source(&args.route);
     let failed = |e: voxlod::Error| in_flags(e.in_file(&args.input), FLAGS);
+    let mut chain_warnings = Vec::new();
     let (shells, chain, lod) = match &resolutions {
         Some(list) => {
-            let mut chain = voxlod::layers_chain(&source, &options, list).map_err(failed)?;
+            let looks = looks_options(&args);
+            let looks = input.looks.as_ref().map(|asset| (asset, &looks));
+            let mut chain = voxlod::layers_chain(&source, &options, list, looks).map_err(failed)?;
+            chain_warnings.extend(chain.baked.iter().enumerate().flat_map(|(k, b)| {
+                let warnings = b.iter().flat_map(|b| b.warnings.iter());
+                warnings.map(move |w| format!("chain level {k}: {w}"))
+            }));
             let report = ChainReport::of(&chain, list);
             options.resolution = list[0];
             let bytes = std::mem::take(&mut chain.bytes);
@@ -507,6 +510,7 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
             .map(|w| format!("{}: {w}", args.input.display())),
     );
     warnings.extend(looks_warning(&args, input.looks.is_some(), kind));
+    warnings.extend(chain_warnings);
     let mut report = LayersReport {
         warnings,
         resolution: options.resolution,

@@ -68,6 +68,9 @@ pub struct ChainLevelReport {
     pub radius: f64,
     pub layers: usize,
     pub triangles: usize,
+    /// With looks: the charts of the level's layers' atlases, all together.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub charts: Option<usize>,
     pub seconds: f64,
 }
 
@@ -84,6 +87,10 @@ impl ChainReport {
     /// What the report says about `chain`, made at `resolutions`.
     pub fn of(chain: &voxlod::LayersChain, resolutions: &[usize]) -> ChainReport {
         let levels = chain.levels.iter().zip(resolutions).zip(&chain.radii);
+        let charts = |k: usize| {
+            let looks = chain.baked.get(k)?.as_ref()?.looks.iter().flatten();
+            Some(looks.map(|l| l.report.charts).sum())
+        };
         ChainReport {
             levels: levels
                 .enumerate()
@@ -94,6 +101,7 @@ impl ChainReport {
                     radius,
                     layers: l.layered.mesh.layers.len(),
                     triangles: l.layered.mesh.triangle_count(),
+                    charts: charts(level),
                     seconds: l.seconds,
                 })
                 .collect(),

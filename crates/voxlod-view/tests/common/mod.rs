@@ -142,6 +142,7 @@ pub fn write_layered_ball_chain(path: &Path) -> [f64; 2] {
             mesh: &l.mesh,
             orders: &l.orders,
             radius,
+            looks: None,
         })
         .collect();
     let bytes = layered_chain_bytes(&chain, &GlbOptions::default()).unwrap();
