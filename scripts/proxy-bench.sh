@@ -9,6 +9,7 @@
 # Usage: scripts/proxy-bench.sh [OUT_DIR]   (default ~/.cache/voxlod-bench/proxy)
 # GLTFPACK overrides the gltfpack binary (default: the npm one in ~/.cache/voxlod-peers);
 # PROXY_BENCH_ONLY=scenes or =time runs one half; PROXY_BENCH_INPUTS=tree,spot only those inputs.
+# PROXY_BENCH_TEXTURE=2048 bakes the proxies' textures at that side (default 1024).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT="${1:-${VOXLOD_BENCH_DIR:-$HOME/.cache/voxlod-bench}/proxy}"

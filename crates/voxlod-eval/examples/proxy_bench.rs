@@ -1,7 +1,7 @@
 //! Scene proxies beside gltfpack, by appearance: on the generated scenes of
 //! `voxlod_testkit::scenes` (a room, a machine, a tree, a building, instanced props) at 5 % and
 //! 1 % of their triangles, and on Spot at 20 %, 5 % and 1 %, voxlod's baked proxy level
-//! (`voxlod::proxy`, 1024² textures) and gltfpack's `-si R -noq` and `-si R -sa -noq` on the
+//! (`voxlod::proxy`, 1024² textures, or `PROXY_BENCH_TEXTURE`) and gltfpack's `-si R -noq` and `-si R -sa -noq` on the
 //! same scene written as `.glb`, every level written and read back, measured against the input
 //! over 14 views of 512² (`voxlod_eval::appearance`: PSNR, SSIM), with the draw calls it needs
 //! (materials its triangles use), its triangles, whether it welds into a closed manifold, its
@@ -206,6 +206,12 @@ fn bench_input(
     Ok(rows)
 }
 
+/// Texels a side of the proxies' textures: `PROXY_BENCH_TEXTURE`, or 1024.
+fn texture() -> u32 {
+    let given = std::env::var("PROXY_BENCH_TEXTURE").ok();
+    given.and_then(|t| t.parse().ok()).unwrap_or(1024)
+}
+
 /// A level made by one method, read back from the file it was written to, or why not.
 struct Made {
     level: Result<Asset, String>,
@@ -213,11 +219,11 @@ struct Made {
     details: Value,
 }
 
-/// voxlod's proxy level of `input` at `target` triangles with 1024² textures, written as
-/// `.glb` and read back; its seconds are the proxy call's.
+/// voxlod's proxy level of `input` at `target` triangles with [`texture`]² textures, written
+/// as `.glb` and read back; its seconds are the proxy call's.
 fn proxy_level(input: &Asset, target: usize, out: &Path, name: &str) -> Made {
     let start = Instant::now();
-    let made = proxy(input, &ProxyOptions::for_triangles(&[target], 1024));
+    let made = proxy(input, &ProxyOptions::for_triangles(&[target], texture()));
     let seconds = start.elapsed().as_secs_f64();
     let fail = |why: String| Made {
         level: Err(why),
