@@ -24,7 +24,7 @@
 //! and a careful measurement; one fit.
 
 use rayon::prelude::*;
-use voxlod_fit::{fit_with, FitOptions};
+use voxlod_fit::{fit_with, snap_to_features, FeatureOptions, FitOptions};
 
 use crate::candidate::{Candidate, Method};
 use crate::input::Input;
@@ -68,7 +68,7 @@ pub fn choose(
         .map(|c| promises.broken_cheap(c))
         .collect();
     measure_quickly(&mut candidates, &broken, measure);
-    if let Some(fitted) = fitted_best(&candidates, &broken, measure, fit) {
+    for fitted in fitted_best(&candidates, &broken, input, measure, fit) {
         broken.push(promises.broken_cheap(&fitted));
         candidates.push(fitted);
     }
@@ -147,40 +147,61 @@ fn measure_quickly(candidates: &mut [Candidate], broken: &[Vec<Promise>], measur
 }
 
 /// The closest voxel candidate keeping the cheap promises, fitted to the input, where the fit
-/// measures closer.
+/// measures closer; and that fit with its vertices beside the input's sharp features moved
+/// onto them (`voxlod_fit::snap_to_features`, within [`FEATURE_REACH`] voxels), where that
+/// moved any and measures closer still.
 fn fitted_best(
     candidates: &[Candidate],
     broken: &[Vec<Promise>],
+    input: &Input,
     measure: &Measure,
     fit: Option<&FitOptions>,
-) -> Option<Candidate> {
-    let options = fit?;
-    let (source, h) = candidates
-        .iter()
-        .zip(broken)
+) -> Vec<Candidate> {
+    let Some(options) = fit else {
+        return Vec::new();
+    };
+    let best = (candidates.iter().zip(broken))
         .filter(|(c, b)| b.is_empty() && c.method == Method::Voxel)
         .filter_map(|(c, _)| Some((c, c.quick?.shape)))
-        .min_by(|a, b| a.1.total_cmp(&b.1))?;
-    let done = fit_with(
-        &source.mesh,
-        measure.input_closest(),
-        measure.input_samples(),
-        options,
-    )
-    .ok()?;
-    if done.iterations == 0 {
-        return None;
-    }
-    let mut fitted = Candidate::new(source.method, done.mesh);
-    fitted.resolution = source.resolution;
-    fitted.iso = source.iso;
-    fitted.parts_dropped = source.parts_dropped;
-    fitted.fitted = true;
-    fitted.fill = source.fill;
-    fitted.cut_vertices = source.cut_vertices;
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    let Some((source, h)) = best else {
+        return Vec::new();
+    };
+    let closest = measure.input_closest();
+    let done = fit_with(&source.mesh, closest, measure.input_samples(), options);
+    let Some(done) = done.ok().filter(|d| d.iterations > 0) else {
+        return Vec::new();
+    };
+    let like_source = |mesh| {
+        let mut c = Candidate::new(source.method, mesh);
+        c.resolution = source.resolution;
+        c.iso = source.iso;
+        c.parts_dropped = source.parts_dropped;
+        c.fitted = true;
+        c.fill = source.fill;
+        c.cut_vertices = source.cut_vertices;
+        c
+    };
+    let mut fitted = like_source(done.mesh);
     fitted.quick = measure.distance(&fitted.mesh, Care::Quick, h);
-    fitted.quick.is_some().then_some(fitted)
+    let Some(fit_h) = fitted.quick.map(|d| d.shape) else {
+        return Vec::new();
+    };
+    let voxel = input.bounds.longest_extent() / source.resolution.unwrap_or(1).max(1) as f64;
+    let features = FeatureOptions::within(FEATURE_REACH * voxel);
+    let (snapped, moved) = snap_to_features(&fitted.mesh, input.measured(), closest, &features);
+    let mut out = vec![fitted];
+    if moved > 0 {
+        let mut snapped = like_source(snapped);
+        snapped.quick = measure.distance(&snapped.mesh, Care::Quick, fit_h);
+        out.extend(snapped.quick.is_some().then_some(snapped));
+    }
+    out
 }
+
+/// How far a fitted voxel candidate's vertices may move onto the input's sharp features, in
+/// voxels of its grid: the filter rounds a corner over about a voxel (its radius).
+pub const FEATURE_REACH: f64 = 1.5;
 
 /// Whether the input's small parts should be stood in for (module `restore`): no collapse of
 /// the input keeps the cheap promises, or the closest candidate that does lost parts (its

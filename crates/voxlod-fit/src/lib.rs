@@ -52,10 +52,12 @@
 //! # Ok::<(), voxlod_fit::FitError>(())
 //! ```
 
+mod features;
 mod normal_equations;
 mod untangle;
 mod vertex_fit;
 
+pub use features::{snap_to_features, FeatureOptions};
 pub use vertex_fit::{fit_to_surface, fit_with, FitOptions, Fitted};
 
 use voxlod_metrics::MetricsError;
