@@ -32,6 +32,7 @@ use crate::measure::{Care, Distance, Measure};
 use crate::promises::{crosses_no_more, Promise, Promises, MEAN_SLACK};
 use crate::report::{CandidateReport, RuledOut};
 use crate::restore::{stood_in, with_parts_restored, StandIns, LOST};
+use crate::voxel::FEATURE_REACH;
 
 /// Candidates measured carefully at most (the input's collapse comes in addition).
 pub const FINALISTS: usize = 3;
@@ -198,10 +199,6 @@ fn fitted_best(
     }
     out
 }
-
-/// How far a fitted voxel candidate's vertices may move onto the input's sharp features, in
-/// voxels of its grid: the filter rounds a corner over about a voxel (its radius).
-pub const FEATURE_REACH: f64 = 1.5;
 
 /// Whether the input's small parts should be stood in for (module `restore`): no collapse of
 /// the input keeps the cheap promises, or the closest candidate that does lost parts (its

@@ -331,3 +331,19 @@ fn a_small_level_of_a_cad_part_keeps_its_sharp_edges() {
     );
     assert!(mean < 0.009, "{mean}");
 }
+
+#[test]
+fn a_proxy_of_boxes_keeps_their_corners() {
+    // Two boxes apart at 400 triangles: the filter rounds their edges over a voxel, and a
+    // proxy's levels get them back before the collapse (`voxel::sharpened`), so every corner
+    // of both boxes has a vertex of the level on it.
+    let mesh = two_cubes(1.0);
+    let run = levels(&mesh, &PortfolioOptions::remesh(&[400])).unwrap();
+    let level = &run.levels[0].mesh;
+    let t = mesh_topology(level);
+    assert!(t.is_closed_manifold() && t.components == 2, "{t:?}");
+    let nearest =
+        |c: Vec3| (level.positions.iter().map(|p| p.distance(c))).fold(f32::MAX, f32::min);
+    let worst = (mesh.positions.iter().map(|&c| nearest(c))).fold(0.0, f32::max);
+    assert!(worst < 0.01, "a corner {worst} from the level");
+}
