@@ -13,14 +13,14 @@
 //! filter. The portfolio's measured distances choose among the solids.
 //!
 //! How: the input's solid is filtered at [`RESOLUTION`] samples across its longest side (a
-//! hyper-cone of one voxel, inside where the density is at least 0.5), closed, the density
-//! raised to 1 over the fill or its lining, and the solid is where that volume, trilinearly
-//! interpolated, is at least 0.5 (`voxlod_sampling::ThresholdSolid`, sampled directly by each
-//! grid without a surface in between): away from
-//! the hollows the surface is the input's, to the grid's precision. Nothing is made when the
-//! hollows hold less than [`LEAST_FILLED`] times the solid's own volume: the material is then
-//! a body with notches and bays, not a shell around a hollow. A first look at
-//! [`FIRST_LOOK_RESOLUTION`] spares most inputs the fine grid.
+//! hyper-cone of one voxel, inside where the density is at least 0.5), closed, and the density
+//! raised to 1 over the fill or its lining; the solid is where that volume, trilinearly
+//! interpolated, is at least 0.5 (`voxlod_sampling::ThresholdSolid`, which each grid samples
+//! directly, without a surface in between). Away from the hollows the surface is the input's,
+//! to the grid's precision. Nothing is made when the hollows hold less than [`LEAST_FILLED`]
+//! times the solid's own volume: the material is then a body with notches and bays, not a
+//! shell around a hollow. A first look at [`FIRST_LOOK_RESOLUTION`] spares most inputs the
+//! fine grid.
 //!
 //! Cost: one density at [`FIRST_LOOK_RESOLUTION`] and, past its gate, one at [`RESOLUTION`]
 //! (O(N³) samples plus the lattice lines' crossings), the closings O(r N³), and two copies of

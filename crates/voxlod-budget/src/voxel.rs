@@ -133,6 +133,11 @@ pub fn voxel_candidates(
     let mut found = VoxelFound::default();
     let (mut refined, mut coarsened) = (false, 0);
     let fill = grids.solids()[solid].fill;
+    // The levels of a grid of resolution `r`, sharpened for a proxy, collapsed to the budget.
+    let add = |found: &mut VoxelFound, levels, r| {
+        let levels = sharpened(levels, input, measure, (r, budget, fill), options.remesh);
+        add_collapsed(found, input, levels, (r, fill), budget, max_error)
+    };
     loop {
         let levels = grids.levels(solid, resolution)?;
         let most = levels.iter().map(|m| m.triangle_count()).max().unwrap_or(0);
@@ -151,17 +156,7 @@ pub fn voxel_candidates(
             resolution = ((resolution as f64 * factor) as usize).min(FINEST);
             continue;
         }
-        let levels = closest_if_large(&levels, measure);
-        let at = (resolution, budget, fill);
-        let levels = sharpened(levels, input, measure, at, options.remesh);
-        let reached = add_collapsed(
-            &mut found,
-            input,
-            levels,
-            (resolution, fill),
-            budget,
-            max_error,
-        );
+        let reached = add(&mut found, closest_if_large(&levels, measure), resolution);
         // A level with more handles than the budget can carry stalls the collapse: coarser
         // grids filter more of them away (where they are cheap).
         let large = most > LARGE_LEVEL;
@@ -176,11 +171,7 @@ pub fn voxel_candidates(
     // the neighbours on both sides too.
     if found.resolution <= SMALL && !found.vanished && coarsened == 0 {
         for r in neighbours(found.resolution) {
-            let levels = grids.levels(solid, r)?;
-            let levels = levels.iter().cloned().collect();
-            let at = (r, budget, fill);
-            let levels = sharpened(levels, input, measure, at, options.remesh);
-            add_collapsed(&mut found, input, levels, (r, fill), budget, max_error);
+            add(&mut found, grids.levels(solid, r)?.to_vec(), r);
         }
     }
     Ok(found)
