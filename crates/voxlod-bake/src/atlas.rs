@@ -5,12 +5,15 @@
 //!
 //! The result is the level unwelded at chart borders: each vertex belongs to one chart and
 //! has texture coordinates in [0, 1] (v down the image, as glTF has it), its position and
-//! normal, and the level vertex it copies.
+//! normal, and the level vertex it copies. The charts are made on the level with its slivers
+//! snapped shut ([`crate::slivers`]); the triangles that lost their area there take corners of
+//! the charts around them.
 //!
 //! Cost: xatlas's (near-linear in the triangles for the charts; packing tries
 //! [`AtlasOptions::attempts`] places per chart), repeated packing when a fixed size is too
 //! small at xatlas's first estimate, and one rasterisation to measure the utilisation.
 
+use std::collections::HashMap;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
@@ -19,6 +22,7 @@ use voxlod_core::memory::check_allocation;
 use voxlod_core::TriangleMesh;
 
 use crate::creases::crease;
+use crate::slivers::{median_edge, snapped, SNAP_VOXELS};
 use crate::xatlas::{ChartOptions, Generated, PackOptions, Xatlas};
 use crate::{raster, BakeError};
 
@@ -59,11 +63,16 @@ pub struct AtlasOptions {
     /// (a conjugate-gradient solve and a quadratic check of its border), so large charts of a
     /// large level are slow to make.
     pub max_chart_triangles: u32,
+    /// Edges of the level shorter than this (world units) have their ends joined while the
+    /// charts are made ([`crate::slivers`]: xatlas mis-scales charts that hold slivers); the
+    /// atlas keeps the level's own positions. `None`: [`SNAP_VOXELS`] of the level's median
+    /// edge length; `Some(0.0)`: nothing is joined.
+    pub sliver_edge: Option<f32>,
 }
 
 impl Default for AtlasOptions {
     /// A 1024² texture, 4 texels of padding, creases above 60°, charts of at most about 1024
-    /// triangles.
+    /// triangles, slivers of the level's median edge length.
     fn default() -> Self {
         AtlasOptions {
             texture: TextureSize::Texels(1024),
@@ -71,6 +80,7 @@ impl Default for AtlasOptions {
             crease_degrees: 60.0,
             attempts: 1024,
             max_chart_triangles: 1024,
+            sliver_edge: None,
         }
     }
 }
@@ -101,6 +111,9 @@ impl AtlasOptions {
             }
             _ => {}
         }
+        if let Some(e) = self.sliver_edge.filter(|e| !(e.is_finite() && *e >= 0.0)) {
+            return bad(format!("sliver edge {e} is not a number of at least 0"));
+        }
         if !(0.0..=180.0).contains(&self.crease_degrees) {
             return bad(format!(
                 "crease angle {}° is not in 0..=180",
@@ -124,7 +137,8 @@ pub struct Atlas {
     pub triangles: Vec<[u32; 3]>,
     /// The level vertex each vertex copies.
     pub level_vertex: Vec<u32>,
-    /// The chart of each triangle, or [`NO_CHART`].
+    /// The chart of each triangle, or [`NO_CHART`] for a triangle of no area where the charts
+    /// were made: its corners are copies in the charts around it, and it covers no texel.
     pub chart: Vec<u32>,
     /// How many charts.
     pub chart_count: usize,
@@ -141,10 +155,18 @@ pub struct Atlas {
 }
 
 impl Atlas {
-    /// Which texel stands for which point of which triangle ([`raster::coverage`]).
+    /// Which texel stands for which point of which charted triangle ([`raster::coverage`]).
     pub fn coverage(&self) -> raster::Coverage {
         let (w, h) = (self.width as usize, self.height as usize);
-        raster::coverage(&self.uv, &self.triangles, w, h)
+        // A triangle in no chart is given no area, so it covers nothing.
+        let charted = |(t, &c): (&[u32; 3], &u32)| if c == NO_CHART { [0; 3] } else { *t };
+        let triangles: Vec<[u32; 3]> = self
+            .triangles
+            .iter()
+            .zip(&self.chart)
+            .map(charted)
+            .collect();
+        raster::coverage(&self.uv, &triangles, w, h)
     }
 }
 
@@ -158,7 +180,9 @@ pub fn atlas(level: &TriangleMesh, options: &AtlasOptions) -> Result<Atlas, Bake
     if let TextureSize::Texels(n) = options.texture {
         check_texture(n, n)?;
     }
-    let creased = crease(level, options.crease_degrees);
+    let sliver_edge = (options.sliver_edge).unwrap_or_else(|| SNAP_VOXELS * median_edge(level));
+    let charted = snapped(level, sliver_edge);
+    let creased = crease(&charted, options.crease_degrees);
     let positions: Vec<[f32; 3]> = creased.positions.iter().map(|p| p.to_array()).collect();
     let normals: Vec<[f32; 3]> = creased.normals.iter().map(|n| n.to_array()).collect();
     let mut xatlas =
@@ -185,7 +209,9 @@ pub fn atlas(level: &TriangleMesh, options: &AtlasOptions) -> Result<Atlas, Bake
     let size = Vec2::new(generated.width as f32, generated.height as f32);
     for v in &generated.vertices {
         let g = v.input as usize;
-        atlas.positions.push(creased.positions[g]);
+        atlas
+            .positions
+            .push(level.positions[creased.level_vertex[g] as usize]);
         atlas.normals.push(creased.normals[g]);
         atlas.level_vertex.push(creased.level_vertex[g]);
         atlas
@@ -197,11 +223,86 @@ pub fn atlas(level: &TriangleMesh, options: &AtlasOptions) -> Result<Atlas, Bake
         .iter()
         .map(|t| generated.vertices[t[0] as usize].chart.unwrap_or(NO_CHART))
         .collect();
+    charted_corners(&mut atlas);
     atlas.flipped = count_flipped(&atlas);
     let coverage = atlas.coverage();
     atlas.utilisation = coverage.covered() as f64 / coverage.texels.len() as f64;
     atlas.seconds = start.elapsed().as_secs_f64();
     Ok(atlas)
+}
+
+/// `atlas` with the corners of the triangles it left out of every chart (those of no area
+/// where the charts were made) moved to a copy of the same level vertex in a chart: for each
+/// such triangle the chart holding copies of most of its corners, then any chart. Such a
+/// triangle then takes the looks around it rather than those where its unmapped texture
+/// coordinates point. A corner whose level vertex has no charted copy (every triangle around
+/// it lost its area) keeps its vertex, which takes the texture coordinates of the triangle's
+/// nearest charted corner. The triangles' charts stay [`NO_CHART`]. Cost: O(V + T).
+pub fn charted_corners(atlas: &mut Atlas) {
+    let (triangles, triangle_chart) = (&mut atlas.triangles, &atlas.chart);
+    let level_vertex = &atlas.level_vertex;
+    // The chart of each atlas vertex that some charted triangle uses.
+    let mut chart = vec![NO_CHART; level_vertex.len()];
+    for (t, &c) in triangles.iter().zip(triangle_chart.iter()) {
+        if c != NO_CHART {
+            t.iter().for_each(|&v| chart[v as usize] = c);
+        }
+    }
+    let loose = |t: &[u32; 3]| t.iter().any(|&v| chart[v as usize] == NO_CHART);
+    // The charted copies (chart, vertex) of the level vertices of loose triangles.
+    let mut copies: HashMap<u32, Vec<(u32, u32)>> = HashMap::new();
+    for t in triangles.iter().filter(|t| loose(t)) {
+        for &v in t {
+            copies.entry(level_vertex[v as usize]).or_default();
+        }
+    }
+    for (v, &c) in chart.iter().enumerate() {
+        if c != NO_CHART {
+            if let Some(list) = copies.get_mut(&level_vertex[v]) {
+                list.push((c, v as u32));
+            }
+        }
+    }
+    for t in triangles.iter_mut().filter(|t| loose(t)) {
+        let of = |v: u32| &copies[&level_vertex[v as usize]];
+        let corners = t.map(of);
+        let holds = |c: u32| {
+            corners
+                .iter()
+                .filter(|l| l.iter().any(|x| x.0 == c))
+                .count()
+        };
+        let best = corners
+            .iter()
+            .flat_map(|l| l.iter().map(|x| x.0))
+            .max_by_key(|&c| holds(c));
+        for (v, list) in t.iter_mut().zip(corners) {
+            let pick = list.iter().find(|x| Some(x.0) == best).or(list.first());
+            if let Some(&(_, copy)) = pick {
+                *v = copy;
+            }
+        }
+    }
+    lone_corners_mapped(atlas, &chart);
+}
+
+/// Each corner of a triangle in no chart whose vertex `charted` (the chart of each vertex)
+/// puts in no chart takes the texture coordinates of the triangle's nearest charted corner.
+fn lone_corners_mapped(atlas: &mut Atlas, charted: &[u32]) {
+    for (t, &c) in atlas.triangles.iter().zip(&atlas.chart) {
+        let lone = |v: &&u32| charted[**v as usize] == NO_CHART;
+        if c != NO_CHART || !t.iter().any(|v| lone(&v)) {
+            continue;
+        }
+        for &v in t.iter().filter(lone) {
+            let p = atlas.positions[v as usize];
+            let away = |w: &&u32| atlas.positions[**w as usize].distance_squared(p);
+            let others = t.iter().filter(|w| !lone(w));
+            if let Some(&w) = others.min_by(|a, b| away(a).total_cmp(&away(b))) {
+                atlas.uv[v as usize] = atlas.uv[w as usize];
+            }
+        }
+    }
 }
 
 /// Refuses a level with no triangles, an index out of range or a coordinate not finite.

@@ -26,6 +26,7 @@ use crate::dilate::{apply, dilation_sources, Dilation};
 use crate::mipmaps::texels_per_unit;
 use crate::output::{proxy_asset, TexelValues, Textures};
 use crate::raster::{Cover, UNCOVERED};
+use crate::slivers::{median_edge, SNAP_VOXELS};
 use crate::source::{linear_to_srgb, Channels, Look, SourceLooks};
 use crate::tangents::mikktspace;
 use crate::{atlas, Atlas, AtlasOptions, BakeError, ImageFormat};
@@ -39,8 +40,8 @@ pub struct BakeOptions {
     /// How far from the level a ray looks for the source, in world units; `None`:
     /// [`cage_voxels`](Self::cage_voxels) voxels.
     pub cage: Option<f32>,
-    /// The level's voxel size; `None`: the level's median edge length stands in (a marching
-    /// cubes level's edges are about a voxel long).
+    /// The level's voxel size, for the cage and the atlas's slivers; `None`: the level's
+    /// median edge length stands in (a marching cubes level's edges are about a voxel long).
     pub voxel_size: Option<f32>,
     /// The cage distance in voxels, where [`cage`](Self::cage) is not given.
     pub cage_voxels: f32,
@@ -71,6 +72,16 @@ impl BakeOptions {
         BakeOptions {
             atlas: AtlasOptions::for_texture(texels),
             ..BakeOptions::default()
+        }
+    }
+
+    /// The atlas's options: [`atlas`](Self::atlas), its slivers measured in the level's
+    /// voxels where the voxel is given and the atlas options do not set them.
+    pub fn atlas_options(&self) -> AtlasOptions {
+        let voxel_slivers = self.voxel_size.map(|v| SNAP_VOXELS * v);
+        AtlasOptions {
+            sliver_edge: self.atlas.sliver_edge.or(voxel_slivers),
+            ..self.atlas.clone()
         }
     }
 }
@@ -124,9 +135,25 @@ pub fn bake(
 ) -> Result<Baked, BakeError> {
     let start = Instant::now();
     options.images.check()?;
+    let made = atlas(level, &options.atlas_options())?;
+    let mut baked = bake_on(source, level, made, options)?;
+    baked.report.seconds = start.elapsed().as_secs_f64();
+    Ok(baked)
+}
+
+/// [`bake`] on an atlas made already (`atlas(level, &options.atlas_options())`, perhaps
+/// beside other levels' atlases: xatlas packs charts on one core). Its report's seconds are
+/// the atlas's and this call's.
+pub fn bake_on(
+    source: &Asset,
+    level: &TriangleMesh,
+    atlas: Atlas,
+    options: &BakeOptions,
+) -> Result<Baked, BakeError> {
+    let start = Instant::now();
+    options.images.check()?;
     let looks = SourceLooks::new(source)?;
     let cast = Cast::new(&source.mesh.geometry())?;
-    let mut atlas = atlas(level, &options.atlas)?;
     let tangents = mikktspace(
         &atlas.positions,
         &atlas.normals,
@@ -192,10 +219,9 @@ pub fn bake(
         texels_fallback: texels - texels_hit,
         cage,
         atlas_seconds: atlas.seconds,
-        seconds: start.elapsed().as_secs_f64(),
+        seconds: atlas.seconds + start.elapsed().as_secs_f64(),
         warnings,
     };
-    atlas.seconds = report.atlas_seconds;
     Ok(Baked {
         asset,
         atlas,
@@ -329,21 +355,4 @@ fn cage_of(level: &TriangleMesh, options: &BakeOptions) -> Result<f32, BakeError
         )));
     }
     Ok(cage)
-}
-
-/// The median edge length of the level's triangles.
-fn median_edge(level: &TriangleMesh) -> f32 {
-    let mut lengths: Vec<f32> = level
-        .triangles
-        .iter()
-        .flat_map(|t| {
-            let p = t.map(|v| level.positions[v as usize]);
-            [(p[0], p[1]), (p[1], p[2]), (p[2], p[0])].map(|(a, b)| a.distance(b))
-        })
-        .collect();
-    let mid = lengths.len() / 2;
-    if lengths.is_empty() {
-        return 0.0;
-    }
-    *lengths.select_nth_unstable_by(mid, f32::total_cmp).1
 }

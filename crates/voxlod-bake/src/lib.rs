@@ -3,9 +3,9 @@
 //! coordinates and textures cast from the source asset, so that one mesh with one material
 //! looks like the source.
 //!
-//! One algorithm per module: [`atlas`] (charts cut along creases by [`creases`], packed by
-//! xatlas through [`xatlas`]), [`raster`] (which texel stands for which surface point, with
-//! conservative coverage at chart borders), [`tangents`] (MikkTSpace), [`cast`] (rays from the
+//! One algorithm per module: [`atlas`] (charts cut along creases by [`creases`], made with
+//! slivers snapped shut by [`slivers`], packed by xatlas through [`xatlas`]), [`raster`]
+//! (which texel stands for which surface point, with conservative coverage at chart borders), [`tangents`] (MikkTSpace), [`cast`] (rays from the
 //! level into the source, the nearest point where they miss), [`source`] (the source's
 //! material at a point), [`dilate`] (chart looks pushed into the gutters), [`output`] (the
 //! textures and the asset), [`encode`] (the textures as PNG, or JPEG on request), and
@@ -26,12 +26,13 @@ pub mod error;
 pub mod mipmaps;
 pub mod output;
 pub mod raster;
+pub mod slivers;
 pub mod source;
 pub mod tangents;
 mod xatlas;
 
 pub use atlas::{atlas, Atlas, AtlasOptions, TextureSize};
-pub use bake::{bake, BakeOptions, BakeReport, Baked};
+pub use bake::{bake, bake_on, BakeOptions, BakeReport, Baked};
 pub use dilate::Dilation;
 pub use encode::ImageFormat;
 pub use error::BakeError;

@@ -1,5 +1,6 @@
 //! UV atlases by xatlas: a cube cut at its creases into its six faces, a sphere's charts at a
-//! texel density, padding between charts, and bad input named (sizes beyond the memory limit:
+//! texel density, padding between charts, marching cubes' slivers kept from upsetting their
+//! charts, and bad input named (sizes beyond the memory limit:
 //! `atlas_limits.rs`, which sets the limit for its one test).
 
 use voxlod_bake::atlas::NO_CHART;
@@ -149,6 +150,14 @@ fn bad_levels_and_options_are_named() {
     assert!(err.to_string().contains("triangle 3"), "{err}");
     let err = atlas(&unit_cube(), &AtlasOptions::for_density(-1.0)).unwrap_err();
     assert!(err.to_string().contains("density"), "{err}");
+    for bad in [-0.1, f32::NAN] {
+        let options = AtlasOptions {
+            sliver_edge: Some(bad),
+            ..AtlasOptions::default()
+        };
+        let err = atlas(&unit_cube(), &options).unwrap_err();
+        assert!(err.to_string().contains("sliver edge"), "{err}");
+    }
 }
 
 #[test]
@@ -158,4 +167,106 @@ fn a_fixed_texture_is_filled_as_densely_as_its_charts_pack() {
     // step below it.
     let atlas = voxlod_bake::atlas(&icosphere(4), &AtlasOptions::for_texture(512)).unwrap();
     assert!(atlas.utilisation >= 0.45, "{}", atlas.utilisation);
+}
+
+/// Plain marching cubes of a ball of radius `r` sample spacings sampled on `n` samples a side
+/// over [-1, 1]³ (0.5 plus the signed distance, positive inside): slivers wherever the sphere passes
+/// through or near a sample (through every sample at a whole distance `r` from the centre).
+fn marching_cubes_ball(n: usize, r: f64) -> TriangleMesh {
+    use voxlod::contouring::{marching_cubes, ContourOptions};
+    use voxlod::core::{Grid, Volume};
+    let h = 2.0 / (n - 1) as f64;
+    let grid = Grid::new([n; 3], [h; 3], [-1.0; 3]).unwrap();
+    let at = |i: usize| -1.0 + i as f64 * h;
+    let mut values = Vec::with_capacity(n * n * n);
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let p = DVec3::new(at(i), at(j), at(k));
+                values.push((0.5 + r * h - p.length()) as f32);
+            }
+        }
+    }
+    let volume = Volume::from_vec(grid, values).unwrap();
+    marching_cubes(&volume, &ContourOptions::default()).unwrap()
+}
+
+/// Texels per unit of surface of each chart (its texel area over its surface area, rooted).
+fn chart_densities(atlas: &voxlod_bake::Atlas) -> Vec<f64> {
+    let mut areas = vec![(0.0f64, 0.0f64); atlas.chart_count];
+    let scale = voxlod_core::glam::Vec2::new(atlas.width as f32, atlas.height as f32);
+    for (t, &c) in atlas.triangles.iter().zip(&atlas.chart) {
+        let [a, b, e] = t.map(|v| atlas.positions[v as usize]);
+        let [u, v, w] = t.map(|v| atlas.uv[v as usize] * scale);
+        if let Some(area) = areas.get_mut(c as usize) {
+            area.0 += (v - u).perp_dot(w - u).abs() as f64 / 2.0;
+            area.1 += (b - a).cross(e - a).length() as f64 / 2.0;
+        }
+    }
+    areas.iter().map(|&(t, s)| (t / s).sqrt()).collect()
+}
+
+/// Marching cubes' slivers upset their charts (xatlas parameterizes a sliver's tiny area as any
+/// other): with them snapped shut while the charts are made, every chart of a ball's level is
+/// packed within 20 times the median density either way, the triangles in no chart have almost
+/// no area (and their corners are copies of charted vertices), and the atlas keeps the level's own positions. Without the snap, the balls through samples
+/// have charts of slivers alone (texels and no surface).
+#[test]
+fn slivers_do_not_upset_their_charts() {
+    let within = |(low, high): (f64, f64)| low > 0.05 && high < 20.0;
+    for (n, r) in [(21, 5.0), (21, 7.0), (65, 25.0)] {
+        let level = marching_cubes_ball(n, r);
+        let check = |sliver_edge| {
+            let options = AtlasOptions {
+                sliver_edge,
+                ..AtlasOptions::for_texture(512)
+            };
+            let atlas = atlas(&level, &options).unwrap();
+            let mut d = chart_densities(&atlas);
+            d.sort_by(f64::total_cmp);
+            let median = d[d.len() / 2];
+            ((d[0] / median, d[d.len() - 1] / median), atlas)
+        };
+        let (range, atlas) = check(None);
+        assert!(
+            within(range),
+            "{n} samples, r {r}: charts at {range:?} of the median"
+        );
+        let loose: Vec<usize> = (0..atlas.chart.len())
+            .filter(|&t| atlas.chart[t] == NO_CHART)
+            .collect();
+        let area = |t: &[u32; 3]| {
+            let [a, b, c] = t.map(|v| atlas.positions[v as usize]);
+            (b - a).cross(c - a).length() as f64
+        };
+        let loose_area: f64 = loose.iter().map(|&t| area(&atlas.triangles[t])).sum();
+        let all_area: f64 = atlas.triangles.iter().map(area).sum();
+        assert!(
+            loose_area < 1e-4 * all_area,
+            "{n}: {loose_area} of {all_area}"
+        );
+        let mut charted = vec![false; atlas.positions.len()];
+        for (t, &c) in atlas.triangles.iter().zip(&atlas.chart) {
+            t.iter().for_each(|&v| charted[v as usize] |= c != NO_CHART);
+        }
+        // Every corner of a loose triangle is charted or maps to a charted corner's point.
+        let charted_uv: Vec<_> = (0..charted.len())
+            .filter(|&v| charted[v])
+            .map(|v| atlas.uv[v])
+            .collect();
+        let mapped = |v: u32| charted[v as usize] || charted_uv.contains(&atlas.uv[v as usize]);
+        for t in &loose {
+            assert!(atlas.triangles[*t].iter().all(|&v| mapped(v)), "{t}");
+        }
+        for (v, &l) in atlas.level_vertex.iter().enumerate() {
+            assert_eq!(atlas.positions[v], level.positions[l as usize]);
+        }
+        if n == 21 {
+            let (unsnapped, _) = check(Some(0.0));
+            assert!(
+                !within(unsnapped),
+                "{n} samples, r {r}: {unsnapped:?} unsnapped"
+            );
+        }
+    }
 }

@@ -14,7 +14,7 @@
 //!   `MSFT_lod` chain, switched by the filter radius on screen; [`export`]: PLY and VTK with
 //!   per-vertex `opacity` and `layer`.
 //! - [`looks`]: an asset's base colour baked onto every layer (`voxlod-bake`; the paper's
-//!   layers carry one colour), on atlases made with the slivers snapped shut ([`snap`]),
+//!   layers carry one colour), on atlases made with the slivers snapped shut (`voxlod_bake::slivers`),
 //!   written by [`glb_looks`].
 //! - [`pipeline`]: solid → volume → plan → layers → orders in one call.
 //! - [`preview`]: drawing the layered shells in a stored order.
@@ -72,7 +72,6 @@ pub mod pipeline;
 pub mod plan;
 pub mod preview;
 pub mod scene;
-pub mod snap;
 pub mod verify;
 
 pub use bolt::bolt;

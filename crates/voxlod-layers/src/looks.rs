@@ -15,9 +15,9 @@
 //! for the baked layers as they are; written to a `.glb` ([`crate::glb_looks`]) they name the
 //! new vertices.
 //!
-//! **Slivers.** The atlas is made on the layer with the ends of its shortest edges snapped
-//! together ([`crate::snap`]: xatlas mis-scales charts holding marching cubes' slivers); the
-//! baked layer keeps its own positions.
+//! **Slivers.** The bake is told the layers' voxel, so its atlas is made with the ends of the
+//! layer's edges shorter than [`voxlod_bake::slivers::SNAP_VOXELS`] of a voxel snapped together
+//! (xatlas mis-scales charts holding marching cubes' slivers); the layer keeps its positions.
 //!
 //! Cost: per layer with triangles, one bake (`voxlod_bake::bake`: the atlas, then a ray cast
 //! per covered texel, O(texels × log N) for N asset triangles); the textures other than base
@@ -25,13 +25,12 @@
 
 use std::collections::HashMap;
 
-use glam::{Vec2, Vec3};
+use glam::Vec2;
 use voxlod_asset::{Asset, Image};
 use voxlod_bake::{BakeError, BakeOptions, BakeReport};
 use voxlod_core::TriangleMesh;
 
 use crate::extract::{Layer, LayeredMesh};
-use crate::snap::{charted_corners, snapped, SNAP_VOXELS};
 use crate::LayersError;
 
 /// The side of each layer's base colour texture unless asked otherwise, in texels.
@@ -158,22 +157,16 @@ pub fn bake_layers(
 }
 
 /// One layer with triangles baked: the layer on the atlas's vertices (its triangles in its
-/// own order, its own positions) and its looks. The atlas is made on the layer with its
-/// slivers snapped shut ([`crate::snap`]), `options.voxel_size` being the voxel.
+/// own order, its own positions) and its looks.
 fn bake_layer(
     source: &Asset,
     layer: &Layer,
     options: &BakeOptions,
 ) -> Result<(Layer, LayerLooks), LayersError> {
-    let voxel = options.voxel_size.unwrap_or(0.0);
-    let level = snapped(&layer.mesh, SNAP_VOXELS * voxel);
-    let baked = voxlod_bake::bake(source, &level, options)?;
+    let baked = voxlod_bake::bake(source, &layer.mesh, options)?;
     let atlas = &baked.atlas;
-    let mut triangles =
-        in_level_order(&layer.mesh.triangles, &atlas.triangles, &atlas.level_vertex)?;
-    charted_corners(&mut triangles, atlas);
-    let own = |v: &u32| layer.mesh.positions[*v as usize];
-    let positions: Vec<Vec3> = atlas.level_vertex.iter().map(own).collect();
+    let triangles = in_level_order(&layer.mesh.triangles, &atlas.triangles, &atlas.level_vertex)?;
+    let positions = atlas.positions.clone();
     let mut asset = baked.asset;
     let base_color = asset
         .materials

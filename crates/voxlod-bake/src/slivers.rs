@@ -1,4 +1,4 @@
-//! A layer's near-coincident vertices snapped together, for the level its atlas is made on.
+//! A level's near-coincident vertices snapped together for its charts.
 //!
 //! Marching cubes puts a vertex on every crossed cell edge; where the surface passes close to
 //! a sample, the vertices on that sample's edges lie a small fraction of a voxel apart and
@@ -14,18 +14,16 @@
 //! layer were in such charts (0.01 voxel: 277; 0.02: 635, both in one layer).
 //!
 //! Snapping keeps the vertex indices and the triangles (a sliver becomes a triangle of no
-//! area, which the atlas leaves out of every chart); the baked layer takes back its own
-//! positions afterwards, so nothing of the geometry changes, and [`charted_corners`] gives
-//! the slivers' corners texture coordinates of the charts around them. Cost: O(T α(V)) for T
+//! area, which xatlas leaves out of every chart); the atlas takes back the level's own
+//! positions afterwards, so nothing of the geometry changes, and gives the slivers' corners
+//! texture coordinates of the charts around them ([`crate::atlas`]). Cost: O(T α(V)) for T
 //! triangles (union-find over the short edges), then O(V).
 
-use std::collections::HashMap;
-
-use voxlod_bake::atlas::NO_CHART;
-use voxlod_bake::Atlas;
 use voxlod_core::TriangleMesh;
 
-/// Edges shorter than this many voxels have their ends snapped together.
+/// Edges shorter than this many voxels have their ends snapped together (where a level's
+/// voxel is not known, its median edge length stands for it: a marching-cubes level's edges
+/// are about a voxel long).
 pub const SNAP_VOXELS: f32 = 0.03;
 
 /// `mesh` with the ends of every edge shorter than `distance` snapped together: each vertex
@@ -65,60 +63,26 @@ fn find(root: &mut [u32], mut v: u32) -> u32 {
     v
 }
 
-/// `triangles` (of `atlas`'s vertices) with the corners that lie in no chart (those of the
-/// triangles the atlas left out) moved to a copy of the same level vertex in a chart: for
-/// each such triangle the chart holding copies of most of its corners, then any chart. Such a
-/// triangle, of no area where the atlas was made, then takes the colours around it rather
-/// than those where its unmapped texture coordinates point; a corner whose level vertex has
-/// no charted copy stays. Cost: O(V + T).
-pub fn charted_corners(triangles: &mut [[u32; 3]], atlas: &Atlas) {
-    // The chart of each atlas vertex that some charted triangle uses.
-    let mut chart = vec![NO_CHART; atlas.positions.len()];
-    for (t, &c) in atlas.triangles.iter().zip(&atlas.chart) {
-        if c != NO_CHART {
-            t.iter().for_each(|&v| chart[v as usize] = c);
-        }
+/// The median edge length of the level's triangles (0 without triangles).
+pub fn median_edge(level: &TriangleMesh) -> f32 {
+    let mut lengths: Vec<f32> = level
+        .triangles
+        .iter()
+        .flat_map(|t| {
+            let p = t.map(|v| level.positions[v as usize]);
+            [(p[0], p[1]), (p[1], p[2]), (p[2], p[0])].map(|(a, b)| a.distance(b))
+        })
+        .collect();
+    let mid = lengths.len() / 2;
+    if lengths.is_empty() {
+        return 0.0;
     }
-    let loose = |t: &[u32; 3]| t.iter().any(|&v| chart[v as usize] == NO_CHART);
-    // The charted copies (chart, vertex) of the level vertices of loose triangles.
-    let mut copies: HashMap<u32, Vec<(u32, u32)>> = HashMap::new();
-    for t in triangles.iter().filter(|t| loose(t)) {
-        for &v in t {
-            copies.entry(atlas.level_vertex[v as usize]).or_default();
-        }
-    }
-    for (v, &c) in chart.iter().enumerate() {
-        if c != NO_CHART {
-            if let Some(list) = copies.get_mut(&atlas.level_vertex[v]) {
-                list.push((c, v as u32));
-            }
-        }
-    }
-    for t in triangles.iter_mut().filter(|t| loose(t)) {
-        let of = |v: u32| &copies[&atlas.level_vertex[v as usize]];
-        let corners = t.map(of);
-        let holds = |c: u32| {
-            corners
-                .iter()
-                .filter(|l| l.iter().any(|x| x.0 == c))
-                .count()
-        };
-        let best = corners
-            .iter()
-            .flat_map(|l| l.iter().map(|x| x.0))
-            .max_by_key(|&c| holds(c));
-        for (v, list) in t.iter_mut().zip(corners) {
-            let pick = list.iter().find(|x| Some(x.0) == best).or(list.first());
-            if let Some(&(_, copy)) = pick {
-                *v = copy;
-            }
-        }
-    }
+    *lengths.select_nth_unstable_by(mid, f32::total_cmp).1
 }
 
 #[cfg(test)]
 mod tests {
-    use glam::Vec3;
+    use voxlod_core::glam::Vec3;
 
     use super::*;
 
