@@ -102,3 +102,25 @@ fn screen_sizes_size_each_level_and_come_one_per_budget() {
     let b = &made.levels[0].bake;
     assert!((40..=150).contains(&b.width), "{b:?}");
 }
+
+/// The machine's 213 parts (200 small ones, pipes through them; curved pieces at twice the
+/// detail) have too many pieces for a closed level of 5 000 triangles on the grid that
+/// budget aims at: the search goes to coarser grids, which merge parts, rather than giving up
+/// the level's closedness (kept only from grids of at most 60 000 triangles, the level had
+/// 6 holes).
+#[test]
+fn a_many_part_scene_keeps_a_closed_level_where_its_grid_stalls() {
+    let scene = voxlod_testkit::scenes::machine_with(2.0);
+    let made = proxy(&scene, &ProxyOptions::for_triangles(&[5000], 256)).unwrap();
+    let level = &made.levels[0];
+    let mut welded = level.asset.mesh.geometry();
+    voxlod::core::weld::weld_vertices(&mut welded);
+    let t = mesh_topology(&welded);
+    assert!(
+        t.is_closed_manifold() && t.is_consistently_oriented(),
+        "{t:?}; {:?}",
+        made.warnings
+    );
+    let n = welded.triangles.len() as f64;
+    assert!((n / 5000.0 - 1.0).abs() <= 0.1, "{n}");
+}

@@ -158,8 +158,14 @@ pub fn voxel_candidates(
         }
         let reached = add(&mut found, closest_if_large(&levels, measure), resolution);
         // A level with more handles than the budget can carry stalls the collapse: coarser
-        // grids filter more of them away (where they are cheap).
-        let large = most > LARGE_LEVEL;
+        // grids filter more of them away (where they are cheap, or for a proxy, whose level
+        // must come out closed, where the level is no larger than its budget aimed at).
+        let aim = if options.remesh {
+            LARGE_OVER_AIM * want
+        } else {
+            0.0
+        };
+        let large = most as f64 > (LARGE_LEVEL as f64).max(aim);
         if reached || refined || large || resolution <= COARSEST || coarsened >= MAX_COARSER {
             break;
         }
@@ -245,6 +251,12 @@ pub const MAX_COARSER: usize = 3;
 /// one whose level measures closest (a checked collapse of a large level costs seconds), and
 /// a stall there does not send the search to coarser grids.
 pub const LARGE_LEVEL: usize = 60_000;
+
+/// A proxy's level counts as large only above this many times the triangles its budget aimed
+/// at ([`level_triangles`]): its grid aims above [`LARGE_LEVEL`], and where its collapse
+/// stalls (too many parts and handles for the budget), only a coarser grid gives a closed
+/// level.
+pub const LARGE_OVER_AIM: f64 = 1.5;
 
 /// `levels` (one per isodensity of [`crate::grids::ISOS`]), or where the largest is above [`LARGE_LEVEL`],
 /// only the one measured closest to the input, the others left empty.

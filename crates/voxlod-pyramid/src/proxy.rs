@@ -23,9 +23,10 @@
 
 use std::time::Instant;
 
+use rayon::prelude::*;
 use serde::Serialize;
 use voxlod_asset::Asset;
-use voxlod_bake::{bake, BakeOptions, BakeReport, TextureSize};
+use voxlod_bake::{atlas, bake_on, Atlas, BakeError, BakeOptions, BakeReport, TextureSize};
 use voxlod_budget::{levels_with, BudgetLevel, InputReport, PortfolioOptions};
 use voxlod_fit::FitOptions;
 use voxlod_sampling::Filter;
@@ -159,20 +160,27 @@ pub fn proxy_with(
     let run = levels_with(&geometry, &portfolio, &ask)?;
     let mut warnings = run.warnings;
     let longest = geometry.bounds().longest_extent();
+    let bake_options: Vec<BakeOptions> = (run.levels.iter().enumerate())
+        .map(|(i, level)| {
+            let mut bake_options = BakeOptions {
+                voxel_size: (level.report.resolution).map(|r| (longest / r.max(1) as f64) as f32),
+                ..options.bake.clone()
+            };
+            if let Some(&pixels) = options.screen_sizes.get(i) {
+                let density = screen_density(pixels, geometry.bounds().diagonal());
+                bake_options.atlas.texture = TextureSize::Density(density);
+            }
+            bake_options
+        })
+        .collect();
+    // xatlas packs a level's charts on one core: the levels' atlases are made side by side.
+    let atlases: Vec<Result<Atlas, BakeError>> = (run.levels.par_iter().zip(&bake_options))
+        .map(|(level, o)| atlas(&level.mesh, &o.atlas_options()))
+        .collect();
     let mut levels = Vec::with_capacity(run.levels.len());
-    for (i, level) in run.levels.into_iter().enumerate() {
-        let mut bake_options = BakeOptions {
-            voxel_size: level
-                .report
-                .resolution
-                .map(|r| (longest / r.max(1) as f64) as f32),
-            ..options.bake.clone()
-        };
-        if let Some(&pixels) = options.screen_sizes.get(i) {
-            let density = screen_density(pixels, geometry.bounds().diagonal());
-            bake_options.atlas.texture = TextureSize::Density(density);
-        }
-        let baked = bake(scene, &level.mesh, &bake_options)?;
+    let made = run.levels.into_iter().zip(atlases).zip(&bake_options);
+    for (i, ((level, atlas), bake_options)) in made.enumerate() {
+        let baked = bake_on(scene, &level.mesh, atlas?, bake_options)?;
         let budget = level.report.budget;
         let noted = baked.report.warnings.iter();
         warnings.extend(noted.map(|w| format!("{budget} triangles: {w}")));
