@@ -19,15 +19,16 @@
 //! layer's edges shorter than [`voxlod_bake::slivers::SNAP_VOXELS`] of a voxel snapped together
 //! (xatlas mis-scales charts holding marching cubes' slivers); the layer keeps its positions.
 //!
-//! Cost: per layer with triangles, one bake (`voxlod_bake::bake`: the atlas, then a ray cast
-//! per covered texel, O(texels × log N) for N asset triangles); the textures other than base
-//! colour that the bake encodes are dropped.
+//! Cost: per layer with triangles, one bake (`voxlod_bake::bake`: the atlas, the layers'
+//! atlases side by side, then a ray cast per covered texel, O(texels × log N) for N asset
+//! triangles); the textures other than base colour that the bake encodes are dropped.
 
 use std::collections::HashMap;
 
 use glam::Vec2;
+use rayon::prelude::*;
 use voxlod_asset::{Asset, Image};
-use voxlod_bake::{BakeError, BakeOptions, BakeReport};
+use voxlod_bake::{atlas, Atlas, BakeError, BakeOptions, BakeReport};
 use voxlod_core::TriangleMesh;
 
 use crate::extract::{Layer, LayeredMesh};
@@ -140,13 +141,18 @@ pub fn bake_layers(
         looks: Vec::with_capacity(layered.layers.len()),
         warnings: Vec::new(),
     };
-    for (i, layer) in layered.layers.iter().enumerate() {
-        if layer.mesh.triangles.is_empty() {
+    // xatlas packs a layer's charts on one core: the layers' atlases are made side by side.
+    let atlas_options = bake_options.atlas_options();
+    let atlases: Vec<Option<Result<Atlas, BakeError>>> = (layered.layers.par_iter())
+        .map(|l| (!l.mesh.triangles.is_empty()).then(|| atlas(&l.mesh, &atlas_options)))
+        .collect();
+    for (i, (layer, atlas)) in layered.layers.iter().zip(atlases).enumerate() {
+        let Some(atlas) = atlas else {
             out.mesh.layers.push(layer.clone());
             out.looks.push(None);
             continue;
-        }
-        let (baked, looks) = bake_layer(source, layer, &bake_options)?;
+        };
+        let (baked, looks) = bake_layer(source, layer, atlas?, &bake_options)?;
         let noted = looks.report.warnings.iter();
         out.warnings
             .extend(noted.map(|w| format!("layer {i}: {w}")));
@@ -161,9 +167,10 @@ pub fn bake_layers(
 fn bake_layer(
     source: &Asset,
     layer: &Layer,
+    atlas: Atlas,
     options: &BakeOptions,
 ) -> Result<(Layer, LayerLooks), LayersError> {
-    let baked = voxlod_bake::bake(source, &layer.mesh, options)?;
+    let baked = voxlod_bake::bake_on(source, &layer.mesh, atlas, options)?;
     let atlas = &baked.atlas;
     let triangles = in_level_order(&layer.mesh.triangles, &atlas.triangles, &atlas.level_vertex)?;
     let positions = atlas.positions.clone();
