@@ -23,8 +23,9 @@
 //! Beyond the paper: He et al. (1995) carry positions only.
 //! Cost: the route's, plus one nearest-point pass per level (O(V log N)).
 
+use rayon::prelude::*;
 use voxlod_asset::{Asset, AssetError};
-use voxlod_bake::BakeOptions;
+use voxlod_bake::{atlas, Atlas, BakeError, BakeOptions};
 use voxlod_budget::{asset_levels, Looks};
 use voxlod_core::{mesh_topology, CoreError};
 
@@ -32,6 +33,7 @@ use crate::budget_options::BudgetOptions;
 use crate::by_budget::{as_lod, lod_by_budget_with};
 use crate::error::PyramidError;
 use crate::levels::lod_with;
+use crate::lod::LodLevel;
 use crate::lod_options::{Lod, LodOptions};
 use crate::progress::ProgressFn;
 use crate::source::Source;
@@ -123,17 +125,28 @@ fn bake_transferred(asset: &Asset, made: &mut AssetLod) -> Result<(), PyramidErr
     let Some(texels) = texture_side(asset) else {
         return Ok(());
     };
-    for (level, lod_level) in made.assets.iter_mut().zip(&made.lod.levels) {
-        let transferred = level.looks == Looks::Transferred;
+    let baked = |level: &AssetLodLevel, lod_level: &LodLevel| {
         let size = lod_level.mesh.triangle_count();
-        if !transferred || size == 0 || size > BAKED_AT_MOST {
+        (level.looks == Looks::Transferred && size > 0 && size <= BAKED_AT_MOST).then(|| {
+            BakeOptions {
+                voxel_size: Some(lod_level.plan.voxel_size as f32),
+                ..BakeOptions::for_texture(texels)
+            }
+        })
+    };
+    let options: Vec<Option<BakeOptions>> = (made.assets.iter().zip(&made.lod.levels))
+        .map(|(level, lod_level)| baked(level, lod_level))
+        .collect();
+    // xatlas packs a level's charts on one core: the levels' atlases are made side by side.
+    let atlases: Vec<Option<Result<Atlas, BakeError>>> = (made.lod.levels.par_iter().zip(&options))
+        .map(|(l, o)| o.as_ref().map(|o| atlas(&l.mesh, &o.atlas_options())))
+        .collect();
+    let levels = made.assets.iter_mut().zip(&made.lod.levels);
+    for (((level, lod_level), atlas), options) in levels.zip(atlases).zip(&options) {
+        let (Some(atlas), Some(options)) = (atlas, options) else {
             continue;
-        }
-        let options = BakeOptions {
-            voxel_size: Some(lod_level.plan.voxel_size as f32),
-            ..BakeOptions::for_texture(texels)
         };
-        let baked = voxlod_bake::bake(asset, &lod_level.mesh, &options)?;
+        let baked = voxlod_bake::bake_on(asset, &lod_level.mesh, atlas?, options)?;
         let k = lod_level.plan.level;
         let noted = baked.report.warnings.iter();
         made.lod
