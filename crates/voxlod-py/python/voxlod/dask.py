@@ -14,7 +14,8 @@ and places the level as :func:`voxlod.lod_volume` does.
 
 :func:`labels`: one task per chunk lists the chunk's labels and their boxes; then one task
 per label assembles the label's box grown by one voxel from the chunks that hold that label
-only, and meshes it as :func:`voxlod.labels` does.
+only, and meshes it as :func:`voxlod.labels` does; with ``shared=True`` the box is grown by a
+halo of ``2 * smooth + 2`` voxels and holds every label there (:func:`labels`).
 
 :func:`marching_cubes`:
 Each task reads one chunk of the volume and a one-sample halo around it, assembled from the
@@ -490,14 +491,94 @@ def _mesh_label(value: int, low: Sequence[int], high: Sequence[int], chunks: Lis
 
 
 def _surface_label(value: int, low: Sequence[int], high: Sequence[int], chunks: List[Any],
-                   corners: List[Sequence[int]], spacing, origin, normals: bool) -> dict:
+                   corners: List[Sequence[int]], spacing, origin, normals: bool,
+                   triangles: Optional[int]) -> dict:
     """One task of :func:`labels`' second pass without a filter: the label's marching-cubes
-    mesh from its box (samples ``low .. high``, :func:`_label_box`), as uint32. The label's cells all lie in its box grown by one voxel and are visited in the
-    same order as in the whole map, so the mesh is the one-process mesh (positions equal up to
-    the rounding of ``origin + index * spacing`` to float32)."""
+    mesh from its box (samples ``low .. high``, :func:`_label_box`), as uint32, reduced to
+    about ``triangles`` when given. The label's cells all lie in its box grown by one voxel
+    and are visited in the same order as in the whole map, so the mesh is the one-process mesh
+    (positions equal up to the rounding of ``origin + index * spacing`` to float32), and so is
+    its reduction, made from that mesh alone."""
     box = _label_box(value, low, high, chunks, corners, label_values, np.uint32)
-    found, _ = _voxlod.label_surfaces(box, spacing, origin, [int(value)], False, None, normals)
+    found, _ = _voxlod.label_surfaces(box, spacing, origin, [int(value)], False, None, normals,
+                                      triangles)
     return found[0]
+
+
+SMOOTH_ITERATIONS = 8
+"""The λ|μ iterations of the shared surface when ``smooth`` is not given (the Rust
+``SmoothingOptions::default().iterations``)."""
+
+
+def shared_halo(smooth: Optional[int]) -> int:
+    """The voxels by which :func:`labels` grows a label's box for the shared surface:
+    ``2 * smooth + 2`` (``smooth`` defaulting to :data:`SMOOTH_ITERATIONS`: 18).
+
+    Each of the ``smooth`` λ|μ iterations is two passes (λ then μ), each pass moving a vertex
+    towards the mean of the vertices its quad edges lead to, read from the pass before (the
+    fused sweeps of ``smoothing/relax.rs`` are a Jacobi scheme): after ``2 * smooth`` passes a
+    vertex depends on the vertices within ``2 * smooth`` rings, and a ring is one cell. A
+    vertex's kind (interface, junction curve, fixed, border) comes from the eight voxels around
+    its corner, one more voxel; one more keeps the box's own border (background outside, whose
+    vertices are locked) off every vertex that counts."""
+    return 2 * (SMOOTH_ITERATIONS if smooth is None else int(smooth)) + 2
+
+
+NEIGHBOUR_MARGIN = 3
+"""Voxels around a neighbouring label's box that :func:`labels` takes in with ``shared`` and
+``triangles``: its patches' vertices lie on the corners of its box grown by one, their kinds
+(and so the locked junctions, the floors of its shares) depend on the voxels one further, and
+the ring of vertices next to a locked one one further still."""
+
+
+def _map_box(low: Sequence[int], high: Sequence[int], chunks: List[Any],
+             corners: List[Sequence[int]]) -> np.ndarray:
+    """The box of samples ``low .. high`` of the map with every label's value (uint32),
+    assembled from the chunks that overlap it (each starting at its ``corners``), each piece
+    checked as :func:`voxlod.labels` checks the map; on a worker."""
+    box = np.zeros(tuple(h - l for l, h in zip(low, high)), np.uint32)
+    for chunk, corner in zip(chunks, corners):
+        start = [max(l, c) for l, c in zip(low, corner)]
+        stop = [min(h, c + n) for h, c, n in zip(high, corner, chunk.shape)]
+        if any(a >= b for a, b in zip(start, stop)):
+            continue
+        part = chunk[tuple(slice(a - c, b - c) for a, b, c in zip(start, stop, corner))]
+        box[tuple(slice(a - l, b - l) for a, b, l in zip(start, stop, low))] = \
+            label_values(_aligned(part), "the label map", start)
+    return box
+
+
+def _shared_label(value: int, chosen: List[int], low: Sequence[int], high: Sequence[int],
+                  chunks: List[Any], corners: List[Sequence[int]], spacing, origin,
+                  smooth: Optional[int], normals: bool, triangles: Optional[int]) -> dict:
+    """One task of :func:`labels` with ``shared``: the shared surface of the box of samples
+    ``low .. high`` holding every label (:func:`_map_box`), smoothed and reduced as in one
+    process, and the mesh of ``value`` (the first of ``chosen``; the others are the labels
+    whose shares limit its patches under a budget)."""
+    box = _map_box(low, high, chunks, corners)
+    found, _ = _voxlod.label_surfaces(box, spacing, origin, [int(v) for v in chosen], True,
+                                      smooth, normals, triangles)
+    return found[0]
+
+
+def _check_surface_options(filtered: bool, shared: bool, smooth: Optional[int],
+                           triangles: Optional[int]) -> None:
+    """Refuses the options :func:`voxlod.labels` refuses, with its messages."""
+    if filtered:
+        if shared or smooth is not None:
+            raise UsageError("shared and smooth mesh the labels together without a filter: "
+                             "they do not go with levels, filter or radius")
+        if triangles is not None:
+            raise UsageError("triangles reduces the one-pass surfaces: it does not go with "
+                             "levels, filter or radius")
+        return
+    if smooth is not None and not shared:
+        raise UsageError("smooth smooths the shared surface: pass shared=True")
+    if smooth is not None and int(smooth) < 0:
+        raise UsageError(f"smooth must be 0 or more iterations, not {smooth}")
+    if triangles is not None and int(triangles) < 4:
+        raise UsageError(f"triangles must be at least 4 (a closed surface needs four), "
+                         f"not {triangles}")
 
 
 def labels(
@@ -508,22 +589,52 @@ def labels(
     labels: Optional[Sequence[int]] = None,
     levels: Optional[int] = None,
     origin: Sequence[float] = (0.0, 0.0, 0.0),
+    shared: bool = False,
+    smooth: Optional[int] = None,
     filter: Optional[str] = None,
     radius: Optional[float] = None,
     normals: bool = True,
+    triangles: Optional[int] = None,
 ) -> List[LabelMesh]:
     """:func:`voxlod.labels` on a Dask cluster: one closed mesh (or chain of ``levels``
-    levels) per label of a label map, the same meshes as in one process, from a map that need
-    not fit in one.
+    levels) per label of a label map, the same meshes as in one process (see ``shared`` for
+    the one exception), from a map that need not fit in one.
 
     A first pass, one task per chunk, lists each chunk's labels with their voxel counts and
-    boxes. Then one task per label assembles the label's box grown by one voxel (cut to the
-    map) from the chunks that hold that label only (elsewhere in the box the label's indicator
-    is 0), and meshes it as :func:`voxlod.labels` does: by marching cubes of its voxels, or
-    with ``levels``, ``filter`` or ``radius`` its filtered levels. A chunk that holds no label
-    is read once, one that holds some twice (once per pass, shared by its labels). The shared
-    surface (``voxlod.labels(shared=True)``) is not offered here: its smoothing moves vertices
-    shared by every label, across the whole map.
+    boxes. Then one task per label meshes it as :func:`voxlod.labels` does:
+
+    - by default (marching cubes of its voxels, reduced to ``triangles`` when given) or with
+      ``levels``, ``filter`` or ``radius`` (its filtered levels), from the label's box grown by
+      one voxel (cut to the map), assembled from the chunks that hold that label only
+      (elsewhere in the box the label's indicator is 0). A chunk that holds no label is read
+      once, one that holds some twice (once per pass, shared by its labels).
+    - with ``shared=True``, from the label's box grown by a halo of :func:`shared_halo`
+      voxels, ``2 * smooth + 2`` (18 for the default 8 iterations; cut to the map, whose
+      outside is background as in one process), holding every label's values there and
+      assembled from every chunk that overlaps it: the task makes the box's shared surface
+      (surface nets, smoothed) and keeps the label's mesh. Smoothing is local: each λ|μ
+      iteration is two passes, each reaching one ring of vertices (one cell) further, so the
+      halo holds everything the label's vertices see through the smoothing, plus the voxels
+      that decide the vertices' kinds. With ``triangles``, the box also takes in the boxes
+      (grown by :data:`NEIGHBOUR_MARGIN`) of the labels asked for whose boxes touch the
+      label's: a patch between two labels is reduced towards the smaller of their two shares,
+      and a neighbour's share depends on all its patches. The cost: each task meshes its whole
+      grown box, so every voxel is meshed by every label whose grown box covers it (about
+      ``((side + 2 * halo) / side)³`` times the work of one process for labels ``side``
+      voxels wide, more with ``triangles``).
+
+      The volume restoring is not local: one process keeps each label's volume by one
+      pressure per label, solved over all the labels that touch (the background's held at 0),
+      and stops when the map's worst label is within tolerance; a task solves it over its box,
+      whose labels cut by the box's border keep their cut volumes. So with ``smooth=0`` (no
+      smoothing, nothing to restore) the meshes are the one-process meshes up to float32
+      rounding, with and without ``triangles``; after smoothing each label's mesh keeps its own
+      volume and its topology (same vertices and triangles), but its vertices differ from the
+      one-process ones by up to a few thousandths of a voxel (at most 0.007 on a 40³ map of
+      12 touching labels, ``smooth=3``), a quad may be split by its other diagonal, the two
+      meshes of an interface, made by different tasks, no longer share their vertices bit for
+      bit, and a budget's reduction, which follows the positions, may keep a few percent more
+      or fewer triangles. The difference shrinks as the halo grows towards the map.
 
     Parameters
     ----------
@@ -531,8 +642,9 @@ def labels(
         The label map (integers; 0 is background).
     client : dask.distributed.Client, optional
         Where to run; default: the current client, else Dask's default scheduler.
-    spacing, labels, levels, origin, filter, radius, normals
-        As for :func:`voxlod.labels`.
+    spacing, labels, levels, origin, shared, smooth, filter, radius, normals, triangles
+        As for :func:`voxlod.labels` (``shared``, ``smooth`` and ``triangles`` not with the
+        filtered levels, ``smooth`` only with ``shared``).
 
     Returns
     -------
@@ -548,20 +660,38 @@ def labels(
     >>> found = voxlod.dask.labels(da.from_array(seg, chunks=6), levels=2)
     >>> [(m.label, m.voxels, len(m.levels)) for m in found]
     [(1, 448, 2), (2, 512, 2)]
+    >>> found = voxlod.dask.labels(da.from_array(seg, chunks=6), shared=True, smooth=0)
+    >>> alone = voxlod.labels(seg, shared=True, smooth=0)
+    >>> [len(m.faces) for m in found] == [len(m.faces) for m in alone]
+    True
     """
     filtered = levels is not None or filter is not None or radius is not None
+    _check_surface_options(filtered, bool(shared), smooth, triangles)
     options = label_options(1 if levels is None else levels, filter or "hypercone",
                             1.0 if radius is None else radius, normals)
+    smooth = None if smooth is None else int(smooth)
+    triangles = None if triangles is None else int(triangles)
     array = as_dask_array(source)
     check_label_dtype(array.dtype, "the label map")
     spacing, origin = triple(spacing, "spacing"), triple(origin, "origin")
     found = _find_labels(array, client)
-    keys, chunks = _chunk_keys(array)[0].ravel(), _chunk_bounds(array)
+    grid_keys, bounds = _chunk_keys(array)
+    keys, chunks = grid_keys.ravel(), _chunk_bounds(array)
+    shape = tuple(int(n) for n in array.shape)
+    chosen = _chosen_labels(found, labels)
     tasks = []
-    for value in _chosen_labels(found, labels):
+    for value in chosen:
         _, first, last, holding = found[value]
+        if shared:
+            low, high, limiting = _shared_box(value, found, chosen, shape, shared_halo(smooth),
+                                              triangles is not None)
+            box_origin = tuple(o + l * s for o, l, s in zip(origin, low, spacing))
+            parts, corners = _window_chunks(grid_keys, bounds, low, high)
+            tasks.append((_shared_label, value, limiting, low, high, parts, corners, spacing,
+                          box_origin, smooth, bool(normals), triangles))
+            continue
         low = [max(f - 1, 0) for f in first]
-        high = [min(l + 2, n) for l, n in zip(last, array.shape)]
+        high = [min(l + 2, n) for l, n in zip(last, shape)]
         box_origin = tuple(o + l * s for o, l, s in zip(origin, low, spacing))
         holding_keys, corners = [keys[n] for n in holding], [chunks[n][0] for n in holding]
         if filtered:
@@ -569,7 +699,7 @@ def labels(
                           box_origin, options))
         else:
             tasks.append((_surface_label, value, low, high, holding_keys, corners, spacing,
-                          box_origin, bool(normals)))
+                          box_origin, bool(normals), triangles))
     results = _graph_results("voxlod-label-meshes", tasks, array, client)
     if filtered:
         return [label_mesh(d) for d in results]
@@ -578,6 +708,32 @@ def labels(
                       levels=[Level(vertices=d["vertices"], faces=d["faces"],
                                     normals=d["normals"], resolution=resolution, genus=None)])
             for d in results]
+
+
+def _shared_box(value: int, found: dict, chosen: List[int], shape: Sequence[int], halo: int,
+                budget: bool) -> Tuple[List[int], List[int], List[int]]:
+    """The box (first sample, end) of ``value``'s task with ``shared``: its box grown by
+    ``halo`` and, under a budget, the boxes of the labels of ``chosen`` whose boxes touch its
+    own (its possible neighbours, whose shares limit its patches) grown by
+    :data:`NEIGHBOUR_MARGIN`; cut to the map. Also the labels to ask the task for: ``value``
+    first, then those neighbours."""
+    _, first, last, _ = found[value]
+    low = [f - halo for f in first]
+    high = [l + 1 + halo for l in last]
+    limiting = [int(value)]
+    if budget:
+        for other in chosen:
+            if other == value:
+                continue
+            _, o_first, o_last, _ = found[other]
+            if all(of <= l + 1 and f <= ol + 1
+                   for f, l, of, ol in zip(first, last, o_first, o_last)):
+                limiting.append(int(other))
+                low = [min(a, of - NEIGHBOUR_MARGIN) for a, of in zip(low, o_first)]
+                high = [max(b, ol + 1 + NEIGHBOUR_MARGIN) for b, ol in zip(high, o_last)]
+    low = [max(a, 0) for a in low]
+    high = [min(b, n) for b, n in zip(high, shape)]
+    return low, high, limiting
 
 
 def precomputed(
