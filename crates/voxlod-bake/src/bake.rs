@@ -143,7 +143,8 @@ pub fn bake(
 
 /// [`bake`] on an atlas made already (`atlas(level, &options.atlas_options())`, perhaps
 /// beside other levels' atlases: xatlas packs charts on one core). Its report's seconds are
-/// the atlas's and this call's.
+/// the atlas's and this call's. Refuses an atlas that is not `level`'s (another triangle
+/// count, or a vertex copying no vertex of the level).
 pub fn bake_on(
     source: &Asset,
     level: &TriangleMesh,
@@ -152,6 +153,7 @@ pub fn bake_on(
 ) -> Result<Baked, BakeError> {
     let start = Instant::now();
     options.images.check()?;
+    check_atlas_of(&atlas, level)?;
     let looks = SourceLooks::new(source)?;
     let cast = Cast::new(&source.mesh.geometry())?;
     let tangents = mikktspace(
@@ -227,6 +229,24 @@ pub fn bake_on(
         atlas,
         report,
     })
+}
+
+/// Refuses an atlas made from another level than `level`.
+fn check_atlas_of(atlas: &Atlas, level: &TriangleMesh) -> Result<(), BakeError> {
+    let n = level.positions.len();
+    let (have, want) = (atlas.triangles.len(), level.triangles.len());
+    let stray = atlas.level_vertex.iter().any(|&v| v as usize >= n);
+    let inside = atlas.positions.len() == atlas.level_vertex.len()
+        && atlas.uv.len() == atlas.positions.len()
+        && (atlas.triangles.iter().flatten()).all(|&v| (v as usize) < atlas.positions.len());
+    if have != want || stray || !inside {
+        return Err(BakeError::Invalid(format!(
+            "the atlas ({have} triangles, {} vertices) was not made from this level ({want} \
+             triangles, {n} vertices)",
+            atlas.positions.len()
+        )));
+    }
+    Ok(())
 }
 
 /// Per triangle of `atlas`, the side of one of its texels on the level's surface (world

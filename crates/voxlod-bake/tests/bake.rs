@@ -496,3 +496,22 @@ fn a_finely_tiled_texture_bakes_to_its_mean_not_to_moire() {
         assert!((180..=196).contains(&red), "a texel of {red}");
     }
 }
+
+/// An atlas baked onto another level than its own is refused with a message, not baked.
+#[test]
+fn an_atlas_of_another_level_is_refused() {
+    let source = Asset {
+        mesh: cube_source(|_| 0),
+        materials: vec![Material::default()],
+        ..Asset::default()
+    };
+    let (small, large) = (proxy_cube(1, 1.0), proxy_cube(2, 1.0));
+    let options = BakeOptions::for_texture(64);
+    let made = voxlod_bake::atlas(&small, &options.atlas_options()).unwrap();
+    let err = voxlod_bake::bake_on(&source, &large, made.clone(), &options).unwrap_err();
+    assert!(
+        err.to_string().contains("not made from this level"),
+        "{err}"
+    );
+    assert!(voxlod_bake::bake_on(&source, &small, made, &options).is_ok());
+}
