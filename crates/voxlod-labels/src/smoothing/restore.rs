@@ -26,37 +26,25 @@ const GRADIENT_PLANES: usize = 4;
 /// (grid space, which has the world's volumes up to the direction's determinant, ±1), summed
 /// per run of one pair within fixed chunks of triangles; the chunks' sums in chunk order.
 /// Cost: O(triangles), parallel.
-fn pair_volumes(surface: &SharedSurface, q: &[Vec3]) -> Vec<Vec<([u32; 2], f64)>> {
+fn pair_volumes(surface: &SharedSurface, q: &[Vec3]) -> Vec<PairSums> {
     surface
         .triangles
         .par_chunks(TRIANGLE_CHUNK)
         .zip(surface.sides.par_chunks(TRIANGLE_CHUNK))
         .map(|(tris, sides)| {
-            let mut sums: FxHashMap<[u32; 2], f64> = FxHashMap::default();
-            let mut run = ([u32::MAX; 2], 0.0f64);
+            let mut runs = PairRuns::default();
             for (t, s) in tris.iter().zip(sides) {
-                if *s != run.0 {
-                    if run.0[0] != u32::MAX {
-                        *sums.entry(run.0).or_default() += run.1;
-                    }
-                    run = (*s, 0.0);
-                }
                 let [a, b, c] = t.map(|v| q[v as usize].as_dvec3());
-                run.1 += a.dot(b.cross(c)) / 6.0;
+                runs.add(*s, a.dot(b.cross(c)) / 6.0);
             }
-            if run.0[0] != u32::MAX {
-                *sums.entry(run.0).or_default() += run.1;
-            }
-            let mut out: Vec<([u32; 2], f64)> = sums.into_iter().collect();
-            out.sort_unstable_by_key(|e| e.0);
-            out
+            runs.sums()
         })
         .collect()
 }
 
 /// Each label's enclosed volume from [`pair_volumes`] (inside labels add, outside ones
 /// subtract), by slot.
-fn volumes_of(pairs: &[Vec<([u32; 2], f64)>], labels: &LabelSlots, count: usize) -> Vec<f64> {
+fn volumes_of(pairs: &[PairSums], labels: &LabelSlots, count: usize) -> Vec<f64> {
     let mut volumes = vec![0.0f64; count];
     for &([inside, outside], v) in pairs.iter().flatten() {
         if let Some(i) = labels.get(inside) {
@@ -113,7 +101,16 @@ pub(super) fn restore(
 ) -> Result<(usize, Option<Vec<f64>>), LabelsError> {
     memory::check_allocation("volume restoring", memory::bytes_of::<[u32; 5]>(q.len()))?;
     for round in 0..options.restore_rounds {
-        let volumes = label_volumes(surface, q, labels, target.len());
+        // The first round always moves vertices (smoothing has changed the volumes), so its
+        // gradients come in the same pass over the triangles as its volumes.
+        let mut ready = None;
+        let volumes = if round == 0 {
+            let (gradient, sides, pairs) = gradients(surface, layout, q);
+            ready = Some((gradient, sides));
+            volumes_of(&pairs, labels, target.len())
+        } else {
+            label_volumes(surface, q, labels, target.len())
+        };
         let error: Vec<f64> = target.iter().zip(&volumes).map(|(t, v)| t - v).collect();
         let worst = error
             .iter()
@@ -129,7 +126,10 @@ pub(super) fn restore(
                 && flags.has_two_labels()
                 && frame.half(flags.border_axes()) != Vec3::ZERO
         };
-        let (gradient, sides) = gradients(surface, layout, q);
+        let (gradient, sides) = ready.unwrap_or_else(|| {
+            let (gradient, sides, _) = gradients(surface, layout, q);
+            (gradient, sides)
+        });
         let gram = Gram::assemble(&gradient, &sides, labels, target.len(), mobile, |v| {
             mask(frame.half(surface.flags[v].border_axes()))
         });
@@ -160,12 +160,14 @@ fn mask(half: Vec3) -> Vec3 {
 }
 
 /// Per vertex, the gradient of the volume of the inside label of its last triangle, and that
-/// triangle's two labels (`[u32::MAX; 2]` for a vertex without triangles). Meaningful for the
-/// vertices between exactly two labels (the only ones the callers use): such a vertex has
-/// every triangle between the same two, in the same order. Cost: O(triangles), parallel over
-/// chunks of corner planes in two colours (a chunk's triangles touch its planes and the next
-/// chunk's first, so chunks of one colour write apart).
-fn gradients(surface: &SharedSurface, layout: &Layout, q: &[Vec3]) -> (Vec<Vec3>, Vec<[u32; 2]>) {
+/// triangle's two labels (`[u32::MAX; 2]` for a vertex without triangles); and, as
+/// [`pair_volumes`] gives them, the label pairs' volumes summed per chunk of planes, the chunks
+/// in order. The gradients are meaningful for the vertices between exactly two labels (the
+/// only ones the callers use): such a vertex has every triangle between the same two, in the
+/// same order. Cost: O(triangles), parallel over chunks of corner planes in two colours (a
+/// chunk's triangles touch its planes and the next chunk's first, so chunks of one colour
+/// write apart); the sums in an order fixed by the surface.
+fn gradients(surface: &SharedSurface, layout: &Layout, q: &[Vec3]) -> Gradients {
     let n = q.len();
     let mut gradient = vec![Vec3::ZERO; n];
     let mut sides = vec![[u32::MAX; 2]; n];
@@ -180,6 +182,7 @@ fn gradients(surface: &SharedSurface, layout: &Layout, q: &[Vec3]) -> (Vec<Vec3>
         .map(|&(a, _)| by_plane[a])
         .chain(std::iter::once(surface.triangles.len()))
         .collect();
+    let mut chunk_sums = Vec::with_capacity(chunks.len());
     for colour in 0..2 {
         let picked: Vec<usize> = (colour..chunks.len()).step_by(2).collect();
         let windows: Vec<(usize, usize)> = picked
@@ -194,26 +197,72 @@ fn gradients(surface: &SharedSurface, layout: &Layout, q: &[Vec3]) -> (Vec<Vec3>
             .collect();
         let g_parts = split_windows(&mut gradient, &windows);
         let s_parts = split_windows(&mut sides, &windows);
-        g_parts
+        let sums: Vec<(usize, PairSums)> = g_parts
             .into_par_iter()
             .zip(s_parts)
             .zip(picked)
             .zip(windows)
-            .for_each(|(((g, s), c), (first, _))| {
-                let tris = triangle_starts[c]..triangle_starts[c + 1];
-                for t in tris {
+            .map(|(((g, s), c), (first, _))| {
+                let mut runs = PairRuns::default();
+                for t in triangle_starts[c]..triangle_starts[c + 1] {
                     let tri = surface.triangles[t];
-                    let [a, b, c] = tri.map(|v| q[v as usize]);
-                    let area = (b - a).cross(c - a) / 6.0;
+                    let [a, b, e] = tri.map(|v| q[v as usize]);
+                    let area = (b - a).cross(e - a) / 6.0;
                     let pair = surface.sides[t];
                     for v in tri {
                         g[v as usize - first] += area;
                         s[v as usize - first] = pair;
                     }
+                    let [a, b, e] = [a, b, e].map(|p| p.as_dvec3());
+                    runs.add(pair, a.dot(b.cross(e)) / 6.0);
                 }
-            });
+                (c, runs.sums())
+            })
+            .collect();
+        chunk_sums.extend(sums);
     }
-    (gradient, sides)
+    chunk_sums.sort_unstable_by_key(|e| e.0);
+    let pairs = chunk_sums.into_iter().map(|e| e.1).collect();
+    (gradient, sides, pairs)
+}
+
+/// Sums per label pair, sorted by pair.
+type PairSums = Vec<([u32; 2], f64)>;
+
+/// What [`gradients`] gives: per vertex the gradient and the labels, and the pairs' volumes
+/// per chunk.
+type Gradients = (Vec<Vec3>, Vec<[u32; 2]>, Vec<PairSums>);
+
+/// Sums per label pair over runs of one pair, the runs' sums added per pair in their order.
+#[derive(Default)]
+struct PairRuns {
+    sums: FxHashMap<[u32; 2], f64>,
+    run: Option<([u32; 2], f64)>,
+}
+
+impl PairRuns {
+    /// Adds `value` to `pair`'s current run (starting a new run for a new pair).
+    fn add(&mut self, pair: [u32; 2], value: f64) {
+        match &mut self.run {
+            Some((p, sum)) if *p == pair => *sum += value,
+            run => {
+                if let Some((p, sum)) = run.take() {
+                    *self.sums.entry(p).or_default() += sum;
+                }
+                *run = Some((pair, value));
+            }
+        }
+    }
+
+    /// The sums per pair, sorted by pair.
+    fn sums(mut self) -> PairSums {
+        if let Some((p, sum)) = self.run.take() {
+            *self.sums.entry(p).or_default() += sum;
+        }
+        let mut out: Vec<([u32; 2], f64)> = self.sums.into_iter().collect();
+        out.sort_unstable_by_key(|e| e.0);
+        out
+    }
 }
 
 /// The disjoint, increasing `windows` of `data` as mutable slices.
@@ -252,31 +301,19 @@ impl Gram {
         mobile: impl Fn(usize) -> bool + Sync,
         mask: impl Fn(usize) -> Vec3 + Sync,
     ) -> Gram {
-        let chunks: Vec<Vec<([u32; 2], f64)>> = (0..gradient.len().div_ceil(VERTEX_CHUNK))
+        let chunks: Vec<PairSums> = (0..gradient.len().div_ceil(VERTEX_CHUNK))
             .into_par_iter()
             .map(|c| {
-                let mut sums: FxHashMap<[u32; 2], f64> = FxHashMap::default();
-                let mut run = ([u32::MAX; 2], 0.0f64);
+                let mut runs = PairRuns::default();
                 let end = ((c + 1) * VERTEX_CHUNK).min(gradient.len());
                 for v in c * VERTEX_CHUNK..end {
                     if sides[v][0] == u32::MAX || !mobile(v) {
                         continue;
                     }
-                    if sides[v] != run.0 {
-                        if run.0[0] != u32::MAX {
-                            *sums.entry(run.0).or_default() += run.1;
-                        }
-                        run = (sides[v], 0.0);
-                    }
                     let g = gradient[v];
-                    run.1 += g.dot(g * mask(v)) as f64;
+                    runs.add(sides[v], g.dot(g * mask(v)) as f64);
                 }
-                if run.0[0] != u32::MAX {
-                    *sums.entry(run.0).or_default() += run.1;
-                }
-                let mut out: Vec<([u32; 2], f64)> = sums.into_iter().collect();
-                out.sort_unstable_by_key(|e| e.0);
-                out
+                runs.sums()
             })
             .collect();
         let mut pairs: Vec<([u32; 2], f64)> = chunks.into_iter().flatten().collect();
