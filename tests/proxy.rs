@@ -124,3 +124,33 @@ fn a_many_part_scene_keeps_a_closed_level_where_its_grid_stalls() {
     let n = welded.triangles.len() as f64;
     assert!((n / 5000.0 - 1.0).abs() <= 0.1, "{n}");
 }
+
+/// The progress of a proxy: the portfolio's steps, then "atlases" once (every level's atlas is
+/// made at once), then one "bake" per level in order; stopping at "atlases" cancels the call.
+#[test]
+fn a_proxy_reports_its_atlases_then_each_bake_and_stops_when_asked() {
+    use std::sync::Mutex;
+    use voxlod::{Control, Event, Progress};
+    let scene = voxlod_testkit::assets::three_part_scene();
+    let options = ProxyOptions::for_triangles(&[800, 200], 64);
+    let seen = Mutex::new(Vec::new());
+    let record = |p: Progress| {
+        if let Event::Step { level, what } = p.event {
+            if what == "atlases" || what == "bake" {
+                seen.lock().unwrap().push((what, level, p.done, p.total));
+            }
+        }
+        Control::Continue
+    };
+    voxlod::proxy_with(&scene, &options, &record).unwrap();
+    let expect = vec![("atlases", 0, 0, 2), ("bake", 0, 1, 2), ("bake", 1, 2, 2)];
+    assert_eq!(seen.into_inner().unwrap(), expect);
+    let stop = |p: Progress| match p.event {
+        Event::Step {
+            what: "atlases", ..
+        } => Control::Stop,
+        _ => Control::Continue,
+    };
+    let err = voxlod::proxy_with(&scene, &options, &stop).unwrap_err();
+    assert!(matches!(err, voxlod::PyramidError::Cancelled), "{err}");
+}

@@ -38,7 +38,9 @@ pub enum Event<'a> {
     /// The work is planned and about to start (`done` is 0).
     Started,
     /// One step of level `level`: `what` is `"sampled"`, `"contoured"`, `"simplified"`,
-    /// `"filtered"`, `"extracted"` or `"ordered"`.
+    /// `"filtered"`, `"extracted"` or `"ordered"`; for a proxy `"proxy levels"` (the
+    /// portfolio), `"atlases"` (every level's atlas, made side by side, about to start) and
+    /// `"bake"`.
     Step {
         /// The level (0 for a call with one level).
         level: usize,

@@ -173,6 +173,19 @@ pub fn proxy_with(
             bake_options
         })
         .collect();
+    let total = options.triangles.len();
+    let event = Event::Step {
+        level: 0,
+        what: "atlases",
+    };
+    if progress(Progress {
+        done: 0,
+        total,
+        event,
+    }) == Control::Stop
+    {
+        return Err(PyramidError::Cancelled);
+    }
     // xatlas packs a level's charts on one core: the levels' atlases are made side by side.
     let atlases: Vec<Result<Atlas, BakeError>> = (run.levels.par_iter().zip(&bake_options))
         .map(|(level, o)| atlas(&level.mesh, &o.atlas_options()))
@@ -191,7 +204,7 @@ pub fn proxy_with(
         });
         let step = Progress {
             done: i + 1,
-            total: options.triangles.len(),
+            total,
             event: Event::Step {
                 level: i,
                 what: "bake",

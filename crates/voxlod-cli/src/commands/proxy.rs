@@ -212,10 +212,17 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
     options.screen_sizes = args.screen_size.clone();
     options.bake.atlas.crease_degrees = args.hard_edges;
     options.bake.images = images;
-    let bar = progress(args.triangles.len() as u64, "levels baked", args.json);
+    let bar = progress(args.triangles.len() as u64, "levels", args.json);
     let show = |p: Progress| {
-        if matches!(p.event, voxlod::Event::Step { what: "bake", .. }) {
-            bar.inc(1);
+        match p.event {
+            voxlod::Event::Step {
+                what: "atlases", ..
+            } => bar.set_message("atlases"),
+            voxlod::Event::Step { what: "bake", .. } => {
+                bar.set_message("levels baked");
+                bar.inc(1);
+            }
+            _ => {}
         }
         Control::Continue
     };
