@@ -238,7 +238,7 @@ pub fn atlas(level: &TriangleMesh, options: &AtlasOptions) -> Result<Atlas, Bake
 /// coordinates point. A corner whose level vertex has no charted copy (every triangle around
 /// it lost its area) keeps its vertex, which takes the texture coordinates of the triangle's
 /// nearest charted corner. The triangles' charts stay [`NO_CHART`]. Cost: O(V + T).
-pub fn charted_corners(atlas: &mut Atlas) {
+fn charted_corners(atlas: &mut Atlas) {
     let (triangles, triangle_chart) = (&mut atlas.triangles, &atlas.chart);
     let level_vertex = &atlas.level_vertex;
     // The chart of each atlas vertex that some charted triangle uses.

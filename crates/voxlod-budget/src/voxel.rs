@@ -249,7 +249,8 @@ pub const MAX_COARSER: usize = 3;
 
 /// Marching-cubes levels above this many triangles are collapsed for one isodensity only, the
 /// one whose level measures closest (a checked collapse of a large level costs seconds), and
-/// a stall there does not send the search to coarser grids.
+/// a stall there does not send the search to coarser grids (a proxy's, only above
+/// [`LARGE_OVER_AIM`] times what its budget aimed at).
 pub const LARGE_LEVEL: usize = 60_000;
 
 /// A proxy's level counts as large only above this many times the triangles its budget aimed
