@@ -497,6 +497,9 @@ pub fn run(args: LayersArgs) -> Result<(), CliError> {
         ),
     };
     bar.inc(2);
+    if input.looks.is_some() {
+        bar.set_message("baking looks");
+    }
     let baked = bake(&args, &input, kind, &shells.layered).map_err(failed)?;
     let layers = (&shells.layered, baked.as_ref().map(|b| &b.0));
     write_outputs(&args, &mut out, (kind, chain), view, layers)?;
