@@ -42,6 +42,27 @@ class LabelMesh:
         return self.levels[0].faces
 
 
+def check_surface_options(filtered: bool, shared: bool, smooth: Optional[int],
+                           triangles: Optional[int]) -> None:
+    """Refuses the options that do not go together in :func:`labels` (``filtered``: with
+    ``levels``, ``filter`` or ``radius``), shared by :func:`voxlod.dask.labels`."""
+    if filtered:
+        if shared or smooth is not None:
+            raise UsageError("shared and smooth mesh the labels together without a filter: "
+                             "they do not go with levels, filter or radius")
+        if triangles is not None:
+            raise UsageError("triangles reduces the one-pass surfaces: it does not go with "
+                             "levels, filter or radius")
+        return
+    if smooth is not None and not shared:
+        raise UsageError("smooth smooths the shared surface: pass shared=True")
+    if smooth is not None and int(smooth) < 0:
+        raise UsageError(f"smooth must be 0 or more iterations, not {smooth}")
+    if triangles is not None and int(triangles) < 4:
+        raise UsageError(f"triangles must be at least 4 (a closed surface needs four), "
+                         f"not {triangles}")
+
+
 def labels(
     volume: Any,
     spacing: Sequence[float] = (1.0, 1.0, 1.0),
@@ -109,25 +130,14 @@ def labels(
     [(1, 2), (3, 2)]
     """
     chosen = None if labels is None else [int(v) for v in labels]
-    if levels is not None or filter is not None or radius is not None:
-        if shared or smooth is not None:
-            raise UsageError("shared and smooth mesh the labels together without a filter: "
-                             "they do not go with levels, filter or radius")
-        if triangles is not None:
-            raise UsageError("triangles reduces the one-pass surfaces: it does not go with "
-                             "levels, filter or radius")
+    filtered = levels is not None or filter is not None or radius is not None
+    check_surface_options(filtered, bool(shared), smooth, triangles)
+    if filtered:
         options = label_options(1 if levels is None else levels, filter or "hypercone",
                                 1.0 if radius is None else radius, normals)
         found = _voxlod.labels(label_samples(volume, "volume"), triple(spacing, "spacing"),
                                triple(origin, "origin"), chosen, options)
         return [label_mesh(d) for d in found]
-    if smooth is not None and not shared:
-        raise UsageError("smooth smooths the shared surface: pass shared=True")
-    if smooth is not None and int(smooth) < 0:
-        raise UsageError(f"smooth must be 0 or more iterations, not {smooth}")
-    if triangles is not None and int(triangles) < 4:
-        raise UsageError(f"triangles must be at least 4 (a closed surface needs four), "
-                         f"not {triangles}")
     if chosen is not None and any(not 0 < v <= 2**32 - 1 for v in chosen):
         raise UsageError(f"labels are whole numbers from 1 to 4294967295, not {chosen}")
     array = label_values(volume, "volume")

@@ -56,8 +56,8 @@ import numpy as np
 from . import _facade, _voxlod
 from ._facade import Level
 from ._arrays import triple
-from ._labels import (LabelMesh, check_label_dtype, label_mesh, label_options, label_samples,
-                      label_values)
+from ._labels import (LabelMesh, check_label_dtype, check_surface_options, label_mesh,
+                      label_options, label_samples, label_values)
 from .errors import InputError, NoSurfaceError, UsageError
 
 __all__ = ["marching_cubes", "lod_volume", "labels", "as_dask_array"]
@@ -561,26 +561,6 @@ def _shared_label(value: int, chosen: List[int], low: Sequence[int], high: Seque
     return found[0]
 
 
-def _check_surface_options(filtered: bool, shared: bool, smooth: Optional[int],
-                           triangles: Optional[int]) -> None:
-    """Refuses the options :func:`voxlod.labels` refuses, with its messages."""
-    if filtered:
-        if shared or smooth is not None:
-            raise UsageError("shared and smooth mesh the labels together without a filter: "
-                             "they do not go with levels, filter or radius")
-        if triangles is not None:
-            raise UsageError("triangles reduces the one-pass surfaces: it does not go with "
-                             "levels, filter or radius")
-        return
-    if smooth is not None and not shared:
-        raise UsageError("smooth smooths the shared surface: pass shared=True")
-    if smooth is not None and int(smooth) < 0:
-        raise UsageError(f"smooth must be 0 or more iterations, not {smooth}")
-    if triangles is not None and int(triangles) < 4:
-        raise UsageError(f"triangles must be at least 4 (a closed surface needs four), "
-                         f"not {triangles}")
-
-
 def labels(
     source: Any,
     *,
@@ -666,7 +646,7 @@ def labels(
     True
     """
     filtered = levels is not None or filter is not None or radius is not None
-    _check_surface_options(filtered, bool(shared), smooth, triangles)
+    check_surface_options(filtered, bool(shared), smooth, triangles)
     options = label_options(1 if levels is None else levels, filter or "hypercone",
                             1.0 if radius is None else radius, normals)
     smooth = None if smooth is None else int(smooth)
