@@ -194,6 +194,11 @@ impl<'a> SourceLooks<'a> {
                 emissive: Vec3::ZERO,
             };
         };
+        // A double-sided material seen from its back shades with its normal reversed (glTF
+        // §3.9.4): the side a viewer of the level sees is the one facing along `facing`.
+        if material.double_sided && geometric.dot(facing) < 0.0 {
+            normal = -normal;
+        }
         let sample = |slot: &Option<TextureRef>, store: &[Option<Mipmaps>]| -> Option<Vec4> {
             let slot = slot.as_ref()?;
             let mipmaps = store[slot.image].as_ref()?;

@@ -429,6 +429,38 @@ fn a_tilted_source_bakes_its_tilt() {
     }
 }
 
+/// A double-sided source seen from its back shades with its normal reversed (glTF §3.9.4): a
+/// level below the square, facing down, bakes the reversed tilted normal; a single-sided
+/// source keeps its normal, which faces away and is folded onto the level's side.
+#[test]
+fn a_double_sided_source_seen_from_its_back_bakes_its_reversed_normal() {
+    let r = 25.0f32.to_radians();
+    let normal = Vec3::X * r.sin() + Vec3::Z * r.cos();
+    let mut below = square(3, -0.01);
+    below.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+    let shaded_below = |(m, right, up): &(Vec3, Vec3, Vec3)| {
+        (*right * m.x + *up * m.y - Vec3::Z * m.z).normalize()
+    };
+    let angles = |double_sided: bool| -> Vec<f32> {
+        let material = Material {
+            double_sided,
+            ..Material::default()
+        };
+        let source = flat_source(normal, material, Vec::new());
+        let baked = bake(&source, &below, &BakeOptions::for_texture(128)).unwrap();
+        let texels = baked_normals(&baked);
+        assert!(texels.len() > 3000, "{}", texels.len());
+        texels
+            .iter()
+            .map(|t| shaded_below(t).angle_between(-normal).to_degrees())
+            .collect()
+    };
+    let reversed = angles(true);
+    assert!(reversed.iter().all(|&a| a < 1.0), "{:?}", &reversed[..4]);
+    let kept = angles(false);
+    assert!(kept.iter().all(|&a| a > 20.0), "{:?}", &kept[..4]);
+}
+
 #[test]
 fn a_normal_mapped_source_bakes_its_mapped_normals() {
     // The map bends the normal toward the image's right (+x here) or up (+y here).
