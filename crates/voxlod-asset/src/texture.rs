@@ -10,7 +10,7 @@
 use std::io::Cursor;
 
 use image::{ImageFormat, ImageReader};
-use voxlod_core::glam::{Vec2, Vec4};
+use voxlod_core::glam::{Vec2, Vec3, Vec4};
 use voxlod_core::memory::check_allocation;
 
 use crate::{Asset, AssetError, Image, Sampler, TextureRef, Wrap};
@@ -57,6 +57,12 @@ fn decoded_format(mime: &str) -> Option<ImageFormat> {
 
 /// [`decode`], errors naming the image by its name, or `unnamed` when it has none.
 fn decode_named(image: &Image, unnamed: &str) -> Result<Texels, AssetError> {
+    decode_as(image, unnamed, true)
+}
+
+/// A PNG or JPEG image decoded as `srgb` colour (converted to linear) or as data (the stored
+/// values over 255, as normal maps hold them), errors naming the image.
+fn decode_as(image: &Image, unnamed: &str, srgb: bool) -> Result<Texels, AssetError> {
     let name = if image.name.is_empty() {
         unnamed
     } else {
@@ -77,7 +83,10 @@ fn decode_named(image: &Image, unnamed: &str) -> Result<Texels, AssetError> {
     let texels = rgba
         .pixels()
         .map(|p| {
-            let c = |v: u8| srgb_to_linear(v as f32 / 255.0);
+            let c = |v: u8| match srgb {
+                true => srgb_to_linear(v as f32 / 255.0),
+                false => v as f32 / 255.0,
+            };
             Vec4::new(c(p[0]), c(p[1]), c(p[2]), p[3] as f32 / 255.0)
         })
         .collect();
@@ -123,6 +132,46 @@ pub fn decode_base_colours(
         out.push(decoded[slot.image].clone().flatten());
     }
     Ok((out, warnings))
+}
+
+/// The normal texture of every material decoded as data (the stored values over 255), one
+/// entry per material (`None` where it has none or it could not be decoded), with a warning
+/// for each image that could not be.
+pub fn decode_normal_maps(asset: &Asset) -> Result<(Vec<Option<Texels>>, Vec<String>), AssetError> {
+    let mut out = Vec::with_capacity(asset.materials.len());
+    let mut warnings = Vec::new();
+    for material in &asset.materials {
+        let Some(slot) = &material.normal_texture else {
+            out.push(None);
+            continue;
+        };
+        match decode_as(
+            &asset.images[slot.image],
+            &format!("image {}", slot.image),
+            false,
+        ) {
+            Ok(t) => out.push(Some(t)),
+            Err(AssetError::Core(e)) => return Err(e.into()),
+            Err(e) => {
+                warnings.push(format!("{e}: its material's normal map is not drawn"));
+                out.push(None);
+            }
+        }
+    }
+    Ok((out, warnings))
+}
+
+/// The unit normal `n` bent by the normal-map sample `m` (stored values, 0..1) in the tangent
+/// frame of `tangent` (xyz, w the bitangent's sign), its xy scaled by `scale` (glTF 2.0
+/// §3.9.3); `n` where the tangent is parallel to it.
+pub fn bend_normal(n: Vec3, tangent: Vec4, m: Vec4, scale: f32) -> Vec3 {
+    let t = (tangent.truncate() - n * n.dot(tangent.truncate())).try_normalize();
+    let Some(t) = t else { return n };
+    let b = n.cross(t) * if tangent.w < 0.0 { -1.0 } else { 1.0 };
+    let x = (2.0 * m.x - 1.0) * scale;
+    let y = (2.0 * m.y - 1.0) * scale;
+    let z = 2.0 * m.z - 1.0;
+    (t * x + b * y + n * z).try_normalize().unwrap_or(n)
 }
 
 impl Texels {

@@ -15,7 +15,7 @@
 //!
 //! Cost: decoding each image once; a look costs a few texture samples.
 
-use voxlod_asset::texture::decode_at;
+use voxlod_asset::texture::{bend_normal, decode_at};
 use voxlod_asset::{AlphaMode, Asset, AssetError, Material, TextureRef};
 use voxlod_core::glam::{Vec2, Vec3, Vec4};
 
@@ -208,7 +208,7 @@ impl<'a> SourceLooks<'a> {
         if let Some(m) = sample(&material.normal_texture, &self.data) {
             if !self.tangents.is_empty() {
                 let tangent = mix4(&self.tangents);
-                normal = bend(normal, tangent, m, material.normal_scale);
+                normal = bend_normal(normal, tangent, m, material.normal_scale);
             }
         }
         let base = colour
@@ -255,18 +255,6 @@ fn set_of(slot: &TextureRef) -> usize {
         .and_then(|t| t.tex_coord)
         .unwrap_or(slot.tex_coord)
         .min(1) as usize
-}
-
-/// The normal `n` bent by the normal-map sample `m` (stored values, 0..1) in the tangent
-/// frame of `tangent` (xyz, w the bitangent's sign), its xy scaled (glTF §3.9.3).
-fn bend(n: Vec3, tangent: Vec4, m: Vec4, scale: f32) -> Vec3 {
-    let t = (tangent.truncate() - n * n.dot(tangent.truncate())).try_normalize();
-    let Some(t) = t else { return n };
-    let b = n.cross(t) * if tangent.w < 0.0 { -1.0 } else { 1.0 };
-    let x = (2.0 * m.x - 1.0) * scale;
-    let y = (2.0 * m.y - 1.0) * scale;
-    let z = 2.0 * m.z - 1.0;
-    (t * x + b * y + n * z).try_normalize().unwrap_or(n)
 }
 
 /// Which looks beyond base colour and normals the materials need baked.

@@ -1,6 +1,7 @@
 //! How a level looks beside its input: both drawn with their looks (voxlod-render's
 //! [`voxlod::render::looks`]: base colour factor × vertex colour × texture, two-sided Lambert
-//! under a headlight; an asset without looks is drawn white and shaded) from the same views,
+//! under a headlight from the vertex normals, bent by the normal map where the asset has one, as
+//! three.js draws it; an asset without looks is drawn white and shaded) from the same views,
 //! and compared pixel by pixel as 8-bit sRGB, the way a viewer sees them.
 //!
 //! **Views.** Those of the silhouette difference ([`voxlod::render::view_directions`]: the eight
@@ -29,7 +30,8 @@
 use glam::DVec3;
 use serde::Serialize;
 use voxlod::render::{
-    decode_textures, render, view_directions, AssetItem, Camera, RenderError, RenderOptions, Scene,
+    decode_normal_maps, decode_textures, render, view_directions, AssetItem, Camera, RenderError,
+    RenderOptions, Scene,
 };
 use voxlod_asset::Asset;
 
@@ -131,9 +133,11 @@ impl AppearanceReference {
 
     /// `asset` from every view.
     fn render(&self, asset: &Asset) -> Result<(Vec<View>, Vec<String>), RenderError> {
-        let (textures, warnings) = decode_textures(asset)?;
+        let (textures, mut warnings) = decode_textures(asset)?;
+        let (normal_maps, noted) = decode_normal_maps(asset)?;
+        warnings.extend(noted);
         let scene = Scene {
-            assets: vec![AssetItem::new(asset, &textures)],
+            assets: vec![AssetItem::new(asset, &textures).with_normal_maps(&normal_maps)],
             ..Default::default()
         };
         let render_options = RenderOptions {

@@ -4,7 +4,7 @@
 use voxlod_asset::Asset;
 use voxlod_core::Bounds;
 
-use crate::looks::{decode_textures, AssetItem};
+use crate::looks::{decode_normal_maps, decode_textures, AssetItem};
 use crate::{render, Camera, Image, RenderError, RenderOptions, Scene};
 
 /// The box of the assets' triangles (empty when they have none). Cost: linear.
@@ -20,9 +20,9 @@ pub fn assets_bounds(assets: &[&Asset]) -> Bounds {
     b
 }
 
-/// `assets` drawn with their looks as `camera` sees them: their base colour textures decoded
-/// ([`decode_textures`]), then [`render`]; with the decoding's warnings, each asset's prefixed
-/// with its index when there are several.
+/// `assets` drawn with their looks as `camera` sees them: their base colour textures and
+/// normal maps decoded ([`decode_textures`], [`decode_normal_maps`]), then [`render`]; with the
+/// decoding's warnings, each asset's prefixed with its index when there are several.
 ///
 /// # Errors
 ///
@@ -35,18 +35,20 @@ pub fn render_assets(
     let mut textures = Vec::with_capacity(assets.len());
     let mut warnings = Vec::new();
     for (i, a) in assets.iter().enumerate() {
-        let (t, w) = decode_textures(a)?;
+        let (t, mut w) = decode_textures(a)?;
+        let (maps, noted) = decode_normal_maps(a)?;
+        w.extend(noted);
         let prefix = if assets.len() > 1 {
             format!("asset {i}: ")
         } else {
             String::new()
         };
         warnings.extend(w.into_iter().map(|w| format!("{prefix}{w}")));
-        textures.push(t);
+        textures.push((t, maps));
     }
     let scene = Scene {
         assets: (assets.iter().zip(&textures))
-            .map(|(a, t)| AssetItem::new(a, t))
+            .map(|(a, (t, maps))| AssetItem::new(a, t).with_normal_maps(maps))
             .collect(),
         ..Default::default()
     };

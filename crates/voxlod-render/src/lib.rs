@@ -62,7 +62,7 @@ pub use assets::{assets_bounds, render_assets};
 pub use camera::{Camera, Projection};
 pub use error::RenderError;
 pub use image::Image;
-pub use looks::{decode_textures, AssetItem};
+pub use looks::{decode_normal_maps, decode_textures, AssetItem};
 pub use metrics::{rms_difference, silhouette_mask};
 pub use render::{render, LineItem, MeshItem, PointItem, RenderOptions, Scene};
 pub use silhouette::{view_directions, SilhouetteDifference, SilhouetteReference};

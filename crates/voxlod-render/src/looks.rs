@@ -10,8 +10,11 @@
 //! (no mipmaps: a texture minified far aliases; supersampling averages it). Alpha follows the
 //! material's mode: ignored (`OPAQUE`), the sample dropped below the cutoff (`MASK`, writing
 //! neither colour nor depth), or blended after everything opaque in storage order with no depth
-//! write (`BLEND`). A triangle without a material takes glTF's default, white. Metalness,
-//! roughness, normal, occlusion and emissive maps are not drawn.
+//! write (`BLEND`). A triangle without a material takes glTF's default, white. Where the asset
+//! comes with its normal maps ([`AssetItem::with_normal_maps`]) and has normals and tangents,
+//! a sample is shaded from its normal bent by the map (glTF 2.0 §3.9.3), as a viewer such as
+//! three.js draws it, rather than from the vertices' shades. Metalness, roughness, occlusion and
+//! emissive maps are not drawn.
 //!
 //! Plain meshes ([`crate::MeshItem`]) do not pass through here: their fill stays the
 //! shade-times-palette loop of [`crate::raster::raster_triangle`].
@@ -19,8 +22,8 @@
 //! Cost: per covered sample, one texture read (four texels) and the interpolation of the
 //! attributes the asset has.
 
-use glam::{Vec2, Vec4};
-use voxlod_asset::texture::{decode_base_colours, Texels};
+use glam::{Vec2, Vec3, Vec4};
+use voxlod_asset::texture::{bend_normal, decode_base_colours, Texels};
 use voxlod_asset::{AlphaMode, Asset, AssetError, Material};
 
 use crate::RenderError;
@@ -34,6 +37,9 @@ pub struct AssetItem<'a> {
     /// One entry per material of the asset, `None` where the material has no base colour
     /// texture or it could not be decoded (its factor stands in); or empty: factors only.
     pub textures: &'a [Option<Texels>],
+    /// One entry per material, its normal map decoded as data
+    /// (`voxlod_asset::texture::decode_normal_maps`); or empty: no normal map drawn.
+    pub normal_maps: &'a [Option<Texels>],
 }
 
 /// The decoded base colour textures of an asset's materials, for [`AssetItem::textures`], and
@@ -46,10 +52,34 @@ pub fn decode_textures(asset: &Asset) -> Result<(Vec<Option<Texels>>, Vec<String
     })
 }
 
+/// The normal maps of an asset's materials decoded as data, for
+/// [`AssetItem::with_normal_maps`], and a warning for each image that could not be decoded
+/// (its normal map is not drawn). Fails only when the memory budget refuses an image.
+pub fn decode_normal_maps(
+    asset: &Asset,
+) -> Result<(Vec<Option<Texels>>, Vec<String>), RenderError> {
+    voxlod_asset::texture::decode_normal_maps(asset).map_err(|e| match e {
+        AssetError::Core(c) => RenderError::Core(c),
+        other => RenderError::Invalid(other.to_string()),
+    })
+}
+
 impl<'a> AssetItem<'a> {
     /// `asset` with `textures` (from [`decode_textures`], or empty).
     pub fn new(asset: &'a Asset, textures: &'a [Option<Texels>]) -> AssetItem<'a> {
-        AssetItem { asset, textures }
+        AssetItem {
+            asset,
+            textures,
+            normal_maps: &[],
+        }
+    }
+
+    /// The item with its materials' normal maps drawn (one entry per material, or empty).
+    pub fn with_normal_maps(self, normal_maps: &'a [Option<Texels>]) -> AssetItem<'a> {
+        AssetItem {
+            normal_maps,
+            ..self
+        }
     }
 
     /// Whether triangle `tri` is drawn blended (its material's mode is `BLEND`).
@@ -64,18 +94,24 @@ impl<'a> AssetItem<'a> {
         self.asset
             .validate()
             .map_err(|e| RenderError::Invalid(format!("asset {i}: {e}")))?;
-        let (t, m) = (self.textures.len(), self.asset.materials.len());
-        if t != 0 && t != m {
-            return Err(RenderError::Invalid(format!(
-                "asset {i}: {t} textures for {m} materials"
-            )));
+        let m = self.asset.materials.len();
+        for (t, what) in [
+            (self.textures.len(), "textures"),
+            (self.normal_maps.len(), "normal maps"),
+        ] {
+            if t != 0 && t != m {
+                return Err(RenderError::Invalid(format!(
+                    "asset {i}: {t} {what} for {m} materials"
+                )));
+            }
         }
         Ok(())
     }
 
-    /// The shader of triangle `tri`: its vertices' attributes gathered once.
+    /// The shader of triangle `tri`: its vertices' attributes gathered once; `lit` shades a
+    /// unit normal (for a normal-mapped triangle's samples).
     #[inline]
-    pub(crate) fn triangle(&self, tri: usize) -> TriangleLooks<'a> {
+    pub(crate) fn triangle(&self, tri: usize, lit: Lit) -> TriangleLooks<'a> {
         static DEFAULT: std::sync::OnceLock<Material> = std::sync::OnceLock::new();
         let mesh = &self.asset.mesh;
         let corners = mesh.triangles[tri].map(|v| v as usize);
@@ -98,9 +134,70 @@ impl<'a> AssetItem<'a> {
             factor: Vec4::from(material.base_color),
             colors,
             texture,
+            bumps: self.bumps(tri, material, corners).map(|b| (b, lit)),
             mode: material.alpha_mode,
             cutoff: material.alpha_cutoff,
         }
+    }
+
+    /// What the normal map of triangle `tri` needs, where it is drawn: the map, its slot and
+    /// scale, and the corners' coordinates, normals and tangents.
+    fn bumps(&self, tri: usize, material: &'a Material, corners: [usize; 3]) -> Option<Bumps<'a>> {
+        let mesh = &self.asset.mesh;
+        let slot = material.normal_texture.as_ref()?;
+        let k = mesh.material.get(tri).copied()? as usize;
+        let texels = self.normal_maps.get(k)?.as_ref()?;
+        let set = slot
+            .transform
+            .and_then(|t| t.tex_coord)
+            .unwrap_or(slot.tex_coord);
+        let uv = mesh.uv.get(set as usize).filter(|uv| !uv.is_empty())?;
+        let n = mesh.positions.len();
+        if mesh.normals.len() != n || mesh.tangents.len() != n {
+            return None;
+        }
+        Some(Bumps {
+            texels,
+            slot,
+            scale: material.normal_scale,
+            uv: corners.map(|v| uv[v]),
+            normals: corners.map(|v| mesh.normals[v]),
+            tangents: corners.map(|v| mesh.tangents[v]),
+        })
+    }
+}
+
+/// How a sample's unit normal is lit: `ambient + (1 − ambient) |n · light|`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Lit {
+    pub(crate) light: Vec3,
+    pub(crate) ambient: f32,
+}
+
+/// A normal-mapped triangle's map and corners.
+pub(crate) struct Bumps<'a> {
+    texels: &'a Texels,
+    slot: &'a voxlod_asset::TextureRef,
+    scale: f32,
+    uv: [Vec2; 3],
+    normals: [Vec3; 3],
+    tangents: [Vec4; 3],
+}
+
+impl Bumps<'_> {
+    /// The shade of the sample with weights `w`: its interpolated normal bent by the map.
+    #[inline]
+    fn shade(&self, w: [f32; 3], lit: Lit) -> f32 {
+        let mix3 = |v: &[Vec3; 3]| v[0] * w[0] + v[1] * w[1] + v[2] * w[2];
+        let Some(n) = mix3(&self.normals).try_normalize() else {
+            return lit.ambient;
+        };
+        let t = self.tangents[0] * w[0] + self.tangents[1] * w[1] + self.tangents[2] * w[2];
+        let uv = self.uv[0] * w[0] + self.uv[1] * w[1] + self.uv[2] * w[2];
+        let m = self.texels.sample(self.slot, uv);
+        let bent = bend_normal(n, t, m, self.scale);
+        let ambient = lit.ambient.clamp(0.0, 1.0);
+        ambient + (1.0 - ambient) * bent.dot(lit.light).abs()
     }
 }
 
@@ -110,13 +207,14 @@ pub(crate) struct TriangleLooks<'a> {
     factor: Vec4,
     colors: Option<[Vec4; 3]>,
     texture: Option<(&'a Texels, &'a voxlod_asset::TextureRef, [Vec2; 3])>,
+    bumps: Option<(Bumps<'a>, Lit)>,
     mode: AlphaMode,
     cutoff: f32,
 }
 
 impl TriangleLooks<'_> {
-    /// The linear RGBA of a sample with perspective-correct weights `w` and Lambert `shade`,
-    /// or `None` where `MASK` drops it.
+    /// The linear RGBA of a sample with perspective-correct weights `w` and Lambert `shade`
+    /// (the normal map's instead, where it is drawn), or `None` where `MASK` drops it.
     #[inline]
     pub(crate) fn sample(&self, w: [f32; 3], shade: f32) -> Option<[f32; 4]> {
         let mut c = self.factor;
@@ -132,6 +230,10 @@ impl TriangleLooks<'_> {
             AlphaMode::Mask => 1.0,
             AlphaMode::Blend => c.w.clamp(0.0, 1.0),
         };
+        let shade = self
+            .bumps
+            .as_ref()
+            .map_or(shade, |(b, lit)| b.shade(w, *lit));
         Some([c.x * shade, c.y * shade, c.z * shade, alpha])
     }
 }

@@ -26,7 +26,7 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use voxlod_core::{Bounds, TriangleMesh};
 
-use crate::looks::AssetItem;
+use crate::looks::{AssetItem, Lit};
 use crate::raster::{raster_fragments, raster_triangle, ScreenVertex, Tile};
 use crate::{Camera, Image, RenderError};
 
@@ -312,6 +312,10 @@ pub fn render(
     let sources = Sources {
         scene,
         prepared,
+        lit: Lit {
+            light,
+            ambient: options.ambient,
+        },
         quad_source: scene.meshes.len() as u32,
         quad_triangles: quads.triangles,
         quad_colors: quads.colors,
@@ -546,6 +550,8 @@ impl Quads {
 struct Sources<'s, 'a> {
     scene: &'s Scene<'a>,
     prepared: Vec<Prepared>,
+    /// How normal-mapped samples are lit.
+    lit: Lit,
     quad_source: u32,
     quad_triangles: Vec<[u32; 3]>,
     quad_colors: Vec<[f32; 4]>,
@@ -791,7 +797,7 @@ fn draw_tile(
             let d = draws.draws[k as usize];
             let blend = k as usize >= draws.first_blended;
             if d.source > sources.quad_source {
-                let looks = sources.asset(d).triangle(d.tri as usize);
+                let looks = sources.asset(d).triangle(d.tri as usize, sources.lit);
                 raster_fragments(
                     tile,
                     sources.corners(d),

@@ -250,3 +250,57 @@ fn blend_composites_the_texel_over_what_lies_behind() {
         assert!((got - want).abs() < 1e-5, "{:?}", image.rgb[k]);
     }
 }
+
+/// A white quad whose normal map tilts its normal by 40° about y, lit head-on with no ambient:
+/// drawn with its normal map, every pixel has the shade cos 40° of the bent normal (as three.js
+/// shades it); without the map (or the map not given), the shade 1 of its flat normal.
+#[test]
+fn a_normal_map_bends_the_shading_normal() {
+    let tilt = 40.0f32.to_radians();
+    // Tangent space: +x along +u (world +x), +y image-up (world +y), +z the normal.
+    let m = Vec3::new(tilt.sin(), 0.0, tilt.cos());
+    let stored = (m * 0.5 + Vec3::splat(0.5)) * 255.0;
+    let texel = [
+        stored.x.round() as u8,
+        stored.y.round() as u8,
+        stored.z.round() as u8,
+        255,
+    ];
+    let mut asset = textured_quad(&[[255; 4]; 4], 2, AlphaMode::Opaque);
+    asset.images.push(Image {
+        name: "normals".into(),
+        mime: "image/png".into(),
+        bytes: Arc::new(png(2, 2, &[texel; 4])),
+    });
+    asset.materials[0].normal_texture = Some(TextureRef {
+        image: 1,
+        tex_coord: 0,
+        transform: None,
+        sampler: Sampler::default(),
+    });
+    asset.mesh.tangents = vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4];
+    let options = RenderOptions {
+        ambient: 0.0,
+        light: Some(DVec3::Z),
+        ..Default::default()
+    };
+    let (textures, _) = decode_textures(&asset).unwrap();
+    let (maps, warnings) = voxlod_render::decode_normal_maps(&asset).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let draw = |maps: &[Option<voxlod_asset::texture::Texels>]| {
+        let scene = Scene {
+            assets: vec![AssetItem::new(&asset, &textures).with_normal_maps(maps)],
+            ..Default::default()
+        };
+        let image = render(&scene, &head_on(3), &options).unwrap();
+        image.rgb[image.rgb.len() / 2 + image.width as usize / 2]
+    };
+    let bent = draw(&maps);
+    assert!(
+        (bent[0] - tilt.cos()).abs() < 0.01,
+        "{bent:?}, cos {}",
+        tilt.cos()
+    );
+    let flat = draw(&[]);
+    assert!((flat[0] - 1.0).abs() < 1e-3, "{flat:?}");
+}
