@@ -1,5 +1,6 @@
 //! A material's base colour texture decoded for sampling: PNG and JPEG through the `image`
-//! crate, sRGB converted to linear, read bilinearly (or nearest, as the sampler says) with the
+//! crate, sRGB converted to linear (a normal map's stored values kept as data,
+//! [`decode_normal_maps`], and bent into a shading normal by [`bend_normal`]), read bilinearly (or nearest, as the sampler says) with the
 //! sampler's wrap modes and the slot's `KHR_texture_transform`. Other encodings (KTX2, WebP)
 //! are not decoded; [`decode_base_colours`] names them in its warnings and the material's factor
 //! stands in.
