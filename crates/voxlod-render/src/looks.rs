@@ -121,14 +121,8 @@ impl<'a> AssetItem<'a> {
         };
         let colors = (!mesh.colors.is_empty()).then(|| corners.map(|v| mesh.colors[v]));
         let texture = material.base_color_texture.as_ref().and_then(|slot| {
-            let k = mesh.material.get(tri).copied()? as usize;
-            let texels = self.textures.get(k)?.as_ref()?;
-            let set = slot
-                .transform
-                .and_then(|t| t.tex_coord)
-                .unwrap_or(slot.tex_coord);
-            let uv = mesh.uv.get(set as usize).filter(|uv| !uv.is_empty())?;
-            Some((texels, slot, corners.map(|v| uv[v])))
+            let (texels, uv) = self.mapped(tri, slot, self.textures, corners)?;
+            Some((texels, slot, uv))
         });
         TriangleLooks {
             factor: Vec4::from(material.base_color),
@@ -140,18 +134,32 @@ impl<'a> AssetItem<'a> {
         }
     }
 
-    /// What the normal map of triangle `tri` needs, where it is drawn: the map, its slot and
-    /// scale, and the corners' coordinates, normals and tangents.
-    fn bumps(&self, tri: usize, material: &'a Material, corners: [usize; 3]) -> Option<Bumps<'a>> {
+    /// The decoded texture of `slot` for triangle `tri` (from `maps`, one per material) and
+    /// its corners' coordinates in the slot's set; `None` where either is missing.
+    fn mapped(
+        &self,
+        tri: usize,
+        slot: &voxlod_asset::TextureRef,
+        maps: &'a [Option<Texels>],
+        corners: [usize; 3],
+    ) -> Option<(&'a Texels, [Vec2; 3])> {
         let mesh = &self.asset.mesh;
-        let slot = material.normal_texture.as_ref()?;
         let k = mesh.material.get(tri).copied()? as usize;
-        let texels = self.normal_maps.get(k)?.as_ref()?;
+        let texels = maps.get(k)?.as_ref()?;
         let set = slot
             .transform
             .and_then(|t| t.tex_coord)
             .unwrap_or(slot.tex_coord);
         let uv = mesh.uv.get(set as usize).filter(|uv| !uv.is_empty())?;
+        Some((texels, corners.map(|v| uv[v])))
+    }
+
+    /// What the normal map of triangle `tri` needs, where it is drawn: the map, its slot and
+    /// scale, and the corners' coordinates, normals and tangents.
+    fn bumps(&self, tri: usize, material: &'a Material, corners: [usize; 3]) -> Option<Bumps<'a>> {
+        let mesh = &self.asset.mesh;
+        let slot = material.normal_texture.as_ref()?;
+        let (texels, uv) = self.mapped(tri, slot, self.normal_maps, corners)?;
         let n = mesh.positions.len();
         if mesh.normals.len() != n || mesh.tangents.len() != n {
             return None;
@@ -160,7 +168,7 @@ impl<'a> AssetItem<'a> {
             texels,
             slot,
             scale: material.normal_scale,
-            uv: corners.map(|v| uv[v]),
+            uv,
             normals: corners.map(|v| mesh.normals[v]),
             tangents: corners.map(|v| mesh.tangents[v]),
         })
