@@ -659,12 +659,13 @@ def labels(
     keys, chunks = grid_keys.ravel(), _chunk_bounds(array)
     shape = tuple(int(n) for n in array.shape)
     chosen = _chosen_labels(found, labels)
+    near = _touching_boxes(found, chosen) if shared and triangles is not None else {}
     tasks = []
     for value in chosen:
         _, first, last, holding = found[value]
         if shared:
-            low, high, limiting = _shared_box(value, found, chosen, shape, shared_halo(smooth),
-                                              triangles is not None)
+            touching = near[value] if triangles is not None else []
+            low, high, limiting = _shared_box(value, found, touching, shape, shared_halo(smooth))
             box_origin = tuple(o + l * s for o, l, s in zip(origin, low, spacing))
             parts, corners = _window_chunks(grid_keys, bounds, low, high)
             tasks.append((_shared_label, value, limiting, low, high, parts, corners, spacing,
@@ -690,30 +691,60 @@ def labels(
             for d in results]
 
 
-def _shared_box(value: int, found: dict, chosen: List[int], shape: Sequence[int], halo: int,
-                budget: bool) -> Tuple[List[int], List[int], List[int]]:
+def _shared_box(value: int, found: dict, touching: List[int], shape: Sequence[int],
+                halo: int) -> Tuple[List[int], List[int], List[int]]:
     """The box (first sample, end) of ``value``'s task with ``shared``: its box grown by
-    ``halo`` and, under a budget, the boxes of the labels of ``chosen`` whose boxes touch its
-    own (its possible neighbours, whose shares limit its patches) grown by
+    ``halo`` and the boxes of the labels ``touching`` it (under a budget, its possible
+    neighbours, whose shares limit its patches: :func:`_touching_boxes`) grown by
     :data:`NEIGHBOUR_MARGIN`; cut to the map. Also the labels to ask the task for: ``value``
     first, then those neighbours."""
     _, first, last, _ = found[value]
     low = [f - halo for f in first]
     high = [l + 1 + halo for l in last]
-    limiting = [int(value)]
-    if budget:
-        for other in chosen:
+    for other in touching:
+        _, o_first, o_last, _ = found[other]
+        low = [min(a, of - NEIGHBOUR_MARGIN) for a, of in zip(low, o_first)]
+        high = [max(b, ol + 1 + NEIGHBOUR_MARGIN) for b, ol in zip(high, o_last)]
+    low = [max(a, 0) for a in low]
+    high = [min(b, n) for b, n in zip(high, shape)]
+    return low, high, [int(value)] + [int(o) for o in touching]
+
+
+TOUCH_BUCKET = 64
+"""Side, in voxels, of the buckets by which :func:`_touching_boxes` finds boxes that touch."""
+
+
+def _touching_boxes(found: dict, chosen: List[int]) -> dict:
+    """Per label of ``chosen``, the other labels of ``chosen`` whose boxes touch or overlap its
+    own (grown by one voxel), in the order of ``chosen``. Each box is entered in the buckets of
+    :data:`TOUCH_BUCKET` voxels it covers, so only labels sharing a bucket are compared: about
+    linear in the labels for boxes smaller than a bucket, rather than quadratic."""
+    buckets: dict = {}
+    cells = {}
+    for n, value in enumerate(chosen):
+        _, first, last, _ = found[value]
+        ranges = [range((f - 1) // TOUCH_BUCKET, (l + 1) // TOUCH_BUCKET + 1)
+                  for f, l in zip(first, last)]
+        cells[value] = list(itertools.product(*ranges))
+        for cell in cells[value]:
+            buckets.setdefault(cell, []).append(n)
+    out = {}
+    for value in chosen:
+        _, first, last, _ = found[value]
+        seen = set()
+        for cell in cells[value]:
+            seen.update(buckets[cell])
+        near = []
+        for n in sorted(seen):
+            other = chosen[n]
             if other == value:
                 continue
             _, o_first, o_last, _ = found[other]
             if all(of <= l + 1 and f <= ol + 1
                    for f, l, of, ol in zip(first, last, o_first, o_last)):
-                limiting.append(int(other))
-                low = [min(a, of - NEIGHBOUR_MARGIN) for a, of in zip(low, o_first)]
-                high = [max(b, ol + 1 + NEIGHBOUR_MARGIN) for b, ol in zip(high, o_last)]
-    low = [max(a, 0) for a in low]
-    high = [min(b, n) for b, n in zip(high, shape)]
-    return low, high, limiting
+                near.append(other)
+        out[value] = near
+    return out
 
 
 def precomputed(
