@@ -141,8 +141,21 @@ pub fn bake(
     Ok(baked)
 }
 
-/// [`bake`] on an atlas made already (`atlas(level, &options.atlas_options())`, perhaps
-/// beside other levels' atlases: xatlas packs charts on one core). Its report's seconds are
+/// The atlases of several levels, each made as [`bake`] makes it (`atlas(level,
+/// &options.atlas_options())`), side by side on all cores: xatlas packs one level's charts on
+/// one core, and the packing is most of an atlas's time. `None` where a level is not to be
+/// baked. Bake each with [`bake_on`].
+pub fn atlases(
+    levels: &[Option<(&TriangleMesh, &BakeOptions)>],
+) -> Vec<Option<Result<Atlas, BakeError>>> {
+    levels
+        .par_iter()
+        .map(|l| l.map(|(level, options)| atlas(level, &options.atlas_options())))
+        .collect()
+}
+
+/// [`bake`] on an atlas made already (`atlas(level, &options.atlas_options())`, perhaps by
+/// [`atlases`] beside other levels'). Its report's seconds are
 /// the atlas's and this call's. Refuses an atlas that is not `level`'s (another triangle
 /// count, or a vertex copying no vertex of the level).
 pub fn bake_on(

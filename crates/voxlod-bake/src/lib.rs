@@ -32,7 +32,7 @@ pub mod tangents;
 mod xatlas;
 
 pub use atlas::{atlas, Atlas, AtlasOptions, TextureSize};
-pub use bake::{bake, bake_on, BakeOptions, BakeReport, Baked};
+pub use bake::{atlases, bake, bake_on, BakeOptions, BakeReport, Baked};
 pub use dilate::Dilation;
 pub use encode::ImageFormat;
 pub use error::BakeError;

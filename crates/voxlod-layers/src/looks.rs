@@ -26,9 +26,8 @@
 use std::collections::HashMap;
 
 use glam::Vec2;
-use rayon::prelude::*;
 use voxlod_asset::{Asset, Image};
-use voxlod_bake::{atlas, Atlas, BakeError, BakeOptions, BakeReport};
+use voxlod_bake::{Atlas, BakeError, BakeOptions, BakeReport};
 use voxlod_core::TriangleMesh;
 
 use crate::extract::{Layer, LayeredMesh};
@@ -141,11 +140,10 @@ pub fn bake_layers(
         looks: Vec::with_capacity(layered.layers.len()),
         warnings: Vec::new(),
     };
-    // xatlas packs a layer's charts on one core: the layers' atlases are made side by side.
-    let atlas_options = bake_options.atlas_options();
-    let atlases: Vec<Option<Result<Atlas, BakeError>>> = (layered.layers.par_iter())
-        .map(|l| (!l.mesh.triangles.is_empty()).then(|| atlas(&l.mesh, &atlas_options)))
+    let each: Vec<_> = (layered.layers.iter())
+        .map(|l| (!l.mesh.triangles.is_empty()).then_some((&l.mesh, &bake_options)))
         .collect();
+    let atlases = voxlod_bake::atlases(&each);
     for (i, (layer, atlas)) in layered.layers.iter().zip(atlases).enumerate() {
         let Some(atlas) = atlas else {
             out.mesh.layers.push(layer.clone());

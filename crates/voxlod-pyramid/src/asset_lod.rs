@@ -23,9 +23,8 @@
 //! Beyond the paper: He et al. (1995) carry positions only.
 //! Cost: the route's, plus one nearest-point pass per level (O(V log N)).
 
-use rayon::prelude::*;
 use voxlod_asset::{Asset, AssetError};
-use voxlod_bake::{atlas, Atlas, BakeError, BakeOptions};
+use voxlod_bake::BakeOptions;
 use voxlod_budget::{asset_levels, Looks};
 use voxlod_core::{mesh_topology, CoreError};
 
@@ -137,10 +136,10 @@ fn bake_transferred(asset: &Asset, made: &mut AssetLod) -> Result<(), PyramidErr
     let options: Vec<Option<BakeOptions>> = (made.assets.iter().zip(&made.lod.levels))
         .map(|(level, lod_level)| baked(level, lod_level))
         .collect();
-    // xatlas packs a level's charts on one core: the levels' atlases are made side by side.
-    let atlases: Vec<Option<Result<Atlas, BakeError>>> = (made.lod.levels.par_iter().zip(&options))
-        .map(|(l, o)| o.as_ref().map(|o| atlas(&l.mesh, &o.atlas_options())))
+    let each: Vec<_> = (made.lod.levels.iter().zip(&options))
+        .map(|(l, o)| o.as_ref().map(|o| (&l.mesh, o)))
         .collect();
+    let atlases = voxlod_bake::atlases(&each);
     let levels = made.assets.iter_mut().zip(&made.lod.levels);
     for (((level, lod_level), atlas), options) in levels.zip(atlases).zip(&options) {
         let (Some(atlas), Some(options)) = (atlas, options) else {

@@ -23,10 +23,9 @@
 
 use std::time::Instant;
 
-use rayon::prelude::*;
 use serde::Serialize;
 use voxlod_asset::Asset;
-use voxlod_bake::{atlas, bake_on, Atlas, BakeError, BakeOptions, BakeReport, TextureSize};
+use voxlod_bake::{atlases, bake_on, BakeOptions, BakeReport, TextureSize};
 use voxlod_budget::{levels_with, BudgetLevel, InputReport, PortfolioOptions};
 use voxlod_fit::FitOptions;
 use voxlod_sampling::Filter;
@@ -186,10 +185,10 @@ pub fn proxy_with(
     {
         return Err(PyramidError::Cancelled);
     }
-    // xatlas packs a level's charts on one core: the levels' atlases are made side by side.
-    let atlases: Vec<Result<Atlas, BakeError>> = (run.levels.par_iter().zip(&bake_options))
-        .map(|(level, o)| atlas(&level.mesh, &o.atlas_options()))
+    let each: Vec<_> = (run.levels.iter().zip(&bake_options))
+        .map(|(level, o)| Some((&level.mesh, o)))
         .collect();
+    let atlases = atlases(&each).into_iter().flatten();
     let mut levels = Vec::with_capacity(run.levels.len());
     let made = run.levels.into_iter().zip(atlases).zip(&bake_options);
     for (i, ((level, atlas), bake_options)) in made.enumerate() {
