@@ -27,16 +27,27 @@ pub(super) struct Layout {
 }
 
 impl Layout {
-    /// Counts the vertices per corner row. Cost: O(vertices), one pass.
+    /// Finds where each corner row starts. Cost: O(vertices), one parallel pass over the
+    /// corners (the rows' first vertices found where the row changes), then O(rows).
     pub(super) fn new(surface: &SharedSurface) -> Layout {
         let [_, ny, nz] = surface.dims;
         let per_plane = ny + 1;
-        let mut rows = vec![0u32; per_plane * (nz + 1) + 1];
-        for c in &surface.corners {
-            rows[c[2] as usize * per_plane + c[1] as usize + 1] += 1;
-        }
-        for r in 1..rows.len() {
-            rows[r] += rows[r - 1];
+        let key = |c: &[u32; 3]| c[2] as usize * per_plane + c[1] as usize;
+        let corners = &surface.corners;
+        // (row, its first vertex) wherever the row changes, in order.
+        let changes: Vec<(usize, u32)> = (0..corners.len())
+            .into_par_iter()
+            .with_min_len(1 << 16)
+            .filter(|&v| v == 0 || key(&corners[v]) != key(&corners[v - 1]))
+            .map(|v| (key(&corners[v]), v as u32))
+            .collect();
+        let total = per_plane * (nz + 1);
+        let mut rows = vec![corners.len() as u32; total + 1];
+        let mut next = 0;
+        for (row, first) in changes {
+            // Rows `next..=row` (empty ones before it included) start at `first`.
+            rows[next..=row].fill(first);
+            next = row + 1;
         }
         Layout {
             rows,
@@ -104,8 +115,8 @@ pub(super) fn moves(surface: &SharedSurface) -> Vec<u16> {
 }
 
 /// Each vertex's neighbours along −y, +y, −z, +z where `moves` uses them (`u32::MAX`
-/// elsewhere), by merging each corner row with the rows beside it. Cost: O(vertices), parallel
-/// over planes.
+/// elsewhere), by merging each corner row with the four rows beside it in one walk. Cost:
+/// O(vertices), parallel over planes.
 pub(super) fn neighbours(surface: &SharedSurface, layout: &Layout, moves: &[u16]) -> Vec<[u32; 4]> {
     let mut out = vec![[u32::MAX; 4]; moves.len()];
     let (tasks, bounds) = layout.tasks(8);
@@ -117,47 +128,67 @@ pub(super) fn neighbours(surface: &SharedSurface, layout: &Layout, moves: &[u16]
         .for_each(|((part, (a, b)), &first)| {
             for k in a..b {
                 for j in 0..layout.per_plane {
-                    let own = layout.row(k, j);
+                    let empty = 0..0;
                     let beside = [
-                        (j > 0).then(|| layout.row(k, j - 1)),
-                        (j + 1 < layout.per_plane).then(|| layout.row(k, j + 1)),
-                        (k > 0).then(|| layout.row(k - 1, j)),
-                        (k + 1 < layout.planes).then(|| layout.row(k + 1, j)),
+                        if j > 0 {
+                            layout.row(k, j - 1)
+                        } else {
+                            empty.clone()
+                        },
+                        if j + 1 < layout.per_plane {
+                            layout.row(k, j + 1)
+                        } else {
+                            empty.clone()
+                        },
+                        if k > 0 {
+                            layout.row(k - 1, j)
+                        } else {
+                            empty.clone()
+                        },
+                        if k + 1 < layout.planes {
+                            layout.row(k + 1, j)
+                        } else {
+                            empty
+                        },
                     ];
-                    for (slot, other) in beside.into_iter().enumerate() {
-                        if let Some(other) = other {
-                            merge_row(surface, moves, own.clone(), other, slot, first, part);
-                        }
-                    }
+                    merge_rows(surface, moves, layout.row(k, j), beside, first, part);
                 }
             }
         });
     out
 }
 
-/// Finds, for the vertices of row `own` that move along direction `slot + 2`, the vertex of
-/// row `other` at the same x (two pointers over the sorted x's).
-fn merge_row(
+/// Finds, for each vertex of row `own` that moves along direction `slot + 2`, the vertex of
+/// row `beside[slot]` at the same x (a pointer per row beside, all rows sorted by x).
+fn merge_rows(
     surface: &SharedSurface,
     moves: &[u16],
     own: std::ops::Range<usize>,
-    other: std::ops::Range<usize>,
-    slot: usize,
+    beside: [std::ops::Range<usize>; 4],
     first: usize,
     part: &mut [[u32; 4]],
 ) {
-    let bit = 1u16 << (slot + 2);
-    let mut at = other.start;
+    let corners = &surface.corners;
+    let mut at = beside.clone().map(|r| r.start);
     for v in own {
-        if moves[v] & bit == 0 {
+        let m = moves[v] >> 2 & 15;
+        if m == 0 {
             continue;
         }
-        let x = surface.corners[v][0];
-        while at < other.end && surface.corners[at][0] < x {
-            at += 1;
-        }
-        if at < other.end && surface.corners[at][0] == x {
-            part[v - first][slot] = at as u32;
+        let x = corners[v][0];
+        for slot in 0..4 {
+            if m >> slot & 1 == 0 {
+                continue;
+            }
+            let end = beside[slot].end;
+            let mut w = at[slot];
+            while w < end && corners[w][0] < x {
+                w += 1;
+            }
+            at[slot] = w;
+            if w < end && corners[w][0] == x {
+                part[v - first][slot] = w as u32;
+            }
         }
     }
 }
