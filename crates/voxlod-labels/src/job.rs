@@ -48,6 +48,11 @@ pub struct SurfaceOptions {
     /// At least 4; `None` keeps every triangle. Cost: about one quadric simplification of every
     /// triangle, O(F log F), in parallel over patches or labels.
     pub triangles: Option<usize>,
+    /// Where the map's first voxel lies in a larger map it is a block of, for
+    /// [`Surface::Shared`] (the blockwise route; [`SurfaceNetsOptions::offset`]): the map's
+    /// origin is then the larger map's, and the shared surface is placed and smoothed as
+    /// there. Zero for a whole map.
+    pub offset: [u32; 3],
 }
 
 /// One label with its mesh.
@@ -125,6 +130,7 @@ struct Plan {
     to_frame: Placement,
     voxel: f64,
     triangles: Option<usize>,
+    offset: [u32; 3],
 }
 
 impl Plan {
@@ -142,6 +148,7 @@ impl Plan {
             to_frame,
             voxel,
             triangles: options.triangles,
+            offset: options.offset,
         })
     }
 }
@@ -161,7 +168,11 @@ fn mesh<'a>(
     Ok(match surface {
         Surface::MarchingCubes => Meshed::Meshes(marching_cubes_of(map, &plan.chosen)?),
         Surface::Shared(smoothing) => {
-            let shared = surface_nets(map, &SurfaceNetsOptions::default())?;
+            let nets = SurfaceNetsOptions {
+                offset: plan.offset,
+                ..SurfaceNetsOptions::default()
+            };
+            let shared = surface_nets(map, &nets)?;
             Meshed::Shared(Box::new(shared), smoothing)
         }
     })

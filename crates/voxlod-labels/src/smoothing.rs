@@ -30,17 +30,26 @@
 //! fused into wavefront sweeps over the corner planes (`smoothing/relax.rs`); the volumes,
 //! gradients and Gram matrix are in `smoothing/restore.rs`. Cost: O(vertices) per pass in
 //! parallel, the displacements read and written once per sweep of several passes; the
-//! restoring rounds O(triangles) each plus a sparse solve over the labels. Every sum is taken
-//! in an order fixed by the surface, so the result does not depend on the number of threads.
+//! restoring rounds O(triangles) each plus a sparse solve over the labels. The restoring's sums
+//! are exact in fixed point (`smoothing/sums.rs`), so the result depends neither on the number
+//! of threads nor on whether the map is smoothed whole or block by block: a block placed in
+//! the map ([`SharedSurface::offset`]) with a wide enough margin gives its inner vertices the
+//! whole map's positions bit for bit, once its pressures are the whole map's
+//! ([`restoring_sums`], [`restoring_pressure`], [`SmoothingOptions::pressures`]; the blockwise
+//! route of `voxlod.dask.labels`). That is beyond the papers.
 
 mod relax;
 mod restore;
+mod sums;
+
+pub use restore::Owned;
+pub use sums::PairSums;
 
 use rayon::prelude::*;
 use voxlod_core::glam::{DMat3, DVec3, Vec3};
 use voxlod_core::memory;
 
-use crate::surface_nets::SharedSurface;
+use crate::surface_nets::{LabelSlots, SharedSurface};
 use crate::LabelsError;
 
 /// How [`smooth`] smooths.
@@ -64,6 +73,20 @@ pub struct SmoothingOptions {
     pub volume_tolerance: f64,
     /// Most restoring rounds.
     pub restore_rounds: usize,
+    /// The restoring's pressures, one per round, solved elsewhere: the blockwise route solves
+    /// them over the whole map ([`restoring_sums`], [`restoring_pressure`]) and each block
+    /// applies them, in order, instead of solving over its own labels. `None` solves here.
+    pub pressures: Option<Vec<Pressure>>,
+}
+
+/// One restoring round's pressure per label (module docs, step 5); labels not listed (the
+/// background among them) have 0.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Pressure {
+    /// The labels, increasing.
+    pub labels: Vec<u32>,
+    /// Each label's pressure.
+    pub values: Vec<f64>,
 }
 
 impl Default for SmoothingOptions {
@@ -77,6 +100,7 @@ impl Default for SmoothingOptions {
             keep_volume: true,
             volume_tolerance: 1e-4,
             restore_rounds: 4,
+            pressures: None,
         }
     }
 }
@@ -170,16 +194,22 @@ pub struct SmoothingReport {
 
 /// Where each vertex may go: its start (the corner, in grid space) and its box's half sides.
 struct Frame {
+    /// The surface's first corner in the whole map ([`SharedSurface::offset`]).
+    offset: [u32; 3],
     spacing: Vec3,
+    /// The spacing, unrounded.
+    grid_spacing: DVec3,
     origin: DVec3,
     to_world: DMat3,
-    to_grid: DMat3,
     half: Vec3,
 }
 
 impl Frame {
+    /// Where corner `corner` of the surface starts, in grid space: the whole map's corner
+    /// `corner + offset`, at index `− ½` (rounded once, as the nets place it).
     fn start(&self, corner: [u32; 3]) -> Vec3 {
-        (Vec3::new(corner[0] as f32, corner[1] as f32, corner[2] as f32) - 0.5) * self.spacing
+        let c: [f64; 3] = std::array::from_fn(|a| (corner[a] + self.offset[a]) as f64);
+        ((DVec3::from(c) - 0.5) * self.grid_spacing).as_vec3()
     }
 
     /// The box's half sides of a vertex with these border axes (0 along them).
@@ -192,84 +222,59 @@ impl Frame {
     }
 }
 
-/// Smooths `surface` in place (module docs) and reports the volumes. Volumes are measured
-/// against those the surface had when called (for a fresh surface, the voxel volumes). Fails
-/// with [`LabelsError::InvalidOption`] on options out of range, or when the memory limit
+/// Smooths `surface` in place (module docs) and reports the volumes. Smoothing starts from the
+/// surface as the nets make it, every vertex at its corner (the positions it holds are
+/// replaced), so the volumes before are the voxel volumes. With
+/// [`SmoothingOptions::pressures`], the restoring applies them rather than solving its own.
+/// Fails with [`LabelsError::InvalidOption`] on options out of range, or when the memory limit
 /// refuses the work arrays (about 34 bytes per vertex beside the surface, then 20 while the
 /// volumes are restored).
 ///
 /// Cost: per λ|μ pair one parallel sweep over the vertices; a few passes over the triangles
 /// for the volumes and each restoring round. The result does not depend on the number of
-/// threads.
+/// threads, and a block of a map cut with a wide enough margin (`voxlod.dask.labels`) gives
+/// its inner vertices the whole map's positions bit for bit.
 pub fn smooth(
     surface: &mut SharedSurface,
     options: &SmoothingOptions,
 ) -> Result<SmoothingReport, LabelsError> {
-    options.check()?;
-    let n = surface.positions.len();
-    memory::check_allocation(
-        "smoothing's work arrays",
-        memory::bytes_of::<[u32; 7]>(n) + memory::bytes_of::<u16>(n),
-    )?;
-    let world = surface.world;
-    let frame = Frame {
-        spacing: world.spacing.as_vec3(),
-        origin: world.origin,
-        to_world: world.direction,
-        to_grid: world.direction.inverse(),
-        half: (world.spacing * options.constraint).as_vec3(),
+    let (frame, layout, mut q) = start(surface, options)?;
+    let before = restore::pair_volumes(surface, &frame, &q, &restore::Owned::ALL);
+    let labels = before.labels();
+    let slots = LabelSlots::new(&labels);
+    let target = restore::volumes_of(&before, &slots, labels.len());
+    let turned = relax_and_turn(surface, options, &frame, &layout, &mut q);
+    let restoring = restore::Restoring {
+        surface,
+        layout: &layout,
+        frame: &frame,
     };
-    // The positions' buffer holds grid-space positions, then serves as the second buffer of
-    // the displacements, then holds the result.
-    let mut q = std::mem::take(&mut surface.positions);
-    q.par_iter_mut()
-        .for_each(|p| *p = (frame.to_grid * (p.as_dvec3() - frame.origin)).as_vec3());
-    let (labels, slots, before) = restore::labels_and_volumes(surface, &q);
-    let layout = relax::Layout::new(surface);
-    if options.iterations > 0 {
-        let mut d: Vec<Vec3> = q
-            .par_iter()
-            .zip(surface.corners.par_iter())
-            .map(|(p, &c)| *p - frame.start(c))
-            .collect();
-        let moves = relax::moves(surface);
-        let near = relax::neighbours(surface, &layout, &moves);
-        let factors = [options.lambda as f32, options.mu() as f32];
-        let steps = relax::Steps::new(frame.spacing, frame.half, factors);
-        relax::relax(
-            &layout,
-            &moves,
-            &near,
-            &steps,
-            &mut d,
-            &mut q,
-            options.iterations,
-        );
-        drop((moves, near));
-        d.par_iter_mut()
-            .zip(surface.corners.par_iter())
-            .for_each(|(p, &c)| *p += frame.start(c));
-        q = d;
-    }
-    let turned = if options.turn_diagonals {
-        turn_diagonals(&mut surface.triangles, &q)
-    } else {
-        0
+    let targets = restore::Targets {
+        labels: &labels,
+        slots: &slots,
+        volumes: &target,
     };
-    let (rounds, measured) = if options.keep_volume {
-        restore::restore(surface, &layout, &frame, &mut q, &slots, &before, options)?
-    } else {
-        (0, None)
+    let (rounds, measured) = match (options.keep_volume, &options.pressures) {
+        (false, _) => (0, None),
+        (true, None) => restoring.restore(&mut q, &targets, options)?,
+        (true, Some(given)) => {
+            for pressure in given {
+                restoring.apply_given(&mut q, pressure);
+            }
+            (given.len(), None)
+        }
     };
-    let after =
-        measured.unwrap_or_else(|| restore::label_volumes(surface, &q, &slots, labels.len()));
+    let after = measured.unwrap_or_else(|| {
+        let pairs = restore::pair_volumes(surface, &frame, &q, &restore::Owned::ALL);
+        restore::volumes_of(&pairs, &slots, labels.len())
+    });
     let constrained = constrained(surface, &frame, &q);
     q.par_iter_mut()
         .for_each(|g| *g = (frame.origin + frame.to_world * g.as_dvec3()).as_vec3());
     surface.positions = q;
     let volumes: Vec<VolumeChange> = labels
         .iter()
-        .zip(before.iter().zip(&after))
+        .zip(target.iter().zip(&after))
         .map(|(&label, (&before, &after))| VolumeChange {
             label,
             before,
@@ -288,6 +293,123 @@ pub fn smooth(
         constrained_vertices: constrained,
         turned_diagonals: turned,
     })
+}
+
+/// The frame, the corner rows and the vertices at their corners (grid space), after checking
+/// the options and the memory the work needs.
+fn start(
+    surface: &SharedSurface,
+    options: &SmoothingOptions,
+) -> Result<(Frame, relax::Layout, Vec<Vec3>), LabelsError> {
+    options.check()?;
+    let n = surface.corners.len();
+    memory::check_allocation(
+        "smoothing's work arrays",
+        memory::bytes_of::<[u32; 7]>(n) + memory::bytes_of::<u16>(n),
+    )?;
+    let world = surface.world;
+    let frame = Frame {
+        offset: surface.offset,
+        spacing: world.spacing.as_vec3(),
+        grid_spacing: world.spacing,
+        origin: world.origin,
+        to_world: world.direction,
+        half: (world.spacing * options.constraint).as_vec3(),
+    };
+    let q: Vec<Vec3> = surface
+        .corners
+        .par_iter()
+        .map(|&c| frame.start(c))
+        .collect();
+    let layout = relax::Layout::new(surface);
+    Ok((frame, layout, q))
+}
+
+/// The λ|μ passes on `q`, then the diagonals turned; returns how many turned.
+fn relax_and_turn(
+    surface: &mut SharedSurface,
+    options: &SmoothingOptions,
+    frame: &Frame,
+    layout: &relax::Layout,
+    q: &mut Vec<Vec3>,
+) -> usize {
+    if options.iterations > 0 {
+        let mut d = vec![Vec3::ZERO; q.len()];
+        let moves = relax::moves(surface);
+        let near = relax::neighbours(surface, layout, &moves);
+        let factors = [options.lambda as f32, options.mu() as f32];
+        let steps = relax::Steps::new(frame.spacing, frame.half, factors);
+        relax::relax(layout, &moves, &near, &steps, &mut d, q, options.iterations);
+        drop((moves, near));
+        d.par_iter_mut()
+            .zip(surface.corners.par_iter())
+            .for_each(|(p, &c)| *p += frame.start(c));
+        *q = d;
+    }
+    if options.turn_diagonals {
+        turn_diagonals(&mut surface.triangles, q)
+    } else {
+        0
+    }
+}
+
+/// What one block of a map adds to the restoring's sums over the whole map (module
+/// `smoothing/sums.rs`): over the triangles and vertices `owned` holds, the label pairs'
+/// volumes before smoothing, and after smoothing and the rounds of
+/// [`SmoothingOptions::pressures`] so far, the pairs' volumes and Gram weights.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RestoringSums {
+    /// The pairs' volumes before smoothing.
+    pub before: PairSums,
+    /// The pairs' volumes now.
+    pub volumes: PairSums,
+    /// The pairs' Gram weights now.
+    pub weights: PairSums,
+}
+
+/// The restoring's sums of `surface` (a block of a map, [`SharedSurface::offset`] placing it,
+/// cut with a margin wide enough that the vertices `owned` holds and their neighbours move as
+/// in the whole map): smoothed as [`smooth`] smooths, the given pressures applied, then summed.
+/// The blocks' sums added ([`PairSums::merged`]) are the whole map's, so
+/// [`restoring_pressure`] solves the round the whole map would. The surface's triangles are
+/// left turned.
+pub fn restoring_sums(
+    surface: &mut SharedSurface,
+    options: &SmoothingOptions,
+    owned: Owned,
+) -> Result<RestoringSums, LabelsError> {
+    let (frame, layout, mut q) = start(surface, options)?;
+    let before = restore::pair_volumes(surface, &frame, &q, &owned);
+    relax_and_turn(surface, options, &frame, &layout, &mut q);
+    let restoring = restore::Restoring {
+        surface,
+        layout: &layout,
+        frame: &frame,
+    };
+    for pressure in options.pressures.iter().flatten() {
+        restoring.apply_given(&mut q, pressure);
+    }
+    let g = restore::gradients(surface, &layout, &frame, &q, &owned);
+    let weights = restore::gram_weights(surface, &frame, &g, &owned);
+    Ok(RestoringSums {
+        before,
+        volumes: g.volumes,
+        weights,
+    })
+}
+
+/// The next round's pressure from the whole map's sums ([`restoring_sums`] of every block,
+/// merged), or `None` when every label's volume is within `options.volume_tolerance` of its
+/// volume before smoothing (the restoring stops). As the round [`smooth`] solves.
+pub fn restoring_pressure(sums: &RestoringSums, options: &SmoothingOptions) -> Option<Pressure> {
+    let labels = sums.before.labels();
+    let slots = LabelSlots::new(&labels);
+    let target = restore::volumes_of(&sums.before, &slots, labels.len());
+    let volumes = restore::volumes_of(&sums.volumes, &slots, labels.len());
+    if restore::within_tolerance(&target, &volumes, options.volume_tolerance) {
+        return None;
+    }
+    Some(restore::solve(&labels, &target, &volumes, &sums.weights))
 }
 
 /// Turns each quad (a pair of triangles sharing a diagonal) to its shorter diagonal; returns

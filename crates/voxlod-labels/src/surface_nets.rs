@@ -55,6 +55,10 @@ pub struct SurfaceNetsOptions {
     /// Corner planes per parallel task; 0 picks from the volume's depth (at least 8 planes,
     /// about 32 tasks). The output does not depend on it.
     pub slab_planes: usize,
+    /// Where the map's first voxel lies in a larger map it is a block of (the blockwise route):
+    /// its vertices are placed, and smoothed, as that map's corners `corner + offset`, the
+    /// map's origin being the larger map's. Zero for a whole map.
+    pub offset: [u32; 3],
 }
 
 /// What the eight voxels around a vertex's corner say about it (bit set, see the methods).
@@ -144,6 +148,8 @@ pub struct SharedSurface {
     pub dims: [usize; 3],
     /// The map's index-to-world transform.
     pub world: WorldTransform,
+    /// [`SurfaceNetsOptions::offset`]: corner `c` is the whole map's corner `c + offset`.
+    pub offset: [u32; 3],
 }
 
 /// The shared surface of every label of `map` (the module's contract). Fails only when the
@@ -155,7 +161,7 @@ pub fn surface_nets(
     map: &LabelVolume,
     options: &SurfaceNetsOptions,
 ) -> Result<SharedSurface, LabelsError> {
-    let net = Net::new(map);
+    let net = Net::new(map, options.offset);
     let [nx, ny, nz] = map.grid.dims;
     let layer = memory::bytes_of::<u32>((nx + 2) * (ny + 2) * 3 + (nx + 1) * (ny + 1) * 2);
     memory::check_allocation(
@@ -200,6 +206,7 @@ pub fn surface_nets(
         flags: out.flags,
         dims: map.grid.dims,
         world: map.world(),
+        offset: options.offset,
     })
 }
 
@@ -289,6 +296,8 @@ struct Net<'a> {
     origin: DVec3,
     /// The transform turns a right-handed index frame left-handed: windings are reversed.
     flip: bool,
+    /// [`SurfaceNetsOptions::offset`], as a vector.
+    offset: DVec3,
 }
 
 /// Width of a padded voxel layer (one background voxel on each side of x and y).
@@ -297,7 +306,7 @@ fn padded_width(dims: [usize; 3]) -> usize {
 }
 
 impl<'a> Net<'a> {
-    fn new(map: &'a LabelVolume) -> Net<'a> {
+    fn new(map: &'a LabelVolume, offset: [u32; 3]) -> Net<'a> {
         let world = map.world();
         Net {
             values: &map.values,
@@ -305,6 +314,7 @@ impl<'a> Net<'a> {
             linear: world.direction * DMat3::from_diagonal(world.spacing),
             origin: world.origin,
             flip: world.flips_handedness(),
+            offset: DVec3::from(offset.map(f64::from)),
         }
     }
 
@@ -499,7 +509,7 @@ impl Net<'_> {
             if let Some((part, at)) = sink.as_mut() {
                 let border =
                     (i == 0 || i == nx) as u32 | ((j == 0 || j == ny) as u32) << 1 | k_border << 2;
-                let c = DVec3::new(i as f64, j as f64, k as f64) - 0.5;
+                let c = DVec3::new(i as f64, j as f64, k as f64) + self.offset - 0.5;
                 part.positions[**at] = (self.origin + self.linear * c).as_vec3();
                 part.corners[**at] = [i as u32, j as u32, k as u32];
                 part.flags[**at] = corner_flags(&octants, border);

@@ -276,7 +276,14 @@ fn random_maps_give_closed_outward_labels_of_their_voxel_volume_sharing_every_in
         }
         assert_interfaces_shared(&surface);
         // The slab split does not change the output.
-        let thin = surface_nets(&map, &SurfaceNetsOptions { slab_planes: 1 }).unwrap();
+        let thin = surface_nets(
+            &map,
+            &SurfaceNetsOptions {
+                slab_planes: 1,
+                ..SurfaceNetsOptions::default()
+            },
+        )
+        .unwrap();
         assert_eq!(thin, surface);
     }
 }

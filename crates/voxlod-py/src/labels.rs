@@ -15,6 +15,7 @@ use voxlod::labels::{LabelInfo, LabelOptions};
 
 use voxlod::core::{memory, Grid, LabelVolume};
 use voxlod::precomputed::{write_layer, PrecomputedOptions, Sharding};
+use voxlod::surfaces::smoothing::Pressure;
 use voxlod::surfaces::{LabelSurfaces, SmoothingOptions, Surface, SurfaceOptions};
 
 use crate::arrays::volume_slice;
@@ -103,7 +104,7 @@ fn label_dict<'py>(
 
 /// A label map from a C-ordered `(nz, ny, nx)` uint32 array, spacing and origin in axis order:
 /// its copy asked of the memory limit first.
-fn label_volume_from(
+pub(crate) fn label_volume_from(
     array: &PyReadonlyArray3<'_, u32>,
     spacing: [f64; 3],
     origin: [f64; 3],
@@ -153,8 +154,14 @@ type Surfaces<'py> = (Vec<Bound<'py, PyDict>>, Option<Bound<'py, PyDict>>);
 /// label (in increasing order, or that of `labels`) a dict of `label`, `voxels`,
 /// `voxel_volume`, `vertices`, `faces` and `normals` (area-weighted, empty when not asked for),
 /// and the smoothing's report (`None` without `shared`). The GIL is released while meshing.
+///
+/// For the blockwise route (`voxlod.dask.labels` with `shared`): `offset` places `map` in the
+/// whole map (its first sample's index there, array-axis order; `origin` is then the whole
+/// map's), and `pressures` are the restoring's rounds solved over the whole map
+/// (`shared_pressure`), applied instead of solving over `map` alone.
 #[pyfunction]
-#[pyo3(signature = (map, spacing, origin, labels, shared, smooth, normals, triangles=None))]
+#[pyo3(signature = (map, spacing, origin, labels, shared, smooth, normals, triangles=None,
+                    offset=None, pressures=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn label_surfaces<'py>(
     py: Python<'py>,
@@ -166,11 +173,13 @@ pub fn label_surfaces<'py>(
     smooth: Option<usize>,
     normals: bool,
     triangles: Option<usize>,
+    offset: Option<[u32; 3]>,
+    pressures: Option<Vec<PressureIn>>,
 ) -> PyResult<Surfaces<'py>> {
     let map = label_volume_from(&map, spacing, origin)?;
     let surface = if shared {
-        let mut smoothing = SmoothingOptions::default();
-        smoothing.iterations = smooth.unwrap_or(smoothing.iterations);
+        let mut smoothing = shared_smoothing(smooth);
+        smoothing.pressures = pressures.map(|p| p.into_iter().map(pressure_from).collect());
         Surface::Shared(smoothing)
     } else {
         Surface::MarchingCubes
@@ -180,6 +189,7 @@ pub fn label_surfaces<'py>(
         labels,
         frame: None,
         triangles,
+        offset: offset.map_or([0; 3], |[z, y, x]| [x, y, z]),
     };
     let found = py.detach(|| voxlod::label_surfaces(&map, &options).map_err(Failure::from))?;
     let smoothing = smoothing_dict(py, &found)?;
@@ -195,6 +205,20 @@ pub fn label_surfaces<'py>(
         out.push(dict);
     }
     Ok((out, smoothing))
+}
+
+/// The shared surface's smoothing with `smooth` iterations (the default's when `None`).
+pub(crate) fn shared_smoothing(smooth: Option<usize>) -> SmoothingOptions {
+    let mut smoothing = SmoothingOptions::default();
+    smoothing.iterations = smooth.unwrap_or(smoothing.iterations);
+    smoothing
+}
+
+/// One restoring round's pressure as Python holds it: labels and their pressures.
+pub(crate) type PressureIn = (Vec<u32>, Vec<f64>);
+
+pub(crate) fn pressure_from((labels, values): PressureIn) -> Pressure {
+    Pressure { labels, values }
 }
 
 /// The smoothing's report as a dict (`None` without smoothing): iterations and restoring rounds

@@ -16,6 +16,7 @@ mod facade;
 mod filter;
 mod labels;
 mod scene;
+mod shared_blocks;
 mod threshold_blockwise;
 
 use pyo3::prelude::*;
@@ -59,6 +60,12 @@ fn _voxlod(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(labels::label_surfaces, m)?)?;
     m.add_function(wrap_pyfunction!(labels::write_precomputed, m)?)?;
     m.add_function(wrap_pyfunction!(labels::chunk_labels, m)?)?;
+    m.add_function(wrap_pyfunction!(shared_blocks::shared_sums, m)?)?;
+    m.add_function(wrap_pyfunction!(shared_blocks::shared_pressure, m)?)?;
+    m.add(
+        "RESTORE_ROUNDS",
+        voxlod::surfaces::SmoothingOptions::default().restore_rounds,
+    )?;
     m.add_function(wrap_pyfunction!(scene::read_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene::write_scene, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

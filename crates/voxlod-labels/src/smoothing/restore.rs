@@ -2,16 +2,17 @@
 //! volume by the divergence theorem, the volume gradients at the vertices between two labels,
 //! the labels' Gram matrix and its conjugate-gradient solve.
 //!
-//! Every sum is taken in an order fixed by the surface alone (fixed chunks reduced in order),
-//! so the results do not depend on the number of threads.
+//! Every sum over triangles or vertices is exact in fixed point (`sums.rs`) and counts only
+//! what an [`Owned`] box of corners holds, so the results depend neither on the number of
+//! threads nor on whether the map is meshed whole or block by block.
 
 use rayon::prelude::*;
-use rustc_hash::FxHashMap;
 use voxlod_core::glam::Vec3;
 use voxlod_core::memory;
 
 use super::relax::Layout;
-use super::{Frame, SmoothingOptions};
+use super::sums::{summed, PairRuns, PairSums, Quantum};
+use super::{Frame, Pressure, SmoothingOptions};
 use crate::surface_nets::{LabelSlots, SharedSurface, VertexKind};
 use crate::LabelsError;
 
@@ -19,34 +20,81 @@ use crate::LabelsError;
 const TRIANGLE_CHUNK: usize = 1 << 15;
 /// Vertices per chunk of the Gram sums.
 const VERTEX_CHUNK: usize = 1 << 14;
-/// Corner planes per chunk of the gradient pass.
-const GRADIENT_PLANES: usize = 4;
+/// Corner planes per chunk of the gradient pass, counted from the whole map's first plane.
+const GRADIENT_PLANES: u32 = 4;
 
-/// Per label pair `[inside, outside]`, the signed volume its triangles enclose with the origin
-/// (grid space, which has the world's volumes up to the direction's determinant, ±1), summed
-/// per run of one pair within fixed chunks of triangles; the chunks' sums in chunk order.
-/// Cost: O(triangles), parallel.
-fn pair_volumes(surface: &SharedSurface, q: &[Vec3]) -> Vec<PairSums> {
+/// The corners a sum counts, in the whole map's numbering (`lo..hi` per axis): the triangles
+/// whose smallest corner (per axis the least of their three) and the vertices whose corner lie
+/// there. A map meshed block by block counts each triangle and vertex in exactly one block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Owned {
+    /// The first corner held.
+    pub lo: [u32; 3],
+    /// One past the last corner held, per axis.
+    pub hi: [u32; 3],
+}
+
+impl Owned {
+    /// Every corner.
+    pub const ALL: Owned = Owned {
+        lo: [0; 3],
+        hi: [u32::MAX; 3],
+    };
+
+    fn holds(&self, c: [u32; 3]) -> bool {
+        (0..3).all(|a| (self.lo[a]..self.hi[a]).contains(&c[a]))
+    }
+}
+
+/// Whether `owned` holds triangle `t` (its smallest corner, `offset` added).
+#[inline]
+fn holds_triangle(surface: &SharedSurface, owned: &Owned, t: [u32; 3]) -> bool {
+    let [a, b, c] = t.map(|v| surface.corners[v as usize]);
+    let low: [u32; 3] = std::array::from_fn(|i| a[i].min(b[i]).min(c[i]) + surface.offset[i]);
+    owned.holds(low)
+}
+
+/// Whether `owned` holds vertex `v` (its corner, `offset` added).
+#[inline]
+fn holds_vertex(surface: &SharedSurface, owned: &Owned, v: usize) -> bool {
+    let c = surface.corners[v];
+    owned.holds(std::array::from_fn(|i| c[i] + surface.offset[i]))
+}
+
+/// Per label pair `[inside, outside]`, the signed volume its owned triangles enclose with the
+/// grid's origin (grid space, which has the world's volumes up to the direction's
+/// determinant, ±1). Cost: O(triangles), parallel.
+pub(super) fn pair_volumes(
+    surface: &SharedSurface,
+    frame: &Frame,
+    q: &[Vec3],
+    owned: &Owned,
+) -> PairSums {
+    let quantum = Quantum::volume(frame.spacing);
+    let all = *owned == Owned::ALL;
     surface
         .triangles
         .par_chunks(TRIANGLE_CHUNK)
         .zip(surface.sides.par_chunks(TRIANGLE_CHUNK))
-        .map(|(tris, sides)| {
-            let mut runs = PairRuns::default();
+        .fold(PairRuns::default, |mut runs, (tris, sides)| {
             for (t, s) in tris.iter().zip(sides) {
+                if !all && !holds_triangle(surface, owned, *t) {
+                    continue;
+                }
                 let [a, b, c] = t.map(|v| q[v as usize].as_dvec3());
-                runs.add(*s, a.dot(b.cross(c)) / 6.0);
+                runs.add(*s, quantum.fixed(a.dot(b.cross(c)) / 6.0));
             }
-            runs.sums()
+            runs
         })
-        .collect()
+        .reduce(PairRuns::default, PairRuns::joined)
+        .sums(&quantum)
 }
 
-/// Each label's enclosed volume from [`pair_volumes`] (inside labels add, outside ones
+/// Each of `labels`' enclosed volume from `pairs` (inside labels add, outside ones
 /// subtract), by slot.
-fn volumes_of(pairs: &[PairSums], labels: &LabelSlots, count: usize) -> Vec<f64> {
-    let mut volumes = vec![0.0f64; count];
-    for &([inside, outside], v) in pairs.iter().flatten() {
+pub(super) fn volumes_of(pairs: &PairSums, labels: &LabelSlots, count: usize) -> Vec<f64> {
+    let mut volumes = vec![0i128; count];
+    for &([inside, outside], v) in &pairs.sums {
         if let Some(i) = labels.get(inside) {
             volumes[i] += v;
         }
@@ -54,95 +102,82 @@ fn volumes_of(pairs: &[PairSums], labels: &LabelSlots, count: usize) -> Vec<f64>
             volumes[o] -= v;
         }
     }
-    volumes
+    volumes.iter().map(|&v| v as f64 * pairs.unit).collect()
 }
 
-/// Each label's enclosed volume, by slot (`count` labels). Cost: O(triangles), parallel, the
-/// sums in an order fixed by the surface.
-pub(super) fn label_volumes(
-    surface: &SharedSurface,
-    q: &[Vec3],
-    labels: &LabelSlots,
-    count: usize,
-) -> Vec<f64> {
-    volumes_of(&pair_volumes(surface, q), labels, count)
+/// What the restoring moves: the surface, its corner rows and its frame.
+pub(super) struct Restoring<'a> {
+    pub surface: &'a SharedSurface,
+    pub layout: &'a Layout,
+    pub frame: &'a Frame,
 }
 
-/// The labels other than 0 that have triangles (sorted), their slots, and their volumes, in
-/// one pass over the triangles.
-pub(super) fn labels_and_volumes(
-    surface: &SharedSurface,
-    q: &[Vec3],
-) -> (Vec<u32>, LabelSlots, Vec<f64>) {
-    let pairs = pair_volumes(surface, q);
-    let mut labels: Vec<u32> = pairs
-        .iter()
-        .flatten()
-        .flat_map(|(p, _)| p.iter().copied())
-        .filter(|&l| l != 0)
-        .collect();
-    labels.sort_unstable();
-    labels.dedup();
-    let slots = LabelSlots::new(&labels);
-    let volumes = volumes_of(&pairs, &slots, labels.len());
-    (labels, slots, volumes)
+/// The labels' volumes to restore: the labels (sorted), their slots, and their volumes before
+/// smoothing by slot.
+pub(super) struct Targets<'a> {
+    pub labels: &'a [u32],
+    pub slots: &'a LabelSlots,
+    pub volumes: &'a [f64],
 }
 
-/// Restores the labels' volumes to `target`; returns the rounds run and, when the last round
-/// found them within the tolerance, the volumes it measured.
-pub(super) fn restore(
-    surface: &SharedSurface,
-    layout: &Layout,
-    frame: &Frame,
-    q: &mut [Vec3],
-    labels: &LabelSlots,
-    target: &[f64],
-    options: &SmoothingOptions,
-) -> Result<(usize, Option<Vec<f64>>), LabelsError> {
-    memory::check_allocation("volume restoring", memory::bytes_of::<[u32; 5]>(q.len()))?;
-    for round in 0..options.restore_rounds {
-        // The first round always moves vertices (smoothing has changed the volumes), so its
-        // gradients come in the same pass over the triangles as its volumes.
-        let mut ready = None;
-        let volumes = if round == 0 {
-            let (gradient, sides, pairs) = gradients(surface, layout, q);
-            ready = Some((gradient, sides));
-            volumes_of(&pairs, labels, target.len())
-        } else {
-            label_volumes(surface, q, labels, target.len())
-        };
-        let error: Vec<f64> = target.iter().zip(&volumes).map(|(t, v)| t - v).collect();
-        let worst = error
-            .iter()
-            .zip(target)
-            .map(|(e, t)| (e / t).abs())
-            .fold(0.0, f64::max);
-        if worst <= options.volume_tolerance {
-            return Ok((round, Some(volumes)));
+impl Restoring<'_> {
+    /// Restores the labels' volumes to the targets by solving a pressure per round (at most
+    /// `options.restore_rounds`); returns the rounds run and, when the last round found them
+    /// within the tolerance, the volumes it measured.
+    pub(super) fn restore(
+        &self,
+        q: &mut [Vec3],
+        targets: &Targets,
+        options: &SmoothingOptions,
+    ) -> Result<(usize, Option<Vec<f64>>), LabelsError> {
+        memory::check_allocation("volume restoring", memory::bytes_of::<[u32; 5]>(q.len()))?;
+        let count = targets.labels.len();
+        for round in 0..options.restore_rounds {
+            // The first round always moves vertices (smoothing has changed the volumes), so its
+            // gradients come in the same pass over the triangles as its volumes.
+            let mut ready = None;
+            let volumes = if round == 0 {
+                let g = gradients(self.surface, self.layout, self.frame, q, &Owned::ALL);
+                let volumes = volumes_of(&g.volumes, targets.slots, count);
+                ready = Some(g);
+                volumes
+            } else {
+                let pairs = pair_volumes(self.surface, self.frame, q, &Owned::ALL);
+                volumes_of(&pairs, targets.slots, count)
+            };
+            if within_tolerance(targets.volumes, &volumes, options.volume_tolerance) {
+                return Ok((round, Some(volumes)));
+            }
+            let g = ready.unwrap_or_else(|| {
+                gradients(self.surface, self.layout, self.frame, q, &Owned::ALL)
+            });
+            let weights = gram_weights(self.surface, self.frame, &g, &Owned::ALL);
+            let pressure = solve(targets.labels, targets.volumes, &volumes, &weights);
+            self.apply(q, &g, &pressure);
         }
-        let mobile = |v: usize| {
-            let flags = surface.flags[v];
-            flags.kind() == VertexKind::Surface
-                && flags.has_two_labels()
-                && frame.half(flags.border_axes()) != Vec3::ZERO
-        };
-        let (gradient, sides) = ready.unwrap_or_else(|| {
-            let (gradient, sides, _) = gradients(surface, layout, q);
-            (gradient, sides)
-        });
-        let gram = Gram::assemble(&gradient, &sides, labels, target.len(), mobile, |v| {
-            mask(frame.half(surface.flags[v].border_axes()))
-        });
-        let pressure = gram.solve(&error);
+        Ok((options.restore_rounds, None))
+    }
+
+    /// One round with a pressure solved elsewhere: the gradients at `q`, then the move.
+    pub(super) fn apply_given(&self, q: &mut [Vec3], pressure: &Pressure) {
+        let g = gradients(self.surface, self.layout, self.frame, q, &Owned::ALL);
+        self.apply(q, &g, pressure);
+    }
+
+    /// Moves every vertex between exactly two labels `A` (its gradient's) and `B` by
+    /// `(p_A − p_B) g`, on the axes where its box has room, and keeps it in its box.
+    fn apply(&self, q: &mut [Vec3], g: &Gradients, pressure: &Pressure) {
+        let (surface, frame) = (self.surface, self.frame);
+        let slots = LabelSlots::new(&pressure.labels);
         q.par_iter_mut().enumerate().for_each(|(v, p)| {
-            let [inside, outside] = sides[v];
+            let [inside, outside] = g.sides[v];
             let flags = surface.flags[v];
             if inside == u32::MAX || flags.kind() != VertexKind::Surface || !flags.has_two_labels()
             {
                 return;
             }
-            let at = |l: u32| labels.get(l).map_or(0.0, |s| pressure[s]);
-            let h = gradient[v] * mask(frame.half(flags.border_axes()));
+            let at = |l: u32| slots.get(l).map_or(0.0, |s| pressure.values[s]);
+            let h = g.gradient[v] * mask(frame.half(flags.border_axes()));
             let moved = *p + h * (at(inside) - at(outside)) as f32;
             let (start, half) = (
                 frame.start(surface.corners[v]),
@@ -151,7 +186,31 @@ pub(super) fn restore(
             *p = moved.clamp(start - half, start + half);
         });
     }
-    Ok((options.restore_rounds, None))
+}
+
+/// Whether every label's volume is within `tolerance` (relative) of its target.
+pub(super) fn within_tolerance(target: &[f64], volumes: &[f64], tolerance: f64) -> bool {
+    let worst = (target.iter().zip(volumes))
+        .map(|(t, v)| ((t - v) / t).abs())
+        .fold(0.0, f64::max);
+    worst <= tolerance
+}
+
+/// The pressures of `labels` (sorted) that restore `volumes` to `target` (by slot) along the
+/// gradients whose Gram weights are `weights`.
+pub(super) fn solve(
+    labels: &[u32],
+    target: &[f64],
+    volumes: &[f64],
+    weights: &PairSums,
+) -> Pressure {
+    let error: Vec<f64> = target.iter().zip(volumes).map(|(t, v)| t - v).collect();
+    let slots = LabelSlots::new(labels);
+    let gram = Gram::from_pairs(weights, &slots, labels.len());
+    Pressure {
+        labels: labels.to_vec(),
+        values: gram.solve(&error),
+    }
 }
 
 /// 1 on the axes where the box has room, 0 elsewhere.
@@ -159,36 +218,47 @@ fn mask(half: Vec3) -> Vec3 {
     Vec3::select(half.cmpgt(Vec3::ZERO), Vec3::ONE, Vec3::ZERO)
 }
 
-/// Per vertex, the gradient of the volume of the inside label of its last triangle, and that
-/// triangle's two labels (`[u32::MAX; 2]` for a vertex without triangles); and, as
-/// [`pair_volumes`] gives them, the label pairs' volumes summed per chunk of planes, the chunks
-/// in order. The gradients are meaningful for the vertices between exactly two labels (the
-/// only ones the callers use): such a vertex has every triangle between the same two, in the
-/// same order. Cost: O(triangles), parallel over chunks of corner planes in two colours (a
-/// chunk's triangles touch its planes and the next chunk's first, so chunks of one colour
-/// write apart); the sums in an order fixed by the surface.
-fn gradients(surface: &SharedSurface, layout: &Layout, q: &[Vec3]) -> Gradients {
+/// What [`gradients`] gives.
+pub(super) struct Gradients {
+    /// Per vertex, the gradient of the volume of the inside label of its last triangle.
+    gradient: Vec<Vec3>,
+    /// Per vertex, that triangle's two labels (`[u32::MAX; 2]` for a vertex without triangles).
+    sides: Vec<[u32; 2]>,
+    /// The label pairs' volumes over the owned triangles, as [`pair_volumes`] gives them.
+    pub volumes: PairSums,
+}
+
+/// Per vertex its gradient and labels ([`Gradients`]), and the pairs' volumes over the
+/// triangles `owned` holds. The gradients are meaningful for the vertices between exactly two
+/// labels (the only ones the callers use): such a vertex has every triangle between the same
+/// two, in the same order. Cost: O(triangles), parallel over chunks of [`GRADIENT_PLANES`]
+/// corner planes of the whole map in two colours (a chunk's triangles touch its planes and the
+/// next chunk's first, so chunks of one colour write apart). A vertex's terms are added in an
+/// order fixed by the whole map's chunks, so a block of the map gives its vertices the same
+/// gradients bit for bit.
+pub(super) fn gradients(
+    surface: &SharedSurface,
+    layout: &Layout,
+    frame: &Frame,
+    q: &[Vec3],
+    owned: &Owned,
+) -> Gradients {
     let n = q.len();
     let mut gradient = vec![Vec3::ZERO; n];
     let mut sides = vec![[u32::MAX; 2]; n];
     let planes = layout.planes();
-    let chunks: Vec<(usize, usize)> = (0..planes)
-        .step_by(GRADIENT_PLANES)
-        .map(|a| (a, (a + GRADIENT_PLANES).min(planes)))
-        .collect();
+    let chunks = plane_chunks(planes, surface.offset[2]);
     let by_plane = surface.triangle_plane_starts();
-    let triangle_starts: Vec<usize> = chunks
-        .iter()
-        .map(|&(a, _)| by_plane[a])
-        .chain(std::iter::once(surface.triangles.len()))
-        .collect();
-    let mut chunk_sums = Vec::with_capacity(chunks.len());
+    let quantum = Quantum::volume(frame.spacing);
+    let all = *owned == Owned::ALL;
+    let mut volumes = PairRuns::default();
     for colour in 0..2 {
-        let picked: Vec<usize> = (colour..chunks.len()).step_by(2).collect();
+        let picked: Vec<(usize, usize)> = (chunks.iter().copied())
+            .filter(|&(a, _)| (a as u32 + surface.offset[2]) / GRADIENT_PLANES % 2 == colour)
+            .collect();
         let windows: Vec<(usize, usize)> = picked
             .iter()
-            .map(|&c| {
-                let (a, b) = chunks[c];
+            .map(|&(a, b)| {
                 (
                     layout.plane_start(a),
                     layout.plane_start((b + 1).min(planes)),
@@ -197,14 +267,14 @@ fn gradients(surface: &SharedSurface, layout: &Layout, q: &[Vec3]) -> Gradients 
             .collect();
         let g_parts = split_windows(&mut gradient, &windows);
         let s_parts = split_windows(&mut sides, &windows);
-        let sums: Vec<(usize, PairSums)> = g_parts
+        let runs = g_parts
             .into_par_iter()
             .zip(s_parts)
             .zip(picked)
             .zip(windows)
-            .map(|(((g, s), c), (first, _))| {
+            .map(|(((g, s), (a, b)), (first, _))| {
                 let mut runs = PairRuns::default();
-                for t in triangle_starts[c]..triangle_starts[c + 1] {
+                for t in by_plane[a]..by_plane[b] {
                     let tri = surface.triangles[t];
                     let [a, b, e] = tri.map(|v| q[v as usize]);
                     let area = (b - a).cross(e - a) / 6.0;
@@ -213,56 +283,71 @@ fn gradients(surface: &SharedSurface, layout: &Layout, q: &[Vec3]) -> Gradients 
                         g[v as usize - first] += area;
                         s[v as usize - first] = pair;
                     }
-                    let [a, b, e] = [a, b, e].map(|p| p.as_dvec3());
-                    runs.add(pair, a.dot(b.cross(e)) / 6.0);
+                    if all || holds_triangle(surface, owned, tri) {
+                        let [a, b, e] = [a, b, e].map(|p| p.as_dvec3());
+                        runs.add(pair, quantum.fixed(a.dot(b.cross(e)) / 6.0));
+                    }
                 }
-                (c, runs.sums())
+                runs
             })
-            .collect();
-        chunk_sums.extend(sums);
+            .reduce(PairRuns::default, PairRuns::joined);
+        volumes = volumes.joined(runs);
     }
-    chunk_sums.sort_unstable_by_key(|e| e.0);
-    let pairs = chunk_sums.into_iter().map(|e| e.1).collect();
-    (gradient, sides, pairs)
+    Gradients {
+        gradient,
+        sides,
+        volumes: volumes.sums(&quantum),
+    }
 }
 
-/// Sums per label pair, sorted by pair.
-type PairSums = Vec<([u32; 2], f64)>;
-
-/// What [`gradients`] gives: per vertex the gradient and the labels, and the pairs' volumes
-/// per chunk.
-type Gradients = (Vec<Vec3>, Vec<[u32; 2]>, Vec<PairSums>);
-
-/// Sums per label pair over runs of one pair, the runs' sums added per pair in their order.
-#[derive(Default)]
-struct PairRuns {
-    sums: FxHashMap<[u32; 2], f64>,
-    run: Option<([u32; 2], f64)>,
+/// Corner planes `[a, b)` of a block whose first plane is the whole map's `first`, cut where
+/// the whole map's planes are multiples of [`GRADIENT_PLANES`].
+fn plane_chunks(planes: usize, first: u32) -> Vec<(usize, usize)> {
+    let mut chunks = Vec::new();
+    let mut a = 0;
+    while a < planes {
+        let into = (a as u32 + first) % GRADIENT_PLANES;
+        let b = (a + (GRADIENT_PLANES - into) as usize).min(planes);
+        chunks.push((a, b));
+        a = b;
+    }
+    chunks
 }
 
-impl PairRuns {
-    /// Adds `value` to `pair`'s current run (starting a new run for a new pair).
-    fn add(&mut self, pair: [u32; 2], value: f64) {
-        match &mut self.run {
-            Some((p, sum)) if *p == pair => *sum += value,
-            run => {
-                if let Some((p, sum)) = run.take() {
-                    *self.sums.entry(p).or_default() += sum;
+/// The Gram weights per label pair `(A, B)`: `Σ g·(m∘g)` over the vertices `owned` holds
+/// that lie between exactly `A` and `B` and may move (a surface vertex whose box has room),
+/// `m` the axes with room. Cost: O(vertices), parallel.
+pub(super) fn gram_weights(
+    surface: &SharedSurface,
+    frame: &Frame,
+    g: &Gradients,
+    owned: &Owned,
+) -> PairSums {
+    let quantum = Quantum::weight(frame.spacing);
+    let all = *owned == Owned::ALL;
+    (0..g.gradient.len().div_ceil(VERTEX_CHUNK))
+        .into_par_iter()
+        .fold(PairRuns::default, |mut runs, c| {
+            let end = ((c + 1) * VERTEX_CHUNK).min(g.gradient.len());
+            for v in c * VERTEX_CHUNK..end {
+                let flags = surface.flags[v];
+                let half = frame.half(flags.border_axes());
+                let mobile = flags.kind() == VertexKind::Surface
+                    && flags.has_two_labels()
+                    && half != Vec3::ZERO;
+                if g.sides[v][0] == u32::MAX || !mobile {
+                    continue;
                 }
-                *run = Some((pair, value));
+                if !all && !holds_vertex(surface, owned, v) {
+                    continue;
+                }
+                let d = g.gradient[v];
+                runs.add(g.sides[v], quantum.fixed(d.dot(d * mask(half)) as f64));
             }
-        }
-    }
-
-    /// The sums per pair, sorted by pair.
-    fn sums(mut self) -> PairSums {
-        if let Some((p, sum)) = self.run.take() {
-            *self.sums.entry(p).or_default() += sum;
-        }
-        let mut out: Vec<([u32; 2], f64)> = self.sums.into_iter().collect();
-        out.sort_unstable_by_key(|e| e.0);
-        out
-    }
+            runs
+        })
+        .reduce(PairRuns::default, PairRuns::joined)
+        .sums(&quantum)
 }
 
 /// The disjoint, increasing `windows` of `data` as mutable slices.
@@ -289,49 +374,12 @@ struct Gram {
 }
 
 impl Gram {
-    /// `G_LM = Σ_v g_vL · (m_v ∘ g_vM)` over the vertices `mobile` accepts, `m_v = mask(v)`:
-    /// per label pair `(A, B)` the weight `w = Σ g·(m∘g)` over its vertices adds `w` to
-    /// `G_AA` and `G_BB` and subtracts it from `G_AB` and `G_BA`. Weights are summed per run of
-    /// one pair within fixed chunks of vertices, then per pair in chunk order.
-    fn assemble(
-        gradient: &[Vec3],
-        sides: &[[u32; 2]],
-        labels: &LabelSlots,
-        count: usize,
-        mobile: impl Fn(usize) -> bool + Sync,
-        mask: impl Fn(usize) -> Vec3 + Sync,
-    ) -> Gram {
-        let chunks: Vec<PairSums> = (0..gradient.len().div_ceil(VERTEX_CHUNK))
-            .into_par_iter()
-            .map(|c| {
-                let mut runs = PairRuns::default();
-                let end = ((c + 1) * VERTEX_CHUNK).min(gradient.len());
-                for v in c * VERTEX_CHUNK..end {
-                    if sides[v][0] == u32::MAX || !mobile(v) {
-                        continue;
-                    }
-                    let g = gradient[v];
-                    runs.add(sides[v], g.dot(g * mask(v)) as f64);
-                }
-                runs.sums()
-            })
-            .collect();
-        let mut pairs: Vec<([u32; 2], f64)> = chunks.into_iter().flatten().collect();
-        pairs.sort_by_key(|e| e.0);
-        pairs.dedup_by(|next, kept| {
-            let same = next.0 == kept.0;
-            if same {
-                kept.1 += next.1;
-            }
-            same
-        });
-        Gram::from_pairs(&pairs, labels, count)
-    }
-
-    /// The matrix from per-pair weights (module docs of [`Gram::assemble`]).
-    fn from_pairs(pairs: &[([u32; 2], f64)], labels: &LabelSlots, count: usize) -> Gram {
-        let mut entries: Vec<((u32, u32), f64)> = Vec::with_capacity(pairs.len() * 4);
-        for &([inside, outside], w) in pairs {
+    /// `G_LM = Σ_v g_vL · (m_v ∘ g_vM)` from the per-pair weights ([`gram_weights`]): the weight
+    /// `w` of a pair `(A, B)` adds to `G_AA` and `G_BB` and is subtracted from `G_AB` and
+    /// `G_BA`; the entries are summed in fixed point before they become numbers.
+    fn from_pairs(weights: &PairSums, labels: &LabelSlots, count: usize) -> Gram {
+        let mut entries: Vec<((u32, u32), i128)> = Vec::with_capacity(weights.sums.len() * 4);
+        for &([inside, outside], w) in &weights.sums {
             let (a, b) = (labels.get(inside), labels.get(outside));
             if let Some(a) = a {
                 entries.push(((a as u32, a as u32), w));
@@ -344,14 +392,7 @@ impl Gram {
                 entries.push(((b as u32, a as u32), -w));
             }
         }
-        entries.sort_by_key(|e| e.0);
-        entries.dedup_by(|next, kept| {
-            let same = next.0 == kept.0;
-            if same {
-                kept.1 += next.1;
-            }
-            same
-        });
+        summed(&mut entries);
         let mut rows = vec![0usize; count + 1];
         for ((r, _), _) in &entries {
             rows[*r as usize + 1] += 1;
@@ -362,7 +403,7 @@ impl Gram {
         Gram {
             rows,
             columns: entries.iter().map(|e| e.0 .1).collect(),
-            values: entries.iter().map(|e| e.1).collect(),
+            values: entries.iter().map(|e| e.1 as f64 * weights.unit).collect(),
         }
     }
 

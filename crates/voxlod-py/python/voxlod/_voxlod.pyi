@@ -105,7 +105,24 @@ def label_surfaces(
     smooth: Optional[int],
     normals: bool,
     triangles: Optional[int] = None,
+    offset: Optional[Tuple[int, int, int]] = None,
+    pressures: Optional[List[Tuple[List[int], List[float]]]] = None,
 ) -> Tuple[List[Dict[str, Any]], Optional[Dict[str, Any]]]: ...
+RESTORE_ROUNDS: int
+_Sums = Tuple[List[List[int]], List[int], float]
+def shared_sums(
+    block: np.ndarray,
+    spacing: Tuple[float, float, float],
+    origin: Tuple[float, float, float],
+    offset: Tuple[int, int, int],
+    owned_lo: Tuple[int, int, int],
+    owned_hi: Tuple[int, int, int],
+    smooth: Optional[int],
+    pressures: List[Tuple[List[int], List[float]]],
+) -> Tuple[_Sums, _Sums, _Sums]: ...
+def shared_pressure(
+    blocks: List[Tuple[_Sums, _Sums, _Sums]], smooth: Optional[int]
+) -> Optional[Tuple[List[int], List[float]]]: ...
 def write_precomputed(
     dir: str,
     map: np.ndarray,

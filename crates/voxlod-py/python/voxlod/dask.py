@@ -15,7 +15,8 @@ and places the level as :func:`voxlod.lod_volume` does.
 :func:`labels`: one task per chunk lists the chunk's labels and their boxes; then one task
 per label assembles the label's box grown by one voxel from the chunks that hold that label
 only, and meshes it as :func:`voxlod.labels` does; with ``shared=True`` the box is grown by a
-halo of ``2 * smooth + 2`` voxels and holds every label there (:func:`labels`).
+halo of ``2 * smooth + 7`` voxels and holds every label there, and the volume restoring's
+pressures are solved first from every chunk's share of its sums (:func:`labels`).
 
 :func:`marching_cubes`:
 Each task reads one chunk of the volume and a one-sample halo around it, assembled from the
@@ -511,8 +512,9 @@ SMOOTH_ITERATIONS = 8
 
 
 def shared_halo(smooth: Optional[int]) -> int:
-    """The voxels by which :func:`labels` grows a label's box for the shared surface:
-    ``2 * smooth + 2`` (``smooth`` defaulting to :data:`SMOOTH_ITERATIONS`: 18).
+    """The voxels by which :func:`labels` grows a block or a label's box for the shared
+    surface: ``2 * smooth + 3 + R`` (``smooth`` defaulting to :data:`SMOOTH_ITERATIONS`, ``R``
+    the restoring's most rounds, ``_voxlod.RESTORE_ROUNDS``: 23 by default).
 
     Each of the ``smooth`` λ|μ iterations is two passes (λ then μ), each pass moving a vertex
     towards the mean of the vertices its quad edges lead to, read from the pass before (the
@@ -520,8 +522,11 @@ def shared_halo(smooth: Optional[int]) -> int:
     vertex depends on the vertices within ``2 * smooth`` rings, and a ring is one cell. A
     vertex's kind (interface, junction curve, fixed, border) comes from the eight voxels around
     its corner, one more voxel; one more keeps the box's own border (background outside, whose
-    vertices are locked) off every vertex that counts."""
-    return 2 * (SMOOTH_ITERATIONS if smooth is None else int(smooth)) + 2
+    vertices are locked) off every vertex that counts. Each restoring round moves a vertex
+    along its volume gradient, which its ring of triangles gives, one ring further per round;
+    and a volume counts the triangles beside the vertex, one more."""
+    return 2 * (SMOOTH_ITERATIONS if smooth is None else int(smooth)) + 3 + \
+        _voxlod.RESTORE_ROUNDS
 
 
 NEIGHBOUR_MARGIN = 3
@@ -550,15 +555,62 @@ def _map_box(low: Sequence[int], high: Sequence[int], chunks: List[Any],
 
 def _shared_label(value: int, chosen: List[int], low: Sequence[int], high: Sequence[int],
                   chunks: List[Any], corners: List[Sequence[int]], spacing, origin,
-                  smooth: Optional[int], normals: bool, triangles: Optional[int]) -> dict:
+                  smooth: Optional[int], normals: bool, triangles: Optional[int],
+                  pressures: Optional[List[Tuple[Any, Any]]] = None) -> dict:
     """One task of :func:`labels` with ``shared``: the shared surface of the box of samples
-    ``low .. high`` holding every label (:func:`_map_box`), smoothed and reduced as in one
-    process, and the mesh of ``value`` (the first of ``chosen``; the others are the labels
+    ``low .. high`` holding every label (:func:`_map_box`), placed in the whole map (``origin``
+    the whole map's), smoothed with the whole map's restoring ``pressures`` and reduced as in
+    one process, and the mesh of ``value`` (the first of ``chosen``; the others are the labels
     whose shares limit its patches under a budget)."""
     box = _map_box(low, high, chunks, corners)
     found, _ = _voxlod.label_surfaces(box, spacing, origin, [int(v) for v in chosen], True,
-                                      smooth, normals, triangles)
+                                      smooth, normals, triangles, tuple(low), pressures or [])
     return found[0]
+
+
+def _shared_block_sums(low: Sequence[int], high: Sequence[int], owned_lo: Sequence[int],
+                       owned_hi: Sequence[int], chunks: List[Any], corners: List[Sequence[int]],
+                       spacing=None, origin=None, smooth: Optional[int] = None,
+                       pressures: Optional[List[Tuple[Any, Any]]] = None) -> Tuple[Any, ...]:
+    """One task of a restoring round of :func:`labels` with ``shared``: the restoring's sums of
+    the corners ``owned_lo .. owned_hi`` (a chunk's) from the samples ``low .. high`` around
+    them (:func:`_map_box`), smoothed with the rounds' ``pressures`` so far."""
+    box = _map_box(low, high, chunks, corners)
+    return _voxlod.shared_sums(box, spacing, origin, tuple(low), tuple(owned_lo),
+                               tuple(owned_hi), smooth, pressures or [])
+
+
+def _shared_pressures(array: Any, client: Any, spacing, origin,
+                      smooth: Optional[int]) -> List[Tuple[Any, Any]]:
+    """The volume restoring's pressures of the whole map's shared surface, round by round, as
+    one process solves them: per round one task per chunk (its corners owned, its samples
+    grown by :func:`shared_halo`) gives its sums, and the sums of all give the round's
+    pressure, until the volumes are within the tolerance or ``_voxlod.RESTORE_ROUNDS`` rounds
+    have run. Nothing to restore without smoothing."""
+    if smooth == 0:
+        return []
+    halo = shared_halo(smooth)
+    shape = tuple(int(n) for n in array.shape)
+    grid_keys, bounds = _chunk_keys(array)
+    blocks = []
+    for start, stop in _chunk_bounds(array):
+        low = [max(a - halo, 0) for a in start]
+        high = [min(b + halo, n) for b, n in zip(stop, shape)]
+        # The last chunk along an axis owns the map's last corner plane too.
+        owned_hi = [b + (b == n) for b, n in zip(stop, shape)]
+        parts, corners = _window_chunks(grid_keys, bounds, low, high)
+        blocks.append((low, high, list(start), owned_hi, parts, corners))
+    pressures: List[Tuple[Any, Any]] = []
+    for _ in range(_voxlod.RESTORE_ROUNDS):
+        task = functools.partial(_shared_block_sums, spacing=spacing, origin=origin,
+                                 smooth=smooth, pressures=list(pressures))
+        sums = _graph_results("voxlod-shared-sums", [(task,) + b for b in blocks], array,
+                              client)
+        pressure = _voxlod.shared_pressure(sums, smooth)
+        if pressure is None:
+            break
+        pressures.append(pressure)
+    return pressures
 
 
 def labels(
@@ -577,8 +629,8 @@ def labels(
     triangles: Optional[int] = None,
 ) -> List[LabelMesh]:
     """:func:`voxlod.labels` on a Dask cluster: one closed mesh (or chain of ``levels``
-    levels) per label of a label map, the same meshes as in one process (see ``shared`` for
-    the one exception), from a map that need not fit in one.
+    levels) per label of a label map, the same meshes as in one process, from a map that need
+    not fit in one.
 
     A first pass, one task per chunk, lists each chunk's labels with their voxel counts and
     boxes. Then one task per label meshes it as :func:`voxlod.labels` does:
@@ -589,13 +641,13 @@ def labels(
       (elsewhere in the box the label's indicator is 0). A chunk that holds no label is read
       once, one that holds some twice (once per pass, shared by its labels).
     - with ``shared=True``, from the label's box grown by a halo of :func:`shared_halo`
-      voxels, ``2 * smooth + 2`` (18 for the default 8 iterations; cut to the map, whose
+      voxels, ``2 * smooth + 3 + 4`` (23 for the default 8 iterations; cut to the map, whose
       outside is background as in one process), holding every label's values there and
       assembled from every chunk that overlaps it: the task makes the box's shared surface
       (surface nets, smoothed) and keeps the label's mesh. Smoothing is local: each λ|μ
       iteration is two passes, each reaching one ring of vertices (one cell) further, so the
-      halo holds everything the label's vertices see through the smoothing, plus the voxels
-      that decide the vertices' kinds. With ``triangles``, the box also takes in the boxes
+      halo holds everything the label's vertices see through the smoothing and the
+      restoring's rounds, plus the voxels that decide the vertices' kinds. With ``triangles``, the box also takes in the boxes
       (grown by :data:`NEIGHBOUR_MARGIN`) of the labels asked for whose boxes touch the
       label's: a patch between two labels is reduced towards the smaller of their two shares,
       and a neighbour's share depends on all its patches. The cost: each task meshes its whole
@@ -604,17 +656,17 @@ def labels(
       voxels wide, more with ``triangles``).
 
       The volume restoring is not local: one process keeps each label's volume by one
-      pressure per label, solved over all the labels that touch (the background's held at 0),
-      and stops when the map's worst label is within tolerance; a task solves it over its box,
-      whose labels cut by the box's border keep their cut volumes. So with ``smooth=0`` (no
-      smoothing, nothing to restore) the meshes are the one-process meshes up to float32
-      rounding, with and without ``triangles``; after smoothing each label's mesh keeps its own
-      volume and its topology (same vertices and triangles), but its vertices differ from the
-      one-process ones by up to a few thousandths of a voxel (at most 0.007 on a 40³ map of
-      12 touching labels, ``smooth=3``), a quad may be split by its other diagonal, the two
-      meshes of an interface, made by different tasks, no longer share their vertices bit for
-      bit, and a budget's reduction, which follows the positions, may keep a few percent more
-      or fewer triangles. The difference shrinks as the halo grows towards the map.
+      pressure per label, solved over all the labels that touch, round by round. So before
+      the label tasks, each round runs one task per chunk (the chunk's corners owned, its
+      samples grown by the same halo), which smooths its box with the rounds so far and gives
+      its share of the restoring's sums (each label pair's volume and Gram weight over the
+      triangles and vertices it owns, summed exactly in fixed point); the shares added give
+      the whole map's sums, and from them the round's pressures, as one process solves them,
+      until every volume is within the tolerance (usually one or two rounds: the map is read
+      once per round). The label tasks then apply those pressures. Every task places its box
+      in the whole map (its corners numbered from the map's first), so the meshes are the
+      one-process meshes bit for bit, with and without ``triangles``, and the two meshes of an
+      interface share their vertices' positions exactly.
 
     Parameters
     ----------
@@ -660,16 +712,19 @@ def labels(
     shape = tuple(int(n) for n in array.shape)
     chosen = _chosen_labels(found, labels)
     near = _touching_boxes(found, chosen) if shared and triangles is not None else {}
+    if shared:
+        # The pressures are the same for every label's task: bound once, not in each task.
+        shared_label = functools.partial(
+            _shared_label, pressures=_shared_pressures(array, client, spacing, origin, smooth))
     tasks = []
     for value in chosen:
         _, first, last, holding = found[value]
         if shared:
             touching = near[value] if triangles is not None else []
             low, high, limiting = _shared_box(value, found, touching, shape, shared_halo(smooth))
-            box_origin = tuple(o + l * s for o, l, s in zip(origin, low, spacing))
             parts, corners = _window_chunks(grid_keys, bounds, low, high)
-            tasks.append((_shared_label, value, limiting, low, high, parts, corners, spacing,
-                          box_origin, smooth, bool(normals), triangles))
+            tasks.append((shared_label, value, limiting, low, high, parts, corners, spacing,
+                          origin, smooth, bool(normals), triangles))
             continue
         low = [max(f - 1, 0) for f in first]
         high = [min(l + 2, n) for l, n in zip(last, shape)]

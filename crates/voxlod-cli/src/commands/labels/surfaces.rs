@@ -128,6 +128,7 @@ fn surface_options(args: &LabelsArgs) -> SurfaceOptions {
         labels: args.labels.clone(),
         frame: args.frame.target(),
         triangles: args.triangles,
+        ..SurfaceOptions::default()
     }
 }
 
