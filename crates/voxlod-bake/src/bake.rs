@@ -2,7 +2,8 @@
 //! MikkTSpace tangents ([`crate::tangents`]); each texel a triangle covers
 //! ([`crate::raster`]) stands for a point of the level, with its interpolated normal and
 //! tangent frame; a ray cast from that point along its triangle's normal finds the source
-//! ([`crate::cast`]), whose looks there ([`crate::source`]), its textures averaged over the
+//! ([`crate::cast`]; passing the texels an alpha-masked material shows nothing at, as a
+//! viewer's ray passes a leaf card's gaps to the leaves behind), whose looks there ([`crate::source`]), its textures averaged over the
 //! texel's footprint ([`crate::mipmaps`]), are written to the texel: base colour, the source's shading
 //! normal in the level's tangent frame, occlusion-roughness-metallic and emissive where the
 //! source has them, alpha where it has alpha. The charts' looks are then pushed into the
@@ -191,7 +192,7 @@ pub fn bake_on(
                 return (TexelValues::default(), 0);
             }
             let (p, n, t) = frame.at(c);
-            let found = cast.find(p, frame.face(c), cage);
+            let found = cast.find(p, frame.face(c), cage, &|t, w| looks.clear(t, w));
             let footprint = texel_sizes[c.triangle as usize];
             let look = looks.at(found.triangle, found.weights, n, footprint);
             (

@@ -1,9 +1,11 @@
 //! Where a proxy's surface point finds the source: a ray cast from the point along its normal
 //! both ways, through an obvhs BVH over the source's triangles, the nearest hit within the
 //! cage distance on a triangle that faces the same side as the proxy (a back face seen from
-//! the proxy is the inside of another part, or the far side of a thin one); where no ray
-//! hits, the source's nearest point (`voxlod_metrics::MeshDistance`), on a triangle facing the
-//! proxy's side where one is nearly as near (beside a source edge, both faces are).
+//! the proxy is the inside of another part, or the far side of a thin one) and shows
+//! something there (a caller's test: an alpha-masked texel below its cutoff is passed, the
+//! any-hit test of alpha-tested ray tracing); where no ray hits, the source's nearest point
+//! (`voxlod_metrics::MeshDistance`), on a triangle facing the proxy's side where one is nearly
+//! as near (beside a source edge, both faces are).
 //!
 //! Cost: building is O(N log N) for N source triangles (two BVHs: obvhs's for rays, the
 //! closest-point one); a query is two ray traversals, O(log N) typically, plus a closest-
@@ -23,6 +25,9 @@ use voxlod_core::TriangleMesh;
 use voxlod_metrics::{closest_point_on_triangle, MeshDistance};
 
 use crate::BakeError;
+
+/// Whether the source shows nothing at a point (source triangle, barycentric weights).
+pub type Clear<'a> = dyn Fn(usize, [f32; 3]) -> bool + Sync + 'a;
 
 /// The source point a proxy point stands for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -100,11 +105,17 @@ impl Cast {
     }
 
     /// The source point for the proxy point `p` with unit normal `n`: the nearest hit of the
-    /// rays from `p` along `n` and `−n` within `cage`, on a triangle facing along `n`; else
-    /// the nearest point of the source.
-    pub fn find(&self, p: Vec3, n: Vec3, cage: f32) -> Found {
-        let forward = self.cast(p, n, n, cage).map(|(slot, t)| (slot, t, n));
-        let backward = self.cast(p, -n, n, cage).map(|(slot, t)| (slot, t, -n));
+    /// rays from `p` along `n` and `−n` within `cage`, on a triangle facing along `n` and not
+    /// `clear` there (`clear(triangle, weights)`: an alpha-masked texel the source shows
+    /// nothing at, which a ray passes as a viewer's would); else the nearest point of the
+    /// source.
+    pub fn find(&self, p: Vec3, n: Vec3, cage: f32, clear: &Clear<'_>) -> Found {
+        let forward = self
+            .cast(p, n, n, cage, clear)
+            .map(|(slot, t)| (slot, t, n));
+        let backward = self
+            .cast(p, -n, n, cage, clear)
+            .map(|(slot, t)| (slot, t, -n));
         let best = match (forward, backward) {
             (Some(a), Some(b)) => Some(if a.1 <= b.1 { a } else { b }),
             (a, b) => a.or(b),
@@ -157,8 +168,16 @@ impl Cast {
     }
 
     /// The nearest slot a ray from `p` along `direction` meets within `cage` whose normal
-    /// faces along `facing`, with the distance.
-    fn cast(&self, p: Vec3, direction: Vec3, facing: Vec3, cage: f32) -> Option<(usize, f32)> {
+    /// faces along `facing` and which is not `clear` where the ray meets it, with the
+    /// distance.
+    fn cast(
+        &self,
+        p: Vec3,
+        direction: Vec3,
+        facing: Vec3,
+        cage: f32,
+        clear: &Clear<'_>,
+    ) -> Option<(usize, f32)> {
         let ray = Ray::new(Vec3A::from(p), Vec3A::from(direction), 0.0, cage);
         let facing = Vec3A::from(facing);
         let mut hit = RayHit::none();
@@ -166,7 +185,15 @@ impl Cast {
             if self.slot_normal[slot].dot(facing) <= 0.0 {
                 return f32::INFINITY;
             }
-            self.slots[slot].intersect(ray)
+            let t = self.slots[slot].intersect(ray);
+            if t.is_finite() {
+                let tri = &self.slots[slot];
+                let at = barycentric([tri.v0, tri.v1, tri.v2].map(Vec3::from), p + direction * t);
+                if clear(self.slot_triangle[slot] as usize, at) {
+                    return f32::INFINITY;
+                }
+            }
+            t
         });
         found.then_some((hit.primitive_id as usize, hit.t))
     }

@@ -231,6 +231,24 @@ impl<'a> SourceLooks<'a> {
     }
 }
 
+impl SourceLooks<'_> {
+    /// Whether the source shows nothing at the point with barycentric `weights` on triangle
+    /// `t`: its material masks by alpha (glTF §3.9.4, `MASK`) and the base colour's alpha
+    /// there, sampled at the point, is below the cutoff. Blended and opaque materials always
+    /// show something.
+    pub fn clear(&self, t: usize, weights: [f32; 3]) -> bool {
+        let Some(material) = self.asset.material_of(t) else {
+            return false;
+        };
+        if material.alpha_mode != AlphaMode::Mask {
+            return false;
+        }
+        let cutoff = material.alpha_cutoff;
+        let alpha = self.at(t, weights, Vec3::Z, 0.0).base.w;
+        alpha < cutoff
+    }
+}
+
 /// Texels of a `size` texture per world unit along source triangle `t`, through `slot`'s
 /// coordinates and transform: the square root of its area in texels over its area in the
 /// world (0 for a triangle without area).

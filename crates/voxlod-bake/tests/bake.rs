@@ -529,6 +529,72 @@ fn a_finely_tiled_texture_bakes_to_its_mean_not_to_moire() {
     }
 }
 
+/// A ray that meets a texel an alpha-masked source shows nothing at passes on, as a viewer's
+/// would: a level over a card whose left half is clear, with a blue square under the card,
+/// bakes blue on the left (where the card alone would leave it clear) and the card's red on
+/// the right, every texel opaque.
+#[test]
+fn rays_pass_the_clear_texels_of_a_masked_source() {
+    let card = png(8, 8, |x, _| match x < 4 {
+        true => [0, 0, 0, 0],
+        false => [230, 20, 20, 255],
+    });
+    let masked = Material {
+        base_color_texture: texture(0),
+        alpha_mode: voxlod_asset::AlphaMode::Mask,
+        metallic: 0.0,
+        ..Material::default()
+    };
+    let blue = Material {
+        base_color: [0.0, 0.0, 1.0, 1.0],
+        metallic: 0.0,
+        ..Material::default()
+    };
+    let image = Image {
+        name: "card.png".into(),
+        mime: "image/png".into(),
+        bytes: Arc::new(card),
+    };
+    let mut source = flat_source(Vec3::Z, masked, vec![image]);
+    source.materials.push(blue);
+    let under = square(0, -0.05);
+    let base = source.mesh.positions.len() as u32;
+    source.mesh.positions.extend(under.positions);
+    source.mesh.normals.extend([Vec3::Z; 4]);
+    source.mesh.uv[0].extend([Vec2::ZERO; 4]);
+    for t in under.triangles {
+        source.mesh.triangles.push(t.map(|v| v + base));
+        source.mesh.material.push(1);
+    }
+    let options = BakeOptions {
+        cage: Some(0.2),
+        ..BakeOptions::for_texture(128)
+    };
+    let baked = bake(&source, &square(3, 0.02), &options).unwrap();
+    let image = decoded(&baked, 0);
+    let (mut left, mut right) = (0, 0);
+    for (i, texel) in texel_points(&baked).iter().enumerate() {
+        let Some((p, true, _, _)) = texel else {
+            continue;
+        };
+        let rgba = &image.as_raw()[4 * i..4 * i + 4];
+        if p.x < 0.4 {
+            assert!(
+                rgba[2] > 200 && rgba[0] < 40 && rgba[3] == 255,
+                "left {p}: {rgba:?}"
+            );
+            left += 1;
+        } else if p.x > 0.6 {
+            assert!(
+                rgba[0] > 200 && rgba[2] < 60 && rgba[3] == 255,
+                "right {p}: {rgba:?}"
+            );
+            right += 1;
+        }
+    }
+    assert!(left > 1000 && right > 1000, "{left} {right}");
+}
+
 /// An atlas baked onto another level than its own is refused with a message, not baked.
 #[test]
 fn an_atlas_of_another_level_is_refused() {
