@@ -259,7 +259,7 @@ pub fn smooth(
         (true, None) => restoring.restore(&mut q, &targets, options)?,
         (true, Some(given)) => {
             for pressure in given {
-                restoring.apply_given(&mut q, pressure);
+                restoring.apply_given(&mut q, pressure)?;
             }
             (given.len(), None)
         }
@@ -387,8 +387,9 @@ pub fn restoring_sums(
         frame: &frame,
     };
     for pressure in options.pressures.iter().flatten() {
-        restoring.apply_given(&mut q, pressure);
+        restoring.apply_given(&mut q, pressure)?;
     }
+    restore::check_memory(q.len())?;
     let g = restore::gradients(surface, &layout, &frame, &q, &owned);
     let weights = restore::gram_weights(surface, &frame, &g, &owned);
     Ok(RestoringSums {

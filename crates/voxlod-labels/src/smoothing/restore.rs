@@ -130,7 +130,7 @@ impl Restoring<'_> {
         targets: &Targets,
         options: &SmoothingOptions,
     ) -> Result<(usize, Option<Vec<f64>>), LabelsError> {
-        memory::check_allocation("volume restoring", memory::bytes_of::<[u32; 5]>(q.len()))?;
+        check_memory(q.len())?;
         let count = targets.labels.len();
         for round in 0..options.restore_rounds {
             // The first round always moves vertices (smoothing has changed the volumes), so its
@@ -159,9 +159,15 @@ impl Restoring<'_> {
     }
 
     /// One round with a pressure solved elsewhere: the gradients at `q`, then the move.
-    pub(super) fn apply_given(&self, q: &mut [Vec3], pressure: &Pressure) {
+    pub(super) fn apply_given(
+        &self,
+        q: &mut [Vec3],
+        pressure: &Pressure,
+    ) -> Result<(), LabelsError> {
+        check_memory(q.len())?;
         let g = gradients(self.surface, self.layout, self.frame, q, &Owned::ALL);
         self.apply(q, &g, pressure);
+        Ok(())
     }
 
     /// Moves every vertex between exactly two labels `A` (its gradient's) and `B` by
@@ -186,6 +192,13 @@ impl Restoring<'_> {
             *p = moved.clamp(start - half, start + half);
         });
     }
+}
+
+/// Fails when the memory limit refuses a round's work arrays for `vertices` vertices (a
+/// gradient and a label pair each).
+pub(super) fn check_memory(vertices: usize) -> Result<(), LabelsError> {
+    memory::check_allocation("volume restoring", memory::bytes_of::<[u32; 5]>(vertices))?;
+    Ok(())
 }
 
 /// Whether every label's volume is within `tolerance` (relative) of its target.
