@@ -813,13 +813,16 @@ def precomputed(
     quantization_bits: int = 16,
     unit: str = "nm",
     sharding: str = "auto",
+    shared: bool = False,
 ) -> dict:
     """:func:`voxlod.precomputed` with the labels meshed on a Dask cluster
-    (:func:`labels`, each label's box where its chunks are): the same bytes as one process
-    writes, since the meshes are the same and the layer's bytes depend only on them and the
-    map. The map itself is gathered once to write its chunks."""
+    (:func:`labels`, each label's box where its chunks are; with ``shared``, the shared
+    surface smoothed with the whole map's restoring): the same bytes as one process writes,
+    since the meshes are the same and the layer's bytes depend only on them and the map. The
+    map itself is gathered once to write its chunks."""
     array = as_dask_array(source)
-    meshes = labels(array, client=client, spacing=spacing, origin=origin, normals=False)
+    meshes = labels(array, client=client, spacing=spacing, origin=origin, normals=False,
+                    shared=shared)
     from ._labels import precomputed as write
     return write(directory, np.asarray(array), meshes, spacing=spacing, origin=origin,
                  levels=levels, quantization_bits=quantization_bits, unit=unit,
