@@ -52,8 +52,6 @@ pub struct MeshDistance {
     slot_triangle: Vec<u32>,
     /// Longest root-to-leaf path, which bounds the traversal stack.
     depth: usize,
-    /// Largest absolute vertex coordinate, to size the `f32` rounding slack.
-    max_abs_coordinate: f64,
 }
 
 /// How the BVH is built (see the module documentation). On a 1 M-triangle torus this builds
@@ -71,6 +69,14 @@ const BUILD_BYTES_PER_TRIANGLE: usize = 200;
 /// Relative widening of the best distance before boxes are pruned against it: several `f32`
 /// roundings (the query point's conversion, the subtraction, squaring and summing).
 const RELATIVE_SLACK: f64 = 8.0 * f32::EPSILON as f64;
+
+/// Absolute widening of the best distance, per unit of the query's largest coordinate: the
+/// boxes are exact `f32` bounds of the `f32` vertices, so the box distances are off only by
+/// the query's rounding to `f32` (at most √3/2 of a unit in the last place, `f32::EPSILON`
+/// times the coordinate, across its three axes) and by relative roundings
+/// ([`RELATIVE_SLACK`]); twice that. A mesh far from the origin (coordinates of 10⁶ and a
+/// part a unit across) is pruned at a fraction of a unit, not at all its parts.
+const QUERY_SLACK: f64 = 2.0 * f32::EPSILON as f64;
 
 /// Traversal stacks up to this depth live on the call stack; deeper trees use the heap.
 const INLINE_STACK: usize = 128;
@@ -112,17 +118,11 @@ impl MeshDistance {
             .map(|&t| mesh.triangles[t as usize].map(|v| mesh.positions[v as usize]))
             .collect();
         let depth = tree_depth(&bvh.nodes);
-        let max_abs_coordinate = mesh
-            .positions
-            .iter()
-            .map(|p| p.abs().max_element())
-            .fold(0.0f32, f32::max) as f64;
         Ok(MeshDistance {
             bvh,
             slot_corners,
             slot_triangle,
             depth,
-            max_abs_coordinate,
         })
     }
 
@@ -240,7 +240,7 @@ impl MeshDistance {
     ) -> Option<SlotHit> {
         let nodes = &self.bvh.nodes;
         let query = Vec3A::from(p.as_vec3());
-        let absolute_slack = RELATIVE_SLACK * (self.max_abs_coordinate + p.abs().max_element());
+        let absolute_slack = QUERY_SLACK * p.abs().max_element();
         let mut best: Option<SlotHit> = None;
         let mut best_squared = bound_squared;
         let measure = |slot: u32, best: &mut Option<SlotHit>, best_squared: &mut f64| -> bool {

@@ -248,6 +248,27 @@ fn bvh_matches_brute_force_on_random_meshes() {
     }
 }
 
+/// Far from the origin the `f32` boxes and queries round by a sizeable part of the mesh: the
+/// search widens its bound by the query's rounding and still finds the nearest triangle, on
+/// a soup a unit across at 10³ and 10⁶ (where `f32` has 1/16 of a unit).
+#[test]
+fn bvh_matches_brute_force_far_from_the_origin() {
+    let mut rng = Pcg64Mcg::seed_from_u64(3);
+    for offset in [1e3f32, -1e6, 1e6] {
+        let mut mesh = random_mesh(&mut rng, 400);
+        mesh.positions.iter_mut().for_each(|p| *p += offset);
+        let base = DVec3::splat(offset as f64);
+        let mut queries: Vec<DVec3> = (0..600)
+            .map(|_| base + DVec3::new(rng.random(), rng.random(), rng.random()) * 2.0 - 0.5)
+            .collect();
+        for _ in 0..300 {
+            let [a, b, c] = mesh.corners(rng.random_range(0..400));
+            queries.push((a + b + c) / 3.0 + random_unit(&mut rng) * 0.01);
+        }
+        check_against_brute_force(&mesh, &queries);
+    }
+}
+
 #[test]
 fn bvh_matches_brute_force_on_the_fandisk() {
     let Some(path) = shared_data_or_skip(
