@@ -232,7 +232,10 @@ fn run(name: &str, mesh: &TriangleMesh, tally: &mut Tally) -> Vec<Row> {
         let o = measured(mesh, &level.mesh);
         let s = s.and_then(|m| measured(mesh, &m));
         let sl = sl.and_then(|m| measured(mesh, &m));
-        let flags = tally.count(b, o.as_ref(), s.as_ref(), sl.as_ref());
+        // A budget above the input's triangles asks for the input's count (its level is the
+        // input's own, as the peers' are).
+        let asked = b.min(mesh.triangle_count());
+        let flags = tally.count(asked, o.as_ref(), s.as_ref(), sl.as_ref());
         let cell = |m: &Option<Measured>| match m {
             Some(m) => format!(
                 "{:7.3}%/{:6.3}% ({:6}{})",

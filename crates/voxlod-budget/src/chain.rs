@@ -301,6 +301,12 @@ fn choose_down(
                     why: s.notes.join("; "),
                 }
             })?;
+        if promises.budget < s.budget {
+            warnings.push(format!(
+                "{} triangles: the input has only {}, its level is the input's own",
+                s.budget, promises.budget
+            ));
+        }
         let from = levels.last().map(|l| l.report.budget);
         let seconds = s.seconds + start.elapsed().as_secs_f64();
         let level = level_of(chosen, input, s.budget, from, seconds, &mut warnings);
@@ -309,8 +315,15 @@ fn choose_down(
     Ok((levels, warnings))
 }
 
-/// The promises of `budget` before the chain adds the level above's cap.
+/// The promises of `budget` before the chain adds the level above's cap. A budget above the
+/// input's triangles asks for the input's count (every candidate made of the input's own
+/// triangles has at most that many, and none with more is any closer than the input itself),
+/// but a proxy's, whose surface is new.
 fn first_promises(input: &Input, options: &PortfolioOptions, budget: usize) -> Promises {
+    let budget = match options.remesh {
+        true => budget,
+        false => budget.min(input.mesh.triangle_count()),
+    };
     Promises {
         budget,
         closed: options.closed || input.is_closed(),

@@ -84,6 +84,30 @@ fn an_inside_out_shell_gives_outward_levels_and_says_so() {
     }
 }
 
+/// A budget above the input's triangles is answered by the input itself (its own triangles,
+/// none farther than it), with a warning, not by a remeshed level with more triangles.
+#[test]
+fn a_budget_above_the_input_gets_the_input() {
+    let bracket = corpus::cad_bracket();
+    let n = bracket.triangle_count();
+    let run = levels(&bracket, &PortfolioOptions::for_triangles(&[4 * n, n / 4])).unwrap();
+    let top = &run.levels[0];
+    assert_eq!(top.report.budget, 4 * n);
+    assert_eq!(top.mesh.triangle_count(), n);
+    assert!(
+        top.report.hausdorff_fraction < 1e-9,
+        "{}",
+        top.report.hausdorff_fraction
+    );
+    let warning = format!("{} triangles: the input has only {n}", 4 * n);
+    assert!(
+        run.warnings.iter().any(|w| w.starts_with(&warning)),
+        "{:?}",
+        run.warnings
+    );
+    assert!(within(run.levels[1].mesh.triangle_count(), n / 4));
+}
+
 #[test]
 fn a_triangle_soup_gets_manifold_oriented_levels() {
     let soup = corpus::soup();
