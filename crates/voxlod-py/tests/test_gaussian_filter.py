@@ -50,6 +50,15 @@ def test_nan_spreads_as_in_scipy():
     np.testing.assert_array_equal(np.isnan(ours), np.isnan(theirs))
 
 
+def test_big_endian_input_is_filtered_as_its_values():
+    # A scan read with np.fromfile(..., ">f4") or ">f8", as SciPy takes it.
+    for dtype in (">f4", ">f8"):
+        volume = noise((10, 12, 14), np.dtype(dtype).newbyteorder("=")).astype(dtype)
+        ours = voxlod.gaussian_filter(volume, 1.2)
+        assert ours.dtype == np.dtype(dtype).newbyteorder("=")
+        assert np.abs(ours - ndimage.gaussian_filter(volume, 1.2)).max() < 1e-4, dtype
+
+
 def test_non_contiguous_input_is_filtered_correctly():
     volume = noise((20, 22, 24), np.float32)[::2, :, ::-1]
     ours = voxlod.gaussian_filter(volume, 1.3)

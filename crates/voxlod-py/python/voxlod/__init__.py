@@ -203,7 +203,8 @@ def gaussian_filter(
     Parameters
     ----------
     input : (M, N, P) float32 or float64 array
-        The result has the same dtype; the filter runs in it. NaN spreads as in SciPy.
+        The result has the same dtype (in the machine's byte order); the filter runs in it.
+        NaN spreads as in SciPy.
     sigma : float or three floats
         Standard deviation in samples, per axis 0, 1, 2 if three; 0 leaves an axis alone.
     order : int
@@ -229,9 +230,10 @@ def gaussian_filter(
         raise UsageError("voxlod.gaussian_filter supports order=0, output=None, radius=None "
                          "and axes=None only")
     dtype = np.asarray(input).dtype
-    if dtype not in (np.float32, np.float64):
+    if dtype.kind != "f" or dtype.itemsize not in (4, 8):
         raise UsageError(f"voxlod.gaussian_filter filters float32 and float64 arrays, not {dtype}")
-    array = volume_array(input, dtype, "input")
+    # Either byte order (a big-endian scan read with np.fromfile): filtered in the machine's.
+    array = volume_array(input, dtype.newbyteorder("="), "input")
     check_fits(array.nbytes, "the filtered volume")
     sigmas = triple(sigma, "sigma")
     return _voxlod.gaussian_filter(array, sigmas, float(truncate), str(mode), float(cval))
