@@ -137,6 +137,14 @@ def test_bad_arrays_are_usage_errors(volume, message):
     assert isinstance(info.value, ValueError)
 
 
+@pytest.mark.parametrize("spacing", [(0.0, 1.0, 1.0), (1.0, -2.0, 1.0), (1.0, 1.0, np.nan),
+                                     np.inf])
+def test_spacing_must_be_finite_and_positive(spacing):
+    # It scales the vertices: zero, negative or NaN would flatten, mirror or poison them.
+    with pytest.raises(voxlod.UsageError, match="finite and positive"):
+        voxlod.marching_cubes(gyroid(8), 0.0, spacing=spacing)
+
+
 def test_nan_is_refused_with_its_index():
     volume = gyroid(16)
     volume[3, 4, 5] = np.nan

@@ -340,6 +340,14 @@ pub fn gaussian_filter<T: FilterSample>(
         "a filtered copy of the volume",
         memory::bytes_of::<T>(input.len()),
     )?;
+    // The taps: 2r + 1 per axis with r = ⌊truncate σ + ½⌋ (a σ of 10⁹ asks for gigabytes).
+    let taps: f64 = (sigma.iter())
+        .map(|s| 2.0 * (truncate * s + 0.5).floor() + 1.0)
+        .sum();
+    memory::check_allocation(
+        &format!("the Gaussian taps of sigma {sigma:?} truncated at {truncate}"),
+        (taps * (8 + 2 * std::mem::size_of::<T>()) as f64).min(u64::MAX as f64) as u64,
+    )?;
     if input.is_empty() {
         return Ok(Vec::new());
     }
@@ -755,5 +763,9 @@ mod tests {
         let ok = GaussianFilterOptions::isotropic(1.0);
         assert!(gaussian_filter(&input, [2, 2, 3], &ok).is_err());
         assert!(gaussian_filter(&input, [2, 2, 2], &ok).is_ok());
+        // A σ whose taps would not fit is refused before they are made (it aborted).
+        let huge = GaussianFilterOptions::isotropic(1e15);
+        let error = gaussian_filter(&input, [2, 2, 2], &huge).unwrap_err();
+        assert!(error.to_string().contains("Gaussian taps"), "{error}");
     }
 }

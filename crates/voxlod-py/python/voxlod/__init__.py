@@ -30,7 +30,7 @@ from typing import Any, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from . import _voxlod
-from ._arrays import check_fits, triple, volume_array
+from ._arrays import check_fits, spacing_triple, triple, volume_array
 from ._labels import LabelMesh, Mesher, labels, precomputed
 from ._scene import Scene, read_scene, write_scene
 from ._facade import (
@@ -108,8 +108,8 @@ def marching_cubes(
         The iso value; samples above it are inside. Default: halfway between the volume's
         minimum and maximum. Must lie within the data's range.
     spacing : three floats
-        Voxel size along axes 0, 1, 2; vertices are multiplied by it (normals are not, as in
-        scikit-image).
+        Voxel size along axes 0, 1, 2, each finite and positive; vertices are multiplied by it
+        (normals are not, as in scikit-image).
     gradient_direction : {'descent', 'ascent'}
         ``'descent'``: the object is above the level (triangles wind outward in a right-handed
         (x, y, z) = (axis 2, 1, 0) frame); ``'ascent'``: below, the winding reversed.
@@ -149,7 +149,7 @@ def marching_cubes(
     # None: the middle of the data's range; a level outside the range is refused (in Rust, in
     # the same pass that looks for NaN).
     level = None if level is None else float(level)
-    spacing = triple(spacing, "spacing")
+    spacing = spacing_triple(spacing)
     if gradient_direction not in ("descent", "ascent"):
         raise UsageError(f"Incorrect input {gradient_direction!r} in `gradient_direction`: "
                          "use 'descent' or 'ascent'")

@@ -39,6 +39,14 @@ def check_fits(nbytes: int, what: str) -> None:
                             "(set VOXLOD_MAX_MEMORY to change the limit)")
 
 
+def spacing_triple(value: Any) -> tuple[float, float, float]:
+    """A spacing (one number or three) as three floats, each finite and positive."""
+    spacing = triple(value, "spacing")
+    if not all(np.isfinite(s) and s > 0 for s in spacing):
+        raise UsageError(f"`spacing` must be finite and positive, not {spacing}")
+    return spacing
+
+
 def triple(value: Any, name: str) -> tuple[float, float, float]:
     """A scalar or a sequence of three numbers as three floats."""
     values: Sequence[Any]

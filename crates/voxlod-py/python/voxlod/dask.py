@@ -56,7 +56,7 @@ import numpy as np
 
 from . import _facade, _voxlod
 from ._facade import Level
-from ._arrays import triple
+from ._arrays import spacing_triple, triple
 from ._labels import (LabelMesh, check_label_dtype, check_surface_options, label_mesh,
                       label_options, label_samples, label_values)
 from .errors import InputError, NoSurfaceError, UsageError
@@ -156,7 +156,7 @@ def marching_cubes(
         low, high = dask.compute(array.min(), array.max())
         level = float(np.float32(0.5) * (np.float32(low) + np.float32(high)))
     level = float(level)
-    spacing = triple(spacing, "spacing")
+    spacing = spacing_triple(spacing)
     if gradient_direction not in ("descent", "ascent"):
         raise UsageError(f"gradient_direction must be 'descent' or 'ascent', not {gradient_direction!r}")
     shape = tuple(int(n) for n in array.shape)
