@@ -129,3 +129,35 @@ fn files_round_trip_and_unreadable_files_are_classed() {
     assert_eq!(bad.class(), ErrorClass::BadInput, "{bad}");
     assert!(bad.to_string().contains("garbage.ply"), "{bad}");
 }
+
+/// NaN samples (no data) count as outside the surface, and the contour says how many there
+/// were rather than passing them over.
+#[test]
+fn contour_names_the_nan_samples_it_counted_outside() {
+    let n = 16;
+    let grid = Grid::new([n; 3], [1.0; 3], [0.0; 3]).unwrap();
+    let mut values: Vec<f32> = (0..n * n * n)
+        .map(|v| {
+            let p = [v % n, v / n % n, v / (n * n)].map(|c| c as f32 - 7.5);
+            (5.0 - (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt()).clamp(-1.0, 1.0)
+        })
+        .collect();
+    for corner in [0, 1, n * n * n - 1] {
+        values[corner] = f32::NAN;
+    }
+    let volume = Volume::from_vec(grid, values).unwrap();
+    let options = voxlod::ContourOptions {
+        iso: 0.0,
+        ..Default::default()
+    };
+    let contoured = voxlod::contour(&volume, &options).unwrap();
+    assert!(contoured.topology.is_closed_manifold());
+    assert!(
+        contoured
+            .warnings
+            .iter()
+            .any(|w| w.starts_with("3 samples are NaN")),
+        "{:?}",
+        contoured.warnings
+    );
+}

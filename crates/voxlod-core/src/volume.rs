@@ -102,6 +102,26 @@ impl Volume {
         (lo <= hi).then_some((lo, hi))
     }
 
+    /// How many samples are NaN (no data, in most scans that hold any). O(N), all threads.
+    pub fn nan_count(&self) -> usize {
+        use rayon::prelude::*;
+        (self.as_slice().par_chunks(1 << 16))
+            .map(|c| c.iter().filter(|v| v.is_nan()).count())
+            .sum()
+    }
+
+    /// The warning a contour of this volume owes where samples are NaN: marching cubes counts
+    /// them as outside the surface. `None` where none is.
+    pub fn nan_warning(&self) -> Option<String> {
+        match self.nan_count() {
+            0 => None,
+            1 => Some("1 sample is NaN (no data): marching cubes counts it as outside".into()),
+            n => Some(format!(
+                "{n} samples are NaN (no data): marching cubes counts them as outside"
+            )),
+        }
+    }
+
     /// The volume with one more sample on every side, all below `iso` (and below every sample),
     /// in the same place: it keeps the orientation, and its index 0 lies where this volume's
     /// index (-1, -1, -1) does, so that a closed contour of an oblique or flipped scan lands
