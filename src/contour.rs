@@ -97,7 +97,8 @@ pub struct Contour {
 pub fn contour(volume: &Volume, options: &ContourOptions) -> Result<Contour, Error> {
     let start = Instant::now();
     check_grid_range(volume)?;
-    let mut warnings: Vec<String> = volume.nan_warning().into_iter().collect();
+    let nan = volume.nan_warning("marching cubes counts NaN as outside");
+    let mut warnings: Vec<String> = nan.into_iter().collect();
     if let Some(problem) = iso_outside_data(options.iso, volume)? {
         // Closed, an iso value at or below every sample is the volume's box: say so.
         let all_inside = volume.range().is_some_and(|(lo, _)| options.iso <= lo);

@@ -130,10 +130,8 @@ fn files_round_trip_and_unreadable_files_are_classed() {
     assert!(bad.to_string().contains("garbage.ply"), "{bad}");
 }
 
-/// NaN samples (no data) count as outside the surface, and the contour says how many there
-/// were rather than passing them over.
-#[test]
-fn contour_names_the_nan_samples_it_counted_outside() {
+/// A 16³ ball (radius 5, values from −1 to 1) with three NaN corner samples (no data).
+fn ball_with_nan_corners() -> Volume {
     let n = 16;
     let grid = Grid::new([n; 3], [1.0; 3], [0.0; 3]).unwrap();
     let mut values: Vec<f32> = (0..n * n * n)
@@ -145,7 +143,48 @@ fn contour_names_the_nan_samples_it_counted_outside() {
     for corner in [0, 1, n * n * n - 1] {
         values[corner] = f32::NAN;
     }
-    let volume = Volume::from_vec(grid, values).unwrap();
+    Volume::from_vec(grid, values).unwrap()
+}
+
+/// Every volume route says how many samples were NaN and what it did with them, rather than
+/// passing them over: the contour and the threshold count them as outside, the direct filter
+/// spreads them.
+#[test]
+fn volume_jobs_name_the_nan_samples() {
+    let volume = ball_with_nan_corners();
+    let options = LodOptions::halving(16, 1, Filter::Hypercone);
+    let threshold = Source::Threshold {
+        volume: &volume,
+        threshold: 0.0,
+    };
+    let direct = Source::Direct(&volume);
+    for (source, fate) in [
+        (threshold, "the threshold counts NaN"),
+        (direct, "the filter spreads"),
+    ] {
+        let iso = matches!(source, Source::Direct(_)).then_some(0.0);
+        let lod = voxlod::lod(
+            &source,
+            &LodOptions {
+                iso,
+                ..options.clone()
+            },
+        )
+        .unwrap();
+        let want = format!("3 samples are NaN (no data): {fate}");
+        assert!(
+            lod.warnings.iter().any(|w| w.starts_with(&want)),
+            "{:?}",
+            lod.warnings
+        );
+    }
+}
+
+/// NaN samples (no data) count as outside the surface, and the contour says how many there
+/// were rather than passing them over.
+#[test]
+fn contour_names_the_nan_samples_it_counted_outside() {
+    let volume = ball_with_nan_corners();
     let options = voxlod::ContourOptions {
         iso: 0.0,
         ..Default::default()
@@ -156,7 +195,8 @@ fn contour_names_the_nan_samples_it_counted_outside() {
         contoured
             .warnings
             .iter()
-            .any(|w| w.starts_with("3 samples are NaN")),
+            .any(|w| w
+                .starts_with("3 samples are NaN (no data): marching cubes counts NaN as outside")),
         "{:?}",
         contoured.warnings
     );

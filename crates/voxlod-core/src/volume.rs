@@ -110,15 +110,13 @@ impl Volume {
             .sum()
     }
 
-    /// The warning a contour of this volume owes where samples are NaN: marching cubes counts
-    /// them as outside the surface. `None` where none is.
-    pub fn nan_warning(&self) -> Option<String> {
+    /// Where samples are NaN (no data), a warning saying how many and their `fate` (what the
+    /// job does with NaN); `None` where none is.
+    pub fn nan_warning(&self, fate: &str) -> Option<String> {
         match self.nan_count() {
             0 => None,
-            1 => Some("1 sample is NaN (no data): marching cubes counts it as outside".into()),
-            n => Some(format!(
-                "{n} samples are NaN (no data): marching cubes counts them as outside"
-            )),
+            1 => Some(format!("1 sample is NaN (no data): {fate}")),
+            n => Some(format!("{n} samples are NaN (no data): {fate}")),
         }
     }
 

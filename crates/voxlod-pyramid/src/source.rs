@@ -183,6 +183,7 @@ impl<'a> Source<'a> {
             Source::Threshold { volume, threshold } => {
                 check_grid_range(volume)?;
                 warnings.extend(threshold_warning(volume, threshold));
+                warnings.extend(volume.nan_warning("the threshold counts NaN as outside"));
                 (
                     Inner::Threshold(Box::new(ThresholdSolid::new(volume, threshold)?)),
                     None,
@@ -190,6 +191,8 @@ impl<'a> Source<'a> {
             }
             Source::Direct(volume) => {
                 check_grid_range(volume)?;
+                let fate = "the filter spreads NaN, and every sample it reaches counts as outside";
+                warnings.extend(volume.nan_warning(fate));
                 (Inner::Direct(volume), None)
             }
             Source::Solid(solid) => (Inner::Solid(solid), None),
