@@ -1,5 +1,6 @@
 //! The input as every method sees it ([`Input`]): checked, coincident vertices merged,
-//! degenerate and duplicate triangles dropped, each piece oriented as most of its triangles are
+//! zero-area slivers mended (an edge turned or collapsed, the mesh kept closed), triangles
+//! that repeat a vertex and duplicates dropped, each piece oriented as most of its triangles are
 //! ([`orient_consistently`]), turned right side out where the whole of it is inside out, with
 //! its topology and connected parts. No vertex moves. Edges of three or more triangles stay:
 //! cut before a collapse, they would become borders the collapse cannot cross; the levels are
@@ -16,7 +17,20 @@ use voxlod_core::validate::validate_mesh;
 use voxlod_core::weld::weld_vertices;
 use voxlod_core::{crossing_pairs, mesh_topology, Bounds, Topology, TriangleMesh};
 
+use voxlod_contouring::clean_mesh::without_zero_area;
+
 use crate::BudgetError;
+
+/// Triangles of `mesh` with three distinct corners and no area.
+fn zero_area_slivers(mesh: &TriangleMesh) -> usize {
+    (mesh.triangles.iter())
+        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+        .filter(|t| {
+            let [a, b, c] = t.map(|v| mesh.positions[v as usize].as_dvec3());
+            (b - a).cross(c - a).length_squared() == 0.0
+        })
+        .count()
+}
 
 /// The prepared input.
 pub struct Input {
@@ -54,7 +68,8 @@ pub struct Seen {
 pub struct Preparation {
     /// Vertices merged into another at the same coordinates.
     pub welded_vertices: usize,
-    /// Triangles dropped for a repeated vertex or zero area.
+    /// Triangles dropped for a repeated vertex or zero area, or mended (zero-area slivers
+    /// with three distinct corners: an edge turned or collapsed, the mesh kept closed).
     pub degenerate_triangles: usize,
     /// Triangles dropped as copies of another.
     pub duplicate_triangles: usize,
@@ -72,6 +87,13 @@ impl Input {
         validate_mesh(mesh, &Default::default())?;
         let mut clean = TriangleMesh::new(mesh.positions.clone(), mesh.triangles.clone());
         let weld = weld_vertices(&mut clean);
+        // Zero-area triangles with three distinct corners are mended, not dropped: dropping one
+        // would open a crack in a closed mesh (a printed part's one collinear sliver).
+        let slivers = zero_area_slivers(&clean);
+        if slivers > 0 {
+            let cell = clean.bounds().diagonal() * 1e-3;
+            clean = without_zero_area(clean, cell);
+        }
         let repair = remove_degenerate_and_duplicate_triangles(&mut clean);
         clean.remove_unreferenced_vertices();
         if clean.triangles.is_empty() {
@@ -93,7 +115,7 @@ impl Input {
             bounds,
             preparation: Preparation {
                 welded_vertices: weld.vertices_before - weld.vertices_after,
-                degenerate_triangles: repair.degenerate_triangles,
+                degenerate_triangles: repair.degenerate_triangles + slivers,
                 duplicate_triangles: repair.duplicate_triangles,
                 flipped_triangles,
                 turned_right_side_out: inside_out,

@@ -108,6 +108,43 @@ fn a_budget_above_the_input_gets_the_input() {
     assert!(within(run.levels[1].mesh.triangle_count(), n / 4));
 }
 
+/// A closed mesh with a zero-area sliver (an edge split at its midpoint on one side only, the
+/// sliver closing the crack, as a printed part's STL may have) stays closed: the sliver is
+/// mended, not dropped, and a budget above the input gets a closed level.
+#[test]
+fn a_closed_mesh_with_a_zero_area_sliver_keeps_closed_levels() {
+    // A cube (corners at 0 and 1: the midpoint is exact, the sliver exactly flat), its faces
+    // split finely enough for budgets.
+    let cube = voxlod_testkit::shapes::unit_cube();
+    let mut mesh = voxlod_testkit::shapes::subdivided(
+        cube.positions.iter().map(|p| p.as_dvec3()).collect(),
+        cube.triangles,
+        3,
+        |p| p,
+    );
+    let [a, c, x] = mesh.triangles[0];
+    let mid = (mesh.positions[a as usize] + mesh.positions[c as usize]) * 0.5;
+    mesh.positions.push(mid);
+    let b = mesh.positions.len() as u32 - 1;
+    mesh.triangles[0] = [a, b, x];
+    mesh.triangles.push([b, c, x]);
+    mesh.triangles.push([a, c, b]);
+    assert!(mesh_topology(&mesh).is_closed_manifold());
+    let n = mesh.triangle_count();
+    let run = levels(&mesh, &PortfolioOptions::for_triangles(&[2 * n, n / 4])).unwrap();
+    assert_eq!(run.input.preparation.degenerate_triangles, 1);
+    assert!(run.input.closed);
+    for level in &run.levels {
+        let t = mesh_topology(&level.mesh);
+        assert!(
+            t.is_closed_manifold() && t.degenerate_triangles == 0,
+            "{t:?}"
+        );
+    }
+    assert!(run.levels[0].mesh.triangle_count() >= n - 2);
+    assert!(within(run.levels[1].mesh.triangle_count(), n / 4));
+}
+
 #[test]
 fn a_triangle_soup_gets_manifold_oriented_levels() {
     let soup = corpus::soup();
