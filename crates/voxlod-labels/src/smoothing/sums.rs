@@ -1,5 +1,5 @@
 //! Exact sums per label pair for the volume restoring ([`super::smooth`], step 5): each term
-//! is rounded once to a fixed point and the terms are summed as integers, so a sum depends
+//! is cut once to a fixed point and the terms are summed as integers, so a sum depends
 //! neither on the order of its terms nor on how they are split among threads or tasks. A block
 //! of a map (the blockwise route: `voxlod.dask.labels` with `shared`) and the whole map give the
 //! same sums for the same triangles, and so the same pressures and positions, bit for bit.
@@ -69,7 +69,7 @@ pub(super) fn summed<K: Ord + Copy>(entries: &mut Vec<(K, i128)>) {
     });
 }
 
-/// A fixed point: terms are rounded to whole units of `unit` (`scale` its inverse).
+/// A fixed point: terms are cut to whole units of `unit` (`scale` its inverse).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Quantum {
     scale: f64,
