@@ -1,7 +1,7 @@
 //! A corpus of hard meshes made in code, for checking that a pipeline holds on inputs nobody
 //! tuned it for: open sheets, many parts, overlapping shells, CAD plates, a scan with holes and
-//! cracks, an inside-out surface, a non-manifold soup, a scaffold of genus 314, thin tubes, and
-//! two easy spheres. [`corpus`] lists them all by name.
+//! cracks, an inside-out surface, a non-manifold soup, a scaffold of genus 314, thin tubes,
+//! two easy spheres, a Möbius strip that cannot be oriented, and a sphere far from the origin. [`corpus`] lists them all by name.
 //!
 //! Every case is deterministic (the same bits on every run and platform: its random choices
 //! come from a fixed-seed generator), has finite coordinates, and holds a few thousand to
@@ -49,6 +49,8 @@ pub fn corpus() -> Vec<(&'static str, TriangleMesh)> {
         ("thin-tubes", thin_tubes()),
         ("sphere-fine", sphere_fine()),
         ("two-spheres", two_spheres()),
+        ("moebius", moebius()),
+        ("far-away", far_away()),
     ]
 }
 
@@ -337,6 +339,42 @@ pub fn thin_tubes() -> TriangleMesh {
 /// The unit icosphere of level 6: a smooth, easy closed surface of 81 920 triangles.
 pub fn sphere_fine() -> TriangleMesh {
     icosphere(6)
+}
+
+/// A Möbius strip (radius 1, width 0.6, 120 quads around and 8 across): one open sheet of
+/// one boundary loop that cannot be oriented, 1 920 triangles.
+pub fn moebius() -> TriangleMesh {
+    let (around, across) = (120u32, 8u32);
+    let at = |i: u32, j: u32| {
+        let u = TAU * i as f64 / around as f64;
+        let w = 0.6 * (j as f64 / across as f64 - 0.5);
+        let r = 1.0 + w * (u / 2.0).cos();
+        DVec3::new(r * u.cos(), r * u.sin(), w * (u / 2.0).sin()).as_vec3()
+    };
+    let positions = (0..around)
+        .flat_map(|i| (0..=across).map(move |j| (i, j)))
+        .map(|(i, j)| at(i, j))
+        .collect();
+    let id = |i: u32, j: u32| i * (across + 1) + j;
+    let mut triangles = Vec::new();
+    for i in 0..around {
+        // The last column joins the first turned over: j meets across − j.
+        let next = |j: u32| match i + 1 == around {
+            true => id(0, across - j),
+            false => id(i + 1, j),
+        };
+        for j in 0..across {
+            triangles.push([id(i, j), next(j), next(j + 1)]);
+            triangles.push([id(i, j), next(j + 1), id(i, j + 1)]);
+        }
+    }
+    TriangleMesh::new(positions, triangles)
+}
+
+/// A unit sphere (a level-3 icosphere, 1 280 triangles) at (10⁵, −2·10⁵, 5·10⁴): coordinates
+/// whose `f32` step (1/128) is a sizeable part of an edge, as a model placed in map units is.
+pub fn far_away() -> TriangleMesh {
+    icosphere_at(3, 1.0, DVec3::new(1e5, -2e5, 5e4).as_vec3())
 }
 
 /// Two overlapping spheres as two separate shells (radius 1 at the origin, radius 0.7 at

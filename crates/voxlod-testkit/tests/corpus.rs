@@ -38,7 +38,7 @@ const fn facts(
 
 /// Every case, in [`corpus::corpus`]'s order. The soup's rows are the unwelded soup: every
 /// triangle its own component.
-const EXPECTED: [Facts; 14] = [
+const EXPECTED: [Facts; 16] = [
     facts("sheet", 20_000, 1, 1, Some(0), 0.0),
     facts("sheet-curled", 18_000, 1, 1, Some(0), 0.0),
     facts("open-parts", 23_898, 30, 38, Some(0), 0.0),
@@ -53,6 +53,8 @@ const EXPECTED: [Facts; 14] = [
     facts("thin-tubes", 20_928, 79, 0, Some(0), 1.0),
     facts("sphere-fine", 81_920, 1, 0, Some(0), 1.0),
     facts("two-spheres", 10_240, 2, 0, Some(0), 1.0),
+    facts("moebius", 1_920, 1, 1, None, 0.0),
+    facts("far-away", 1_280, 1, 0, Some(0), 1.0),
 ];
 
 #[test]
