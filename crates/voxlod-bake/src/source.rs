@@ -148,27 +148,8 @@ impl<'a> SourceLooks<'a> {
     pub fn at(&self, t: usize, weights: [f32; 3], facing: Vec3, footprint: f32) -> Look {
         let mesh = &self.asset.mesh;
         let corners = mesh.triangles[t].map(|v| v as usize);
-        let mix4 = |values: &[Vec4]| -> Vec4 {
-            corners
-                .iter()
-                .zip(weights)
-                .map(|(&v, w)| values[v] * w)
-                .sum()
-        };
-        let mix3 = |values: &[Vec3]| -> Vec3 {
-            corners
-                .iter()
-                .zip(weights)
-                .map(|(&v, w)| values[v] * w)
-                .sum()
-        };
-        let uv = |set: usize| -> Vec2 {
-            corners
-                .iter()
-                .zip(weights)
-                .map(|(&v, w)| mesh.uv[set][v] * w)
-                .sum()
-        };
+        let mix4 = |values: &[Vec4]| self.mixed(t, weights, values);
+        let mix3 = |values: &[Vec3]| self.mixed(t, weights, values);
         let geometric = {
             let [a, b, c] = corners.map(|v| mesh.positions[v]);
             (b - a).cross(c - a).try_normalize().unwrap_or(facing)
@@ -178,15 +159,10 @@ impl<'a> SourceLooks<'a> {
         } else {
             mix3(&mesh.normals).try_normalize().unwrap_or(geometric)
         };
-        let colour = if mesh.colors.is_empty() {
-            Vec4::ONE
-        } else {
-            mix4(&mesh.colors)
-        };
         let Some(material) = self.asset.material_of(t) else {
             let d = Material::default();
             return Look {
-                base: colour,
+                base: self.vertex_colour(t, weights),
                 normal,
                 occlusion: 1.0,
                 roughness: d.roughness,
@@ -199,11 +175,8 @@ impl<'a> SourceLooks<'a> {
         if material.double_sided && geometric.dot(facing) < 0.0 {
             normal = -normal;
         }
-        let sample = |slot: &Option<TextureRef>, store: &[Option<Mipmaps>]| -> Option<Vec4> {
-            let slot = slot.as_ref()?;
-            let mipmaps = store[slot.image].as_ref()?;
-            let texels = footprint * texel_density(mesh, t, slot, mipmaps.size());
-            Some(mipmaps.sample(slot, uv(set_of(slot)), texels))
+        let sample = |slot: &Option<TextureRef>, store: &[Option<Mipmaps>]| {
+            self.sample(t, weights, slot, store, footprint)
         };
         if let Some(m) = sample(&material.normal_texture, &self.data) {
             if !self.tangents.is_empty() {
@@ -211,9 +184,7 @@ impl<'a> SourceLooks<'a> {
                 normal = bend_normal(normal, tangent, m, material.normal_scale);
             }
         }
-        let base = colour
-            * Vec4::from(material.base_color)
-            * sample(&material.base_color_texture, &self.colour).unwrap_or(Vec4::ONE);
+        let base = self.base(t, weights, material, footprint);
         let mr = sample(&material.metallic_roughness_texture, &self.data).unwrap_or(Vec4::ONE);
         let occlusion = sample(&material.occlusion_texture, &self.data)
             .map_or(1.0, |o| 1.0 + material.occlusion_strength * (o.x - 1.0));
@@ -237,15 +208,68 @@ impl SourceLooks<'_> {
     /// there, sampled at the point, is below the cutoff. Blended and opaque materials always
     /// show something.
     pub fn clear(&self, t: usize, weights: [f32; 3]) -> bool {
-        let Some(material) = self.asset.material_of(t) else {
-            return false;
-        };
-        if material.alpha_mode != AlphaMode::Mask {
-            return false;
+        match self.asset.material_of(t) {
+            Some(m) if m.alpha_mode == AlphaMode::Mask => {
+                self.base(t, weights, m, 0.0).w < m.alpha_cutoff
+            }
+            _ => false,
         }
-        let cutoff = material.alpha_cutoff;
-        let alpha = self.at(t, weights, Vec3::Z, 0.0).base.w;
-        alpha < cutoff
+    }
+
+    /// `values` (one per vertex) interpolated at the point with barycentric `weights` on
+    /// triangle `t`.
+    fn mixed<T>(&self, t: usize, weights: [f32; 3], values: &[T]) -> T
+    where
+        T: Copy + std::ops::Mul<f32, Output = T> + std::iter::Sum,
+    {
+        let corners = self.asset.mesh.triangles[t];
+        corners
+            .iter()
+            .zip(weights)
+            .map(|(&v, w)| values[v as usize] * w)
+            .sum()
+    }
+
+    /// The vertex colour at the point (white where the mesh has none).
+    fn vertex_colour(&self, t: usize, weights: [f32; 3]) -> Vec4 {
+        let colors = &self.asset.mesh.colors;
+        match colors.is_empty() {
+            true => Vec4::ONE,
+            false => self.mixed(t, weights, colors),
+        }
+    }
+
+    /// The base colour at the point: texture × factor × vertex colour (glTF §3.9.2), the
+    /// texture averaged over `footprint`.
+    fn base(&self, t: usize, weights: [f32; 3], material: &Material, footprint: f32) -> Vec4 {
+        let texture = self.sample(
+            t,
+            weights,
+            &material.base_color_texture,
+            &self.colour,
+            footprint,
+        );
+        self.vertex_colour(t, weights)
+            * Vec4::from(material.base_color)
+            * texture.unwrap_or(Vec4::ONE)
+    }
+
+    /// `slot`'s texture (decoded in `store`) at the point, averaged over a patch `footprint`
+    /// across (world units); `None` where there is no slot or no image.
+    fn sample(
+        &self,
+        t: usize,
+        weights: [f32; 3],
+        slot: &Option<TextureRef>,
+        store: &[Option<Mipmaps>],
+        footprint: f32,
+    ) -> Option<Vec4> {
+        let slot = slot.as_ref()?;
+        let mipmaps = store[slot.image].as_ref()?;
+        let mesh = &self.asset.mesh;
+        let texels = footprint * texel_density(mesh, t, slot, mipmaps.size());
+        let uv: Vec2 = self.mixed(t, weights, &mesh.uv[set_of(slot)]);
+        Some(mipmaps.sample(slot, uv, texels))
     }
 }
 

@@ -49,7 +49,7 @@ use rayon::prelude::*;
 use voxlod_core::glam::{DMat3, DVec3, Vec3};
 use voxlod_core::memory;
 
-use crate::surface_nets::{LabelSlots, SharedSurface};
+use crate::surface_nets::SharedSurface;
 use crate::LabelsError;
 
 /// How [`smooth`] smooths.
@@ -240,19 +240,12 @@ pub fn smooth(
 ) -> Result<SmoothingReport, LabelsError> {
     let (frame, layout, mut q) = start(surface, options)?;
     let before = restore::pair_volumes(surface, &frame, &q, &restore::Owned::ALL);
-    let labels = before.labels();
-    let slots = LabelSlots::new(&labels);
-    let target = restore::volumes_of(&before, &slots, labels.len());
+    let targets = restore::Targets::of(&before);
     let turned = relax_and_turn(surface, options, &frame, &layout, &mut q);
     let restoring = restore::Restoring {
         surface,
         layout: &layout,
         frame: &frame,
-    };
-    let targets = restore::Targets {
-        labels: &labels,
-        slots: &slots,
-        volumes: &target,
     };
     let (rounds, measured) = match (options.keep_volume, &options.pressures) {
         (false, _) => (0, None),
@@ -265,16 +258,17 @@ pub fn smooth(
         }
     };
     let after = measured.unwrap_or_else(|| {
-        let pairs = restore::pair_volumes(surface, &frame, &q, &restore::Owned::ALL);
-        restore::volumes_of(&pairs, &slots, labels.len())
+        targets.measure(&restore::pair_volumes(
+            surface,
+            &frame,
+            &q,
+            &restore::Owned::ALL,
+        ))
     });
     let constrained = constrained(surface, &frame, &q);
-    q.par_iter_mut()
-        .for_each(|g| *g = (frame.origin + frame.to_world * g.as_dvec3()).as_vec3());
-    surface.positions = q;
-    let volumes: Vec<VolumeChange> = labels
-        .iter()
-        .zip(target.iter().zip(&after))
+    place(surface, &frame, q);
+    let volumes: Vec<VolumeChange> = (targets.labels.iter())
+        .zip(targets.volumes.iter().zip(&after))
         .map(|(&label, (&before, &after))| VolumeChange {
             label,
             before,
@@ -295,10 +289,11 @@ pub fn smooth(
     })
 }
 
-/// The frame, the corner rows and the vertices at their corners (grid space), after checking
-/// the options and the memory the work needs.
+/// The frame, the corner rows and the vertices at their corners (grid space, in the buffer of
+/// the surface's positions, taken from it until [`place`] gives it back), after checking the
+/// options and the memory the work needs.
 fn start(
-    surface: &SharedSurface,
+    surface: &mut SharedSurface,
     options: &SmoothingOptions,
 ) -> Result<(Frame, relax::Layout, Vec<Vec3>), LabelsError> {
     options.check()?;
@@ -316,13 +311,20 @@ fn start(
         to_world: world.direction,
         half: (world.spacing * options.constraint).as_vec3(),
     };
-    let q: Vec<Vec3> = surface
-        .corners
-        .par_iter()
-        .map(|&c| frame.start(c))
-        .collect();
+    let mut q = std::mem::take(&mut surface.positions);
+    q.resize(n, Vec3::ZERO);
+    q.par_iter_mut()
+        .zip(surface.corners.par_iter())
+        .for_each(|(p, &c)| *p = frame.start(c));
     let layout = relax::Layout::new(surface);
     Ok((frame, layout, q))
+}
+
+/// The grid-space positions `q` moved into the world and given back to the surface.
+fn place(surface: &mut SharedSurface, frame: &Frame, mut q: Vec<Vec3>) {
+    q.par_iter_mut()
+        .for_each(|g| *g = (frame.origin + frame.to_world * g.as_dvec3()).as_vec3());
+    surface.positions = q;
 }
 
 /// The λ|μ passes on `q`, then the diagonals turned; returns how many turned.
@@ -371,8 +373,8 @@ pub struct RestoringSums {
 /// cut with a margin wide enough that the vertices `owned` holds and their neighbours move as
 /// in the whole map): smoothed as [`smooth`] smooths, the given pressures applied, then summed.
 /// The blocks' sums added ([`PairSums::merged`]) are the whole map's, so
-/// [`restoring_pressure`] solves the round the whole map would. The surface's triangles are
-/// left turned.
+/// [`restoring_pressure`] solves the round the whole map would. The surface is left smoothed
+/// with the given pressures.
 pub fn restoring_sums(
     surface: &mut SharedSurface,
     options: &SmoothingOptions,
@@ -392,6 +394,7 @@ pub fn restoring_sums(
     restore::check_memory(q.len())?;
     let g = restore::gradients(surface, &layout, &frame, &q, &owned);
     let weights = restore::gram_weights(surface, &frame, &g, &owned);
+    place(surface, &frame, q);
     Ok(RestoringSums {
         before,
         volumes: g.volumes,
@@ -403,14 +406,17 @@ pub fn restoring_sums(
 /// merged), or `None` when every label's volume is within `options.volume_tolerance` of its
 /// volume before smoothing (the restoring stops). As the round [`smooth`] solves.
 pub fn restoring_pressure(sums: &RestoringSums, options: &SmoothingOptions) -> Option<Pressure> {
-    let labels = sums.before.labels();
-    let slots = LabelSlots::new(&labels);
-    let target = restore::volumes_of(&sums.before, &slots, labels.len());
-    let volumes = restore::volumes_of(&sums.volumes, &slots, labels.len());
-    if restore::within_tolerance(&target, &volumes, options.volume_tolerance) {
+    let targets = restore::Targets::of(&sums.before);
+    let volumes = targets.measure(&sums.volumes);
+    if restore::within_tolerance(&targets.volumes, &volumes, options.volume_tolerance) {
         return None;
     }
-    Some(restore::solve(&labels, &target, &volumes, &sums.weights))
+    Some(restore::solve(
+        &targets.labels,
+        &targets.volumes,
+        &volumes,
+        &sums.weights,
+    ))
 }
 
 /// Turns each quad (a pair of triangles sharing a diagonal) to its shorter diagonal; returns

@@ -92,7 +92,7 @@ pub(super) fn pair_volumes(
 
 /// Each of `labels`' enclosed volume from `pairs` (inside labels add, outside ones
 /// subtract), by slot.
-pub(super) fn volumes_of(pairs: &PairSums, labels: &LabelSlots, count: usize) -> Vec<f64> {
+fn volumes_of(pairs: &PairSums, labels: &LabelSlots, count: usize) -> Vec<f64> {
     let mut volumes = vec![0i128; count];
     for &([inside, outside], v) in &pairs.sums {
         if let Some(i) = labels.get(inside) {
@@ -114,10 +114,29 @@ pub(super) struct Restoring<'a> {
 
 /// The labels' volumes to restore: the labels (sorted), their slots, and their volumes before
 /// smoothing by slot.
-pub(super) struct Targets<'a> {
-    pub labels: &'a [u32],
-    pub slots: &'a LabelSlots,
-    pub volumes: &'a [f64],
+pub(super) struct Targets {
+    pub labels: Vec<u32>,
+    pub slots: LabelSlots,
+    pub volumes: Vec<f64>,
+}
+
+impl Targets {
+    /// The labels other than 0 of the pairs' volumes `before` smoothing, and their volumes.
+    pub(super) fn of(before: &PairSums) -> Targets {
+        let labels = before.labels();
+        let slots = LabelSlots::new(&labels);
+        let volumes = volumes_of(before, &slots, labels.len());
+        Targets {
+            labels,
+            slots,
+            volumes,
+        }
+    }
+
+    /// Each label's volume from the pairs' volumes `pairs`, by slot.
+    pub(super) fn measure(&self, pairs: &PairSums) -> Vec<f64> {
+        volumes_of(pairs, &self.slots, self.labels.len())
+    }
 }
 
 impl Restoring<'_> {
@@ -131,28 +150,27 @@ impl Restoring<'_> {
         options: &SmoothingOptions,
     ) -> Result<(usize, Option<Vec<f64>>), LabelsError> {
         check_memory(q.len())?;
-        let count = targets.labels.len();
         for round in 0..options.restore_rounds {
             // The first round always moves vertices (smoothing has changed the volumes), so its
             // gradients come in the same pass over the triangles as its volumes.
             let mut ready = None;
             let volumes = if round == 0 {
                 let g = gradients(self.surface, self.layout, self.frame, q, &Owned::ALL);
-                let volumes = volumes_of(&g.volumes, targets.slots, count);
+                let volumes = targets.measure(&g.volumes);
                 ready = Some(g);
                 volumes
             } else {
                 let pairs = pair_volumes(self.surface, self.frame, q, &Owned::ALL);
-                volumes_of(&pairs, targets.slots, count)
+                targets.measure(&pairs)
             };
-            if within_tolerance(targets.volumes, &volumes, options.volume_tolerance) {
+            if within_tolerance(&targets.volumes, &volumes, options.volume_tolerance) {
                 return Ok((round, Some(volumes)));
             }
             let g = ready.unwrap_or_else(|| {
                 gradients(self.surface, self.layout, self.frame, q, &Owned::ALL)
             });
             let weights = gram_weights(self.surface, self.frame, &g, &Owned::ALL);
-            let pressure = solve(targets.labels, targets.volumes, &volumes, &weights);
+            let pressure = solve(&targets.labels, &targets.volumes, &volumes, &weights);
             self.apply(q, &g, &pressure);
         }
         Ok((options.restore_rounds, None))
