@@ -17,7 +17,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::crossings::{bounds, triangles_cross};
+use crate::crossings::{bounds, boxes_apart, triangles_cross};
 use crate::TriangleMesh;
 
 /// Every pair `(s, t)`, `s < t`, of `mesh`'s triangles that cross (module docs), ascending.
@@ -45,46 +45,122 @@ pub fn crossing_pairs(mesh: &TriangleMesh) -> Vec<(u32, u32)> {
         .map(|t| mesh.corners(t))
         .collect();
     let boxes: Vec<(DVec3, DVec3)> = corners.par_iter().map(|c| bounds(*c)).collect();
-    let cell = cell_size(&boxes, mesh.bounds().diagonal());
-    let margin = cell * 0.5e-6;
-    // Every cell a triangle's box (grown by the margin) reaches, sorted by cell.
-    let mut entries: Vec<([i64; 3], u32)> = (boxes.par_iter().enumerate())
-        .flat_map_iter(|(t, &(lo, hi))| {
-            let (a, b) = (key(lo - margin, cell), key(hi + margin, cell));
+    let grid = Grid::new(&boxes, mesh.bounds().diagonal());
+    let margin = grid.margin;
+    // The cells of each box's low and high corners (the box grown by the margin).
+    let spans: Vec<([u64; 3], [u64; 3])> = (boxes.par_iter())
+        .map(|&(lo, hi)| (grid.cell(lo - margin), grid.cell(hi + margin)))
+        .collect();
+    // Every cell a triangle's box reaches, sorted by cell.
+    let mut entries: Vec<(u64, u32)> = (spans.par_iter().enumerate())
+        .flat_map_iter(|(t, &(a, b))| {
+            let grid = &grid;
             (a[2]..=b[2]).flat_map(move |z| {
-                (a[1]..=b[1]).flat_map(move |y| (a[0]..=b[0]).map(move |x| ([x, y, z], t as u32)))
+                (a[1]..=b[1]).flat_map(move |y| {
+                    (a[0]..=b[0]).map(move |x| (grid.index([x, y, z]), t as u32))
+                })
             })
         })
         .collect();
     entries.par_sort_unstable();
-    let lists: Vec<&[([i64; 3], u32)]> = (entries.chunk_by(|x, y| x.0 == y.0))
+    let lists: Vec<&[(u64, u32)]> = (entries.chunk_by(|x, y| x.0 == y.0))
         .filter(|l| l.len() > 1)
         .collect();
     // A pair is tested in one cell only, the one holding the low corner of its boxes'
-    // overlap: it lies in both boxes' cells when the boxes are not apart.
-    let home = |a: usize, b: usize| key(boxes[a].0.max(boxes[b].0) - margin, cell);
+    // overlap (the larger of their low corners' cells, axis by axis): it lies in both boxes'
+    // cells when the boxes are not apart.
+    let home = |a: usize, b: usize| {
+        let (p, q) = (spans[a].0, spans[b].0);
+        grid.index([p[0].max(q[0]), p[1].max(q[1]), p[2].max(q[2])])
+    };
+    let test = |s: u32, t: u32, cell: u64| {
+        let (s, t) = (s.min(t), s.max(t));
+        let (a, b) = (s as usize, t as usize);
+        if boxes_apart(boxes[a], boxes[b], margin) || home(a, b) != cell {
+            return None;
+        }
+        let (ta, tb) = (mesh.triangles[a], mesh.triangles[b]);
+        triangles_cross(corners[a], ta, corners[b], tb, margin).then_some((s, t))
+    };
     let mut pairs: Vec<(u32, u32)> = lists
         .par_iter()
-        .flat_map_iter(|list| {
-            let (corners, home) = (&corners, &home);
-            list.iter()
-                .enumerate()
-                .flat_map(move |(k, &(cell_key, s))| {
-                    list[k + 1..].iter().filter_map(move |&(_, t)| {
-                        let (s, t) = (s.min(t), s.max(t));
-                        let (a, b) = (s as usize, t as usize);
-                        if home(a, b) != cell_key {
-                            return None;
-                        }
-                        let (ta, tb) = (mesh.triangles[a], mesh.triangles[b]);
-                        let cross = triangles_cross(corners[a], ta, corners[b], tb, margin);
-                        cross.then_some((s, t))
-                    })
-                })
-        })
+        .flat_map_iter(|list| cell_pairs(list, &boxes, margin, &test))
         .collect();
     pairs.par_sort_unstable();
     pairs
+}
+
+/// The pairs of one cell's triangles (`list`) that `test` finds crossing: every pair of a
+/// short list; a long one's (a dense tangle of small triangles) swept along x, each triangle
+/// tested only against those whose boxes start before its own ends.
+fn cell_pairs(
+    list: &[(u64, u32)],
+    boxes: &[(DVec3, DVec3)],
+    margin: f64,
+    test: &(impl Fn(u32, u32, u64) -> Option<(u32, u32)> + Sync),
+) -> Vec<(u32, u32)> {
+    let cell = list[0].0;
+    let mut out = Vec::new();
+    if list.len() <= SWEPT {
+        for (k, &(_, s)) in list.iter().enumerate() {
+            out.extend(list[k + 1..].iter().filter_map(|&(_, t)| test(s, t, cell)));
+        }
+        return out;
+    }
+    let mut order: Vec<u32> = list.iter().map(|e| e.1).collect();
+    order.sort_unstable_by(|&a, &b| boxes[a as usize].0.x.total_cmp(&boxes[b as usize].0.x));
+    for (k, &s) in order.iter().enumerate() {
+        let end = boxes[s as usize].1.x + margin;
+        let next = order[k + 1..].iter();
+        let starting = next.take_while(|&&t| boxes[t as usize].0.x <= end);
+        out.extend(starting.filter_map(|&t| test(s, t, cell)));
+    }
+    out
+}
+
+/// Cells with more triangles than this are swept rather than tested pair by pair.
+const SWEPT: usize = 16;
+
+/// The bucketing grid: cells of [`cell_size`] from the boxes' smallest corner (less a margin),
+/// numbered x fastest; at most a million cells a side, so that a cell's number fits 64 bits.
+struct Grid {
+    origin: DVec3,
+    cell: f64,
+    margin: f64,
+    cells: [u64; 3],
+}
+
+impl Grid {
+    fn new(boxes: &[(DVec3, DVec3)], diagonal: f64) -> Grid {
+        let cell = cell_size(boxes, diagonal);
+        let margin = cell * 0.5e-6;
+        let (lo, hi) = boxes.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), b| (lo.min(b.0), hi.max(b.1)),
+        );
+        let origin = lo - 2.0 * margin;
+        let span = ((hi + 2.0 * margin - origin) / cell).floor();
+        let cells = (span + 1.0)
+            .clamp(DVec3::ONE, DVec3::splat(2e6))
+            .as_u64vec3();
+        Grid {
+            origin,
+            cell,
+            margin,
+            cells: cells.to_array(),
+        }
+    }
+
+    /// The cell holding `p`, axis by axis (clamped to the grid).
+    fn cell(&self, p: DVec3) -> [u64; 3] {
+        let c = ((p - self.origin) / self.cell).floor().max(DVec3::ZERO);
+        let c = c.as_u64vec3().to_array();
+        [0, 1, 2].map(|k| c[k].min(self.cells[k] - 1))
+    }
+
+    fn index(&self, c: [u64; 3]) -> u64 {
+        (c[2] * self.cells[1] + c[1]) * self.cells[0] + c[0]
+    }
 }
 
 /// The grid's cell: the triangles' mean longest side (of their `boxes`), at least a millionth
@@ -101,8 +177,4 @@ fn cell_size(boxes: &[(DVec3, DVec3)], diagonal: f64) -> f64 {
     } else {
         1.0
     }
-}
-
-fn key(p: DVec3, cell: f64) -> [i64; 3] {
-    (p / cell).floor().as_i64vec3().to_array()
 }
