@@ -67,9 +67,18 @@ pub fn levels_with(
         }
     };
     step(0)?;
-    let searched: Vec<Searched> = budgets
-        .par_iter()
-        .map(|&b| search(&input, given, &measure, options, b))
+    let plains: Vec<(Option<Candidate>, f64)> = (budgets.par_iter())
+        .map(|&b| first_collapse(&input, options, b))
+        .collect();
+    if plains
+        .iter()
+        .any(|(c, _)| c.as_ref().is_some_and(|c| c.crossings > Some(0)))
+    {
+        // On all cores now, rather than on the one search that asks first while the others wait.
+        input.crossings();
+    }
+    let searched: Vec<Searched> = (budgets.par_iter().zip(plains))
+        .map(|(&b, plain)| search(&input, given, &measure, options, b, plain))
         .collect::<Result<_, _>>()?;
     lap(&mut timings.collapses);
     step(budgets.len())?;
@@ -132,14 +141,39 @@ struct Searched {
     notes: Vec<String>,
 }
 
-/// The input's collapses for `budget`, and whether a voxel search can do better (the plain
-/// collapse breaks a promise, misses the budget, or is farther than [`VOXEL_WORTH`] voxels).
+/// The input's plain collapse for `budget` ([`collapse::plain`]; none for a proxy), its
+/// crossing pairs counted where it keeps the cheap promises, and the seconds it took.
+fn first_collapse(
+    input: &Input,
+    options: &PortfolioOptions,
+    budget: usize,
+) -> (Option<Candidate>, f64) {
+    let start = Instant::now();
+    let plain = (!options.remesh)
+        .then(|| collapse::plain(input, budget, options.max_error))
+        .flatten()
+        .map(|mut plain| {
+            if first_promises(input, options, budget)
+                .broken_cheap(&plain)
+                .is_empty()
+            {
+                Promises::crossings(&mut plain);
+            }
+            plain
+        });
+    (plain, start.elapsed().as_secs_f64())
+}
+
+/// The input's collapses for `budget` (its plain collapse made already by [`first_collapse`]),
+/// and whether a voxel search can do better (the plain collapse breaks a promise, misses the
+/// budget, or is farther than [`VOXEL_WORTH`] voxels).
 fn search(
     input: &Input,
     given: Option<&TriangleMesh>,
     measure: &Measure,
     options: &PortfolioOptions,
     budget: usize,
+    (plain, seconds): (Option<Candidate>, f64),
 ) -> Result<Searched, BudgetError> {
     let start = Instant::now();
     let promises = first_promises(input, options, budget);
@@ -151,11 +185,11 @@ fn search(
             candidates,
             needs_voxels: true,
             plain_broke,
-            seconds: start.elapsed().as_secs_f64(),
+            seconds: seconds + start.elapsed().as_secs_f64(),
             notes: Vec::new(),
         });
     }
-    if let Some(mut plain) = collapse::plain(input, budget, options.max_error) {
+    if let Some(mut plain) = plain {
         let broken = promises.broken_cheap(&plain);
         let keeps = broken.is_empty() && crosses_no_more(input, &mut plain);
         // A large budget whose collapse only came out cut open (or with more handles): its
@@ -181,7 +215,7 @@ fn search(
         candidates,
         needs_voxels: !close_enough && !large_and_opened,
         plain_broke,
-        seconds: start.elapsed().as_secs_f64(),
+        seconds: seconds + start.elapsed().as_secs_f64(),
         notes: Vec::new(),
     })
 }
@@ -282,10 +316,7 @@ fn choose_down(
         let mut promises = first_promises(input, options, s.budget);
         if let (true, Some(above)) = (options.monotone, levels.last()) {
             promises.max_handles = above.report.genus.or(promises.max_handles);
-            let cell = input.cell();
-            let mesh = above.mesh.clone();
-            let mut c =
-                crate::voxel::collapsed(Method::Above, mesh, s.budget, cell, options.max_error);
+            let mut c = from_above(&above.mesh, s.budget, input.cell(), options.max_error);
             for c in c.iter_mut() {
                 c.resolution = above.report.resolution;
                 c.iso = above.report.iso;
@@ -313,6 +344,27 @@ fn choose_down(
         levels.push(level);
     }
     Ok((levels, warnings))
+}
+
+/// The level above (`mesh`) collapsed to `budget`: its checked collapse
+/// ([`crate::voxel::collapsed`]) and, where that came within the budget, meshoptimizer's plain
+/// collapse beside it (which the checked collapse adds itself where it stalls): the plain one
+/// is often closer where it keeps the promises anyway.
+fn from_above(
+    mesh: &TriangleMesh,
+    budget: usize,
+    cell: f64,
+    max_error: Option<f64>,
+) -> Vec<Candidate> {
+    let mut out = crate::voxel::collapsed(Method::Above, mesh.clone(), budget, cell, max_error);
+    if max_error.is_none() && mesh.triangle_count() > budget && out.len() < 2 {
+        let plain = voxlod_quadric::simplify_unchecked(mesh, budget, false).ok();
+        out.extend(plain.map(|(m, _)| {
+            let m = voxlod_contouring::clean_mesh::without_zero_area(m, cell);
+            Candidate::new(Method::Above, m)
+        }));
+    }
+    out
 }
 
 /// The promises of `budget` before the chain adds the level above's cap. A budget above the

@@ -152,11 +152,16 @@ impl Input {
     }
 
     /// Pairs of the input's triangles that cross (parts passing through each other), counted
-    /// on the first call: O(F log F) on all threads.
+    /// on the first call: O(F log F) on all threads. Calls side by side before the count is
+    /// kept each count (none waits on another: a waiting rayon thread could be handed a task
+    /// that asks again and wait on itself), so a caller that foresees them counts first.
     pub fn crossings(&self) -> usize {
-        *self
-            .crossings
-            .get_or_init(|| crossing_pairs(&self.mesh).len())
+        if let Some(&n) = self.crossings.get() {
+            return n;
+        }
+        let n = crossing_pairs(&self.mesh).len();
+        let _ = self.crossings.set(n);
+        n
     }
 
     /// Whether the input is a closed, consistently oriented manifold: its levels must be too.

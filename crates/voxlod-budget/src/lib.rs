@@ -40,7 +40,7 @@
 //! plain collapse keeps every promise and is closer than half the voxel it affords
 //! ([`VOXEL_WORTH`]) is not searched with voxels at all; candidates are ranked by a quick
 //! measurement that stops as soon as one is clearly farther, and only the closest few are
-//! measured carefully (near ties again with five times the samples). Large inputs skip what
+//! measured carefully (near ties again with twice the samples). Large inputs skip what
 //! costs seconds and rarely wins there: the checked collapse above [`KEPT_AT_MOST`] triangles,
 //! voxel levels above [`LARGE_VOXEL`] triangles where the input's collapse only came out cut
 //! open.

@@ -13,7 +13,7 @@
 //!    collapse's is ruled out ([`Promise::MeanDistance`]). The finalist with the smallest
 //!    careful Hausdorff distance is the level, the smallest shape distance among equals (where
 //!    every finalist lost the same far speck); finalists within [`TIE`] of it are measured again
-//!    with five times the samples ([`Care::Precise`]) to settle the choice.
+//!    with twice the samples ([`Care::Precise`]) to settle the choice.
 //! 4. Candidates that broke a promise are measured too, with the level's distance as the early
 //!    rejection limit: those that would have been closer are reported with the promise that
 //!    ruled them out and what it cost (the level's distance over theirs).

@@ -350,7 +350,8 @@ pub fn collapsed(
         out.push(c);
     }
     let stalled = out.iter().all(|c| !within_budget(c.triangles(), budget));
-    if stalled && max_error.is_none() {
+    let dropped = out.iter().any(|c| c.parts_dropped > 0);
+    if (stalled || dropped) && max_error.is_none() {
         if let Ok((plain, _)) = simplify_unchecked(&mesh, budget, false) {
             out.push(Candidate::new(method, without_zero_area(plain, cell)));
         }
