@@ -53,7 +53,6 @@ pub fn levels_with(
         input = crate::visible::without_hidden(input)?;
     }
     let given = input.changed_by_preparation().then_some(mesh);
-    let measure = Measure::new(&input, options.quick_samples, options.careful_samples)?;
     lap(&mut timings.prepare);
     let mut budgets = options.triangles.clone();
     budgets.sort_unstable_by(|a, b| b.cmp(a));
@@ -67,18 +66,14 @@ pub fn levels_with(
         }
     };
     step(0)?;
-    let plains: Vec<(Option<Candidate>, f64)> = (budgets.par_iter())
-        .map(|&b| first_collapse(&input, options, b))
-        .collect();
-    if plains
-        .iter()
-        .any(|(c, _)| c.as_ref().is_some_and(|c| c.crossings > Some(0)))
-    {
-        // On all cores now, rather than on the one search that asks first while the others wait.
-        input.crossings();
-    }
-    let searched: Vec<Searched> = (budgets.par_iter().zip(plains))
-        .map(|(&b, plain)| search(&input, given, &measure, options, b, plain))
+    // The input's side of the measure beside its collapses, which need none of it.
+    let (measure, made) = rayon::join(
+        || Measure::new(&input, options.quick_samples, options.careful_samples),
+        || all_collapses(&input, given, options, &budgets),
+    );
+    let measure = measure?;
+    let searched: Vec<Searched> = (budgets.par_iter().zip(made))
+        .map(|(&b, made)| search(&input, &measure, options, b, made))
         .collect::<Result<_, _>>()?;
     lap(&mut timings.collapses);
     step(budgets.len())?;
@@ -141,55 +136,96 @@ struct Searched {
     notes: Vec<String>,
 }
 
-/// The input's plain collapse for `budget` ([`collapse::plain`]; none for a proxy), its
-/// crossing pairs counted where it keeps the cheap promises, and the seconds it took.
-fn first_collapse(
-    input: &Input,
-    options: &PortfolioOptions,
-    budget: usize,
-) -> (Option<Candidate>, f64) {
-    let start = Instant::now();
-    let plain = (!options.remesh)
-        .then(|| collapse::plain(input, budget, options.max_error))
-        .flatten()
-        .map(|mut plain| {
-            if first_promises(input, options, budget)
-                .broken_cheap(&plain)
-                .is_empty()
-            {
-                Promises::crossings(&mut plain);
-            }
-            plain
-        });
-    (plain, start.elapsed().as_secs_f64())
+/// The input's own collapses for one budget, made before anything is measured.
+struct Collapses {
+    /// meshoptimizer's plain collapse ([`collapse::plain`]), its crossing pairs counted where
+    /// it keeps the cheap promises.
+    plain: Option<Candidate>,
+    /// The collapse of the input as given and the sloppy collapse.
+    others: Vec<Candidate>,
+    seconds: f64,
 }
 
-/// The input's collapses for `budget` (its plain collapse made already by [`first_collapse`]),
-/// and whether a voxel search can do better (the plain collapse breaks a promise, misses the
-/// budget, or is farther than [`VOXEL_WORTH`] voxels).
-fn search(
+/// Every budget's [`Collapses`] (none for a proxy) on all cores, and the input's crossing pairs
+/// where a plain collapse crosses: counted once on all cores here, not by the first search to
+/// ask while the others wait (a waiting rayon thread could be handed a task that asks again).
+/// An input of several parts, whose collapses often cross where parts touch, has them counted
+/// beside the collapses.
+fn all_collapses(
     input: &Input,
     given: Option<&TriangleMesh>,
+    options: &PortfolioOptions,
+    budgets: &[usize],
+) -> Vec<Collapses> {
+    let ahead = input.parts.len() > 1 && !options.remesh;
+    let (made, ()) = rayon::join(
+        || {
+            (budgets.par_iter())
+                .map(|&b| collapses(input, given, options, b))
+                .collect::<Vec<_>>()
+        },
+        || {
+            if ahead {
+                input.crossings();
+            }
+        },
+    );
+    let crossed = |c: &Collapses| c.plain.as_ref().is_some_and(|p| p.crossings > Some(0));
+    if made.iter().any(crossed) {
+        input.crossings();
+    }
+    made
+}
+
+/// The input's own collapses for `budget` (module docs of `collapse`).
+fn collapses(
+    input: &Input,
+    given: Option<&TriangleMesh>,
+    options: &PortfolioOptions,
+    budget: usize,
+) -> Collapses {
+    let start = Instant::now();
+    if options.remesh {
+        let (plain, others) = (None, Vec::new());
+        return Collapses {
+            plain,
+            others,
+            seconds: 0.0,
+        };
+    }
+    let plain = collapse::plain(input, budget, options.max_error).map(|mut plain| {
+        let promises = first_promises(input, options, budget);
+        if promises.broken_cheap(&plain).is_empty() {
+            Promises::crossings(&mut plain);
+        }
+        plain
+    });
+    let mut others: Vec<Candidate> = (given.into_iter())
+        .flat_map(|g| collapse::as_given(g, budget, input))
+        .collect();
+    others.extend(collapse::sloppy(input, budget));
+    let seconds = start.elapsed().as_secs_f64();
+    Collapses {
+        plain,
+        others,
+        seconds,
+    }
+}
+
+/// Whether a voxel search can do better than the input's collapses for `budget` (the plain
+/// collapse breaks a promise, misses the budget, or is farther than [`VOXEL_WORTH`] voxels).
+fn search(
+    input: &Input,
     measure: &Measure,
     options: &PortfolioOptions,
     budget: usize,
-    (plain, seconds): (Option<Candidate>, f64),
+    made: Collapses,
 ) -> Result<Searched, BudgetError> {
     let start = Instant::now();
     let promises = first_promises(input, options, budget);
     let mut candidates = Vec::new();
     let (mut close_enough, mut plain_broke, mut large_and_opened) = (false, false, false);
-    if options.remesh {
-        return Ok(Searched {
-            budget,
-            candidates,
-            needs_voxels: true,
-            plain_broke,
-            seconds: seconds + start.elapsed().as_secs_f64(),
-            notes: Vec::new(),
-        });
-    }
-    if let Some(mut plain) = plain {
+    if let Some(mut plain) = made.plain {
         let broken = promises.broken_cheap(&plain);
         let keeps = broken.is_empty() && crosses_no_more(input, &mut plain);
         // A large budget whose collapse only came out cut open (or with more handles): its
@@ -206,16 +242,13 @@ fn search(
         plain_broke = !keeps;
         candidates.push(plain);
     }
-    if let Some(given) = given {
-        candidates.extend(collapse::as_given(given, budget, input));
-    }
-    candidates.extend(collapse::sloppy(input, budget));
+    candidates.extend(made.others);
     Ok(Searched {
         budget,
         candidates,
-        needs_voxels: !close_enough && !large_and_opened,
+        needs_voxels: options.remesh || (!close_enough && !large_and_opened),
         plain_broke,
-        seconds: seconds + start.elapsed().as_secs_f64(),
+        seconds: made.seconds + start.elapsed().as_secs_f64(),
         notes: Vec::new(),
     })
 }

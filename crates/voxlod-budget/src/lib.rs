@@ -126,9 +126,10 @@ pub struct Budgeted {
 /// Wall seconds of a run's phases.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Timings {
-    /// Preparing the input and its side of the measure.
+    /// Preparing the input.
     pub prepare: f64,
-    /// The input's collapses for every budget, and deciding where voxels can do better.
+    /// The input's side of the measure beside its collapses for every budget, and deciding
+    /// where voxels can do better.
     pub collapses: f64,
     /// The voxel and shell candidates.
     pub voxels: f64,

@@ -319,9 +319,10 @@ fn add_collapsed(
 pub const ATTEMPTS: usize = 4;
 
 /// `mesh` collapsed to `budget` with its topology kept (the smallest parts dropped where it
-/// stalls above), without zero-area triangles judged against `cell`, as candidates of
-/// `method`; where that stalls above the budget, meshoptimizer's plain collapse of it too
-/// (which may break a promise: the choice checks). Empty for an empty mesh.
+/// stalls above, but not from the level above, whose parts the choice weighed already),
+/// without zero-area triangles judged against `cell`, as candidates of `method`; where that
+/// stalls above the budget or dropped parts, meshoptimizer's plain collapse of it too (which
+/// may break a promise: the choice checks). Empty for an empty mesh.
 pub fn collapsed(
     method: Method,
     mesh: voxlod_core::TriangleMesh,
@@ -340,7 +341,10 @@ pub fn collapsed(
             max_attempts: ATTEMPTS,
             ..QuadricOptions::budget(max_error.unwrap_or(f64::INFINITY))
         },
-        max_rounds: 2,
+        max_rounds: match method {
+            Method::Above => 0,
+            _ => 2,
+        },
         ..PartsOptions::default()
     };
     let mut out = Vec::new();
