@@ -310,3 +310,64 @@ fn assert_validates(path: &Path) {
         assert_eq!(v.errors, 0, "{}", v.report);
     }
 }
+
+/// The box of a scene read back, in world coordinates (its origin added).
+fn world_box(path: &Path) -> (voxlod::core::glam::DVec3, voxlod::core::glam::DVec3) {
+    let read = read_scene(path).unwrap();
+    let points = read.asset.mesh.positions.iter();
+    let world = points.map(|p| p.as_dvec3() + read.origin);
+    let inf = voxlod::core::glam::DVec3::splat(f64::INFINITY);
+    world.fold((inf, -inf), |(lo, hi), p| (lo.min(p), hi.max(p)))
+}
+
+#[test]
+fn a_scene_at_map_coordinates_gets_the_proxy_it_gets_at_the_origin_placed_where_it_is() {
+    use voxlod::core::glam::DVec3;
+    let dir = tempfile::tempdir().unwrap();
+    let far = DVec3::new(4_000_000.3, 5_500_000.7, 250.1);
+    let mut boxes = Vec::new();
+    for (name, origin) in [("near", DVec3::ZERO), ("far", far)] {
+        let scene = dir.path().join(format!("{name}.glb"));
+        let options = AssetGlbOptions {
+            origin,
+            ..AssetGlbOptions::default()
+        };
+        let asset = voxlod_testkit::assets::three_part_scene();
+        std::fs::write(&scene, asset_glb(&[asset], &options).unwrap()).unwrap();
+        let out = dir.path().join(format!("{name}-proxy.glb"));
+        let o = proxy_to(&scene, &out, "400", &["--no-appearance", "--json"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let report = json(&o);
+        match name {
+            "near" => assert!(report.get("origin").is_none(), "{report}"),
+            _ => {
+                let o: Vec<f64> = (report["origin"].as_array().unwrap().iter())
+                    .map(|x| x.as_f64().unwrap())
+                    .collect();
+                // Near the scene's centre (the scene spans a few units about `far`).
+                assert!((DVec3::from_slice(&o) - far).length() < 8.0, "{o:?}");
+            }
+        }
+        // Two pieces: the spheres passing through each other, and the third apart.
+        let back = read_scene(&out).unwrap();
+        let mut welded = back.asset.mesh.geometry();
+        voxlod::core::weld::weld_vertices(&mut welded);
+        let t = voxlod::core::mesh_topology(&welded);
+        assert_eq!(t.components, 2, "{name}: {t:?}");
+        assert!(t.is_closed_manifold(), "{name}: {t:?}");
+        let (lo, hi) = world_box(&out);
+        boxes.push((lo - origin, hi - origin));
+    }
+    // The same place relative to the scene, within a voxel of the 400-triangle level (the
+    // sampling grid sits on each input's own box).
+    let ((a_lo, a_hi), (b_lo, b_hi)) = (boxes[0], boxes[1]);
+    let size = (a_hi - a_lo).length();
+    assert!(
+        (a_lo - b_lo).length() < 0.05 * size,
+        "{a_lo} against {b_lo}"
+    );
+    assert!(
+        (a_hi - b_hi).length() < 0.05 * size,
+        "{a_hi} against {b_hi}"
+    );
+}

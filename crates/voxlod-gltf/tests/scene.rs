@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use serde_json::{json, Value};
-use voxlod_core::glam::{Vec2, Vec3, Vec4};
+use voxlod_core::glam::{DVec3, Vec2, Vec3, Vec4};
 use voxlod_gltf::{parse_scene, read_scene, SceneRead};
 
 /// The unit cube's 24 vertices (4 per face, outward normals, texture coordinates 0..1) and 12
@@ -782,4 +782,77 @@ fn an_untextured_chain_declares_msft_lod_and_validates() {
     if let Some(v) = voxlod_testkit::gltf_validator::validate_gltf(&path) {
         assert_eq!((v.errors, v.warnings), (0, 0), "{}", v.report);
     }
+}
+
+/// A textured sphere of radius `r` about its centre `at`, written with `origin` as its nodes'
+/// translation (`compression` as given).
+fn far_sphere(r: f32, origin: DVec3, compression: voxlod_gltf::Compression) -> Vec<u8> {
+    let mut asset = voxlod_testkit::assets::textured_sphere(3);
+    for p in &mut asset.mesh.positions {
+        *p *= r;
+    }
+    let options = voxlod_gltf::AssetGlbOptions {
+        origin,
+        compression,
+        ..Default::default()
+    };
+    voxlod_gltf::asset_glb(&[asset], &options).unwrap()
+}
+
+#[test]
+fn a_scene_at_map_coordinates_keeps_its_detail_relative_to_an_origin_near_it() {
+    // At 4·10⁶, f32 world coordinates step by half a unit: a sphere of radius 0.4 would be
+    // crushed onto a few lattice points.
+    let at = DVec3::new(4_000_000.25, 5_500_000.5, 120.0);
+    for compression in [
+        voxlod_gltf::Compression::None,
+        voxlod_gltf::Compression::Meshopt,
+    ] {
+        let read = parse_scene(&far_sphere(0.4, at, compression), None).unwrap();
+        assert_ne!(read.origin, DVec3::ZERO, "{compression:?}");
+        assert!((read.origin - at).length() < 1.0, "{:?}", read.origin);
+        assert!(read
+            .warnings
+            .iter()
+            .any(|w| w.contains("far from the origin")));
+        let centre = (at - read.origin).as_vec3();
+        for p in &read.asset.mesh.positions {
+            let r = (*p - centre).length();
+            assert!((r - 0.4).abs() < 2e-4, "{compression:?}: radius {r}");
+        }
+        // Written back with its origin, it reads the same.
+        let options = voxlod_gltf::AssetGlbOptions {
+            origin: read.origin,
+            ..Default::default()
+        };
+        let bytes = voxlod_gltf::asset_glb(std::slice::from_ref(&read.asset), &options).unwrap();
+        let back = parse_scene(&bytes, None).unwrap();
+        assert_eq!(back.origin, read.origin);
+        for (p, q) in back
+            .asset
+            .mesh
+            .positions
+            .iter()
+            .zip(&read.asset.mesh.positions)
+        {
+            assert!((*p - *q).length() < 1e-6, "{p} against {q}");
+        }
+    }
+}
+
+#[test]
+fn a_scene_near_the_origin_keeps_world_coordinates() {
+    // 1 000 diagonals away is still near: f32 keeps its detail there.
+    let at = DVec3::new(500.0, 0.0, 0.0);
+    let read = parse_scene(&far_sphere(0.4, at, voxlod_gltf::Compression::None), None).unwrap();
+    assert_eq!(read.origin, DVec3::ZERO);
+    assert!(read.warnings.is_empty(), "{:?}", read.warnings);
+    let lowest = read
+        .asset
+        .mesh
+        .positions
+        .iter()
+        .map(|p| p.x)
+        .fold(f32::INFINITY, f32::min);
+    assert!((lowest - 499.6).abs() < 1e-3, "{lowest}");
 }

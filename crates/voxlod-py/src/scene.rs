@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{DVec3, Vec2, Vec3, Vec4};
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
@@ -24,7 +24,8 @@ type ImageTuple = (String, String, Vec<u8>);
 
 /// `read_scene(path)`: a dict of arrays (`vertices`, `faces`, `normals`, and `tangents`,
 /// `uv0`, `uv1`, `colors` or None), `material` (one per face), `materials_json`, `parts_json`,
-/// `images` as (name, mime, bytes) and `warnings`.
+/// `images` as (name, mime, bytes), `warnings` and `origin` (the world point the vertices are
+/// relative to: zeros but for a scene far from the origin).
 #[pyfunction]
 pub fn read_scene(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
     let read =
@@ -69,6 +70,7 @@ pub fn read_scene(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> 
         .collect();
     d.set_item("images", images)?;
     d.set_item("warnings", read.warnings)?;
+    d.set_item("origin", read.origin.to_array())?;
     Ok(d)
 }
 
@@ -91,19 +93,24 @@ type LevelIn<'py> = (
     Vec<ImageTuple>,
 );
 
-/// `write_scene(path, levels, layout, compress)`: the levels (finest first) as one `.glb`;
-/// `layout` is `"msft-lod"` or `"lod-nodes"`; with `compress`, every attribute quantized and
-/// meshopt-encoded (`EXT_meshopt_compression`, `KHR_mesh_quantization`; texture coordinates
-/// outside 0..1 stay float). The file replaces `path` only when complete.
+/// `write_scene(path, levels, layout, compress, origin)`: the levels (finest first) as one
+/// `.glb`; `layout` is `"msft-lod"` or `"lod-nodes"`; with `compress`, every attribute
+/// quantized and meshopt-encoded (`EXT_meshopt_compression`, `KHR_mesh_quantization`; texture
+/// coordinates outside 0..1 stay float); `origin`, the world point the vertices are relative
+/// to, goes to the level nodes' translation. The file replaces `path` only when complete.
 #[pyfunction]
-#[pyo3(signature = (path, levels, layout, compress = false))]
+#[pyo3(signature = (path, levels, layout, compress = false, origin = [0.0; 3]))]
 pub fn write_scene(
     py: Python<'_>,
     path: PathBuf,
     levels: Vec<LevelIn<'_>>,
     layout: &str,
     compress: bool,
+    origin: [f64; 3],
 ) -> PyResult<()> {
+    if !origin.iter().all(|x| x.is_finite()) {
+        return Err(usage(format!("origin {origin:?} is not finite")));
+    }
     let layout = match layout {
         "msft-lod" => Layout::MsftLod,
         "lod-nodes" => Layout::LodNodes,
@@ -122,6 +129,7 @@ pub fn write_scene(
             } else {
                 Compression::None
             },
+            origin: DVec3::from_array(origin),
             ..AssetGlbOptions::default()
         };
         let bytes =

@@ -151,3 +151,22 @@ def test_bad_arrays_are_usage_errors(tmp_path):
         voxlod.write_scene(tmp_path / "bad.glb", scene)
     with pytest.raises(voxlod.UsageError, match="layout"):
         voxlod.write_scene(tmp_path / "bad.glb", two_quads(), layout="nodes")
+
+
+def test_a_scene_at_map_coordinates_reads_relative_to_its_origin_and_writes_it_back(tmp_path):
+    # Written with an origin at map coordinates, the quads' nodes sit at 4e6, where float32 world
+    # coordinates step by half a unit; read back, the vertices keep their unit squares.
+    scene = two_quads()
+    scene.origin = (4_000_000.3, 5_500_000.7, 250.1)
+    path = tmp_path / "far.glb"
+    voxlod.write_scene(path, scene)
+    back = voxlod.read_scene(path)
+    assert back.origin != (0.0, 0.0, 0.0)
+    assert any("far from the origin" in w for w in back.warnings)
+    world = back.vertices.astype(np.float64) + back.origin
+    assert np.allclose(world - scene.origin, [[x, y, 0] for x, y in [
+        (0, 0), (1, 0), (1, 1), (0, 1), (1, 0), (2, 0), (2, 1), (1, 1)]], atol=1e-5)
+    # Levels with different origins cannot share a file.
+    other = voxlod.Scene(**{**back.__dict__, "origin": (0.0, 0.0, 0.0)})
+    with pytest.raises(voxlod.UsageError, match="origins"):
+        voxlod.write_scene(tmp_path / "two.glb", [back, other])

@@ -278,7 +278,14 @@ fn read_layers_input(args: &LayersArgs) -> Result<LayersInput, CliError> {
             let kind = voxlod::io::IoErrorKind::Access;
             return Err(voxlod::io::IoError::new(path, kind, format!("cannot open: {e}")).into());
         }
-        let read = voxlod::gltf::read_scene(path).map_err(|e| in_file(path, e))?;
+        let mut read = voxlod::gltf::read_scene(path).map_err(|e| in_file(path, e))?;
+        if read.origin != voxlod::core::glam::DVec3::ZERO {
+            let [x, y, z] = read.origin.to_array();
+            read.warnings.push(format!(
+                "the layers are written relative to the scene's origin ({x}, {y}, {z}): \
+                 place them there"
+            ));
+        }
         return Ok(LayersInput {
             geometry: Geometry::Asset(read.asset.mesh.geometry()),
             looks: has_base_colour(&read.asset).then_some(read.asset),

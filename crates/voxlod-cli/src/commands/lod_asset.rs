@@ -20,6 +20,7 @@ use std::time::Instant;
 use clap::ValueEnum;
 use serde::Serialize;
 use voxlod::budget::BudgetLevel;
+use voxlod::core::glam::DVec3;
 use voxlod::gltf::{AssetGlbOptions, Compression, Layout};
 use voxlod::io::{AssetRead, IoError, IoErrorKind, OutputSet};
 use voxlod::portfolio::Looks;
@@ -110,6 +111,10 @@ struct AssetReport {
     /// `meshopt` for compressed `.glb` files (absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     compression: Option<&'static str>,
+    /// The world point the levels' positions are relative to, for a glTF scene far from the
+    /// origin (absent otherwise); the `.glb` files' nodes carry it as their translation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    origin: Option<[f64; 3]>,
     levels: Vec<AssetLevelReport>,
     /// Every file written (the report aside), with what it carries.
     files: Vec<FileReport>,
@@ -297,7 +302,7 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
     } else {
         Some(lod_options(args)?)
     };
-    let scene = read_input(args, read)?;
+    let (scene, origin) = read_input(args, read)?;
     let made = match &pyramid {
         Some(options) => voxlod::asset_lod(&scene.asset, options, &run_to_end),
         None => {
@@ -333,7 +338,18 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
+        origin,
     };
+    if origin != DVec3::ZERO && plan.level_files && !glb {
+        warnings.push(format!(
+            "the {} level files are relative to the scene's origin ({}, {}, {}); \
+             --format glb keeps their place",
+            ext.to_uppercase(),
+            origin.x,
+            origin.y,
+            origin.z
+        ));
+    }
     let mut written = Written::default();
     let levels = plan.write_levels(&mut out, &made, &glb_options, &mut written)?;
     let chain: Vec<_> = made.assets.iter().filter_map(|l| l.asset.clone()).collect();
@@ -355,6 +371,7 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
         layout: glb.then(|| args.glb.layout.name()),
         glb: glb.then(|| names.chain.clone()),
         compression: (glb && args.glb.compress.is_some()).then_some("meshopt"),
+        origin: (origin != DVec3::ZERO).then(|| origin.to_array()),
         levels,
         files: written.files,
         total_seconds: start.elapsed().as_secs_f64(),
@@ -371,9 +388,10 @@ pub fn run(args: &LodArgs, read: Option<AssetRead>) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The input as an asset: the one read already, or the glTF file read now. A missing or
+/// The input as an asset: the one read already, or the glTF file read now, and the world point
+/// its positions are relative to (zero but for a glTF scene far from the origin). A missing or
 /// unreadable file is an I/O failure (exit 4), as for the other readers.
-fn read_input(args: &LodArgs, read: Option<AssetRead>) -> Result<AssetRead, CliError> {
+fn read_input(args: &LodArgs, read: Option<AssetRead>) -> Result<(AssetRead, DVec3), CliError> {
     std::fs::File::open(&args.input).map_err(|e| {
         IoError::new(
             &args.input,
@@ -382,13 +400,14 @@ fn read_input(args: &LodArgs, read: Option<AssetRead>) -> Result<AssetRead, CliE
         )
     })?;
     Ok(match read {
-        Some(read) => read,
+        Some(read) => (read, DVec3::ZERO),
         None => {
             let s = voxlod::gltf::read_scene(&args.input).map_err(|e| in_file(&args.input, e))?;
-            AssetRead {
+            let read = AssetRead {
                 asset: s.asset,
                 warnings: s.warnings,
-            }
+            };
+            (read, s.origin)
         }
     })
 }

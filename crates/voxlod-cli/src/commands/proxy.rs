@@ -11,6 +11,7 @@ use clap::{Args, ValueEnum};
 use serde::Serialize;
 use voxlod::asset::Asset;
 use voxlod::bake::ImageFormat;
+use voxlod::core::glam::DVec3;
 use voxlod::gltf::AssetGlbOptions;
 use voxlod::io::OutputSet;
 use voxlod::{Control, Progress, ProxyOptions};
@@ -142,6 +143,10 @@ struct ProxyReport {
     input_triangles: usize,
     /// Parts no view saw, dropped (0 with --keep-hidden).
     hidden_parts: usize,
+    /// The world point the levels' positions are relative to, for a glTF scene far from the
+    /// origin (absent otherwise); the `.glb`'s level nodes carry it as their translation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    origin: Option<[f64; 3]>,
     levels: Vec<LevelReport>,
     total_seconds: f64,
     /// Every warning, also printed on standard error without --json.
@@ -198,7 +203,7 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
     let images = image_format(&args)?;
     let mut out = OutputSet::protecting([&args.input]);
     out.check(&args.output)?;
-    let (scene, mut warnings) = read_scene(&args.input)?;
+    let (scene, mut warnings, origin) = read_scene(&args.input)?;
     let mut options = ProxyOptions {
         monotone: !args.no_monotone,
         fit: (!args.no_fit).then(voxlod::FitOptions::quick),
@@ -235,6 +240,7 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
         layout: args.layout.layout(),
         name: stem(&args.input),
         compression: CompressArg::compression(args.compress),
+        origin,
         ..AssetGlbOptions::default()
     };
     let bytes = voxlod::gltf::asset_glb(&levels, &glb).map_err(|e| in_file(&args.output, e))?;
@@ -248,6 +254,7 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
         input_draw_calls: draw_calls(&scene),
         input_triangles: scene.mesh.triangles.len(),
         hidden_parts: made.input.hidden_parts,
+        origin: (origin != DVec3::ZERO).then(|| origin.to_array()),
         levels: level_reports(&made, measured, &args.screen_size),
         total_seconds: start.elapsed().as_secs_f64(),
         warnings,
@@ -328,9 +335,10 @@ fn image_format(args: &ProxyArgs) -> Result<ImageFormat, CliError> {
     }
 }
 
-/// The scene as one asset: a glTF file by its scene reader, anything else by the asset reader.
-/// A file that cannot be opened is an I/O error naming it.
-fn read_scene(path: &Path) -> Result<(Asset, Vec<String>), CliError> {
+/// The scene as one asset: a glTF file by its scene reader, anything else by the asset reader;
+/// with the reader's warnings and the world point its positions are relative to (zero but for
+/// a glTF scene far from the origin). A file that cannot be opened is an I/O error naming it.
+fn read_scene(path: &Path) -> Result<(Asset, Vec<String>, DVec3), CliError> {
     std::fs::File::open(path).map_err(|e| {
         voxlod::io::IoError::new(
             path,
@@ -343,10 +351,10 @@ fn read_scene(path: &Path) -> Result<(Asset, Vec<String>), CliError> {
         .is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf"));
     if gltf {
         let read = voxlod::gltf::read_scene(path).map_err(|e| in_file(path, e))?;
-        return Ok((read.asset, read.warnings));
+        return Ok((read.asset, read.warnings, read.origin));
     }
     let read = voxlod::io::read_asset(path)?;
-    Ok((read.asset, read.warnings))
+    Ok((read.asset, read.warnings, DVec3::ZERO))
 }
 
 /// PSNR and SSIM of each level against the scene from 14 views at 256², unless skipped.

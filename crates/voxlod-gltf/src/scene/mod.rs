@@ -28,6 +28,7 @@ use std::path::Path;
 
 use serde_json::Value;
 use voxlod_asset::{Asset, Material};
+use voxlod_core::glam::DVec3;
 use voxlod_core::memory::check_allocation;
 
 use crate::GltfError;
@@ -53,6 +54,10 @@ pub struct SceneRead {
     /// What the reader ignored or left out (unknown extensions, primitives that are not
     /// surfaces), in words.
     pub warnings: Vec<String>,
+    /// The world point the asset's positions are relative to: zero, but for a scene far from
+    /// the origin (map coordinates), a point near its centre (module `nodes`), which
+    /// [`AssetGlbOptions::origin`] puts back.
+    pub origin: DVec3,
 }
 
 /// Reads a `.gltf` or `.glb` file; relative URIs are read beside it. Errors name the file.
@@ -93,9 +98,17 @@ pub fn parse_scene(bytes: &[u8], base: Option<&Path>) -> Result<SceneRead, GltfE
         .map_err(|e| invalid(format!("not a valid glTF 2.0 document: {e}")))?;
     let mut materials = materials::materials(&document, &doc);
     let images = materials::images(&document, &doc, &buffers, base)?;
-    let flat = nodes::flatten(&document, &buffers, &mut warnings)?;
+    let flat = nodes::flatten(&document, &doc, &buffers, &mut warnings)?;
     if flat.mesh.triangles.is_empty() {
         return Err(invalid("the scene has no triangles".into()));
+    }
+    let origin = flat.origin;
+    if origin != DVec3::ZERO {
+        let [x, y, z] = origin.to_array();
+        warnings.push(format!(
+            "the scene lies far from the origin: it is read relative to ({x}, {y}, {z}), which \
+             the levels written as glTF carry as their nodes' translation"
+        ));
     }
     // Primitives without a material take glTF's default one, added last.
     let default = materials.len() as u32;
@@ -118,7 +131,11 @@ pub fn parse_scene(bytes: &[u8], base: Option<&Path>) -> Result<SceneRead, GltfE
         parts: flat.parts,
     };
     asset.validate().map_err(|e| invalid(e.to_string()))?;
-    Ok(SceneRead { asset, warnings })
+    Ok(SceneRead {
+        asset,
+        warnings,
+        origin,
+    })
 }
 
 /// Refuses a primitive whose `POSITION` names a missing accessor. gltf-json 1.4.1's validation

@@ -10,13 +10,19 @@
 //! Of a level chain only the finest level is read: the nodes an `MSFT_lod` extension lists
 //! are not roots of the scene, and of sibling nodes named `LOD0`, `LOD1`, … only `LOD0`.
 //!
+//! **Far from the origin** (a georeferenced scene whose nodes sit at map coordinates, 10⁶ and
+//! more): transforms are composed and positions placed in `f64`, and where the scene's box lies
+//! farther from the origin than [`FAR`] times its diagonal, positions are kept relative to an
+//! origin near the box's centre ([`Flattened::origin`]), so that the `f32` mesh keeps the
+//! detail that `f32` world coordinates would round away (half a unit at 4·10⁶).
+//!
 //! Cost: linear in the vertices and triangles of all instances; their total meets the memory
 //! budget as it grows.
 
 use gltf::mesh::Mode;
 use gltf::{Document, Node, Primitive, Semantic};
 use voxlod_asset::{AssetMesh, Part};
-use voxlod_core::glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use voxlod_core::glam::{DMat4, DQuat, DVec3, Mat3, Vec2, Vec3, Vec4};
 use voxlod_core::memory::check_allocation;
 
 use super::accessor::{floats, indices};
@@ -29,12 +35,23 @@ pub(crate) struct Flattened {
     pub parts: Vec<Part>,
     /// One per triangle: the glTF material index, or `None`.
     pub material: Vec<Option<usize>>,
+    /// The world point the mesh's positions are relative to (module docs): zero but for a scene
+    /// far from the origin.
+    pub origin: DVec3,
+    /// World positions while primitives are placed; moved into the mesh at the end.
+    world: Vec<DVec3>,
 }
+
+/// A scene whose box lies farther from the origin than this many times its diagonal is read
+/// relative to an origin near its centre: `f32` world coordinates would keep its detail to
+/// about `FAR · 2⁻²⁴` of its size or worse.
+pub const FAR: f64 = 1024.0;
 
 /// Every triangle primitive of the document's scene (the default one, or the first, or every
 /// root node when it has no scene) in world space.
 pub(crate) fn flatten(
     doc: &Document,
+    json: &serde_json::Value,
     buffers: &[Vec<u8>],
     warnings: &mut Vec<String>,
 ) -> Result<Flattened, GltfError> {
@@ -54,10 +71,12 @@ pub(crate) fn flatten(
         mesh: AssetMesh::default(),
         parts: Vec::new(),
         material: Vec::new(),
+        origin: DVec3::ZERO,
+        world: Vec::new(),
     };
-    let mut stack: Vec<(Node, Mat4, usize)> = only_finest(roots)
+    let mut stack: Vec<(Node, DMat4, usize)> = only_finest(roots)
         .into_iter()
-        .map(|n| (n, Mat4::IDENTITY, 0))
+        .map(|n| (n, DMat4::IDENTITY, 0))
         .collect();
     stack.reverse();
     let limit = doc.nodes().len();
@@ -68,7 +87,7 @@ pub(crate) fn flatten(
                 node.index()
             )));
         }
-        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        let world = parent * local_matrix(&node, json);
         if !world.is_finite() {
             return Err(GltfError::Invalid(format!(
                 "node {}'s transform is not finite",
@@ -87,7 +106,59 @@ pub(crate) fn flatten(
         let children = only_finest(node.children().collect());
         stack.extend(children.into_iter().rev().map(|c| (c, world, depth + 1)));
     }
+    out.origin = origin_of(&out.world);
+    let origin = out.origin;
+    out.mesh.positions = (out.world.drain(..))
+        .map(|p| (p - origin).as_vec3())
+        .collect();
     Ok(out)
+}
+
+/// The origin a scene's `world` positions are kept relative to: zero, or for a scene farther
+/// from the origin than [`FAR`] times its diagonal, its box's centre rounded to a power of two
+/// no larger than the diagonal (a round figure for the reports).
+fn origin_of(world: &[DVec3]) -> DVec3 {
+    let (lo, hi) = world.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    let diagonal = (hi - lo).length();
+    let far = lo.abs().max(hi.abs()).max_element();
+    if world.is_empty() || diagonal <= 0.0 || far <= FAR * diagonal {
+        return DVec3::ZERO;
+    }
+    let step = 2f64.powi(diagonal.log2().floor() as i32);
+    (0.5 * (lo + hi) / step).round() * step
+}
+
+/// `node`'s transform in `f64`, from the file's JSON numbers (the `gltf` crate keeps them as
+/// `f32`, which moves a node at 4·10⁶ by up to a quarter of a unit): its `matrix`, else its
+/// translation, rotation and scale composed; the crate's `f32` transform where the JSON has
+/// neither in the expected shape.
+fn local_matrix(node: &Node, json: &serde_json::Value) -> DMat4 {
+    let n = &json["nodes"][node.index()];
+    let numbers = |key: &str, len: usize| -> Option<Vec<f64>> {
+        let list = n.get(key)?.as_array()?;
+        let v: Vec<f64> = list.iter().filter_map(serde_json::Value::as_f64).collect();
+        (v.len() == len && list.len() == len).then_some(v)
+    };
+    if n.get("matrix").is_some() {
+        if let Some(m) = numbers("matrix", 16) {
+            return DMat4::from_cols_slice(&m);
+        }
+    } else {
+        let t = numbers("translation", 3).unwrap_or_else(|| vec![0.0; 3]);
+        let r = numbers("rotation", 4).unwrap_or_else(|| vec![0.0, 0.0, 0.0, 1.0]);
+        let s = numbers("scale", 3).unwrap_or_else(|| vec![1.0; 3]);
+        let rotation = DQuat::from_xyzw(r[0], r[1], r[2], r[3]).normalize();
+        return DMat4::from_scale_rotation_translation(
+            DVec3::from_slice(&s),
+            rotation,
+            DVec3::from_slice(&t),
+        );
+    }
+    let m = node.transform().matrix();
+    DMat4::from_cols_array_2d(&m.map(|c| c.map(f64::from)))
 }
 
 /// Sibling nodes without those named `LOD1`, `LOD2`, … when one is named `LOD0`.
@@ -119,7 +190,7 @@ struct Read {
 fn add_primitive(
     out: &mut Flattened,
     p: &Primitive,
-    world: &Mat4,
+    world: &DMat4,
     name: &str,
     buffers: &[Vec<u8>],
     warnings: &mut Vec<String>,
@@ -133,11 +204,11 @@ fn add_primitive(
     let Some(read) = read_primitive(p, buffers, name, warnings).map_err(here)? else {
         return Ok(());
     };
-    let (v0, t0) = (out.mesh.positions.len(), out.mesh.triangles.len());
+    let (v0, t0) = (out.world.len(), out.mesh.triangles.len());
     let (v, t) = (v0 + read.positions.len(), t0 + read.triangles.len());
     check_allocation(
         &format!("the scene's {v} vertices and {t} triangles"),
-        (v as u64) * 64 + (t as u64) * 20,
+        (v as u64) * 88 + (t as u64) * 20,
     )?;
     if v > u32::MAX as usize {
         return Err(GltfError::Invalid(format!(
@@ -274,10 +345,11 @@ impl Read {
     }
 }
 
-/// Appends a primitive in world space, filling the columns one side lacks.
-fn place(out: &mut Flattened, read: Read, world: &Mat4, v0: usize) {
-    let normal_matrix = Mat3::from_mat4(*world).inverse().transpose();
-    let linear = Mat3::from_mat4(*world);
+/// Appends a primitive in world space (its positions to [`Flattened::world`]), filling the
+/// columns one side lacks.
+fn place(out: &mut Flattened, read: Read, world: &DMat4, v0: usize) {
+    let linear = Mat3::from_mat4(world.as_mat4());
+    let normal_matrix = linear.inverse().transpose();
     let mirrored = linear.determinant() < 0.0;
     let m = &mut out.mesh;
     let n = read.positions.len();
@@ -285,8 +357,8 @@ fn place(out: &mut Flattened, read: Read, world: &Mat4, v0: usize) {
         .normals
         .clone()
         .unwrap_or_else(|| computed_normals(&read.positions, &read.triangles));
-    m.positions
-        .extend(read.positions.iter().map(|&p| world.transform_point3(p)));
+    let placed = read.positions.iter();
+    (out.world).extend(placed.map(|&p| world.transform_point3(p.as_dvec3())));
     fill(&mut m.normals, Some(own_normals), v0, n, Vec3::Z, |v| {
         (normal_matrix * v).normalize_or_zero()
     });

@@ -31,7 +31,7 @@ use std::sync::Arc;
 
 use serde_json::{json, Value};
 use voxlod_asset::{AlphaMode, Asset, Material, TextureRef, Wrap};
-use voxlod_core::glam::Vec3;
+use voxlod_core::glam::{DVec3, Vec3};
 
 use super::columns::Columns;
 use crate::chain::{declare_lod, to_glb, Compression};
@@ -67,6 +67,9 @@ pub struct AssetGlbOptions {
     /// codec's fixed tail cost about 200 bytes, so two quads come out larger (2.9 kB plain,
     /// 4.7 kB compressed) while Spot's geometry shrinks to 0.41 of its size.
     pub compression: Compression,
+    /// The world point the levels' positions are relative to ([`crate::SceneRead::origin`]),
+    /// added to every level node's translation (in `f64`, as glTF's JSON keeps it).
+    pub origin: DVec3,
 }
 
 impl AssetGlbOptions {
@@ -110,8 +113,14 @@ pub fn asset_glb(levels: &[Asset], options: &AssetGlbOptions) -> Result<Vec<u8>,
         let mut node = json!({"name": name, "mesh": mesh,
             "extras": {"voxlod": {"level": k, "triangles": level.mesh.triangles.len()}}});
         if let Some(q) = &doc.grid {
-            node["translation"] = json!(q.offset.to_array());
             node["scale"] = json!([q.scale, q.scale, q.scale]);
+        }
+        let offset = doc
+            .grid
+            .as_ref()
+            .map_or(DVec3::ZERO, |q| q.offset.as_dvec3());
+        if offset + options.origin != DVec3::ZERO {
+            node["translation"] = json!((offset + options.origin).to_array());
         }
         doc.nodes.push(node);
     }

@@ -11,6 +11,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from . import _voxlod
+from .errors import UsageError
 
 
 @dataclass
@@ -23,7 +24,10 @@ class Scene:
     ``base_color``, ``base_color_texture`` with its ``image``, ``tex_coord``, ``transform`` and
     ``sampler``, ``metallic``, ``roughness``, ``normal_texture``, ``emissive``,
     ``alpha_mode``, …); ``images`` as ``(name, mime, bytes)``; ``parts`` where each node's
-    primitive went; ``warnings`` what the reader ignored."""
+    primitive went; ``warnings`` what the reader ignored; ``origin`` the world point the
+    vertices are relative to (zeros, but for a scene far from the origin, such as one placed at
+    map coordinates, a point near its centre: float32 vertices there would lose its detail;
+    ``write_scene`` puts it back as the level nodes' translation)."""
 
     vertices: np.ndarray
     faces: np.ndarray
@@ -37,6 +41,7 @@ class Scene:
     images: List[Tuple[str, str, bytes]] = field(default_factory=list)
     parts: List[Dict[str, Any]] = field(default_factory=list)
     warnings: List[str] = field(default_factory=list)
+    origin: Tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 
 def read_scene(path: "os.PathLike[str] | str") -> Scene:
@@ -57,6 +62,7 @@ def read_scene(path: "os.PathLike[str] | str") -> Scene:
         images=[(n, m, bytes(b)) for n, m, b in d["images"]],
         parts=json.loads(d["parts_json"]),
         warnings=list(d["warnings"]),
+        origin=tuple(float(x) for x in d["origin"]),
     )
 
 
@@ -81,9 +87,15 @@ def write_scene(
     (``EXT_meshopt_compression`` with ``KHR_mesh_quantization``, as gltfpack writes): positions
     on a 14-bit grid (within half a step of the box's longest side / 16383), normals and
     tangents as 8-bit, texture coordinates in 0..1 and colours as 16-bit; texture coordinates
-    outside 0..1 stay float. ``read_scene`` and viewers with a meshopt decoder read it."""
+    outside 0..1 stay float. ``read_scene`` and viewers with a meshopt decoder read it. The
+    levels share one ``origin`` (their level nodes' translation); levels with different ones
+    raise :class:`voxlod.UsageError`."""
     if isinstance(levels, Scene):
         levels = [levels]
+    origins = {tuple(float(x) for x in s.origin) for s in levels}
+    if len(origins) > 1:
+        raise UsageError(f"the levels have different origins: {sorted(origins)}")
+    origin = origins.pop() if origins else (0.0, 0.0, 0.0)
     given = []
     for s in levels:
         material = None if s.material is None else np.ascontiguousarray(s.material, dtype=np.uint32)
@@ -101,4 +113,4 @@ def write_scene(
                 [(n, m, bytes(b)) for n, m, b in s.images],
             )
         )
-    _voxlod.write_scene(os.fspath(path), given, layout, compress)
+    _voxlod.write_scene(os.fspath(path), given, layout, compress, origin)
