@@ -408,3 +408,24 @@ fn a_proxy_of_boxes_keeps_their_corners() {
     let worst = (mesh.positions.iter().map(|&c| nearest(c))).fold(0.0, f32::max);
     assert!(worst < 0.01, "a corner {worst} from the level");
 }
+
+#[test]
+fn a_budget_next_to_a_larger_one_shares_its_voxel_search() {
+    // 300 is within 5 % of 310: only 310 samples voxels; 300 gets 310's level collapsed
+    // further (and the input's collapses). Both are closed levels of the handle-rich surface.
+    let run = check_chain(&corpus::genus_rich(), &[310, 300], true);
+    let voxels = |k: usize| {
+        let candidates = &run.levels[k].report.candidates;
+        candidates
+            .iter()
+            .filter(|c| c.candidate.starts_with("voxel"))
+            .count()
+    };
+    assert!(voxels(0) > 0);
+    assert_eq!(voxels(1), 0, "{:#?}", run.levels[1].report.candidates);
+    assert!(run.levels[1]
+        .report
+        .candidates
+        .iter()
+        .any(|c| c.candidate.starts_with("above")));
+}
