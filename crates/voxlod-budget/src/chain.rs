@@ -115,6 +115,7 @@ pub fn levels_with(
             "{hidden} parts seen from none of {views} views around the input were dropped"
         ));
     }
+    warnings.extend(voxlod_core::rounding::rounding_warning(mesh));
     if input.preparation.turned_right_side_out {
         warnings
             .push("the input was inside out (negative volume): its levels face outwards".into());

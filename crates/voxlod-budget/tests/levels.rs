@@ -429,3 +429,15 @@ fn a_budget_next_to_a_larger_one_shares_its_voxel_search() {
         .iter()
         .any(|c| c.candidate.starts_with("above")));
 }
+
+#[test]
+fn an_input_far_from_the_origin_for_its_size_is_warned_of() {
+    let run = check_chain(&corpus::far_away(), &[300], true);
+    assert!(
+        run.warnings.iter().any(|w| w.contains("rounded away")),
+        "{:?}",
+        run.warnings
+    );
+    let near = check_chain(&corpus::genus_rich(), &[300], true);
+    assert!(near.warnings.iter().all(|w| !w.contains("rounded away")));
+}

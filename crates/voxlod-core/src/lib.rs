@@ -61,6 +61,7 @@ pub mod memory;
 pub mod mesh;
 pub mod parity;
 pub mod repair;
+pub mod rounding;
 #[cfg(test)]
 mod test_shapes;
 pub mod topology;
