@@ -33,10 +33,11 @@ pub const ROUNDING_WARNED: f64 = 1e-4;
 /// assert!(far.contains("0.5"), "{far}");
 /// ```
 pub fn rounding_warning(mesh: &TriangleMesh) -> Option<String> {
+    // Over every position (a triangle's out-of-range index, refused elsewhere, is not read).
     let far = (mesh.positions.iter())
         .map(|p| p.abs().max_element())
         .fold(0.0f32, f32::max);
-    let diagonal = mesh.bounds().diagonal();
+    let diagonal = crate::Bounds::from_points(&mesh.positions).diagonal();
     if !far.is_finite() || diagonal.is_nan() || diagonal <= 0.0 {
         return None;
     }

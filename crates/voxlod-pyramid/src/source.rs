@@ -176,8 +176,8 @@ impl<'a> Source<'a> {
         let mut warnings = Vec::new();
         let (inner, preparation) = match *self {
             Source::Mesh(mesh) => {
-                warnings.extend(voxlod_core::rounding::rounding_warning(mesh));
                 let solid = MeshSolid::new(mesh)?;
+                warnings.extend(voxlod_core::rounding::rounding_warning(mesh));
                 let preparation = solid.preparation;
                 (Inner::Mesh(Box::new(solid)), Some(preparation))
             }
