@@ -122,7 +122,8 @@ fn cell_pairs(
 const SWEPT: usize = 16;
 
 /// The bucketing grid: cells of [`cell_size`] from the boxes' smallest corner (less a margin),
-/// numbered x fastest; at most a million cells a side, so that a cell's number fits 64 bits.
+/// numbered x fastest; at most two million cells a side (cells further out share the last), so
+/// that a cell's number fits 64 bits.
 struct Grid {
     origin: DVec3,
     cell: f64,

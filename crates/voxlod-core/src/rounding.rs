@@ -60,23 +60,16 @@ mod tests {
 
     use super::rounding_warning;
     use crate::glam::Vec3;
+    use crate::test_shapes;
     use crate::TriangleMesh;
 
-    /// An octahedron of `radius` about `centre`.
+    /// The octahedron of `radius` about `centre`.
     fn octahedron(centre: Vec3, radius: f32) -> TriangleMesh {
-        let corners = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
-        let positions = corners.iter().map(|&c| centre + radius * c).collect();
-        let triangles = vec![
-            [0, 2, 4],
-            [2, 1, 4],
-            [1, 3, 4],
-            [3, 0, 4],
-            [2, 0, 5],
-            [1, 2, 5],
-            [3, 1, 5],
-            [0, 3, 5],
-        ];
-        TriangleMesh::new(positions, triangles)
+        let mut mesh = test_shapes::octahedron();
+        for p in &mut mesh.positions {
+            *p = centre + radius * *p;
+        }
+        mesh
     }
 
     #[test]
