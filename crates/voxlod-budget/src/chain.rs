@@ -372,7 +372,9 @@ fn choose_down(
         let mut promises = first_promises(input, options, s.budget);
         if let (true, Some(above)) = (options.monotone, levels.last()) {
             promises.max_handles = above.report.genus.or(promises.max_handles);
-            let mut c = from_above(&above.mesh, s.budget, input.cell(), options.max_error);
+            let (mesh, cell) = (above.mesh.clone(), input.cell());
+            let mut c =
+                crate::voxel::collapsed(Method::Above, mesh, s.budget, cell, options.max_error);
             for c in c.iter_mut() {
                 c.resolution = above.report.resolution;
                 c.iso = above.report.iso;
@@ -400,27 +402,6 @@ fn choose_down(
         levels.push(level);
     }
     Ok((levels, warnings))
-}
-
-/// The level above (`mesh`) collapsed to `budget`: its checked collapse
-/// ([`crate::voxel::collapsed`]) and meshoptimizer's plain collapse beside it (which the
-/// checked collapse adds itself where it stalls or drops parts): the plain one is often closer
-/// where it keeps the promises anyway.
-fn from_above(
-    mesh: &TriangleMesh,
-    budget: usize,
-    cell: f64,
-    max_error: Option<f64>,
-) -> Vec<Candidate> {
-    let mut out = crate::voxel::collapsed(Method::Above, mesh.clone(), budget, cell, max_error);
-    if max_error.is_none() && mesh.triangle_count() > budget && out.len() < 2 {
-        let plain = voxlod_quadric::simplify_unchecked(mesh, budget, false).ok();
-        out.extend(plain.map(|(m, _)| {
-            let m = voxlod_contouring::clean_mesh::without_zero_area(m, cell);
-            Candidate::new(Method::Above, m)
-        }));
-    }
-    out
 }
 
 /// The promises of `budget` before the chain adds the level above's cap. A budget above the

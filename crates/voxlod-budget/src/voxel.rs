@@ -321,8 +321,9 @@ pub const ATTEMPTS: usize = 4;
 /// `mesh` collapsed to `budget` with its topology kept (the smallest parts dropped where it
 /// stalls above, but not from the level above, whose parts the choice weighed already),
 /// without zero-area triangles judged against `cell`, as candidates of `method`; where that
-/// stalls above the budget or dropped parts, meshoptimizer's plain collapse of it too (which
-/// may break a promise: the choice checks). Empty for an empty mesh.
+/// stalls above the budget or dropped parts, and always for the level above, meshoptimizer's
+/// plain collapse of it too (which may break a promise: the choice checks). Empty for an empty
+/// mesh.
 pub fn collapsed(
     method: Method,
     mesh: voxlod_core::TriangleMesh,
@@ -355,7 +356,8 @@ pub fn collapsed(
     }
     let stalled = out.iter().all(|c| !within_budget(c.triangles(), budget));
     let dropped = out.iter().any(|c| c.parts_dropped > 0);
-    if (stalled || dropped) && max_error.is_none() {
+    // The level above's plain collapse is often closer where it keeps the promises anyway.
+    if (stalled || dropped || method == Method::Above) && max_error.is_none() {
         if let Ok((plain, _)) = simplify_unchecked(&mesh, budget, false) {
             out.push(Candidate::new(method, without_zero_area(plain, cell)));
         }

@@ -24,6 +24,7 @@ use gltf::{Document, Node, Primitive, Semantic};
 use voxlod_asset::{AssetMesh, Part};
 use voxlod_core::glam::{DMat4, DQuat, DVec3, Mat3, Vec2, Vec3, Vec4};
 use voxlod_core::memory::check_allocation;
+use voxlod_core::Bounds;
 
 use super::accessor::{floats, indices};
 use crate::GltfError;
@@ -118,17 +119,15 @@ pub(crate) fn flatten(
 /// from the origin than [`FAR`] times its diagonal, its box's centre rounded to a power of two
 /// no larger than the diagonal (a round figure for the reports).
 fn origin_of(world: &[DVec3]) -> DVec3 {
-    let (lo, hi) = world.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), &p| (lo.min(p), hi.max(p)),
-    );
-    let diagonal = (hi - lo).length();
-    let far = lo.abs().max(hi.abs()).max_element();
-    if world.is_empty() || diagonal <= 0.0 || far <= FAR * diagonal {
+    let mut bounds = Bounds::EMPTY;
+    world.iter().for_each(|&p| bounds.grow(p));
+    let diagonal = bounds.diagonal();
+    let far = bounds.min.abs().max(bounds.max.abs()).max_element();
+    if bounds.is_empty() || diagonal <= 0.0 || far <= FAR * diagonal {
         return DVec3::ZERO;
     }
     let step = 2f64.powi(diagonal.log2().floor() as i32);
-    (0.5 * (lo + hi) / step).round() * step
+    (bounds.center() / step).round() * step
 }
 
 /// `node`'s transform in `f64`, from the file's JSON numbers (the `gltf` crate keeps them as
