@@ -52,7 +52,8 @@ pub const LEAST_FILLED: f64 = 1.0;
 /// The input with its nearly enclosed hollows filled, and with them lined (module docs): for
 /// each, the input's density at [`RESOLUTION`] raised to 1 over the fill or its lining, whose
 /// samples at 0.5 or above (trilinearly interpolated, `voxlod_sampling::ThresholdSolid`) are the
-/// solid; none where the hollows are too small to count.
+/// solid; none where the hollows are too small to count, and the filled one alone where the
+/// lining is the whole fill.
 pub fn hollow_volumes(
     input: &Input,
     solid: &MeshSolid,
@@ -71,10 +72,13 @@ pub fn hollow_volumes(
         }
         raised
     };
-    Ok(vec![
-        (Fill::Hollows, raised(&closing.filled)),
-        (Fill::HollowLining, raised(&closing.lining)),
-    ])
+    let mut volumes = vec![(Fill::Hollows, raised(&closing.filled))];
+    // Where the lining is the whole fill (hollows no deeper than the closing's radius), the
+    // lined solid is the filled one: it would double the search for the same candidates.
+    if closing.lining.len() < closing.filled.len() {
+        volumes.push((Fill::HollowLining, raised(&closing.lining)));
+    }
+    Ok(volumes)
 }
 
 /// The input's density at `resolution` and what the closing of its samples at `iso` or above
@@ -122,6 +126,28 @@ mod tests {
         marching_cubes(&density, &ContourOptions::geometry_only(0.5)).unwrap()
     }
 
+    /// A flat closed box 2 × 2 × 0.2 with walls 0.03 thick and a round hole of radius 0.05
+    /// through its top, as a mesh (filtered at 128 samples and contoured): a hollow 0.14 deep.
+    fn flat_box_with_hole() -> TriangleMesh {
+        let shape = Shape::cuboid(DVec3::new(-1.0, -1.0, -0.1), DVec3::new(1.0, 1.0, 0.1))
+            .minus(Shape::cuboid(
+                DVec3::new(-0.97, -0.97, -0.07),
+                DVec3::new(0.97, 0.97, 0.07),
+            ))
+            .minus(Shape::cylinder(
+                DVec3::new(0.0, 0.0, 0.085),
+                Axis::Z,
+                0.05,
+                0.05,
+            ));
+        let solid = CsgSolid::new(shape).unwrap();
+        let voxel = 2.0 / 128.0;
+        let grid = level_grid(&solid_bounds(), 128, voxel).unwrap();
+        let options = DensityOptions::new(Filter::Hypercone, voxel);
+        let (density, _) = filtered_density(&solid, &grid, &options).unwrap();
+        marching_cubes(&density, &ContourOptions::geometry_only(0.5)).unwrap()
+    }
+
     fn solid_bounds() -> voxlod_core::Bounds {
         use voxlod_core::glam::Vec3;
         voxlod_core::Bounds::from_points([Vec3::splat(-1.0), Vec3::splat(1.0)].iter())
@@ -152,6 +178,17 @@ mod tests {
         let lined = ball * (1.0 - (0.94f64 - 0.125).powi(3));
         assert!(found[1].1 > 2.0 * wall, "{found:?}");
         assert!((found[1].1 - lined).abs() < 0.15 * lined, "{found:?}");
+    }
+
+    #[test]
+    fn a_hollow_within_the_closings_reach_is_filled_only() {
+        // The closing's radius is 2/16 = 0.125 of the box's longest side: every sample of a
+        // hollow 0.14 deep is within it of a wall, so the lining is the fill.
+        let found = hollows(&flat_box_with_hole());
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(found[0].0, Fill::Hollows);
+        let slab = 2.0 * 2.0 * 0.2;
+        assert!((found[0].1 - slab).abs() < 0.1 * slab, "{found:?}");
     }
 
     #[test]
