@@ -6,10 +6,10 @@
 //! Extensions read: `KHR_mesh_quantization` (integer attributes, [`accessor`]),
 //! `EXT_meshopt_compression` (decoded with meshoptimizer, filters included, [`buffers`]),
 //! `KHR_texture_transform`, `KHR_materials_emissive_strength`, `KHR_texture_basisu` (a KTX2
-//! image read as it is, [`materials::basisu_sources`]), and `MSFT_lod` chains (their
-//! finest level). A file that requires another extension (`KHR_draco_mesh_compression` among
-//! them) is refused with its name; one that only uses another gets a warning that it is
-//! ignored. The JSON is validated by the `gltf` crate (indices in range, required fields) after
+//! image read as it is, [`materials::basisu_sources`]), `KHR_draco_mesh_compression` (decoded
+//! with Draco, [`draco`]), `EXT_mesh_gpu_instancing` (every instance placed, [`nodes`]), and
+//! `MSFT_lod` chains (their finest level). A file that requires another extension is refused
+//! with its name; one that only uses another gets a warning that it is ignored. The JSON is validated by the `gltf` crate (indices in range, required fields) after
 //! the extensions it does not know are handled here.
 //!
 //! [`write`] writes levels of an asset back, with their looks, in either of two layouts,
@@ -20,6 +20,7 @@
 mod accessor;
 mod buffers;
 mod columns;
+mod draco;
 mod materials;
 mod nodes;
 pub mod write;
@@ -36,9 +37,11 @@ use crate::GltfError;
 pub use write::{asset_glb, positions_grid, AssetGlbOptions, Layout};
 
 /// Extensions this reader understands.
-const READ: [&str; 7] = [
+const READ: [&str; 9] = [
     "KHR_mesh_quantization",
     "EXT_meshopt_compression",
+    draco::DRACO,
+    nodes::INSTANCING,
     "KHR_texture_transform",
     "KHR_materials_emissive_strength",
     "KHR_texture_basisu",
@@ -60,14 +63,21 @@ pub struct SceneRead {
     pub origin: DVec3,
 }
 
-/// Reads a `.gltf` or `.glb` file; relative URIs are read beside it. Errors name the file.
+/// Reads a `.gltf` or `.glb` file; relative URIs are read beside it. Errors name the file:
+/// one that cannot be read is [`GltfError::Io`] (of kind `Access`), one that is not a usable
+/// glTF file [`GltfError::Invalid`].
 pub fn read_scene(path: &Path) -> Result<SceneRead, GltfError> {
     let named = |e: GltfError| match e {
         GltfError::Invalid(m) => GltfError::Invalid(format!("{}: {m}", path.display())),
         other => other,
     };
-    let cannot =
-        |e: std::io::Error| GltfError::Invalid(format!("{}: cannot read: {e}", path.display()));
+    let cannot = |e: std::io::Error| {
+        voxlod_io::IoError::new(
+            path,
+            voxlod_io::IoErrorKind::Access,
+            format!("cannot read: {e}"),
+        )
+    };
     let len = std::fs::metadata(path).map_err(cannot)?.len();
     check_allocation(&format!("reading {}", path.display()), len)?;
     let bytes = std::fs::read(path).map_err(cannot)?;
@@ -91,6 +101,7 @@ pub fn parse_scene(bytes: &[u8], base: Option<&Path>) -> Result<SceneRead, GltfE
     warnings.extend(materials::basisu_sources(&mut doc));
     let mut buffers = buffers::load_buffers(&doc, bin.as_deref(), base)?;
     buffers::decode_meshopt_views(&mut doc, &mut buffers)?;
+    draco::decode_draco_primitives(&mut doc, &mut buffers)?;
     check_position_accessors(&doc)?;
     let root: gltf::json::Root = serde_json::from_value(doc.clone())
         .map_err(|e| invalid(format!("not a glTF 2.0 document: {e}")))?;
@@ -179,13 +190,8 @@ fn check_extensions(doc: &mut Value) -> Result<Vec<String>, GltfError> {
         .collect();
     if !unknown.is_empty() {
         let names: Vec<&str> = unknown.iter().map(|s| s.as_str()).collect();
-        let hint = if names.contains(&"KHR_draco_mesh_compression") {
-            " (Draco-compressed geometry: decompress it first, e.g. with gltf-transform or gltfpack -noq)"
-        } else {
-            ""
-        };
         return Err(GltfError::Invalid(format!(
-            "it requires {}, which voxlod does not read{hint}",
+            "it requires {}, which voxlod does not read",
             names.join(", ")
         )));
     }

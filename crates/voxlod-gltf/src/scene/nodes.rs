@@ -7,6 +7,9 @@
 //! for the others (normals computed from their triangles, texture coordinates 0, colours
 //! white, tangents +x), so the mesh has one column per attribute.
 //!
+//! A node with `EXT_mesh_gpu_instancing` places its mesh once per instance, the instance's
+//! transform under the node's (as a child node's would be).
+//!
 //! Of a level chain only the finest level is read: the nodes an `MSFT_lod` extension lists
 //! are not roots of the scene, and of sibling nodes named `LOD0`, `LOD1`, … only `LOD0`.
 //!
@@ -100,8 +103,19 @@ pub(crate) fn flatten(
                 .name()
                 .or(mesh.name())
                 .map_or_else(|| format!("node {}", node.index()), str::to_string);
-            for p in mesh.primitives() {
-                add_primitive(&mut out, &p, &world, &name, buffers, warnings)?;
+            let instances = instances(&node, doc, json, buffers)?;
+            for (k, instance) in instances.iter().enumerate() {
+                let placed = world * *instance;
+                let name = match instances.len() {
+                    1 => name.clone(),
+                    _ => format!("{name}, instance {k}"),
+                };
+                if !placed.is_finite() {
+                    return Err(GltfError::Invalid(format!("{name}: transform not finite")));
+                }
+                for p in mesh.primitives() {
+                    add_primitive(&mut out, &p, &placed, &name, buffers, warnings)?;
+                }
             }
         }
         let children = only_finest(node.children().collect());
@@ -158,6 +172,74 @@ fn local_matrix(node: &Node, json: &serde_json::Value) -> DMat4 {
     }
     let m = node.transform().matrix();
     DMat4::from_cols_array_2d(&m.map(|c| c.map(f64::from)))
+}
+
+/// The extension that draws a node's mesh once per instance.
+pub(crate) const INSTANCING: &str = "EXT_mesh_gpu_instancing";
+
+/// The transforms `node`'s mesh is drawn under, in the node's frame: one identity, or with
+/// `EXT_mesh_gpu_instancing` one per instance, composed of its `TRANSLATION`, `ROTATION` and
+/// `SCALE` (each optional, all of one count) as a node's are. Errors name the node.
+fn instances(
+    node: &Node,
+    doc: &Document,
+    json: &serde_json::Value,
+    buffers: &[Vec<u8>],
+) -> Result<Vec<DMat4>, GltfError> {
+    let attributes = &json["nodes"][node.index()]["extensions"][INSTANCING]["attributes"];
+    if attributes.is_null() {
+        return Ok(vec![DMat4::IDENTITY]);
+    }
+    let invalid =
+        |m: String| GltfError::Invalid(format!("node {} ({INSTANCING}): {m}", node.index()));
+    let accessor = |key: &str| -> Result<Option<gltf::Accessor>, GltfError> {
+        match &attributes[key] {
+            serde_json::Value::Null => Ok(None),
+            v => (v.as_u64())
+                .and_then(|i| doc.accessors().nth(i as usize))
+                .map(Some)
+                .ok_or_else(|| invalid(format!("{key} names no accessor: {v}"))),
+        }
+    };
+    let vec3 = |key: &str| -> Result<Option<Vec<[f32; 3]>>, GltfError> {
+        accessor(key)?.map(|a| floats::<3>(&a, buffers)).transpose()
+    };
+    let (t, s) = (vec3("TRANSLATION")?, vec3("SCALE")?);
+    let r = (accessor("ROTATION")?)
+        .map(|a| floats::<4>(&a, buffers))
+        .transpose()?;
+    let counts: Vec<usize> = [
+        t.as_ref().map(Vec::len),
+        r.as_ref().map(Vec::len),
+        s.as_ref().map(Vec::len),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    let Some(&n) = counts.first() else {
+        return Err(invalid("no TRANSLATION, ROTATION or SCALE".into()));
+    };
+    if counts.iter().any(|&c| c != n) {
+        return Err(invalid(format!(
+            "attributes of different counts {counts:?}"
+        )));
+    }
+    check_allocation(
+        &format!("node {}'s {n} instances", node.index()),
+        n as u64 * 128,
+    )?;
+    let d3 = |v: [f32; 3]| DVec3::from_array(v.map(f64::from));
+    Ok((0..n)
+        .map(|k| {
+            let translation = t.as_ref().map_or(DVec3::ZERO, |t| d3(t[k]));
+            let scale = s.as_ref().map_or(DVec3::ONE, |s| d3(s[k]));
+            let rotation = r.as_ref().map_or(DQuat::IDENTITY, |r| {
+                let [x, y, z, w] = r[k].map(f64::from);
+                DQuat::from_xyzw(x, y, z, w).normalize()
+            });
+            DMat4::from_scale_rotation_translation(scale, rotation, translation)
+        })
+        .collect())
 }
 
 /// Sibling nodes without those named `LOD1`, `LOD2`, … when one is named `LOD0`.
