@@ -101,11 +101,19 @@ pub fn write_volume(path: impl AsRef<Path>, volume: &Volume) -> Result<(), Error
     Ok(voxlod_io::write_volume(path.as_ref(), volume)?)
 }
 
-/// Reads a binary glTF file (`.glb`): every mesh's triangles in one mesh, each mesh's range
-/// and material as a part, and, for the layered shells of [`crate::layers()`], the volume grid
-/// and the eight back-to-front orders. Errors name the file.
+/// Reads a binary glTF file (`.glb`): the layered shells of [`crate::layers()`] as stored
+/// (every layer's triangles in one mesh, each layer's range and material as a part, the
+/// volume grid and the eight back-to-front orders); any other file as its scene
+/// ([`voxlod_gltf::read_scene`]: every node's primitives in world space, compressed, quantized
+/// and instanced files included), a part per primitive and instance. Errors name the file.
 pub fn read_glb(path: impl AsRef<Path>) -> Result<GlbScene, Error> {
-    Ok(voxlod_gltf::read_glb(path.as_ref())?)
+    let path = path.as_ref();
+    if let Ok(stored) = voxlod_gltf::read_glb(path) {
+        if stored.is_layered() {
+            return Ok(stored);
+        }
+    }
+    Ok(GlbScene::from_scene(&voxlod_gltf::read_scene(path)?))
 }
 
 /// Whether `path` names a binary glTF file (extension `.glb`, any case).

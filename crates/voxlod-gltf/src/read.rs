@@ -99,6 +99,40 @@ impl GlbScene {
         self.parts.get(i).filter(|p| v >= p.first_vertex)
     }
 
+    /// A scene read as an asset ([`crate::read_scene`]: in world space, compressed, quantized
+    /// and instanced files included) as a plain, unlayered `GlbScene`: its positions and
+    /// triangles, a part per primitive and instance with its material's base colour.
+    pub fn from_scene(read: &crate::SceneRead) -> GlbScene {
+        let a = &read.asset;
+        let mut next_vertex = 0u32;
+        let parts = (a.parts.iter())
+            .map(|p| {
+                let range =
+                    p.first_triangle as usize..(p.first_triangle + p.triangle_count) as usize;
+                let corners = || a.mesh.triangles[range.clone()].iter().flatten().copied();
+                let first = corners().min().unwrap_or(next_vertex);
+                let last = corners().max().map_or(first, |v| v + 1);
+                next_vertex = last;
+                let material =
+                    (a.mesh.material.get(range.start)).and_then(|&m| a.materials.get(m as usize));
+                GlbPart {
+                    name: p.name.clone(),
+                    first_vertex: first,
+                    vertex_count: last - first,
+                    first_triangle: p.first_triangle,
+                    triangle_count: p.triangle_count,
+                    color: material.map_or([1.0; 4], |m| m.base_color),
+                    blend: material.is_some_and(|m| m.alpha_mode == voxlod_asset::AlphaMode::Blend),
+                }
+            })
+            .collect();
+        GlbScene {
+            mesh: TriangleMesh::new(a.mesh.positions.clone(), a.mesh.triangles.clone()),
+            parts,
+            ..GlbScene::default()
+        }
+    }
+
     /// The part of each triangle.
     pub fn triangle_parts(&self) -> Vec<u16> {
         let mut out = vec![0u16; self.mesh.triangles.len()];
