@@ -201,3 +201,43 @@ fn contour_names_the_nan_samples_it_counted_outside() {
         contoured.warnings
     );
 }
+
+/// A tetrahedron of volume 1/6 as the one mesh of a GLB, drawn by a node moved by (10, 0, 0)
+/// and scaled by 2, as exporters place objects.
+fn placed_tetrahedron_glb() -> Vec<u8> {
+    let positions: [f32; 12] = [0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1.];
+    let indices: [u16; 12] = [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3];
+    let mut bin: Vec<u8> = positions.iter().flat_map(|v| v.to_le_bytes()).collect();
+    bin.extend(indices.iter().flat_map(|v| v.to_le_bytes()));
+    let doc = serde_json::json!({
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "translation": [10.0, 0.0, 0.0], "scale": [2.0, 2.0, 2.0]}],
+        "meshes": [{"name": "tetrahedron", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 1]},
+            {"bufferView": 1, "componentType": 5123, "count": 12, "type": "SCALAR"}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 24}],
+        "buffers": [{"byteLength": 72}]
+    });
+    voxlod::gltf::to_glb(&doc, bin).unwrap()
+}
+
+#[test]
+fn a_glb_from_another_tool_is_read_in_world_space() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("placed.glb");
+    std::fs::write(&path, placed_tetrahedron_glb()).unwrap();
+    let scene = voxlod::read_glb(&path).unwrap();
+    assert!(!scene.is_layered());
+    let bounds = scene.mesh.bounds();
+    assert_eq!(
+        (bounds.min.x, bounds.max.x, bounds.max.z),
+        (10.0, 12.0, 2.0)
+    );
+    assert!((scene.mesh.signed_volume() - 8.0 / 6.0).abs() < 1e-9);
+    assert_eq!(scene.parts.len(), 1);
+    assert_eq!(
+        (scene.parts[0].first_vertex, scene.parts[0].vertex_count),
+        (0, 4)
+    );
+}
