@@ -1292,3 +1292,24 @@ fn a_scene_gltfpack_instanced_reads_as_the_scene_it_packed() {
     };
     assert_eq!(placed(&read), placed(&original));
 }
+
+#[test]
+fn a_draco_file_decompressed_needs_no_extension_and_draws_the_same() {
+    let plain = voxlod_gltf::decompress_glb(&draco_scene()).unwrap();
+    let g = gltf::binary::Glb::from_slice(&plain).unwrap();
+    let doc: Value = serde_json::from_slice(&g.json).unwrap();
+    assert_eq!(
+        doc["extensionsRequired"],
+        json!([]),
+        "{}",
+        doc["extensionsRequired"]
+    );
+    assert_eq!(doc["buffers"].as_array().unwrap().len(), 1);
+    // The `gltf` crate, which reads no compression, takes it.
+    gltf::Gltf::from_slice(&plain).unwrap();
+    let (read, compressed) = (
+        parse_scene(&plain, None).unwrap(),
+        parse_scene(&draco_scene(), None).unwrap(),
+    );
+    assert_eq!(corners(&read), corners(&compressed));
+}

@@ -1,7 +1,8 @@
 //! What the page will draw, checked before it is embedded: the page's script trusts its data,
 //! so a broken `.glb` must be refused here with a clear error, not fail in the browser.
 //!
-//! The file is decoded from `EXT_meshopt_compression` first ([`voxlod_gltf::decompress_glb`]),
+//! The file is decoded from `EXT_meshopt_compression` and `KHR_draco_mesh_compression` first
+//! ([`voxlod_gltf::decompress_glb`]),
 //! then its JSON is validated by the `gltf` crate (every index refers to something), every
 //! accessor the page reads is bounds-checked against its view and the binary chunk, every index
 //! against its primitive's vertices, the node graph must be a forest (the script walks it),
@@ -16,7 +17,8 @@ use gltf::json::validation::Checked;
 use voxlod_gltf::ORDER_NAMES;
 
 /// Required extensions the page handles (quantized attributes are plain WebGL attributes;
-/// `EXT_meshopt_compression` is decoded before the check, so it is never left to require).
+/// `EXT_meshopt_compression` and `KHR_draco_mesh_compression` are decoded before the check,
+/// so they are never left to require).
 const READ_EXTENSIONS: &[&str] = &[
     "KHR_mesh_quantization",
     "KHR_texture_transform",

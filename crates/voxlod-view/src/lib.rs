@@ -35,11 +35,11 @@
 //! image, a third texture coordinate set, an image the browser fails to decode) is named in the
 //! overlay and drawn without; an image outside the `.glb` is refused by [`check_glb`].
 //!
-//! **Compressed files**: `EXT_meshopt_compression` is decoded in Rust before the page is made
-//! ([`voxlod_gltf::decompress_glb`], with the `meshopt` crate), so the page holds plain views
-//! and needs no decoder of its own; quantized attributes stay quantized (WebGL reads them).
-//! `KHR_draco_mesh_compression` and other required extensions the page does not read are
-//! refused with an error naming the extension.
+//! **Compressed files**: `EXT_meshopt_compression` and `KHR_draco_mesh_compression` are
+//! decoded in Rust before the page is made ([`voxlod_gltf::decompress_glb`], with the `meshopt`
+//! and `draco-core` crates), so the page holds plain views and needs no decoder of its own;
+//! quantized attributes stay quantized (WebGL reads them). Other required extensions the page
+//! does not read are refused with an error naming the extension.
 //!
 //! **Why our own renderer and not three.js**: the page needs a glTF subset (float and quantized
 //! attributes, three primitive modes, node transforms, metallic-roughness materials' colour,
@@ -47,7 +47,7 @@
 //! thick lines and control over the index buffer and blend order per frame. three.js would add
 //! about 700 kB minified (plus its GLTFLoader and a meshopt decoder), a lockfile and a bundling
 //! step, and would still need custom code for the octant orders, which its renderer sorts
-//! itself. The renderer here is about 850 lines; meshopt data is decoded in Rust
+//! itself. The renderer here is about 850 lines; meshopt and Draco data are decoded in Rust
 //! ([`voxlod_gltf::decompress_glb`]) so the page needs no decoder.
 //!
 //! For tests and scripts: the hash `#camera=DISTANCE,DX,DY,DZ&model=I` (direction from the

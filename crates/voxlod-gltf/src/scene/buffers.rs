@@ -17,7 +17,7 @@ use voxlod_core::memory::check_allocation;
 use crate::encode::decode_view;
 use crate::GltfError;
 
-const MESHOPT: &str = "EXT_meshopt_compression";
+pub(crate) const MESHOPT: &str = "EXT_meshopt_compression";
 
 fn invalid(m: impl Into<String>) -> GltfError {
     GltfError::Invalid(m.into())

@@ -18,9 +18,9 @@
 //! Cost: linear in the file, its buffers and images; every size meets the memory limit first.
 
 mod accessor;
-mod buffers;
+pub(crate) mod buffers;
 mod columns;
-mod draco;
+pub(crate) mod draco;
 mod materials;
 mod nodes;
 pub mod write;
