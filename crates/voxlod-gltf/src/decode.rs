@@ -1,6 +1,7 @@
 //! Undoing `EXT_meshopt_compression` and `KHR_draco_mesh_compression`: a `.glb` whose buffer
 //! views are meshopt-encoded or whose primitives are Draco streams becomes one with plain views
-//! in a single buffer, so that a reader without their decoders (the viewer page) can take it.
+//! in a single buffer, so that a reader without their decoders (the viewer page) can take it;
+//! GPU instances (`EXT_mesh_gpu_instancing`) become child nodes.
 //! The decoding is the scene reader's (module `scene`: meshopt filters included). Quantized
 //! attributes stay quantized (`KHR_mesh_quantization` is core WebGL work). Every count read
 //! from the file goes through the memory limit and is checked against the view it fills; a
@@ -12,6 +13,7 @@ use serde_json::{json, Value};
 
 use crate::scene::buffers::{decode_meshopt_views, load_buffers, MESHOPT};
 use crate::scene::draco::{decode_draco_primitives, DRACO};
+use crate::scene::nodes::{instances, INSTANCING};
 use crate::GltfError;
 
 /// The file with plain buffer views in one buffer (the input itself when nothing is
@@ -27,16 +29,19 @@ pub fn decompress_glb(bytes: &[u8]) -> Result<Vec<u8>, GltfError> {
             .as_array()
             .is_some_and(|a| a.iter().any(|x| x == ext))
     };
-    if !uses(&doc, MESHOPT) && !uses(&doc, DRACO) {
+    if ![MESHOPT, DRACO, INSTANCING].iter().any(|e| uses(&doc, e)) {
         return Ok(bytes.to_vec());
     }
     let mut buffers = load_buffers(&doc, glb.bin.as_deref(), None)?;
     decode_meshopt_views(&mut doc, &mut buffers)?;
     decode_draco_primitives(&mut doc, &mut buffers)?;
     let out = one_buffer(&mut doc, &buffers)?;
+    if uses(&doc, INSTANCING) {
+        instances_as_nodes(&mut doc, &out)?;
+    }
     for key in ["extensionsUsed", "extensionsRequired"] {
         if let Some(list) = doc.get_mut(key).and_then(Value::as_array_mut) {
-            list.retain(|x| x != MESHOPT && x != DRACO);
+            list.retain(|x| x != MESHOPT && x != DRACO && x != INSTANCING);
         }
     }
     let json = serde_json::to_vec(&doc).map_err(|e| GltfError::Encode(e.to_string()))?;
@@ -69,4 +74,46 @@ fn one_buffer(doc: &mut Value, buffers: &[Vec<u8>]) -> Result<Vec<u8>, GltfError
     }
     doc["buffers"] = json!([{"byteLength": out.len()}]);
     Ok(out)
+}
+
+/// Every node drawing its mesh under `EXT_mesh_gpu_instancing` made a node with a child per
+/// instance (the instance's transform as the child's matrix, the mesh on the child), read as
+/// the scene reader reads them (module `scene::nodes`); `bin` is the document's one buffer.
+fn instances_as_nodes(doc: &mut Value, bin: &[u8]) -> Result<(), GltfError> {
+    // The `gltf` crate types the document; it refuses required extensions it does not know.
+    let mut typed = doc.clone();
+    if let Some(o) = typed.as_object_mut() {
+        o.remove("extensionsRequired");
+    }
+    let root: gltf::json::Root = serde_json::from_value(typed)
+        .map_err(|e| GltfError::Invalid(format!("not a glTF 2.0 document: {e}")))?;
+    let document = gltf::Document::from_json(root)
+        .map_err(|e| GltfError::Invalid(format!("not a valid glTF 2.0 document: {e}")))?;
+    let buffers = [bin.to_vec()];
+    let mut added = Vec::new();
+    for node in document.nodes() {
+        let json = &doc["nodes"][node.index()];
+        if json["extensions"][INSTANCING].is_null() {
+            continue;
+        }
+        let mesh = json["mesh"].clone();
+        let mut children: Vec<Value> = json["children"].as_array().cloned().unwrap_or_default();
+        for m in instances(&node, &document, doc, &buffers)? {
+            let first = doc["nodes"].as_array().map_or(0, Vec::len) + added.len();
+            children.push(Value::from(first));
+            added.push(json!({"mesh": mesh, "matrix": m.to_cols_array()}));
+        }
+        let n = &mut doc["nodes"][node.index()];
+        n["children"] = Value::Array(children);
+        if let Some(o) = n.as_object_mut() {
+            o.remove("mesh");
+        }
+        if let Some(e) = n["extensions"].as_object_mut() {
+            e.remove(INSTANCING);
+        }
+    }
+    if let Some(nodes) = doc["nodes"].as_array_mut() {
+        nodes.extend(added);
+    }
+    Ok(())
 }

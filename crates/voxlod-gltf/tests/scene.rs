@@ -545,6 +545,7 @@ fn mutated_files_never_panic() {
                 bytes[at] = next() as u8;
             }
             let outcome = std::panic::catch_unwind(|| {
+                let _ = voxlod_gltf::decompress_glb(&bytes);
                 parse_scene(&bytes, None).map(|r| r.asset.mesh.triangles.len())
             });
             assert!(outcome.is_ok(), "a mutated file panicked");
@@ -1293,9 +1294,11 @@ fn a_scene_gltfpack_instanced_reads_as_the_scene_it_packed() {
     assert_eq!(placed(&read), placed(&original));
 }
 
-#[test]
-fn a_draco_file_decompressed_needs_no_extension_and_draws_the_same() {
-    let plain = voxlod_gltf::decompress_glb(&draco_scene()).unwrap();
+/// `file` through `decompress_glb`: its JSON, after checking that it requires no extension,
+/// has one buffer, reads with the `gltf` crate (which decodes nothing) and draws the corners
+/// `file` draws.
+fn decompressed(file: &[u8]) -> Value {
+    let plain = voxlod_gltf::decompress_glb(file).unwrap();
     let g = gltf::binary::Glb::from_slice(&plain).unwrap();
     let doc: Value = serde_json::from_slice(&g.json).unwrap();
     assert_eq!(
@@ -1305,11 +1308,22 @@ fn a_draco_file_decompressed_needs_no_extension_and_draws_the_same() {
         doc["extensionsRequired"]
     );
     assert_eq!(doc["buffers"].as_array().unwrap().len(), 1);
-    // The `gltf` crate, which reads no compression, takes it.
     gltf::Gltf::from_slice(&plain).unwrap();
-    let (read, compressed) = (
+    let (read, given) = (
         parse_scene(&plain, None).unwrap(),
-        parse_scene(&draco_scene(), None).unwrap(),
+        parse_scene(file, None).unwrap(),
     );
-    assert_eq!(corners(&read), corners(&compressed));
+    assert_eq!(corners(&read), corners(&given));
+    doc
+}
+
+#[test]
+fn a_draco_file_decompressed_needs_no_extension_and_draws_the_same() {
+    decompressed(&draco_scene());
+}
+
+#[test]
+fn gpu_instances_decompressed_become_nodes_that_draw_the_same() {
+    let doc = decompressed(&instanced_scene());
+    assert_eq!(doc["nodes"][0]["children"], json!([1, 2, 3]));
 }

@@ -38,8 +38,9 @@
 //! **Compressed files**: `EXT_meshopt_compression` and `KHR_draco_mesh_compression` are
 //! decoded in Rust before the page is made ([`voxlod_gltf::decompress_glb`], with the `meshopt`
 //! and `draco-core` crates), so the page holds plain views and needs no decoder of its own;
-//! quantized attributes stay quantized (WebGL reads them). Other required extensions the page
-//! does not read are refused with an error naming the extension.
+//! quantized attributes stay quantized (WebGL reads them), and GPU instances
+//! (`EXT_mesh_gpu_instancing`) become child nodes. Other required extensions the page does not
+//! read are refused with an error naming the extension.
 //!
 //! **Why our own renderer and not three.js**: the page needs a glTF subset (float and quantized
 //! attributes, three primitive modes, node transforms, metallic-roughness materials' colour,

@@ -22,7 +22,7 @@ pub(crate) mod buffers;
 mod columns;
 pub(crate) mod draco;
 mod materials;
-mod nodes;
+pub(crate) mod nodes;
 pub mod write;
 
 use std::path::Path;

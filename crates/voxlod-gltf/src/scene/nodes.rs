@@ -180,7 +180,7 @@ pub(crate) const INSTANCING: &str = "EXT_mesh_gpu_instancing";
 /// The transforms `node`'s mesh is drawn under, in the node's frame: one identity, or with
 /// `EXT_mesh_gpu_instancing` one per instance, composed of its `TRANSLATION`, `ROTATION` and
 /// `SCALE` (each optional, all of one count) as a node's are. Errors name the node.
-fn instances(
+pub(crate) fn instances(
     node: &Node,
     doc: &Document,
     json: &serde_json::Value,
