@@ -1,7 +1,8 @@
 """Assets with their looks from Python: a textured, vertex-coloured quad pair written with
 ``voxlod.write_scene`` reads back with ``voxlod.read_scene`` exactly (arrays, materials,
 image bytes), in both layouts; trimesh, an independent reader, sees the same geometry and
-texture coordinates; a file requiring Draco is refused by name."""
+texture coordinates; a file C++ Draco compressed reads as its meshes; a file requiring an
+extension voxlod does not read is refused by name."""
 
 import json
 import struct
@@ -135,12 +136,52 @@ def test_trimesh_reads_what_voxlod_writes(tmp_path):
     assert np.allclose(sorted(map(tuple, uv)), sorted([(0, 0), (1, 0), (1, 1), (0, 1)]))
 
 
-def test_a_file_requiring_draco_is_refused_by_name(tmp_path):
-    doc = {"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_draco_mesh_compression"],
-           "extensionsRequired": ["KHR_draco_mesh_compression"], "meshes": [], "nodes": []}
-    path = tmp_path / "draco.gltf"
+def draco_tetrahedra_glb(path):
+    """A GLB of two tetrahedra, the second moved by (3, 0, 0), whose one primitive C++ Draco
+    compressed (DracoPy, positions at 16 bits), drawn by two nodes."""
+    import DracoPy
+
+    points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=np.float32)
+    faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]], dtype=np.uint32)
+    stream = DracoPy.encode(points, faces, quantization_bits=16)
+    stream += b"\0" * (-len(stream) % 4)
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}],
+           "nodes": [{"mesh": 0}, {"mesh": 0, "translation": [3.0, 0.0, 0.0]}],
+           "extensionsUsed": ["KHR_draco_mesh_compression"],
+           "extensionsRequired": ["KHR_draco_mesh_compression"],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "extensions": {
+               "KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"POSITION": 0}}}}]}],
+           "accessors": [{"componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 1]},
+                         {"componentType": 5125, "count": 12, "type": "SCALAR"}],
+           "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": len(stream)}],
+           "buffers": [{"byteLength": len(stream)}]}
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    glb = struct.pack("<4sII", b"glTF", 2, 28 + len(text) + len(stream))
+    glb += struct.pack("<I4s", len(text), b"JSON") + text
+    glb += struct.pack("<I4s", len(stream), b"BIN\0") + stream
+    path.write_bytes(glb)
+
+
+def test_a_draco_compressed_file_reads_as_its_meshes(tmp_path):
+    pytest.importorskip("DracoPy")
+    path = tmp_path / "draco.glb"
+    draco_tetrahedra_glb(path)
+    scene = voxlod.read_scene(path)
+    assert scene.faces.shape == (8, 3)
+    v = scene.vertices[scene.faces]
+    volume = np.einsum("ij,ij->i", v[:, 0], np.cross(v[:, 1], v[:, 2])).sum() / 6
+    assert abs(volume - 2 / 6) < 1e-4
+    assert np.allclose(scene.vertices.min(axis=0), [0, 0, 0], atol=1e-4)
+    assert np.allclose(scene.vertices.max(axis=0), [4, 1, 1], atol=1e-4)
+
+
+def test_a_file_requiring_an_extension_voxlod_does_not_read_is_refused_by_name(tmp_path):
+    doc = {"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_pbrSpecularGlossiness"],
+           "extensionsRequired": ["KHR_materials_pbrSpecularGlossiness"], "meshes": [], "nodes": []}
+    path = tmp_path / "old.gltf"
     path.write_text(json.dumps(doc))
-    with pytest.raises(voxlod.InputError, match="KHR_draco_mesh_compression"):
+    with pytest.raises(voxlod.InputError, match="KHR_materials_pbrSpecularGlossiness"):
         voxlod.read_scene(path)
 
 

@@ -45,9 +45,9 @@ class Scene:
 
 
 def read_scene(path: "os.PathLike[str] | str") -> Scene:
-    """Reads a glTF 2.0 asset (``.gltf`` with its files, or ``.glb``; quantized and
-    meshopt-compressed files too) as a :class:`Scene`. A file that requires an extension voxlod
-    does not read (Draco) raises :class:`voxlod.InputError` naming it."""
+    """Reads a glTF 2.0 asset (``.gltf`` with its files, or ``.glb``; quantized, meshopt- and
+    Draco-compressed and GPU-instanced files too) as a :class:`Scene`. A file that requires an
+    extension voxlod does not read raises :class:`voxlod.InputError` naming it."""
     d = _voxlod.read_scene(os.fspath(path))
     return Scene(
         vertices=d["vertices"],
