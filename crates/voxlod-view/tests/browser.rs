@@ -8,6 +8,8 @@
 //! - two layered squares seen from either side of the z = 0 plane: the octant order switches,
 //!   so the nearer square is blended last and its colour dominates; and closer than the 0.45 px
 //!   filter-radius limit the single surface is drawn opaque;
+//! - a unit sphere whose primitive is Draco-compressed, drawn by a node under a GPU instance:
+//!   decoded before the page is made, it covers the disc the sphere projects to;
 //! - a layered chain (`voxlod layers --lod`) at three distances: the second patch shows the
 //!   coarsest level whose filter radius spans at most 0.45 px, and closer than level 0 allows,
 //!   the first patch turns black (level 0's single surface).
@@ -26,6 +28,14 @@ use voxlod_view::{write_page, ViewOptions, PATCH_COLORS};
 fn expected_level(distance: f64) -> usize {
     let pixel = 2.0 * distance * (FOV / 2.0).tan() / SIZE as f64;
     SPHERE_CELLS.iter().rposition(|&c| c <= pixel).unwrap_or(0)
+}
+
+/// The pixels the unit sphere's silhouette covers from `distance`: a disc of radius
+/// f·tan(asin(1/d)) pixels.
+fn sphere_disc(distance: f64) -> f64 {
+    let focal = SIZE as f64 / 2.0 / (FOV / 2.0).tan();
+    let radius = focal * (1.0 / distance).asin().tan();
+    std::f64::consts::PI * radius * radius
 }
 
 #[test]
@@ -48,10 +58,7 @@ fn lod_page_draws_the_model_and_switches_levels_with_distance() {
             PATCH_COLORS[level],
             "distance {distance}: level {level}"
         );
-        // The unit sphere's silhouette: a disc of radius f·tan(asin(1/d)) pixels.
-        let focal = SIZE as f64 / 2.0 / (FOV / 2.0).tan();
-        let radius = focal * (1.0 / distance).asin().tan();
-        let disc = std::f64::consts::PI * radius * radius;
+        let disc = sphere_disc(distance);
         let drawn = drawn_pixels(&img) as f64;
         assert!(
             (drawn / disc - 1.0).abs() < 0.12,
@@ -157,4 +164,87 @@ fn layered_chain_page_draws_the_level_whose_radius_fits_045_px() {
         assert_eq!(patch(&img), octant, "distance {d}");
         assert!(drawn_pixels(&img) > 0, "distance {d}: nothing drawn");
     }
+}
+
+/// A unit sphere (icosphere 3) whose one primitive draco-core compressed (positions at 14 bits),
+/// drawn by a node through one GPU instance (`EXT_mesh_gpu_instancing`), as a `.glb`.
+fn write_draco_instanced_sphere(path: &std::path::Path) {
+    use draco_core::{
+        DataType, EncoderBuffer, EncoderOptions, GeometryAttributeType, Mesh, MeshEncoder,
+        PointAttribute,
+    };
+    let sphere = voxlod_testkit::shapes::icosphere(3);
+    let n = sphere.positions.len();
+    let mut mesh = Mesh::new();
+    mesh.set_num_points(n);
+    let mut position = PointAttribute::new();
+    position.init(
+        GeometryAttributeType::Position,
+        3,
+        DataType::Float32,
+        false,
+        n,
+    );
+    let floats: Vec<u8> = (sphere.positions.iter())
+        .flat_map(|p| p.to_array())
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    position.buffer_mut().write(0, &floats);
+    let id = mesh.add_attribute(position);
+    mesh.set_num_faces(sphere.triangles.len());
+    mesh.set_faces_from_flat_indices(sphere.triangles.as_flattened());
+    let mut options = EncoderOptions::new();
+    options.set_attribute_quantization(id, 14);
+    let unique = mesh.attribute(id).unique_id();
+    let mut encoder = MeshEncoder::new();
+    encoder.set_mesh(mesh);
+    let mut stream = EncoderBuffer::new();
+    encoder.encode(&options, &mut stream).unwrap();
+    let mut bin = stream.data().to_vec();
+    let length = bin.len();
+    bin.resize(length.next_multiple_of(4), 0);
+    let offset = bin.len();
+    bin.extend([0.0f32; 3].iter().flat_map(|x| x.to_le_bytes()));
+    let (draco, instancing) = ("KHR_draco_mesh_compression", "EXT_mesh_gpu_instancing");
+    let doc = serde_json::json!({
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+        "extensionsUsed": [draco, instancing], "extensionsRequired": [draco, instancing],
+        "nodes": [{"mesh": 0, "extensions": {instancing: {"attributes": {"TRANSLATION": 2}}}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1,
+            "extensions": {draco: {"bufferView": 0, "attributes": {"POSITION": unique}}}}]}],
+        "accessors": [
+            {"componentType": 5126, "count": n, "type": "VEC3", "min": [-1, -1, -1], "max": [1, 1, 1]},
+            {"componentType": 5125, "count": 3 * sphere.triangles.len(), "type": "SCALAR"},
+            {"bufferView": 1, "componentType": 5126, "count": 1, "type": "VEC3"}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": length},
+                        {"buffer": 0, "byteOffset": offset, "byteLength": 12}],
+        "buffers": [{"byteLength": bin.len()}]
+    });
+    std::fs::write(path, voxlod_gltf::to_glb(&doc, bin).unwrap()).unwrap();
+}
+
+#[test]
+fn a_draco_compressed_instanced_sphere_is_drawn_whole() {
+    let Some(browser) = chromium() else {
+        return;
+    };
+    let (_keep, dir) = shots();
+    let glb = dir.join("sphere-draco.glb");
+    write_draco_instanced_sphere(&glb);
+    let page = dir.join("sphere-draco.html");
+    write_page(&[glb], &page, &ViewOptions::default()).unwrap();
+    let distance = 3.0;
+    let img = screenshot(
+        &browser,
+        &page,
+        distance,
+        [0.3, 0.4, 1.0],
+        &dir.join("sphere-draco.png"),
+    );
+    let disc = sphere_disc(distance);
+    let drawn = drawn_pixels(&img) as f64;
+    assert!(
+        (drawn / disc - 1.0).abs() < 0.12,
+        "{drawn} pixels drawn, the sphere covers {disc:.0}"
+    );
 }
