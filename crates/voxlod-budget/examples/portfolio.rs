@@ -9,8 +9,8 @@
 //! Hausdorff at most 1.1 times the better peer that reaches the budget within 10 % with a
 //! manifold result, mean at most 1.25 times `simplify`'s, every level within 10 %, and the
 //! run within 5 times `simplify`'s time plus 0.5 s. With `VERBOSE` set, every candidate of
-//! every budget is listed; with `CHAIN_ONLY` set, only the chain runs and is timed (nothing is
-//! measured afterwards: for profiling).
+//! every budget is listed; with `CHAIN_ONLY` set, only the chain runs and is timed, with its
+//! phases (nothing is measured afterwards: for profiling).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -189,20 +189,28 @@ fn print_candidates(report: &voxlod_budget::BudgetLevel, diagonal: f64) {
     }
 }
 
-fn run(name: &str, mesh: &TriangleMesh, tally: &mut Tally) -> Vec<Row> {
-    let budgets = budgets(mesh.triangle_count());
-    let diagonal = mesh.bounds().diagonal();
-    // The peers first: simplify from the input for each count, timed on one thread as
-    // meshoptimizer runs.
+/// Per budget, the peers' levels: simplify's and sloppy's.
+type PeerLevels = Vec<(Option<TriangleMesh>, Option<TriangleMesh>)>;
+
+/// The peers' levels for each of `budgets` and simplify's time in all, timed on one thread as
+/// meshoptimizer runs.
+fn peers(mesh: &TriangleMesh, budgets: &[usize]) -> (f64, PeerLevels) {
     let mut simplify_seconds = 0.0;
     let mut peers = Vec::new();
-    for &b in &budgets {
+    for &b in budgets {
         let t = Instant::now();
         let s = simplify_unchecked(mesh, b, false).map(|r| r.0);
         simplify_seconds += t.elapsed().as_secs_f64();
         let sl = simplify_sloppy(mesh, b);
         peers.push((s.ok(), sl.ok()));
     }
+    (simplify_seconds, peers)
+}
+
+fn run(name: &str, mesh: &TriangleMesh, tally: &mut Tally) -> Vec<Row> {
+    let budgets = budgets(mesh.triangle_count());
+    let diagonal = mesh.bounds().diagonal();
+    let (simplify_seconds, peers) = peers(mesh, &budgets);
     let t = Instant::now();
     let ours = levels(mesh, &PortfolioOptions::for_triangles(&budgets));
     let seconds = t.elapsed().as_secs_f64();
@@ -222,15 +230,15 @@ fn run(name: &str, mesh: &TriangleMesh, tally: &mut Tally) -> Vec<Row> {
         }
     };
     let t = ours.timings;
-    if std::env::var_os("CHAIN_ONLY").is_some() {
-        return Vec::new();
-    }
     println!(
         "  phases: prepare {:.2} s, collapses {:.2} s, voxels {:.2} s, choice {:.2} s",
         t.prepare, t.collapses, t.voxels, t.choice
     );
     for w in &ours.warnings {
         println!("  warning: {w}");
+    }
+    if std::env::var_os("CHAIN_ONLY").is_some() {
+        return Vec::new();
     }
     let mut rows = Vec::new();
     for ((&b, level), (s, sl)) in budgets.iter().zip(&ours.levels).zip(peers) {
