@@ -107,13 +107,7 @@ pub fn write_volume(path: impl AsRef<Path>, volume: &Volume) -> Result<(), Error
 /// ([`voxlod_gltf::read_scene`]: every node's primitives in world space, compressed, quantized
 /// and instanced files included), a part per primitive and instance. Errors name the file.
 pub fn read_glb(path: impl AsRef<Path>) -> Result<GlbScene, Error> {
-    let path = path.as_ref();
-    if let Ok(stored) = voxlod_gltf::read_glb(path) {
-        if stored.is_layered() {
-            return Ok(stored);
-        }
-    }
-    Ok(GlbScene::from_scene(&voxlod_gltf::read_scene(path)?))
+    Ok(voxlod_gltf::read_any_glb(path.as_ref())?)
 }
 
 /// Whether `path` names a binary glTF file (extension `.glb`, any case).

@@ -14,6 +14,7 @@ use serde_json::{json, Value};
 use crate::scene::buffers::{decode_meshopt_views, load_buffers, MESHOPT};
 use crate::scene::draco::{decode_draco_primitives, DRACO};
 use crate::scene::nodes::{instances, INSTANCING};
+use crate::scene::typed_document;
 use crate::GltfError;
 
 /// The file with plain buffer views in one buffer (the input itself when nothing is
@@ -37,7 +38,7 @@ pub fn decompress_glb(bytes: &[u8]) -> Result<Vec<u8>, GltfError> {
     decode_draco_primitives(&mut doc, &mut buffers)?;
     let out = one_buffer(&mut doc, &buffers)?;
     if uses(&doc, INSTANCING) {
-        instances_as_nodes(&mut doc, &out)?;
+        instances_as_nodes(&mut doc, std::slice::from_ref(&out))?;
     }
     for key in ["extensionsUsed", "extensionsRequired"] {
         if let Some(list) = doc.get_mut(key).and_then(Value::as_array_mut) {
@@ -78,18 +79,10 @@ fn one_buffer(doc: &mut Value, buffers: &[Vec<u8>]) -> Result<Vec<u8>, GltfError
 
 /// Every node drawing its mesh under `EXT_mesh_gpu_instancing` made a node with a child per
 /// instance (the instance's transform as the child's matrix, the mesh on the child), read as
-/// the scene reader reads them (module `scene::nodes`); `bin` is the document's one buffer.
-fn instances_as_nodes(doc: &mut Value, bin: &[u8]) -> Result<(), GltfError> {
-    // The `gltf` crate types the document; it refuses required extensions it does not know.
-    let mut typed = doc.clone();
-    if let Some(o) = typed.as_object_mut() {
-        o.remove("extensionsRequired");
-    }
-    let root: gltf::json::Root = serde_json::from_value(typed)
-        .map_err(|e| GltfError::Invalid(format!("not a glTF 2.0 document: {e}")))?;
-    let document = gltf::Document::from_json(root)
-        .map_err(|e| GltfError::Invalid(format!("not a valid glTF 2.0 document: {e}")))?;
-    let buffers = [bin.to_vec()];
+/// the scene reader reads them (module `scene::nodes`); `buffers` holds the document's one
+/// buffer.
+fn instances_as_nodes(doc: &mut Value, buffers: &[Vec<u8>]) -> Result<(), GltfError> {
+    let document = typed_document(doc)?;
     let mut added = Vec::new();
     for node in document.nodes() {
         let json = &doc["nodes"][node.index()];
@@ -98,7 +91,7 @@ fn instances_as_nodes(doc: &mut Value, bin: &[u8]) -> Result<(), GltfError> {
         }
         let mesh = json["mesh"].clone();
         let mut children: Vec<Value> = json["children"].as_array().cloned().unwrap_or_default();
-        for m in instances(&node, &document, doc, &buffers)? {
+        for m in instances(&node, &document, doc, buffers)? {
             let first = doc["nodes"].as_array().map_or(0, Vec::len) + added.len();
             children.push(Value::from(first));
             added.push(json!({"mesh": mesh, "matrix": m.to_cols_array()}));

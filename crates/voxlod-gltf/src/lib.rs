@@ -21,6 +21,7 @@ pub mod coverage;
 pub mod decode;
 pub mod encode;
 pub mod error;
+mod file;
 pub mod labels;
 pub mod read;
 pub mod scene;
@@ -34,7 +35,7 @@ pub use coverage::{fitting_coverage, pixel_size_at, screen_coverages, CoverageOp
 pub use decode::decompress_glb;
 pub use error::GltfError;
 pub use labels::{labels_glb, LabelMesh};
-pub use read::{parse_glb, read_glb, GlbPart, GlbScene, ORDER_NAMES};
+pub use read::{parse_glb, read_any_glb, read_glb, GlbPart, GlbScene, ORDER_NAMES};
 pub use scene::{
     asset_glb, parse_scene, positions_grid, read_scene, AssetGlbOptions, Layout, SceneRead,
 };

@@ -18,6 +18,7 @@ use gltf::json;
 use gltf::json::validation::Checked;
 use voxlod_core::{Placement, TriangleMesh};
 
+use crate::file::{file_bytes, named};
 use crate::GltfError;
 
 /// The accessor names of the eight back-to-front orders a layered file stores, by octant of the
@@ -148,20 +149,21 @@ impl GlbScene {
 /// read is [`GltfError::Io`] (of kind `Access`), one that is not a usable glTF binary
 /// [`GltfError::Invalid`].
 pub fn read_glb(path: &Path) -> Result<GlbScene, GltfError> {
-    let cannot_read = |e: std::io::Error| {
-        voxlod_io::IoError::new(
-            path,
-            voxlod_io::IoErrorKind::Access,
-            format!("cannot read: {e}"),
-        )
-    };
-    let len = std::fs::metadata(path).map_err(cannot_read)?.len();
-    voxlod_core::memory::check_allocation(&format!("reading {}", path.display()), len)?;
-    let bytes = std::fs::read(path).map_err(cannot_read)?;
-    parse_glb(&bytes).map_err(|e| match e {
-        GltfError::Invalid(m) => GltfError::Invalid(format!("{}: {m}", path.display())),
-        other => other,
-    })
+    parse_glb(&file_bytes(path)?).map_err(|e| named(path, e))
+}
+
+/// Reads any `.glb`: a layered file as [`read_glb`] reads it, any other as its scene
+/// ([`GlbScene::from_scene`] of [`crate::parse_scene`]). The file is read once; errors name it
+/// as [`read_glb`]'s do.
+pub fn read_any_glb(path: &Path) -> Result<GlbScene, GltfError> {
+    let bytes = file_bytes(path)?;
+    if let Ok(stored) = parse_glb(&bytes) {
+        if stored.is_layered() {
+            return Ok(stored);
+        }
+    }
+    let read = crate::parse_scene(&bytes, path.parent()).map_err(|e| named(path, e))?;
+    Ok(GlbScene::from_scene(&read))
 }
 
 /// Parses the bytes of a `.glb`.

@@ -195,15 +195,12 @@ fn decode_primitive(
             .push((attributes[name].as_u64().unwrap_or(0) as usize, new));
         attributes.insert(name.clone(), Value::from(new));
     }
-    let flat: Vec<u8> = (mesh.faces().iter())
-        .flat_map(|f| [f[0].0, f[1].0, f[2].0])
-        .flat_map(u32::to_le_bytes)
-        .collect();
-    if let Some(bad) = (mesh.faces().iter())
-        .flat_map(|f| [f[0].0, f[1].0, f[2].0])
-        .find(|&i| i as usize >= points)
-    {
-        return Err(invalid(format!("index {bad} beyond its {points} points")));
+    let mut flat = Vec::with_capacity(12 * mesh.num_faces());
+    for v in mesh.faces().iter().flat_map(|f| [f[0].0, f[1].0, f[2].0]) {
+        if v as usize >= points {
+            return Err(invalid(format!("index {v} beyond its {points} points")));
+        }
+        flat.extend_from_slice(&v.to_le_bytes());
     }
     let indices = out.push(&flat, UNSIGNED_INT, "SCALAR", 3 * mesh.num_faces(), doc);
     if let Some(old) = primitive["indices"].as_u64() {

@@ -30,7 +30,6 @@ use std::path::Path;
 use serde_json::Value;
 use voxlod_asset::{Asset, Material};
 use voxlod_core::glam::DVec3;
-use voxlod_core::memory::check_allocation;
 
 use crate::GltfError;
 
@@ -67,21 +66,8 @@ pub struct SceneRead {
 /// one that cannot be read is [`GltfError::Io`] (of kind `Access`), one that is not a usable
 /// glTF file [`GltfError::Invalid`].
 pub fn read_scene(path: &Path) -> Result<SceneRead, GltfError> {
-    let named = |e: GltfError| match e {
-        GltfError::Invalid(m) => GltfError::Invalid(format!("{}: {m}", path.display())),
-        other => other,
-    };
-    let cannot = |e: std::io::Error| {
-        voxlod_io::IoError::new(
-            path,
-            voxlod_io::IoErrorKind::Access,
-            format!("cannot read: {e}"),
-        )
-    };
-    let len = std::fs::metadata(path).map_err(cannot)?.len();
-    check_allocation(&format!("reading {}", path.display()), len)?;
-    let bytes = std::fs::read(path).map_err(cannot)?;
-    parse_scene(&bytes, path.parent()).map_err(named)
+    let bytes = crate::file::file_bytes(path)?;
+    parse_scene(&bytes, path.parent()).map_err(|e| crate::file::named(path, e))
 }
 
 /// Parses a `.gltf` (JSON) or `.glb` (binary) file's bytes; `base` is the folder its relative
@@ -103,10 +89,7 @@ pub fn parse_scene(bytes: &[u8], base: Option<&Path>) -> Result<SceneRead, GltfE
     buffers::decode_meshopt_views(&mut doc, &mut buffers)?;
     draco::decode_draco_primitives(&mut doc, &mut buffers)?;
     check_position_accessors(&doc)?;
-    let root: gltf::json::Root = serde_json::from_value(doc.clone())
-        .map_err(|e| invalid(format!("not a glTF 2.0 document: {e}")))?;
-    let document = gltf::Document::from_json(root)
-        .map_err(|e| invalid(format!("not a valid glTF 2.0 document: {e}")))?;
+    let document = typed_document(&doc)?;
     let mut materials = materials::materials(&document, &doc);
     let images = materials::images(&document, &doc, &buffers, base)?;
     let flat = nodes::flatten(&document, &doc, &buffers, &mut warnings)?;
@@ -147,6 +130,20 @@ pub fn parse_scene(bytes: &[u8], base: Option<&Path>) -> Result<SceneRead, GltfE
         warnings,
         origin,
     })
+}
+
+/// The document typed and validated by the `gltf` crate, which refuses required extensions
+/// it does not know: they are left out of the copy it types (the readers here handle or refuse
+/// them first).
+pub(crate) fn typed_document(doc: &Value) -> Result<gltf::Document, GltfError> {
+    let mut typed = doc.clone();
+    if let Some(o) = typed.as_object_mut() {
+        o.remove("extensionsRequired");
+    }
+    let root: gltf::json::Root = serde_json::from_value(typed)
+        .map_err(|e| GltfError::Invalid(format!("not a glTF 2.0 document: {e}")))?;
+    gltf::Document::from_json(root)
+        .map_err(|e| GltfError::Invalid(format!("not a valid glTF 2.0 document: {e}")))
 }
 
 /// Refuses a primitive whose `POSITION` names a missing accessor. gltf-json 1.4.1's validation
