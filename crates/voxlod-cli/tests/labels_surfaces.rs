@@ -193,6 +193,62 @@ fn a_precomputed_layer_holds_every_label_at_every_level() {
 }
 
 #[test]
+fn a_precomputed_layer_with_a_filter_holds_the_filter_pyramid() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = map(dir.path());
+    let (out, files) = (dir.path().join("layer"), dir.path().join("files"));
+    let pyramid = ["--levels", "3", "--filter", "hypercone", "--json"];
+    let mut layer_args = vec![
+        "labels",
+        arg(&map),
+        "-o",
+        arg(&out),
+        "--format",
+        "precomputed",
+    ];
+    layer_args.extend(pyramid);
+    let report = json(&voxlod(&layer_args));
+    assert_eq!(report["surface"], "filtered", "{report}");
+    assert_eq!(report["precomputed"]["coarser_levels"], "filtered");
+    let mut file_args = vec!["labels", arg(&map), "-o", arg(&files)];
+    file_args.extend(pyramid);
+    voxlod(&file_args);
+    // The map's voxel is 1 × 1 × 2: a volume in the stored space (voxels) is twice as large in
+    // the world.
+    for label in [3u64, u32::MAX as u64] {
+        let fragments = voxlod::precomputed::read::read_mesh(&out, label)
+            .unwrap()
+            .fragments()
+            .unwrap();
+        for k in 0..3 {
+            let stored: f64 = (fragments.iter())
+                .filter(|f| f.lod == k)
+                .map(|f| {
+                    let positions = f.positions.iter().map(|p| p.as_vec3()).collect();
+                    TriangleMesh::new(positions, f.fragment.triangles.clone()).signed_volume()
+                })
+                .sum();
+            let level = read(&files.join(format!("label-{label}-{k}.ply")));
+            let (v, w) = (2.0 * stored, level.signed_volume());
+            assert!(
+                w > 0.0 && (v / w - 1.0).abs() < 1e-3,
+                "label {label} level {k}: {v} against {w}"
+            );
+        }
+    }
+    // The box 2 voxels across vanishes under the coarsest filter: that level holds level 1.
+    let carried = &report["warnings"][0];
+    assert!(
+        carried
+            .as_str()
+            .unwrap()
+            .starts_with("1 label(s) have no surface at their coarser levels"),
+        "{report}"
+    );
+    assert!(!files.join("label-9-2.ply").exists());
+}
+
+#[test]
 fn flags_that_do_not_go_together_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let map = map(dir.path());
@@ -207,8 +263,8 @@ fn flags_that_do_not_go_together_are_refused() {
             "--shared meshes the labels together without a filter",
         ),
         (
-            &["--format", "precomputed", "--radius", "2"],
-            "--filter and --radius make filtered levels",
+            &["--format", "precomputed", "--shared", "--radius", "2"],
+            "--shared meshes the labels together without a filter: it does not go with --filter or --radius",
         ),
         (
             &["--quantization-bits", "10"],

@@ -81,29 +81,6 @@ impl LabelVolume {
         let [nx, ny, _] = self.grid.dims;
         self.values[(k * ny + j) * nx + i]
     }
-
-    /// The map as a volume of `f32` samples (for the filtered route, which samples volumes);
-    /// fails when a label is above 2²⁴, where `f32` stops being exact. Asks the memory limit.
-    pub fn to_volume(&self) -> Result<Volume, CoreError> {
-        const EXACT: u32 = 1 << 24;
-        if let Some(n) = self.values.iter().position(|&v| v > EXACT) {
-            let [nx, ny, _] = self.grid.dims;
-            return Err(CoreError::InvalidGrid(format!(
-                "label {} at ({}, {}, {}) is above 16777216, beyond what the filtered route's \
-                 32-bit float samples hold exactly",
-                self.values[n],
-                n % nx,
-                n / nx % ny,
-                n / (nx * ny)
-            )));
-        }
-        memory::check_allocation(
-            "the label map as samples",
-            memory::bytes_of::<f32>(self.grid.len()),
-        )?;
-        let values = self.values.iter().map(|&v| v as f32).collect();
-        Ok(Volume::from_vec(self.grid, values)?.oriented(self.orientation))
-    }
 }
 
 #[cfg(test)]
@@ -142,17 +119,5 @@ mod tests {
                 "{error}"
             );
         }
-    }
-
-    #[test]
-    fn labels_round_trip_through_samples_up_to_two_to_the_24() {
-        let values = vec![0, 1, 7, 1 << 24, 3, 3, 3, 3, 3, 3, 3, 3];
-        let map = LabelVolume::from_vec(grid(), values.clone()).unwrap();
-        let back = LabelVolume::from_volume(&map.to_volume().unwrap()).unwrap();
-        assert_eq!(back.values, values);
-        let mut above = map;
-        above.values[5] = (1 << 24) + 1;
-        let error = above.to_volume().unwrap_err().to_string();
-        assert!(error.contains("label 16777217 at (2, 1, 0)"), "{error}");
     }
 }

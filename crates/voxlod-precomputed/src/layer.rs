@@ -21,6 +21,7 @@ use voxlod_core::{memory, LabelVolume, TriangleMesh};
 
 use crate::canonical::{Compact, Compactor};
 use crate::draco::{self, QuantizedFragment};
+use crate::filtered::{self, LevelMesh};
 use crate::lods::{self, Node, Octree, OctreeOptions};
 use crate::manifest::Manifest;
 use crate::quantize::{Lattice, StoredFrame};
@@ -36,6 +37,9 @@ pub struct LodReport {
     pub triangles: usize,
     /// Bytes of its Draco fragments.
     pub bytes: u64,
+    /// The level given had no triangle (a label thinner than that level's filter): it holds
+    /// the finer level's surface instead ([`write_layer_filtered`]).
+    pub carried: bool,
 }
 
 /// What was written for one label.
@@ -75,15 +79,65 @@ struct Encoded {
 }
 
 /// Writes the precomputed segmentation layer of `map` with, for each `(label, mesh)`, its
-/// multi-resolution mesh, into `dir` (see the crate docs for the layout). Meshes are in the
-/// map's world (`map.world()`). Fails before writing anything on invalid options, an oblique
-/// map, label 0 or a label given twice, or a mesh that is not well formed; fails naming the
-/// file on an I/O error, leaving `dir` as it was. Cost: one pass over the labels, and per label
-/// the cut, simplification and encoding of its mesh (`lods.rs`).
+/// multi-resolution mesh, into `dir` (see the crate docs for the layout): level 0 is the mesh,
+/// each coarser level simplified from the finer one (`lods.rs`). Meshes are in the map's world
+/// (`map.world()`). Fails before writing anything on invalid options, an oblique map, label 0
+/// or a label given twice, or a mesh that is not well formed; fails naming the file on an I/O
+/// error, leaving `dir` as it was. Cost: one pass over the labels, and per label the cut,
+/// simplification and encoding of its mesh (`lods.rs`).
 pub fn write_layer(
     dir: &Path,
     map: &LabelVolume,
     meshes: &[(u32, TriangleMesh)],
+    options: &PrecomputedOptions,
+) -> Result<LayerReport, PrecomputedError> {
+    let labels: Vec<(u32, &[TriangleMesh])> = (meshes.iter())
+        .map(|(label, mesh)| (*label, std::slice::from_ref(mesh)))
+        .collect();
+    write_labels(dir, map, &labels, options)
+}
+
+/// [`write_layer`] with each label's levels given, finest first, `options.lods` meshes per
+/// label: the paper's filter pyramid, level k of the layer being level k of the pyramid, cut on
+/// the octree's grid (`filtered.rs`; its docs say what meets between levels). A label whose
+/// level 0 has no triangle gets no manifest; a coarser level without triangles (a label
+/// thinner than that level's filter) holds the finer level's surface instead, so that the
+/// label stays drawn when zoomed out and every level reads back as a mesh
+/// ([`LodReport::carried`]). Fails as [`write_layer`] does, and on a label with
+/// another number of meshes.
+pub fn write_layer_filtered(
+    dir: &Path,
+    map: &LabelVolume,
+    levels: &[(u32, Vec<TriangleMesh>)],
+    options: &PrecomputedOptions,
+) -> Result<LayerReport, PrecomputedError> {
+    for (label, meshes) in levels {
+        if meshes.len() != options.lods {
+            return Err(PrecomputedError::Mesh {
+                label: *label as u64,
+                reason: format!(
+                    "{} levels given for a layer of {} levels of detail",
+                    meshes.len(),
+                    options.lods
+                ),
+            });
+        }
+    }
+    let labels: Vec<(u32, &[TriangleMesh])> = (levels.iter())
+        .map(|(label, meshes)| (*label, meshes.as_slice()))
+        .collect();
+    write_labels(dir, map, &labels, options)
+}
+
+/// Each label with its meshes: its finest mesh alone (the coarser levels made by `lods.rs`), or
+/// one mesh per level of detail (`filtered.rs`).
+type Labels<'a> = [(u32, &'a [TriangleMesh])];
+
+/// [`write_layer`] and [`write_layer_filtered`].
+fn write_labels(
+    dir: &Path,
+    map: &LabelVolume,
+    meshes: &Labels,
     options: &PrecomputedOptions,
 ) -> Result<LayerReport, PrecomputedError> {
     options.validate()?;
@@ -109,7 +163,7 @@ pub fn write_layer(
 fn write_into(
     partial: &Path,
     map: &LabelVolume,
-    meshes: &[(u32, TriangleMesh)],
+    meshes: &Labels,
     options: &PrecomputedOptions,
     frame: &StoredFrame,
 ) -> Result<LayerReport, PrecomputedError> {
@@ -119,7 +173,7 @@ fn write_into(
         volume::write_chunks(&scale_dir, map, frame, options.chunk, options.label_type)?;
     let mesh_dir = partial.join("mesh");
     mkdir(&mesh_dir)?;
-    let meshed = meshes.iter().filter(|(_, m)| !m.is_empty()).count();
+    let meshed = meshes.iter().filter(|(_, m)| !m[0].is_empty()).count();
     let sharded = match options.sharding {
         Sharding::Never => false,
         Sharding::Always => true,
@@ -169,9 +223,9 @@ fn write_into(
 }
 
 /// Refuses label 0, repeated labels and malformed meshes, naming the label.
-fn check_meshes(meshes: &[(u32, TriangleMesh)]) -> Result<(), PrecomputedError> {
+fn check_meshes(meshes: &Labels) -> Result<(), PrecomputedError> {
     let mut seen = HashSet::with_capacity(meshes.len());
-    for (label, mesh) in meshes {
+    for (label, levels) in meshes {
         let bad = |reason: String| PrecomputedError::Mesh {
             label: *label as u64,
             reason,
@@ -182,21 +236,29 @@ fn check_meshes(meshes: &[(u32, TriangleMesh)]) -> Result<(), PrecomputedError> 
         if !seen.insert(*label) {
             return Err(bad("given twice".into()));
         }
-        mesh.validate().map_err(|e| bad(e.to_string()))?;
+        if levels.is_empty() {
+            return Err(bad("no mesh given".into()));
+        }
+        for (k, mesh) in levels.iter().enumerate() {
+            let at = |e: String| match levels.len() {
+                1 => e,
+                _ => format!("level {k}: {e}"),
+            };
+            mesh.validate().map_err(|e| bad(at(e.to_string())))?;
+        }
     }
     Ok(())
 }
 
 /// Asks the memory limit for the octrees of the labels built at once: the largest ones, one
 /// per thread.
-fn check_memory(
-    meshes: &[(u32, TriangleMesh)],
-    options: &PrecomputedOptions,
-) -> Result<(), PrecomputedError> {
-    let mut sizes: Vec<u64> = meshes
-        .iter()
-        .map(|(_, m)| lods::octree_bytes(m.positions.len(), m.triangles.len(), options.lods))
-        .collect();
+fn check_memory(meshes: &Labels, options: &PrecomputedOptions) -> Result<(), PrecomputedError> {
+    let bytes = |levels: &[TriangleMesh]| -> u64 {
+        (levels.iter())
+            .map(|m| lods::octree_bytes(m.positions.len(), m.triangles.len(), options.lods))
+            .sum()
+    };
+    let mut sizes: Vec<u64> = meshes.iter().map(|(_, levels)| bytes(levels)).collect();
     sizes.sort_unstable_by(|a, b| b.cmp(a));
     let at_once = sizes.iter().take(rayon::current_num_threads()).sum();
     memory::check_allocation("the octrees of the labels meshed at once", at_once)?;
@@ -206,7 +268,7 @@ fn check_memory(
 /// One file per manifest and per fragment data, labels in parallel.
 fn write_unsharded(
     mesh_dir: &Path,
-    meshes: &[(u32, TriangleMesh)],
+    meshes: &Labels,
     frame: &StoredFrame,
     options: &PrecomputedOptions,
 ) -> Result<Vec<LabelReport>, PrecomputedError> {
@@ -227,7 +289,7 @@ fn write_unsharded(
 /// (minishard, id) order.
 fn write_sharded(
     mesh_dir: &Path,
-    meshes: &[(u32, TriangleMesh)],
+    meshes: &Labels,
     frame: &StoredFrame,
     options: &PrecomputedOptions,
     spec: &ShardingSpec,
@@ -235,7 +297,7 @@ fn write_sharded(
     let mut order: Vec<(u64, u64, u32, usize)> = meshes
         .iter()
         .enumerate()
-        .filter(|(_, (_, m))| !m.is_empty())
+        .filter(|(_, (_, m))| !m[0].is_empty())
         .map(|(i, (label, _))| {
             let (shard, minishard) = spec.locate(*label as u64);
             (shard, minishard, *label, i)
@@ -246,7 +308,7 @@ fn write_sharded(
     for group in order.chunk_by(|a, b| a.0 == b.0) {
         let encoded: Vec<Option<Encoded>> = group
             .par_iter()
-            .map(|&(_, _, label, i)| encode_label(label, &meshes[i].1, frame, options))
+            .map(|&(_, _, label, i)| encode_label(label, meshes[i].1, frame, options))
             .collect::<Result<_, _>>()?;
         let path = mesh_dir.join(spec.file_name(group[0].0));
         let mut writer = ShardWriter::create(&path, *spec)?;
@@ -269,56 +331,78 @@ fn empty_report(label: u32) -> LabelReport {
 }
 
 /// The octree's origin for a label: the volume's corner moved down by whole coarsest nodes
-/// until it is at or below every vertex the triangles use, so that node positions are
+/// until it is at or below every vertex the levels' triangles use, so that node positions are
 /// non-negative and every label's nodes lie on one global grid.
-fn grid_origin(
-    positions: &[DVec3],
-    triangles: &[[u32; 3]],
-    frame: &StoredFrame,
-    coarsest: f64,
-) -> DVec3 {
+fn grid_origin(levels: &[StoredLevel], frame: &StoredFrame, coarsest: f64) -> DVec3 {
     let corner = DVec3::from_array(frame.voxel_offset.map(|v| v as f64));
-    let low = triangles
-        .iter()
-        .flatten()
-        .fold(DVec3::INFINITY, |m, &v| m.min(positions[v as usize]));
+    let low = (levels.iter())
+        .flat_map(|(p, t)| t.iter().flatten().map(|&v| p[v as usize]))
+        .fold(DVec3::INFINITY, |m, p| m.min(p));
     corner + ((low - corner) / coarsest).floor().min(DVec3::ZERO) * coarsest
 }
 
+/// A level's vertices in the stored model space, with its triangles.
+type StoredLevel<'a> = (Vec<DVec3>, &'a [[u32; 3]]);
+
 /// A label's octree, quantized and encoded: its manifest and fragment data, or `None` for a
-/// mesh without triangles.
+/// label whose level 0 has no triangle. `levels` is its finest mesh alone (the octree of
+/// `lods.rs`) or one mesh per level of detail (`filtered.rs`).
 fn encode_label(
     label: u32,
-    mesh: &TriangleMesh,
+    levels: &[TriangleMesh],
     frame: &StoredFrame,
     options: &PrecomputedOptions,
 ) -> Result<Option<Encoded>, PrecomputedError> {
-    if mesh.is_empty() {
+    if levels[0].is_empty() {
         return Ok(None);
     }
-    let positions: Vec<DVec3> = mesh
-        .positions
-        .iter()
-        .map(|p| frame.to_stored(p.as_dvec3()))
-        .collect();
+    // A level given without triangles takes the finer level's surface.
+    let mut stored: Vec<StoredLevel> = Vec::with_capacity(levels.len());
+    let mut carried = vec![false; levels.len()];
+    for (k, m) in levels.iter().enumerate() {
+        let level = match stored.last() {
+            Some(finer) if m.triangles.is_empty() => {
+                carried[k] = true;
+                finer.clone()
+            }
+            _ => {
+                let p = m.positions.iter().map(|p| frame.to_stored(p.as_dvec3()));
+                (p.collect(), m.triangles.as_slice())
+            }
+        };
+        stored.push(level);
+    }
     let chunk = DVec3::splat(options.fragment_voxels as f64);
     let coarsest = options.fragment_voxels as f64 * (1u64 << (options.lods - 1)) as f64;
     let octree_options = OctreeOptions {
-        grid_origin: grid_origin(&positions, &mesh.triangles, frame, coarsest),
+        grid_origin: grid_origin(&stored, frame, coarsest),
         chunk,
         lods: options.lods,
         ratio: options.lod_ratio,
     };
-    let octree = lods::build_unchecked(&positions, &mesh.triangles, &octree_options).map_err(
-        |e| match e {
-            PrecomputedError::Mesh { reason, .. } => PrecomputedError::Mesh {
-                label: label as u64,
-                reason,
-            },
-            other => other,
+    let octree = match stored.as_slice() {
+        [(positions, triangles)] => lods::build_unchecked(positions, triangles, &octree_options),
+        _ => {
+            let meshes: Vec<LevelMesh> = (stored.iter())
+                .map(|(positions, triangles)| LevelMesh {
+                    positions,
+                    triangles,
+                })
+                .collect();
+            filtered::build_filtered(&meshes, &octree_options)
+        }
+    };
+    let octree = octree.map_err(|e| match e {
+        PrecomputedError::Mesh { reason, .. } => PrecomputedError::Mesh {
+            label: label as u64,
+            reason,
         },
-    )?;
-    let (manifest, data, lods) = encode_octree(&octree, options.quantization_bits)?;
+        other => other,
+    })?;
+    let (manifest, data, mut lods) = encode_octree(&octree, options.quantization_bits)?;
+    for (report, carried) in lods.iter_mut().zip(carried) {
+        report.carried = carried;
+    }
     let manifest = manifest.to_bytes();
     Ok(Some(Encoded {
         report: LabelReport {

@@ -14,15 +14,23 @@
 //!   (`neuroglancer_uint64_sharded_v1`, `sharded.md`, `sharding.rs`) when there are many.
 //!
 //! # How the levels of detail are made
-//! Not by the paper's filter pyramid: level k is made from level k − 1 (`lods.rs`). Level 0 is
-//! the given mesh cut on the octree's finest grid (`cut.rs`); level k simplifies each node of
-//! level k − 1 separately with its boundary locked (meshoptimizer, about a quarter of the
-//! triangles) and gathers the eight children of each level-k node. Neuroglancer draws a
-//! level-k node next to finer nodes, hiding the eighths of it they cover; the seams are on the
-//! level-(k − 1) grid planes, so a level must keep the finer levels' cross-sections there for no
-//! crack to open. Locked boundaries keep them exactly (the same vertices), and they make every
-//! level-k node split by the 2 × 2 × 2 grid with no triangle across it, as the format requires.
+//! Two ways, as the caller chooses:
 //!
+//! - [`write_layer`], from each label's finest mesh: level k is made from level k − 1
+//!   (`lods.rs`), not by the paper's filter pyramid. Level 0 is the given mesh cut on the
+//!   octree's finest grid (`cut.rs`); level k simplifies each node of level k − 1 separately
+//!   with its boundary locked (meshoptimizer, about a quarter of the triangles) and gathers the
+//!   eight children of each level-k node. Neuroglancer draws a level-k node next to finer
+//!   nodes, hiding the eighths of it they cover; the seams are on the level-(k − 1) grid
+//!   planes, so a level must keep the finer levels' cross-sections there for no crack to open.
+//!   Locked boundaries keep them exactly (the same vertices), and they make every level-k node
+//!   split by the 2 × 2 × 2 grid with no triangle across it, as the format requires.
+//! - [`write_layer_filtered`], from one mesh per level: the paper's filter pyramid (He et al.
+//!   1995 §2–4), level k of the layer being the pyramid's level k, each cut on the grid of its
+//!   nodes' eighths (`filtered.rs`). The fragments of a level meet exactly; consecutive levels
+//!   are different surfaces (smoother, with fewer handles), which meet on a coarse node's
+//!   face only up to their distance there (module `filtered`).
+
 //! # Same triangles, same bytes
 //! A layer's files depend on each label's set of triangles and the options, not on the order
 //! of the mesh's vertices or triangles, on a triangle's first corner, on a vertex or a triangle
@@ -45,6 +53,7 @@ pub mod compressed_segmentation;
 pub mod cut;
 pub mod draco;
 pub mod error;
+pub mod filtered;
 pub mod layer;
 pub mod lods;
 pub mod manifest;
@@ -57,7 +66,7 @@ pub mod volume;
 
 pub use draco::QuantizedFragment;
 pub use error::PrecomputedError;
-pub use layer::{write_layer, LabelReport, LayerReport, LodReport};
+pub use layer::{write_layer, write_layer_filtered, LabelReport, LayerReport, LodReport};
 pub use manifest::Manifest;
 pub use read_volume::read_labels;
 pub use sharding::{ShardEncoding, ShardHash, ShardingSpec};

@@ -134,7 +134,7 @@ pub(crate) fn build_unchecked(
 
 /// The level-0 nodes: the cut's pieces grouped by cell, in Morton order, each node's triangles
 /// sorted.
-fn level_zero(
+pub(crate) fn level_zero(
     cells: &[[i64; 3]],
     pieces: &[[u32; 3]],
 ) -> Result<BTreeMap<u128, Node>, PrecomputedError> {
@@ -156,7 +156,7 @@ fn level_zero(
 }
 
 /// A cell index as a node position, or the reason it is not one.
-fn node_position(cell: [i64; 3]) -> Result<[u32; 3], PrecomputedError> {
+pub(crate) fn node_position(cell: [i64; 3]) -> Result<[u32; 3], PrecomputedError> {
     let mut out = [0u32; 3];
     for a in 0..3 {
         out[a] = u32::try_from(cell[a]).map_err(|_| PrecomputedError::Mesh {

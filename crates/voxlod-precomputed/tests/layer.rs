@@ -6,8 +6,6 @@ use std::collections::{HashMap, HashSet};
 
 use voxlod_core::glam::{DMat3, DVec3, Vec3};
 use voxlod_core::{Grid, LabelVolume, Orientation, TriangleMesh};
-use voxlod_precomputed::layer::quantize_node;
-use voxlod_precomputed::quantize::Lattice;
 use voxlod_precomputed::read::{read_mesh, PlacedFragment};
 use voxlod_precomputed::{
     lods, morton, write_layer, PrecomputedError, PrecomputedOptions, Sharding,
@@ -116,64 +114,7 @@ fn nodes_are_in_z_order_and_every_node_has_its_parent() {
 fn vertices_on_a_node_face_are_in_the_neighbour_bit_for_bit() {
     let octree = ball_octree(3);
     for bits in [10, 16] {
-        let mut checked = 0;
-        for (k, level) in octree.levels.iter().enumerate() {
-            let lattice = Lattice::new(octree.grid_origin, octree.chunk, k, bits);
-            let max = lattice.max as u64;
-            let by_position: HashMap<[u32; 3], &lods::Node> =
-                level.values().map(|n| (n.position, n)).collect();
-            for node in level.values() {
-                let here =
-                    quantize_node(&octree.positions, &node.triangles, &lattice, node.position);
-                let used: HashSet<u32> = node.triangles.iter().flatten().copied().collect();
-                for &v in &used {
-                    let p = octree.positions[v as usize];
-                    for a in 0..3 {
-                        let face =
-                            octree.grid_origin[a] + lattice.node[a] * (node.position[a] + 1) as f64;
-                        if p[a] != face {
-                            continue;
-                        }
-                        let mut next = node.position;
-                        next[a] += 1;
-                        let other = by_position
-                            .get(&next)
-                            .unwrap_or_else(|| panic!("level {k}: no node {next:?}"));
-                        assert!(
-                            other.triangles.iter().flatten().any(|&w| w == v),
-                            "{p:?} only on one side"
-                        );
-                        let there =
-                            quantize_node(&octree.positions, &other.triangles, &lattice, next);
-                        // The same global lattice point (node · max + integers) on both sides.
-                        let global = |f: &voxlod_precomputed::QuantizedFragment,
-                                      cell: [u32; 3]|
-                         -> HashSet<[u64; 3]> {
-                            f.positions
-                                .iter()
-                                .map(|x| {
-                                    std::array::from_fn(|c| cell[c] as u64 * max + x[c] as u64)
-                                })
-                                .collect()
-                        };
-                        let q = lattice.quantize(p, node.position);
-                        assert_eq!(q[a] as u64, max);
-                        let g: [u64; 3] =
-                            std::array::from_fn(|c| node.position[c] as u64 * max + q[c] as u64);
-                        assert!(global(&here, node.position).contains(&g));
-                        assert!(
-                            global(&there, next).contains(&g),
-                            "{p:?} quantized differently"
-                        );
-                        assert_eq!(
-                            lattice.dequantize(q, node.position),
-                            lattice.dequantize(lattice.quantize(p, next), next)
-                        );
-                        checked += 1;
-                    }
-                }
-            }
-        }
+        let checked = common::faces_shared(&octree, bits);
         assert!(checked > 300, "only {checked} face vertices");
     }
 }

@@ -10,7 +10,8 @@ use std::path::Path;
 use serde_json::Value;
 use voxlod_precomputed::read::read_mesh;
 use voxlod_precomputed::{
-    sharding, LabelType, PrecomputedOptions, ShardEncoding, ShardHash, Sharding,
+    sharding, write_layer_filtered, LabelType, PrecomputedOptions, ShardEncoding, ShardHash,
+    Sharding,
 };
 use voxlod_testkit::peers::run_python;
 
@@ -146,6 +147,16 @@ fn cloud_volume_reads_the_plain_layer_at_every_level() {
         ..common::options()
     };
     common::write(&layer, &options);
+    check_with_cloud_volume(&layer, &options);
+}
+
+#[test]
+fn cloud_volume_reads_a_layer_of_given_levels_at_every_level() {
+    let dir = tempfile::tempdir().unwrap();
+    let layer = dir.path().join("layer");
+    let options = common::options();
+    let levels = common::filtered_levels(options.lods as u32);
+    write_layer_filtered(&layer, &common::map(), &levels, &options).unwrap();
     check_with_cloud_volume(&layer, &options);
 }
 

@@ -1,8 +1,8 @@
 //! Label maps (segmentations) to meshes for Python: the facade's `voxlod::labels` (one closed,
 //! outward mesh per structure, each with its own chain of levels of detail; the indicator of
 //! each label thresholded at ½ and filtered as in paper §4, see `src/labels.rs` of the
-//! library). The map arrives as a C-ordered `(nz, ny, nx)` float32 array of integer values
-//! (the Python half converts integer maps; every value up to 2²⁴ is exact in float32). Cost: one
+//! library). The map arrives as a C-ordered `(nz, ny, nx)` uint32 array (the Python half
+//! converts other integer and float maps, refusing values that are no labels). Cost: one
 //! pass to find the labels, then per label the pyramid's cost over its box, labels in parallel
 //! (`mesh_labels`) a few per core at a time: the GIL is released for each group and Ctrl-C is
 //! checked between groups.
@@ -14,13 +14,13 @@ use voxlod::labels::{find_labels, mesh_labels, select_labels, voxel_volume, Labe
 use voxlod::labels::{LabelInfo, LabelOptions};
 
 use voxlod::core::{memory, Grid, LabelVolume};
-use voxlod::precomputed::{write_layer, PrecomputedOptions, Sharding};
+use voxlod::precomputed::{write_layer, write_layer_filtered, PrecomputedOptions, Sharding};
 use voxlod::surfaces::smoothing::Pressure;
 use voxlod::surfaces::{LabelSurfaces, SmoothingOptions, Surface, SurfaceOptions};
 
 use crate::arrays::volume_slice;
 use crate::errors::{Failure, Kind};
-use crate::facade::{filter_named, lod_level_dict, mesh_dict, mesh_from, volume_from, MeshIn};
+use crate::facade::{filter_named, lod_level_dict, mesh_dict, mesh_from, MeshIn};
 
 impl From<LabelError> for Failure {
     /// The map's own faults are bad input, a label asked for and absent a usage error, the
@@ -58,13 +58,13 @@ fn label_options(args: LabelArgs, labels: Option<Vec<i64>>) -> PyResult<LabelOpt
 #[pyo3(signature = (map, spacing, origin, labels, options))]
 pub fn labels<'py>(
     py: Python<'py>,
-    map: PyReadonlyArray3<'py, f32>,
+    map: PyReadonlyArray3<'py, u32>,
     spacing: [f64; 3],
     origin: [f64; 3],
     labels: Option<Vec<i64>>,
     options: LabelArgs,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let map = volume_from(&map, spacing, origin)?;
+    let map = label_volume_from(&map, spacing, origin)?;
     let options = label_options(options, labels)?;
     let chosen: Vec<LabelInfo> = py.detach(|| {
         let all = find_labels(&map)?;
@@ -86,7 +86,7 @@ pub fn labels<'py>(
 /// One label's dict: `label`, `voxels`, `voxel_volume` and its `levels`.
 fn label_dict<'py>(
     py: Python<'py>,
-    map: &voxlod::core::Volume,
+    map: &LabelVolume,
     label: &LabelInfo,
     levels: Vec<voxlod::lod::LodLevel>,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -244,10 +244,13 @@ type LodFigures = (usize, usize, u64);
 
 /// `write_precomputed(dir, map, spacing, origin, meshes, (lods, quantization_bits, nanometres,
 /// sharding))`: the neuroglancer precomputed segmentation layer of a `(nz, ny, nx)` uint32 map
-/// and its labels' meshes (`(label, (vertices, faces))`, world coordinates as `label_surfaces`
-/// gives them), by the facade's `voxlod::precomputed::write_layer`; `sharding` is `"auto"`,
-/// `"always"` or `"never"`. Returns the layer's report as a dict. The GIL is released while
-/// writing.
+/// and its labels' meshes (`(label, [(vertices, faces), …])`, world coordinates as
+/// `label_surfaces` gives them): one mesh per label, the finest, whose coarser levels the
+/// facade's `voxlod::precomputed::write_layer` simplifies from it, or `lods` meshes per label,
+/// its filtered levels, which `write_layer_filtered` writes as they are. `sharding` is
+/// `"auto"`, `"always"` or `"never"`. Returns the layer's report as a dict (`carried`: the
+/// labels with a level given empty, which holds the finer level's surface). The GIL is released
+/// while writing.
 #[pyfunction]
 #[pyo3(signature = (dir, map, spacing, origin, meshes, options))]
 pub fn write_precomputed<'py>(
@@ -256,13 +259,16 @@ pub fn write_precomputed<'py>(
     map: PyReadonlyArray3<'py, u32>,
     spacing: [f64; 3],
     origin: [f64; 3],
-    meshes: Vec<(u32, MeshIn<'py>)>,
+    meshes: Vec<(u32, Vec<MeshIn<'py>>)>,
     options: (usize, u32, f64, String),
 ) -> PyResult<Bound<'py, PyDict>> {
     let map = label_volume_from(&map, spacing, origin)?;
     let meshes = meshes
         .iter()
-        .map(|(label, mesh)| Ok((*label, mesh_from(mesh)?)))
+        .map(|(label, levels)| {
+            let levels = levels.iter().map(mesh_from).collect::<PyResult<Vec<_>>>()?;
+            Ok((*label, levels))
+        })
         .collect::<PyResult<Vec<_>>>()?;
     let (lods, bits, nanometres, sharding) = options;
     let mut layer = PrecomputedOptions {
@@ -283,8 +289,18 @@ pub fn write_precomputed<'py>(
             .into())
         }
     };
+    // One mesh per label: its finest, the coarser levels simplified from it; else its levels.
+    let finest = meshes.iter().all(|(_, levels)| levels.len() == 1);
     let report = py
-        .detach(|| write_layer(&dir, &map, &meshes, &layer))
+        .detach(|| match finest {
+            true => {
+                let meshes: Vec<_> = (meshes.into_iter())
+                    .map(|(label, mut levels)| (label, levels.remove(0)))
+                    .collect();
+                write_layer(&dir, &map, &meshes, &layer)
+            }
+            false => write_layer_filtered(&dir, &map, &meshes, &layer),
+        })
         .map_err(|e| Failure::from(voxlod::Error::from(e)))?;
     let dict = PyDict::new(py);
     dict.set_item("dir", report.dir.display().to_string())?;
@@ -300,5 +316,10 @@ pub fn write_precomputed<'py>(
         })
         .collect();
     dict.set_item("labels", labels)?;
+    let carried: Vec<u32> = (report.labels.iter())
+        .filter(|l| l.lods.iter().any(|d| d.carried))
+        .map(|l| l.label)
+        .collect();
+    dict.set_item("carried", carried)?;
     Ok(dict)
 }

@@ -354,11 +354,11 @@ def test_bad_label_maps_raise():
         voxlod.dask.labels(da.from_array(seg, chunks=10), levels=0)
 
 
-@pytest.mark.parametrize("shared", [False, True])
+@pytest.mark.parametrize("shared,filter", [(False, None), (True, None), (False, "hypercone")])
 def test_a_precomputed_layer_from_dask_is_the_one_process_layer(client, segmentation, tmp_path,
-                                                                shared):
+                                                                shared, filter):
     keywords = dict(spacing=(1.5, 1.0, 1.0), origin=(2.0, -3.0, 0.5), levels=2, sharding="always",
-                    shared=shared)
+                    shared=shared, filter=filter)
     voxlod.precomputed(tmp_path / "whole", segmentation, **keywords)
     array = da.from_array(segmentation, chunks=((16, 14, 10), (20, 28), (24, 24, 16)))
     voxlod.dask.precomputed(tmp_path / "dask", array, client=client, **keywords)

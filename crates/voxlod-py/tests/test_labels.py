@@ -54,7 +54,7 @@ def test_bad_label_maps_raise(segmentation):
         voxlod.labels(segmentation, labels=[7])
     with pytest.raises(voxlod.InputError, match="no label other than 0"):
         voxlod.labels(np.zeros((4, 4, 4), np.uint8))
-    with pytest.raises(voxlod.InputError, match="not an integer"):
+    with pytest.raises(voxlod.InputError, match=r"0.5 at index \(0, 0, 0\) is not a label"):
         voxlod.labels(np.full((4, 4, 4), 0.5, np.float32), levels=1)
     with pytest.raises(voxlod.InputError, match=r"0.5 at index \(0, 0, 0\) is not a label"):
         voxlod.labels(np.full((4, 4, 4), 0.5, np.float32))
@@ -117,6 +117,14 @@ def test_labels_beyond_two_to_the_24_keep_their_ids(segmentation):
     plain = {m.label: m for m in voxlod.labels(segmentation, spacing=SPACING)}
     assert np.array_equal(found[0].faces, plain[3].faces)
     assert np.array_equal(found[0].vertices, plain[3].vertices)
+    # The filtered levels too: the labels reach the pyramid as they are, not as float32.
+    found = voxlod.labels(big, spacing=SPACING, labels=[3_000_000_000], levels=2)
+    plain = voxlod.labels(segmentation, spacing=SPACING, labels=[3], levels=2)
+    assert found[0].label == 3_000_000_000
+    for ours, theirs in zip(found[0].levels, plain[0].levels):
+        assert len(ours.faces) > 0
+        assert np.array_equal(ours.faces, theirs.faces)
+        assert np.array_equal(ours.vertices, theirs.vertices)
 
 
 def test_the_mesher_answers_as_zmesh_does(segmentation):
@@ -157,6 +165,31 @@ def test_a_precomputed_layer_reads_back_in_cloud_volume(segmentation, tmp_path):
         for lod, (_, triangles, _) in enumerate(lods):
             mesh = cv.mesh.get(label, lod=lod)[label]
             assert len(mesh.faces) == triangles, (label, lod)
+
+
+def test_a_precomputed_layer_of_filtered_levels_holds_the_filter_pyramid(segmentation,
+                                                                         tmp_path):
+    layer = tmp_path / "layer"
+    report = voxlod.precomputed(layer, segmentation, spacing=SPACING, levels=3, filter="hypercone")
+    pyramid = voxlod.labels(segmentation, spacing=SPACING, levels=3, filter="hypercone")
+    assert [label for label, _ in report["labels"]] == [m.label for m in pyramid] == [1, 2, 3]
+    assert report["carried"] == []
+    with pytest.raises(voxlod.UsageError, match="has 3 levels, the layer 2"):
+        voxlod.precomputed(tmp_path / "other", segmentation, pyramid, levels=2, radius=1.0)
+    with pytest.raises(voxlod.UsageError, match="does not go with filter or radius"):
+        voxlod.precomputed(tmp_path / "other", segmentation, shared=True, radius=1.0)
+    cloudvolume = pytest.importorskip("cloudvolume", reason="cloud-volume is not installed: "
+                                      "the layer is not read back (pip install cloud-volume)")
+    cv = cloudvolume.CloudVolume(f"file://{layer}", progress=False)
+    for (label, lods), mesh in zip(report["labels"], pyramid):
+        for lod, (_, triangles, _) in enumerate(lods):
+            read = cv.mesh.get(label, lod=lod)[label]
+            assert len(read.faces) == triangles >= len(mesh.levels[lod].faces), (label, lod)
+            # Level k of the layer is the pyramid's level k, cut on the octree's grid: the same
+            # volume, within the 16-bit quantization.
+            ours = as_trimesh(mesh.levels[lod].vertices, mesh.levels[lod].faces).volume
+            theirs = as_trimesh(read.vertices, read.faces).volume
+            assert abs(theirs / ours - 1) < 1e-3, (label, lod, ours, theirs)
 
 
 def test_triangles_budgets_each_label_and_neighbours_still_share_their_triangles(segmentation):

@@ -7,7 +7,7 @@ paper's §4 thresholding route); and :class:`Mesher`, zmesh's interface on the f
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, List, Optional, Sequence
+from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -94,7 +94,7 @@ def labels(
     ----------
     volume : (nz, ny, nx) array of labels
         0 is background; labels are whole numbers from 0 to 4294967295 (any integer or float
-        dtype holding such values; the filtered levels take labels up to 2**24).
+        dtype holding such values).
     spacing, origin : three floats
         In array-axis order (axis 0, 1, 2), like :func:`voxlod.marching_cubes`'s ``spacing``.
     labels : sequence of int, optional
@@ -135,7 +135,7 @@ def labels(
     if filtered:
         options = label_options(1 if levels is None else levels, filter or "hypercone",
                                 1.0 if radius is None else radius, normals)
-        found = _voxlod.labels(label_samples(volume, "volume"), triple(spacing, "spacing"),
+        found = _voxlod.labels(label_values(volume, "volume"), triple(spacing, "spacing"),
                                triple(origin, "origin"), chosen, options)
         return [label_mesh(d) for d in found]
     if chosen is not None and any(not 0 < v <= 2**32 - 1 for v in chosen):
@@ -253,18 +253,6 @@ def check_label_dtype(dtype: Any, name: str) -> None:
         raise UsageError(f"{name}: a label map holds integers, not {np.dtype(dtype)}")
 
 
-def label_samples(volume: Any, name: str) -> np.ndarray:
-    """A label map (or a piece of one) as the C-ordered float32 array the Rust side reads:
-    integers up to 2**24 in magnitude, exact in float32."""
-    array = np.asarray(volume)
-    check_label_dtype(array.dtype, name)
-    if array.dtype.kind in "iu" and array.size and (
-            int(array.max()) > 2**24 or int(array.min()) < -2**24):
-        raise UsageError(f"{name}: labels beyond ±2**24 are not supported (they are not exact "
-                         "in float32)")
-    return volume_array(array, np.float32, name)
-
-
 def label_mesh(found: dict) -> LabelMesh:
     """One label's dict from the Rust side as a :class:`LabelMesh`."""
     return LabelMesh(label=found["label"], voxels=found["voxels"],
@@ -283,26 +271,50 @@ def precomputed(
     unit: str = "nm",
     sharding: str = "auto",
     shared: bool = False,
+    filter: Optional[str] = None,
+    radius: Optional[float] = None,
 ) -> dict:
     """Writes ``directory`` as a neuroglancer precomputed segmentation layer, as
     ``voxlod labels SEG -o DIR --format precomputed`` does: the labels of ``volume`` in raw
     chunks and per label a multi-resolution mesh of ``levels`` levels (Draco fragments on the
-    octree's grid, each level simplified from the finer one with the seams locked, so no crack
-    opens between levels), sharded above 512 labels (``sharding``: ``auto``, ``always`` or
-    ``never``). ``meshes`` are the labels' meshes as :func:`labels` returns them (made here,
-    ``shared`` or not, when not given); ``unit`` is the unit of ``spacing`` (``nm``, ``um`` or
-    ``mm``). cloud-volume reads the layer back. Returns the layer's report (per label and level:
-    fragments, triangles, bytes).
+    octree's grid), sharded above 512 labels (``sharding``: ``auto``, ``always`` or
+    ``never``). ``unit`` is the unit of ``spacing`` (``nm``, ``um`` or ``mm``). cloud-volume
+    reads the layer back. Returns the layer's report (per label and level: fragments,
+    triangles, bytes; ``carried``: the labels thinner than a coarser level's filter, whose
+    empty level holds the finer level's surface).
+
+    The coarser levels are each simplified from the finer one with the seams locked, so no
+    crack opens between levels; ``meshes`` are then the labels' meshes as :func:`labels`
+    returns them (made here, ``shared`` or not, when not given), their first level used. With
+    ``filter`` or ``radius`` they are the paper's filter pyramid instead: the labels' filtered
+    levels (:func:`labels` with ``levels``, ``filter`` and ``radius``; ``meshes``, if given,
+    must have ``levels`` levels each), smoother and with fewer handles, whose consecutive
+    levels meet on a fragment's face only within about their filters' radii.
     """
     nanometres = {"nm": 1.0, "um": 1e3, "mm": 1e6}.get(unit)
     if nanometres is None:
         raise UsageError(f"unit must be nm, um or mm, not {unit!r}")
+    filtered = filter is not None or radius is not None
+    if filtered and shared:
+        raise UsageError("shared meshes the labels together without a filter: it does not go "
+                         "with filter or radius")
     array = label_values(volume, "volume")
     if meshes is None:
-        meshes = labels(array, spacing=spacing, origin=origin, shared=shared, normals=False)
-    pairs = [(int(m.label), (np.ascontiguousarray(m.vertices, np.float32),
-                             np.ascontiguousarray(m.faces, np.uint32))) for m in meshes]
+        meshes = labels(array, spacing=spacing, origin=origin, shared=shared, normals=False,
+                        **({"levels": levels, "filter": filter, "radius": radius}
+                           if filtered else {}))
+    pairs = [(int(m.label), layer_levels(m, levels if filtered else None)) for m in meshes]
     return _voxlod.write_precomputed(str(directory), array, triple(spacing, "spacing"),
                                      triple(origin, "origin"), pairs,
                                      (int(levels), int(quantization_bits), nanometres,
                                       str(sharding)))
+
+
+def layer_levels(mesh: LabelMesh, levels: Optional[int]) -> List[Tuple[np.ndarray, np.ndarray]]:
+    """A label's meshes for :func:`precomputed`: its first level alone, or its ``levels``
+    levels (refusing another count), as the Rust side takes them."""
+    chosen = mesh.levels[:1] if levels is None else mesh.levels
+    if levels is not None and len(chosen) != int(levels):
+        raise UsageError(f"label {mesh.label} has {len(chosen)} levels, the layer {levels}")
+    return [(np.ascontiguousarray(level.vertices, np.float32),
+             np.ascontiguousarray(level.faces, np.uint32)) for level in chosen]

@@ -94,7 +94,7 @@ def envelope(
 ) -> List[Dict[str, Any]]: ...
 def layers(mesh: Mesh, error: float, resolution: int, filter: str, progress: Progress = ...) -> List[Dict[str, Any]]: ...
 def labels(
-    map: F32,
+    map: np.ndarray,
     spacing: Sequence[float],
     origin: Sequence[float],
     labels: Optional[List[int]],
@@ -132,7 +132,7 @@ def write_precomputed(
     map: np.ndarray,
     spacing: Tuple[float, float, float],
     origin: Tuple[float, float, float],
-    meshes: List[Tuple[int, Tuple[np.ndarray, np.ndarray]]],
+    meshes: List[Tuple[int, List[Tuple[np.ndarray, np.ndarray]]]],
     options: Tuple[int, int, float, str],
 ) -> Dict[str, Any]: ...
 def chunk_labels(

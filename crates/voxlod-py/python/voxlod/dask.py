@@ -58,7 +58,7 @@ from . import _facade, _voxlod
 from ._facade import Level
 from ._arrays import spacing_triple, triple
 from ._labels import (LabelMesh, check_label_dtype, check_surface_options, label_mesh,
-                      label_options, label_samples, label_values)
+                      label_options, label_values)
 from .errors import InputError, NoSurfaceError, UsageError
 
 __all__ = ["marching_cubes", "lod_volume", "labels", "as_dask_array"]
@@ -486,7 +486,7 @@ def _mesh_label(value: int, low: Sequence[int], high: Sequence[int], chunks: Lis
     """One task of :func:`labels`' second pass: the label's meshes from its box (samples
     ``low .. high``, :func:`_label_box`). Samples of other labels are 0 in the box: the
     label's indicator is the same."""
-    box = _label_box(value, low, high, chunks, corners, label_samples, np.float32)
+    box = _label_box(value, low, high, chunks, corners, label_values, np.uint32)
     found = _voxlod.labels(box, spacing, origin, [int(value)], options)
     return found[0]
 
@@ -814,16 +814,21 @@ def precomputed(
     unit: str = "nm",
     sharding: str = "auto",
     shared: bool = False,
+    filter: Optional[str] = None,
+    radius: Optional[float] = None,
 ) -> dict:
     """:func:`voxlod.precomputed` with the labels meshed on a Dask cluster
     (:func:`labels`, each label's box where its chunks are; with ``shared``, the shared
-    surface smoothed with the whole map's restoring): the same bytes as one process writes,
-    since the meshes are the same and the layer's bytes depend only on them and the map. The
-    map itself is gathered once to write its chunks."""
+    surface smoothed with the whole map's restoring; with ``filter`` or ``radius``, each
+    label's filtered levels): the same bytes as one process writes, since the meshes are the
+    same and the layer's bytes depend only on them and the map. The map itself is gathered
+    once to write its chunks."""
     array = as_dask_array(source)
+    filtered = filter is not None or radius is not None
+    pyramid = {"levels": levels, "filter": filter, "radius": radius} if filtered else {}
     meshes = labels(array, client=client, spacing=spacing, origin=origin, normals=False,
-                    shared=shared)
+                    shared=shared, **pyramid)
     from ._labels import precomputed as write
     return write(directory, np.asarray(array), meshes, spacing=spacing, origin=origin,
                  levels=levels, quantization_bits=quantization_bits, unit=unit,
-                 sharding=sharding)
+                 sharding=sharding, filter=filter, radius=radius)

@@ -10,11 +10,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 
 use voxlod_core::validate::{find_defect, Requirements};
-use voxlod_core::Volume;
 
 use super::{
     find_labels, mesh_labels_until, select_labels, voxel_volume, LabelError, LabelInfo,
-    LabelOptions,
+    LabelOptions, LabelSource,
 };
 use crate::error::{InvalidOption, PyramidError};
 use crate::lod::LodLevel;
@@ -95,8 +94,8 @@ impl From<LabelError> for PyramidError {
 /// assert!(!meshes.labels[0].levels[0].mesh.is_empty());
 /// # Ok::<(), voxlod_pyramid::PyramidError>(())
 /// ```
-pub fn labels(
-    map: &Volume,
+pub fn labels<M: LabelSource>(
+    map: &M,
     options: &LabelOptions,
     progress: &ProgressFn,
 ) -> Result<LabelMeshes, PyramidError> {

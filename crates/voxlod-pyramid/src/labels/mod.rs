@@ -36,8 +36,10 @@ use crate::progress::Control;
 use crate::then_envelope::{simplify_level, ThenEnvelope};
 
 mod job;
+mod source;
 
 pub use job::{labels, LabelLevels, LabelMeshes};
+pub use source::LabelSource;
 
 /// How label meshes are made.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -113,26 +115,29 @@ pub enum LabelError {
 }
 
 /// The non-zero labels of a map, in increasing order, with their voxel counts and boxes.
-pub fn find_labels(map: &Volume) -> Result<Vec<LabelInfo>, LabelError> {
+pub fn find_labels<M: LabelSource>(map: &M) -> Result<Vec<LabelInfo>, LabelError> {
     let mut found: std::collections::BTreeMap<i64, LabelInfo> = Default::default();
-    for ((k, j, i), &v) in map.values.indexed_iter() {
-        if v == 0.0 {
-            continue;
-        }
-        if !v.is_finite() || v.fract() != 0.0 || v.abs() > 16_777_216.0 {
-            return Err(LabelError::NotALabel(i, j, k, v));
-        }
-        let at = [i, j, k];
-        let info = found.entry(v as i64).or_insert(LabelInfo {
-            value: v as i64,
-            voxels: 0,
-            min: at,
-            max: at,
-        });
-        info.voxels += 1;
-        for (a, &index) in at.iter().enumerate() {
-            info.min[a] = info.min[a].min(index);
-            info.max[a] = info.max[a].max(index);
+    let [nx, ny, nz] = map.grid().dims;
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                let v = map.label(i, j, k)?;
+                if v == 0 {
+                    continue;
+                }
+                let at = [i, j, k];
+                let info = found.entry(v).or_insert(LabelInfo {
+                    value: v,
+                    voxels: 0,
+                    min: at,
+                    max: at,
+                });
+                info.voxels += 1;
+                for (a, &index) in at.iter().enumerate() {
+                    info.min[a] = info.min[a].min(index);
+                    info.max[a] = info.max[a].max(index);
+                }
+            }
         }
     }
     Ok(found.into_values().collect())
@@ -168,11 +173,11 @@ pub fn select_labels(
 
 /// The index range and grid of `label`'s box grown by one voxel (clamped to the map), its first
 /// sample placed in the map's world.
-fn label_box(
-    map: &Volume,
+fn label_box<M: LabelSource>(
+    map: &M,
     label: &LabelInfo,
 ) -> Result<([usize; 3], [usize; 3], Grid), LabelError> {
-    let g = &map.grid;
+    let g = map.grid();
     let lo: [usize; 3] = std::array::from_fn(|a| label.min[a].saturating_sub(1));
     let hi: [usize; 3] = std::array::from_fn(|a| (label.max[a] + 1).min(g.dims[a] - 1));
     let dims: [usize; 3] = std::array::from_fn(|a| hi[a] - lo[a] + 1);
@@ -187,19 +192,18 @@ fn label_box(
 
 /// The indicator of `label` (1 inside, 0 outside) over its box grown by one voxel (clamped to
 /// the map), placed in the map's world.
-pub fn label_indicator(map: &Volume, label: &LabelInfo) -> Result<Volume, LabelError> {
+pub fn label_indicator<M: LabelSource>(map: &M, label: &LabelInfo) -> Result<Volume, LabelError> {
     let (lo, hi, grid) = label_box(map, label)?;
     memory::check_allocation("the label's indicator", memory::bytes_of::<f32>(grid.len()))
         .map_err(SamplingError::from)?;
-    let value = label.value as f32;
     let mut values = Vec::with_capacity(grid.len());
     for k in lo[2]..=hi[2] {
         for j in lo[1]..=hi[1] {
-            values.extend((lo[0]..=hi[0]).map(|i| f32::from(map.get(i, j, k) == value)));
+            values.extend((lo[0]..=hi[0]).map(|i| f32::from(map.holds(i, j, k, label.value))));
         }
     }
     let indicator = Volume::from_vec(grid, values).map_err(SamplingError::from)?;
-    Ok(indicator.oriented(map.orientation))
+    Ok(indicator.oriented(map.orientation()))
 }
 
 /// The pyramid of one label: level 0 at the map's finest spacing over the indicator's box, each
@@ -215,8 +219,8 @@ fn label_pyramid(g: &Grid, options: &LabelOptions) -> PyramidOptions {
 }
 
 /// One label's meshes, level by level, in the map's world.
-pub fn label_levels(
-    map: &Volume,
+pub fn label_levels<M: LabelSource>(
+    map: &M,
     label: &LabelInfo,
     options: &LabelOptions,
 ) -> Result<Vec<LodLevel>, LabelError> {
@@ -230,7 +234,7 @@ pub fn label_levels(
     // The pipeline places each level in the map's world (the indicator keeps its transform);
     // only a change of frame is left to do.
     let to_frame = options.frame.map_or(Placement::IDENTITY, |target| {
-        Placement::between_frames(map.orientation.frame, target)
+        Placement::between_frames(map.orientation().frame, target)
     });
     plan(&source, &lod)?
         .iter()
@@ -251,7 +255,11 @@ pub fn label_levels(
 /// Bytes one label needs at its peak, estimated before any is allocated: its indicator box and
 /// the densest of its levels' sampling ([`voxlod_sampling::density::estimated_bytes`]), or
 /// `u64::MAX` when its levels cannot even be planned (it then fails on its own, with the reason).
-pub fn label_estimated_bytes(map: &Volume, label: &LabelInfo, options: &LabelOptions) -> u64 {
+pub fn label_estimated_bytes<M: LabelSource>(
+    map: &M,
+    label: &LabelInfo,
+    options: &LabelOptions,
+) -> u64 {
     let Ok((_, _, grid)) = label_box(map, label) else {
         return u64::MAX;
     };
@@ -294,8 +302,8 @@ fn groups_within(mut sized: Vec<(usize, u64)>, budget: u64) -> Vec<Vec<usize>> {
 /// budget together (`voxlod_core::memory`), so the boxes in flight never exceed it. Returns one
 /// result per label, in the order of `labels`; `done` is called as each label finishes (from
 /// any thread). Beyond the paper; each label's meshes are the same as [`label_levels`] gives.
-pub fn mesh_labels(
-    map: &Volume,
+pub fn mesh_labels<M: LabelSource>(
+    map: &M,
     labels: &[LabelInfo],
     options: &LabelOptions,
     done: &(dyn Fn(&LabelInfo) + Sync),
@@ -315,8 +323,8 @@ type Meshed = Result<Vec<LodLevel>, LabelError>;
 
 /// [`mesh_labels`], where `done` may answer [`Control::Stop`]: the labels not yet started are
 /// then left out (`None`); those in flight finish.
-fn mesh_labels_until(
-    map: &Volume,
+fn mesh_labels_until<M: LabelSource>(
+    map: &M,
     labels: &[LabelInfo],
     options: &LabelOptions,
     done: &(dyn Fn(&LabelInfo) -> Control + Sync),
@@ -355,8 +363,8 @@ fn mesh_labels_until(
 }
 
 /// Volume of `voxels` voxels of the map, in world units cubed.
-pub fn voxel_volume(map: &Volume, voxels: usize) -> f64 {
-    voxels as f64 * map.grid.spacing.iter().product::<f64>()
+pub fn voxel_volume<M: LabelSource>(map: &M, voxels: usize) -> f64 {
+    voxels as f64 * map.grid().spacing.iter().product::<f64>()
 }
 
 /// Every mesh in one, with a per-vertex `label` attribute (for one `.vtp` or `.ply` of all
@@ -479,6 +487,32 @@ mod tests {
         for (label, &b) in labels.iter().zip(&bytes) {
             let indicator = label_indicator(&map, label).unwrap();
             assert!(b > memory::bytes_of::<f32>(indicator.grid.len()), "{b}");
+        }
+    }
+
+    #[test]
+    fn a_label_map_of_u32_gives_the_samples_meshes_and_holds_labels_beyond_two_to_the_24() {
+        let samples = three_label_map();
+        // The same map with label 5 as 2³² − 1, which no f32 sample holds exactly.
+        let big = u32::MAX;
+        let values = (samples.as_slice().iter())
+            .map(|&v| if v == 5.0 { big } else { v as u32 })
+            .collect();
+        let labels = voxlod_core::LabelVolume::from_vec(samples.grid, values).unwrap();
+        let found = find_labels(&labels).unwrap();
+        let values: Vec<i64> = found.iter().map(|l| l.value).collect();
+        assert_eq!(values, [2, 9, i64::from(big)]);
+        let of_samples = find_labels(&samples).unwrap(); // 2, 5, 9
+        assert_eq!(
+            (found[2].voxels, found[2].min, found[2].max),
+            (of_samples[1].voxels, of_samples[1].min, of_samples[1].max)
+        );
+        let options = LabelOptions::for_levels(2);
+        let ours = label_levels(&labels, &found[2], &options).unwrap();
+        let theirs = label_levels(&samples, &of_samples[1], &options).unwrap();
+        for (a, b) in ours.iter().zip(&theirs) {
+            assert!(!a.mesh.is_empty());
+            assert_eq!(a.mesh, b.mesh);
         }
     }
 }

@@ -1,5 +1,6 @@
 //! `voxlod labels` with levels or a filter: each label's indicator filtered and contoured as a
-//! thresholded scan, level by level (paper §2, §4; `voxlod::labels`).
+//! thresholded scan, level by level (paper §2, §4; `voxlod::labels`), written as mesh files or,
+//! with `--format precomputed` and a filter, as the levels of detail of a neuroglancer layer.
 
 use std::time::Instant;
 
@@ -9,12 +10,13 @@ use voxlod::labels::{LabelLevels, LabelOptions};
 use voxlod::{Control, ThenEnvelope};
 
 use super::{
-    file_name, finish, name_of, print_label, write_all_labels, LabelReport, LabelsArgs,
-    LabelsReport, LevelReport,
+    file_name, finish, name_of, print_label, surfaces, write_all_labels, LabelFormat, LabelReport,
+    LabelsArgs, LabelsReport, LevelReport,
 };
-use crate::commands::common::{in_dir, in_file, progress, CliError};
+use crate::commands::common::{in_dir, progress, CliError};
 use crate::commands::values::in_flags;
-use crate::commands::world::frame_report;
+use crate::commands::world::{frame_report, FrameReport};
+use voxlod::precomputed::write_layer_filtered;
 
 /// The library's option names that are not the flags' names.
 const FLAGS: &[(&str, &str)] = &[("radius_voxels", "--radius")];
@@ -27,9 +29,19 @@ pub(super) fn asked_for(args: &LabelsArgs) -> bool {
         || args.then_envelope.is_some()
 }
 
-/// The library's options from the flags.
+/// Whether the flags ask for a precomputed layer's levels from the filter pyramid.
+pub(super) fn pyramid_asked_for(args: &LabelsArgs) -> bool {
+    args.format == LabelFormat::Precomputed && (args.filter.is_some() || args.radius.is_some())
+}
+
+/// The library's options from the flags: as many levels as the layer's levels of detail for a
+/// precomputed layer.
 fn label_options(args: &LabelsArgs) -> LabelOptions {
-    let mut options = LabelOptions::for_levels(args.levels.unwrap_or(1));
+    let levels = match args.format {
+        LabelFormat::Precomputed => surfaces::precomputed_options(args).lods,
+        _ => args.levels.unwrap_or(1),
+    };
+    let mut options = LabelOptions::for_levels(levels);
     options.labels = args
         .labels
         .as_ref()
@@ -59,63 +71,75 @@ fn write_label(
         .format
         .mesh()
         .expect("filtered levels are written as mesh files");
-    let mut reports = Vec::new();
-    let mut first = None;
     let count = label.levels.len();
-    for level in label.levels {
-        let start = Instant::now();
-        let mesh = level.mesh;
-        let k = level.plan.level;
-        let file = (!mesh.is_empty()).then(|| file_name(value, name, k, count, ext.as_str()));
-        if let Some(f) = &file {
-            out.mesh(&in_dir(&args.output, f), &mesh)?;
-        }
-        let t = level.topology;
-        reports.push(LevelReport {
-            level: k,
-            resolution: level.plan.resolution,
-            voxel_size: level.plan.voxel_size,
-            file,
-            triangles: mesh.triangles.len(),
-            volume: mesh.signed_volume(),
-            area: mesh.area(),
-            closed_manifold: Some(t.is_closed_manifold() && t.is_consistently_oriented()),
-            seconds: level.sample_seconds + level.contour_seconds + start.elapsed().as_secs_f64(),
-            envelope: level.envelope,
-        });
-        if k == 0 {
-            first = Some(mesh);
+    let file_of = |k: usize, mesh: &TriangleMesh| {
+        (!mesh.is_empty()).then(|| file_name(value, name, k, count, ext.as_str()))
+    };
+    for level in &label.levels {
+        if let Some(f) = file_of(level.plan.level, &level.mesh) {
+            out.mesh(&in_dir(&args.output, &f), &level.mesh)?;
         }
     }
-    let report = LabelReport {
-        label: value,
+    let report = level_reports(&label, name, file_of);
+    let first = (label.levels.into_iter())
+        .find(|l| l.plan.level == 0)
+        .map(|l| l.mesh);
+    Ok((report, first))
+}
+
+/// One label's report, level `k`'s file named by `file_of(k, mesh)` where it was written.
+fn level_reports(
+    label: &LabelLevels,
+    name: Option<&LabelName>,
+    file_of: impl Fn(usize, &TriangleMesh) -> Option<String>,
+) -> LabelReport {
+    let levels = (label.levels.iter())
+        .map(|level| {
+            let (mesh, t) = (&level.mesh, &level.topology);
+            LevelReport {
+                level: level.plan.level,
+                resolution: level.plan.resolution,
+                voxel_size: level.plan.voxel_size,
+                file: file_of(level.plan.level, mesh),
+                triangles: mesh.triangles.len(),
+                volume: mesh.signed_volume(),
+                area: mesh.area(),
+                closed_manifold: Some(t.is_closed_manifold() && t.is_consistently_oriented()),
+                seconds: level.sample_seconds + level.contour_seconds,
+                envelope: level.envelope.clone(),
+            }
+        })
+        .collect();
+    LabelReport {
+        label: label.label.value as u32,
         name: name.map(|n| n.name.clone()),
         color: name.and_then(|n| n.color),
         voxels: label.label.voxels as u64,
         voxel_volume: label.voxel_volume,
-        levels: reports,
-    };
-    Ok((report, first))
+        levels,
+    }
 }
 
 /// The filtered levels of every label, written with the report.
 pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
     let start = Instant::now();
-    let map = read
-        .labels
-        .to_volume()
-        .map_err(|e| in_file(&args.input, e))?;
-    let (table, mut warnings) = (read.table, read.warnings);
-    let mut out = OutputSet::protecting([&args.input]);
-    out.create_dir(&args.output)?;
+    // The map as read: its u32 labels exact, however large.
+    let map = &read.labels;
     let bar = progress(0, "labels", args.json);
-    let meshed = voxlod::labels(&map, &label_options(args), &|p| {
+    let meshed = voxlod::labels(map, &label_options(args), &|p| {
         bar.set_length(p.total as u64);
         bar.set_position(p.done as u64);
         Control::Continue
     })
     .map_err(|e| in_flags(e.in_file(&args.input), FLAGS))?;
     bar.finish_and_clear();
+    let frame = frame_report(map.world(), args.frame.target());
+    if args.format == LabelFormat::Precomputed {
+        return write_precomputed(args, read, meshed.labels, (frame, start));
+    }
+    let (table, mut warnings) = (read.table, read.warnings);
+    let mut out = OutputSet::protecting([&args.input]);
+    out.create_dir(&args.output)?;
     let mut reports = Vec::new();
     let mut firsts: Vec<(u32, TriangleMesh)> = Vec::new();
     for label in meshed.labels {
@@ -139,7 +163,7 @@ pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
     let report = LabelsReport {
         input: args.input.display().to_string(),
         surface: "filtered",
-        frame: frame_report(map.world(), args.frame.target()),
+        frame,
         all_labels,
         all_labels_gltf,
         labels: reports,
@@ -149,4 +173,48 @@ pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
         total_seconds: start.elapsed().as_secs_f64(),
     };
     finish(args, report, out, false)
+}
+
+/// The precomputed layer of the map whose levels of detail are the labels' filtered levels
+/// (`voxlod::precomputed::write_layer_filtered`), written with the report.
+fn write_precomputed(
+    args: &LabelsArgs,
+    read: LabelMap,
+    labels: Vec<LabelLevels>,
+    (frame, start): (FrameReport, Instant),
+) -> Result<(), CliError> {
+    let options = surfaces::precomputed_options(args);
+    let (table, mut warnings) = (read.table, read.warnings);
+    let reports: Vec<LabelReport> = (labels.iter())
+        .map(|l| level_reports(l, name_of(&table, l.label.value as u32), |_, _| None))
+        .collect();
+    let levels: Vec<(u32, Vec<TriangleMesh>)> = (labels.into_iter())
+        .map(|l| {
+            let meshes = l.levels.into_iter().map(|level| level.mesh).collect();
+            (l.label.value as u32, meshes)
+        })
+        .collect();
+    let layer = write_layer_filtered(&args.output, &read.labels, &levels, &options)
+        .map_err(|e| CliError::Library(voxlod::Error::from(e)))?;
+    let carried = (layer.labels.iter())
+        .filter(|l| l.lods.iter().any(|lod| lod.carried))
+        .count();
+    if carried > 0 {
+        warnings.push(format!(
+            "{carried} label(s) have no surface at their coarser levels of detail (thinner than those levels' filter): those levels hold their finest such surface"
+        ));
+    }
+    let report = LabelsReport {
+        input: args.input.display().to_string(),
+        surface: "filtered",
+        frame,
+        all_labels: None,
+        all_labels_gltf: None,
+        labels: reports,
+        smoothing: None,
+        precomputed: Some(surfaces::LayerSummary::of(&layer, options.lods, "filtered")),
+        warnings,
+        total_seconds: start.elapsed().as_secs_f64(),
+    };
+    finish(args, report, OutputSet::protecting([&args.input]), true)
 }

@@ -48,9 +48,12 @@ use super::world::{FrameArg, FrameReport};
 /// level K of several), every label's level 0 together in DIR/labels.glb (one node per label;
 /// with --format vtp or vtk also in DIR/labels.vtp, per-vertex `label`), and DIR/report.json. With --format precomputed, DIR
 /// becomes a neuroglancer precomputed segmentation layer instead: the labels in raw chunks and
-/// per label a multi-resolution mesh of --levels levels (Draco fragments on the octree's grid,
-/// each level simplified from the finer one with the fragments' seams locked, so no crack opens
-/// between levels), sharded above 512 labels; cloud-volume and neuroglancer read it.
+/// per label a multi-resolution mesh of --levels levels (Draco fragments on the octree's grid),
+/// sharded above 512 labels; cloud-volume and neuroglancer read it. Its coarser levels are each
+/// simplified from the finer one with the fragments' seams locked, so no crack opens between
+/// levels; with --filter or --radius they are the paper's filter pyramid instead (level k the
+/// label's indicator filtered at 1/2^k of the map's resolution), smoother and with fewer handles,
+/// whose consecutive levels meet on a fragment's face only within about their filters' radii.
 ///
 /// Examples:
 ///   voxlod labels segmentation.nii.gz -o organs
@@ -58,6 +61,7 @@ use super::world::{FrameArg, FrameReport};
 ///   voxlod labels cells.nrrd -o cells --shared --smooth 8 --triangles 5000
 ///   voxlod labels aseg.mha -o aseg --levels 3 --then-envelope 1vox
 ///   voxlod labels cells.nrrd -o layer --format precomputed --levels 3 --unit nm
+///   voxlod labels cells.nrrd -o layer --format precomputed --levels 4 --filter hypercone
 ///   voxlod labels SEG.dcm -o segments   # or a folder holding one DICOM SEG file
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
@@ -249,8 +253,8 @@ fn check_flags(args: &LabelsArgs) -> Result<(), CliError> {
     if filtered && args.triangles.is_some() {
         return refuse("--triangles reduces the one-pass surfaces (marching cubes or --shared): it does not go with --levels, --filter, --radius or --then-envelope");
     }
-    if precomputed && (args.filter.is_some() || args.radius.is_some()) {
-        return refuse("--filter and --radius make filtered levels, which --format precomputed does not write: its levels are simplified from the finer one with the seams locked");
+    if precomputed && args.shared && filtered::pyramid_asked_for(args) {
+        return refuse("--shared meshes the labels together without a filter: it does not go with --filter or --radius, which make --format precomputed's levels from the filter pyramid");
     }
     if precomputed && args.then_envelope.is_some() {
         return refuse("--then-envelope does not apply to --format precomputed");
@@ -274,7 +278,8 @@ pub fn run(args: LabelsArgs) -> Result<(), CliError> {
     let read = read_map(&args.input)?;
     args.frame
         .check(read.labels.orientation.frame, &args.input)?;
-    if filtered::asked_for(&args) && args.format != LabelFormat::Precomputed {
+    let precomputed = args.format == LabelFormat::Precomputed;
+    if filtered::asked_for(&args) && (!precomputed || filtered::pyramid_asked_for(&args)) {
         filtered::run(&args, read)
     } else {
         surfaces::run(&args, read)

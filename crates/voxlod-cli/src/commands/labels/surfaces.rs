@@ -78,6 +78,9 @@ impl BudgetSummary {
 pub(super) struct LayerSummary {
     /// Levels of detail per label.
     lods: usize,
+    /// How the coarser levels were made: `simplified` (each from the finer one, the seams
+    /// locked) or `filtered` (the paper's filter pyramid).
+    coarser_levels: &'static str,
     /// Whether the meshes are sharded.
     sharded: bool,
     /// Per level of detail: triangles over all labels.
@@ -93,9 +96,10 @@ pub(super) struct LayerSummary {
 }
 
 impl LayerSummary {
-    fn of(report: &LayerReport, lods: usize) -> LayerSummary {
+    pub(super) fn of(report: &LayerReport, lods: usize, coarser: &'static str) -> LayerSummary {
         let mut summary = LayerSummary {
             lods,
+            coarser_levels: coarser,
             sharded: report.sharding.is_some(),
             triangles: vec![0; lods],
             bytes: vec![0; lods],
@@ -110,6 +114,19 @@ impl LayerSummary {
         }
         summary
     }
+}
+
+/// The precomputed layer's options from the flags.
+pub(super) fn precomputed_options(args: &LabelsArgs) -> PrecomputedOptions {
+    let mut options = PrecomputedOptions::default();
+    options.lods = args.levels.unwrap_or(options.lods);
+    if let Some(bits) = args.quantization_bits {
+        options.quantization_bits = bits;
+    }
+    if let Some(unit) = args.unit {
+        options.nanometres_per_unit = unit.nanometres();
+    }
+    options
 }
 
 /// The library's options from the flags (a precomputed layer stays in the map's frame).
@@ -214,14 +231,7 @@ fn write_precomputed(
     surfaces: Vec<LabelSurface>,
     table: &[LabelName],
 ) -> Result<(Vec<LabelReport>, LayerSummary), CliError> {
-    let mut options = PrecomputedOptions::default();
-    options.lods = args.levels.unwrap_or(options.lods);
-    if let Some(bits) = args.quantization_bits {
-        options.quantization_bits = bits;
-    }
-    if let Some(unit) = args.unit {
-        options.nanometres_per_unit = unit.nanometres();
-    }
+    let options = precomputed_options(args);
     let reports: Vec<LabelReport> = surfaces
         .par_iter()
         .map(|l| {
@@ -240,7 +250,10 @@ fn write_precomputed(
         .collect();
     let layer = write_layer(&args.output, map, &meshes, &options)
         .map_err(|e| CliError::Library(voxlod::Error::from(e)))?;
-    Ok((reports, LayerSummary::of(&layer, options.lods)))
+    Ok((
+        reports,
+        LayerSummary::of(&layer, options.lods, "simplified"),
+    ))
 }
 
 /// The library's call, its `--labels` error named by the flag.
