@@ -333,8 +333,14 @@ fn add_voxels(
 ) -> Result<(), BudgetError> {
     let start = Instant::now();
     let budget = searched.budget;
+    // The input's collapse, measured by `search` where it keeps every promise, bounds the
+    // levels worth collapsing (`voxel::within_reach`).
+    let closest = (searched.candidates.iter())
+        .filter_map(|c| c.quick.map(|d| d.shape))
+        .fold(f64::INFINITY, f64::min);
     for (solid, sampled) in grids.solids().iter().enumerate() {
-        let found = voxel_candidates(input, measure, grids, solid, options, budget)?;
+        let at = (solid, closest);
+        let found = voxel_candidates(input, measure, grids, at, options, budget)?;
         if found.vanished && sampled.fill == Fill::None {
             searched.notes.push(format!(
                 "the voxel level at resolution {} vanished (parts thinner than a voxel)",
