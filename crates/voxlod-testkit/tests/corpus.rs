@@ -38,7 +38,7 @@ const fn facts(
 
 /// Every case, in [`corpus::corpus`]'s order. The soup's rows are the unwelded soup: every
 /// triangle its own component.
-const EXPECTED: [Facts; 16] = [
+const EXPECTED: [Facts; 20] = [
     facts("sheet", 20_000, 1, 1, Some(0), 0.0),
     facts("sheet-curled", 18_000, 1, 1, Some(0), 0.0),
     facts("open-parts", 23_898, 30, 38, Some(0), 0.0),
@@ -55,6 +55,10 @@ const EXPECTED: [Facts; 16] = [
     facts("two-spheres", 10_240, 2, 0, Some(0), 1.0),
     facts("moebius", 1_920, 1, 1, None, 0.0),
     facts("far-away", 1_280, 1, 0, Some(0), 1.0),
+    facts("rings", 32_256, 28, 0, Some(28), 1.0),
+    facts("nested-shells", 6_400, 2, 0, Some(0), 1.0),
+    facts("double-sided", 7_200, 2, 2, Some(0), 0.0),
+    facts("open-tube", 15_360, 1, 2, Some(0), 0.0),
 ];
 
 #[test]
@@ -285,4 +289,34 @@ fn thin_tubes_are_closed_shells_overlapping_at_the_joints() {
     assert_eq!(trunk, 1);
     assert!(parts.iter().filter(|t| t.triangles == 256).count() == 78);
     assert!(!crossing_pairs(&mesh).is_empty());
+}
+
+#[test]
+fn the_rings_are_linked_without_touching() {
+    let rings = corpus::rings();
+    assert!(crossing_pairs(&rings).is_empty());
+    // The first standing ring (centre (0.65, 0, 0), in the plane y = 0) holds the points where
+    // the flat rings at the origin and at (1.3, 0, 0) cross that plane, x = 0.5 and 0.8: 0.15
+    // from its centre, well inside its hole (0.5 − 0.08).
+    let standing = &rings.positions[16 * 576..17 * 576];
+    assert!(standing.iter().all(|p| p.y.abs() < 0.09));
+    let (lo, hi) = standing.iter().fold((f32::MAX, f32::MIN), |(lo, hi), p| {
+        (lo.min(p.x), hi.max(p.x))
+    });
+    assert!(
+        (lo - 0.07).abs() < 0.01 && (hi - 1.23).abs() < 0.01,
+        "{lo} {hi}"
+    );
+}
+
+#[test]
+fn the_double_sided_sheet_is_one_sheet_twice_facing_away() {
+    let mesh = corpus::double_sided();
+    let half = mesh.positions.len() / 2;
+    assert_eq!(mesh.positions[..half], mesh.positions[half..]);
+    let (front, back) = mesh.triangles.split_at(mesh.triangles.len() / 2);
+    for (f, b) in front.iter().zip(back) {
+        let shift = |v: u32| v + half as u32;
+        assert_eq!([shift(f[0]), shift(f[2]), shift(f[1])], *b);
+    }
 }
