@@ -212,7 +212,11 @@ fn a_precomputed_layer_with_a_filter_holds_the_filter_pyramid() {
     assert_eq!(report["precomputed"]["coarser_levels"], "filtered");
     let mut file_args = vec!["labels", arg(&map), "-o", arg(&files)];
     file_args.extend(pyramid);
-    voxlod(&file_args);
+    let files_report = json(&voxlod(&file_args));
+    assert_eq!(
+        files_report["warnings"][0],
+        "1 label(s) have no surface at some levels (thinner than those levels' filter): those levels have no file (labels 9)"
+    );
     // The map's voxel is 1 × 1 × 2: a volume in the stored space (voxels) is twice as large in
     // the world.
     for label in [3u64, u32::MAX as u64] {
@@ -246,6 +250,19 @@ fn a_precomputed_layer_with_a_filter_holds_the_filter_pyramid() {
         "{report}"
     );
     assert!(!files.join("label-9-2.ply").exists());
+    // A map whose every label vanishes under the filter: an error naming the file, no output.
+    let speck = dir.path().join("speck.nrrd");
+    let grid = Grid::new([6, 6, 6], [1.0; 3], [0.0; 3]).unwrap();
+    let mut values = vec![0u32; grid.len()];
+    values[grid.index(3, 3, 3)] = 5;
+    let one = LabelVolume::from_vec(grid, values).unwrap();
+    voxlod::io::write_label_map(&speck, &one).unwrap();
+    let empty = dir.path().join("empty-layer");
+    let mut speck_args = vec!["labels", arg(&speck), "-o", arg(&empty), "--format"];
+    speck_args.extend(["precomputed", "--filter", "hypercone"]);
+    let failed = voxlod(&speck_args);
+    assert_clean_failure(&failed, "speck.nrrd: no label has a surface at any level");
+    assert!(!empty.exists());
 }
 
 #[test]

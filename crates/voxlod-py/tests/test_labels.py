@@ -178,6 +178,18 @@ def test_a_precomputed_layer_of_filtered_levels_holds_the_filter_pyramid(segment
         voxlod.precomputed(tmp_path / "other", segmentation, pyramid, levels=2, radius=1.0)
     with pytest.raises(voxlod.UsageError, match="does not go with filter or radius"):
         voxlod.precomputed(tmp_path / "other", segmentation, shared=True, radius=1.0)
+    # A label of one voxel has no surface under the filter, a thin plate none at the coarser
+    # levels: both are named in warnings.
+    speckled = segmentation.copy()
+    speckled[5, 5, 5] = 9
+    speckled[30:31, 5:40, 5:60] = 8
+    with pytest.warns(UserWarning) as caught:
+        more = voxlod.precomputed(tmp_path / "speckled", speckled, spacing=SPACING, levels=3,
+                                  filter="hypercone")
+    said = [str(w.message) for w in caught]
+    assert any("(labels 9)" in w and "no surface even at level 0" in w for w in said), said
+    assert any("(labels 8)" in w and "coarser levels" in w for w in said), said
+    assert more["carried"] == [8]
     cloudvolume = pytest.importorskip("cloudvolume", reason="cloud-volume is not installed: "
                                       "the layer is not read back (pip install cloud-volume)")
     cv = cloudvolume.CloudVolume(f"file://{layer}", progress=False)

@@ -304,10 +304,28 @@ def precomputed(
                         **({"levels": levels, "filter": filter, "radius": radius}
                            if filtered else {}))
     pairs = [(int(m.label), layer_levels(m, levels if filtered else None)) for m in meshes]
-    return _voxlod.write_precomputed(str(directory), array, triple(spacing, "spacing"),
-                                     triple(origin, "origin"), pairs,
-                                     (int(levels), int(quantization_bits), nanometres,
-                                      str(sharding)))
+    report = _voxlod.write_precomputed(str(directory), array, triple(spacing, "spacing"),
+                                       triple(origin, "origin"), pairs,
+                                       (int(levels), int(quantization_bits), nanometres,
+                                        str(sharding)))
+    warn_vanished(report)
+    return report
+
+
+def warn_vanished(report: dict) -> None:
+    """Warns of the labels a layer has no mesh for (no surface at level 0) and of those whose
+    coarser levels hold a finer level's surface (thinner than those levels' filter)."""
+    import warnings
+
+    empty = [label for label, lods in report["labels"] if not lods]
+    for labels, what in ((empty, "no surface even at level 0 (thinner than the finest filter): "
+                                 "the layer has no mesh for them"),
+                         (report["carried"], "no surface at their coarser levels of detail "
+                                             "(thinner than those levels' filter): each such "
+                                             "level holds the finer level's surface")):
+        if labels:
+            listed = ", ".join(str(v) for v in labels[:10]) + (", …" if len(labels) > 10 else "")
+            warnings.warn(f"{len(labels)} label(s) have {what} (labels {listed})", stacklevel=3)
 
 
 def layer_levels(mesh: LabelMesh, levels: Optional[int]) -> List[Tuple[np.ndarray, np.ndarray]]:

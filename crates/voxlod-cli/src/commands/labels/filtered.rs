@@ -134,10 +134,13 @@ pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
     .map_err(|e| in_flags(e.in_file(&args.input), FLAGS))?;
     bar.finish_and_clear();
     let frame = frame_report(map.world(), args.frame.target());
-    if args.format == LabelFormat::Precomputed {
-        return write_precomputed(args, read, meshed.labels, (frame, start));
+    let precomputed = args.format == LabelFormat::Precomputed;
+    let vanished = vanished(&meshed.labels, precomputed, &args.input)?;
+    if precomputed {
+        return write_precomputed(args, read, meshed.labels, (frame, start, vanished));
     }
     let (table, mut warnings) = (read.table, read.warnings);
+    warnings.extend(vanished);
     let mut out = OutputSet::protecting([&args.input]);
     out.create_dir(&args.output)?;
     let mut reports = Vec::new();
@@ -175,16 +178,67 @@ pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
     finish(args, report, out, false)
 }
 
+/// Labels listed by value in a warning at most.
+const LISTED: usize = 10;
+
+/// The warning for labels with levels the filter emptied (thinner than those levels' filter):
+/// for mesh files, any level (it gets no file); for a precomputed layer, level 0 (the label
+/// gets no mesh; its coarser levels are carried, `write_layer_filtered`). Fails, writing
+/// nothing, when no label has a level with a surface to write.
+fn vanished(
+    labels: &[LabelLevels],
+    precomputed: bool,
+    input: &std::path::Path,
+) -> Result<Option<String>, CliError> {
+    let empty = |l: &&LabelLevels| match precomputed {
+        true => l.levels.first().is_none_or(|level| level.mesh.is_empty()),
+        false => l.levels.iter().any(|level| level.mesh.is_empty()),
+    };
+    let values: Vec<String> = (labels.iter().filter(empty))
+        .map(|l| l.label.value.to_string())
+        .collect();
+    let written = |l: &LabelLevels| match precomputed {
+        true => !l.levels[0].mesh.is_empty(),
+        false => l.levels.iter().any(|level| !level.mesh.is_empty()),
+    };
+    if !labels.iter().any(written) {
+        return Err(CliError::msg(format!(
+            "{}: no label has a surface at any level: the filter removed every one of the {} labels, each thinner than the filter at every level",
+            input.display(),
+            labels.len()
+        )));
+    }
+    if values.is_empty() {
+        return Ok(None);
+    }
+    let listed = values
+        .iter()
+        .take(LISTED)
+        .cloned()
+        .collect::<Vec<_>>()
+        .join(", ");
+    let more = if values.len() > LISTED { ", …" } else { "" };
+    let what = match precomputed {
+        true => "no surface even at level 0 (thinner than the finest filter): the layer has no mesh for them",
+        false => "no surface at some levels (thinner than those levels' filter): those levels have no file",
+    };
+    Ok(Some(format!(
+        "{} label(s) have {what} (labels {listed}{more})",
+        values.len()
+    )))
+}
+
 /// The precomputed layer of the map whose levels of detail are the labels' filtered levels
 /// (`voxlod::precomputed::write_layer_filtered`), written with the report.
 fn write_precomputed(
     args: &LabelsArgs,
     read: LabelMap,
     labels: Vec<LabelLevels>,
-    (frame, start): (FrameReport, Instant),
+    (frame, start, vanished): (FrameReport, Instant, Option<String>),
 ) -> Result<(), CliError> {
     let options = surfaces::precomputed_options(args);
     let (table, mut warnings) = (read.table, read.warnings);
+    warnings.extend(vanished);
     let reports: Vec<LabelReport> = (labels.iter())
         .map(|l| level_reports(l, name_of(&table, l.label.value as u32), |_, _| None))
         .collect();
@@ -201,7 +255,7 @@ fn write_precomputed(
         .count();
     if carried > 0 {
         warnings.push(format!(
-            "{carried} label(s) have no surface at their coarser levels of detail (thinner than those levels' filter): those levels hold their finest such surface"
+            "{carried} label(s) have no surface at their coarser levels of detail (thinner than those levels' filter): each such level holds the finer level's surface"
         ));
     }
     let report = LabelsReport {
