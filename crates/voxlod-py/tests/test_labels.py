@@ -183,10 +183,13 @@ def test_a_precomputed_layer_of_filtered_levels_holds_the_filter_pyramid(segment
     speckled = segmentation.copy()
     speckled[5, 5, 5] = 9
     speckled[30:31, 5:40, 5:60] = 8
+    with pytest.warns(UserWarning, match=r"some levels .* empty \(labels 8, 9\)"):
+        voxlod.labels(speckled, spacing=SPACING, levels=3, filter="hypercone")
     with pytest.warns(UserWarning) as caught:
         more = voxlod.precomputed(tmp_path / "speckled", speckled, spacing=SPACING, levels=3,
                                   filter="hypercone")
     said = [str(w.message) for w in caught]
+    assert len(said) == 2, said
     assert any("(labels 9)" in w and "no surface even at level 0" in w for w in said), said
     assert any("(labels 8)" in w and "coarser levels" in w for w in said), said
     assert more["carried"] == [8]

@@ -6,8 +6,9 @@ paper's §4 thresholding route); and :class:`Mesher`, zmesh's interface on the f
 
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass, field
-from typing import Any, List, Optional, Sequence, Tuple
+from typing import Any, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -137,7 +138,9 @@ def labels(
                                 1.0 if radius is None else radius, normals)
         found = _voxlod.labels(label_values(volume, "volume"), triple(spacing, "spacing"),
                                triple(origin, "origin"), chosen, options)
-        return [label_mesh(d) for d in found]
+        meshes = [label_mesh(d) for d in found]
+        warn_empty_levels(meshes)
+        return meshes
     if chosen is not None and any(not 0 < v <= 2**32 - 1 for v in chosen):
         raise UsageError(f"labels are whole numbers from 1 to 4294967295, not {chosen}")
     array = label_values(volume, "volume")
@@ -300,9 +303,10 @@ def precomputed(
                          "with filter or radius")
     array = label_values(volume, "volume")
     if meshes is None:
-        meshes = labels(array, spacing=spacing, origin=origin, shared=shared, normals=False,
-                        **({"levels": levels, "filter": filter, "radius": radius}
-                           if filtered else {}))
+        with quiet_empty_levels():
+            meshes = labels(array, spacing=spacing, origin=origin, shared=shared, normals=False,
+                            **({"levels": levels, "filter": filter, "radius": radius}
+                               if filtered else {}))
     pairs = [(int(m.label), layer_levels(m, levels if filtered else None)) for m in meshes]
     report = _voxlod.write_precomputed(str(directory), array, triple(spacing, "spacing"),
                                        triple(origin, "origin"), pairs,
@@ -310,6 +314,29 @@ def precomputed(
                                         str(sharding)))
     warn_vanished(report)
     return report
+
+
+@contextlib.contextmanager
+def quiet_empty_levels() -> Iterator[None]:
+    """A context in which :func:`warn_empty_levels` says nothing: for a layer, whose own
+    warnings (:func:`warn_vanished`) say what the empty levels become in it."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=r".* have no surface at some levels")
+        yield
+
+
+def warn_empty_levels(meshes: List[LabelMesh]) -> None:
+    """Warns of the labels with levels the filter emptied (thinner than those levels'
+    filter)."""
+    import warnings
+
+    empty = [m.label for m in meshes if any(len(level.faces) == 0 for level in m.levels)]
+    if empty:
+        listed = ", ".join(str(v) for v in empty[:10]) + (", …" if len(empty) > 10 else "")
+        warnings.warn(f"{len(empty)} label(s) have no surface at some levels (thinner than those "
+                      f"levels' filter): those levels are empty (labels {listed})", stacklevel=3)
 
 
 def warn_vanished(report: dict) -> None:

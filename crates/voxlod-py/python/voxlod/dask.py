@@ -58,7 +58,7 @@ from . import _facade, _voxlod
 from ._facade import Level
 from ._arrays import spacing_triple, triple
 from ._labels import (LabelMesh, check_label_dtype, check_surface_options, label_mesh,
-                      label_options, label_values)
+                      label_options, label_values, quiet_empty_levels, warn_empty_levels)
 from .errors import InputError, NoSurfaceError, UsageError
 
 __all__ = ["marching_cubes", "lod_volume", "labels", "as_dask_array"]
@@ -738,7 +738,9 @@ def labels(
                           box_origin, bool(normals), triangles))
     results = _graph_results("voxlod-label-meshes", tasks, array, client)
     if filtered:
-        return [label_mesh(d) for d in results]
+        meshes = [label_mesh(d) for d in results]
+        warn_empty_levels(meshes)
+        return meshes
     resolution = max(array.shape)
     return [LabelMesh(label=d["label"], voxels=d["voxels"], voxel_volume=d["voxel_volume"],
                       levels=[Level(vertices=d["vertices"], faces=d["faces"],
@@ -826,8 +828,9 @@ def precomputed(
     array = as_dask_array(source)
     filtered = filter is not None or radius is not None
     pyramid = {"levels": levels, "filter": filter, "radius": radius} if filtered else {}
-    meshes = labels(array, client=client, spacing=spacing, origin=origin, normals=False,
-                    shared=shared, **pyramid)
+    with quiet_empty_levels():
+        meshes = labels(array, client=client, spacing=spacing, origin=origin, normals=False,
+                        shared=shared, **pyramid)
     from ._labels import precomputed as write
     return write(directory, np.asarray(array), meshes, spacing=spacing, origin=origin,
                  levels=levels, quantization_bits=quantization_bits, unit=unit,
