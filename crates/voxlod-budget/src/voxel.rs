@@ -20,9 +20,13 @@
 //! input's sharp edges moved onto them before the collapse ([`sharpened`]), so that a scene's
 //! boxes collapse to little more than their faces.
 //!
+//! **Levels out of reach** (ours): where the input's own collapse keeps every promise, a level
+//! more than [`REACH`] times as far from the input before its collapse is not collapsed.
+//!
 //! Cost: one or two samplings (the lattice lines' crossings with the input, O(N²) lines, and
-//! the density, O(N³)), one marching cubes pass for the three isodensities, and a checked
-//! quadric collapse per isodensity.
+//! the density, O(N³)), one marching cubes pass for the three isodensities, a quick
+//! measurement per level where the input's collapse keeps the promises, and a checked quadric
+//! collapse per isodensity within reach.
 
 use voxlod_contouring::triangle_estimate::resolution_for_triangles;
 use voxlod_fit::{snap_to_features, FeatureOptions};
