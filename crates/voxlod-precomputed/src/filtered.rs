@@ -71,12 +71,8 @@ pub fn build_filtered(
     };
     for (k, level) in levels.iter().enumerate() {
         // Level 0 is cut on its nodes, a coarser level on its nodes' eighths.
-        let cell = options.chunk
-            * if k == 0 {
-                1.0
-            } else {
-                (1u64 << (k - 1)) as f64
-            };
+        let eighths = if k == 0 { 1 } else { 1u64 << (k - 1) };
+        let cell = options.chunk * eighths as f64;
         let (cells, pieces) = cut_level(level, options.grid_origin, cell, &mut octree.positions);
         let nodes = match k {
             0 => level_zero(&cells, &pieces)?,
