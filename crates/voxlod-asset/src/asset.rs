@@ -347,6 +347,11 @@ impl Asset {
                 self.materials.len()
             ));
         }
+        // A material no triangle uses (a file's spare one) needs no texture coordinates.
+        let mut used = vec![false; self.materials.len()];
+        for &k in &mesh.material {
+            used[k as usize] = true;
+        }
         for (k, material) in self.materials.iter().enumerate() {
             for (slot, texture) in material.textures() {
                 let set = texture
@@ -356,7 +361,7 @@ impl Asset {
                 if texture.image >= self.images.len() {
                     return bad(format!("material {k}'s {slot} names a missing image"));
                 }
-                if set > 1 || (mesh.uv[set as usize].is_empty() && !mesh.triangles.is_empty()) {
+                if set > 1 || (mesh.uv[set as usize].is_empty() && used[k]) {
                     return bad(format!(
                         "material {k}'s {slot} reads texture coordinates {set}, which the mesh \
                          does not have"

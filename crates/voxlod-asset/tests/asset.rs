@@ -75,6 +75,20 @@ fn each_broken_invariant_is_named() {
 }
 
 #[test]
+fn only_a_material_a_triangle_uses_needs_its_texture_coordinates() {
+    // The textured material kept spare (no triangle names it) beside an untextured one, and
+    // no texture coordinates: a file with a material it does not use.
+    let mut spare = triangle();
+    spare.mesh.uv[0].clear();
+    spare.materials.push(Material::default());
+    spare.mesh.material = vec![1];
+    spare.validate().unwrap();
+    spare.mesh.material = vec![0];
+    let e = spare.validate().unwrap_err().to_string();
+    assert!(e.contains("reads texture coordinates 0"), "{e}");
+}
+
+#[test]
 fn the_texture_transform_scales_then_rotates_then_offsets() {
     let t = TextureTransform {
         offset: [0.5, 0.0],

@@ -18,6 +18,9 @@ pub enum GltfError {
     /// A file given to read is not a usable glTF binary.
     #[error("invalid glTF file: {0}")]
     Invalid(String),
+    /// A well-formed file whose scene holds no triangle to mesh.
+    #[error("the scene has no triangles (it has no mesh, or only points and lines)")]
+    NoTriangles,
     /// meshoptimizer refused a stream.
     #[error("meshopt: {0}")]
     Meshopt(String),

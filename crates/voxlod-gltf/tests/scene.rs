@@ -520,6 +520,23 @@ fn broken_files_are_errors_that_say_what_is_wrong() {
 }
 
 #[test]
+fn a_scene_without_triangles_says_so() {
+    // No mesh at all (and so no buffers, which glTF leaves out), and points only.
+    let empty = json!({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}], "scene": 0});
+    let (mut points, bin) = scene(Storage::Float, true);
+    for mesh in points["meshes"].as_array_mut().unwrap() {
+        for primitive in mesh["primitives"].as_array_mut().unwrap() {
+            primitive["mode"] = json!(0);
+        }
+    }
+    let files = [serde_json::to_vec(&empty).unwrap(), glb(&points, bin)];
+    for bytes in files {
+        let e = parse_scene(&bytes, None).unwrap_err();
+        assert!(matches!(e, voxlod_gltf::GltfError::NoTriangles), "{e}");
+    }
+}
+
+#[test]
 fn mutated_files_never_panic() {
     let files = [
         meshopt_scene(),

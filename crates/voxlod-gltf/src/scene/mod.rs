@@ -94,7 +94,7 @@ pub fn parse_scene(bytes: &[u8], base: Option<&Path>) -> Result<SceneRead, GltfE
     let images = materials::images(&document, &doc, &buffers, base)?;
     let flat = nodes::flatten(&document, &doc, &buffers, &mut warnings)?;
     if flat.mesh.triangles.is_empty() {
-        return Err(invalid("the scene has no triangles".into()));
+        return Err(GltfError::NoTriangles);
     }
     let origin = flat.origin;
     if origin != DVec3::ZERO {
@@ -139,6 +139,9 @@ pub(crate) fn typed_document(doc: &Value) -> Result<gltf::Document, GltfError> {
     let mut typed = doc.clone();
     if let Some(o) = typed.as_object_mut() {
         o.remove("extensionsRequired");
+        // The readers index the document by name, which leaves `null` for an array the file
+        // does not have (a scene without buffers); glTF leaves such arrays out.
+        o.retain(|_, v| !v.is_null());
     }
     let root: gltf::json::Root = serde_json::from_value(typed)
         .map_err(|e| GltfError::Invalid(format!("not a glTF 2.0 document: {e}")))?;
