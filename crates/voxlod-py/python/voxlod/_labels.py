@@ -330,29 +330,30 @@ def quiet_empty_levels() -> Iterator[None]:
 def warn_empty_levels(meshes: List[LabelMesh]) -> None:
     """Warns of the labels with levels the filter emptied (thinner than those levels'
     filter)."""
-    import warnings
-
     empty = [m.label for m in meshes if any(len(level.faces) == 0 for level in m.levels)]
-    if empty:
-        listed = ", ".join(str(v) for v in empty[:10]) + (", …" if len(empty) > 10 else "")
-        warnings.warn(f"{len(empty)} label(s) have no surface at some levels (thinner than those "
-                      f"levels' filter): those levels are empty (labels {listed})", stacklevel=3)
+    _warn_labels(empty, "no surface at some levels (thinner than those levels' filter): those "
+                        "levels are empty")
 
 
 def warn_vanished(report: dict) -> None:
     """Warns of the labels a layer has no mesh for (no surface at level 0) and of those whose
     coarser levels hold a finer level's surface (thinner than those levels' filter)."""
+    empty = [label for label, lods in report["labels"] if not lods]
+    _warn_labels(empty, "no surface even at level 0 (thinner than the finest filter): the layer "
+                        "has no mesh for them")
+    _warn_labels(report["carried"], "no surface at their coarser levels of detail (thinner than "
+                                    "those levels' filter): each such level holds the finer "
+                                    "level's surface")
+
+
+def _warn_labels(labels: List[int], what: str) -> None:
+    """One warning that ``labels`` (if any) have ``what``, the first ten named, at the caller's
+    caller's call site."""
     import warnings
 
-    empty = [label for label, lods in report["labels"] if not lods]
-    for labels, what in ((empty, "no surface even at level 0 (thinner than the finest filter): "
-                                 "the layer has no mesh for them"),
-                         (report["carried"], "no surface at their coarser levels of detail "
-                                             "(thinner than those levels' filter): each such "
-                                             "level holds the finer level's surface")):
-        if labels:
-            listed = ", ".join(str(v) for v in labels[:10]) + (", …" if len(labels) > 10 else "")
-            warnings.warn(f"{len(labels)} label(s) have {what} (labels {listed})", stacklevel=3)
+    if labels:
+        listed = ", ".join(str(v) for v in labels[:10]) + (", …" if len(labels) > 10 else "")
+        warnings.warn(f"{len(labels)} label(s) have {what} (labels {listed})", stacklevel=4)
 
 
 def layer_levels(mesh: LabelMesh, levels: Optional[int]) -> List[Tuple[np.ndarray, np.ndarray]]:
