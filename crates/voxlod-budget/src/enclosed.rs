@@ -53,7 +53,7 @@ pub const LEAST_FILLED: f64 = 1.0;
 /// each, the input's density at [`RESOLUTION`] raised to 1 over the fill or its lining, whose
 /// samples at 0.5 or above (trilinearly interpolated, `voxlod_sampling::ThresholdSolid`) are the
 /// solid; none where the hollows are too small to count, and the filled one alone where the
-/// lining is the whole fill.
+/// lining leaves less than a ball of the closing's radius unlined.
 pub fn hollow_volumes(
     input: &Input,
     solid: &MeshSolid,
@@ -73,12 +73,23 @@ pub fn hollow_volumes(
         raised
     };
     let mut volumes = vec![(Fill::Hollows, raised(&closing.filled))];
-    // Where the lining is the whole fill (hollows no deeper than the closing's radius), the
-    // lined solid is the filled one: it would double the search for the same candidates.
-    if closing.lining.len() < closing.filled.len() {
+    // Where the deep part of the hollows (the fill beyond the lining) holds less than a ball of
+    // the closing's radius, the lined solid differs from the filled one by a bubble a few
+    // samples across at most, which the grids the lining serves filter away or the collapse
+    // drops as a small part: it would double the search for the same distances (many-parts
+    // of the corpus: 76 deep samples of 584 438 filled, every lined candidate measured as its
+    // filled twin; a CT head's bone surface: 230 872 of 796 019, its lined skull a level).
+    let radius = closing_radius(RESOLUTION) as f64;
+    let ball = 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
+    if ((closing.filled.len() - closing.lining.len()) as f64) >= ball {
         volumes.push((Fill::HollowLining, raised(&closing.lining)));
     }
     Ok(volumes)
+}
+
+/// The closing's radius in samples of a grid of `resolution` ([`CLOSING_FRACTION`]).
+fn closing_radius(resolution: usize) -> usize {
+    (CLOSING_FRACTION * resolution as f64).round() as usize
 }
 
 /// The input's density at `resolution` and what the closing of its samples at `iso` or above
@@ -94,8 +105,7 @@ fn closed_grid(
     let options = DensityOptions::new(Filter::Hypercone, voxel);
     let (volume, _) = filtered_density(solid, &grid, &options)?;
     let inside: Vec<bool> = volume.as_slice().iter().map(|&d| d >= iso).collect();
-    let radius = (CLOSING_FRACTION * resolution as f64).round() as usize;
-    let closing = closing_fill(&inside, volume.grid.dims, radius)?;
+    let closing = closing_fill(&inside, volume.grid.dims, closing_radius(resolution))?;
     let material = inside.iter().filter(|&&b| b).count();
     let enough = material > 0 && closing.filled.len() as f64 >= LEAST_FILLED * material as f64;
     Ok(enough.then_some((volume, closing)))
@@ -148,6 +158,26 @@ mod tests {
         marching_cubes(&density, &ContourOptions::geometry_only(0.5)).unwrap()
     }
 
+    /// A bar 2 × 0.3 × 0.3 with walls 0.015 thick around a sealed hollow 1.97 × 0.27 × 0.27:
+    /// the part of the hollow farther than the closing's radius (1/16 of 2) from a wall is a
+    /// line 0.02 across.
+    fn hollow_bar() -> TriangleMesh {
+        use voxlod_core::glam::Vec3;
+        let cuboid = |half: Vec3, inward: bool| {
+            let mut m = voxlod_testkit::shapes::unit_cube();
+            m.positions
+                .iter_mut()
+                .for_each(|p| *p = (*p * 2.0 - 1.0) * half);
+            if inward {
+                m.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+            }
+            m
+        };
+        let mut bar = cuboid(Vec3::new(1.0, 0.15, 0.15), false);
+        voxlod_testkit::shapes::append(&mut bar, &cuboid(Vec3::new(0.985, 0.135, 0.135), true));
+        bar
+    }
+
     fn solid_bounds() -> voxlod_core::Bounds {
         use voxlod_core::glam::Vec3;
         voxlod_core::Bounds::from_points([Vec3::splat(-1.0), Vec3::splat(1.0)].iter())
@@ -189,6 +219,15 @@ mod tests {
         assert_eq!(found[0].0, Fill::Hollows);
         let slab = 2.0 * 2.0 * 0.2;
         assert!((found[0].1 - slab).abs() < 0.1 * slab, "{found:?}");
+    }
+
+    #[test]
+    fn a_hollow_whose_deep_part_is_under_a_ball_of_the_closings_radius_is_filled_only() {
+        let found = hollows(&hollow_bar());
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(found[0].0, Fill::Hollows);
+        let bar = 2.0 * 0.3 * 0.3;
+        assert!((found[0].1 - bar).abs() < 0.1 * bar, "{found:?}");
     }
 
     #[test]
