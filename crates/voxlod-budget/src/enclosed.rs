@@ -23,7 +23,7 @@
 //! fine grid.
 //!
 //! Cost: one density at [`FIRST_LOOK_RESOLUTION`] and, past its gate, one at [`RESOLUTION`]
-//! (O(N³) samples plus the lattice lines' crossings), the closings O(r N³), and two copies of
+//! (O(N³) samples plus the lattice lines' crossings), the closings O(N³), and two copies of
 //! the fine grid (16 MB each at 160³).
 
 use voxlod_core::Volume;

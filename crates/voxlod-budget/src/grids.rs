@@ -251,7 +251,7 @@ impl<'a> Grids<'a> {
 /// closed: a morphological closing by a ball of radius `gap / 2`, rounded to whole samples
 /// ([`closing_fill`]: dilated, what the outside cannot reach kept, eroded again), whose new
 /// samples are raised to 1. A gap under a sample's width is left to the filter. Cost:
-/// O(r N³) for radius r in samples.
+/// O(N³) for N³ samples.
 fn close_gaps(density: &mut voxlod_core::Volume, gap: f64) -> Result<(), BudgetError> {
     let radius = (0.5 * gap / density.grid.spacing[0]).round() as usize;
     if radius == 0 {

@@ -40,9 +40,9 @@
 //! no closer level (BENCHMARKS.md).
 //!
 //! Cost: one voxelization of the input at [`FIRST_LOOK_RESOLUTION`] and, past its gate, one at
-//! [`RESOLUTION`], O(F + N³) with N³ samples; the closings, O(r N³); two marching cubes,
+//! [`RESOLUTION`], O(F + N³) with N³ samples; the closings, O(N³); two marching cubes,
 //! O(N³); and two more searches per budget. Memory: the density (4 bytes a sample) and
-//! four masks (1 byte a sample each).
+//! four masks (1 byte a sample each) and a 16-bit distance a sample.
 
 use voxlod_contouring::{marching_cubes, ContourOptions};
 use voxlod_core::cavities::FilledCavities;
