@@ -169,7 +169,7 @@ pub fn bake_on(
     options.images.check()?;
     check_atlas_of(&atlas, level)?;
     let looks = SourceLooks::new(source)?;
-    let cast = Cast::new(&source.mesh.geometry())?;
+    let cast = Cast::new(&source.mesh.geometry())?.with_two_sided(|t| looks.double_sided(t));
     let tangents = mikktspace(
         &atlas.positions,
         &atlas.normals,

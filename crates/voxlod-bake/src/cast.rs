@@ -1,7 +1,8 @@
 //! Where a proxy's surface point finds the source: a ray cast from the point along its normal
 //! both ways, through an obvhs BVH over the source's triangles, the nearest hit within the
 //! cage distance on a triangle that faces the same side as the proxy (a back face seen from
-//! the proxy is the inside of another part, or the far side of a thin one) and shows
+//! the proxy is the inside of another part, or the far side of a thin one), or that a viewer
+//! sees from both sides (a double-sided material, glTF §3.9.4: a leaf card), and shows
 //! something there (a caller's test: an alpha-masked texel below its cutoff is passed, the
 //! any-hit test of alpha-tested ray tracing); where no ray hits, the source's nearest point
 //! (`voxlod_metrics::MeshDistance`), on a triangle facing the proxy's side where one is nearly
@@ -51,6 +52,9 @@ pub struct Cast {
     slot_triangle: Vec<u32>,
     /// The slot of each source triangle.
     triangle_slot: Vec<u32>,
+    /// Whether each slot is seen from both sides (a double-sided material, glTF §3.9.4):
+    /// it counts facing either way.
+    slot_two_sided: Vec<bool>,
     nearest: MeshDistance,
 }
 
@@ -94,14 +98,31 @@ impl Cast {
         for (slot, &t) in slot_triangle.iter().enumerate() {
             triangle_slot[t as usize] = slot as u32;
         }
+        let slot_two_sided = vec![false; slots.len()];
         Ok(Cast {
             bvh,
             slots,
             slot_normal,
             slot_triangle,
             triangle_slot,
+            slot_two_sided,
             nearest,
         })
+    }
+
+    /// The same, with the source triangles for which `two_sided(triangle)` holds seen from
+    /// both sides: a viewer sees a double-sided leaf card from its back too, so a ray from the
+    /// proxy that meets its back has found it.
+    pub fn with_two_sided(mut self, two_sided: impl Fn(usize) -> bool) -> Cast {
+        self.slot_two_sided = (self.slot_triangle.iter())
+            .map(|&t| two_sided(t as usize))
+            .collect();
+        self
+    }
+
+    /// Whether `slot` faces along `facing`, or is seen from both sides.
+    fn faces(&self, slot: usize, facing: Vec3A) -> bool {
+        self.slot_two_sided[slot] || self.slot_normal[slot].dot(facing) > 0.0
     }
 
     /// The source point for the proxy point `p` with unit normal `n`: the nearest hit of the
@@ -151,7 +172,7 @@ impl Cast {
         self.bvh.aabb_traverse(query, |bvh, node| {
             let node = &bvh.nodes[node as usize];
             for slot in node.first_index as usize..(node.first_index + node.prim_count) as usize {
-                if self.slot_normal[slot].dot(facing) <= 0.0 {
+                if !self.faces(slot, facing) {
                     continue;
                 }
                 let tri = &self.slots[slot];
@@ -182,7 +203,7 @@ impl Cast {
         let facing = Vec3A::from(facing);
         let mut hit = RayHit::none();
         let found = self.bvh.ray_traverse(ray, &mut hit, |ray, slot| {
-            if self.slot_normal[slot].dot(facing) <= 0.0 {
+            if !self.faces(slot, facing) {
                 return f32::INFINITY;
             }
             let t = self.slots[slot].intersect(ray);

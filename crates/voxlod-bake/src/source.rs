@@ -203,6 +203,11 @@ impl<'a> SourceLooks<'a> {
 }
 
 impl SourceLooks<'_> {
+    /// Whether triangle `t`'s material is double-sided (seen from its back too).
+    pub fn double_sided(&self, t: usize) -> bool {
+        self.asset.material_of(t).is_some_and(|m| m.double_sided)
+    }
+
     /// Whether the source shows nothing at the point with barycentric `weights` on triangle
     /// `t`: its material masks by alpha (glTF §3.9.4, `MASK`) and the base colour's alpha
     /// there, sampled at the point, is below the cutoff. Blended and opaque materials always

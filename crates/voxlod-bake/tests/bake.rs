@@ -595,6 +595,59 @@ fn rays_pass_the_clear_texels_of_a_masked_source() {
     assert!(left > 1000 && right > 1000, "{left} {right}");
 }
 
+/// A viewer sees a double-sided card from its back too, so a ray from the level meets it
+/// there: a level 0.01 below a red card (facing up, away from the level) and 0.03 above a
+/// blue square facing down, as the level does, bakes red where the card is double-sided and
+/// blue where it is single-sided (its back is the inside of a solid).
+#[test]
+fn rays_meet_a_double_sided_card_from_its_back() {
+    let colour = |double_sided: bool| -> [u8; 3] {
+        let red = Material {
+            base_color: [1.0, 0.0, 0.0, 1.0],
+            metallic: 0.0,
+            double_sided,
+            ..Material::default()
+        };
+        let blue = Material {
+            base_color: [0.0, 0.0, 1.0, 1.0],
+            metallic: 0.0,
+            ..Material::default()
+        };
+        let mut source = flat_source(Vec3::Z, red, Vec::new());
+        source.materials.push(blue);
+        let mut under = square(0, -0.04);
+        under.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+        let base = source.mesh.positions.len() as u32;
+        source.mesh.positions.extend(under.positions);
+        source.mesh.normals.extend([-Vec3::Z; 4]);
+        source.mesh.uv[0].extend([Vec2::ZERO; 4]);
+        for t in under.triangles {
+            source.mesh.triangles.push(t.map(|v| v + base));
+            source.mesh.material.push(1);
+        }
+        let mut level = square(2, -0.01);
+        level.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+        let options = BakeOptions {
+            cage: Some(0.2),
+            ..BakeOptions::for_texture(64)
+        };
+        let baked = bake(&source, &level, &options).unwrap();
+        assert_eq!(baked.report.texels_fallback, 0, "{:?}", baked.report);
+        let image = decoded(&baked, 0);
+        let inside: Vec<[u8; 3]> = (texel_points(&baked).iter().enumerate())
+            .filter(|(_, t)| matches!(t, Some((_, true, _, _))))
+            .map(|(i, _)| [0, 1, 2].map(|k| image.as_raw()[4 * i + k]))
+            .collect();
+        assert!(inside.len() > 500, "{}", inside.len());
+        assert!(inside.iter().all(|c| c == &inside[0]), "{:?}", &inside[..4]);
+        inside[0]
+    };
+    let two_sided = colour(true);
+    assert!(two_sided[0] > 200 && two_sided[2] < 40, "{two_sided:?}");
+    let one_sided = colour(false);
+    assert!(one_sided[2] > 200 && one_sided[0] < 40, "{one_sided:?}");
+}
+
 /// An atlas baked onto another level than its own is refused with a message, not baked.
 #[test]
 fn an_atlas_of_another_level_is_refused() {
