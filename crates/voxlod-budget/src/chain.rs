@@ -338,9 +338,12 @@ fn add_voxels(
     let closest = (searched.candidates.iter())
         .filter_map(|c| c.quick.map(|d| d.shape))
         .fold(f64::INFINITY, f64::min);
-    for (solid, sampled) in grids.solids().iter().enumerate() {
-        let at = (solid, closest);
-        let found = voxel_candidates(input, measure, grids, at, options, budget)?;
+    // The solids' searches side by side (each is a chain of grids, one after another).
+    let founds = (0..grids.solids().len())
+        .into_par_iter()
+        .map(|solid| voxel_candidates(input, measure, grids, (solid, closest), options, budget))
+        .collect::<Result<Vec<_>, BudgetError>>()?;
+    for (found, sampled) in founds.into_iter().zip(grids.solids()) {
         if found.vanished && sampled.fill == Fill::None {
             searched.notes.push(format!(
                 "the voxel level at resolution {} vanished (parts thinner than a voxel)",

@@ -26,8 +26,10 @@
 //! Cost: one or two samplings (the lattice lines' crossings with the input, O(N²) lines, and
 //! the density, O(N³)), one marching cubes pass for the three isodensities, a quick
 //! measurement per level where the input's collapse keeps the promises, and a checked quadric
-//! collapse per isodensity within reach.
+//! collapse per isodensity within reach (the isodensities' collapses, and a small grid's two
+//! neighbours, side by side on the cores; module `chain` runs the solids' searches so too).
 
+use rayon::prelude::*;
 use voxlod_contouring::triangle_estimate::resolution_for_triangles;
 use voxlod_fit::{snap_to_features, FeatureOptions};
 use voxlod_quadric::{simplify_dropping_parts, simplify_unchecked, PartsOptions, QuadricOptions};
@@ -182,9 +184,15 @@ pub fn voxel_candidates(
     // foretell (a finer one keeps more shape, a coarser one has fewer handles to stall on):
     // the neighbours on both sides too.
     if found.resolution <= SMALL && !found.vanished && coarsened == 0 {
-        for r in neighbours(found.resolution) {
-            add(&mut found, grids.levels(solid, r)?.to_vec(), r);
-        }
+        let beside: Vec<usize> = neighbours(found.resolution).collect();
+        let more = (beside.into_par_iter())
+            .map(|r| {
+                let mut more = VoxelFound::default();
+                add(&mut more, grids.levels(solid, r)?.to_vec(), r);
+                Ok(more.candidates)
+            })
+            .collect::<Result<Vec<_>, BudgetError>>()?;
+        found.candidates.extend(more.into_iter().flatten());
     }
     Ok(found)
 }
@@ -343,9 +351,17 @@ fn add_collapsed(
     max_error: Option<f64>,
 ) -> bool {
     let voxel = input.bounds.longest_extent() / resolution as f64;
+    // Each isodensity's collapse on a core of its own (a budget's search is often the last
+    // one running, and a collapse is one thread's work).
+    let collapses: Vec<(Vec<Candidate>, f32)> = (levels.into_par_iter())
+        .zip(isos_of(fill))
+        .map(|(mesh, &iso)| {
+            let made = collapsed(Method::Voxel, mesh, budget, voxel, max_error);
+            (made, iso)
+        })
+        .collect();
     let mut reached = false;
-    for (mesh, &iso) in levels.into_iter().zip(isos_of(fill)) {
-        let collapsed = collapsed(Method::Voxel, mesh, budget, voxel, max_error);
+    for (collapsed, iso) in collapses {
         reached |= collapsed
             .first()
             .is_some_and(|c| c.cut_vertices == 0 && within_budget(c.triangles(), budget));
