@@ -14,6 +14,7 @@
 //!
 //! Cost: the atlas's; then O(texels × log N) ray casts for N source triangles, on all cores.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -145,13 +146,68 @@ pub fn bake(
 /// The atlases of several levels, each made as [`bake`] makes it (`atlas(level,
 /// &options.atlas_options())`), side by side on all cores: xatlas packs one level's charts on
 /// one core, and the packing is most of an atlas's time. `None` where a level is not to be
-/// baked. Bake each with [`bake_on`].
+/// baked. Bake each with [`bake_on`], or make and bake them all with [`bake_levels`].
 pub fn atlases(
     levels: &[Option<(&TriangleMesh, &BakeOptions)>],
 ) -> Vec<Option<Result<Atlas, BakeError>>> {
     levels
         .par_iter()
         .map(|l| l.map(|(level, options)| atlas(level, &options.atlas_options())))
+        .collect()
+}
+
+/// A source made ready to bake from, once for any number of levels: its looks (decoded
+/// images, mipmaps) and its ray-cast structures (two BVHs over its triangles, the costly
+/// part: 0.65 s for a million triangles).
+pub struct BakeSource<'a> {
+    source: &'a Asset,
+    looks: SourceLooks<'a>,
+    cast: Cast,
+}
+
+impl<'a> BakeSource<'a> {
+    /// Prepares `source`; refuses what [`Cast::new`] and the looks refuse (an empty or
+    /// invalid mesh, a structure over the memory limit).
+    pub fn new(source: &'a Asset) -> Result<BakeSource<'a>, BakeError> {
+        let looks = SourceLooks::new(source)?;
+        let cast = Cast::new(&source.mesh.geometry())?.with_two_sided(|t| looks.double_sided(t));
+        Ok(BakeSource {
+            source,
+            looks,
+            cast,
+        })
+    }
+}
+
+/// Every level of `levels` (`None`: not baked) baked as [`bake`] bakes it, the source
+/// prepared once ([`BakeSource`]), each level's bake begun as soon as its atlas is made (the
+/// levels' atlases and bakes side by side on all cores: the largest level's atlas packs on one
+/// core while the smaller levels bake on the others). `baked(k)` is called after level k's
+/// bake; once it answers `false`, no bake begins, and the levels not baked are `None`.
+/// Memory: the bakes that overlap hold their textures at once.
+pub fn bake_levels(
+    source: &Asset,
+    levels: &[Option<(&TriangleMesh, &BakeOptions)>],
+    baked: &(dyn Fn(usize) -> bool + Sync),
+) -> Result<Vec<Option<Baked>>, BakeError> {
+    let prepared = BakeSource::new(source)?;
+    let stopped = AtomicBool::new(false);
+    (levels.par_iter().enumerate())
+        .map(|(k, l)| {
+            let Some((level, options)) = l else {
+                return Ok(None);
+            };
+            options.images.check()?;
+            let made = atlas(level, &options.atlas_options())?;
+            if stopped.load(Ordering::Relaxed) {
+                return Ok(None);
+            }
+            let done = bake_from(&prepared, level, made, options)?;
+            if !baked(k) {
+                stopped.store(true, Ordering::Relaxed);
+            }
+            Ok(Some(done))
+        })
         .collect()
 }
 
@@ -168,8 +224,26 @@ pub fn bake_on(
     let start = Instant::now();
     options.images.check()?;
     check_atlas_of(&atlas, level)?;
-    let looks = SourceLooks::new(source)?;
-    let cast = Cast::new(&source.mesh.geometry())?.with_two_sided(|t| looks.double_sided(t));
+    let mut baked = bake_from(&BakeSource::new(source)?, level, atlas, options)?;
+    baked.report.seconds = baked.report.atlas_seconds + start.elapsed().as_secs_f64();
+    Ok(baked)
+}
+
+/// [`bake_on`] from a source prepared already (once for several levels).
+pub fn bake_from(
+    prepared: &BakeSource,
+    level: &TriangleMesh,
+    atlas: Atlas,
+    options: &BakeOptions,
+) -> Result<Baked, BakeError> {
+    let start = Instant::now();
+    options.images.check()?;
+    check_atlas_of(&atlas, level)?;
+    let BakeSource {
+        source,
+        looks,
+        cast,
+    } = prepared;
     let tangents = mikktspace(
         &atlas.positions,
         &atlas.normals,

@@ -32,7 +32,9 @@ pub mod tangents;
 mod xatlas;
 
 pub use atlas::{atlas, Atlas, AtlasOptions, TextureSize};
-pub use bake::{atlases, bake, bake_on, BakeOptions, BakeReport, Baked};
+pub use bake::{
+    atlases, bake, bake_from, bake_levels, bake_on, BakeOptions, BakeReport, BakeSource, Baked,
+};
 pub use dilate::Dilation;
 pub use encode::ImageFormat;
 pub use error::BakeError;

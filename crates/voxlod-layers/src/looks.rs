@@ -105,7 +105,7 @@ pub fn has_base_colour(asset: &Asset) -> bool {
 /// Bakes `source`'s base colour onto every layer of `layered` (see the module
 /// documentation). Refuses a texture side outside 8..=16384, a radius that is not a positive
 /// number, and whatever the bake refuses (an invalid asset, a texture the memory limit cannot
-/// hold). Cost: one bake per layer with triangles.
+/// hold). Cost: the source prepared once, then one bake per layer with triangles.
 pub fn bake_layers(
     source: &Asset,
     layered: &LayeredMesh,
@@ -143,6 +143,7 @@ pub fn bake_layers(
     let each: Vec<_> = (layered.layers.iter())
         .map(|l| (!l.mesh.triangles.is_empty()).then_some((&l.mesh, &bake_options)))
         .collect();
+    let prepared = voxlod_bake::BakeSource::new(source)?;
     let atlases = voxlod_bake::atlases(&each);
     for (i, (layer, atlas)) in layered.layers.iter().zip(atlases).enumerate() {
         let Some(atlas) = atlas else {
@@ -150,7 +151,7 @@ pub fn bake_layers(
             out.looks.push(None);
             continue;
         };
-        let (baked, looks) = bake_layer(source, layer, atlas?, &bake_options)?;
+        let (baked, looks) = bake_layer(&prepared, layer, atlas?, &bake_options)?;
         let noted = looks.report.warnings.iter();
         out.warnings
             .extend(noted.map(|w| format!("layer {i}: {w}")));
@@ -163,12 +164,12 @@ pub fn bake_layers(
 /// One layer with triangles baked: the layer on the atlas's vertices (its triangles in its
 /// own order, its own positions) and its looks.
 fn bake_layer(
-    source: &Asset,
+    source: &voxlod_bake::BakeSource,
     layer: &Layer,
     atlas: Atlas,
     options: &BakeOptions,
 ) -> Result<(Layer, LayerLooks), LayersError> {
-    let baked = voxlod_bake::bake_on(source, &layer.mesh, atlas, options)?;
+    let baked = voxlod_bake::bake_from(source, &layer.mesh, atlas, options)?;
     let atlas = &baked.atlas;
     let triangles = in_level_order(&layer.mesh.triangles, &atlas.triangles, &atlas.level_vertex)?;
     let positions = atlas.positions.clone();

@@ -139,13 +139,12 @@ fn bake_transferred(asset: &Asset, made: &mut AssetLod) -> Result<(), PyramidErr
     let each: Vec<_> = (made.lod.levels.iter().zip(&options))
         .map(|(l, o)| o.as_ref().map(|o| (&l.mesh, o)))
         .collect();
-    let atlases = voxlod_bake::atlases(&each);
+    let baked = voxlod_bake::bake_levels(asset, &each, &|_| true)?;
     let levels = made.assets.iter_mut().zip(&made.lod.levels);
-    for (((level, lod_level), atlas), options) in levels.zip(atlases).zip(&options) {
-        let (Some(atlas), Some(options)) = (atlas, options) else {
+    for ((level, lod_level), baked) in levels.zip(baked) {
+        let Some(baked) = baked else {
             continue;
         };
-        let baked = voxlod_bake::bake_on(asset, &lod_level.mesh, atlas?, options)?;
         let k = lod_level.plan.level;
         let noted = baked.report.warnings.iter();
         made.lod

@@ -24,8 +24,10 @@
 use std::time::Instant;
 
 use serde::Serialize;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use voxlod_asset::Asset;
-use voxlod_bake::{atlases, bake_on, BakeOptions, BakeReport, TextureSize};
+
+use voxlod_bake::{bake_levels, BakeOptions, BakeReport, TextureSize};
 use voxlod_budget::{levels_with, BudgetLevel, InputReport, PortfolioOptions};
 use voxlod_fit::FitOptions;
 use voxlod_sampling::Filter;
@@ -188,11 +190,28 @@ pub fn proxy_with(
     let each: Vec<_> = (run.levels.iter().zip(&bake_options))
         .map(|(level, o)| Some((&level.mesh, o)))
         .collect();
-    let atlases = atlases(&each).into_iter().flatten();
+    // Bakes end in any order (the smaller levels' first): each reports its level and how many
+    // have ended; a stop asked after any of them cancels the proxy.
+    let (done, stopped) = (AtomicUsize::new(0), AtomicBool::new(false));
+    let after = |k: usize| {
+        let done = 1 + done.fetch_add(1, Ordering::Relaxed);
+        let event = Event::Step {
+            level: k,
+            what: "bake",
+        };
+        let go_on = progress(Progress { done, total, event }) == Control::Continue;
+        stopped.fetch_or(!go_on, Ordering::Relaxed);
+        go_on
+    };
+    let baked = bake_levels(scene, &each, &after)?;
+    if stopped.load(Ordering::Relaxed) {
+        return Err(PyramidError::Cancelled);
+    }
     let mut levels = Vec::with_capacity(run.levels.len());
-    let made = run.levels.into_iter().zip(atlases).zip(&bake_options);
-    for (i, ((level, atlas), bake_options)) in made.enumerate() {
-        let baked = bake_on(scene, &level.mesh, atlas?, bake_options)?;
+    for (level, baked) in run.levels.into_iter().zip(baked) {
+        let Some(baked) = baked else {
+            return Err(PyramidError::Cancelled);
+        };
         let budget = level.report.budget;
         let noted = baked.report.warnings.iter();
         warnings.extend(noted.map(|w| format!("{budget} triangles: {w}")));
@@ -201,17 +220,6 @@ pub fn proxy_with(
             report: level.report,
             bake: baked.report,
         });
-        let step = Progress {
-            done: i + 1,
-            total,
-            event: Event::Step {
-                level: i,
-                what: "bake",
-            },
-        };
-        if progress(step) == Control::Stop {
-            return Err(PyramidError::Cancelled);
-        }
     }
     Ok(Proxy {
         levels,
