@@ -222,8 +222,7 @@ pub fn bake_on(
     options: &BakeOptions,
 ) -> Result<Baked, BakeError> {
     let start = Instant::now();
-    options.images.check()?;
-    check_atlas_of(&atlas, level)?;
+    check_inputs(level, &atlas, options)?;
     let mut baked = bake_from(&BakeSource::new(source)?, level, atlas, options)?;
     baked.report.seconds = baked.report.atlas_seconds + start.elapsed().as_secs_f64();
     Ok(baked)
@@ -237,8 +236,7 @@ pub fn bake_from(
     options: &BakeOptions,
 ) -> Result<Baked, BakeError> {
     let start = Instant::now();
-    options.images.check()?;
-    check_atlas_of(&atlas, level)?;
+    check_inputs(level, &atlas, options)?;
     let BakeSource {
         source,
         looks,
@@ -317,6 +315,16 @@ pub fn bake_from(
         atlas,
         report,
     })
+}
+
+/// Refuses image options that cannot be encoded and an atlas of another level than `level`.
+fn check_inputs(
+    level: &TriangleMesh,
+    atlas: &Atlas,
+    options: &BakeOptions,
+) -> Result<(), BakeError> {
+    options.images.check()?;
+    check_atlas_of(atlas, level)
 }
 
 /// Refuses an atlas made from another level than `level`.
