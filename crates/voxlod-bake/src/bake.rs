@@ -20,7 +20,10 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use voxlod_asset::Asset;
+use voxlod_core::components::triangle_components;
 use voxlod_core::glam::{Vec2, Vec3, Vec4};
+use voxlod_core::manifold::on_open_edges;
+use voxlod_core::weld::weld_vertices;
 use voxlod_core::TriangleMesh;
 
 use crate::cast::Cast;
@@ -170,13 +173,38 @@ impl<'a> BakeSource<'a> {
     /// invalid mesh, a structure over the memory limit).
     pub fn new(source: &'a Asset) -> Result<BakeSource<'a>, BakeError> {
         let looks = SourceLooks::new(source)?;
-        let cast = Cast::new(&source.mesh.geometry())?.with_two_sided(|t| looks.double_sided(t));
+        let both = seen_from_both_sides(source, &looks);
+        let cast = Cast::new(&source.mesh.geometry())?.with_two_sided(|t| both[t]);
         Ok(BakeSource {
             source,
             looks,
             cast,
         })
     }
+}
+
+/// Which of `source`'s triangles a viewer sees from both sides: those of a double-sided
+/// material (glTF §3.9.4) in a part with an open edge once welded (a leaf card, a sheet). A
+/// closed part's back faces are its inside, never seen, though exporters often mark every
+/// material double-sided. Cost: a weld and a sort of the edges, O(F log F), only where some
+/// material is double-sided.
+fn seen_from_both_sides(source: &Asset, looks: &SourceLooks) -> Vec<bool> {
+    let count = source.mesh.triangles.len();
+    if !source.materials.iter().any(|m| m.double_sided) {
+        return vec![false; count];
+    }
+    let mut welded = source.mesh.geometry();
+    weld_vertices(&mut welded);
+    let open_edge = on_open_edges(&welded.triangles);
+    let mut both = vec![false; count];
+    for part in triangle_components(&welded) {
+        if part.iter().any(|&t| open_edge[t as usize]) {
+            for t in part.into_iter().map(|t| t as usize) {
+                both[t] = looks.double_sided(t);
+            }
+        }
+    }
+    both
 }
 
 /// Every level of `levels` (`None`: not baked) baked as [`bake`] bakes it, the source

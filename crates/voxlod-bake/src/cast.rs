@@ -2,7 +2,8 @@
 //! both ways, through an obvhs BVH over the source's triangles, the nearest hit within the
 //! cage distance on a triangle that faces the same side as the proxy (a back face seen from
 //! the proxy is the inside of another part, or the far side of a thin one), or that a viewer
-//! sees from both sides (a double-sided material, glTF §3.9.4: a leaf card), and shows
+//! sees from both sides (the caller says which: a leaf card of a double-sided material), and
+//! shows
 //! something there (a caller's test: an alpha-masked texel below its cutoff is passed, the
 //! any-hit test of alpha-tested ray tracing); where no ray hits, the source's nearest point
 //! (`voxlod_metrics::MeshDistance`), on a triangle facing the proxy's side where one is nearly

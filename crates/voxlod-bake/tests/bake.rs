@@ -648,6 +648,56 @@ fn rays_meet_a_double_sided_card_from_its_back() {
     assert!(one_sided[2] > 200 && one_sided[0] < 40, "{one_sided:?}");
 }
 
+/// A closed part's back faces are its inside, which no viewer sees, double-sided material or
+/// not: a level just under the top of a closed cube, facing down, bakes the cube's bottom (blue,
+/// 0.98 away), not the back of its top (red, 0.02 away), though both are double-sided.
+#[test]
+fn rays_pass_the_back_faces_of_a_closed_double_sided_part() {
+    let cube = voxlod_testkit::shapes::unit_cube();
+    let material = |rgb: [f32; 3]| Material {
+        base_color: [rgb[0], rgb[1], rgb[2], 1.0],
+        metallic: 0.0,
+        double_sided: true,
+        ..Material::default()
+    };
+    let top = |t: &[u32; 3]| t.iter().all(|&v| v >= 4);
+    let source = Asset {
+        mesh: AssetMesh {
+            uv: [vec![Vec2::ZERO; 8], Vec::new()],
+            normals: vec![Vec3::Z; 8],
+            material: cube.triangles.iter().map(|t| u32::from(!top(t))).collect(),
+            positions: cube.positions,
+            triangles: cube.triangles,
+            ..AssetMesh::default()
+        },
+        materials: vec![material([1.0, 0.0, 0.0]), material([0.0, 0.0, 1.0])],
+        images: Vec::new(),
+        parts: Vec::new(),
+    };
+    let mut level = square(2, 0.98);
+    level.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+    let options = BakeOptions {
+        cage: Some(2.0),
+        ..BakeOptions::for_texture(64)
+    };
+    let baked = bake(&source, &level, &options).unwrap();
+    let image = decoded(&baked, 0);
+    let inside: Vec<[u8; 3]> = (texel_points(&baked).iter().enumerate())
+        .filter(|(_, t)| matches!(t, Some((p, true, _, _)) if p.x > 0.1 && p.x < 0.9 && p.y > 0.1 && p.y < 0.9))
+        .map(|(i, _)| [0, 1, 2].map(|k| image.as_raw()[4 * i + k]))
+        .collect();
+    assert!(inside.len() > 300, "{}", inside.len());
+    // Only a ray that meets nothing takes the nearest point (the top's back, 0.02 away): a ray
+    // exactly through the bottom's diagonal can slip between its two triangles.
+    let odd = inside.iter().filter(|c| !(c[2] > 200 && c[0] < 40)).count();
+    let fallback = baked.report.texels_fallback;
+    assert!(
+        odd <= fallback && fallback * 100 < inside.len(),
+        "{odd}, {fallback} of {}",
+        inside.len()
+    );
+}
+
 /// An atlas baked onto another level than its own is refused with a message, not baked.
 #[test]
 fn an_atlas_of_another_level_is_refused() {
