@@ -3,12 +3,14 @@
 //! ([`crate::raster`]) stands for a point of the level, with its interpolated normal and
 //! tangent frame; a ray cast from that point along its triangle's normal finds the source
 //! ([`crate::cast`]; passing the texels an alpha-masked material shows nothing at, as a
-//! viewer's ray passes a leaf card's gaps to the leaves behind), whose looks there ([`crate::source`]), its textures averaged over the
-//! texel's footprint ([`crate::mipmaps`]), are written to the texel: base colour, the source's shading
-//! normal in the level's tangent frame, occlusion-roughness-metallic and emissive where the
-//! source has them, alpha where it has alpha. The charts' looks are then pushed into the
-//! gutters ([`crate::dilate`]) and the textures encoded as PNG, or JPEG on request
-//! ([`crate::output`]).
+//! viewer's ray passes a leaf card's gaps to the leaves behind, and meeting the open parts of a
+//! double-sided material from their back too), whose looks there ([`crate::source`]), its
+//! textures averaged over the texel's footprint ([`crate::mipmaps`]), are written to the texel:
+//! base colour, the source's shading normal in the level's tangent frame,
+//! occlusion-roughness-metallic and emissive where the source has them, alpha where it has
+//! alpha. The charts' looks are then pushed into the gutters ([`crate::dilate`]) and the
+//! textures encoded as PNG, or JPEG on request ([`crate::output`]). Several levels of one source
+//! share its preparation ([`BakeSource`], [`bake_levels`]).
 //!
 //! The same job as Simplygon's or InstaLOD's material casting, xNormal's bake to a cage.
 //!
