@@ -21,12 +21,11 @@
 //! O(N³) at the resolution a budget affords), then per level one atlas and one bake
 //! (O(texels · log F) for F scene triangles).
 
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 use serde::Serialize;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use voxlod_asset::Asset;
-
 use voxlod_bake::{bake_levels, BakeOptions, BakeReport, TextureSize};
 use voxlod_budget::{levels_with, BudgetLevel, InputReport, PortfolioOptions};
 use voxlod_fit::FitOptions;
