@@ -98,11 +98,6 @@ fn dilate(mask: Vec<bool>, dims: [usize; 3], steps: usize) -> Vec<bool> {
 /// 0; alone, the distance along `axis` (saturating at `u16::MAX`).
 fn sweep(distance: &mut [u16], dims: [usize; 3], axis: usize) {
     let [nx, ny, _] = dims;
-    let step = |to: &mut [u16], from: &[u16]| {
-        for (t, &f) in to.iter_mut().zip(from) {
-            *t = (*t).min(f.saturating_add(1));
-        }
-    };
     match axis {
         // Rows along x, each on its own.
         0 => distance.par_chunks_mut(nx).for_each(|row| {
@@ -115,7 +110,7 @@ fn sweep(distance: &mut [u16], dims: [usize; 3], axis: usize) {
         }),
         // Slabs of constant z, each on its own, row after row along y.
         1 => distance.par_chunks_mut(nx * ny).for_each(|slab| {
-            sweep_lines(slab, nx, &step);
+            sweep_lines(slab, nx, &lower);
         }),
         // Slab after slab along z, each slab's rows on all cores.
         _ => sweep_lines_parallel(distance, nx * ny, nx),
@@ -138,13 +133,16 @@ fn sweep_lines(data: &mut [u16], len: usize, step: &impl Fn(&mut [u16], &[u16]))
 /// [`sweep_lines`] for long lines (whole slabs), each line's `chunk`s on all cores.
 fn sweep_lines_parallel(data: &mut [u16], len: usize, chunk: usize) {
     let step = |to: &mut [u16], from: &[u16]| {
-        (to.par_chunks_mut(chunk).zip(from.par_chunks(chunk))).for_each(|(t, f)| {
-            for (t, &f) in t.iter_mut().zip(f) {
-                *t = (*t).min(f.saturating_add(1));
-            }
-        })
+        (to.par_chunks_mut(chunk).zip(from.par_chunks(chunk))).for_each(|(t, f)| lower(t, f))
     };
     sweep_lines(data, len, &step);
+}
+
+/// Each of `to` lowered to one more than the same place of `from`.
+fn lower(to: &mut [u16], from: &[u16]) {
+    for (t, &f) in to.iter_mut().zip(from) {
+        *t = (*t).min(f.saturating_add(1));
+    }
 }
 
 /// The 6-connected regions among `samples` (indices into a grid of `dims`).
