@@ -175,8 +175,9 @@ impl<'a> BakeSource<'a> {
     /// invalid mesh, a structure over the memory limit).
     pub fn new(source: &'a Asset) -> Result<BakeSource<'a>, BakeError> {
         let looks = SourceLooks::new(source)?;
-        let both = seen_from_both_sides(source, &looks);
-        let cast = Cast::new(&source.mesh.geometry())?.with_two_sided(|t| both[t]);
+        let geometry = source.mesh.geometry();
+        let both = seen_from_both_sides(source, &geometry, &looks);
+        let cast = Cast::new(&geometry)?.with_two_sided(|t| both[t]);
         Ok(BakeSource {
             source,
             looks,
@@ -185,17 +186,17 @@ impl<'a> BakeSource<'a> {
     }
 }
 
-/// Which of `source`'s triangles a viewer sees from both sides: those of a double-sided
+/// Which of `source`'s triangles (its `geometry`) a viewer sees from both sides: those of a double-sided
 /// material (glTF §3.9.4) in a part with an open edge once welded (a leaf card, a sheet). A
 /// closed part's back faces are its inside, never seen, though exporters often mark every
 /// material double-sided. Cost: a weld and a sort of the edges, O(F log F), only where some
 /// material is double-sided.
-fn seen_from_both_sides(source: &Asset, looks: &SourceLooks) -> Vec<bool> {
-    let count = source.mesh.triangles.len();
+fn seen_from_both_sides(source: &Asset, geometry: &TriangleMesh, looks: &SourceLooks) -> Vec<bool> {
+    let count = geometry.triangles.len();
     if !source.materials.iter().any(|m| m.double_sided) {
         return vec![false; count];
     }
-    let mut welded = source.mesh.geometry();
+    let mut welded = geometry.clone();
     weld_vertices(&mut welded);
     let open_edge = on_open_edges(&welded.triangles);
     let mut both = vec![false; count];
