@@ -12,7 +12,7 @@ use crate::collapse;
 use crate::grids::{with_solids, Grids};
 use crate::input::Input;
 use crate::measure::{Care, Measure};
-use crate::promises::{crosses_no_more, Promise, Promises};
+use crate::promises::{crosses_no_more, within_budget, Promise, Promises};
 use crate::report::{BudgetLevel, InputReport};
 use crate::restore::StandIns;
 use crate::select::{choose, measure_ahead, Chosen};
@@ -136,6 +136,8 @@ struct Searched {
     needs_voxels: bool,
     /// The plain collapse broke a promise.
     plain_broke: bool,
+    /// The plain collapse broke no promise but the crossings: its topology held.
+    plain_crossed: bool,
     seconds: f64,
     notes: Vec<String>,
 }
@@ -230,9 +232,11 @@ fn search(
     let promises = first_promises(input, options, budget);
     let mut candidates = Vec::new();
     let (mut close_enough, mut plain_broke, mut large_and_opened) = (false, false, false);
+    let mut plain_crossed = false;
     if let Some(mut plain) = made.plain {
         let broken = promises.broken_cheap(&plain);
         let keeps = broken.is_empty() && crosses_no_more(input, &mut plain);
+        plain_crossed = broken.is_empty() && !keeps;
         // A large budget whose collapse only came out cut open (or with more handles): its
         // voxel level would cost seconds and rarely keep the promises at this size either.
         let only_opened = broken
@@ -240,9 +244,7 @@ fn search(
             .all(|p| matches!(p, Promise::Closed | Promise::Genus));
         large_and_opened = !keeps && only_opened && HEADROOM * budget as f64 > LARGE_VOXEL as f64;
         if keeps {
-            plain.quick = measure.distance(&plain.mesh, Care::Quick, f64::INFINITY);
-            let voxel = voxel_at(input, budget);
-            close_enough = plain.quick.is_some_and(|d| d.shape <= VOXEL_WORTH * voxel);
+            close_enough = is_close_enough(input, measure, &mut plain, budget);
         }
         plain_broke = !keeps;
         candidates.push(plain);
@@ -253,6 +255,7 @@ fn search(
         candidates,
         needs_voxels: options.remesh || (!close_enough && !large_and_opened),
         plain_broke,
+        plain_crossed,
         seconds: made.seconds + start.elapsed().as_secs_f64(),
         notes: Vec::new(),
     })
@@ -276,25 +279,62 @@ fn share_near_searches(searched: &mut [Searched]) {
     }
 }
 
-/// The largest input whose checked collapse is tried: each of its passes also checks the
-/// topology and the crossings of the whole result, and on large inputs whose plain collapse
-/// pinched (a CT surface's hundreds of thin walls) every pass is refused, seconds for nothing.
+/// The largest input whose checked collapse is tried where its plain collapse broke its
+/// topology: each pass also checks the topology and the crossings of the whole result, and on
+/// large inputs whose plain collapse pinched (a CT surface's hundreds of thin walls) every pass
+/// is refused, seconds for nothing. Where the plain collapse only crossed, the locks around the
+/// few folds let the checked one through at any size.
 pub const KEPT_AT_MOST: usize = 250_000;
 
-/// The input's checked collapse ([`collapse::kept`]) for the largest budget, where its plain
-/// collapse broke a promise and the input has at most [`KEPT_AT_MOST`] triangles; the smaller
-/// budgets get it through the level above, collapsed further, which costs a fraction of a
-/// collapse of the whole input.
+/// Whether `c`, measured quickly here, is within [`VOXEL_WORTH`] of the voxel `budget` affords:
+/// no voxel level would come closer, so none is searched.
+fn is_close_enough(input: &Input, measure: &Measure, c: &mut Candidate, budget: usize) -> bool {
+    c.quick = measure.distance(&c.mesh, Care::Quick, f64::INFINITY);
+    let voxel = voxel_at(input, budget);
+    c.quick.is_some_and(|d| d.shape <= VOXEL_WORTH * voxel)
+}
+
+/// A checked collapse for every budget whose plain collapse broke a promise, made from the
+/// nearest larger budget's plain collapse that kept them all, or the checked collapse made for
+/// it (a fraction of the cost of collapsing the input), and from the input
+/// ([`collapse::kept`], within [`KEPT_AT_MOST`] triangles unless the plain one only crossed)
+/// where there is none or a plain one stalled it; while they reach their budgets. The voxel searches go on beside them: a voxel level that
+/// loses to a checked collapse at a large budget often collapses closer at the small ones (the
+/// chain's runner-up, [`crate::select::Chosen::runner_up`]).
 fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions) {
-    if !input.topology.is_manifold() || input.mesh.triangle_count() > KEPT_AT_MOST {
+    if !input.topology.is_manifold() {
         return;
     }
-    // Only the largest budget: the smaller ones collapse the level above, a fraction of the cost.
-    if let Some(s) = searched.first_mut().filter(|s| s.plain_broke) {
+    // The mesh to collapse next, and whether it is a checked collapse itself.
+    let mut from: Option<(TriangleMesh, bool)> = None;
+    for s in searched.iter_mut() {
+        if !s.plain_broke {
+            let plain = s.candidates.iter().find(|c| c.method == Method::Collapse);
+            from = plain.map(|c| (c.mesh.clone(), false)).or(from);
+            continue;
+        }
         let start = Instant::now();
-        s.candidates
-            .extend(collapse::kept(input, s.budget, options.max_error));
+        let reached = |c: &Candidate| within_budget(c.triangles(), s.budget);
+        let mut made: Vec<Candidate> = (from.as_ref())
+            .and_then(|(mesh, _)| collapse::kept_from(mesh, s.budget, input, options.max_error))
+            .into_iter()
+            .collect();
+        // From the input where there is nothing to start from, or the plain collapse it started
+        // from stalled it (a checked collapse from the input would only repeat a checked one).
+        let allowed = input.mesh.triangle_count() <= KEPT_AT_MOST || s.plain_crossed;
+        let repeats = from.as_ref().is_some_and(|(_, checked)| *checked);
+        if allowed && !repeats && !made.iter().any(reached) {
+            made.extend(collapse::kept(input, s.budget, options.max_error));
+        }
+        from = made
+            .iter()
+            .find(|c| reached(c))
+            .map(|c| (c.mesh.clone(), true));
+        s.candidates.extend(made);
         s.seconds += start.elapsed().as_secs_f64();
+        if from.is_none() {
+            return;
+        }
     }
 }
 
@@ -376,6 +416,7 @@ fn choose_down(
 ) -> Result<(Vec<Level>, Vec<String>), BudgetError> {
     let mut levels: Vec<Level> = Vec::new();
     let mut warnings = Vec::new();
+    let mut runner_up: Option<Candidate> = None;
     for mut s in searched {
         let start = Instant::now();
         let mut promises = first_promises(input, options, s.budget);
@@ -390,14 +431,16 @@ fn choose_down(
                 c.fitted = above.report.fitted_to_input;
             }
             s.candidates.extend(c);
+            s.candidates
+                .extend(runner_up.take().map_or_else(Vec::new, |r| {
+                    collapsed_runner_up(r, s.budget, cell, options.max_error)
+                }));
         }
         let fit = options.fit.as_ref();
-        let chosen =
-            choose(s.candidates, &promises, input, measure, fit, stand_ins).ok_or_else(|| {
-                BudgetError::NoLevel {
-                    budget: s.budget,
-                    why: s.notes.join("; "),
-                }
+        let mut chosen = choose(s.candidates, &promises, input, measure, fit, stand_ins)
+            .ok_or_else(|| BudgetError::NoLevel {
+                budget: s.budget,
+                why: s.notes.join("; "),
             })?;
         if promises.budget < s.budget {
             warnings.push(format!(
@@ -405,12 +448,29 @@ fn choose_down(
                 s.budget, promises.budget
             ));
         }
+        runner_up = chosen.runner_up.take();
         let from = levels.last().map(|l| l.report.budget);
         let seconds = s.seconds + start.elapsed().as_secs_f64();
         let level = level_of(chosen, input, s.budget, from, seconds, &mut warnings);
         levels.push(level);
     }
     Ok((levels, warnings))
+}
+
+/// The runner-up of the budget above ([`crate::select::Chosen::runner_up`]) collapsed to
+/// `budget` as the level above is, keeping its lineage (its resolution, isodensity, fit).
+fn collapsed_runner_up(
+    r: Candidate,
+    budget: usize,
+    cell: f64,
+    max_error: Option<f64>,
+) -> Vec<Candidate> {
+    let (resolution, iso, fitted) = (r.resolution, r.iso, r.fitted);
+    let mut c = crate::voxel::collapsed(Method::Above, r.mesh, budget, cell, max_error);
+    for c in c.iter_mut() {
+        (c.resolution, c.iso, c.fitted) = (resolution, iso, fitted);
+    }
+    c
 }
 
 /// The promises of `budget` before the chain adds the level above's cap. A budget above the
@@ -486,5 +546,58 @@ fn level_of(
         mesh: c.mesh,
         topology: c.topology,
         report,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashSet;
+    use voxlod_testkit::shapes::icosphere;
+
+    fn searched(budget: usize, candidates: Vec<Candidate>, broke: bool) -> Searched {
+        Searched {
+            budget,
+            candidates,
+            needs_voxels: false,
+            plain_broke: broke,
+            plain_crossed: broke,
+            seconds: 0.0,
+            notes: Vec::new(),
+        }
+    }
+
+    fn positions(mesh: &TriangleMesh) -> HashSet<[u32; 3]> {
+        (mesh.positions.iter())
+            .map(|p| p.to_array().map(f32::to_bits))
+            .collect()
+    }
+
+    #[test]
+    fn a_budget_whose_collapse_broke_a_promise_gets_a_checked_collapse_of_the_larger_ones() {
+        let input = Input::prepare(&icosphere(5)).unwrap();
+        let options = PortfolioOptions::default();
+        let plain = collapse::plain(&input, 2_000, None).unwrap();
+        let plain_positions = positions(&plain.mesh);
+        // The first budget's plain collapse kept the promises; the next two (taken to have
+        // broken one) get checked collapses, the first made of that plain collapse (its
+        // vertices are some of its vertices: a collapse moves none), the next of the first.
+        let mut run = vec![
+            searched(2_000, vec![plain], false),
+            searched(500, Vec::new(), true),
+            searched(100, Vec::new(), true),
+        ];
+        add_kept(&mut run, &input, &options);
+        assert_eq!(run[0].candidates.len(), 1);
+        let [kept_500, kept_100] = [&run[1], &run[2]].map(|s| {
+            assert_eq!(s.candidates.len(), 1);
+            let c = &s.candidates[0];
+            assert_eq!(c.method, Method::CollapseKept);
+            assert!(within_budget(c.triangles(), s.budget), "{}", c.triangles());
+            assert!(c.topology.is_closed_manifold() && c.topology.genus == Some(0));
+            positions(&c.mesh)
+        });
+        assert!(kept_500.is_subset(&plain_positions));
+        assert!(kept_100.is_subset(&kept_500));
     }
 }

@@ -14,7 +14,7 @@ use voxlod_contouring::clean_mesh::without_zero_area;
 
 /// meshoptimizer passes the checked collapse may make (each also checks the topology and the
 /// crossings of its result): enough for the locks around a few pinches.
-pub const KEPT_ATTEMPTS: usize = 4;
+pub const KEPT_ATTEMPTS: usize = 12;
 
 /// The input collapsed towards `budget` by meshoptimizer's `simplify`, border free, within
 /// `max_error` (mesh units) of its own estimate. A budget at or above the input's triangles
@@ -105,6 +105,26 @@ pub fn kept(input: &Input, budget: usize, max_error: Option<f64>) -> Option<Cand
         ..QuadricOptions::budget(max_error.unwrap_or(f64::INFINITY))
     };
     let done = simplify_to_budget(&input.mesh, budget, &options).ok()?;
+    let mesh = without_zero_area(done.mesh, input.cell());
+    Some(Candidate::new(Method::CollapseKept, mesh))
+}
+
+/// `level` (a checked collapse of the input, of its topology) collapsed further towards
+/// `budget` as [`kept`] collapses the input: a fraction of the cost of collapsing the input.
+pub fn kept_from(
+    level: &TriangleMesh,
+    budget: usize,
+    input: &Input,
+    max_error: Option<f64>,
+) -> Option<Candidate> {
+    if budget >= level.triangle_count() {
+        return None;
+    }
+    let options = QuadricOptions {
+        max_attempts: KEPT_ATTEMPTS,
+        ..QuadricOptions::budget(max_error.unwrap_or(f64::INFINITY))
+    };
+    let done = simplify_to_budget(level, budget, &options).ok()?;
     let mesh = without_zero_area(done.mesh, input.cell());
     Some(Candidate::new(Method::CollapseKept, mesh))
 }

@@ -18,7 +18,10 @@
 //!   back to the input's surface (crate `voxlod-fit`); for a surface that is not closed, a
 //!   **shell** around it ([`Method::Shell`], module `shell`), which follows sheets the solid's
 //!   filter would erase;
-//! - **the level above** ([`Method::Above`]): the next larger budget's level collapsed further;
+//! - **the level above** ([`Method::Above`]): the next larger budget's level collapsed further,
+//!   and beside it that budget's runner-up, the closest candidate of the other lineage (a voxel
+//!   level where the level is a collapse of the input, or the reverse: [`select::Chosen`]), so
+//!   that a lineage that lost at a large budget but collapses closer is there at the small ones;
 //! - **parts** (module `restore`): where a candidate lost small parts of the input, a twin with
 //!   them back beside it as tetrahedra; for a many-part input whose parts the budget cannot all
 //!   carry, the input's collapse with its small parts stood in for by tetrahedra.
@@ -40,10 +43,11 @@
 //! plain collapse keeps every promise and is closer than half the voxel it affords
 //! ([`VOXEL_WORTH`]) is not searched with voxels at all; candidates are ranked by a quick
 //! measurement that stops as soon as one is clearly farther, and only the closest few are
-//! measured carefully (near ties again with twice the samples). Large inputs skip what
-//! costs seconds and rarely wins there: the checked collapse above [`KEPT_AT_MOST`] triangles,
-//! voxel levels above [`LARGE_VOXEL`] triangles where the input's collapse only came out cut
-//! open.
+//! measured carefully (near ties again with twice the samples); a budget's checked collapse
+//! starts from a larger budget's collapse where one kept the promises. Large inputs skip what
+//! costs seconds and rarely wins there: the checked collapse above [`KEPT_AT_MOST`] triangles
+//! where the plain one broke the topology (not where it only crossed), voxel levels above
+//! [`LARGE_VOXEL`] triangles where the input's collapse only came out cut open.
 //!
 //! ```
 //! use voxlod_budget::{levels, PortfolioOptions, Method};

@@ -50,6 +50,10 @@ pub struct Chosen {
     pub ruled_out: Vec<RuledOut>,
     /// What the level had to give up, where no candidate kept every promise.
     pub warning: Option<String>,
+    /// The closest candidate that keeps the cheap promises and is not known to cross, of the
+    /// other lineage than the level (made of a voxel level where the level is a collapse of the
+    /// input, or the reverse), for the chain to collapse beside the level.
+    pub runner_up: Option<Candidate>,
 }
 
 /// The portfolio's choice for `promises` among `candidates` (module docs).
@@ -114,12 +118,76 @@ pub fn choose(
         .zip(&broken)
         .map(|(c, b)| CandidateReport::of(c, b))
         .collect();
+    measure_other_lineage(&mut candidates, &broken, index, measure);
+    let runner = runner_up(&candidates, &broken, index);
+    let (level, runner_up) = take_two(candidates, index, runner);
     Some(Chosen {
-        level: candidates.swap_remove(index),
+        level,
         candidates: reports,
         ruled_out,
         warning,
+        runner_up,
     })
+}
+
+/// The closest candidate (by quick shape distance) that keeps the cheap promises and is not
+/// known to cross, of the other lineage than the level at `index`: made of a voxel level where
+/// the level is a collapse of the input, or the reverse. The chain collapses it beside the
+/// level for the next budget, so that a lineage that loses at one budget but collapses better
+/// (a voxel level, smoother than the scan it stands for, where the scan's own collapse must
+/// lock its folds) is still there at the smaller ones. Cost: O(candidates).
+fn runner_up(candidates: &[Candidate], broken: &[Vec<Promise>], index: usize) -> Option<usize> {
+    let voxel = |c: &Candidate| c.resolution.is_some();
+    let lineage = voxel(&candidates[index]);
+    (0..candidates.len())
+        .filter(|&i| i != index && broken[i].is_empty() && candidates[i].quick.is_some())
+        .filter(|&i| voxel(&candidates[i]) != lineage && candidates[i].crossings.unwrap_or(0) == 0)
+        .min_by(|&a, &b| quick_h(&candidates[a]).total_cmp(&quick_h(&candidates[b])))
+}
+
+/// Where every candidate of the other lineage than the level at `index` (see [`runner_up`])
+/// that keeps the cheap promises was rejected early, those measured quickly again, each
+/// rejected early against the closest of them only, so that the chain has a runner-up.
+/// Cost: a quick measurement per such candidate, often cut short.
+fn measure_other_lineage(
+    candidates: &mut [Candidate],
+    broken: &[Vec<Promise>],
+    index: usize,
+    measure: &Measure,
+) {
+    let lineage = candidates[index].resolution.is_some();
+    let other: Vec<usize> = (0..candidates.len())
+        .filter(|&i| broken[i].is_empty() && candidates[i].resolution.is_some() != lineage)
+        .collect();
+    if other.iter().any(|&i| candidates[i].quick.is_some()) {
+        return;
+    }
+    let mut best = f64::INFINITY;
+    for i in other {
+        let c = &mut candidates[i];
+        c.quick = measure.distance(&c.mesh, Care::Quick, REJECT_FACTOR * best);
+        best = best.min(quick_h(c));
+    }
+}
+
+/// The candidates at `level` and `other` taken out of `candidates`.
+fn take_two(
+    mut candidates: Vec<Candidate>,
+    level: usize,
+    other: Option<usize>,
+) -> (Candidate, Option<Candidate>) {
+    match other {
+        // The larger index first, so that the other does not move.
+        Some(o) if o > level => {
+            let runner = candidates.swap_remove(o);
+            (candidates.swap_remove(level), Some(runner))
+        }
+        Some(o) => {
+            let level = candidates.swap_remove(level);
+            (level, Some(candidates.swap_remove(o)))
+        }
+        None => (candidates.swap_remove(level), None),
+    }
 }
 
 /// Step 2's quick measurements made ahead, before the chain's choice: of `candidates` that keep
@@ -411,4 +479,48 @@ fn careful_d(c: &Candidate) -> Distance {
         shape: f64::INFINITY,
         mean: f64::INFINITY,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use voxlod_testkit::shapes::icosphere;
+
+    /// A candidate of `method` (of a voxel level where `resolution` is given) measured quickly
+    /// at `shape`.
+    fn measured(method: Method, resolution: Option<usize>, shape: f64) -> Candidate {
+        let mut c = Candidate::new(method, icosphere(1));
+        c.resolution = resolution;
+        c.quick = Some(Distance {
+            hausdorff: shape,
+            shape,
+            mean: shape / 4.0,
+        });
+        c
+    }
+
+    #[test]
+    fn the_runner_up_is_the_closest_of_the_other_lineage_that_keeps_the_promises() {
+        let mut candidates = vec![
+            measured(Method::CollapseKept, None, 0.1),
+            measured(Method::Collapse, None, 0.2),
+            measured(Method::Voxel, Some(40), 0.9),
+            measured(Method::Voxel, Some(40), 0.5),
+            measured(Method::Voxel, Some(80), 0.3),
+            measured(Method::Above, Some(80), 0.4),
+        ];
+        let mut broken = vec![Vec::new(); candidates.len()];
+        // The closest voxel level crosses itself, the next breaks a cheap promise.
+        candidates[4].crossings = Some(2);
+        broken[5].push(Promise::Closed);
+        assert_eq!(runner_up(&candidates, &broken, 0), Some(3));
+        // Where the level is a voxel level, the runner-up is the closest collapse.
+        assert_eq!(runner_up(&candidates, &broken, 3), Some(0));
+        // None of the other lineage left: no runner-up.
+        assert_eq!(runner_up(&candidates[..2], &broken[..2], 0), None);
+
+        let (level, runner) = take_two(candidates, 0, Some(3));
+        assert_eq!(level.method, Method::CollapseKept);
+        assert_eq!(runner.map(|r| quick_h(&r)), Some(0.5));
+    }
 }

@@ -127,6 +127,36 @@ fn ascii_ply_with_polygons_doubles_and_other_elements() {
 }
 
 #[test]
+fn ply_triangle_strips_become_triangles_wound_alike() {
+    // Two strips in one list, as the Stanford tools write them: 0 1 2 3 is a unit square
+    // (two triangles, the second's winding alternated), -1 ends it, 2 3 4 adds a half square.
+    let dir = tempfile::tempdir().unwrap();
+    let text = "ply\nformat ascii 1.0\nelement vertex 5\n\
+        property float x\nproperty float y\nproperty float z\n\
+        element tristrips 1\nproperty list int int vertex_indices\nend_header\n\
+        0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 2 0\n\
+        8 0 1 2 3 -1 2 3 4\n";
+    let path = write(dir.path(), "strips.ply", text.as_bytes());
+    let m = read_mesh(&path).unwrap().mesh;
+    assert_eq!(m.triangles, vec![[0, 1, 2], [2, 1, 3], [2, 3, 4]]);
+    for [a, b, c] in m
+        .triangles
+        .iter()
+        .map(|t| t.map(|v| m.positions[v as usize]))
+    {
+        assert!((b - a).cross(c - a).z > 0.0, "every triangle faces +z");
+    }
+    assert!((m.area() - 1.5).abs() < 1e-6);
+
+    // A join (a repeated corner) makes no triangle; an index past the vertices names the strip.
+    std::fs::write(&path, text.replace("8 0 1 2 3 -1 2 3 4", "5 0 1 1 2 3")).unwrap();
+    assert_eq!(read_mesh(&path).unwrap().mesh.triangle_count(), 1);
+    std::fs::write(&path, text.replace("2 3 4\n", "2 3 9\n")).unwrap();
+    let err = assert_error(read_mesh(&path), IoErrorKind::Malformed, &path);
+    assert!(err.message.contains("triangle strip 0"), "{err}");
+}
+
+#[test]
 fn big_endian_binary_ply_with_short_indices() {
     let dir = tempfile::tempdir().unwrap();
     let mut bytes = b"ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\n\

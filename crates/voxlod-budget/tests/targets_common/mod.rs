@@ -79,6 +79,16 @@ impl Verdict {
     }
 }
 
+/// `ours` over `peer`, where a peer at distance 0 (a flat sheet's collapse) is matched only by
+/// 0 (ratio 1), not divided by.
+fn ratio(ours: f64, peer: f64) -> f64 {
+    match peer > 0.0 {
+        true => ours / peer,
+        false if ours <= peer => 1.0,
+        false => f64::INFINITY,
+    }
+}
+
 /// The verdict on `ours` at `budget` beside `simplify` and `sloppy`.
 pub fn verdict(
     budget: usize,
@@ -96,8 +106,8 @@ pub fn verdict(
         .map(|m| m.hausdorff)
         .fold(f64::INFINITY, f64::min);
     Verdict {
-        hausdorff_ratio: best.is_finite().then(|| ours.hausdorff / best),
-        mean_ratio: eligible(simplify).map(|s| ours.mean / s.mean),
+        hausdorff_ratio: best.is_finite().then(|| ratio(ours.hausdorff, best)),
+        mean_ratio: eligible(simplify).map(|s| ratio(ours.mean, s.mean)),
         within_budget: within(ours.triangles, budget),
     }
 }

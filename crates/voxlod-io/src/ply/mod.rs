@@ -4,7 +4,10 @@
 //! Reading: the `vertex` element gives positions (`x`, `y`, `z`, any scalar type), normals
 //! (`nx`, `ny`, `nz`) and, for [`read_poly_mesh`](crate::read_poly_mesh), every other scalar
 //! property as a vertex attribute; `face` lists (`vertex_indices` or `vertex_index`, any
-//! integer types) become triangles, polygons ear-clipped; `edge` (`vertex1`, `vertex2`, other
+//! integer types) become triangles, polygons ear-clipped; `tristrips` lists (`vertex_indices`,
+//! as the Stanford scanning tools and VCG write them: strips separated by -1, each triangle's
+//! winding alternating along its strip, repeated corners joining strips) become triangles too;
+//! `edge` (`vertex1`, `vertex2`, other
 //! scalars as line attributes) and `point` (`vertex_index`) as voxlod writes them. Other
 //! elements are read past and ignored. Vertex colours (`red`, `green`, `blue`, `alpha`, or
 //! `diffuse_*`) are attributes like any other; [`PlyColors`] says which they are and how to
@@ -398,6 +401,7 @@ fn open_header(path: &Path) -> Result<(Reader<BufReader<File>>, Header), IoError
 struct Records {
     vertices: Vec<VertexRecord>,
     faces: Vec<FaceRecord>,
+    strips: Vec<FaceRecord>,
     edges: Vec<EdgeRecord>,
     points: Vec<PointRecord>,
 }
@@ -418,6 +422,7 @@ fn read_records(
         match name.as_str() {
             "vertex" => records.vertices = read.elements()?,
             "face" => records.faces = read.elements()?,
+            "tristrips" => records.strips = read.elements()?,
             "edge" => records.edges = read.elements()?,
             "point" => records.points = read.elements()?,
             _ => {
@@ -474,6 +479,43 @@ fn triangulate_faces(
     Ok((triangles, polygons_triangulated))
 }
 
+/// The triangles of `tristrips` records: each list is one or more strips separated by -1; the
+/// k-th triangle of a strip is (s[k], s[k+1], s[k+2]) with its first two corners swapped when k
+/// is odd, so that all wind alike. Triangles with a repeated corner (the joins a stripper puts
+/// between strips) are left out. Cost: O(indices).
+fn triangulate_strips(
+    path: &Path,
+    strips: &[FaceRecord],
+    vertex_count: usize,
+) -> Result<Vec<[u32; 3]>, IoError> {
+    let mut triangles = Vec::new();
+    for (s, record) in strips.iter().enumerate() {
+        if record.bad_type {
+            return Err(IoError::malformed(
+                path,
+                format!("triangle strip {s} has a non-integer index list"),
+            ));
+        }
+        for strip in record.corners.split(|&v| v == -1) {
+            let corners: Vec<u32> = strip
+                .iter()
+                .map(|&v| index(path, "triangle strip", s, v, vertex_count))
+                .collect::<Result<_, _>>()?;
+            for (k, w) in corners.windows(3).enumerate() {
+                let t = if k % 2 == 0 {
+                    [w[0], w[1], w[2]]
+                } else {
+                    [w[1], w[0], w[2]]
+                };
+                if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
+                    triangles.push(t);
+                }
+            }
+        }
+    }
+    Ok(triangles)
+}
+
 /// The names of the extra scalar properties of `element`, in header order.
 fn extra_names<'a>(
     header: &'a Header,
@@ -513,7 +555,9 @@ pub(crate) fn read(path: &Path) -> Result<PlyContent, IoError> {
     let colors = color_channels(&header, &vertex_names);
     let looks = looks_of(&header, &vertex_names);
 
-    let (triangles, polygons_triangulated) = triangulate_faces(path, &records.faces, &positions)?;
+    let (mut triangles, polygons_triangulated) =
+        triangulate_faces(path, &records.faces, &positions)?;
+    triangles.extend(triangulate_strips(path, &records.strips, vertex_count)?);
 
     // Edges and points.
     let lines: Vec<[u32; 2]> = records
