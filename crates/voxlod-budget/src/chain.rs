@@ -26,6 +26,16 @@ use voxlod_contouring::triangle_estimate::resolution_for_triangles;
 /// than about that, before its own collapse adds to it.
 pub const VOXEL_WORTH: f64 = 0.5;
 
+/// Budgets up to this many triangles search with voxels unless the input's collapse is within
+/// [`VOXEL_WORTH_SMALL`] of the voxel: on their coarse grids the search is cheap, and the voxel
+/// level fitted to the input (crate `voxlod-fit`) places its vertices on the surface, often
+/// closer than half a voxel (a bumpy cube at 312 triangles: its collapse at 1.87 % of the
+/// diagonal, under half the voxel, its fitted voxel level at 1.05 %).
+pub const SMALL_BUDGET: usize = 1_000;
+
+/// [`VOXEL_WORTH`] for budgets up to [`SMALL_BUDGET`].
+pub const VOXEL_WORTH_SMALL: f64 = 0.25;
+
 /// Budgets whose voxel level would have more triangles than this ([`HEADROOM`] times the
 /// budget) are not searched with voxels where the input's collapse only came out cut open:
 /// the collapse, at the budget, is the level, with a warning.
@@ -286,12 +296,17 @@ fn share_near_searches(searched: &mut [Searched]) {
 /// few folds let the checked one through at any size.
 pub const KEPT_AT_MOST: usize = 250_000;
 
-/// Whether `c`, measured quickly here, is within [`VOXEL_WORTH`] of the voxel `budget` affords:
-/// no voxel level would come closer, so none is searched.
+/// Whether `c`, measured quickly here, is within [`VOXEL_WORTH`] (at small budgets
+/// [`VOXEL_WORTH_SMALL`]) of the voxel `budget` affords: no voxel level would come closer, so
+/// none is searched.
 fn is_close_enough(input: &Input, measure: &Measure, c: &mut Candidate, budget: usize) -> bool {
     c.quick = measure.distance(&c.mesh, Care::Quick, f64::INFINITY);
     let voxel = voxel_at(input, budget);
-    c.quick.is_some_and(|d| d.shape <= VOXEL_WORTH * voxel)
+    let worth = match budget <= SMALL_BUDGET {
+        true => VOXEL_WORTH_SMALL,
+        false => VOXEL_WORTH,
+    };
+    c.quick.is_some_and(|d| d.shape <= worth * voxel)
 }
 
 /// A checked collapse for every budget whose plain collapse broke a promise, made from the
@@ -571,6 +586,24 @@ mod tests {
         (mesh.positions.iter())
             .map(|p| p.to_array().map(f32::to_bits))
             .collect()
+    }
+
+    #[test]
+    fn three_eighths_of_a_voxel_is_close_enough_only_at_large_budgets() {
+        let input = Input::prepare(&icosphere(5)).unwrap();
+        let measure = Measure::new(&input, 2_000, 10_000).unwrap();
+        // A sphere grown by three eighths of the voxel a budget affords, as its collapse.
+        let grown = |budget: usize| {
+            let by = 1.0 + 0.375 * voxel_at(&input, budget) as f32;
+            let mut mesh = icosphere(4);
+            mesh.positions.iter_mut().for_each(|p| *p *= by);
+            Candidate::new(Method::Collapse, mesh)
+        };
+        for (budget, close) in [(SMALL_BUDGET, false), (4 * SMALL_BUDGET, true)] {
+            let mut c = grown(budget);
+            assert_eq!(is_close_enough(&input, &measure, &mut c, budget), close);
+            assert!(c.quick.is_some());
+        }
     }
 
     #[test]

@@ -41,9 +41,10 @@
 //!
 //! **Fast by design.** Every budget's candidates are made at once, on all cores; a budget whose
 //! plain collapse keeps every promise and is closer than half the voxel it affords
-//! ([`VOXEL_WORTH`]) is not searched with voxels at all; candidates are ranked by a quick
-//! measurement that stops as soon as one is clearly farther, and only the closest few are
-//! measured carefully (near ties again with twice the samples); a budget's checked collapse
+//! ([`VOXEL_WORTH`]; a quarter, [`VOXEL_WORTH_SMALL`], at budgets up to [`SMALL_BUDGET`],
+//! where a fitted voxel level often comes closer) is not searched with voxels at all;
+//! candidates are ranked by a quick measurement that stops as soon as one is clearly farther,
+//! and only the closest few are measured carefully (near ties again with twice the samples); a budget's checked collapse
 //! starts from a larger budget's collapse where one kept the promises. Large inputs skip what
 //! costs seconds and rarely wins there: the checked collapse above [`KEPT_AT_MOST`] triangles
 //! where the plain one broke the topology (not where it only crossed), voxel levels above
@@ -88,7 +89,10 @@ mod visible;
 mod voxel;
 
 pub use candidate::{Fill, Method};
-pub use chain::{levels_with, ProgressFn, KEPT_AT_MOST, LARGE_VOXEL, VOXEL_WORTH};
+pub use chain::{
+    levels_with, ProgressFn, KEPT_AT_MOST, LARGE_VOXEL, SMALL_BUDGET, VOXEL_WORTH,
+    VOXEL_WORTH_SMALL,
+};
 pub use error::BudgetError;
 pub use input::Preparation;
 pub use looks::{asset_levels, AssetBudgeted, AssetLevel, Looks};

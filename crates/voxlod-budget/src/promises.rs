@@ -34,7 +34,8 @@ pub enum Promise {
     /// No crossing triangles.
     NoCrossings,
     /// A mean distance to the input at most [`MEAN_SLACK`] times that of the input's own
-    /// collapse, where that collapse keeps the other promises: the portfolio's rule, so that a
+    /// collapse, where that collapse keeps the other promises (else its checked form's, where
+    /// that one does): the portfolio's rule, so that a
     /// level closer by Hausdorff distance does not bury much of the surface (a voxel level
     /// closing a skull's inner surfaces) where the collapse follows all of it.
     MeanDistance,

@@ -9,8 +9,9 @@
 //!    (module `restore`), which compete too.
 //! 3. The closest few ([`FINALISTS`]) have their crossing triangles counted and are measured
 //!    carefully ([`Care::Careful`]); the input's own collapse, where it keeps every promise, is
-//!    always among them, and a finalist whose mean distance exceeds [`MEAN_SLACK`] times the
-//!    collapse's is ruled out ([`Promise::MeanDistance`]). The finalist with the smallest
+//!    always among them (its plain form, and its closest checked form), and a finalist whose
+//!    mean distance exceeds [`MEAN_SLACK`] times the collapse's (the plain one's, else the
+//!    checked one's) is ruled out ([`Promise::MeanDistance`]). The finalist with the smallest
 //!    careful Hausdorff distance is the level, the smallest shape distance among equals (where
 //!    every finalist lost the same far speck); finalists within [`TIE`] of it are measured again
 //!    with twice the samples ([`Care::Precise`]) to settle the choice.
@@ -317,13 +318,15 @@ fn finalists(
         .filter(|&i| broken[i].is_empty() && candidates[i].quick.is_some())
         .collect();
     order.sort_by(|&a, &b| quick_h(&candidates[a]).total_cmp(&quick_h(&candidates[b])));
-    let collapse = order
-        .iter()
-        .position(|&i| candidates[i].method == Method::Collapse);
+    // The input's collapses, always finalists: the plain one, and the closest checked one,
+    // the mean distance's reference where the plain one is ruled out.
+    let rank_of = |method: Method| order.iter().position(|&i| candidates[i].method == method);
+    let collapses = [rank_of(Method::Collapse), rank_of(Method::CollapseKept)];
+    let is_collapse = |rank: usize| collapses.contains(&Some(rank));
     // The likely finalists' checks, side by side; the loop below repeats them in order, from
     // what they found, and checks further candidates where some were ruled out.
     let likely: Vec<usize> = (order.iter().enumerate())
-        .filter(|&(rank, _)| rank < FINALISTS || Some(rank) == collapse)
+        .filter(|&(rank, _)| rank < FINALISTS || is_collapse(rank))
         .map(|(_, &i)| i)
         .collect();
     (candidates.par_iter_mut().enumerate())
@@ -335,7 +338,7 @@ fn finalists(
         });
     let mut chosen: Vec<usize> = Vec::new();
     for (rank, &i) in order.iter().enumerate() {
-        if chosen.len() >= FINALISTS && Some(rank) != collapse {
+        if chosen.len() >= FINALISTS && !is_collapse(rank) {
             continue;
         }
         if !crosses_no_more(input, &mut candidates[i]) {
@@ -346,12 +349,7 @@ fn finalists(
             chosen.push(i);
         }
     }
-    let reference = chosen
-        .iter()
-        .find(|&&i| candidates[i].method == Method::Collapse)
-        .and_then(|&i| candidates[i].careful)
-        .map(|d| d.mean);
-    if let Some(mean) = reference {
+    if let Some(mean) = mean_reference(candidates, &chosen) {
         for &i in &chosen {
             if careful_d(&candidates[i]).mean > MEAN_SLACK * mean {
                 broken[i].push(Promise::MeanDistance);
@@ -382,6 +380,18 @@ fn finalists(
         precise[k].unwrap_or(careful_d(&candidates[i]))
     };
     closest_of(&tied, by_precise)
+}
+
+/// The careful mean distance that [`Promise::MeanDistance`] holds the finalists at `chosen` to:
+/// the input's plain collapse's where it is among them, else its checked collapse's.
+fn mean_reference(candidates: &[Candidate], chosen: &[usize]) -> Option<f64> {
+    let of = |method: Method| {
+        (chosen.iter())
+            .find(|&&i| candidates[i].method == method)
+            .and_then(|&i| candidates[i].careful)
+            .map(|d| d.mean)
+    };
+    of(Method::Collapse).or_else(|| of(Method::CollapseKept))
 }
 
 /// Careful Hausdorff distances within this fraction of the closest are a near tie.
@@ -500,7 +510,7 @@ mod tests {
     }
 
     #[test]
-    fn the_runner_up_is_the_closest_of_the_other_lineage_that_keeps_the_promises() {
+    fn the_runner_up_is_the_closest_of_the_other_lineage_and_the_mean_reference_a_collapse() {
         let mut candidates = vec![
             measured(Method::CollapseKept, None, 0.1),
             measured(Method::Collapse, None, 0.2),
@@ -518,6 +528,17 @@ mod tests {
         assert_eq!(runner_up(&candidates, &broken, 3), Some(0));
         // None of the other lineage left: no runner-up.
         assert_eq!(runner_up(&candidates[..2], &broken[..2], 0), None);
+
+        // The mean's reference: the plain collapse's, else the checked one's, else none.
+        for c in candidates.iter_mut() {
+            c.careful = c.quick.map(|d| Distance {
+                mean: 2.0 * d.mean,
+                ..d
+            });
+        }
+        assert_eq!(mean_reference(&candidates, &[3, 1, 0]), Some(0.1));
+        assert_eq!(mean_reference(&candidates, &[3, 0]), Some(0.05));
+        assert_eq!(mean_reference(&candidates, &[3, 4]), None);
 
         let (level, runner) = take_two(candidates, 0, Some(3));
         assert_eq!(level.method, Method::CollapseKept);

@@ -2,7 +2,8 @@
 //! tuned it for: open sheets, many parts, overlapping shells, CAD plates, a scan with holes and
 //! cracks, an inside-out surface, a non-manifold soup, a scaffold of genus 314, thin tubes,
 //! two easy spheres, a Möbius strip that cannot be oriented, a sphere far from the origin, rings
-//! threaded through one another, a shell inside a shell, a double-sided sheet and an open tube.
+//! threaded through one another, a shell inside a shell, a double-sided sheet, an open tube and
+//! a box with bumps.
 //! [`corpus`] lists them all by name.
 //!
 //! Every case is deterministic (the same bits on every run and platform: its random choices
@@ -21,7 +22,9 @@ use glam::{DQuat, DVec3};
 
 use voxlod_core::TriangleMesh;
 
-use crate::shapes::{icosphere, icosphere_at, prism, round_section, torus, torus_with};
+use crate::shapes::{
+    icosphere, icosphere_at, prism, round_section, subdivided, torus, torus_with, unit_cube,
+};
 
 mod build;
 mod lattice;
@@ -57,6 +60,7 @@ pub fn corpus() -> Vec<(&'static str, TriangleMesh)> {
         ("nested-shells", nested_shells()),
         ("double-sided", double_sided()),
         ("open-tube", open_tube()),
+        ("bumpy-box", bumpy_box()),
     ]
 }
 
@@ -444,4 +448,29 @@ pub fn open_tube() -> TriangleMesh {
         let u = TAU * i as f64 / 64.0;
         DVec3::new(u.cos(), u.sin(), 6.0 * j as f64 / 120.0)
     })
+}
+
+/// A box with bumps: the unit cube with each triangle split into four 5 times (12 288
+/// triangles), the inside of each face pushed along its normal by 0.05·sin(5πu)·sin(5πv) (u, v
+/// the face's coordinates in [0, 1], so that the cube's edges stay straight and shared): 25
+/// bumps and dents a face, closed, genus 0. A relief on a box (a scanned carving, a tufted
+/// cushion): at a few hundred triangles its quadric collapse keeps the box's corners and
+/// flattens the relief unevenly.
+pub fn bumpy_box() -> TriangleMesh {
+    let cube = unit_cube();
+    let points = cube.positions.iter().map(|p| p.as_dvec3()).collect();
+    let mut mesh = subdivided(points, cube.triangles, 5, |p| p);
+    let bump = |u: f64, v: f64| 0.05 * (5.0 * PI * u).sin() * (5.0 * PI * v).sin();
+    for p in &mut mesh.positions {
+        // Midpoints of dyadic coordinates are exact: a face's points lie exactly on it.
+        let q = p.as_dvec3();
+        let on: Vec<usize> = (0..3).filter(|&i| q[i] == 0.0 || q[i] == 1.0).collect();
+        if let [axis] = on[..] {
+            let outward = if q[axis] == 0.0 { -1.0 } else { 1.0 };
+            let mut moved = q;
+            moved[axis] += outward * bump(q[(axis + 1) % 3], q[(axis + 2) % 3]);
+            *p = moved.as_vec3();
+        }
+    }
+    mesh
 }
