@@ -6,11 +6,12 @@
 //! in [`voxlod_io::read_mesh`]; these calls give the data. Writing goes to a temporary file that
 //! replaces the target only when complete. Cost: one pass over the file.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
+use voxlod_core::glam::DVec3;
 use voxlod_core::{TriangleMesh, Volume};
-use voxlod_gltf::GlbScene;
-use voxlod_io::RawLayout;
+use voxlod_gltf::{GlbScene, SceneRead};
+use voxlod_io::{IoError, IoErrorKind, RawLayout};
 
 use crate::error::Error;
 
@@ -115,4 +116,121 @@ pub(crate) fn is_glb(path: impl AsRef<Path>) -> bool {
     path.as_ref()
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("glb"))
+}
+
+/// Reads a scene as one asset in world space, with the readers' warnings and the world point
+/// its positions are relative to: a glTF file (`.glb`, `.gltf`: every node, instance and
+/// material, [`voxlod_gltf::read_scene`]), a folder of meshes and glTF files (each read with its
+/// looks and joined, [`voxlod_asset::join`], in the order of their names; textures and
+/// material libraries beside them are read through the files that name them), or one mesh
+/// with its looks (OBJ with MTL, coloured PLY or OFF, STL, VTK: [`voxlod_io::read_asset`]).
+/// Errors name the file, or the folder where it holds no mesh. Cost: one pass over each file.
+///
+/// ```
+/// # fn main() -> Result<(), voxlod::Error> {
+/// let dir = std::env::temp_dir().join(format!("voxlod-doc-scene-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir).unwrap();
+/// std::fs::write(dir.join("a.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+/// std::fs::write(dir.join("b.off"), "OFF\n3 1 0\n5 0 0\n6 0 0\n5 1 0\n3 0 1 2\n").unwrap();
+/// let scene = voxlod::read_scene(&dir)?;
+/// assert_eq!(scene.asset.mesh.triangles.len(), 2);
+/// assert_eq!(scene.asset.parts.len(), 2);
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// # Ok(())
+/// # }
+/// ```
+pub fn read_scene(path: impl AsRef<Path>) -> Result<SceneRead, Error> {
+    let path = path.as_ref();
+    if path.is_dir() {
+        return read_scene_folder(path);
+    }
+    if is_gltf(path) {
+        return Ok(voxlod_gltf::read_scene(path)?);
+    }
+    let read = voxlod_io::read_asset(path)?;
+    Ok(SceneRead {
+        asset: read.asset,
+        warnings: read.warnings,
+        origin: DVec3::ZERO,
+    })
+}
+
+/// Whether `path` names a glTF file (`.glb` or `.gltf`, any case).
+fn is_gltf(path: &Path) -> bool {
+    (path.extension().and_then(|e| e.to_str()))
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf"))
+}
+
+/// Files a folder scene reads past without a word: what its meshes and glTF files name.
+const COMPANIONS: [&str; 7] = ["mtl", "png", "jpg", "jpeg", "bin", "ktx2", "webp"];
+
+/// [`read_scene`] of a folder: its mesh and glTF files, in the order of their names, joined;
+/// the first glTF file's origin is the scene's, the others' positions moved to it.
+fn read_scene_folder(folder: &Path) -> Result<SceneRead, Error> {
+    let access = |e: std::io::Error| {
+        IoError::new(
+            folder,
+            IoErrorKind::Access,
+            format!("cannot list the folder: {e}"),
+        )
+    };
+    let mut entries: Vec<PathBuf> = (std::fs::read_dir(folder).map_err(access)?)
+        .map(|e| e.map(|e| e.path()).map_err(access))
+        .collect::<Result<_, _>>()?;
+    entries.sort();
+    let (mut assets, mut warnings, mut origin) = (Vec::new(), Vec::new(), None);
+    let mut left_out = Vec::new();
+    for path in entries {
+        let name = path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into());
+        let extension = (path.extension().and_then(|e| e.to_str()))
+            .map_or_else(String::new, str::to_ascii_lowercase);
+        let is_mesh = voxlod_io::mesh_format_of(&path).is_ok() || is_gltf(&path);
+        if path.is_dir() || !is_mesh {
+            if path.is_dir() || !COMPANIONS.contains(&extension.as_str()) {
+                left_out.push(name);
+            }
+            continue;
+        }
+        let mut read = read_scene(&path)?;
+        let common = *origin.get_or_insert(read.origin);
+        let shift = (read.origin - common).as_vec3();
+        read.asset
+            .mesh
+            .positions
+            .iter_mut()
+            .for_each(|p| *p += shift);
+        warnings.extend(read.warnings.into_iter().map(|w| format!("{name}: {w}")));
+        let stem = path
+            .file_stem()
+            .map_or(name.clone(), |s| s.to_string_lossy().into());
+        assets.push((stem, read.asset));
+    }
+    if assets.is_empty() {
+        return Err(IoError::new(
+            folder,
+            IoErrorKind::Empty,
+            format!(
+                "the folder holds no mesh or glTF file ({}, .glb, .gltf)",
+                voxlod_io::MESH_EXTENSIONS
+            ),
+        )
+        .into());
+    }
+    if !left_out.is_empty() {
+        warnings.push(format!(
+            "{} entries of the folder are neither meshes nor glTF files and were left out \
+             (subfolders are not read): {}",
+            left_out.len(),
+            left_out.join(", ")
+        ));
+    }
+    let asset = voxlod_asset::join(assets)
+        .map_err(|e| IoError::new(folder, IoErrorKind::TooLarge, e.to_string()))?;
+    Ok(SceneRead {
+        asset,
+        warnings,
+        origin: origin.unwrap_or(DVec3::ZERO),
+    })
 }

@@ -21,6 +21,7 @@ pub mod asset;
 pub mod collapse;
 pub mod colour_error;
 pub mod error;
+pub mod join;
 pub mod seams;
 pub mod texture;
 pub mod transfer;
@@ -31,6 +32,7 @@ pub use asset::{
 pub use collapse::{collapse, collapse_with, AttributeWeights, CollapseOptions};
 pub use colour_error::colour_error;
 pub use error::AssetError;
+pub use join::join;
 pub use seams::{point_seams, PointSeams, SeamOptions};
 pub use texture::{decode, Texels};
 pub use transfer::{transfer, Transferred};

@@ -6,7 +6,8 @@
 //! densities and JPEG qualities out of range are usage errors (exit 2) naming the flag; a
 //! missing input is an I/O error (exit 4) naming the file. `--texel-density` sizes the texture
 //! by the level's area, `--screen-size` by the pixels each level is drawn across; `--images
-//! jpeg` writes JPEG colour maps that validate.
+//! jpeg` writes JPEG colour maps that validate. A folder of meshes is one scene, what is not a
+//! mesh in it left out with a warning; a folder without meshes is bad input (exit 1).
 
 mod common;
 
@@ -370,4 +371,47 @@ fn a_scene_at_map_coordinates_gets_the_proxy_it_gets_at_the_origin_placed_where_
         (a_hi - b_hi).length() < 0.05 * size,
         "{a_hi} against {b_hi}"
     );
+}
+
+#[test]
+fn a_folder_of_meshes_is_one_scene() {
+    // Two spheres apart, one red through its material library, and a note that is no mesh.
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("props");
+    std::fs::create_dir(&folder).unwrap();
+    let at = |x: f32| voxlod_testkit::shapes::icosphere_at(3, 1.0, voxlod::core::glam::Vec3::X * x);
+    voxlod::write_mesh(folder.join("a.obj"), &at(0.0)).unwrap();
+    voxlod::write_mesh(folder.join("b.obj"), &at(3.0)).unwrap();
+    let b = std::fs::read_to_string(folder.join("b.obj")).unwrap();
+    std::fs::write(
+        folder.join("b.obj"),
+        format!("mtllib b.mtl\nusemtl red\n{b}"),
+    )
+    .unwrap();
+    std::fs::write(folder.join("b.mtl"), "newmtl red\nKd 1 0 0\n").unwrap();
+    std::fs::write(folder.join("notes.txt"), "not a mesh").unwrap();
+
+    let out = dir.path().join("props.glb");
+    let o = proxy_to(&folder, &out, "400", &["--texture", "128", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = json(&o);
+    assert_eq!(report["input_draw_calls"], 2);
+    let warnings = report["warnings"].to_string();
+    assert!(warnings.contains("notes.txt"), "{warnings}");
+    assert!(!warnings.contains("b.mtl"), "{warnings}");
+    let level = &report["levels"][0];
+    assert_eq!(level["draw_calls"], 1);
+    assert!((level["triangles"].as_f64().unwrap() / 400.0 - 1.0).abs() <= 0.1);
+    // Both spheres are in the proxy.
+    let back = read_scene(&out).unwrap().asset;
+    let xs = back.mesh.positions.iter().map(|p| p.x);
+    let (lo, hi) = xs.fold((f32::MAX, f32::MIN), |(lo, hi), x| (lo.min(x), hi.max(x)));
+    assert!(lo < -0.8 && hi > 3.8, "{lo} {hi}");
+
+    // A folder without meshes is bad input naming it.
+    let empty = dir.path().join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    let o = proxy_to(&empty, &out, "400", &[]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("holds no mesh"), "{}", stderr(&o));
 }

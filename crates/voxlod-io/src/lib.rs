@@ -226,7 +226,8 @@ impl fmt::Display for VolumeFormat {
     }
 }
 
-const MESH_EXTENSIONS: &str = ".obj, .ply, .stl, .off, .vtp, .vtk";
+/// The mesh extensions the readers take, for messages.
+pub const MESH_EXTENSIONS: &str = ".obj, .ply, .stl, .off, .vtp, .vtk";
 const VOLUME_EXTENSIONS: &str =
     ".nrrd, .nhdr, .vti, .vtk, .nii, .nii.gz, .mha, .mhd, .raw, .zarr, .dcm or a DICOM folder";
 

@@ -11,9 +11,7 @@ use glam::{DVec3, Vec2, Vec3, Vec4};
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use voxlod::gltf::{
-    asset_glb, read_scene as read_gltf_scene, AssetGlbOptions, Compression, Layout,
-};
+use voxlod::gltf::{asset_glb, AssetGlbOptions, Compression, Layout};
 use voxlod_asset::{Asset, AssetMesh, Image, Material};
 
 use crate::arrays::{faces_i32, rows};
@@ -22,14 +20,14 @@ use crate::errors::{usage, Failure};
 /// An image as Python gives and takes it: name, media type, encoded bytes.
 type ImageTuple = (String, String, Vec<u8>);
 
-/// `read_scene(path)`: a dict of arrays (`vertices`, `faces`, `normals`, and `tangents`,
+/// `read_scene(path)` ([`voxlod::read_scene`]: a glTF file, a mesh with its looks, or a folder
+/// of them): a dict of arrays (`vertices`, `faces`, `normals`, and `tangents`,
 /// `uv0`, `uv1`, `colors` or None), `material` (one per face), `materials_json`, `parts_json`,
 /// `images` as (name, mime, bytes), `warnings` and `origin` (the world point the vertices are
 /// relative to: zeros but for a scene far from the origin).
 #[pyfunction]
 pub fn read_scene(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
-    let read =
-        py.detach(|| read_gltf_scene(&path).map_err(|e| Failure::from(voxlod::Error::from(e))))?;
+    let read = py.detach(|| voxlod::read_scene(&path).map_err(Failure::from))?;
     let a = read.asset;
     let m = a.mesh;
     let d = PyDict::new(py);

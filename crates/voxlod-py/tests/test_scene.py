@@ -211,3 +211,21 @@ def test_a_scene_at_map_coordinates_reads_relative_to_its_origin_and_writes_it_b
     other = voxlod.Scene(**{**back.__dict__, "origin": (0.0, 0.0, 0.0)})
     with pytest.raises(voxlod.UsageError, match="origins"):
         voxlod.write_scene(tmp_path / "two.glb", [back, other])
+
+
+def test_a_folder_of_meshes_reads_as_one_scene(tmp_path):
+    (tmp_path / "a.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    (tmp_path / "b.obj").write_text("mtllib b.mtl\nusemtl red\nv 5 0 0\nv 6 0 0\nv 5 1 0\nf 1 2 3\n")
+    (tmp_path / "b.mtl").write_text("newmtl red\nKd 1 0 0\n")
+    (tmp_path / "notes.txt").write_text("not a mesh")
+    scene = voxlod.read_scene(tmp_path)
+    assert scene.faces.tolist() == [[0, 1, 2], [3, 4, 5]]
+    assert scene.vertices[3].tolist() == [5.0, 0.0, 0.0]
+    assert [p["name"] for p in scene.parts] == ["a", "b"]
+    red = scene.materials[scene.material[1]]
+    assert red["name"] == "red" and red["base_color"][:3] == [1.0, 0.0, 0.0]
+    assert any("notes.txt" in w for w in scene.warnings)
+    (tmp_path / "a.obj").unlink()
+    (tmp_path / "b.obj").unlink()
+    with pytest.raises(voxlod.InputError, match="holds no mesh"):
+        voxlod.read_scene(tmp_path)

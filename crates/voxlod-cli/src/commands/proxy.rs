@@ -25,10 +25,11 @@ use super::values::number;
 
 /// One proxy for a whole scene, its looks baked: one mesh, one material, one draw call a level.
 ///
-/// Every part and instance of a glTF scene (or of an OBJ, PLY or OFF asset) is sampled as one
-/// solid and remeshed by the voxel method at each triangle budget (parts merge, gaps narrower
-/// than a voxel close, what is hidden inside goes, the genus drops), then given a UV atlas and
-/// textures cast from the scene: base colour, tangent-space normals,
+/// Every part and instance of a glTF scene (or of an OBJ, PLY or OFF asset, or of every mesh
+/// and glTF file in a folder, placed as they are) is sampled as one solid and remeshed by the
+/// voxel method at each triangle budget (parts merge, gaps narrower than a voxel close, what
+/// is hidden inside goes, the genus drops), then given a UV atlas and textures cast from the
+/// scene: base colour, tangent-space normals,
 /// occlusion-roughness-metallic and emissive where the scene has them. Closed parts are
 /// sampled as solids and open parts (leaf cards, fences, cloth) as thin shells around them,
 /// so that they do not vanish; their alpha masks are baked.
@@ -38,13 +39,15 @@ use super::values::number;
 ///   voxlod proxy machine.gltf -o proxy.glb --triangles 2000 --texture 2048 --layout lod-nodes
 ///   voxlod proxy yard.glb -o yard-proxy.glb --triangles 800 --close-gaps 0.5 --hard-edges 40
 ///   voxlod proxy spot.obj -o spot-proxy.glb --triangles 500 --json
+///   voxlod proxy props/ -o props-proxy.glb --triangles 1000    # every mesh in the folder
 ///   voxlod proxy block.glb -o block-proxy.glb --triangles 4000,800 --screen-size 1200,300
 ///   voxlod proxy city.glb -o city-web.glb --triangles 3000 --images jpeg --jpeg-quality 85
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct ProxyArgs {
-    /// The scene: a glTF file (.glb, .gltf: every node, instance and material), or an asset
-    /// with its looks (.obj with .mtl, .ply or .off with vertex colours)
+    /// The scene: a glTF file (.glb, .gltf: every node, instance and material), an asset with
+    /// its looks (.obj with .mtl, .ply or .off with vertex colours, .stl), or a folder of them
+    /// (read in the order of their names, each in its own coordinates; subfolders are not read)
     pub input: PathBuf,
     /// The .glb to write, every level in it
     #[arg(short, long, value_name = "OUT.glb")]
@@ -335,26 +338,12 @@ fn image_format(args: &ProxyArgs) -> Result<ImageFormat, CliError> {
     }
 }
 
-/// The scene as one asset: a glTF file by its scene reader, anything else by the asset reader;
-/// with the reader's warnings and the world point its positions are relative to (zero but for
-/// a glTF scene far from the origin). A file that cannot be opened is an I/O error naming it.
+/// The scene as one asset ([`voxlod::read_scene`]: a glTF file, a folder of meshes, or one
+/// mesh with its looks), with the readers' warnings and the world point its positions are
+/// relative to.
 fn read_scene(path: &Path) -> Result<(Asset, Vec<String>, DVec3), CliError> {
-    std::fs::File::open(path).map_err(|e| {
-        voxlod::io::IoError::new(
-            path,
-            voxlod::io::IoErrorKind::Access,
-            format!("cannot open: {e}"),
-        )
-    })?;
-    let gltf = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf"));
-    if gltf {
-        let read = voxlod::gltf::read_scene(path).map_err(|e| in_file(path, e))?;
-        return Ok((read.asset, read.warnings, read.origin));
-    }
-    let read = voxlod::io::read_asset(path)?;
-    Ok((read.asset, read.warnings, DVec3::ZERO))
+    let read = voxlod::read_scene(path)?;
+    Ok((read.asset, read.warnings, read.origin))
 }
 
 /// PSNR and SSIM of each level against the scene from 14 views at 256², unless skipped.

@@ -46,8 +46,11 @@ class Scene:
 
 def read_scene(path: "os.PathLike[str] | str") -> Scene:
     """Reads a glTF 2.0 asset (``.gltf`` with its files, or ``.glb``; quantized, meshopt- and
-    Draco-compressed and GPU-instanced files too) as a :class:`Scene`. A file that requires an
-    extension voxlod does not read raises :class:`voxlod.InputError` naming it."""
+    Draco-compressed and GPU-instanced files too), a mesh with its looks (``.obj`` with its
+    ``.mtl``, ``.ply`` or ``.off`` with vertex colours, ``.stl``), or a folder of them (joined in
+    the order of their names, one part each) as a :class:`Scene`. A file that requires an
+    extension voxlod does not read raises :class:`voxlod.InputError` naming it, and so does a
+    folder without meshes."""
     d = _voxlod.read_scene(os.fspath(path))
     return Scene(
         vertices=d["vertices"],
