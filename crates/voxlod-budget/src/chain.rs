@@ -309,17 +309,23 @@ fn is_close_enough(input: &Input, measure: &Measure, c: &mut Candidate, budget: 
     c.quick.is_some_and(|d| d.shape <= worth * voxel)
 }
 
-/// A checked collapse for every budget whose plain collapse broke a promise, made from the
-/// nearest larger budget's plain collapse that kept them all, or the checked collapse made for
-/// it (a fraction of the cost of collapsing the input), and from the input
-/// ([`collapse::kept`], within [`KEPT_AT_MOST`] triangles unless the plain one only crossed)
-/// where there is none or a plain one stalled it; while they reach their budgets. The voxel searches go on beside them: a voxel level that
-/// loses to a checked collapse at a large budget often collapses closer at the small ones (the
-/// chain's runner-up, [`crate::select::Chosen::runner_up`]).
+/// A checked collapse ([`collapse::kept`]) for every budget whose plain collapse broke a
+/// promise, made from the nearest larger budget's plain collapse that kept them all, or the
+/// checked collapse made for it (a fraction of the cost of collapsing the input), and from the
+/// input (within [`KEPT_AT_MOST`] triangles unless the plain one only crossed; an input pinched
+/// at a few vertices or edges cut there first, its surface unchanged) where there is none or a
+/// plain one stalled it; while they reach their budgets. The voxel searches go on beside them:
+/// a voxel level that loses to a checked collapse at a large budget often collapses closer at
+/// the small ones (the chain's runner-up, [`crate::select::Chosen::runner_up`]).
 fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions) {
-    if !input.topology.is_manifold() {
-        return;
-    }
+    let cut;
+    let whole: &TriangleMesh = match input.topology.is_manifold() {
+        true => &input.mesh,
+        false => {
+            cut = cut_into_manifold(&input.mesh);
+            &cut
+        }
+    };
     // The mesh to collapse next, and whether it is a checked collapse itself.
     let mut from: Option<(TriangleMesh, bool)> = None;
     for s in searched.iter_mut() {
@@ -331,7 +337,7 @@ fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions
         let start = Instant::now();
         let reached = |c: &Candidate| within_budget(c.triangles(), s.budget);
         let mut made: Vec<Candidate> = (from.as_ref())
-            .and_then(|(mesh, _)| collapse::kept_from(mesh, s.budget, input, options.max_error))
+            .and_then(|(mesh, _)| collapse::kept(mesh, s.budget, input, options.max_error))
             .into_iter()
             .collect();
         // From the input where there is nothing to start from, or the plain collapse it started
@@ -339,7 +345,7 @@ fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions
         let allowed = input.mesh.triangle_count() <= KEPT_AT_MOST || s.plain_crossed;
         let repeats = from.as_ref().is_some_and(|(_, checked)| *checked);
         if allowed && !repeats && !made.iter().any(reached) {
-            made.extend(collapse::kept(input, s.budget, options.max_error));
+            made.extend(collapse::kept(whole, s.budget, input, options.max_error));
         }
         from = made
             .iter()
@@ -351,6 +357,13 @@ fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions
             return;
         }
     }
+}
+
+/// `mesh` cut into a manifold where it is not, as every candidate is ([`Candidate::new`]:
+/// vertices split where fans meet, the copies moved a hair apart into their own fans so that
+/// the sheets no longer touch). Cost: O(F log F).
+fn cut_into_manifold(mesh: &TriangleMesh) -> TriangleMesh {
+    Candidate::new(Method::Collapse, mesh.clone()).mesh
 }
 
 /// The checked collapse ([`add_kept`]) beside the voxel and shell candidates of every budget

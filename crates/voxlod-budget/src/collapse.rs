@@ -93,38 +93,24 @@ pub fn as_given(given: &TriangleMesh, budget: usize, input: &Input) -> Option<Ca
     refilled(make, budget)
 }
 
-/// The input collapsed towards `budget` with its topology kept and no crossing triangles
-/// added (voxlod-quadric: each meshoptimizer pass checked, rejected passes retried with locks).
-/// `None` where the input is not a manifold to begin with.
-pub fn kept(input: &Input, budget: usize, max_error: Option<f64>) -> Option<Candidate> {
-    if budget >= input.mesh.triangle_count() {
-        return None;
-    }
-    let options = QuadricOptions {
-        max_attempts: KEPT_ATTEMPTS,
-        ..QuadricOptions::budget(max_error.unwrap_or(f64::INFINITY))
-    };
-    let done = simplify_to_budget(&input.mesh, budget, &options).ok()?;
-    let mesh = without_zero_area(done.mesh, input.cell());
-    Some(Candidate::new(Method::CollapseKept, mesh))
-}
-
-/// `level` (a checked collapse of the input, of its topology) collapsed further towards
-/// `budget` as [`kept`] collapses the input: a fraction of the cost of collapsing the input.
-pub fn kept_from(
-    level: &TriangleMesh,
+/// `mesh` (the input, cut into a manifold where it is not, or a collapse of it) collapsed
+/// towards `budget` with its topology kept and no crossing triangles added (voxlod-quadric: each
+/// meshoptimizer pass checked, rejected passes retried with locks). `None` where `mesh` has no
+/// more triangles than the budget or is not a manifold.
+pub fn kept(
+    mesh: &TriangleMesh,
     budget: usize,
     input: &Input,
     max_error: Option<f64>,
 ) -> Option<Candidate> {
-    if budget >= level.triangle_count() {
+    if budget >= mesh.triangle_count() {
         return None;
     }
     let options = QuadricOptions {
         max_attempts: KEPT_ATTEMPTS,
         ..QuadricOptions::budget(max_error.unwrap_or(f64::INFINITY))
     };
-    let done = simplify_to_budget(level, budget, &options).ok()?;
+    let done = simplify_to_budget(mesh, budget, &options).ok()?;
     let mesh = without_zero_area(done.mesh, input.cell());
     Some(Candidate::new(Method::CollapseKept, mesh))
 }

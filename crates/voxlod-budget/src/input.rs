@@ -11,6 +11,7 @@ use std::sync::OnceLock;
 
 use serde::Serialize;
 use voxlod_core::components::triangle_components;
+use voxlod_core::glam::DVec3;
 use voxlod_core::manifold::orient_consistently;
 use voxlod_core::repair::remove_degenerate_and_duplicate_triangles;
 use voxlod_core::validate::validate_mesh;
@@ -49,8 +50,8 @@ pub struct Input {
     /// What of it is seen from outside, where hidden surfaces are left out of measuring
     /// (module `visible`); `None`: every triangle counts.
     pub seen: Option<Seen>,
-    /// Its crossing triangle pairs, counted on first use.
-    crossings: OnceLock<usize>,
+    /// Where its triangle pairs cross ([`crossing_place`]), found on first use.
+    crossings: OnceLock<Vec<DVec3>>,
 }
 
 /// The input's triangles seen from outside (module `visible`).
@@ -156,16 +157,40 @@ impl Input {
     /// kept each count (none waits on another: a waiting rayon thread could be handed a task
     /// that asks again and wait on itself), so a caller that foresees them counts first.
     pub fn crossings(&self) -> usize {
-        if let Some(&n) = self.crossings.get() {
-            return n;
+        self.crossing_places().len()
+    }
+
+    /// Where the input's crossing pairs are ([`crossing_place`]), one point a pair; found with
+    /// [`Input::crossings`].
+    pub fn crossing_places(&self) -> &[DVec3] {
+        if let Some(places) = self.crossings.get() {
+            return places;
         }
-        let n = crossing_pairs(&self.mesh).len();
-        let _ = self.crossings.set(n);
-        n
+        let places = (crossing_pairs(&self.mesh).iter())
+            .map(|&pair| crossing_place(&self.mesh, pair).0)
+            .collect();
+        let _ = self.crossings.set(places);
+        self.crossings.get().map_or(&[], Vec::as_slice)
     }
 
     /// Whether the input is a closed, consistently oriented manifold: its levels must be too.
     pub fn is_closed(&self) -> bool {
         self.topology.is_closed_manifold() && self.topology.is_consistently_oriented()
     }
+}
+
+/// Where the triangles `s` and `t` of `mesh` cross, and how far that may be from the curve along
+/// which they cut each other: the mean of their six corners, and its distance to the farthest
+/// corner. Cost: O(1).
+pub fn crossing_place(mesh: &TriangleMesh, (s, t): (u32, u32)) -> (DVec3, f64) {
+    let corners: Vec<DVec3> = [s, t]
+        .iter()
+        .flat_map(|&k| mesh.corners(k as usize))
+        .collect();
+    let centre = corners.iter().sum::<DVec3>() / 6.0;
+    let reach = corners
+        .iter()
+        .map(|p| p.distance(centre))
+        .fold(0.0, f64::max);
+    (centre, reach)
 }

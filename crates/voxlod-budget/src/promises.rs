@@ -3,9 +3,10 @@
 //! A level is a manifold (every edge shared by at most two triangles, every vertex one fan)
 //! and consistently oriented (the input is made one first, by cutting it where it is not:
 //! module `input`), closed where the input is closed (or where every level was asked to be), has no more handles than the level above it (the input, for the largest budget: the
-//! genus never rises along the chain), has no crossing triangles where the input has none (no
-//! more crossing pairs than the input otherwise: parts that pass through each other in the
-//! input may in its levels), and has its budget's triangles within
+//! genus never rises along the chain), has no crossing triangles where the input has none (an
+//! input that crosses itself, parts passing through each other, allows its levels no more
+//! crossing pairs than it has, or crossings only where it crosses), and has its budget's
+//! triangles within
 //! [`crate::BUDGET_TOLERANCE`] (or one triangle, for a budget so small that a closed surface's
 //! even count cannot come within 10 %). The checks run cheapest first; the crossing
 //! count (O(F log F) on all threads) only where the others hold.
@@ -14,7 +15,7 @@ use serde::Serialize;
 use voxlod_core::crossing_pairs;
 
 use crate::candidate::Candidate;
-use crate::input::Input;
+use crate::input::{crossing_place, Input};
 use crate::BUDGET_TOLERANCE;
 
 /// One promise.
@@ -135,8 +136,71 @@ impl Promises {
     }
 }
 
-/// Whether `candidate` has no more crossing pairs than the input (none, where it has none).
+/// Whether `candidate` crosses itself no more than the input does: none where the input has
+/// none; no more pairs than the input has, or pairs only where the input crosses itself too
+/// (within each pair's reach, [`crossing_place`]: a collapse of a self-intersecting scan moves
+/// its crossings and may cut them into more pairs, but makes no new ones elsewhere).
 pub fn crosses_no_more(input: &Input, candidate: &mut Candidate) -> bool {
     let own = Promises::crossings(candidate);
-    own == 0 || own <= input.crossings()
+    own == 0 || own <= input.crossings() || crosses_where_the_input_does(input, candidate)
+}
+
+/// Comparisons of the input's crossings with a candidate's at most, beyond which only their
+/// counts decide ([`crosses_no_more`]).
+pub const PLACES_COMPARED: usize = 4_000_000;
+
+/// Whether every crossing pair of `candidate` has one of the input's crossings within its
+/// reach (none where the input has none). Cost: one [`crossing_pairs`], and each pair against
+/// each input crossing, at most [`PLACES_COMPARED`].
+fn crosses_where_the_input_does(input: &Input, candidate: &Candidate) -> bool {
+    let places = input.crossing_places();
+    if places.is_empty() {
+        return false;
+    }
+    let pairs = crossing_pairs(&candidate.mesh);
+    if places.len().saturating_mul(pairs.len()) > PLACES_COMPARED {
+        return false;
+    }
+    pairs.iter().all(|&pair| {
+        let (centre, reach) = crossing_place(&candidate.mesh, pair);
+        places.iter().any(|p| p.distance(centre) <= reach)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::candidate::Method;
+    use voxlod_core::glam::Vec3;
+    use voxlod_testkit::shapes::{append, icosphere_at};
+
+    /// Unit spheres of subdivision `levels` at `centres` (off the axes, so that no two share a
+    /// vertex position), in one mesh.
+    fn spheres(levels: u32, centres: &[f32]) -> voxlod_core::TriangleMesh {
+        let at = |x: f32| icosphere_at(levels, 1.0, Vec3::new(x, 0.1 * x, 0.05 * x));
+        let mut mesh = at(centres[0]);
+        for &x in &centres[1..] {
+            append(&mut mesh, &at(x));
+        }
+        mesh
+    }
+
+    #[test]
+    fn a_self_crossing_input_allows_crossings_only_where_it_crosses() {
+        // Two spheres passing through each other: they cross along a circle.
+        let input = Input::prepare(&spheres(3, &[0.0, 0.7])).unwrap();
+        assert!(input.crossings() > 0);
+        // Finer, they cross in more pairs along the same circle: the promise holds.
+        let mut finer = Candidate::new(Method::Voxel, spheres(4, &[0.0, 0.7]));
+        assert!(Promises::crossings(&mut finer) > input.crossings());
+        assert!(crosses_no_more(&input, &mut finer));
+        // A third sphere through the second crosses where the input does not: broken.
+        let mut more = Candidate::new(Method::Voxel, spheres(3, &[0.0, 0.7, 2.1]));
+        assert!(Promises::crossings(&mut more) > input.crossings());
+        assert!(!crosses_no_more(&input, &mut more));
+        // An input that does not cross itself allows none.
+        let clean = Input::prepare(&spheres(3, &[0.0, 3.0])).unwrap();
+        assert_eq!(clean.crossings(), 0);
+        assert!(!crosses_no_more(&clean, &mut finer));
+    }
 }
