@@ -1,8 +1,10 @@
-//! The input as every method sees it ([`Input`]): checked, coincident vertices merged,
-//! zero-area slivers mended (an edge turned or collapsed, the mesh kept closed), triangles
+//! The input as every method sees it ([`Input`]): checked, coincident vertices merged (after
+//! coordinates within a hundred-millionth of the diagonal of zero are set to zero: CAD
+//! exporters' rounding noise, `voxlod_core::weld::zero_rounding_noise`), zero-area slivers
+//! mended (an edge turned or collapsed, the mesh kept closed), triangles
 //! that repeat a vertex and duplicates dropped, each piece oriented as most of its triangles are
 //! ([`orient_consistently`]), turned right side out where the whole of it is inside out, with
-//! its topology and connected parts. No vertex moves. Edges of three or more triangles stay:
+//! its topology and connected parts. No vertex moves further than that noise. Edges of three or more triangles stay:
 //! cut before a collapse, they would become borders the collapse cannot cross; the levels are
 //! cut instead (module `candidate`). Cost: O(F log F) (the weld's hash, the repair's sort, the
 //! edge sort).
@@ -15,7 +17,7 @@ use voxlod_core::glam::DVec3;
 use voxlod_core::manifold::orient_consistently;
 use voxlod_core::repair::remove_degenerate_and_duplicate_triangles;
 use voxlod_core::validate::validate_mesh;
-use voxlod_core::weld::weld_vertices;
+use voxlod_core::weld::{weld_vertices, zero_rounding_noise};
 use voxlod_core::{crossing_pairs, mesh_topology, Bounds, Topology, TriangleMesh};
 
 use voxlod_contouring::clean_mesh::without_zero_area;
@@ -87,6 +89,8 @@ impl Input {
     pub fn prepare(mesh: &TriangleMesh) -> Result<Input, BudgetError> {
         validate_mesh(mesh, &Default::default())?;
         let mut clean = TriangleMesh::new(mesh.positions.clone(), mesh.triangles.clone());
+        // CAD exporters' rounding noise near zero would keep copies of a vertex apart.
+        zero_rounding_noise(&mut clean);
         let weld = weld_vertices(&mut clean);
         // Zero-area triangles with three distinct corners are mended, not dropped: dropping one
         // would open a crack in a closed mesh (a printed part's one collinear sliver).

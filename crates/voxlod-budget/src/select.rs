@@ -110,7 +110,7 @@ pub fn choose(
     }
     let (index, warning) = match winner {
         Some(i) => (i, None),
-        None => relaxed(&mut candidates, &broken, measure)?,
+        None => relaxed(&mut candidates, &broken, measure, promises.budget)?,
     };
     let chosen_h = careful(&mut candidates[index], measure).map_or(f64::INFINITY, |d| d.shape);
     let ruled_out = closer_but_broken(&mut candidates, &broken, index, chosen_h, measure);
@@ -415,19 +415,34 @@ fn closest_of(indices: &[usize], distance: impl Fn(usize) -> Distance) -> Option
 }
 
 /// Step 5: the candidate giving up the least, with the warning that says what.
+/// Among those that break the budget too, one with fewer triangles than the budget beats one
+/// with more (the closest of them), and of those with more, the fewest triangles win: a level
+/// sixty times its budget is no level of it, however close it measures.
 fn relaxed(
     candidates: &mut [Candidate],
     broken: &[Vec<Promise>],
     measure: &Measure,
+    budget: usize,
 ) -> Option<(usize, Option<String>)> {
     let worst = |b: &[Promise]| b.iter().map(|p| p.severity()).max().unwrap_or(0);
     for c in candidates.iter_mut().filter(|c| c.quick.is_none()) {
         c.quick = measure.distance(&c.mesh, Care::Quick, f64::INFINITY);
     }
+    let rank = |i: usize| {
+        let c = &candidates[i];
+        let over = broken[i].contains(&Promise::Budget) && c.triangles() > budget;
+        let then = if over {
+            c.triangles() as f64
+        } else {
+            quick_h(c)
+        };
+        (worst(&broken[i]), broken[i].len(), over, then)
+    };
     let index = (0..candidates.len()).min_by(|&a, &b| {
-        (worst(&broken[a]), broken[a].len())
-            .cmp(&(worst(&broken[b]), broken[b].len()))
-            .then(quick_h(&candidates[a]).total_cmp(&quick_h(&candidates[b])))
+        let (ra, rb) = (rank(a), rank(b));
+        (ra.0, ra.1, ra.2)
+            .cmp(&(rb.0, rb.1, rb.2))
+            .then(ra.3.total_cmp(&rb.3))
     })?;
     let names: Vec<&str> = broken[index].iter().map(|p| p.name()).collect();
     let warning = format!(
@@ -507,6 +522,34 @@ mod tests {
             mean: shape / 4.0,
         });
         c
+    }
+
+    #[test]
+    fn a_level_off_its_budget_has_fewer_triangles_rather_than_many_more() {
+        let input = Input::prepare(&icosphere(2)).unwrap();
+        let measure = Measure::new(&input, 500, 1_000).unwrap();
+        // Budget 40, nothing within 10 %: far above and close, under and farther.
+        let mut candidates = vec![
+            measured(Method::Voxel, Some(40), 0.01),
+            measured(Method::Voxel, Some(20), 0.5),
+            measured(Method::Voxel, Some(10), 0.3),
+            measured(Method::Voxel, Some(80), 0.02),
+        ];
+        let counts = [2_000, 20, 10, 1_000];
+        for (c, n) in candidates.iter_mut().zip(counts) {
+            c.mesh = icosphere(4);
+            c.mesh.triangles.truncate(n);
+        }
+        let broken = vec![vec![Promise::Budget]; 4];
+        let (index, warning) = relaxed(&mut candidates, &broken, &measure, 40).unwrap();
+        assert_eq!(index, 2);
+        assert!(warning.unwrap().contains("budget"));
+        // With none under the budget, the fewest triangles above it.
+        let (index, _) = relaxed(&mut candidates[..1], &broken[..1], &measure, 40).unwrap();
+        assert_eq!(index, 0);
+        candidates.swap(1, 3);
+        let (index, _) = relaxed(&mut candidates[..2], &broken[..2], &measure, 40).unwrap();
+        assert_eq!(index, 1);
     }
 
     #[test]

@@ -3,7 +3,9 @@
 //! STL stores every triangle with its own three corners (a "soup"). On reading, the soup is
 //! welded with [`voxlod_core::weld::weld_vertices`], so corners with identical coordinates
 //! become one vertex and a closed model is watertight; the report says how many vertices it
-//! merged. Facet normals are not kept (they are per face; the mesh holds per-vertex normals).
+//! merged. Coordinates within a hundred-millionth of the diagonal of zero are zero first
+//! ([`voxlod_core::weld::zero_rounding_noise`]: CAD exporters' rounding noise, which would leave
+//! such models open). Facet normals are not kept (they are per face; the mesh holds per-vertex normals).
 //!
 //! stl_io tells ASCII from binary by the `solid ` prefix alone, which misreads the many binary
 //! files whose 80-byte header also starts with `solid`. We decide first: a file whose length is
@@ -20,7 +22,7 @@ use std::path::Path;
 
 use glam::Vec3;
 use stl_io::{Normal, Triangle, Vertex};
-use voxlod_core::weld::{weld_vertices, WeldReport};
+use voxlod_core::weld::{weld_vertices, zero_rounding_noise, WeldReport};
 use voxlod_core::TriangleMesh;
 
 use crate::atomic::{stage, TempFile};
@@ -73,6 +75,7 @@ pub(crate) fn read(path: &Path) -> Result<(TriangleMesh, WeldReport), IoError> {
         (soup(path, bytes, false)?, false)
     };
     debug_assert!(is_ascii || mesh.triangles.len() as u64 == binary_count.unwrap_or(0));
+    zero_rounding_noise(&mut mesh);
     let report = weld_vertices(&mut mesh);
     Ok((mesh, report))
 }

@@ -445,3 +445,35 @@ fn nifti_gzip_big_endian_in_metres_with_qform_and_padding() {
         assert!((got - want).abs() < 1e-4, "{:?}", v.grid.origin);
     }
 }
+
+#[test]
+fn a_binary_stl_with_rounding_noise_near_zero_welds_watertight() {
+    // A tetrahedron as a binary STL whose header starts with "solid", as CAD tools write it;
+    // one copy of the corner at the origin carries the exporter's noise (2.7e-16, 0, -1e-17).
+    let corners = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+    let faces = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    let mut bytes = b"solid exported by a CAD tool".to_vec();
+    bytes.resize(80, b' ');
+    bytes.extend((faces.len() as u32).to_le_bytes());
+    for (f, face) in faces.iter().enumerate() {
+        bytes.extend([0u8; 12]);
+        for &v in face {
+            let p = match (f, v) {
+                (2, 0) => Vec3::new(2.7e-16, 0.0, -1e-17),
+                _ => corners[v],
+            };
+            bytes.extend(p.to_array().iter().flat_map(|c| c.to_le_bytes()));
+        }
+        bytes.extend([0u8; 2]);
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(dir.path(), "noisy.stl", &bytes);
+    let loaded = read_mesh(&path).unwrap();
+    let t = voxlod_core::mesh_topology(&loaded.mesh);
+    assert_eq!(loaded.mesh.vertex_count(), 4);
+    assert!(
+        t.is_closed_manifold() && t.is_consistently_oriented(),
+        "{t:?}"
+    );
+    assert_eq!(loaded.mesh.positions[0], Vec3::ZERO);
+}
