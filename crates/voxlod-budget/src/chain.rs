@@ -318,13 +318,11 @@ fn is_close_enough(input: &Input, measure: &Measure, c: &mut Candidate, budget: 
 /// a voxel level that loses to a checked collapse at a large budget often collapses closer at
 /// the small ones (the chain's runner-up, [`crate::select::Chosen::runner_up`]).
 fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions) {
-    let cut;
-    let whole: &TriangleMesh = match input.topology.is_manifold() {
+    // The input as the checked collapse takes it, cut only where it is needed.
+    let cut = std::cell::OnceCell::new();
+    let whole = || match input.topology.is_manifold() {
         true => &input.mesh,
-        false => {
-            cut = cut_into_manifold(&input.mesh);
-            &cut
-        }
+        false => cut.get_or_init(|| cut_into_manifold(&input.mesh)),
     };
     // The mesh to collapse next, and whether it is a checked collapse itself.
     let mut from: Option<(TriangleMesh, bool)> = None;
@@ -345,7 +343,7 @@ fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions
         let allowed = input.mesh.triangle_count() <= KEPT_AT_MOST || s.plain_crossed;
         let repeats = from.as_ref().is_some_and(|(_, checked)| *checked);
         if allowed && !repeats && !made.iter().any(reached) {
-            made.extend(collapse::kept(whole, s.budget, input, options.max_error));
+            made.extend(collapse::kept(whole(), s.budget, input, options.max_error));
         }
         from = made
             .iter()
@@ -450,19 +448,16 @@ fn choose_down(
         let mut promises = first_promises(input, options, s.budget);
         if let (true, Some(above)) = (options.monotone, levels.last()) {
             promises.max_handles = above.report.genus.or(promises.max_handles);
-            let (mesh, cell) = (above.mesh.clone(), input.cell());
-            let mut c =
-                crate::voxel::collapsed(Method::Above, mesh, s.budget, cell, options.max_error);
-            for c in c.iter_mut() {
-                c.resolution = above.report.resolution;
-                c.iso = above.report.iso;
-                c.fitted = above.report.fitted_to_input;
+            let r = &above.report;
+            let lineage = (r.resolution, r.iso, r.fitted_to_input);
+            let collapse = |mesh, lineage| {
+                collapsed_above(mesh, lineage, s.budget, input.cell(), options.max_error)
+            };
+            s.candidates.extend(collapse(above.mesh.clone(), lineage));
+            if let Some(r) = runner_up.take() {
+                s.candidates
+                    .extend(collapse(r.mesh, (r.resolution, r.iso, r.fitted)));
             }
-            s.candidates.extend(c);
-            s.candidates
-                .extend(runner_up.take().map_or_else(Vec::new, |r| {
-                    collapsed_runner_up(r, s.budget, cell, options.max_error)
-                }));
         }
         let fit = options.fit.as_ref();
         let mut chosen = choose(s.candidates, &promises, input, measure, fit, stand_ins)
@@ -485,16 +480,17 @@ fn choose_down(
     Ok((levels, warnings))
 }
 
-/// The runner-up of the budget above ([`crate::select::Chosen::runner_up`]) collapsed to
-/// `budget` as the level above is, keeping its lineage (its resolution, isodensity, fit).
-fn collapsed_runner_up(
-    r: Candidate,
+/// A level of the budget above (the level, or its runner-up,
+/// [`crate::select::Chosen::runner_up`]) collapsed to `budget` as a [`Method::Above`]
+/// candidate, keeping its lineage: the resolution, isodensity and fit it came from.
+fn collapsed_above(
+    mesh: TriangleMesh,
+    (resolution, iso, fitted): (Option<usize>, Option<f32>, bool),
     budget: usize,
     cell: f64,
     max_error: Option<f64>,
 ) -> Vec<Candidate> {
-    let (resolution, iso, fitted) = (r.resolution, r.iso, r.fitted);
-    let mut c = crate::voxel::collapsed(Method::Above, r.mesh, budget, cell, max_error);
+    let mut c = crate::voxel::collapsed(Method::Above, mesh, budget, cell, max_error);
     for c in c.iter_mut() {
         (c.resolution, c.iso, c.fitted) = (resolution, iso, fitted);
     }
