@@ -443,7 +443,8 @@ fn choose_down(
     let mut levels: Vec<Level> = Vec::new();
     let mut warnings = Vec::new();
     let mut runner_up: Option<Candidate> = None;
-    for mut s in searched {
+    let count = searched.len();
+    for (k, mut s) in searched.into_iter().enumerate() {
         let start = Instant::now();
         let mut promises = first_promises(input, options, s.budget);
         if let (true, Some(above)) = (options.monotone, levels.last()) {
@@ -460,11 +461,20 @@ fn choose_down(
             }
         }
         let fit = options.fit.as_ref();
-        let mut chosen = choose(s.candidates, &promises, input, measure, fit, stand_ins)
-            .ok_or_else(|| BudgetError::NoLevel {
-                budget: s.budget,
-                why: s.notes.join("; "),
-            })?;
+        let next = options.monotone && k + 1 < count;
+        let mut chosen = choose(
+            s.candidates,
+            &promises,
+            input,
+            measure,
+            fit,
+            stand_ins,
+            next,
+        )
+        .ok_or_else(|| BudgetError::NoLevel {
+            budget: s.budget,
+            why: s.notes.join("; "),
+        })?;
         if promises.budget < s.budget {
             warnings.push(format!(
                 "{} triangles: the input has only {}, its level is the input's own",

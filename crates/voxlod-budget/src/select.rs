@@ -57,7 +57,8 @@ pub struct Chosen {
     pub runner_up: Option<Candidate>,
 }
 
-/// The portfolio's choice for `promises` among `candidates` (module docs).
+/// The portfolio's choice for `promises` among `candidates` (module docs), with the
+/// runner-up where `with_runner_up` (a chain whose next budget collapses it).
 pub fn choose(
     mut candidates: Vec<Candidate>,
     promises: &Promises,
@@ -65,6 +66,7 @@ pub fn choose(
     measure: &Measure,
     fit: Option<&FitOptions>,
     stand_ins: &StandIns,
+    with_runner_up: bool,
 ) -> Option<Chosen> {
     if candidates.is_empty() {
         return None;
@@ -119,8 +121,11 @@ pub fn choose(
         .zip(&broken)
         .map(|(c, b)| CandidateReport::of(c, b))
         .collect();
-    measure_other_lineage(&mut candidates, &broken, index, measure);
-    let runner = runner_up(&candidates, &broken, index);
+    let runner = with_runner_up.then(|| {
+        measure_other_lineage(&mut candidates, &broken, index, measure);
+        runner_up(&candidates, &broken, index)
+    });
+    let runner = runner.flatten();
     let (level, runner_up) = take_two(candidates, index, runner);
     Some(Chosen {
         level,
@@ -138,11 +143,11 @@ pub fn choose(
 /// (a voxel level, smoother than the scan it stands for, where the scan's own collapse must
 /// lock its folds) is still there at the smaller ones. Cost: O(candidates).
 fn runner_up(candidates: &[Candidate], broken: &[Vec<Promise>], index: usize) -> Option<usize> {
-    let voxel = |c: &Candidate| c.resolution.is_some();
-    let lineage = voxel(&candidates[index]);
+    let lineage = of_a_voxel_level(&candidates[index]);
     (0..candidates.len())
         .filter(|&i| i != index && broken[i].is_empty() && candidates[i].quick.is_some())
-        .filter(|&i| voxel(&candidates[i]) != lineage && candidates[i].crossings.unwrap_or(0) == 0)
+        .filter(|&i| of_a_voxel_level(&candidates[i]) != lineage)
+        .filter(|&i| candidates[i].crossings.unwrap_or(0) == 0)
         .min_by(|&a, &b| quick_h(&candidates[a]).total_cmp(&quick_h(&candidates[b])))
 }
 
@@ -156,9 +161,9 @@ fn measure_other_lineage(
     index: usize,
     measure: &Measure,
 ) {
-    let lineage = candidates[index].resolution.is_some();
+    let lineage = of_a_voxel_level(&candidates[index]);
     let other: Vec<usize> = (0..candidates.len())
-        .filter(|&i| broken[i].is_empty() && candidates[i].resolution.is_some() != lineage)
+        .filter(|&i| broken[i].is_empty() && of_a_voxel_level(&candidates[i]) != lineage)
         .collect();
     if other.iter().any(|&i| candidates[i].quick.is_some()) {
         return;
@@ -169,6 +174,12 @@ fn measure_other_lineage(
         c.quick = measure.distance(&c.mesh, Care::Quick, REJECT_FACTOR * best);
         best = best.min(quick_h(c));
     }
+}
+
+/// Whether `c` is made of a voxel level (a voxel or shell level, or one collapsed from one),
+/// not of the input's own collapse: its lineage.
+fn of_a_voxel_level(c: &Candidate) -> bool {
+    c.resolution.is_some()
 }
 
 /// The candidates at `level` and `other` taken out of `candidates`.
