@@ -253,8 +253,9 @@ pub fn bake_on(
     options: &BakeOptions,
 ) -> Result<Baked, BakeError> {
     let start = Instant::now();
+    // Checked before the source is prepared, which costs far more than the check.
     check_inputs(level, &atlas, options)?;
-    let mut baked = bake_from(&BakeSource::new(source)?, level, atlas, options)?;
+    let mut baked = bake_checked(&BakeSource::new(source)?, level, atlas, options)?;
     baked.report.seconds = baked.report.atlas_seconds + start.elapsed().as_secs_f64();
     Ok(baked)
 }
@@ -266,8 +267,18 @@ pub fn bake_from(
     atlas: Atlas,
     options: &BakeOptions,
 ) -> Result<Baked, BakeError> {
-    let start = Instant::now();
     check_inputs(level, &atlas, options)?;
+    bake_checked(prepared, level, atlas, options)
+}
+
+/// [`bake_from`] with its inputs checked already.
+fn bake_checked(
+    prepared: &BakeSource,
+    level: &TriangleMesh,
+    atlas: Atlas,
+    options: &BakeOptions,
+) -> Result<Baked, BakeError> {
+    let start = Instant::now();
     let BakeSource {
         source,
         looks,

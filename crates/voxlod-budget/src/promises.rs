@@ -12,7 +12,7 @@
 //! count (O(F log F) on all threads) only where the others hold.
 
 use serde::Serialize;
-use voxlod_core::crossing_pairs;
+use voxlod_core::{crossing_pairs, TriangleMesh};
 
 use crate::candidate::Candidate;
 use crate::input::{crossing_place, Input};
@@ -141,28 +141,30 @@ impl Promises {
 /// (within each pair's reach, [`crossing_place`]: a collapse of a self-intersecting scan moves
 /// its crossings and may cut them into more pairs, but makes no new ones elsewhere).
 pub fn crosses_no_more(input: &Input, candidate: &mut Candidate) -> bool {
-    let own = Promises::crossings(candidate);
-    own == 0 || own <= input.crossings() || crosses_where_the_input_does(input, candidate)
+    let limit = input.crossings();
+    if limit == 0 || candidate.crossings.is_some_and(|n| n <= limit) {
+        return Promises::crossings(candidate) <= limit;
+    }
+    // The pairs themselves, counted once, where the count alone may not decide.
+    let pairs = crossing_pairs(&candidate.mesh);
+    candidate.crossings = Some(pairs.len());
+    pairs.len() <= limit || crosses_where_the_input_does(input, &candidate.mesh, &pairs)
 }
 
 /// Comparisons of the input's crossings with a candidate's at most, beyond which only their
 /// counts decide ([`crosses_no_more`]).
 pub const PLACES_COMPARED: usize = 4_000_000;
 
-/// Whether every crossing pair of `candidate` has one of the input's crossings within its
-/// reach (none where the input has none). Cost: one [`crossing_pairs`], and each pair against
-/// each input crossing, at most [`PLACES_COMPARED`].
-fn crosses_where_the_input_does(input: &Input, candidate: &Candidate) -> bool {
+/// Whether every crossing pair (`pairs`) of `mesh` has one of the input's crossings within its
+/// reach (none where the input has none). Cost: each pair against each input crossing, at most
+/// [`PLACES_COMPARED`].
+fn crosses_where_the_input_does(input: &Input, mesh: &TriangleMesh, pairs: &[(u32, u32)]) -> bool {
     let places = input.crossing_places();
-    if places.is_empty() {
-        return false;
-    }
-    let pairs = crossing_pairs(&candidate.mesh);
-    if places.len().saturating_mul(pairs.len()) > PLACES_COMPARED {
+    if places.is_empty() || places.len().saturating_mul(pairs.len()) > PLACES_COMPARED {
         return false;
     }
     pairs.iter().all(|&pair| {
-        let (centre, reach) = crossing_place(&candidate.mesh, pair);
+        let (centre, reach) = crossing_place(mesh, pair);
         places.iter().any(|p| p.distance(centre) <= reach)
     })
 }
