@@ -5,9 +5,11 @@
 //! The input's side is built once per run: its closest-point structure, and two sets of points
 //! on it, a quick set and a careful set, each stratified by area plus one vertex of every
 //! connected part (area samples can miss a tiny part altogether, and a tiny part lost far from
-//! the rest sets the Hausdorff distance). A candidate's side is its own closest-point
-//! structure, its area samples and its vertices (a vertex moved off the surface is where its
-//! side's largest distance lies; at most as many as area samples, every k-th beyond). Points and vertices count in the Hausdorff distances only.
+//! the rest sets the Hausdorff distance). Where only the seen surface is measured (module
+//! `visible`), the sets keep only the points a view sees. A candidate's side is its own
+//! closest-point structure, its area samples and its vertices (a vertex moved off the surface
+//! is where its side's largest distance lies; at most as many as area samples, every k-th
+//! beyond). Points and vertices count in the Hausdorff distances only.
 //!
 //! **Shape and parts.** The largest distance over the area samples and the candidate's
 //! vertices is the candidate's *shape* distance; with the input's part points too, its
@@ -32,6 +34,7 @@ use voxlod_metrics::spatial_order::z_order;
 use voxlod_metrics::{MeshDistance, QueryHint, SamplingOptions, SurfaceSampler};
 
 use crate::input::Input;
+use crate::visible::seen_only;
 use crate::BudgetError;
 
 /// A sampled two-sided distance, in mesh units.
@@ -106,25 +109,38 @@ impl<'a> Measure<'a> {
         let part_points: Vec<DVec3> = (firsts.iter().step_by(step))
             .map(|&t| mesh.positions[mesh.triangles[t as usize][0] as usize].as_dvec3())
             .collect();
-        let points = |n: usize| -> Result<Points, BudgetError> {
+        let area = |n: usize| -> Result<Vec<DVec3>, BudgetError> {
             let options = SamplingOptions {
                 seed: INPUT_SEED,
                 ..SamplingOptions::for_samples(n)
             };
-            let area = sampler.samples(&options)?.into_iter().map(|s| s.point);
-            Ok(Points::ordered(
-                area.collect(),
+            Ok(sampler
+                .samples(&options)?
+                .into_iter()
+                .map(|s| s.point)
+                .collect())
+        };
+        let precise_samples = PRECISE_FACTOR * careful;
+        let precise = std::sync::OnceLock::new();
+        let (mut quick, mut careful) = (area(quick)?, area(careful)?);
+        // Where only what is seen is measured, the points of the seen triangles that no view
+        // sees go (module `visible`): all three sets at once, for one drawing of the views.
+        if input.seen.is_some() {
+            let mut precise_area = area(precise_samples)?;
+            seen_only(input, [&mut quick, &mut careful, &mut precise_area])?;
+            let _ = precise.set(Points::ordered(
+                precise_area,
                 Vec::new(),
                 part_points.clone(),
-            ))
-        };
+            ));
+        }
         Ok(Measure {
             closest: MeshDistance::new(input.measured())?,
-            quick: points(quick)?,
-            careful: points(careful)?,
-            precise: std::sync::OnceLock::new(),
+            quick: Points::ordered(quick, Vec::new(), part_points.clone()),
+            careful: Points::ordered(careful, Vec::new(), part_points.clone()),
+            precise,
             sampler,
-            precise_samples: PRECISE_FACTOR * careful,
+            precise_samples,
             part_points,
         })
     }

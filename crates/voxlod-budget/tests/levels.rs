@@ -375,6 +375,32 @@ fn hidden_parts_are_dropped_and_left_out_of_measuring() {
     assert_eq!(run.input.triangles, 36);
 }
 
+/// The box from `min` to `max`, facing outwards.
+fn box_between(min: Vec3, max: Vec3) -> TriangleMesh {
+    let mut cube = voxlod_testkit::shapes::unit_cube();
+    cube.positions
+        .iter_mut()
+        .for_each(|p| *p = min + *p * (max - min));
+    cube
+}
+
+#[test]
+fn a_face_buried_but_for_a_sliver_is_measured_only_where_it_shows() {
+    // A CAD assembly's two blocks stacked: the lower one's top face (two large triangles)
+    // shows only along a strip 0.1 wide beside the upper block, so both its triangles count
+    // as seen. Measured whole, their buried middle lies a unit inside the union, about a fifth
+    // of the diagonal from any candidate; measured where they show, the proxy is the union's
+    // box, within a few per cent.
+    let mut mesh = box_between(Vec3::ZERO, Vec3::new(4.0, 2.0, 1.0));
+    let upper = box_between(Vec3::new(0.0, 0.0, 1.0), Vec3::new(3.9, 2.0, 2.0));
+    voxlod_testkit::shapes::append(&mut mesh, &upper);
+    let run = levels(&mesh, &PortfolioOptions::remesh(&[500])).unwrap();
+    let r = &run.levels[0].report;
+    assert!(r.hausdorff_fraction < 0.03, "{r:?}");
+    let t = mesh_topology(&run.levels[0].mesh);
+    assert!(t.is_closed_manifold() && t.components == 1, "{t:?}");
+}
+
 #[test]
 fn a_small_level_of_a_cad_part_keeps_its_sharp_edges() {
     // At 30 triangles the plates with handles are a voxel level, fitted: the filter rounded

@@ -67,5 +67,5 @@ pub use metrics::{rms_difference, silhouette_mask};
 pub use render::{render, LineItem, MeshItem, PointItem, RenderOptions, Scene};
 pub use silhouette::{view_directions, SilhouetteDifference, SilhouetteReference};
 pub use visibility::{
-    sphere_directions, visible_sample_counts, visible_triangles, VisibilityOptions,
+    seen_points, sphere_directions, visible_sample_counts, visible_triangles, VisibilityOptions,
 };

@@ -28,7 +28,10 @@
 //! views in parallel on one depth buffer of 8 bytes per sample per worker; zero-area triangles
 //! are never seen.
 
+mod points;
 mod snapped;
+
+pub use points::seen_points;
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -123,32 +126,15 @@ pub fn visible_sample_counts(
     options: &VisibilityOptions,
 ) -> Result<Vec<u64>, RenderError> {
     let bounds = check_request(mesh, options)?;
-    let res = options.resolution;
-    let cameras = sphere_directions(options.views)
-        .into_iter()
-        .map(|d| Camera::fit(d, &bounds, res, res, None))
-        .collect::<Result<Vec<_>, _>>()?;
-    let workers = rayon::current_num_threads().clamp(1, cameras.len());
-    let samples = res as usize * res as usize;
-    let per_worker = bytes_of::<f64>(samples)
-        .saturating_add(bytes_of::<u64>(mesh.triangles.len()))
-        .saturating_add(bytes_of::<GridPoint>(mesh.positions.len()));
-    check_allocation(
-        &format!("{workers} visibility buffers of {res}x{res} samples"),
-        per_worker.saturating_mul(workers as u64),
+    let what = "visibility buffers";
+    let partial = over_views(
+        mesh,
+        &bounds,
+        options,
+        mesh.triangles.len(),
+        what,
+        |view, camera, counts| view.credit(mesh, &bounds, camera, counts),
     )?;
-    let share = cameras.len().div_ceil(workers);
-    let partial: Vec<Vec<u64>> = cameras
-        .par_chunks(share)
-        .map(|chunk| {
-            let mut view = View::new(res);
-            let mut counts = vec![0u64; mesh.triangles.len()];
-            for camera in chunk {
-                view.credit(mesh, &bounds, camera, &mut counts);
-            }
-            counts
-        })
-        .collect();
     let mut total = vec![0u64; mesh.triangles.len()];
     for counts in partial {
         for (t, c) in total.iter_mut().zip(counts) {
@@ -156,6 +142,45 @@ pub fn visible_sample_counts(
         }
     }
     Ok(total)
+}
+
+/// Runs `visit` on every view of `options` around `mesh` (whose bounds are `bounds`), the views
+/// shared among the workers, each worker with one [`View`] and `len` entries of its own, all
+/// `T::default()` at first; returns each worker's entries. The buffers are checked against the
+/// memory budget first (`what` names them in the refusal).
+fn over_views<T: Clone + Default + Send>(
+    mesh: &TriangleMesh,
+    bounds: &Bounds,
+    options: &VisibilityOptions,
+    len: usize,
+    what: &str,
+    visit: impl Fn(&mut View, &Camera, &mut [T]) + Sync,
+) -> Result<Vec<Vec<T>>, RenderError> {
+    let res = options.resolution;
+    let cameras = sphere_directions(options.views)
+        .into_iter()
+        .map(|d| Camera::fit(d, bounds, res, res, None))
+        .collect::<Result<Vec<_>, _>>()?;
+    let workers = rayon::current_num_threads().clamp(1, cameras.len());
+    let per_worker = bytes_of::<f64>(res as usize * res as usize)
+        .saturating_add(bytes_of::<T>(len))
+        .saturating_add(bytes_of::<GridPoint>(mesh.positions.len()));
+    check_allocation(
+        &format!("{workers} {what} of {res}x{res} samples"),
+        per_worker.saturating_mul(workers as u64),
+    )?;
+    let share = cameras.len().div_ceil(workers);
+    Ok(cameras
+        .par_chunks(share)
+        .map(|chunk| {
+            let mut view = View::new(res);
+            let mut entries = vec![T::default(); len];
+            for camera in chunk {
+                visit(&mut view, camera, &mut entries);
+            }
+            entries
+        })
+        .collect())
 }
 
 /// Refuses what [`visible_sample_counts`] documents; returns the mesh's bounds.
@@ -216,6 +241,21 @@ impl View {
     ) {
         let centre = (bounds.center() - camera.eye).dot(camera.forward);
         let tie = TIE * (centre.abs() + 0.5 * bounds.diagonal());
+        self.draw(mesh, camera);
+        let (side, grid, depth) = (self.side, &self.grid, &self.depth);
+        let triangle = |tri: &[u32; 3]| SnappedTriangle::new(tri.map(|v| grid[v as usize]));
+        for (tri, count) in mesh.triangles.iter().zip(counts.iter_mut()) {
+            if let Some(t) = triangle(tri) {
+                t.for_each_sample(side, |i, z, strictly_inside| {
+                    *count += u64::from(strictly_inside && z <= depth[i] + tie);
+                });
+            }
+        }
+    }
+
+    /// The nearest depth of `mesh` at every sample of `camera`'s view (orthographic), its
+    /// corners snapped onto the grid. Cost: O(V + T + rows spanned + samples covered).
+    fn draw(&mut self, mesh: &TriangleMesh, camera: &Camera) {
         self.grid.clear();
         self.grid.extend(mesh.positions.iter().map(|p| {
             let s = camera
@@ -229,13 +269,6 @@ impl View {
         depth.fill(f64::INFINITY);
         for t in mesh.triangles.iter().filter_map(triangle) {
             t.for_each_sample(side, |i, z, _| depth[i] = depth[i].min(z));
-        }
-        for (tri, count) in mesh.triangles.iter().zip(counts.iter_mut()) {
-            if let Some(t) = triangle(tri) {
-                t.for_each_sample(side, |i, z, strictly_inside| {
-                    *count += u64::from(strictly_inside && z <= depth[i] + tie);
-                });
-            }
         }
     }
 }
