@@ -20,9 +20,11 @@
 //!    ruled them out and what it cost (the level's distance over theirs).
 //! 5. Where no candidate keeps every promise, the one whose most severe broken promise is the
 //!    least severe ([`Promise::severity`]) is kept, the nearest among equals, with a warning.
+//! 6. A proxy's level is given its sharp edges back where that lowers its mean distance by more
+//!    than it raises its shape distance ([`sharpened_level`]).
 //!
 //! Cost: per candidate, one quick measurement (often cut short); per finalist, a crossing count
-//! and a careful measurement; one fit.
+//! and a careful measurement; one fit; for a proxy, one snap.
 
 use rayon::prelude::*;
 use voxlod_fit::{fit_with, snap_to_features, FeatureOptions, FitOptions};
@@ -34,6 +36,7 @@ use crate::promises::{crosses_no_more, Promise, Promises, MEAN_SLACK};
 use crate::report::{CandidateReport, RuledOut};
 use crate::restore::{stood_in, with_parts_restored, StandIns, LOST};
 use crate::voxel::FEATURE_REACH;
+use voxlod_contouring::clean_mesh::without_zero_area;
 
 /// Candidates measured carefully at most (the input's collapse comes in addition).
 pub const FINALISTS: usize = 3;
@@ -127,6 +130,10 @@ pub fn choose(
     });
     let runner = runner.flatten();
     let (level, runner_up) = take_two(candidates, index, runner);
+    let level = match promises.remesh {
+        true => sharpened_level(level, promises, input, measure),
+        false => level,
+    };
     Some(Chosen {
         level,
         candidates: reports,
@@ -278,6 +285,54 @@ fn fitted_best(
         out.extend(snapped.quick.is_some().then_some(snapped));
     }
     out
+}
+
+/// A proxy's snapped level may measure this many times farther (careful shape distance) than
+/// the level it was snapped from ([`sharpened_level`]).
+pub const SNAP_SLACK: f64 = 1.5;
+
+/// For a proxy, `level` (of a voxel level's lineage, measured carefully) with its vertices
+/// beside the input's sharp edges and corners moved onto them (`voxlod_fit::snap_to_features`,
+/// within [`FEATURE_REACH`] voxels, the triangles left without area collapsed), where that
+/// keeps every promise, lowers the careful mean distance by a larger factor than it raises the
+/// careful shape distance (their product falls), and leaves the shape distance within
+/// [`SNAP_SLACK`] times the level's; `level` otherwise. Beyond the choice by distance (step 3):
+/// a proxy is judged by how it looks, where its many vertices put back on the edges weigh more
+/// than the few the snap misplaces (the generated room's walls snapped square: mean distance
+/// halved, shape distance up to 28 % farther, 2–3 dB PSNR more; a machine whose mean fell 5 %
+/// as its shape distance rose 10 % looked worse). Cost: one snap, a crossing count and a
+/// careful measurement.
+fn sharpened_level(
+    level: Candidate,
+    promises: &Promises,
+    input: &Input,
+    measure: &Measure,
+) -> Candidate {
+    let (Some(resolution), Some(before)) = (level.resolution, level.careful) else {
+        return level;
+    };
+    let voxel = input.bounds.longest_extent() / resolution.max(1) as f64;
+    let features = FeatureOptions::within(FEATURE_REACH * voxel);
+    let closest = measure.input_closest();
+    let (mesh, moved) = snap_to_features(&level.mesh, input.measured(), closest, &features);
+    if moved == 0 {
+        return level;
+    }
+    let mut snapped = Candidate::new(level.method, without_zero_area(mesh, input.cell()));
+    (snapped.resolution, snapped.iso, snapped.fill) = (level.resolution, level.iso, level.fill);
+    (snapped.parts_dropped, snapped.cut_vertices) = (level.parts_dropped, level.cut_vertices);
+    snapped.fitted = true;
+    if !promises.broken_cheap(&snapped).is_empty() || !crosses_no_more(input, &mut snapped) {
+        return level;
+    }
+    let after = measure.distance(&snapped.mesh, Care::Careful, SNAP_SLACK * before.shape);
+    match after {
+        Some(d) if d.mean * d.shape < before.mean * before.shape => {
+            snapped.careful = Some(d);
+            snapped
+        }
+        _ => level,
+    }
 }
 
 /// Whether the input's small parts should be stood in for (module `restore`): no collapse of
@@ -520,6 +575,8 @@ fn careful_d(c: &Candidate) -> Distance {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use voxlod_core::glam::DVec3;
+    use voxlod_core::TriangleMesh;
     use voxlod_testkit::shapes::icosphere;
 
     /// A candidate of `method` (of a voxel level where `resolution` is given) measured quickly
@@ -597,5 +654,66 @@ mod tests {
         let (level, runner) = take_two(candidates, 0, Some(3));
         assert_eq!(level.method, Method::CollapseKept);
         assert_eq!(runner.map(|r| quick_h(&r)), Some(0.5));
+    }
+
+    /// The unit cube's surface as a filter leaves it at resolution 10: its faces split 4³
+    /// times, moved onto the rounded cube `Σ |x_i − ½|⁸ = ½⁸`.
+    fn rounded_cube() -> TriangleMesh {
+        let cube = voxlod_testkit::shapes::unit_cube();
+        let points = cube.positions.iter().map(|p| p.as_dvec3()).collect();
+        let centre = DVec3::splat(0.5);
+        let round = |p: DVec3| {
+            let d = p - centre;
+            let norm = d.abs().to_array().iter().map(|x| x.powi(8)).sum::<f64>();
+            centre + d * 0.5 / norm.powf(1.0 / 8.0)
+        };
+        let mut mesh = voxlod_testkit::shapes::subdivided(points, cube.triangles, 3, round);
+        mesh.positions
+            .iter_mut()
+            .for_each(|p| *p = round(p.as_dvec3()).as_vec3());
+        mesh
+    }
+
+    #[test]
+    fn a_proxy_level_gets_its_edges_back_where_that_lowers_mean_times_shape() {
+        let input = Input::prepare(&voxlod_testkit::shapes::unit_cube()).unwrap();
+        let measure = Measure::new(&input, 2_000, 10_000).unwrap();
+        let promises = Promises {
+            budget: 768,
+            closed: true,
+            max_handles: Some(0),
+            remesh: true,
+        };
+        let mut level = Candidate::new(Method::Voxel, rounded_cube());
+        level.resolution = Some(10);
+        let before = careful(&mut level, &measure).unwrap();
+        let snapped = sharpened_level(level, &promises, &input, &measure);
+        assert!(snapped.fitted, "the snap was not kept");
+        let after = snapped.careful.unwrap();
+        let product = |d: Distance| d.mean * d.shape;
+        assert!(
+            product(after) < 0.5 * product(before),
+            "{before:?} {after:?}"
+        );
+        assert!(after.mean < 0.5 * before.mean, "{before:?} {after:?}");
+    }
+
+    #[test]
+    fn a_proxy_level_with_nothing_to_snap_is_kept_as_it_is() {
+        // The level is the input itself, and not of a voxel level: nothing changes.
+        let input = Input::prepare(&icosphere(2)).unwrap();
+        let measure = Measure::new(&input, 500, 1_000).unwrap();
+        let promises = Promises {
+            budget: 1_000,
+            closed: true,
+            max_handles: Some(0),
+            remesh: true,
+        };
+        let mut level = Candidate::new(Method::Voxel, icosphere(2));
+        level.resolution = Some(10);
+        careful(&mut level, &measure);
+        let kept = sharpened_level(level, &promises, &input, &measure);
+        assert!(!kept.fitted);
+        assert_eq!(kept.mesh.positions, icosphere(2).positions);
     }
 }
