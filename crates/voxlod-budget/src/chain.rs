@@ -450,14 +450,14 @@ fn choose_down(
         if let (true, Some(above)) = (options.monotone, levels.last()) {
             promises.max_handles = above.report.genus.or(promises.max_handles);
             let r = &above.report;
-            let lineage = (r.resolution, r.iso, r.fitted_to_input);
+            let lineage = (r.resolution, r.iso, r.fitted_to_input, r.fill);
             let collapse = |mesh, lineage| {
                 collapsed_above(mesh, lineage, s.budget, input.cell(), options.max_error)
             };
             s.candidates.extend(collapse(above.mesh.clone(), lineage));
             if let Some(r) = runner_up.take() {
                 s.candidates
-                    .extend(collapse(r.mesh, (r.resolution, r.iso, r.fitted)));
+                    .extend(collapse(r.mesh, (r.resolution, r.iso, r.fitted, r.fill)));
             }
         }
         let fit = options.fit.as_ref();
@@ -492,17 +492,17 @@ fn choose_down(
 
 /// A level of the budget above (the level, or its runner-up,
 /// [`crate::select::Chosen::runner_up`]) collapsed to `budget` as a [`Method::Above`]
-/// candidate, keeping its lineage: the resolution, isodensity and fit it came from.
+/// candidate, keeping its lineage: the resolution, isodensity, fit and fill it came from.
 fn collapsed_above(
     mesh: TriangleMesh,
-    (resolution, iso, fitted): (Option<usize>, Option<f32>, bool),
+    (resolution, iso, fitted, fill): (Option<usize>, Option<f32>, bool, Fill),
     budget: usize,
     cell: f64,
     max_error: Option<f64>,
 ) -> Vec<Candidate> {
     let mut c = crate::voxel::collapsed(Method::Above, mesh, budget, cell, max_error);
     for c in c.iter_mut() {
-        (c.resolution, c.iso, c.fitted) = (resolution, iso, fitted);
+        (c.resolution, c.iso, c.fitted, c.fill) = (resolution, iso, fitted, fill);
     }
     c
 }

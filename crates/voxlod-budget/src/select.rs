@@ -20,8 +20,10 @@
 //!    ruled them out and what it cost (the level's distance over theirs).
 //! 5. Where no candidate keeps every promise, the one whose most severe broken promise is the
 //!    least severe ([`Promise::severity`]) is kept, the nearest among equals, with a warning.
-//! 6. A proxy's level is given its sharp edges back where that lowers its mean distance by more
-//!    than it raises its shape distance ([`sharpened_level`]).
+//! 6. A proxy's level whose voxel level kept its rounded edges through the collapse (open
+//!    parts sampled as shells, or a large budget: `voxel::sharpened_before_collapse`) is given
+//!    them back where that lowers its mean distance by more than it raises its shape distance
+//!    ([`sharpened_level`]).
 //!
 //! Cost: per candidate, one quick measurement (often cut short); per finalist, a crossing count
 //! and a careful measurement; one fit; for a proxy, one snap.
@@ -35,7 +37,7 @@ use crate::measure::{Care, Distance, Measure};
 use crate::promises::{crosses_no_more, Promise, Promises, MEAN_SLACK};
 use crate::report::{CandidateReport, RuledOut};
 use crate::restore::{stood_in, with_parts_restored, StandIns, LOST};
-use crate::voxel::FEATURE_REACH;
+use crate::voxel::{sharpened_before_collapse, FEATURE_REACH};
 use voxlod_contouring::clean_mesh::without_zero_area;
 
 /// Candidates measured carefully at most (the input's collapse comes in addition).
@@ -130,7 +132,7 @@ pub fn choose(
     });
     let runner = runner.flatten();
     let (level, runner_up) = take_two(candidates, index, runner);
-    let level = match promises.remesh {
+    let level = match promises.remesh && !sharpened_before_collapse(promises.budget, level.fill) {
         true => sharpened_level(level, promises, input, measure),
         false => level,
     };

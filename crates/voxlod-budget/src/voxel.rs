@@ -236,7 +236,7 @@ fn sharpened(
     (resolution, budget, fill): (usize, usize, Fill),
     remesh: bool,
 ) -> Vec<voxlod_core::TriangleMesh> {
-    if !remesh || budget > SHARPENED_AT_MOST || fill == Fill::OpenShells {
+    if !(remesh && sharpened_before_collapse(budget, fill)) {
         return levels;
     }
     let voxel = input.bounds.longest_extent() / resolution as f64;
@@ -253,6 +253,13 @@ fn sharpened(
         without_zero_area(snapped, input.cell())
     };
     levels.into_iter().map(sharp).collect()
+}
+
+/// Whether a proxy's marching-cubes levels of `fill` for `budget` are sharpened before their
+/// collapse ([`sharpened`]): at most [`SHARPENED_AT_MOST`] triangles, open parts not sampled
+/// as shells.
+pub fn sharpened_before_collapse(budget: usize, fill: Fill) -> bool {
+    budget <= SHARPENED_AT_MOST && fill != Fill::OpenShells
 }
 
 /// Where the collapse of every isodensity's level stalls above the budget, the grid is made
