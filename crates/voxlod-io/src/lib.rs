@@ -101,6 +101,7 @@ mod guard;
 mod label_map;
 mod label_table;
 mod metaimage;
+mod mni_obj;
 mod nifti;
 mod nrrd;
 mod obj;

@@ -15,6 +15,9 @@
 //! - Groups, objects, materials, smoothing groups, free-form geometry are ignored; a trailing
 //!   `\` continues a line.
 //!
+//! An MNI polygon file, which shares the extension (its first token is `P`), is read by
+//! [`crate::mni_obj`] instead.
+//!
 //! Cost: one pass over the file, O(file size) time; memory the mesh plus the lines' polygon
 //! lists while they are triangulated (ear clipping, see [`crate::ear_clipping`]).
 
@@ -42,6 +45,13 @@ pub(crate) fn read(path: &Path) -> Result<ObjContent, IoError> {
         "the mesh of the OBJ file",
         (bytes.len() as u64).saturating_mul(5),
     )?;
+    if crate::mni_obj::is_mni(&bytes) {
+        let (mesh, polygons_triangulated) = crate::mni_obj::parse(path, &bytes)?;
+        return Ok(ObjContent {
+            mesh,
+            polygons_triangulated,
+        });
+    }
     parse(path, &bytes)
 }
 

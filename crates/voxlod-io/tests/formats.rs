@@ -477,3 +477,52 @@ fn a_binary_stl_with_rounding_noise_near_zero_welds_watertight() {
     );
     assert_eq!(loaded.mesh.positions[0], Vec3::ZERO);
 }
+
+/// The unit cube as an MNI polygon file (the `.obj` of the MNI tools, VTK's
+/// `vtkMNIObjectWriter`): its 8 corners, their normals, 6 quads, one colour per vertex.
+fn mni_cube() -> String {
+    let corners: Vec<[u8; 3]> = (0..8u8).map(|k| [k & 1, (k >> 1) & 1, (k >> 2) & 1]).collect();
+    let mut text = String::from("P 0.3 0.3 0.4 10 1 8\n");
+    for c in &corners {
+        text.push_str(&format!(" {} {} {}\n", c[0], c[1], c[2]));
+    }
+    for c in &corners {
+        let n = c.map(|v| 2.0 * v as f32 - 1.0);
+        text.push_str(&format!(" {} {} {}\n", n[0], n[1], n[2]));
+    }
+    text.push_str("\n 6\n 2\n");
+    text.push_str(&" 0.5 0.5 0.5 1\n".repeat(8));
+    text.push_str("\n 4 8 12 16 20 24\n\n");
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    for q in quads {
+        text.push_str(&format!(" {} {} {} {}\n", q[0], q[1], q[2], q[3]));
+    }
+    text
+}
+
+#[test]
+fn an_mni_polygon_obj_reads_as_its_closed_surface_mesh_and_asset() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(dir.path(), "surface.obj", mni_cube().as_bytes());
+    let loaded = read_mesh(&path).unwrap_or_else(|e| panic!("{e}"));
+    let mesh = &loaded.mesh;
+    assert_eq!((mesh.vertex_count(), mesh.triangle_count()), (8, 12));
+    let topology = voxlod_core::mesh_topology(mesh);
+    assert!(topology.is_closed_manifold() && topology.is_consistently_oriented());
+    assert!((mesh.signed_volume() - 1.0).abs() < 1e-6);
+    let asset = voxlod_io::read_asset(&path).unwrap().asset;
+    assert_eq!(asset.mesh.triangles.len(), 12);
+    // Cut short inside its corners: an error that says the file ends early, naming it.
+    let text = mni_cube();
+    let cut = write(dir.path(), "cut.obj", &text.as_bytes()[..text.len() - 12]);
+    let err = read_mesh(&cut).unwrap_err();
+    assert_eq!(err.kind, IoErrorKind::Truncated, "{err}");
+    assert!(err.to_string().contains("cut.obj") && err.to_string().contains("ends early"));
+}

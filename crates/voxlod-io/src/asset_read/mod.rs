@@ -70,14 +70,15 @@ pub fn read_asset(path: &Path) -> Result<AssetRead, IoError> {
     check_readable(path)?;
     let mut warnings = Vec::new();
     let asset = match format {
-        MeshFormat::Obj => obj::read(path, &mut warnings)?,
+        MeshFormat::Obj if !crate::mni_obj::is_mni_file(path)? => obj::read(path, &mut warnings)?,
         MeshFormat::Ply => ply_asset(path, &mut warnings)?,
         MeshFormat::Off => {
             let content = off::read(path)?;
             let colors = content.colors.iter().map(|&c| srgba_to_linear(c)).collect();
             geometry_asset(path, PolyMesh::from(content.mesh), colors, &mut warnings)?
         }
-        MeshFormat::Stl | MeshFormat::Vtp | MeshFormat::Vtk => {
+        // An MNI polygon file has its geometry only.
+        MeshFormat::Obj | MeshFormat::Stl | MeshFormat::Vtp | MeshFormat::Vtk => {
             let loaded = crate::read_mesh(path)?;
             geometry_asset(path, PolyMesh::from(loaded.mesh), Vec::new(), &mut warnings)?
         }
