@@ -345,6 +345,22 @@ fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions
         if allowed && !repeats && !made.iter().any(reached) {
             made.extend(collapse::kept(whole(), s.budget, input, options.max_error));
         }
+        // Nothing larger to start from, the plain collapse only crossed and the checked one
+        // stalled: the input's collapse in two steps (not a start for the next budgets: its
+        // second step is not checked). Where the checked one reaches the budget, its lineage
+        // collapses closer further down the chain (the rocker arm's 1 000 to 300).
+        if from.is_none() && s.plain_crossed && !made.iter().any(reached) {
+            let promises = first_promises(input, options, 2 * s.budget);
+            let keeps = |c: &mut Candidate| {
+                promises.broken_cheap(c).is_empty() && crosses_no_more(input, c)
+            };
+            s.candidates.extend(collapse::in_two_steps(
+                input,
+                s.budget,
+                options.max_error,
+                keeps,
+            ));
+        }
         from = made
             .iter()
             .find(|c| reached(c))

@@ -76,6 +76,43 @@ fn plain_to(input: &Input, target: usize, max_error: Option<f64>) -> Option<Cand
     ))
 }
 
+/// The input's plain collapse made in two steps: to twice `budget`, then on to `budget`
+/// (both [`plain`]), where the first step keeps `keeps` (the caller's promises, crossings
+/// included). meshoptimizer collapses the cheapest edges first over the whole mesh; stopping
+/// halfway and starting again re-ranks them on the coarser mesh, so the second step takes
+/// another path, and where the one-step collapse folded a thin part through itself it often
+/// does not (an owl scan at 3 050 triangles: one step crossed, two steps kept every promise at
+/// 0.18 % of the diagonal, where the checked collapse stalled at 5 050 triangles). `None` where
+/// twice the budget is not below the input's triangles or the first step breaks a promise.
+/// Cost: two collapses and the caller's check.
+pub fn in_two_steps(
+    input: &Input,
+    budget: usize,
+    max_error: Option<f64>,
+    keeps: impl FnOnce(&mut Candidate) -> bool,
+) -> Option<Candidate> {
+    let halfway = budget.checked_mul(2)?;
+    if halfway >= input.mesh.triangle_count() {
+        return None;
+    }
+    let mut first = plain(input, halfway, max_error)?;
+    if !keeps(&mut first) {
+        return None;
+    }
+    let mesh = match max_error {
+        None => simplify_unchecked(&first.mesh, budget, false).ok()?.0,
+        Some(e) => {
+            let options = QuadricOptions {
+                max_attempts: 1,
+                ..QuadricOptions::budget(e)
+            };
+            simplify_to_budget(&first.mesh, budget, &options).ok()?.mesh
+        }
+    };
+    let second = Candidate::new(Method::Collapse, without_zero_area(mesh, input.cell()));
+    Some(second)
+}
+
 /// The input exactly as given (`given`, before its vertices were merged) collapsed towards
 /// `budget` as [`plain`] collapses the prepared input, turned right side out with it.
 pub fn as_given(given: &TriangleMesh, budget: usize, input: &Input) -> Option<Candidate> {
@@ -154,5 +191,24 @@ mod tests {
             aimed.triangles()
         );
         assert!(aimed.topology.is_closed_manifold());
+    }
+
+    #[test]
+    fn in_two_steps_reaches_the_budget_where_its_first_step_keeps_the_promises() {
+        let input = Input::prepare(&icosphere(4)).unwrap();
+        let two = in_two_steps(&input, 500, None, |_| true).unwrap();
+        assert!(within_budget(two.triangles(), 500), "{}", two.triangles());
+        assert!(two.topology.is_closed_manifold() && two.topology.genus == Some(0));
+        // Its first step ruled out, or twice the budget not below the input: none.
+        assert!(in_two_steps(&input, 500, None, |_| false).is_none());
+        let most = input.mesh.triangle_count() / 2;
+        assert!(in_two_steps(&input, most, None, |_| true).is_none());
+        // The first step is what the caller judges: 1 000 triangles.
+        let mut seen = 0;
+        in_two_steps(&input, 500, None, |c| {
+            seen = c.triangles();
+            true
+        });
+        assert!(within_budget(seen, 1_000), "{seen}");
     }
 }
