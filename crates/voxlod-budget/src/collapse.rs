@@ -59,21 +59,30 @@ fn refilled(make: impl Fn(usize) -> Option<Candidate>, budget: usize) -> Option<
 /// [`plain`] aiming at `target` triangles.
 fn plain_to(input: &Input, target: usize, max_error: Option<f64>) -> Option<Candidate> {
     let budget = target.min(input.mesh.triangle_count());
-    let mesh = match max_error {
-        None => simplify_unchecked(&input.mesh, budget, false).ok()?.0,
+    let mesh = collapsed_plainly(&input.mesh, budget, max_error)?;
+    Some(Candidate::new(
+        Method::Collapse,
+        without_zero_area(mesh, input.cell()),
+    ))
+}
+
+/// `mesh` collapsed towards `budget` by meshoptimizer's `simplify`, border free, within
+/// `max_error` of its own estimate: one unchecked pass (the checked form is [`kept`]).
+fn collapsed_plainly(
+    mesh: &TriangleMesh,
+    budget: usize,
+    max_error: Option<f64>,
+) -> Option<TriangleMesh> {
+    match max_error {
+        None => Some(simplify_unchecked(mesh, budget, false).ok()?.0),
         Some(e) => {
             let options = QuadricOptions {
                 max_attempts: 1,
                 ..QuadricOptions::budget(e)
             };
-            // One unchecked pass within the limit: the checked form is `kept`.
-            simplify_to_budget(&input.mesh, budget, &options).ok()?.mesh
+            Some(simplify_to_budget(mesh, budget, &options).ok()?.mesh)
         }
-    };
-    Some(Candidate::new(
-        Method::Collapse,
-        without_zero_area(mesh, input.cell()),
-    ))
+    }
 }
 
 /// The input's plain collapse made in two steps: to twice `budget`, then on to `budget`
@@ -99,16 +108,7 @@ pub fn in_two_steps(
     if !keeps(&mut first) {
         return None;
     }
-    let mesh = match max_error {
-        None => simplify_unchecked(&first.mesh, budget, false).ok()?.0,
-        Some(e) => {
-            let options = QuadricOptions {
-                max_attempts: 1,
-                ..QuadricOptions::budget(e)
-            };
-            simplify_to_budget(&first.mesh, budget, &options).ok()?.mesh
-        }
-    };
+    let mesh = collapsed_plainly(&first.mesh, budget, max_error)?;
     let second = Candidate::new(Method::Collapse, without_zero_area(mesh, input.cell()));
     Some(second)
 }
