@@ -481,7 +481,9 @@ fn a_binary_stl_with_rounding_noise_near_zero_welds_watertight() {
 /// The unit cube as an MNI polygon file (the `.obj` of the MNI tools, VTK's
 /// `vtkMNIObjectWriter`): its 8 corners, their normals, 6 quads, one colour per vertex.
 fn mni_cube() -> String {
-    let corners: Vec<[u8; 3]> = (0..8u8).map(|k| [k & 1, (k >> 1) & 1, (k >> 2) & 1]).collect();
+    let corners: Vec<[u8; 3]> = (0..8u8)
+        .map(|k| [k & 1, (k >> 1) & 1, (k >> 2) & 1])
+        .collect();
     let mut text = String::from("P 0.3 0.3 0.4 10 1 8\n");
     for c in &corners {
         text.push_str(&format!(" {} {} {}\n", c[0], c[1], c[2]));
