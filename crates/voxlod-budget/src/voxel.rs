@@ -424,10 +424,18 @@ pub fn collapsed(
     }
     let stalled = out.iter().all(|c| !within_budget(c.triangles(), budget));
     let dropped = out.iter().any(|c| c.parts_dropped > 0);
-    // The level above's plain collapse is often closer where it keeps the promises anyway.
+    // The level above's plain collapse is often closer where it keeps the promises anyway;
+    // where it is the checked one over again (its first pass kept everything), it is not
+    // measured twice.
     if (stalled || dropped || method == Method::Above) && max_error.is_none() {
         if let Ok((plain, _)) = simplify_unchecked(&mesh, budget, false) {
-            out.push(Candidate::new(method, without_zero_area(plain, cell)));
+            let plain = Candidate::new(method, without_zero_area(plain, cell));
+            let same = |c: &Candidate| {
+                c.mesh.triangles == plain.mesh.triangles && c.mesh.positions == plain.mesh.positions
+            };
+            if !out.iter().any(same) {
+                out.push(plain);
+            }
         }
     }
     out
@@ -462,5 +470,15 @@ mod tests {
         // No collapse that keeps every promise, or a proxy: every level.
         assert_eq!(kept(f64::INFINITY, false), [true, true, false]);
         assert_eq!(kept(0.1, true), [true, true, false]);
+    }
+
+    #[test]
+    fn the_level_above_collapsed_gives_its_plain_collapse_only_where_it_differs() {
+        // A sphere collapses to 200 triangles in one accepted pass: the plain collapse is the
+        // same mesh, and is not given again.
+        let sphere = icosphere(3);
+        let once = collapsed(Method::Above, sphere, 200, 1e-3, None);
+        assert_eq!(once.len(), 1);
+        assert!(within_budget(once[0].triangles(), 200));
     }
 }
