@@ -676,16 +676,21 @@ mod tests {
         mesh
     }
 
+    /// A proxy's promises for `budget`: closed, genus 0.
+    fn proxy_promises(budget: usize) -> Promises {
+        Promises {
+            budget,
+            closed: true,
+            max_handles: Some(0),
+            remesh: true,
+        }
+    }
+
     #[test]
     fn a_proxy_level_gets_its_edges_back_where_that_lowers_mean_times_shape() {
         let input = Input::prepare(&voxlod_testkit::shapes::unit_cube()).unwrap();
         let measure = Measure::new(&input, 2_000, 10_000).unwrap();
-        let promises = Promises {
-            budget: 768,
-            closed: true,
-            max_handles: Some(0),
-            remesh: true,
-        };
+        let promises = proxy_promises(768);
         let mut level = Candidate::new(Method::Voxel, rounded_cube());
         level.resolution = Some(10);
         let before = careful(&mut level, &measure).unwrap();
@@ -702,15 +707,10 @@ mod tests {
 
     #[test]
     fn a_proxy_level_with_nothing_to_snap_is_kept_as_it_is() {
-        // The level is the input itself, and not of a voxel level: nothing changes.
+        // The level is the input itself, a sphere: no sharp feature, no vertex moves.
         let input = Input::prepare(&icosphere(2)).unwrap();
         let measure = Measure::new(&input, 500, 1_000).unwrap();
-        let promises = Promises {
-            budget: 1_000,
-            closed: true,
-            max_handles: Some(0),
-            remesh: true,
-        };
+        let promises = proxy_promises(320);
         let mut level = Candidate::new(Method::Voxel, icosphere(2));
         level.resolution = Some(10);
         careful(&mut level, &measure);
