@@ -316,7 +316,10 @@ fn is_close_enough(input: &Input, measure: &Measure, c: &mut Candidate, budget: 
 /// at a few vertices or edges cut there first, its surface unchanged) where there is none or a
 /// plain one stalled it; while they reach their budgets. The voxel searches go on beside them:
 /// a voxel level that loses to a checked collapse at a large budget often collapses closer at
-/// the small ones (the chain's runner-up, [`crate::select::Chosen::runner_up`]).
+/// the small ones (the chain's runner-up, [`crate::select::Chosen::runner_up`]). Where the
+/// plain collapse only crossed, no checked one reached the budget and no larger budget's
+/// collapse was there to start from, the plain collapse made in two steps
+/// ([`collapse::in_two_steps`]).
 fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions) {
     // The input as the checked collapse takes it, cut only where it is needed.
     let cut = std::cell::OnceCell::new();
