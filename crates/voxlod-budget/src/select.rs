@@ -23,7 +23,7 @@
 //! 6. A proxy's level whose voxel level kept its rounded edges through the collapse (open
 //!    parts sampled as shells, or a large budget: `voxel::sharpened_before_collapse`) is given
 //!    them back where that lowers its mean distance by more than it raises its shape distance
-//!    ([`sharpened_level`]).
+//!    (`sharpened_level`).
 //!
 //! Cost: per candidate, one quick measurement (often cut short); per finalist, a crossing count
 //! and a careful measurement; one fit; for a proxy, one snap.
@@ -290,7 +290,7 @@ fn fitted_best(
 }
 
 /// A proxy's snapped level may measure this many times farther (careful shape distance) than
-/// the level it was snapped from ([`sharpened_level`]).
+/// the level it was snapped from (`sharpened_level`).
 pub const SNAP_SLACK: f64 = 1.5;
 
 /// For a proxy, `level` (of a voxel level's lineage, measured carefully) with its vertices
