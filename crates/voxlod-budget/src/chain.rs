@@ -317,9 +317,8 @@ fn is_close_enough(input: &Input, measure: &Measure, c: &mut Candidate, budget: 
 /// plain one stalled it; while they reach their budgets. The voxel searches go on beside them:
 /// a voxel level that loses to a checked collapse at a large budget often collapses closer at
 /// the small ones (the chain's runner-up, [`crate::select::Chosen::runner_up`]). Where the
-/// plain collapse only crossed, no checked one reached the budget and no larger budget's
-/// collapse was there to start from, the plain collapse made in two steps
-/// ([`collapse::in_two_steps`]).
+/// plain collapse only crossed and no larger budget's collapse was there to start from, the
+/// plain collapse made in two steps as well ([`collapse::in_two_steps`]).
 fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions) {
     // The input as the checked collapse takes it, cut only where it is needed.
     let cut = std::cell::OnceCell::new();
@@ -348,11 +347,10 @@ fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions
         if allowed && !repeats && !made.iter().any(reached) {
             made.extend(collapse::kept(whole(), s.budget, input, options.max_error));
         }
-        // Nothing larger to start from, the plain collapse only crossed and the checked one
-        // stalled: the input's collapse in two steps (not a start for the next budgets: its
-        // second step is not checked). Where the checked one reaches the budget, its lineage
-        // collapses closer further down the chain (the rocker arm's 1 000 to 300).
-        if from.is_none() && s.plain_crossed && !made.iter().any(reached) {
+        // Nothing larger to start from and the plain collapse only crossed: the input's
+        // collapse in two steps too, beside the checked one (not a start for the next budgets:
+        // its second step is not checked).
+        if from.is_none() && s.plain_crossed {
             let promises = first_promises(input, options, 2 * s.budget);
             let keeps = |c: &mut Candidate| {
                 promises.broken_cheap(c).is_empty() && crosses_no_more(input, c)

@@ -11,10 +11,10 @@
 //! them (our addition to the paper):
 //!
 //! - **the input's collapse** ([`Method::Collapse`]): meshoptimizer `simplify` as gltfpack runs
-//!   it, with its checked form ([`Method::CollapseKept`]) where it broke a promise (and where
-//!   that stalls after the plain one only crossed, the plain one made in two steps,
-//!   `collapse::in_two_steps`), and `simplifySloppy` ([`Method::Sloppy`]), which competes
-//!   where its result keeps the promises;
+//!   it, with its checked form ([`Method::CollapseKept`]) where it broke a promise (an open
+//!   input's holes may close in it; where the plain one only crossed, the plain one made in
+//!   two steps as well, `collapse::in_two_steps`), and `simplifySloppy` ([`Method::Sloppy`]),
+//!   which competes where its result keeps the promises;
 //! - **voxel levels** ([`Method::Voxel`], module `voxel`): the input's solid filtered (§2–3),
 //!   contoured (§4) at three isodensities and collapsed to the budget (§5), the closest fitted
 //!   back to the input's surface (crate `voxlod-fit`); for a surface that is not closed, a

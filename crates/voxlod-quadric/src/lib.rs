@@ -13,7 +13,8 @@
 //! or duplicate triangle, no inconsistently oriented edge (where the input had none), and the same
 //! components, boundary loops and genus. So a closed manifold level stays closed, manifold and of
 //! the same genus, and an open one keeps its openings (its border vertices are also locked in
-//! place, [`QuadricOptions::lock_border`]). And no two of its triangles cross
+//! place, [`QuadricOptions::lock_border`]; with [`QuadricOptions::holes_may_close`], it may have
+//! fewer boundary loops, its holes closed, and no more handles). And no two of its triangles cross
 //! ([`voxlod_core::crossing_pairs`]) beyond as many pairs as the input has: a level without
 //! self-intersections stays without.
 //!
@@ -90,6 +91,11 @@ pub struct QuadricOptions {
     /// Keep the border vertices of an open mesh where they are (meshoptimizer's `LockBorder`),
     /// so that openings keep their exact rim.
     pub lock_border: bool,
+    /// Openings may close: a pass may leave fewer boundary loops than the input has (a scan's
+    /// small holes collapse shut along their rims), as long as every other part of the
+    /// guarantee holds and the genus does not rise ([`keeps_topology_or_closes_holes`]).
+    /// Off, the boundary loops are kept as they are.
+    pub holes_may_close: bool,
 }
 
 impl Default for QuadricOptions {
@@ -99,6 +105,7 @@ impl Default for QuadricOptions {
             max_error: f64::INFINITY,
             max_attempts: 12,
             lock_border: true,
+            holes_may_close: false,
         }
     }
 }
@@ -120,6 +127,7 @@ impl QuadricOptions {
             max_error,
             max_attempts: 24,
             lock_border: false,
+            holes_may_close: false,
         }
     }
 
@@ -227,7 +235,11 @@ fn ratchet(
             break;
         }
         let topology = mesh_topology(&candidate);
-        let verdict = match keeps_topology(reference, &topology) {
+        let kept = match options.holes_may_close {
+            true => keeps_topology_or_closes_holes(reference, &topology),
+            false => keeps_topology(reference, &topology),
+        };
+        let verdict = match kept {
             false => Verdict::Topology,
             true => match folds.check(&result.mesh, &candidate) {
                 Ok(()) => Verdict::Accepted,
@@ -314,15 +326,33 @@ fn check_basic(mesh: &TriangleMesh, budget: usize) -> Result<(), QuadricError> {
 
 /// Whether `after` keeps what the module docs promise of `before`.
 pub fn keeps_topology(before: &Topology, after: &Topology) -> bool {
+    clean_with_its_parts(before, after)
+        && after.boundary_loops == before.boundary_loops
+        && after.genus == before.genus
+        && after.euler_characteristic == before.euler_characteristic
+}
+
+/// [`keeps_topology`], but for the boundary loops, of which `after` may have fewer, and the
+/// Euler characteristic that follows from them: the same components, no non-manifold or
+/// degenerate element, no more handles. (Per component, χ = 2 − 2g − b: a hole closed raises χ
+/// by one at the same genus.)
+pub fn keeps_topology_or_closes_holes(before: &Topology, after: &Topology) -> bool {
+    let handles = |t: &Topology| t.genus.unwrap_or(i64::MAX);
+    clean_with_its_parts(before, after)
+        && after.boundary_loops <= before.boundary_loops
+        && after.genus.is_some()
+        && handles(after) <= handles(before)
+}
+
+/// Whether `after` has no non-manifold edge or vertex, no degenerate or duplicate triangle, no
+/// inconsistently oriented edge where `before` had none, and `before`'s components.
+fn clean_with_its_parts(before: &Topology, after: &Topology) -> bool {
     after.non_manifold_edges == 0
         && after.non_manifold_vertices == 0
         && after.degenerate_triangles == 0
         && after.duplicate_triangles == 0
         && (before.inconsistent_edges > 0 || after.inconsistent_edges == 0)
         && after.components == before.components
-        && after.boundary_loops == before.boundary_loops
-        && after.genus == before.genus
-        && after.euler_characteristic == before.euler_characteristic
 }
 
 /// Locks the vertices of `before`'s components that lost their shape in `after` (both over
@@ -584,5 +614,54 @@ mod tests {
         assert!(simplify_sloppy(&mesh, 1000).unwrap().triangle_count() <= 1000);
         let (collapsed, _) = simplify_unchecked(&mesh, 1000, false).unwrap();
         assert!(collapsed.triangle_count() <= 1000);
+    }
+
+    /// A sphere with small holes: 20 triangles taken out along its triangle list (neighbours
+    /// in it share a hole).
+    fn holed_sphere() -> TriangleMesh {
+        let mut mesh = icosphere(4);
+        let step = mesh.triangles.len() / 20;
+        let holes: Vec<usize> = (0..20).map(|k| k * step).collect();
+        let mut k = 0;
+        mesh.triangles.retain(|_| {
+            k += 1;
+            !holes.contains(&(k - 1))
+        });
+        mesh
+    }
+
+    #[test]
+    fn holes_may_close_only_where_asked_and_nothing_else_changes() {
+        let mesh = holed_sphere();
+        let before = mesh_topology(&mesh);
+        let loops = before.boundary_loops;
+        assert!(loops >= 10 && before.genus == Some(0), "{before:?}");
+        let options = |holes_may_close| QuadricOptions {
+            holes_may_close,
+            ..QuadricOptions::budget(f64::INFINITY)
+        };
+        let kept = simplify_to_budget(&mesh, 200, &options(false)).unwrap();
+        assert_eq!(kept.topology.boundary_loops, loops);
+        let closed = simplify_to_budget(&mesh, 200, &options(true)).unwrap();
+        let t = mesh_topology(&closed.mesh);
+        assert!(t.boundary_loops < loops, "{t:?}");
+        assert!(
+            t.is_manifold() && t.components == 1 && t.genus == Some(0),
+            "{t:?}"
+        );
+        assert!(closed.mesh.triangle_count() <= kept.mesh.triangle_count());
+        assert!(keeps_topology_or_closes_holes(&before, &t));
+        assert!(!keeps_topology(&before, &t));
+        // More holes than before, or more handles, are refused either way.
+        let opened = Topology {
+            boundary_loops: loops + 1,
+            ..before.clone()
+        };
+        let handled = Topology {
+            genus: Some(1),
+            ..before.clone()
+        };
+        assert!(!keeps_topology_or_closes_holes(&before, &opened));
+        assert!(!keeps_topology_or_closes_holes(&before, &handled));
     }
 }
