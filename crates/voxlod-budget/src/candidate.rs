@@ -33,6 +33,9 @@ pub enum Method {
     /// The input's quadric collapse with its topology kept and no new crossing triangles
     /// (voxlod-quadric's checked collapse), where the plain collapse broke a promise.
     CollapseKept,
+    /// The input's plain collapse made in two steps, to twice the budget and then on to it
+    /// (`collapse::in_two_steps`), where the one-step collapse only crossed itself.
+    CollapseInTwoSteps,
     /// meshoptimizer `simplifySloppy`: vertex clustering on a grid sized for the count. Kept
     /// only where its result happens to keep every promise.
     Sloppy,
@@ -53,6 +56,7 @@ impl Method {
             Method::Collapse => "collapse",
             Method::CollapseAsGiven => "collapse-as-given",
             Method::CollapseKept => "collapse-kept",
+            Method::CollapseInTwoSteps => "collapse-in-two-steps",
             Method::Sloppy => "sloppy",
             Method::Voxel => "voxel",
             Method::Shell => "shell",

@@ -109,7 +109,10 @@ pub fn in_two_steps(
         return None;
     }
     let mesh = collapsed_plainly(&first.mesh, budget, max_error)?;
-    let second = Candidate::new(Method::Collapse, without_zero_area(mesh, input.cell()));
+    let second = Candidate::new(
+        Method::CollapseInTwoSteps,
+        without_zero_area(mesh, input.cell()),
+    );
     Some(second)
 }
 
@@ -199,6 +202,7 @@ mod tests {
     fn in_two_steps_reaches_the_budget_where_its_first_step_keeps_the_promises() {
         let input = Input::prepare(&icosphere(4)).unwrap();
         let two = in_two_steps(&input, 500, None, |_| true).unwrap();
+        assert_eq!(two.method, Method::CollapseInTwoSteps);
         assert!(within_budget(two.triangles(), 500), "{}", two.triangles());
         assert!(two.topology.is_closed_manifold() && two.topology.genus == Some(0));
         // Its first step ruled out, or twice the budget not below the input: none.

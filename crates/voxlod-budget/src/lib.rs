@@ -13,7 +13,7 @@
 //! - **the input's collapse** ([`Method::Collapse`]): meshoptimizer `simplify` as gltfpack runs
 //!   it, with its checked form ([`Method::CollapseKept`]) where it broke a promise (an open
 //!   input's holes may close in it; where the plain one only crossed, the plain one made in
-//!   two steps as well, `collapse::in_two_steps`), and `simplifySloppy` ([`Method::Sloppy`]),
+//!   two steps as well, [`Method::CollapseInTwoSteps`]), and `simplifySloppy` ([`Method::Sloppy`]),
 //!   which competes where its result keeps the promises;
 //! - **voxel levels** ([`Method::Voxel`], module `voxel`): the input's solid filtered (§2–3),
 //!   contoured (§4) at three isodensities and collapsed to the budget (§5), the closest fitted

@@ -167,9 +167,11 @@ fn triangle_side(mesh: &TriangleMesh) -> Option<f64> {
 /// The facade's report of a portfolio level.
 fn report(r: &voxlod_budget::BudgetLevel, error: Option<f64>, genus: Option<i64>) -> BudgetLevel {
     let stage = match r.method {
-        Method::Collapse | Method::CollapseAsGiven | Method::CollapseKept | Method::Sloppy => {
-            Stage::InputQuadric
-        }
+        Method::Collapse
+        | Method::CollapseAsGiven
+        | Method::CollapseKept
+        | Method::CollapseInTwoSteps
+        | Method::Sloppy => Stage::InputQuadric,
         Method::Voxel | Method::Shell | Method::Above => Stage::Quadric,
     };
     BudgetLevel {
