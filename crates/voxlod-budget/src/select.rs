@@ -29,6 +29,7 @@
 //! and a careful measurement; one fit; for a proxy, one snap.
 
 use rayon::prelude::*;
+use voxlod_core::TriangleMesh;
 use voxlod_fit::{fit_with, snap_to_features, FeatureOptions, FitOptions};
 
 use crate::candidate::{Candidate, Method};
@@ -262,16 +263,7 @@ fn fitted_best(
     let Some(done) = done.ok().filter(|d| d.iterations > 0) else {
         return Vec::new();
     };
-    let like_source = |mesh| {
-        let mut c = Candidate::new(source.method, mesh);
-        c.resolution = source.resolution;
-        c.iso = source.iso;
-        c.parts_dropped = source.parts_dropped;
-        c.fitted = true;
-        c.fill = source.fill;
-        c.cut_vertices = source.cut_vertices;
-        c
-    };
+    let like_source = |mesh| fitted_like(source, mesh);
     let mut fitted = like_source(done.mesh);
     fitted.quick = measure.distance(&fitted.mesh, Care::Quick, h);
     let Some(fit_h) = fitted.quick.map(|d| d.shape) else {
@@ -287,6 +279,16 @@ fn fitted_best(
         out.extend(snapped.quick.is_some().then_some(snapped));
     }
     out
+}
+
+/// `mesh`, moved from `source`'s vertices towards the input, as a candidate of `source`'s
+/// method and lineage (resolution, isodensity, fill, parts dropped, cut vertices), fitted.
+fn fitted_like(source: &Candidate, mesh: TriangleMesh) -> Candidate {
+    let mut c = Candidate::new(source.method, mesh);
+    (c.resolution, c.iso, c.fill) = (source.resolution, source.iso, source.fill);
+    (c.parts_dropped, c.cut_vertices) = (source.parts_dropped, source.cut_vertices);
+    c.fitted = true;
+    c
 }
 
 /// A proxy's snapped level may measure this many times farther (careful shape distance) than
@@ -320,10 +322,7 @@ fn sharpened_level(
     if moved == 0 {
         return level;
     }
-    let mut snapped = Candidate::new(level.method, without_zero_area(mesh, input.cell()));
-    (snapped.resolution, snapped.iso, snapped.fill) = (level.resolution, level.iso, level.fill);
-    (snapped.parts_dropped, snapped.cut_vertices) = (level.parts_dropped, level.cut_vertices);
-    snapped.fitted = true;
+    let mut snapped = fitted_like(&level, without_zero_area(mesh, input.cell()));
     if !promises.broken_cheap(&snapped).is_empty() || !crosses_no_more(input, &mut snapped) {
         return level;
     }
@@ -578,7 +577,6 @@ fn careful_d(c: &Candidate) -> Distance {
 mod tests {
     use super::*;
     use voxlod_core::glam::DVec3;
-    use voxlod_core::TriangleMesh;
     use voxlod_testkit::shapes::icosphere;
 
     /// A candidate of `method` (of a voxel level where `resolution` is given) measured quickly

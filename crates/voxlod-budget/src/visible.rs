@@ -19,6 +19,7 @@
 
 use voxlod_core::components::submesh;
 use voxlod_core::glam::DVec3;
+use voxlod_core::manifold::on_odd_edges;
 use voxlod_render::{seen_points, visible_triangles, VisibilityOptions};
 
 use crate::input::{Input, Seen};
@@ -118,26 +119,10 @@ pub fn seen_only<const N: usize>(
 }
 
 /// The input's parts that bound a volume, as one mesh: those none of whose edges is used by
-/// an odd number of triangles (a closed part, or closed parts touching along edges); `None`
-/// where there is none. Cost: O(F log F), one edge sort.
+/// an odd number of triangles (`voxlod_core::manifold::on_odd_edges`: a closed part, or closed
+/// parts touching along edges); `None` where there is none. Cost: O(F log F), one edge sort.
 fn solid_parts(input: &Input) -> Option<voxlod_core::TriangleMesh> {
-    let triangles = &input.mesh.triangles;
-    let mut edges: Vec<([u32; 2], u32)> = (triangles.iter().enumerate())
-        .flat_map(|(t, v)| {
-            (0..3).map(move |k| {
-                let (a, b) = (v[k], v[(k + 1) % 3]);
-                ([a.min(b), a.max(b)], t as u32)
-            })
-        })
-        .collect();
-    edges.sort_unstable();
-    let mut on_odd_edge = vec![false; triangles.len()];
-    for run in edges.chunk_by(|a, b| a.0 == b.0) {
-        if run.len() % 2 == 1 {
-            run.iter()
-                .for_each(|&(_, t)| on_odd_edge[t as usize] = true);
-        }
-    }
+    let on_odd_edge = on_odd_edges(&input.mesh.triangles);
     let solid: Vec<u32> = (input.parts.iter())
         .filter(|p| !p.iter().any(|&t| on_odd_edge[t as usize]))
         .flatten()

@@ -190,6 +190,19 @@ pub fn on_open_edges(triangles: &[[u32; 3]]) -> Vec<bool> {
     open
 }
 
+/// Whether each of `triangles` has an edge used by an odd number of triangles: where the
+/// surface does not bound a volume (a border, or three sheets along an edge). Closed parts that
+/// touch along edges (four uses) bound one. Cost: O(F log F) (the edge sort).
+pub fn on_odd_edges(triangles: &[[u32; 3]]) -> Vec<bool> {
+    let mut odd = vec![false; triangles.len()];
+    for run in edge_runs(&sorted_edges(triangles)) {
+        if run.len() % 2 == 1 {
+            run.iter().for_each(|u| odd[u.triangle as usize] = true);
+        }
+    }
+    odd
+}
+
 /// Every edge use, sorted by edge.
 fn sorted_edges(triangles: &[[u32; 3]]) -> Vec<EdgeUse> {
     let mut uses: Vec<EdgeUse> = Vec::with_capacity(3 * triangles.len());
@@ -551,5 +564,23 @@ mod tests {
         assert!(t.is_manifold() && t.is_consistently_oriented(), "{t:?}");
         assert_eq!(report.split_vertices, 2);
         assert_eq!(t.boundary_loops, 1);
+    }
+
+    #[test]
+    fn on_odd_edges_marks_borders_and_three_sheets_not_closed_surfaces_touching() {
+        // Two triangles sharing an edge: every other edge is a border.
+        assert_eq!(on_odd_edges(&[[0, 1, 2], [2, 1, 3]]), [true, true]);
+        // A closed octahedron, and two of them sharing an edge (four uses): no odd edge.
+        let one = octahedron();
+        assert!(on_odd_edges(&one.triangles).iter().all(|&o| !o));
+        let mut two = one.triangles.clone();
+        let n = one.positions.len() as u32;
+        let [a, b, _] = one.triangles[0];
+        let shift = |v: u32| if v == a || v == b { v } else { v + n };
+        two.extend(one.triangles.iter().map(|t| t.map(shift)));
+        assert!(on_odd_edges(&two).iter().all(|&o| !o));
+        // Three triangles on one edge: odd, all three marked.
+        let fan = on_odd_edges(&[[0, 1, 2], [1, 0, 3], [0, 1, 4]]);
+        assert_eq!(fan, [true, true, true]);
     }
 }
