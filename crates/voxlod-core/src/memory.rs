@@ -17,7 +17,7 @@
 //!
 //! Every large allocation (volumes, line spans, meshes) asks [`check_allocation`] first, so an
 //! absurd grid size gets an error that says how many bytes it would take instead of an abort.
-//! Cost: a few small reads of `/proc` and `/sys` per check.
+//! Cost: a few small reads of `/proc` and `/sys` per check of more than [`SMALL_REQUEST`] bytes.
 
 use std::path::{Path, PathBuf};
 
@@ -305,10 +305,20 @@ pub fn advise_huge_pages<T>(buffer: &[T]) {
     let _ = buffer;
 }
 
+/// Requests of at most this many bytes are checked against `VOXLOD_MAX_MEMORY` only, not
+/// against the system's figures: they fit in the headroom set aside (64 MiB at least), and
+/// reading `/proc` and `/sys` costs more than they do (a budget chain of a small mesh asks for
+/// thousands of them).
+pub const SMALL_REQUEST: u64 = 1 << 20;
+
 /// Fails with [`CoreError::OutOfMemory`] if `bytes` exceed what is available, and with
-/// [`CoreError::BadMemoryLimit`] if `VOXLOD_MAX_MEMORY` is not a size.
+/// [`CoreError::BadMemoryLimit`] if `VOXLOD_MAX_MEMORY` is not a size. Cost: a few small reads
+/// of `/proc` and `/sys`, none for a [`SMALL_REQUEST`].
 pub fn check_allocation(what: &str, bytes: u64) -> Result<(), CoreError> {
-    let available = available_bytes()?;
+    let available = match bytes <= SMALL_REQUEST {
+        true => max_memory_setting()?.unwrap_or(u64::MAX),
+        false => available_bytes()?,
+    };
     if bytes > available {
         return Err(CoreError::OutOfMemory {
             what: what.to_string(),

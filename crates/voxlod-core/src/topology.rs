@@ -186,13 +186,11 @@ fn count_components(tris: &[[u32; 3]], used: &[bool]) -> usize {
         uf.union(a, b);
         uf.union(b, c);
     }
-    let mut roots = std::collections::HashSet::new();
-    for v in 0..used.len() as u32 {
-        if used[v as usize] {
-            roots.insert(uf.find(v));
-        }
-    }
-    roots.len()
+    // Only used vertices are ever joined, so a used vertex's set holds used vertices alone and
+    // its root is one of them: a component is a used vertex that is its own root.
+    (0..used.len() as u32)
+        .filter(|&v| used[v as usize] && uf.find(v) == v)
+        .count()
 }
 
 /// The holes of a surface: the independent cycles of its boundary, counted as the cycle rank
@@ -212,8 +210,8 @@ pub fn count_boundary_loops(odd_edges: &[(u32, u32, bool)], vertex_count: usize)
         graph.union(a, b);
     }
     // Per component: edges, vertices, and whether an edge is used once.
-    let mut components = std::collections::HashMap::<u32, (usize, usize, bool)>::new();
-    let mut seen = std::collections::HashSet::new();
+    let mut components = rustc_hash::FxHashMap::<u32, (usize, usize, bool)>::default();
+    let mut seen = rustc_hash::FxHashSet::default();
     for &(a, b, once) in odd_edges {
         let c = components.entry(graph.find(a)).or_default();
         c.0 += 1;

@@ -16,7 +16,7 @@
 //!
 //! Cost: per round one [`simplify_to_budget`] and a union-find over the triangles, O(F log F).
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use voxlod_core::TriangleMesh;
 
@@ -143,7 +143,7 @@ fn label_parts(mesh: &TriangleMesh) -> (Vec<u32>, Vec<Part>) {
             parent[ru as usize] = rw;
         }
     }
-    let mut index: HashMap<u32, u32> = HashMap::new();
+    let mut index: HashMap<u32, u32> = HashMap::default();
     let mut labels = vec![u32::MAX; mesh.positions.len()];
     let mut boxes: Vec<([f32; 3], [f32; 3], usize)> = Vec::new();
     for &[a, b, c] in &mesh.triangles {

@@ -23,7 +23,7 @@
 //! pairs; [`lock_around`] puts the grown boxes on a grid of cells as large as the largest,
 //! O(V + C) for C boxes of similar size.
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use voxlod_core::crossings::bounds;
 use voxlod_core::glam::DVec3;
@@ -106,7 +106,7 @@ pub(crate) fn lock_around(
         return false;
     }
     let key = |p: DVec3| (p / cell).floor().as_i64vec3().to_array();
-    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::default();
     for (b, (lo, hi)) in boxes.iter().enumerate() {
         let (a, z) = (key(*lo), key(*hi));
         for x in a[0]..=z[0] {

@@ -48,7 +48,7 @@
 //! one count of crossing pairs, O(F) on all threads; at most [`QuadricOptions::max_attempts`]
 //! of each. Memory O(V + F).
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::FxHashMap as HashMap;
 
 mod drop_parts;
 mod folds;
@@ -375,10 +375,10 @@ fn lock_changed_components(
     // edges and duplicate triangles that the pass made are.
     let small = before.triangles.len() / 8;
     let lost = |r: u32| {
-        let (b, a) = (shape_before.get(&r), shape_after.get(&r));
-        match (b, a) {
-            (Some(b), Some(a)) => b.1 <= small && (a.0 != b.0 || (a.1 < 4 && a.1 < b.1)),
-            (Some(_), None) => true,
+        let (b, a) = (shape_before[r as usize], shape_after[r as usize]);
+        match (b.1 > 0, a.1 > 0) {
+            (true, true) => b.1 <= small && (a.0 != b.0 || (a.1 < 4 && a.1 < b.1)),
+            (true, false) => true,
             _ => false,
         }
     };
@@ -410,8 +410,8 @@ fn lock_changed_components(
 /// The corners of `mesh`'s triangles that have an edge shared by more than two triangles or
 /// that repeat another triangle's vertices.
 fn pinched_corners(mesh: &TriangleMesh) -> Vec<u32> {
-    let mut uses: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
-    let mut seen: HashMap<[u32; 3], usize> = HashMap::new();
+    let mut uses: HashMap<(u32, u32), Vec<usize>> = HashMap::default();
+    let mut seen: HashMap<[u32; 3], usize> = HashMap::default();
     let mut corners = Vec::new();
     for (t, &[a, b, c]) in mesh.triangles.iter().enumerate() {
         for (u, w) in [(a, b), (b, c), (c, a)] {
@@ -441,27 +441,30 @@ fn root(parent: &mut [u32], mut v: u32) -> u32 {
     v
 }
 
-/// Per component (by its root in `parent`): Euler characteristic V − E + F and triangle count
-/// of `mesh`'s triangles in it.
-fn component_shapes(mesh: &TriangleMesh, parent: &mut [u32]) -> HashMap<u32, (i64, usize)> {
-    let mut vertices = HashSet::new();
-    let mut edges = HashSet::new();
-    let mut shapes: HashMap<u32, (i64, usize)> = HashMap::new();
+/// Per component (by its root in `parent`, indexed by vertex): Euler characteristic V − E + F
+/// and triangle count of `mesh`'s triangles in it; `(0, 0)` where no triangle has that root.
+/// Cost: a sort of the edges.
+fn component_shapes(mesh: &TriangleMesh, parent: &mut [u32]) -> Vec<(i64, usize)> {
+    let mut shapes = vec![(0i64, 0usize); parent.len()];
+    let mut counted = vec![false; parent.len()];
+    let mut edges = Vec::with_capacity(3 * mesh.triangles.len());
     for &[a, b, c] in &mesh.triangles {
-        let r = root(parent, a);
-        let shape = shapes.entry(r).or_default();
+        let shape = &mut shapes[root(parent, a) as usize];
         shape.0 += 1;
         shape.1 += 1;
         for v in [a, b, c] {
-            if vertices.insert(v) {
+            if !std::mem::replace(&mut counted[v as usize], true) {
                 shape.0 += 1;
             }
         }
-        for (u, w) in [(a, b), (b, c), (c, a)] {
-            if edges.insert((u.min(w), u.max(w))) {
-                shape.0 -= 1;
-            }
-        }
+        edges.extend(
+            [(a, b), (b, c), (c, a)].map(|(u, w)| ((u.min(w) as u64) << 32) | u.max(w) as u64),
+        );
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    for edge in edges {
+        shapes[root(parent, (edge >> 32) as u32) as usize].0 -= 1;
     }
     shapes
 }
@@ -588,7 +591,37 @@ pub fn simplify_unchecked(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use voxlod_core::glam::Vec3;
     use voxlod_testkit::shapes::{icosphere, torus};
+
+    /// A sphere (χ = 2), a torus (χ = 0) and a lone triangle (χ = 1) in one mesh: each
+    /// component's Euler characteristic and triangle count under its root.
+    #[test]
+    fn component_shapes_counts_each_part_on_its_own() {
+        let mut mesh = icosphere(1);
+        let sphere_vertices = mesh.positions.len() as u32;
+        let ring = torus(8, 6, 3.0, 0.5);
+        let offset = mesh.positions.len() as u32;
+        mesh.positions.extend(&ring.positions);
+        (mesh.triangles).extend(ring.triangles.iter().map(|t| t.map(|v| v + offset)));
+        let lone = mesh.positions.len() as u32;
+        mesh.positions
+            .extend([Vec3::ZERO, Vec3::X, Vec3::Y].map(|p| p + 9.0));
+        mesh.triangles.push([lone, lone + 1, lone + 2]);
+        let mut parent: Vec<u32> = (0..mesh.positions.len() as u32).collect();
+        for &[a, b, c] in &mesh.triangles {
+            for (u, w) in [(a, b), (b, c)] {
+                let (ru, rw) = (root(&mut parent, u), root(&mut parent, w));
+                parent[ru as usize] = rw;
+            }
+        }
+        let shapes = component_shapes(&mesh, &mut parent);
+        let at = |parent: &mut [u32], v: u32| shapes[root(parent, v) as usize];
+        assert_eq!(at(&mut parent, 0), (2, 80));
+        assert_eq!(at(&mut parent, sphere_vertices), (0, 96));
+        assert_eq!(at(&mut parent, lone), (1, 1));
+        assert_eq!(shapes.iter().filter(|s| s.1 > 0).count(), 3);
+    }
 
     /// Budgets at, just above and far above the input's count: each returns every triangle.
     #[test]
