@@ -289,13 +289,6 @@ fn share_near_searches(searched: &mut [Searched]) {
     }
 }
 
-/// The largest input whose checked collapse is tried where its plain collapse broke its
-/// topology: each pass also checks the topology and the crossings of the whole result, and on
-/// large inputs whose plain collapse pinched (a CT surface's hundreds of thin walls) every pass
-/// is refused, seconds for nothing. Where the plain collapse only crossed, the locks around the
-/// few folds let the checked one through at any size.
-pub const KEPT_AT_MOST: usize = 250_000;
-
 /// Whether `c`, measured quickly here, is within [`VOXEL_WORTH`] (at small budgets
 /// [`VOXEL_WORTH_SMALL`]) of the voxel `budget` affords: no voxel level would come closer, so
 /// none is searched.
@@ -312,13 +305,14 @@ fn is_close_enough(input: &Input, measure: &Measure, c: &mut Candidate, budget: 
 /// A checked collapse ([`collapse::kept`]) for every budget whose plain collapse broke a
 /// promise, made from the nearest larger budget's plain collapse that kept them all, or the
 /// checked collapse made for it (a fraction of the cost of collapsing the input), and from the
-/// input (within [`KEPT_AT_MOST`] triangles unless the plain one only crossed; an input pinched
-/// at a few vertices or edges cut there first, its surface unchanged) where there is none or a
-/// plain one stalled it; while they reach their budgets. The voxel searches go on beside them:
-/// a voxel level that loses to a checked collapse at a large budget often collapses closer at
-/// the small ones (the chain's runner-up, [`crate::select::Chosen::runner_up`]). Where the
-/// plain collapse only crossed and no larger budget's collapse was there to start from, the
-/// plain collapse made in two steps as well ([`collapse::in_two_steps`]).
+/// input (within [`collapse::KEPT_AT_MOST`] triangles, or at any size where the plain one only
+/// crossed and nothing larger was there to start from; an input pinched at a few vertices or
+/// edges cut there first, its surface unchanged) where there is none or a plain one stalled
+/// it; while they reach their budgets. The voxel searches go on beside them: a voxel level
+/// that loses to a checked collapse at a large budget often collapses closer at the small ones
+/// (the chain's runner-up, [`crate::select::Chosen::runner_up`]). Where the plain collapse only
+/// crossed and no larger budget's collapse was there to start from, the plain collapse made in
+/// two steps as well ([`collapse::in_two_steps`]).
 fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions) {
     // The input as the checked collapse takes it, cut only where it is needed.
     let cut = std::cell::OnceCell::new();
@@ -342,7 +336,8 @@ fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions
             .collect();
         // From the input where there is nothing to start from, or the plain collapse it started
         // from stalled it (a checked collapse from the input would only repeat a checked one).
-        let allowed = input.mesh.triangle_count() <= KEPT_AT_MOST || s.plain_crossed;
+        let allowed = input.mesh.triangle_count() <= collapse::KEPT_AT_MOST
+            || (s.plain_crossed && from.is_none());
         let repeats = from.as_ref().is_some_and(|(_, checked)| *checked);
         if allowed && !repeats && !made.iter().any(reached) {
             made.extend(collapse::kept(whole(), s.budget, input, options.max_error));

@@ -16,6 +16,24 @@ use voxlod_contouring::clean_mesh::without_zero_area;
 /// crossings of its result): enough for the locks around a few pinches.
 pub const KEPT_ATTEMPTS: usize = 12;
 
+/// The largest input whose checked collapse is tried where its plain collapse broke its
+/// topology: each pass also checks the topology and the crossings of the whole result, and on
+/// large inputs whose plain collapse pinched (a CT surface's hundreds of thin walls) every pass
+/// is refused, seconds for nothing. Where the plain collapse only crossed, the locks around the
+/// few folds let the checked one through at any size, but only for the largest budget that
+/// needs one: below a larger budget's collapse, a stall is not worth a collapse of the whole
+/// input (the 1.4 M-triangle sphereflake asked for 1 000 and 300: its checked collapse from
+/// the input at 300 took 37 s and stalled at 1 360 176 triangles).
+pub const KEPT_AT_MOST: usize = 250_000;
+
+/// meshoptimizer passes the checked collapse of a mesh above [`KEPT_AT_MOST`] triangles may
+/// make in each of its ratchets (`voxlod_quadric::QuadricOptions::max_attempts`): a pass of the
+/// whole input costs about what `simplify` takes for it, and a large input whose few folds
+/// the locks settle needs two (a 268 686-triangle head scan that crossed in 3 pairs), while
+/// one that stalls would spend 24 (the 1.4 M-triangle sphereflake asked for 300 triangles:
+/// 37 s, stopped at 1 360 176 triangles).
+pub const KEPT_ATTEMPTS_LARGE: usize = 2;
+
 /// The input collapsed towards `budget` by meshoptimizer's `simplify`, border free, within
 /// `max_error` (mesh units) of its own estimate. A budget at or above the input's triangles
 /// gives the input itself. `None` where meshoptimizer refuses the mesh.
@@ -148,7 +166,10 @@ pub fn kept(
         return None;
     }
     let options = QuadricOptions {
-        max_attempts: KEPT_ATTEMPTS,
+        max_attempts: match mesh.triangle_count() > KEPT_AT_MOST {
+            true => KEPT_ATTEMPTS_LARGE,
+            false => KEPT_ATTEMPTS,
+        },
         holes_may_close: input.topology.boundary_loops > 0,
         ..QuadricOptions::budget(max_error.unwrap_or(f64::INFINITY))
     };

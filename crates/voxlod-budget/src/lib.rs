@@ -49,8 +49,9 @@
 //! and only the closest few are measured carefully (near ties again with twice the samples); a budget's checked collapse
 //! starts from a larger budget's collapse where one kept the promises. Large inputs skip what
 //! costs seconds and rarely wins there: the checked collapse above [`KEPT_AT_MOST`] triangles
-//! where the plain one broke the topology (not where it only crossed), voxel levels above
-//! [`LARGE_VOXEL`] triangles where the input's collapse only came out cut open.
+//! where the plain one broke the topology, or only crossed below a larger budget's collapse
+//! (and else with [`KEPT_ATTEMPTS_LARGE`] passes), voxel levels above [`LARGE_VOXEL`]
+//! triangles where the input's collapse only came out cut open.
 //!
 //! ```
 //! use voxlod_budget::{levels, PortfolioOptions, Method};
@@ -92,9 +93,9 @@ mod voxel;
 
 pub use candidate::{Fill, Method};
 pub use chain::{
-    levels_with, ProgressFn, KEPT_AT_MOST, LARGE_VOXEL, SMALL_BUDGET, VOXEL_WORTH,
-    VOXEL_WORTH_SMALL,
+    levels_with, ProgressFn, LARGE_VOXEL, SMALL_BUDGET, VOXEL_WORTH, VOXEL_WORTH_SMALL,
 };
+pub use collapse::{KEPT_ATTEMPTS, KEPT_ATTEMPTS_LARGE, KEPT_AT_MOST};
 pub use error::BudgetError;
 pub use input::Preparation;
 pub use looks::{asset_levels, AssetBudgeted, AssetLevel, Looks};

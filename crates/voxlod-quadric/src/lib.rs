@@ -86,7 +86,8 @@ pub struct QuadricOptions {
     /// The largest distance, in mesh units, that meshoptimizer's error estimate may reach, over
     /// all steps (`f64::INFINITY`: no limit, the budget alone decides).
     pub max_error: f64,
-    /// meshoptimizer passes at most (accepted or rejected).
+    /// meshoptimizer passes at most (accepted or rejected) of each ratchet: the one with locks,
+    /// then, where that stopped short of the budget after a rejection, the plain one.
     pub max_attempts: usize,
     /// Keep the border vertices of an open mesh where they are (meshoptimizer's `LockBorder`),
     /// so that openings keep their exact rim.
