@@ -47,6 +47,9 @@ pub enum Method {
     Shell,
     /// The level of the next larger budget, collapsed to this one with its topology kept.
     Above,
+    /// The level of the next smaller budget with its edges split to this budget and fitted to
+    /// the input, where the chain's choice here was farther than it (module `below`).
+    Below,
 }
 
 impl Method {
@@ -61,6 +64,7 @@ impl Method {
             Method::Voxel => "voxel",
             Method::Shell => "shell",
             Method::Above => "above",
+            Method::Below => "below",
         }
     }
 

@@ -7,13 +7,14 @@ use std::time::Instant;
 use rayon::prelude::*;
 use voxlod_core::TriangleMesh;
 
+use crate::below;
 use crate::candidate::{Candidate, Fill, Method};
 use crate::collapse;
 use crate::grids::{with_solids, Grids};
 use crate::input::Input;
 use crate::measure::{Care, Measure};
 use crate::promises::{crosses_no_more, within_budget, Promise, Promises};
-use crate::report::{BudgetLevel, InputReport};
+use crate::report::{BudgetLevel, CandidateReport, InputReport};
 use crate::restore::StandIns;
 use crate::select::{choose, measure_ahead, Chosen};
 use crate::shell::shell_candidates;
@@ -102,7 +103,8 @@ pub fn levels_with(
     lap(&mut timings.voxels);
     step(2 * budgets.len())?;
     let stand_ins = StandIns::default();
-    let (chosen, mut warnings) = choose_down(searched, &input, &measure, options, &stand_ins)?;
+    let (mut chosen, mut warnings) = choose_down(searched, &input, &measure, options, &stand_ins)?;
+    refine_from_below(&mut chosen, &mut warnings, &input, &measure, options);
     lap(&mut timings.choice);
     step(total)?;
     let levels = options
@@ -500,6 +502,57 @@ fn choose_down(
         levels.push(level);
     }
     Ok((levels, warnings))
+}
+
+/// Each level farther from the input than the next smaller budget's replaced by that level
+/// refined to its budget (module `below`), where that keeps every promise and is closer; from
+/// the smallest budget up, so that a refined level can serve the one above it. Not for a
+/// proxy, nor without the monotone chain. `levels` run from the largest budget down.
+fn refine_from_below(
+    levels: &mut [Level],
+    warnings: &mut Vec<String>,
+    input: &Input,
+    measure: &Measure,
+    options: &PortfolioOptions,
+) {
+    if options.remesh || !options.monotone {
+        return;
+    }
+    for k in (0..levels.len().saturating_sub(1)).rev() {
+        let start = Instant::now();
+        let (larger, smaller) = (&levels[k].report, &levels[k + 1].report);
+        if !(larger.hausdorff > smaller.hausdorff && larger.budget > smaller.budget) {
+            continue;
+        }
+        let mut promises = first_promises(input, options, larger.budget);
+        if k > 0 {
+            promises.max_handles = levels[k - 1].report.genus.or(promises.max_handles);
+        }
+        let farther = (larger.hausdorff, larger.mean_distance);
+        let fit = options.fit.as_ref();
+        let Some(below) =
+            below::refined_below(&levels[k + 1], &promises, input, measure, fit, farther)
+        else {
+            continue;
+        };
+        let old = &levels[k].report;
+        if let Some(note) = &old.note {
+            let text = format!("{} triangles: {note}", old.budget);
+            warnings.retain(|w| *w != text);
+        }
+        let mut candidates = old.candidates.clone();
+        candidates.push(CandidateReport::of(&below, &[]));
+        let chosen = Chosen {
+            level: below,
+            candidates,
+            ruled_out: old.ruled_out.clone(),
+            warning: None,
+            runner_up: None,
+        };
+        let seconds = old.seconds + start.elapsed().as_secs_f64();
+        let above = k.checked_sub(1).map(|a| levels[a].report.budget);
+        levels[k] = level_of(chosen, input, old.budget, above, seconds, warnings);
+    }
 }
 
 /// A level of the budget above (the level, or its runner-up,

@@ -24,6 +24,9 @@
 //!   and beside it that budget's runner-up, the closest candidate of the other lineage (a voxel
 //!   level where the level is a collapse of the input, or the reverse: [`select::Chosen`]), so
 //!   that a lineage that lost at a large budget but collapses closer is there at the small ones;
+//! - **the level below** ([`Method::Below`], module `below`): where the choice left a budget's
+//!   level farther from the input than the next smaller budget's, that level with its edges
+//!   split to the budget and fitted replaces it, where it keeps every promise and is closer;
 //! - **parts** (module `restore`): where a candidate lost small parts of the input, a twin with
 //!   them back beside it as tetrahedra; for a many-part input whose parts the budget cannot all
 //!   carry, the input's collapse with its small parts stood in for by tetrahedra.
@@ -70,6 +73,7 @@
 
 #![warn(missing_docs)]
 
+mod below;
 mod candidate;
 mod chain;
 mod collapse;

@@ -75,6 +75,38 @@ fn a_surface_with_hundreds_of_handles_gets_closed_levels_at_small_budgets() {
 }
 
 #[test]
+fn no_level_is_farther_than_the_level_below_it() {
+    // The lattice's voxel levels at its larger budgets lose more of it than the smallest
+    // one's: those levels come from the level below, refined and fitted.
+    let budgets = [2478, 1000, 619, 300, 154];
+    let run = check_chain(&corpus::genus_rich(), &budgets, true);
+    assert!(run.levels.iter().any(|l| l.report.method == Method::Below));
+    for pair in run.levels.windows(2) {
+        let (larger, smaller) = (&pair[0].report, &pair[1].report);
+        assert!(
+            larger.hausdorff <= 1.05 * smaller.hausdorff,
+            "{}: {} against {} at {}",
+            larger.budget,
+            larger.hausdorff,
+            smaller.hausdorff,
+            smaller.budget
+        );
+    }
+    // A level refined from below is listed among its candidates.
+    for level in run
+        .levels
+        .iter()
+        .filter(|l| l.report.method == Method::Below)
+    {
+        assert!(level
+            .report
+            .candidates
+            .iter()
+            .any(|c| c.candidate.starts_with("below")));
+    }
+}
+
+#[test]
 fn an_inside_out_shell_gives_outward_levels_and_says_so() {
     let run = check_chain(&corpus::inside_out(), &[1500, 200], true);
     assert!(run.input.preparation.turned_right_side_out);

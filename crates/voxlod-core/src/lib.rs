@@ -15,7 +15,8 @@
 //!   [`crossing_pairs`]: every pair of a mesh's triangles that does.
 //! - [`weld`]: merging coincident vertices, as STL triangle soups need.
 //! - [`memory`]: refusing allocations that cannot fit, with the size they would need.
-//! - [`repair`]: dropping degenerate and duplicate triangles, closing holes for the inside test.
+//! - [`repair`]: dropping degenerate and duplicate triangles, closing holes for the inside test;
+//!   [`split`]: refining a mesh to a triangle count without changing its surface.
 //! - [`Bounds`], [`CoreError`], and [`disjoint`] writes from several threads.
 //!
 //! The types are the data of the voxel paper's pipeline (He et al. 1995): the object and its
@@ -62,6 +63,7 @@ pub mod mesh;
 pub mod parity;
 pub mod repair;
 pub mod rounding;
+pub mod split;
 #[cfg(test)]
 mod test_shapes;
 pub mod topology;

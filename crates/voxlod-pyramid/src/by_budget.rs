@@ -172,7 +172,7 @@ fn report(r: &voxlod_budget::BudgetLevel, error: Option<f64>, genus: Option<i64>
         | Method::CollapseKept
         | Method::CollapseInTwoSteps
         | Method::Sloppy => Stage::InputQuadric,
-        Method::Voxel | Method::Shell | Method::Above => Stage::Quadric,
+        Method::Voxel | Method::Shell | Method::Above | Method::Below => Stage::Quadric,
     };
     BudgetLevel {
         budget: Some(r.budget),
