@@ -37,17 +37,24 @@ pub fn refined_below(
     fit: Option<&FitOptions>,
     (hausdorff, mean): (f64, f64),
 ) -> Option<Candidate> {
-    let mut mesh = split_longest_edges(&smaller.mesh, promises.budget);
-    if let Some(options) = fit {
-        let closest = measure.input_closest();
-        if let Ok(done) = fit_with(&mesh, closest, measure.input_samples(), options) {
-            mesh = done.mesh;
-        }
-    }
-    let mut below = Candidate::new(Method::Below, mesh);
+    let split = split_longest_edges(&smaller.mesh, promises.budget);
+    let fitted = fit
+        .and_then(|options| {
+            fit_with(
+                &split,
+                measure.input_closest(),
+                measure.input_samples(),
+                options,
+            )
+            .ok()
+        })
+        .filter(|done| done.iterations > 0)
+        .map(|done| done.mesh);
     let r = &smaller.report;
+    let was_fitted = fitted.is_some() || r.fitted_to_input;
+    let mut below = Candidate::new(Method::Below, fitted.unwrap_or(split));
     (below.resolution, below.iso, below.fill) = (r.resolution, r.iso, r.fill);
-    below.fitted = fit.is_some() || r.fitted_to_input;
+    below.fitted = was_fitted;
     if !promises.broken_cheap(&below).is_empty() || !crosses_no_more(input, &mut below) {
         return None;
     }
