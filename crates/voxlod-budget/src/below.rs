@@ -26,9 +26,9 @@ use crate::promises::{crosses_no_more, Promises};
 use crate::Level;
 
 /// The level below (`smaller`, a level of the chain) refined to `promises.budget` and fitted
-/// where `fit` is given, measured carefully, where it keeps every promise of `promises` and is
-/// closer than the larger budget's level (its careful Hausdorff and mean distances); `None`
-/// otherwise.
+/// where `fit` is given, measured carefully, where it keeps every promise of `promises`, is
+/// closer than `hausdorff` (the larger budget's level's careful Hausdorff distance) and has a
+/// mean distance of at most `mean`; `None` otherwise.
 pub fn refined_below(
     smaller: &Level,
     promises: &Promises,

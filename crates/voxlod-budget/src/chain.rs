@@ -528,7 +528,17 @@ fn refine_from_below(
         if k > 0 {
             promises.max_handles = levels[k - 1].report.genus.or(promises.max_handles);
         }
-        let farther = (larger.hausdorff, larger.mean_distance);
+        // Closer by Hausdorff distance, the mean within what the choice allows (module
+        // `select`): the larger level's, or the input's collapse's times `MEAN_SLACK`.
+        let reference = ["collapse", "collapse-kept"].iter().find_map(|label| {
+            (larger.candidates.iter())
+                .find(|c| c.candidate == *label)
+                .and_then(|c| c.careful_mean)
+        });
+        let allowed_mean = reference.map_or(larger.mean_distance, |m| {
+            larger.mean_distance.max(crate::MEAN_SLACK * m)
+        });
+        let farther = (larger.hausdorff, allowed_mean);
         let fit = options.fit.as_ref();
         let Some(below) =
             below::refined_below(&levels[k + 1], &promises, input, measure, fit, farther)
