@@ -529,12 +529,16 @@ fn refine_from_below(
             promises.max_handles = levels[k - 1].report.genus.or(promises.max_handles);
         }
         // Closer by Hausdorff distance, the mean within what the choice allows (module
-        // `select`): the larger level's, or the input's collapse's times `MEAN_SLACK`.
-        let reference = ["collapse", "collapse-kept"].iter().find_map(|label| {
-            (larger.candidates.iter())
-                .find(|c| c.candidate == *label)
-                .and_then(|c| c.careful_mean)
-        });
+        // `select`): the larger level's, or the input's collapse's times `MEAN_SLACK` (the
+        // plain one's, else the checked one's, as reported among the larger level's
+        // candidates).
+        let reference = [Method::Collapse, Method::CollapseKept]
+            .iter()
+            .find_map(|m| {
+                (larger.candidates.iter())
+                    .find(|c| c.candidate == m.name())
+                    .and_then(|c| c.careful_mean)
+            });
         let allowed_mean = reference.map_or(larger.mean_distance, |m| {
             larger.mean_distance.max(crate::MEAN_SLACK * m)
         });
