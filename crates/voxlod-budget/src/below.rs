@@ -4,10 +4,10 @@
 //! larger grid lost parts its smaller grid kept), the smaller level refined to the larger
 //! budget ([`Method::Below`]): its edges split at their midpoints, the longest first
 //! (`voxlod_core::split`, which leaves its surface, topology and crossings as they were), then
-//! fitted to the input (`voxlod_fit`) as the closest voxel candidate is. It is as close as the
-//! level below before the fit and usually closer after it, keeps that level's handles (no more
-//! than the larger level's, so the chain's genus still never rises) and spends the larger
-//! budget's triangles where the level below was coarsest.
+//! fitted to the input ([`Measure::fitted`]) as the closest voxel candidate is. It is as close
+//! as the level below before the fit and usually closer after it, keeps that level's handles
+//! (no more than the larger level's, so the chain's genus still never rises) and spends the
+//! larger budget's triangles where the level below was coarsest.
 //!
 //! Beyond the paper: He et al. (1995) make each level from the original; a chain of budgets
 //! chosen by measurement can come out farther at a larger budget, which no user of levels of
@@ -17,7 +17,7 @@
 //! measurement.
 
 use voxlod_core::split::split_longest_edges;
-use voxlod_fit::{fit_with, FitOptions};
+use voxlod_fit::FitOptions;
 
 use crate::candidate::{Candidate, Method};
 use crate::input::Input;
@@ -38,18 +38,7 @@ pub fn refined_below(
     (hausdorff, mean): (f64, f64),
 ) -> Option<Candidate> {
     let split = split_longest_edges(&smaller.mesh, promises.budget);
-    let fitted = fit
-        .and_then(|options| {
-            fit_with(
-                &split,
-                measure.input_closest(),
-                measure.input_samples(),
-                options,
-            )
-            .ok()
-        })
-        .filter(|done| done.iterations > 0)
-        .map(|done| done.mesh);
+    let fitted = fit.and_then(|options| measure.fitted(&split, options));
     let r = &smaller.report;
     let was_fitted = fitted.is_some() || r.fitted_to_input;
     let mut below = Candidate::new(Method::Below, fitted.unwrap_or(split));

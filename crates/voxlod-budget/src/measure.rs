@@ -30,6 +30,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 use voxlod_core::glam::DVec3;
 use voxlod_core::TriangleMesh;
+use voxlod_fit::{fit_with, FitOptions};
 use voxlod_metrics::spatial_order::z_order;
 use voxlod_metrics::{MeshDistance, QueryHint, SamplingOptions, SurfaceSampler};
 
@@ -170,9 +171,11 @@ impl<'a> Measure<'a> {
         &self.closest
     }
 
-    /// The careful set's area samples of the input (for the fit).
-    pub fn input_samples(&self) -> &[DVec3] {
-        &self.careful.area
+    /// `mesh`'s vertices moved towards the input (`voxlod_fit::fit_with`, on the careful set's
+    /// area samples), where the fit ran at least one round; `None` where it did not or failed.
+    pub fn fitted(&self, mesh: &TriangleMesh, options: &FitOptions) -> Option<TriangleMesh> {
+        let done = fit_with(mesh, &self.closest, &self.careful.area, options).ok()?;
+        (done.iterations > 0).then_some(done.mesh)
     }
 
     /// The two-sided distance between `mesh` and the input, or `None` when some point is

@@ -30,7 +30,7 @@
 
 use rayon::prelude::*;
 use voxlod_core::TriangleMesh;
-use voxlod_fit::{fit_with, snap_to_features, FeatureOptions, FitOptions};
+use voxlod_fit::{snap_to_features, FeatureOptions, FitOptions};
 
 use crate::candidate::{Candidate, Method};
 use crate::input::Input;
@@ -259,12 +259,11 @@ fn fitted_best(
         return Vec::new();
     };
     let closest = measure.input_closest();
-    let done = fit_with(&source.mesh, closest, measure.input_samples(), options);
-    let Some(done) = done.ok().filter(|d| d.iterations > 0) else {
+    let Some(mesh) = measure.fitted(&source.mesh, options) else {
         return Vec::new();
     };
     let like_source = |mesh| fitted_like(source, mesh);
-    let mut fitted = like_source(done.mesh);
+    let mut fitted = like_source(mesh);
     fitted.quick = measure.distance(&fitted.mesh, Care::Quick, h);
     let Some(fit_h) = fitted.quick.map(|d| d.shape) else {
         return Vec::new();
