@@ -68,6 +68,7 @@ pub fn build_filtered(
         grid_origin: options.grid_origin,
         chunk: options.chunk,
         levels: Vec::with_capacity(levels.len()),
+        carried: vec![false; levels.len()],
     };
     for (k, level) in levels.iter().enumerate() {
         // Level 0 is cut on its nodes, a coarser level on its nodes' eighths.

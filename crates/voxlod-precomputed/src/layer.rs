@@ -37,8 +37,8 @@ pub struct LodReport {
     pub triangles: usize,
     /// Bytes of its Draco fragments.
     pub bytes: u64,
-    /// The level given had no triangle (a label thinner than that level's filter): it holds
-    /// the finer level's surface instead ([`write_layer_filtered`]).
+    /// The level had no triangle (a label thinner than that level's filter, or smaller than
+    /// its simplification's error): it holds the finer level's surface instead.
     pub carried: bool,
 }
 
@@ -400,8 +400,8 @@ fn encode_label(
         other => other,
     })?;
     let (manifest, data, mut lods) = encode_octree(&octree, options.quantization_bits)?;
-    for (report, carried) in lods.iter_mut().zip(carried) {
-        report.carried = carried;
+    for (k, report) in lods.iter_mut().enumerate() {
+        report.carried = carried.get(k).copied().unwrap_or(false) || octree.carried[k];
     }
     let manifest = manifest.to_bytes();
     Ok(Some(Encoded {

@@ -5,6 +5,9 @@
 //! meshoptimizer with its boundary locked (`LockBorder`: the vertices on the node's faces, where
 //! the cut opened the mesh, neither move nor go), to about `ratio` of its triangles within an
 //! error of `2^k` voxels, and the eight children of a level-k node together make that node.
+//! Triangles the simplification lays back to back are dropped in pairs; a level that would
+//! leave the label no triangle holds the finer level's pieces as they are
+//! ([`Octree::carried`]).
 //! Locking the boundary keeps, on every level-(k − 1) plane, the very vertices and edges of the
 //! finer levels, and those planes are where neuroglancer puts a coarse node's eighths beside
 //! finer nodes: no crack opens between levels, and no level-k triangle crosses the 2 × 2 × 2
@@ -58,6 +61,9 @@ pub struct Octree {
     /// Per level, the nodes keyed (and so ordered) by their Morton code. Every node of level
     /// k < last has its parent in level k + 1, possibly with no triangle.
     pub levels: Vec<BTreeMap<u128, Node>>,
+    /// Per level, whether it holds the finer level's pieces as they are, because simplifying
+    /// them left the label no triangle at all (a label smaller than the level's error).
+    pub carried: Vec<bool>,
 }
 
 /// How a label's octree is built.
@@ -119,6 +125,7 @@ pub(crate) fn build_unchecked(
         grid_origin: options.grid_origin,
         chunk: options.chunk,
         levels: vec![level0],
+        carried: vec![false],
     };
     let relative: Vec<[f32; 3]> = octree
         .positions
@@ -126,8 +133,15 @@ pub(crate) fn build_unchecked(
         .map(|p| (*p - options.grid_origin).as_vec3().to_array())
         .collect();
     for lod in 1..options.lods {
-        let next = coarser(&octree.levels[lod - 1], &relative, options.ratio, lod)?;
+        let finer = &octree.levels[lod - 1];
+        let next = coarser(finer, &relative, options.ratio, lod)?;
+        let emptied = next.values().all(|n| n.triangles.is_empty());
+        let next = match emptied {
+            true => gathered_parts(finer, finer.values().map(|c| c.triangles.clone()).collect()),
+            false => next,
+        };
         octree.levels.push(next);
+        octree.carried.push(emptied);
     }
     Ok(octree)
 }
@@ -173,7 +187,7 @@ pub(crate) const NODES_PER_TASK: usize = 32;
 
 /// Level `lod` from the level below: each node simplified with its boundary locked (in
 /// parallel; each node's result depends on that node alone), then the eight children of each
-/// new node gathered in Morton order.
+/// new node gathered in Morton order ([`gathered_parts`]).
 fn coarser(
     finer: &BTreeMap<u128, Node>,
     relative: &[[f32; 3]],
@@ -190,8 +204,15 @@ fn coarser(
             |simplifier, child| simplifier.simplify(&child.triangles, error),
         )
         .collect::<Result<_, _>>()?;
+    Ok(gathered_parts(finer, kept))
+}
+
+/// The coarser level whose nodes gather, as their parts, the pieces `kept` of the finer
+/// level's nodes (one per node, in the finer level's order).
+fn gathered_parts(finer: &BTreeMap<u128, Node>, kept: Vec<Vec<[u32; 3]>>) -> BTreeMap<u128, Node> {
+    let children = finer.values();
     let mut out: BTreeMap<u128, Node> = BTreeMap::new();
-    for (child, kept) in children.iter().zip(kept) {
+    for (child, kept) in children.zip(kept) {
         let position = child.position.map(|c| c >> 1);
         let node = out.entry(morton::code(position)).or_insert_with(|| Node {
             position,
@@ -200,7 +221,7 @@ fn coarser(
         node.triangles.extend(kept);
         node.parts.push((child.position, node.triangles.len()));
     }
-    Ok(out)
+    out
 }
 
 /// meshoptimizer's simplifier applied to pieces of one vertex array, each on its own vertices.
@@ -226,9 +247,11 @@ impl<'a> Simplifier<'a> {
     }
 
     /// A piece simplified to about `ratio` of its triangles within `error` (stored units), its
-    /// boundary locked; the triangles kept are rotated and sorted. The piece is handed to
-    /// meshoptimizer on its own vertices in increasing index order and its triangles in the
-    /// order given, so the result depends on the piece alone.
+    /// boundary locked; the triangles kept are rotated and sorted. Two triangles that the
+    /// simplification laid back to back (a fold of no volume, or a small closed part flattened
+    /// within the error) are dropped together, which leaves every edge paired as before. The
+    /// piece is handed to meshoptimizer on its own vertices in increasing index order and its
+    /// triangles in the order given, so the result depends on the piece alone.
     fn simplify(
         &mut self,
         triangles: &[[u32; 3]],
@@ -250,11 +273,80 @@ impl<'a> Simplifier<'a> {
         let target = 3 * ((triangles.len() as f64 * self.ratio).ceil() as usize).max(1);
         let options = SimplifyOptions::LockBorder | SimplifyOptions::ErrorAbsolute;
         let kept = meshopt::simplify(indices, &adapter, target, error, options, None);
-        let mut out: Vec<[u32; 3]> = kept
-            .chunks_exact(3)
-            .map(|t| canonical::rotate([0, 1, 2].map(|i| piece.vertices[t[i] as usize])))
-            .collect();
-        out.sort_unstable();
-        Ok(out)
+        let mut kept: Vec<[u32; 3]> = (kept.chunks_exact(3)).map(|t| [t[0], t[1], t[2]]).collect();
+        drop_back_to_back(&mut kept);
+        Ok(global(&piece.vertices, &kept))
+    }
+}
+
+/// Triangles on a piece's own vertices put back on the mesh's, rotated and sorted.
+fn global(vertices: &[u32], triangles: &[[u32; 3]]) -> Vec<[u32; 3]> {
+    let mut out: Vec<[u32; 3]> = (triangles.iter())
+        .map(|t| canonical::rotate(t.map(|v| vertices[v as usize])))
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+/// Drops triangles laid back to back: of the triangles on one set of three vertices, as many
+/// of each winding as the other winding has are dropped. Every directed edge of a dropped
+/// triangle is the reverse of one of its partner's, so the edges left stay paired as they
+/// were. Cost: a sort of the triangles.
+fn drop_back_to_back(triangles: &mut Vec<[u32; 3]>) {
+    let winding = |t: &[u32; 3]| {
+        let r = canonical::rotate(*t);
+        r[1] < r[2]
+    };
+    let key = |t: &[u32; 3]| {
+        let mut s = *t;
+        s.sort_unstable();
+        s
+    };
+    let mut order: Vec<u32> = (0..triangles.len() as u32).collect();
+    order.sort_unstable_by_key(|&i| key(&triangles[i as usize]));
+    let mut drop = vec![false; triangles.len()];
+    let mut any = false;
+    for run in order.chunk_by(|&a, &b| key(&triangles[a as usize]) == key(&triangles[b as usize])) {
+        if run.len() < 2 {
+            continue;
+        }
+        let (up, down): (Vec<u32>, Vec<u32>) =
+            run.iter().partition(|&&i| winding(&triangles[i as usize]));
+        for (&a, &b) in up.iter().zip(&down) {
+            drop[a as usize] = true;
+            drop[b as usize] = true;
+            any = true;
+        }
+    }
+    if any {
+        let mut i = 0;
+        triangles.retain(|_| {
+            i += 1;
+            !drop[i - 1]
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn back_to_back_pairs_are_dropped_and_the_rest_kept() {
+        // A fold (0 1 2 / 0 2 1, the second rotated) beside a triangle on other vertices, a
+        // doubled triangle of one winding (kept: no partner), and three on one set (one pair
+        // dropped, one left).
+        let mut t = vec![
+            [0, 1, 2],
+            [2, 1, 0],
+            [3, 4, 5],
+            [6, 7, 8],
+            [6, 7, 8],
+            [9, 10, 11],
+            [11, 10, 9],
+            [10, 11, 9],
+        ];
+        drop_back_to_back(&mut t);
+        assert_eq!(t, vec![[3, 4, 5], [6, 7, 8], [6, 7, 8], [10, 11, 9]]);
     }
 }

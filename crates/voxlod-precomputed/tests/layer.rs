@@ -341,3 +341,71 @@ fn the_report_adds_up_to_the_files() {
     let volume: u64 = common::DIMS.iter().product::<usize>() as u64 * 4;
     assert_eq!(report.volume_bytes, volume);
 }
+
+/// The volume a closed piece of triangles encloses (divergence theorem).
+fn enclosed_volume(positions: &[DVec3], triangles: &[[u32; 3]]) -> f64 {
+    let p = |i: u32| positions[i as usize];
+    triangles
+        .iter()
+        .map(|t| p(t[0]).dot(p(t[1]).cross(p(t[2]))) / 6.0)
+        .sum()
+}
+
+#[test]
+fn a_small_label_is_carried_not_flattened_or_dropped() {
+    // Balls of radius 0.7 to 2.5 voxels, each inside one level-0 node of 8 voxels: simplified
+    // within 2, 4, 8 voxels, meshoptimizer alone flattens the small ones to two triangles back
+    // to back (no volume), then drops them. Every level must keep each ball with volume and
+    // without such a pair, a level that would have none holding the finer one's pieces.
+    for (radius, centre) in [(0.7f64, 4.1f32), (1.2, 3.9), (2.5, 4.2)] {
+        let mesh = voxlod_testkit::shapes::icosphere_at(1, radius as f32, Vec3::splat(centre));
+        let positions: Vec<DVec3> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
+        let options = lods::OctreeOptions {
+            grid_origin: DVec3::ZERO,
+            chunk: DVec3::splat(8.0),
+            lods: 4,
+            ratio: 0.25,
+        };
+        let octree = lods::build(&positions, &mesh.triangles, &options).unwrap();
+        let count =
+            |k: usize| -> usize { octree.levels[k].values().map(|n| n.triangles.len()).sum() };
+        for k in 1..4 {
+            assert_eq!(
+                octree.carried[k],
+                count(k) == count(k - 1),
+                "radius {radius}, level {k}"
+            );
+        }
+        if radius < 1.0 {
+            assert!(
+                octree.carried[3],
+                "the smallest ball is carried to the last level"
+            );
+        }
+        for (k, level) in octree.levels.iter().enumerate() {
+            let triangles: Vec<[u32; 3]> =
+                level.values().flat_map(|n| n.triangles.clone()).collect();
+            assert!(
+                triangles.len() >= 4,
+                "radius {radius}, level {k}: {triangles:?}"
+            );
+            let mut sets: Vec<[u32; 3]> = (triangles.iter())
+                .map(|t| {
+                    let mut s = *t;
+                    s.sort_unstable();
+                    s
+                })
+                .collect();
+            sets.sort_unstable();
+            assert!(
+                sets.windows(2).all(|w| w[0] != w[1]),
+                "radius {radius}, level {k}: two triangles back to back"
+            );
+            let volume = enclosed_volume(&octree.positions, &triangles);
+            assert!(
+                volume > 0.05 * radius.powi(3),
+                "radius {radius}, level {k}: {volume}"
+            );
+        }
+    }
+}

@@ -283,8 +283,9 @@ def precomputed(
     octree's grid), sharded above 512 labels (``sharding``: ``auto``, ``always`` or
     ``never``). ``unit`` is the unit of ``spacing`` (``nm``, ``um`` or ``mm``). cloud-volume
     reads the layer back. Returns the layer's report (per label and level: fragments,
-    triangles, bytes; ``carried``: the labels thinner than a coarser level's filter, whose
-    empty level holds the finer level's surface).
+    triangles, bytes; ``carried``: the labels thinner than a coarser level's filter or
+    smaller than its simplification's error, whose empty level holds the finer level's
+    surface).
 
     The coarser levels are each simplified from the finer one with the seams locked, so no
     crack opens between levels; ``meshes`` are then the labels' meshes as :func:`labels`
@@ -337,12 +338,14 @@ def warn_empty_levels(meshes: List[LabelMesh]) -> None:
 
 def warn_vanished(report: dict) -> None:
     """Warns of the labels a layer has no mesh for (no surface at level 0) and of those whose
-    coarser levels hold a finer level's surface (thinner than those levels' filter)."""
+    coarser levels hold a finer level's surface (thinner than those levels' filter, or smaller
+    than their simplification's error)."""
     empty = [label for label, lods in report["labels"] if not lods]
     _warn_labels(empty, "no surface even at level 0 (thinner than the finest filter): the layer "
                         "has no mesh for them")
-    _warn_labels(report["carried"], "no surface at their coarser levels of detail (thinner than "
-                                    "those levels' filter): each such level holds the finer "
+    _warn_labels(report["carried"], "no surface at some coarser levels of detail (thinner than "
+                                    "those levels' filter, or smaller than their "
+                                    "simplification's error): each such level holds the finer "
                                     "level's surface")
 
 

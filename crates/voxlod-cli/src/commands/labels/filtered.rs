@@ -250,14 +250,7 @@ fn write_precomputed(
         .collect();
     let layer = write_layer_filtered(&args.output, &read.labels, &levels, &options)
         .map_err(|e| CliError::Library(voxlod::Error::from(e)))?;
-    let carried = (layer.labels.iter())
-        .filter(|l| l.lods.iter().any(|lod| lod.carried))
-        .count();
-    if carried > 0 {
-        warnings.push(format!(
-            "{carried} label(s) have no surface at their coarser levels of detail (thinner than those levels' filter): each such level holds the finer level's surface"
-        ));
-    }
+    warnings.extend(surfaces::carried_warning(&layer));
     let report = LabelsReport {
         input: args.input.display().to_string(),
         surface: "filtered",

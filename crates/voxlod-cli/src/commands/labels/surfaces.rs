@@ -116,6 +116,17 @@ impl LayerSummary {
     }
 }
 
+/// The warning for a layer's labels whose coarser levels hold a finer level's surface, because
+/// the level had none (thinner than its filter, or smaller than its simplification's error).
+pub(super) fn carried_warning(report: &LayerReport) -> Option<String> {
+    let carried = (report.labels.iter())
+        .filter(|l| l.lods.iter().any(|lod| lod.carried))
+        .count();
+    (carried > 0).then(|| format!(
+        "{carried} label(s) have no surface at some coarser levels of detail (thinner than those levels' filter, or smaller than their simplification's error): each such level holds the finer level's surface"
+    ))
+}
+
 /// The precomputed layer's options from the flags.
 pub(super) fn precomputed_options(args: &LabelsArgs) -> PrecomputedOptions {
     let mut options = PrecomputedOptions::default();
@@ -230,7 +241,7 @@ fn write_precomputed(
     map: &LabelVolume,
     surfaces: Vec<LabelSurface>,
     table: &[LabelName],
-) -> Result<(Vec<LabelReport>, LayerSummary), CliError> {
+) -> Result<(Vec<LabelReport>, LayerSummary, Option<String>), CliError> {
     let options = precomputed_options(args);
     let reports: Vec<LabelReport> = surfaces
         .par_iter()
@@ -250,10 +261,8 @@ fn write_precomputed(
         .collect();
     let layer = write_layer(&args.output, map, &meshes, &options)
         .map_err(|e| CliError::Library(voxlod::Error::from(e)))?;
-    Ok((
-        reports,
-        LayerSummary::of(&layer, options.lods, "simplified"),
-    ))
+    let summary = LayerSummary::of(&layer, options.lods, "simplified");
+    Ok((reports, summary, carried_warning(&layer)))
 }
 
 /// The library's call, its `--labels` error named by the flag.
@@ -288,32 +297,34 @@ pub(super) fn run(args: &LabelsArgs, read: LabelMap) -> Result<(), CliError> {
         "marching_cubes"
     };
     let mut budget = None;
-    let (reports, all_labels, all_labels_gltf, precomputed, smoothing, out) =
-        match args.format.mesh() {
-            Some(_) => {
-                let grid = map.grid;
-                let surfaces = meshed(args, MapHeld::Owned(map))?;
-                let smoothing = smoothing_summary(&surfaces);
-                if let Some(b) = &surfaces.budget {
-                    let (summary, warning) = BudgetSummary::of(b, args.shared);
-                    budget = Some(summary);
-                    warnings.extend(warning);
-                }
-                let mut out = OutputSet::protecting([&args.input]);
-                out.create_dir(&args.output)?;
-                let files = (&mut out, &mut warnings);
-                let (reports, (all, gltf)) =
-                    write_files(args, &grid, surfaces.labels, &table, files)?;
-                (reports, all, gltf, None, smoothing, out)
+    let (reports, all_labels, all_labels_gltf, precomputed, smoothing, out) = match args
+        .format
+        .mesh()
+    {
+        Some(_) => {
+            let grid = map.grid;
+            let surfaces = meshed(args, MapHeld::Owned(map))?;
+            let smoothing = smoothing_summary(&surfaces);
+            if let Some(b) = &surfaces.budget {
+                let (summary, warning) = BudgetSummary::of(b, args.shared);
+                budget = Some(summary);
+                warnings.extend(warning);
             }
-            None => {
-                let surfaces = meshed(args, MapHeld::Borrowed(&map))?;
-                let smoothing = smoothing_summary(&surfaces);
-                let (reports, layer) = write_precomputed(args, &map, surfaces.labels, &table)?;
-                let out = OutputSet::protecting([&args.input]);
-                (reports, None, None, Some(layer), smoothing, out)
-            }
-        };
+            let mut out = OutputSet::protecting([&args.input]);
+            out.create_dir(&args.output)?;
+            let files = (&mut out, &mut warnings);
+            let (reports, (all, gltf)) = write_files(args, &grid, surfaces.labels, &table, files)?;
+            (reports, all, gltf, None, smoothing, out)
+        }
+        None => {
+            let surfaces = meshed(args, MapHeld::Borrowed(&map))?;
+            let smoothing = smoothing_summary(&surfaces);
+            let (reports, layer, carried) = write_precomputed(args, &map, surfaces.labels, &table)?;
+            warnings.extend(carried);
+            let out = OutputSet::protecting([&args.input]);
+            (reports, None, None, Some(layer), smoothing, out)
+        }
+    };
     let report = LabelsReport {
         input: args.input.display().to_string(),
         surface,
