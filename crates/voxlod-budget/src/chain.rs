@@ -504,10 +504,11 @@ fn choose_down(
     Ok((levels, warnings))
 }
 
-/// Each level farther from the input than the next smaller budget's replaced by that level
-/// refined to its budget (module `below`), where that keeps every promise and is closer; from
-/// the smallest budget up, so that a refined level can serve the one above it. Not for a
-/// proxy, nor without the monotone chain. `levels` run from the largest budget down.
+/// Each level replaced by the next smaller budget's level refined to its budget (module
+/// `below`), where that keeps every promise and is closer, tried wherever the smaller level is
+/// at most [`below::REACH`] times as far from the input; from the smallest budget up, so that
+/// a refined level can serve the one above it. Not for a proxy, nor without the monotone
+/// chain. `levels` run from the largest budget down.
 fn refine_from_below(
     levels: &mut [Level],
     warnings: &mut Vec<String>,
@@ -521,7 +522,8 @@ fn refine_from_below(
     for k in (0..levels.len().saturating_sub(1)).rev() {
         let start = Instant::now();
         let (larger, smaller) = (&levels[k].report, &levels[k + 1].report);
-        if !(larger.hausdorff > smaller.hausdorff && larger.budget > smaller.budget) {
+        if !(smaller.hausdorff <= below::REACH * larger.hausdorff && larger.budget > smaller.budget)
+        {
             continue;
         }
         let mut promises = first_promises(input, options, larger.budget);

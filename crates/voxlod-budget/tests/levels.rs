@@ -107,6 +107,25 @@ fn no_level_is_farther_than_the_level_below_it() {
 }
 
 #[test]
+fn a_level_below_refined_and_fitted_can_beat_the_input_s_collapse() {
+    // A fine sphere at 1 000 triangles: the level at 640, its edges split to 1 000 and fitted,
+    // comes out far closer than every collapse of the input, although the level it replaces
+    // was not farther than the level below it.
+    let run = check_chain(&corpus::sphere_fine(), &[1000, 640], true);
+    let level = &run.levels[0].report;
+    assert_eq!(level.method, Method::Below, "{:?}", level.candidates);
+    let others = (level.candidates.iter())
+        .filter(|c| !c.candidate.starts_with("below") && c.broken.is_empty())
+        .filter_map(|c| c.careful_hausdorff);
+    let closest = others.fold(f64::INFINITY, f64::min);
+    assert!(
+        level.hausdorff < 0.8 * closest,
+        "{} against {closest}",
+        level.hausdorff
+    );
+}
+
+#[test]
 fn an_inside_out_shell_gives_outward_levels_and_says_so() {
     let run = check_chain(&corpus::inside_out(), &[1500, 200], true);
     assert!(run.input.preparation.turned_right_side_out);
