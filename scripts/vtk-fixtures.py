@@ -6,7 +6,10 @@ computed from first principles rather than against a second copy of the data:
 
 - `cube-*.vtp` / `cube-*.vtk`: the unit cube [0,1]^3 as 8 points and 6 quads (outward), with
   point data `Normals` (3 components, the corner's position minus the centre, not unit) and
-  `height` (= z); no verts, lines or strips, so VTK writes those sections empty.
+  `height` (= z); no verts, lines or strips, so VTK writes those sections empty. The legacy
+  files `cube-legacy-*-int32.vtk` and `cube-legacy-*-idtype.vtk` hold the same cube from a
+  cell array with 32-bit storage (`OFFSETS int`) and one built on `vtkIdTypeArray`s
+  (`OFFSETS vtkIdType`, as `vtkAppendPolyData` makes them), both written as 32-bit integers.
 - `cells-*.vtp`: 6 points on the x axis at x = 0..5 with one cell of every kind: a vertex {0},
   a poly-line {0,1,2}, a strip {1,2,3,4} (coordinates lifted to make it non-degenerate) and a
   triangle {3,4,5}; cell data `width` = 10 * (cell number).
@@ -23,7 +26,7 @@ import vtk
 OUT = os.path.join(os.path.dirname(__file__), "..", "crates", "voxlod-io", "tests", "data", "vtk")
 
 
-def cube():
+def cube(storage="default"):
     points = vtk.vtkPoints()
     points.SetDataTypeToFloat()
     for z in (0, 1):
@@ -32,8 +35,18 @@ def cube():
                 points.InsertNextPoint(x, y, z)
     quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
     polys = vtk.vtkCellArray()
+    if storage == "int32":
+        polys.Use32BitStorage()
     for q in quads:
         polys.InsertNextCell(4, q)
+    if storage == "idtype":
+        offsets, connectivity = vtk.vtkIdTypeArray(), vtk.vtkIdTypeArray()
+        offsets.InsertNextValue(0)
+        for q in quads:
+            for v in q:
+                connectivity.InsertNextValue(v)
+            offsets.InsertNextValue(connectivity.GetNumberOfTuples())
+        polys.SetData(offsets, connectivity)
     mesh = vtk.vtkPolyData()
     mesh.SetPoints(points)
     mesh.SetPolys(polys)
@@ -147,6 +160,10 @@ def main():
         w = vtk.vtkPolyDataWriter()
         w.SetFileTypeToBinary() if binary else w.SetFileTypeToASCII()
         write(w, cube(), f"cube-legacy-{kind}.vtk")
+        for storage in ("int32", "idtype"):
+            w = vtk.vtkPolyDataWriter()
+            w.SetFileTypeToBinary() if binary else w.SetFileTypeToASCII()
+            write(w, cube(storage), f"cube-legacy-{kind}-{storage}.vtk")
         w = vtk.vtkStructuredPointsWriter()
         w.SetFileTypeToBinary() if binary else w.SetFileTypeToASCII()
         write(w, image(), f"image-legacy-{kind}.vtk")

@@ -70,6 +70,18 @@ fn legacy_polydata_ascii_and_binary() {
     }
 }
 
+/// VTK 9 writes a legacy file's cell topology in the cell array's own integer type: `int` for
+/// 32-bit storage and `vtkIdType` for `vtkIdTypeArray`s, both as 32-bit integers, which
+/// vtkio alone misreads (binary) or refuses (ASCII).
+#[test]
+fn legacy_polydata_with_32_bit_topology() {
+    for kind in ["ascii", "binary"] {
+        for storage in ["int32", "idtype"] {
+            check_cube(&data(&format!("cube-legacy-{kind}-{storage}.vtk")));
+        }
+    }
+}
+
 /// One cell of each kind: vertex {0}, poly-line {0,1,2}, triangle {3,4,5}, strip {1,2,3,4};
 /// cell data `width` in VTK's cell order (verts, lines, polys, strips) = 0, 10, 20, 30.
 #[test]

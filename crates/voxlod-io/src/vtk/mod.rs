@@ -6,7 +6,8 @@
 //! the temporary file's writer instead. XML files first go through [`xml`], which decodes
 //! the binary data vtkio 0.7.0-rc2 cannot (raw appended data, compressed empty arrays) and
 //! checks the rest; legacy files get their header lines checked, since vtkio cannot say where
-//! a parse failed. vtkio's parsers are third-party code fed arbitrary bytes, so a panic inside
+//! a parse failed, and their cell topology put in the one integer type vtkio reads
+//! ([`legacy_topology`]). vtkio's parsers are third-party code fed arbitrary bytes, so a panic inside
 //! them is caught, silently, and reported as a corrupt file ([`guard`]); its errors are
 //! translated into plain words ([`IoError::from_vtkio`]). Legacy files are written binary
 //! big-endian, as the legacy format prescribes; XML files with base64 data, zlib-compressed
@@ -16,6 +17,7 @@
 //! time, and about twice the data's memory at the peak.
 
 pub(crate) mod image;
+mod legacy_topology;
 pub(crate) mod mesh;
 mod xml;
 
@@ -42,15 +44,17 @@ pub(crate) fn load(path: &Path, flavor: Flavor) -> Result<Vtk, IoError> {
     let bytes = crate::read_file(path)?;
     let parsed = match flavor {
         Flavor::Legacy => {
-            check_legacy_header(path, &bytes)?;
+            let binary = check_legacy_header(path, &bytes)?;
+            let rewritten = legacy_topology::rewrite(path, &bytes, binary)?;
+            let document = rewritten.as_deref().unwrap_or(&bytes);
             // vtkio copies the file, then holds the decoded arrays.
             budget::check_bytes(
                 path,
                 "parsing the VTK file",
-                (bytes.len() as u64).saturating_mul(4),
+                (document.len() as u64).saturating_mul(4),
             )?;
             // Legacy binary data is big-endian by definition.
-            guard::quietly(|| Vtk::parse_legacy_be(&bytes[..]))
+            guard::quietly(|| Vtk::parse_legacy_be(document))
         }
         Flavor::Xml => {
             let rewritten = xml::rewrite(path, &bytes)?;
@@ -73,8 +77,8 @@ pub(crate) fn load(path: &Path, flavor: Flavor) -> Result<Vtk, IoError> {
 }
 
 /// The four header lines of a legacy file, checked here because vtkio reports a failure
-/// without saying where.
-fn check_legacy_header(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+/// without saying where; whether the file is binary.
+fn check_legacy_header(path: &Path, bytes: &[u8]) -> Result<bool, IoError> {
     let head = &bytes[..bytes.len().min(4096)];
     let text = String::from_utf8_lossy(head);
     let mut lines = text.lines();
@@ -113,7 +117,7 @@ fn check_legacy_header(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
             ),
         ));
     }
-    Ok(())
+    Ok(kind.eq_ignore_ascii_case("binary"))
 }
 
 /// At most 40 characters of a line of the file, for a message.
