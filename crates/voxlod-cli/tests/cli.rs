@@ -56,6 +56,43 @@ fn lod_writes_closed_levels_and_a_report() {
 }
 
 #[test]
+fn lod_by_budget_says_what_preparing_the_mesh_repaired() {
+    // An icosphere of 320 triangles given twice: the copies are dropped before the levels are
+    // made, and the report and standard error say so.
+    let dir = tempfile::tempdir().unwrap();
+    let mut mesh = voxlod_testkit::shapes::icosphere(2);
+    let copies = mesh.triangles.clone();
+    mesh.triangles.extend(copies);
+    let input = write_mesh(dir.path(), "twice.obj", &mesh);
+    let out = dir.path().join("levels");
+    let report = json(&voxlod(&[
+        "lod",
+        arg(&input),
+        "-o",
+        arg(&out),
+        "--triangles",
+        "100",
+        "--json",
+    ]));
+    let summary = &report["mesh"];
+    assert_eq!(summary["triangles"], 640, "{report}");
+    assert_eq!(
+        summary["preparation"]["duplicate_triangles"], 320,
+        "{report}"
+    );
+    assert_eq!(
+        summary["preparation"]["degenerate_triangles"], 0,
+        "{report}"
+    );
+    let o = voxlod(&["lod", arg(&input), "-o", arg(&out), "--triangles", "100"]);
+    assert!(
+        stderr(&o).contains("twice.obj: 320 duplicate triangles dropped"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
 fn lod_writes_every_mesh_format() {
     let dir = tempfile::tempdir().unwrap();
     let input = write_mesh(dir.path(), "block.stl", &holed_block());

@@ -10,7 +10,9 @@ use voxlod::budget::{ErrorTarget, Then};
 use voxlod::Source;
 
 use crate::errors::usage;
-use crate::facade::{as_dict, filter_named, lod_level_dict, mesh_from, watched, LevelArgs, MeshIn};
+use crate::facade::{
+    as_dict, filter_named, lod_level_dict, mesh_from, watched, with_repairs, LevelArgs, MeshIn,
+};
 
 /// What the budget pipeline is asked besides the levels' filter: the budgets, the error target
 /// (`"0.5"` in mesh units or `"0.5%"` of the diagonal), the geometric stage, closed levels, and
@@ -60,11 +62,12 @@ pub fn lod_budgets<'py>(
     let lod = watched(py, progress, |ask| {
         voxlod::lod_by_budget_with(&Source::Mesh(&mesh), &options, ask)
     })?;
+    let warnings = with_repairs(&lod);
     let mut out = Vec::with_capacity(lod.levels.len());
     for (level, report) in lod.levels.into_iter().zip(&lod.budgets) {
         let dict = lod_level_dict(py, level)?;
         dict.set_item("budget", as_dict(py, report)?)?;
         out.push(dict);
     }
-    Ok((out, lod.warnings))
+    Ok((out, warnings))
 }

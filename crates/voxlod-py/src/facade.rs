@@ -173,12 +173,24 @@ pub(crate) fn run_lod<'py>(
     progress: Option<Py<PyAny>>,
 ) -> PyResult<(Vec<Bound<'py, PyDict>>, Vec<String>)> {
     let lod = watched(py, progress, |ask| voxlod::lod_with(source, options, ask))?;
+    let warnings = with_repairs(&lod);
     let levels = lod
         .levels
         .into_iter()
         .map(|level| lod_level_dict(py, level))
         .collect::<PyResult<_>>()?;
-    Ok((levels, lod.warnings))
+    Ok((levels, warnings))
+}
+
+/// The warnings of `lod`, after a first one saying what preparing a mesh repaired (the
+/// command line's line on standard error), if anything.
+pub(crate) fn with_repairs(lod: &voxlod::Lod) -> Vec<String> {
+    let repairs = lod.preparation.and_then(|p| p.repairs());
+    let repairs = repairs.map(|r| format!("the mesh was prepared: {r}"));
+    repairs
+        .into_iter()
+        .chain(lod.warnings.iter().cloned())
+        .collect()
 }
 
 /// One level of detail as a dict of its mesh arrays, resolution, plan, topology and times.

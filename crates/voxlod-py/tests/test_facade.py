@@ -198,6 +198,18 @@ def test_lod_by_triangle_budgets_lands_each_level_near_its_budget(torus):
     assert near[0].budget["hausdorff"] <= 3 * near[0].budget["error_target"]
 
 
+def test_lod_says_what_preparing_the_mesh_repaired(torus):
+    # The torus's triangles given twice: the copies are dropped, with a warning that says so,
+    # as the command line says it on standard error.
+    vertices, faces = torus
+    twice = np.concatenate([faces, faces])
+    with pytest.warns(UserWarning, match=f"{len(faces)} duplicate triangles dropped"):
+        levels = voxlod.lod(vertices, twice, triangles=[500])
+    assert abs(len(levels[0].faces) / 500 - 1) <= 0.10
+    with pytest.warns(UserWarning, match=f"{len(faces)} duplicate triangles dropped"):
+        voxlod.lod(vertices, twice, resolution=24, levels=1)
+
+
 def test_lod_by_budget_refuses_bad_arguments(torus):
     for kwargs, match in [
         ({"triangles": [1000], "resolution": 64}, "resolution"),

@@ -145,6 +145,7 @@ pub(crate) fn as_lod(
             welded_vertices: p.welded_vertices,
             degenerate_triangles: p.degenerate_triangles,
             duplicate_triangles: p.duplicate_triangles,
+            flipped_triangles: p.flipped_triangles,
             holes_closed: 0,
             closed: input.closed,
         }),

@@ -76,10 +76,35 @@ pub struct MeshPreparation {
     pub degenerate_triangles: usize,
     /// Triangles dropped as copies of another.
     pub duplicate_triangles: usize,
+    /// Triangles turned to agree with the orientation of their piece (the budget levels'
+    /// preparation; sampling a solid needs no orientation, and turns none).
+    pub flipped_triangles: usize,
     /// Boundary loops closed by a fan before sampling ([`repair::close_boundary_loops`]).
     pub holes_closed: usize,
     /// Whether every edge is shared by an even number of triangles (parity is then exact).
     pub closed: bool,
+}
+
+impl MeshPreparation {
+    /// What preparing the mesh repaired, in words ("158 coincident vertices welded, 6240
+    /// duplicate triangles dropped"); `None` where it repaired nothing.
+    pub fn repairs(&self) -> Option<String> {
+        let repairs: Vec<String> = [
+            (self.welded_vertices, "coincident vertices welded"),
+            (self.degenerate_triangles, "degenerate triangles dropped"),
+            (self.duplicate_triangles, "duplicate triangles dropped"),
+            (
+                self.flipped_triangles,
+                "triangles turned to agree with their neighbours",
+            ),
+            (self.holes_closed, "holes closed"),
+        ]
+        .iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, what)| format!("{n} {what}"))
+        .collect();
+        (!repairs.is_empty()).then(|| repairs.join(", "))
+    }
 }
 
 /// How to prepare a mesh for sampling.
@@ -175,6 +200,7 @@ impl MeshSolid {
                 welded_vertices: welded.vertices_before - welded.vertices_after,
                 degenerate_triangles: removed.degenerate_triangles,
                 duplicate_triangles: removed.duplicate_triangles,
+                flipped_triangles: 0,
                 holes_closed,
                 closed,
             },

@@ -472,19 +472,9 @@ fn show_level(args: &LodArgs, bar: &ProgressBar, p: Progress) -> Control {
 }
 
 /// What the mesh preparation repaired, in one line on standard error.
-fn print_repairs(args: &LodArgs, p: &voxlod::sampling::MeshPreparation) {
-    let repairs: Vec<String> = [
-        (p.welded_vertices, "coincident vertices welded"),
-        (p.degenerate_triangles, "degenerate triangles dropped"),
-        (p.duplicate_triangles, "duplicate triangles dropped"),
-        (p.holes_closed, "holes closed"),
-    ]
-    .iter()
-    .filter(|(n, _)| *n > 0)
-    .map(|(n, what)| format!("{n} {what}"))
-    .collect();
-    if !repairs.is_empty() {
-        eprintln!("{}: {}", args.input.display(), repairs.join(", "));
+pub(super) fn print_repairs(args: &LodArgs, p: &voxlod::sampling::MeshPreparation) {
+    if let Some(repairs) = p.repairs() {
+        eprintln!("{}: {repairs}", args.input.display());
     }
 }
 

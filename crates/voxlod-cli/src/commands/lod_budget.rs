@@ -14,14 +14,19 @@ use voxlod::io::OutputSet;
 use voxlod::{BudgetOptions, Lod};
 
 use super::common::say;
+use super::common::Input;
 use super::common::{add_report, describe_mesh, in_dir, print_json, CliError};
-use super::lod::{lod_error, LodArgs};
+use super::lod::{lod_error, print_repairs, LodArgs};
 use super::lod_glb::{add_chain, GlbReport, LodFormat, CHAIN_FILE};
+use super::source::MeshSummary;
 
 /// The report of a budget run.
 #[derive(Serialize)]
 struct BudgetReport {
     input: String,
+    /// For a mesh: what was read and what preparing it repaired.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mesh: Option<MeshSummary>,
     route: &'static str,
     then: voxlod::budget::Then,
     closed: bool,
@@ -87,6 +92,16 @@ pub fn run(args: &LodArgs) -> Result<(), CliError> {
         });
     }
     let mut report = report(args, &options, &lod, levels, start);
+    report.mesh = match (&input, lod.preparation) {
+        (Input::Mesh(m), Some(preparation)) => Some(MeshSummary {
+            format: m.format.to_string(),
+            vertices: m.mesh.positions.len(),
+            triangles: m.mesh.triangles.len(),
+            polygons_triangulated: m.polygons_triangulated,
+            preparation,
+        }),
+        _ => None,
+    };
     if chain {
         report.glb = Some(add_chain(&mut out, &args.output, &lod, &args.glb)?);
     }
@@ -94,6 +109,9 @@ pub fn run(args: &LodArgs) -> Result<(), CliError> {
     out.commit()?;
     if args.json {
         return print_json(&report);
+    }
+    if let Some(m) = &report.mesh {
+        print_repairs(args, &m.preparation);
     }
     for w in &report.warnings {
         eprintln!("warning: {w}");
@@ -138,6 +156,7 @@ fn report(
 ) -> BudgetReport {
     BudgetReport {
         input: args.input.display().to_string(),
+        mesh: None,
         route: lod.route.name(),
         then: options.then,
         closed: options.closed,
