@@ -11,11 +11,13 @@ use std::path::{Path, PathBuf};
 use voxlod_core::glam::DVec3;
 use voxlod_core::{TriangleMesh, Volume};
 use voxlod_gltf::{GlbScene, SceneRead};
-use voxlod_io::{IoError, IoErrorKind, RawLayout};
+use voxlod_io::{IoError, IoErrorKind, LoadedMesh, MeshFormat, RawLayout};
 
 use crate::error::Error;
 
-/// Reads a triangle mesh: polygons ear-clipped, STL soups welded, nothing else changed.
+/// Reads a triangle mesh: polygons ear-clipped, STL soups welded, nothing else changed; a glTF
+/// file (`.glb`, `.gltf`) gives its scene's geometry in world space (every node and instance,
+/// as [`read_scene`] reads them; its looks left out).
 ///
 /// ```
 /// # fn main() -> Result<(), voxlod::Error> {
@@ -35,7 +37,36 @@ use crate::error::Error;
 /// # }
 /// ```
 pub fn read_mesh(path: impl AsRef<Path>) -> Result<TriangleMesh, Error> {
-    Ok(voxlod_io::read_mesh(path.as_ref())?.mesh)
+    Ok(read_mesh_file(path)?.0.mesh)
+}
+
+/// [`read_mesh`] with what the reader did ([`voxlod_io::LoadedMesh`]: the format, polygons
+/// split, STL welding) and, for a glTF file, what the scene reader left out (unknown
+/// extensions, primitives that are not surfaces), in words. Fails, naming the file, where it
+/// holds no triangle.
+pub fn read_mesh_file(path: impl AsRef<Path>) -> Result<(LoadedMesh, Vec<String>), Error> {
+    let path = path.as_ref();
+    if !is_gltf(path) {
+        return Ok((voxlod_io::read_mesh(path)?, Vec::new()));
+    }
+    let read = voxlod_gltf::read_scene(path)?;
+    let mut mesh = read.asset.mesh.geometry();
+    if read.origin != DVec3::ZERO {
+        for p in &mut mesh.positions {
+            *p = (p.as_dvec3() + read.origin).as_vec3();
+        }
+    }
+    if mesh.triangles.is_empty() {
+        let problem = "the glTF scene holds no triangles";
+        return Err(IoError::new(path, IoErrorKind::Malformed, problem).into());
+    }
+    let loaded = LoadedMesh {
+        mesh,
+        format: MeshFormat::Gltf,
+        welded: None,
+        polygons_triangulated: 0,
+    };
+    Ok((loaded, read.warnings))
 }
 
 /// Writes a triangle mesh in the format of the extension (`.ply` binary with normals, `.obj`,
@@ -111,6 +142,11 @@ pub fn read_glb(path: impl AsRef<Path>) -> Result<GlbScene, Error> {
     Ok(voxlod_gltf::read_any_glb(path.as_ref())?)
 }
 
+/// Whether `path` names a glTF file (extension `.glb` or `.gltf`, any case).
+pub(crate) fn is_gltf(path: impl AsRef<Path>) -> bool {
+    voxlod_io::mesh_format_of(path.as_ref()).ok() == Some(MeshFormat::Gltf)
+}
+
 /// Whether `path` names a binary glTF file (extension `.glb`, any case).
 pub(crate) fn is_glb(path: impl AsRef<Path>) -> bool {
     path.as_ref()
@@ -153,12 +189,6 @@ pub fn read_scene(path: impl AsRef<Path>) -> Result<SceneRead, Error> {
         warnings: read.warnings,
         origin: DVec3::ZERO,
     })
-}
-
-/// Whether `path` names a glTF file (`.glb` or `.gltf`, any case).
-fn is_gltf(path: &Path) -> bool {
-    (path.extension().and_then(|e| e.to_str()))
-        .is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf"))
 }
 
 /// Files a folder scene reads past without a word: what its meshes and glTF files name.

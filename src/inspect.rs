@@ -14,7 +14,7 @@ use voxlod_layers::LayersError;
 use voxlod_metrics::{mesh_report, welded_mesh_report, MeshReport};
 
 use crate::error::Error;
-use crate::files::{is_glb, read_glb};
+use crate::files::{is_glb, is_gltf, read_glb};
 
 /// Options of [`inspect`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -192,7 +192,7 @@ pub fn inspect_file(
     options: &InspectOptions,
 ) -> Result<FileInspection, Error> {
     let path = path.as_ref();
-    let inspection = if is_glb(path) {
+    let inspection = if is_gltf(path) {
         inspect_glb_file(path, options)
     } else {
         inspect_mesh_file(path, options)
@@ -237,14 +237,14 @@ fn inspect_mesh_file(path: &Path, options: &InspectOptions) -> Result<FileInspec
     })
 }
 
-/// [`inspect_file`] of a binary glTF file.
+/// [`inspect_file`] of a glTF file (`.glb`, or `.gltf` with its buffers beside it).
 fn inspect_glb_file(path: &Path, options: &InspectOptions) -> Result<FileInspection, Error> {
     let scene = read_glb(path)?;
     let inspection = inspect_scene(&scene, options)?;
-    let format = if inspection.layered {
-        "glTF binary, layered"
-    } else {
-        "glTF binary"
+    let format = match (is_glb(path), inspection.layered) {
+        (true, true) => "glTF binary, layered",
+        (true, false) => "glTF binary",
+        (false, _) => "glTF",
     };
     Ok(FileInspection {
         format: format.into(),

@@ -72,7 +72,9 @@ pub use envelope_series::{
     check_envelope_options, envelope, envelope_with, EnvelopeSeries, EnvelopeSeriesOptions,
 };
 pub use error::Error;
-pub use files::{read_glb, read_mesh, read_scene, read_volume, write_mesh, write_volume};
+pub use files::{
+    read_glb, read_mesh, read_mesh_file, read_scene, read_volume, write_mesh, write_volume,
+};
 pub use inspect::{
     inspect, inspect_file, inspect_scene, FileInspection, InspectOptions, Inspection,
     PartInspection, SceneInspection,

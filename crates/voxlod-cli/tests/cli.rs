@@ -92,6 +92,80 @@ fn lod_by_budget_says_what_preparing_the_mesh_repaired() {
     );
 }
 
+/// A tetrahedron in a `.gltf` file with its buffer beside it, its node moved by (10, 0, 0).
+fn tetrahedron_gltf(dir: &std::path::Path) -> std::path::PathBuf {
+    let positions: [[f32; 3]; 4] = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let indices: [u16; 12] = [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3];
+    let mut bytes: Vec<u8> = positions
+        .iter()
+        .flatten()
+        .flat_map(|c| c.to_le_bytes())
+        .collect();
+    bytes.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
+    std::fs::write(dir.join("tet.bin"), &bytes).unwrap();
+    let document = serde_json::json!({
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "translation": [10.0, 0.0, 0.0]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "buffers": [{"byteLength": bytes.len(), "uri": "tet.bin"}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 48, "byteLength": 24}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+             "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 1.0]},
+            {"bufferView": 1, "componentType": 5123, "count": 12, "type": "SCALAR"}
+        ]
+    });
+    let path = dir.join("tet.gltf");
+    std::fs::write(&path, document.to_string()).unwrap();
+    path
+}
+
+#[test]
+fn the_mesh_commands_read_a_gltf_file_as_its_scene_in_world_space() {
+    let dir = tempfile::tempdir().unwrap();
+    let gltf = tetrahedron_gltf(dir.path());
+    let obj = dir.path().join("tet.obj");
+    std::fs::write(
+        &obj,
+        "v 10 0 0\nv 11 0 0\nv 10 1 0\nv 10 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    )
+    .unwrap();
+    let compared = json(&voxlod(&["compare", arg(&gltf), arg(&obj), "--json"]));
+    assert!(
+        compared["hausdorff"].as_f64().unwrap() < 1e-6,
+        "the node's translation is applied: {compared}"
+    );
+    let inspected = json(&voxlod(&["inspect", arg(&gltf), "--json"]));
+    assert_eq!(inspected["format"], "glTF", "{inspected}");
+    assert_eq!(inspected["triangles"], 4, "{inspected}");
+    let out = dir.path().join("out");
+    std::fs::create_dir(&out).unwrap();
+    for args in [
+        vec!["cluster", arg(&gltf), "-o", "c.ply", "--cells", "4"],
+        vec!["envelope", arg(&gltf), "-o", "e.ply", "--epsilon", "1%"],
+        vec!["voxelize", arg(&gltf), "-o", "v.nrrd", "--resolution", "16"],
+    ] {
+        let args: Vec<String> = (args.iter().enumerate())
+            .map(|(i, a)| match i {
+                3 => out.join(a).display().to_string(),
+                _ => a.to_string(),
+            })
+            .collect();
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        voxlod(&args);
+    }
+    let level = voxlod::io::read_mesh(&out.join("e.ply")).unwrap().mesh;
+    assert!((level.bounds().min.x - 10.0).abs() < 1e-6);
+}
+
 #[test]
 fn lod_writes_every_mesh_format() {
     let dir = tempfile::tempdir().unwrap();

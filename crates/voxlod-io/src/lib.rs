@@ -161,6 +161,9 @@ pub enum MeshFormat {
     Vtp,
     /// Legacy VTK (PolyData).
     Vtk,
+    /// glTF 2.0 (`.glb`, `.gltf`): a scene, which crate `voxlod-gltf` reads (`voxlod::read_mesh`
+    /// gives its geometry); the readers and writers here refuse it, naming that reader.
+    Gltf,
 }
 
 /// A volume format.
@@ -206,6 +209,7 @@ impl fmt::Display for MeshFormat {
             MeshFormat::Off => "OFF",
             MeshFormat::Vtp => "VTK XML PolyData",
             MeshFormat::Vtk => "legacy VTK PolyData",
+            MeshFormat::Gltf => "glTF",
         })
     }
 }
@@ -228,7 +232,7 @@ impl fmt::Display for VolumeFormat {
 }
 
 /// The mesh extensions the readers take, for messages.
-pub const MESH_EXTENSIONS: &str = ".obj, .ply, .stl, .off, .vtp, .vtk";
+pub const MESH_EXTENSIONS: &str = ".obj, .ply, .stl, .off, .vtp, .vtk, .glb, .gltf";
 const VOLUME_EXTENSIONS: &str =
     ".nrrd, .nhdr, .vti, .vtk, .nii, .nii.gz, .mha, .mhd, .raw, .zarr, .dcm or a DICOM folder";
 
@@ -254,6 +258,7 @@ pub fn mesh_format_of(path: &Path) -> Result<MeshFormat, IoError> {
         "off" => MeshFormat::Off,
         "vtp" => MeshFormat::Vtp,
         "vtk" => MeshFormat::Vtk,
+        "glb" | "gltf" => MeshFormat::Gltf,
         other => {
             return Err(IoError::unsupported(
                 path,
@@ -462,6 +467,7 @@ fn read_any(path: &Path) -> Result<(PolyMesh, MeshFormat, Option<WeldReport>, us
             let c = vtk::mesh::read(path, flavor)?;
             (c.mesh, None, c.polygons_triangulated)
         }
+        MeshFormat::Gltf => return Err(gltf_elsewhere(path)),
     };
     check_finite(path, &mesh.mesh)?;
     mesh.validate()
@@ -503,6 +509,15 @@ pub(crate) fn check_for_writing(path: &Path, mesh: &PolyMesh) -> Result<(), IoEr
         .map_err(|e| IoError::malformed(path, format!("cannot write: {e}")))
 }
 
+/// The refusal of a glTF file by this crate's single-mesh readers and writers.
+pub(crate) fn gltf_elsewhere(path: &Path) -> IoError {
+    IoError::unsupported(
+        path,
+        "a glTF scene is read by the glTF reader (voxlod::read_mesh, voxlod::read_scene) and \
+         written by the glTF writers (voxlod lod --format glb), not by the mesh readers",
+    )
+}
+
 /// [`check_for_writing`] for a plain triangle mesh.
 pub(crate) fn check_triangles_for_writing(path: &Path, mesh: &TriangleMesh) -> Result<(), IoError> {
     check_finite(path, mesh)?;
@@ -534,6 +549,7 @@ pub(crate) fn stage_view(path: &Path, view: PolyView<'_>) -> Result<TempFile, Io
                 off::write(path, view.mesh)
             }
         }
+        MeshFormat::Gltf => Err(gltf_elsewhere(path)),
     }
 }
 

@@ -255,7 +255,7 @@ pub fn read_input(path: &Path, raw: &RawArgs) -> Result<Input, CliError> {
         return Ok(Input::Volume(volume));
     }
     match kind {
-        FileKind::Mesh(_) => Ok(Input::Mesh(voxlod::io::read_mesh(path)?)),
+        FileKind::Mesh(_) => Ok(Input::Mesh(read_mesh_file(path)?)),
         FileKind::Volume(voxlod::io::VolumeFormat::Raw) => Err(CliError::usage(format!(
             "{}: a headerless raw volume needs --dims X,Y,Z (and --dtype, --endian, --spacing)",
             path.display()
@@ -270,10 +270,20 @@ pub fn is_glb(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("glb"))
 }
 
+/// A mesh file as [`voxlod::read_mesh_file`] reads it (a glTF file as its scene's geometry),
+/// the scene reader's warnings printed on standard error.
+fn read_mesh_file(path: &Path) -> Result<LoadedMesh, CliError> {
+    let (loaded, warnings) = voxlod::read_mesh_file(path).map_err(|e| in_file(path, e))?;
+    for w in warnings {
+        eprintln!("warning: {}: {w}", path.display());
+    }
+    Ok(loaded)
+}
+
 /// Reads a mesh, refusing volumes.
 pub fn read_mesh_input(path: &Path) -> Result<LoadedMesh, CliError> {
     match voxlod::io::file_kind(path)? {
-        FileKind::Mesh(_) => Ok(voxlod::io::read_mesh(path)?),
+        FileKind::Mesh(_) => read_mesh_file(path),
         FileKind::Volume(_) => Err(CliError::msg(format!(
             "{}: this is a volume; this command takes a mesh",
             path.display()

@@ -27,7 +27,8 @@ use super::values::{in_flags, number};
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct CompareArgs {
-    /// The first mesh (.obj .ply .stl .off .vtp .vtk)
+    /// The first mesh (.obj .ply .stl .off .vtp .vtk; a glTF file .glb .gltf as its scene's
+    /// geometry)
     pub a: PathBuf,
     /// The second mesh
     pub b: PathBuf,

@@ -31,7 +31,7 @@ use super::common::{count, print_json, CliError};
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct InspectArgs {
-    /// The mesh (.obj .ply .stl .off .vtp .vtk .glb)
+    /// The mesh (.obj .ply .stl .off .vtp .vtk .glb .gltf)
     pub mesh: PathBuf,
     /// Count vertices as the file indexes them, without welding coincident ones
     #[arg(long)]

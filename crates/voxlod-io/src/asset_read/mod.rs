@@ -82,6 +82,7 @@ pub fn read_asset(path: &Path) -> Result<AssetRead, IoError> {
             let loaded = crate::read_mesh(path)?;
             geometry_asset(path, PolyMesh::from(loaded.mesh), Vec::new(), &mut warnings)?
         }
+        MeshFormat::Gltf => return Err(crate::gltf_elsewhere(path)),
     };
     if asset.mesh.triangles.is_empty() {
         return Err(IoError::malformed(path, "no triangles"));
