@@ -547,13 +547,7 @@ fn lod_report(
     written_warnings: &[String],
 ) -> LodReport {
     let mesh = match (loaded, lod.preparation) {
-        (Loaded::Mesh(m), Some(preparation)) => Some(MeshSummary {
-            format: m.format.to_string(),
-            vertices: m.mesh.positions.len(),
-            triangles: m.mesh.triangles.len(),
-            polygons_triangulated: m.polygons_triangulated,
-            preparation,
-        }),
+        (Loaded::Mesh(m), Some(preparation)) => Some(MeshSummary::of(m, preparation)),
         _ => None,
     };
     let mut warnings = lod.warnings.clone();

@@ -93,13 +93,7 @@ pub fn run(args: &LodArgs) -> Result<(), CliError> {
     }
     let mut report = report(args, &options, &lod, levels, start);
     report.mesh = match (&input, lod.preparation) {
-        (Input::Mesh(m), Some(preparation)) => Some(MeshSummary {
-            format: m.format.to_string(),
-            vertices: m.mesh.positions.len(),
-            triangles: m.mesh.triangles.len(),
-            polygons_triangulated: m.polygons_triangulated,
-            preparation,
-        }),
+        (Input::Mesh(m), Some(preparation)) => Some(MeshSummary::of(m, preparation)),
         _ => None,
     };
     if chain {

@@ -68,3 +68,16 @@ pub struct MeshSummary {
     pub polygons_triangulated: usize,
     pub preparation: MeshPreparation,
 }
+
+impl MeshSummary {
+    /// The summary of a mesh as read and as the library prepared it.
+    pub fn of(m: &voxlod::io::LoadedMesh, preparation: MeshPreparation) -> MeshSummary {
+        MeshSummary {
+            format: m.format.to_string(),
+            vertices: m.mesh.positions.len(),
+            triangles: m.mesh.triangles.len(),
+            polygons_triangulated: m.polygons_triangulated,
+            preparation,
+        }
+    }
+}
