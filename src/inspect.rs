@@ -193,7 +193,7 @@ pub fn inspect_file(
 ) -> Result<FileInspection, Error> {
     let path = path.as_ref();
     let inspection = if is_gltf(path) {
-        inspect_glb_file(path, options)
+        inspect_gltf_file(path, options)
     } else {
         inspect_mesh_file(path, options)
     };
@@ -238,7 +238,7 @@ fn inspect_mesh_file(path: &Path, options: &InspectOptions) -> Result<FileInspec
 }
 
 /// [`inspect_file`] of a glTF file (`.glb`, or `.gltf` with its buffers beside it).
-fn inspect_glb_file(path: &Path, options: &InspectOptions) -> Result<FileInspection, Error> {
+fn inspect_gltf_file(path: &Path, options: &InspectOptions) -> Result<FileInspection, Error> {
     let scene = read_glb(path)?;
     let inspection = inspect_scene(&scene, options)?;
     let format = match (is_glb(path), inspection.layered) {
