@@ -10,7 +10,7 @@
 //! (no mipmaps: a texture minified far aliases; supersampling averages it). Alpha follows the
 //! material's mode: ignored (`OPAQUE`), the sample dropped below the cutoff (`MASK`, writing
 //! neither colour nor depth), or blended after everything opaque in storage order with no depth
-//! write (`BLEND`). A triangle without a material takes glTF's default, white. Where the asset
+//! write (`BLEND`; a single-sided blended triangle seen from its back is culled). A triangle without a material takes glTF's default, white. Where the asset
 //! comes with its normal maps ([`AssetItem::with_normal_maps`]) and has normals and tangents,
 //! a sample is shaded from its normal bent by the map (glTF 2.0 §3.9.3), as a viewer such as
 //! three.js draws it, rather than from the vertices' shades. Metalness, roughness, occlusion and
@@ -88,6 +88,17 @@ impl<'a> AssetItem<'a> {
         self.asset
             .material_of(tri)
             .is_some_and(|m| m.alpha_mode == AlphaMode::Blend)
+    }
+
+    /// Whether triangle `tri` is culled where its back faces the camera: its material is
+    /// blended and single-sided (glTF 2.0 §3.9.4: back-face culling unless `doubleSided`).
+    /// Opaque and masked triangles are not culled: the depth test hides a closed mesh's back
+    /// faces, where blended ones, drawn without depth writes, would show through its front.
+    #[inline]
+    pub(crate) fn culls_back(&self, tri: usize) -> bool {
+        self.asset
+            .material_of(tri)
+            .is_some_and(|m| m.alpha_mode == AlphaMode::Blend && !m.double_sided)
     }
 
     pub(crate) fn check(&self, i: usize) -> Result<(), RenderError> {

@@ -572,6 +572,12 @@ impl Sources<'_, '_> {
         tri.map(|v| verts[v as usize])
     }
 
+    /// Whether a draw is culled when seen from its back ([`AssetItem::culls_back`]).
+    #[inline]
+    fn culls_back(&self, d: Draw) -> bool {
+        d.source > self.quad_source && self.asset(d).culls_back(d.tri as usize)
+    }
+
     /// The asset of a draw beyond the quads.
     #[inline]
     fn asset(&self, d: Draw) -> &AssetItem<'_> {
@@ -732,6 +738,15 @@ impl Tiling {
     }
 }
 
+/// Whether a triangle shows the camera its back: its corners turn clockwise on screen (a front
+/// face's turn counter-clockwise, glTF 2.0 §3.7.2.1; with screen rows running down, that is a
+/// negative signed area in screen coordinates).
+#[inline]
+fn seen_from_behind(v: &[ScreenVertex; 3]) -> bool {
+    let area = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[2].x - v[0].x) * (v[1].y - v[0].y);
+    area > 0.0
+}
+
 /// Bins the draws into tiles, in parallel over chunks of the draw list: per chunk, the start of
 /// each tile's list (length tiles + 1) and the draws (indices into `draws`) in order.
 fn bin_draws(draws: &[Draw], sources: &Sources, tiling: &Tiling) -> Vec<(Vec<u32>, Vec<u32>)> {
@@ -743,7 +758,11 @@ fn bin_draws(draws: &[Draw], sources: &Sources, tiling: &Tiling) -> Vec<(Vec<u32
         .map(|(ci, ds)| {
             let ranges: Vec<Option<(u32, u32, u32, u32)>> = ds
                 .iter()
-                .map(|&d| tiling.tile_range(&sources.corners(d)))
+                .map(|&d| {
+                    let corners = sources.corners(d);
+                    let culled = sources.culls_back(d) && seen_from_behind(&corners);
+                    (!culled).then(|| tiling.tile_range(&corners)).flatten()
+                })
                 .collect();
             let mut start = vec![0u32; tile_count + 1];
             for r in ranges.iter().flatten() {

@@ -304,3 +304,35 @@ fn a_normal_map_bends_the_shading_normal() {
     let flat = draw(&[]);
     assert!((flat[0] - 1.0).abs() < 1e-3, "{flat:?}");
 }
+
+/// A single-sided blended quad is drawn from its front and culled from its back (glTF 2.0
+/// §3.9.4); made double-sided, it is drawn from both.
+#[test]
+fn a_single_sided_blended_quad_is_culled_from_behind() {
+    let texels: Vec<[u8; 4]> = vec![[255, 255, 255, 128]; 16];
+    let mut asset = textured_quad(&texels, 4, AlphaMode::Blend);
+    let frame = Bounds::new(DVec3::new(0.0, 0.0, -1.0), DVec3::new(4.0, 4.0, 1.0));
+    let mut behind = Camera::fit(DVec3::Z, &frame, 12, 12, None).unwrap();
+    behind.projection = Projection::Orthographic { half_height: 2.0 };
+    let alpha = 128.0 / 255.0;
+    for (double_sided, camera, want) in [
+        (false, head_on(3), alpha),
+        (false, behind, 0.0),
+        (true, behind, alpha),
+    ] {
+        asset.materials[0].double_sided = double_sided;
+        let (textures, _) = decode_textures(&asset).unwrap();
+        let scene = Scene {
+            assets: vec![AssetItem::new(&asset, &textures)],
+            ..Default::default()
+        };
+        let image = render(&scene, &camera, &unlit()).unwrap();
+        let k = image.index(6, 6);
+        assert!(
+            (image.coverage[k] - want).abs() < 1e-6,
+            "double-sided {double_sided}, looking along {:?}: coverage {}",
+            camera.forward,
+            image.coverage[k]
+        );
+    }
+}

@@ -25,7 +25,8 @@
 //! (vec3 or vec4, float or normalized integers), with `TEXCOORD_0`/`TEXCOORD_1` (float or
 //! normalized integers, as `KHR_mesh_quantization` writes them), the texture's sampler (wrap,
 //! filters, mipmaps) and `KHR_texture_transform` (offset, rotation, scale, texCoord); alpha
-//! `MASK` (cutoff) and `BLEND` (drawn after the opaque draws, back to front by their bounds);
+//! `MASK` (cutoff) and `BLEND` (drawn after the opaque draws, back to front by their bounds, a
+//! single-sided one with its back faces culled);
 //! a tangent-space normal map (through `TANGENT` where the file has it, else a frame from
 //! screen-space derivatives) and emissive factor × texture × `KHR_materials_emissive_strength`.
 //! Colour textures are `SRGB8_ALPHA8` (decoded to linear by the GPU), shading is in linear light

@@ -359,6 +359,7 @@
       emissiveTexture: mat ? textureSlot(gl, g, mat.emissiveTexture, true, redraw, "emissive") : null,
       alphaMode: { MASK: 1, BLEND: 2 }[mat && mat.alphaMode] || 0,
       alphaCutoff: mat && mat.alphaCutoff !== undefined ? mat.alphaCutoff : 0.5,
+      doubleSided: !!(mat && mat.doubleSided),
     };
     g.looks.set(key, out);
     return out;
@@ -699,9 +700,23 @@
       gl.uniform3fv(material.u.emissive, m.emissiveTexture && !m.emissiveTexture.image.texture ? [0, 0, 0] : m.emissive);
       gl.uniform1i(material.u.alphaMode, m.alphaMode);
       gl.uniform1f(material.u.alphaCutoff, m.alphaCutoff);
+      // A single-sided blended surface seen from its back is culled (glTF 2.0 §3.9.4): drawn
+      // without depth writes, a closed mesh's back would show through its front. A mirroring
+      // node turns the winding over.
+      const cull = m.alphaMode === 2 && !m.doubleSided;
+      if (cull) {
+        const a = d.model;
+        const det = a[0] * (a[5] * a[10] - a[6] * a[9]) - a[4] * (a[1] * a[10] - a[2] * a[9]) + a[8] * (a[1] * a[6] - a[2] * a[5]);
+        gl.enable(gl.CULL_FACE);
+        gl.frontFace(det < 0 ? gl.CW : gl.CCW);
+      }
       gl.bindVertexArray(d.vao);
       if (d.type) gl.drawElements(d.mode, d.count, d.type, 0);
       else gl.drawArrays(d.mode, 0, d.count);
+      if (cull) {
+        gl.disable(gl.CULL_FACE);
+        gl.frontFace(gl.CCW);
+      }
       for (let unit = 0; unit < 3; unit++) gl.bindSampler(unit, null);
     }
 

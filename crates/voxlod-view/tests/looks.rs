@@ -10,7 +10,8 @@
 //! - a level coloured per vertex (green where x < 0, magenta where x > 0) through `COLOR_0`,
 //!   float and quantized;
 //! - alpha: a base colour of alpha 0.3 under `MASK` with cutoff 0.5 draws nothing, under
-//!   `BLEND` a colour between the surface's and the white background;
+//!   `BLEND` a colour between the surface's and the white background, once where the material
+//!   is single-sided (its back culled), twice where it is double-sided;
 //! - the `LOD0, LOD1, …` node layout switches levels by screen coverage exactly as the same
 //!   levels in an `MSFT_lod` chain do, at the distances the coverage rule predicts;
 //! - a normal map tilting a square's normal up or down brightens or darkens it as seen from
@@ -278,14 +279,20 @@ fn alpha_mask_cuts_and_blend_mixes_with_the_background() {
         0,
         "alpha 0.3 under a 0.5 cutoff draws nothing"
     );
-    let blended = [coloured_sphere(0.3, AlphaMode::Blend)];
-    let (left, _) = halves_seen(&browser, &dir, "blended", &blended, &options);
-    // Green drawn twice (front and back of the sphere) at alpha 0.3 over white leaves 0.49 of
-    // the white in red and blue (125 of 255), where the opaque sphere has none.
-    assert!(
-        (100.0..150.0).contains(&left[0]) && (100.0..150.0).contains(&left[2]) && left[1] > 200.0,
-        "left {left:?}, expected about (125, 250, 125)"
-    );
+    // Green at alpha 0.3 over white leaves 0.7 of the white in red and blue (178 of 255) where
+    // the single-sided sphere's back is culled, 0.49 (125) where it is double-sided and drawn
+    // twice (front and back); the opaque sphere leaves none.
+    for (double_sided, want) in [(false, 178.0), (true, 125.0)] {
+        let mut sphere = coloured_sphere(0.3, AlphaMode::Blend);
+        sphere.materials[0].double_sided = double_sided;
+        let name = format!("blended-{double_sided}");
+        let (left, _) = halves_seen(&browser, &dir, &name, &[sphere], &options);
+        let near = |v: f64| (v - want).abs() < 25.0;
+        assert!(
+            near(left[0]) && near(left[2]) && left[1] > 200.0,
+            "double-sided {double_sided}: left {left:?}, expected about ({want}, 250, {want})"
+        );
+    }
 }
 
 /// The level the page shows at `distance` for levels of `triangles` (finest first) with the
