@@ -62,7 +62,7 @@ fn a_scene_becomes_one_closed_baked_mesh_per_level() {
 fn a_tree_keeps_its_crown_of_open_leaf_cards() {
     // 480 alpha-masked leaf cards (open quads) around a closed trunk: sampled as one solid the
     // cards bound nothing and the crown vanishes; as shells around the cards it stays, so the
-    // level reaches as high and as wide as the scene, and the bake gives it an alpha mask.
+    // level reaches as high and as wide as the scene.
     let scene = voxlod_testkit::scenes::tree();
     let made = proxy(&scene, &ProxyOptions::for_triangles(&[600], 256)).unwrap();
     let level = &made.levels[0];
@@ -78,12 +78,37 @@ fn a_tree_keeps_its_crown_of_open_leaf_cards() {
             "axis {axis}: {reached} of {extent}"
         );
     }
+    // The crown's opacity is measured by view rays: the closed level is drawn blended,
+    // single-sided (its back faces are its inside), and looks closer to the tree than the same
+    // level masked by the alpha its bake rays find.
     let material = &level.asset.materials[0];
     assert_eq!(
-        material.alpha_mode,
-        voxlod::asset::AlphaMode::Mask,
+        (material.alpha_mode, material.double_sided),
+        (voxlod::asset::AlphaMode::Blend, false),
         "{material:?}"
     );
+    assert!(
+        level.bake.texels_opacity > level.bake.texels / 2,
+        "{:?}",
+        level.bake
+    );
+    let mut masked = ProxyOptions::for_triangles(&[600], 256);
+    masked.bake.opacity_rays = 0;
+    let masked = proxy(&scene, &masked).unwrap();
+    let masked = &masked.levels[0];
+    assert_eq!(
+        masked.asset.materials[0].alpha_mode,
+        voxlod::asset::AlphaMode::Mask
+    );
+    let options = AppearanceOptions {
+        views: 14,
+        size: 128,
+        supersample: 2,
+    };
+    let reference = AppearanceReference::new(&scene, &options).unwrap();
+    let blended = reference.compare(&level.asset).unwrap().psnr;
+    let cut = reference.compare(&masked.asset).unwrap().psnr;
+    assert!(blended > cut + 0.3, "blended {blended} dB, masked {cut} dB");
 }
 
 #[test]

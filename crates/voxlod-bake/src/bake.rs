@@ -8,13 +8,16 @@
 //! textures averaged over the texel's footprint ([`crate::mipmaps`]), are written to the texel:
 //! base colour, the source's shading normal in the level's tangent frame,
 //! occlusion-roughness-metallic and emissive where the source has them, alpha where it has
-//! alpha. The charts' looks are then pushed into the gutters ([`crate::dilate`]) and the
+//! alpha: where the source lets light through, the texel's opacity and colour measured by
+//! view rays through the level ([`crate::opacity`], averaged over neighbours in the chart),
+//! and the level drawn blended. The charts' looks are then pushed into the gutters ([`crate::dilate`]) and the
 //! textures encoded as PNG, or JPEG on request ([`crate::output`]). Several levels of one source
 //! share its preparation ([`BakeSource`], [`bake_levels`]).
 //!
 //! The same job as Simplygon's or InstaLOD's material casting, xNormal's bake to a cage.
 //!
-//! Cost: the atlas's; then O(texels × log N) ray casts for N source triangles, on all cores.
+//! Cost: the atlas's; then O(texels × log N) ray casts for N source triangles, on all cores
+//! (with `1 + 2 × opacity_rays` casts a texel where the source lets light through).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -31,12 +34,16 @@ use voxlod_core::TriangleMesh;
 use crate::cast::Cast;
 use crate::dilate::{apply, dilation_sources, Dilation};
 use crate::mipmaps::texels_per_unit;
+use crate::opacity::{draw_of, smooth, Seen, ViewRays};
 use crate::output::{proxy_asset, TexelValues, Textures};
-use crate::raster::{Cover, UNCOVERED};
+use crate::raster::{Cover, Coverage, UNCOVERED};
 use crate::slivers::{median_edge, SNAP_VOXELS};
 use crate::source::{linear_to_srgb, Channels, Look, SourceLooks};
 use crate::tangents::mikktspace;
 use crate::{atlas, Atlas, AtlasOptions, BakeError, ImageFormat};
+
+/// View rays per texel that measure its opacity by default ([`BakeOptions::opacity_rays`]).
+pub const OPACITY_RAYS: u32 = 4;
 
 /// Options of [`bake`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -57,10 +64,15 @@ pub struct BakeOptions {
     /// How the base colour, ORM and emissive textures are encoded (the normal map is PNG
     /// either way; see [`crate::output`]).
     pub images: ImageFormat,
+    /// View rays per texel that measure its opacity where the source lets light through
+    /// ([`crate::opacity`]; the level is then drawn blended); 0: a texel takes the alpha of
+    /// the point its bake ray found, and the level masks or blends as the source does.
+    pub opacity_rays: u32,
 }
 
 impl Default for BakeOptions {
-    /// A 1024² atlas, a cage of 2 voxels, the whole gutter filled, PNG textures.
+    /// A 1024² atlas, a cage of 2 voxels, the whole gutter filled, PNG textures, opacity
+    /// from [`OPACITY_RAYS`] view rays.
     fn default() -> Self {
         BakeOptions {
             atlas: AtlasOptions::default(),
@@ -69,6 +81,7 @@ impl Default for BakeOptions {
             cage_voxels: 2.0,
             dilation: Dilation::Whole,
             images: ImageFormat::Png,
+            opacity_rays: OPACITY_RAYS,
         }
     }
 }
@@ -110,6 +123,9 @@ pub struct BakeReport {
     pub texels_hit: usize,
     /// Covered texels that took the source's nearest point instead.
     pub texels_fallback: usize,
+    /// Covered texels whose opacity view rays measured (where the source lets light
+    /// through; [`crate::opacity`]).
+    pub texels_opacity: usize,
     /// The cage distance used.
     pub cage: f32,
     /// Seconds of the atlas.
@@ -298,26 +314,39 @@ fn bake_checked(
         tangents: &tangents,
     };
     let texel_sizes = texel_sizes(&atlas);
-    let baked: Vec<(TexelValues, u8)> = cover
-        .texels
-        .par_iter()
-        .map(|c| {
-            if c.triangle == UNCOVERED {
-                return (TexelValues::default(), 0);
-            }
-            let (p, n, t) = frame.at(c);
-            let found = cast.find(p, frame.face(c), cage, &|t, w| looks.clear(t, w));
-            let footprint = texel_sizes[c.triangle as usize];
-            let look = looks.at(found.triangle, found.weights, n, footprint);
-            (
-                encode(&look, n, t, &looks.channels, emissive_scale),
-                1 + u8::from(found.hit),
-            )
-        })
+    let rays = if looks.channels.alpha {
+        options.opacity_rays
+    } else {
+        0
+    };
+    let own = (rays > 0).then(|| Cast::new(level)).transpose()?;
+    let view_rays = own.as_ref().map(|own| ViewRays {
+        level: own,
+        source: cast,
+        looks,
+        rays,
+        cage,
+    });
+    let baker = TexelBaker {
+        frame,
+        cast,
+        looks,
+        view_rays,
+        cage,
+        texel_sizes,
+        emissive_scale,
+    };
+    let baked: Vec<(TexelValues, Texel, Option<Seen>)> = (cover.texels.par_iter().enumerate())
+        .map(|(index, c)| baker.bake(index, c))
         .collect();
-    let texels_hit = baked.iter().filter(|b| b.1 == 2).count();
-    let covered: Vec<bool> = baked.iter().map(|b| b.1 > 0).collect();
+    let texels_hit = baked.iter().filter(|b| b.1 == Texel::Hit).count();
+    let texels_opacity = baked.iter().filter(|b| b.1 == Texel::Opacity).count();
+    let covered: Vec<bool> = baked.iter().map(|b| b.1 != Texel::Uncovered).collect();
+    let seen: Vec<Option<Seen>> = baked.iter().map(|b| b.2).collect();
     let mut values: Vec<TexelValues> = baked.into_iter().map(|b| b.0).collect();
+    if own.is_some() {
+        with_opacity(&mut values, &seen, &cover, &atlas);
+    }
     let sources = dilation_sources(&covered, cover.width, cover.height, options.dilation);
     apply(&mut values, &sources);
     let texels = covered.iter().filter(|&&c| c).count();
@@ -334,6 +363,8 @@ fn bake_checked(
         height: atlas.height,
         values: &values,
         channels: looks.channels,
+        opacity_measured: own.is_some(),
+        level_open: on_open_edges(&level.triangles).iter().any(|&open| open),
         emissive_scale,
         format: options.images,
     };
@@ -346,7 +377,8 @@ fn bake_checked(
         utilisation: atlas.utilisation,
         texels,
         texels_hit,
-        texels_fallback: texels - texels_hit,
+        texels_fallback: texels - texels_hit - texels_opacity,
+        texels_opacity,
         cage,
         atlas_seconds: atlas.seconds,
         seconds: atlas.seconds + start.elapsed().as_secs_f64(),
@@ -357,6 +389,76 @@ fn bake_checked(
         atlas,
         report,
     })
+}
+
+/// One texel's bake: what [`bake_checked`] needs of the level, the source and the options.
+struct TexelBaker<'a> {
+    frame: Frame<'a>,
+    cast: &'a Cast,
+    looks: &'a SourceLooks<'a>,
+    /// Where the texels' opacity is measured.
+    view_rays: Option<ViewRays<'a>>,
+    cage: f32,
+    texel_sizes: Vec<f32>,
+    emissive_scale: f32,
+}
+
+impl TexelBaker<'_> {
+    /// Texel `index` (covering `c`): its values, how it was baked, and what its view rays saw
+    /// where they were cast (texels whose bake ray missed, or met a see-through material).
+    fn bake(&self, index: usize, c: &Cover) -> (TexelValues, Texel, Option<Seen>) {
+        if c.triangle == UNCOVERED {
+            return (TexelValues::default(), Texel::Uncovered, None);
+        }
+        let (looks, frame) = (self.looks, &self.frame);
+        let (p, n, t) = frame.at(c);
+        let found = (self.cast).find(p, frame.face(c), self.cage, &|t, w| looks.clear(t, w));
+        let footprint = self.texel_sizes[c.triangle as usize];
+        let look = looks.at(found.triangle, found.weights, n, footprint);
+        let (texel, seen) = match &self.view_rays {
+            Some(rays) if !found.hit || looks.see_through(found.triangle) => {
+                let seen = rays.seen_through(p, (n, t.truncate()), draw_of(index), footprint);
+                (Texel::Opacity, Some(seen))
+            }
+            _ if found.hit => (Texel::Hit, None),
+            _ => (Texel::Fallback, None),
+        };
+        let values = encode(&look, n, t, &looks.channels, self.emissive_scale);
+        (values, texel, seen)
+    }
+}
+
+/// The opacity and colour the view rays saw (`seen`, per texel), averaged over neighbours in
+/// the chart ([`smooth`]), written into the base colour of `values`.
+fn with_opacity(
+    values: &mut [TexelValues],
+    seen: &[Option<Seen>],
+    cover: &Coverage,
+    atlas: &Atlas,
+) {
+    let chart_of = |c: &Cover| atlas.chart.get(c.triangle as usize).copied();
+    let chart: Vec<u32> = (cover.texels.iter())
+        .map(|c| chart_of(c).unwrap_or(u32::MAX))
+        .collect();
+    let smoothed = smooth(seen, &chart, cover.width, cover.height);
+    for (v, s) in values.iter_mut().zip(smoothed) {
+        if let Some(s) = s {
+            v.base = base_bytes(s.colour.extend(s.opacity), v.base);
+        }
+    }
+}
+
+/// How a texel was baked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Texel {
+    /// No triangle covers it.
+    Uncovered,
+    /// Its ray found the source.
+    Hit,
+    /// It took the source's nearest point.
+    Fallback,
+    /// View rays measured its opacity and colour.
+    Opacity,
 }
 
 /// Refuses image options that cannot be encoded and an atlas of another level than `level`.
@@ -447,6 +549,23 @@ impl Frame<'_> {
         };
         (p, n, t.extend(sign))
     }
+}
+
+/// A base colour texel of linear `colour` and opacity; where nothing was seen (opacity 0),
+/// `before`'s colour with opacity 0, so that filtering at a clear texel's edge keeps the
+/// colour beside it.
+fn base_bytes(colour: Vec4, before: [u8; 4]) -> [u8; 4] {
+    let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    if colour.w <= 0.0 {
+        return [before[0], before[1], before[2], 0];
+    }
+    let srgb = |v: f32| byte(linear_to_srgb(v.clamp(0.0, 1.0)));
+    [
+        srgb(colour.x),
+        srgb(colour.y),
+        srgb(colour.z),
+        byte(colour.w),
+    ]
 }
 
 /// A look as 8-bit texel values, the normal in the frame (`n`, `t`).

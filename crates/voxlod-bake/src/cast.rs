@@ -132,23 +132,14 @@ impl Cast {
     /// nothing at, which a ray passes as a viewer's would); else the nearest point of the
     /// source.
     pub fn find(&self, p: Vec3, n: Vec3, cage: f32, clear: &Clear<'_>) -> Found {
-        let forward = self
-            .cast(p, n, n, cage, clear)
-            .map(|(slot, t)| (slot, t, n));
-        let backward = self
-            .cast(p, -n, n, cage, clear)
-            .map(|(slot, t)| (slot, t, -n));
+        let forward = self.first_hit(p, n, n, cage, clear);
+        let backward = self.first_hit(p, -n, n, cage, clear);
         let best = match (forward, backward) {
             (Some(a), Some(b)) => Some(if a.1 <= b.1 { a } else { b }),
             (a, b) => a.or(b),
         };
-        if let Some((slot, t, direction)) = best {
-            let tri = &self.slots[slot];
-            return Found {
-                triangle: self.slot_triangle[slot] as usize,
-                weights: barycentric([tri.v0, tri.v1, tri.v2].map(Vec3::from), p + direction * t),
-                hit: true,
-            };
+        if let Some((found, _)) = best {
+            return found;
         }
         let near = self.nearest.closest(p.as_dvec3());
         let slot = self
@@ -187,6 +178,27 @@ impl Cast {
             true
         });
         best.map(|b| b.0)
+    }
+
+    /// The first source point a ray from `p` along `direction` meets within `length` on a
+    /// triangle facing along `facing` (or seen from both sides) and not `clear` there, with
+    /// its distance along the ray.
+    pub fn first_hit(
+        &self,
+        p: Vec3,
+        direction: Vec3,
+        facing: Vec3,
+        length: f32,
+        clear: &Clear<'_>,
+    ) -> Option<(Found, f32)> {
+        let (slot, t) = self.cast(p, direction, facing, length, clear)?;
+        let tri = &self.slots[slot];
+        let found = Found {
+            triangle: self.slot_triangle[slot] as usize,
+            weights: barycentric([tri.v0, tri.v1, tri.v2].map(Vec3::from), p + direction * t),
+            hit: true,
+        };
+        Some((found, t))
     }
 
     /// The nearest slot a ray from `p` along `direction` meets within `cage` whose normal

@@ -6,7 +6,8 @@
 //! One algorithm per module: [`atlas`] (charts cut along creases by [`creases`], made with
 //! slivers snapped shut by [`slivers`], packed by xatlas through [`xatlas`]), [`raster`]
 //! (which texel stands for which surface point, with conservative coverage at chart borders), [`tangents`] (MikkTSpace), [`cast`] (rays from the
-//! level into the source, the nearest point where they miss), [`source`] (the source's
+//! level into the source, the nearest point where they miss), [`opacity`] (a texel's opacity
+//! where the source lets light through, by view rays), [`source`] (the source's
 //! material at a point), [`dilate`] (chart looks pushed into the gutters), [`output`] (the
 //! textures and the asset), [`encode`] (the textures as PNG, or JPEG on request), and
 //! [`bake`] running them in order.
@@ -24,6 +25,7 @@ pub mod dilate;
 pub mod encode;
 pub mod error;
 pub mod mipmaps;
+pub mod opacity;
 pub mod output;
 pub mod raster;
 pub mod slivers;
@@ -34,6 +36,7 @@ mod xatlas;
 pub use atlas::{atlas, Atlas, AtlasOptions, TextureSize};
 pub use bake::{
     atlases, bake, bake_from, bake_levels, bake_on, BakeOptions, BakeReport, BakeSource, Baked,
+    OPACITY_RAYS,
 };
 pub use dilate::Dilation;
 pub use encode::ImageFormat;

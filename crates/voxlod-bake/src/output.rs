@@ -6,7 +6,10 @@
 //! texture, an occlusion-roughness-metallic texture serving both slots where the source has
 //! either (else the source's first material's factors), an emissive texture where the source
 //! emits (the emissive strength restoring values above 1); alpha mode blend where a source
-//! material blends, else mask where one masks, else opaque; double-sided where any is.
+//! material blends or the texels' opacity was measured by view rays ([`crate::opacity`]), else
+//! mask where one masks, else opaque; double-sided where any source material is and the level
+//! is open (a closed level's back faces are its inside: drawn, a blended level would show
+//! them through its front).
 //!
 //! With [`ImageFormat::Jpeg`] the base colour, ORM and emissive textures are JPEG (`.jpg`,
 //! `image/jpeg`); the normal map stays PNG (JPEG's block artefacts would show as shading
@@ -47,6 +50,10 @@ pub struct Textures<'a> {
     pub values: &'a [TexelValues],
     /// Which textures to write beyond base colour and normal.
     pub channels: Channels,
+    /// Whether the base colour's alpha is an opacity measured by view rays (drawn blended).
+    pub opacity_measured: bool,
+    /// Whether the level has an open edge (it may be seen from its back).
+    pub level_open: bool,
     /// What the emissive texture's 1 stands for.
     pub emissive_scale: f32,
     /// How the colour-like textures are encoded (the normal map is PNG either way).
@@ -102,9 +109,9 @@ pub fn proxy_asset(
         normal_texture: slot("normal", "normal", 3, ImageFormat::Png, |v| v.normal)?,
         metallic: first.metallic,
         roughness: first.roughness,
-        alpha_mode: alpha_mode(&source.materials),
+        alpha_mode: alpha_mode(&source.materials, textures.opacity_measured),
         alpha_cutoff: first.alpha_cutoff,
-        double_sided: source.materials.iter().any(|m| m.double_sided),
+        double_sided: textures.level_open && source.materials.iter().any(|m| m.double_sided),
         ..Material::default()
     };
     if c.metallic_roughness || c.occlusion {
@@ -149,10 +156,10 @@ fn base_colour_format(format: ImageFormat, alpha: bool) -> (ImageFormat, Vec<Str
     (ImageFormat::Png, vec![why.to_string()])
 }
 
-/// The alpha mode of a proxy of these materials.
-fn alpha_mode(materials: &[Material]) -> AlphaMode {
+/// The alpha mode of a proxy of these materials, its opacity measured by view rays or not.
+fn alpha_mode(materials: &[Material], opacity_measured: bool) -> AlphaMode {
     let any = |mode| materials.iter().any(|m| m.alpha_mode == mode);
-    if any(AlphaMode::Blend) {
+    if opacity_measured || any(AlphaMode::Blend) {
         AlphaMode::Blend
     } else if any(AlphaMode::Mask) {
         AlphaMode::Mask

@@ -208,6 +208,34 @@ impl SourceLooks<'_> {
         self.asset.material_of(t).is_some_and(|m| m.double_sided)
     }
 
+    /// Whether triangle `t`'s material lets light through somewhere (masks or blends by alpha).
+    pub fn see_through(&self, t: usize) -> bool {
+        self.asset
+            .material_of(t)
+            .is_some_and(|m| m.alpha_mode != AlphaMode::Opaque)
+    }
+
+    /// What a viewer sees at the point with barycentric `weights` on triangle `t`: the linear
+    /// base colour (texture averaged over `footprint`) and its opacity: the base alpha where
+    /// the material blends, 1 where it is opaque or masks (a masked texel below its cutoff is
+    /// [`clear`](Self::clear), never seen).
+    pub fn seen_colour(&self, t: usize, weights: [f32; 3], footprint: f32) -> Vec4 {
+        let default;
+        let material = match self.asset.material_of(t) {
+            Some(m) => m,
+            None => {
+                default = Material::default();
+                &default
+            }
+        };
+        let base = self.base(t, weights, material, footprint);
+        let opacity = match material.alpha_mode {
+            AlphaMode::Blend => base.w.clamp(0.0, 1.0),
+            _ => 1.0,
+        };
+        base.truncate().extend(opacity)
+    }
+
     /// Whether the source shows nothing at the point with barycentric `weights` on triangle
     /// `t`: its material masks by alpha (glTF §3.9.4, `MASK`) and the base colour's alpha
     /// there, sampled at the point, is below the cutoff. Blended and opaque materials always

@@ -532,7 +532,7 @@ fn a_finely_tiled_texture_bakes_to_its_mean_not_to_moire() {
 /// A ray that meets a texel an alpha-masked source shows nothing at passes on, as a viewer's
 /// would: a level over a card whose left half is clear, with a blue square under the card,
 /// bakes blue on the left (where the card alone would leave it clear) and the card's red on
-/// the right, every texel opaque.
+/// the right, every texel opaque (the texels' alpha from the bake ray, not view rays).
 #[test]
 fn rays_pass_the_clear_texels_of_a_masked_source() {
     let card = png(8, 8, |x, _| match x < 4 {
@@ -568,6 +568,7 @@ fn rays_pass_the_clear_texels_of_a_masked_source() {
     }
     let options = BakeOptions {
         cage: Some(0.2),
+        opacity_rays: 0,
         ..BakeOptions::for_texture(128)
     };
     let baked = bake(&source, &square(3, 0.02), &options).unwrap();

@@ -305,6 +305,34 @@ fn proxy_refuses_a_jpeg_quality_out_of_range_or_without_jpeg_images() {
     assert!(stderr(&o).contains("--images"), "{}", stderr(&o));
 }
 
+/// `--opacity-rays` beyond 256 is a usage error naming the flag; on a scene with no material
+/// that masks or blends, it does not apply, and the report says so.
+#[test]
+fn proxy_opacity_rays_out_of_range_or_not_applying_is_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_glb(dir.path());
+    let glb = dir.path().join("proxy.glb");
+    let o = proxy_500(&scene, &glb, &["--opacity-rays", "300"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--opacity-rays 300"), "{}", stderr(&o));
+    assert!(!glb.exists());
+    let extra = [
+        "--opacity-rays",
+        "8",
+        "--texture",
+        "64",
+        "--no-appearance",
+        "--json",
+    ];
+    let o = proxy_500(&scene, &glb, &extra);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let warnings = json(&o)["warnings"].to_string();
+    assert!(
+        warnings.contains("--opacity-rays 8 does not apply"),
+        "{warnings}"
+    );
+}
+
 /// The Khronos validator finds no error in `path` (skipped where it is not installed).
 fn assert_validates(path: &Path) {
     if let Some(v) = voxlod_testkit::gltf_validator::validate_gltf(path) {

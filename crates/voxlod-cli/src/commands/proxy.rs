@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use serde::Serialize;
-use voxlod::asset::Asset;
+use voxlod::asset::{AlphaMode, Asset};
 use voxlod::bake::ImageFormat;
 use voxlod::core::glam::DVec3;
 use voxlod::gltf::AssetGlbOptions;
@@ -102,6 +102,13 @@ pub struct ProxyArgs {
     /// block artefacts are hard to see on colour maps
     #[arg(long, value_name = "Q", value_parser = number::<u32>, allow_hyphen_values = true)]
     pub jpeg_quality: Option<u32>,
+    /// Where the scene lets light through (leaf cards, fences: materials that mask or blend by
+    /// alpha), each texel's opacity is measured by this many view rays through the level,
+    /// and the level is drawn blended, showing the mean of what the scene shows through it.
+    /// 0: a texel takes the alpha of the point its bake ray finds, masked as the scene is.
+    /// Default 4; 0 to 256
+    #[arg(long, value_name = "RAYS", value_parser = number::<u32>, allow_hyphen_values = true)]
+    pub opacity_rays: Option<u32>,
     /// Keep the parts that none of 64 views around the scene sees (by default they are
     /// dropped, and levels are measured against what is seen)
     #[arg(long)]
@@ -203,6 +210,11 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
         )));
     }
     check_values(&args)?;
+    if let Some(rays) = args.opacity_rays.filter(|&r| r > 256) {
+        return Err(CliError::usage(format!(
+            "--opacity-rays {rays}: 0 to 256 rays a texel"
+        )));
+    }
     let images = image_format(&args)?;
     let mut out = OutputSet::protecting([&args.input]);
     out.check(&args.output)?;
@@ -220,6 +232,19 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
     options.screen_sizes = args.screen_size.clone();
     options.bake.atlas.crease_degrees = args.hard_edges;
     options.bake.images = images;
+    if let Some(rays) = args.opacity_rays {
+        options.bake.opacity_rays = rays;
+        if !scene
+            .materials
+            .iter()
+            .any(|m| m.alpha_mode != AlphaMode::Opaque)
+        {
+            warnings.push(format!(
+                "--opacity-rays {rays} does not apply: no material of {} masks or blends",
+                args.input.display()
+            ));
+        }
+    }
     let bar = progress(args.triangles.len() as u64, "levels", args.json);
     let show = |p: Progress| {
         match p.event {
