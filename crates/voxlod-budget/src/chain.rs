@@ -13,6 +13,7 @@ use crate::collapse;
 use crate::grids::{with_solids, Grids};
 use crate::input::Input;
 use crate::measure::{Care, Measure};
+use crate::plate::Plate;
 use crate::promises::{crosses_no_more, within_budget, Promise, Promises};
 use crate::report::{BudgetLevel, CandidateReport, InputReport};
 use crate::restore::StandIns;
@@ -154,12 +155,13 @@ struct Searched {
     notes: Vec<String>,
 }
 
-/// The input's own collapses for one budget, made before anything is measured.
+/// The input's own collapses for one budget, made before anything is measured (and the plate
+/// candidate, where the input is a plate).
 struct Collapses {
     /// meshoptimizer's plain collapse ([`collapse::plain`]), its crossing pairs counted where
     /// it keeps the cheap promises.
     plain: Option<Candidate>,
-    /// The collapse of the input as given and the sloppy collapse.
+    /// The collapse of the input as given, the sloppy collapse and the plate candidate.
     others: Vec<Candidate>,
     /// The time they took.
     seconds: f64,
@@ -177,10 +179,15 @@ fn all_collapses(
     budgets: &[usize],
 ) -> Vec<Collapses> {
     let ahead = input.parts.len() > 1 && !options.remesh;
+    // A plate's mid-surface, found once (O(F) where the input is no plate: module `plate`).
+    let plate = match options.remesh {
+        true => None,
+        false => Plate::detect_parts(&input.mesh, &input.parts),
+    };
     let (made, ()) = rayon::join(
         || {
             (budgets.par_iter())
-                .map(|&b| collapses(input, given, options, b))
+                .map(|&b| collapses(input, given, options, b, plate.as_ref()))
                 .collect::<Vec<_>>()
         },
         || {
@@ -196,12 +203,14 @@ fn all_collapses(
     made
 }
 
-/// The input's own collapses for `budget` (module docs of `collapse`).
+/// The input's own collapses for `budget` (module docs of `collapse`), and the plate candidate
+/// where the input is a plate (module `plate`).
 fn collapses(
     input: &Input,
     given: Option<&TriangleMesh>,
     options: &PortfolioOptions,
     budget: usize,
+    plate: Option<&Plate>,
 ) -> Collapses {
     let start = Instant::now();
     if options.remesh {
@@ -223,6 +232,7 @@ fn collapses(
         .flat_map(|g| collapse::as_given(g, budget, input))
         .collect();
     others.extend(collapse::sloppy(input, budget));
+    others.extend(plate.and_then(|p| crate::plate::candidate(p, input, budget)));
     let seconds = start.elapsed().as_secs_f64();
     Collapses {
         plain,
@@ -232,7 +242,8 @@ fn collapses(
 }
 
 /// Whether a voxel search can do better than the input's collapses for `budget` (the plain
-/// collapse breaks a promise, misses the budget, or is farther than [`VOXEL_WORTH`] voxels).
+/// collapse breaks a promise, misses the budget, or is farther than [`VOXEL_WORTH`] voxels),
+/// where no plate candidate (module `plate`) keeps every promise within that distance either.
 fn search(
     input: &Input,
     measure: &Measure,
@@ -261,7 +272,15 @@ fn search(
         plain_broke = !keeps;
         candidates.push(plain);
     }
-    candidates.extend(made.others);
+    let mut others = made.others;
+    // A plate's candidate that keeps every promise stands in for the plain collapse there.
+    if let Some(plate) = (others.iter_mut()).find(|c| c.method == Method::Plate) {
+        if !close_enough && promises.broken_cheap(plate).is_empty() && crosses_no_more(input, plate)
+        {
+            close_enough = is_close_enough(input, measure, plate, budget);
+        }
+    }
+    candidates.extend(others);
     Ok(Searched {
         budget,
         candidates,
