@@ -151,17 +151,20 @@ struct Searched {
     plain_broke: bool,
     /// The plain collapse broke no promise but the crossings: its topology held.
     plain_crossed: bool,
+    /// A plate candidate (module `plate`) keeps every promise within the distance that makes
+    /// a voxel search pointless: no checked collapse is made either (on a plate it stalls).
+    plate_stands_in: bool,
     seconds: f64,
     notes: Vec<String>,
 }
 
 /// The input's own collapses for one budget, made before anything is measured (and the plate
-/// candidate, where the input is a plate).
+/// candidates, where the input is a plate).
 struct Collapses {
     /// meshoptimizer's plain collapse ([`collapse::plain`]), its crossing pairs counted where
     /// it keeps the cheap promises.
     plain: Option<Candidate>,
-    /// The collapse of the input as given, the sloppy collapse and the plate candidate.
+    /// The collapse of the input as given, the sloppy collapse and the plate candidates.
     others: Vec<Candidate>,
     /// The time they took.
     seconds: f64,
@@ -203,8 +206,8 @@ fn all_collapses(
     made
 }
 
-/// The input's own collapses for `budget` (module docs of `collapse`), and the plate candidate
-/// where the input is a plate (module `plate`).
+/// The input's own collapses for `budget` (module docs of `collapse`), and the plate
+/// candidates where the input is a plate (module `plate`).
 fn collapses(
     input: &Input,
     given: Option<&TriangleMesh>,
@@ -232,7 +235,7 @@ fn collapses(
         .flat_map(|g| collapse::as_given(g, budget, input))
         .collect();
     others.extend(collapse::sloppy(input, budget));
-    others.extend(plate.and_then(|p| crate::plate::candidate(p, input, budget)));
+    others.extend(plate.map_or_else(Vec::new, |p| crate::plate::candidates(p, input, budget)));
     let seconds = start.elapsed().as_secs_f64();
     Collapses {
         plain,
@@ -273,11 +276,13 @@ fn search(
         candidates.push(plain);
     }
     let mut others = made.others;
-    // A plate's candidate that keeps every promise stands in for the plain collapse there.
-    if let Some(plate) = (others.iter_mut()).find(|c| c.method == Method::Plate) {
+    // A plate candidate that keeps every promise stands in for the plain collapse there.
+    let mut plate_stands_in = false;
+    for plate in (others.iter_mut()).filter(|c| c.method == Method::Plate) {
         if !close_enough && promises.broken_cheap(plate).is_empty() && crosses_no_more(input, plate)
         {
             close_enough = is_close_enough(input, measure, plate, budget);
+            plate_stands_in = close_enough;
         }
     }
     candidates.extend(others);
@@ -287,6 +292,7 @@ fn search(
         needs_voxels: options.remesh || (!close_enough && !large_and_opened),
         plain_broke,
         plain_crossed,
+        plate_stands_in,
         seconds: made.seconds + start.elapsed().as_secs_f64(),
         notes: Vec::new(),
     })
@@ -333,7 +339,8 @@ fn is_close_enough(input: &Input, measure: &Measure, c: &mut Candidate, budget: 
 /// that loses to a checked collapse at a large budget often collapses closer at the small ones
 /// (the chain's runner-up, [`crate::select::Chosen::runner_up`]). Where the plain collapse only
 /// crossed and no larger budget's collapse was there to start from, the plain collapse made in
-/// two steps as well ([`collapse::in_two_steps`]).
+/// two steps as well ([`collapse::in_two_steps`]). None where a plate candidate stands in
+/// for the plain collapse ([`Searched::plate_stands_in`]).
 fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions) {
     // The input as the checked collapse takes it, cut only where it is needed.
     let cut = std::cell::OnceCell::new();
@@ -347,6 +354,9 @@ fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions
         if !s.plain_broke {
             let plain = s.candidates.iter().find(|c| c.method == Method::Collapse);
             from = plain.map(|c| (c.mesh.clone(), false)).or(from);
+            continue;
+        }
+        if s.plate_stands_in {
             continue;
         }
         let start = Instant::now();
@@ -696,6 +706,7 @@ mod tests {
             needs_voxels: false,
             plain_broke: broke,
             plain_crossed: broke,
+            plate_stands_in: false,
             seconds: 0.0,
             notes: Vec::new(),
         }
