@@ -121,9 +121,10 @@ fn the_chain_gives_the_thin_shell_levels_that_meet_the_targets() {
 }
 
 #[test]
-fn no_case_of_the_corpus_is_a_plate() {
+fn no_case_of_the_corpus_but_the_thin_shell_is_a_plate() {
     for (name, mesh) in voxlod_testkit::corpus::corpus() {
-        assert!(Plate::detect(&mesh).is_none(), "{name}");
+        let plate = Plate::detect(&mesh);
+        assert_eq!(plate.is_some(), name == "thin-shell", "{name}");
     }
 }
 
