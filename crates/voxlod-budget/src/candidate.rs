@@ -45,6 +45,9 @@ pub enum Method {
     /// A thin shell around the input's surface contoured, then collapsed to the budget: the
     /// voxel level of a surface with no inside (an open sheet, open parts, a soup).
     Shell,
+    /// A closed plate far thinner than its size simplified as a sheet: one side moved to the
+    /// mid-surface, collapsed with its border free and thickened again (module `plate`).
+    Plate,
     /// The level of the next larger budget, collapsed to this one with its topology kept.
     Above,
     /// The level of the next smaller budget with its edges split to this budget and fitted to
@@ -63,6 +66,7 @@ impl Method {
             Method::Sloppy => "sloppy",
             Method::Voxel => "voxel",
             Method::Shell => "shell",
+            Method::Plate => "plate",
             Method::Above => "above",
             Method::Below => "below",
         }

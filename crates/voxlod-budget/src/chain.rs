@@ -13,6 +13,7 @@ use crate::collapse;
 use crate::grids::{with_solids, Grids};
 use crate::input::Input;
 use crate::measure::{Care, Measure};
+use crate::plate::Plate;
 use crate::promises::{crosses_no_more, within_budget, Promise, Promises};
 use crate::report::{BudgetLevel, CandidateReport, InputReport};
 use crate::restore::StandIns;
@@ -150,16 +151,20 @@ struct Searched {
     plain_broke: bool,
     /// The plain collapse broke no promise but the crossings: its topology held.
     plain_crossed: bool,
+    /// A plate candidate (module `plate`) keeps every promise within the distance that makes
+    /// a voxel search pointless: no checked collapse is made either (on a plate it stalls).
+    plate_stands_in: bool,
     seconds: f64,
     notes: Vec<String>,
 }
 
-/// The input's own collapses for one budget, made before anything is measured.
+/// The input's own collapses for one budget, made before anything is measured (and the plate
+/// candidates, where the input is a plate).
 struct Collapses {
     /// meshoptimizer's plain collapse ([`collapse::plain`]), its crossing pairs counted where
     /// it keeps the cheap promises.
     plain: Option<Candidate>,
-    /// The collapse of the input as given and the sloppy collapse.
+    /// The collapse of the input as given, the sloppy collapse and the plate candidates.
     others: Vec<Candidate>,
     /// The time they took.
     seconds: f64,
@@ -177,10 +182,15 @@ fn all_collapses(
     budgets: &[usize],
 ) -> Vec<Collapses> {
     let ahead = input.parts.len() > 1 && !options.remesh;
+    // A plate's mid-surface, found once (O(F) where the input is no plate: module `plate`).
+    let plate = match options.remesh {
+        true => None,
+        false => Plate::detect_parts(&input.mesh, &input.parts),
+    };
     let (made, ()) = rayon::join(
         || {
             (budgets.par_iter())
-                .map(|&b| collapses(input, given, options, b))
+                .map(|&b| collapses(input, given, options, b, plate.as_ref()))
                 .collect::<Vec<_>>()
         },
         || {
@@ -196,12 +206,14 @@ fn all_collapses(
     made
 }
 
-/// The input's own collapses for `budget` (module docs of `collapse`).
+/// The input's own collapses for `budget` (module docs of `collapse`), and the plate
+/// candidates where the input is a plate (module `plate`).
 fn collapses(
     input: &Input,
     given: Option<&TriangleMesh>,
     options: &PortfolioOptions,
     budget: usize,
+    plate: Option<&Plate>,
 ) -> Collapses {
     let start = Instant::now();
     if options.remesh {
@@ -223,6 +235,7 @@ fn collapses(
         .flat_map(|g| collapse::as_given(g, budget, input))
         .collect();
     others.extend(collapse::sloppy(input, budget));
+    others.extend(plate.map_or_else(Vec::new, |p| crate::plate::candidates(p, input, budget)));
     let seconds = start.elapsed().as_secs_f64();
     Collapses {
         plain,
@@ -232,7 +245,8 @@ fn collapses(
 }
 
 /// Whether a voxel search can do better than the input's collapses for `budget` (the plain
-/// collapse breaks a promise, misses the budget, or is farther than [`VOXEL_WORTH`] voxels).
+/// collapse breaks a promise, misses the budget, or is farther than [`VOXEL_WORTH`] voxels),
+/// where no plate candidate (module `plate`) keeps every promise within that distance either.
 fn search(
     input: &Input,
     measure: &Measure,
@@ -261,13 +275,24 @@ fn search(
         plain_broke = !keeps;
         candidates.push(plain);
     }
-    candidates.extend(made.others);
+    let mut others = made.others;
+    // A plate candidate that keeps every promise stands in for the plain collapse there.
+    let mut plate_stands_in = false;
+    for plate in (others.iter_mut()).filter(|c| c.method == Method::Plate) {
+        if !close_enough && promises.broken_cheap(plate).is_empty() && crosses_no_more(input, plate)
+        {
+            close_enough = is_close_enough(input, measure, plate, budget);
+            plate_stands_in = close_enough;
+        }
+    }
+    candidates.extend(others);
     Ok(Searched {
         budget,
         candidates,
         needs_voxels: options.remesh || (!close_enough && !large_and_opened),
         plain_broke,
         plain_crossed,
+        plate_stands_in,
         seconds: made.seconds + start.elapsed().as_secs_f64(),
         notes: Vec::new(),
     })
@@ -314,7 +339,8 @@ fn is_close_enough(input: &Input, measure: &Measure, c: &mut Candidate, budget: 
 /// that loses to a checked collapse at a large budget often collapses closer at the small ones
 /// (the chain's runner-up, [`crate::select::Chosen::runner_up`]). Where the plain collapse only
 /// crossed and no larger budget's collapse was there to start from, the plain collapse made in
-/// two steps as well ([`collapse::in_two_steps`]).
+/// two steps as well ([`collapse::in_two_steps`]). None where a plate candidate stands in
+/// for the plain collapse ([`Searched::plate_stands_in`]).
 fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions) {
     // The input as the checked collapse takes it, cut only where it is needed.
     let cut = std::cell::OnceCell::new();
@@ -328,6 +354,9 @@ fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions
         if !s.plain_broke {
             let plain = s.candidates.iter().find(|c| c.method == Method::Collapse);
             from = plain.map(|c| (c.mesh.clone(), false)).or(from);
+            continue;
+        }
+        if s.plate_stands_in {
             continue;
         }
         let start = Instant::now();
@@ -677,6 +706,7 @@ mod tests {
             needs_voxels: false,
             plain_broke: broke,
             plain_crossed: broke,
+            plate_stands_in: false,
             seconds: 0.0,
             notes: Vec::new(),
         }

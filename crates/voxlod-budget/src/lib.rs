@@ -20,6 +20,13 @@
 //!   back to the input's surface (crate `voxlod-fit`); for a surface that is not closed, a
 //!   **shell** around it ([`Method::Shell`], module `shell`), which follows sheets the solid's
 //!   filter would erase;
+//! - **a plate's mid-surface** ([`Method::Plate`], module [`plate`]): where every part of a
+//!   closed input is a plate far thinner than its size, one side moved to the mid-surface,
+//!   collapsed as a sheet (its border free, and with vertices locked along it at about the
+//!   sheet's edge length) and thickened again: its two sides cannot cross, where any collapse
+//!   of the closed plate passes them through each other and no voxel grid sees an inside. One
+//!   that keeps every promise close enough stands in for the plain collapse: no voxel search
+//!   and no checked collapse (which stalls on a plate) for that budget;
 //! - **the level above** ([`Method::Above`]): the next larger budget's level collapsed further,
 //!   and beside it that budget's runner-up, the closest candidate of the other lineage (a voxel
 //!   level where the level is a collapse of the input, or the reverse: [`select::Chosen`]), so
@@ -85,6 +92,7 @@ pub mod looks;
 mod measure;
 mod open_parts;
 mod options;
+pub mod plate;
 mod promises;
 mod report;
 mod restore;

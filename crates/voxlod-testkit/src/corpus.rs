@@ -2,8 +2,8 @@
 //! tuned it for: open sheets, many parts, overlapping shells, CAD plates, a scan with holes and
 //! cracks, an inside-out surface, a non-manifold soup, a scaffold of genus 314, thin tubes,
 //! two easy spheres, a Möbius strip that cannot be oriented, a sphere far from the origin, rings
-//! threaded through one another, a shell inside a shell, a double-sided sheet, an open tube and
-//! a box with bumps.
+//! threaded through one another, a shell inside a shell, a double-sided sheet, an open tube, a
+//! box with bumps and a closed plate a ten-thousandth thick.
 //! [`corpus`] lists them all by name.
 //!
 //! Every case is deterministic (the same bits on every run and platform: its random choices
@@ -61,21 +61,24 @@ pub fn corpus() -> Vec<(&'static str, TriangleMesh)> {
         ("double-sided", double_sided()),
         ("open-tube", open_tube()),
         ("bumpy-box", bumpy_box()),
+        ("thin-shell", thin_shell()),
     ]
 }
 
 /// Cases the budget levels are known to miss their targets on, kept apart from [`corpus`] (whose
 /// cases every target test asserts) so that the portfolio bench can show them
-/// (`--known-misses`) until they are met.
+/// (`--known-misses`) until they are met. None now: the thin closed plate ([`thin_shell`]) was
+/// one until voxlod-budget's plate candidates met it.
 pub fn known_misses() -> Vec<(&'static str, TriangleMesh)> {
-    vec![("thin-shell", thin_shell())]
+    Vec::new()
 }
 
 /// A curved plate far thinner than any voxel, as sheet metal, cloth or a card modelled with a
 /// thickness: the height field z = 0.1·sin(3x)·sin(3y) over [0, 2] × [0, 1] on a 40 × 20 grid,
 /// the same 10⁻⁴ higher, and walls joining their borders. 1 component, no boundary, genus 0,
 /// 3 440 triangles. Every collapse of it crosses itself (its sides pass through each other),
-/// and a voxel grid sees no inside.
+/// and a voxel grid sees no inside; its mid-surface collapsed as a sheet and thickened again
+/// does neither (voxlod-budget's module `plate`).
 pub fn thin_shell() -> TriangleMesh {
     let (n, m, thickness) = (40u32, 20u32, 1e-4);
     let index = |side: u32, i: u32, j: u32| side * (n + 1) * (m + 1) + i * (m + 1) + j;

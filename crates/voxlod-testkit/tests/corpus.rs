@@ -38,7 +38,7 @@ const fn facts(
 
 /// Every case, in [`corpus::corpus`]'s order. The soup's rows are the unwelded soup: every
 /// triangle its own component.
-const EXPECTED: [Facts; 21] = [
+const EXPECTED: [Facts; 22] = [
     facts("sheet", 20_000, 1, 1, Some(0), 0.0),
     facts("sheet-curled", 18_000, 1, 1, Some(0), 0.0),
     facts("open-parts", 23_898, 30, 38, Some(0), 0.0),
@@ -60,6 +60,7 @@ const EXPECTED: [Facts; 21] = [
     facts("double-sided", 7_200, 2, 2, Some(0), 0.0),
     facts("open-tube", 15_360, 1, 2, Some(0), 0.0),
     facts("bumpy-box", 12_288, 1, 0, Some(0), 1.0),
+    facts("thin-shell", 3_440, 1, 0, Some(0), 1.0),
 ];
 
 #[test]
@@ -339,6 +340,7 @@ fn the_thin_shell_is_one_closed_plate_a_ten_thousandth_thick() {
         "{volume}"
     );
     assert!(crossing_pairs(&mesh).is_empty());
-    let names: Vec<&str> = corpus::known_misses().iter().map(|(n, _)| *n).collect();
-    assert_eq!(names, ["thin-shell"]);
+    // Met since the plate candidates (voxlod-budget's module `plate`): in the corpus now.
+    assert!(corpus::corpus().iter().any(|(n, _)| *n == "thin-shell"));
+    assert!(corpus::known_misses().is_empty());
 }
