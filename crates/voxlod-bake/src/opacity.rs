@@ -8,16 +8,17 @@
 //! billboard cloud or an impostor, measured here per texel of a closed proxy. Beyond the
 //! papers.
 //!
-//! The view lines: `rays` directions within 30° of the texel's normal, cosine
-//! weighted (a surface seen head-on covers more of the screen than one seen edge-on), one in
-//! each of `rays` rings of equal weight, at a place in its ring and an azimuth on a
+//! The view lines: `rays` directions within 30° of the texel's normal, cosine weighted (a
+//! surface seen head-on covers more of the screen than one seen edge-on), one in each of `rays`
+//! rings of equal weight, at a place in its ring and an azimuth on a
 //! golden-angle spiral drawn for the texel by a hash of its index: neighbouring texels look
 //! along different lines, and [`smooth`] takes the mean over each texel's neighbours in its
-//! chart, so that a few rays a texel give the opacity of many. Each line is followed
-//! from the cage distance in front of the point to where it leaves the level (the first of
-//! the level's triangles it meets from inside; the cage distance behind the point where it
-//! meets none, as on an open level); what lies beyond is the level's other surfaces' to show. It meets the source's first triangle facing the viewer (or seen from
-//! both sides) that is not clear there (an alpha-masked texel below its cutoff is passed).
+//! chart, so that a few rays a texel give the opacity of many. Each line is followed from the
+//! cage distance in front of the point to where it leaves the level (the first of the level's
+//! triangles it meets from inside; the cage distance behind the point where it meets none, as
+//! on an open level); what lies beyond is the level's other surfaces' to show. It meets the
+//! source's first triangle facing the viewer (or seen from both sides) that is not clear there
+//! (an alpha-masked texel below its cutoff is passed).
 //!
 //! Cost: per texel, `rays` casts into the level and as many into the source, O(log N) each.
 
@@ -38,8 +39,8 @@ pub struct Seen {
 /// sin² of the widest angle between a view line and the texel's normal (30°). Lines nearer
 /// the surface travel far through the level and meet the source far to the side: over a
 /// stack of cards a shell's thickness apart, a texel would take the colours of its
-/// neighbours' cards, and the level would look blurred (on a glTF sprite figure of 20 cards,
-/// the whole hemisphere gave 0.3 dB more and a picture visibly blurred).
+/// neighbours' cards, and the level would look blurred, though the squared error of its
+/// pictures falls (BENCHMARKS.md, the see-through crown).
 const CONE_SIN2: f32 = 0.25;
 
 /// The golden angle, radians: successive spiral directions turn by it.
