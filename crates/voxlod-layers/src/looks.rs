@@ -126,9 +126,13 @@ pub fn bake_layers(
         )));
     }
     let voxel = layered.grid.spacing.iter().copied().fold(0.0, f64::max) as f32;
+    // A layer's translucency already stands for how much of its cell the filtered solid
+    // covers (§3): its texels take the source's alpha where the bake ray finds it, not an
+    // opacity measured by view rays, which would count the same gaps twice.
     let bake_options = BakeOptions {
         voxel_size: Some(voxel),
         cage_voxels: (options.radius_voxels + 1.0) as f32,
+        opacity_rays: 0,
         ..BakeOptions::for_texture(texture)
     };
     let mut out = BakedLayers {
