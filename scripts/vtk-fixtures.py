@@ -13,6 +13,9 @@ computed from first principles rather than against a second copy of the data:
 - `cells-*.vtp`: 6 points on the x axis at x = 0..5 with one cell of every kind: a vertex {0},
   a poly-line {0,1,2}, a strip {1,2,3,4} (coordinates lifted to make it non-degenerate) and a
   triangle {3,4,5}; cell data `width` = 10 * (cell number).
+- `grid-*.vtu` / `grid-*-legacy-ascii.vtk`: the unit cube as an unstructured grid, one
+  hexahedron, five tetrahedra, or five tetrahedra with their 12 boundary triangles as cells too;
+  point data `height` (= z), cell data `part`.
 - `image-*.vti` / `image-*.vtk`: a 4x3x5 Int16 image with extent 2..5 x 0..2 x 1..5, spacing
   0.5 1 2, origin 1 2 3, and value(i, j, k) = i + 10 j + 100 k - 50 for extent indices i, j, k.
 
@@ -145,8 +148,54 @@ def write(writer, data, name):
         sys.exit(f"VTK could not write {name}")
 
 
+def cube_grid(kind):
+    """The unit cube as an unstructured grid: one hexahedron ("hexa"), five tetrahedra
+    ("tets"), or the five tetrahedra with the 12 triangles of their boundary as surface cells
+    too ("tets-and-faces", as finite element models carry boundary elements); point data
+    `height` (= z) and cell data `part` (= cell number)."""
+    points = vtk.vtkPoints()
+    for z in (0, 1):
+        for y in (0, 1):
+            for x in (0, 1):
+                points.InsertNextPoint(x, y, z)
+    grid = vtk.vtkUnstructuredGrid()
+    grid.SetPoints(points)
+    tets = [(0, 1, 3, 5), (0, 3, 2, 6), (0, 5, 4, 6), (3, 5, 6, 7), (0, 3, 5, 6)]
+    if kind == "hexa":
+        grid.InsertNextCell(vtk.VTK_HEXAHEDRON, 8, (0, 1, 3, 2, 4, 5, 7, 6))
+    else:
+        for t in tets:
+            grid.InsertNextCell(vtk.VTK_TETRA, 4, t)
+    if kind == "tets-and-faces":
+        # The tetrahedra's own boundary: each face split along the tetrahedra's diagonal.
+        faces = [(0, 2, 3), (0, 3, 1), (4, 5, 6), (5, 7, 6), (0, 1, 5), (0, 5, 4),
+                 (2, 6, 3), (3, 6, 7), (0, 4, 6), (0, 6, 2), (1, 3, 5), (3, 7, 5)]
+        for f in faces:
+            grid.InsertNextCell(vtk.VTK_TRIANGLE, 3, f)
+    height = vtk.vtkFloatArray()
+    height.SetName("height")
+    for i in range(8):
+        height.InsertNextValue(points.GetPoint(i)[2])
+    grid.GetPointData().AddArray(height)
+    part = vtk.vtkIntArray()
+    part.SetName("part")
+    for c in range(grid.GetNumberOfCells()):
+        part.InsertNextValue(c)
+    grid.GetCellData().AddArray(part)
+    return grid
+
+
 def main():
     os.makedirs(OUT, exist_ok=True)
+    for kind in ("hexa", "tets", "tets-and-faces"):
+        # The tetrahedra in every encoding, the others in VTK's default one.
+        for suffix, mode in MODES.items() if kind == "tets" else [("default", None)]:
+            w = vtk.vtkXMLUnstructuredGridWriter()
+            configure(w, mode)
+            write(w, cube_grid(kind), f"grid-{kind}-{suffix}.vtu")
+        w = vtk.vtkUnstructuredGridWriter()
+        w.SetFileTypeToASCII()
+        write(w, cube_grid(kind), f"grid-{kind}-legacy-ascii.vtk")
     for suffix, mode in MODES.items():
         for data, stem in ((cube(), "cube"), (cells(), "cells")):
             w = vtk.vtkXMLPolyDataWriter()

@@ -47,7 +47,9 @@ pub fn read_mesh(path: impl AsRef<Path>) -> Result<TriangleMesh, Error> {
 pub fn read_mesh_file(path: impl AsRef<Path>) -> Result<(LoadedMesh, Vec<String>), Error> {
     let path = path.as_ref();
     if !is_gltf(path) {
-        return Ok((voxlod_io::read_mesh(path)?, Vec::new()));
+        let loaded = voxlod_io::read_mesh(path)?;
+        let notes = loaded.notes.clone();
+        return Ok((loaded, notes));
     }
     let read = voxlod_gltf::read_scene(path)?;
     let mut mesh = read.asset.mesh.geometry();
@@ -65,6 +67,7 @@ pub fn read_mesh_file(path: impl AsRef<Path>) -> Result<(LoadedMesh, Vec<String>
         format: MeshFormat::Gltf,
         welded: None,
         polygons_triangulated: 0,
+        notes: Vec::new(),
     };
     Ok((loaded, read.warnings))
 }

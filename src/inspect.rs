@@ -225,6 +225,8 @@ fn inspect_mesh_file(path: &Path, options: &InspectOptions) -> Result<FileInspec
         };
         whole.notes.insert(0, note);
     }
+    // What reading changed (an unstructured grid's volume cells read as their boundary).
+    whole.notes.extend(loaded.notes.iter().cloned());
     Ok(FileInspection {
         format: loaded.format.to_string(),
         file_vertices: loaded

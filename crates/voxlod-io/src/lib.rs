@@ -9,6 +9,7 @@
 //! | `.stl` | mesh | ASCII and binary, welded on load | binary | `stl.rs` |
 //! | `.off` | mesh | OFF/COFF/NOFF, polygons | OFF/NOFF | `off.rs` |
 //! | `.vtp`, `.vtk` | mesh | VTK PolyData (XML in every encoding VTK writes, legacy) | same, with attributes | `vtk/mesh.rs`, `vtk/xml.rs` |
+//! | `.vtu`, `.vtk` | mesh | VTK UnstructuredGrid (XML, legacy): surface cells, volume cells as their union's boundary | — | `vtk/unstructured.rs` |
 //! | `.nrrd`, `.nhdr` | volume | raw, gzip, ascii; attached or detached data | raw or gzip | `nrrd.rs` |
 //! | `.vti`, `.vtk` | volume | VTK image data (XML in every encoding VTK writes, legacy) | same | `vtk/image.rs`, `vtk/xml.rs` |
 //! | `.nii`, `.nii.gz` | volume | NIfTI-1 | NIfTI-1 | `nifti/` |
@@ -159,6 +160,9 @@ pub enum MeshFormat {
     Off,
     /// VTK XML PolyData.
     Vtp,
+    /// VTK XML UnstructuredGrid, read only: its surface cells, and its volume cells as the
+    /// boundary of their union.
+    Vtu,
     /// Legacy VTK (PolyData).
     Vtk,
     /// glTF 2.0 (`.glb`, `.gltf`): a scene, which crate `voxlod-gltf` reads (`voxlod::read_mesh`
@@ -208,6 +212,7 @@ impl fmt::Display for MeshFormat {
             MeshFormat::Stl => "STL",
             MeshFormat::Off => "OFF",
             MeshFormat::Vtp => "VTK XML PolyData",
+            MeshFormat::Vtu => "VTK XML UnstructuredGrid",
             MeshFormat::Vtk => "legacy VTK PolyData",
             MeshFormat::Gltf => "glTF",
         })
@@ -232,7 +237,7 @@ impl fmt::Display for VolumeFormat {
 }
 
 /// The mesh extensions the readers take, for messages.
-pub const MESH_EXTENSIONS: &str = ".obj, .ply, .stl, .off, .vtp, .vtk, .glb, .gltf";
+pub const MESH_EXTENSIONS: &str = ".obj, .ply, .stl, .off, .vtp, .vtu, .vtk, .glb, .gltf";
 const VOLUME_EXTENSIONS: &str =
     ".nrrd, .nhdr, .vti, .vtk, .nii, .nii.gz, .mha, .mhd, .raw, .zarr, .dcm or a DICOM folder";
 
@@ -257,6 +262,7 @@ pub fn mesh_format_of(path: &Path) -> Result<MeshFormat, IoError> {
         "stl" => MeshFormat::Stl,
         "off" => MeshFormat::Off,
         "vtp" => MeshFormat::Vtp,
+        "vtu" => MeshFormat::Vtu,
         "vtk" => MeshFormat::Vtk,
         "glb" | "gltf" => MeshFormat::Gltf,
         other => {
@@ -327,12 +333,12 @@ pub fn file_kind(path: &Path) -> Result<FileKind, IoError> {
         let head = String::from_utf8_lossy(&head).to_ascii_uppercase();
         return if head.contains("STRUCTURED_POINTS") {
             Ok(FileKind::Volume(VolumeFormat::Vtk))
-        } else if head.contains("POLYDATA") {
+        } else if head.contains("POLYDATA") || head.contains("UNSTRUCTURED_GRID") {
             Ok(FileKind::Mesh(MeshFormat::Vtk))
         } else {
             Err(IoError::unsupported(
                 path,
-                "the legacy VTK file holds neither POLYDATA nor STRUCTURED_POINTS",
+                "the legacy VTK file holds neither POLYDATA, UNSTRUCTURED_GRID nor STRUCTURED_POINTS",
             ))
         };
     }
@@ -362,6 +368,9 @@ pub struct LoadedMesh {
     pub welded: Option<WeldReport>,
     /// Faces with more than three corners that were split by ear clipping.
     pub polygons_triangulated: usize,
+    /// What reading changed, in words: an unstructured grid's volume cells read as their
+    /// boundary, its cell data left out.
+    pub notes: Vec<String>,
 }
 
 /// Borrowed parts of a [`PolyMesh`], so that a plain [`TriangleMesh`] is written without a copy.
@@ -437,11 +446,21 @@ fn check_finite(path: &Path, mesh: &TriangleMesh) -> Result<(), IoError> {
     }
 }
 
+/// What [`read_any`] read, and what the reader did.
+struct ReadAny {
+    mesh: PolyMesh,
+    format: MeshFormat,
+    welded: Option<WeldReport>,
+    polygons_triangulated: usize,
+    notes: Vec<String>,
+}
+
 /// Reads any supported format into a [`PolyMesh`], with what the reader did.
-fn read_any(path: &Path) -> Result<(PolyMesh, MeshFormat, Option<WeldReport>, usize), IoError> {
+fn read_any(path: &Path) -> Result<ReadAny, IoError> {
     let format = mesh_format_of(path)?;
     check_readable(path)?;
-    let (mesh, welded, polygons) = match format {
+    let mut notes = Vec::new();
+    let (mesh, welded, polygons_triangulated) = match format {
         MeshFormat::Obj => {
             let c = obj::read(path)?;
             (c.mesh, None, c.polygons_triangulated)
@@ -458,13 +477,14 @@ fn read_any(path: &Path) -> Result<(PolyMesh, MeshFormat, Option<WeldReport>, us
             let c = off::read(path)?;
             (PolyMesh::from(c.mesh), None, c.polygons_triangulated)
         }
-        MeshFormat::Vtp | MeshFormat::Vtk => {
-            let flavor = if format == MeshFormat::Vtp {
-                Flavor::Xml
-            } else {
+        MeshFormat::Vtp | MeshFormat::Vtu | MeshFormat::Vtk => {
+            let flavor = if format == MeshFormat::Vtk {
                 Flavor::Legacy
+            } else {
+                Flavor::Xml
             };
             let c = vtk::mesh::read(path, flavor)?;
+            notes = c.notes;
             (c.mesh, None, c.polygons_triangulated)
         }
         MeshFormat::Gltf => return Err(gltf_elsewhere(path)),
@@ -472,22 +492,29 @@ fn read_any(path: &Path) -> Result<(PolyMesh, MeshFormat, Option<WeldReport>, us
     check_finite(path, &mesh.mesh)?;
     mesh.validate()
         .map_err(|e| IoError::malformed(path, e.to_string()))?;
-    Ok((mesh, format, welded, polygons))
+    Ok(ReadAny {
+        mesh,
+        format,
+        welded,
+        polygons_triangulated,
+        notes,
+    })
 }
 
 /// Reads a triangle mesh (see the table in the crate documentation). Polygons are
 /// ear-clipped, STL soups welded; nothing else is changed. A file without triangles is
 /// [`IoErrorKind::Malformed`].
 pub fn read_mesh(path: &Path) -> Result<LoadedMesh, IoError> {
-    let (poly, format, welded, polygons_triangulated) = read_any(path)?;
-    if let Err(e) = validate_mesh(&poly.mesh, &Requirements::default()) {
+    let read = read_any(path)?;
+    if let Err(e) = validate_mesh(&read.mesh.mesh, &Requirements::default()) {
         return Err(IoError::malformed(path, e.to_string()));
     }
     Ok(LoadedMesh {
-        mesh: poly.mesh,
-        format,
-        welded,
-        polygons_triangulated,
+        mesh: read.mesh.mesh,
+        format: read.format,
+        welded: read.welded,
+        polygons_triangulated: read.polygons_triangulated,
+        notes: read.notes,
     })
 }
 
@@ -495,7 +522,7 @@ pub fn read_mesh(path: &Path) -> Result<LoadedMesh, IoError> {
 /// OBJ lines and points; other formats give triangles only. The file must hold at least one
 /// triangle, line or point.
 pub fn read_poly_mesh(path: &Path) -> Result<PolyMesh, IoError> {
-    let (poly, ..) = read_any(path)?;
+    let poly = read_any(path)?.mesh;
     if poly.mesh.triangles.is_empty() && poly.lines.is_empty() && poly.points.is_empty() {
         return Err(IoError::malformed(path, "no triangles, lines or points"));
     }
@@ -536,6 +563,10 @@ pub(crate) fn stage_view(path: &Path, view: PolyView<'_>) -> Result<TempFile, Io
         MeshFormat::Obj => obj::write(path, view),
         MeshFormat::Vtp => vtk::mesh::write(path, view, Flavor::Xml),
         MeshFormat::Vtk => vtk::mesh::write(path, view, Flavor::Legacy),
+        MeshFormat::Vtu => Err(IoError::unsupported(
+            path,
+            "an unstructured grid (.vtu) is read, not written: write the surface as .vtp or .vtk",
+        )),
         format @ (MeshFormat::Stl | MeshFormat::Off) => {
             if !plain {
                 return Err(IoError::unsupported(

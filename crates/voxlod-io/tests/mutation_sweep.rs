@@ -187,6 +187,9 @@ fn mesh_seeds() -> Vec<Seed> {
         fixture("cells-raw-zlib-big.vtp"),
         fixture("cube-legacy-ascii.vtk"),
         fixture("cube-legacy-binary.vtk"),
+        fixture("grid-tets-default.vtu"),
+        fixture("grid-tets-ascii.vtu"),
+        fixture("grid-hexa-legacy-ascii.vtk"),
         textured_obj(0),
         textured_obj(1),
     ]

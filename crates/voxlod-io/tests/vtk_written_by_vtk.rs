@@ -5,33 +5,14 @@
 //! the legacy writers. Each is checked against values computed from how the script built the
 //! data, not against another reader.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
+
+use common::{vtk_data, VTK_MODES};
 
 use voxlod_core::glam::Vec3;
 use voxlod_io::{read_mesh, read_poly_mesh, read_volume, IoErrorKind};
-
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/vtk")
-        .join(name)
-}
-
-/// The writer modes of the script (file name suffixes).
-const MODES: [&str; 13] = [
-    "default",
-    "raw-zlib",
-    "raw-plain",
-    "raw-zlib-u64",
-    "raw-plain-u64",
-    "raw-zlib-blocks",
-    "raw-lz4",
-    "raw-lzma",
-    "raw-zlib-big",
-    "base64-plain-u64",
-    "inline-zlib",
-    "inline-plain",
-    "ascii",
-];
 
 /// The unit cube of 6 quads, with `Normals` = corner - centre and `height` = z.
 fn check_cube(path: &Path) {
@@ -58,15 +39,15 @@ fn check_cube(path: &Path) {
 
 #[test]
 fn vtp_of_every_writer_mode_reads_the_cube() {
-    for mode in MODES {
-        check_cube(&data(&format!("cube-{mode}.vtp")));
+    for mode in VTK_MODES {
+        check_cube(&vtk_data(&format!("cube-{mode}.vtp")));
     }
 }
 
 #[test]
 fn legacy_polydata_ascii_and_binary() {
     for kind in ["ascii", "binary"] {
-        check_cube(&data(&format!("cube-legacy-{kind}.vtk")));
+        check_cube(&vtk_data(&format!("cube-legacy-{kind}.vtk")));
     }
 }
 
@@ -77,7 +58,7 @@ fn legacy_polydata_ascii_and_binary() {
 fn legacy_polydata_with_32_bit_topology() {
     for kind in ["ascii", "binary"] {
         for storage in ["int32", "idtype"] {
-            check_cube(&data(&format!("cube-legacy-{kind}-{storage}.vtk")));
+            check_cube(&vtk_data(&format!("cube-legacy-{kind}-{storage}.vtk")));
         }
     }
 }
@@ -86,8 +67,8 @@ fn legacy_polydata_with_32_bit_topology() {
 /// cell data `width` in VTK's cell order (verts, lines, polys, strips) = 0, 10, 20, 30.
 #[test]
 fn vtp_verts_lines_polys_strips_and_cell_data() {
-    for mode in MODES {
-        let path = data(&format!("cells-{mode}.vtp"));
+    for mode in VTK_MODES {
+        let path = vtk_data(&format!("cells-{mode}.vtp"));
         let poly = read_poly_mesh(&path).unwrap_or_else(|e| panic!("{e}"));
         let expected: Vec<Vec3> = (0..6)
             .map(|x| Vec3::new(x as f32, 0.0, (x % 2) as f32))
@@ -129,15 +110,15 @@ fn check_image(path: &Path) {
 
 #[test]
 fn vti_of_every_writer_mode_reads_the_image() {
-    for mode in MODES {
-        check_image(&data(&format!("image-{mode}.vti")));
+    for mode in VTK_MODES {
+        check_image(&vtk_data(&format!("image-{mode}.vti")));
     }
 }
 
 #[test]
 fn legacy_structured_points_ascii_and_binary() {
     for kind in ["ascii", "binary"] {
-        check_image(&data(&format!("image-legacy-{kind}.vtk")));
+        check_image(&vtk_data(&format!("image-legacy-{kind}.vtk")));
     }
 }
 
@@ -145,7 +126,7 @@ fn legacy_structured_points_ascii_and_binary() {
 #[test]
 fn damaged_vtk_files_give_plain_errors() {
     let dir = tempfile::tempdir().unwrap();
-    let original = std::fs::read(data("cube-raw-zlib.vtp")).unwrap();
+    let original = std::fs::read(vtk_data("cube-raw-zlib.vtp")).unwrap();
     let section = original
         .windows(13)
         .position(|w| w == b"<AppendedData")
@@ -177,7 +158,7 @@ fn damaged_vtk_files_give_plain_errors() {
         }
     }
     // An image whose extent promises more samples than its array holds.
-    let image = std::fs::read_to_string(data("image-ascii.vti")).unwrap();
+    let image = std::fs::read_to_string(vtk_data("image-ascii.vti")).unwrap();
     let path = dir.path().join("extent.vti");
     std::fs::write(&path, image.replace("2 5 0 2 1 5", "2 5 0 2 1 6")).unwrap();
     let err = read_volume(&path, None).unwrap_err();

@@ -27,7 +27,7 @@ use super::values::{in_flags, number};
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct CompareArgs {
-    /// The first mesh (.obj .ply .stl .off .vtp .vtk; a glTF file .glb .gltf as its scene's
+    /// The first mesh (.obj .ply .stl .off .vtp .vtu .vtk; a glTF file .glb .gltf as its scene's
     /// geometry)
     pub a: PathBuf,
     /// The second mesh

@@ -65,7 +65,7 @@ use voxlod_eval::evaluate::{
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct EvaluateArgs {
-    /// The mesh to simplify (.obj .ply .stl .off .vtp .vtk), or a glTF asset (.gltf .glb);
+    /// The mesh to simplify (.obj .ply .stl .off .vtp .vtu .vtk), or a glTF asset (.gltf .glb);
     /// a glTF, OBJ, PLY or OFF file with looks is measured for its appearance too
     pub input: PathBuf,
     /// Folder for report.md, report.json and plot.png (created if missing)

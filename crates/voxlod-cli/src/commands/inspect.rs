@@ -31,7 +31,7 @@ use super::common::{count, print_json, CliError};
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct InspectArgs {
-    /// The mesh (.obj .ply .stl .off .vtp .vtk .glb .gltf)
+    /// The mesh (.obj .ply .stl .off .vtp .vtu .vtk .glb .gltf)
     pub mesh: PathBuf,
     /// Count vertices as the file indexes them, without welding coincident ones
     #[arg(long)]

@@ -61,7 +61,7 @@ const FLAGS: &[(&str, &str)] = &[("radius_voxels", "--radius")];
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct LayersArgs {
-    /// The input: a mesh (.obj .ply .stl .off .vtp .vtk), an asset with looks (.glb .gltf, or
+    /// The input: a mesh (.obj .ply .stl .off .vtp .vtu .vtk), an asset with looks (.glb .gltf, or
     /// an OBJ, PLY or OFF with materials or colours), or a volume with --threshold
     pub input: PathBuf,
     /// Output: .glb (layers and the eight orders), or .ply .vtp .vtk (opacity, layer)

@@ -67,7 +67,7 @@ use super::world::FrameArg;
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct LodArgs {
-    /// The input: a mesh (.obj .ply .stl .off .vtp .vtk), a glTF asset with its looks (.glb
+    /// The input: a mesh (.obj .ply .stl .off .vtp .vtu .vtk), a glTF asset with its looks (.glb
     /// .gltf) or a volume (.nrrd .nhdr .vti .vtk .nii .nii.gz .mha .mhd, or headerless raw with
     /// --dims)
     pub input: PathBuf,

@@ -40,7 +40,7 @@ use super::values::{in_flags, number, numbers};
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct RenderArgs {
-    /// Meshes (.obj .ply .stl .off .vtp .vtk), glTF assets (.gltf .glb) and layered .glb files
+    /// Meshes (.obj .ply .stl .off .vtp .vtu .vtk), glTF assets (.gltf .glb) and layered .glb files
     #[arg(required = true, value_name = "MESH")]
     pub meshes: Vec<PathBuf>,
     /// The PNG to write

@@ -78,8 +78,9 @@ pub fn read_asset(path: &Path) -> Result<AssetRead, IoError> {
             geometry_asset(path, PolyMesh::from(content.mesh), colors, &mut warnings)?
         }
         // An MNI polygon file has its geometry only.
-        MeshFormat::Obj | MeshFormat::Stl | MeshFormat::Vtp | MeshFormat::Vtk => {
+        MeshFormat::Obj | MeshFormat::Stl | MeshFormat::Vtp | MeshFormat::Vtu | MeshFormat::Vtk => {
             let loaded = crate::read_mesh(path)?;
+            warnings.extend(loaded.notes);
             geometry_asset(path, PolyMesh::from(loaded.mesh), Vec::new(), &mut warnings)?
         }
         MeshFormat::Gltf => return Err(crate::gltf_elsewhere(path)),

@@ -5,8 +5,10 @@
 //! (each vertex a point). Point data: an array tagged as normals (or named `Normals`, three
 //! components) becomes the normals, every one-component array a vertex attribute. Cell data:
 //! one-component arrays become line attributes, taken from the line cells (every segment of a
-//! poly-line gets the poly-line's value). Several pieces are concatenated. Other data sets
-//! (unstructured grids, images) are refused with a message saying what the file holds.
+//! poly-line gets the poly-line's value). Several pieces are concatenated. An unstructured grid
+//! (`.vtu`, legacy `UNSTRUCTURED_GRID`) is read through [`unstructured`]: its surface cells,
+//! and its volume cells as the boundary of their union. Other data sets (images, structured
+//! grids) are refused with a message saying what the file holds.
 //!
 //! Writing: one piece with the points, `Verts` (one cell per point), `Lines` (one two-point cell
 //! per segment) and `Polys` (triangles); normals and vertex attributes as point data, line
@@ -21,20 +23,23 @@ use glam::{DVec3, Vec3};
 use voxlod_core::{Attribute, PolyMesh, TriangleMesh};
 use vtkio::model::{
     Attribute as VtkAttribute, Attributes, DataArray, DataSet, ElementType, IOBuffer, Piece,
-    PolyDataPiece, Version, VertexNumbers, Vtk,
+    PolyDataPiece, UnstructuredGridPiece, Version, VertexNumbers, Vtk,
 };
 
 use crate::atomic::TempFile;
+use crate::vtk::unstructured::{self, GridCells};
 use crate::vtk::{self, Flavor};
 use crate::{ear_clipping, IoError, PolyView};
 
 pub(crate) struct VtkMeshContent {
     pub mesh: PolyMesh,
     pub polygons_triangulated: usize,
+    /// What reading changed, in words (an unstructured grid's volume cells, its cell data).
+    pub notes: Vec<String>,
 }
 
 /// Calls `visit` with the vertex indices of every cell, checking the offsets as it goes.
-fn for_each_cell(
+pub(super) fn for_each_cell(
     path: &Path,
     numbers: &VertexNumbers,
     what: &str,
@@ -157,6 +162,7 @@ pub(crate) fn read(path: &Path, flavor: Flavor) -> Result<VtkMeshContent, IoErro
     let vtk = vtk::load(path, flavor)?;
     let pieces = match vtk.data {
         DataSet::PolyData { pieces, .. } => pieces,
+        DataSet::UnstructuredGrid { pieces, .. } => return read_grid(path, pieces),
         DataSet::ImageData { .. } => {
             return Err(IoError::unsupported(
                 path,
@@ -165,7 +171,6 @@ pub(crate) fn read(path: &Path, flavor: Flavor) -> Result<VtkMeshContent, IoErro
         }
         other => {
             let kind = match other {
-                DataSet::UnstructuredGrid { .. } => "an unstructured grid",
                 DataSet::StructuredGrid { .. } => "a structured grid",
                 DataSet::RectilinearGrid { .. } => "a rectilinear grid",
                 _ => "field data",
@@ -191,6 +196,48 @@ pub(crate) fn read(path: &Path, flavor: Flavor) -> Result<VtkMeshContent, IoErro
     Ok(VtkMeshContent {
         mesh: out,
         polygons_triangulated,
+        notes: Vec::new(),
+    })
+}
+
+/// An unstructured grid's pieces read as polygon data ([`unstructured`]), with notes on its
+/// volume cells and cell data.
+fn read_grid(
+    path: &Path,
+    pieces: Vec<Piece<UnstructuredGridPiece>>,
+) -> Result<VtkMeshContent, IoError> {
+    let mut out = PolyMesh::default();
+    let (mut polygons_triangulated, mut cells) = (0, GridCells::default());
+    for piece in pieces {
+        let Piece::Inline(piece) = piece else {
+            return Err(IoError::unsupported(
+                path,
+                "pieces stored in other files (parallel VTK) are not supported",
+            ));
+        };
+        let (piece, grid) = unstructured::as_poly_data(path, *piece)?;
+        cells.volume += grid.volume;
+        cells.boundary_faces += grid.boundary_faces;
+        cells.cell_arrays_dropped += grid.cell_arrays_dropped;
+        polygons_triangulated += append_piece(path, piece, &mut out)?;
+    }
+    let mut notes = Vec::new();
+    if cells.volume > 0 {
+        notes.push(format!(
+            "{} volume cells read as the {} faces of their union's boundary",
+            cells.volume, cells.boundary_faces
+        ));
+    }
+    if cells.cell_arrays_dropped > 0 {
+        notes.push(format!(
+            "{} cell data arrays of the unstructured grid left out (its point data is read)",
+            cells.cell_arrays_dropped
+        ));
+    }
+    Ok(VtkMeshContent {
+        mesh: out,
+        polygons_triangulated,
+        notes,
     })
 }
 

@@ -19,6 +19,7 @@
 pub(crate) mod image;
 mod legacy_topology;
 pub(crate) mod mesh;
+pub(crate) mod unstructured;
 mod xml;
 
 use std::path::Path;
@@ -34,7 +35,7 @@ use crate::{budget, guard, IoError};
 pub(crate) enum Flavor {
     /// `.vtk`: the legacy format.
     Legacy,
-    /// `.vtp`, `.vti`: the XML formats.
+    /// `.vtp`, `.vtu`, `.vti`: the XML formats.
     Xml,
 }
 

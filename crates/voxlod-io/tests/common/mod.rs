@@ -9,6 +9,30 @@ use voxlod_io::{IoError, IoErrorKind};
 pub use voxlod_testkit::files::{entries, gzip, write, zlib};
 pub use voxlod_testkit::volumes::small_volume;
 
+/// A file VTK wrote (`scripts/vtk-fixtures.py`, under `tests/data/vtk`).
+pub fn vtk_data(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/vtk")
+        .join(name)
+}
+
+/// The XML writer modes of `scripts/vtk-fixtures.py` (file name suffixes).
+pub const VTK_MODES: [&str; 13] = [
+    "default",
+    "raw-zlib",
+    "raw-plain",
+    "raw-zlib-u64",
+    "raw-plain-u64",
+    "raw-zlib-blocks",
+    "raw-lz4",
+    "raw-lzma",
+    "raw-zlib-big",
+    "base64-plain-u64",
+    "inline-zlib",
+    "inline-plain",
+    "ascii",
+];
+
 /// A unit cube, 8 vertices and 12 outward triangles, with outward corner normals.
 pub fn cube() -> TriangleMesh {
     let mut mesh = voxlod_testkit::shapes::unit_cube_ringwise();
@@ -59,10 +83,10 @@ pub fn read_by_extension(path: &Path) -> Result<(), IoError> {
         .unwrap()
         .to_string_lossy()
         .to_ascii_lowercase();
-    let mesh = [".obj", ".ply", ".stl", ".off", ".vtp"]
+    let mesh = [".obj", ".ply", ".stl", ".off", ".vtp", ".vtu"]
         .iter()
         .any(|e| name.ends_with(e))
-        || (name.ends_with(".vtk") && (name.starts_with("mesh") || name.starts_with("cube")));
+        || (name.ends_with(".vtk") && ["mesh", "cube", "grid"].iter().any(|p| name.starts_with(p)));
     let looks = [".obj", ".ply", ".off"].iter().any(|e| name.ends_with(e));
     if mesh {
         voxlod_io::read_poly_mesh(path)?;
