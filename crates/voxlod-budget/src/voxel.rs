@@ -103,7 +103,7 @@ pub fn planned_grids(
 ) -> Vec<(usize, usize)> {
     let first = first_resolution(input, options, budget);
     let mut resolutions = vec![first];
-    if first <= SMALL {
+    if first <= small(options.remesh) {
         resolutions.extend(neighbours(first));
     }
     (0..solids)
@@ -183,7 +183,7 @@ pub fn voxel_candidates(
     // Coarse grids are cheap, and which resolution's level collapses closest is hard to
     // foretell (a finer one keeps more shape, a coarser one has fewer handles to stall on):
     // the neighbours on both sides too.
-    if found.resolution <= SMALL && !found.vanished && coarsened == 0 {
+    if found.resolution <= small(options.remesh) && !found.vanished && coarsened == 0 {
         let beside: Vec<usize> = neighbours(found.resolution).collect();
         let more = (beside.into_par_iter())
             .map(|r| {
@@ -344,6 +344,19 @@ fn within_reach(
 /// Grids up to this resolution get a finer neighbour ([`FINER`] times finer) and a coarser one
 /// ([`COARSER`]) too.
 pub const SMALL: usize = 48;
+/// [`SMALL`] for a proxy (`remesh`): its time goes to the bake, and which grid's level comes
+/// closest is as hard to foretell.
+pub const SMALL_REMESH: usize = 64;
+
+/// [`SMALL`], or [`SMALL_REMESH`] for a proxy.
+fn small(remesh: bool) -> usize {
+    if remesh {
+        SMALL_REMESH
+    } else {
+        SMALL
+    }
+}
+
 /// See [`SMALL`]: about twice the triangles.
 pub const FINER: f64 = std::f64::consts::SQRT_2;
 
