@@ -738,9 +738,9 @@ impl Tiling {
     }
 }
 
-/// Whether a triangle shows the camera its back: its corners turn clockwise on screen (a front
-/// face's turn counter-clockwise, glTF 2.0 §3.7.2.1; with screen rows running down, that is a
-/// negative signed area in screen coordinates).
+/// Whether a triangle shows the camera its back. A front face's corners turn counter-clockwise
+/// as the viewer sees them (glTF 2.0 §3.7.2.1); screen rows run down, so in screen coordinates
+/// a front face's signed area is negative and a back face's positive.
 #[inline]
 fn seen_from_behind(v: &[ScreenVertex; 3]) -> bool {
     let area = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[2].x - v[0].x) * (v[1].y - v[0].y);
