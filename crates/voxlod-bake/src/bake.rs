@@ -352,12 +352,7 @@ fn bake_checked(
     let texels = covered.iter().filter(|&&c| c).count();
     drop(cover);
     let mut warnings = looks.warnings.clone();
-    if atlas.flipped > 0 {
-        warnings.push(format!(
-            "{} triangles are folded over in their chart (their texels may be shared)",
-            atlas.flipped
-        ));
-    }
+    warnings.extend(folded(&atlas));
     let textures = Textures {
         width: atlas.width,
         height: atlas.height,
@@ -446,6 +441,16 @@ fn with_opacity(
             v.base = base_bytes(s.colour.extend(s.opacity), v.base);
         }
     }
+}
+
+/// The atlas's folded triangles, in words, where it has any.
+fn folded(atlas: &Atlas) -> Option<String> {
+    (atlas.flipped > 0).then(|| {
+        format!(
+            "{} triangles are folded over in their chart (their texels may be shared)",
+            atlas.flipped
+        )
+    })
 }
 
 /// How a texel was baked.

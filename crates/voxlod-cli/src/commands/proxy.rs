@@ -193,58 +193,12 @@ struct LevelReport {
 /// Reads the scene, makes its proxy levels and writes them.
 pub fn run(args: ProxyArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    let is_glb = args
-        .output
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("glb"));
-    if !is_glb {
-        return Err(CliError::usage(format!(
-            "-o {}: a proxy is written as one .glb (its textures inside); name it OUT.glb",
-            args.output.display()
-        )));
-    }
-    if !(16..=16384).contains(&args.texture) {
-        return Err(CliError::usage(format!(
-            "--texture {}: a side of 16 to 16384 texels",
-            args.texture
-        )));
-    }
     check_values(&args)?;
-    if let Some(rays) = args.opacity_rays.filter(|&r| r > 256) {
-        return Err(CliError::usage(format!(
-            "--opacity-rays {rays}: 0 to 256 rays a texel"
-        )));
-    }
     let images = image_format(&args)?;
     let mut out = OutputSet::protecting([&args.input]);
     out.check(&args.output)?;
     let (scene, mut warnings, origin) = read_scene(&args.input)?;
-    let mut options = ProxyOptions {
-        monotone: !args.no_monotone,
-        fit: (!args.no_fit).then(voxlod::FitOptions::quick),
-        close_gaps: args.close_gaps,
-        drop_hidden: !args.keep_hidden,
-        ..ProxyOptions::for_triangles(&args.triangles, args.texture)
-    };
-    if let Some(density) = args.texel_density {
-        options.bake.atlas.texture = voxlod::bake::TextureSize::Density(density);
-    }
-    options.screen_sizes = args.screen_size.clone();
-    options.bake.atlas.crease_degrees = args.hard_edges;
-    options.bake.images = images;
-    if let Some(rays) = args.opacity_rays {
-        options.bake.opacity_rays = rays;
-        if !scene
-            .materials
-            .iter()
-            .any(|m| m.alpha_mode != AlphaMode::Opaque)
-        {
-            warnings.push(format!(
-                "--opacity-rays {rays} does not apply: no material of {} masks or blends",
-                args.input.display()
-            ));
-        }
-    }
+    let options = options_of(&args, images, &scene, &mut warnings);
     let bar = progress(args.triangles.len() as u64, "levels", args.json);
     let show = |p: Progress| {
         match p.event {
@@ -307,8 +261,61 @@ pub fn run(args: ProxyArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Refuses flag values no run can honour (exit 2), before any work.
+/// The library's options from the flags, for `scene`; a flag that does not apply to it is
+/// said in `warnings`.
+fn options_of(
+    args: &ProxyArgs,
+    images: ImageFormat,
+    scene: &Asset,
+    warnings: &mut Vec<String>,
+) -> ProxyOptions {
+    let mut options = ProxyOptions {
+        monotone: !args.no_monotone,
+        fit: (!args.no_fit).then(voxlod::FitOptions::quick),
+        close_gaps: args.close_gaps,
+        drop_hidden: !args.keep_hidden,
+        ..ProxyOptions::for_triangles(&args.triangles, args.texture)
+    };
+    if let Some(density) = args.texel_density {
+        options.bake.atlas.texture = voxlod::bake::TextureSize::Density(density);
+    }
+    options.screen_sizes = args.screen_size.clone();
+    options.bake.atlas.crease_degrees = args.hard_edges;
+    options.bake.images = images;
+    if let Some(rays) = args.opacity_rays {
+        options.bake.opacity_rays = rays;
+        let see_through = (scene.materials.iter()).any(|m| m.alpha_mode != AlphaMode::Opaque);
+        if !see_through {
+            warnings.push(format!(
+                "--opacity-rays {rays} does not apply: no material of {} masks or blends",
+                args.input.display()
+            ));
+        }
+    }
+    options
+}
+
+/// Refuses flag values no run can honour (exit 2), before any work: an output that is not
+/// `.glb`, a texture side, rays, angles, gap widths and densities out of range.
 fn check_values(args: &ProxyArgs) -> Result<(), CliError> {
+    let is_glb = (args.output.extension()).is_some_and(|e| e.eq_ignore_ascii_case("glb"));
+    if !is_glb {
+        return Err(CliError::usage(format!(
+            "-o {}: a proxy is written as one .glb (its textures inside); name it OUT.glb",
+            args.output.display()
+        )));
+    }
+    if !(16..=16384).contains(&args.texture) {
+        return Err(CliError::usage(format!(
+            "--texture {}: a side of 16 to 16384 texels",
+            args.texture
+        )));
+    }
+    if let Some(rays) = args.opacity_rays.filter(|&r| r > 256) {
+        return Err(CliError::usage(format!(
+            "--opacity-rays {rays}: 0 to 256 rays a texel"
+        )));
+    }
     if !(0.0..=180.0).contains(&args.hard_edges) {
         let a = args.hard_edges;
         return Err(CliError::usage(format!(
