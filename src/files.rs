@@ -37,19 +37,17 @@ use crate::error::Error;
 /// # }
 /// ```
 pub fn read_mesh(path: impl AsRef<Path>) -> Result<TriangleMesh, Error> {
-    Ok(read_mesh_file(path)?.0.mesh)
+    Ok(read_mesh_file(path)?.mesh)
 }
 
 /// [`read_mesh`] with what the reader did ([`voxlod_io::LoadedMesh`]: the format, polygons
-/// split, STL welding) and, for a glTF file, what the scene reader left out (unknown
-/// extensions, primitives that are not surfaces), in words. Fails, naming the file, where it
-/// holds no triangle.
-pub fn read_mesh_file(path: impl AsRef<Path>) -> Result<(LoadedMesh, Vec<String>), Error> {
+/// split, STL welding) and, in its notes, what reading changed or left out (an unstructured
+/// grid's volume cells read as their boundary; a glTF file's unknown extensions, primitives
+/// that are not surfaces). Fails, naming the file, where it holds no triangle.
+pub fn read_mesh_file(path: impl AsRef<Path>) -> Result<LoadedMesh, Error> {
     let path = path.as_ref();
     if !is_gltf(path) {
-        let loaded = voxlod_io::read_mesh(path)?;
-        let notes = loaded.notes.clone();
-        return Ok((loaded, notes));
+        return Ok(voxlod_io::read_mesh(path)?);
     }
     let read = voxlod_gltf::read_scene(path)?;
     let mut mesh = read.asset.mesh.geometry();
@@ -67,9 +65,9 @@ pub fn read_mesh_file(path: impl AsRef<Path>) -> Result<(LoadedMesh, Vec<String>
         format: MeshFormat::Gltf,
         welded: None,
         polygons_triangulated: 0,
-        notes: Vec::new(),
+        notes: read.warnings,
     };
-    Ok((loaded, read.warnings))
+    Ok(loaded)
 }
 
 /// Writes a triangle mesh in the format of the extension (`.ply` binary with normals, `.obj`,

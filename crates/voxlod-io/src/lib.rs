@@ -368,8 +368,9 @@ pub struct LoadedMesh {
     pub welded: Option<WeldReport>,
     /// Faces with more than three corners that were split by ear clipping.
     pub polygons_triangulated: usize,
-    /// What reading changed, in words: an unstructured grid's volume cells read as their
-    /// boundary, its cell data left out.
+    /// What reading changed or left out, in words: an unstructured grid's volume cells read as
+    /// their boundary, its cell data left out (and, from `voxlod::read_mesh_file`, what a glTF
+    /// scene's reader left out).
     pub notes: Vec<String>,
 }
 

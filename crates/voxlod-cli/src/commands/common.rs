@@ -271,10 +271,10 @@ pub fn is_glb(path: &Path) -> bool {
 }
 
 /// A mesh file as [`voxlod::read_mesh_file`] reads it (a glTF file as its scene's geometry),
-/// the scene reader's warnings printed on standard error.
+/// the reader's notes printed on standard error.
 fn read_mesh_file(path: &Path) -> Result<LoadedMesh, CliError> {
-    let (loaded, warnings) = voxlod::read_mesh_file(path).map_err(CliError::Library)?;
-    for w in warnings {
+    let loaded = voxlod::read_mesh_file(path).map_err(CliError::Library)?;
+    for w in &loaded.notes {
         eprintln!("warning: {}: {w}", path.display());
     }
     Ok(loaded)
