@@ -22,6 +22,7 @@ use voxlod_core::memory::check_allocation;
 use voxlod_core::TriangleMesh;
 
 use crate::creases::crease;
+use crate::pieces::pieces;
 use crate::slivers::{median_edge, snapped, SNAP_VOXELS};
 use crate::xatlas::{ChartOptions, Generated, PackOptions, Xatlas};
 use crate::{raster, BakeError};
@@ -63,6 +64,10 @@ pub struct AtlasOptions {
     /// (a conjugate-gradient solve and a quadratic check of its border), so large charts of a
     /// large level are slow to make.
     pub max_chart_triangles: u32,
+    /// The level is charted in compact pieces of at most this many triangles, side by side
+    /// on xatlas's threads ([`crate::pieces`]; 0: one piece). xatlas charts one connected mesh
+    /// on one thread in more than linear time in its size.
+    pub piece_triangles: u32,
     /// Edges of the level shorter than this (world units) have their ends joined while the
     /// charts are made ([`crate::slivers`]: xatlas mis-scales charts that hold slivers); the
     /// atlas keeps the level's own positions. `None`: [`SNAP_VOXELS`] of the level's median
@@ -72,7 +77,7 @@ pub struct AtlasOptions {
 
 impl Default for AtlasOptions {
     /// A 1024² texture, 4 texels of padding, creases above 60°, charts of at most about 1024
-    /// triangles, slivers of the level's median edge length.
+    /// triangles, pieces of at most 4096, slivers of the level's median edge length.
     fn default() -> Self {
         AtlasOptions {
             texture: TextureSize::Texels(1024),
@@ -80,6 +85,7 @@ impl Default for AtlasOptions {
             crease_degrees: 60.0,
             attempts: 1024,
             max_chart_triangles: 1024,
+            piece_triangles: 4096,
             sliver_edge: None,
         }
     }
@@ -150,6 +156,9 @@ pub struct Atlas {
     pub utilisation: f64,
     /// Triangles whose texture-space winding is against their chart's (folds).
     pub flipped: usize,
+    /// Texels of gutter around each chart: [`AtlasOptions::padding`], or less where the
+    /// charts do not fit one texture of the size asked with it (many small charts).
+    pub padding: u32,
     /// Seconds taken.
     pub seconds: f64,
 }
@@ -185,15 +194,20 @@ pub fn atlas(level: &TriangleMesh, options: &AtlasOptions) -> Result<Atlas, Bake
     let creased = crease(&charted, options.crease_degrees);
     let positions: Vec<[f32; 3]> = creased.positions.iter().map(|p| p.to_array()).collect();
     let normals: Vec<[f32; 3]> = creased.normals.iter().map(|n| n.to_array()).collect();
+    let cut = pieces(
+        &creased.positions,
+        &creased.triangles,
+        options.piece_triangles as usize,
+    );
     let mut xatlas =
-        Xatlas::new(&positions, &normals, &creased.triangles).map_err(BakeError::Atlas)?;
+        Xatlas::new(&positions, &normals, &creased.triangles, &cut).map_err(BakeError::Atlas)?;
     xatlas.charts(ChartOptions {
         // Creases are always chart borders.
         normal_seam_metric_weight: 2000.0,
         max_chart_area: max_chart_area(level, options.max_chart_triangles),
         ..ChartOptions::default()
     });
-    let generated = pack(&mut xatlas, level, options)?;
+    let (generated, padding) = pack(&mut xatlas, level, options)?;
     let mut atlas = Atlas {
         positions: Vec::with_capacity(generated.vertices.len()),
         normals: Vec::with_capacity(generated.vertices.len()),
@@ -204,6 +218,7 @@ pub fn atlas(level: &TriangleMesh, options: &AtlasOptions) -> Result<Atlas, Bake
         chart_count: generated.chart_count as usize,
         width: generated.width,
         height: generated.height,
+        padding,
         ..Atlas::default()
     };
     let size = Vec2::new(generated.width as f32, generated.height as f32);
@@ -343,13 +358,14 @@ pub fn check_texture(width: u32, height: u32) -> Result<(), BakeError> {
     Ok(())
 }
 
-/// Packs the charts into one atlas: at a fixed size, with the density lowered until one
-/// atlas holds every chart; at a density, checking the size it needs first.
+/// Packs the charts into one atlas: at a fixed size, as densely as one texture holds every
+/// chart ([`pack_square`]), the padding halved where the charts do not fit with it; at a
+/// density, checking the size it needs first. Returns the packing and its padding.
 fn pack(
     xatlas: &mut Xatlas,
     level: &TriangleMesh,
     options: &AtlasOptions,
-) -> Result<Generated, BakeError> {
+) -> Result<(Generated, u32), BakeError> {
     let base = PackOptions {
         attempts: options.attempts.min(i32::MAX as u32) as i32,
         texels_per_unit: 0.0,
@@ -365,42 +381,109 @@ fn pack(
             let side = (2.0 * surface_area(level) as f64).sqrt() * d as f64;
             let side = side.min(u32::MAX as f64) as u32;
             check_texture(side, side)?;
-            let generated = xatlas.pack(PackOptions {
-                texels_per_unit: d,
-                ..base
-            });
-            check_texture(generated.width, generated.height)?;
-            Ok(generated)
-        }
-        TextureSize::Texels(n) => {
-            let area = surface_area(level).max(f32::MIN_POSITIVE);
-            // Start where the charts would fill 80 % of the texture, more than xatlas packs,
-            // lower the density until one texture holds them, then bisect between the last
-            // density that did not fit and the first that did.
-            let mut density = 0.9 * (n as f32 - 2.0 * options.padding as f32) / area.sqrt();
-            let mut pack_at = |d: f32| {
-                xatlas.pack(PackOptions {
+            let generated = xatlas
+                .pack(PackOptions {
                     texels_per_unit: d,
-                    resolution: n,
-                    max_chart_size: n,
                     ..base
                 })
-            };
-            let mut too_dense = None;
-            for _ in 0..40 {
-                let generated = pack_at(density);
-                if generated.atlas_count == 1 {
-                    return Ok(densest_fit(&mut pack_at, (density, generated), too_dense));
+                .map_err(BakeError::Atlas)?;
+            check_texture(generated.width, generated.height)?;
+            Ok((generated, options.padding))
+        }
+        TextureSize::Texels(n) => {
+            let mut padded = base;
+            loop {
+                match pack_square(xatlas, n, surface_area(level), &padded) {
+                    Err(_) if padded.padding > 1 => padded.padding /= 2,
+                    packed => return packed.map(|g| (g, padded.padding)),
                 }
-                too_dense = Some(density);
-                density *= 0.85;
             }
-            Err(BakeError::Atlas(format!(
-                "the charts do not fit one {n}² texture with {} texels of padding",
-                options.padding
-            )))
         }
     }
+}
+
+/// Packings into an atlas as large as the charts need tried at most for a square texture
+/// before packing into the texture itself.
+const SCALED_PACKINGS: usize = 4;
+
+/// The side, as a share of the texture's, at which a packing is dense enough.
+const SQUARE_FILL: f32 = 0.95;
+
+/// Packs the charts of `area` world units² into one `n`² texture, as densely as a few
+/// packings find. First by scaling: each packs at a density into an atlas as large as it
+/// needs, and the next density is scaled by the texture's side over that atlas's longer side
+/// (an atlas's side grows in proportion to the density where the charts are large beside
+/// their padding), aiming just inside the texture; the first that fits with a side of at
+/// least [`SQUARE_FILL`] of the texture's is kept, else the last that fitted in
+/// [`SCALED_PACKINGS`] (the charts then lie in the texture's corner). Where none fitted (many
+/// charts, whose padding does not shrink with the density), into the texture itself
+/// ([`pack_into`]).
+fn pack_square(
+    xatlas: &mut Xatlas,
+    n: u32,
+    area: f32,
+    base: &PackOptions,
+) -> Result<Generated, BakeError> {
+    // xatlas fills about 55 % of an atlas: start near the density at which that is the texture.
+    let room = n.saturating_sub(2 * base.padding).max(1) as f32;
+    let mut density = 0.75 * room / area.max(f32::MIN_POSITIVE).sqrt();
+    let mut best: Option<Generated> = None;
+    for _ in 0..SCALED_PACKINGS {
+        let generated = xatlas
+            .pack(PackOptions {
+                texels_per_unit: density,
+                ..*base
+            })
+            .map_err(BakeError::Atlas)?;
+        let side = generated.width.max(generated.height).max(1);
+        if generated.atlas_count == 1 && side <= n {
+            best = Some(generated);
+            if side as f32 >= SQUARE_FILL * n as f32 {
+                break;
+            }
+        }
+        // Aim at 99 % of the side; overshooting costs a packing, undershooting texels.
+        density *= 0.99 * n as f32 / side as f32;
+    }
+    let Some(mut generated) = best else {
+        return pack_into(xatlas, n, density, base);
+    };
+    (generated.width, generated.height) = (n, n);
+    Ok(generated)
+}
+
+/// Packs the charts into one `n`² texture itself (xatlas places them in a fixed image):
+/// lowers the density from `density` by 15 % until the texture holds them, then bisects
+/// between the last density that did not fit and the first that did.
+fn pack_into(
+    xatlas: &mut Xatlas,
+    n: u32,
+    mut density: f32,
+    base: &PackOptions,
+) -> Result<Generated, BakeError> {
+    let mut pack_at = |d: f32| {
+        xatlas
+            .pack(PackOptions {
+                texels_per_unit: d,
+                resolution: n,
+                max_chart_size: n,
+                ..*base
+            })
+            .map_err(BakeError::Atlas)
+    };
+    let mut too_dense = None;
+    for _ in 0..40 {
+        let generated = pack_at(density)?;
+        if generated.atlas_count == 1 {
+            return densest_fit(&mut pack_at, (density, generated), too_dense);
+        }
+        too_dense = Some(density);
+        density *= 0.85;
+    }
+    Err(BakeError::Atlas(format!(
+        "the charts do not fit one {n}² texture with {} texels of padding",
+        base.padding
+    )))
 }
 
 /// Bisections between a density that fits one texture and one that does not.
@@ -410,24 +493,24 @@ const DENSITY_BISECTIONS: usize = 4;
 /// texture) and `too_dense` (a density whose charts did not fit), in [`DENSITY_BISECTIONS`]
 /// steps; `fit` itself without a failing density to bisect towards.
 fn densest_fit(
-    pack_at: &mut impl FnMut(f32) -> Generated,
+    pack_at: &mut impl FnMut(f32) -> Result<Generated, BakeError>,
     fit: (f32, Generated),
     too_dense: Option<f32>,
-) -> Generated {
+) -> Result<Generated, BakeError> {
     let Some(mut hi) = too_dense else {
-        return fit.1;
+        return Ok(fit.1);
     };
     let (mut lo, mut best) = fit;
     for _ in 0..DENSITY_BISECTIONS {
         let mid = (lo * hi).sqrt();
-        let generated = pack_at(mid);
+        let generated = pack_at(mid)?;
         if generated.atlas_count == 1 {
             (lo, best) = (mid, generated);
         } else {
             hi = mid;
         }
     }
-    best
+    Ok(best)
 }
 
 /// The area of `triangles` of the level's mean triangle area; 0 (xatlas's "no limit") where

@@ -353,6 +353,7 @@ fn bake_checked(
     drop(cover);
     let mut warnings = looks.warnings.clone();
     warnings.extend(folded(&atlas));
+    warnings.extend(narrowed(&atlas, options.atlas.padding));
     let textures = Textures {
         width: atlas.width,
         height: atlas.height,
@@ -449,6 +450,17 @@ fn folded(atlas: &Atlas) -> Option<String> {
         format!(
             "{} triangles are folded over in their chart (their texels may be shared)",
             atlas.flipped
+        )
+    })
+}
+
+/// The warning where `atlas` has less padding than `asked` between its charts.
+fn narrowed(atlas: &Atlas, asked: u32) -> Option<String> {
+    (atlas.padding < asked).then(|| {
+        format!(
+            "{} charts fit the {}×{} texture only with {} texels of padding, not {asked} \
+             (mipmaps may bleed between charts): give a larger texture",
+            atlas.chart_count, atlas.width, atlas.height, atlas.padding
         )
     })
 }

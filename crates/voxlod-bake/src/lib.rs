@@ -27,6 +27,7 @@ pub mod error;
 pub mod mipmaps;
 pub mod opacity;
 pub mod output;
+pub mod pieces;
 pub mod raster;
 pub mod slivers;
 pub mod source;

@@ -220,19 +220,29 @@ pub(crate) struct Generated {
     pub triangles: Vec<[u32; 3]>,
 }
 
-/// An xatlas atlas holding one mesh, destroyed on drop.
+/// An xatlas atlas holding one mesh added as pieces (xatlas charts pieces side by side and
+/// packs them together), destroyed on drop.
 pub(crate) struct Xatlas {
     handle: *mut RawAtlas,
+    pieces: Vec<Piece>,
+}
+
+/// One piece of the mesh as xatlas holds it: the mesh's vertex and triangle of each of its own.
+struct Piece {
+    vertices: Vec<u32>,
+    triangles: Vec<u32>,
 }
 
 impl Xatlas {
     /// An atlas of the mesh with `positions` and `normals` (one per vertex; a normal seam,
     /// where the two sides of an edge have different vertices with different normals, is a
-    /// crease) and `triangles`. Fails when xatlas refuses the mesh.
+    /// crease) and `triangles`, added as `pieces` (lists of triangles that together name each
+    /// triangle once; a piece's border is a chart border). Fails when xatlas refuses a piece.
     pub fn new(
         positions: &[[f32; 3]],
         normals: &[[f32; 3]],
         triangles: &[[u32; 3]],
+        pieces: &[Vec<u32>],
     ) -> Result<Xatlas, String> {
         assert_eq!(positions.len(), normals.len());
         // SAFETY: Create returns a fresh atlas that only this value owns; SetPrint(null)
@@ -244,7 +254,50 @@ impl Xatlas {
         if handle.is_null() {
             return Err("xatlas could not create an atlas".into());
         }
-        let atlas = Xatlas { handle };
+        let mut atlas = Xatlas {
+            handle,
+            pieces: Vec::with_capacity(pieces.len()),
+        };
+        let mut local = vec![u32::MAX; positions.len()];
+        for piece in pieces {
+            let mut vertices = Vec::new();
+            let mut piece_triangles = Vec::with_capacity(piece.len());
+            for &t in piece {
+                let corners = triangles
+                    .get(t as usize)
+                    .ok_or("a piece names no triangle")?;
+                piece_triangles.push(corners.map(|v| {
+                    let slot = &mut local[v as usize];
+                    if *slot == u32::MAX {
+                        *slot = vertices.len() as u32;
+                        vertices.push(v);
+                    }
+                    *slot
+                }));
+            }
+            let at = |v: &u32| positions[*v as usize];
+            let piece_positions: Vec<[f32; 3]> = vertices.iter().map(at).collect();
+            let piece_normals: Vec<[f32; 3]> =
+                vertices.iter().map(|v| normals[*v as usize]).collect();
+            for &v in &vertices {
+                local[v as usize] = u32::MAX;
+            }
+            atlas.add(&piece_positions, &piece_normals, &piece_triangles)?;
+            atlas.pieces.push(Piece {
+                vertices,
+                triangles: piece.clone(),
+            });
+        }
+        Ok(atlas)
+    }
+
+    /// Adds one piece as an xatlas mesh.
+    fn add(
+        &mut self,
+        positions: &[[f32; 3]],
+        normals: &[[f32; 3]],
+        triangles: &[[u32; 3]],
+    ) -> Result<(), String> {
         let decl = MeshDecl {
             vertex_count: positions.len() as u32,
             vertex_position_data: positions.as_ptr().cast(),
@@ -261,9 +314,9 @@ impl Xatlas {
         };
         // SAFETY: the declaration points at live slices of the lengths it states; xatlas
         // copies them before returning.
-        let code = unsafe { xatlas_add_mesh(atlas.handle, &decl) };
+        let code = unsafe { xatlas_add_mesh(self.handle, &decl) };
         match code {
-            0 => Ok(atlas),
+            0 => Ok(()),
             1 => Err("a triangle names a vertex out of range".into()),
             2 => Err("the index count is not a multiple of 3".into()),
             other => Err(format!("AddMesh returned {other}")),
@@ -279,8 +332,9 @@ impl Xatlas {
         }
     }
 
-    /// Packs the charts (after [`charts`](Self::charts)) and reads the result.
-    pub fn pack(&mut self, options: PackOptions) -> Generated {
+    /// Packs the charts (after [`charts`](Self::charts)) and reads the result. Fails where
+    /// xatlas returns another number of triangles than a piece holds.
+    pub fn pack(&mut self, options: PackOptions) -> Result<Generated, String> {
         // SAFETY: the handle is live with its charts parameterized; PackCharts replaces the
         // output meshes, which are read below before any other call.
         unsafe {
@@ -289,11 +343,12 @@ impl Xatlas {
         }
     }
 
-    /// Copies the output of the last packing.
+    /// Copies the output of the last packing: the pieces' vertices one after another, their
+    /// charts numbered on, the triangles back in the mesh's order.
     ///
     /// # Safety
-    /// The atlas must have been packed, with one mesh added.
-    unsafe fn read(&self) -> Generated {
+    /// The atlas must have been packed.
+    unsafe fn read(&self) -> Result<Generated, String> {
         let atlas = &*self.handle;
         let mut generated = Generated {
             width: atlas.width,
@@ -303,51 +358,58 @@ impl Xatlas {
             vertices: Vec::new(),
             triangles: Vec::new(),
         };
-        if atlas.mesh_count == 0 || atlas.meshes.is_null() {
-            return generated;
+        let meshes = slice(atlas.meshes, atlas.mesh_count);
+        if meshes.len() != self.pieces.len() {
+            return Err(format!(
+                "xatlas returned {} meshes for {} pieces",
+                meshes.len(),
+                self.pieces.len()
+            ));
         }
-        let mesh = &*atlas.meshes;
-        let raw = |p: *mut RawVertex, n: u32| -> &[RawVertex] {
-            if n == 0 {
-                &[]
-            } else {
-                std::slice::from_raw_parts(p, n as usize)
+        let total = self.pieces.iter().map(|p| p.triangles.len()).sum();
+        generated.triangles = vec![[0; 3]; total];
+        for (mesh, piece) in meshes.iter().zip(&self.pieces) {
+            let first_vertex = generated.vertices.len() as u32;
+            let vertices = slice(mesh.vertex_array, mesh.vertex_count);
+            let mut chart_of = vec![None; vertices.len()];
+            for (c, chart) in slice(mesh.chart_array, mesh.chart_count).iter().enumerate() {
+                for &v in slice(chart.index_array, chart.index_count) {
+                    chart_of[v as usize] = Some(generated.chart_count + c as u32);
+                }
             }
-        };
-        let indices = |p: *mut u32, n: u32| -> &[u32] {
-            if n == 0 {
-                &[]
-            } else {
-                std::slice::from_raw_parts(p, n as usize)
+            generated.chart_count += mesh.chart_count;
+            generated
+                .vertices
+                .extend(vertices.iter().zip(chart_of).map(|(v, chart)| OutVertex {
+                    uv: v.uv,
+                    input: piece.vertices[v.xref as usize],
+                    chart,
+                }));
+            let indices = slice(mesh.index_array, mesh.index_count);
+            if indices.len() != 3 * piece.triangles.len() {
+                let (got, held) = (indices.len() / 3, piece.triangles.len());
+                return Err(format!(
+                    "xatlas returned {got} triangles for a piece of {held}"
+                ));
             }
-        };
-        let vertices = raw(mesh.vertex_array, mesh.vertex_count);
-        let mut chart_of = vec![None; vertices.len()];
-        let charts: &[RawChart] = if mesh.chart_count == 0 {
-            &[]
-        } else {
-            std::slice::from_raw_parts(mesh.chart_array, mesh.chart_count as usize)
-        };
-        for (c, chart) in charts.iter().enumerate() {
-            for &v in indices(chart.index_array, chart.index_count) {
-                chart_of[v as usize] = Some(c as u32);
+            for (t, corners) in piece.triangles.iter().zip(indices.chunks_exact(3)) {
+                generated.triangles[*t as usize] =
+                    [corners[0], corners[1], corners[2]].map(|v| first_vertex + v);
             }
         }
-        generated.chart_count = mesh.chart_count;
-        generated.vertices = vertices
-            .iter()
-            .zip(chart_of)
-            .map(|(v, chart)| OutVertex {
-                uv: v.uv,
-                input: v.xref,
-                chart,
-            })
-            .collect();
-        generated.triangles = indices(mesh.index_array, mesh.index_count)
-            .chunks_exact(3)
-            .map(|t| [t[0], t[1], t[2]])
-            .collect();
-        generated
+        Ok(generated)
+    }
+}
+
+/// The `n` values at `p` (none where `n` is 0, whatever `p` is).
+///
+/// # Safety
+/// Where `n` > 0, `p` must point at `n` live values.
+unsafe fn slice<'a, T>(p: *const T, n: u32) -> &'a [T] {
+    if n == 0 || p.is_null() {
+        &[]
+    } else {
+        std::slice::from_raw_parts(p, n as usize)
     }
 }
 

@@ -76,14 +76,17 @@ fn a_cube_is_cut_at_its_creases_into_six_charts() {
 
 #[test]
 fn charts_keep_the_padding_apart() {
+    // In one piece, and in sixteen pieces of 80 triangles (charted side by side, packed
+    // together: each piece's border is a chart border).
     let level = icosphere(3);
-    for padding in [2u32, 6] {
+    for (padding, piece_triangles) in [(2u32, 0u32), (6, 0), (4, 80)] {
         let options = AtlasOptions {
             padding,
+            piece_triangles,
             ..AtlasOptions::for_texture(512)
         };
         let atlas = atlas(&level, &options).unwrap();
-        assert!(atlas.chart_count > 1);
+        assert!(atlas.chart_count >= if piece_triangles > 0 { 16 } else { 2 });
         let cover = atlas.coverage();
         let chart = |x: usize, y: usize| {
             let c = cover.texels[y * cover.width + x];
@@ -163,10 +166,63 @@ fn bad_levels_and_options_are_named() {
 #[test]
 fn a_fixed_texture_is_filled_as_densely_as_its_charts_pack() {
     // A sphere's smooth charts pack into a 512² texture with about half of its texels covered
-    // or more: the density is bisected up to the first that does not fit, not left a whole
-    // step below it.
+    // or more: the density is scaled until the packing reaches nearly the texture's side, not
+    // left where a first guess happened to fit.
     let atlas = voxlod_bake::atlas(&icosphere(4), &AtlasOptions::for_texture(512)).unwrap();
     assert!(atlas.utilisation >= 0.45, "{}", atlas.utilisation);
+}
+
+#[test]
+fn a_level_in_pieces_keeps_its_triangles_in_order() {
+    // 5 120 triangles in pieces of at most 700 (eight pieces): every triangle keeps its place
+    // and its corners, every one is in a chart, and the pieces pack about as densely as one.
+    let level = icosphere(4);
+    let whole = atlas(&level, &AtlasOptions::for_texture(1024)).unwrap();
+    let options = AtlasOptions {
+        piece_triangles: 700,
+        ..AtlasOptions::for_texture(1024)
+    };
+    let cut = atlas(&level, &options).unwrap();
+    assert_eq!(cut.triangles.len(), level.triangles.len());
+    for (t, corners) in cut.triangles.iter().enumerate() {
+        let copied = corners.map(|v| cut.level_vertex[v as usize]);
+        assert_eq!(copied, level.triangles[t], "triangle {t}");
+        assert_ne!(cut.chart[t], NO_CHART, "triangle {t}");
+    }
+    // A piece's border is a chart border: each of the eight pieces holds a chart or more.
+    assert!(cut.chart_count >= 8, "{} charts", cut.chart_count);
+    assert_eq!(cut.flipped, 0);
+    assert!(
+        cut.utilisation > 0.8 * whole.utilisation,
+        "{} against {}",
+        cut.utilisation,
+        whole.utilisation
+    );
+}
+
+#[test]
+fn many_small_charts_narrow_the_padding_rather_than_fail() {
+    // 300 cubes apart, 1 800 charts (a cube's faces), into a 256² texture: at 4 texels of
+    // padding a side the gutters alone would need more texels than the texture has, so the
+    // charts are packed with less, said in the atlas; a 1024² texture keeps the 4 asked.
+    let cube = unit_cube();
+    let mut level = TriangleMesh::default();
+    for k in 0..300u32 {
+        let offset = Vec3::new((k % 20) as f32, (k / 20) as f32, 0.0) * 2.0;
+        let first = level.positions.len() as u32;
+        level
+            .positions
+            .extend(cube.positions.iter().map(|&p| p + offset));
+        level
+            .triangles
+            .extend(cube.triangles.iter().map(|t| t.map(|v| v + first)));
+    }
+    let small = atlas(&level, &AtlasOptions::for_texture(256)).unwrap();
+    assert_eq!(small.chart_count, 1800);
+    assert!(small.padding < 4, "{}", small.padding);
+    assert_eq!((small.width, small.height), (256, 256));
+    let large = atlas(&level, &AtlasOptions::for_texture(1024)).unwrap();
+    assert_eq!(large.padding, 4);
 }
 
 /// Plain marching cubes of a ball of radius `r` sample spacings sampled on `n` samples a side

@@ -139,16 +139,19 @@ impl Promises {
 /// Whether `candidate` crosses itself no more than the input does: none where the input has
 /// none; no more pairs than the input has, or pairs only where the input crosses itself too
 /// (within each pair's reach, [`crossing_place`]: a collapse of a self-intersecting scan moves
-/// its crossings and may cut them into more pairs, but makes no new ones elsewhere).
+/// its crossings and may cut them into more pairs, but makes no new ones elsewhere). The
+/// input's crossings are looked for only where the candidate has some.
 pub fn crosses_no_more(input: &Input, candidate: &mut Candidate) -> bool {
-    let limit = input.crossings();
-    if limit == 0 || candidate.crossings.is_some_and(|n| n <= limit) {
-        return Promises::crossings(candidate) <= limit;
+    let count = Promises::crossings(candidate);
+    if count == 0 {
+        return true;
     }
-    // The pairs themselves, counted once, where the count alone may not decide.
-    let pairs = crossing_pairs(&candidate.mesh);
-    candidate.crossings = Some(pairs.len());
-    pairs.len() <= limit || crosses_where_the_input_does(input, &candidate.mesh, &pairs)
+    let limit = input.crossings();
+    if count <= limit {
+        return true;
+    }
+    limit > 0
+        && crosses_where_the_input_does(input, &candidate.mesh, &crossing_pairs(&candidate.mesh))
 }
 
 /// Comparisons of the input's crossings with a candidate's at most, beyond which only their
