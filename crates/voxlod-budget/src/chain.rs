@@ -106,6 +106,9 @@ pub fn levels_with(
     let stand_ins = StandIns::default();
     let (mut chosen, mut warnings) = choose_down(searched, &input, &measure, options, &stand_ins)?;
     refine_from_below(&mut chosen, &mut warnings, &input, &measure, options);
+    if options.remesh {
+        warnings.extend(crossed_levels(&mut chosen));
+    }
     lap(&mut timings.choice);
     step(total)?;
     let levels = options
@@ -140,6 +143,25 @@ pub fn levels_with(
         timings,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// Each of `levels` that crosses itself, in words, its report's count of crossing pairs made
+/// exact. For new surfaces (a proxy's levels): a scene whose parts pass through each other
+/// licenses as many crossings in its levels as it has, but a remeshed level's crossings are
+/// the collapse's own, not the scene's. Cost: one crossing search per level.
+fn crossed_levels(levels: &mut [Level]) -> Vec<String> {
+    let mut warnings = Vec::new();
+    for level in levels {
+        let pairs = voxlod_core::crossing_pairs(&level.mesh).len();
+        level.report.self_intersections = pairs;
+        if pairs > 0 {
+            warnings.push(format!(
+                "{} triangles: the level crosses itself in {pairs} triangle pairs",
+                level.report.budget
+            ));
+        }
+    }
+    warnings
 }
 
 /// One budget's candidates before the choice.

@@ -47,7 +47,9 @@ pub struct BudgetLevel {
     pub boundary_loops: usize,
     /// Handles of the input the level no longer has, when both genera are known.
     pub handles_removed: Option<i64>,
-    /// Crossing triangle pairs (0 unless a warning says no candidate was free of them).
+    /// Crossing triangle pairs: 0 unless a warning says no candidate was free of them, or the
+    /// input crosses itself as much (its crossings license a level's), or the level is a new
+    /// surface whose crossings a warning names ([`crate::PortfolioOptions::remesh`]).
     pub self_intersections: usize,
     /// The larger budget whose level this one was collapsed from ([`Method::Above`]).
     pub simplified_from: Option<usize>,

@@ -518,3 +518,27 @@ fn an_input_far_from_the_origin_for_its_size_is_warned_of() {
     let near = check_chain(&corpus::genus_rich(), &[300], true);
     assert!(near.warnings.iter().all(|w| !w.contains("rounded away")));
 }
+
+#[test]
+fn a_remeshed_level_that_crosses_itself_says_so() {
+    // The room's furniture passes through itself; the scene's crossings license none of a
+    // new surface's. Each level's report counts its own crossing pairs exactly, and a warning
+    // names every level that has any (the room's level at 5 % does, from its collapse).
+    let room = voxlod_testkit::scenes::room().mesh.geometry();
+    let budget = room.triangles.len() / 20;
+    let run = levels(&room, &PortfolioOptions::remesh(&[budget])).unwrap();
+    let level = &run.levels[0];
+    let pairs = voxlod_core::crossing_pairs(&level.mesh).len();
+    assert_eq!(level.report.self_intersections, pairs);
+    let said = format!("{budget} triangles: the level crosses itself in {pairs} triangle pairs");
+    assert_eq!(
+        run.warnings.contains(&said),
+        pairs > 0,
+        "{:?}",
+        run.warnings
+    );
+    assert!(
+        pairs > 0,
+        "the room's level no longer crosses itself: pick a case that does"
+    );
+}
