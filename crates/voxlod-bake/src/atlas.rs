@@ -9,9 +9,10 @@
 //! snapped shut ([`crate::slivers`]); the triangles that lost their area there take corners of
 //! the charts around them.
 //!
-//! Cost: xatlas's (near-linear in the triangles for the charts; packing tries
-//! [`AtlasOptions::attempts`] places per chart), repeated packing when a fixed size is too
-//! small at xatlas's first estimate, and one rasterisation to measure the utilisation.
+//! Cost: xatlas's (near-linear in the triangles for the charts of each piece, the pieces side
+//! by side; packing tries [`AtlasOptions::attempts`] places per chart), about three packings
+//! for a fixed size (more where many small charts crowd it), and one rasterisation to measure
+//! the utilisation.
 
 use std::collections::HashMap;
 use std::time::Instant;
@@ -393,10 +394,16 @@ fn pack(
         TextureSize::Texels(n) => {
             let mut padded = base;
             loop {
-                match pack_square(xatlas, n, surface_area(level), &padded) {
-                    Err(_) if padded.padding > 1 => padded.padding /= 2,
-                    packed => return packed.map(|g| (g, padded.padding)),
+                if let Some(packed) = pack_square(xatlas, n, surface_area(level), &padded)? {
+                    return Ok((packed, padded.padding));
                 }
+                if padded.padding <= 1 {
+                    return Err(BakeError::Atlas(format!(
+                        "the charts do not fit one {n}² texture, even with {} texels of padding",
+                        padded.padding
+                    )));
+                }
+                padded.padding /= 2;
             }
         }
     }
@@ -417,13 +424,13 @@ const SQUARE_FILL: f32 = 0.95;
 /// least [`SQUARE_FILL`] of the texture's is kept, else the last that fitted in
 /// [`SCALED_PACKINGS`] (the charts then lie in the texture's corner). Where none fitted (many
 /// charts, whose padding does not shrink with the density), into the texture itself
-/// ([`pack_into`]).
+/// ([`pack_into`]). `None` where the charts fit the texture at no density.
 fn pack_square(
     xatlas: &mut Xatlas,
     n: u32,
     area: f32,
     base: &PackOptions,
-) -> Result<Generated, BakeError> {
+) -> Result<Option<Generated>, BakeError> {
     // xatlas fills about 55 % of an atlas: start near the density at which that is the texture.
     let room = n.saturating_sub(2 * base.padding).max(1) as f32;
     let mut density = 0.75 * room / area.max(f32::MIN_POSITIVE).sqrt();
@@ -449,18 +456,19 @@ fn pack_square(
         return pack_into(xatlas, n, density, base);
     };
     (generated.width, generated.height) = (n, n);
-    Ok(generated)
+    Ok(Some(generated))
 }
 
 /// Packs the charts into one `n`² texture itself (xatlas places them in a fixed image):
 /// lowers the density from `density` by 15 % until the texture holds them, then bisects
-/// between the last density that did not fit and the first that did.
+/// between the last density that did not fit and the first that did; `None` where forty
+/// steps down do not fit.
 fn pack_into(
     xatlas: &mut Xatlas,
     n: u32,
     mut density: f32,
     base: &PackOptions,
-) -> Result<Generated, BakeError> {
+) -> Result<Option<Generated>, BakeError> {
     let mut pack_at = |d: f32| {
         xatlas
             .pack(PackOptions {
@@ -475,15 +483,12 @@ fn pack_into(
     for _ in 0..40 {
         let generated = pack_at(density)?;
         if generated.atlas_count == 1 {
-            return densest_fit(&mut pack_at, (density, generated), too_dense);
+            return densest_fit(&mut pack_at, (density, generated), too_dense).map(Some);
         }
         too_dense = Some(density);
         density *= 0.85;
     }
-    Err(BakeError::Atlas(format!(
-        "the charts do not fit one {n}² texture with {} texels of padding",
-        base.padding
-    )))
+    Ok(None)
 }
 
 /// Bisections between a density that fits one texture and one that does not.
