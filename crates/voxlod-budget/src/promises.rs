@@ -142,6 +142,14 @@ impl Promises {
 /// its crossings and may cut them into more pairs, but makes no new ones elsewhere). The
 /// input's crossings are looked for only where the candidate has some.
 pub fn crosses_no_more(input: &Input, candidate: &mut Candidate) -> bool {
+    // The pairs themselves where the count is not known yet: found once, kept for the places.
+    let pairs = candidate
+        .crossings
+        .is_none()
+        .then(|| crossing_pairs(&candidate.mesh));
+    if let Some(pairs) = &pairs {
+        candidate.crossings = Some(pairs.len());
+    }
     let count = Promises::crossings(candidate);
     if count == 0 {
         return true;
@@ -150,8 +158,8 @@ pub fn crosses_no_more(input: &Input, candidate: &mut Candidate) -> bool {
     if count <= limit {
         return true;
     }
-    limit > 0
-        && crosses_where_the_input_does(input, &candidate.mesh, &crossing_pairs(&candidate.mesh))
+    let pairs = pairs.unwrap_or_else(|| crossing_pairs(&candidate.mesh));
+    limit > 0 && crosses_where_the_input_does(input, &candidate.mesh, &pairs)
 }
 
 /// Comparisons of the input's crossings with a candidate's at most, beyond which only their
