@@ -15,7 +15,7 @@ use crate::input::Input;
 use crate::measure::{Care, Measure};
 use crate::plate::Plate;
 use crate::promises::{crosses_no_more, within_budget, Promise, Promises};
-use crate::report::{BudgetLevel, CandidateReport, InputReport};
+use crate::report::{BudgetLevel, CandidateReport, InputReport, Outline};
 use crate::restore::StandIns;
 use crate::select::{choose, measure_ahead, Chosen};
 use crate::shell::shell_candidates;
@@ -602,6 +602,18 @@ fn refine_from_below(
         else {
             continue;
         };
+        // A level chosen for its outline is replaced only by one whose outline also beats
+        // the plain collapse's (module `outline`).
+        let outline = match levels[k].report.outline {
+            Some(o) => match measure.silhouette(&below.mesh) {
+                Some(s) if s < o.collapse_silhouette_difference => Some(Outline {
+                    silhouette_difference: s,
+                    ..o
+                }),
+                _ => continue,
+            },
+            None => None,
+        };
         let old = &levels[k].report;
         if let Some(note) = &old.note {
             let text = format!("{} triangles: {note}", old.budget);
@@ -614,6 +626,7 @@ fn refine_from_below(
             candidates,
             ruled_out: old.ruled_out.clone(),
             warning: None,
+            outline,
             runner_up: None,
         };
         let seconds = old.seconds + start.elapsed().as_secs_f64();
@@ -706,6 +719,7 @@ fn level_of(
         candidates: chosen.candidates,
         ruled_out: chosen.ruled_out,
         note: chosen.warning,
+        outline: chosen.outline,
         seconds,
     };
     Level {

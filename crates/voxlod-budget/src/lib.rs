@@ -92,6 +92,7 @@ pub mod looks;
 mod measure;
 mod open_parts;
 mod options;
+mod outline;
 pub mod plate;
 mod promises;
 mod report;
@@ -114,7 +115,7 @@ pub use looks::{asset_levels, AssetBudgeted, AssetLevel, Looks};
 pub use measure::Distance;
 pub use options::{PortfolioOptions, BUDGET_TOLERANCE};
 pub use promises::{Promise, MEAN_SLACK};
-pub use report::{BudgetLevel, CandidateReport, InputReport, RuledOut};
+pub use report::{BudgetLevel, CandidateReport, InputReport, Outline, RuledOut};
 pub use voxlod_fit::FitOptions;
 
 use voxlod_core::{Topology, TriangleMesh};

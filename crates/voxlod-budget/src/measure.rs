@@ -33,8 +33,10 @@ use voxlod_core::TriangleMesh;
 use voxlod_fit::{fit_with, FitOptions};
 use voxlod_metrics::spatial_order::z_order;
 use voxlod_metrics::{MeshDistance, QueryHint, SamplingOptions, SurfaceSampler};
+use voxlod_render::SilhouetteReference;
 
 use crate::input::Input;
+use crate::outline::{SIZE, VIEWS};
 use crate::visible::seen_only;
 use crate::BudgetError;
 
@@ -77,6 +79,9 @@ pub struct Measure<'a> {
     sampler: SurfaceSampler<'a>,
     precise_samples: usize,
     part_points: Vec<DVec3>,
+    /// The input, whose silhouettes are drawn on first use (module `outline`).
+    input_mesh: &'a TriangleMesh,
+    outline: std::sync::OnceLock<Option<SilhouetteReference>>,
 }
 
 /// Points on one surface: area samples (mean, shape and Hausdorff), extra points (shape and
@@ -143,6 +148,8 @@ impl<'a> Measure<'a> {
             sampler,
             precise_samples,
             part_points,
+            input_mesh: mesh,
+            outline: std::sync::OnceLock::new(),
         })
     }
 
@@ -164,6 +171,17 @@ impl<'a> Measure<'a> {
             .map(|v| v.into_iter().map(|s| s.point).collect())
             .unwrap_or_default();
         Points::ordered(area, Vec::new(), self.part_points.clone())
+    }
+
+    /// The silhouette difference between `mesh` and the input (module `outline`: [`VIEWS`]
+    /// views of [`SIZE`]² pixels, the input's drawn on first use), or `None` where a view
+    /// cannot be drawn. Cost: one render per view, O(T + pixels).
+    pub fn silhouette(&self, mesh: &TriangleMesh) -> Option<f64> {
+        let reference = self
+            .outline
+            .get_or_init(|| SilhouetteReference::new(self.input_mesh, VIEWS, SIZE).ok());
+        let d = reference.as_ref()?.mesh_difference(mesh).ok()?;
+        Some(d.fraction)
     }
 
     /// The input's closest-point structure (for the fit).

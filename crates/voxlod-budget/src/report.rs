@@ -59,8 +59,22 @@ pub struct BudgetLevel {
     pub ruled_out: Vec<RuledOut>,
     /// What the level gave up, where no candidate kept every promise.
     pub note: Option<String>,
+    /// Where the level was chosen for its outline rather than as the closest (module
+    /// `outline`): its silhouette difference and the input's plain collapse's.
+    pub outline: Option<Outline>,
     /// Seconds spent on this budget's candidates and choice.
     pub seconds: f64,
+}
+
+/// Silhouette differences from the input (crate `voxlod-render`'s, 14 views of 256² pixels,
+/// as `voxlod evaluate` reports them) of a level chosen for its outline and of the input's
+/// plain collapse at its budget.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Outline {
+    /// The level's.
+    pub silhouette_difference: f64,
+    /// The input's plain collapse's (meshoptimizer `simplify`, as gltfpack runs it).
+    pub collapse_silhouette_difference: f64,
 }
 
 /// One candidate, reported.

@@ -14,7 +14,10 @@
 //!    checked one's) is ruled out ([`Promise::MeanDistance`]). The finalist with the smallest
 //!    careful Hausdorff distance is the level, the smallest shape distance among equals (where
 //!    every finalist lost the same far speck); finalists within [`TIE`] of it are measured again
-//!    with twice the samples ([`Care::Precise`]) to settle the choice.
+//!    with twice the samples ([`Care::Precise`]) to settle the choice. Where that level shows a
+//!    worse outline than the input's plain collapse (silhouette difference), a candidate with a
+//!    better one, at most 1.5 times as far and closer than the collapse, is the level instead
+//!    (module `outline`, beyond the paper).
 //! 4. Candidates that broke a promise are measured too, with the level's distance as the early
 //!    rejection limit: those that would have been closer are reported with the promise that
 //!    ruled them out and what it cost (the level's distance over theirs).
@@ -26,7 +29,8 @@
 //!    (`sharpened_level`).
 //!
 //! Cost: per candidate, one quick measurement (often cut short); per finalist, a crossing count
-//! and a careful measurement; one fit; for a proxy, one snap.
+//! and a careful measurement; one fit; up to two silhouettes (module `outline`); for a proxy,
+//! one snap.
 
 use rayon::prelude::*;
 use voxlod_core::TriangleMesh;
@@ -35,8 +39,9 @@ use voxlod_fit::{snap_to_features, FeatureOptions, FitOptions};
 use crate::candidate::{Candidate, Method};
 use crate::input::Input;
 use crate::measure::{Care, Distance, Measure};
+use crate::outline::by_outline;
 use crate::promises::{crosses_no_more, Promise, Promises, MEAN_SLACK};
-use crate::report::{CandidateReport, RuledOut};
+use crate::report::{CandidateReport, Outline, RuledOut};
 use crate::restore::{stood_in, with_parts_restored, StandIns, LOST};
 use crate::voxel::{sharpened_before_collapse, FEATURE_REACH};
 use voxlod_contouring::clean_mesh::without_zero_area;
@@ -57,6 +62,8 @@ pub struct Chosen {
     pub ruled_out: Vec<RuledOut>,
     /// What the level had to give up, where no candidate kept every promise.
     pub warning: Option<String>,
+    /// Where the level was chosen for its outline (module `outline`).
+    pub outline: Option<Outline>,
     /// The closest candidate that keeps the cheap promises and is not known to cross, of the
     /// other lineage than the level (made of a voxel level where the level is a collapse of the
     /// input, or the reverse), for the chain to collapse beside the level.
@@ -120,6 +127,18 @@ pub fn choose(
         Some(i) => (i, None),
         None => relaxed(&mut candidates, &broken, measure, promises.budget)?,
     };
+    let (index, outline) = match warning {
+        None => by_outline(
+            &mut candidates,
+            &mut broken,
+            index,
+            promises,
+            input,
+            measure,
+            stand_ins,
+        ),
+        Some(_) => (index, None),
+    };
     let chosen_h = careful(&mut candidates[index], measure).map_or(f64::INFINITY, |d| d.shape);
     let ruled_out = closer_but_broken(&mut candidates, &broken, index, chosen_h, measure);
     let reports = candidates
@@ -142,6 +161,10 @@ pub fn choose(
         candidates: reports,
         ruled_out,
         warning,
+        outline: outline.map(|(level, collapse)| Outline {
+            silhouette_difference: level,
+            collapse_silhouette_difference: collapse,
+        }),
         runner_up,
     })
 }

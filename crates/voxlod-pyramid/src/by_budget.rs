@@ -186,7 +186,7 @@ fn report(r: &voxlod_budget::BudgetLevel, error: Option<f64>, genus: Option<i64>
         error_bound: r.shape_distance,
         hausdorff: Some(r.hausdorff),
         mean_distance: Some(r.mean_distance),
-        silhouette_difference: None,
+        silhouette_difference: r.outline.map(|o| o.silhouette_difference),
         triangles: r.triangles,
         genus: r.genus,
         components: r.components,

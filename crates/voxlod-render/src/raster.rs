@@ -138,17 +138,29 @@ fn snap_counter_clockwise(v: [ScreenVertex; 3], n: u32) -> Option<Snapped> {
 /// (`s·SUB + SUB/2`) lie in the box of `p`, clipped to the tile; `None` when none do.
 #[inline]
 fn sample_box(p: &[(i64, i64); 3], tile: &Tile) -> Option<(i64, i64, i64, i64)> {
+    let size = tile.size as i64;
+    sample_box_in(p, tile.x0, tile.y0, size, size)
+}
+
+/// [`sample_box`] clipped to the `width × height` samples from (x0, y0).
+#[inline]
+fn sample_box_in(
+    p: &[(i64, i64); 3],
+    x0: i64,
+    y0: i64,
+    width: i64,
+    height: i64,
+) -> Option<(i64, i64, i64, i64)> {
     let min_x = p[0].0.min(p[1].0).min(p[2].0);
     let max_x = p[0].0.max(p[1].0).max(p[2].0);
     let min_y = p[0].1.min(p[1].1).min(p[2].1);
     let max_y = p[0].1.max(p[1].1).max(p[2].1);
     let first = |m: i64| (m - SUB / 2 + SUB - 1).div_euclid(SUB);
     let last = |m: i64| (m - SUB / 2).div_euclid(SUB);
-    let size = tile.size as i64;
-    let sx0 = first(min_x).max(tile.x0);
-    let sx1 = last(max_x).min(tile.x0 + size - 1);
-    let sy0 = first(min_y).max(tile.y0);
-    let sy1 = last(max_y).min(tile.y0 + size - 1);
+    let sx0 = first(min_x).max(x0);
+    let sx1 = last(max_x).min(x0 + width - 1);
+    let sy0 = first(min_y).max(y0);
+    let sy1 = last(max_y).min(y0 + height - 1);
     (sx0 <= sx1 && sy0 <= sy1).then_some((sx0, sx1, sy0, sy1))
 }
 
@@ -284,6 +296,42 @@ pub fn raster_fragments<F>(
                         }
                     }
                 }
+            }
+            e[0] += step_x[0];
+            e[1] += step_x[1];
+            e[2] += step_x[2];
+        }
+    }
+}
+
+/// Marks in `covered` (`width × height` pixels, row by row, one sample per pixel) the pixels
+/// whose centre the triangle `v` covers, by the same snapping and edge rule as
+/// [`raster_triangle`]: what an opaque triangle does to a render's coverage, without depth or
+/// shading. A triangle with a corner that is not finite is not drawn.
+/// Cost: O(pixels of its clipped bounding box).
+pub fn raster_coverage(covered: &mut [bool], width: usize, height: usize, v: [ScreenVertex; 3]) {
+    if !v.iter().all(|c| c.x.is_finite() && c.y.is_finite()) {
+        return;
+    }
+    let Some(Snapped { p, .. }) = snap_counter_clockwise(v, 1) else {
+        return;
+    };
+    let Some((sx0, sx1, sy0, sy1)) = sample_box_in(&p, 0, 0, width as i64, height as i64) else {
+        return;
+    };
+    let edges = EdgeFunctions::new(&p);
+    let bias = edges.bias;
+    let step_x = edges.a.map(|a| a * SUB);
+    for sy in sy0..=sy1 {
+        let mut e = [
+            edges.at(0, sx0, sy),
+            edges.at(1, sx0, sy),
+            edges.at(2, sx0, sy),
+        ];
+        let row = &mut covered[sy as usize * width..(sy as usize + 1) * width];
+        for sx in sx0..=sx1 {
+            if ((e[0] + bias[0]) | (e[1] + bias[1]) | (e[2] + bias[2])) >= 0 {
+                row[sx as usize] = true;
             }
             e[0] += step_x[0];
             e[1] += step_x[1];

@@ -1,0 +1,294 @@
+//! A level's outline beside the input's plain collapse (our addition: He et al. 1995 judge
+//! levels by distance alone).
+//!
+//! The choice by Hausdorff distance (module `select`, step 3) can spend a budget's triangles on
+//! keeping a small part far from the rest, or an inner surface, where the input's plain collapse
+//! (meshoptimizer `simplify`, as gltfpack runs it) drops the part and spends them on the outer
+//! surface: the level is closer, yet shows a worse outline than that collapse. A CT skull at
+//! 1 000 triangles keeps a wire 60 mm away at 6 % of the diagonal where the collapse is 20 %
+//! away, and its silhouette differs from the input's by 10 % where the collapse's does by 6 %.
+//!
+//! Where the chosen level's silhouette difference (crate `voxlod-render`'s, [`VIEWS`] views of
+//! [`SIZE`]² pixels, the measure `voxlod evaluate` reports) exceeds the plain collapse's, the
+//! candidates that keep every promise are weighed by their outline: those whose silhouette
+//! differs less than the collapse's, the [`TRIES`] best, with the input's parts they lost put
+//! back (module `restore`), are checked for crossings and measured carefully. The closest of
+//! them whose careful Hausdorff distance is at most [`CLOSER`] times the plain collapse's (so
+//! that the level stays closer than the collapse too) and at most [`SLACK`] times the chosen
+//! level's, and whose mean distance keeps [`crate::promises::MEAN_SLACK`], is the level instead.
+//!
+//! Cost: nothing where the level is the plain collapse or no candidate could be close enough;
+//! else the input's silhouettes once a run (one render per view, O(T + pixels)), two renders
+//! per budget, and where the level's outline is the worse, a render per candidate, up to
+//! [`TRIES`] restorations, crossing counts and careful measurements.
+
+use rayon::prelude::*;
+
+use crate::candidate::{Candidate, Method};
+use crate::input::Input;
+use crate::measure::{Care, Measure};
+use crate::promises::{crosses_no_more, Promise, Promises, MEAN_SLACK};
+use crate::restore::{with_parts_restored, StandIns};
+
+/// Views of the silhouettes (the octant diagonals and the axes, as `voxlod evaluate` draws).
+pub const VIEWS: usize = 14;
+/// Pixels a side of each view.
+pub const SIZE: u32 = 256;
+/// A level chosen for its outline is at most this many times as far as the plain collapse.
+pub const CLOSER: f64 = 0.9;
+/// A level chosen for its outline is at most this many times as far as the level chosen by
+/// distance: the outline may cost some distance, not any.
+pub const SLACK: f64 = 1.5;
+/// Candidates with a better outline than the collapse's tried at most, best outline first.
+pub const TRIES: usize = 3;
+
+/// The index among `candidates` of the level for `promises`, given the level chosen by
+/// distance at `index` (module docs); candidates restored here are pushed to `candidates` and
+/// their broken promises to `broken`. With the silhouette differences of the new level and of
+/// the plain collapse, where the outline chose.
+pub fn by_outline(
+    candidates: &mut Vec<Candidate>,
+    broken: &mut Vec<Vec<Promise>>,
+    index: usize,
+    promises: &Promises,
+    input: &Input,
+    measure: &Measure,
+    stand_ins: &StandIns,
+) -> (usize, Option<(f64, f64)>) {
+    let unchanged = (index, None);
+    let Some(plain) = (0..candidates.len()).find(|&i| candidates[i].method == Method::Collapse)
+    else {
+        return unchanged;
+    };
+    let Some(chosen_h) = candidates[index].careful.map(|d| d.hausdorff) else {
+        return unchanged;
+    };
+    if plain == index || promises.remesh {
+        return unchanged;
+    }
+    let room = |plain_h: f64| (CLOSER * plain_h).min(SLACK * chosen_h);
+    if let Some(d) = candidates[plain].careful {
+        if room(d.hausdorff) <= chosen_h {
+            return unchanged;
+        }
+    }
+    let (Some(chosen_s), Some(plain_s)) = (
+        measure.silhouette(&candidates[index].mesh),
+        measure.silhouette(&candidates[plain].mesh),
+    ) else {
+        return unchanged;
+    };
+    if chosen_s <= plain_s {
+        return unchanged;
+    }
+    let plain_d = match candidates[plain].careful {
+        Some(d) => d,
+        None => match measure.distance(&candidates[plain].mesh, Care::Careful, f64::INFINITY) {
+            Some(d) => d,
+            None => return unchanged,
+        },
+    };
+    let limit = room(plain_d.hausdorff);
+    if limit <= chosen_h {
+        return unchanged;
+    }
+    let mean_limit = mean_reference(candidates, broken).map(|m| MEAN_SLACK * m);
+    let tries = better_outlines(candidates, broken, index, limit, plain_s, measure);
+    let mut best: Option<(usize, f64, f64)> = None;
+    for i in tries {
+        let Some(k) = restored(candidates, broken, i, promises, input, measure, stand_ins) else {
+            continue;
+        };
+        let Some(s) = measure.silhouette(&candidates[k].mesh) else {
+            continue;
+        };
+        if s >= plain_s || !crosses_no_more(input, &mut candidates[k]) {
+            continue;
+        }
+        let c = &mut candidates[k];
+        let d = match c.careful {
+            Some(d) => Some(d),
+            None => measure.distance(&c.mesh, Care::Careful, limit),
+        };
+        c.careful = c.careful.or(d);
+        let Some(d) = d.filter(|d| d.hausdorff <= limit) else {
+            continue;
+        };
+        if mean_limit.is_some_and(|m| d.mean > m) {
+            continue;
+        }
+        if best.is_none_or(|(_, h, _)| d.hausdorff < h) {
+            best = Some((k, d.hausdorff, s));
+        }
+    }
+    match best {
+        Some((k, _, s)) => (k, Some((s, plain_s))),
+        None => unchanged,
+    }
+}
+
+/// The candidates other than `index` that keep the cheap promises, whose quick shape distance
+/// is within `limit` and whose silhouette differs less than `bar`: at most [`TRIES`], the best
+/// outline first. Cost: a render per candidate within `limit`, side by side.
+fn better_outlines(
+    candidates: &[Candidate],
+    broken: &[Vec<Promise>],
+    index: usize,
+    limit: f64,
+    bar: f64,
+    measure: &Measure,
+) -> Vec<usize> {
+    let pool: Vec<usize> = (0..candidates.len())
+        .filter(|&i| i != index && broken[i].is_empty())
+        .filter(|&i| candidates[i].quick.is_some_and(|d| d.shape <= limit))
+        .collect();
+    let outlines: Vec<Option<f64>> = (pool.par_iter())
+        .map(|&i| measure.silhouette(&candidates[i].mesh))
+        .collect();
+    let mut better: Vec<(usize, f64)> = (pool.into_iter().zip(outlines))
+        .filter_map(|(i, s)| Some((i, s?)))
+        .filter(|&(_, s)| s < bar)
+        .collect();
+    better.sort_by(|a, b| a.1.total_cmp(&b.1));
+    better.into_iter().take(TRIES).map(|(i, _)| i).collect()
+}
+
+/// The index of candidate `i` with the input's parts it lost put back (a twin pushed to
+/// `candidates`), or `i` itself where it lost none that can come back; `None` where the twin
+/// breaks a cheap promise.
+fn restored(
+    candidates: &mut Vec<Candidate>,
+    broken: &mut Vec<Vec<Promise>>,
+    i: usize,
+    promises: &Promises,
+    input: &Input,
+    measure: &Measure,
+    stand_ins: &StandIns,
+) -> Option<usize> {
+    let Some(mut twin) = with_parts_restored(&candidates[i], input, stand_ins, promises.budget)
+    else {
+        return Some(i);
+    };
+    let b = promises.broken_cheap(&twin);
+    if !b.is_empty() {
+        return None;
+    }
+    twin.quick = measure.distance(&twin.mesh, Care::Quick, f64::INFINITY);
+    candidates.push(twin);
+    broken.push(b);
+    Some(candidates.len() - 1)
+}
+
+/// The careful mean distance the mean promise holds a level to (module `select`): the plain
+/// collapse's where it keeps every promise, else the checked collapse's, where measured.
+fn mean_reference(candidates: &[Candidate], broken: &[Vec<Promise>]) -> Option<f64> {
+    let of = |method: Method| {
+        (0..candidates.len())
+            .filter(|&i| candidates[i].method == method && broken[i].is_empty())
+            .find_map(|i| candidates[i].careful.map(|d| d.mean))
+    };
+    of(Method::Collapse).or_else(|| of(Method::CollapseKept))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::measure::Distance;
+    use voxlod_core::glam::Vec3;
+    use voxlod_core::TriangleMesh;
+    use voxlod_testkit::shapes::{append, icosphere_at};
+
+    /// A unit ball of 1 280 triangles scaled by `scale`, with a small ball of 80 far off where
+    /// `far` is set.
+    fn balls(scale: f32, far: bool) -> TriangleMesh {
+        let mut mesh = icosphere_at(3, scale, Vec3::ZERO);
+        if far {
+            append(&mut mesh, &icosphere_at(1, 0.15, Vec3::new(4.0, 0.0, 0.0)));
+        }
+        mesh
+    }
+
+    /// A candidate of `mesh` measured at `hausdorff` (shape and mean preset, as the choice
+    /// found them).
+    fn measured(method: Method, mesh: TriangleMesh, hausdorff: f64) -> Candidate {
+        let mut c = Candidate::new(method, mesh);
+        let d = Distance {
+            hausdorff,
+            shape: hausdorff,
+            mean: 0.01,
+        };
+        (c.quick, c.careful) = (Some(d), Some(d));
+        c
+    }
+
+    /// The outline's choice among the plain collapse (the large ball alone, 3.0 away: it lost
+    /// the small one), the level chosen by distance (`chosen`) and one more candidate.
+    fn outline_of(chosen: Candidate, other: Candidate) -> (usize, Option<(f64, f64)>) {
+        let mut both = icosphere_at(4, 1.0, Vec3::ZERO);
+        append(&mut both, &icosphere_at(2, 0.15, Vec3::new(4.0, 0.0, 0.0)));
+        let input = Input::prepare(&both).unwrap();
+        let measure = Measure::new(&input, 2_000, 10_000).unwrap();
+        let promises = Promises {
+            budget: 1_360,
+            closed: true,
+            max_handles: Some(0),
+            remesh: false,
+        };
+        let mut candidates = vec![
+            measured(Method::Collapse, balls(1.0, false), 3.0),
+            chosen,
+            other,
+        ];
+        let mut broken: Vec<Vec<Promise>> = candidates
+            .iter()
+            .map(|c| promises.broken_cheap(c))
+            .collect();
+        assert!(broken.iter().all(|b| b.is_empty()), "{broken:?}");
+        let stand_ins = StandIns::default();
+        let (index, outline) = by_outline(
+            &mut candidates,
+            &mut broken,
+            1,
+            &promises,
+            &input,
+            &measure,
+            &stand_ins,
+        );
+        assert_eq!(candidates.len(), 3, "no part was lost, none restored");
+        (index, outline)
+    }
+
+    #[test]
+    fn a_level_with_a_worse_outline_than_the_collapse_gives_way_to_one_with_a_better() {
+        // Chosen: the large ball shrunk by 15 %, the small one kept: closest by distance, but
+        // its outline lacks a ring around the large ball.
+        let chosen = measured(Method::Voxel, balls(0.85, true), 0.15);
+        let better = measured(Method::Voxel, balls(1.0, true), 0.2);
+        let (index, outline) = outline_of(chosen, better);
+        assert_eq!(index, 2);
+        let (level, collapse) = outline.unwrap();
+        // The better outline differs by the ball's faceting only; the collapse's also lacks
+        // the small ball.
+        assert!(level < collapse && collapse < 0.1, "{level} {collapse}");
+    }
+
+    #[test]
+    fn the_outline_costs_at_most_half_again_the_distance_and_stays_closer_than_the_collapse() {
+        let chosen = || measured(Method::Voxel, balls(0.85, true), 0.15);
+        let too_far = measured(Method::Voxel, balls(1.0, true), SLACK * 0.15 * 1.01);
+        assert_eq!(outline_of(chosen(), too_far), (1, None));
+        let within = measured(Method::Voxel, balls(1.0, true), SLACK * 0.15 * 0.99);
+        assert_eq!(outline_of(chosen(), within).0, 2);
+        // A chosen level already 0.9 times as far as the collapse leaves no room.
+        let near_collapse = measured(Method::Voxel, balls(0.85, true), CLOSER * 3.0);
+        let better = measured(Method::Voxel, balls(1.0, true), CLOSER * 3.0);
+        assert_eq!(outline_of(near_collapse, better), (1, None));
+    }
+
+    #[test]
+    fn a_level_whose_outline_is_as_good_as_the_collapses_stays() {
+        let chosen = measured(Method::Voxel, balls(1.0, true), 0.15);
+        let other = measured(Method::Voxel, balls(1.0, true), 0.16);
+        assert_eq!(outline_of(chosen, other), (1, None));
+    }
+}
