@@ -201,6 +201,34 @@ impl EdgeFunctions {
     fn at(&self, k: usize, sx: i64, sy: i64) -> i64 {
         self.a[k] * (sx * SUB + SUB / 2) + self.b[k] * (sy * SUB + SUB / 2) + self.c[k]
     }
+
+    /// Calls `f(sx, sy, e)` for every sample of the box (first x, last x, first y, last y)
+    /// inside the triangle, row by row, with its three edge functions `e`, stepped
+    /// incrementally along each row.
+    #[inline]
+    fn for_each_inside(
+        &self,
+        (sx0, sx1, sy0, sy1): (i64, i64, i64, i64),
+        mut f: impl FnMut(i64, i64, [i64; 3]),
+    ) {
+        let bias = self.bias;
+        let step_x = self.a.map(|a| a * SUB);
+        for sy in sy0..=sy1 {
+            let mut e = [
+                self.at(0, sx0, sy),
+                self.at(1, sx0, sy),
+                self.at(2, sx0, sy),
+            ];
+            for sx in sx0..=sx1 {
+                if ((e[0] + bias[0]) | (e[1] + bias[1]) | (e[2] + bias[2])) >= 0 {
+                    f(sx, sy, e);
+                }
+                e[0] += step_x[0];
+                e[1] += step_x[1];
+                e[2] += step_x[2];
+            }
+        }
+    }
 }
 
 /// Draws one triangle into `tile`. `n` is the samples per pixel side; `flat` the shade to use
@@ -245,11 +273,10 @@ pub fn raster_fragments<F>(
     else {
         return;
     };
-    let Some((sx0, sx1, sy0, sy1)) = sample_box(&p, tile) else {
+    let Some(samples) = sample_box(&p, tile) else {
         return;
     };
     let edges = EdgeFunctions::new(&p);
-    let bias = edges.bias;
     let inv = 1.0 / area2 as f32;
     let shade_of = |i: usize| {
         if v[i].shade.is_nan() {
@@ -261,47 +288,35 @@ pub fn raster_fragments<F>(
     let (s0, s1, s2) = (shade_of(0), shade_of(1), shade_of(2));
     let (w0, w1, w2) = (v[0].w, v[1].w, v[2].w);
     let (z0, z1, z2) = (v[0].z, v[1].z, v[2].z);
-    let step_x = edges.a.map(|a| a * SUB);
-    for sy in sy0..=sy1 {
-        let mut e = [
-            edges.at(0, sx0, sy),
-            edges.at(1, sx0, sy),
-            edges.at(2, sx0, sy),
-        ];
-        let row = ((sy - tile.y0) as usize) * tile.size;
-        for sx in sx0..=sx1 {
-            if ((e[0] + bias[0]) | (e[1] + bias[1]) | (e[2] + bias[2])) >= 0 {
-                let l0 = e[0] as f32 * inv;
-                let l1 = e[1] as f32 * inv;
-                let l2 = 1.0 - l0 - l1;
-                let z = l0 * z0 + l1 * z1 + l2 * z2;
-                let i = row + (sx - tile.x0) as usize;
-                if z < tile.depth[i] {
-                    let pw = 1.0 / (l0 * w0 + l1 * w1 + l2 * w2);
-                    let (q0, q1, q2) = (l0 * w0 * pw, l1 * w1 * pw, l2 * w2 * pw);
-                    let shade = q0 * s0 + q1 * s1 + q2 * s2;
-                    // Back to the caller's vertex order.
-                    let weights = if swapped { [q0, q2, q1] } else { [q0, q1, q2] };
-                    if let Some(rgba) = fragment(weights, shade) {
-                        if blend {
-                            let dst = &mut tile.color[i];
-                            for ch in 0..3 {
-                                dst[ch] += (rgba[ch] - dst[ch]) * rgba[3];
-                            }
-                            tile.coverage[i] += (1.0 - tile.coverage[i]) * rgba[3];
-                        } else {
-                            tile.depth[i] = z;
-                            tile.color[i] = [rgba[0], rgba[1], rgba[2]];
-                            tile.coverage[i] = 1.0;
-                        }
-                    }
-                }
-            }
-            e[0] += step_x[0];
-            e[1] += step_x[1];
-            e[2] += step_x[2];
+    edges.for_each_inside(samples, |sx, sy, e| {
+        let l0 = e[0] as f32 * inv;
+        let l1 = e[1] as f32 * inv;
+        let l2 = 1.0 - l0 - l1;
+        let z = l0 * z0 + l1 * z1 + l2 * z2;
+        let i = ((sy - tile.y0) as usize) * tile.size + (sx - tile.x0) as usize;
+        if z >= tile.depth[i] {
+            return;
         }
-    }
+        let pw = 1.0 / (l0 * w0 + l1 * w1 + l2 * w2);
+        let (q0, q1, q2) = (l0 * w0 * pw, l1 * w1 * pw, l2 * w2 * pw);
+        let shade = q0 * s0 + q1 * s1 + q2 * s2;
+        // Back to the caller's vertex order.
+        let weights = if swapped { [q0, q2, q1] } else { [q0, q1, q2] };
+        let Some(rgba) = fragment(weights, shade) else {
+            return;
+        };
+        if blend {
+            let dst = &mut tile.color[i];
+            for ch in 0..3 {
+                dst[ch] += (rgba[ch] - dst[ch]) * rgba[3];
+            }
+            tile.coverage[i] += (1.0 - tile.coverage[i]) * rgba[3];
+        } else {
+            tile.depth[i] = z;
+            tile.color[i] = [rgba[0], rgba[1], rgba[2]];
+            tile.coverage[i] = 1.0;
+        }
+    });
 }
 
 /// Marks in `covered` (`width × height` pixels, row by row, one sample per pixel) the pixels
@@ -316,28 +331,12 @@ pub fn raster_coverage(covered: &mut [bool], width: usize, height: usize, v: [Sc
     let Some(Snapped { p, .. }) = snap_counter_clockwise(v, 1) else {
         return;
     };
-    let Some((sx0, sx1, sy0, sy1)) = sample_box_in(&p, 0, 0, width as i64, height as i64) else {
+    let Some(samples) = sample_box_in(&p, 0, 0, width as i64, height as i64) else {
         return;
     };
-    let edges = EdgeFunctions::new(&p);
-    let bias = edges.bias;
-    let step_x = edges.a.map(|a| a * SUB);
-    for sy in sy0..=sy1 {
-        let mut e = [
-            edges.at(0, sx0, sy),
-            edges.at(1, sx0, sy),
-            edges.at(2, sx0, sy),
-        ];
-        let row = &mut covered[sy as usize * width..(sy as usize + 1) * width];
-        for sx in sx0..=sx1 {
-            if ((e[0] + bias[0]) | (e[1] + bias[1]) | (e[2] + bias[2])) >= 0 {
-                row[sx as usize] = true;
-            }
-            e[0] += step_x[0];
-            e[1] += step_x[1];
-            e[2] += step_x[2];
-        }
-    }
+    EdgeFunctions::new(&p).for_each_inside(samples, |sx, sy, _| {
+        covered[sy as usize * width + sx as usize] = true;
+    });
 }
 
 #[cfg(test)]
