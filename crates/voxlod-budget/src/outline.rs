@@ -14,8 +14,9 @@
 //! differs less than the collapse's, the [`TRIES`] best, with the input's parts they lost put
 //! back (module `restore`), are checked for crossings and measured carefully. The closest of
 //! them whose careful Hausdorff distance is at most [`CLOSER`] times the plain collapse's (so
-//! that the level stays closer than the collapse too) and at most [`SLACK`] times the chosen
-//! level's, and whose mean distance keeps [`crate::promises::MEAN_SLACK`], is the level instead.
+//! that the level stays closer than the collapse too; and than `simplifySloppy`'s, where that
+//! reaches the budget as a manifold) and at most [`SLACK`] times the chosen level's, and whose
+//! mean distance keeps [`crate::promises::MEAN_SLACK`], is the level instead.
 //!
 //! Cost: nothing where the level is the plain collapse or no candidate could be close enough;
 //! else the input's silhouettes once a run (one render per view, O(T + pixels)), two renders
@@ -88,7 +89,7 @@ pub fn by_outline(
             None => return unchanged,
         },
     };
-    let limit = room(plain_d.hausdorff);
+    let limit = room(plain_d.hausdorff).min(CLOSER * sloppy_hausdorff(candidates, broken, measure));
     if limit <= chosen_h {
         return unchanged;
     }
@@ -179,6 +180,19 @@ fn restored(
     Some(candidates.len() - 1)
 }
 
+/// The careful Hausdorff distance of meshoptimizer's `simplifySloppy` where it reaches the
+/// budget as a manifold (then a peer the level must stay closer than), else infinity.
+fn sloppy_hausdorff(candidates: &[Candidate], broken: &[Vec<Promise>], measure: &Measure) -> f64 {
+    let peer = |b: &[Promise]| !b.contains(&Promise::Budget) && !b.contains(&Promise::Manifold);
+    let sloppy =
+        (0..candidates.len()).find(|&i| candidates[i].method == Method::Sloppy && peer(&broken[i]));
+    let distance = sloppy.and_then(|i| match candidates[i].careful {
+        Some(d) => Some(d),
+        None => measure.distance(&candidates[i].mesh, Care::Careful, f64::INFINITY),
+    });
+    distance.map_or(f64::INFINITY, |d| d.hausdorff)
+}
+
 /// The careful mean distance the mean promise holds a level to (module `select`): the plain
 /// collapse's where it keeps every promise, else the checked collapse's, where measured.
 fn mean_reference(candidates: &[Candidate], broken: &[Vec<Promise>]) -> Option<f64> {
@@ -224,6 +238,11 @@ mod tests {
     /// The outline's choice among the plain collapse (the large ball alone, 3.0 away: it lost
     /// the small one), the level chosen by distance (`chosen`) and one more candidate.
     fn outline_of(chosen: Candidate, other: Candidate) -> (usize, Option<(f64, f64)>) {
+        outline_among(vec![chosen, other])
+    }
+
+    /// [`outline_of`] with the chosen level first among `others`.
+    fn outline_among(others: Vec<Candidate>) -> (usize, Option<(f64, f64)>) {
         let mut both = icosphere_at(4, 1.0, Vec3::ZERO);
         append(&mut both, &icosphere_at(2, 0.15, Vec3::new(4.0, 0.0, 0.0)));
         let input = Input::prepare(&both).unwrap();
@@ -234,16 +253,15 @@ mod tests {
             max_handles: Some(0),
             remesh: false,
         };
-        let mut candidates = vec![
-            measured(Method::Collapse, balls(1.0, false), 3.0),
-            chosen,
-            other,
-        ];
+        let count = 1 + others.len();
+        let mut candidates = vec![measured(Method::Collapse, balls(1.0, false), 3.0)];
+        candidates.extend(others);
         let mut broken: Vec<Vec<Promise>> = candidates
             .iter()
             .map(|c| promises.broken_cheap(c))
             .collect();
-        assert!(broken.iter().all(|b| b.is_empty()), "{broken:?}");
+        // The collapse, the chosen level and the next keep every promise.
+        assert!(broken[..3].iter().all(|b| b.is_empty()), "{broken:?}");
         let stand_ins = StandIns::default();
         let (index, outline) = by_outline(
             &mut candidates,
@@ -254,7 +272,7 @@ mod tests {
             &measure,
             &stand_ins,
         );
-        assert_eq!(candidates.len(), 3, "no part was lost, none restored");
+        assert_eq!(candidates.len(), count, "no part was lost, none restored");
         (index, outline)
     }
 
@@ -283,6 +301,22 @@ mod tests {
         let near_collapse = measured(Method::Voxel, balls(0.85, true), CLOSER * 3.0);
         let better = measured(Method::Voxel, balls(1.0, true), CLOSER * 3.0);
         assert_eq!(outline_of(near_collapse, better), (1, None));
+    }
+
+    #[test]
+    fn the_outline_stays_closer_than_a_manifold_sloppy_collapse_within_the_budget() {
+        let chosen = || measured(Method::Voxel, balls(0.85, true), 0.15);
+        let better = || measured(Method::Voxel, balls(1.0, true), 0.2);
+        // Sloppy's level (here a ball of its own) measured at 0.21: the better outline at 0.2
+        // is not 0.9 times closer.
+        let sloppy = measured(Method::Sloppy, balls(0.9, true), 0.21);
+        assert_eq!(outline_among(vec![chosen(), better(), sloppy]), (1, None));
+        // At 0.3 it is; and one that misses the budget is no peer.
+        let sloppy = measured(Method::Sloppy, balls(0.9, true), 0.3);
+        assert_eq!(outline_among(vec![chosen(), better(), sloppy]).0, 2);
+        let mut short = measured(Method::Sloppy, icosphere_at(2, 0.9, Vec3::ZERO), 0.01);
+        short.careful = None;
+        assert_eq!(outline_among(vec![chosen(), better(), short]).0, 2);
     }
 
     #[test]
