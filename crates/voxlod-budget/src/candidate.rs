@@ -33,6 +33,9 @@ pub enum Method {
     /// The input's quadric collapse with its topology kept and no new crossing triangles
     /// (voxlod-quadric's checked collapse), where the plain collapse broke a promise.
     CollapseKept,
+    /// The input's plain collapse with its crossing triangles taken apart by edge flips
+    /// (`voxlod_core::uncross`), where the plain one only crossed itself.
+    CollapseUncrossed,
     /// The input's plain collapse made in two steps, to twice the budget and then on to it
     /// (`collapse::in_two_steps`), where the one-step collapse only crossed itself.
     CollapseInTwoSteps,
@@ -63,6 +66,7 @@ impl Method {
             Method::CollapseAsGiven => "collapse-as-given",
             Method::CollapseKept => "collapse-kept",
             Method::CollapseInTwoSteps => "collapse-in-two-steps",
+            Method::CollapseUncrossed => "collapse-uncrossed",
             Method::Sloppy => "sloppy",
             Method::Voxel => "voxel",
             Method::Shell => "shell",
@@ -203,6 +207,7 @@ impl Candidate {
         if self.fitted {
             label += " fitted";
         }
+
         if self.parts_restored > 0 {
             label += &format!(" +{} parts", self.parts_restored);
         }

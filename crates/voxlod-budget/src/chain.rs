@@ -395,6 +395,13 @@ fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions
         if allowed && !repeats && !made.iter().any(reached) {
             made.extend(collapse::kept(whole(), s.budget, input, options.max_error));
         }
+        // The plain collapse only crossed: made again from the input around its folds locked.
+        // The plain collapse only crossed: its crossings flipped apart.
+        if s.plain_crossed {
+            let plain = s.candidates.iter().find(|c| c.method == Method::Collapse);
+            let uncrossed = plain.and_then(|p| collapse::uncrossed(input, p));
+            s.candidates.extend(uncrossed);
+        }
         // Nothing larger to start from and the plain collapse only crossed: the input's
         // collapse in two steps too, beside the checked one (not a start for the next budgets:
         // its second step is not checked).

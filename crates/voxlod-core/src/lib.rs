@@ -67,6 +67,7 @@ pub mod split;
 #[cfg(test)]
 mod test_shapes;
 pub mod topology;
+pub mod uncross;
 pub mod validate;
 pub mod volume;
 pub mod weld;

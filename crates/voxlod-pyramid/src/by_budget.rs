@@ -172,6 +172,7 @@ fn report(r: &voxlod_budget::BudgetLevel, error: Option<f64>, genus: Option<i64>
         | Method::CollapseAsGiven
         | Method::CollapseKept
         | Method::CollapseInTwoSteps
+        | Method::CollapseUncrossed
         | Method::Sloppy
         | Method::Plate => Stage::InputQuadric,
         Method::Voxel | Method::Shell | Method::Above | Method::Below => Stage::Quadric,
