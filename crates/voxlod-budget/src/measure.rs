@@ -36,9 +36,14 @@ use voxlod_metrics::{MeshDistance, QueryHint, SamplingOptions, SurfaceSampler};
 use voxlod_render::SilhouetteReference;
 
 use crate::input::Input;
-use crate::outline::{SIZE, VIEWS};
 use crate::visible::seen_only;
 use crate::BudgetError;
+
+/// Views of the silhouettes [`Measure::silhouette`] compares (the octant diagonals and the
+/// axes, as `voxlod evaluate` draws them).
+pub const VIEWS: usize = 14;
+/// Pixels a side of each of those views.
+pub const SIZE: u32 = 256;
 
 /// A sampled two-sided distance, in mesh units.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

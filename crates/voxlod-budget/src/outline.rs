@@ -8,15 +8,16 @@
 //! 1 000 triangles keeps a wire 60 mm away at 6 % of the diagonal where the collapse is 20 %
 //! away, and its silhouette differs from the input's by 10 % where the collapse's does by 6 %.
 //!
-//! Where the chosen level's silhouette difference (crate `voxlod-render`'s, [`VIEWS`] views of
-//! [`SIZE`]² pixels, the measure `voxlod evaluate` reports) exceeds the plain collapse's, the
-//! candidates that keep every promise are weighed by their outline: those whose silhouette
-//! differs less than the collapse's, the [`TRIES`] best, with the input's parts they lost put
-//! back (module `restore`), are checked for crossings and measured carefully. The closest of
-//! them whose careful Hausdorff distance is at most [`CLOSER`] times the plain collapse's (so
-//! that the level stays closer than the collapse too; and than `simplifySloppy`'s, where that
-//! reaches the budget as a manifold) and at most [`SLACK`] times the chosen level's, and whose
-//! mean distance keeps [`crate::promises::MEAN_SLACK`], is the level instead.
+//! Where the chosen level's silhouette difference (crate `voxlod-render`'s, `measure::VIEWS`
+//! views of `measure::SIZE`² pixels, the measure `voxlod evaluate` reports) exceeds the plain
+//! collapse's, the candidates that keep every promise are weighed by their outline: those
+//! whose silhouette differs less than the collapse's, the [`TRIES`] best, with the input's
+//! parts they lost put back (module `restore`), are checked for crossings and measured
+//! carefully. The closest of them whose careful Hausdorff distance is at most [`CLOSER`] times
+//! the plain collapse's (so that the level stays closer than the collapse too; and than
+//! `simplifySloppy`'s, where that reaches the budget as a manifold) and at most [`SLACK`]
+//! times the chosen level's, and whose mean distance keeps [`crate::promises::MEAN_SLACK`], is
+//! the level instead.
 //!
 //! Cost: nothing where the level is the plain collapse or no candidate could be close enough;
 //! else the input's silhouettes once a run (one render per view, O(T + pixels)), two renders
@@ -31,10 +32,6 @@ use crate::measure::{Care, Measure};
 use crate::promises::{crosses_no_more, Promise, Promises, MEAN_SLACK};
 use crate::restore::{with_parts_restored, StandIns};
 
-/// Views of the silhouettes (the octant diagonals and the axes, as `voxlod evaluate` draws).
-pub const VIEWS: usize = 14;
-/// Pixels a side of each view.
-pub const SIZE: u32 = 256;
 /// A level chosen for its outline is at most this many times as far as the plain collapse.
 pub const CLOSER: f64 = 0.9;
 /// A level chosen for its outline is at most this many times as far as the level chosen by
