@@ -1,12 +1,13 @@
-//! The budget pipeline of `voxlod lod --triangles` (the facade's [`voxlod::budget`]): the voxel
-//! resolution that filters away what the budget cannot afford, the caps over an open input's
-//! holes cut, then the geometric stage that measures closer to the input (quadric collapse or
-//! simplification envelopes), neighbouring resolutions searched (He et al. 1995, §5: the voxel
-//! method as the first stage before a geometric simplifier). Its parameter is the budget
-//! itself, which the pipeline reaches within 10 % or says why not.
+//! The budget pipeline of `voxlod lod --triangles` (the facade's [`voxlod::lod_by_budget`]): for
+//! a mesh, crate `voxlod-budget`'s portfolio, whose level for the budget is the candidate
+//! measured closest to the input among the input's own collapses (meshoptimizer's, as gltfpack
+//! runs it, and its checked and uncrossed forms) and voxel levels (He et al. 1995, §5: the voxel
+//! method as the first stage before a geometric simplifier) that keeps the levels' promises,
+//! unless its outline is worse than the input's collapse's. Its parameter is the budget itself,
+//! asked alone (a chain of budgets, as `lod` makes it, hands each level down to the next), which
+//! the pipeline reaches within 10 % or says why not.
 //!
-//! Cost: per budget, two to five samplings of the input as a solid and one to three geometric
-//! stages, each measured; about a second for tens of thousands of triangles.
+//! Cost: a chain of one budget, about a second for tens of thousands of triangles.
 
 use voxlod::core::PolyMesh;
 use voxlod::{BudgetOptions, Source};
@@ -24,7 +25,7 @@ impl Simplifier for BudgetPipeline {
     }
 
     fn description(&self) -> &'static str {
-        "voxel resolution for the budget, then quadric collapse or envelopes (He et al. 1995, §5)"
+        "the closest of the input's collapses and voxel levels (He et al. 1995, §5) that keeps the promises"
     }
 
     fn parameter_name(&self) -> &'static str {
