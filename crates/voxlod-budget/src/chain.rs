@@ -395,7 +395,6 @@ fn add_kept(searched: &mut [Searched], input: &Input, options: &PortfolioOptions
         if allowed && !repeats && !made.iter().any(reached) {
             made.extend(collapse::kept(whole(), s.budget, input, options.max_error));
         }
-        // The plain collapse only crossed: made again from the input around its folds locked.
         // The plain collapse only crossed: its crossings flipped apart.
         if s.plain_crossed {
             let plain = s.candidates.iter().find(|c| c.method == Method::Collapse);

@@ -28,8 +28,8 @@ use rayon::prelude::*;
 
 use crate::candidate::{Candidate, Method};
 use crate::input::Input;
-use crate::measure::{Care, Measure};
-use crate::promises::{crosses_no_more, Promise, Promises, MEAN_SLACK};
+use crate::measure::{Care, Distance, Measure};
+use crate::promises::{crosses_no_more, mean_reference, Promise, Promises, MEAN_SLACK};
 use crate::restore::{with_parts_restored, StandIns};
 
 /// A level chosen for its outline is at most this many times as far as the plain collapse.
@@ -79,18 +79,17 @@ pub fn by_outline(
     if chosen_s <= plain_s {
         return unchanged;
     }
-    let plain_d = match candidates[plain].careful {
-        Some(d) => d,
-        None => match measure.distance(&candidates[plain].mesh, Care::Careful, f64::INFINITY) {
-            Some(d) => d,
-            None => return unchanged,
-        },
+    let Some(plain_d) = careful(&candidates[plain], measure, f64::INFINITY) else {
+        return unchanged;
     };
     let limit = room(plain_d.hausdorff).min(CLOSER * sloppy_hausdorff(candidates, broken, measure));
     if limit <= chosen_h {
         return unchanged;
     }
-    let mean_limit = mean_reference(candidates, broken).map(|m| MEAN_SLACK * m);
+    let keeping: Vec<usize> = (0..candidates.len())
+        .filter(|&i| broken[i].is_empty())
+        .collect();
+    let mean_limit = mean_reference(candidates, &keeping).map(|m| MEAN_SLACK * m);
     let tries = better_outlines(candidates, broken, index, limit, plain_s, measure);
     let mut best: Option<(usize, f64, f64)> = None;
     for i in tries {
@@ -103,12 +102,8 @@ pub fn by_outline(
         if s >= plain_s || !crosses_no_more(input, &mut candidates[k]) {
             continue;
         }
-        let c = &mut candidates[k];
-        let d = match c.careful {
-            Some(d) => Some(d),
-            None => measure.distance(&c.mesh, Care::Careful, limit),
-        };
-        c.careful = c.careful.or(d);
+        let d = careful(&candidates[k], measure, limit);
+        candidates[k].careful = d;
         let Some(d) = d.filter(|d| d.hausdorff <= limit) else {
             continue;
         };
@@ -183,22 +178,14 @@ fn sloppy_hausdorff(candidates: &[Candidate], broken: &[Vec<Promise>], measure: 
     let peer = |b: &[Promise]| !b.contains(&Promise::Budget) && !b.contains(&Promise::Manifold);
     let sloppy =
         (0..candidates.len()).find(|&i| candidates[i].method == Method::Sloppy && peer(&broken[i]));
-    let distance = sloppy.and_then(|i| match candidates[i].careful {
-        Some(d) => Some(d),
-        None => measure.distance(&candidates[i].mesh, Care::Careful, f64::INFINITY),
-    });
+    let distance = sloppy.and_then(|i| careful(&candidates[i], measure, f64::INFINITY));
     distance.map_or(f64::INFINITY, |d| d.hausdorff)
 }
 
-/// The careful mean distance the mean promise holds a level to (module `select`): the plain
-/// collapse's where it keeps every promise, else the checked collapse's, where measured.
-fn mean_reference(candidates: &[Candidate], broken: &[Vec<Promise>]) -> Option<f64> {
-    let of = |method: Method| {
-        (0..candidates.len())
-            .filter(|&i| candidates[i].method == method && broken[i].is_empty())
-            .find_map(|i| candidates[i].careful.map(|d| d.mean))
-    };
-    of(Method::Collapse).or_else(|| of(Method::CollapseKept))
+/// `c`'s careful distance: as measured, else measured now (`None` past `limit`).
+fn careful(c: &Candidate, measure: &Measure, limit: f64) -> Option<Distance> {
+    c.careful
+        .or_else(|| measure.distance(&c.mesh, Care::Careful, limit))
 }
 
 #[cfg(test)]

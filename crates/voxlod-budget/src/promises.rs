@@ -14,7 +14,7 @@
 use serde::Serialize;
 use voxlod_core::{crossing_pairs, TriangleMesh};
 
-use crate::candidate::Candidate;
+use crate::candidate::{Candidate, Method};
 use crate::input::{crossing_place, Input};
 use crate::BUDGET_TOLERANCE;
 
@@ -44,6 +44,19 @@ pub enum Promise {
 
 /// See [`Promise::MeanDistance`].
 pub const MEAN_SLACK: f64 = 1.25;
+
+/// The careful mean distance that [`Promise::MeanDistance`] holds the candidates at `among`
+/// to: the input's plain collapse's where it is among them and measured, else its checked
+/// collapse's.
+pub fn mean_reference(candidates: &[Candidate], among: &[usize]) -> Option<f64> {
+    let of = |method: Method| {
+        (among.iter())
+            .filter(|&&i| candidates[i].method == method)
+            .find_map(|&i| candidates[i].careful)
+            .map(|d| d.mean)
+    };
+    of(Method::Collapse).or_else(|| of(Method::CollapseKept))
+}
 
 impl Promise {
     /// The promise's name in reports and warnings.

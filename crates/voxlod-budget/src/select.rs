@@ -40,7 +40,7 @@ use crate::candidate::{Candidate, Method};
 use crate::input::Input;
 use crate::measure::{Care, Distance, Measure};
 use crate::outline::by_outline;
-use crate::promises::{crosses_no_more, Promise, Promises, MEAN_SLACK};
+use crate::promises::{crosses_no_more, mean_reference, Promise, Promises, MEAN_SLACK};
 use crate::report::{CandidateReport, Outline, RuledOut};
 use crate::restore::{stood_in, with_parts_restored, StandIns, LOST};
 use crate::voxel::{sharpened_before_collapse, FEATURE_REACH};
@@ -469,18 +469,6 @@ fn finalists(
         precise[k].unwrap_or(careful_d(&candidates[i]))
     };
     closest_of(&tied, by_precise)
-}
-
-/// The careful mean distance that [`Promise::MeanDistance`] holds the finalists at `chosen` to:
-/// the input's plain collapse's where it is among them, else its checked collapse's.
-fn mean_reference(candidates: &[Candidate], chosen: &[usize]) -> Option<f64> {
-    let of = |method: Method| {
-        (chosen.iter())
-            .find(|&&i| candidates[i].method == method)
-            .and_then(|&i| candidates[i].careful)
-            .map(|d| d.mean)
-    };
-    of(Method::Collapse).or_else(|| of(Method::CollapseKept))
 }
 
 /// Careful Hausdorff distances within this fraction of the closest are a near tie.
