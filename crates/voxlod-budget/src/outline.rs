@@ -30,6 +30,7 @@ use crate::candidate::{Candidate, Method};
 use crate::input::Input;
 use crate::measure::{Care, Distance, Measure};
 use crate::promises::{crosses_no_more, mean_reference, Promise, Promises, MEAN_SLACK};
+use crate::report::Outline;
 use crate::restore::{with_parts_restored, StandIns};
 
 /// A level chosen for its outline is at most this many times as far as the plain collapse.
@@ -52,7 +53,7 @@ pub fn by_outline(
     input: &Input,
     measure: &Measure,
     stand_ins: &StandIns,
-) -> (usize, Option<(f64, f64)>) {
+) -> (usize, Option<Outline>) {
     let unchanged = (index, None);
     let Some(plain) = (0..candidates.len()).find(|&i| candidates[i].method == Method::Collapse)
     else {
@@ -92,11 +93,16 @@ pub fn by_outline(
     let mean_limit = mean_reference(candidates, &keeping).map(|m| MEAN_SLACK * m);
     let tries = better_outlines(candidates, broken, index, limit, plain_s, measure);
     let mut best: Option<(usize, f64, f64)> = None;
-    for i in tries {
+    for (i, outline) in tries {
         let Some(k) = restored(candidates, broken, i, promises, input, measure, stand_ins) else {
             continue;
         };
-        let Some(s) = measure.silhouette(&candidates[k].mesh) else {
+        // A twin with parts put back is drawn again; the candidate itself was drawn already.
+        let silhouette = match k == i {
+            true => Some(outline),
+            false => measure.silhouette(&candidates[k].mesh),
+        };
+        let Some(s) = silhouette else {
             continue;
         };
         if s >= plain_s || !crosses_no_more(input, &mut candidates[k]) {
@@ -115,14 +121,21 @@ pub fn by_outline(
         }
     }
     match best {
-        Some((k, _, s)) => (k, Some((s, plain_s))),
+        Some((k, _, s)) => {
+            let outline = Outline {
+                silhouette_difference: s,
+                collapse_silhouette_difference: plain_s,
+            };
+            (k, Some(outline))
+        }
         None => unchanged,
     }
 }
 
 /// The candidates other than `index` that keep the cheap promises, whose quick shape distance
 /// is within `limit` and whose silhouette differs less than `bar`: at most [`TRIES`], the best
-/// outline first. Cost: a render per candidate within `limit`, side by side.
+/// outline first, each with its silhouette difference. Cost: a render per candidate within
+/// `limit`, side by side.
 fn better_outlines(
     candidates: &[Candidate],
     broken: &[Vec<Promise>],
@@ -130,7 +143,7 @@ fn better_outlines(
     limit: f64,
     bar: f64,
     measure: &Measure,
-) -> Vec<usize> {
+) -> Vec<(usize, f64)> {
     let pool: Vec<usize> = (0..candidates.len())
         .filter(|&i| i != index && broken[i].is_empty())
         .filter(|&i| candidates[i].quick.is_some_and(|d| d.shape <= limit))
@@ -143,7 +156,8 @@ fn better_outlines(
         .filter(|&(_, s)| s < bar)
         .collect();
     better.sort_by(|a, b| a.1.total_cmp(&b.1));
-    better.into_iter().take(TRIES).map(|(i, _)| i).collect()
+    better.truncate(TRIES);
+    better
 }
 
 /// The index of candidate `i` with the input's parts it lost put back (a twin pushed to
@@ -221,12 +235,12 @@ mod tests {
 
     /// The outline's choice among the plain collapse (the large ball alone, 3.0 away: it lost
     /// the small one), the level chosen by distance (`chosen`) and one more candidate.
-    fn outline_of(chosen: Candidate, other: Candidate) -> (usize, Option<(f64, f64)>) {
+    fn outline_of(chosen: Candidate, other: Candidate) -> (usize, Option<Outline>) {
         outline_among(vec![chosen, other])
     }
 
     /// [`outline_of`] with the chosen level first among `others`.
-    fn outline_among(others: Vec<Candidate>) -> (usize, Option<(f64, f64)>) {
+    fn outline_among(others: Vec<Candidate>) -> (usize, Option<Outline>) {
         let mut both = icosphere_at(4, 1.0, Vec3::ZERO);
         append(&mut both, &icosphere_at(2, 0.15, Vec3::new(4.0, 0.0, 0.0)));
         let input = Input::prepare(&both).unwrap();
@@ -268,7 +282,10 @@ mod tests {
         let better = measured(Method::Voxel, balls(1.0, true), 0.2);
         let (index, outline) = outline_of(chosen, better);
         assert_eq!(index, 2);
-        let (level, collapse) = outline.unwrap();
+        let Outline {
+            silhouette_difference: level,
+            collapse_silhouette_difference: collapse,
+        } = outline.unwrap();
         // The better outline differs by the ball's faceting only; the collapse's also lacks
         // the small ball.
         assert!(level < collapse && collapse < 0.1, "{level} {collapse}");

@@ -161,10 +161,7 @@ pub fn choose(
         candidates: reports,
         ruled_out,
         warning,
-        outline: outline.map(|(level, collapse)| Outline {
-            silhouette_difference: level,
-            collapse_silhouette_difference: collapse,
-        }),
+        outline,
         runner_up,
     })
 }

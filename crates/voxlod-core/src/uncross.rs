@@ -127,10 +127,8 @@ fn sound_flip(
         .length_squared()
         .max((p(c) - p(d)).length_squared());
     let degenerate = |n: DVec3| n.length() <= 1e-12 * scale;
-    if degenerate(n0) || degenerate(n1) || n0.dot(n1) <= 0.0 || n0.dot(old) <= 0.0 {
-        return None;
-    }
-    if n1.dot(old) <= 0.0 {
+    let folds = n0.dot(n1) <= 0.0 || n0.dot(old) <= 0.0 || n1.dot(old) <= 0.0;
+    if degenerate(n0) || degenerate(n1) || folds {
         return None;
     }
     Some(new.map(|tri| (tri.map(p), tri)))
