@@ -25,10 +25,13 @@
 //! definite (the vertex term puts weight on every diagonal entry); they are solved by conjugate
 //! gradients with a Jacobi preconditioner ([`normal_equations`]). A step that would turn any
 //! triangle's normal by 60° or more (a fold, or a triangle squeezed to nothing) is halved, twice
-//! at most; then the fitting stops at the positions before it. Where two sheets of the level
-//! that lie close were moved through each other, the corners of the crossing triangles go
-//! back to where they were (module `untangle`). The caller judges the result
-//! (the budget pipeline keeps it only when its measured distances to the input are lower).
+//! at most; where even the quarter step turns some, the corners of those triangles stay where
+//! they were and the other vertices take the full step, so that a sliver folding in one place
+//! does not stop the whole level's fitting; the fitting stops where that would hold every
+//! vertex. Where two sheets of the level that lie close were moved through each other, the
+//! corners of the crossing triangles go back to where they were (module `untangle`). The
+//! caller judges the result (the budget pipeline keeps it only when its measured distances to
+//! the input are lower).
 //!
 //! Cost per iteration: one BVH of the level, `S` closest-point queries on it and `V` on the
 //! input, O((S + F) log) for F triangles and V vertices, and the solve, O(F) per CG step.

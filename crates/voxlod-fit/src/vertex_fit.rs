@@ -147,8 +147,9 @@ fn solve_round(
 }
 
 /// `wanted`, or the step towards it halved once or twice, if no triangle's normal then turns
-/// by 60° or more from `first` (its normal before the fitting); `None` when even the quarter
-/// step folds one.
+/// by 60° or more from `first` (its normal before the fitting); where even the quarter step
+/// turns some, the full step with the corners of those triangles held where they were
+/// ([`held_step`]); `None` when that holds every vertex.
 fn checked_step(
     from: &[DVec3],
     wanted: &[DVec3],
@@ -160,16 +161,58 @@ fn checked_step(
         let step: Vec<DVec3> = (from.iter().zip(wanted))
             .map(|(&a, &b)| a + (b - a) * fraction)
             .collect();
-        let turned = normals(&step, triangles)
-            .iter()
-            .zip(first)
-            .any(|(n, m)| n.dot(*m) <= 0.5 * n.length() * m.length() || !n.is_finite());
-        if !turned {
+        let any_turned = (normals(&step, triangles).iter().zip(first)).any(|(&n, &m)| turned(n, m));
+        if !any_turned {
             return Some(step);
         }
         fraction *= 0.5;
     }
-    None
+    held_step(from, wanted, triangles, first)
+}
+
+/// Whether a triangle whose normal was `m` before the fitting has turned by 60° or more (or
+/// lost its area) with normal `n`.
+fn turned(n: DVec3, m: DVec3) -> bool {
+    n.dot(m) <= 0.5 * n.length() * m.length() || !n.is_finite()
+}
+
+/// The full step to `wanted` with the corners of every triangle it turns held at `from`, again
+/// until no triangle with a corner that moves turns (holding a corner can turn a neighbour);
+/// `None` where no vertex moves. A triangle whose corners are all held keeps the normal of
+/// `from`, which the previous step accepted. A fold of a few triangles (a sliver the quarter
+/// step squeezes through) then stops only its own corners, not the whole level's fitting.
+/// Cost: O(F) per pass, a few passes.
+fn held_step(
+    from: &[DVec3],
+    wanted: &[DVec3],
+    triangles: &[[u32; 3]],
+    first: &[DVec3],
+) -> Option<Vec<DVec3>> {
+    let mut held = vec![false; from.len()];
+    let mut step = wanted.to_vec();
+    loop {
+        let mut more = false;
+        for (&[a, b, c], &m) in triangles.iter().zip(first) {
+            let corners = [a, b, c].map(|i| i as usize);
+            if corners.iter().all(|&v| held[v]) {
+                continue;
+            }
+            let [p, q, r] = corners.map(|v| step[v]);
+            if turned((q - p).cross(r - p), m) {
+                for v in corners {
+                    if !held[v] {
+                        held[v] = true;
+                        step[v] = from[v];
+                        more = true;
+                    }
+                }
+            }
+        }
+        if !more {
+            break;
+        }
+    }
+    step.iter().zip(from).any(|(s, f)| s != f).then_some(step)
 }
 
 /// The (area-weighted) normal of each triangle.
@@ -235,5 +278,37 @@ mod tests {
         assert!((half[2].y - 0.25).abs() < 1e-12, "{:?}", half[2]);
         let through = vec![DVec3::ZERO, DVec3::X, DVec3::new(0.0, -10.0, 0.0)];
         assert!(checked_step(&from, &through, &triangles, &first).is_none());
+    }
+
+    #[test]
+    fn a_fold_even_the_quarter_step_makes_holds_only_its_own_corners() {
+        // Two triangles apart: the first's third corner pushed far through its first edge
+        // (folded at every fraction), the second moved up by one, which folds nothing.
+        let from = vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::Y,
+            DVec3::new(5.0, 0.0, 0.0),
+            DVec3::new(6.0, 0.0, 0.0),
+            DVec3::new(5.0, 1.0, 0.0),
+        ];
+        let triangles = [[0, 1, 2], [3, 4, 5]];
+        let first = normals(&from, &triangles);
+        let mut wanted = from.clone();
+        wanted[2] = DVec3::new(0.0, -10.0, 0.0);
+        for v in &mut wanted[3..] {
+            *v += DVec3::Z;
+        }
+        let step = checked_step(&from, &wanted, &triangles, &first).expect("a held step");
+        assert_eq!(
+            &step[..3],
+            &from[..3],
+            "the folding triangle's corners stay"
+        );
+        assert_eq!(
+            &step[3..],
+            &wanted[3..],
+            "the other triangle takes the full step"
+        );
     }
 }
