@@ -49,7 +49,7 @@ pub struct PortfolioOptions {
 
 impl Default for PortfolioOptions {
     /// No budget yet (see [`PortfolioOptions::for_triangles`]), the hyper-cone, monotone, open
-    /// where the input is open, no error limit, the quick fit, 2 000 quick and 10 000 careful
+    /// where the input is open, no error limit, the quick fit, 1 000 quick and 10 000 careful
     /// samples a side.
     fn default() -> Self {
         PortfolioOptions {
@@ -62,7 +62,7 @@ impl Default for PortfolioOptions {
             remesh: false,
             close_gaps: None,
             drop_hidden: false,
-            quick_samples: 2_000,
+            quick_samples: 1_000,
             careful_samples: 10_000,
         }
     }

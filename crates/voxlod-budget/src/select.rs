@@ -3,8 +3,9 @@
 //! 1. Every candidate is checked against the promises that cost nothing to check (count,
 //!    manifold, orientation, closedness, handles; [`crate::promises`]).
 //! 2. Those that keep them are measured quickly ([`Care::Quick`]), each rejected early once it
-//!    is three times farther than the closest so far (by shape distance, module `measure`); the best voxel candidate is fitted to
-//!    the input ([`voxlod_fit`], beyond the paper) and competes beside its unfitted self.
+//!    is three times farther than the closest so far (by shape distance, module `measure`);
+//!    the closest voxel candidates of up to two grids are fitted to the input ([`voxlod_fit`],
+//!    beyond the paper; [`fitted_best`]) and compete beside their unfitted selves.
 //!    The closest few that lost input parts get twins with the parts put back beside them
 //!    (module `restore`), which compete too.
 //! 3. The closest few ([`FINALISTS`]) have their crossing triangles counted and are measured
@@ -29,7 +30,7 @@
 //!    (`sharpened_level`).
 //!
 //! Cost: per candidate, one quick measurement (often cut short); per finalist, a crossing count
-//! and a careful measurement; one fit; up to two silhouettes (module `outline`); for a proxy,
+//! and a careful measurement; up to two fits; up to two silhouettes (module `outline`); for a proxy,
 //! one snap.
 
 use rayon::prelude::*;
@@ -257,10 +258,19 @@ fn measure_quickly(candidates: &mut [Candidate], broken: &[Vec<Promise>], measur
     }
 }
 
-/// The closest voxel candidate keeping the cheap promises, fitted to the input, where the fit
-/// measures closer; and that fit with its vertices beside the input's sharp features moved
-/// onto them (`voxlod_fit::snap_to_features`, within [`FEATURE_REACH`] voxels), where that
-/// moved any and measures closer still.
+/// Voxel candidates of this many grids at most are fitted to the input ([`fitted_best`]).
+pub const FITTED_GRIDS: usize = 2;
+
+/// A second grid's closest voxel candidate is fitted only where it is at most this many times
+/// farther (quick shape distance) than the closest one ([`fitted_best`]).
+pub const FIT_RIVAL: f64 = 1.25;
+
+/// The closest voxel candidate keeping the cheap promises, and the closest of another grid
+/// within [`FIT_RIVAL`] of it ([`FITTED_GRIDS`] in all), each fitted to the input where the fit
+/// measures closer (`fitted_one`). Why two: the fit moves levels unequally, and the closest
+/// before it is not always the closest after (the generated linked rings at 300: grid 30's level
+/// was the closer, grid 15's fitted the closer by a tenth). Cost: up to two fits, each with
+/// its quick measurements.
 fn fitted_best(
     candidates: &[Candidate],
     broken: &[Vec<Promise>],
@@ -271,13 +281,49 @@ fn fitted_best(
     let Some(options) = fit else {
         return Vec::new();
     };
-    let best = (candidates.iter().zip(broken))
+    (fit_sources(candidates, broken).into_iter())
+        .flat_map(|(source, h)| fitted_one(source, h, input, measure, options))
+        .collect()
+}
+
+/// The voxel candidates [`fitted_best`] fits, with their quick shape distances: of those that
+/// keep the cheap promises, the closest, then the closest of each other grid while within
+/// [`FIT_RIVAL`] of it, [`FITTED_GRIDS`] at most.
+fn fit_sources<'c>(
+    candidates: &'c [Candidate],
+    broken: &[Vec<Promise>],
+) -> Vec<(&'c Candidate, f64)> {
+    let mut ranked: Vec<(&Candidate, f64)> = (candidates.iter().zip(broken))
         .filter(|(c, b)| b.is_empty() && c.method == Method::Voxel)
         .filter_map(|(c, _)| Some((c, c.quick?.shape)))
-        .min_by(|a, b| a.1.total_cmp(&b.1));
-    let Some((source, h)) = best else {
-        return Vec::new();
-    };
+        .collect();
+    ranked.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let mut sources: Vec<(&Candidate, f64)> = Vec::new();
+    for (c, h) in ranked {
+        let beyond = sources
+            .first()
+            .is_some_and(|&(_, best)| h > FIT_RIVAL * best);
+        if sources.len() >= FITTED_GRIDS || beyond {
+            break;
+        }
+        if sources.iter().all(|(s, _)| s.resolution != c.resolution) {
+            sources.push((c, h));
+        }
+    }
+    sources
+}
+
+/// `source` (measured `h` quickly) fitted to the input, where the fit measures closer; and that
+/// fit with its vertices beside the input's sharp features moved onto them
+/// (`voxlod_fit::snap_to_features`, within [`FEATURE_REACH`] voxels), where that moved any and
+/// measures closer still.
+fn fitted_one(
+    source: &Candidate,
+    h: f64,
+    input: &Input,
+    measure: &Measure,
+    options: &FitOptions,
+) -> Vec<Candidate> {
     let closest = measure.input_closest();
     let Some(mesh) = measure.fitted(&source.mesh, options) else {
         return Vec::new();
@@ -597,6 +643,30 @@ mod tests {
             mean: shape / 4.0,
         });
         c
+    }
+
+    #[test]
+    fn fit_sources_are_the_closest_voxel_level_and_the_closest_of_another_grid_near_it() {
+        let voxel = |resolution, shape| measured(Method::Voxel, Some(resolution), shape);
+        let sources = |candidates: &[Candidate]| -> Vec<(Option<usize>, f64)> {
+            let broken = vec![Vec::new(); candidates.len()];
+            (fit_sources(candidates, &broken).iter())
+                .map(|(c, h)| (c.resolution, *h))
+                .collect()
+        };
+        // Grid 20's second level is passed over for grid 14's; the collapse is not a voxel
+        // level, and grid 10 comes third.
+        let near = [
+            voxel(10, 0.20),
+            voxel(20, 0.11),
+            measured(Method::Collapse, None, 0.05),
+            voxel(14, 0.12),
+            voxel(20, 0.10),
+        ];
+        assert_eq!(sources(&near), [(Some(20), 0.10), (Some(14), 0.12)]);
+        // Grid 14's level beyond 1.25 times the closest: the closest alone.
+        let far = [voxel(20, 0.10), voxel(14, 0.13)];
+        assert_eq!(sources(&far), [(Some(20), 0.10)]);
     }
 
     #[test]

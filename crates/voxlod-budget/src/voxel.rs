@@ -13,8 +13,9 @@
 //! **The resolution** comes from the input's area ([`resolution_for_triangles`]); where every
 //! isodensity's level has too few triangles for the budget (a surface with much detail below
 //! the filter), the grid is refined once by the square root of the shortfall (counts grow as
-//! the resolution squared). The grids themselves are made once for the whole chain (module
-//! `grids`).
+//! the resolution squared). Small grids are tried beside a finer and a coarser neighbour, and
+//! at small budgets beside one twice as fine ([`far_finer_too`]). The grids themselves are
+//! made once for the whole chain (module `grids`).
 //!
 //! **Sharp edges for proxies** (beyond the paper): a proxy's level has its vertices beside the
 //! input's sharp edges moved onto them before the collapse ([`sharpened`]), so that a scene's
@@ -104,22 +105,48 @@ pub fn planned_grids(
     let first = first_resolution(input, options, budget);
     let mut resolutions = vec![first];
     if first <= small(options.remesh) {
-        resolutions.extend(neighbours(first));
+        resolutions.extend(neighbours(first, far_finer_too(input, options, budget)));
     }
     (0..solids)
         .flat_map(|s| resolutions.iter().map(move |&r| (s, r)))
         .collect()
 }
 
-/// The finer ([`FINER`]) and coarser ([`COARSER`]) resolutions beside `resolution`, within
-/// [`COARSEST`]..[`FINEST`], other than it.
-fn neighbours(resolution: usize) -> impl Iterator<Item = usize> {
+/// The finer ([`FINER`]) and coarser ([`COARSER`]) resolutions beside `resolution`, and with
+/// `far` the [`FAR_FINER`] one, within [`COARSEST`]..[`FINEST`], other than it.
+fn neighbours(resolution: usize, far: bool) -> impl Iterator<Item = usize> {
     let at = resolution as f64;
     let finer = ((at * FINER) as usize).min(FINEST);
     let coarser = ((at * COARSER) as usize).max(COARSEST);
+    let far = far.then(|| ((at * FAR_FINER) as usize).min(FINEST));
     [finer, coarser]
         .into_iter()
+        .chain(far)
         .filter(move |&r| r != resolution)
+}
+
+/// Budgets up to this many triangles get a third neighbour, [`FAR_FINER`] times finer than
+/// their first grid ([`far_finer_too`]).
+pub const FAR_BUDGET: usize = 500;
+
+/// See [`FAR_BUDGET`]: about four times the triangles, sixteen times the budget's.
+pub const FAR_FINER: f64 = 2.0;
+
+/// Whether `budget`'s small grid gets its [`FAR_FINER`] neighbour: at most [`FAR_BUDGET`]
+/// triangles, where that grid's level (about `FAR_FINER² × HEADROOM` times the budget) would
+/// have no more triangles than the input; not for a proxy.
+///
+/// Why (beyond the paper, whose level of a budget is one resolution): at small budgets the
+/// filter at [`HEADROOM`] removes features the budget could afford (a sphereflake's small
+/// spheres, a robot part's bosses), and the quadric stage of a finer level keeps the ones that
+/// matter most: of the 68 voxel levels chosen among 377 (the shared meshes, the corpus, 25 of
+/// `odedstein/meshes`, 30 robot arm parts; BENCHMARKS.md), 38 are the far grid's. Where its
+/// level would outnumber the input's triangles, it is the input resampled, whose collapse the
+/// portfolio has already. Cost: one more sampling and up to three checked collapses of levels
+/// of about 16 times the budget.
+fn far_finer_too(input: &Input, options: &PortfolioOptions, budget: usize) -> bool {
+    let far_level = FAR_FINER * FAR_FINER * HEADROOM * budget as f64;
+    !options.remesh && budget <= FAR_BUDGET && far_level <= input.mesh.triangle_count() as f64
 }
 
 /// The voxel candidates of `budget` from solid `solid` of `grids` (the input as a solid),
@@ -182,9 +209,10 @@ pub fn voxel_candidates(
     }
     // Coarse grids are cheap, and which resolution's level collapses closest is hard to
     // foretell (a finer one keeps more shape, a coarser one has fewer handles to stall on):
-    // the neighbours on both sides too.
+    // the neighbours on both sides too, and at small budgets a far finer one.
     if found.resolution <= small(options.remesh) && !found.vanished && coarsened == 0 {
-        let beside: Vec<usize> = neighbours(found.resolution).collect();
+        let far = far_finer_too(input, options, budget);
+        let beside: Vec<usize> = neighbours(found.resolution, far).collect();
         let more = (beside.into_par_iter())
             .map(|r| {
                 let mut more = VoxelFound::default();
@@ -459,6 +487,25 @@ mod tests {
     use super::*;
     use voxlod_core::glam::Vec3;
     use voxlod_testkit::shapes::{icosphere, icosphere_at};
+
+    #[test]
+    fn small_grids_have_a_finer_and_a_coarser_neighbour_and_at_small_budgets_a_far_one() {
+        let beside = |r, far| neighbours(r, far).collect::<Vec<_>>();
+        assert_eq!(beside(10, false), [14, 7]);
+        assert_eq!(beside(10, true), [14, 7, 20]);
+        // At the coarsest grid the coarser neighbour is the grid itself, left out.
+        assert_eq!(beside(COARSEST, true), [5, 8]);
+        // An icosphere of 1 280 triangles: 16 times 80 is its count, 16 times 81 more.
+        let input = Input::prepare(&icosphere(3)).unwrap();
+        let options = PortfolioOptions::default();
+        assert!(far_finer_too(&input, &options, 80));
+        assert!(!far_finer_too(&input, &options, 81));
+        let proxy = PortfolioOptions::remesh(&[80]);
+        assert!(!far_finer_too(&input, &proxy, 80));
+        let large = Input::prepare(&icosphere(6)).unwrap();
+        assert!(far_finer_too(&large, &options, FAR_BUDGET));
+        assert!(!far_finer_too(&large, &options, FAR_BUDGET + 1));
+    }
 
     #[test]
     fn a_level_twice_as_far_as_the_kept_collapse_is_not_collapsed() {
