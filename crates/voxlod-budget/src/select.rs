@@ -30,8 +30,8 @@
 //!    (`sharpened_level`).
 //!
 //! Cost: per candidate, one quick measurement (often cut short); per finalist, a crossing count
-//! and a careful measurement; up to two fits; up to two silhouettes (module `outline`); for a proxy,
-//! one snap.
+//! and a careful measurement; up to two fits; up to two silhouettes (module `outline`); for a
+//! proxy, one snap.
 
 use rayon::prelude::*;
 use voxlod_core::TriangleMesh;

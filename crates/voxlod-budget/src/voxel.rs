@@ -308,8 +308,8 @@ pub const LARGE_LEVEL: usize = 60_000;
 /// level.
 pub const LARGE_OVER_AIM: f64 = 1.5;
 
-/// `levels` (one per isodensity of [`crate::grids::ISOS`]), or where the largest is above [`LARGE_LEVEL`],
-/// only the one measured closest to the input, the others left empty.
+/// `levels` (one per isodensity of [`crate::grids::ISOS`]), or where the largest is above
+/// [`LARGE_LEVEL`], only the one measured closest to the input, the others left empty.
 fn closest_if_large(
     levels: &[voxlod_core::TriangleMesh],
     measure: &Measure,
