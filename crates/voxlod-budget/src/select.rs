@@ -267,7 +267,7 @@ pub const FIT_RIVAL: f64 = 1.25;
 
 /// The closest voxel candidate keeping the cheap promises, and the closest of another grid
 /// within [`FIT_RIVAL`] of it ([`FITTED_GRIDS`] in all), each fitted to the input where the fit
-/// measures closer (`fitted_one`). Why two: the fit moves levels unequally, and the closest
+/// measures closer or nearly so (`fitted_one`). Why two: the fit moves levels unequally, and the closest
 /// before it is not always the closest after (the generated linked rings at 300: grid 30's level
 /// was the closer, grid 15's fitted the closer by a tenth). Cost: up to two fits, each with
 /// its quick measurements.
@@ -313,10 +313,17 @@ fn fit_sources<'c>(
     sources
 }
 
-/// `source` (measured `h` quickly) fitted to the input, where the fit measures closer; and that
-/// fit with its vertices beside the input's sharp features moved onto them
-/// (`voxlod_fit::snap_to_features`, within [`FEATURE_REACH`] voxels), where that moved any and
-/// measures closer still.
+/// A fitted level competes where its quick shape distance is at most this many times its
+/// source's (`fitted_one`): the quick set's samples find a level's farthest point only to
+/// within a few per cent, and the careful measurement of the finalists decides (the
+/// sphereflake's fitted level of grid 20 at 300: 0.6 % farther quickly, 0.6 % closer
+/// carefully).
+pub const FIT_SLACK: f64 = 1.05;
+
+/// `source` (measured `h` quickly) fitted to the input, where the fit measures closer or at
+/// most [`FIT_SLACK`] times farther; and that fit with its vertices beside the input's sharp
+/// features moved onto them (`voxlod_fit::snap_to_features`, within [`FEATURE_REACH`] voxels),
+/// where that moved any and measures closer still.
 fn fitted_one(
     source: &Candidate,
     h: f64,
@@ -330,7 +337,7 @@ fn fitted_one(
     };
     let like_source = |mesh| fitted_like(source, mesh);
     let mut fitted = like_source(mesh);
-    fitted.quick = measure.distance(&fitted.mesh, Care::Quick, h);
+    fitted.quick = measure.distance(&fitted.mesh, Care::Quick, FIT_SLACK * h);
     let Some(fit_h) = fitted.quick.map(|d| d.shape) else {
         return Vec::new();
     };
