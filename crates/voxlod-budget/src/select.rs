@@ -267,10 +267,10 @@ pub const FIT_RIVAL: f64 = 1.25;
 
 /// The closest voxel candidate keeping the cheap promises, and the closest of another grid
 /// within [`FIT_RIVAL`] of it ([`FITTED_GRIDS`] in all), each fitted to the input where the fit
-/// measures closer or nearly so (`fitted_one`). Why two: the fit moves levels unequally, and the closest
-/// before it is not always the closest after (the generated linked rings at 300: grid 30's level
-/// was the closer, grid 15's fitted the closer by a tenth). Cost: up to two fits, each with
-/// its quick measurements.
+/// measures closer or nearly so (`fitted_one`). Why two: the fit moves levels unequally, and
+/// the closest before it is not always the closest after (the generated linked rings at 300:
+/// grid 30's level was the closer, grid 15's fitted the closer by a tenth). Cost: up to two
+/// fits, each with its quick measurements.
 fn fitted_best(
     candidates: &[Candidate],
     broken: &[Vec<Promise>],
