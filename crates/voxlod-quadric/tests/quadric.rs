@@ -125,12 +125,21 @@ fn the_topology_check_rejects_what_changes_genus() {
     );
     mesh.triangles
         .extend(other.triangles.iter().map(|t| t.map(|v| v + offset)));
-    let out = simplify_to_budget(&mesh, 8, &QuadricOptions::default()).unwrap();
+    let options = QuadricOptions::default();
+    let out = simplify_to_budget(&mesh, 8, &options).unwrap();
     let after = mesh_topology(&out.mesh);
     assert_eq!(after.components, 2);
     assert_eq!(after.genus, Some(2));
     assert!(after.is_closed_manifold());
     assert_ne!(out.stop, Stop::Budget);
+    // The first pass broke the topology: the run without locks counts that pass, makes one of
+    // its own, halfway, and stops at its rejection (crate docs).
+    assert!(out.rejected > 0);
+    assert!(
+        out.attempts <= options.max_attempts + 2,
+        "{} attempts",
+        out.attempts
+    );
 }
 
 #[test]
