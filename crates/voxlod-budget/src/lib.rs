@@ -114,7 +114,7 @@ pub use input::Preparation;
 pub use looks::{asset_levels, AssetBudgeted, AssetLevel, Looks};
 pub use measure::Distance;
 pub use options::{PortfolioOptions, BUDGET_TOLERANCE};
-pub use promises::{Promise, MEAN_SLACK};
+pub use promises::{within_budget, Promise, MEAN_SLACK};
 pub use report::{BudgetLevel, CandidateReport, InputReport, Outline, RuledOut};
 pub use voxlod_fit::FitOptions;
 

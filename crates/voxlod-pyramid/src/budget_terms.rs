@@ -9,8 +9,9 @@ use serde::Serialize;
 
 use crate::error::{InvalidOption, PyramidError};
 
-/// A budget's level may miss it by this fraction.
-pub const BUDGET_TOLERANCE: f64 = 0.10;
+/// A budget's level may miss it by this fraction, counted in triangles as the portfolio counts
+/// it ([`voxlod_budget::within_budget`]).
+pub use voxlod_budget::BUDGET_TOLERANCE;
 
 /// An error target: a distance in the input's units, or a fraction of its box's diagonal.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

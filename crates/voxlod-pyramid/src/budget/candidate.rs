@@ -68,9 +68,7 @@ pub(super) fn fits_capped(candidate: &Candidate, budget: usize, genus_cap: Optio
 /// level that stalled above its share leaves for the parts restored beside it (module
 /// `detached`).
 pub(super) fn most_fitting(budget: usize) -> usize {
-    let within = |n: usize| {
-        count_fits(n, budget) && (n as f64 / budget as f64 - 1.0).abs() <= BUDGET_TOLERANCE
-    };
+    let within = |n: usize| count_fits(n, budget) && voxlod_budget::within_budget(n, budget);
     let mut most = (budget as f64 * (1.0 + BUDGET_TOLERANCE)).ceil() as usize;
     while most > budget && !within(most) {
         most -= 1;
@@ -168,7 +166,7 @@ mod tests {
     fn the_most_fitting_count_fits_and_one_more_does_not() {
         for budget in (1..3000).chain([10_000, 20_000, 65_536, 1_000_003]) {
             let most = most_fitting(budget);
-            let report_fits = |n: usize| (n as f64 / budget as f64 - 1.0).abs() <= 0.10;
+            let report_fits = |n: usize| voxlod_budget::within_budget(n, budget);
             assert!(
                 count_fits(most, budget) && report_fits(most),
                 "{budget}: {most}"
@@ -179,7 +177,9 @@ mod tests {
             );
             assert!(most >= budget);
         }
-        // 1 100 / 1 000 - 1 rounds to just above 0.1 in floating point.
-        assert_eq!(most_fitting(1000), 1099);
+        // 10 % of 1 000 is 100 triangles, counted in triangles (the ratio 1 100 / 1 000 - 1
+        // rounds to just above 0.1 in floating point).
+        assert_eq!(most_fitting(1000), 1100);
+        assert_eq!(most_fitting(40), 44);
     }
 }

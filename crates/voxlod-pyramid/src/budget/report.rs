@@ -6,7 +6,7 @@ use voxlod_core::{mesh_topology, Topology};
 
 use super::candidate::Candidate;
 use super::context::BudgetContext;
-use super::{BudgetLevel, Stage, BUDGET_TOLERANCE, FINEST};
+use super::{BudgetLevel, Stage, FINEST};
 use crate::lod::LodLevel;
 
 /// What a budget asks: its triangles, and the distance target where there is one.
@@ -137,7 +137,7 @@ pub(super) fn report(
 /// Why a level misses its budget by more than 10 %, if it does.
 fn miss_note(topology: &Topology, budget: usize) -> Option<String> {
     let got = topology.triangles;
-    if (got as f64 / budget as f64 - 1.0).abs() <= BUDGET_TOLERANCE {
+    if voxlod_budget::within_budget(got, budget) {
         return None;
     }
     Some(if got > budget {
@@ -154,4 +154,25 @@ fn miss_note(topology: &Topology, budget: usize) -> Option<String> {
              gives more"
         )
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::miss_note;
+    use voxlod_core::mesh_topology;
+
+    /// A level is noted as missing its budget beyond 10 % of it counted in triangles: 44 and
+    /// 36 for a budget of 40 are within, 45 and 35 are not.
+    #[test]
+    fn miss_note_counts_ten_per_cent_in_triangles() {
+        let mut topology = mesh_topology(&voxlod_testkit::shapes::icosphere(1));
+        let mut note = |got| {
+            topology.triangles = got;
+            miss_note(&topology, 40)
+        };
+        assert_eq!(note(44), None);
+        assert_eq!(note(36), None);
+        assert!(note(45).is_some_and(|n| n.contains("over the budget")));
+        assert!(note(35).is_some_and(|n| n.contains("under the budget")));
+    }
 }
