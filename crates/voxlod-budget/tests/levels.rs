@@ -542,3 +542,25 @@ fn a_remeshed_level_that_crosses_itself_says_so() {
         "the room's level no longer crosses itself: pick a case that does"
     );
 }
+
+#[test]
+fn a_collapse_that_only_crossed_close_by_is_fixed_without_a_voxel_search() {
+    // The scan with holes at an eighth of its triangles: its plain collapse crosses itself
+    // but measures within half a voxel of the input, and its checked collapse keeps every
+    // promise, so no voxel level is made for it (`chain::add_all_voxels`).
+    let scan = corpus::scan_holes();
+    let budget = scan.triangle_count() / 8;
+    let run = levels(&scan, &PortfolioOptions::for_triangles(&[budget])).unwrap();
+    let report = &run.levels[0].report;
+    let named = |name: &str| report.candidates.iter().find(|c| c.candidate == name);
+    let plain = named("collapse").expect("the plain collapse");
+    assert_eq!(plain.broken, [Promise::NoCrossings], "{plain:?}");
+    let kept = named("collapse-kept").expect("the checked collapse");
+    assert!(kept.broken.is_empty(), "{kept:?}");
+    let voxel = |c: &&voxlod_budget::CandidateReport| c.candidate.starts_with("voxel");
+    assert!(
+        !report.candidates.iter().any(|c| voxel(&c)),
+        "{:?}",
+        report.candidates
+    );
+}
