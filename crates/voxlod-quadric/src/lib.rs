@@ -35,16 +35,16 @@
 //! for the budget and stopped above it ends the run with locks: what held that pass back (its
 //! locks, meshoptimizer's own refusals) holds the next one too, and a rejection only adds
 //! locks (on the 93 inputs of the budget bench, no such run reached the budget after one; 8 %
-//! of the runs' passes came after it). When the run with locks still stops above the budget,
-//! a run without them (the request halved after a rejection) is tried as well, and the smaller
-//! result kept. Its first pass would be the locked run's first over again (no lock is set
-//! before a rejection), so it starts where that pass left off; where that pass was rejected,
-//! it stops at its own first rejection: what it adds then is the collapse in two steps, halfway
-//! and then to the budget (of the 23 such runs that reached the budget on those inputs, 20 did
-//! so in those two passes, and the halvings beyond them were 57 % of the runs' passes). So the
-//! simplification ratchets down through accepted meshes only, until the budget is reached, the
-//! distance limit stops the collapses, or the attempts ([`QuadricOptions::max_attempts`]) run
-//! out.
+//! of the locked runs' passes came after it). When the run with locks still stops above the
+//! budget, a run without them (the request halved after a rejection) is tried as well, and the
+//! smaller result kept. Its first pass would be the locked run's first over again (no lock is
+//! set before a rejection), so it starts where that pass left off; where that pass was
+//! rejected, it stops at its own first rejection: what it adds then is the collapse in two
+//! steps, halfway and then to the budget (of the 23 such runs that reached the budget on those
+//! inputs, 20 did so in those two passes, and the halvings beyond them were 57 % of the runs'
+//! passes). So the simplification ratchets down through accepted meshes only, until the budget
+//! is reached, the distance limit stops the collapses, or the attempts
+//! ([`QuadricOptions::max_attempts`]) run out.
 //!
 //! **The distance limit** is meshoptimizer's own error estimate (`ErrorAbsolute`: in mesh
 //! units), the square root of the quadric error of the collapses. It bounds how far a vertex
