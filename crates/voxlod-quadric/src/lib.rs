@@ -267,24 +267,16 @@ fn ratchet(
             break;
         }
         let topology = mesh_topology(&candidate);
-        let kept = match options.holes_may_close {
-            true => keeps_topology_or_closes_holes(reference, &topology),
-            false => keeps_topology(reference, &topology),
-        };
-        let verdict = match kept {
-            false => Verdict::Topology,
-            true => match folds.check(&result.mesh, &candidate) {
-                Ok(()) => Verdict::Accepted,
-                Err(crossing) => Verdict::Crossing(crossing),
-            },
-        };
+        let verdict = judged(
+            &result.mesh,
+            &candidate,
+            &topology,
+            reference,
+            options,
+            &mut folds,
+        );
         if locking && result.attempts == 1 {
-            seen = Some(match verdict {
-                Verdict::Accepted => {
-                    FirstPass::Accepted(candidate.clone(), topology.clone(), error)
-                }
-                _ => FirstPass::Rejected(matches!(verdict, Verdict::Crossing(_))),
-            });
+            seen = Some(FirstPass::of(&verdict, &candidate, &topology, error));
         }
         if let Verdict::Accepted = verdict {
             result.mesh = candidate;
@@ -322,6 +314,29 @@ fn ratchet(
     (finished(result, folded, budget), seen)
 }
 
+/// What the ratchet makes of the pass from `before` to `after` (whose topology is `topology`),
+/// against the input's `reference` topology and the crossings `folds` has counted.
+fn judged(
+    before: &TriangleMesh,
+    after: &TriangleMesh,
+    topology: &Topology,
+    reference: &Topology,
+    options: &QuadricOptions,
+    folds: &mut folds::Folds,
+) -> Verdict {
+    let kept = match options.holes_may_close {
+        true => keeps_topology_or_closes_holes(reference, topology),
+        false => keeps_topology(reference, topology),
+    };
+    match kept {
+        false => Verdict::Topology,
+        true => match folds.check(before, after) {
+            Ok(()) => Verdict::Accepted,
+            Err(crossing) => Verdict::Crossing(crossing),
+        },
+    }
+}
+
 /// A ratchet's `result` with its reason to stop settled (`folded`: the last rejection was a
 /// fold) and its unused vertices dropped.
 fn finished(mut result: Simplified, folded: bool, budget: usize) -> Simplified {
@@ -348,6 +363,17 @@ fn halved(ask: usize, have: usize) -> Option<usize> {
 enum FirstPass {
     Accepted(TriangleMesh, Topology, f64),
     Rejected(bool),
+}
+
+impl FirstPass {
+    /// The first pass that made `mesh` (of `topology`, meshoptimizer's estimate `error`),
+    /// judged `verdict`.
+    fn of(verdict: &Verdict, mesh: &TriangleMesh, topology: &Topology, error: f64) -> FirstPass {
+        match verdict {
+            Verdict::Accepted => FirstPass::Accepted(mesh.clone(), topology.clone(), error),
+            _ => FirstPass::Rejected(matches!(verdict, Verdict::Crossing(_))),
+        }
+    }
 }
 
 /// What the ratchet makes of a meshoptimizer pass.
