@@ -300,9 +300,6 @@ fn search(
         }
         if plain_crossed {
             crossed_close = is_close_enough(input, measure, &mut plain, budget);
-            // Only a candidate that keeps every promise bounds the voxel levels worth
-            // collapsing (`voxel::within_reach`).
-            plain.quick = None;
         }
         plain_broke = !keeps;
         candidates.push(plain);
@@ -499,9 +496,11 @@ fn add_voxels(
 ) -> Result<(), BudgetError> {
     let start = Instant::now();
     let budget = searched.budget;
-    // The input's collapse, measured by `search` where it keeps every promise, bounds the
-    // levels worth collapsing (`voxel::within_reach`).
+    // The input's collapse, measured by `search`, bounds the levels worth collapsing
+    // (`voxel::within_reach`) where it keeps every promise: not where it crossed itself.
+    let crossed = |c: &Candidate| searched.plain_crossed && c.method == Method::Collapse;
     let closest = (searched.candidates.iter())
+        .filter(|c| !crossed(c))
         .filter_map(|c| c.quick.map(|d| d.shape))
         .fold(f64::INFINITY, f64::min);
     // The solids' searches side by side (each is a chain of grids, one after another).
