@@ -50,7 +50,9 @@ pub fn refined_below(
     let fitted = fit.and_then(|options| measure.fitted(&split, options));
     let r = &smaller.report;
     let was_fitted = fitted.is_some() || r.fitted_to_input;
-    let mut below = Candidate::new(Method::Below, fitted.unwrap_or(split));
+    let crossings = fitted.as_ref().and_then(|f| f.crossings);
+    let mut below = Candidate::new(Method::Below, fitted.map_or(split, |f| f.mesh));
+    below.crossings = crossings;
     (below.resolution, below.iso, below.fill) = (r.resolution, r.iso, r.fill);
     below.fitted = was_fitted;
     if !promises.broken_cheap(&below).is_empty() {

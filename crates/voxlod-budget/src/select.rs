@@ -24,14 +24,17 @@
 //!    ruled them out and what it cost (the level's distance over theirs).
 //! 5. Where no candidate keeps every promise, the one whose most severe broken promise is the
 //!    least severe ([`Promise::severity`]) is kept, the nearest among equals, with a warning.
-//! 6. A proxy's level whose voxel level kept its rounded edges through the collapse (open
+//! 6. A level of the input's own lineage (its collapse, not a voxel level's) is fitted to the
+//!    input and the fit kept where it keeps every promise and measures no farther, by careful
+//!    Hausdorff and mean distance (`fitted_level`, beyond the paper).
+//! 7. A proxy's level whose voxel level kept its rounded edges through the collapse (open
 //!    parts sampled as shells, or a large budget: `voxel::sharpened_before_collapse`) is given
 //!    them back where that lowers its mean distance by more than it raises its shape distance
 //!    (`sharpened_level`).
 //!
 //! Cost: per candidate, one quick measurement (often cut short); per finalist, a crossing count
-//! and a careful measurement; up to two fits; up to two silhouettes (module `outline`); for a
-//! proxy, one snap.
+//! and a careful measurement; up to three fits; up to two silhouettes (module `outline`); for
+//! a proxy, one snap.
 
 use rayon::prelude::*;
 use voxlod_core::TriangleMesh;
@@ -153,6 +156,10 @@ pub fn choose(
     });
     let runner = runner.flatten();
     let (level, runner_up) = take_two(candidates, index, runner);
+    let level = match (fit, of_a_voxel_level(&level)) {
+        (Some(options), false) => fitted_level(level, promises, input, measure, options),
+        _ => level,
+    };
     let level = match promises.remesh && !sharpened_before_collapse(promises.budget, level.fill) {
         true => sharpened_level(level, promises, input, measure),
         false => level,
@@ -332,11 +339,12 @@ fn fitted_one(
     options: &FitOptions,
 ) -> Vec<Candidate> {
     let closest = measure.input_closest();
-    let Some(mesh) = measure.fitted(&source.mesh, options) else {
+    let Some(done) = measure.fitted(&source.mesh, options) else {
         return Vec::new();
     };
     let like_source = |mesh| fitted_like(source, mesh);
-    let mut fitted = like_source(mesh);
+    let mut fitted = like_source(done.mesh);
+    fitted.crossings = done.crossings;
     fitted.quick = measure.distance(&fitted.mesh, Care::Quick, FIT_SLACK * h);
     let Some(fit_h) = fitted.quick.map(|d| d.shape) else {
         return Vec::new();
@@ -351,6 +359,40 @@ fn fitted_one(
         out.extend(snapped.quick.is_some().then_some(snapped));
     }
     out
+}
+
+/// Step 6: `level`, a collapse of the input measured carefully, fitted to the input
+/// ([`Measure::fitted`]) where the fit keeps every promise and measures no farther carefully,
+/// by Hausdorff and by mean distance; `level` otherwise. The collapse places its vertices by
+/// the quadric error of the input's planes, not by distance; the fit moves them towards the
+/// surface they stand for (the sphereflake's collapse to 1 000 triangles: mean distance 0.64 %
+/// of the diagonal fitted to 0.58 %, silhouette difference 14.7 % to 13.2 %). Cost: one fit,
+/// a crossing count and a careful measurement.
+fn fitted_level(
+    level: Candidate,
+    promises: &Promises,
+    input: &Input,
+    measure: &Measure,
+    options: &FitOptions,
+) -> Candidate {
+    let (Some(before), false) = (level.careful, level.fitted) else {
+        return level;
+    };
+    let Some(done) = measure.fitted(&level.mesh, options) else {
+        return level;
+    };
+    let mut fitted = fitted_like(&level, done.mesh);
+    fitted.crossings = done.crossings;
+    if !promises.broken_cheap(&fitted).is_empty() || !crosses_no_more(input, &mut fitted) {
+        return level;
+    }
+    match measure.distance(&fitted.mesh, Care::Careful, before.hausdorff) {
+        Some(d) if d.hausdorff <= before.hausdorff && d.mean <= before.mean => {
+            fitted.careful = Some(d);
+            fitted
+        }
+        _ => level,
+    }
 }
 
 /// `mesh`, moved from `source`'s vertices towards the input, as a candidate of `source`'s
@@ -738,6 +780,33 @@ mod tests {
         let (level, runner) = take_two(candidates, 0, Some(3));
         assert_eq!(level.method, Method::CollapseKept);
         assert_eq!(runner.map(|r| quick_h(&r)), Some(0.5));
+    }
+
+    #[test]
+    fn a_collapse_level_is_fitted_where_that_measures_no_farther() {
+        // A fine sphere collapsed to 200 triangles: the quadric error puts the vertices on
+        // the input's planes, not at the least distance from its surface.
+        let sphere = icosphere(4);
+        let input = Input::prepare(&sphere).unwrap();
+        let measure = Measure::new(&input, 1_000, 10_000).unwrap();
+        let promises = Promises {
+            budget: 200,
+            closed: true,
+            max_handles: Some(0),
+            remesh: false,
+        };
+        let collapsed = voxlod_quadric::simplify_unchecked(&sphere, 200, false).unwrap();
+        let mut level = Candidate::new(Method::Collapse, collapsed.0);
+        let before = careful(&mut level, &measure).unwrap();
+        let fitted = fitted_level(level, &promises, &input, &measure, &FitOptions::quick());
+        assert!(fitted.fitted, "the fit was not kept");
+        assert_eq!(fitted.method, Method::Collapse);
+        let after = fitted.careful.unwrap();
+        assert!(after.hausdorff <= before.hausdorff, "{before:?} {after:?}");
+        assert!(after.mean < 0.9 * before.mean, "{before:?} {after:?}");
+        // Fitted already: left as it is.
+        let again = fitted_level(fitted, &promises, &input, &measure, &FitOptions::quick());
+        assert_eq!(again.careful, Some(after));
     }
 
     /// The unit cube's surface as a filter leaves it at resolution 10: its faces split 4³

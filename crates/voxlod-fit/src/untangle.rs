@@ -6,7 +6,7 @@
 //! crease); this does.
 //!
 //! Cost: one crossing test ([`voxlod_core::crossing_pairs`], a BVH of the triangles) per round,
-//! at most [`ROUNDS`] rounds.
+//! at most [`ROUNDS`] rounds, and one of the level where the fit's first test finds pairs.
 
 use voxlod_core::crossing_pairs;
 use voxlod_core::TriangleMesh;
@@ -14,18 +14,39 @@ use voxlod_core::TriangleMesh;
 /// Rounds of putting corners back before giving up.
 const ROUNDS: usize = 6;
 
+/// What [`untangled`] made of a fitted level.
+pub(crate) struct Untangled {
+    /// The fitted level with the corners of its new crossings put back.
+    pub mesh: TriangleMesh,
+    /// Vertices put back.
+    pub restored: usize,
+    /// Pairs of `mesh`'s triangles that cross (all of which crossed in the level too), where
+    /// the last round counted them; `None` where it gave up after [`ROUNDS`] rounds.
+    pub crossings: Option<usize>,
+}
+
 /// `fitted` with the corners of its crossing triangles moved back to their positions in
 /// `level` (the same triangles), until no pair crosses that did not cross in `level`, or
-/// [`ROUNDS`] rounds. Returns the mesh and the vertices moved back.
-pub(crate) fn untangled(level: &TriangleMesh, mut fitted: TriangleMesh) -> (TriangleMesh, usize) {
-    let mut before = crossing_pairs(level);
-    before.sort_unstable();
+/// [`ROUNDS`] rounds. The level's own pairs are looked for only where the fitted level has
+/// some.
+pub(crate) fn untangled(level: &TriangleMesh, mut fitted: TriangleMesh) -> Untangled {
+    let mut before: Option<Vec<(u32, u32)>> = None;
     let mut restored = vec![false; fitted.positions.len()];
+    let mut crossings = None;
     for _ in 0..ROUNDS {
-        let new: Vec<(u32, u32)> = (crossing_pairs(&fitted).into_iter())
-            .filter(|pair| before.binary_search(pair).is_err())
-            .collect();
+        let pairs = crossing_pairs(&fitted);
+        let count = pairs.len();
+        let new: Vec<(u32, u32)> = match pairs.is_empty() {
+            true => pairs,
+            false => {
+                let before = before.get_or_insert_with(|| crossing_pairs(level));
+                (pairs.into_iter())
+                    .filter(|pair| before.binary_search(pair).is_err())
+                    .collect()
+            }
+        };
         if new.is_empty() {
+            crossings = Some(count);
             break;
         }
         for (a, b) in new {
@@ -40,7 +61,11 @@ pub(crate) fn untangled(level: &TriangleMesh, mut fitted: TriangleMesh) -> (Tria
     if restored.iter().any(|&r| r) && !fitted.normals.is_empty() {
         fitted.compute_vertex_normals();
     }
-    (fitted, restored.iter().filter(|&&r| r).count())
+    Untangled {
+        mesh: fitted,
+        restored: restored.iter().filter(|&&r| r).count(),
+        crossings,
+    }
 }
 
 #[cfg(test)]
@@ -68,9 +93,19 @@ mod tests {
         fitted.positions[2] = Vec3::new(0.0, 2.0, 0.5);
         fitted.positions[3] = Vec3::new(0.01, 0.0, 0.1);
         assert_eq!(crossing_pairs(&fitted), vec![(0, 1)]);
-        let (done, restored) = untangled(&level, fitted);
-        assert!(crossing_pairs(&done).is_empty());
-        assert_eq!(restored, 6);
-        assert_eq!(done.positions, level.positions);
+        let done = untangled(&level, fitted);
+        assert!(crossing_pairs(&done.mesh).is_empty());
+        assert_eq!(done.restored, 6);
+        assert_eq!(done.crossings, Some(0));
+        assert_eq!(done.mesh.positions, level.positions);
+
+        // A crossing the level had already stays, counted, and nothing is put back.
+        let kept = untangled(&done.mesh, done.mesh.clone());
+        assert_eq!((kept.crossings, kept.restored), (Some(0), 0));
+        let mut crossing = level.clone();
+        crossing.positions[2] = Vec3::new(0.0, 2.0, 0.5);
+        crossing.positions[3] = Vec3::new(0.01, 0.0, 0.1);
+        let kept = untangled(&crossing, crossing.clone());
+        assert_eq!((kept.crossings, kept.restored), (Some(1), 0));
     }
 }

@@ -61,6 +61,10 @@ pub struct Fitted {
     /// Vertices put back where they were because the fit made their triangles cross others
     /// (module `untangle`).
     pub restored: usize,
+    /// Pairs of the fitted level's triangles that cross ([`voxlod_core::crossing_pairs`]; each
+    /// crossed in the level too), where the fit counted them last; `None` where untangling
+    /// gave up first.
+    pub crossings: Option<usize>,
 }
 
 /// `level` fitted to the surface of `input` (crate docs), with the input's samples and
@@ -102,11 +106,12 @@ pub fn fit_with(
         }
         done += 1;
     }
-    let (mesh, restored) = untangled(level, with_positions(level, &positions));
+    let untangled = untangled(level, with_positions(level, &positions));
     Ok(Fitted {
-        mesh,
+        mesh: untangled.mesh,
         iterations: done,
-        restored,
+        restored: untangled.restored,
+        crossings: untangled.crossings,
     })
 }
 
