@@ -62,7 +62,8 @@ pub struct BudgetOptions {
 impl Default for BudgetOptions {
     /// No budget yet ([`BudgetOptions::for_triangles`], [`BudgetOptions::for_error`]), the
     /// automatic geometric stage, the hyper-cone of one voxel, normals, the genus never rising,
-    /// open where the input is open, the fit on, one CPU second per search.
+    /// open where the input is open, the quick fit on (`FitOptions::quick`, the options the
+    /// portfolio's benchmark and targets are measured with), one CPU second per search.
     fn default() -> Self {
         BudgetOptions {
             triangles: Vec::new(),
@@ -75,7 +76,7 @@ impl Default for BudgetOptions {
             normals: true,
             monotone: true,
             closed: false,
-            fit: Some(FitOptions::default()),
+            fit: Some(FitOptions::quick()),
             time_cap: 1.0,
             frame: None,
         }

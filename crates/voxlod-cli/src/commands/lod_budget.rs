@@ -135,7 +135,7 @@ pub(super) fn options(args: &LodArgs) -> BudgetOptions {
         normals: true,
         monotone: !args.no_monotone,
         closed: args.closed,
-        fit: (!args.no_fit).then(voxlod::FitOptions::default),
+        fit: (!args.no_fit).then(voxlod::FitOptions::quick),
         time_cap: args.time_cap,
         frame: args.frame.target(),
     }
