@@ -47,8 +47,9 @@
 //! chain), no crossing triangles, and its budget's triangles within 10 %. The choice
 //! ([`select`]) keeps the candidate with the smallest measured two-sided Hausdorff distance
 //! among those that keep them; its mean distance must also stay within 1.25 times the input's
-//! collapse's. A level that is a collapse of the input is then fitted to the input (crate
-//! `voxlod-fit`), where the fit keeps every promise and measures no farther. Where a promise ruled out a closer candidate, the report says which and what it
+//! collapse's. Once the chain is chosen, a level that is a collapse of the input, with at most
+//! a tenth of its triangles, is fitted to the input (crate `voxlod-fit`), where the fit keeps
+//! every promise and measures no farther. Where a promise ruled out a closer candidate, the report says which and what it
 //! cost ([`RuledOut`]). A budget always gets a level: where no candidate keeps every promise,
 //! the one giving up the least is kept, with a warning.
 //!

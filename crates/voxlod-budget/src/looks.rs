@@ -97,7 +97,13 @@ pub fn asset_levels(
     let start = std::time::Instant::now();
     asset.validate().map_err(looks_error)?;
     let geometry = asset.mesh.geometry();
-    let run = levels(&geometry, options)?;
+    // A collapse is made again with the attributes, from the input's own vertices: a fit of
+    // the collapse made without them would be thrown away.
+    let geometric = PortfolioOptions {
+        fit_collapses: false,
+        ..options.clone()
+    };
+    let run = levels(&geometry, &geometric)?;
     let mut warnings = run.warnings;
     // From the largest budget down, so that a level collapsed from the level above can be
     // collapsed from that level's looks.

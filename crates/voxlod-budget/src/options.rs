@@ -29,6 +29,11 @@ pub struct PortfolioOptions {
     /// Voxel candidates' vertices fitted to the input (crate `voxlod-fit`), kept only where
     /// that measures closer; `None` leaves them as the quadric stage made them.
     pub fit: Option<FitOptions>,
+    /// With `fit`, the levels that are collapses of the input fitted to it too, once the chain
+    /// is chosen, where that measures no farther. Off where a level's vertices must stay the
+    /// input's: an asset's levels never fit them (module `looks`, which makes an asset's
+    /// collapse again with its attributes).
+    pub fit_collapses: bool,
     /// Every level a new surface around the input (a proxy, to be baked): only voxel, shell
     /// and level-above candidates compete, never the input's own collapse nor its parts stood
     /// in for, so that parts merge, gaps close and what the filter removes stays removed.
@@ -49,8 +54,8 @@ pub struct PortfolioOptions {
 
 impl Default for PortfolioOptions {
     /// No budget yet (see [`PortfolioOptions::for_triangles`]), the hyper-cone, monotone, open
-    /// where the input is open, no error limit, the quick fit, 1 000 quick and 10 000 careful
-    /// samples a side.
+    /// where the input is open, no error limit, the quick fit (of collapses too), 1 000 quick
+    /// and 10 000 careful samples a side.
     fn default() -> Self {
         PortfolioOptions {
             triangles: Vec::new(),
@@ -59,6 +64,7 @@ impl Default for PortfolioOptions {
             closed: false,
             max_error: None,
             fit: Some(FitOptions::quick()),
+            fit_collapses: true,
             remesh: false,
             close_gaps: None,
             drop_hidden: false,

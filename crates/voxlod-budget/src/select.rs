@@ -24,17 +24,17 @@
 //!    ruled them out and what it cost (the level's distance over theirs).
 //! 5. Where no candidate keeps every promise, the one whose most severe broken promise is the
 //!    least severe ([`Promise::severity`]) is kept, the nearest among equals, with a warning.
-//! 6. A level of the input's own lineage (its collapse, not a voxel level's) is fitted to the
-//!    input and the fit kept where it keeps every promise and measures no farther, by careful
-//!    Hausdorff and mean distance (`fitted_level`, beyond the paper).
-//! 7. A proxy's level whose voxel level kept its rounded edges through the collapse (open
+//! 6. A proxy's level whose voxel level kept its rounded edges through the collapse (open
 //!    parts sampled as shells, or a large budget: `voxel::sharpened_before_collapse`) is given
 //!    them back where that lowers its mean distance by more than it raises its shape distance
 //!    (`sharpened_level`).
 //!
 //! Cost: per candidate, one quick measurement (often cut short); per finalist, a crossing count
-//! and a careful measurement; up to three fits; up to two silhouettes (module `outline`); for
-//! a proxy, one snap.
+//! and a careful measurement; up to two fits; up to two silhouettes (module `outline`); for a
+//! proxy, one snap.
+//!
+//! Once the chain is chosen, a level that is a collapse of the input is fitted to the input
+//! where that measures no farther (`fitted_level`, from module `chain`).
 
 use rayon::prelude::*;
 use voxlod_core::TriangleMesh;
@@ -156,10 +156,6 @@ pub fn choose(
     });
     let runner = runner.flatten();
     let (level, runner_up) = take_two(candidates, index, runner);
-    let level = match (fit, of_a_voxel_level(&level)) {
-        (Some(options), false) => fitted_level(level, promises, input, measure, options),
-        _ => level,
-    };
     let level = match promises.remesh && !sharpened_before_collapse(promises.budget, level.fill) {
         true => sharpened_level(level, promises, input, measure),
         false => level,
@@ -361,14 +357,14 @@ fn fitted_one(
     out
 }
 
-/// Step 6: `level`, a collapse of the input measured carefully, fitted to the input
+/// `level`, a collapse of the input measured carefully, fitted to the input
 /// ([`Measure::fitted`]) where the fit keeps every promise and measures no farther carefully,
-/// by Hausdorff and by mean distance; `level` otherwise. The collapse places its vertices by
+/// by Hausdorff and by mean distance; `level` otherwise (beyond the paper). The collapse places its vertices by
 /// the quadric error of the input's planes, not by distance; the fit moves them towards the
 /// surface they stand for (the sphereflake's collapse to 1 000 triangles: mean distance 0.64 %
 /// of the diagonal fitted to 0.58 %, silhouette difference 14.7 % to 13.2 %). Cost: one fit,
 /// a crossing count and a careful measurement.
-fn fitted_level(
+pub(crate) fn fitted_level(
     level: Candidate,
     promises: &Promises,
     input: &Input,

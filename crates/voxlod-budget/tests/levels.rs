@@ -564,3 +564,32 @@ fn a_collapse_that_only_crossed_close_by_is_fixed_without_a_voxel_search() {
         report.candidates
     );
 }
+
+#[test]
+fn collapse_levels_are_fitted_to_the_input_where_that_measures_closer() {
+    // Interpenetrating parts: their levels at 1 000 and 300 are collapses of the input.
+    let part = corpus::interpenetrating();
+    let budgets = [1000, 300];
+    let fitted = levels(&part, &PortfolioOptions::for_triangles(&budgets)).unwrap();
+    let plain_options = PortfolioOptions {
+        fit_collapses: false,
+        ..PortfolioOptions::for_triangles(&budgets)
+    };
+    let plain = levels(&part, &plain_options).unwrap();
+    let mut any = false;
+    for (f, p) in fitted.levels.iter().zip(&plain.levels) {
+        let (f, p) = (&f.report, &p.report);
+        if p.resolution.is_none() && !p.fitted_to_input {
+            // The same level, fitted where that measured no farther.
+            assert_eq!((f.method, f.triangles), (p.method, p.triangles));
+            assert!(f.hausdorff <= p.hausdorff && f.mean_distance <= p.mean_distance);
+            any |= f.fitted_to_input && f.mean_distance < p.mean_distance;
+        }
+    }
+    assert!(any, "no collapse level was fitted");
+    // A level with more than a tenth of the input's triangles is left as collapsed.
+    let eighth = [part.triangle_count() / 8];
+    let large = levels(&part, &PortfolioOptions::for_triangles(&eighth)).unwrap();
+    let r = &large.levels[0].report;
+    assert_eq!((r.method, r.fitted_to_input), (Method::Collapse, false));
+}

@@ -5,10 +5,11 @@
 //! through each other where they lie close (two spheres of the sphereflake that meet at a
 //! crease); this does.
 //!
-//! Cost: one crossing test ([`voxlod_core::crossing_pairs`], a BVH of the triangles) per round,
-//! at most [`ROUNDS`] rounds, and one of the level where the fit's first test finds pairs.
+//! Cost: one crossing test ([`voxlod_core::crossing_pairs`], a grid of the triangles) per
+//! round, at most [`ROUNDS`] rounds; each pair found is then tested in the level alone.
 
 use voxlod_core::crossing_pairs;
+use voxlod_core::crossings::triangles_cross;
 use voxlod_core::TriangleMesh;
 
 /// Rounds of putting corners back before giving up.
@@ -27,24 +28,16 @@ pub(crate) struct Untangled {
 
 /// `fitted` with the corners of its crossing triangles moved back to their positions in
 /// `level` (the same triangles), until no pair crosses that did not cross in `level`, or
-/// [`ROUNDS`] rounds. The level's own pairs are looked for only where the fitted level has
-/// some.
+/// [`ROUNDS`] rounds.
 pub(crate) fn untangled(level: &TriangleMesh, mut fitted: TriangleMesh) -> Untangled {
-    let mut before: Option<Vec<(u32, u32)>> = None;
     let mut restored = vec![false; fitted.positions.len()];
     let mut crossings = None;
     for _ in 0..ROUNDS {
         let pairs = crossing_pairs(&fitted);
         let count = pairs.len();
-        let new: Vec<(u32, u32)> = match pairs.is_empty() {
-            true => pairs,
-            false => {
-                let before = before.get_or_insert_with(|| crossing_pairs(level));
-                (pairs.into_iter())
-                    .filter(|pair| before.binary_search(pair).is_err())
-                    .collect()
-            }
-        };
+        let new: Vec<(u32, u32)> = (pairs.into_iter())
+            .filter(|&pair| !crossed_in(level, pair))
+            .collect();
         if new.is_empty() {
             crossings = Some(count);
             break;
@@ -66,6 +59,13 @@ pub(crate) fn untangled(level: &TriangleMesh, mut fitted: TriangleMesh) -> Untan
         restored: restored.iter().filter(|&&r| r).count(),
         crossings,
     }
+}
+
+/// Whether triangles `a` and `b` of `level` cross (the test [`crossing_pairs`] makes).
+fn crossed_in(level: &TriangleMesh, (a, b): (u32, u32)) -> bool {
+    let (a, b) = (a as usize, b as usize);
+    let (ia, ib) = (level.triangles[a], level.triangles[b]);
+    triangles_cross(level.corners(a), ia, level.corners(b), ib, 0.0)
 }
 
 #[cfg(test)]
