@@ -765,7 +765,6 @@ fn fit_collapses(
                 shape: r.shape_distance,
                 mean: r.mean_distance,
             });
-            c.crossings = Some(r.self_intersections);
             let fitted = crate::select::fitted_level(c, &promises, input, measure, fit);
             if let (true, Some(d)) = (fitted.fitted, fitted.careful) {
                 let r = &mut level.report;
