@@ -546,9 +546,8 @@ fn choose_down(
     let count = searched.len();
     for (k, mut s) in searched.into_iter().enumerate() {
         let start = Instant::now();
-        let mut promises = first_promises(input, options, s.budget);
+        let promises = chained_promises(input, options, s.budget, levels.last());
         if let (true, Some(above)) = (options.monotone, levels.last()) {
-            promises.max_handles = above.report.genus.or(promises.max_handles);
             let r = &above.report;
             let lineage = (r.resolution, r.iso, r.fitted_to_input, r.fill);
             let collapse = |mesh, lineage| {
@@ -612,10 +611,8 @@ fn refine_from_below(
         {
             continue;
         }
-        let mut promises = first_promises(input, options, larger.budget);
-        if k > 0 {
-            promises.max_handles = levels[k - 1].report.genus.or(promises.max_handles);
-        }
+        let above = k.checked_sub(1).map(|a| &levels[a]);
+        let promises = chained_promises(input, options, larger.budget, above);
         // Closer by Hausdorff distance, the mean within what the choice allows (module
         // `select`): the larger level's, or the input's collapse's times `MEAN_SLACK` (the
         // plain one's, else the checked one's, as reported among the larger level's
@@ -704,6 +701,21 @@ fn first_promises(input: &Input, options: &PortfolioOptions, budget: usize) -> P
     }
 }
 
+/// The promises of `budget` in the chain below the level `above`: the budget's first, with no
+/// more handles than `above` where the chain is monotone (the genus never rises).
+fn chained_promises(
+    input: &Input,
+    options: &PortfolioOptions,
+    budget: usize,
+    above: Option<&Level>,
+) -> Promises {
+    let mut promises = first_promises(input, options, budget);
+    if let (true, Some(above)) = (options.monotone, above) {
+        promises.max_handles = above.report.genus.or(promises.max_handles);
+    }
+    promises
+}
+
 /// The voxel the budget affords: the longest side over the resolution whose marching-cubes
 /// level would have [`HEADROOM`] times its triangles.
 fn voxel_at(input: &Input, budget: usize) -> f64 {
@@ -741,11 +753,8 @@ fn fit_collapses(
     }
     let promises: Vec<Promises> = (0..levels.len())
         .map(|k| {
-            let mut p = first_promises(input, options, levels[k].report.budget);
-            if options.monotone && k > 0 {
-                p.max_handles = levels[k - 1].report.genus.or(p.max_handles);
-            }
-            p
+            let above = k.checked_sub(1).map(|a| &levels[a]);
+            chained_promises(input, options, levels[k].report.budget, above)
         })
         .collect();
     levels

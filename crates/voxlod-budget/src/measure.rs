@@ -99,11 +99,12 @@ struct Points {
 }
 
 /// A fit's samples per vertex of the level fitted ([`Measure::fit_samples`]). On the budget
-/// bench's 93 inputs, with collapse levels fitted too (module `select`), fits on the whole
-/// careful set (10 000 points) cost 9 % more CPU than no such fits; on 8 per vertex and at
-/// least the quick fit's 5 000, 2–5 %, and the levels measure as close (377 levels: geometric
-/// mean of the Hausdorff ratios 0.997). A floor of 2 000 costs nothing more, but puts the
-/// sphereflake's level at 300 a quarter farther.
+/// bench's 93 inputs, with collapse levels fitted too (as first tried: inside the choice,
+/// without module `chain`'s share cap), fits on the whole careful set (10 000 points) cost 9 %
+/// more CPU than no such fits; on 8 per vertex and at least the quick fit's 5 000, 2–5 %, and
+/// the levels measure as close (377 levels: geometric mean of the Hausdorff ratios 0.997). A
+/// floor of 2 000 costs nothing more, but puts the sphereflake's level at 300 a quarter
+/// farther.
 pub const FIT_SAMPLES_PER_VERTEX: usize = 8;
 
 /// The most parts given a point of their own.
