@@ -271,6 +271,7 @@ fn run(name: &str, mesh: &TriangleMesh, tally: &mut Tally) -> Vec<Row> {
                 .resolution
                 .map(|r| format!("@{r}"))
                 .unwrap_or_default()
+            + if level.report.staged { "s" } else { "" }
             + if level.report.fitted_to_input {
                 "f"
             } else {

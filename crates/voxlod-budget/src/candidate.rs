@@ -134,6 +134,9 @@ pub struct Candidate {
     pub iso: Option<f32>,
     /// Parts the quadric stage dropped because the budget could not carry them all.
     pub parts_dropped: usize,
+    /// Whether its voxel level was collapsed in two stages with a fit between
+    /// (`voxel::staged`).
+    pub staged: bool,
     /// Whether its vertices were fitted to the input.
     pub fitted: bool,
     /// Vertices split to make it a manifold (module docs).
@@ -173,6 +176,7 @@ impl Candidate {
             resolution: None,
             iso: None,
             parts_dropped: 0,
+            staged: false,
             fitted: false,
             quick: None,
             careful: None,
@@ -203,6 +207,9 @@ impl Candidate {
         }
         if self.fill != Fill::None {
             label += &format!(" {}", self.fill.name());
+        }
+        if self.staged {
+            label += " staged";
         }
         if self.fitted {
             label += " fitted";

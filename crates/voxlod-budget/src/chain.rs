@@ -811,6 +811,7 @@ fn level_of(
         method: c.method,
         resolution: c.resolution,
         iso: c.iso,
+        staged: c.staged,
         fitted_to_input: c.fitted,
         parts_dropped: c.parts_dropped,
         parts_restored: c.parts_restored,

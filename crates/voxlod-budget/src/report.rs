@@ -21,6 +21,9 @@ pub struct BudgetLevel {
     pub resolution: Option<usize>,
     /// The isodensity it was contoured at.
     pub iso: Option<f32>,
+    /// Whether its voxel level was collapsed in two stages with a fit to the input between
+    /// (module `voxel`, `staged`).
+    pub staged: bool,
     /// Whether its vertices were fitted to the input.
     pub fitted_to_input: bool,
     /// Parts of the voxel level that the quadric stage dropped for the budget.

@@ -171,7 +171,7 @@ pub fn with_parts_restored(
     let mut twin = Candidate::new(candidate.method, mesh);
     twin.resolution = candidate.resolution;
     twin.iso = candidate.iso;
-    twin.fitted = candidate.fitted;
+    (twin.staged, twin.fitted) = (candidate.staged, candidate.fitted);
     twin.fill = candidate.fill;
     twin.parts_dropped = candidate.parts_dropped;
     twin.parts_restored = restored.len();

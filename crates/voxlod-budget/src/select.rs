@@ -392,12 +392,13 @@ pub(crate) fn fitted_level(
 }
 
 /// `mesh`, moved from `source`'s vertices towards the input, as a candidate of `source`'s
-/// method and lineage (resolution, isodensity, fill, parts dropped, cut vertices), fitted.
+/// method and lineage (resolution, isodensity, fill, parts dropped, cut vertices, stages),
+/// fitted.
 fn fitted_like(source: &Candidate, mesh: TriangleMesh) -> Candidate {
     let mut c = Candidate::new(source.method, mesh);
     (c.resolution, c.iso, c.fill) = (source.resolution, source.iso, source.fill);
     (c.parts_dropped, c.cut_vertices) = (source.parts_dropped, source.cut_vertices);
-    c.fitted = true;
+    (c.staged, c.fitted) = (source.staged, true);
     c
 }
 

@@ -593,3 +593,28 @@ fn collapse_levels_are_fitted_to_the_input_where_that_measures_closer() {
     let r = &large.levels[0].report;
     assert_eq!((r.method, r.fitted_to_input), (Method::Collapse, false));
 }
+
+#[test]
+fn a_small_budget_collapses_its_far_grid_in_two_stages() {
+    // The inside-out shell at 300 triangles alone: the far finer grid's levels compete
+    // collapsed straight to the budget and collapsed to 750 triangles, fitted, then on to the
+    // budget (`voxel::staged`); the staged ones measure closer (quick shape distance 0.055
+    // against 0.062), and one of them is the level.
+    let run = check_chain(&corpus::inside_out(), &[300], true);
+    let r = &run.levels[0].report;
+    assert!(r.staged && r.method == Method::Voxel, "{r:?}");
+    let grid = format!("voxel {}@", r.resolution.unwrap());
+    // The closest quick shape distance of the grid's levels collapsed straight and staged.
+    let closest = |staged: bool| {
+        (r.candidates.iter())
+            .filter(|c| c.candidate.starts_with(&grid) && !c.candidate.contains("fitted"))
+            .filter(|c| c.candidate.ends_with(" staged") == staged)
+            .filter_map(|c| c.shape)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (straight, staged) = (closest(false), closest(true));
+    assert!(
+        staged < 0.95 * straight,
+        "straight {straight}, staged {staged}"
+    );
+}
