@@ -149,11 +149,13 @@ impl Input {
     }
 
     /// Whether preparing the input changed what a collapse sees: vertices merged, triangles
-    /// dropped or turned (unreferenced vertices do not count).
+    /// dropped or turned against their neighbours. Unreferenced vertices do not count, nor does
+    /// the whole input turned right side out: a quadric's plane and meshoptimizer's test of a
+    /// collapse for flipped triangles do not depend on the orientation, so the collapse of the
+    /// input turned is the collapse of the input as given, turned.
     pub fn changed_by_preparation(&self) -> bool {
         let p = &self.preparation;
         p.welded_vertices + p.degenerate_triangles + p.duplicate_triangles + p.flipped_triangles > 0
-            || p.turned_right_side_out
     }
 
     /// Pairs of the input's triangles that cross (parts passing through each other), counted

@@ -643,3 +643,25 @@ fn a_refined_voxel_search_gets_no_far_grid() {
     let far = |l: &&str| l.starts_with("voxel 30@") && l.contains("hollows filled staged");
     assert!(labels.iter().any(far), "{labels:?}");
 }
+
+#[test]
+fn an_input_only_turned_right_side_out_is_collapsed_once() {
+    // The inside-out shell is turned right side out and nothing else: its collapse as given
+    // would be the same collapse turned, and is not made. Given as a soup (every triangle its
+    // own three vertices, which preparing it welds), it is made.
+    let shell = corpus::inside_out();
+    let as_given = |mesh: &TriangleMesh| {
+        let run = levels(mesh, &PortfolioOptions::for_triangles(&[300])).unwrap();
+        assert!(run.input.preparation.turned_right_side_out);
+        (run.levels[0].report.candidates.iter()).any(|c| c.candidate == "collapse-as-given")
+    };
+    assert!(!as_given(&shell));
+    let mut soup = TriangleMesh::default();
+    for t in &shell.triangles {
+        let base = soup.positions.len() as u32;
+        soup.positions
+            .extend(t.map(|v| shell.positions[v as usize]));
+        soup.triangles.push([base, base + 1, base + 2]);
+    }
+    assert!(as_given(&soup));
+}
