@@ -447,3 +447,20 @@ fn fitting_to_the_input_never_leaves_a_level_farther_and_keeps_it_clean() {
         assert!(voxlod::core::crossing_pairs(&level.mesh).len() <= input_crossings);
     }
 }
+
+#[test]
+fn the_report_says_which_level_was_collapsed_in_two_stages() {
+    // The inside-out shell at 300 triangles: its level is a voxel level collapsed in two
+    // stages with a fit between (crate voxlod-budget, `voxel::staged`), and the report says
+    // so; without fitting there is no fit between, and no level is staged.
+    let mesh = voxlod_testkit::corpus::inside_out();
+    let run = lod_by_budget(&Source::Mesh(&mesh), &options(&[300])).unwrap();
+    let level = &run.budgets[0];
+    assert!(level.staged && level.resolution > 0, "{level:?}");
+    let unfitted = BudgetOptions {
+        fit: None,
+        ..options(&[300])
+    };
+    let run = lod_by_budget(&Source::Mesh(&mesh), &unfitted).unwrap();
+    assert!(!run.budgets[0].staged, "{:?}", run.budgets[0]);
+}

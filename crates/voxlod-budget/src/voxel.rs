@@ -256,8 +256,9 @@ pub const STAGE: f64 = 2.5;
 
 /// Each of `levels` (on a grid of `resolution`) collapsed to [`STAGE`] times `budget` with its
 /// topology kept and fitted to the input (`options.fit`, module `measure`), for
-/// [`add_collapsed`] to collapse on to the budget; empty where it is empty, the collapse
-/// failed, the fit moved nothing, or `options.fit` is `None` (all of them then).
+/// [`add_collapsed`] to collapse on to the budget; a level left empty where it is empty, its
+/// collapse failed or the fit moved nothing, and no levels at all where `options.fit` is
+/// `None`.
 ///
 /// Why (beyond the paper, whose §5 collapses a voxel level straight to its budget): a far finer
 /// grid's level has about sixteen times the budget's triangles, and a collapse that long

@@ -623,8 +623,8 @@ fn a_small_budget_collapses_its_far_grid_in_two_stages() {
 fn a_refined_voxel_search_gets_no_far_grid() {
     // The linked rings at 300 triangles: the input's own solid has too few triangles for the
     // budget at its first grid (15) and is refined to 34, whose levels already have about 24
-    // times the budget's triangles;
-    // it gets the neighbours 48 and 23 but not the far grid 68 (60–120 times the budget).
+    // times the budget's triangles; it gets the neighbours 48 and 23 but not the far grid 68
+    // (60–120 times the budget).
     // The solid with its hollows filled is not refined: grid 15, its finer neighbour 21 (the
     // coarser one's levels out of reach), and its far grid 30, staged too.
     let run = levels(&corpus::rings(), &PortfolioOptions::for_triangles(&[300])).unwrap();

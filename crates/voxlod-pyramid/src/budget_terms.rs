@@ -169,6 +169,9 @@ pub struct BudgetLevel {
     /// (quadric, topology kept), because its own search found no level within 10 % of the
     /// budget with no more handles than that level (module docs of `budget/genus_cap`).
     pub simplified_from: Option<usize>,
+    /// Whether the level's voxel level was collapsed in two stages with a fit to the input
+    /// between (a portfolio level: `voxlod_budget::BudgetLevel::staged`).
+    pub staged: bool,
     /// Whether the level's vertices were fitted to the input surface (step 7 of
     /// [`crate::budget`], module docs of `budget/fit`): only where that measured closer.
     pub fitted_to_input: bool,

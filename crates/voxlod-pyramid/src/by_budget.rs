@@ -198,6 +198,7 @@ fn report(r: &voxlod_budget::BudgetLevel, error: Option<f64>, genus: Option<i64>
         cavities_filled: usize::from(r.fill.fills_inside()),
         parts_restored: r.parts_restored,
         simplified_from: r.simplified_from,
+        staged: r.staged,
         fitted_to_input: r.fitted_to_input,
         self_intersections: r.self_intersections,
         candidates: r.candidates.len(),

@@ -122,6 +122,7 @@ pub(super) fn report(
         cavities_filled: 0,
         parts_restored: 0,
         simplified_from: None,
+        staged: false,
         fitted_to_input: false,
         self_intersections: voxlod_contouring::crossing_pairs(&level.mesh).len(),
         candidates,
