@@ -16,10 +16,11 @@
 //!   two steps as well, [`Method::CollapseInTwoSteps`]), and `simplifySloppy` ([`Method::Sloppy`]),
 //!   which competes where its result keeps the promises;
 //! - **voxel levels** ([`Method::Voxel`], module `voxel`): the input's solid filtered (§2–3),
-//!   contoured (§4) at three isodensities and collapsed to the budget (§5), the closest fitted
-//!   back to the input's surface (crate `voxlod-fit`); for a surface that is not closed, a
-//!   **shell** around it ([`Method::Shell`], module `shell`), which follows sheets the solid's
-//!   filter would erase;
+//!   contoured (§4) at three isodensities and collapsed to the budget (§5), at small budgets
+//!   the finest grid's levels also collapsed in two stages with a fit to the input between,
+//!   the closest fitted back to the input's surface (crate `voxlod-fit`); for a surface that
+//!   is not closed, a **shell** around it ([`Method::Shell`], module `shell`), which follows
+//!   sheets the solid's filter would erase;
 //! - **a plate's mid-surface** ([`Method::Plate`], module [`plate`]): where every part of a
 //!   closed input is a plate far thinner than its size, one side moved to the mid-surface,
 //!   collapsed as a sheet (its border free, and with vertices locked along it at about the
@@ -49,8 +50,8 @@
 //! among those that keep them; its mean distance must also stay within 1.25 times the input's
 //! collapse's. Once the chain is chosen, a level that is a collapse of the input, with at most
 //! a tenth of its triangles, is fitted to the input (crate `voxlod-fit`), where the fit keeps
-//! every promise and measures no farther. Where a promise ruled out a closer candidate, the report says which and what it
-//! cost ([`RuledOut`]). A budget always gets a level: where no candidate keeps every promise,
+//! every promise and measures no farther. Where a promise ruled out a closer candidate, the
+//! report says which and what it cost ([`RuledOut`]). A budget always gets a level: where no candidate keeps every promise,
 //! the one giving up the least is kept, with a warning.
 //!
 //! **Fast by design.** Every budget's candidates are made at once, on all cores; a budget whose

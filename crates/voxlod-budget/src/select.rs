@@ -361,9 +361,9 @@ fn fitted_one(
 /// ([`Measure::fitted`]) where the fit keeps every promise and measures no farther carefully,
 /// by Hausdorff and by mean distance; `level` otherwise (beyond the paper). The collapse
 /// places its vertices by the quadric error of the input's planes, not by distance; the fit
-/// moves them towards the surface they stand for (the sphereflake's collapse to 1 000 triangles: mean distance 0.64 %
-/// of the diagonal fitted to 0.58 %, silhouette difference 14.7 % to 13.2 %). Cost: one fit,
-/// a crossing count and a careful measurement.
+/// moves them towards the surface they stand for (the sphereflake's collapse to 1 000
+/// triangles: mean distance 0.64 % of the diagonal fitted to 0.58 %, silhouette difference
+/// 14.7 % to 13.2 %). Cost: one fit, a crossing count and a careful measurement.
 pub(crate) fn fitted_level(
     level: Candidate,
     promises: &Promises,
