@@ -62,58 +62,81 @@ pub fn crossing_pairs(mesh: &TriangleMesh) -> Vec<(u32, u32)> {
             })
         })
         .collect();
-    entries.par_sort_unstable();
+    entries.par_sort_unstable_by_key(|e| e.0);
     let lists: Vec<&[(u64, u32)]> = (entries.chunk_by(|x, y| x.0 == y.0))
         .filter(|l| l.len() > 1)
         .collect();
-    // A pair is tested in one cell only, the one holding the low corner of its boxes'
-    // overlap (the larger of their low corners' cells, axis by axis): it lies in both boxes'
-    // cells when the boxes are not apart.
-    let home = |a: usize, b: usize| {
-        let (p, q) = (spans[a].0, spans[b].0);
-        grid.index([p[0].max(q[0]), p[1].max(q[1]), p[2].max(q[2])])
+    let member = |t: u32| Member {
+        triangle: t,
+        low: boxes[t as usize].0,
+        high: boxes[t as usize].1,
+        low_cell: spans[t as usize].0,
     };
-    let test = |s: u32, t: u32, cell: u64| {
+    let cross = |s: u32, t: u32| {
         let (s, t) = (s.min(t), s.max(t));
         let (a, b) = (s as usize, t as usize);
-        if boxes_apart(boxes[a], boxes[b], margin) || home(a, b) != cell {
-            return None;
-        }
         let (ta, tb) = (mesh.triangles[a], mesh.triangles[b]);
         triangles_cross(corners[a], ta, corners[b], tb, margin).then_some((s, t))
     };
     let mut pairs: Vec<(u32, u32)> = lists
         .par_iter()
-        .flat_map_iter(|list| cell_pairs(list, &boxes, margin, &test))
+        .flat_map_iter(|list| cell_pairs(list, &member, &grid, &cross))
         .collect();
     pairs.par_sort_unstable();
     pairs
 }
 
-/// The pairs of one cell's triangles (`list`) that `test` finds crossing: every pair of a
-/// short list; a long one's (a dense tangle of small triangles) swept along x, each triangle
-/// tested only against those whose boxes start before its own ends.
+/// A triangle of a cell's list, with what the pair test reads before the triangles
+/// themselves: its box and the cell of the box's low corner. Copied into the list's own
+/// memory, so that a list's pairs read no further than it.
+#[derive(Clone, Copy, Default)]
+struct Member {
+    triangle: u32,
+    low: DVec3,
+    high: DVec3,
+    low_cell: [u64; 3],
+}
+
+/// The pairs of one cell's triangles (`list`, each read through `member`) that `cross`
+/// finds crossing: every pair of a short list; a long one's (a dense tangle of small
+/// triangles) swept along x, each triangle tested only against those whose boxes start
+/// before its own ends. A pair is tested in one cell only, the one holding the low corner of
+/// its boxes' overlap (the larger of their low corners' cells, axis by axis): it lies in both
+/// boxes' cells when the boxes are not apart.
 fn cell_pairs(
     list: &[(u64, u32)],
-    boxes: &[(DVec3, DVec3)],
-    margin: f64,
-    test: &(impl Fn(u32, u32, u64) -> Option<(u32, u32)> + Sync),
+    member: &impl Fn(u32) -> Member,
+    grid: &Grid,
+    cross: &impl Fn(u32, u32) -> Option<(u32, u32)>,
 ) -> Vec<(u32, u32)> {
     let cell = list[0].0;
+    let margin = grid.margin;
+    let test = |s: &Member, t: &Member| {
+        let (p, q) = (s.low_cell, t.low_cell);
+        let home = grid.index([p[0].max(q[0]), p[1].max(q[1]), p[2].max(q[2])]);
+        if home != cell || boxes_apart((s.low, s.high), (t.low, t.high), margin) {
+            return None;
+        }
+        cross(s.triangle, t.triangle)
+    };
     let mut out = Vec::new();
     if list.len() <= SWEPT {
-        for (k, &(_, s)) in list.iter().enumerate() {
-            out.extend(list[k + 1..].iter().filter_map(|&(_, t)| test(s, t, cell)));
+        let mut members = [Member::default(); SWEPT];
+        for (m, &(_, t)) in members.iter_mut().zip(list) {
+            *m = member(t);
+        }
+        let members = &members[..list.len()];
+        for (k, s) in members.iter().enumerate() {
+            out.extend(members[k + 1..].iter().filter_map(|t| test(s, t)));
         }
         return out;
     }
-    let mut order: Vec<u32> = list.iter().map(|e| e.1).collect();
-    order.sort_unstable_by(|&a, &b| boxes[a as usize].0.x.total_cmp(&boxes[b as usize].0.x));
-    for (k, &s) in order.iter().enumerate() {
-        let end = boxes[s as usize].1.x + margin;
-        let next = order[k + 1..].iter();
-        let starting = next.take_while(|&&t| boxes[t as usize].0.x <= end);
-        out.extend(starting.filter_map(|&t| test(s, t, cell)));
+    let mut members: Vec<Member> = list.iter().map(|&(_, t)| member(t)).collect();
+    members.sort_unstable_by(|a, b| a.low.x.total_cmp(&b.low.x));
+    for (k, s) in members.iter().enumerate() {
+        let end = s.high.x + margin;
+        let starting = members[k + 1..].iter().take_while(|t| t.low.x <= end);
+        out.extend(starting.filter_map(|t| test(s, t)));
     }
     out
 }

@@ -22,7 +22,8 @@
 //!   determinant.
 //!
 //! Cost: O(1) per pair, a few dozen flops; pairs whose boxes lie apart by more than a margin
-//! (far above the determinants' rounding) are ruled out first.
+//! (far above the determinants' rounding) are ruled out first, then pairs of which one
+//! triangle lies certainly on one side of the other's plane (one plane, three determinants).
 
 use glam::DVec3;
 
@@ -54,17 +55,29 @@ pub fn triangles_cross(
     if boxes_apart(bounds(a), bounds(b), margin) {
         return false;
     }
-    edges_cross(a, ia, b, ib) || edges_cross(b, ib, a, ia) || coplanar_overlap(a, ia, b, ib)
-}
-
-/// An edge of triangle `p` (vertex ids `ip`) not incident to a vertex of `t` (ids `it`)
-/// properly crosses triangle `t`, every sign certain. The plane of `t` and its rounding
-/// bound are found once for `p`'s corners (the determinants [`certain_side`] computes).
-fn edges_cross(p: [DVec3; 3], ip: [u32; 3], t: [DVec3; 3], it: [u32; 3]) -> bool {
-    let free = ip.map(|v| !it.contains(&v));
-    if (0..3).all(|k| !(free[k] && free[(k + 1) % 3])) {
+    // A triangle whose unshared corners all lie certainly on one side of the other's plane
+    // meets that plane at shared corners only: no edge of either crosses the other. An
+    // unshared corner of `b` certainly off `a`'s plane is outside the rounding that
+    // `coplanar_overlap` allows (a quarter of the certain bound): they are not coplanar.
+    let b_sides = sides(b, ib, a, ia);
+    if on_one_side(b_sides) {
         return false;
     }
+    let flat = b_sides.iter().flatten().all(|&s| s == 0);
+    let a_sides = sides(a, ia, b, ib);
+    if on_one_side(a_sides) {
+        return flat && coplanar_overlap(a, ia, b, ib);
+    }
+    edges_cross(a, a_sides, b)
+        || edges_cross(b, b_sides, a)
+        || (flat && coplanar_overlap(a, ia, b, ib))
+}
+
+/// The certain side (+1, -1, or 0 where the rounding leaves it open) of each corner of `p`
+/// (vertex ids `ip`) not shared with triangle `t` (ids `it`) of `t`'s plane; `None` for a
+/// shared corner. The plane and its rounding bound are found once for the three (the
+/// determinants [`certain_side`] computes).
+fn sides(p: [DVec3; 3], ip: [u32; 3], t: [DVec3; 3], it: [u32; 3]) -> [Option<i8>; 3] {
     let (u, v) = (t[1] - t[0], t[2] - t[0]);
     let normal = u.cross(v);
     let scale = DVec3::new(
@@ -72,15 +85,29 @@ fn edges_cross(p: [DVec3; 3], ip: [u32; 3], t: [DVec3; 3], it: [u32; 3]) -> bool
         (u.z * v.x).abs() + (u.x * v.z).abs(),
         (u.x * v.y).abs() + (u.y * v.x).abs(),
     );
-    // A shared corner's side is never read: no tested edge ends there.
     let side = |k: usize| {
         let w = p[k] - t[0];
-        certain(normal.dot(w), scale.dot(w.abs()))
+        (!it.contains(&ip[k])).then(|| certain(normal.dot(w), scale.dot(w.abs())))
     };
-    let sides = [0, 1, 2].map(|k| if free[k] { side(k) } else { 0 });
+    [side(0), side(1), side(2)]
+}
+
+/// Some corner is unshared, and every unshared corner lies certainly on the same side.
+fn on_one_side(sides: [Option<i8>; 3]) -> bool {
+    let mut free = sides.iter().flatten();
+    free.next()
+        .is_some_and(|&first| first != 0 && free.all(|&s| s == first))
+}
+
+/// An edge of triangle `p` between two unshared corners (their `sides` of `t`'s plane, from
+/// [`sides`]) properly crosses triangle `t`, every sign certain.
+fn edges_cross(p: [DVec3; 3], sides: [Option<i8>; 3], t: [DVec3; 3]) -> bool {
     (0..3).any(|k| {
         let l = (k + 1) % 3;
-        free[k] && free[l] && sides[k] * sides[l] < 0 && line_through(p[k], p[l], t)
+        match (sides[k], sides[l]) {
+            (Some(x), Some(y)) => x * y < 0 && line_through(p[k], p[l], t),
+            _ => false,
+        }
     })
 }
 
@@ -376,7 +403,8 @@ mod tests {
     /// The same lattice pairs, and the same pairs with their corners moved by a few units in
     /// the last place (as `f32` rounding leaves the corners of a flat face): the certain
     /// crossing test with the plane found once decides as edge by edge, both answers occur,
-    /// and a pair that crosses may also meet.
+    /// a pair that crosses may also meet, and the whole test with its early exit (one
+    /// triangle on one side of the other's plane) decides as its parts do.
     #[test]
     fn certain_crossings_decide_as_the_edge_by_edge_test() {
         let mut rng = Pcg64::seed_from_u64(15);
@@ -393,9 +421,13 @@ mod tests {
             let (ia, ib) = (ids(), ids());
             let at = |i: [u32; 3]| i.map(|v| points[v as usize]);
             let (a, b) = (at(ia), at(ib));
-            let cross = edges_cross(a, ia, b, ib) || edges_cross(b, ib, a, ia);
+            let cross =
+                edges_cross(a, sides(a, ia, b, ib), b) || edges_cross(b, sides(b, ib, a, ia), a);
             assert_eq!(cross, cross_edge_by_edge(a, ia, b, ib));
             assert!(!cross || triangles_meet(a, ia, b, ib, 1e-9));
+            // The early exit of a triangle on one side of the other's plane decides the same.
+            let whole = cross || coplanar_overlap(a, ia, b, ib);
+            assert_eq!(triangles_cross(a, ia, b, ib, 1e-9), whole);
             crossed[cross as usize] += 1;
         }
         assert!(crossed[0] > 10_000 && crossed[1] > 300, "{crossed:?}");
