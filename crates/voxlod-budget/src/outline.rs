@@ -66,10 +66,13 @@ pub fn by_outline(
         return unchanged;
     }
     let room = |plain_h: f64| (CLOSER * plain_h).min(SLACK * chosen_h);
-    if let Some(d) = candidates[plain].careful {
-        if room(d.hausdorff) <= chosen_h {
-            return unchanged;
-        }
+    // The most room the candidates can have (the limit below is at most this): where none
+    // but the level is within it, nothing is drawn.
+    let most = candidates[plain]
+        .careful
+        .map_or(SLACK * chosen_h, |d| room(d.hausdorff));
+    if most <= chosen_h || pool(candidates, broken, index, most).is_empty() {
+        return unchanged;
     }
     let (Some(chosen_s), Some(plain_s)) = (
         measure.silhouette(&candidates[index].mesh),
@@ -144,10 +147,7 @@ fn better_outlines(
     bar: f64,
     measure: &Measure,
 ) -> Vec<(usize, f64)> {
-    let pool: Vec<usize> = (0..candidates.len())
-        .filter(|&i| i != index && broken[i].is_empty())
-        .filter(|&i| candidates[i].quick.is_some_and(|d| d.shape <= limit))
-        .collect();
+    let pool = pool(candidates, broken, index, limit);
     let outlines: Vec<Option<f64>> = (pool.par_iter())
         .map(|&i| measure.silhouette(&candidates[i].mesh))
         .collect();
@@ -158,6 +158,15 @@ fn better_outlines(
     better.sort_by(|a, b| a.1.total_cmp(&b.1));
     better.truncate(TRIES);
     better
+}
+
+/// The candidates other than `index` that keep the cheap promises and whose quick shape
+/// distance is within `limit`.
+fn pool(candidates: &[Candidate], broken: &[Vec<Promise>], index: usize, limit: f64) -> Vec<usize> {
+    (0..candidates.len())
+        .filter(|&i| i != index && broken[i].is_empty())
+        .filter(|&i| candidates[i].quick.is_some_and(|d| d.shape <= limit))
+        .collect()
 }
 
 /// The index of candidate `i` with the input's parts it lost put back (a twin pushed to

@@ -529,26 +529,39 @@ pub fn collapsed(
         },
         ..PartsOptions::default()
     };
-    let mut out = Vec::new();
-    if let Ok(done) = simplify_dropping_parts(&mesh, budget, &options) {
-        let mut c = Candidate::new(method, without_zero_area(done.simplified.mesh, cell));
-        c.parts_dropped = done.dropped_parts;
-        out.push(c);
-    }
+    let plain_of = || {
+        let (plain, _) = simplify_unchecked(&mesh, budget, false).ok()?;
+        Some(Candidate::new(method, without_zero_area(plain, cell)))
+    };
+    // The level above's plain collapse is made anyway: beside the checked one.
+    let always = method == Method::Above && max_error.is_none();
+    let (checked, plain) = rayon::join(
+        || {
+            let done = simplify_dropping_parts(&mesh, budget, &options).ok()?;
+            let mut c = Candidate::new(method, without_zero_area(done.simplified.mesh, cell));
+            c.parts_dropped = done.dropped_parts;
+            Some(c)
+        },
+        || always.then(plain_of).flatten(),
+    );
+    let mut out: Vec<Candidate> = checked.into_iter().collect();
     let stalled = out.iter().all(|c| !within_budget(c.triangles(), budget));
     let dropped = out.iter().any(|c| c.parts_dropped > 0);
     // The level above's plain collapse is often closer where it keeps the promises anyway;
     // where it is the checked one over again (its first pass kept everything), it is not
     // measured twice.
-    if (stalled || dropped || method == Method::Above) && max_error.is_none() {
-        if let Ok((plain, _)) = simplify_unchecked(&mesh, budget, false) {
-            let plain = Candidate::new(method, without_zero_area(plain, cell));
-            let same = |c: &Candidate| {
-                c.mesh.triangles == plain.mesh.triangles && c.mesh.positions == plain.mesh.positions
-            };
-            if !out.iter().any(same) {
-                out.push(plain);
-            }
+    let plain = match always {
+        true => plain,
+        false => ((stalled || dropped) && max_error.is_none())
+            .then(plain_of)
+            .flatten(),
+    };
+    if let Some(plain) = plain {
+        let same = |c: &Candidate| {
+            c.mesh.triangles == plain.mesh.triangles && c.mesh.positions == plain.mesh.positions
+        };
+        if !out.iter().any(same) {
+            out.push(plain);
         }
     }
     out
