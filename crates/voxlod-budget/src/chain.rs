@@ -10,6 +10,7 @@ use voxlod_core::TriangleMesh;
 use crate::below;
 use crate::candidate::{Candidate, Fill, Method};
 use crate::collapse;
+use crate::collapse_fits::{apply_fits, fitted_ahead, Ahead};
 use crate::grids::{with_solids, Grids};
 use crate::input::Input;
 use crate::measure::{Care, Measure};
@@ -104,9 +105,8 @@ pub fn levels_with(
     lap(&mut timings.voxels);
     step(2 * budgets.len())?;
     let stand_ins = StandIns::default();
-    let (mut chosen, mut warnings) = choose_down(searched, &input, &measure, options, &stand_ins)?;
-    refine_from_below(&mut chosen, &mut warnings, &input, &measure, options);
-    fit_collapses(&mut chosen, &input, &measure, options);
+    let chain = choose_down(searched, &input, &measure, options, &stand_ins)?;
+    let (mut chosen, mut warnings) = refined_and_fitted(chain, &input, &measure, options);
     if options.remesh {
         warnings.extend(crossed_levels(&mut chosen));
     }
@@ -532,77 +532,143 @@ fn add_voxels(
     Ok(())
 }
 
-/// The levels chosen from the largest budget down (module docs).
+/// The levels chosen from the largest budget down (module docs), and each level's fit
+/// (module `collapse_fits`), made while the next budget is chosen.
 fn choose_down(
     searched: Vec<Searched>,
     input: &Input,
     measure: &Measure,
     options: &PortfolioOptions,
     stand_ins: &StandIns,
-) -> Result<(Vec<Level>, Vec<String>), BudgetError> {
+) -> Result<ChosenChain, BudgetError> {
     let mut levels: Vec<Level> = Vec::new();
+    let mut promised: Vec<Promises> = Vec::new();
+    let mut ahead: Vec<Ahead> = Vec::new();
     let mut warnings = Vec::new();
     let mut runner_up: Option<Candidate> = None;
     let count = searched.len();
-    for (k, mut s) in searched.into_iter().enumerate() {
+    let fit =
+        |level: &Level, promises: &Promises| fitted_ahead(level, promises, input, measure, options);
+    for (k, s) in searched.into_iter().enumerate() {
         let start = Instant::now();
         let promises = chained_promises(input, options, s.budget, levels.last());
-        if let (true, Some(above)) = (options.monotone, levels.last()) {
-            let r = &above.report;
-            let lineage = (r.resolution, r.iso, r.fitted_to_input, r.fill);
-            let collapse = |mesh, lineage| {
-                collapsed_above(mesh, lineage, s.budget, input.cell(), options.max_error)
-            };
-            s.candidates.extend(collapse(above.mesh.clone(), lineage));
-            if let Some(r) = runner_up.take() {
-                s.candidates
-                    .extend(collapse(r.mesh, (r.resolution, r.iso, r.fitted, r.fill)));
-            }
-        }
-        let fit = options.fit.as_ref();
+        let runner = runner_up.take();
         let next = options.monotone && k + 1 < count;
-        let mut chosen = choose(
-            s.candidates,
-            &promises,
-            input,
-            measure,
-            fit,
-            stand_ins,
-            next,
-        )
-        .ok_or_else(|| BudgetError::NoLevel {
-            budget: s.budget,
-            why: s.notes.join("; "),
-        })?;
-        if promises.budget < s.budget {
+        let (budget, seconds, notes) = (s.budget, s.seconds, s.notes.join("; "));
+        let (fitted, chosen) = rayon::join(
+            || levels.last().zip(promised.last()).map(|(l, p)| fit(l, p)),
+            || {
+                let above = levels.last();
+                let candidates = with_above(s.candidates, above, runner, input, options, budget);
+                let fit = options.fit.as_ref();
+                choose(candidates, &promises, input, measure, fit, stand_ins, next)
+            },
+        );
+        ahead.extend(fitted);
+        let mut chosen = chosen.ok_or(BudgetError::NoLevel { budget, why: notes })?;
+        if promises.budget < budget {
             warnings.push(format!(
-                "{} triangles: the input has only {}, its level is the input's own",
-                s.budget, promises.budget
+                "{budget} triangles: the input has only {}, its level is the input's own",
+                promises.budget
             ));
         }
         runner_up = chosen.runner_up.take();
         let from = levels.last().map(|l| l.report.budget);
-        let seconds = s.seconds + start.elapsed().as_secs_f64();
-        let level = level_of(chosen, input, s.budget, from, seconds, &mut warnings);
-        levels.push(level);
+        let seconds = seconds + start.elapsed().as_secs_f64();
+        levels.push(level_of(
+            chosen,
+            input,
+            budget,
+            from,
+            seconds,
+            &mut warnings,
+        ));
+        promised.push(promises);
     }
-    Ok((levels, warnings))
+    ahead.extend(levels.last().zip(promised.last()).map(|(l, p)| fit(l, p)));
+    Ok(ChosenChain {
+        levels,
+        warnings,
+        ahead,
+    })
+}
+
+/// The chain refined from below, then its collapses fitted (module `collapse_fits`): the
+/// levels and the warnings.
+fn refined_and_fitted(
+    chain: ChosenChain,
+    input: &Input,
+    measure: &Measure,
+    options: &PortfolioOptions,
+) -> (Vec<Level>, Vec<String>) {
+    let ChosenChain {
+        mut levels,
+        mut warnings,
+        ahead,
+    } = chain;
+    let replaced = refine_from_below(&mut levels, &mut warnings, input, measure, options);
+    let now: Vec<Promises> = (0..levels.len())
+        .map(|k| {
+            let above = k.checked_sub(1).map(|a| &levels[a]);
+            chained_promises(input, options, levels[k].report.budget, above)
+        })
+        .collect();
+    apply_fits(
+        &mut levels,
+        ahead,
+        (&replaced, &now),
+        (input, measure, options),
+    );
+    (levels, warnings)
+}
+
+/// What [`choose_down`] chose: the levels from the largest budget down, the warnings so far,
+/// and each level's fit made ahead (module `collapse_fits`).
+struct ChosenChain {
+    levels: Vec<Level>,
+    warnings: Vec<String>,
+    ahead: Vec<Ahead>,
+}
+
+/// `candidates` of `budget` with, in the monotone chain, the level above (`above`) and its
+/// runner-up collapsed to the budget.
+fn with_above(
+    mut candidates: Vec<Candidate>,
+    above: Option<&Level>,
+    runner_up: Option<Candidate>,
+    input: &Input,
+    options: &PortfolioOptions,
+    budget: usize,
+) -> Vec<Candidate> {
+    let (true, Some(above)) = (options.monotone, above) else {
+        return candidates;
+    };
+    let collapse =
+        |mesh, lineage| collapsed_above(mesh, lineage, budget, input.cell(), options.max_error);
+    let r = &above.report;
+    let lineage = (r.resolution, r.iso, r.fitted_to_input, r.fill);
+    candidates.extend(collapse(above.mesh.clone(), lineage));
+    if let Some(r) = runner_up {
+        candidates.extend(collapse(r.mesh, (r.resolution, r.iso, r.fitted, r.fill)));
+    }
+    candidates
 }
 
 /// Each level replaced by the next smaller budget's level refined to its budget (module
 /// `below`), where that keeps every promise and is closer, tried wherever the smaller level is
 /// at most [`below::REACH`] times as far from the input; from the smallest budget up, so that
 /// a refined level can serve the one above it. Not for a proxy, nor without the monotone
-/// chain. `levels` run from the largest budget down.
+/// chain. `levels` run from the largest budget down; which of them were replaced.
 fn refine_from_below(
     levels: &mut [Level],
     warnings: &mut Vec<String>,
     input: &Input,
     measure: &Measure,
     options: &PortfolioOptions,
-) {
+) -> Vec<bool> {
+    let mut replaced = vec![false; levels.len()];
     if options.remesh || !options.monotone {
-        return;
+        return replaced;
     }
     for k in (0..levels.len().saturating_sub(1)).rev() {
         let start = Instant::now();
@@ -664,7 +730,9 @@ fn refine_from_below(
         let seconds = old.seconds + start.elapsed().as_secs_f64();
         let above = k.checked_sub(1).map(|a| levels[a].report.budget);
         levels[k] = level_of(chosen, input, old.budget, above, seconds, warnings);
+        replaced[k] = true;
     }
+    replaced
 }
 
 /// A level of the budget above (the level, or its runner-up,
@@ -703,7 +771,7 @@ fn first_promises(input: &Input, options: &PortfolioOptions, budget: usize) -> P
 
 /// The promises of `budget` in the chain below the level `above`: the budget's first, with no
 /// more handles than `above` where the chain is monotone (the genus never rises).
-fn chained_promises(
+pub(crate) fn chained_promises(
     input: &Input,
     options: &PortfolioOptions,
     budget: usize,
@@ -722,68 +790,6 @@ fn voxel_at(input: &Input, budget: usize) -> f64 {
     let want = (HEADROOM * budget as f64) as usize;
     let resolution = resolution_for_triangles(&input.mesh, want).unwrap_or(COARSEST);
     input.bounds.longest_extent() / resolution.clamp(COARSEST, FINEST) as f64
-}
-
-/// A level that is a collapse of the input is fitted only where it has at most this share of
-/// the input's triangles (`fit_collapses`): the fit of the ogre's level at an eighth
-/// (15 501 of 124 008 triangles) takes 0.16 s of a chain whose time target is 1.5–1.7 s,
-/// where the levels at a sixteenth and below take 0.07 s together. What the cap costs: on the
-/// budget bench, 46 levels at an eighth measure 9 % farther (Hausdorff) than fitted.
-pub const FITTED_SHARE: usize = 10;
-
-/// Each level that is a collapse of the input (not of a voxel level, nor fitted already) with
-/// at most 1/[`FITTED_SHARE`] of its triangles, fitted to it where that keeps every promise
-/// and measures no farther ([`crate::select::fitted_level`]), side by side, once the chain is
-/// chosen: the chain is the one the unfitted levels make, since a collapse of a fitted level
-/// is not always the closer (the ogre at 1 000: 4.2 % of the diagonal against 1.3 %, measured
-/// carefully). Not for a proxy, nor where [`PortfolioOptions::fit_collapses`] is off. Cost:
-/// per such level, one fit, a crossing count where the fit did not make one, and a careful
-/// measurement.
-fn fit_collapses(
-    levels: &mut [Level],
-    input: &Input,
-    measure: &Measure,
-    options: &PortfolioOptions,
-) {
-    let Some(fit) = options.fit.as_ref() else {
-        return;
-    };
-    if options.remesh || !options.fit_collapses {
-        return;
-    }
-    let promises: Vec<Promises> = (0..levels.len())
-        .map(|k| {
-            let above = k.checked_sub(1).map(|a| &levels[a]);
-            chained_promises(input, options, levels[k].report.budget, above)
-        })
-        .collect();
-    levels
-        .par_iter_mut()
-        .zip(promises)
-        .for_each(|(level, promises)| {
-            let r = &level.report;
-            if r.resolution.is_some() || r.fitted_to_input || !r.hausdorff.is_finite() {
-                return;
-            }
-            if r.triangles * FITTED_SHARE > input.mesh.triangle_count() {
-                return;
-            }
-            let mut c = Candidate::new(r.method, level.mesh.clone());
-            c.careful = Some(crate::measure::Distance {
-                hausdorff: r.hausdorff,
-                shape: r.shape_distance,
-                mean: r.mean_distance,
-            });
-            let fitted = crate::select::fitted_level(c, &promises, input, measure, fit);
-            if let (true, Some(d)) = (fitted.fitted, fitted.careful) {
-                let r = &mut level.report;
-                r.fitted_to_input = true;
-                (r.hausdorff, r.mean_distance, r.shape_distance) = (d.hausdorff, d.mean, d.shape);
-                r.hausdorff_fraction = d.hausdorff / input.diagonal;
-                r.self_intersections = fitted.crossings.unwrap_or(r.self_intersections);
-                level.mesh = fitted.mesh;
-            }
-        });
 }
 
 /// The level and its report.

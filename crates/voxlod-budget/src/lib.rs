@@ -60,7 +60,8 @@
 //! where a fitted voxel level often comes closer) is not searched with voxels at all;
 //! candidates are ranked by a quick measurement that stops as soon as one is clearly farther,
 //! and only the closest few are measured carefully (near ties again with twice the samples); a budget's checked collapse
-//! starts from a larger budget's collapse where one kept the promises. Large inputs skip what
+//! starts from a larger budget's collapse where one kept the promises; a level is fitted to the
+//! input while the next budget is chosen (module `collapse_fits`). Large inputs skip what
 //! costs seconds and rarely wins there: the checked collapse above [`KEPT_AT_MOST`] triangles
 //! where the plain one broke the topology, or only crossed below a larger budget's collapse
 //! (and else with [`KEPT_ATTEMPTS_LARGE`] passes), voxel levels above [`LARGE_VOXEL`]
@@ -87,6 +88,7 @@ mod below;
 mod candidate;
 mod chain;
 mod collapse;
+mod collapse_fits;
 mod enclosed;
 mod error;
 mod grids;

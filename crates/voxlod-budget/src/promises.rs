@@ -89,7 +89,7 @@ impl Promise {
 }
 
 /// What one budget's level must keep.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Promises {
     /// The budget.
     pub budget: usize,
