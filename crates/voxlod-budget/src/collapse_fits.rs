@@ -13,7 +13,8 @@
 //! give.
 //!
 //! Cost: per such level, one fit, a crossing count where the fit did not make one, and a
-//! careful measurement; a level replaced by refining, or below one, is fitted twice.
+//! careful measurement; a level that refining replaced, or whose promises its new level
+//! above changed, is fitted twice.
 
 use rayon::prelude::*;
 
