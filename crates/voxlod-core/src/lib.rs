@@ -63,6 +63,7 @@ pub mod mesh;
 pub mod parity;
 pub mod repair;
 pub mod rounding;
+pub mod rows;
 pub mod split;
 #[cfg(test)]
 mod test_shapes;

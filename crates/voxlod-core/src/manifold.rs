@@ -32,6 +32,7 @@
 
 use rayon::prelude::*;
 
+use crate::rows::Rows;
 use crate::topology::UnionFind;
 use crate::TriangleMesh;
 
@@ -233,7 +234,7 @@ fn edge_runs(uses: &[EdgeUse]) -> impl Iterator<Item = &[EdgeUse]> {
 
 /// Which triangles to flip (module docs, step 1).
 fn orientation(uses: &[EdgeUse], triangles: usize) -> Vec<bool> {
-    let neighbours = Neighbours::across_pairs(uses, triangles);
+    let neighbours = neighbours(uses, triangles);
     let mut flip = vec![false; triangles];
     let mut seen = vec![false; triangles];
     let mut stack = Vec::new();
@@ -247,7 +248,7 @@ fn orientation(uses: &[EdgeUse], triangles: usize) -> Vec<bool> {
         stack.push(start as u32);
         while let Some(t) = stack.pop() {
             piece.push(t);
-            for &(n, agree) in neighbours.of(t) {
+            for &(n, agree) in neighbours.row(t as usize) {
                 if !seen[n as usize] {
                     seen[n as usize] = true;
                     flip[n as usize] = flip[t as usize] ^ !agree;
@@ -267,44 +268,23 @@ fn orientation(uses: &[EdgeUse], triangles: usize) -> Vec<bool> {
 }
 
 /// Each triangle's neighbours across its two-triangle edges, in the order of the edges' runs,
-/// with whether the pair agrees as it stands: one list for all, in compressed rows.
-struct Neighbours {
-    /// Where each triangle's row starts in `list` (one more entry than triangles).
-    starts: Vec<u32>,
-    list: Vec<(u32, bool)>,
-}
-
-impl Neighbours {
-    fn across_pairs(uses: &[EdgeUse], triangles: usize) -> Neighbours {
-        let pairs = || {
-            edge_runs(uses).filter_map(|run| match run {
-                [a, b] => Some((a.triangle, b.triangle, a.forward != b.forward)),
+/// with whether the pair agrees as it stands.
+fn neighbours(uses: &[EdgeUse], triangles: usize) -> Rows<(u32, bool)> {
+    let across = || {
+        (edge_runs(uses))
+            .filter_map(|run| match run {
+                [a, b] => {
+                    let agree = a.forward != b.forward;
+                    Some([
+                        (a.triangle, (b.triangle, agree)),
+                        (b.triangle, (a.triangle, agree)),
+                    ])
+                }
                 _ => None,
             })
-        };
-        let mut starts = vec![0u32; triangles + 1];
-        for (a, b, _) in pairs() {
-            starts[a as usize + 1] += 1;
-            starts[b as usize + 1] += 1;
-        }
-        for k in 0..triangles {
-            starts[k + 1] += starts[k];
-        }
-        let mut next = starts.clone();
-        let mut list = vec![(0u32, false); starts[triangles] as usize];
-        for (a, b, agree) in pairs() {
-            for (from, to) in [(a, b), (b, a)] {
-                list[next[from as usize] as usize] = (to, agree);
-                next[from as usize] += 1;
-            }
-        }
-        Neighbours { starts, list }
-    }
-
-    fn of(&self, t: u32) -> &[(u32, bool)] {
-        let t = t as usize;
-        &self.list[self.starts[t] as usize..self.starts[t + 1] as usize]
-    }
+            .flatten()
+    };
+    Rows::new(triangles, across)
 }
 
 /// The pairs of an edge's triangles that join across it (module docs, step 2).

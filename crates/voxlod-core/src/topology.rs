@@ -14,6 +14,7 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::rows::Rows;
 use crate::TriangleMesh;
 
 /// What a mesh is, combinatorially. See [`mesh_topology`].
@@ -229,47 +230,29 @@ pub fn count_boundary_loops(odd_edges: &[(u32, u32, bool)], vertex_count: usize)
         .sum()
 }
 
-/// Each vertex's triangles (CSR, by a counting sort): a triangle once per corner, degenerate
-/// ones included, in triangle order, so a triangle that repeats a vertex lies twice in a row in
-/// its list.
-pub struct Incidence {
-    offsets: Vec<u32>,
-    incident: Vec<u32>,
-}
+/// Each vertex's triangles ([`Rows`]): a triangle once per corner, degenerate ones included,
+/// in triangle order, so a triangle that repeats a vertex lies twice in a row in its list.
+pub struct Incidence(Rows<u32>);
 
 impl Incidence {
     /// The lists of `tris` over `nv` vertices.
     pub fn new(tris: &[[u32; 3]], nv: usize) -> Incidence {
-        let mut offsets = vec![0u32; nv + 1];
-        for t in tris {
-            for &v in t {
-                offsets[v as usize + 1] += 1;
-            }
-        }
-        for i in 0..nv {
-            offsets[i + 1] += offsets[i];
-        }
-        let mut fill = offsets.clone();
-        let mut incident = vec![0u32; *offsets.last().unwrap_or(&0) as usize];
-        for (t, tri) in tris.iter().enumerate() {
-            for &v in tri {
-                incident[fill[v as usize] as usize] = t as u32;
-                fill[v as usize] += 1;
-            }
-        }
-        Incidence { offsets, incident }
+        let corners = || {
+            (tris.iter().enumerate()).flat_map(|(t, tri)| tri.iter().map(move |&v| (v, t as u32)))
+        };
+        Incidence(Rows::new(nv, corners))
     }
 
     /// The triangles at vertex `v`.
     #[inline]
     pub fn around(&self, v: usize) -> &[u32] {
-        &self.incident[self.offsets[v] as usize..self.offsets[v + 1] as usize]
+        self.0.row(v)
     }
 
     /// Where each vertex's list starts (one more entry than vertices), and the lists one after
     /// another.
     pub fn into_parts(self) -> (Vec<u32>, Vec<u32>) {
-        (self.offsets, self.incident)
+        self.0.into_parts()
     }
 }
 
@@ -299,7 +282,7 @@ struct StarScratch {
 /// vertex is a single fan when its link is connected. The counts of one global sort of the
 /// half-edges and of the triangles (tests compare the two).
 fn star_counts(tris: &[[u32; 3]], incidence: &Incidence) -> StarCounts {
-    let nv = incidence.offsets.len() - 1;
+    let nv = incidence.0.rows();
     (0..nv)
         .into_par_iter()
         .fold(
