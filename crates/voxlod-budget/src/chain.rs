@@ -789,7 +789,7 @@ pub(crate) fn chained_promises(
 fn voxel_at(input: &Input, budget: usize) -> f64 {
     let want = (HEADROOM * budget as f64) as usize;
     let resolution = resolution_for_triangles(&input.mesh, want).unwrap_or(COARSEST);
-    input.bounds.longest_extent() / resolution.clamp(COARSEST, FINEST) as f64
+    input.voxel(resolution.clamp(COARSEST, FINEST))
 }
 
 /// The level and its report.

@@ -100,7 +100,7 @@ fn closed_grid(
     resolution: usize,
     iso: f32,
 ) -> Result<Option<(Volume, Closing)>, BudgetError> {
-    let voxel = input.bounds.longest_extent() / resolution as f64;
+    let voxel = input.voxel(resolution);
     let grid = level_grid(&input.bounds, resolution, voxel)?;
     let options = DensityOptions::new(Filter::Hypercone, voxel);
     let (volume, _) = filtered_density(solid, &grid, &options)?;

@@ -227,7 +227,7 @@ impl<'a> Grids<'a> {
         (solid, resolution): (usize, usize),
     ) -> Result<Vec<TriangleMesh>, BudgetError> {
         let sampled = self.solids[solid];
-        let radius = self.input.bounds.longest_extent() / resolution as f64;
+        let radius = self.input.voxel(resolution);
         let grid = level_grid(&self.input.bounds, resolution, radius)?;
         let density_options = DensityOptions::new(self.options.filter, radius);
         let (mut density, _) = filtered_density(sampled.solid, &grid, &density_options)?;

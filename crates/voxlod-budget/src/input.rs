@@ -142,6 +142,12 @@ impl Input {
         self.seen.as_ref().is_none_or(|s| s.mask[t as usize])
     }
 
+    /// The voxel of a grid of `resolution` samples along the input's longest side, which is also
+    /// the radius its filter smooths over (module `grids`).
+    pub fn voxel(&self, resolution: usize) -> f64 {
+        self.bounds.longest_extent() / resolution as f64
+    }
+
     /// The length that judges a degenerate triangle of a collapse of the input: a thousandth of
     /// its diagonal, the voxel of a 1000-sample grid.
     pub fn cell(&self) -> f64 {

@@ -345,7 +345,7 @@ fn fitted_one(
     let Some(fit_h) = fitted.quick.map(|d| d.shape) else {
         return Vec::new();
     };
-    let voxel = input.bounds.longest_extent() / source.resolution.unwrap_or(1).max(1) as f64;
+    let voxel = input.voxel(source.resolution.unwrap_or(1).max(1));
     let features = FeatureOptions::within(FEATURE_REACH * voxel);
     let (snapped, moved) = snap_to_features(&fitted.mesh, input.measured(), closest, &features);
     let mut out = vec![fitted];
@@ -426,7 +426,7 @@ fn sharpened_level(
     let (Some(resolution), Some(before)) = (level.resolution, level.careful) else {
         return level;
     };
-    let voxel = input.bounds.longest_extent() / resolution.max(1) as f64;
+    let voxel = input.voxel(resolution.max(1));
     let features = FeatureOptions::within(FEATURE_REACH * voxel);
     let closest = measure.input_closest();
     let (mesh, moved) = snap_to_features(&level.mesh, input.measured(), closest, &features);

@@ -41,7 +41,7 @@ pub fn shell_candidates(
     let resolution = resolution_for_triangles(&input.mesh, want)
         .unwrap_or(COARSEST)
         .clamp(COARSEST, FINEST_SHELL);
-    let voxel = input.bounds.longest_extent() / resolution as f64;
+    let voxel = input.voxel(resolution);
     let (t, w) = (HALF_THICKNESS * voxel, RAMP * voxel);
     let grid = level_grid(&input.bounds, resolution, t + w)?;
     let density = shell_density(&grid, closest, t, w)?;

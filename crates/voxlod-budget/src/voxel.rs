@@ -281,7 +281,7 @@ fn staged(
         return Vec::new();
     };
     let stage = (STAGE * budget as f64) as usize;
-    let voxel = input.bounds.longest_extent() / resolution as f64;
+    let voxel = input.voxel(resolution);
     (levels.par_iter())
         .map(|level| {
             let mid = collapsed(
@@ -339,7 +339,7 @@ fn sharpened(
     if !(remesh && sharpened_before_collapse(budget, fill)) {
         return levels;
     }
-    let voxel = input.bounds.longest_extent() / resolution as f64;
+    let voxel = input.voxel(resolution);
     let options = FeatureOptions {
         angle: PROXY_FEATURE_ANGLE,
         ..FeatureOptions::within(FEATURE_REACH * voxel)
@@ -470,7 +470,7 @@ fn add_collapsed(
     budget: usize,
     max_error: Option<f64>,
 ) -> bool {
-    let voxel = input.bounds.longest_extent() / resolution as f64;
+    let voxel = input.voxel(resolution);
     // Each isodensity's collapse on a core of its own (a budget's search is often the last
     // one running, and a collapse is one thread's work).
     let collapses: Vec<(Vec<Candidate>, f32)> = (levels.into_par_iter())
